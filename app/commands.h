@@ -1,0 +1,15 @@
+// The `dwatch` subcommands (DESIGN §6). Each returns the process exit code:
+// 0 ok, 1 runtime failure, 2 bad input (with a diagnostic on stderr).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace dw::app {
+
+// Registers a subcommand on `app`; `run` is set to the function that carries it out once parsed.
+void add_check_command(CLI::App& app, std::function<int()>& run);
+void add_replay_command(CLI::App& app, std::function<int()>& run);
+void add_bench_command(CLI::App& app, std::function<int()>& run);
+
+}  // namespace dw::app

@@ -1,0 +1,69 @@
+#include "app/detector_flags.h"
+
+#include <map>
+
+#include "watch/ast.h"
+
+namespace dw::app {
+
+watch::DetectorOptions DetectorFlags::options() const {
+  watch::DetectorOptions o;
+  o.optimizations.early_termination = !no_early_termination;
+  o.optimizations.neighbor_culling = !no_neighbor_culling;
+  o.optimizations.temporal_spans = !no_temporal_spans;
+  o.live_budget = max_live;
+  return o;
+}
+
+void add_detector_flags(CLI::App& cmd, DetectorFlags& flags) {
+  const std::map<std::string, watch::Algorithm> algorithms{{"centralized", watch::Algorithm::Centralized},
+                                                           {"distributed", watch::Algorithm::Distributed}};
+  cmd.add_option("--algorithm,-a", flags.algorithm, "centralized (Alg. 1) or distributed (Alg. 2)")
+      ->transform(CLI::CheckedTransformer(algorithms, CLI::ignore_case))
+      ->default_str("distributed");
+  cmd.add_flag("--no-early-termination", flags.no_early_termination, "Keep PatternMatchers that can no longer match");
+  cmd.add_flag("--no-neighbor-culling", flags.no_neighbor_culling, "Spread to every neighbour regardless of neighbor()");
+  cmd.add_flag("--no-temporal-spans", flags.no_temporal_spans, "Keep all history instead of each variable's span");
+  cmd.add_option("--max-live", flags.max_live,
+                 "Budget: most PatternMatchers alive in one step; past it the run stops (exit 1). 0: none")
+      ->default_val(flags.max_live);
+}
+
+void print_detector_stats(std::ostream& out, const watch::DetectorStats& st) {
+  out << "    PatternMatchers: " << st.created << " created, peak " << st.peak_live << " live in a step";
+  if (st.messages) out << ", " << st.messages << " sent (" << st.bytes << " bytes)";
+  out << "; by slots filled:";
+  for (size_t i = 1; i < st.created_by_filled.size(); ++i) out << " " << i << ":" << st.created_by_filled[i];
+  out << "\n";
+}
+
+nlohmann::ordered_json stats_json(const watch::Watchpoint& w, const watch::DetectorStats& st, uint64_t matches) {
+  nlohmann::ordered_json j;
+  j["name"] = w.name;
+  j["watchpoint"] = watch::to_string(w.ast);
+  j["matches"] = matches;
+  j["created"] = st.created;
+  j["messages"] = st.messages;
+  j["bytes"] = st.bytes;
+  j["peak_live"] = st.peak_live;
+  j["created_by_filled"] = st.created_by_filled;
+  j["history_values"] = st.history_values;
+  j["seconds"] = st.seconds;
+  j["stopped"] = st.stopped;
+  if (st.stopped) j["stop_reason"] = st.stop_reason;
+  nlohmann::ordered_json steps = nlohmann::ordered_json::array();
+  for (const watch::StepStats& s : st.steps) {
+    steps.push_back({{"step", s.step},
+                     {"live_by_filled", s.live_by_filled},
+                     {"live", s.live},
+                     {"created", s.created},
+                     {"messages", s.messages},
+                     {"bytes", s.bytes},
+                     {"matches", s.matches},
+                     {"seconds", s.seconds}});
+  }
+  j["per_step"] = std::move(steps);
+  return j;
+}
+
+}  // namespace dw::app

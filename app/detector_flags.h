@@ -1,0 +1,27 @@
+// Command-line flags every detector-running command shares, and how detector statistics print.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "watch/detector.h"
+#include "watch/watchpoint.h"
+
+namespace dw::app {
+
+struct DetectorFlags {
+  watch::Algorithm algorithm = watch::Algorithm::Distributed;
+  bool no_early_termination = false;
+  bool no_neighbor_culling = false;
+  bool no_temporal_spans = false;
+  uint64_t max_live = 20'000'000;
+
+  watch::DetectorOptions options() const;
+};
+
+void add_detector_flags(CLI::App& cmd, DetectorFlags& flags);
+void print_detector_stats(std::ostream& out, const watch::DetectorStats& st);
+nlohmann::ordered_json stats_json(const watch::Watchpoint& w, const watch::DetectorStats& st, uint64_t matches);
+
+}  // namespace dw::app

@@ -1,0 +1,152 @@
+// `dwatch replay TRACE --watch ...`: run watchpoints over a recorded trace.
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "app/detector_flags.h"
+#include "app/watch_args.h"
+#include "sim/match_log.h"
+#include "sim/trace.h"
+#include "watch/make_detector.h"
+
+namespace dw::app {
+namespace {
+
+struct ReplayArgs {
+  std::string trace;
+  std::vector<std::string> watches;
+  std::string matches_path;
+  std::string stats_path;
+  size_t print = 20;
+  DetectorFlags detector;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+int replay(const ReplayArgs& args) {
+  auto loaded = load_watchpoints(args.watches);
+  if (auto* errors = std::get_if<std::string>(&loaded)) {
+    std::cerr << *errors;
+    return 2;
+  }
+  const auto& watches = std::get<std::vector<watch::Watchpoint>>(loaded);
+
+  const auto parse_start = std::chrono::steady_clock::now();
+  auto read = sim::read_trace(args.trace);
+  if (auto* errors = std::get_if<std::vector<sim::TraceError>>(&read)) {
+    for (const sim::TraceError& e : *errors) std::cerr << e.format() << "\n";
+    return 2;
+  }
+  const sim::Trace& trace = std::get<sim::Trace>(read);
+  const double parse_seconds = seconds_since(parse_start);
+
+  std::ofstream file;
+  std::ostream* out = nullptr;
+  if (!args.matches_path.empty()) {
+    if (args.matches_path == "-") {
+      out = &std::cout;
+    } else {
+      file.open(args.matches_path, std::ios::binary);
+      if (!file) {
+        std::cerr << args.matches_path << ": error: cannot write the matches file\n";
+        return 1;
+      }
+      out = &file;
+    }
+  }
+  std::vector<sim::MatchLog::WatchInfo> infos;
+  for (const watch::Watchpoint& w : watches) infos.push_back({w.name, w.program.slot_names});
+  sim::MatchLog log(std::move(infos), out, std::max<size_t>(args.print, 1));
+
+  std::vector<std::unique_ptr<watch::Detector>> detectors;
+  int64_t max_lag = 0;
+  for (size_t i = 0; i < watches.size(); ++i) {
+    detectors.push_back(watch::make_detector(args.detector.algorithm, watches[i], trace.universe(),
+                                             args.detector.options(), log.sink(i)));
+    max_lag = std::max(max_lag, detectors.back()->lag());
+  }
+
+  const auto detect_start = std::chrono::steady_clock::now();
+  for (int64_t s = 0; s < trace.step_count(); ++s) {
+    const watch::Frame frame = trace.frame(s);
+    for (auto& d : detectors) d->observe(frame);
+    log.release(s - max_lag);
+  }
+  log.finish();
+  const double detect_seconds = seconds_since(detect_start);
+
+  // The summary goes to stdout unless the matches do.
+  std::ostream& summary = out == &std::cout ? std::cerr : std::cout;
+  summary << "replay " << args.trace << ": " << trace.line_count() << " lines, " << trace.step_count() << " steps, "
+          << trace.universe().module_count() << " modules; " << watch::algorithm_name(args.detector.algorithm)
+          << " detector\n";
+  bool stopped = false;
+  uint64_t total = 0;
+  for (size_t i = 0; i < watches.size(); ++i) {
+    const watch::DetectorStats& st = detectors[i]->stats();
+    total += log.count(i);
+    summary << "  " << watches[i].name << ": " << log.count(i) << " match" << (log.count(i) == 1 ? "" : "es") << "\n";
+    print_detector_stats(summary, st);
+    if (out == nullptr) {
+      const auto& slots = watches[i].program.slot_names;
+      for (const sim::MatchLog::Kept& k : log.kept(i)) {
+        if (&k - log.kept(i).data() >= static_cast<ptrdiff_t>(args.print)) break;
+        summary << "    t=" << k.t;
+        for (size_t s = 0; s < slots.size(); ++s) summary << " " << slots[s] << "=" << k.ids[s];
+        summary << "\n";
+      }
+      if (log.count(i) > args.print && args.print > 0)
+        summary << "    ... " << (log.count(i) - args.print) << " more (--matches FILE writes them all)\n";
+    }
+    if (st.stopped) {
+      stopped = true;
+      std::cerr << "dwatch: " << watches[i].name << ": stopped: " << st.stop_reason
+                << " (--max-live raises the budget); the matches found before are kept\n";
+    }
+  }
+  summary << "  time: reading " << parse_seconds << " s, detecting " << detect_seconds << " s\n";
+
+  if (!args.stats_path.empty()) {
+    nlohmann::ordered_json j;
+    j["matches"] = total;
+    j["algorithm"] = watch::algorithm_name(args.detector.algorithm);
+    j["trace"] = {{"path", args.trace},
+                  {"lines", trace.line_count()},
+                  {"steps", trace.step_count()},
+                  {"modules", trace.universe().module_count()}};
+    j["seconds"] = {{"reading", parse_seconds}, {"detecting", detect_seconds}};
+    j["watches"] = nlohmann::json::array();
+    for (size_t i = 0; i < watches.size(); ++i)
+      j["watches"].push_back(stats_json(watches[i], detectors[i]->stats(), log.count(i)));
+    std::ofstream s(args.stats_path);
+    if (!s) {
+      std::cerr << args.stats_path << ": error: cannot write the stats file\n";
+      return 1;
+    }
+    s << j.dump(1) << "\n";
+  }
+  return stopped ? 1 : 0;
+}
+
+}  // namespace
+
+void add_replay_command(CLI::App& app, std::function<int()>& run) {
+  auto* cmd = app.add_subcommand("replay", "Run watchpoints over a recorded trace (wptrace v1)");
+  auto args = std::make_shared<ReplayArgs>();
+  cmd->add_option("trace", args->trace, "Trace file (JSON Lines, wptrace v1)")->required();
+  cmd->add_option("--watch,-w", args->watches, "Watchpoint text, @FILE, NAME=TEXT or NAME=@FILE (repeatable)")
+      ->required();
+  cmd->add_option("--matches", args->matches_path, "Write every match as JSON Lines to FILE (- for stdout)");
+  cmd->add_option("--stats", args->stats_path, "Write run statistics as JSON to FILE");
+  cmd->add_option("--print", args->print, "Matches to print per watchpoint when --matches is not given")
+      ->default_val(20);
+  add_detector_flags(*cmd, args->detector);
+  cmd->callback([&run, args] { run = [args] { return replay(*args); }; });
+}
+
+}  // namespace dw::app

@@ -1,0 +1,58 @@
+#include "app/watch_args.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace dw::app {
+namespace {
+
+bool is_name(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) return false;
+  return true;
+}
+
+}  // namespace
+
+std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const std::vector<std::string>& args) {
+  std::vector<watch::Watchpoint> out;
+  std::string errors;
+  for (size_t i = 0; i < args.size(); ++i) {
+    std::string arg = args[i];
+    std::string name;
+    // NAME=... names the watchpoint; a watchpoint's own text starts with `modules(`, never NAME=.
+    if (const size_t eq = arg.find('='); eq != std::string::npos && is_name(arg.substr(0, eq)) && arg.substr(0, eq) != "modules") {
+      name = arg.substr(0, eq);
+      arg = arg.substr(eq + 1);
+    }
+    std::string source_name = "<watch " + std::to_string(i + 1) + ">";
+    std::string text = arg;
+    if (!arg.empty() && arg[0] == '@') {
+      const std::string path = arg.substr(1);
+      std::ifstream in(path, std::ios::binary);
+      if (!in) {
+        errors += path + ": error: cannot read the watchpoint file\n";
+        continue;
+      }
+      std::stringstream buffer;
+      buffer << in.rdbuf();
+      text = buffer.str();
+      source_name = path;
+      if (name.empty()) {
+        // A file named watch.txt is named by its folder, as in the conformance cases.
+        const std::filesystem::path p(path);
+        name = p.stem() == "watch" && p.has_parent_path() ? p.parent_path().filename().string() : p.stem().string();
+      }
+    }
+    if (name.empty()) name = "w" + std::to_string(i + 1);
+    auto compiled = watch::compile_watchpoint(name, watch::SourceText(source_name, text));
+    if (auto* e = std::get_if<watch::CompileError>(&compiled)) errors += e->format();
+    else out.push_back(std::move(std::get<watch::Watchpoint>(compiled)));
+  }
+  if (!errors.empty()) return errors;
+  return out;
+}
+
+}  // namespace dw::app

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs everything dwatch needs to build, test and benchmark, from Debian 12 packages only.
+# Idempotent and non-interactive; works as root or through sudo.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libgtest-dev libgmock-dev libbenchmark-dev   # tests and benchmarks
+  libsimdjson-dev                              # reading traces
+  nlohmann-json3-dev                           # writing JSON
+  libcli11-dev                                 # the command line
+  clang libclang-rt-14-dev                     # the parser fuzz target and sanitizer builds
+  time                                         # peak-memory figures for benchmarks (/usr/bin/time -v)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  sudo="sudo"
+fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -q
+$sudo apt-get install -y -q --no-install-recommends "${missing[@]}"

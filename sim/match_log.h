@@ -1,0 +1,61 @@
+// Collects the matches of several detectors and writes them as JSON Lines (DESIGN §5), sorted by
+// t, then by watch (in the order given), then by slot ids in slot order:
+//   {"watch":"leaders","t":12,"slots":{"a":4,"b":5,"c":9}}
+// Detectors finish watch steps at different lags; a step is written once every watch is past it.
+#pragma once
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "watch/detector.h"
+
+namespace dw::sim {
+
+class MatchLog {
+ public:
+  struct WatchInfo {
+    std::string name;
+    std::vector<std::string> slots;
+  };
+
+  // `out` may be null: then matches are only counted. The first `keep` matches of each watch, in
+  // written order, are kept for summaries.
+  MatchLog(std::vector<WatchInfo> watches, std::ostream* out, size_t keep = 1);
+
+  // The sink to give the detector of watch `index`.
+  watch::MatchSink sink(size_t index);
+  // Every watch step up to and including `t` is final for every watch: write those.
+  void release(int64_t t);
+  void finish() { release(INT64_MAX); }
+
+  uint64_t count(size_t index) const { return watches_[index].count; }
+  struct Kept {
+    int64_t t;
+    std::vector<watch::ModuleId> ids;
+  };
+  const std::vector<Kept>& kept(size_t index) const { return watches_[index].kept; }
+
+ private:
+  struct Batch {
+    int64_t t;
+    size_t watch;
+    std::vector<watch::ModuleId> ids;  // sorted matches, slot_count each
+  };
+  struct Watch {
+    WatchInfo info;
+    std::string prefix;                 // {"watch":"name","t":
+    std::vector<std::string> slot_keys; // "a":
+    uint64_t count = 0;
+    std::vector<Kept> kept;
+  };
+  void write(const Batch& b);
+
+  std::vector<Watch> watches_;
+  std::ostream* out_;
+  size_t keep_;
+  std::vector<Batch> pending_;
+};
+
+}  // namespace dw::sim

@@ -1,0 +1,193 @@
+#include <simdjson.h>
+
+#include <algorithm>
+#include <unordered_map>
+
+#include "sim/trace.h"
+
+namespace dw::sim {
+namespace {
+
+constexpr size_t kMaxErrors = 20;
+
+uint64_t hash_key(int64_t t, uint32_t m) { return (static_cast<uint64_t>(t) << 32) ^ m; }
+
+class TraceReader {
+ public:
+  TraceReader(std::string name, const simdjson::padded_string& text) : name_(std::move(name)), text_(text) {}
+
+  std::variant<Trace, std::vector<TraceError>> run() {
+    const char* base = text_.data();
+    const size_t size = text_.size();
+    size_t at = 0;
+    uint64_t line = 0;
+    bool seen_content = false;
+    while (at < size && errors_.size() < kMaxErrors) {
+      ++line;
+      size_t end = std::find(base + at, base + size, '\n') - base;
+      size_t len = end - at;
+      if (len > 0 && base[at + len - 1] == '\r') --len;
+      std::string_view text(base + at, len);
+      if (text.find_first_not_of(" \t") != std::string_view::npos) {
+        line_start_ = base + at;
+        line_ = line;
+        parse_line(text, !seen_content);
+        seen_content = true;
+      }
+      at = end + 1;
+    }
+    if (errors_.size() >= kMaxErrors && at < size)
+      errors_.push_back({name_, line, 1, "too many errors; stopping here"});
+    if (!errors_.empty()) return errors_;
+    return Trace::build(entries_, std::move(names_));
+  }
+
+ private:
+  void error(const char* where, std::string message) {
+    const uint64_t col = where ? static_cast<uint64_t>(where - line_start_) + 1 : 1;
+    errors_.push_back({name_, line_, col, std::move(message)});
+  }
+
+  // Where `key` first appears in the line, for a column number (the DOM keeps no positions).
+  const char* key_at(std::string_view line, std::string_view key) {
+    const std::string quoted = "\"" + std::string(key) + "\"";
+    const size_t at = line.find(quoted);
+    return at == std::string_view::npos ? line.data() : line.data() + at;
+  }
+
+  // A JSON number that is an integer; 1.5, 1e3, true and "1" are not.
+  bool integer(simdjson::dom::element v, int64_t& out, const char* at, const std::string& what) {
+    switch (v.type()) {
+      case simdjson::dom::element_type::INT64:
+        out = v.get_int64().value_unsafe();
+        return true;
+      case simdjson::dom::element_type::UINT64:
+        error(at, what + " does not fit in a signed 64-bit integer");
+        return false;
+      default:
+        error(at, what + " must be an integer");
+        return false;
+    }
+  }
+
+  // Parses one line in place; the text after it in the padded buffer is simdjson's padding.
+  void parse_line(std::string_view text, bool first) {
+    simdjson::dom::element doc;
+    if (auto err = parser_.parse(text.data(), text.size(), false).get(doc))
+      return error(text.data(), std::string("malformed JSON: ") + simdjson::error_message(err));
+    simdjson::dom::object obj;
+    if (doc.get_object().get(obj)) return error(text.data(), "expected a JSON object");
+
+    Trace::Entry e;
+    bool has_t = false, has_m = false, has_vars = false, has_nbrs = false, header = false;
+    for (auto [key, v] : obj) {
+      const char* at = key_at(text, key);
+      if (key == "wptrace") {
+        int64_t version;
+        if (!first) return error(at, "the {\"wptrace\":1} header may only be the first line");
+        if (!integer(v, version, at, "\"wptrace\"")) return;
+        if (version != 1) return error(at, "unsupported trace version " + std::to_string(version) + " (this reader reads wptrace 1)");
+        header = true;
+      } else if (key == "t") {
+        if (has_t) return error(at, "duplicate field \"t\"");
+        if (!integer(v, e.t, at, "step \"t\"")) return;
+        if (e.t < 0) return error(at, "step \"t\" is negative");
+        if (e.t > kMaxStep) return error(at, "step \"t\" is beyond " + std::to_string(kMaxStep));
+        has_t = true;
+      } else if (key == "m") {
+        if (has_m) return error(at, "duplicate field \"m\"");
+        int64_t m;
+        if (!integer(v, m, at, "module id \"m\"")) return;
+        if (m < 0 || m > UINT32_MAX) return error(at, "module id \"m\" must be in 0..4294967295");
+        e.m = static_cast<uint32_t>(m);
+        has_m = true;
+      } else if (key == "vars") {
+        if (has_vars) return error(at, "duplicate field \"vars\"");
+        simdjson::dom::object vars;
+        if (v.get_object().get(vars)) return error(at, "\"vars\" must be an object of integer variables");
+        for (auto [name, value] : vars) {
+          const char* var_at = key_at(text.substr(static_cast<size_t>(at - text.data())), name);
+          const uint32_t index = intern(name);
+          for (const auto& [seen, ignored] : e.vars)
+            if (seen == index) return error(var_at, "variable '" + std::string(name) + "' appears twice");
+          int64_t x;
+          if (!integer(value, x, var_at, "variable '" + std::string(name) + "'")) return;
+          e.vars.emplace_back(index, x);
+        }
+        has_vars = true;
+      } else if (key == "nbrs") {
+        if (has_nbrs) return error(at, "duplicate field \"nbrs\"");
+        simdjson::dom::array nbrs;
+        if (v.get_array().get(nbrs)) return error(at, "\"nbrs\" must be an array of module ids");
+        for (simdjson::dom::element item : nbrs) {
+          int64_t n;
+          if (!integer(item, n, at, "neighbour id")) return;
+          if (n < 0 || n > UINT32_MAX) return error(at, "neighbour id must be in 0..4294967295");
+          e.nbrs.push_back(static_cast<uint32_t>(n));
+        }
+        has_nbrs = true;
+      } else {
+        return error(at, "unknown field \"" + std::string(key) + "\" (a line has \"t\", \"m\", \"vars\", \"nbrs\")");
+      }
+    }
+    if (header) {
+      if (has_t || has_m || has_vars || has_nbrs) return error(text.data(), "the header line holds only \"wptrace\"");
+      return;
+    }
+    std::string missing;
+    for (auto [has, name] : {std::pair{has_t, "\"t\""}, {has_m, "\"m\""}, {has_vars, "\"vars\""}, {has_nbrs, "\"nbrs\""}})
+      if (!has) missing += (missing.empty() ? "" : ", ") + std::string(name);
+    if (!missing.empty()) return error(text.data(), "missing field " + missing);
+    if (std::find(e.nbrs.begin(), e.nbrs.end(), e.m) != e.nbrs.end())
+      return error(text.data(), "module " + std::to_string(e.m) + " lists itself as a neighbour");
+    std::vector<uint32_t> sorted = e.nbrs;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+      return error(text.data(), "a neighbour appears twice in \"nbrs\"");
+    auto [it, inserted] = first_line_.emplace(hash_key(e.t, e.m), line_);
+    if (!inserted)
+      return error(text.data(), "duplicate line for module " + std::to_string(e.m) + " at step " + std::to_string(e.t) +
+                                    " (first at line " + std::to_string(it->second) + ")");
+    entries_.push_back(std::move(e));
+  }
+
+  uint32_t intern(std::string_view name) {
+    for (size_t i = 0; i < names_.size(); ++i)
+      if (names_[i] == name) return static_cast<uint32_t>(i);
+    names_.emplace_back(name);
+    return static_cast<uint32_t>(names_.size() - 1);
+  }
+
+  static constexpr int64_t kMaxStep = 100'000'000;
+
+  std::string name_;
+  const simdjson::padded_string& text_;
+  simdjson::dom::parser parser_;
+  std::vector<Trace::Entry> entries_;
+  std::unordered_map<uint64_t, uint64_t> first_line_;
+  std::vector<TraceError> errors_;
+  std::vector<std::string> names_;
+  const char* line_start_ = nullptr;
+  uint64_t line_ = 0;
+};
+
+}  // namespace
+
+std::string TraceError::format() const {
+  if (line == 0) return file + ": error: " + message;
+  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": error: " + message;
+}
+
+std::variant<Trace, std::vector<TraceError>> read_trace_text(const std::string& name, const std::string& text) {
+  simdjson::padded_string padded(text);
+  return TraceReader(name, padded).run();
+}
+
+std::variant<Trace, std::vector<TraceError>> read_trace(const std::string& path) {
+  simdjson::padded_string text;
+  if (auto err = simdjson::padded_string::load(path).get(text))
+    return std::vector<TraceError>{{path, 0, 0, std::string("cannot read the trace: ") + simdjson::error_message(err)}};
+  return TraceReader(path, text).run();
+}
+
+}  // namespace dw::sim

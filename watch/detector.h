@@ -1,0 +1,75 @@
+// What both detectors share: options, statistics, the match sink and the driving interface.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "watch/frame.h"
+
+namespace dw::watch {
+
+// The paper's §IV optimizations. Each can be switched off; results never change (DESIGN §4).
+struct Optimizations {
+  bool early_termination = true;  // drop a PatternMatcher whose expression is already false
+  bool neighbor_culling = true;   // spread only to modules that can satisfy neighbor() terms
+  bool temporal_spans = true;     // keep each variable's history for exactly its span
+};
+
+struct DetectorOptions {
+  Optimizations optimizations;
+  // Most PatternMatchers alive in one step; past it the detector stops. 0 means no limit.
+  uint64_t live_budget = 0;
+};
+
+enum class Algorithm { Centralized, Distributed };
+const char* algorithm_name(Algorithm a);
+
+// Statistics of one detector step (the paper's Fig. 7 series is `live_by_filled`).
+struct StepStats {
+  int64_t step = 0;                      // the detector step (its "now"), not the frame's
+  std::vector<uint64_t> live_by_filled;  // [slots filled] -> PatternMatchers alive with that many
+  uint64_t live = 0;
+  uint64_t created = 0;
+  uint64_t messages = 0;  // distributed: PatternMatchers sent to a neighbour
+  uint64_t bytes = 0;     // distributed: their size
+  uint64_t matches = 0;
+  double seconds = 0;
+};
+
+struct DetectorStats {
+  std::vector<StepStats> steps;
+  std::vector<uint64_t> created_by_filled;  // over the run
+  uint64_t created = 0, messages = 0, bytes = 0, matches = 0;
+  uint64_t peak_live = 0;
+  uint64_t history_values = 0;  // values held in history at the end (all modules)
+  double seconds = 0;
+  bool stopped = false;         // the live budget was exceeded
+  std::string stop_reason;
+
+  void add(const StepStats& s);
+};
+
+// Receives the matches of one watch step `t`: `slots` holds count * slot_count module ids,
+// each match's ids in slot order. Called at most once per t, in increasing t.
+using MatchSink = std::function<void(int64_t t, std::span<const ModuleId> slots)>;
+
+class Detector {
+ public:
+  virtual ~Detector() = default;
+  // Frames arrive in step order 0, 1, 2, ... A watch step t is decided once frame t + lag() has
+  // been observed; its matches go to the sink then.
+  virtual void observe(const Frame& frame) = 0;
+  // Steps between a frame and the watch step it completes: E+ (centralized), E+ + k - 1 (distributed).
+  virtual int64_t lag() const = 0;
+  virtual Algorithm algorithm() const = 0;
+  const DetectorStats& stats() const { return stats_; }
+  bool stopped() const { return stats_.stopped; }
+
+ protected:
+  DetectorStats stats_;
+};
+
+}  // namespace dw::watch

@@ -1,0 +1,23 @@
+// Diagnostics in the compiler style: `file:line:col: error: message`, the source line, and a
+// caret under the span. Errors are collected, never thrown.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "watch/source.h"
+
+namespace dw::watch {
+
+struct Diagnostic {
+  Span span;
+  std::string message;
+};
+
+// Renders one diagnostic: the location line, the source line, and `^~~~` under the span.
+std::string format_diagnostic(const SourceText& source, const Diagnostic& d);
+
+// Renders every diagnostic, one after another.
+std::string format_diagnostics(const SourceText& source, const std::vector<Diagnostic>& ds);
+
+}  // namespace dw::watch

@@ -1,0 +1,136 @@
+#include "watch/distributed_agent.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace dw::watch {
+namespace {
+
+Truth membership(const uint32_t* ids, uint32_t count, uint32_t m) {
+  if (count == kUnknownSet) return kUnknown;
+  return truth_of(std::find(ids, ids + count, m) != ids + count);
+}
+
+}  // namespace
+
+AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t budget)
+    : program(p), layout(p), optimizations(o), live_budget(budget) {
+  stack.resize(static_cast<size_t>(p.max_stack));
+  trial.resize(p.leaves.size());
+}
+
+void DistributedAgent::start(int64_t f, AgentContext& ctx, PatternMatcherOutbox& out) {
+  ctx.scratch.resize(std::max<size_t>(ctx.scratch.size(), ctx.layout.sets));
+  PatternMatcherRef pm(ctx.scratch.data(), ctx.layout);
+  pm.init();
+  ++ctx.step.created;
+  fill_and_forward(f, pm, ctx, out);
+}
+
+void DistributedAgent::receive(int64_t f, const std::byte* incoming, AgentContext& ctx, PatternMatcherOutbox& out) {
+  // Sent to a neighbour at f - 1; a module that has left by f never fills it.
+  if (!history_.present(f)) return;
+  uint32_t bytes;
+  std::memcpy(&bytes, incoming + 4, 4);
+  if (ctx.scratch.size() < bytes) ctx.scratch.resize(bytes);
+  std::memcpy(ctx.scratch.data(), incoming, bytes);
+  fill_and_forward(f, PatternMatcherRef(ctx.scratch.data(), ctx.layout), ctx, out);
+}
+
+Truth DistributedAgent::decide(const Leaf& leaf, int64_t f, const PatternMatcherRef& pm) const {
+  if (leaf.kind == LeafKind::Neighbor) {
+    if (leaf.set >= 0) {  // x filled earlier and carried N(x): am I in it?
+      uint32_t count;
+      const uint32_t* ids = pm.set(static_cast<uint32_t>(leaf.set), count);
+      return membership(ids, count, self_);
+    }
+    // I am x: is y, filled earlier, in my own neighbour set at the offset?
+    const std::vector<uint32_t>* mine = history_.neighbors(f + leaf.offset);
+    if (mine == nullptr) return kUnknown;
+    return truth_of(std::find(mine->begin(), mine->end(), pm.id(static_cast<uint32_t>(leaf.y))) != mine->end());
+  }
+  auto operand = [&](const TermRef& t, int64_t& v) {
+    return t.cell >= 0 ? pm.cell(static_cast<uint32_t>(t.cell), v) : history_.value(t.variable, f + t.offset, v);
+  };
+  int64_t a, b = leaf.constant;
+  if (!operand(leaf.lhs, a)) return kUnknown;
+  if (!leaf.rhs_is_constant && !operand(leaf.rhs, b)) return kUnknown;
+  return truth_of(holds(leaf.op, a, b));
+}
+
+// Neighbour culling (paper §IV-C): would the expression be false whatever else fills, if
+// `candidate` took the next slot? Only neighbor(x next) terms with x already filled can tell.
+bool DistributedAgent::culled(uint32_t candidate, const PatternMatcherRef& pm, AgentContext& ctx) const {
+  const std::vector<uint16_t>& cull = ctx.program.slots[pm.filled()].cull_leaves;
+  if (cull.empty()) return false;
+  std::memcpy(ctx.trial.data(), pm.leaves(), ctx.trial.size());
+  for (uint16_t l : cull) {
+    uint32_t count;
+    const uint32_t* ids = pm.set(static_cast<uint32_t>(ctx.program.leaves[l].set), count);
+    ctx.trial[l] = membership(ids, count, candidate);
+  }
+  return ctx.program.evaluate(ctx.trial.data(), ctx.stack.data()) == kFalse;
+}
+
+void DistributedAgent::fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out) {
+  const Program& p = ctx.program;
+  const uint32_t slot = pm.filled();
+  const SlotProgram& sp = p.slots[slot];
+
+  pm.set_id(slot, self_);
+  for (uint16_t c : sp.cells) {
+    const CarriedCell& cell = p.cells[c];
+    int64_t v = 0;
+    const bool known = history_.value(cell.variable, f + cell.offset, v);
+    pm.set_cell(c, v, known);
+  }
+  for (uint16_t s : sp.sets) {
+    const std::vector<uint32_t>* n = history_.neighbors(f + p.sets[s].offset);
+    const uint32_t count = n == nullptr ? kUnknownSet : static_cast<uint32_t>(n->size());
+    const uint32_t at = pm.bytes();
+    const uint32_t grown = at + 4 + (n == nullptr ? 0 : 4 * count);
+    if (ctx.scratch.size() < grown) {
+      ctx.scratch.resize(grown * 2);
+      pm = PatternMatcherRef(ctx.scratch.data(), ctx.layout);
+    }
+    std::memcpy(ctx.scratch.data() + at, &count, 4);
+    if (n != nullptr && count != 0) std::memcpy(ctx.scratch.data() + at + 4, n->data(), 4 * count);
+    pm.set_bytes(grown);
+  }
+  Truth* leaves = pm.leaves();
+  for (uint16_t l : sp.leaves) leaves[l] = decide(p.leaves[l], f, pm);
+  pm.set_filled(slot + 1);
+
+  StepStats& st = ctx.step;
+  if (st.live_by_filled.size() <= slot + 1) st.live_by_filled.resize(slot + 2);
+  ++st.live_by_filled[slot + 1];
+  ++st.live;
+
+  const Truth result = p.evaluate(leaves, ctx.stack.data());
+  if (slot + 1 == static_cast<uint32_t>(p.slot_count())) {
+    if (result == kTrue) {
+      ++st.matches;
+      for (uint32_t s = 0; s <= slot; ++s) ctx.matches.push_back(pm.id(s));
+    }
+    return;
+  }
+  if (result == kFalse && ctx.optimizations.early_termination) return;
+
+  const std::vector<uint32_t>* nbrs = history_.neighbors(f);
+  if (nbrs == nullptr) return;
+  const uint32_t bytes = pm.bytes();
+  for (uint32_t n : *nbrs) {
+    if (pm.holds(n)) continue;
+    if (ctx.optimizations.neighbor_culling && culled(n, pm, ctx)) continue;
+    if (ctx.live_budget != 0 && st.messages + st.live >= ctx.live_budget) {
+      ctx.over_budget = true;
+      return;
+    }
+    std::memcpy(out.reserve(self_, n, bytes), pm.data(), bytes);
+    ++st.messages;
+    ++st.created;
+    st.bytes += bytes;
+  }
+}
+
+}  // namespace dw::watch

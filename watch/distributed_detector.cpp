@@ -1,0 +1,76 @@
+#include "watch/distributed_detector.h"
+
+#include <chrono>
+
+namespace dw::watch {
+
+DistributedDetector::DistributedDetector(const Watchpoint& w, const Universe& u, DetectorOptions options, MatchSink sink)
+    : program_(w.program), universe_(u), options_(options), sink_(std::move(sink)),
+      ctx_(w.program, options.optimizations, options.live_budget) {
+  for (const std::string& name : program_.variables) {
+    int column = -1;
+    for (size_t c = 0; c < u.variables.size(); ++c)
+      if (u.variables[c] == name) column = static_cast<int>(c);
+    columns_.push_back(column);
+  }
+  agents_.reserve(u.module_count());
+  for (uint32_t m = 0; m < u.module_count(); ++m) agents_.emplace_back(m, program_, options.optimizations.temporal_spans);
+  row_values_.resize(columns_.size());
+  row_has_.resize(columns_.size());
+}
+
+void DistributedDetector::observe(const Frame& frame) {
+  if (stats_.stopped) return;
+  const auto started = std::chrono::steady_clock::now();
+
+  // Each agent records its own state: only the variables the watchpoint reads.
+  for (uint32_t m = 0; m < agents_.size(); ++m) {
+    const bool present = frame.present[m] != 0;
+    if (present) {
+      const size_t row = static_cast<size_t>(m) * frame.variable_count;
+      for (size_t v = 0; v < columns_.size(); ++v) {
+        const int c = columns_[v];
+        row_has_[v] = c >= 0 && frame.has_value[row + c];
+        row_values_[v] = row_has_[v] ? frame.values[row + c] : 0;
+      }
+    }
+    agents_[m].history().record(frame.step, present, row_values_.data(), row_has_.data(),
+                                present ? frame.neighbors(m) : std::span<const uint32_t>{});
+  }
+
+  // The detectors run E+ steps behind the frames, so that `next` can be read (DESIGN §4).
+  const int64_t f = frame.step - program_.extent_plus;
+  if (f < 0) return;
+  ctx_.step = StepStats{};
+  ctx_.step.step = f;
+  ctx_.step.live_by_filled.assign(static_cast<size_t>(program_.slot_count()) + 1, 0);
+  ctx_.matches.clear();
+
+  transport_.deliver();
+  transport_.for_each_delivered([&](uint32_t to, const std::byte* pm) {
+    if (!ctx_.over_budget) agents_[to].receive(f, pm, ctx_, transport_);
+  });
+  for (uint32_t m = 0; m < agents_.size() && !ctx_.over_budget; ++m)
+    if (agents_[m].history().present(f)) agents_[m].start(f, ctx_, transport_);
+
+  ctx_.step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  stats_.add(ctx_.step);
+  if (ctx_.over_budget) {
+    stats_.stopped = true;
+    stats_.stop_reason = "more than " + std::to_string(options_.live_budget) +
+                         " live PatternMatchers at detector step " + std::to_string(f);
+  }
+
+  // Everything that matched now was started at t0 = f - (k - 1).
+  const int64_t t0 = f - (program_.slot_count() - 1);
+  if (!ctx_.matches.empty() && t0 >= 0) {
+    ids_.resize(ctx_.matches.size());
+    for (size_t i = 0; i < ids_.size(); ++i) ids_[i] = universe_.module_ids[ctx_.matches[i]];
+    sink_(t0, ids_);
+  }
+  uint64_t held = 0;
+  for (const DistributedAgent& a : agents_) held += a.history().held();
+  stats_.history_values = held;
+}
+
+}  // namespace dw::watch

@@ -1,0 +1,37 @@
+// The distributed detector (paper Alg. 2, DESIGN §4): one DistributedAgent per module, the
+// PatternMatchers they exchange carried by an in-process transport. Consistent states, linear
+// chains: slot i is filled at step t0 + i - 1 by a neighbour of the module that filled slot i - 1.
+#pragma once
+
+#include <vector>
+
+#include "watch/detector.h"
+#include "watch/distributed_agent.h"
+#include "watch/in_process_transport.h"
+#include "watch/watchpoint.h"
+
+namespace dw::watch {
+
+class DistributedDetector final : public Detector {
+ public:
+  DistributedDetector(const Watchpoint& watchpoint, const Universe& universe, DetectorOptions options, MatchSink sink);
+
+  void observe(const Frame& frame) override;
+  int64_t lag() const override { return program_.extent_plus + program_.slot_count() - 1; }
+  Algorithm algorithm() const override { return Algorithm::Distributed; }
+
+ private:
+  const Program& program_;
+  const Universe& universe_;
+  DetectorOptions options_;
+  MatchSink sink_;
+  std::vector<int> columns_;  // program variable -> frame column, -1 if frames never carry it
+  std::vector<DistributedAgent> agents_;
+  InProcessTransport transport_;
+  AgentContext ctx_;
+  std::vector<int64_t> row_values_;
+  std::vector<uint8_t> row_has_;
+  std::vector<ModuleId> ids_;
+};
+
+}  // namespace dw::watch

@@ -1,0 +1,65 @@
+// Delivers PatternMatchers between agents in one process: everything sent during step f arrives
+// at step f + 1 (the paper's one-step message latency). Records are packed in one growing buffer,
+// so sending never allocates per message.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+
+#include "watch/distributed_agent.h"
+
+namespace dw::watch {
+
+class InProcessTransport final : public PatternMatcherOutbox {
+ public:
+  std::byte* reserve(uint32_t /*from*/, uint32_t to, uint32_t bytes) override {
+    const size_t need = sending_.size + 4 + bytes;
+    if (need > sending_.capacity) sending_.grow(need);
+    std::byte* at = sending_.data.get() + sending_.size;
+    std::memcpy(at, &to, 4);
+    sending_.size = need;
+    return at + 4;
+  }
+
+  // Ends a step: what was sent becomes what is delivered.
+  void deliver() {
+    std::swap(sending_, delivering_);
+    sending_.size = 0;
+  }
+
+  // Calls fn(to, record) for every PatternMatcher delivered at this step.
+  template <class Fn>
+  void for_each_delivered(Fn&& fn) const {
+    const std::byte* at = delivering_.data.get();
+    const std::byte* end = at + delivering_.size;
+    while (at < end) {
+      uint32_t to, bytes;
+      std::memcpy(&to, at, 4);
+      std::memcpy(&bytes, at + 8, 4);  // the record's own size field
+      fn(to, at + 4);
+      at += 4 + bytes;
+    }
+  }
+
+  size_t buffered_bytes() const { return sending_.capacity + delivering_.capacity; }
+
+ private:
+  struct Buffer {
+    std::unique_ptr<std::byte[]> data;
+    size_t size = 0;
+    size_t capacity = 0;
+    void grow(size_t need) {
+      size_t cap = capacity ? capacity : 1 << 16;
+      while (cap < need) cap *= 2;
+      auto bigger = std::make_unique_for_overwrite<std::byte[]>(cap);
+      if (size) std::memcpy(bigger.get(), data.get(), size);
+      data = std::move(bigger);
+      capacity = cap;
+    }
+  };
+  Buffer sending_, delivering_;
+};
+
+}  // namespace dw::watch

@@ -1,0 +1,196 @@
+#include "watch/lexer.h"
+
+#include <string_view>
+
+namespace dw::watch {
+namespace {
+
+bool is_name_start(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+bool is_name_char(char c) { return is_name_start(c) || is_digit(c); }
+
+TokenKind keyword_or_name(std::string_view word) {
+  if (word == "modules") return TokenKind::Modules;
+  if (word == "not") return TokenKind::Not;
+  if (word == "and") return TokenKind::And;
+  if (word == "or") return TokenKind::Or;
+  if (word == "neighbor") return TokenKind::Neighbor;
+  if (word == "last") return TokenKind::Last;
+  if (word == "next") return TokenKind::Next;
+  return TokenKind::Name;
+}
+
+class Lexer {
+ public:
+  explicit Lexer(const SourceText& source) : text_(source.text()) {}
+
+  std::vector<Token> run() {
+    std::vector<Token> out;
+    for (;;) {
+      skip_space_and_comments();
+      Token t = next();
+      const bool end = t.kind == TokenKind::End;
+      out.push_back(std::move(t));
+      if (end) return out;
+    }
+  }
+
+ private:
+  void skip_space_and_comments() {
+    while (pos_ < text_.size()) {
+      const char c = text_[pos_];
+      if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v') {
+        ++pos_;
+      } else if (c == '#') {
+        while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+      } else {
+        return;
+      }
+    }
+  }
+
+  Token make(TokenKind kind, size_t begin) {
+    Token t;
+    t.kind = kind;
+    t.span = {static_cast<uint32_t>(begin), static_cast<uint32_t>(pos_)};
+    return t;
+  }
+
+  Token invalid(size_t begin, std::string message) {
+    Token t = make(TokenKind::Invalid, begin);
+    t.message = std::move(message);
+    return t;
+  }
+
+  // INT := '-'? digit+ ; a fraction or exponent makes it a NonInteger token.
+  Token number(size_t begin) {
+    const bool negative = text_[pos_] == '-';
+    if (negative) ++pos_;
+    const size_t digits = pos_;
+    while (pos_ < text_.size() && is_digit(text_[pos_])) ++pos_;
+    bool fractional = false;
+    if (pos_ + 1 < text_.size() && text_[pos_] == '.' && is_digit(text_[pos_ + 1])) {
+      fractional = true;
+      ++pos_;
+      while (pos_ < text_.size() && is_digit(text_[pos_])) ++pos_;
+    }
+    if (pos_ < text_.size() && (text_[pos_] == 'e' || text_[pos_] == 'E')) {
+      size_t p = pos_ + 1;
+      if (p < text_.size() && (text_[p] == '+' || text_[p] == '-')) ++p;
+      if (p < text_.size() && is_digit(text_[p])) {
+        fractional = true;
+        pos_ = p;
+        while (pos_ < text_.size() && is_digit(text_[pos_])) ++pos_;
+      }
+    }
+    if (pos_ < text_.size() && is_name_char(text_[pos_])) {
+      while (pos_ < text_.size() && is_name_char(text_[pos_])) ++pos_;
+      return invalid(begin, "malformed number '" + std::string(text_.substr(begin, pos_ - begin)) + "'");
+    }
+    if (fractional) return make(TokenKind::NonInteger, begin);
+
+    // Accumulate as a negative number so that INT64_MIN is representable.
+    Token t = make(TokenKind::Integer, begin);
+    int64_t acc = 0;
+    for (size_t i = digits; i < pos_; ++i) {
+      const int d = text_[i] - '0';
+      if (acc < (INT64_MIN + d) / 10) {
+        t.overflow = true;
+        break;
+      }
+      acc = acc * 10 - d;
+    }
+    if (!t.overflow && !negative) {
+      if (acc == INT64_MIN) t.overflow = true;
+      else acc = -acc;
+    }
+    t.value = acc;
+    return t;
+  }
+
+  Token next() {
+    const size_t begin = pos_;
+    if (pos_ >= text_.size()) return make(TokenKind::End, begin);
+    const char c = text_[pos_];
+    if (is_name_start(c)) {
+      while (pos_ < text_.size() && is_name_char(text_[pos_])) ++pos_;
+      return make(keyword_or_name(text_.substr(begin, pos_ - begin)), begin);
+    }
+    if (is_digit(c) || (c == '-' && pos_ + 1 < text_.size() && is_digit(text_[pos_ + 1]))) return number(begin);
+    ++pos_;
+    auto peek_is = [&](char want) {
+      if (pos_ < text_.size() && text_[pos_] == want) {
+        ++pos_;
+        return true;
+      }
+      return false;
+    };
+    switch (c) {
+      case '(': return make(TokenKind::LParen, begin);
+      case ')': return make(TokenKind::RParen, begin);
+      case ';': return make(TokenKind::Semicolon, begin);
+      case '.': return make(TokenKind::Dot, begin);
+      case ',': return make(TokenKind::Comma, begin);
+      case '<':
+        if (peek_is('>')) return invalid(begin, "'<>' is not an operator; inequality is '!='");
+        return make(peek_is('=') ? TokenKind::LessEqual : TokenKind::Less, begin);
+      case '>': return make(peek_is('=') ? TokenKind::GreaterEqual : TokenKind::Greater, begin);
+      case '=':
+        if (peek_is('=')) return invalid(begin, "'==' is not an operator; equality is '='");
+        return make(TokenKind::Equal, begin);
+      case '!':
+        if (peek_is('=')) return make(TokenKind::NotEqual, begin);
+        return invalid(begin, "'!' is not an operator; use 'not' or '!='");
+      default: break;
+    }
+    // Consume a whole UTF-8 sequence so that the caret covers one character.
+    while (pos_ < text_.size() && (static_cast<unsigned char>(text_[pos_]) & 0xC0) == 0x80) ++pos_;
+    const unsigned char u = static_cast<unsigned char>(c);
+    std::string shown = (u >= 0x20 && u < 0x7f) ? "'" + std::string(1, c) + "'"
+                                                : "byte 0x" + std::string(1, "0123456789abcdef"[u >> 4]) +
+                                                      std::string(1, "0123456789abcdef"[u & 15]);
+    return invalid(begin, "unexpected character " + shown);
+  }
+
+  std::string_view text_;
+  size_t pos_ = 0;
+};
+
+}  // namespace
+
+bool is_keyword(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Next; }
+
+bool is_comparison(TokenKind k) { return k >= TokenKind::Less && k <= TokenKind::LessEqual; }
+
+std::string describe(TokenKind k) {
+  switch (k) {
+    case TokenKind::Name: return "a name";
+    case TokenKind::Integer: return "a number";
+    case TokenKind::NonInteger: return "a non-integer number";
+    case TokenKind::Modules: return "'modules'";
+    case TokenKind::Not: return "'not'";
+    case TokenKind::And: return "'and'";
+    case TokenKind::Or: return "'or'";
+    case TokenKind::Neighbor: return "'neighbor'";
+    case TokenKind::Last: return "'last'";
+    case TokenKind::Next: return "'next'";
+    case TokenKind::LParen: return "'('";
+    case TokenKind::RParen: return "')'";
+    case TokenKind::Semicolon: return "';'";
+    case TokenKind::Dot: return "'.'";
+    case TokenKind::Comma: return "','";
+    case TokenKind::Less: return "'<'";
+    case TokenKind::Greater: return "'>'";
+    case TokenKind::Equal: return "'='";
+    case TokenKind::NotEqual: return "'!='";
+    case TokenKind::GreaterEqual: return "'>='";
+    case TokenKind::LessEqual: return "'<='";
+    case TokenKind::Invalid: return "an invalid character";
+    case TokenKind::End: return "end of input";
+  }
+  return "?";
+}
+
+std::vector<Token> lex(const SourceText& source) { return Lexer(source).run(); }
+
+}  // namespace dw::watch

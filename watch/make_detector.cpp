@@ -1,0 +1,15 @@
+#include "watch/make_detector.h"
+
+#include "watch/centralized_detector.h"
+#include "watch/distributed_detector.h"
+
+namespace dw::watch {
+
+std::unique_ptr<Detector> make_detector(Algorithm algorithm, const Watchpoint& watchpoint, const Universe& universe,
+                                        DetectorOptions options, MatchSink sink) {
+  if (algorithm == Algorithm::Centralized)
+    return std::make_unique<CentralizedDetector>(watchpoint, universe, options, std::move(sink));
+  return std::make_unique<DistributedDetector>(watchpoint, universe, options, std::move(sink));
+}
+
+}  // namespace dw::watch

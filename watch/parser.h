@@ -1,0 +1,26 @@
+// Recursive-descent parser for the watchpoint language (DESIGN §3) with panic-mode recovery:
+// one mistake gives one diagnostic, and parsing goes on to find independent ones.
+#pragma once
+
+#include <vector>
+
+#include "watch/ast.h"
+#include "watch/diagnostic.h"
+#include "watch/source.h"
+
+namespace dw::watch {
+
+// Deepest nesting of parentheses and `not` accepted; deeper input is an error, not a stack overflow.
+constexpr int kMaxNesting = 256;
+// Most nodes a watchpoint may have.
+constexpr size_t kMaxNodes = 4096;
+
+struct ParseResult {
+  Ast ast;
+  std::vector<Diagnostic> diagnostics;  // empty when the watchpoint is valid
+  bool ok() const { return diagnostics.empty(); }
+};
+
+ParseResult parse(const SourceText& source);
+
+}  // namespace dw::watch

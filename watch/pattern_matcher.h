@@ -1,0 +1,104 @@
+// The PatternMatcher (paper §III, Fig. 4) as a compact byte record, laid out once per Program, so
+// that creating, filling and sending one never allocates:
+//
+//   uint32 filled | uint32 bytes | int64 cells[C] | uint32 ids[k] | Truth leaves[L] |
+//   uint8 cell_known[C] | pad to 4 | sets: (uint32 count, uint32 ids[count])*
+//
+// `ids` are the modules in the filled slots; `leaves` the truth of every leaf decided so far
+// (Unknown until its decide slot fills); `cells` the carried values; `sets` the carried neighbour
+// sets, appended as the slots that own them fill. A set whose module was absent has count
+// kUnknownSet and no ids.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+#include "watch/kleene.h"
+#include "watch/program.h"
+
+namespace dw::watch {
+
+constexpr uint32_t kUnknownSet = 0xFFFFFFFFu;
+
+struct PatternMatcherLayout {
+  explicit PatternMatcherLayout(const Program& p)
+      : slots(static_cast<uint32_t>(p.slot_count())),
+        leaf_count(static_cast<uint32_t>(p.leaves.size())),
+        cell_count(static_cast<uint32_t>(p.cells.size())) {
+    cells = 8;
+    ids = cells + 8 * cell_count;
+    leaves = ids + 4 * slots;
+    known = leaves + leaf_count;
+    sets = (known + cell_count + 3) & ~3u;
+  }
+
+  uint32_t slots, leaf_count, cell_count;
+  uint32_t cells, ids, leaves, known, sets;  // byte offsets; `sets` is also the size with no sets
+};
+
+// A view of one record in a buffer owned elsewhere.
+class PatternMatcherRef {
+ public:
+  PatternMatcherRef(std::byte* data, const PatternMatcherLayout& layout) : d_(data), l_(&layout) {}
+
+  uint32_t filled() const { return load32(0); }
+  void set_filled(uint32_t n) { store32(0, n); }
+  uint32_t bytes() const { return load32(4); }
+  void set_bytes(uint32_t n) { store32(4, n); }
+
+  uint32_t id(uint32_t slot) const { return load32(l_->ids + 4 * slot); }
+  void set_id(uint32_t slot, uint32_t m) { store32(l_->ids + 4 * slot, m); }
+  bool holds(uint32_t m) const {
+    const uint32_t n = filled();
+    for (uint32_t s = 0; s < n; ++s)
+      if (id(s) == m) return true;
+    return false;
+  }
+
+  Truth* leaves() { return reinterpret_cast<Truth*>(d_ + l_->leaves); }
+  const Truth* leaves() const { return reinterpret_cast<const Truth*>(d_ + l_->leaves); }
+
+  bool cell(uint32_t c, int64_t& value) const {
+    std::memcpy(&value, d_ + l_->cells + 8 * c, 8);
+    return static_cast<bool>(d_[l_->known + c]);
+  }
+  void set_cell(uint32_t c, int64_t value, bool known) {
+    std::memcpy(d_ + l_->cells + 8 * c, &value, 8);
+    d_[l_->known + c] = static_cast<std::byte>(known);
+  }
+
+  // The carried neighbour set number `index` (in Program::sets order); count kUnknownSet when the
+  // module was absent at that step.
+  const uint32_t* set(uint32_t index, uint32_t& count) const {
+    uint32_t at = l_->sets;
+    for (uint32_t i = 0;; ++i) {
+      count = load32(at);
+      if (i == index) return reinterpret_cast<const uint32_t*>(d_ + at + 4);
+      at += 4 + (count == kUnknownSet ? 0 : 4 * count);
+    }
+  }
+
+  // Starts an empty record: nothing filled, every leaf Unknown.
+  void init() {
+    set_filled(0);
+    set_bytes(l_->sets);
+    std::memset(d_ + l_->leaves, kUnknown, l_->leaf_count);
+    std::memset(d_ + l_->known, 0, l_->cell_count);
+  }
+
+  std::byte* data() { return d_; }
+
+ private:
+  uint32_t load32(uint32_t at) const {
+    uint32_t v;
+    std::memcpy(&v, d_ + at, 4);
+    return v;
+  }
+  void store32(uint32_t at, uint32_t v) { std::memcpy(d_ + at, &v, 4); }
+
+  std::byte* d_;
+  const PatternMatcherLayout* l_;
+};
+
+}  // namespace dw::watch

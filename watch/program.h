@@ -1,0 +1,115 @@
+// A watchpoint compiled for evaluation over partial fills (paper §III, Fig. 4).
+//
+// The expression's leaves (comparisons and neighbor() terms) are each decided when the last slot
+// they mention is filled: its `decide_slot`. Until then a leaf is Unknown. The expression itself
+// is a postfix program over leaf truth values, evaluated in Kleene logic.
+//
+// For the distributed detector, where a PatternMatcher travels and each module contributes only
+// its own state, a term whose slot fills before the leaf's decide slot is carried in a *cell*, and
+// the neighbour set N(x) of a neighbor(x y) term with x filled before y is carried as a *set*.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "watch/analysis.h"
+#include "watch/ast.h"
+#include "watch/kleene.h"
+
+namespace dw::watch {
+
+// `slot.variable` at `offset` steps from the slot's "now".
+struct TermRef {
+  int16_t slot = 0;
+  int16_t variable = 0;  // index into Program::variables
+  int16_t offset = 0;
+  int16_t cell = -1;     // >= 0: carried in this cell (distributed), the slot fills before decide_slot
+};
+
+// Whether `a op b` holds.
+inline bool holds(CompareOp op, int64_t a, int64_t b) {
+  switch (op) {
+    case CompareOp::Less: return a < b;
+    case CompareOp::Greater: return a > b;
+    case CompareOp::Equal: return a == b;
+    case CompareOp::NotEqual: return a != b;
+    case CompareOp::GreaterEqual: return a >= b;
+    case CompareOp::LessEqual: return a <= b;
+  }
+  return false;
+}
+
+enum class LeafKind : uint8_t { Compare, Neighbor };
+
+struct Leaf {
+  LeafKind kind = LeafKind::Compare;
+  CompareOp op = CompareOp::Equal;
+  TermRef lhs;
+  bool rhs_is_constant = false;
+  TermRef rhs;
+  int64_t constant = 0;
+  // neighbor(x y) at offset: y in N(x, now_x + offset)
+  int16_t x = 0, y = 0, offset = 0;
+  int16_t set = -1;  // >= 0: N(x) is carried in this set (x fills before y)
+  int16_t decide_slot = 0;
+  NodeIndex node = kNoNode;
+};
+
+struct ExprOp {
+  enum Kind : uint8_t { PushLeaf, Not, And, Or };
+  Kind kind = PushLeaf;
+  uint32_t leaf = 0;
+};
+
+struct CarriedCell {
+  int16_t slot = 0, variable = 0, offset = 0;
+};
+
+struct CarriedSet {
+  int16_t slot = 0, offset = 0;
+};
+
+// What filling one slot involves.
+struct SlotProgram {
+  std::vector<uint16_t> cells;   // cells this slot's module writes
+  std::vector<uint16_t> sets;    // neighbour sets this slot's module writes
+  std::vector<uint16_t> leaves;  // leaves decided when this slot fills
+  std::vector<uint16_t> cull_leaves;  // neighbor(x this) leaves with x filled earlier: cull candidates
+};
+
+class Program {
+ public:
+  Program(const Ast& ast, const Analysis& analysis);
+
+  int slot_count() const { return static_cast<int>(slot_names.size()); }
+
+  // Evaluates the expression over leaf truth values; `stack` holds at least max_stack entries.
+  Truth evaluate(const Truth* leaf_values, Truth* stack) const {
+    int sp = 0;
+    for (const ExprOp& op : expr) {
+      switch (op.kind) {
+        case ExprOp::PushLeaf: stack[sp++] = leaf_values[op.leaf]; break;
+        case ExprOp::Not: stack[sp - 1] = kleene_not(stack[sp - 1]); break;
+        case ExprOp::And: --sp; stack[sp - 1] = kleene_and(stack[sp - 1], stack[sp]); break;
+        case ExprOp::Or: --sp; stack[sp - 1] = kleene_or(stack[sp - 1], stack[sp]); break;
+      }
+    }
+    return stack[0];
+  }
+
+  std::vector<std::string> slot_names;
+  std::vector<std::string> variables;
+  std::vector<int> variable_min_offset;  // per variable
+  int extent_plus = 0;                   // E+
+  int min_offset = 0;                    // <= 0
+  int min_neighbor_offset = 0;           // <= 0; neighbour sets are read at [this, E+]
+  std::vector<Leaf> leaves;
+  std::vector<ExprOp> expr;
+  int max_stack = 1;
+  std::vector<CarriedCell> cells;
+  std::vector<CarriedSet> sets;          // ordered by slot: a PatternMatcher appends them as it fills
+  std::vector<SlotProgram> slots;
+};
+
+}  // namespace dw::watch
