@@ -74,6 +74,11 @@ bool DistributedAgent::culled(uint32_t candidate, const PatternMatcherRef& pm, A
 
 void DistributedAgent::fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out) {
   const Program& p = ctx.program;
+  StepStats& st = ctx.step;
+  if (ctx.live_budget != 0 && st.live >= ctx.live_budget) {
+    ctx.over_budget = true;
+    return;
+  }
   const uint32_t slot = pm.filled();
   const SlotProgram& sp = p.slots[slot];
 
@@ -101,7 +106,6 @@ void DistributedAgent::fill_and_forward(int64_t f, PatternMatcherRef pm, AgentCo
   for (uint16_t l : sp.leaves) leaves[l] = decide(p.leaves[l], f, pm);
   pm.set_filled(slot + 1);
 
-  StepStats& st = ctx.step;
   if (st.live_by_filled.size() <= slot + 1) st.live_by_filled.resize(slot + 2);
   ++st.live_by_filled[slot + 1];
   ++st.live;

@@ -104,6 +104,8 @@ class Parser {
   // watchpoint := 'modules' '(' NAME (','? NAME)* ')' ';' or END
   void parse_watchpoint() {
     parse_module_decl();
+    // Without module names every name below would be "undeclared": one mistake, one message.
+    if (ast_.slots.empty()) return;
     if (!match(TokenKind::Semicolon)) {
       // Going on is only useful when the expression clearly starts here.
       if (check(TokenKind::LParen) || check(TokenKind::Not) || check(TokenKind::Neighbor) || check(TokenKind::Name)) {
@@ -115,7 +117,8 @@ class Parser {
       }
     }
     if (check(TokenKind::End)) {
-      error_at(peek().span, "expected a condition after ';'");
+      const uint32_t after = previous().span.end;
+      error_at({after, after}, "expected a condition after ';'");
       return;
     }
     ast_.root = parse_or(0);
@@ -337,6 +340,7 @@ class Parser {
         return true;
       } else if (is_keyword(peek().kind)) {
         error_at(peek().span, "keyword " + describe(peek().kind) + " cannot be a variable name");
+        advance();  // so that recovery does not take the keyword for an operator
         return false;
       } else {
         error_expected("a variable name after '.'");

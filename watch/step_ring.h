@@ -2,6 +2,7 @@
 // how the detectors bound history to what the watchpoint's temporal spans need (paper §IV-A).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 

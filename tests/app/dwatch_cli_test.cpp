@@ -1,0 +1,141 @@
+// The dwatch executable as a user meets it: exit codes, diagnostics on stderr, files written.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("dwatch_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Runs dwatch with `args` (already shell-quoted as needed).
+  Result run(const std::string& args) {
+    const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
+    const std::string cmd = std::string(DWATCH_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
+    const int status = std::system(cmd.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+  }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return dir_ / name;
+  }
+
+  fs::path dir_;
+  const fs::path cases_ = DWATCH_CONFORMANCE_DIR;
+};
+
+TEST_F(Cli, CheckExplainsAValidWatchpoint) {
+  const Result r = run("check 'modules(a b c);(a.isLeader = 1) and (c.next.isLeader = 1)'");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("E+             1"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("isLeader: offsets 0, 1, temporal span 1"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("b: nothing (a connector)"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, CheckReportsEveryMistakeWithCaretsAndExitsTwo) {
+  const fs::path f = write("bad.watch", "modules(a b);\n(a.x = 1) and (c.y = 2)\n");
+  const Result r = run("check @" + f.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, f.string() + ":2:16: error: module 'c' is not declared in modules(a b)\n"
+                                "(a.x = 1) and (c.y = 2)\n"
+                                "               ^\n");
+}
+
+TEST_F(Cli, MissingWatchFileIsBadInput) {
+  const Result r = run("check @" + (dir_ / "none.watch").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("cannot read the watchpoint file"), std::string::npos);
+}
+
+TEST_F(Cli, ReplayWritesSortedMatchesAndStats) {
+  const fs::path c = cases_ / "02_leader_two_hop_hex";
+  const Result r = run("replay " + (c / "trace.jsonl").string() + " --watch @" + (c / "watch.txt").string() +
+                       " --algorithm centralized --matches " + (dir_ / "m.jsonl").string() + " --stats " +
+                       (dir_ / "s.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(dir_ / "m.jsonl");
+  std::vector<std::pair<int64_t, std::vector<int>>> rows;
+  for (std::string line; std::getline(in, line);) {
+    const auto j = nlohmann::ordered_json::parse(line);
+    EXPECT_EQ(j["watch"], "02_leader_two_hop_hex");
+    std::vector<int> ids;
+    for (const auto& [k, v] : j["slots"].items()) ids.push_back(v.get<int>());
+    rows.push_back({j["t"].get<int64_t>(), ids});
+  }
+  EXPECT_EQ(rows.size(), 385u);
+  EXPECT_TRUE(std::is_sorted(rows.begin(), rows.end()));
+  const auto stats = nlohmann::json::parse(slurp(dir_ / "s.json"));
+  EXPECT_TRUE(stats["matches"].is_number_integer());
+  EXPECT_EQ(stats["matches"].get<int>(), 385);
+  EXPECT_EQ(stats["watches"][0]["per_step"].size(), 6u);
+}
+
+TEST_F(Cli, ReplayPrintsMatchesWhenNoFileIsGiven) {
+  const fs::path c = cases_ / "07_last_last_single";
+  const Result r = run("replay " + (c / "trace.jsonl").string() + " -w @" + (c / "watch.txt").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("07_last_last_single: 9 matches"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("t=2 a=2"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, SeveralWatchesAtOnce) {
+  const fs::path c = cases_ / "01_fig6_2222_grid";
+  const Result r = run("replay " + (c / "trace.jsonl").string() + " -w @" + (c / "watch.txt").string() +
+                       " -w 'ones=modules(a); (a.x1 = 1)' --matches " + (dir_ / "m.jsonl").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string m = slurp(dir_ / "m.jsonl");
+  EXPECT_NE(m.find("\"watch\":\"ones\""), std::string::npos);
+  EXPECT_NE(m.find("\"watch\":\"01_fig6_2222_grid\""), std::string::npos);
+}
+
+TEST_F(Cli, BadTraceLineIsBadInputNamingTheLine) {
+  const fs::path t = write("t.jsonl", "{\"t\":0,\"m\":0,\"vars\":{},\"nbrs\":[]}\n{\"t\":0,\"m\":0,\"vars\":{},\"nbrs\":[]}\n");
+  const Result r = run("replay " + t.string() + " -w 'modules(a); (a.x = 1)'");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, t.string() + ":2:1: error: duplicate line for module 0 at step 0 (first at line 1)\n");
+}
+
+TEST_F(Cli, BudgetStopsWithExitOneAndKeepsWhatWasFound) {
+  const fs::path c = cases_ / "10_five_slots_negative";
+  const Result r = run("replay " + (c / "trace.jsonl").string() + " -w @" + (c / "watch.txt").string() +
+                       " -a centralized --max-live 2000 --matches " + (dir_ / "m.jsonl").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("stopped: more than 2000"), std::string::npos) << r.err;
+  EXPECT_FALSE(slurp(dir_ / "m.jsonl").empty());
+}
+
+TEST_F(Cli, BadOptionsAreBadInput) {
+  EXPECT_EQ(run("replay x.jsonl -w 'modules(a); (a.x=1)' --algorithm sideways").code, 2);
+  EXPECT_EQ(run("replay " + (dir_ / "missing.jsonl").string() + " -w 'modules(a); (a.x=1)'").code, 2);
+  EXPECT_EQ(run("frobnicate").code, 2);
+  EXPECT_EQ(run("").code, 2);
+}
+
+}  // namespace

@@ -1,0 +1,50 @@
+#include "sim/match_log.h"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+namespace dw::sim {
+namespace {
+
+TEST(MatchLog, SortsByStepThenWatchThenSlotIds) {
+  std::ostringstream out;
+  MatchLog log({{"late", {"a", "b"}}, {"early", {"x"}}}, &out);
+  auto late = log.sink(0), early = log.sink(1);
+  const std::vector<watch::ModuleId> l0 = {5, 1, 2, 9, 2, 3};
+  late(0, l0);
+  early(0, std::vector<watch::ModuleId>{7});
+  early(1, std::vector<watch::ModuleId>{4, 3});
+  log.release(0);
+  EXPECT_EQ(out.str(),
+            "{\"watch\":\"late\",\"t\":0,\"slots\":{\"a\":2,\"b\":3}}\n"
+            "{\"watch\":\"late\",\"t\":0,\"slots\":{\"a\":2,\"b\":9}}\n"
+            "{\"watch\":\"late\",\"t\":0,\"slots\":{\"a\":5,\"b\":1}}\n"
+            "{\"watch\":\"early\",\"t\":0,\"slots\":{\"x\":7}}\n");
+  log.finish();
+  EXPECT_NE(out.str().find("{\"watch\":\"early\",\"t\":1,\"slots\":{\"x\":3}}\n{\"watch\":\"early\",\"t\":1,\"slots\":{\"x\":4}}\n"),
+            std::string::npos);
+  EXPECT_EQ(log.count(0), 3u);
+  EXPECT_EQ(log.count(1), 3u);
+}
+
+TEST(MatchLog, EscapesNamesAsJson) {
+  std::ostringstream out;
+  MatchLog log({{"a \"quoted\" name", {"s"}}}, &out);
+  log.sink(0)(3, std::vector<watch::ModuleId>{1});
+  log.finish();
+  EXPECT_EQ(out.str(), "{\"watch\":\"a \\\"quoted\\\" name\",\"t\":3,\"slots\":{\"s\":1}}\n");
+}
+
+TEST(MatchLog, KeepsTheFirstMatchesForSummariesWithoutWriting) {
+  MatchLog log({{"w", {"a"}}}, nullptr, 2);
+  log.sink(0)(4, std::vector<watch::ModuleId>{9, 3, 5});
+  log.finish();
+  ASSERT_EQ(log.kept(0).size(), 2u);
+  EXPECT_EQ(log.kept(0)[0].ids, (std::vector<watch::ModuleId>{3}));
+  EXPECT_EQ(log.kept(0)[1].ids, (std::vector<watch::ModuleId>{5}));
+  EXPECT_EQ(log.count(0), 3u);
+}
+
+}  // namespace
+}  // namespace dw::sim

@@ -1,0 +1,133 @@
+#include <gtest/gtest.h>
+
+#include "sim/trace.h"
+
+namespace dw::sim {
+namespace {
+
+std::vector<TraceError> errors_of(const std::string& text) {
+  auto r = read_trace_text("t.jsonl", text);
+  if (auto* e = std::get_if<std::vector<TraceError>>(&r)) return *e;
+  return {};
+}
+
+// The first error, formatted.
+std::string first_error(const std::string& text) {
+  auto e = errors_of(text);
+  return e.empty() ? "no error" : e[0].format();
+}
+
+TEST(TraceReader, ReadsModulesVariablesAndNeighbours) {
+  auto r = read_trace_text("t", R"({"wptrace":1}
+{"t":0,"m":17,"vars":{"x":3,"isLeader":1},"nbrs":[5]}
+{"t":0,"m":5,"vars":{"x":-2},"nbrs":[17]}
+
+{"t":2,"m":5,"vars":{},"nbrs":[]}
+)");
+  ASSERT_TRUE(std::holds_alternative<Trace>(r)) << std::get<std::vector<TraceError>>(r)[0].format();
+  const Trace& t = std::get<Trace>(r);
+  EXPECT_EQ(t.universe().module_ids, (std::vector<watch::ModuleId>{5, 17}));
+  EXPECT_EQ(t.universe().variables, (std::vector<std::string>{"x", "isLeader"}));
+  EXPECT_EQ(t.step_count(), 3);
+  EXPECT_EQ(t.line_count(), 3u);
+  const watch::Frame f0 = t.frame(0);
+  EXPECT_EQ(f0.present[0], 1);
+  EXPECT_EQ(f0.values[0 * 2 + 0], -2);
+  EXPECT_EQ(f0.has_value[0 * 2 + 1], 0) << "module 5 lacks isLeader";
+  EXPECT_EQ(f0.values[1 * 2 + 1], 1);
+  ASSERT_EQ(f0.neighbors(1).size(), 1u);
+  EXPECT_EQ(f0.neighbors(1)[0], 0u) << "neighbours are dense indices";
+  const watch::Frame f1 = t.frame(1);
+  EXPECT_EQ(f1.present[0] + f1.present[1], 0) << "step 1 has no lines: everyone absent";
+  EXPECT_EQ(t.frame(2).present[0], 1);
+}
+
+TEST(TraceReader, HeaderIsOptional) {
+  auto r = read_trace_text("t", R"({"t":0,"m":0,"vars":{"x":1},"nbrs":[]})");
+  EXPECT_TRUE(std::holds_alternative<Trace>(r));
+}
+
+TEST(TraceReader, NeighbourWithoutALineIsAnAbsentModule) {
+  auto r = read_trace_text("t", R"({"t":0,"m":0,"vars":{},"nbrs":[9]})");
+  ASSERT_TRUE(std::holds_alternative<Trace>(r));
+  const Trace& t = std::get<Trace>(r);
+  EXPECT_EQ(t.universe().module_count(), 2u);
+  EXPECT_EQ(t.frame(0).present[1], 0);
+}
+
+TEST(TraceReader, MalformedLineNamesItsLine) {
+  EXPECT_EQ(first_error("{\"t\":0,\"m\":0,\"vars\":{},\"nbrs\":[]}\n{\"t\":1,\"m\":0,\"vars\":{},\"nbrs\":[}\n"),
+            "t.jsonl:2:1: error: malformed JSON: The JSON document has an improper structure: missing or superfluous "
+            "commas, braces, missing keys, etc.");
+}
+
+TEST(TraceReader, MissingFieldIsAnError) {
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{}})"), "t.jsonl:1:1: error: missing field \"nbrs\"");
+  EXPECT_EQ(first_error(R"({"nbrs":[],"vars":{}})"), "t.jsonl:1:1: error: missing field \"t\", \"m\"");
+}
+
+TEST(TraceReader, DuplicateStepAndModuleNamesBothLines) {
+  EXPECT_EQ(first_error("{\"t\":0,\"m\":3,\"vars\":{},\"nbrs\":[]}\n{\"t\":1,\"m\":3,\"vars\":{},\"nbrs\":[]}\n"
+                        "{\"t\":0,\"m\":3,\"vars\":{},\"nbrs\":[]}"),
+            "t.jsonl:3:1: error: duplicate line for module 3 at step 0 (first at line 1)");
+}
+
+TEST(TraceReader, NegativeStepPointsAtTheField) {
+  EXPECT_EQ(first_error(R"({"t":-1,"m":0,"vars":{},"nbrs":[]})"), "t.jsonl:1:2: error: step \"t\" is negative");
+}
+
+TEST(TraceReader, NonIntegerValuesAreErrors) {
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{"x":1.5},"nbrs":[]})"),
+            "t.jsonl:1:22: error: variable 'x' must be an integer");
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{"x":"1"},"nbrs":[]})"),
+            "t.jsonl:1:22: error: variable 'x' must be an integer");
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{"x":true},"nbrs":[]})"),
+            "t.jsonl:1:22: error: variable 'x' must be an integer");
+  EXPECT_EQ(first_error(R"({"t":0.0,"m":0,"vars":{},"nbrs":[]})"), "t.jsonl:1:2: error: step \"t\" must be an integer");
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{"x":18446744073709551615},"nbrs":[]})"),
+            "t.jsonl:1:22: error: variable 'x' does not fit in a signed 64-bit integer");
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{},"nbrs":[1.0]})"), "t.jsonl:1:24: error: neighbour id must be an integer");
+}
+
+TEST(TraceReader, StructuralMistakes) {
+  EXPECT_EQ(first_error(R"([1,2])"), "t.jsonl:1:1: error: expected a JSON object");
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":[],"nbrs":[]})"),
+            "t.jsonl:1:14: error: \"vars\" must be an object of integer variables");
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{},"nbrs":[0]})"), "t.jsonl:1:1: error: module 0 lists itself as a neighbour");
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{},"nbrs":[1,1]})"), "t.jsonl:1:1: error: a neighbour appears twice in \"nbrs\"");
+  EXPECT_EQ(first_error(R"({"t":0,"m":-4,"vars":{},"nbrs":[]})"),
+            "t.jsonl:1:8: error: module id \"m\" must be in 0..4294967295");
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{},"nbrs":[],"pose":[0,0,0]})"),
+            "t.jsonl:1:34: error: unknown field \"pose\" (a line has \"t\", \"m\", \"vars\", \"nbrs\")");
+  EXPECT_EQ(first_error("{\"t\":0,\"m\":0,\"vars\":{},\"nbrs\":[]}\n{\"wptrace\":1}"),
+            "t.jsonl:2:2: error: the {\"wptrace\":1} header may only be the first line");
+  EXPECT_EQ(first_error(R"({"wptrace":2})"), "t.jsonl:1:2: error: unsupported trace version 2 (this reader reads wptrace 1)");
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{"x":1,"x":2},"nbrs":[]})"),
+            "t.jsonl:1:22: error: variable 'x' appears twice");
+}
+
+TEST(TraceReader, EveryBadLineIsReportedNotJustTheFirst) {
+  std::string text;
+  for (int i = 0; i < 5; ++i) text += "{\"t\":" + std::to_string(i) + ",\"m\":0,\"vars\":{\"x\":0.5},\"nbrs\":[]}\n";
+  const auto e = errors_of(text);
+  ASSERT_EQ(e.size(), 5u);
+  for (size_t i = 0; i < e.size(); ++i) EXPECT_EQ(e[i].line, i + 1);
+}
+
+TEST(TraceReader, StopsAfterTwentyErrorsAndSaysSo) {
+  std::string text;
+  for (int i = 0; i < 100; ++i) text += "nonsense\n";
+  const auto e = errors_of(text);
+  ASSERT_EQ(e.size(), 21u);
+  EXPECT_NE(e.back().message.find("too many errors"), std::string::npos);
+}
+
+TEST(TraceReader, MissingFileIsAnError) {
+  auto r = read_trace("/nonexistent/trace.jsonl");
+  ASSERT_TRUE(std::holds_alternative<std::vector<TraceError>>(r));
+  EXPECT_NE(std::get<std::vector<TraceError>>(r)[0].format().find("/nonexistent/trace.jsonl: error: cannot read"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace dw::sim

@@ -1,0 +1,131 @@
+#include "watch/parser.h"
+
+#include <gtest/gtest.h>
+
+namespace dw::watch {
+namespace {
+
+ParseResult p(const std::string& text) { return parse(SourceText("t", text)); }
+
+TEST(Parser, Figure2) {
+  auto r = p("modules(a b c);(a.isLeader = 1) and (c.isLeader = 1)");
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r.ast.slots.size(), 3u);
+  EXPECT_EQ(r.ast.slots[2].name, "c");
+  const Node& root = r.ast.nodes[r.ast.root];
+  ASSERT_EQ(root.kind, NodeKind::And);
+  const Node& right = r.ast.nodes[root.rhs];
+  ASSERT_EQ(right.kind, NodeKind::Compare);
+  EXPECT_EQ(right.left.module.slot, 2);
+  EXPECT_EQ(right.left.variable, "isLeader");
+  EXPECT_TRUE(right.right.is_constant);
+  EXPECT_EQ(right.right.constant, 1);
+}
+
+TEST(Parser, AndBindsTighterThanOr) {
+  auto r = p("modules(a); (a.x = 1) or (a.x = 2) and (a.x = 3)");
+  ASSERT_TRUE(r.ok());
+  const Node& root = r.ast.nodes[r.ast.root];
+  EXPECT_EQ(root.kind, NodeKind::Or);
+  EXPECT_EQ(r.ast.nodes[root.rhs].kind, NodeKind::And);
+}
+
+TEST(Parser, NotBindsTighterThanAnd) {
+  auto r = p("modules(a); not (a.x = 1) and (a.x = 2)");
+  ASSERT_TRUE(r.ok());
+  const Node& root = r.ast.nodes[r.ast.root];
+  EXPECT_EQ(root.kind, NodeKind::And);
+  EXPECT_EQ(r.ast.nodes[root.lhs].kind, NodeKind::Not);
+}
+
+TEST(Parser, ChainsAreLeftAssociative) {
+  auto r = p("modules(a); (a.x = 1) and (a.x = 2) and (a.x = 3)");
+  ASSERT_TRUE(r.ok());
+  const Node& root = r.ast.nodes[r.ast.root];
+  EXPECT_EQ(r.ast.nodes[root.lhs].kind, NodeKind::And);
+  EXPECT_EQ(r.ast.nodes[root.rhs].kind, NodeKind::Compare);
+}
+
+TEST(Parser, OffsetsCountNextAsPlusAndLastAsMinus) {
+  auto r = p("modules(a b); (a.last.next.last.v = b.next.next.w) and neighbor(a.last b.last)");
+  ASSERT_TRUE(r.ok());
+  const Node& cmp = r.ast.nodes[r.ast.nodes[r.ast.root].lhs];
+  EXPECT_EQ(cmp.left.module.offset, -1);
+  EXPECT_EQ(cmp.left.variable, "v");
+  EXPECT_EQ(cmp.right.module.offset, 2);
+  const Node& nb = r.ast.nodes[r.ast.nodes[r.ast.root].rhs];
+  EXPECT_EQ(nb.kind, NodeKind::Neighbor);
+  EXPECT_EQ(nb.x.offset, -1);
+  EXPECT_EQ(nb.y.slot, 1);
+}
+
+TEST(Parser, NegativeConstantsAndAllOperators) {
+  auto r = p("modules(a); a.x < -1 and a.x > -2 and a.x = 0 and a.x != 3 and a.x >= 4 and a.x <= -5");
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(to_string(r.ast),
+            "modules(a); (a.x < -1) and (a.x > -2) and (a.x = 0) and (a.x != 3) and (a.x >= 4) and (a.x <= -5)");
+}
+
+TEST(Parser, EverySpanCoversItsSource) {
+  SourceText src("t", "modules(a b); ( a.x = b.last.y ) or neighbor(a b)");
+  auto r = parse(src);
+  ASSERT_TRUE(r.ok());
+  const Node& root = r.ast.nodes[r.ast.root];
+  EXPECT_EQ(src.slice(root.span), "( a.x = b.last.y ) or neighbor(a b)");
+  const Node& cmp = r.ast.nodes[root.lhs];
+  EXPECT_EQ(src.slice(cmp.left.span), "a.x");
+  EXPECT_EQ(src.slice(cmp.right.span), "b.last.y");
+  EXPECT_EQ(src.slice(cmp.right.module.span), "b.last");
+  EXPECT_EQ(src.slice(r.ast.nodes[root.rhs].span), "neighbor(a b)");
+}
+
+TEST(Parser, DeepNestingIsACleanErrorNotACrash) {
+  const int depth = 100000;
+  std::string text = "modules(a); " + std::string(depth, '(') + "a.x = 1" + std::string(depth, ')');
+  auto r = p(text);
+  ASSERT_EQ(r.diagnostics.size(), 1u);
+  EXPECT_NE(r.diagnostics[0].message.find("nested too deeply"), std::string::npos);
+}
+
+TEST(Parser, DeepNotChainIsACleanError) {
+  std::string text = "modules(a); ";
+  for (int i = 0; i < 100000; ++i) text += "not ";
+  text += "(a.x = 1)";
+  auto r = p(text);
+  ASSERT_EQ(r.diagnostics.size(), 1u);
+  EXPECT_NE(r.diagnostics[0].message.find("nested too deeply"), std::string::npos);
+}
+
+TEST(Parser, NestingJustUnderTheLimitParses) {
+  const int depth = kMaxNesting - 1;
+  auto r = p("modules(a); " + std::string(depth, '(') + "a.x = 1" + std::string(depth, ')'));
+  EXPECT_TRUE(r.ok());
+}
+
+TEST(Parser, HugeExpressionIsACleanError) {
+  std::string text = "modules(a); (a.x = 1)";
+  for (int i = 0; i < 5000; ++i) text += " and (a.x = 1)";
+  auto r = p(text);
+  ASSERT_EQ(r.diagnostics.size(), 1u);
+  EXPECT_NE(r.diagnostics[0].message.find("too large"), std::string::npos);
+}
+
+TEST(Parser, ParenthesesAroundAComparisonAreOptional) {
+  auto a = p("modules(a b); (a.x = 1) and (b.y = 2)");
+  auto b = p("modules(a b); a.x = 1 and b.y = 2");
+  ASSERT_TRUE(a.ok());
+  ASSERT_TRUE(b.ok());
+  EXPECT_EQ(to_string(a.ast), to_string(b.ast));
+}
+
+TEST(Parser, ErrorsNeverEscapeAsExceptionsOnGarbage) {
+  for (const char* text : {"", ";", "modules", "modules(", "modules(a", "modules(a)", "modules(a);(", "modules(a);((((",
+                           "modules(a);a.", "modules(a);a.last.", "modules(a);neighbor(", "modules(a);not", ")))",
+                           "modules(a);(a.x=1) and", "\xff\xfe", "modules(a);(a.x = -)"}) {
+    auto r = p(text);
+    EXPECT_FALSE(r.ok()) << text;
+  }
+}
+
+}  // namespace
+}  // namespace dw::watch

@@ -1,0 +1,306 @@
+// Property tests (DESIGN §10): random traces and random watchpoints, checked against brute-force
+// enumerators written here from the definitions in DESIGN §4, independently of watch/program.
+#include <gtest/gtest.h>
+
+#include <optional>
+#include <random>
+
+#include "test_ensemble.h"
+#include "watch/parser.h"
+
+namespace dw::watch {
+namespace {
+
+using testing::compile_or_die;
+using testing::Match;
+using testing::TestEnsemble;
+
+// ---- random inputs ------------------------------------------------------------------------------
+
+struct RandomCase {
+  TestEnsemble ensemble{1, {}};
+  std::string watch;
+};
+
+class Generator {
+ public:
+  explicit Generator(uint32_t seed) : rng_(seed) {}
+
+  int pick(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
+  bool chance(double p) { return std::bernoulli_distribution(p)(rng_); }
+
+  // `frozen`: every step equal and the graph undirected; otherwise anything goes (directed edges,
+  // edges to absent modules, modules leaving and lacking variables).
+  TestEnsemble ensemble(bool frozen) {
+    const uint32_t m_count = static_cast<uint32_t>(pick(2, 7));
+    const int steps = pick(frozen ? 5 : 2, 7);
+    TestEnsemble e(m_count, {"x", "y"});
+    std::vector<std::vector<uint32_t>> fixed_nbrs(m_count);
+    std::vector<std::map<std::string, int64_t>> fixed_vars(m_count);
+    if (frozen) {
+      for (uint32_t a = 0; a < m_count; ++a)
+        for (uint32_t b = a + 1; b < m_count; ++b)
+          if (chance(0.5)) {
+            fixed_nbrs[a].push_back(b);
+            fixed_nbrs[b].push_back(a);
+          }
+      for (auto& v : fixed_vars) v = {{"x", pick(0, 2)}, {"y", pick(0, 2)}};
+    }
+    for (int t = 0; t < steps; ++t) {
+      e.grow(t);
+      for (uint32_t m = 0; m < m_count; ++m) {
+        if (frozen) {
+          e.set(t, m, fixed_vars[m], fixed_nbrs[m]);
+          continue;
+        }
+        if (!chance(0.85)) continue;
+        std::map<std::string, int64_t> vars;
+        if (chance(0.9)) vars["x"] = pick(0, 2);
+        if (chance(0.9)) vars["y"] = pick(-1, 2);
+        std::vector<uint32_t> nbrs;
+        for (uint32_t n = 0; n < m_count; ++n)
+          if (n != m && chance(0.5)) nbrs.push_back(n);
+        std::shuffle(nbrs.begin(), nbrs.end(), rng_);
+        e.set(t, m, vars, nbrs);
+      }
+    }
+    return e;
+  }
+
+  std::string watch(int slots, bool offsets) {
+    slots_ = slots;
+    offsets_ = offsets;
+    std::string text = "modules(";
+    for (int s = 0; s < slots; ++s) text += std::string(s ? " " : "") + name(s);
+    return text + "); " + expr(3);
+  }
+
+ private:
+  static std::string name(int s) { return std::string(1, static_cast<char>('a' + s)); }
+  std::string module(int slot, int offset) {
+    std::string m = name(slot);
+    for (int i = 0; i < offset; ++i) m += ".next";
+    for (int i = 0; i > offset; --i) m += ".last";
+    return m;
+  }
+  int offset() { return offsets_ && chance(0.35) ? pick(-1, 1) : 0; }
+  std::string statevar() { return module(pick(0, slots_ - 1), offset()) + "." + (chance(0.5) ? "x" : "y"); }
+
+  std::string expr(int depth) {
+    const int choice = depth == 0 ? pick(0, 1) : pick(0, 5);
+    static const char* ops[] = {"<", ">", "=", "!=", ">=", "<="};
+    switch (choice) {
+      case 0:
+      case 1: {
+        if (slots_ > 1 && chance(0.2)) {
+          const int x = pick(0, slots_ - 1);
+          int y = pick(0, slots_ - 2);
+          if (y >= x) ++y;
+          const int d = offset();
+          return "neighbor(" + module(x, d) + " " + module(y, d) + ")";
+        }
+        const std::string rhs = chance(0.5) ? std::to_string(pick(-1, 2)) : statevar();
+        return "(" + statevar() + " " + ops[pick(0, 5)] + " " + rhs + ")";
+      }
+      case 2: return "not " + expr(depth - 1);
+      case 3:
+      case 4: return "(" + expr(depth - 1) + " and " + expr(depth - 1) + ")";
+      default: return "(" + expr(depth - 1) + " or " + expr(depth - 1) + ")";
+    }
+  }
+
+  std::mt19937 rng_;
+  int slots_ = 1;
+  bool offsets_ = true;
+};
+
+// ---- brute force ------------------------------------------------------------------------------
+
+enum class K { T, F, U };
+K k_not(K a) { return a == K::U ? K::U : (a == K::T ? K::F : K::T); }
+K k_and(K a, K b) {
+  if (a == K::F || b == K::F) return K::F;
+  return a == K::T && b == K::T ? K::T : K::U;
+}
+K k_or(K a, K b) {
+  if (a == K::T || b == K::T) return K::T;
+  return a == K::F && b == K::F ? K::F : K::U;
+}
+
+// Evaluates the AST with slot s's "now" at now[s], straight from the definitions.
+K evaluate(const Ast& ast, NodeIndex i, const TestEnsemble& e, const std::vector<uint32_t>& binding,
+           const std::vector<int64_t>& now) {
+  const Node& n = ast.nodes[i];
+  switch (n.kind) {
+    case NodeKind::Not: return k_not(evaluate(ast, n.lhs, e, binding, now));
+    case NodeKind::And: return k_and(evaluate(ast, n.lhs, e, binding, now), evaluate(ast, n.rhs, e, binding, now));
+    case NodeKind::Or: return k_or(evaluate(ast, n.lhs, e, binding, now), evaluate(ast, n.rhs, e, binding, now));
+    case NodeKind::Neighbor: {
+      const int64_t step = now[n.x.slot] + n.x.offset;
+      const uint32_t x = binding[n.x.slot], y = binding[n.y.slot];
+      if (!e.present(step, x)) return K::U;
+      const auto& nb = e.nbrs(step, x);
+      return std::find(nb.begin(), nb.end(), y) != nb.end() ? K::T : K::F;
+    }
+    case NodeKind::Compare: {
+      auto read = [&](const Operand& o) -> std::optional<int64_t> {
+        if (o.is_constant) return o.constant;
+        return e.value(now[o.module.slot] + o.module.offset, binding[o.module.slot], o.variable);
+      };
+      const auto a = read(n.left), b = read(n.right);
+      if (!a || !b) return K::U;
+      bool r = false;
+      switch (n.op) {
+        case CompareOp::Less: r = *a < *b; break;
+        case CompareOp::Greater: r = *a > *b; break;
+        case CompareOp::Equal: r = *a == *b; break;
+        case CompareOp::NotEqual: r = *a != *b; break;
+        case CompareOp::GreaterEqual: r = *a >= *b; break;
+        case CompareOp::LessEqual: r = *a <= *b; break;
+      }
+      return r ? K::T : K::F;
+    }
+    case NodeKind::Error: break;
+  }
+  return K::U;
+}
+
+bool adjacent(const TestEnsemble& e, int64_t t, uint32_t from, uint32_t to) {
+  const auto& nb = e.nbrs(t, from);
+  return std::find(nb.begin(), nb.end(), to) != nb.end();
+}
+
+// Every k-permutation of the modules, passed to fn.
+template <class Fn>
+void permutations(uint32_t modules, size_t k, Fn&& fn) {
+  std::vector<uint32_t> b(k);
+  std::vector<bool> used(modules);
+  auto rec = [&](auto&& self, size_t i) -> void {
+    if (i == k) return fn(b);
+    for (uint32_t m = 0; m < modules; ++m) {
+      if (used[m]) continue;
+      used[m] = true;
+      b[i] = m;
+      self(self, i + 1);
+      used[m] = false;
+    }
+  };
+  rec(rec, 0);
+}
+
+std::set<Match> brute_centralized(const TestEnsemble& e, const Watchpoint& w) {
+  std::set<Match> out;
+  const size_t k = w.ast.slots.size();
+  for (int64_t t = 0; t + w.analysis.extent_plus < e.steps(); ++t) {
+    permutations(e.universe().module_count(), k, [&](const std::vector<uint32_t>& b) {
+      for (size_t i = 0; i < k; ++i) {
+        if (!e.present(t, b[i])) return;
+        bool connected = i == 0;
+        for (size_t j = 0; j < i && !connected; ++j) connected = adjacent(e, t, b[j], b[i]);
+        if (!connected) return;
+      }
+      if (evaluate(w.ast, w.ast.root, e, b, std::vector<int64_t>(k, t)) == K::T)
+        out.insert({t, std::vector<ModuleId>(b.begin(), b.end())});
+    });
+  }
+  return out;
+}
+
+std::set<Match> brute_distributed(const TestEnsemble& e, const Watchpoint& w) {
+  std::set<Match> out;
+  const size_t k = w.ast.slots.size();
+  for (int64_t t0 = 0; t0 + static_cast<int64_t>(k) - 1 + w.analysis.extent_plus < e.steps(); ++t0) {
+    std::vector<int64_t> now(k);
+    for (size_t i = 0; i < k; ++i) now[i] = t0 + static_cast<int64_t>(i);
+    permutations(e.universe().module_count(), k, [&](const std::vector<uint32_t>& b) {
+      for (size_t i = 0; i < k; ++i) {
+        if (!e.present(now[i], b[i])) return;
+        if (i > 0 && !adjacent(e, now[i - 1], b[i - 1], b[i])) return;
+      }
+      if (evaluate(w.ast, w.ast.root, e, b, now) == K::T) out.insert({t0, std::vector<ModuleId>(b.begin(), b.end())});
+    });
+  }
+  return out;
+}
+
+// ---- properties ---------------------------------------------------------------------------------
+
+constexpr int kCases = 250;
+
+TEST(Property, CentralizedEqualsBruteForceUnderEveryOptimizationCombination) {
+  Generator g(1234);
+  size_t nonempty = 0;
+  for (int c = 0; c < kCases; ++c) {
+    const TestEnsemble e = g.ensemble(false);
+    const Watchpoint w = compile_or_die(g.watch(g.pick(1, 4), true));
+    const auto expected = brute_centralized(e, w);
+    nonempty += !expected.empty();
+    for (const Optimizations& o : testing::all_optimization_combinations())
+      ASSERT_EQ(e.run(Algorithm::Centralized, w, {o, 0}), expected) << to_string(w.ast) << " case " << c;
+  }
+  EXPECT_GT(nonempty, kCases / 5u) << "the generator must produce matches often enough to test something";
+}
+
+TEST(Property, DistributedEqualsBruteForceUnderEveryOptimizationCombination) {
+  Generator g(99);
+  size_t nonempty = 0;
+  for (int c = 0; c < kCases; ++c) {
+    const TestEnsemble e = g.ensemble(false);
+    const Watchpoint w = compile_or_die(g.watch(g.pick(1, 4), true));
+    const auto expected = brute_distributed(e, w);
+    nonempty += !expected.empty();
+    for (const Optimizations& o : testing::all_optimization_combinations())
+      ASSERT_EQ(e.run(Algorithm::Distributed, w, {o, 0}), expected) << to_string(w.ast) << " case " << c;
+  }
+  EXPECT_GT(nonempty, kCases / 5u);
+}
+
+TEST(Property, WithOneSlotBothAlgorithmsAgree) {
+  Generator g(7);
+  for (int c = 0; c < kCases; ++c) {
+    const TestEnsemble e = g.ensemble(false);
+    const Watchpoint w = compile_or_die(g.watch(1, true));
+    EXPECT_EQ(e.run(Algorithm::Distributed, w), e.run(Algorithm::Centralized, w)) << to_string(w.ast);
+  }
+}
+
+TEST(Property, FrozenEnsembleDistributedIsTheLinearChainSubsetOfCentralized) {
+  Generator g(2024);
+  size_t compared = 0;
+  for (int c = 0; c < kCases; ++c) {
+    const TestEnsemble e = g.ensemble(true);
+    const int k = g.pick(1, 4);
+    const Watchpoint w = compile_or_die(g.watch(k, true));
+    const auto d = e.run(Algorithm::Distributed, w);
+    const auto central = e.run(Algorithm::Centralized, w);
+    // Away from the ends: no read before step 0, and the distributed chain completes in the run.
+    const int64_t first = -w.analysis.min_offset;
+    const int64_t last = e.steps() - 1 - w.analysis.extent_plus - (k - 1);
+    std::set<Match> chains, window;
+    for (const Match& m : central) {
+      if (m.first < first || m.first > last) continue;
+      bool linear = true;
+      for (size_t i = 1; i < m.second.size(); ++i) linear &= adjacent(e, 0, m.second[i - 1], m.second[i]);
+      if (linear) chains.insert(m);
+    }
+    for (const Match& m : d)
+      if (m.first >= first && m.first <= last) window.insert(m);
+    EXPECT_EQ(window, chains) << to_string(w.ast);
+    compared += !chains.empty();
+  }
+  EXPECT_GT(compared, kCases / 5u);
+}
+
+TEST(Property, NormalFormReparsesToTheSameMatches) {
+  Generator g(5);
+  for (int c = 0; c < 100; ++c) {
+    const TestEnsemble e = g.ensemble(false);
+    const Watchpoint w = compile_or_die(g.watch(g.pick(1, 3), true));
+    const Watchpoint again = compile_or_die(to_string(w.ast));
+    EXPECT_EQ(to_string(again.ast), to_string(w.ast));
+    EXPECT_EQ(e.run(Algorithm::Centralized, again), e.run(Algorithm::Centralized, w));
+  }
+}
+
+}  // namespace
+}  // namespace dw::watch
