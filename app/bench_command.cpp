@@ -1,4 +1,187 @@
+// `dwatch bench NAME`: reproductions of the paper's measurements.
+//
+//   engine   Table I on the watch engine alone: a 10x10x10 cubic lattice, 100 steps, the Fig. 6
+//            watchpoint, x_i uniform in 0..max_i-1 for each tuple, both algorithms. Each row runs
+//            in a child process so that its peak memory is its own.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
 #include "app/commands.h"
+#include "app/detector_flags.h"
+#include "sim/synthetic_trace.h"
+#include "watch/make_detector.h"
+
 namespace dw::app {
-void add_bench_command(CLI::App&, std::function<int()>&) {}
+namespace {
+
+constexpr const char* kFig6 = "modules(a b c d); (a.x1 = 0) and (b.x2 = 0) and (c.x3 = 0) and (d.x4 = 0)";
+
+struct BenchArgs {
+  std::string name;
+  std::vector<std::string> tuples{"1:1:1:1", "2:1:1:1", "2:2:2:2", "1:2:4:8", "8:4:2:1"};
+  std::string algorithm = "both";
+  uint32_t size = 10;
+  int64_t steps = 100;
+  uint64_t seed = 1;
+  std::string out_dir;
+  std::string write_trace;
+  DetectorFlags detector;
+};
+
+struct Row {
+  uint64_t matches = 0, created = 0, messages = 0, peak_live = 0;
+  double seconds = 0;
+  long peak_kib = 0;
+  bool stopped = false;
+};
+
+std::vector<int64_t> parse_tuple(const std::string& text) {
+  std::vector<int64_t> out;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, ':');) {
+    size_t used = 0;
+    long long v = 0;
+    try {
+      v = std::stoll(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != part.size() || v < 1) return {};
+    out.push_back(v);
+  }
+  return out.size() == 4 ? out : std::vector<int64_t>{};
 }
+
+// Runs one detector over every frame, counting matches; the frames are built before timing.
+Row run_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorithm a, const watch::DetectorOptions& o) {
+  Row row;
+  auto detector = watch::make_detector(a, w, trace.universe(), o, [&](int64_t, std::span<const watch::ModuleId> ids) {
+    row.matches += ids.size() / 4;
+  });
+  std::vector<watch::Frame> frames;
+  for (int64_t s = 0; s < trace.step_count(); ++s) frames.push_back(trace.frame(s));
+  const auto start = std::chrono::steady_clock::now();
+  for (const watch::Frame& f : frames) detector->observe(f);
+  row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const watch::DetectorStats& st = detector->stats();
+  row.created = st.created;
+  row.messages = st.messages;
+  row.peak_live = st.peak_live;
+  row.stopped = st.stopped;
+  return row;
+}
+
+// Runs `fn` in a child process and returns its Row with the child's own peak resident memory.
+template <class Fn>
+bool in_child(Fn&& fn, Row& row) {
+  int pipe_fds[2];
+  if (pipe(pipe_fds) != 0) return false;
+  std::cout.flush();
+  const pid_t pid = fork();
+  if (pid < 0) return false;
+  if (pid == 0) {
+    close(pipe_fds[0]);
+    Row r = fn();
+    const ssize_t wrote = write(pipe_fds[1], &r, sizeof r);
+    _exit(wrote == static_cast<ssize_t>(sizeof r) ? 0 : 1);
+  }
+  close(pipe_fds[1]);
+  const ssize_t got = read(pipe_fds[0], &row, sizeof row);
+  close(pipe_fds[0]);
+  int status = 0;
+  rusage usage{};
+  wait4(pid, &status, 0, &usage);
+  row.peak_kib = usage.ru_maxrss;
+  return got == static_cast<ssize_t>(sizeof row) && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+int bench_engine(const BenchArgs& args) {
+  auto compiled = watch::compile_watchpoint("fig6", watch::SourceText("fig6", kFig6));
+  const watch::Watchpoint& w = std::get<watch::Watchpoint>(compiled);
+  std::vector<watch::Algorithm> algorithms;
+  if (args.algorithm != "distributed") algorithms.push_back(watch::Algorithm::Centralized);
+  if (args.algorithm != "centralized") algorithms.push_back(watch::Algorithm::Distributed);
+
+  std::ofstream csv;
+  if (!args.out_dir.empty()) {
+    std::filesystem::create_directories(args.out_dir);
+    csv.open(std::filesystem::path(args.out_dir) / "engine.csv");
+    if (!csv) {
+      std::cerr << args.out_dir << ": error: cannot write engine.csv\n";
+      return 1;
+    }
+    csv << "tuple,algorithm,matches,created,messages,peak_live,seconds,peak_mib\n";
+  }
+  std::cout << "bench engine: " << args.size << "^3 cubic lattice, " << args.steps << " steps, Fig. 6 watchpoint\n";
+  std::cout << std::left << std::setw(11) << "tuple" << std::setw(13) << "algorithm" << std::right << std::setw(12)
+            << "matches" << std::setw(14) << "created" << std::setw(12) << "peak live" << std::setw(10) << "time s"
+            << std::setw(11) << "peak MiB" << "\n";
+  int status = 0;
+  for (const std::string& tuple_text : args.tuples) {
+    const std::vector<int64_t> tuple = parse_tuple(tuple_text);
+    if (tuple.empty()) {
+      std::cerr << "dwatch bench: error: tuple '" << tuple_text << "' is not four positive integers like 2:2:2:2\n";
+      return 2;
+    }
+    sim::CubicRandomVars spec;
+    spec.nx = spec.ny = spec.nz = args.size;
+    spec.steps = args.steps;
+    spec.maxima = tuple;
+    spec.seed = args.seed;
+    const sim::Trace trace = sim::make_cubic_random_vars(spec);
+    if (!args.write_trace.empty()) {
+      if (!sim::write_trace(trace, args.write_trace)) {
+        std::cerr << args.write_trace << ": error: cannot write the trace\n";
+        return 1;
+      }
+      std::cout << "wrote " << args.write_trace << " (" << trace.line_count() << " lines, tuple " << tuple_text << ")\n";
+    }
+    for (watch::Algorithm a : algorithms) {
+      Row row;
+      if (!in_child([&] { return run_row(trace, w, a, args.detector.options()); }, row)) {
+        std::cerr << "dwatch bench: error: the benchmark run failed\n";
+        return 1;
+      }
+      const double mib = static_cast<double>(row.peak_kib) / 1024.0;
+      std::cout << std::left << std::setw(11) << tuple_text << std::setw(13) << watch::algorithm_name(a) << std::right
+                << std::setw(12) << row.matches << std::setw(14) << row.created << std::setw(12) << row.peak_live
+                << std::setw(10) << std::fixed << std::setprecision(3) << row.seconds << std::setw(11)
+                << std::setprecision(1) << mib << (row.stopped ? "  stopped at the budget" : "") << "\n";
+      if (csv) {
+        csv << tuple_text << "," << watch::algorithm_name(a) << "," << row.matches << "," << row.created << ","
+            << row.messages << "," << row.peak_live << "," << row.seconds << "," << mib << "\n";
+      }
+      if (row.stopped) status = 1;
+    }
+  }
+  return status;
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app, std::function<int()>& run) {
+  auto* cmd = app.add_subcommand("bench", "Reproduce the paper's measurements (engine: Table I on the watch engine)");
+  auto args = std::make_shared<BenchArgs>();
+  cmd->add_option("name", args->name, "Benchmark to run")->required()->check(CLI::IsMember({"engine"}));
+  cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
+  cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
+      ->check(CLI::IsMember({"centralized", "distributed", "both"}));
+  cmd->add_option("--size", args->size, "Lattice edge (modules per side)")->check(CLI::Range(1u, 200u));
+  cmd->add_option("--steps", args->steps, "Steps to run")->check(CLI::Range(int64_t{1}, int64_t{1'000'000}));
+  cmd->add_option("--seed", args->seed, "Seed of the host program's random variables");
+  cmd->add_option("--out", args->out_dir, "Write engine.csv into this directory");
+  cmd->add_option("--write-trace", args->write_trace, "Also write the synthetic trace (wptrace v1) to FILE");
+  add_detector_flags(*cmd, args->detector);
+  cmd->callback([&run, args] { run = [args] { return bench_engine(*args); }; });
+}
+
+}  // namespace dw::app

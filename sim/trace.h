@@ -54,4 +54,8 @@ struct TraceError {
 std::variant<Trace, std::vector<TraceError>> read_trace(const std::string& path);
 std::variant<Trace, std::vector<TraceError>> read_trace_text(const std::string& name, const std::string& text);
 
+// Writes a trace as wptrace v1, header first, one line per present module per step. False when
+// the file cannot be written.
+bool write_trace(const Trace& trace, const std::string& path);
+
 }  // namespace dw::sim
