@@ -11,6 +11,10 @@
 namespace dw::watch {
 
 using NodeIndex = int32_t;
+
+// Most slots a watchpoint may declare. The number of PatternMatchers grows exponentially with it
+// (paper §V-C); 32 is far past anything that finishes.
+constexpr int kMaxSlots = 32;
 constexpr NodeIndex kNoNode = -1;
 
 // A slot named in `modules(...)`; slots are numbered in declaration order from 0.

@@ -17,68 +17,26 @@ AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t bu
     : program(p), layout(p), optimizations(o), live_budget(budget) {
   stack.resize(static_cast<size_t>(p.max_stack));
   trial.resize(p.leaves.size());
+  for (const SlotProgram& sp : p.slots) slot_appends_sets.push_back(!sp.sets.empty());
 }
 
-void DistributedAgent::start(int64_t f, AgentContext& ctx, PatternMatcherOutbox& out) {
-  ctx.scratch.resize(std::max<size_t>(ctx.scratch.size(), ctx.layout.sets));
-  PatternMatcherRef pm(ctx.scratch.data(), ctx.layout);
-  pm.init();
-  ++ctx.step.created;
-  fill_and_forward(f, pm, ctx, out);
+void DistributedAgent::prepare(int64_t f, const Program& p) {
+  prepared_step_ = f;
+  neighbors_now_ = history_.neighbors(f);
+  own_truth_.resize(p.leaves.size());
+  for (const SlotProgram& sp : p.slots)
+    for (uint16_t l : sp.own_leaves) own_truth_[l] = decide(p.leaves[l], f, nullptr);
 }
 
-void DistributedAgent::receive(int64_t f, const std::byte* incoming, AgentContext& ctx, PatternMatcherOutbox& out) {
-  // Sent to a neighbour at f - 1; a module that has left by f never fills it.
-  if (!history_.present(f)) return;
-  uint32_t bytes;
-  std::memcpy(&bytes, incoming + 4, 4);
-  if (ctx.scratch.size() < bytes) ctx.scratch.resize(bytes);
-  std::memcpy(ctx.scratch.data(), incoming, bytes);
-  fill_and_forward(f, PatternMatcherRef(ctx.scratch.data(), ctx.layout), ctx, out);
-}
-
-Truth DistributedAgent::decide(const Leaf& leaf, int64_t f, const PatternMatcherRef& pm) const {
-  if (leaf.kind == LeafKind::Neighbor) {
-    if (leaf.set >= 0) {  // x filled earlier and carried N(x): am I in it?
-      uint32_t count;
-      const uint32_t* ids = pm.set(static_cast<uint32_t>(leaf.set), count);
-      return membership(ids, count, self_);
-    }
-    // I am x: is y, filled earlier, in my own neighbour set at the offset?
-    const std::vector<uint32_t>* mine = history_.neighbors(f + leaf.offset);
-    if (mine == nullptr) return kUnknown;
-    return truth_of(std::find(mine->begin(), mine->end(), pm.id(static_cast<uint32_t>(leaf.y))) != mine->end());
-  }
-  auto operand = [&](const TermRef& t, int64_t& v) {
-    return t.cell >= 0 ? pm.cell(static_cast<uint32_t>(t.cell), v) : history_.value(t.variable, f + t.offset, v);
-  };
-  int64_t a, b = leaf.constant;
-  if (!operand(leaf.lhs, a)) return kUnknown;
-  if (!leaf.rhs_is_constant && !operand(leaf.rhs, b)) return kUnknown;
-  return truth_of(holds(leaf.op, a, b));
-}
-
-// Neighbour culling (paper §IV-C): would the expression be false whatever else fills, if
-// `candidate` took the next slot? Only neighbor(x next) terms with x already filled can tell.
-bool DistributedAgent::culled(uint32_t candidate, const PatternMatcherRef& pm, AgentContext& ctx) const {
-  const std::vector<uint16_t>& cull = ctx.program.slots[pm.filled()].cull_leaves;
-  if (cull.empty()) return false;
-  std::memcpy(ctx.trial.data(), pm.leaves(), ctx.trial.size());
-  for (uint16_t l : cull) {
-    uint32_t count;
-    const uint32_t* ids = pm.set(static_cast<uint32_t>(ctx.program.leaves[l].set), count);
-    ctx.trial[l] = membership(ids, count, candidate);
-  }
-  return ctx.program.evaluate(ctx.trial.data(), ctx.stack.data()) == kFalse;
-}
-
-void DistributedAgent::fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out) {
+// Inlined into start() and receive(): it is the whole per-PatternMatcher cost.
+[[gnu::always_inline]] inline void DistributedAgent::fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out) {
   const Program& p = ctx.program;
   StepStats& st = ctx.step;
   if (ctx.live_budget != 0 && st.live >= ctx.live_budget) {
     ctx.over_budget = true;
     return;
   }
+  if (prepared_step_ != f) prepare(f, p);
   const uint32_t slot = pm.filled();
   const SlotProgram& sp = p.slots[slot];
 
@@ -103,38 +61,110 @@ void DistributedAgent::fill_and_forward(int64_t f, PatternMatcherRef pm, AgentCo
     pm.set_bytes(grown);
   }
   Truth* leaves = pm.leaves();
-  for (uint16_t l : sp.leaves) leaves[l] = decide(p.leaves[l], f, pm);
-  pm.set_filled(slot + 1);
-
-  if (st.live_by_filled.size() <= slot + 1) st.live_by_filled.resize(slot + 2);
-  ++st.live_by_filled[slot + 1];
+  for (uint16_t l : sp.own_leaves) leaves[l] = own_truth_[l];
+  for (uint16_t l : sp.carried_leaves) leaves[l] = decide(p.leaves[l], f, &pm);
+  const uint32_t filled = slot + 1;
+  pm.set_filled(filled);
+  ++st.live_by_filled[filled];
   ++st.live;
 
   const Truth result = p.evaluate(leaves, ctx.stack.data());
-  if (slot + 1 == static_cast<uint32_t>(p.slot_count())) {
+  uint32_t ids[kMaxSlots];
+  for (uint32_t s = 0; s < filled; ++s) ids[s] = pm.id(s);
+  if (filled == static_cast<uint32_t>(p.slot_count())) {
     if (result == kTrue) {
       ++st.matches;
-      for (uint32_t s = 0; s <= slot; ++s) ctx.matches.push_back(pm.id(s));
+      if (ctx.match_values + filled > ctx.matches.size()) ctx.matches.resize(2 * ctx.matches.size() + 4096);
+      std::copy(ids, ids + filled, ctx.matches.data() + ctx.match_values);
+      ctx.match_values += filled;
     }
     return;
   }
   if (result == kFalse && ctx.optimizations.early_termination) return;
 
-  const std::vector<uint32_t>* nbrs = history_.neighbors(f);
-  if (nbrs == nullptr) return;
-  const uint32_t bytes = pm.bytes();
-  for (uint32_t n : *nbrs) {
-    if (pm.holds(n)) continue;
-    if (ctx.optimizations.neighbor_culling && culled(n, pm, ctx)) continue;
-    if (ctx.live_budget != 0 && st.messages + st.live >= ctx.live_budget) {
-      ctx.over_budget = true;
-      return;
-    }
-    std::memcpy(out.reserve(self_, n, bytes), pm.data(), bytes);
-    ++st.messages;
-    ++st.created;
-    st.bytes += bytes;
+  // Spread to every neighbour not already in the chain (and not culled).
+  const std::vector<uint32_t>& nbrs = *neighbors_now_;
+  if (ctx.targets.size() < nbrs.size()) ctx.targets.resize(nbrs.size());
+  uint32_t* targets = ctx.targets.data();
+  size_t count = 0;
+  const bool cull = ctx.optimizations.neighbor_culling && !p.slots[filled].cull_leaves.empty();
+  for (uint32_t n : nbrs) {
+    if (std::find(ids, ids + filled, n) != ids + filled) continue;
+    if (cull && culled(n, pm, ctx)) continue;
+    targets[count++] = n;
   }
+  if (ctx.live_budget != 0) {
+    const uint64_t used = st.messages + st.live;
+    const uint64_t room = ctx.live_budget > used ? ctx.live_budget - used : 0;
+    if (count > room) {
+      count = room;
+      ctx.over_budget = true;
+    }
+  }
+  if (count == 0) return;
+  const uint32_t bytes = pm.bytes();
+  out.send(self_, {targets, count}, pm.data(), bytes);
+  st.messages += count;
+  st.bytes += count * bytes;
 }
+
+void DistributedAgent::start(int64_t f, AgentContext& ctx, PatternMatcherOutbox& out) {
+  ctx.scratch.resize(std::max<size_t>(ctx.scratch.size(), ctx.layout.sets));
+  PatternMatcherRef pm(ctx.scratch.data(), ctx.layout);
+  pm.init();
+  ++ctx.step.created;
+  fill_and_forward(f, pm, ctx, out);
+}
+
+void DistributedAgent::receive(int64_t f, std::byte* incoming, AgentContext& ctx, PatternMatcherOutbox& out) {
+  if (prepared_step_ != f) prepare(f, ctx.program);
+  // Sent to a neighbour at f - 1; a module that has left by f never fills it.
+  if (neighbors_now_ == nullptr) return;
+  PatternMatcherRef pm(incoming, ctx.layout);
+  if (ctx.slot_appends_sets[pm.filled()]) {
+    // This slot appends neighbour sets: fill a copy with room to grow.
+    const uint32_t bytes = pm.bytes();
+    if (ctx.scratch.size() < bytes) ctx.scratch.resize(bytes);
+    std::memcpy(ctx.scratch.data(), incoming, bytes);
+    pm = PatternMatcherRef(ctx.scratch.data(), ctx.layout);
+  }
+  fill_and_forward(f, pm, ctx, out);
+}
+
+// `pm` is null for own leaves, which read nothing carried.
+Truth DistributedAgent::decide(const Leaf& leaf, int64_t f, const PatternMatcherRef* pm) const {
+  if (leaf.kind == LeafKind::Neighbor) {
+    if (leaf.set >= 0) {  // x filled earlier and carried N(x): am I in it?
+      uint32_t count;
+      const uint32_t* ids = pm->set(static_cast<uint32_t>(leaf.set), count);
+      return membership(ids, count, self_);
+    }
+    // I am x: is y, filled earlier, in my own neighbour set at the offset?
+    const std::vector<uint32_t>* mine = history_.neighbors(f + leaf.offset);
+    if (mine == nullptr) return kUnknown;
+    return truth_of(std::find(mine->begin(), mine->end(), pm->id(static_cast<uint32_t>(leaf.y))) != mine->end());
+  }
+  auto operand = [&](const TermRef& t, int64_t& v) {
+    return t.cell >= 0 ? pm->cell(static_cast<uint32_t>(t.cell), v) : history_.value(t.variable, f + t.offset, v);
+  };
+  int64_t a, b = leaf.constant;
+  if (!operand(leaf.lhs, a)) return kUnknown;
+  if (!leaf.rhs_is_constant && !operand(leaf.rhs, b)) return kUnknown;
+  return truth_of(holds(leaf.op, a, b));
+}
+
+// Neighbour culling (paper §IV-C): would the expression be false whatever else fills, if
+// `candidate` took the next slot? Only neighbor(x next) terms with x already filled can tell.
+bool DistributedAgent::culled(uint32_t candidate, const PatternMatcherRef& pm, AgentContext& ctx) const {
+  const std::vector<uint16_t>& cull = ctx.program.slots[pm.filled()].cull_leaves;
+  std::memcpy(ctx.trial.data(), pm.leaves(), ctx.trial.size());
+  for (uint16_t l : cull) {
+    uint32_t count;
+    const uint32_t* ids = pm.set(static_cast<uint32_t>(ctx.program.leaves[l].set), count);
+    ctx.trial[l] = membership(ids, count, candidate);
+  }
+  return ctx.program.evaluate(ctx.trial.data(), ctx.stack.data()) == kFalse;
+}
+
 
 }  // namespace dw::watch

@@ -20,9 +20,9 @@ namespace dw::watch {
 class PatternMatcherOutbox {
  public:
   virtual ~PatternMatcherOutbox() = default;
-  // Room for a PatternMatcher of `bytes` bytes that `from` sends to its neighbour `to`, to arrive
-  // at the next step. The caller writes the record there before the next call.
-  virtual std::byte* reserve(uint32_t from, uint32_t to, uint32_t bytes) = 0;
+  // `from` sends a copy of the PatternMatcher `pm` (`bytes` long) to each neighbour in `to`, to
+  // arrive at the next step.
+  virtual void send(uint32_t from, std::span<const uint32_t> to, const std::byte* pm, uint32_t bytes) = 0;
 };
 
 // What agents share while one detector step runs: the compiled watchpoint, scratch space, and
@@ -35,13 +35,18 @@ struct AgentContext {
   Optimizations optimizations;
   uint64_t live_budget;  // 0: none
 
-  StepStats step;                // this step's statistics
-  std::vector<uint32_t> matches; // dense ids, slot_count per match, all of watch step f - k + 1
+  StepStats step;  // this step's statistics
+  // Dense ids, slot_count per match, all of watch step f - k + 1: the first match_values of
+  // `matches` (grown in chunks, so that adding a match is a plain write).
+  std::vector<uint32_t> matches;
+  size_t match_values = 0;
   bool over_budget = false;
+  std::vector<uint8_t> slot_appends_sets;  // per slot: does filling it append neighbour sets?
 
   std::vector<std::byte> scratch;
   std::vector<Truth> stack;
   std::vector<Truth> trial;
+  std::vector<uint32_t> targets;
 };
 
 class DistributedAgent {
@@ -55,16 +60,23 @@ class DistributedAgent {
 
   // Detector step f: a fresh PatternMatcher with this module in its first slot.
   void start(int64_t f, AgentContext& ctx, PatternMatcherOutbox& out);
-  // Detector step f: a PatternMatcher sent by a neighbour at f - 1 arrives.
-  void receive(int64_t f, const std::byte* pm, AgentContext& ctx, PatternMatcherOutbox& out);
+  // Detector step f: a PatternMatcher sent by a neighbour at f - 1 arrives. The record is the
+  // agent's to fill in place; it must have room for the neighbour sets this slot appends.
+  void receive(int64_t f, std::byte* pm, AgentContext& ctx, PatternMatcherOutbox& out);
 
  private:
+  void prepare(int64_t f, const Program& program);
   void fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out);
-  Truth decide(const Leaf& leaf, int64_t f, const PatternMatcherRef& pm) const;
+  Truth decide(const Leaf& leaf, int64_t f, const PatternMatcherRef* pm) const;
   bool culled(uint32_t candidate, const PatternMatcherRef& pm, AgentContext& ctx) const;
 
   uint32_t self_;
   ModuleHistory history_;
+  // Decided once per step (see SlotProgram::own_leaves): the step they are for, the truth of
+  // every own leaf, and N(self, f).
+  int64_t prepared_step_ = -1;
+  std::vector<Truth> own_truth_;
+  const std::vector<uint32_t>* neighbors_now_ = nullptr;
 };
 
 }  // namespace dw::watch

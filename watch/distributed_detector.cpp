@@ -44,15 +44,16 @@ void DistributedDetector::observe(const Frame& frame) {
   ctx_.step = StepStats{};
   ctx_.step.step = f;
   ctx_.step.live_by_filled.assign(static_cast<size_t>(program_.slot_count()) + 1, 0);
-  ctx_.matches.clear();
+  ctx_.match_values = 0;
 
   transport_.deliver();
-  transport_.for_each_delivered([&](uint32_t to, const std::byte* pm) {
+  transport_.for_each_delivered([&](uint32_t to, std::byte* pm) {
     if (!ctx_.over_budget) agents_[to].receive(f, pm, ctx_, transport_);
   });
   for (uint32_t m = 0; m < agents_.size() && !ctx_.over_budget; ++m)
     if (agents_[m].history().present(f)) agents_[m].start(f, ctx_, transport_);
 
+  ctx_.step.created += ctx_.step.messages;  // starts were counted as they happened
   ctx_.step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   stats_.add(ctx_.step);
   if (ctx_.over_budget) {
@@ -63,8 +64,8 @@ void DistributedDetector::observe(const Frame& frame) {
 
   // Everything that matched now was started at t0 = f - (k - 1).
   const int64_t t0 = f - (program_.slot_count() - 1);
-  if (!ctx_.matches.empty() && t0 >= 0) {
-    ids_.resize(ctx_.matches.size());
+  if (ctx_.match_values != 0 && t0 >= 0) {
+    ids_.resize(ctx_.match_values);
     for (size_t i = 0; i < ids_.size(); ++i) ids_[i] = universe_.module_ids[ctx_.matches[i]];
     sink_(t0, ids_);
   }

@@ -14,13 +14,16 @@ namespace dw::watch {
 
 class InProcessTransport final : public PatternMatcherOutbox {
  public:
-  std::byte* reserve(uint32_t /*from*/, uint32_t to, uint32_t bytes) override {
-    const size_t need = sending_.size + 4 + bytes;
+  void send(uint32_t /*from*/, std::span<const uint32_t> to, const std::byte* pm, uint32_t bytes) override {
+    const size_t need = sending_.size + to.size() * (4 + static_cast<size_t>(bytes));
     if (need > sending_.capacity) sending_.grow(need);
     std::byte* at = sending_.data.get() + sending_.size;
-    std::memcpy(at, &to, 4);
+    for (uint32_t n : to) {
+      std::memcpy(at, &n, 4);
+      std::memcpy(at + 4, pm, bytes);
+      at += 4 + bytes;
+    }
     sending_.size = need;
-    return at + 4;
   }
 
   // Ends a step: what was sent becomes what is delivered.
@@ -29,11 +32,12 @@ class InProcessTransport final : public PatternMatcherOutbox {
     sending_.size = 0;
   }
 
-  // Calls fn(to, record) for every PatternMatcher delivered at this step.
+  // Calls fn(to, record) for every PatternMatcher delivered at this step; the receiver may
+  // modify the record in place.
   template <class Fn>
-  void for_each_delivered(Fn&& fn) const {
-    const std::byte* at = delivering_.data.get();
-    const std::byte* end = at + delivering_.size;
+  void for_each_delivered(Fn&& fn) {
+    std::byte* at = delivering_.data.get();
+    std::byte* end = at + delivering_.size;
     while (at < end) {
       uint32_t to, bytes;
       std::memcpy(&to, at, 4);

@@ -148,6 +148,8 @@ class Parser {
         bool duplicate = false;
         for (const SlotDecl& s : ast_.slots) duplicate |= s.name == name;
         if (duplicate) report(t.span, "module '" + name + "' is declared twice");
+        else if (ast_.slots.size() == kMaxSlots)
+          report(t.span, "too many modules: a watchpoint may declare at most " + std::to_string(kMaxSlots));
         else ast_.slots.push_back({name, t.span});
       } else if (is_keyword(peek().kind)) {
         error_at(peek().span, "keyword " + describe(peek().kind) + " cannot be a module name");

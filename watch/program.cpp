@@ -29,6 +29,10 @@ class Compiler {
     p_.min_neighbor_offset = analysis_.min_neighbor_offset;
     p_.slots.resize(ast_.slots.size());
     emit_postfix();
+    p_.leaf_count = static_cast<uint32_t>(p_.leaves.size());
+    const bool conjunction = std::all_of(p_.expr.begin(), p_.expr.end(),
+                                         [](const ExprOp& op) { return op.kind == ExprOp::PushLeaf || op.kind == ExprOp::And; });
+    p_.shape = conjunction ? Program::Shape::Conjunction : Program::Shape::General;
     // Carried sets must be ordered by slot, because a PatternMatcher appends them as it fills.
     std::vector<uint16_t> order(p_.sets.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint16_t>(i);
@@ -135,7 +139,10 @@ class Compiler {
       }
     }
     const uint32_t index = static_cast<uint32_t>(p_.leaves.size());
-    p_.slots[l.decide_slot].leaves.push_back(static_cast<uint16_t>(index));
+    SlotProgram& decider = p_.slots[l.decide_slot];
+    decider.leaves.push_back(static_cast<uint16_t>(index));
+    const bool own = l.kind == LeafKind::Compare && l.lhs.cell < 0 && (l.rhs_is_constant || l.rhs.cell < 0);
+    (own ? decider.own_leaves : decider.carried_leaves).push_back(static_cast<uint16_t>(index));
     if (l.kind == LeafKind::Neighbor && l.x < l.y) p_.slots[l.y].cull_leaves.push_back(static_cast<uint16_t>(index));
     p_.leaves.push_back(l);
     return index;

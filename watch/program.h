@@ -75,6 +75,11 @@ struct SlotProgram {
   std::vector<uint16_t> cells;   // cells this slot's module writes
   std::vector<uint16_t> sets;    // neighbour sets this slot's module writes
   std::vector<uint16_t> leaves;  // leaves decided when this slot fills
+  // Of those, the ones the filling module decides from its own state alone (comparisons of its
+  // own variables with each other or with constants): the same for every PatternMatcher it fills
+  // at a step, so an agent decides them once per step.
+  std::vector<uint16_t> own_leaves;
+  std::vector<uint16_t> carried_leaves;  // the rest: they read cells, sets or earlier slots' ids
   std::vector<uint16_t> cull_leaves;  // neighbor(x this) leaves with x filled earlier: cull candidates
 };
 
@@ -86,6 +91,15 @@ class Program {
 
   // Evaluates the expression over leaf truth values; `stack` holds at least max_stack entries.
   Truth evaluate(const Truth* leaf_values, Truth* stack) const {
+    if (shape == Shape::Conjunction) {
+      // and over all leaves: may be true iff every leaf may be; may be false iff any may be.
+      Truth all = 1, any = 0;
+      for (uint32_t i = 0; i < leaf_count; ++i) {
+        all &= leaf_values[i];
+        any |= leaf_values[i];
+      }
+      return static_cast<Truth>((all & 1) | (any & 2));
+    }
     int sp = 0;
     for (const ExprOp& op : expr) {
       switch (op.kind) {
@@ -105,8 +119,12 @@ class Program {
   int min_offset = 0;                    // <= 0
   int min_neighbor_offset = 0;           // <= 0; neighbour sets are read at [this, E+]
   std::vector<Leaf> leaves;
+  uint32_t leaf_count = 0;  // leaves.size(), kept apart for the evaluation loop
   std::vector<ExprOp> expr;
   int max_stack = 1;
+  // A plain conjunction of its leaves (the commonest watchpoint) evaluates without the stack.
+  enum class Shape : uint8_t { General, Conjunction };
+  Shape shape = Shape::General;
   std::vector<CarriedCell> cells;
   std::vector<CarriedSet> sets;          // ordered by slot: a PatternMatcher appends them as it fills
   std::vector<SlotProgram> slots;
