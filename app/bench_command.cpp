@@ -127,15 +127,14 @@ int bench_engine(const BenchArgs& args) {
             << std::setw(11) << "peak MiB" << "\n";
   int status = 0;
   for (const std::string& tuple_text : args.tuples) {
-    const std::vector<int64_t> tuple = parse_tuple(tuple_text);
-    if (tuple.empty()) {
+    sim::CubicRandomVars spec;
+    spec.maxima = parse_tuple(tuple_text);
+    if (spec.maxima.empty()) {
       std::cerr << "dwatch bench: error: tuple '" << tuple_text << "' is not four positive integers like 2:2:2:2\n";
       return 2;
     }
-    sim::CubicRandomVars spec;
     spec.nx = spec.ny = spec.nz = args.size;
     spec.steps = args.steps;
-    spec.maxima = tuple;
     spec.seed = args.seed;
     const sim::Trace trace = sim::make_cubic_random_vars(spec);
     if (!args.write_trace.empty()) {

@@ -56,10 +56,20 @@ void print(const Ast& ast, NodeIndex i, std::string& out) {
       child(n.rhs);
       return;
     case NodeKind::Neighbor:
-      out += "neighbor(" + to_string(ast, n.x) + " " + to_string(ast, n.y) + ")";
+      out += "neighbor(";
+      out += to_string(ast, n.x);
+      out += ' ';
+      out += to_string(ast, n.y);
+      out += ')';
       return;
     case NodeKind::Compare:
-      out += "(" + to_string(ast, n.left) + " " + spelling(n.op) + " " + to_string(ast, n.right) + ")";
+      out += '(';
+      out += to_string(ast, n.left);
+      out += ' ';
+      out += spelling(n.op);
+      out += ' ';
+      out += to_string(ast, n.right);
+      out += ')';
       return;
     case NodeKind::Error:
       out += "<error>";

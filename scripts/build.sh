@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Configures and builds dwatch into a build directory.
+#   scripts/build.sh [release|asan|fuzz]     (default: release)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+kind="${1:-release}"
+case "$kind" in
+  release) dir=build; flags=(-DCMAKE_BUILD_TYPE=Release) ;;
+  asan) dir=build-asan; flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DDWATCH_SANITIZE=ON) ;;
+  fuzz) dir=build-fuzz; flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DDWATCH_FUZZ=ON -DDWATCH_TESTS=OFF
+                               -DCMAKE_CXX_COMPILER=clang++) ;;
+  *) echo "usage: scripts/build.sh [release|asan|fuzz]" >&2; exit 2 ;;
+esac
+cmake -S . -B "$dir" -G Ninja -DDWATCH_WERROR=ON "${flags[@]}" >/dev/null
+if [ "$kind" = fuzz ]; then
+  cmake --build "$dir" --parallel "$(nproc)" --target parser_fuzz
+else
+  cmake --build "$dir" --parallel "$(nproc)"
+fi
