@@ -6,6 +6,9 @@
 namespace dw::watch {
 namespace {
 
+// The scratch record is sent with chunked copies (copy_ids) that may read past its end.
+constexpr size_t kScratchSlack = 16;
+
 Truth membership(const uint32_t* ids, uint32_t count, uint32_t m) {
   if (count == kUnknownSet) return kUnknown;
   return truth_of(std::find(ids, ids + count, m) != ids + count);
@@ -23,13 +26,24 @@ AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t bu
 void DistributedAgent::prepare(int64_t f, const Program& p) {
   prepared_step_ = f;
   neighbors_now_ = history_.neighbors(f);
-  own_truth_.resize(p.leaves.size());
+  if (p.leaf_count > kInlineLeaves) own_overflow_.resize(p.leaf_count);
   for (const SlotProgram& sp : p.slots)
-    for (uint16_t l : sp.own_leaves) own_truth_[l] = decide(p.leaves[l], f, nullptr);
+    for (uint16_t l : sp.own_leaves) (l < kInlineLeaves ? own_inline_[l] : own_overflow_[l]) = decide(p.leaves[l], f, nullptr);
+}
+
+// Writes the truth of every leaf decided by filling `sp`'s slot.
+[[gnu::always_inline]] inline void DistributedAgent::decide_leaves(const Program& p, const SlotProgram& sp, int64_t f,
+                                                                   const PatternMatcherRef& pm, Truth* leaves) const {
+  // Plain pointers: stores through Truth* (a char type) could alias a vector's own fields.
+  for (const uint16_t *l = sp.own_leaves.data(), *end = l + sp.own_leaves.size(); l != end; ++l)
+    leaves[*l] = own_truth(*l);
+  for (const uint16_t *l = sp.carried_leaves.data(), *end = l + sp.carried_leaves.size(); l != end; ++l)
+    leaves[*l] = decide(p.leaves[*l], f, &pm);
 }
 
 // Inlined into start() and receive(): it is the whole per-PatternMatcher cost.
-[[gnu::always_inline]] inline void DistributedAgent::fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out) {
+[[gnu::always_inline]] inline void DistributedAgent::fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx,
+                                                                      PatternMatcherOutbox& out) {
   const Program& p = ctx.program;
   StepStats& st = ctx.step;
   if (ctx.live_budget != 0 && st.live >= ctx.live_budget) {
@@ -38,7 +52,27 @@ void DistributedAgent::prepare(int64_t f, const Program& p) {
   }
   if (prepared_step_ != f) prepare(f, p);
   const uint32_t slot = pm.filled();
+  const uint32_t filled = slot + 1;
   const SlotProgram& sp = p.slots[slot];
+  ++st.live_by_filled[filled];
+  ++st.live;
+
+  Truth* leaves = pm.leaves();
+  if (filled == static_cast<uint32_t>(p.slot_count())) {
+    // The last slot: decide and report; the record itself goes nowhere, so it is not updated.
+    // (No later slot reads this one, so it writes no cells or sets.)
+    decide_leaves(p, sp, f, pm, leaves);
+    if (p.evaluate(leaves, ctx.stack.data()) != kTrue) return;
+    ++st.matches;
+    if (ctx.match_values + filled + kCopyChunk > ctx.matches.size()) ctx.matches.resize(2 * ctx.matches.size() + 4096);
+    uint32_t* match = ctx.matches.data() + ctx.match_values;
+    // Copied from the record, which was written long ago: reading the ids just written one by
+    // one as a wide load would stall on store forwarding.
+    copy_ids(match, reinterpret_cast<const uint32_t*>(pm.data() + ctx.layout.ids), slot);
+    match[slot] = self_;
+    ctx.match_values += filled;
+    return;
+  }
 
   pm.set_id(slot, self_);
   for (uint16_t c : sp.cells) {
@@ -52,37 +86,23 @@ void DistributedAgent::prepare(int64_t f, const Program& p) {
     const uint32_t count = n == nullptr ? kUnknownSet : static_cast<uint32_t>(n->size());
     const uint32_t at = pm.bytes();
     const uint32_t grown = at + 4 + (n == nullptr ? 0 : 4 * count);
-    if (ctx.scratch.size() < grown) {
-      ctx.scratch.resize(grown * 2);
+    if (ctx.scratch.size() < grown + kScratchSlack) {
+      ctx.scratch.resize(grown * 2 + kScratchSlack);
       pm = PatternMatcherRef(ctx.scratch.data(), ctx.layout);
+      leaves = pm.leaves();
     }
     std::memcpy(ctx.scratch.data() + at, &count, 4);
     if (n != nullptr && count != 0) std::memcpy(ctx.scratch.data() + at + 4, n->data(), 4 * count);
     pm.set_bytes(grown);
   }
-  Truth* leaves = pm.leaves();
-  for (uint16_t l : sp.own_leaves) leaves[l] = own_truth_[l];
-  for (uint16_t l : sp.carried_leaves) leaves[l] = decide(p.leaves[l], f, &pm);
-  const uint32_t filled = slot + 1;
+  decide_leaves(p, sp, f, pm, leaves);
   pm.set_filled(filled);
-  ++st.live_by_filled[filled];
-  ++st.live;
-
   const Truth result = p.evaluate(leaves, ctx.stack.data());
-  uint32_t ids[kMaxSlots];
-  for (uint32_t s = 0; s < filled; ++s) ids[s] = pm.id(s);
-  if (filled == static_cast<uint32_t>(p.slot_count())) {
-    if (result == kTrue) {
-      ++st.matches;
-      if (ctx.match_values + filled > ctx.matches.size()) ctx.matches.resize(2 * ctx.matches.size() + 4096);
-      std::copy(ids, ids + filled, ctx.matches.data() + ctx.match_values);
-      ctx.match_values += filled;
-    }
-    return;
-  }
   if (result == kFalse && ctx.optimizations.early_termination) return;
 
   // Spread to every neighbour not already in the chain (and not culled).
+  uint32_t ids[kMaxSlots];
+  for (uint32_t s = 0; s < filled; ++s) ids[s] = pm.id(s);
   const std::vector<uint32_t>& nbrs = *neighbors_now_;
   if (ctx.targets.size() < nbrs.size()) ctx.targets.resize(nbrs.size());
   uint32_t* targets = ctx.targets.data();
@@ -109,7 +129,7 @@ void DistributedAgent::prepare(int64_t f, const Program& p) {
 }
 
 void DistributedAgent::start(int64_t f, AgentContext& ctx, PatternMatcherOutbox& out) {
-  ctx.scratch.resize(std::max<size_t>(ctx.scratch.size(), ctx.layout.sets));
+  ctx.scratch.resize(std::max<size_t>(ctx.scratch.size(), ctx.layout.sets + kScratchSlack));
   PatternMatcherRef pm(ctx.scratch.data(), ctx.layout);
   pm.init();
   ++ctx.step.created;
@@ -124,7 +144,7 @@ void DistributedAgent::receive(int64_t f, std::byte* incoming, AgentContext& ctx
   if (ctx.slot_appends_sets[pm.filled()]) {
     // This slot appends neighbour sets: fill a copy with room to grow.
     const uint32_t bytes = pm.bytes();
-    if (ctx.scratch.size() < bytes) ctx.scratch.resize(bytes);
+    if (ctx.scratch.size() < bytes + kScratchSlack) ctx.scratch.resize(bytes + kScratchSlack);
     std::memcpy(ctx.scratch.data(), incoming, bytes);
     pm = PatternMatcherRef(ctx.scratch.data(), ctx.layout);
   }

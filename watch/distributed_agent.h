@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstring>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -38,7 +40,7 @@ struct AgentContext {
   StepStats step;  // this step's statistics
   // Dense ids, slot_count per match, all of watch step f - k + 1: the first match_values of
   // `matches` (grown in chunks, so that adding a match is a plain write).
-  std::vector<uint32_t> matches;
+  std::vector<uint32_t> matches;  // with kCopyChunk - 1 spare values at the end
   size_t match_values = 0;
   bool over_budget = false;
   std::vector<uint8_t> slot_appends_sets;  // per slot: does filling it append neighbour sets?
@@ -48,6 +50,13 @@ struct AgentContext {
   std::vector<Truth> trial;
   std::vector<uint32_t> targets;
 };
+
+// Copies `count` 32-bit values in fixed chunks of four: a chunked copy compiles to a few vector
+// moves, where a copy of variable length calls memmove. Both ends need three values of slack.
+constexpr uint32_t kCopyChunk = 4;
+inline void copy_ids(uint32_t* dst, const uint32_t* src, uint32_t count) {
+  for (uint32_t i = 0; i < count; i += kCopyChunk) std::memcpy(dst + i, src + i, 4 * kCopyChunk);
+}
 
 class DistributedAgent {
  public:
@@ -68,15 +77,22 @@ class DistributedAgent {
   void prepare(int64_t f, const Program& program);
   void fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out);
   Truth decide(const Leaf& leaf, int64_t f, const PatternMatcherRef* pm) const;
+  void decide_leaves(const Program& p, const SlotProgram& sp, int64_t f, const PatternMatcherRef& pm,
+                     Truth* leaves) const;
   bool culled(uint32_t candidate, const PatternMatcherRef& pm, AgentContext& ctx) const;
 
-  uint32_t self_;
-  ModuleHistory history_;
-  // Decided once per step (see SlotProgram::own_leaves): the step they are for, the truth of
-  // every own leaf, and N(self, f).
+  Truth own_truth(uint32_t leaf) const { return leaf < kInlineLeaves ? own_inline_[leaf] : own_overflow_[leaf]; }
+
+  // Hot fields first: they are what every arriving PatternMatcher touches.
+  // Decided once per step (see SlotProgram::own_leaves): the step they are for, N(self, f), and
+  // the truth of every own leaf (inline for the first kInlineLeaves leaves).
+  static constexpr uint32_t kInlineLeaves = 16;
   int64_t prepared_step_ = -1;
-  std::vector<Truth> own_truth_;
   const std::vector<uint32_t>* neighbors_now_ = nullptr;
+  std::array<Truth, kInlineLeaves> own_inline_{};
+  uint32_t self_;
+  std::vector<Truth> own_overflow_;
+  ModuleHistory history_;
 };
 
 }  // namespace dw::watch

@@ -15,6 +15,7 @@ DistributedDetector::DistributedDetector(const Watchpoint& w, const Universe& u,
   }
   agents_.reserve(u.module_count());
   for (uint32_t m = 0; m < u.module_count(); ++m) agents_.emplace_back(m, program_, options.optimizations.temporal_spans);
+  for (uint32_t m = 0; m < u.module_count(); ++m) dense_ids_are_ids_ &= u.module_ids[m] == m;
   row_values_.resize(columns_.size());
   row_has_.resize(columns_.size());
 }
@@ -47,9 +48,11 @@ void DistributedDetector::observe(const Frame& frame) {
   ctx_.match_values = 0;
 
   transport_.deliver();
-  transport_.for_each_delivered([&](uint32_t to, std::byte* pm) {
-    if (!ctx_.over_budget) agents_[to].receive(f, pm, ctx_, transport_);
-  });
+  transport_.for_each_delivered(
+      [&](uint32_t to, std::byte* pm) {
+        if (!ctx_.over_budget) agents_[to].receive(f, pm, ctx_, transport_);
+      },
+      [&](uint32_t next) { __builtin_prefetch(&agents_[next]); });
   for (uint32_t m = 0; m < agents_.size() && !ctx_.over_budget; ++m)
     if (agents_[m].history().present(f)) agents_[m].start(f, ctx_, transport_);
 
@@ -65,9 +68,14 @@ void DistributedDetector::observe(const Frame& frame) {
   // Everything that matched now was started at t0 = f - (k - 1).
   const int64_t t0 = f - (program_.slot_count() - 1);
   if (ctx_.match_values != 0 && t0 >= 0) {
-    ids_.resize(ctx_.match_values);
-    for (size_t i = 0; i < ids_.size(); ++i) ids_[i] = universe_.module_ids[ctx_.matches[i]];
-    sink_(t0, ids_);
+    const std::span<const uint32_t> dense(ctx_.matches.data(), ctx_.match_values);
+    if (dense_ids_are_ids_) {
+      sink_(t0, dense);
+    } else {
+      ids_.resize(dense.size());
+      for (size_t i = 0; i < ids_.size(); ++i) ids_[i] = universe_.module_ids[dense[i]];
+      sink_(t0, ids_);
+    }
   }
   uint64_t held = 0;
   for (const DistributedAgent& a : agents_) held += a.history().held();

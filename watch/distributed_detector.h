@@ -32,6 +32,7 @@ class DistributedDetector final : public Detector {
   std::vector<int64_t> row_values_;
   std::vector<uint8_t> row_has_;
   std::vector<ModuleId> ids_;
+  bool dense_ids_are_ids_ = true;  // module ids 0..M-1 in order: matches need no translation
 };
 
 }  // namespace dw::watch

@@ -20,7 +20,9 @@ class InProcessTransport final : public PatternMatcherOutbox {
     std::byte* at = sending_.data.get() + sending_.size;
     for (uint32_t n : to) {
       std::memcpy(at, &n, 4);
-      std::memcpy(at + 4, pm, bytes);
+      // Records are whole 32-bit words: copy them in chunks (see copy_ids); the buffers keep
+      // slack for the chunk that runs past the end.
+      copy_ids(reinterpret_cast<uint32_t*>(at + 4), reinterpret_cast<const uint32_t*>(pm), bytes / 4);
       at += 4 + bytes;
     }
     sending_.size = need;
@@ -33,17 +35,24 @@ class InProcessTransport final : public PatternMatcherOutbox {
   }
 
   // Calls fn(to, record) for every PatternMatcher delivered at this step; the receiver may
-  // modify the record in place.
-  template <class Fn>
-  void for_each_delivered(Fn&& fn) {
+  // modify the record in place. hint(to) names the next record's receiver ahead of time, so
+  // that its state can be fetched while this one is handled.
+  template <class Fn, class Hint>
+  void for_each_delivered(Fn&& fn, Hint&& hint) {
     std::byte* at = delivering_.data.get();
     std::byte* end = at + delivering_.size;
     while (at < end) {
       uint32_t to, bytes;
       std::memcpy(&to, at, 4);
       std::memcpy(&bytes, at + 8, 4);  // the record's own size field
+      std::byte* next = at + 4 + bytes;
+      if (next < end) {
+        uint32_t next_to;
+        std::memcpy(&next_to, next, 4);
+        hint(next_to);
+      }
       fn(to, at + 4);
-      at += 4 + bytes;
+      at = next;
     }
   }
 
@@ -54,10 +63,11 @@ class InProcessTransport final : public PatternMatcherOutbox {
     std::unique_ptr<std::byte[]> data;
     size_t size = 0;
     size_t capacity = 0;
+    static constexpr size_t kSlack = 16;  // for chunked copies past the last record
     void grow(size_t need) {
       size_t cap = capacity ? capacity : 1 << 16;
       while (cap < need) cap *= 2;
-      auto bigger = std::make_unique_for_overwrite<std::byte[]>(cap);
+      auto bigger = std::make_unique_for_overwrite<std::byte[]>(cap + kSlack);
       if (size) std::memcpy(bigger.get(), data.get(), size);
       data = std::move(bigger);
       capacity = cap;

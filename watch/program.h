@@ -94,7 +94,8 @@ class Program {
     if (shape == Shape::Conjunction) {
       // and over all leaves: may be true iff every leaf may be; may be false iff any may be.
       Truth all = 1, any = 0;
-      for (uint32_t i = 0; i < leaf_count; ++i) {
+      const uint32_t n = leaf_count;  // a local: Truth is a char type and may alias it
+      for (uint32_t i = 0; i < n; ++i) {
         all &= leaf_values[i];
         any |= leaf_values[i];
       }
