@@ -1,5 +1,7 @@
 #include "watch/centralized_detector.h"
 
+#include "watch/chunked_copy.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstring>
@@ -23,8 +25,14 @@ CentralizedDetector::CentralizedDetector(const Watchpoint& w, const Universe& u,
   lhs_.resize(leaves);
   rhs_.resize(leaves);
   graph_at_offset_.resize(static_cast<size_t>(program_.extent_plus - program_.min_neighbor_offset) + 1);
-  binding_.resize(k);
-  leaves_.resize((k + 1) * std::max<size_t>(leaves, 1));
+  binding_.resize(k + kCopyChunk);  // slack for chunked copies
+  leaf_stride_ = static_cast<uint32_t>((leaves + kByteChunk - 1) / kByteChunk * kByteChunk);
+  leaves_.resize((k + 1) * leaf_stride_ + kByteChunk);
+  own_truth_.resize(leaves * u.module_count());
+  decided_at_.assign(k * leaves, 0);
+  for (size_t slot = 0; slot < k; ++slot)
+    for (uint16_t l : program_.slots[slot].leaves) decided_at_[slot * leaves + l] = 1;
+  for (uint32_t m = 0; m < u.module_count(); ++m) dense_ids_are_ids_ &= u.module_ids[m] == m;
   stack_.resize(static_cast<size_t>(program_.max_stack));
   trial_.resize(leaves);
   candidates_.resize(k);
@@ -60,14 +68,23 @@ void CentralizedDetector::observe(const Frame& frame) {
   step_ = StepStats{};
   step_.step = t;
   step_.live_by_filled.assign(static_cast<size_t>(program_.slot_count()) + 1, 0);
-  matches_.clear();
+  match_values_ = 0;
   run_step(t);
   step_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   stats_.add(step_);
   uint64_t held = static_cast<uint64_t>(graphs_.held());
   for (const auto& ring : history_) held += static_cast<uint64_t>(ring.held()) * universe_.module_count();
   stats_.history_values = held;
-  if (!matches_.empty()) sink_(t, matches_);
+  if (match_values_ != 0) {
+    const std::span<const uint32_t> dense(matches_.data(), match_values_);
+    if (dense_ids_are_ids_) {
+      sink_(t, dense);
+    } else {
+      ids_.resize(dense.size());
+      for (size_t i = 0; i < ids_.size(); ++i) ids_[i] = universe_.module_ids[dense[i]];
+      sink_(t, ids_);
+    }
+  }
 }
 
 Truth CentralizedDetector::neighbor(uint32_t x_module, int offset, uint32_t y_module) const {
@@ -78,22 +95,24 @@ Truth CentralizedDetector::neighbor(uint32_t x_module, int offset, uint32_t y_mo
   return truth_of(std::find(b, e, y_module) != e);
 }
 
-Truth CentralizedDetector::decide(const Leaf& leaf, uint32_t i) const {
-  if (leaf.kind == LeafKind::Neighbor)
-    return neighbor(binding_[static_cast<size_t>(leaf.x)], leaf.offset, binding_[static_cast<size_t>(leaf.y)]);
+// A comparison leaf with its left operand read from module lm and its right from rm.
+Truth CentralizedDetector::compare(const Leaf& leaf, uint32_t i, uint32_t lm, uint32_t rm) const {
   const ResolvedTerm& l = lhs_[i];
-  if (l.value == nullptr) return kUnknown;
-  const uint32_t lm = binding_[static_cast<size_t>(leaf.lhs.slot)];
-  if (!l.known[lm]) return kUnknown;
+  if (l.value == nullptr || !l.known[lm]) return kUnknown;
   int64_t b = leaf.constant;
   if (!leaf.rhs_is_constant) {
     const ResolvedTerm& r = rhs_[i];
-    if (r.value == nullptr) return kUnknown;
-    const uint32_t rm = binding_[static_cast<size_t>(leaf.rhs.slot)];
-    if (!r.known[rm]) return kUnknown;
+    if (r.value == nullptr || !r.known[rm]) return kUnknown;
     b = r.value[rm];
   }
   return truth_of(holds(leaf.op, l.value[lm], b));
+}
+
+Truth CentralizedDetector::decide(const Leaf& leaf, uint32_t i) const {
+  if (leaf.kind == LeafKind::Neighbor)
+    return neighbor(binding_[static_cast<size_t>(leaf.x)], leaf.offset, binding_[static_cast<size_t>(leaf.y)]);
+  const uint32_t rm = leaf.rhs_is_constant ? 0 : binding_[static_cast<size_t>(leaf.rhs.slot)];
+  return compare(leaf, i, binding_[static_cast<size_t>(leaf.lhs.slot)], rm);
 }
 
 void CentralizedDetector::run_step(int64_t t) {
@@ -117,6 +136,13 @@ void CentralizedDetector::run_step(int64_t t) {
   for (size_t o = 0; o < graph_at_offset_.size(); ++o)
     graph_at_offset_[o] = graphs_.find(t + program_.min_neighbor_offset + static_cast<int64_t>(o));
 
+  // A leaf that reads one slot only has the same truth for every binding that puts module m in
+  // that slot: decide it once per module (SlotProgram::own_leaves).
+  const uint32_t modules = universe_.module_count();
+  for (const SlotProgram& sp : program_.slots)
+    for (uint16_t l : sp.own_leaves)
+      for (uint32_t m = 0; m < modules; ++m) own_truth_[l * modules + m] = compare(program_.leaves[l], l, m, m);
+
   std::fill(leaves_.begin(), leaves_.begin() + static_cast<ptrdiff_t>(program_.leaves.size()), kUnknown);
   std::vector<uint32_t>& first = candidates_[0];
   first.clear();
@@ -128,10 +154,10 @@ void CentralizedDetector::run_step(int64_t t) {
 // Fills `slot` with each candidate in turn and goes deeper while the expression can still hold.
 void CentralizedDetector::extend(uint32_t slot) {
   const uint32_t k = static_cast<uint32_t>(program_.slot_count());
-  const size_t leaf_count = program_.leaves.size();
+  const uint32_t modules = universe_.module_count();
   const SlotProgram& sp = program_.slots[slot];
-  const Truth* parent = leaves_.data() + slot * leaf_count;
-  Truth* child = leaves_.data() + (slot + 1) * leaf_count;
+  const Truth* parent = leaves_.data() + slot * leaf_stride_;
+  Truth* child = leaves_.data() + (slot + 1) * leaf_stride_;
 
   // Candidates for slot > 0: modules present at t adjacent to any filled slot, not yet bound.
   if (slot > 0) {
@@ -153,13 +179,30 @@ void CentralizedDetector::extend(uint32_t slot) {
     }
   }
 
+  // Plain pointers: stores through Truth* (a char type) could alias a vector's own fields.
+  const uint16_t* own = sp.own_leaves.data();
+  const uint16_t* own_end = own + sp.own_leaves.size();
+  const uint16_t* carried = sp.carried_leaves.data();
+  const uint16_t* carried_end = carried + sp.carried_leaves.size();
+  const Truth* own_truth = own_truth_.data();
+  const bool last = slot + 1 == k;
   const bool cull = options_.optimizations.neighbor_culling && !sp.cull_leaves.empty();
+  // For a conjunction, the leaves decided before this slot fold once into (all, any); each
+  // candidate only folds in its own leaves, and the last slot never writes a child level.
+  const bool conjunction = program_.shape == Program::Shape::Conjunction;
+  Truth base_all = 1, base_any = 0;
+  if (conjunction) {
+    const uint8_t* decided_here = decided_at_.data() + slot * program_.leaf_count;
+    for (uint32_t l = 0; l < program_.leaf_count; ++l)
+      if (!decided_here[l]) {
+        base_all &= parent[l];
+        base_any |= parent[l];
+      }
+  }
   for (uint32_t c : candidates_[slot]) {
     if (stats_.stopped) return;
     if (cull && culled(slot, c, parent)) continue;
     binding_[slot] = c;
-    std::memcpy(child, parent, leaf_count);
-    for (uint16_t l : sp.leaves) child[l] = decide(program_.leaves[l], l);
     ++step_.live_by_filled[slot + 1];
     ++step_.live;
     ++step_.created;
@@ -169,11 +212,35 @@ void CentralizedDetector::extend(uint32_t slot) {
                            " PatternMatchers at watch step " + std::to_string(t_);
       return;
     }
-    const Truth result = program_.evaluate(child, stack_.data());
-    if (slot + 1 == k) {
+    Truth result;
+    if (conjunction) {
+      Truth all = base_all, any = base_any;
+      if (!last) copy_bytes(child, parent, leaf_stride_);
+      for (const uint16_t* l = own; l != own_end; ++l) {
+        const Truth v = own_truth[*l * modules + c];
+        all &= v;
+        any |= v;
+        if (!last) child[*l] = v;
+      }
+      for (const uint16_t* l = carried; l != carried_end; ++l) {
+        const Truth v = decide(program_.leaves[*l], *l);
+        all &= v;
+        any |= v;
+        if (!last) child[*l] = v;
+      }
+      result = static_cast<Truth>((all & 1) | (any & 2));
+    } else {
+      copy_bytes(child, parent, leaf_stride_);
+      for (const uint16_t* l = own; l != own_end; ++l) child[*l] = own_truth[*l * modules + c];
+      for (const uint16_t* l = carried; l != carried_end; ++l) child[*l] = decide(program_.leaves[*l], *l);
+      result = program_.evaluate(child, stack_.data());
+    }
+    if (last) {
       if (result == kTrue) {
         ++step_.matches;
-        for (uint32_t s = 0; s < k; ++s) matches_.push_back(universe_.module_ids[binding_[s]]);
+        if (match_values_ + k + kCopyChunk > matches_.size()) matches_.resize(2 * matches_.size() + 4096);
+        copy_ids(matches_.data() + match_values_, binding_.data(), k);
+        match_values_ += k;
       }
       continue;
     }

@@ -40,6 +40,7 @@ class CentralizedDetector final : public Detector {
   void record(const Frame& frame);
   void run_step(int64_t t);
   void extend(uint32_t slot);
+  Truth compare(const Leaf& leaf, uint32_t leaf_index, uint32_t lhs_module, uint32_t rhs_module) const;
   Truth decide(const Leaf& leaf, uint32_t leaf_index) const;
   bool culled(uint32_t slot, uint32_t candidate, const Truth* leaves);
   Truth neighbor(uint32_t x_module, int offset, uint32_t y_module) const;
@@ -58,12 +59,18 @@ class CentralizedDetector final : public Detector {
   std::vector<ResolvedTerm> lhs_, rhs_;        // per leaf
   std::vector<const Graph*> graph_at_offset_;  // [offset - min_neighbor_offset]
   std::vector<uint32_t> binding_;
+  uint32_t leaf_stride_ = 0;                   // leaves per level, rounded up for chunked copies
   std::vector<Truth> leaves_;                  // (k + 1) levels of leaf values
+  std::vector<Truth> own_truth_;               // [leaf * M + module]: own leaves, decided per step
+  std::vector<uint8_t> decided_at_;            // [slot * L + leaf]: 1 when that slot decides the leaf
   std::vector<Truth> stack_, trial_;
   std::vector<std::vector<uint32_t>> candidates_;  // per slot
   std::vector<uint32_t> mark_;
   uint32_t generation_ = 0;
-  std::vector<ModuleId> matches_;
+  std::vector<uint32_t> matches_;  // dense ids; the first match_values_ are this step's
+  size_t match_values_ = 0;
+  std::vector<ModuleId> ids_;
+  bool dense_ids_are_ids_ = true;
   StepStats step_;
 };
 

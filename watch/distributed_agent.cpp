@@ -17,18 +17,25 @@ Truth membership(const uint32_t* ids, uint32_t count, uint32_t m) {
 }  // namespace
 
 AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t budget)
-    : program(p), layout(p), optimizations(o), live_budget(budget) {
+    : program(p), layout(p), optimizations(o), live_budget(budget), live_limit(budget ? budget : UINT64_MAX) {
   stack.resize(static_cast<size_t>(p.max_stack));
   trial.resize(p.leaves.size());
-  for (const SlotProgram& sp : p.slots) slot_appends_sets.push_back(!sp.sets.empty());
+  for (size_t slot = 0; slot < p.slots.size(); ++slot)
+    if (!p.slots[slot].sets.empty()) slot_appends_sets |= 1u << slot;
 }
 
 void DistributedAgent::prepare(int64_t f, const Program& p) {
   prepared_step_ = f;
+  prepared_slots_ = 0;
   neighbors_now_ = history_.neighbors(f);
   if (p.leaf_count > kInlineLeaves) own_overflow_.resize(p.leaf_count);
-  for (const SlotProgram& sp : p.slots)
-    for (uint16_t l : sp.own_leaves) (l < kInlineLeaves ? own_inline_[l] : own_overflow_[l]) = decide(p.leaves[l], f, nullptr);
+}
+
+// Own leaves are decided the first time this step that the module fills their slot.
+void DistributedAgent::prepare_slot(int64_t f, const Program& p, uint32_t slot) {
+  prepared_slots_ |= 1u << slot;
+  for (uint16_t l : p.slots[slot].own_leaves)
+    (l < kInlineLeaves ? own_inline_[l] : own_overflow_[l]) = decide(p.leaves[l], f, nullptr);
 }
 
 // Writes the truth of every leaf decided by filling `sp`'s slot.
@@ -41,39 +48,16 @@ void DistributedAgent::prepare(int64_t f, const Program& p) {
     leaves[*l] = decide(p.leaves[*l], f, &pm);
 }
 
-// Inlined into start() and receive(): it is the whole per-PatternMatcher cost.
-[[gnu::always_inline]] inline void DistributedAgent::fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx,
-                                                                      PatternMatcherOutbox& out) {
+// Fills a slot that is not the last and spreads the PatternMatcher to the neighbours. Kept out of
+// line so that the common last-slot path stays small.
+[[gnu::noinline]] void DistributedAgent::fill_and_spread(int64_t f, PatternMatcherRef pm, AgentContext& ctx,
+                                                         PatternMatcherOutbox& out) {
   const Program& p = ctx.program;
   StepStats& st = ctx.step;
-  if (ctx.live_budget != 0 && st.live >= ctx.live_budget) {
-    ctx.over_budget = true;
-    return;
-  }
-  if (prepared_step_ != f) prepare(f, p);
   const uint32_t slot = pm.filled();
   const uint32_t filled = slot + 1;
   const SlotProgram& sp = p.slots[slot];
-  ++st.live_by_filled[filled];
-  ++st.live;
-
   Truth* leaves = pm.leaves();
-  if (filled == static_cast<uint32_t>(p.slot_count())) {
-    // The last slot: decide and report; the record itself goes nowhere, so it is not updated.
-    // (No later slot reads this one, so it writes no cells or sets.)
-    decide_leaves(p, sp, f, pm, leaves);
-    if (p.evaluate(leaves, ctx.stack.data()) != kTrue) return;
-    ++st.matches;
-    if (ctx.match_values + filled + kCopyChunk > ctx.matches.size()) ctx.matches.resize(2 * ctx.matches.size() + 4096);
-    uint32_t* match = ctx.matches.data() + ctx.match_values;
-    // Copied from the record, which was written long ago: reading the ids just written one by
-    // one as a wide load would stall on store forwarding.
-    copy_ids(match, reinterpret_cast<const uint32_t*>(pm.data() + ctx.layout.ids), slot);
-    match[slot] = self_;
-    ctx.match_values += filled;
-    return;
-  }
-
   pm.set_id(slot, self_);
   for (uint16_t c : sp.cells) {
     const CarriedCell& cell = p.cells[c];
@@ -113,19 +97,55 @@ void DistributedAgent::prepare(int64_t f, const Program& p) {
     if (cull && culled(n, pm, ctx)) continue;
     targets[count++] = n;
   }
-  if (ctx.live_budget != 0) {
-    const uint64_t used = st.messages + st.live;
-    const uint64_t room = ctx.live_budget > used ? ctx.live_budget - used : 0;
-    if (count > room) {
-      count = room;
-      ctx.over_budget = true;
-    }
+  const uint64_t used = st.messages + st.live;
+  const uint64_t room = ctx.live_limit > used ? ctx.live_limit - used : 0;
+  if (count > room) {
+    count = room;
+    ctx.over_budget = true;
   }
   if (count == 0) return;
   const uint32_t bytes = pm.bytes();
   out.send(self_, {targets, count}, pm.data(), bytes);
   st.messages += count;
   st.bytes += count * bytes;
+}
+
+// Inlined into start() and receive(): it is the whole per-PatternMatcher cost.
+[[gnu::always_inline]] inline void DistributedAgent::fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx,
+                                                                      PatternMatcherOutbox& out) {
+  const Program& p = ctx.program;
+  StepStats& st = ctx.step;
+  if (st.live >= ctx.live_limit) {
+    ctx.over_budget = true;
+    return;
+  }
+  if (prepared_step_ != f) prepare(f, p);
+  const uint32_t slot = pm.filled();
+  const uint32_t filled = slot + 1;
+  const SlotProgram& sp = p.slots[slot];
+  if (!(prepared_slots_ & (1u << slot))) prepare_slot(f, p, slot);
+  ++st.live_by_filled[filled];
+  ++st.live;
+
+  if (filled == static_cast<uint32_t>(p.slot_count())) {
+    // The last slot: decide and report; the record itself goes nowhere, so it is not updated.
+    // (No later slot reads this one, so it writes no cells or sets.)
+    Truth* leaves = pm.leaves();
+    decide_leaves(p, sp, f, pm, leaves);
+    if (p.evaluate(leaves, ctx.stack.data()) != kTrue) return;
+    ++st.matches;
+    if (ctx.match_values + filled + kCopyChunk > ctx.matches.size()) ctx.matches.resize(2 * ctx.matches.size() + 4096);
+    uint32_t* match = ctx.matches.data() + ctx.match_values;
+    // Copied from the record, which was written long ago: reading the ids just written one by
+    // one as a wide load would stall on store forwarding.
+    copy_ids(match, reinterpret_cast<const uint32_t*>(pm.data() + ctx.layout.ids), slot);
+    match[slot] = self_;
+    ctx.match_values += filled;
+    return;
+  }
+
+  fill_and_spread(f, pm, ctx, out);
+
 }
 
 void DistributedAgent::start(int64_t f, AgentContext& ctx, PatternMatcherOutbox& out) {
@@ -141,7 +161,7 @@ void DistributedAgent::receive(int64_t f, std::byte* incoming, AgentContext& ctx
   // Sent to a neighbour at f - 1; a module that has left by f never fills it.
   if (neighbors_now_ == nullptr) return;
   PatternMatcherRef pm(incoming, ctx.layout);
-  if (ctx.slot_appends_sets[pm.filled()]) {
+  if (ctx.slot_appends_sets & (1u << pm.filled())) {
     // This slot appends neighbour sets: fill a copy with room to grow.
     const uint32_t bytes = pm.bytes();
     if (ctx.scratch.size() < bytes + kScratchSlack) ctx.scratch.resize(bytes + kScratchSlack);

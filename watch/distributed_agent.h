@@ -6,12 +6,12 @@
 #pragma once
 
 #include <cstddef>
-#include <cstring>
 #include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "watch/chunked_copy.h"
 #include "watch/detector.h"
 #include "watch/module_history.h"
 #include "watch/pattern_matcher.h"
@@ -43,20 +43,14 @@ struct AgentContext {
   std::vector<uint32_t> matches;  // with kCopyChunk - 1 spare values at the end
   size_t match_values = 0;
   bool over_budget = false;
-  std::vector<uint8_t> slot_appends_sets;  // per slot: does filling it append neighbour sets?
+  uint32_t slot_appends_sets = 0;  // bit s: filling slot s appends neighbour sets
+  uint64_t live_limit;              // live_budget, or "none" as the largest number
 
   std::vector<std::byte> scratch;
   std::vector<Truth> stack;
   std::vector<Truth> trial;
   std::vector<uint32_t> targets;
 };
-
-// Copies `count` 32-bit values in fixed chunks of four: a chunked copy compiles to a few vector
-// moves, where a copy of variable length calls memmove. Both ends need three values of slack.
-constexpr uint32_t kCopyChunk = 4;
-inline void copy_ids(uint32_t* dst, const uint32_t* src, uint32_t count) {
-  for (uint32_t i = 0; i < count; i += kCopyChunk) std::memcpy(dst + i, src + i, 4 * kCopyChunk);
-}
 
 class DistributedAgent {
  public:
@@ -75,7 +69,9 @@ class DistributedAgent {
 
  private:
   void prepare(int64_t f, const Program& program);
+  void prepare_slot(int64_t f, const Program& program, uint32_t slot);
   void fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out);
+  void fill_and_spread(int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out);
   Truth decide(const Leaf& leaf, int64_t f, const PatternMatcherRef* pm) const;
   void decide_leaves(const Program& p, const SlotProgram& sp, int64_t f, const PatternMatcherRef& pm,
                      Truth* leaves) const;
@@ -84,10 +80,12 @@ class DistributedAgent {
   Truth own_truth(uint32_t leaf) const { return leaf < kInlineLeaves ? own_inline_[leaf] : own_overflow_[leaf]; }
 
   // Hot fields first: they are what every arriving PatternMatcher touches.
-  // Decided once per step (see SlotProgram::own_leaves): the step they are for, N(self, f), and
-  // the truth of every own leaf (inline for the first kInlineLeaves leaves).
+  // Decided once per step (see SlotProgram::own_leaves): the step they are for, which slots' own
+  // leaves are decided, N(self, f), and the truth of every own leaf (inline for the first
+  // kInlineLeaves leaves).
   static constexpr uint32_t kInlineLeaves = 16;
   int64_t prepared_step_ = -1;
+  uint32_t prepared_slots_ = 0;  // bit s: own leaves of slot s are decided for prepared_step_
   const std::vector<uint32_t>* neighbors_now_ = nullptr;
   std::array<Truth, kInlineLeaves> own_inline_{};
   uint32_t self_;

@@ -77,9 +77,8 @@ void DistributedDetector::observe(const Frame& frame) {
       sink_(t0, ids_);
     }
   }
-  uint64_t held = 0;
-  for (const DistributedAgent& a : agents_) held += a.history().held();
-  stats_.history_values = held;
+  // Every agent records every step (absent or not), so all hold the same amount of history.
+  stats_.history_values = agents_.empty() ? 0 : agents_.front().history().held() * agents_.size();
 }
 
 }  // namespace dw::watch
