@@ -11,16 +11,40 @@ Trace Trace::build(const std::vector<Entry>& entries, std::vector<std::string> v
   trace.universe_.variables = std::move(variable_names);
   std::vector<watch::ModuleId>& ids = trace.universe_.module_ids;
   int64_t last_step = -1;
+  watch::ModuleId largest = 0;
   for (const Entry& e : entries) {
-    ids.push_back(e.m);
-    for (watch::ModuleId n : e.nbrs) ids.push_back(n);  // a neighbour may never have a line of its own
+    largest = std::max(largest, e.m);
+    for (watch::ModuleId n : e.nbrs) largest = std::max(largest, n);
     last_step = std::max(last_step, e.t);
   }
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  std::unordered_map<watch::ModuleId, uint32_t> dense;
-  dense.reserve(ids.size());
-  for (uint32_t i = 0; i < ids.size(); ++i) dense.emplace(ids[i], i);
+  // Every module that has a line or is someone's neighbour (it may never have a line of its own),
+  // in id order: marked in a table when ids are compact, sorted otherwise.
+  auto each_id = [&](auto&& fn) {
+    for (const Entry& e : entries) {
+      fn(e.m);
+      for (watch::ModuleId n : e.nbrs) fn(n);
+    }
+  };
+  const bool compact = largest < 4 * entries.size() + 1024;
+  std::vector<uint32_t> dense_table;  // id -> dense index, when ids are compact
+  std::unordered_map<watch::ModuleId, uint32_t> dense_map;
+  if (compact) {
+    constexpr uint32_t kUnseen = UINT32_MAX;
+    dense_table.assign(static_cast<size_t>(largest) + 1, kUnseen);
+    each_id([&](watch::ModuleId m) { dense_table[m] = 0; });
+    for (size_t m = 0; m < dense_table.size(); ++m)
+      if (dense_table[m] != kUnseen) {
+        dense_table[m] = static_cast<uint32_t>(ids.size());
+        ids.push_back(static_cast<watch::ModuleId>(m));
+      }
+  } else {
+    each_id([&](watch::ModuleId m) { ids.push_back(m); });
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    dense_map.reserve(ids.size());
+    for (uint32_t i = 0; i < ids.size(); ++i) dense_map.emplace(ids[i], i);
+  }
+  auto dense = [&](watch::ModuleId m) { return compact ? dense_table[m] : dense_map.at(m); };
 
   const size_t modules = ids.size();
   const size_t vars = trace.universe_.variables.size();
@@ -46,7 +70,7 @@ Trace Trace::build(const std::vector<Entry>& entries, std::vector<std::string> v
           s.values[m * vars + var] = value;
           s.has_value[m * vars + var] = 1;
         }
-        for (watch::ModuleId n : e.nbrs) s.nbrs.push_back(dense.at(n));
+        for (watch::ModuleId n : e.nbrs) s.nbrs.push_back(dense(n));
       }
     }
     s.nbr_begin[modules] = static_cast<uint32_t>(s.nbrs.size());

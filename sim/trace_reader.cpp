@@ -22,6 +22,7 @@ class TraceReader {
     size_t at = 0;
     uint64_t line = 0;
     bool seen_content = false;
+    entries_.reserve(static_cast<size_t>(std::count(base, base + size, '\n')) + 1);
     while (at < size && errors_.size() < kMaxErrors) {
       ++line;
       size_t end = std::find(base + at, base + size, '\n') - base;
@@ -29,7 +30,6 @@ class TraceReader {
       if (len > 0 && base[at + len - 1] == '\r') --len;
       std::string_view text(base + at, len);
       if (text.find_first_not_of(" \t") != std::string_view::npos) {
-        line_start_ = base + at;
         line_ = line;
         parse_line(text, !seen_content);
         seen_content = true;
@@ -43,20 +43,25 @@ class TraceReader {
   }
 
  private:
-  void error(const char* where, std::string message) {
-    const uint64_t col = where ? static_cast<uint64_t>(where - line_start_) + 1 : 1;
-    errors_.push_back({name_, line_, col, std::move(message)});
-  }
+  // Where a problem is: the line, and the key it concerns (searched for only when reporting, as
+  // the DOM keeps no positions), from `from` on.
+  struct Where {
+    std::string_view line;
+    std::string_view key;
+    size_t from = 0;
+  };
 
-  // Where `key` first appears in the line, for a column number (the DOM keeps no positions).
-  const char* key_at(std::string_view line, std::string_view key) {
-    const std::string quoted = "\"" + std::string(key) + "\"";
-    const size_t at = line.find(quoted);
-    return at == std::string_view::npos ? line.data() : line.data() + at;
+  void error(const Where& w, std::string message) {
+    size_t col = 0;
+    if (!w.key.empty()) {
+      const size_t at = w.line.find("\"" + std::string(w.key) + "\"", w.from);
+      if (at != std::string_view::npos) col = at;
+    }
+    errors_.push_back({name_, line_, col + 1, std::move(message)});
   }
 
   // A JSON number that is an integer; 1.5, 1e3, true and "1" are not.
-  bool integer(simdjson::dom::element v, int64_t& out, const char* at, const std::string& what) {
+  bool integer(simdjson::dom::element v, int64_t& out, const Where& at, const std::string& what) {
     switch (v.type()) {
       case simdjson::dom::element_type::INT64:
         out = v.get_int64().value_unsafe();
@@ -74,14 +79,14 @@ class TraceReader {
   void parse_line(std::string_view text, bool first) {
     simdjson::dom::element doc;
     if (auto err = parser_.parse(text.data(), text.size(), false).get(doc))
-      return error(text.data(), std::string("malformed JSON: ") + simdjson::error_message(err));
+      return error(Where{text, {}, 0}, std::string("malformed JSON: ") + simdjson::error_message(err));
     simdjson::dom::object obj;
-    if (doc.get_object().get(obj)) return error(text.data(), "expected a JSON object");
+    if (doc.get_object().get(obj)) return error(Where{text, {}, 0}, "expected a JSON object");
 
     Trace::Entry e;
     bool has_t = false, has_m = false, has_vars = false, has_nbrs = false, header = false;
     for (auto [key, v] : obj) {
-      const char* at = key_at(text, key);
+      const Where at{text, key, 0};
       if (key == "wptrace") {
         int64_t version;
         if (!first) return error(at, "the {\"wptrace\":1} header may only be the first line");
@@ -106,7 +111,7 @@ class TraceReader {
         simdjson::dom::object vars;
         if (v.get_object().get(vars)) return error(at, "\"vars\" must be an object of integer variables");
         for (auto [name, value] : vars) {
-          const char* var_at = key_at(text.substr(static_cast<size_t>(at - text.data())), name);
+          const Where var_at{text, name, text.find("\"vars\"")};
           const uint32_t index = intern(name);
           for (const auto& [seen, ignored] : e.vars)
             if (seen == index) return error(var_at, "variable '" + std::string(name) + "' appears twice");
@@ -131,22 +136,22 @@ class TraceReader {
       }
     }
     if (header) {
-      if (has_t || has_m || has_vars || has_nbrs) return error(text.data(), "the header line holds only \"wptrace\"");
+      if (has_t || has_m || has_vars || has_nbrs) return error(Where{text, {}, 0}, "the header line holds only \"wptrace\"");
       return;
     }
     std::string missing;
     for (auto [has, name] : {std::pair{has_t, "\"t\""}, {has_m, "\"m\""}, {has_vars, "\"vars\""}, {has_nbrs, "\"nbrs\""}})
       if (!has) missing += (missing.empty() ? "" : ", ") + std::string(name);
-    if (!missing.empty()) return error(text.data(), "missing field " + missing);
+    if (!missing.empty()) return error(Where{text, {}, 0}, "missing field " + missing);
     if (std::find(e.nbrs.begin(), e.nbrs.end(), e.m) != e.nbrs.end())
-      return error(text.data(), "module " + std::to_string(e.m) + " lists itself as a neighbour");
+      return error(Where{text, {}, 0}, "module " + std::to_string(e.m) + " lists itself as a neighbour");
     std::vector<uint32_t> sorted = e.nbrs;
     std::sort(sorted.begin(), sorted.end());
     if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
-      return error(text.data(), "a neighbour appears twice in \"nbrs\"");
+      return error(Where{text, {}, 0}, "a neighbour appears twice in \"nbrs\"");
     auto [it, inserted] = first_line_.emplace(hash_key(e.t, e.m), line_);
     if (!inserted)
-      return error(text.data(), "duplicate line for module " + std::to_string(e.m) + " at step " + std::to_string(e.t) +
+      return error(Where{text, {}, 0}, "duplicate line for module " + std::to_string(e.m) + " at step " + std::to_string(e.t) +
                                     " (first at line " + std::to_string(it->second) + ")");
     entries_.push_back(std::move(e));
   }
@@ -167,7 +172,6 @@ class TraceReader {
   std::unordered_map<uint64_t, uint64_t> first_line_;
   std::vector<TraceError> errors_;
   std::vector<std::string> names_;
-  const char* line_start_ = nullptr;
   uint64_t line_ = 0;
 };
 
