@@ -26,7 +26,7 @@ void explain(const watch::Watchpoint& w, std::ostream& out) {
                                   " steps behind and a match rolls the ensemble back)"
                             : "  (never looks ahead)")
       << "\n";
-  out << "  variables      " << (a.variables.empty() ? "none" : "") << "\n";
+  out << "  variables" << (a.variables.empty() ? "      none" : "") << "\n";
   for (const watch::VariableUse& v : a.variables) {
     out << "    " << v.name << ": offsets " << offsets_text(v.offsets) << ", temporal span " << v.span()
         << ", history kept per module " << (a.extent_plus - v.min_offset() + 1) << " step(s)\n";
@@ -41,7 +41,7 @@ void explain(const watch::Watchpoint& w, std::ostream& out) {
     }
     out << "\n";
   }
-  out << "  neighbor()     " << (a.neighbors.empty() ? "none" : "") << "\n";
+  out << "  neighbor()" << (a.neighbors.empty() ? "     none" : "") << "\n";
   for (const watch::NeighborConstraint& n : a.neighbors) {
     const std::string x = p.slot_names[n.x], y = p.slot_names[n.y];
     out << "    neighbor(" << x << " " << y << ") at offset " << n.offset << ": ";

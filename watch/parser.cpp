@@ -148,9 +148,11 @@ class Parser {
         bool duplicate = false;
         for (const SlotDecl& s : ast_.slots) duplicate |= s.name == name;
         if (duplicate) report(t.span, "module '" + name + "' is declared twice");
-        else if (ast_.slots.size() == kMaxSlots)
+        else if (ast_.slots.size() < kMaxSlots) ast_.slots.push_back({name, t.span});
+        else if (!too_many_slots_) {
           report(t.span, "too many modules: a watchpoint may declare at most " + std::to_string(kMaxSlots));
-        else ast_.slots.push_back({name, t.span});
+          too_many_slots_ = true;
+        }
       } else if (is_keyword(peek().kind)) {
         error_at(peek().span, "keyword " + describe(peek().kind) + " cannot be a module name");
         advance();
@@ -403,6 +405,7 @@ class Parser {
   bool panic_ = false;      // recovering from a syntax error: further syntax errors are cascades
   bool bail_ = false;       // nesting or size limit hit: stop parsing
   bool too_large_ = false;
+  bool too_many_slots_ = false;
 };
 
 }  // namespace

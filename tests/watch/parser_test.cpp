@@ -110,6 +110,15 @@ TEST(Parser, HugeExpressionIsACleanError) {
   EXPECT_NE(r.diagnostics[0].message.find("too large"), std::string::npos);
 }
 
+TEST(Parser, TooManySlotsIsOneError) {
+  std::string text = "modules(";
+  for (int i = 0; i < kMaxSlots + 5; ++i) text += " s" + std::to_string(i);
+  auto r = p(text + "); (s0.x = 1)");
+  ASSERT_EQ(r.diagnostics.size(), 1u);
+  EXPECT_NE(r.diagnostics[0].message.find("at most 32"), std::string::npos);
+  EXPECT_EQ(r.ast.slots.size(), static_cast<size_t>(kMaxSlots));
+}
+
 TEST(Parser, ParenthesesAroundAComparisonAreOptional) {
   auto a = p("modules(a b); (a.x = 1) and (b.y = 2)");
   auto b = p("modules(a b); a.x = 1 and b.y = 2");
