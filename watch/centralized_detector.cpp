@@ -9,16 +9,11 @@
 namespace dw::watch {
 
 CentralizedDetector::CentralizedDetector(const Watchpoint& w, const Universe& u, DetectorOptions options, MatchSink sink)
-    : program_(w.program), universe_(u), options_(options), sink_(std::move(sink)) {
+    : Detector(u, std::move(sink)), program_(w.program), options_(options), columns_(variable_columns(w.program, u)) {
   const bool spans = options.optimizations.temporal_spans;
-  for (size_t v = 0; v < program_.variables.size(); ++v) {
-    int column = -1;
-    for (size_t c = 0; c < u.variables.size(); ++c)
-      if (u.variables[c] == program_.variables[v]) column = static_cast<int>(c);
-    columns_.push_back(column);
-    history_.emplace_back();
-    history_.back().configure(spans ? program_.extent_plus - program_.variable_min_offset[v] + 1 : 0);
-  }
+  history_.resize(program_.variables.size());
+  for (size_t v = 0; v < history_.size(); ++v)
+    history_[v].configure(spans ? program_.extent_plus - program_.variable_min_offset[v] + 1 : 0);
   graphs_.configure(spans ? program_.extent_plus - program_.min_neighbor_offset + 1 : 0);
   const size_t k = static_cast<size_t>(program_.slot_count());
   const size_t leaves = program_.leaves.size();
@@ -32,7 +27,6 @@ CentralizedDetector::CentralizedDetector(const Watchpoint& w, const Universe& u,
   decided_at_.assign(k * leaves, 0);
   for (size_t slot = 0; slot < k; ++slot)
     for (uint16_t l : program_.slots[slot].leaves) decided_at_[slot * leaves + l] = 1;
-  for (uint32_t m = 0; m < u.module_count(); ++m) dense_ids_are_ids_ &= u.module_ids[m] == m;
   stack_.resize(static_cast<size_t>(program_.max_stack));
   trial_.resize(leaves);
   candidates_.resize(k);
@@ -75,16 +69,7 @@ void CentralizedDetector::observe(const Frame& frame) {
   uint64_t held = static_cast<uint64_t>(graphs_.held());
   for (const auto& ring : history_) held += static_cast<uint64_t>(ring.held()) * universe_.module_count();
   stats_.history_values = held;
-  if (match_values_ != 0) {
-    const std::span<const uint32_t> dense(matches_.data(), match_values_);
-    if (dense_ids_are_ids_) {
-      sink_(t, dense);
-    } else {
-      ids_.resize(dense.size());
-      for (size_t i = 0; i < ids_.size(); ++i) ids_[i] = universe_.module_ids[dense[i]];
-      sink_(t, ids_);
-    }
-  }
+  emit(t, {matches_.data(), match_values_});
 }
 
 Truth CentralizedDetector::neighbor(uint32_t x_module, int offset, uint32_t y_module) const {

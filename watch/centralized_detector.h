@@ -46,10 +46,8 @@ class CentralizedDetector final : public Detector {
   Truth neighbor(uint32_t x_module, int offset, uint32_t y_module) const;
 
   const Program& program_;
-  const Universe& universe_;
   DetectorOptions options_;
-  MatchSink sink_;
-  std::vector<int> columns_;
+  std::vector<int> columns_;  // program variable -> frame column
   std::vector<StepRing<Column>> history_;  // per program variable
   StepRing<Graph> graphs_;
 
@@ -69,8 +67,6 @@ class CentralizedDetector final : public Detector {
   uint32_t generation_ = 0;
   std::vector<uint32_t> matches_;  // dense ids; the first match_values_ are this step's
   size_t match_values_ = 0;
-  std::vector<ModuleId> ids_;
-  bool dense_ids_are_ids_ = true;
   StepStats step_;
 };
 

@@ -56,8 +56,13 @@ struct DetectorStats {
 // each match's ids in slot order. Called at most once per t, in increasing t.
 using MatchSink = std::function<void(int64_t t, std::span<const ModuleId> slots)>;
 
+// For each program variable, the frame column that carries it, or -1 when frames never do.
+class Program;
+std::vector<int> variable_columns(const Program& program, const Universe& universe);
+
 class Detector {
  public:
+  Detector(const Universe& universe, MatchSink sink);
   virtual ~Detector() = default;
   // Frames arrive in step order 0, 1, 2, ... A watch step t is decided once frame t + lag() has
   // been observed; its matches go to the sink then.
@@ -69,7 +74,16 @@ class Detector {
   bool stopped() const { return stats_.stopped; }
 
  protected:
+  // Hands the matches of watch step t, in dense module indices, to the sink as module ids.
+  void emit(int64_t t, std::span<const uint32_t> dense);
+
+  const Universe& universe_;
   DetectorStats stats_;
+
+ private:
+  MatchSink sink_;
+  bool dense_ids_are_ids_ = true;  // module ids 0..M-1 in order: matches need no translation
+  std::vector<ModuleId> ids_;
 };
 
 }  // namespace dw::watch

@@ -5,17 +5,10 @@
 namespace dw::watch {
 
 DistributedDetector::DistributedDetector(const Watchpoint& w, const Universe& u, DetectorOptions options, MatchSink sink)
-    : program_(w.program), universe_(u), options_(options), sink_(std::move(sink)),
+    : Detector(u, std::move(sink)), program_(w.program), options_(options), columns_(variable_columns(w.program, u)),
       ctx_(w.program, options.optimizations, options.live_budget) {
-  for (const std::string& name : program_.variables) {
-    int column = -1;
-    for (size_t c = 0; c < u.variables.size(); ++c)
-      if (u.variables[c] == name) column = static_cast<int>(c);
-    columns_.push_back(column);
-  }
   agents_.reserve(u.module_count());
   for (uint32_t m = 0; m < u.module_count(); ++m) agents_.emplace_back(m, program_, options.optimizations.temporal_spans);
-  for (uint32_t m = 0; m < u.module_count(); ++m) dense_ids_are_ids_ &= u.module_ids[m] == m;
   row_values_.resize(columns_.size());
   row_has_.resize(columns_.size());
 }
@@ -67,16 +60,7 @@ void DistributedDetector::observe(const Frame& frame) {
 
   // Everything that matched now was started at t0 = f - (k - 1).
   const int64_t t0 = f - (program_.slot_count() - 1);
-  if (ctx_.match_values != 0 && t0 >= 0) {
-    const std::span<const uint32_t> dense(ctx_.matches.data(), ctx_.match_values);
-    if (dense_ids_are_ids_) {
-      sink_(t0, dense);
-    } else {
-      ids_.resize(dense.size());
-      for (size_t i = 0; i < ids_.size(); ++i) ids_[i] = universe_.module_ids[dense[i]];
-      sink_(t0, ids_);
-    }
-  }
+  if (t0 >= 0) emit(t0, {ctx_.matches.data(), ctx_.match_values});
   // Every agent records every step (absent or not), so all hold the same amount of history.
   stats_.history_values = agents_.empty() ? 0 : agents_.front().history().held() * agents_.size();
 }

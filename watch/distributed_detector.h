@@ -22,17 +22,13 @@ class DistributedDetector final : public Detector {
 
  private:
   const Program& program_;
-  const Universe& universe_;
   DetectorOptions options_;
-  MatchSink sink_;
   std::vector<int> columns_;  // program variable -> frame column, -1 if frames never carry it
   std::vector<DistributedAgent> agents_;
   InProcessTransport transport_;
   AgentContext ctx_;
   std::vector<int64_t> row_values_;
   std::vector<uint8_t> row_has_;
-  std::vector<ModuleId> ids_;
-  bool dense_ids_are_ids_ = true;  // module ids 0..M-1 in order: matches need no translation
 };
 
 }  // namespace dw::watch
