@@ -38,14 +38,26 @@ void DistributedAgent::prepare_slot(int64_t f, const Program& p, uint32_t slot) 
     (l < kInlineLeaves ? own_inline_[l] : own_overflow_[l]) = decide(p.leaves[l], f, nullptr);
 }
 
-// Writes the truth of every leaf decided by filling `sp`'s slot.
-[[gnu::always_inline]] inline void DistributedAgent::decide_leaves(const Program& p, const SlotProgram& sp, int64_t f,
-                                                                   const PatternMatcherRef& pm, Truth* leaves) const {
+// Decides every leaf that filling `sp`'s slot decides, records them in the PatternMatcher and
+// returns the expression's truth so far.
+[[gnu::always_inline]] inline Truth DistributedAgent::decide_leaves(const Program& p, const SlotProgram& sp, int64_t f,
+                                                                    PatternMatcherRef& pm, AgentContext& ctx) const {
+  Truth* leaves = pm.leaves();
   // Plain pointers: stores through Truth* (a char type) could alias a vector's own fields.
-  for (const uint16_t *l = sp.own_leaves.data(), *end = l + sp.own_leaves.size(); l != end; ++l)
-    leaves[*l] = own_truth(*l);
-  for (const uint16_t *l = sp.carried_leaves.data(), *end = l + sp.carried_leaves.size(); l != end; ++l)
-    leaves[*l] = decide(p.leaves[*l], f, &pm);
+  const uint16_t* own = sp.own_leaves.data();
+  const uint16_t* own_end = own + sp.own_leaves.size();
+  const uint16_t* carried = sp.carried_leaves.data();
+  const uint16_t* carried_end = carried + sp.carried_leaves.size();
+  if (p.shape == Program::Shape::Conjunction) {
+    Truth partial = leaves[0];
+    for (const uint16_t* l = own; l != own_end; ++l) partial = kleene_and(partial, own_truth(*l));
+    for (const uint16_t* l = carried; l != carried_end; ++l) partial = kleene_and(partial, decide(p.leaves[*l], f, &pm));
+    leaves[0] = partial;
+    return partial;  // and-ed with the pending leaves' U this is F exactly when partial is F
+  }
+  for (const uint16_t* l = own; l != own_end; ++l) leaves[*l] = own_truth(*l);
+  for (const uint16_t* l = carried; l != carried_end; ++l) leaves[*l] = decide(p.leaves[*l], f, &pm);
+  return p.evaluate(leaves, ctx.stack.data());
 }
 
 // Fills a slot that is not the last and spreads the PatternMatcher to the neighbours. Kept out of
@@ -57,7 +69,6 @@ void DistributedAgent::prepare_slot(int64_t f, const Program& p, uint32_t slot) 
   const uint32_t slot = pm.filled();
   const uint32_t filled = slot + 1;
   const SlotProgram& sp = p.slots[slot];
-  Truth* leaves = pm.leaves();
   pm.set_id(slot, self_);
   for (uint16_t c : sp.cells) {
     const CarriedCell& cell = p.cells[c];
@@ -73,15 +84,13 @@ void DistributedAgent::prepare_slot(int64_t f, const Program& p, uint32_t slot) 
     if (ctx.scratch.size() < grown + kScratchSlack) {
       ctx.scratch.resize(grown * 2 + kScratchSlack);
       pm = PatternMatcherRef(ctx.scratch.data(), ctx.layout);
-      leaves = pm.leaves();
     }
     std::memcpy(ctx.scratch.data() + at, &count, 4);
     if (n != nullptr && count != 0) std::memcpy(ctx.scratch.data() + at + 4, n->data(), 4 * count);
     pm.set_bytes(grown);
   }
-  decide_leaves(p, sp, f, pm, leaves);
+  const Truth result = decide_leaves(p, sp, f, pm, ctx);
   pm.set_filled(filled);
-  const Truth result = p.evaluate(leaves, ctx.stack.data());
   if (result == kFalse && ctx.optimizations.early_termination) return;
 
   // Spread to every neighbour not already in the chain (and not culled).
@@ -130,9 +139,7 @@ void DistributedAgent::prepare_slot(int64_t f, const Program& p, uint32_t slot) 
   if (filled == static_cast<uint32_t>(p.slot_count())) {
     // The last slot: decide and report; the record itself goes nowhere, so it is not updated.
     // (No later slot reads this one, so it writes no cells or sets.)
-    Truth* leaves = pm.leaves();
-    decide_leaves(p, sp, f, pm, leaves);
-    if (p.evaluate(leaves, ctx.stack.data()) != kTrue) return;
+    if (decide_leaves(p, sp, f, pm, ctx) != kTrue) return;
     ++st.matches;
     if (ctx.match_values + filled + kCopyChunk > ctx.matches.size()) ctx.matches.resize(2 * ctx.matches.size() + 4096);
     uint32_t* match = ctx.matches.data() + ctx.match_values;
@@ -197,6 +204,15 @@ Truth DistributedAgent::decide(const Leaf& leaf, int64_t f, const PatternMatcher
 // `candidate` took the next slot? Only neighbor(x next) terms with x already filled can tell.
 bool DistributedAgent::culled(uint32_t candidate, const PatternMatcherRef& pm, AgentContext& ctx) const {
   const std::vector<uint16_t>& cull = ctx.program.slots[pm.filled()].cull_leaves;
+  if (ctx.program.shape == Program::Shape::Conjunction) {
+    Truth trial = pm.leaves()[0];
+    for (uint16_t l : cull) {
+      uint32_t count;
+      const uint32_t* ids = pm.set(static_cast<uint32_t>(ctx.program.leaves[l].set), count);
+      trial = kleene_and(trial, membership(ids, count, candidate));
+    }
+    return trial == kFalse;
+  }
   std::memcpy(ctx.trial.data(), pm.leaves(), ctx.trial.size());
   for (uint16_t l : cull) {
     uint32_t count;

@@ -73,8 +73,8 @@ class DistributedAgent {
   void fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out);
   void fill_and_spread(int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out);
   Truth decide(const Leaf& leaf, int64_t f, const PatternMatcherRef* pm) const;
-  void decide_leaves(const Program& p, const SlotProgram& sp, int64_t f, const PatternMatcherRef& pm,
-                     Truth* leaves) const;
+  Truth decide_leaves(const Program& p, const SlotProgram& sp, int64_t f, PatternMatcherRef& pm,
+                      AgentContext& ctx) const;
   bool culled(uint32_t candidate, const PatternMatcherRef& pm, AgentContext& ctx) const;
 
   Truth own_truth(uint32_t leaf) const { return leaf < kInlineLeaves ? own_inline_[leaf] : own_overflow_[leaf]; }

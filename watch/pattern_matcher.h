@@ -4,6 +4,8 @@
 //   uint32 filled | uint32 bytes | int64 cells[C] | uint32 ids[k] | Truth leaves[L] |
 //   uint8 cell_known[C] | pad to 4 | sets: (uint32 count, uint32 ids[count])*
 //
+// For a plain conjunction (Program::Shape::Conjunction) `leaves` is a single Truth: the and of
+// every leaf decided so far, which is all the expression needs (and with U never undoes an F).
 // `ids` are the modules in the filled slots; `leaves` the truth of every leaf decided so far
 // (Unknown until its decide slot fills); `cells` the carried values; `sets` the carried neighbour
 // sets, appended as the slots that own them fill. A set whose module was absent has count
@@ -24,8 +26,9 @@ constexpr uint32_t kUnknownSet = 0xFFFFFFFFu;
 struct PatternMatcherLayout {
   explicit PatternMatcherLayout(const Program& p)
       : slots(static_cast<uint32_t>(p.slot_count())),
-        leaf_count(static_cast<uint32_t>(p.leaves.size())),
-        cell_count(static_cast<uint32_t>(p.cells.size())) {
+        leaf_count(p.shape == Program::Shape::Conjunction ? 1 : static_cast<uint32_t>(p.leaves.size())),
+        cell_count(static_cast<uint32_t>(p.cells.size())),
+        conjunction(p.shape == Program::Shape::Conjunction) {
     cells = 8;
     ids = cells + 8 * cell_count;
     leaves = ids + 4 * slots;
@@ -33,7 +36,8 @@ struct PatternMatcherLayout {
     sets = (known + cell_count + 3) & ~3u;
   }
 
-  uint32_t slots, leaf_count, cell_count;
+  uint32_t slots, leaf_count, cell_count;  // leaf_count: Truth bytes in the record
+  bool conjunction;
   uint32_t cells, ids, leaves, known, sets;  // byte offsets; `sets` is also the size with no sets
 };
 
@@ -83,7 +87,7 @@ class PatternMatcherRef {
   void init() {
     set_filled(0);
     set_bytes(l_->sets);
-    std::memset(d_ + l_->leaves, kUnknown, l_->leaf_count);
+    std::memset(d_ + l_->leaves, l_->conjunction ? kTrue : kUnknown, l_->leaf_count);
     std::memset(d_ + l_->known, 0, l_->cell_count);
   }
 
