@@ -197,7 +197,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
   cmd->add_option("--repeat", args->repeat, "Runs per row; the fastest and the median are reported")
       ->check(CLI::Range(1, 100));
   cmd->add_option("--write-trace", args->write_trace, "Also write the synthetic trace (wptrace v1) to FILE");
-  add_detector_flags(*cmd, args->detector);
+  add_detector_flags(*cmd, args->detector, /*with_algorithm=*/false);
   cmd->callback([&run, args] { run = [args] { return bench_engine(*args); }; });
 }
 

@@ -23,13 +23,14 @@ void explain(const watch::Watchpoint& w, std::ostream& out) {
   out << "\n";
   out << "  E+             " << a.extent_plus
       << (a.extent_plus > 0 ? "  (looks ahead: detectors run " + std::to_string(a.extent_plus) +
-                                  " steps behind and a match rolls the ensemble back)"
+                                  (a.extent_plus == 1 ? " step" : " steps") + " behind the ensemble)"
                             : "  (never looks ahead)")
       << "\n";
   out << "  variables" << (a.variables.empty() ? "      none" : "") << "\n";
   for (const watch::VariableUse& v : a.variables) {
     out << "    " << v.name << ": offsets " << offsets_text(v.offsets) << ", temporal span " << v.span()
-        << ", history kept per module " << (a.extent_plus - v.min_offset() + 1) << " step(s)\n";
+        << ", history kept per module " << (a.extent_plus - v.min_offset() + 1)
+        << (a.extent_plus - v.min_offset() == 0 ? " step" : " steps") << "\n";
   }
   out << "  slot reads\n";
   for (int s = 0; s < p.slot_count(); ++s) {

@@ -1,10 +1,13 @@
 #include "app/detector_flags.h"
 
-#include <map>
 
 #include "watch/ast.h"
 
 namespace dw::app {
+
+watch::Algorithm DetectorFlags::algorithm() const {
+  return algorithm_name == "centralized" ? watch::Algorithm::Centralized : watch::Algorithm::Distributed;
+}
 
 watch::DetectorOptions DetectorFlags::options() const {
   watch::DetectorOptions o;
@@ -15,12 +18,12 @@ watch::DetectorOptions DetectorFlags::options() const {
   return o;
 }
 
-void add_detector_flags(CLI::App& cmd, DetectorFlags& flags) {
-  const std::map<std::string, watch::Algorithm> algorithms{{"centralized", watch::Algorithm::Centralized},
-                                                           {"distributed", watch::Algorithm::Distributed}};
-  cmd.add_option("--algorithm,-a", flags.algorithm, "centralized (Alg. 1) or distributed (Alg. 2)")
-      ->transform(CLI::CheckedTransformer(algorithms, CLI::ignore_case))
-      ->default_str("distributed");
+void add_detector_flags(CLI::App& cmd, DetectorFlags& flags, bool with_algorithm) {
+  if (with_algorithm) {
+    cmd.add_option("--algorithm,-a", flags.algorithm_name, "centralized (Alg. 1) or distributed (Alg. 2)")
+        ->check(CLI::IsMember({"centralized", "distributed"}))
+        ->capture_default_str();
+  }
   cmd.add_flag("--no-early-termination", flags.no_early_termination, "Keep PatternMatchers that can no longer match");
   cmd.add_flag("--no-neighbor-culling", flags.no_neighbor_culling, "Spread to every neighbour regardless of neighbor()");
   cmd.add_flag("--no-temporal-spans", flags.no_temporal_spans, "Keep all history instead of each variable's span");

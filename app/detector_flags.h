@@ -11,7 +11,8 @@
 namespace dw::app {
 
 struct DetectorFlags {
-  watch::Algorithm algorithm = watch::Algorithm::Distributed;
+  std::string algorithm_name = "distributed";
+  watch::Algorithm algorithm() const;
   bool no_early_termination = false;
   bool no_neighbor_culling = false;
   bool no_temporal_spans = false;
@@ -20,7 +21,9 @@ struct DetectorFlags {
   watch::DetectorOptions options() const;
 };
 
-void add_detector_flags(CLI::App& cmd, DetectorFlags& flags);
+// --algorithm (unless the command picks algorithms its own way), the optimization switches and
+// the --max-live budget.
+void add_detector_flags(CLI::App& cmd, DetectorFlags& flags, bool with_algorithm = true);
 void print_detector_stats(std::ostream& out, const watch::DetectorStats& st);
 nlohmann::ordered_json stats_json(const watch::Watchpoint& w, const watch::DetectorStats& st, uint64_t matches);
 

@@ -66,7 +66,7 @@ int replay(const ReplayArgs& args) {
   std::vector<std::unique_ptr<watch::Detector>> detectors;
   int64_t max_lag = 0;
   for (size_t i = 0; i < watches.size(); ++i) {
-    detectors.push_back(watch::make_detector(args.detector.algorithm, watches[i], trace.universe(),
+    detectors.push_back(watch::make_detector(args.detector.algorithm(), watches[i], trace.universe(),
                                              args.detector.options(), log.sink(i)));
     max_lag = std::max(max_lag, detectors.back()->lag());
   }
@@ -83,7 +83,7 @@ int replay(const ReplayArgs& args) {
   // The summary goes to stdout unless the matches do.
   std::ostream& summary = out == &std::cout ? std::cerr : std::cout;
   summary << "replay " << args.trace << ": " << trace.line_count() << " lines, " << trace.step_count() << " steps, "
-          << trace.universe().module_count() << " modules; " << watch::algorithm_name(args.detector.algorithm)
+          << trace.universe().module_count() << " modules; " << watch::algorithm_name(args.detector.algorithm())
           << " detector\n";
   bool stopped = false;
   uint64_t total = 0;
@@ -114,7 +114,7 @@ int replay(const ReplayArgs& args) {
   if (!args.stats_path.empty()) {
     nlohmann::ordered_json j;
     j["matches"] = total;
-    j["algorithm"] = watch::algorithm_name(args.detector.algorithm);
+    j["algorithm"] = watch::algorithm_name(args.detector.algorithm());
     j["trace"] = {{"path", args.trace},
                   {"lines", trace.line_count()},
                   {"steps", trace.step_count()},
