@@ -80,7 +80,13 @@ void DistributedAgent::prepare_slot(int64_t f, const Program& p, uint32_t slot) 
     const std::vector<uint32_t>* n = history_.neighbors(f + p.sets[s].offset);
     const uint32_t count = n == nullptr ? kUnknownSet : static_cast<uint32_t>(n->size());
     const uint32_t at = pm.bytes();
-    const uint32_t grown = at + 4 + (n == nullptr ? 0 : 4 * count);
+    const uint64_t size = uint64_t{at} + 4 + (n == nullptr ? 0 : 4 * uint64_t{count});
+    if (size > kMaxPatternMatcherBytes) {
+      ctx.over_budget = true;
+      ctx.stop_reason = "a PatternMatcher would carry more than 16 MiB of neighbour sets";
+      return;
+    }
+    const uint32_t grown = static_cast<uint32_t>(size);
     if (ctx.scratch.size() < grown + kScratchSlack) {
       ctx.scratch.resize(grown * 2 + kScratchSlack);
       pm = PatternMatcherRef(ctx.scratch.data(), ctx.layout);

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "watch/chunked_copy.h"
@@ -42,7 +43,8 @@ struct AgentContext {
   // `matches` (grown in chunks, so that adding a match is a plain write).
   std::vector<uint32_t> matches;  // with kCopyChunk - 1 spare values at the end
   size_t match_values = 0;
-  bool over_budget = false;
+  bool over_budget = false;  // the detector must stop: past the live budget, or stop_reason
+  std::string stop_reason;
   uint32_t slot_appends_sets = 0;  // bit s: filling slot s appends neighbour sets
   uint64_t live_limit;              // live_budget, or "none" as the largest number
 

@@ -54,8 +54,9 @@ void DistributedDetector::observe(const Frame& frame) {
   stats_.add(ctx_.step);
   if (ctx_.over_budget) {
     stats_.stopped = true;
-    stats_.stop_reason = "more than " + std::to_string(options_.live_budget) +
-                         " live PatternMatchers at detector step " + std::to_string(f);
+    stats_.stop_reason = ctx_.stop_reason.empty() ? "more than " + std::to_string(options_.live_budget) +
+                                                     " live PatternMatchers at detector step " + std::to_string(f)
+                                               : ctx_.stop_reason + " at detector step " + std::to_string(f);
   }
 
   // Everything that matched now was started at t0 = f - (k - 1).

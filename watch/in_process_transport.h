@@ -42,10 +42,9 @@ class InProcessTransport final : public PatternMatcherOutbox {
     std::byte* at = delivering_.data.get();
     std::byte* end = at + delivering_.size;
     while (at < end) {
-      uint32_t to, bytes;
+      uint32_t to;
       std::memcpy(&to, at, 4);
-      std::memcpy(&bytes, at + 8, 4);  // the record's own size field
-      std::byte* next = at + 4 + bytes;
+      std::byte* next = at + 4 + PatternMatcherRef::bytes_of(at + 4);
       if (next < end) {
         uint32_t next_to;
         std::memcpy(&next_to, next, 4);

@@ -1,8 +1,8 @@
 // The PatternMatcher (paper §III, Fig. 4) as a compact byte record, laid out once per Program, so
 // that creating, filling and sending one never allocates:
 //
-//   uint32 filled | uint32 bytes | int64 cells[C] | uint32 ids[k] | Truth leaves[L] |
-//   uint8 cell_known[C] | pad to 4 | sets: (uint32 count, uint32 ids[count])*
+//   uint32 header (filled: low 8 bits, bytes: high 24) | uint32 ids[k] | int64 cells[C] |
+//   Truth leaves[L] | uint8 cell_known[C] | pad to 4 | sets: (uint32 count, uint32 ids[count])*
 //
 // For a plain conjunction (Program::Shape::Conjunction) `leaves` is a single Truth: the and of
 // every leaf decided so far, which is all the expression needs (and with U never undoes an F).
@@ -22,6 +22,8 @@
 namespace dw::watch {
 
 constexpr uint32_t kUnknownSet = 0xFFFFFFFFu;
+// The header keeps a record's size in 24 bits.
+constexpr uint32_t kMaxPatternMatcherBytes = (1u << 24) - 4;
 
 struct PatternMatcherLayout {
   explicit PatternMatcherLayout(const Program& p)
@@ -29,9 +31,9 @@ struct PatternMatcherLayout {
         leaf_count(p.shape == Program::Shape::Conjunction ? 1 : static_cast<uint32_t>(p.leaves.size())),
         cell_count(static_cast<uint32_t>(p.cells.size())),
         conjunction(p.shape == Program::Shape::Conjunction) {
-    cells = 8;
-    ids = cells + 8 * cell_count;
-    leaves = ids + 4 * slots;
+    ids = 4;
+    cells = ids + 4 * slots;
+    leaves = cells + 8 * cell_count;
     known = leaves + leaf_count;
     sets = (known + cell_count + 3) & ~3u;
   }
@@ -46,10 +48,17 @@ class PatternMatcherRef {
  public:
   PatternMatcherRef(std::byte* data, const PatternMatcherLayout& layout) : d_(data), l_(&layout) {}
 
-  uint32_t filled() const { return load32(0); }
-  void set_filled(uint32_t n) { store32(0, n); }
-  uint32_t bytes() const { return load32(4); }
-  void set_bytes(uint32_t n) { store32(4, n); }
+  // The size of the record at `data`, read from its header.
+  static uint32_t bytes_of(const std::byte* data) {
+    uint32_t header;
+    std::memcpy(&header, data, 4);
+    return header >> 8;
+  }
+
+  uint32_t filled() const { return load32(0) & 0xFF; }
+  void set_filled(uint32_t n) { store32(0, (load32(0) & ~0xFFu) | n); }
+  uint32_t bytes() const { return load32(0) >> 8; }
+  void set_bytes(uint32_t n) { store32(0, (load32(0) & 0xFFu) | (n << 8)); }
 
   uint32_t id(uint32_t slot) const { return load32(l_->ids + 4 * slot); }
   void set_id(uint32_t slot, uint32_t m) { store32(l_->ids + 4 * slot, m); }
@@ -85,8 +94,7 @@ class PatternMatcherRef {
 
   // Starts an empty record: nothing filled, every leaf Unknown.
   void init() {
-    set_filled(0);
-    set_bytes(l_->sets);
+    store32(0, l_->sets << 8);  // nothing filled
     std::memset(d_ + l_->leaves, l_->conjunction ? kTrue : kUnknown, l_->leaf_count);
     std::memset(d_ + l_->known, 0, l_->cell_count);
   }
