@@ -17,7 +17,7 @@ Truth membership(const uint32_t* ids, uint32_t count, uint32_t m) {
 }  // namespace
 
 AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t budget)
-    : program(p), layout(p), optimizations(o), live_budget(budget), live_limit(budget ? budget : UINT64_MAX) {
+    : program(p), layout(p), optimizations(o), live_limit(budget ? budget : UINT64_MAX) {
   stack.resize(static_cast<size_t>(p.max_stack));
   trial.resize(p.leaves.size());
   for (size_t slot = 0; slot < p.slots.size(); ++slot)

@@ -36,7 +36,6 @@ struct AgentContext {
   const Program& program;
   PatternMatcherLayout layout;
   Optimizations optimizations;
-  uint64_t live_budget;  // 0: none
 
   StepStats step;  // this step's statistics
   // Dense ids, slot_count per match, all of watch step f - k + 1: the first match_values of
@@ -46,7 +45,7 @@ struct AgentContext {
   bool over_budget = false;  // the detector must stop: past the live budget, or stop_reason
   std::string stop_reason;
   uint32_t slot_appends_sets = 0;  // bit s: filling slot s appends neighbour sets
-  uint64_t live_limit;              // live_budget, or "none" as the largest number
+  uint64_t live_limit;              // the live budget; no budget is the largest number
 
   std::vector<std::byte> scratch;
   std::vector<Truth> stack;
