@@ -1,6 +1,7 @@
 // `dwatch replay TRACE --watch ...`: run watchpoints over a recorded trace.
 #include <chrono>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -45,7 +46,8 @@ int replay(const ReplayArgs& args) {
   const sim::Trace& trace = std::get<sim::Trace>(read);
   const double parse_seconds = seconds_since(parse_start);
 
-  std::ofstream file;
+  // Output files are opened before the run, so that a bad path costs nothing.
+  std::ofstream file, stats_file;
   std::ostream* out = nullptr;
   if (!args.matches_path.empty()) {
     if (args.matches_path == "-") {
@@ -54,9 +56,16 @@ int replay(const ReplayArgs& args) {
       file.open(args.matches_path, std::ios::binary);
       if (!file) {
         std::cerr << args.matches_path << ": error: cannot write the matches file\n";
-        return 1;
+        return 2;
       }
       out = &file;
+    }
+  }
+  if (!args.stats_path.empty()) {
+    stats_file.open(args.stats_path);
+    if (!stats_file) {
+      std::cerr << args.stats_path << ": error: cannot write the stats file\n";
+      return 2;
     }
   }
   std::vector<sim::MatchLog::WatchInfo> infos;
@@ -106,10 +115,11 @@ int replay(const ReplayArgs& args) {
     if (st.stopped) {
       stopped = true;
       std::cerr << "dwatch: " << watches[i].name << ": stopped: " << st.stop_reason
-                << " (--max-live raises the budget); the matches found before are kept\n";
+                << "; the matches found before are kept (--max-live sets the budget)\n";
     }
   }
-  summary << "  time: reading " << parse_seconds << " s, detecting " << detect_seconds << " s\n";
+  summary << std::fixed << std::setprecision(3) << "  time: reading " << parse_seconds << " s, detecting "
+          << detect_seconds << " s\n";
 
   if (!args.stats_path.empty()) {
     nlohmann::ordered_json j;
@@ -123,12 +133,14 @@ int replay(const ReplayArgs& args) {
     j["watches"] = nlohmann::json::array();
     for (size_t i = 0; i < watches.size(); ++i)
       j["watches"].push_back(stats_json(watches[i], detectors[i]->stats(), log.count(i)));
-    std::ofstream s(args.stats_path);
-    if (!s) {
-      std::cerr << args.stats_path << ": error: cannot write the stats file\n";
+    stats_file << j.dump(1) << "\n";
+  }
+  for (auto [stream, path] : {std::pair<std::ostream*, const std::string*>{out, &args.matches_path},
+                              {args.stats_path.empty() ? nullptr : &stats_file, &args.stats_path}}) {
+    if (stream != nullptr && !stream->flush()) {
+      std::cerr << *path << ": error: writing failed\n";
       return 1;
     }
-    s << j.dump(1) << "\n";
   }
   return stopped ? 1 : 0;
 }

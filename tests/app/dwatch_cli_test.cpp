@@ -135,6 +135,11 @@ TEST_F(Cli, BadOptionsAreBadInput) {
   EXPECT_EQ(run("replay x.jsonl -w 'modules(a); (a.x=1)' --algorithm sideways").code, 2);
   EXPECT_EQ(run("replay " + (dir_ / "missing.jsonl").string() + " -w 'modules(a); (a.x=1)'").code, 2);
   EXPECT_EQ(run("frobnicate").code, 2);
+  const fs::path c = cases_ / "07_last_last_single";
+  const Result unwritable = run("replay " + (c / "trace.jsonl").string() + " -w @" + (c / "watch.txt").string() +
+                                " --matches /nonexistent/dir/m.jsonl");
+  EXPECT_EQ(unwritable.code, 2);
+  EXPECT_NE(unwritable.err.find("cannot write the matches file"), std::string::npos);
   EXPECT_EQ(run("").code, 2);
 }
 
