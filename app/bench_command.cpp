@@ -45,6 +45,7 @@ struct Row {
   double median_seconds = 0;
   long peak_kib = 0;
   bool stopped = false;
+  uint64_t by_filled[5] = {};  // PatternMatchers by slots filled, 1..4 (the paper's Fig. 7)
 };
 
 std::vector<int64_t> parse_tuple(const std::string& text) {
@@ -87,6 +88,7 @@ Row run_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorith
     row.messages = st.messages;
     row.peak_live = st.peak_live;
     row.stopped = st.stopped;
+    for (size_t i = 0; i < st.created_by_filled.size() && i < 5; ++i) row.by_filled[i] = st.created_by_filled[i];
   }
   std::sort(times.begin(), times.end());
   row.seconds = times.front();
@@ -133,12 +135,13 @@ int bench_engine(const BenchArgs& args) {
       std::cerr << args.out_dir << ": error: cannot write engine.csv\n";
       return 1;
     }
-    csv << "tuple,algorithm,matches,created,messages,peak_live,best_seconds,median_seconds,peak_mib\n";
+    csv << "tuple,algorithm,matches,created,messages,peak_live,best_seconds,median_seconds,peak_mib,"
+           "filled1,filled2,filled3,filled4\n";
   }
   std::cout << "bench engine: " << args.size << "^3 cubic lattice, " << args.steps << " steps, Fig. 6 watchpoint\n";
   std::cout << std::left << std::setw(11) << "tuple" << std::setw(13) << "algorithm" << std::right << std::setw(12)
             << "matches" << std::setw(14) << "created" << std::setw(12) << "peak live" << std::setw(10) << "best s"
-            << std::setw(10) << "median s" << std::setw(11) << "peak MiB" << "\n";
+            << std::setw(10) << "median s" << std::setw(11) << "peak MiB" << "   by slots filled (Fig. 7)\n";
   int status = 0;
   for (const std::string& tuple_text : args.tuples) {
     sim::CubicRandomVars spec;
@@ -169,11 +172,14 @@ int bench_engine(const BenchArgs& args) {
                 << std::setw(12) << row.matches << std::setw(14) << row.created << std::setw(12) << row.peak_live
                 << std::setw(10) << std::fixed << std::setprecision(3) << row.seconds << std::setw(10)
                 << row.median_seconds << std::setw(11)
-                << std::setprecision(1) << mib << (row.stopped ? "  stopped at the budget" : "") << "\n";
+                << std::setprecision(1) << mib << "   ";
+      for (int i = 1; i <= 4; ++i) std::cout << (i > 1 ? " " : "") << row.by_filled[i];
+      std::cout << (row.stopped ? "  stopped at the budget" : "") << "\n";
       if (csv) {
         csv << tuple_text << "," << watch::algorithm_name(a) << "," << row.matches << "," << row.created << ","
-            << row.messages << "," << row.peak_live << "," << row.seconds << "," << row.median_seconds << "," << mib
-            << "\n";
+            << row.messages << "," << row.peak_live << "," << row.seconds << "," << row.median_seconds << "," << mib;
+        for (int i = 1; i <= 4; ++i) csv << "," << row.by_filled[i];
+        csv << "\n";
       }
       if (row.stopped) status = 1;
     }
