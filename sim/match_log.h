@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <ostream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,7 @@ class MatchLog {
     std::vector<Kept> kept;
   };
   void write(const Batch& b);
+  static std::vector<watch::ModuleId> sorted_groups(std::span<const watch::ModuleId> ids, size_t k);
 
   std::vector<Watch> watches_;
   std::ostream* out_;

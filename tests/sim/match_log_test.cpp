@@ -28,6 +28,19 @@ TEST(MatchLog, SortsByStepThenWatchThenSlotIds) {
   EXPECT_EQ(log.count(1), 3u);
 }
 
+TEST(MatchLog, SortsGroupsTooWideToPack) {
+  // Three 32-bit ids do not fit in one 64-bit key: the general sort takes over.
+  std::ostringstream out;
+  MatchLog log({{"w", {"a", "b", "c"}}}, &out);
+  const std::vector<watch::ModuleId> ids = {4000000000u, 1, 2, 7, 4000000000u, 3, 7, 9, 1};
+  log.sink(0)(0, ids);
+  log.finish();
+  EXPECT_EQ(out.str(),
+            "{\"watch\":\"w\",\"t\":0,\"slots\":{\"a\":7,\"b\":9,\"c\":1}}\n"
+            "{\"watch\":\"w\",\"t\":0,\"slots\":{\"a\":7,\"b\":4000000000,\"c\":3}}\n"
+            "{\"watch\":\"w\",\"t\":0,\"slots\":{\"a\":4000000000,\"b\":1,\"c\":2}}\n");
+}
+
 TEST(MatchLog, EscapesNamesAsJson) {
   std::ostringstream out;
   MatchLog log({{"a \"quoted\" name", {"s"}}}, &out);
