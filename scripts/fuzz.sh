@@ -7,5 +7,5 @@ seconds="${1:-60}"
 scripts/install-deps.sh
 scripts/build.sh fuzz
 mkdir -p build-fuzz/corpus
-build-fuzz/tests/parser_fuzz -max_total_time="$seconds" -max_len=4096 -timeout=10 \
+build-fuzz/tests/parser_fuzz -max_total_time="$seconds" -max_len=4096 -timeout=10 -rss_limit_mb=4096 \
   build-fuzz/corpus tests/fuzz/corpus
