@@ -66,6 +66,7 @@ nlohmann::ordered_json stats_json(const watch::Watchpoint& w, const watch::Detec
                      {"seconds", s.seconds}});
   }
   j["per_step"] = std::move(steps);
+  if (st.steps_truncated) j["per_step_truncated"] = true;  // only the first DetectorStats::kMaxSteps
   return j;
 }
 

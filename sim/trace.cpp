@@ -1,11 +1,13 @@
 #include "sim/trace.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <unordered_map>
 
 namespace dw::sim {
 
-Trace Trace::build(const std::vector<Entry>& entries, std::vector<std::string> variable_names) {
+std::variant<Trace, std::string> Trace::build(const std::vector<Entry>& entries,
+                                              std::vector<std::string> variable_names) {
   Trace trace;
   trace.lines_ = entries.size();
   trace.universe_.variables = std::move(variable_names);
@@ -48,23 +50,44 @@ Trace Trace::build(const std::vector<Entry>& entries, std::vector<std::string> v
 
   const size_t modules = ids.size();
   const size_t vars = trace.universe_.variables.size();
-  trace.steps_.resize(static_cast<size_t>(last_step + 1));
-  // Per step, each module's entry (or none), so that neighbour lists come out in module order.
-  std::vector<std::vector<const Entry*>> by_step(trace.steps_.size(), std::vector<const Entry*>());
-  for (const Entry& e : entries) by_step[static_cast<size_t>(e.t)].push_back(&e);
-  for (size_t t = 0; t < trace.steps_.size(); ++t) {
-    Step& s = trace.steps_[t];
+  // Lines sorted by (step, module): each step's neighbour lists then come out in module order.
+  std::vector<const Entry*> order(entries.size());
+  for (size_t i = 0; i < entries.size(); ++i) order[i] = &entries[i];
+  std::sort(order.begin(), order.end(),
+            [](const Entry* a, const Entry* b) { return a->t != b->t ? a->t < b->t : a->m < b->m; });
+
+  // Frames are dense (every module, every variable), but a step with no line shares one empty
+  // frame, so a sparse trace costs what its lines cost. Refuse what memory cannot hold.
+  size_t busy_steps = 0;
+  for (size_t i = 0; i < order.size(); ++i) busy_steps += i == 0 || order[i]->t != order[i - 1]->t;
+  const double frame_bytes = static_cast<double>(modules) * (9.0 * static_cast<double>(vars) + 5.0);
+  const double total_bytes = frame_bytes * static_cast<double>(busy_steps + 1);
+  if (total_bytes > kMaxTraceBytes) {
+    char gib[32];
+    std::snprintf(gib, sizeof gib, "%.1f", total_bytes / (1024.0 * 1024 * 1024));
+    return "the trace needs " + std::string(gib) + " GiB in memory (" + std::to_string(busy_steps) + " steps x " +
+           std::to_string(modules) + " modules x " + std::to_string(vars) + " variables); at most " +
+           std::to_string(static_cast<int>(kMaxTraceBytes / (1ull << 30))) + " GiB is allowed";
+  }
+
+  auto empty_frame = [&](Step& s) {
     s.present.assign(modules, 0);
     s.values.assign(modules * vars, 0);
     s.has_value.assign(modules * vars, 0);
-    std::vector<const Entry*>& row = by_step[t];
-    std::sort(row.begin(), row.end(), [&](const Entry* a, const Entry* b) { return a->m < b->m; });
     s.nbr_begin.assign(modules + 1, 0);
-    size_t r = 0;
+  };
+  trace.step_frame_.assign(static_cast<size_t>(last_step + 1), 0);
+  trace.steps_.reserve(busy_steps + 1);
+  empty_frame(trace.steps_.emplace_back());  // frame 0: everyone absent
+  for (size_t i = 0; i < order.size();) {
+    const int64_t t = order[i]->t;
+    trace.step_frame_[static_cast<size_t>(t)] = static_cast<uint32_t>(trace.steps_.size());
+    Step& s = trace.steps_.emplace_back();
+    empty_frame(s);
     for (uint32_t m = 0; m < modules; ++m) {
       s.nbr_begin[m] = static_cast<uint32_t>(s.nbrs.size());
-      if (r < row.size() && row[r]->m == ids[m]) {
-        const Entry& e = *row[r++];
+      if (i < order.size() && order[i]->t == t && order[i]->m == ids[m]) {
+        const Entry& e = *order[i++];
         s.present[m] = 1;
         for (const auto& [var, value] : e.vars) {
           s.values[m * vars + var] = value;
@@ -79,7 +102,7 @@ Trace Trace::build(const std::vector<Entry>& entries, std::vector<std::string> v
 }
 
 watch::Frame Trace::frame(int64_t step) const {
-  const Step& s = steps_[static_cast<size_t>(step)];
+  const Step& s = steps_[step_frame_[static_cast<size_t>(step)]];
   watch::Frame f;
   f.step = step;
   f.present = s.present;

@@ -17,7 +17,7 @@ class Trace {
  public:
   // Module ids ascending; variables in order of first appearance.
   const watch::Universe& universe() const { return universe_; }
-  int64_t step_count() const { return static_cast<int64_t>(steps_.size()); }
+  int64_t step_count() const { return static_cast<int64_t>(step_frame_.size()); }
   uint64_t line_count() const { return lines_; }
   watch::Frame frame(int64_t step) const;
 
@@ -28,7 +28,10 @@ class Trace {
     std::vector<std::pair<uint32_t, int64_t>> vars;  // (index into the variable names, value)
     std::vector<watch::ModuleId> nbrs;
   };
-  static Trace build(const std::vector<Entry>& entries, std::vector<std::string> variable_names);
+  // The trace of these lines, or why it cannot be held (more than kMaxTraceBytes of frames).
+  static std::variant<Trace, std::string> build(const std::vector<Entry>& entries,
+                                                std::vector<std::string> variable_names);
+  static constexpr double kMaxTraceBytes = 8.0 * (1ull << 30);
 
  private:
   struct Step {
@@ -38,7 +41,8 @@ class Trace {
     std::vector<uint32_t> nbr_begin, nbrs;
   };
   watch::Universe universe_;
-  std::vector<Step> steps_;
+  std::vector<Step> steps_;             // distinct frames; 0 is the empty one
+  std::vector<uint32_t> step_frame_;    // step -> index into steps_
   uint64_t lines_ = 0;
 };
 

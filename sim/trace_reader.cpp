@@ -39,7 +39,9 @@ class TraceReader {
     if (errors_.size() >= kMaxErrors && at < size)
       errors_.push_back({name_, line, 1, "too many errors; stopping here"});
     if (!errors_.empty()) return errors_;
-    return Trace::build(entries_, std::move(names_));
+    auto built = Trace::build(entries_, std::move(names_));
+    if (auto* why = std::get_if<std::string>(&built)) return std::vector<TraceError>{{name_, 0, 0, *why}};
+    return std::move(std::get<Trace>(built));
   }
 
  private:
@@ -163,7 +165,8 @@ class TraceReader {
     return static_cast<uint32_t>(names_.size() - 1);
   }
 
-  static constexpr int64_t kMaxStep = 100'000'000;
+  // Ten million steps (eleven days at 10 Hz); every step up to the largest is part of the run.
+  static constexpr int64_t kMaxStep = 10'000'000;
 
   std::string name_;
   const simdjson::padded_string& text_;

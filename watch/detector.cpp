@@ -38,7 +38,8 @@ void DetectorStats::add(const StepStats& s) {
   matches += s.matches;
   peak_live = std::max(peak_live, s.live);
   seconds += s.seconds;
-  steps.push_back(s);
+  if (steps.size() < kMaxSteps) steps.push_back(s);
+  else steps_truncated = true;
 }
 
 }  // namespace dw::watch

@@ -40,7 +40,10 @@ struct StepStats {
 };
 
 struct DetectorStats {
+  // The per-step series, for the first kMaxSteps steps; the totals below count every step.
+  static constexpr size_t kMaxSteps = 1'000'000;
   std::vector<StepStats> steps;
+  bool steps_truncated = false;
   std::vector<uint64_t> created_by_filled;  // over the run
   uint64_t created = 0, messages = 0, bytes = 0, matches = 0;
   uint64_t peak_live = 0;

@@ -54,5 +54,30 @@ TEST(Trace, SparseLargeIdsKeepTheirOrderAndAbsences) {
   EXPECT_EQ(f1.has_value[1], 0) << "module 4000000000 lacks x at step 1";
 }
 
+TEST(Trace, StepsWithoutLinesShareOneEmptyFrame) {
+  auto r = read_trace_text("t", R"({"t":0,"m":1,"vars":{"x":1},"nbrs":[]}
+{"t":5000000,"m":1,"vars":{"x":2},"nbrs":[]})");
+  ASSERT_TRUE(std::holds_alternative<Trace>(r));
+  const Trace& t = std::get<Trace>(r);
+  EXPECT_EQ(t.step_count(), 5000001);
+  EXPECT_EQ(t.frame(2500000).present[0], 0);
+  EXPECT_EQ(t.frame(5000000).values[0], 2);
+}
+
+TEST(Trace, TooLargeForMemoryIsAnErrorNotACrash) {
+  // 3,000 steps, each naming 300 fresh neighbours: 900,000 modules in dense frames at every step.
+  std::string text;
+  for (int t = 0; t < 3000; ++t) {
+    text += "{\"t\":" + std::to_string(t) + ",\"m\":" + std::to_string(t * 1000) + ",\"vars\":{\"x\":1},\"nbrs\":[";
+    for (int i = 1; i <= 300; ++i) text += (i > 1 ? "," : "") + std::to_string(t * 1000 + i);
+    text += "]}\n";
+  }
+  auto r = read_trace_text("wide.jsonl", text);
+  ASSERT_TRUE(std::holds_alternative<std::vector<TraceError>>(r));
+  const std::string message = std::get<std::vector<TraceError>>(r)[0].format();
+  EXPECT_NE(message.find("wide.jsonl: error: the trace needs"), std::string::npos) << message;
+  EXPECT_NE(message.find("at most 8 GiB"), std::string::npos) << message;
+}
+
 }  // namespace
 }  // namespace dw::sim
