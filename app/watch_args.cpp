@@ -1,5 +1,6 @@
 #include "app/watch_args.h"
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
