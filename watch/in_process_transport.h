@@ -55,8 +55,6 @@ class InProcessTransport final : public PatternMatcherOutbox {
     }
   }
 
-  size_t buffered_bytes() const { return sending_.capacity + delivering_.capacity; }
-
  private:
   struct Buffer {
     std::unique_ptr<std::byte[]> data;

@@ -19,6 +19,4 @@ constexpr Truth kleene_or(Truth a, Truth b) { return static_cast<Truth>(((a | b)
 // not U = U.
 constexpr Truth kleene_not(Truth a) { return static_cast<Truth>(((a & 1) << 1) | ((a & 2) >> 1)); }
 
-const char* truth_name(Truth t);
-
 }  // namespace dw::watch

@@ -62,12 +62,6 @@ class PatternMatcherRef {
 
   uint32_t id(uint32_t slot) const { return load32(l_->ids + 4 * slot); }
   void set_id(uint32_t slot, uint32_t m) { store32(l_->ids + 4 * slot, m); }
-  bool holds(uint32_t m) const {
-    const uint32_t n = filled();
-    for (uint32_t s = 0; s < n; ++s)
-      if (id(s) == m) return true;
-    return false;
-  }
 
   Truth* leaves() { return reinterpret_cast<Truth*>(d_ + l_->leaves); }
   const Truth* leaves() const { return reinterpret_cast<const Truth*>(d_ + l_->leaves); }

@@ -4,14 +4,6 @@
 
 namespace dw::watch {
 
-const char* truth_name(Truth t) {
-  switch (t) {
-    case kTrue: return "true";
-    case kFalse: return "false";
-    default: return "unknown";
-  }
-}
-
 namespace {
 
 class Compiler {
