@@ -9,6 +9,7 @@ packages=(
   libsimdjson-dev                              # reading traces
   nlohmann-json3-dev                           # writing JSON
   libcli11-dev                                 # the command line
+  libtomlplusplus-dev                          # scenario files
   clang libclang-rt-14-dev                     # the parser fuzz target and sanitizer builds
   time                                         # peak-memory figures for benchmarks (/usr/bin/time -v)
 )

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "sim/random.h"
 #include "sim/trace.h"
 
 namespace dw::sim {
@@ -18,9 +19,5 @@ struct CubicRandomVars {
 
 // Face-adjacent neighbours (6 in the interior), ids x + nx * (y + ny * z).
 Trace make_cubic_random_vars(const CubicRandomVars& spec);
-
-// A counter-based generator: the same (seed, module, step, stream) always gives the same number,
-// whatever the order of the calls.
-uint64_t counter_random(uint64_t seed, uint64_t module, uint64_t step, uint64_t stream);
 
 }  // namespace dw::sim

@@ -4,6 +4,7 @@
 // bounded by the watchpoint's size, not by the number of bindings.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "watch/detector.h"
@@ -18,6 +19,7 @@ class CentralizedDetector final : public Detector {
 
   void observe(const Frame& frame) override;
   int64_t lag() const override { return program_.extent_plus; }
+  std::unique_ptr<Detector> clone() const override { return std::make_unique<CentralizedDetector>(*this); }
   Algorithm algorithm() const override { return Algorithm::Centralized; }
 
  private:

@@ -38,7 +38,8 @@ void DetectorStats::add(const StepStats& s) {
   matches += s.matches;
   peak_live = std::max(peak_live, s.live);
   seconds += s.seconds;
-  if (steps.size() < kMaxSteps) steps.push_back(s);
+  last = s;
+  if (steps.size() < max_steps) steps.push_back(s);
   else steps_truncated = true;
 }
 

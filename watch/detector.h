@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -42,7 +43,9 @@ struct StepStats {
 struct DetectorStats {
   // The per-step series, for the first kMaxSteps steps; the totals below count every step.
   static constexpr size_t kMaxSteps = 1'000'000;
+  size_t max_steps = kMaxSteps;  // a live run keeps its own series and sets 0
   std::vector<StepStats> steps;
+  StepStats last;                // the most recent step
   bool steps_truncated = false;
   std::vector<uint64_t> created_by_filled;  // over the run
   uint64_t created = 0, messages = 0, bytes = 0, matches = 0;
@@ -73,6 +76,10 @@ class Detector {
   // Steps between a frame and the watch step it completes: E+ (centralized), E+ + k - 1 (distributed).
   virtual int64_t lag() const = 0;
   virtual Algorithm algorithm() const = 0;
+  // A copy of everything the detector holds, for snapshots; it sends matches to the same sink.
+  virtual std::unique_ptr<Detector> clone() const = 0;
+  void set_sink(MatchSink sink) { sink_ = std::move(sink); }
+  DetectorStats& stats() { return stats_; }
   const DetectorStats& stats() const { return stats_; }
   bool stopped() const { return stats_.stopped; }
 

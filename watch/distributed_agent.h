@@ -58,6 +58,19 @@ class DistributedAgent {
   DistributedAgent(uint32_t self, const Program& program, bool temporal_spans) : self_(self) {
     history_.configure(program, temporal_spans);
   }
+  // A copy (a snapshot) forgets the per-step cache, which points into the original's history.
+  DistributedAgent(const DistributedAgent& other) { *this = other; }
+  DistributedAgent& operator=(const DistributedAgent& other) {
+    self_ = other.self_;
+    history_ = other.history_;
+    own_overflow_ = other.own_overflow_;
+    prepared_step_ = -1;
+    prepared_slots_ = 0;
+    neighbors_now_ = nullptr;
+    return *this;
+  }
+  DistributedAgent(DistributedAgent&&) = default;
+  DistributedAgent& operator=(DistributedAgent&&) = default;
 
   ModuleHistory& history() { return history_; }
   const ModuleHistory& history() const { return history_; }

@@ -3,6 +3,7 @@
 // chains: slot i is filled at step t0 + i - 1 by a neighbour of the module that filled slot i - 1.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "watch/detector.h"
@@ -18,6 +19,7 @@ class DistributedDetector final : public Detector {
 
   void observe(const Frame& frame) override;
   int64_t lag() const override { return program_.extent_plus + program_.slot_count() - 1; }
+  std::unique_ptr<Detector> clone() const override { return std::make_unique<DistributedDetector>(*this); }
   Algorithm algorithm() const override { return Algorithm::Distributed; }
 
  private:

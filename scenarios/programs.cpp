@@ -1,0 +1,25 @@
+#include "scenarios/programs.h"
+
+namespace dw::scenarios {
+namespace {
+
+constexpr ProgramInfo kPrograms[] = {
+    {"random_vars", "the paper's benchmark host: x1..xk drawn uniformly from 0..max_i-1 every step", make_random_vars},
+    {"leader_election", "2-hop leader election: no two leaders within two hops (paper Fig. 2)", make_leader_election},
+    {"token_ring", "token passing around a ring, with a master that regenerates a lost token (paper Fig. 3)",
+     make_token_ring},
+    {"aggregation_routing", "data aggregation over a spanning tree plus landmark routing (paper §V-B)",
+     make_aggregation_routing},
+};
+
+}  // namespace
+
+std::span<const ProgramInfo> builtin_programs() { return kPrograms; }
+
+const ProgramInfo* find_program(std::string_view name) {
+  for (const ProgramInfo& p : kPrograms)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+}  // namespace dw::scenarios

@@ -1,0 +1,71 @@
+// Scenario files (DESIGN §5): a TOML description of an ensemble, its programs, its watchpoints and
+// how to run and show it, loaded into a Model and a World. Every mistake in the file is reported
+// as `file:line:col: error: message` with the line and a caret; nothing is thrown.
+//
+//   name = "leader_election"          # default: the file's stem
+//   steps = 200                        # default 100
+//   seed = 1                           # default 1
+//   snapshots = 64                     # states kept for rollback (default 64)
+//   threads = 1                        # default 1
+//   [lattice]                          # required
+//   kind = "hex2d"                     # cubic | square2d | hex2d | ring | line
+//   size = [12, 10]                    # 3, 2 or 1 sizes
+//   [[program]]                        # one or more, run side by side
+//   name = "leader_election"           # plus the program's own parameters
+//   bug = true
+//   [[watch]]                          # zero or more
+//   name = "two_leaders"
+//   text = "modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)"   # or file = "x.watch"
+//   algorithm = "distributed"          # or centralized (default distributed)
+//   action = "pause"                   # pause | log | count (default log)
+//   max_live = 20000000                # the PatternMatcher budget (0: none)
+//   early_termination = true           # the §IV optimizations, all on by default
+//   neighbor_culling = true
+//   temporal_spans = true
+//   [physics]
+//   enabled = false
+//   [view]
+//   color_by = "isLeader"
+//   camera_eye = [x, y, z]             # default: fitted to the ensemble
+//   camera_target = [x, y, z]
+#pragma once
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <variant>
+
+#include "sim/model.h"
+#include "sim/world.h"
+
+namespace dw::scenarios {
+
+struct ViewSettings {
+  std::string color_by;  // a variable name, or empty
+  std::optional<std::array<double, 3>> camera_eye, camera_target;
+};
+
+struct Scenario {
+  std::string path;
+  std::string name;
+  std::unique_ptr<sim::Model> model;
+  std::unique_ptr<sim::World> world;
+  int64_t steps = 100;
+  size_t snapshots = 64;
+  unsigned threads = 1;
+  ViewSettings view;
+};
+
+// Command-line settings that win over the file's.
+struct ScenarioOverrides {
+  std::optional<uint64_t> seed;
+  std::optional<watch::Algorithm> algorithm;
+};
+
+// The scenario, or the rendered diagnostics.
+std::variant<Scenario, std::string> load_scenario(const std::string& path, const ScenarioOverrides& overrides = {});
+std::variant<Scenario, std::string> load_scenario_text(const std::string& path, std::string text,
+                                                       const ScenarioOverrides& overrides = {});
+
+}  // namespace dw::scenarios

@@ -1,0 +1,54 @@
+#include "sim/host_program.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "sim/random.h"
+
+namespace dw::sim {
+
+bool ModuleContext::is_neighbor(ModuleId m) const { return std::binary_search(neighbors_.begin(), neighbors_.end(), m); }
+
+uint64_t ModuleContext::random(uint32_t stream) const {
+  // Program 0's streams are the bare stream numbers, so that a lone random_vars program draws
+  // exactly the numbers of the synthetic Table I trace.
+  return counter_random(seed_, id_, static_cast<uint64_t>(step_), (uint64_t{program_} << 32) | stream);
+}
+
+bool ModuleContext::check_size(size_t words) {
+  if (words <= Message::kMaxWords) return true;
+  if (outbox_.error.empty())
+    outbox_.error = std::string(program_name_) + " on module " + std::to_string(id_) + " sent a message of " +
+                    std::to_string(words) + " words; the most is " + std::to_string(Message::kMaxWords);
+  return false;
+}
+
+void ModuleContext::send(ModuleId to, std::span<const int64_t> payload) {
+  if (!check_size(payload.size())) return;
+  if (!is_neighbor(to)) {
+    if (outbox_.error.empty())
+      outbox_.error = std::string(program_name_) + " on module " + std::to_string(id_) + " sent to module " +
+                      std::to_string(to) + " at step " + std::to_string(step_) + ", which is not its neighbour";
+    return;
+  }
+  Message& m = outbox_.messages.emplace_back();
+  m.from = id_;
+  m.to = to;
+  m.program = program_;
+  m.size = static_cast<uint16_t>(payload.size());
+  std::copy(payload.begin(), payload.end(), m.words.begin());
+}
+
+void ModuleContext::broadcast(std::span<const int64_t> payload) {
+  if (!check_size(payload.size())) return;
+  for (ModuleId n : neighbors_) {
+    Message& m = outbox_.messages.emplace_back();
+    m.from = id_;
+    m.to = n;
+    m.program = program_;
+    m.size = static_cast<uint16_t>(payload.size());
+    std::copy(payload.begin(), payload.end(), m.words.begin());
+  }
+}
+
+}  // namespace dw::sim

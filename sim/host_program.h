@@ -1,0 +1,92 @@
+// The host-program API (DESIGN §2): what a module's program sees and may do in one step.
+// A program is a const object fixed for the run (its parameters live in it); everything that
+// changes lives in the module's variables, so a snapshot of the variables is a snapshot of the
+// program. Names starting with '_' are hidden variables: state, not meant for display.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sim/message.h"
+#include "sim/neighbor_graph.h"
+
+namespace dw::sim {
+
+struct VariableSpec {
+  std::string name;
+  int64_t initial = 0;  // the value before step 0
+};
+
+class ModuleContext;
+
+class HostProgram {
+ public:
+  virtual ~HostProgram() = default;
+  virtual std::string_view name() const = 0;
+  // The variables this program keeps; the program addresses them by their index in this list.
+  virtual std::vector<VariableSpec> variables() const = 0;
+  // Runs once per present module and step: reads the inbox, the neighbours and the variables,
+  // assigns variables and sends messages.
+  virtual void step(ModuleContext& module) const = 0;
+};
+
+// Where a step's sends go, per thread; the runtime checks and delivers them.
+struct Outbox {
+  std::vector<Message> messages;
+  std::string error;  // the first misuse of the API (sending to a non-neighbour, too long a message)
+};
+
+class ModuleContext {
+ public:
+  ModuleContext(ModuleId id, int64_t step, uint64_t seed, uint16_t program, std::span<const ModuleId> neighbors,
+                std::span<const Message> inbox, const int64_t* before, int64_t* after, Outbox& outbox,
+                std::string_view program_name)
+      : id_(id), step_(step), seed_(seed), program_(program), neighbors_(neighbors), inbox_(inbox), before_(before),
+        after_(after), outbox_(outbox), program_name_(program_name) {}
+
+  ModuleId id() const { return id_; }
+  int64_t step() const { return step_; }
+  // N(self, t), sorted by id.
+  std::span<const ModuleId> neighbors() const { return neighbors_; }
+  bool is_neighbor(ModuleId m) const;
+  // This program's messages sent to this module at t - 1: by sender id, then in sending order.
+  std::span<const Message> inbox() const { return inbox_; }
+
+  // The variable's value at t - 1 (its initial value at step 0); assignments in this step do
+  // not show until the next one.
+  int64_t get(uint32_t variable) const { return before_[variable]; }
+  // Assigns the value the variable has at step t.
+  void set(uint32_t variable, int64_t value) { after_[variable] = value; }
+
+  // This module's random numbers: a pure function of (seed, module, step, program, stream).
+  uint64_t random(uint32_t stream) const;
+  // Uniform in 0 .. n - 1 (n > 0).
+  int64_t uniform(int64_t n, uint32_t stream) const { return static_cast<int64_t>(random(stream) % uint64_t(n)); }
+
+  // Sends to a neighbour (delivered at t + 1). Sending to a module that is not a neighbour, or
+  // more than Message::kMaxWords words, is a program error that stops the run.
+  void send(ModuleId to, std::span<const int64_t> payload);
+  void send(ModuleId to, std::initializer_list<int64_t> payload) { send(to, std::span(payload.begin(), payload.size())); }
+  // Sends the same message to every neighbour.
+  void broadcast(std::span<const int64_t> payload);
+  void broadcast(std::initializer_list<int64_t> payload) { broadcast(std::span(payload.begin(), payload.size())); }
+
+ private:
+  bool check_size(size_t words);
+
+  ModuleId id_;
+  int64_t step_;
+  uint64_t seed_;
+  uint16_t program_;
+  std::span<const ModuleId> neighbors_;
+  std::span<const Message> inbox_;
+  const int64_t* before_;
+  int64_t* after_;
+  Outbox& outbox_;
+  std::string_view program_name_;
+};
+
+}  // namespace dw::sim

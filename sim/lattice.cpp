@@ -1,0 +1,99 @@
+#include "sim/lattice.h"
+
+#include <cmath>
+#include <numbers>
+#include <utility>
+
+namespace dw::sim {
+namespace {
+
+constexpr std::pair<LatticeKind, std::string_view> kNames[] = {
+    {LatticeKind::Cubic, "cubic"}, {LatticeKind::Square2d, "square2d"}, {LatticeKind::Hex2d, "hex2d"},
+    {LatticeKind::Ring, "ring"},   {LatticeKind::Line, "line"},
+};
+
+}  // namespace
+
+std::string_view lattice_name(LatticeKind kind) {
+  for (const auto& [k, name] : kNames)
+    if (k == kind) return name;
+  return "?";
+}
+
+std::optional<LatticeKind> lattice_from_name(std::string_view name) {
+  for (const auto& [k, n] : kNames)
+    if (n == name) return k;
+  return std::nullopt;
+}
+
+int lattice_dimensions(LatticeKind kind) {
+  switch (kind) {
+    case LatticeKind::Cubic: return 3;
+    case LatticeKind::Square2d:
+    case LatticeKind::Hex2d: return 2;
+    case LatticeKind::Ring:
+    case LatticeKind::Line: return 1;
+  }
+  return 1;
+}
+
+Lattice make_lattice(const LatticeSpec& spec) {
+  Lattice l;
+  l.spec = spec;
+  const uint32_t nx = spec.size[0], ny = spec.size[1], nz = spec.size[2];
+  const uint32_t count = static_cast<uint32_t>(spec.module_count());
+  l.positions.resize(count);
+  std::vector<std::pair<ModuleId, ModuleId>> pairs;
+  auto id = [&](uint32_t x, uint32_t y, uint32_t z) { return x + nx * (y + ny * z); };
+
+  switch (spec.kind) {
+    case LatticeKind::Cubic:
+    case LatticeKind::Square2d:
+      for (uint32_t z = 0; z < nz; ++z)
+        for (uint32_t y = 0; y < ny; ++y)
+          for (uint32_t x = 0; x < nx; ++x) {
+            l.positions[id(x, y, z)] = {float(x), float(y), float(z)};
+            if (x + 1 < nx) pairs.emplace_back(id(x, y, z), id(x + 1, y, z));
+            if (y + 1 < ny) pairs.emplace_back(id(x, y, z), id(x, y + 1, z));
+            if (z + 1 < nz) pairs.emplace_back(id(x, y, z), id(x, y, z + 1));
+          }
+      break;
+    case LatticeKind::Hex2d: {
+      // Offset rows: odd rows shift half a module right, rows sqrt(3)/2 apart, so every module
+      // touches six others (fewer at the border).
+      const float row = std::sqrt(3.0f) / 2;
+      for (uint32_t y = 0; y < ny; ++y)
+        for (uint32_t x = 0; x < nx; ++x) {
+          l.positions[id(x, y, 0)] = {float(x) + ((y & 1) ? 0.5f : 0.0f), float(y) * row, 0};
+          if (x + 1 < nx) pairs.emplace_back(id(x, y, 0), id(x + 1, y, 0));
+          if (y + 1 < ny) {
+            // The row above: the same x, and x - 1 (even rows) or x + 1 (odd rows).
+            pairs.emplace_back(id(x, y, 0), id(x, y + 1, 0));
+            const int64_t other = (y & 1) ? int64_t{x} + 1 : int64_t{x} - 1;
+            if (other >= 0 && other < nx) pairs.emplace_back(id(x, y, 0), id(uint32_t(other), y + 1, 0));
+          }
+        }
+      break;
+    }
+    case LatticeKind::Ring: {
+      // Neighbours one module apart around a circle.
+      const double radius = nx / (2 * std::numbers::pi);
+      for (uint32_t i = 0; i < nx; ++i) {
+        const double a = 2 * std::numbers::pi * i / nx;
+        l.positions[i] = {float(radius * std::cos(a)), float(radius * std::sin(a)), 0};
+        pairs.emplace_back(i, (i + 1) % nx);
+      }
+      break;
+    }
+    case LatticeKind::Line:
+      for (uint32_t i = 0; i < nx; ++i) {
+        l.positions[i] = {float(i), 0, 0};
+        if (i + 1 < nx) pairs.emplace_back(i, i + 1);
+      }
+      break;
+  }
+  l.graph = NeighborGraph::from_pairs(count, pairs);
+  return l;
+}
+
+}  // namespace dw::sim

@@ -1,0 +1,40 @@
+// The static lattices an ensemble is laid out on: where each module sits and who touches whom.
+// Module ids run x-fastest: x + nx * (y + ny * z).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sim/neighbor_graph.h"
+
+namespace dw::sim {
+
+enum class LatticeKind { Cubic, Square2d, Hex2d, Ring, Line };
+
+// "cubic", "square2d", "hex2d", "ring", "line".
+std::string_view lattice_name(LatticeKind kind);
+std::optional<LatticeKind> lattice_from_name(std::string_view name);
+// How many sizes a kind takes: 3 for cubic, 2 for the planar ones, 1 for ring and line.
+int lattice_dimensions(LatticeKind kind);
+
+struct LatticeSpec {
+  LatticeKind kind = LatticeKind::Cubic;
+  std::array<uint32_t, 3> size{1, 1, 1};  // unused dimensions are 1
+  uint64_t module_count() const { return uint64_t{size[0]} * size[1] * size[2]; }
+};
+
+struct Lattice {
+  LatticeSpec spec;
+  std::vector<std::array<float, 3>> positions;  // module centres, one module size apart
+  NeighborGraph graph;                          // face-adjacent modules
+};
+
+// Ring needs at least 3 modules; every size at least 1. The caller checks those (the scenario
+// loader reports them against the file).
+Lattice make_lattice(const LatticeSpec& spec);
+
+}  // namespace dw::sim

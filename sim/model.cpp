@@ -1,0 +1,50 @@
+#include "sim/model.h"
+
+#include <algorithm>
+
+namespace dw::sim {
+
+std::string_view action_name(MatchAction a) {
+  switch (a) {
+    case MatchAction::Pause: return "pause";
+    case MatchAction::Log: return "log";
+    case MatchAction::Count: return "count";
+  }
+  return "?";
+}
+
+int Model::column(std::string_view name) const {
+  const auto& v = universe.variables;
+  const auto it = std::find(v.begin(), v.end(), name);
+  return it == v.end() ? -1 : static_cast<int>(it - v.begin());
+}
+
+std::variant<std::unique_ptr<Model>, std::string> build_model(Lattice lattice,
+                                                              std::vector<std::unique_ptr<const HostProgram>> programs,
+                                                              std::vector<HostedWatchpoint> watches, uint64_t seed) {
+  auto model = std::make_unique<Model>();
+  const uint32_t modules = static_cast<uint32_t>(lattice.positions.size());
+  model->lattice = std::move(lattice);
+  model->seed = seed;
+  model->universe.module_ids.resize(modules);
+  for (uint32_t m = 0; m < modules; ++m) model->universe.module_ids[m] = m;
+  std::vector<std::string_view> owner;
+  for (const auto& program : programs) {
+    model->program_base.push_back(model->variable_count());
+    for (VariableSpec& v : program->variables()) {
+      const int existing = model->column(v.name);
+      if (existing >= 0)
+        return "programs " + std::string(owner[size_t(existing)]) + " and " + std::string(program->name()) +
+               " both declare the variable '" + v.name + "'";
+      model->universe.variables.push_back(std::move(v.name));
+      model->initial_values.push_back(v.initial);
+      owner.push_back(program->name());
+    }
+  }
+  model->programs = std::move(programs);
+  model->all_known.assign(size_t{modules} * model->variable_count(), 1);
+  model->watches = std::move(watches);
+  return model;
+}
+
+}  // namespace dw::sim

@@ -1,0 +1,60 @@
+// What a scenario fixes for a run (DESIGN §2): the modules and their lattice, the host programs
+// with their parameters, the variable table, the compiled watchpoints. Const while a run goes on;
+// everything that changes is in State.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "sim/host_program.h"
+#include "sim/lattice.h"
+#include "watch/detector.h"
+#include "watch/frame.h"
+#include "watch/watchpoint.h"
+
+namespace dw::sim {
+
+// What happens when a watchpoint matches.
+enum class MatchAction {
+  Pause,  // the run stops at the match's step and reports the group
+  Log,    // the match is kept (and written with --matches); the run goes on
+  Count,  // only counted
+};
+std::string_view action_name(MatchAction a);
+
+struct HostedWatchpoint {
+  watch::Watchpoint watchpoint;
+  watch::Algorithm algorithm = watch::Algorithm::Distributed;
+  MatchAction action = MatchAction::Log;
+  watch::DetectorOptions options;
+};
+
+struct Model {
+  Lattice lattice;
+  std::vector<std::unique_ptr<const HostProgram>> programs;  // run side by side, in this order
+  std::vector<uint32_t> program_base;  // the column of each program's first variable
+  watch::Universe universe;            // module ids 0..M-1; variable names in column order
+  std::vector<int64_t> initial_values;  // per column
+  std::vector<uint8_t> all_known;       // [module * variables + column], all 1: every module has every variable
+  std::vector<HostedWatchpoint> watches;
+  uint64_t seed = 1;
+
+  uint32_t module_count() const { return universe.module_count(); }
+  uint32_t variable_count() const { return static_cast<uint32_t>(universe.variables.size()); }
+  uint32_t program_count() const { return static_cast<uint32_t>(programs.size()); }
+  // The column of a variable, or -1.
+  int column(std::string_view name) const;
+};
+
+// Builds the model; the variable table is every program's variables in program order. Two
+// programs declaring the same variable is an error (returned as a message). The model must not
+// move afterwards: detectors keep references into it, hence the unique_ptr.
+std::variant<std::unique_ptr<Model>, std::string> build_model(Lattice lattice,
+                                                              std::vector<std::unique_ptr<const HostProgram>> programs,
+                                                              std::vector<HostedWatchpoint> watches, uint64_t seed);
+
+}  // namespace dw::sim

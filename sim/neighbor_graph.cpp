@@ -1,0 +1,42 @@
+#include "sim/neighbor_graph.h"
+
+#include <algorithm>
+
+namespace dw::sim {
+
+bool NeighborGraph::adjacent(ModuleId a, ModuleId b) const {
+  const auto n = neighbors(a);
+  return std::binary_search(n.begin(), n.end(), b);
+}
+
+NeighborGraph NeighborGraph::from_pairs(uint32_t module_count, std::span<const std::pair<ModuleId, ModuleId>> pairs) {
+  NeighborGraph g;
+  std::vector<uint32_t> degree(module_count + 1, 0);
+  for (const auto& [a, b] : pairs) {
+    ++degree[a];
+    ++degree[b];
+  }
+  g.begin.assign(module_count + 1, 0);
+  for (uint32_t m = 0; m < module_count; ++m) g.begin[m + 1] = g.begin[m] + degree[m];
+  g.ids.resize(g.begin[module_count]);
+  std::vector<uint32_t> fill(g.begin.begin(), g.begin.end() - 1);
+  for (const auto& [a, b] : pairs) {
+    g.ids[fill[a]++] = b;
+    g.ids[fill[b]++] = a;
+  }
+  // Sort each list and drop duplicates, compacting in place.
+  uint32_t out = 0;
+  for (uint32_t m = 0; m < module_count; ++m) {
+    auto first = g.ids.begin() + g.begin[m];
+    auto last = g.ids.begin() + g.begin[m + 1];
+    std::sort(first, last);
+    last = std::unique(first, last);
+    g.begin[m] = out;
+    for (auto it = first; it != last; ++it) g.ids[out++] = *it;
+  }
+  g.begin[module_count] = out;
+  g.ids.resize(out);
+  return g;
+}
+
+}  // namespace dw::sim

@@ -1,0 +1,28 @@
+// N(m, t) for every module at one step, in compressed-row form: the neighbours of m are
+// ids[begin[m] .. begin[m + 1]), sorted by id. Immutable once built, so states that share a
+// topology (every step of a static lattice) share one graph.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+namespace dw::sim {
+
+using ModuleId = uint32_t;
+
+struct NeighborGraph {
+  std::vector<uint32_t> begin{0};  // [module_count + 1]
+  std::vector<ModuleId> ids;
+
+  uint32_t module_count() const { return static_cast<uint32_t>(begin.size() - 1); }
+  std::span<const ModuleId> neighbors(ModuleId m) const { return {ids.data() + begin[m], ids.data() + begin[m + 1]}; }
+  bool adjacent(ModuleId a, ModuleId b) const;
+  uint64_t edge_count() const { return ids.size(); }  // directed
+
+  // Builds a symmetric graph from undirected pairs; each list comes out sorted, duplicates removed.
+  static NeighborGraph from_pairs(uint32_t module_count, std::span<const std::pair<ModuleId, ModuleId>> pairs);
+};
+
+}  // namespace dw::sim

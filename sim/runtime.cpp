@@ -1,0 +1,275 @@
+#include "sim/runtime.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "watch/make_detector.h"
+
+namespace dw::sim {
+
+// A thread's PatternMatcher outbox: each copy goes into the lane of its receiver's chunk.
+struct Runtime::Lanes final : watch::PatternMatcherOutbox {
+  watch::RecordBuffer* row;  // this thread's lanes, one per receiving chunk
+  uint32_t chunk_size;
+  unsigned chunks;
+  void send(uint32_t, std::span<const uint32_t> to, const std::byte* pm, uint32_t bytes) override {
+    if (chunks == 1) return row[0].append(to, pm, bytes);
+    for (const uint32_t& n : to) row[n / chunk_size].append({&n, 1}, pm, bytes);
+  }
+};
+
+Runtime::Runtime(const Model& model, World& world, unsigned threads)
+    : model_(model), world_(world), pool_(std::max(1u, std::min(threads, std::max(1u, model.module_count())))) {
+  const uint32_t m = model.module_count();
+  chunk_size_ = std::max(1u, (m + pool_.size() - 1) / pool_.size());
+  scratch_.resize(pool_.size());
+  for (ThreadScratch& s : scratch_)
+    for (const HostedWatchpoint& w : model.watches) {
+      // The live budget is for the whole step; each thread gets its share.
+      uint64_t budget = w.options.live_budget;
+      if (budget) budget = std::max<uint64_t>(1, budget / pool_.size());
+      s.agents.emplace_back(w.watchpoint.program, w.options.optimizations, budget);
+    }
+  const unsigned lanes = pool_.size() * pool_.size();
+  for (const HostedWatchpoint& w : model.watches) {
+    columns_.push_back(watch::variable_columns(w.watchpoint.program, model.universe));
+    sending_.emplace_back(w.algorithm == watch::Algorithm::Distributed ? lanes : 0);
+  }
+}
+
+uint32_t Runtime::chunk_begin(unsigned c) const {
+  return static_cast<uint32_t>(std::min<uint64_t>(uint64_t{c} * chunk_size_, model_.module_count()));
+}
+
+State Runtime::initial_state() {
+  State s;
+  const uint32_t m = model_.module_count(), v = model_.variable_count();
+  s.values.resize(size_t{m} * v);
+  for (uint32_t i = 0; i < m; ++i) std::copy(model_.initial_values.begin(), model_.initial_values.end(), s.values.begin() + size_t{i} * v);
+  world_.initialize(model_, s);
+  for (const HostedWatchpoint& w : model_.watches) {
+    WatchState& ws = s.watches.emplace_back();
+    if (w.algorithm == watch::Algorithm::Centralized) {
+      ws.detector = watch::make_detector(w.algorithm, w.watchpoint, model_.universe, w.options, nullptr);
+      ws.detector->stats().max_steps = 0;  // the run keeps its own series
+    } else {
+      ws.agents.reserve(m);
+      for (uint32_t i = 0; i < m; ++i) ws.agents.emplace_back(i, w.watchpoint.program, w.options.optimizations.temporal_spans);
+      ws.in_flight.resize(size_t{pool_.size()} * pool_.size());
+    }
+  }
+  next_values_.resize(s.values.size());
+  return s;
+}
+
+void Runtime::run_programs(unsigned chunk, const State& state) {
+  const uint32_t v = model_.variable_count(), programs = model_.program_count();
+  Outbox& outbox = scratch_[chunk].outbox;
+  for (uint32_t m = chunk_begin(chunk); m < chunk_end(chunk); ++m) {
+    const int64_t* before = state.values.data() + size_t{m} * v;
+    int64_t* after = next_values_.data() + size_t{m} * v;
+    std::memcpy(after, before, sizeof(int64_t) * v);  // a variable nobody assigns keeps its value
+    if (!state.present[m]) continue;
+    const auto neighbors = state.graph->neighbors(m);
+    for (uint32_t p = 0; p < programs; ++p) {
+      const uint32_t base = model_.program_base[p];
+      const HostProgram& program = *model_.programs[p];
+      ModuleContext ctx(m, state.step, model_.seed, static_cast<uint16_t>(p), neighbors, state.inbox.of(m, p, programs),
+                        before + base, after + base, outbox, program.name());
+      program.step(ctx);
+    }
+  }
+}
+
+void Runtime::run_agents(unsigned chunk, uint32_t w, State& state) {
+  const HostedWatchpoint& hosted = model_.watches[w];
+  const watch::Program& program = hosted.watchpoint.program;
+  WatchState& ws = state.watches[w];
+  ThreadScratch& s = scratch_[chunk];
+  watch::AgentContext& ctx = s.agents[w];
+  const std::vector<int>& columns = columns_[w];
+  const uint32_t v = model_.variable_count();
+  const int64_t t = state.step;
+  s.row_values.resize(columns.size());
+  s.row_has.resize(columns.size());
+
+  // Each agent records its own module's state at t: the variables the watchpoint reads.
+  for (uint32_t m = chunk_begin(chunk); m < chunk_end(chunk); ++m) {
+    const bool present = state.present[m] != 0;
+    for (size_t i = 0; i < columns.size(); ++i) {
+      s.row_has[i] = columns[i] >= 0;
+      s.row_values[i] = columns[i] >= 0 ? next_values_[size_t{m} * v + size_t(columns[i])] : 0;
+    }
+    ws.agents[m].history().record(t, present, s.row_values.data(), s.row_has.data(),
+                                  present ? state.graph->neighbors(m) : std::span<const uint32_t>{});
+  }
+
+  // The agents run E+ steps behind, so that `next` can be read (DESIGN §4).
+  const int64_t f = t - program.extent_plus;
+  ctx.step = watch::StepStats{};
+  ctx.step.step = f;
+  ctx.match_values = 0;
+  if (f < 0) return;
+  ctx.step.live_by_filled.assign(static_cast<size_t>(program.slot_count()) + 1, 0);
+  const unsigned chunks = pool_.size();
+  Lanes out;
+  out.row = sending_[w].data() + size_t{chunk} * chunks;
+  out.chunk_size = chunk_size_;
+  out.chunks = chunks;
+  for (unsigned from = 0; from < chunks; ++from)
+    ws.in_flight[size_t{from} * chunks + chunk].for_each(
+        [&](uint32_t to, std::byte* pm) {
+          if (!ctx.over_budget) ws.agents[to].receive(f, pm, ctx, out);
+        },
+        [&](uint32_t next) { __builtin_prefetch(&ws.agents[next]); });
+  for (uint32_t m = chunk_begin(chunk); m < chunk_end(chunk) && !ctx.over_budget; ++m)
+    if (ws.agents[m].history().present(f)) ws.agents[m].start(f, ctx, out);
+  ctx.step.created += ctx.step.messages;  // starts were counted as they happened
+}
+
+void Runtime::run_chunk(unsigned chunk, State& state) {
+  scratch_[chunk].outbox.messages.clear();
+  run_programs(chunk, state);
+  for (uint32_t w = 0; w < model_.watches.size(); ++w)
+    if (model_.watches[w].algorithm == watch::Algorithm::Distributed && !state.watches[w].stopped)
+      run_agents(chunk, w, state);
+}
+
+// Gathers the threads' matches and statistics; the PatternMatchers sent become those in flight.
+void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out) {
+  const HostedWatchpoint& hosted = model_.watches[w];
+  const watch::Program& program = hosted.watchpoint.program;
+  WatchState& ws = state.watches[w];
+  const uint32_t k = program.slot_count();
+  const int64_t f = state.step - program.extent_plus;
+  for (size_t lane = 0; lane < ws.in_flight.size(); ++lane) {
+    std::swap(ws.in_flight[lane], sending_[w][lane]);
+    sending_[w][lane].clear();
+  }
+  if (f < 0) return;
+  out.observed = true;
+  out.stats = watch::StepStats{};
+  out.stats.step = f;
+  out.stats.live_by_filled.assign(size_t{k} + 1, 0);
+  bool over = false;
+  std::string reason;
+  for (ThreadScratch& s : scratch_) {
+    const watch::StepStats& st = s.agents[w].step;
+    for (size_t i = 0; i < st.live_by_filled.size(); ++i) out.stats.live_by_filled[i] += st.live_by_filled[i];
+    out.stats.live += st.live;
+    out.stats.created += st.created;
+    out.stats.messages += st.messages;
+    out.stats.bytes += st.bytes;
+    out.stats.matches += st.matches;
+    if (s.agents[w].over_budget && !over) {
+      over = true;
+      reason = s.agents[w].stop_reason;
+    }
+  }
+  // Everything that matched now was started at t0 = f - (k - 1).
+  const int64_t t0 = f - (k - 1);
+  if (t0 >= 0) {
+    out.t = t0;
+    for (ThreadScratch& s : scratch_) out.matches += s.agents[w].match_values / k;
+    if (hosted.action != MatchAction::Count && out.matches) {
+      for (ThreadScratch& s : scratch_)
+        out.slots.insert(out.slots.end(), s.agents[w].matches.begin(),
+                         s.agents[w].matches.begin() + static_cast<ptrdiff_t>(s.agents[w].match_values));
+    }
+  }
+  if (over) {
+    ws.stopped = true;
+    ws.stop_reason = reason.empty() ? "more than " + std::to_string(hosted.options.live_budget) +
+                                          " live PatternMatchers at detector step " + std::to_string(f)
+                                    : reason + " at detector step " + std::to_string(f);
+  }
+}
+
+void Runtime::observe_centralized(uint32_t w, State& state, WatchStepOutput& out) {
+  WatchState& ws = state.watches[w];
+  const bool keep = model_.watches[w].action != MatchAction::Count;
+  const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
+  ws.detector->set_sink([&out, keep, k](int64_t t, std::span<const watch::ModuleId> ids) {
+    out.t = t;
+    out.matches += ids.size() / k;
+    if (keep) out.slots.assign(ids.begin(), ids.end());
+  });
+  const NeighborGraph& g = *state.graph;
+  watch::Frame frame;
+  frame.step = state.step;
+  frame.present = state.present;
+  frame.values = state.values;
+  frame.has_value = model_.all_known;
+  frame.nbr_begin = g.begin;
+  frame.nbrs = g.ids;
+  frame.variable_count = model_.variable_count();
+  const int64_t lag = ws.detector->lag();
+  ws.detector->observe(frame);
+  if (state.step - lag >= 0 && !ws.stopped) {
+    out.observed = true;
+    out.stats = ws.detector->stats().last;
+  }
+  if (ws.detector->stopped()) {
+    ws.stopped = true;
+    ws.stop_reason = ws.detector->stats().stop_reason;
+  }
+}
+
+void Runtime::deliver_program_messages(State& state) {
+  const uint32_t programs = model_.program_count();
+  const size_t groups = size_t{model_.module_count()} * programs;
+  size_t total = 0;
+  for (const ThreadScratch& s : scratch_) total += s.outbox.messages.size();
+  Mailbox& box = state.inbox;
+  box.begin.assign(groups + 1, 0);
+  box.messages.resize(total);
+  if (total == 0) return;
+  // A stable counting sort by (receiver, program): senders stay in id order within a group.
+  for (const ThreadScratch& s : scratch_)
+    for (const Message& m : s.outbox.messages) ++box.begin[size_t{m.to} * programs + m.program + 1];
+  for (size_t g = 0; g < groups; ++g) box.begin[g + 1] += box.begin[g];
+  counts_.assign(box.begin.begin(), box.begin.end() - 1);
+  for (const ThreadScratch& s : scratch_)
+    for (const Message& m : s.outbox.messages) box.messages[counts_[size_t{m.to} * programs + m.program]++] = m;
+  state.program_messages += total;
+}
+
+void Runtime::step(State& state, StepOutput& out) {
+  out.step = state.step;
+  out.watches.assign(model_.watches.size(), WatchStepOutput{});
+  pool_.run([&](unsigned chunk) { run_chunk(chunk, state); });
+  for (const ThreadScratch& s : scratch_)
+    if (!s.outbox.error.empty()) throw ProgramError(s.outbox.error);
+
+  std::swap(state.values, next_values_);  // assign: the variables now hold step t's values
+  for (uint32_t w = 0; w < model_.watches.size(); ++w) {
+    if (state.watches[w].stopped) continue;
+    if (model_.watches[w].algorithm == watch::Algorithm::Distributed) finish_distributed(w, state, out.watches[w]);
+    else observe_centralized(w, state, out.watches[w]);
+    WatchStepOutput& o = out.watches[w];
+    state.watches[w].matches += o.matches;
+    // Matches in a fixed order whatever the thread count: by slot ids.
+    if (!o.slots.empty()) {
+      const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
+      std::vector<uint32_t> order(o.slots.size() / k);
+      for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+      std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        return std::lexicographical_compare(o.slots.begin() + a * k, o.slots.begin() + a * k + k,
+                                            o.slots.begin() + b * k, o.slots.begin() + b * k + k);
+      });
+      std::vector<ModuleId> sorted;
+      sorted.reserve(o.slots.size());
+      for (uint32_t i : order) sorted.insert(sorted.end(), o.slots.begin() + i * k, o.slots.begin() + i * k + k);
+      o.slots = std::move(sorted);
+    }
+  }
+  out.present = state.present;
+  out.graph = state.graph;
+  const uint64_t sent_before = state.program_messages;
+  deliver_program_messages(state);
+  out.program_messages = state.program_messages - sent_before;
+  ++state.step;
+  world_.advance(model_, state);
+}
+
+}  // namespace dw::sim

@@ -1,0 +1,90 @@
+// The step loop (DESIGN §2): `step` runs one step of the whole ensemble, shaped
+// step(const Model&, State&) with the world and the worker threads beside it.
+//
+// Modules are split into chunks of consecutive ids, one per thread. A thread runs the programs of
+// its chunk's modules and then their distributed watchpoint agents; PatternMatchers a thread sends
+// go into a lane per receiving chunk, so that no two threads ever touch the same agent. Program
+// messages are gathered in chunk order, which is module order, so every result is independent of
+// the thread count.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+#include "sim/model.h"
+#include "sim/state.h"
+#include "sim/worker_pool.h"
+#include "sim/world.h"
+
+namespace dw::sim {
+
+// A host program misused the API; the run cannot go on.
+struct ProgramError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// What one hosted watchpoint decided during a step.
+struct WatchStepOutput {
+  int64_t t = -1;          // the watch step whose matches were decided now; -1 when none was
+  uint64_t matches = 0;
+  std::vector<ModuleId> slots;  // slot ids per match, matches in ascending order; not for `count`
+  bool observed = false;   // stats holds this step's statistics
+  watch::StepStats stats;
+};
+
+struct StepOutput {
+  int64_t step = -1;  // the step that ran
+  // What the watchpoints saw of that step besides the variables (which the state still holds):
+  // presence and N(m, step). The world has moved on to the next step's by the time step() returns.
+  std::vector<uint8_t> present;
+  std::shared_ptr<const NeighborGraph> graph;
+  std::vector<WatchStepOutput> watches;
+  uint64_t program_messages = 0;
+};
+
+class Runtime {
+ public:
+  // `model` and `world` must outlive the runtime.
+  Runtime(const Model& model, World& world, unsigned threads);
+
+  // The state before step 0: initial values, the world's step-0 topology, fresh detectors.
+  State initial_state();
+  // Runs step state.step and leaves the state ready for the next one.
+  void step(State& state, StepOutput& out);
+
+  const Model& model() const { return model_; }
+  World& world() { return world_; }
+  unsigned threads() const { return pool_.size(); }
+
+ private:
+  struct Lanes;  // a thread's PatternMatcher outbox
+  struct ThreadScratch {
+    Outbox outbox;
+    std::vector<watch::AgentContext> agents;  // per watchpoint (distributed ones used)
+    std::vector<int64_t> row_values;
+    std::vector<uint8_t> row_has;
+  };
+
+  void run_chunk(unsigned chunk, State& state);
+  void run_programs(unsigned chunk, const State& state);
+  void run_agents(unsigned chunk, uint32_t watch, State& state);
+  void finish_distributed(uint32_t watch, State& state, WatchStepOutput& out);
+  void observe_centralized(uint32_t watch, State& state, WatchStepOutput& out);
+  void deliver_program_messages(State& state);
+
+  uint32_t chunk_begin(unsigned c) const;
+  uint32_t chunk_end(unsigned c) const { return chunk_begin(c + 1); }
+
+  const Model& model_;
+  World& world_;
+  WorkerPool pool_;
+  uint32_t chunk_size_ = 1;
+  std::vector<ThreadScratch> scratch_;
+  std::vector<int64_t> next_values_;
+  std::vector<std::vector<int>> columns_;                  // per watch: program variable -> model column
+  std::vector<std::vector<watch::RecordBuffer>> sending_;  // per watch: lanes being filled
+  std::vector<uint32_t> counts_;                           // for gathering messages
+};
+
+}  // namespace dw::sim

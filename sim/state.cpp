@@ -1,0 +1,88 @@
+#include "sim/state.h"
+
+#include <cstring>
+
+namespace dw::sim {
+namespace {
+
+// FNV-1a over 64-bit words, with a final mix.
+struct Hasher {
+  uint64_t h = 0xcbf29ce484222325ull;
+  void word(uint64_t w) {
+    h ^= w;
+    h *= 0x100000001b3ull;
+    h ^= h >> 29;
+  }
+  template <class T>
+  void words(const std::vector<T>& v) {
+    word(v.size());
+    for (const T& x : v) word(static_cast<uint64_t>(x));
+  }
+  void bytes(const std::byte* p, size_t n) {
+    for (size_t i = 0; i + 8 <= n; i += 8) {
+      uint64_t w;
+      std::memcpy(&w, p + i, 8);
+      word(w);
+    }
+    uint64_t tail = 0;
+    std::memcpy(&tail, p + (n & ~size_t{7}), n & 7);
+    word(tail ^ n);
+  }
+};
+
+uint64_t mix(uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+}  // namespace
+
+WatchState::WatchState(const WatchState& other) { *this = other; }
+
+WatchState& WatchState::operator=(const WatchState& other) {
+  if (this == &other) return *this;
+  detector = other.detector ? other.detector->clone() : nullptr;
+  agents = other.agents;
+  in_flight = other.in_flight;
+  matches = other.matches;
+  stopped = other.stopped;
+  stop_reason = other.stop_reason;
+  return *this;
+}
+
+uint64_t hash_state(const State& s) {
+  Hasher h;
+  h.word(static_cast<uint64_t>(s.step));
+  h.words(s.values);
+  h.words(s.present);
+  if (s.graph) {
+    h.words(s.graph->begin);
+    h.words(s.graph->ids);
+  }
+  h.word(s.inbox.messages.size());
+  for (const Message& m : s.inbox.messages) {
+    h.word((uint64_t{m.from} << 32) | m.to);
+    h.word((uint64_t{m.program} << 16) | m.size);
+    for (int64_t w : m.payload()) h.word(static_cast<uint64_t>(w));
+  }
+  h.word(s.program_messages);
+  for (const WatchState& w : s.watches) {
+    h.word(w.matches);
+    h.word(w.stopped);
+    uint64_t multiset = 0, count = 0;
+    for (const watch::RecordBuffer& lane : w.in_flight)
+      lane.visit([&](uint32_t to, const std::byte* pm, uint32_t bytes) {
+        Hasher one;
+        one.word(to);
+        one.bytes(pm, bytes);
+        multiset += mix(one.h);
+        ++count;
+      });
+    h.word(multiset);
+    h.word(count);
+  }
+  return mix(h.h);
+}
+
+}  // namespace dw::sim

@@ -1,0 +1,51 @@
+// Everything that changes during a run (DESIGN §2): a snapshot is a copy of a State.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/message.h"
+#include "sim/neighbor_graph.h"
+#include "watch/detector.h"
+#include "watch/distributed_agent.h"
+#include "watch/record_buffer.h"
+
+namespace dw::sim {
+
+// A hosted watchpoint's detector state.
+struct WatchState {
+  // Centralized: the detector, observing the whole ensemble once per step.
+  std::unique_ptr<watch::Detector> detector;
+  // Distributed: one agent per module, and the PatternMatchers in flight to be read at the
+  // state's step, in lanes [sender chunk * chunks + receiver chunk] (see Runtime).
+  std::vector<watch::DistributedAgent> agents;
+  std::vector<watch::RecordBuffer> in_flight;
+  uint64_t matches = 0;
+  bool stopped = false;  // past the live budget: the watchpoint observes no more
+  std::string stop_reason;
+
+  WatchState() = default;
+  WatchState(const WatchState& other);
+  WatchState& operator=(const WatchState& other);
+  WatchState(WatchState&&) = default;
+  WatchState& operator=(WatchState&&) = default;
+};
+
+struct State {
+  int64_t step = 0;                // the next step to run; `values` are those of step - 1
+  std::vector<int64_t> values;     // [module * variables + column]
+  std::vector<uint8_t> present;    // [module]
+  std::shared_ptr<const NeighborGraph> graph;  // N(m, step): what the next step's programs see
+  Mailbox inbox;                   // program messages to be read at `step`
+  std::vector<WatchState> watches;
+  uint64_t program_messages = 0;   // sent since step 0
+};
+
+// A hash of the whole state: step, variables, presence, topology, messages, detector state in
+// flight and match counts. PatternMatchers in flight are hashed as a multiset, since their order
+// in the lanes depends on the thread count and nothing else does.
+uint64_t hash_state(const State& state);
+
+}  // namespace dw::sim

@@ -1,0 +1,36 @@
+// Where modules are and who touches whom (DESIGN §2, §8). The runtime asks the world for the
+// neighbour graph; a static lattice answers with its own, the Bullet world with its contacts.
+// A world may hold state of its own (a physics engine's), which is why it is not in Model; it
+// must be able to make that state agree with any State after a rollback.
+#pragma once
+
+#include "sim/model.h"
+#include "sim/state.h"
+
+namespace dw::sim {
+
+class World {
+ public:
+  virtual ~World() = default;
+  // Sets presence and N(m, 0) (and, for a physical world, poses) in the initial state.
+  virtual void initialize(const Model& model, State& state) = 0;
+  // Makes the world's own state agree with `state` (after a rollback).
+  virtual void restore(const Model& model, const State& state) = 0;
+  // Moves the world on by one step, after the programs of step state.step - 1 ran: sets the
+  // presence and N(m, state.step) that the next step's programs see.
+  virtual void advance(const Model& model, State& state) = 0;
+};
+
+// The lattice as laid out: every module present, the lattice's face adjacency for ever. Every
+// state shares one graph.
+class StaticLatticeWorld final : public World {
+ public:
+  void initialize(const Model& model, State& state) override;
+  void restore(const Model&, const State&) override {}
+  void advance(const Model&, State&) override {}
+
+ private:
+  std::shared_ptr<const NeighborGraph> graph_;
+};
+
+}  // namespace dw::sim
