@@ -10,6 +10,7 @@ namespace dw::app {
 // Registers a subcommand on `app`; `run` is set to the function that carries it out once parsed.
 void add_check_command(CLI::App& app, std::function<int()>& run);
 void add_replay_command(CLI::App& app, std::function<int()>& run);
+void add_run_command(CLI::App& app, std::function<int()>& run);
 void add_bench_command(CLI::App& app, std::function<int()>& run);
 
 }  // namespace dw::app

@@ -8,6 +8,7 @@ int main(int argc, char** argv) {
   CLI::App app{"dwatch: distributed watchpoints for modular-robot ensembles"};
   app.require_subcommand(1);
   std::function<int()> run;
+  dw::app::add_run_command(app, run);
   dw::app::add_check_command(app, run);
   dw::app::add_replay_command(app, run);
   dw::app::add_bench_command(app, run);

@@ -18,6 +18,19 @@ struct Runtime::Lanes final : watch::PatternMatcherOutbox {
   }
 };
 
+watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_t> values,
+                        std::span<const uint8_t> present, const NeighborGraph& graph) {
+  watch::Frame frame;
+  frame.step = step;
+  frame.present = present;
+  frame.values = values;
+  frame.has_value = model.all_known;
+  frame.nbr_begin = graph.begin;
+  frame.nbrs = graph.ids;
+  frame.variable_count = model.variable_count();
+  return frame;
+}
+
 Runtime::Runtime(const Model& model, World& world, unsigned threads)
     : model_(model), world_(world), pool_(std::max(1u, std::min(threads, std::max(1u, model.module_count())))) {
   const uint32_t m = model.module_count();
@@ -194,15 +207,7 @@ void Runtime::observe_centralized(uint32_t w, State& state, WatchStepOutput& out
     out.matches += ids.size() / k;
     if (keep) out.slots.assign(ids.begin(), ids.end());
   });
-  const NeighborGraph& g = *state.graph;
-  watch::Frame frame;
-  frame.step = state.step;
-  frame.present = state.present;
-  frame.values = state.values;
-  frame.has_value = model_.all_known;
-  frame.nbr_begin = g.begin;
-  frame.nbrs = g.ids;
-  frame.variable_count = model_.variable_count();
+  const watch::Frame frame = make_frame(model_, state.step, state.values, state.present, *state.graph);
   const int64_t lag = ws.detector->lag();
   ws.detector->observe(frame);
   if (state.step - lag >= 0 && !ws.stopped) {

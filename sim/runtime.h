@@ -43,6 +43,14 @@ struct StepOutput {
   uint64_t program_messages = 0;
 };
 
+// The frame the watchpoints see of a step: the variables, presence and N(m, step).
+watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_t> values,
+                        std::span<const uint8_t> present, const NeighborGraph& graph);
+// The frame of the step that `out` reports, while `state` still holds that step's variables.
+inline watch::Frame observed_frame(const Model& model, const State& state, const StepOutput& out) {
+  return make_frame(model, out.step, state.values, out.present, *out.graph);
+}
+
 class Runtime {
  public:
   // `model` and `world` must outlive the runtime.

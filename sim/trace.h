@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <ostream>
 #include <string>
 #include <variant>
 #include <vector>
@@ -57,6 +58,19 @@ struct TraceError {
 // Reads a trace file. Every bad line is reported (up to a limit); nothing is skipped silently.
 std::variant<Trace, std::vector<TraceError>> read_trace(const std::string& path);
 std::variant<Trace, std::vector<TraceError>> read_trace_text(const std::string& name, const std::string& text);
+
+// Writes frames as wptrace v1 as they come: the header first, then one line per present module.
+class TraceWriter {
+ public:
+  TraceWriter(std::ostream& out, const watch::Universe& universe);
+  void write(const watch::Frame& frame);
+
+ private:
+  std::ostream& out_;
+  const watch::Universe& universe_;
+  std::vector<std::string> keys_;  // "name":
+  std::string line_;
+};
 
 // Writes a trace as wptrace v1, header first, one line per present module per step. False when
 // the file cannot be written.

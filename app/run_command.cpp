@@ -1,0 +1,240 @@
+// `dwatch run SCENARIO`: run a scenario headless with its watchpoints live (DESIGN §6).
+#include <chrono>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "app/detector_flags.h"
+#include "app/progress.h"
+#include "scenarios/scenario.h"
+#include "sim/match_log.h"
+#include "sim/run.h"
+#include "sim/trace.h"
+
+namespace dw::app {
+namespace {
+
+struct RunArgs {
+  std::string scenario;
+  std::optional<int64_t> steps;
+  std::optional<uint64_t> seed;
+  std::optional<unsigned> threads;
+  std::optional<size_t> snapshots;
+  std::string algorithm;
+  std::string record_path, matches_path, stats_path;
+  size_t print = 5;
+  bool no_progress = false;
+};
+
+// Opens an output file named on the command line; "-" is stdout. False (with a message) when it
+// cannot be written: that is bad input, found before the run starts.
+bool open_output(const std::string& path, const char* what, std::ofstream& file, std::ostream*& out) {
+  if (path.empty()) return true;
+  if (path == "-") {
+    out = &std::cout;
+    return true;
+  }
+  file.open(path, std::ios::binary);
+  if (!file) {
+    std::cerr << path << ": error: cannot write the " << what << " file\n";
+    return false;
+  }
+  out = &file;
+  return true;
+}
+
+std::string group_text(const watch::Watchpoint& w, std::span<const sim::ModuleId> ids) {
+  std::string s;
+  for (size_t i = 0; i < ids.size(); ++i) s += (i ? " " : "") + w.program.slot_names[i] + "=" + std::to_string(ids[i]);
+  return s;
+}
+
+std::string hex(uint64_t v) {
+  std::ostringstream s;
+  s << "0x" << std::hex << std::setw(16) << std::setfill('0') << v;
+  return s.str();
+}
+
+int run_scenario(const RunArgs& args) {
+  scenarios::ScenarioOverrides overrides;
+  overrides.seed = args.seed;
+  if (!args.algorithm.empty())
+    overrides.algorithm = args.algorithm == "centralized" ? watch::Algorithm::Centralized : watch::Algorithm::Distributed;
+  auto loaded = scenarios::load_scenario(args.scenario, overrides);
+  if (auto* errors = std::get_if<std::string>(&loaded)) {
+    std::cerr << *errors;
+    return 2;
+  }
+  scenarios::Scenario& scenario = std::get<scenarios::Scenario>(loaded);
+  const sim::Model& model = *scenario.model;
+  const int64_t steps = args.steps.value_or(scenario.steps);
+  const unsigned threads = args.threads.value_or(scenario.threads);
+  const size_t snapshots = args.snapshots.value_or(scenario.snapshots);
+
+  std::ofstream record_file, matches_file, stats_file;
+  std::ostream *record = nullptr, *matches = nullptr, *stats = nullptr;
+  if (!open_output(args.record_path, "trace", record_file, record) ||
+      !open_output(args.matches_path, "matches", matches_file, matches) ||
+      !open_output(args.stats_path, "stats", stats_file, stats))
+    return 2;
+  if ((record == &std::cout) + (matches == &std::cout) + (stats == &std::cout) > 1) {
+    std::cerr << "dwatch: error: only one of --record, --matches and --stats can go to stdout\n";
+    return 2;
+  }
+
+  std::vector<sim::MatchLog::WatchInfo> infos;
+  int64_t max_lag = 0;
+  for (const sim::HostedWatchpoint& h : model.watches) {
+    infos.push_back({h.watchpoint.name, h.watchpoint.program.slot_names});
+    const int64_t k = h.watchpoint.program.slot_count();
+    max_lag = std::max(max_lag, h.watchpoint.program.extent_plus + (h.algorithm == watch::Algorithm::Distributed ? k - 1 : 0));
+  }
+  sim::MatchLog log(std::move(infos), matches, 1);
+  std::vector<watch::MatchSink> sinks;
+  for (size_t w = 0; w < model.watches.size(); ++w) sinks.push_back(log.sink(w));
+  std::unique_ptr<sim::TraceWriter> recorder;
+  if (record) recorder = std::make_unique<sim::TraceWriter>(*record, model.universe);
+
+  sim::Run run(model, *scenario.world, {threads, snapshots});
+  ProgressBar progress("run " + scenario.name, steps, !args.no_progress);
+  const auto started = std::chrono::steady_clock::now();
+  std::optional<sim::Pause> pause;
+  try {
+    pause = run.run_until(steps, [&](const sim::State& state, const sim::StepOutput& out) {
+      if (recorder) recorder->write(sim::observed_frame(model, state, out));
+      for (size_t w = 0; w < out.watches.size(); ++w)
+        if (!out.watches[w].slots.empty()) sinks[w](out.watches[w].t, out.watches[w].slots);
+      log.release(out.step - max_lag);
+      progress.update(out.step + 1);
+    });
+  } catch (const sim::ProgramError& e) {
+    progress.finish();
+    std::cerr << "dwatch: " << args.scenario << ": error: " << e.what() << "\n";
+    return 1;
+  }
+  log.finish();
+  progress.finish();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const int64_t ran = run.steps_run();
+
+  std::ostream& summary = (matches == &std::cout || record == &std::cout || stats == &std::cout) ? std::cerr : std::cout;
+  const auto& spec = model.lattice.spec;
+  summary << "run " << args.scenario << ": " << model.module_count() << " modules (" << sim::lattice_name(spec.kind)
+          << " " << spec.size[0];
+  for (int d = 1; d < sim::lattice_dimensions(spec.kind); ++d) summary << "x" << spec.size[size_t(d)];
+  summary << "), " << ran << (ran == 1 ? " step" : " steps") << " of " << steps << ", seed " << model.seed << ", "
+          << threads << (threads == 1 ? " thread" : " threads")
+          << "\n  programs:";
+  for (const auto& p : model.programs) summary << " " << p->name();
+  summary << "; " << run.state().program_messages << " program messages\n";
+
+  bool stopped = false;
+  for (uint32_t w = 0; w < model.watches.size(); ++w) {
+    const sim::HostedWatchpoint& h = model.watches[w];
+    const uint64_t count = run.match_count(w);
+    summary << "  " << h.watchpoint.name << " [" << watch::algorithm_name(h.algorithm) << ", "
+            << sim::action_name(h.action) << "]: " << count << " match" << (count == 1 ? "" : "es");
+    if (pause && pause->watch == w) {
+      summary << "; PAUSED at step " << pause->t;
+      if (pause->detected != pause->t) summary << " (detected at step " << pause->detected << ")";
+      summary << ": " << group_text(h.watchpoint, pause->group);
+      if (pause->matches > 1) summary << " and " << pause->matches - 1 << " more at that step";
+    }
+    summary << "\n";
+    const sim::MatchList& list = run.matches(w);
+    if (!(pause && pause->watch == w) && matches == nullptr) {
+      const size_t k = static_cast<size_t>(h.watchpoint.program.slot_count());
+      for (size_t i = 0; i < list.size() && i < args.print; ++i)
+        summary << "    t=" << list.t[i] << " " << group_text(h.watchpoint, {list.slots.data() + i * k, k}) << "\n";
+      if (list.size() > args.print && args.print > 0)
+        summary << "    ... " << (list.size() - args.print) << " more (--matches FILE writes them all)\n";
+    }
+    print_detector_stats(summary, run.stats(w));
+    if (run.stats(w).stopped) {
+      stopped = true;
+      std::cerr << "dwatch: " << h.watchpoint.name << ": stopped: " << run.stats(w).stop_reason
+                << "; the matches found before are kept (max_live sets the budget)\n";
+    }
+  }
+  // The ensemble is shown as it was at the paused match's step, when the snapshots reach back.
+  // (Counts and statistics above are of everything run; a rollback forgets what came after.)
+  std::vector<uint64_t> counts;
+  std::vector<watch::DetectorStats> totals;
+  for (uint32_t w = 0; w < model.watches.size(); ++w) {
+    counts.push_back(run.match_count(w));
+    totals.push_back(run.stats(w));
+  }
+  const bool rolled_back = pause && pause->t < pause->detected && run.rollback_to(pause->t);
+  if (rolled_back) summary << "  rolled back to step " << pause->t << ", the paused match's step\n";
+  else if (pause && pause->t < pause->detected)
+    summary << "  (no snapshot reaches back to step " << pause->t << "; the state is that of step " << ran - 1 << ")\n";
+  const uint64_t hash = sim::hash_state(run.state());
+  summary << std::fixed << std::setprecision(3) << "  time: " << seconds << " s";
+  if (ran > 0 && model.module_count() > 0)
+    summary << std::setprecision(2) << " (" << seconds * 1e9 / double(ran) / model.module_count() << " ns per module-step)";
+  summary << "\n  state hash: " << hex(hash) << "\n";
+
+  if (stats) {
+    nlohmann::ordered_json j;
+    j["scenario"] = args.scenario;
+    j["modules"] = model.module_count();
+    j["steps"] = ran;
+    j["seed"] = model.seed;
+    j["threads"] = threads;
+    j["seconds"] = seconds;
+    j["program_messages"] = run.state().program_messages;
+    j["state_hash"] = hex(hash);
+    uint64_t total = 0;
+    j["watches"] = nlohmann::json::array();
+    for (uint32_t w = 0; w < model.watches.size(); ++w) {
+      total += counts[w];
+      auto entry = stats_json(model.watches[w].watchpoint, totals[w], counts[w]);
+      entry["algorithm"] = watch::algorithm_name(model.watches[w].algorithm);
+      entry["action"] = sim::action_name(model.watches[w].action);
+      j["watches"].push_back(std::move(entry));
+    }
+    j["matches"] = total;
+    if (pause)
+      j["pause"] = {{"watch", model.watches[pause->watch].watchpoint.name},
+                    {"t", pause->t},
+                    {"detected", pause->detected},
+                    {"group", pause->group},
+                    {"rolled_back", rolled_back}};
+    *stats << j.dump(1) << "\n";
+  }
+  for (auto [stream, path] : {std::pair<std::ostream*, const std::string*>{record, &args.record_path},
+                              {matches, &args.matches_path},
+                              {stats, &args.stats_path}}) {
+    if (stream != nullptr && !stream->flush()) {
+      std::cerr << *path << ": error: writing failed\n";
+      return 1;
+    }
+  }
+  return stopped ? 1 : 0;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app, std::function<int()>& run) {
+  auto* cmd = app.add_subcommand("run", "Run a scenario headless, watchpoints live");
+  auto args = std::make_shared<RunArgs>();
+  cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
+  cmd->add_option("--steps", args->steps, "Steps to run (default: the scenario's)")->check(CLI::Range(int64_t{0}, int64_t{10'000'000}));
+  cmd->add_option("--seed", args->seed, "Random seed (default: the scenario's)");
+  cmd->add_option("--threads,-j", args->threads, "Threads stepping modules (results never depend on it)")
+      ->check(CLI::Range(1u, 256u));
+  cmd->add_option("--snapshots", args->snapshots, "States kept for rollback (default: the scenario's)");
+  cmd->add_option("--algorithm", args->algorithm, "Run every watchpoint with this algorithm")
+      ->check(CLI::IsMember({"centralized", "distributed"}));
+  cmd->add_option("--record", args->record_path, "Write what the watchpoints saw as a wptrace v1 TRACE");
+  cmd->add_option("--matches", args->matches_path, "Write every match of log/pause watchpoints as JSON Lines (- for stdout)");
+  cmd->add_option("--stats", args->stats_path, "Write run statistics as JSON");
+  cmd->add_option("--print", args->print, "Matches to print per watchpoint when --matches is not given")->default_val(5);
+  cmd->add_flag("--no-progress", args->no_progress, "No progress bar, even on a terminal");
+  cmd->callback([&run, args] { run = [args] { return run_scenario(*args); }; });
+}
+
+}  // namespace dw::app
