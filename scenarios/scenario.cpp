@@ -293,13 +293,12 @@ struct Loader {
     }
     s.model = std::move(std::get<std::unique_ptr<sim::Model>>(built));
     // A variable no program has would read as unknown forever: the watchpoint could never match.
-    const toml::array& watch_tables = *doc.get("watch")->as_array();
     for (size_t w = 0; w < s.model->watches.size(); ++w)
       for (const std::string& v : s.model->watches[w].watchpoint.program.variables)
         if (s.model->column(v) < 0) {
           std::string known;
           for (const std::string& k : s.model->universe.variables) known += (known.empty() ? "" : ", ") + k;
-          TableReader r(*watch_tables[w].as_table(), diagnostics, "[[watch]]");
+          TableReader r(*(*doc.get("watch")->as_array())[w].as_table(), diagnostics, "[[watch]]");
           r.error(r.has("text") ? "text" : "file", "watchpoint \"" + s.model->watches[w].watchpoint.name +
                                                        "\" reads '" + v + "', which no program has (variables: " +
                                                        known + ")");

@@ -1,0 +1,143 @@
+// Runs every scenario case file in tests/scenarios/cases/: a scenario with its expected
+// diagnostics as comments,
+//   # expect: ok
+//   # expect: LINE:COL: MESSAGE-FRAGMENT      (one line per diagnostic, in file order)
+// and checks the loader reports exactly those, each as `file:line:col: error:` with a caret.
+#include "scenarios/scenario.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "sim/run.h"
+
+namespace dw::scenarios {
+namespace {
+
+struct Expected {
+  uint32_t line, column;
+  std::string fragment;
+};
+
+std::vector<std::filesystem::path> case_files() {
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(DWATCH_SCENARIO_CASES_DIR))
+    if (e.path().extension() == ".toml") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+class ScenarioCase : public ::testing::TestWithParam<std::filesystem::path> {};
+
+TEST_P(ScenarioCase, GivesExactlyTheExpectedDiagnostics) {
+  const std::string path = GetParam().string();
+  std::ifstream in(path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  std::vector<Expected> expected;
+  bool ok = false;
+  std::istringstream lines(buffer.str());
+  for (std::string line; std::getline(lines, line);) {
+    const std::string tag = "# expect: ";
+    if (line.rfind(tag, 0) != 0) continue;
+    const std::string rest = line.substr(tag.size());
+    if (rest == "ok") {
+      ok = true;
+      continue;
+    }
+    Expected e{};
+    char c1, c2;
+    std::istringstream fields(rest);
+    fields >> e.line >> c1 >> e.column >> c2;
+    ASSERT_TRUE(fields && c1 == ':' && c2 == ':') << "bad expectation: " << line;
+    std::getline(fields, e.fragment);
+    e.fragment.erase(0, e.fragment.find_first_not_of(' '));
+    expected.push_back(e);
+  }
+  ASSERT_TRUE(ok != !expected.empty()) << "a case says either 'ok' or what it expects";
+  std::sort(expected.begin(), expected.end(),
+            [](const Expected& a, const Expected& b) { return std::tie(a.line, a.column) < std::tie(b.line, b.column); });
+
+  auto loaded = load_scenario(path);
+  if (ok) {
+    ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+    // It runs, too.
+    Scenario& s = std::get<Scenario>(loaded);
+    sim::Run run(*s.model, *s.world, {s.threads, s.snapshots});
+    run.run_until(s.steps);
+    EXPECT_EQ(run.steps_run(), s.steps);
+    return;
+  }
+  ASSERT_TRUE(std::holds_alternative<std::string>(loaded)) << "the scenario loaded, but should not have";
+  const std::string rendered = std::get<std::string>(loaded);
+  const std::regex header("^" + std::regex_replace(path, std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
+                          R"(:(\d+):(\d+): error: (.*)$)");
+  std::vector<Expected> got;
+  std::istringstream out(rendered);
+  std::string previous;
+  for (std::string line; std::getline(out, line); previous = line) {
+    std::smatch m;
+    if (std::regex_match(line, m, header)) got.push_back({uint32_t(std::stoul(m[1])), uint32_t(std::stoul(m[2])), m[3]});
+    if (line.find('^') != std::string::npos) {
+      EXPECT_FALSE(previous.empty()) << "a caret under a source line";
+    }
+  }
+  ASSERT_EQ(got.size(), expected.size()) << rendered;
+  for (size_t i = 0; i < got.size(); ++i) {
+    EXPECT_EQ(got[i].line, expected[i].line) << rendered;
+    EXPECT_EQ(got[i].column, expected[i].column) << rendered;
+    EXPECT_NE(got[i].fragment.find(expected[i].fragment), std::string::npos)
+        << "message: " << got[i].fragment << "\nexpected fragment: " << expected[i].fragment;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, ScenarioCase, ::testing::ValuesIn(case_files()),
+                         [](const auto& info) { return info.param.stem().string(); });
+
+TEST(ScenarioCases, ThereAreCasesToRun) { EXPECT_GE(case_files().size(), 20u); }
+
+TEST(Scenario, AMissingFileIsAnError) {
+  auto loaded = load_scenario("/nonexistent/x.toml");
+  ASSERT_TRUE(std::holds_alternative<std::string>(loaded));
+  EXPECT_NE(std::get<std::string>(loaded).find("cannot read"), std::string::npos);
+}
+
+TEST(Scenario, OverridesWinOverTheFile) {
+  auto loaded = load_scenario_text("x.toml", R"toml(seed = 3
+[lattice]
+kind = "line"
+size = [3]
+[[program]]
+name = "random_vars"
+tuple = [2]
+[[watch]]
+name = "w"
+text = "modules(a); (a.x1 = 1)"
+algorithm = "distributed"
+)toml",
+                                   {uint64_t{9}, watch::Algorithm::Centralized});
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  const Scenario& s = std::get<Scenario>(loaded);
+  EXPECT_EQ(s.model->seed, 9u);
+  EXPECT_EQ(s.model->watches[0].algorithm, watch::Algorithm::Centralized);
+  EXPECT_EQ(s.name, "x");
+  EXPECT_EQ(s.steps, 100);
+}
+
+// Every scenario shipped in scenarios/ loads.
+TEST(Scenario, ShippedScenariosLoad) {
+  int count = 0;
+  for (const auto& e : std::filesystem::directory_iterator(DWATCH_SCENARIOS_DIR)) {
+    if (e.path().extension() != ".toml") continue;
+    ++count;
+    auto loaded = load_scenario(e.path().string());
+    EXPECT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  }
+  EXPECT_GE(count, 5);
+}
+
+}  // namespace
+}  // namespace dw::scenarios
