@@ -1,0 +1,150 @@
+// The machine model of DESIGN §2 as the runtime implements it: reads see the previous step,
+// messages arrive one step later in sender order, only neighbours can be sent to, randomness is a
+// function of (seed, module, step, stream), and the recorded frames are what the watchpoints saw.
+#include "sim/runtime.h"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "sim/random.h"
+#include "sim/trace.h"
+#include "tests/sim/test_programs.h"
+#include "watch/make_detector.h"
+
+namespace dw::sim {
+namespace {
+
+// Each module counts steps in `n`, remembers in `seen` what `n` read as, and sends its id to every
+// neighbour; `first` records the sender of the first message of the inbox, `got` their number.
+class Probe final : public HostProgram {
+ public:
+  std::string_view name() const override { return "probe"; }
+  std::vector<VariableSpec> variables() const override { return {{"n", 10}, {"seen", -1}, {"first", -1}, {"got", 0}, {"r", 0}}; }
+  void step(ModuleContext& m) const override {
+    m.set(0, m.get(0) + 1);
+    m.set(1, m.get(0));  // the value before this step's assignment
+    m.set(2, m.inbox().empty() ? -1 : m.inbox().front().from);
+    m.set(3, static_cast<int64_t>(m.inbox().size()));
+    m.set(4, static_cast<int64_t>(m.random(7) & 0xFFFF));
+    for (size_t i = 1; i < m.inbox().size(); ++i) EXPECT_LT(m.inbox()[i - 1].from, m.inbox()[i].from);
+    m.broadcast({static_cast<int64_t>(m.id())});
+  }
+};
+
+std::unique_ptr<Model> probe_model(LatticeSpec spec, std::vector<std::unique_ptr<const HostProgram>> extra = {}) {
+  std::vector<std::unique_ptr<const HostProgram>> programs;
+  programs.push_back(std::make_unique<Probe>());
+  for (auto& p : extra) programs.push_back(std::move(p));
+  return std::get<std::unique_ptr<Model>>(build_model(make_lattice(spec), std::move(programs), {}, 5));
+}
+
+TEST(Runtime, ReadsSeeThePreviousStepAndMessagesArriveOneStepLater) {
+  const auto model = probe_model({LatticeKind::Line, {4, 1, 1}});
+  StaticLatticeWorld world;
+  Runtime rt(*model, world, 1);
+  State s = rt.initial_state();
+  StepOutput out;
+  rt.step(s, out);
+  const uint32_t v = model->variable_count();
+  EXPECT_EQ(s.values[0 * v + 0], 11);
+  EXPECT_EQ(s.values[0 * v + 1], 10);
+  EXPECT_EQ(s.values[2 * v + 3], 0) << "nothing arrives at step 0";
+  EXPECT_EQ(out.program_messages, 6u);
+  rt.step(s, out);
+  EXPECT_EQ(s.values[2 * v + 3], 2) << "both neighbours' messages of step 0";
+  EXPECT_EQ(s.values[2 * v + 2], 1) << "sender order: module 1 first";
+  EXPECT_EQ(s.values[0 * v + 3], 1);
+  EXPECT_EQ(s.step, 2);
+  // Randomness is the counter-based generator's, program 0 on plain streams.
+  EXPECT_EQ(s.values[3 * v + 4], static_cast<int64_t>(counter_random(5, 3, 1, 7) & 0xFFFF));
+}
+
+TEST(Runtime, ProgramsSideBySideReadOnlyTheirOwnMessages) {
+  std::vector<std::unique_ptr<const HostProgram>> extra;
+  extra.push_back(std::make_unique<test_programs::Gossip>());
+  const auto model = probe_model({LatticeKind::Ring, {5, 1, 1}}, std::move(extra));
+  EXPECT_EQ(model->variable_count(), 8u);
+  EXPECT_EQ(model->program_base[1], 5u);
+  StaticLatticeWorld world;
+  Runtime rt(*model, world, 1);
+  State s = rt.initial_state();
+  StepOutput out;
+  rt.step(s, out);
+  rt.step(s, out);
+  const uint32_t v = model->variable_count();
+  for (uint32_t m = 0; m < 5; ++m) EXPECT_EQ(s.values[m * v + 3], 2) << "probe sees only probe's messages";
+  int64_t gossip_received = 0;
+  for (uint32_t m = 0; m < 5; ++m) gossip_received += s.values[m * v + 7];
+  EXPECT_EQ(gossip_received, 5) << "one gossip message per module, sent at step 0";
+}
+
+TEST(Runtime, SendingToAModuleThatIsNotANeighbourStopsTheRun) {
+  std::vector<std::unique_ptr<const HostProgram>> programs;
+  programs.push_back(std::make_unique<test_programs::SendsToStranger>());
+  const auto model =
+      std::get<std::unique_ptr<Model>>(build_model(make_lattice({LatticeKind::Line, {8, 1, 1}}), std::move(programs), {}, 1));
+  StaticLatticeWorld world;
+  Runtime rt(*model, world, 2);
+  State s = rt.initial_state();
+  StepOutput out;
+  rt.step(s, out);
+  rt.step(s, out);
+  try {
+    rt.step(s, out);
+    FAIL() << "expected a ProgramError";
+  } catch (const ProgramError& e) {
+    EXPECT_NE(std::string(e.what()).find("module 5 sent to module 0 at step 2, which is not its neighbour"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Runtime, TwoProgramsDeclaringOneVariableIsAnError) {
+  std::vector<std::unique_ptr<const HostProgram>> programs;
+  programs.push_back(std::make_unique<test_programs::Gossip>());
+  programs.push_back(std::make_unique<test_programs::Gossip>());
+  auto built = build_model(make_lattice({LatticeKind::Line, {3, 1, 1}}), std::move(programs), {}, 1);
+  ASSERT_TRUE(std::holds_alternative<std::string>(built));
+  EXPECT_NE(std::get<std::string>(built).find("'v'"), std::string::npos);
+}
+
+// What a run records is what its watchpoints saw: replaying the recording with a detector of
+// either algorithm finds exactly the live matches.
+TEST(Runtime, RecordedFramesReplayToTheLiveMatches) {
+  const std::string text = "modules(a b c); (a.v = 1) and (b.v != 1) and (c.v = 1) and (c.last.mix < a.mix)";
+  for (auto algorithm : {watch::Algorithm::Centralized, watch::Algorithm::Distributed}) {
+    const auto model = test_programs::gossip_model({LatticeKind::Hex2d, {6, 5, 1}}, {{text, algorithm}});
+    StaticLatticeWorld world;
+    Runtime rt(*model, world, 2);
+    State s = rt.initial_state();
+    std::ostringstream recording;
+    TraceWriter writer(recording, model->universe);
+    std::vector<std::vector<uint32_t>> live;
+    StepOutput out;
+    for (int step = 0; step < 25; ++step) {
+      rt.step(s, out);
+      writer.write(observed_frame(*model, s, out));
+      const auto& o = out.watches[0];
+      for (size_t i = 0; i < o.slots.size(); i += 3)
+        live.push_back({uint32_t(o.t), o.slots[i], o.slots[i + 1], o.slots[i + 2]});
+    }
+    ASSERT_FALSE(live.empty());
+    auto read = read_trace_text("rec", recording.str());
+    ASSERT_TRUE(std::holds_alternative<Trace>(read));
+    const Trace& trace = std::get<Trace>(read);
+    std::vector<std::vector<uint32_t>> replayed;
+    auto detector = watch::make_detector(algorithm, model->watches[0].watchpoint, trace.universe(), {},
+                                         [&](int64_t t, std::span<const watch::ModuleId> ids) {
+                                           for (size_t i = 0; i < ids.size(); i += 3)
+                                             replayed.push_back({uint32_t(t), ids[i], ids[i + 1], ids[i + 2]});
+                                         });
+    for (int64_t t = 0; t < trace.step_count(); ++t) detector->observe(trace.frame(t));
+    std::sort(live.begin(), live.end());
+    std::sort(replayed.begin(), replayed.end());
+    EXPECT_EQ(live, replayed) << watch::algorithm_name(algorithm);
+  }
+}
+
+}  // namespace
+}  // namespace dw::sim
