@@ -16,6 +16,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/bench.h"
+#include "app/bench_child.h"
 #include "app/commands.h"
 #include "app/detector_flags.h"
 #include "sim/synthetic_trace.h"
@@ -23,21 +25,6 @@
 
 namespace dw::app {
 namespace {
-
-constexpr const char* kFig6 = "modules(a b c d); (a.x1 = 0) and (b.x2 = 0) and (c.x3 = 0) and (d.x4 = 0)";
-
-struct BenchArgs {
-  std::string name;
-  std::vector<std::string> tuples{"1:1:1:1", "2:1:1:1", "2:2:2:2", "1:2:4:8", "8:4:2:1"};
-  std::string algorithm = "both";
-  uint32_t size = 10;
-  int64_t steps = 100;
-  uint64_t seed = 1;
-  std::string out_dir;
-  std::string write_trace;
-  int repeat = 5;
-  DetectorFlags detector;
-};
 
 struct Row {
   uint64_t matches = 0, created = 0, messages = 0, peak_live = 0;
@@ -47,6 +34,8 @@ struct Row {
   bool stopped = false;
   uint64_t by_filled[5] = {};  // PatternMatchers by slots filled, 1..4 (the paper's Fig. 7)
 };
+
+}  // namespace
 
 std::vector<int64_t> parse_tuple(const std::string& text) {
   std::vector<int64_t> out;
@@ -64,6 +53,8 @@ std::vector<int64_t> parse_tuple(const std::string& text) {
   }
   return out.size() == 4 ? out : std::vector<int64_t>{};
 }
+
+namespace {
 
 // Runs a fresh detector over every frame `repeat` times, counting matches; the frames are built
 // before timing. Timing noise on a shared machine only ever adds, so the fastest run is the
@@ -96,29 +87,7 @@ Row run_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorith
   return row;
 }
 
-// Runs `fn` in a child process and returns its Row with the child's own peak resident memory.
-template <class Fn>
-bool in_child(Fn&& fn, Row& row) {
-  int pipe_fds[2];
-  if (pipe(pipe_fds) != 0) return false;
-  std::cout.flush();
-  const pid_t pid = fork();
-  if (pid < 0) return false;
-  if (pid == 0) {
-    close(pipe_fds[0]);
-    Row r = fn();
-    const ssize_t wrote = write(pipe_fds[1], &r, sizeof r);
-    _exit(wrote == static_cast<ssize_t>(sizeof r) ? 0 : 1);
-  }
-  close(pipe_fds[1]);
-  const ssize_t got = read(pipe_fds[0], &row, sizeof row);
-  close(pipe_fds[0]);
-  int status = 0;
-  rusage usage{};
-  wait4(pid, &status, 0, &usage);
-  row.peak_kib = usage.ru_maxrss;
-  return got == static_cast<ssize_t>(sizeof row) && WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
+}  // namespace
 
 int bench_engine(const BenchArgs& args) {
   auto compiled = watch::compile_watchpoint("fig6", watch::SourceText("fig6", kFig6));
@@ -163,7 +132,7 @@ int bench_engine(const BenchArgs& args) {
     }
     for (watch::Algorithm a : algorithms) {
       Row row;
-      if (!in_child([&] { return run_row(trace, w, a, args.detector.options(), args.repeat); }, row)) {
+      if (!in_child([&] { return run_row(trace, w, a, args.detector.options(), args.repeat); }, row, row.peak_kib)) {
         std::cerr << "dwatch bench: error: the benchmark run failed\n";
         return 1;
       }
@@ -187,24 +156,28 @@ int bench_engine(const BenchArgs& args) {
   return status;
 }
 
-}  // namespace
-
 void add_bench_command(CLI::App& app, std::function<int()>& run) {
-  auto* cmd = app.add_subcommand("bench", "Reproduce the paper's measurements (engine: Table I on the watch engine)");
+  auto* cmd = app.add_subcommand("bench", "Reproduce the paper's measurements: engine, table1, overhead, million");
   auto args = std::make_shared<BenchArgs>();
-  cmd->add_option("name", args->name, "Benchmark to run")->required()->check(CLI::IsMember({"engine"}));
+  cmd->add_option("name", args->name, "Benchmark to run")
+      ->required()
+      ->check(CLI::IsMember({"engine", "table1", "overhead", "million"}));
   cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
       ->check(CLI::IsMember({"centralized", "distributed", "both"}));
-  cmd->add_option("--size", args->size, "Lattice edge (modules per side)")->check(CLI::Range(1u, 200u));
+  cmd->add_option("--size", args->size, "Lattice edge (modules per side; million: 100)")->check(CLI::Range(1u, 200u));
   cmd->add_option("--steps", args->steps, "Steps to run")->check(CLI::Range(int64_t{1}, int64_t{1'000'000}));
   cmd->add_option("--seed", args->seed, "Seed of the host program's random variables");
-  cmd->add_option("--out", args->out_dir, "Write engine.csv into this directory");
+  cmd->add_option("--out", args->out_dir, "Write NAME.csv into this directory");
+  cmd->add_option("--threads,-j", args->threads, "Threads stepping modules (table1, overhead, million)")
+      ->check(CLI::Range(1u, 256u));
   cmd->add_option("--repeat", args->repeat, "Runs per row; the fastest and the median are reported")
       ->check(CLI::Range(1, 100));
   cmd->add_option("--write-trace", args->write_trace, "Also write the synthetic trace (wptrace v1) to FILE");
   add_detector_flags(*cmd, args->detector, /*with_algorithm=*/false);
-  cmd->callback([&run, args] { run = [args] { return bench_engine(*args); }; });
+  cmd->callback([&run, args] {
+    run = [args] { return args->name == "engine" ? bench_engine(*args) : bench_runtime(*args); };
+  });
 }
 
 }  // namespace dw::app

@@ -1,0 +1,39 @@
+// `dwatch bench NAME`: reproductions of the paper's measurements.
+//   engine    Table I on the watch engine alone, over a synthetic trace (bench_command.cpp)
+//   table1    Table I through the runtime: the host program running, the watchpoint live
+//   overhead  the watchpoint's overhead over a medium-intensity workload (paper §V-B)
+//   million   a 100^3 cube, [8:4:2:1], Fig. 6, distributed: time and memory at scale
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "app/detector_flags.h"
+
+namespace dw::app {
+
+// The paper's Fig. 6 watchpoint, as the benchmarks use it (x_i = 0 has probability 1/max_i).
+constexpr const char* kFig6 = "modules(a b c d); (a.x1 = 0) and (b.x2 = 0) and (c.x3 = 0) and (d.x4 = 0)";
+
+struct BenchArgs {
+  std::string name;
+  std::vector<std::string> tuples{"1:1:1:1", "2:1:1:1", "2:2:2:2", "1:2:4:8", "8:4:2:1"};
+  std::string algorithm = "both";
+  uint32_t size = 10;
+  int64_t steps = 100;
+  uint64_t seed = 1;
+  unsigned threads = 1;
+  std::string out_dir;
+  std::string write_trace;
+  int repeat = 5;
+  DetectorFlags detector;
+};
+
+// "8:4:2:1" -> {8, 4, 2, 1}; empty unless four positive integers.
+std::vector<int64_t> parse_tuple(const std::string& text);
+
+int bench_engine(const BenchArgs& args);
+int bench_runtime(const BenchArgs& args);  // table1, overhead, million
+
+}  // namespace dw::app

@@ -1,0 +1,155 @@
+// The runtime benchmarks: Table I, the watchpoint overhead and the million-module run, each with
+// the host programs running and the watchpoints live, as `dwatch run` would run them. Scenarios
+// are written as TOML and go through the scenario loader like any file.
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+
+#include "app/bench.h"
+#include "app/bench_child.h"
+#include "scenarios/scenario.h"
+#include "sim/run.h"
+
+namespace dw::app {
+namespace {
+
+struct RuntimeRow {
+  uint64_t matches = 0, created = 0, messages = 0;
+  double seconds = 0, median_seconds = 0;
+  bool failed = false;
+};
+
+std::string cube(uint32_t size) {
+  const std::string n = std::to_string(size);
+  return "[lattice]\nkind = \"cubic\"\nsize = [" + n + ", " + n + ", " + n + "]\n";
+}
+
+std::string random_vars(const std::string& tuple) {
+  std::string list = tuple;
+  std::replace(list.begin(), list.end(), ':', ',');
+  return "[[program]]\nname = \"random_vars\"\ntuple = [" + list + "]\n";
+}
+
+std::string fig6(const char* algorithm) {
+  return std::string("[[watch]]\nname = \"fig6\"\naction = \"count\"\nmax_live = 0\nalgorithm = \"") + algorithm +
+         "\"\ntext = \"" + kFig6 + "\"\n";
+}
+
+const std::string kAggregation = "[[program]]\nname = \"aggregation_routing\"\nlandmarks = 3\n";
+
+// Runs the scenario `repeat` times from scratch; the fastest run is the figure.
+RuntimeRow run_scenario_text(const std::string& toml, const BenchArgs& args, int repeat) {
+  RuntimeRow row;
+  std::vector<double> times;
+  for (int r = 0; r < repeat; ++r) {
+    auto loaded = scenarios::load_scenario_text("bench.toml", "snapshots = 0\nseed = " + std::to_string(args.seed) + "\n" + toml);
+    if (auto* e = std::get_if<std::string>(&loaded)) {
+      std::cerr << *e;
+      row.failed = true;
+      return row;
+    }
+    scenarios::Scenario& s = std::get<scenarios::Scenario>(loaded);
+    sim::Run run(*s.model, *s.world, {args.threads, 0});
+    const auto start = std::chrono::steady_clock::now();
+    run.run_until(args.steps);
+    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    if (!s.model->watches.empty()) {
+      row.matches = run.match_count(0);
+      row.created = run.stats(0).created;
+      row.messages = run.stats(0).messages;
+    }
+  }
+  std::sort(times.begin(), times.end());
+  row.seconds = times.front();
+  row.median_seconds = times[times.size() / 2];
+  return row;
+}
+
+struct Table {
+  std::ofstream csv;
+  bool open(const BenchArgs& args) {
+    if (args.out_dir.empty()) return true;
+    std::filesystem::create_directories(args.out_dir);
+    csv.open(std::filesystem::path(args.out_dir) / (args.name + ".csv"));
+    if (!csv) std::cerr << args.out_dir << ": error: cannot write " << args.name << ".csv\n";
+    else csv << "row,matches,created,messages,best_seconds,median_seconds,peak_mib\n";
+    return static_cast<bool>(csv);
+  }
+};
+
+// Runs one row in a child process and prints it; false when it failed.
+bool row(const std::string& label, const std::string& toml, const BenchArgs& args, int repeat, Table& table,
+         RuntimeRow& out) {
+  long peak_kib = 0;
+  if (!in_child([&] { return run_scenario_text(toml, args, repeat); }, out, peak_kib) || out.failed) {
+    std::cerr << "dwatch bench: error: the benchmark run failed\n";
+    return false;
+  }
+  const double mib = static_cast<double>(peak_kib) / 1024.0;
+  std::cout << std::left << std::setw(40) << label << std::right << std::setw(12) << out.matches << std::setw(14)
+            << out.created << std::setw(10) << std::fixed << std::setprecision(3) << out.seconds << std::setw(10)
+            << out.median_seconds << std::setw(11) << std::setprecision(1) << mib << "\n";
+  if (table.csv)
+    table.csv << '"' << label << "\"," << out.matches << "," << out.created << "," << out.messages << "," << out.seconds
+              << "," << out.median_seconds << "," << mib << "\n";
+  return true;
+}
+
+void header(const std::string& title) {
+  std::cout << title << "\n"
+            << std::left << std::setw(40) << "row" << std::right << std::setw(12) << "matches" << std::setw(14)
+            << "created" << std::setw(10) << "best s" << std::setw(10) << "median s" << std::setw(11) << "peak MiB\n";
+}
+
+}  // namespace
+
+int bench_runtime(const BenchArgs& args) {
+  Table table;
+  if (!table.open(args)) return 1;
+  const std::string threads = std::to_string(args.threads) + (args.threads == 1 ? " thread" : " threads");
+  RuntimeRow r;
+
+  if (args.name == "table1") {
+    header("bench table1: " + std::to_string(args.size) + "^3 cube, " + std::to_string(args.steps) +
+           " steps, random_vars + Fig. 6 live, distributed, " + threads);
+    double total = 0;
+    for (const std::string& tuple : args.tuples) {
+      if (parse_tuple(tuple).empty()) {
+        std::cerr << "dwatch bench: error: tuple '" << tuple << "' is not four positive integers like 2:2:2:2\n";
+        return 2;
+      }
+      if (!row(tuple, cube(args.size) + random_vars(tuple) + fig6("distributed"), args, args.repeat, table, r)) return 1;
+      total += r.seconds;
+    }
+    std::cout << std::fixed << std::setprecision(3) << "all rows: " << total << " s (best runs summed)\n";
+    return 0;
+  }
+
+  if (args.name == "overhead") {
+    header("bench overhead: " + std::to_string(args.size) + "^3 cube, " + std::to_string(args.steps) +
+           " steps, aggregation_routing (paper §V-B), " + threads);
+    const std::string base = cube(args.size) + kAggregation;
+    RuntimeRow alone, with_vars, central, distributed;
+    if (!row("aggregation_routing", base, args, args.repeat, table, alone)) return 1;
+    const std::string vars = base + random_vars("2:2:2:2");
+    if (!row("  + random_vars [2:2:2:2]", vars, args, args.repeat, table, with_vars)) return 1;
+    if (!row("  + Fig. 6 centralized", vars + fig6("centralized"), args, args.repeat, table, central)) return 1;
+    if (!row("  + Fig. 6 distributed", vars + fig6("distributed"), args, args.repeat, table, distributed)) return 1;
+    std::cout << std::fixed << std::setprecision(1) << "watchpoint overhead over the workload with its variables: centralized "
+              << 100 * (central.seconds / with_vars.seconds - 1) << "%, distributed "
+              << 100 * (distributed.seconds / with_vars.seconds - 1) << "% (the paper: 118%, 105%)\n";
+    return 0;
+  }
+
+  // million
+  const uint32_t size = args.size == 10 ? 100 : args.size;
+  header("bench million: " + std::to_string(size) + "^3 cube, " + std::to_string(args.steps) +
+         " steps, random_vars [8:4:2:1] + Fig. 6 live, distributed, " + threads);
+  if (!row("8:4:2:1", cube(size) + random_vars("8:4:2:1") + fig6("distributed"), args, 1, table, r)) return 1;
+  return 0;
+}
+
+}  // namespace dw::app
