@@ -144,3 +144,90 @@ TEST_F(Cli, BadOptionsAreBadInput) {
 }
 
 }  // namespace
+
+// --- dwatch run -------------------------------------------------------------------------------
+
+const fs::path kScenarios = DWATCH_SCENARIOS_DIR;
+
+std::string line_with(const std::string& text, const std::string& what) {
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (line.find(what) != std::string::npos) return line;
+  return "";
+}
+
+TEST_F(Cli, RunPausesOnTheFig2ViolationAndRollsBackToIt) {
+  const Result r = run("run " + (kScenarios / "leader_election.toml").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("two_leaders [distributed, pause]"), std::string::npos) << r.out;
+  const std::string paused = line_with(r.out, "PAUSED at step ");
+  ASSERT_FALSE(paused.empty()) << r.out;
+  EXPECT_NE(r.out.find("rolled back to step"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("state hash: 0x"), std::string::npos);
+}
+
+TEST_F(Cli, RunOfTheCorrectScenariosFindsNothing) {
+  for (const char* name : {"leader_election_correct.toml", "token_ring_correct.toml"}) {
+    const Result r = run("run " + (kScenarios / name).string());
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find(": 0 matches"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("PAUSED"), std::string::npos) << r.out;
+  }
+}
+
+TEST_F(Cli, RecordedRunReplaysToTheSameMatches) {
+  std::string toml = slurp(kScenarios / "leader_election.toml");
+  toml.replace(toml.find("action = \"pause\""), 16, "action = \"log\"");
+  const fs::path scenario = write("le.toml", toml);
+  const std::string text = "two_leaders='modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)'";
+  for (const char* algorithm : {"distributed", "centralized"}) {
+    const fs::path trace = dir_ / "t.jsonl", live = dir_ / "live.jsonl", replayed = dir_ / "replayed.jsonl";
+    const Result r = run("run " + scenario.string() + " --steps 30 --threads 2 --algorithm " + algorithm + " --record " +
+                         trace.string() + " --matches " + live.string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Result p = run("replay " + trace.string() + " --watch " + text + " --algorithm " + algorithm + " --matches " +
+                         replayed.string());
+    ASSERT_EQ(p.code, 0) << p.err;
+    EXPECT_GT(slurp(live).size(), 100u);
+    EXPECT_EQ(slurp(live), slurp(replayed)) << algorithm;
+  }
+}
+
+TEST_F(Cli, RunGivesTheSameStateHashOnAnyThreadCount) {
+  const std::string scenario = (kScenarios / "aggregation_routing.toml").string();
+  const std::string one = line_with(run("run " + scenario + " --steps 40 --threads 1").out, "state hash");
+  const std::string two = line_with(run("run " + scenario + " --steps 40 --threads 2").out, "state hash");
+  const std::string three = line_with(run("run " + scenario + " --steps 40 --threads 3").out, "state hash");
+  ASSERT_FALSE(one.empty());
+  EXPECT_EQ(one, two);
+  EXPECT_EQ(one, three);
+  EXPECT_NE(one, line_with(run("run " + scenario + " --steps 41").out, "state hash"));
+}
+
+TEST_F(Cli, RunOfABadScenarioIsBadInputWithFileLineColumn) {
+  const fs::path f = write("bad.toml", "[lattice]\nkind = \"hex2d\"\nsize = [4, 4]\n[[program]]\nname = \"leader_election\"\nbugs = 1\n");
+  const Result r = run("run " + f.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err.rfind(f.string() + ":6:1: error: unknown key 'bugs' in [[program]] leader_election", 0), 0u) << r.err;
+  EXPECT_EQ(run("run " + (dir_ / "missing.toml").string()).code, 2);
+  EXPECT_EQ(run("run " + (kScenarios / "table1.toml").string() + " --record /nonexistent/dir/t.jsonl").code, 2);
+}
+
+TEST_F(Cli, RunWritesStatsAsJson) {
+  const fs::path stats = dir_ / "s.json";
+  const Result r = run("run " + (kScenarios / "token_ring.toml").string() + " --stats " + stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(slurp(stats));
+  EXPECT_EQ(j["modules"], 16);
+  EXPECT_EQ(j["pause"]["t"], 41);
+  EXPECT_EQ(j["watches"][0]["matches"], 2);
+  EXPECT_EQ(j["matches"], 2);
+}
+
+TEST_F(Cli, BenchTable1WritesItsCsv) {
+  const Result r = run("bench table1 --size 4 --steps 6 --repeat 1 --tuple 2:2:2:2 --tuple 1:1:1:1 --out " + dir_.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string csv = slurp(dir_ / "table1.csv");
+  EXPECT_NE(csv.find("\"2:2:2:2\","), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\"1:1:1:1\","), std::string::npos) << csv;
+}
