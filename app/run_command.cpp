@@ -145,7 +145,7 @@ int run_scenario(const RunArgs& args) {
     }
     summary << "\n";
     const sim::MatchList& list = run.matches(w);
-    if (!(pause && pause->watch == w) && matches == nullptr) {
+    if (matches == nullptr) {
       const size_t k = static_cast<size_t>(h.watchpoint.program.slot_count());
       for (size_t i = 0; i < list.size() && i < args.print; ++i)
         summary << "    t=" << list.t[i] << " " << group_text(h.watchpoint, {list.slots.data() + i * k, k}) << "\n";

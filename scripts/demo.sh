@@ -1,14 +1,11 @@
 #!/usr/bin/env bash
-# Installs what dwatch needs, builds it, and runs the main demo: the paper's Fig. 2 watchpoint
-# (two leaders within two hops) replayed over a hex-lattice leader-election trace.
+# Installs what dwatch needs, builds it, and runs the main demo: 2-hop leader election on a hex
+# lattice with a bug, watched live by the paper's Fig. 2 watchpoint (two leaders within two hops),
+# which pauses the run on the violation and rolls back to the step it happened.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh release
-case_dir=tests/conformance/02_leader_two_hop_hex
 echo
-echo "\$ dwatch check @$case_dir/watch.txt"
-build/app/dwatch check "@$case_dir/watch.txt"
-echo
-echo "\$ dwatch replay $case_dir/trace.jsonl --watch @$case_dir/watch.txt --algorithm distributed"
-build/app/dwatch replay "$case_dir/trace.jsonl" --watch "@$case_dir/watch.txt" --algorithm distributed --print 10
+echo "\$ dwatch run scenarios/leader_election.toml --print 10"
+build/app/dwatch run scenarios/leader_election.toml --print 10
