@@ -18,7 +18,6 @@ void Run::take_snapshot() {
   const size_t capacity = options_.snapshots + 1;
   if (ring_.size() < capacity) {
     ring_.push_back(state_);
-    ring_size_ = ring_.size();
     return;
   }
   // Full: overwrite the oldest, reusing its memory.
@@ -27,7 +26,7 @@ void Run::take_snapshot() {
 }
 
 std::optional<int64_t> Run::oldest_snapshot() const {
-  if (ring_size_ == 0) return std::nullopt;
+  if (ring_.empty()) return std::nullopt;
   return ring_[ring_start_].step - 1;
 }
 
@@ -69,19 +68,18 @@ std::optional<Pause> Run::run_until(int64_t end, const StepObserver& observer) {
 }
 
 bool Run::rollback_to(int64_t t) {
-  if (ring_size_ == 0) return false;
+  if (ring_.empty()) return false;
   const int64_t oldest = ring_[ring_start_].step - 1;
-  const int64_t newest = oldest + static_cast<int64_t>(ring_size_) - 1;
+  const int64_t newest = oldest + static_cast<int64_t>(ring_.size()) - 1;
   if (t < oldest || t > newest) return false;
   const size_t back = static_cast<size_t>(t - oldest);
   state_ = ring_[(ring_start_ + back) % ring_.size()];
   // Snapshots after t describe a future that is gone.
-  if (back + 1 < ring_size_) {
+  if (back + 1 < ring_.size()) {
     std::vector<State> kept;
     for (size_t i = 0; i <= back; ++i) kept.push_back(std::move(ring_[(ring_start_ + i) % ring_.size()]));
     ring_ = std::move(kept);
     ring_start_ = 0;
-    ring_size_ = ring_.size();
   }
   for (uint32_t w = 0; w < matches_.size(); ++w) {
     MatchList& list = matches_[w];

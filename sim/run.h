@@ -68,8 +68,8 @@ class Run {
   Runtime runtime_;
   RunOptions options_;
   State state_;
-  std::vector<State> ring_;  // ring_[(slot) % capacity]; states after consecutive steps
-  size_t ring_start_ = 0, ring_size_ = 0;
+  std::vector<State> ring_;  // states after consecutive steps, the oldest at ring_start_
+  size_t ring_start_ = 0;
   std::vector<MatchList> matches_;
   std::vector<watch::DetectorStats> stats_;
   std::vector<std::vector<int64_t>> stats_step_;  // per watch: the run step of each series entry
