@@ -105,6 +105,8 @@ void Runtime::run_agents(unsigned chunk, uint32_t w, State& state) {
   const int64_t t = state.step;
   s.row_values.resize(columns.size());
   s.row_has.resize(columns.size());
+  // The agents run E+ steps behind, so that `next` can be read (DESIGN §4).
+  const int64_t f = t - program.extent_plus;
 
   // Each agent records its own module's state at t: the variables the watchpoint reads.
   for (uint32_t m = chunk_begin(chunk); m < chunk_end(chunk); ++m) {
@@ -115,10 +117,10 @@ void Runtime::run_agents(unsigned chunk, uint32_t w, State& state) {
     }
     ws.agents[m].history().record(t, present, s.row_values.data(), s.row_has.data(),
                                   present ? state.graph->neighbors(m) : std::span<const uint32_t>{});
+    // While this agent is in cache: its own leaves for the step it is about to fill.
+    if (f >= 0 && ws.agents[m].history().present(f)) ws.agents[m].prepare_all(f, program);
   }
 
-  // The agents run E+ steps behind, so that `next` can be read (DESIGN §4).
-  const int64_t f = t - program.extent_plus;
   ctx.step = watch::StepStats{};
   ctx.step.step = f;
   ctx.match_values = 0;

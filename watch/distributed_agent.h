@@ -75,6 +75,15 @@ class DistributedAgent {
   ModuleHistory& history() { return history_; }
   const ModuleHistory& history() const { return history_; }
 
+  // Decides this module's own leaves of every slot for detector step f now (they are otherwise
+  // decided at first use): a host that walks the agents in module order while their history is
+  // in cache saves the scattered first touches later.
+  void prepare_all(int64_t f, const Program& program) {
+    if (prepared_step_ != f) prepare(f, program);
+    for (uint32_t slot = 0; slot < program.slots.size(); ++slot)
+      if (!(prepared_slots_ & (1u << slot))) prepare_slot(f, program, slot);
+  }
+
   // Detector step f: a fresh PatternMatcher with this module in its first slot.
   void start(int64_t f, AgentContext& ctx, PatternMatcherOutbox& out);
   // Detector step f: a PatternMatcher sent by a neighbour at f - 1 arrives. The record is the
