@@ -7,14 +7,12 @@
 
 namespace dw::sim {
 
-// A thread's PatternMatcher outbox: each copy goes into the lane of its receiver's chunk.
+// A thread's PatternMatcher outbox: each copy goes into the lane of its receiver's block.
 struct Runtime::Lanes final : watch::PatternMatcherOutbox {
-  watch::RecordBuffer* row;  // this thread's lanes, one per receiving chunk
-  uint32_t chunk_size;
-  unsigned chunks;
+  watch::RecordBuffer* row;  // this thread's lanes, one per receiving block
+  uint32_t block_shift;
   void send(uint32_t, std::span<const uint32_t> to, const std::byte* pm, uint32_t bytes) override {
-    if (chunks == 1) return row[0].append(to, pm, bytes);
-    for (const uint32_t& n : to) row[n / chunk_size].append({&n, 1}, pm, bytes);
+    for (const uint32_t& n : to) row[n >> block_shift].append({&n, 1}, pm, bytes);
   }
 };
 
@@ -33,8 +31,11 @@ watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_
 
 Runtime::Runtime(const Model& model, World& world, unsigned threads)
     : model_(model), world_(world), pool_(std::max(1u, std::min(threads, std::max(1u, model.module_count())))) {
+  // Blocks of at most 4096 modules (a power of two), at least two per thread.
   const uint32_t m = model.module_count();
-  chunk_size_ = std::max(1u, (m + pool_.size() - 1) / pool_.size());
+  const uint32_t per_thread = std::max(1u, m / (2 * pool_.size()));
+  while (block_shift_ < 12 && (2u << block_shift_) <= per_thread) ++block_shift_;
+  blocks_ = (m >> block_shift_) + ((m & ((1u << block_shift_) - 1)) != 0);
   scratch_.resize(pool_.size());
   for (ThreadScratch& s : scratch_)
     for (const HostedWatchpoint& w : model.watches) {
@@ -43,15 +44,19 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads)
       if (budget) budget = std::max<uint64_t>(1, budget / pool_.size());
       s.agents.emplace_back(w.watchpoint.program, w.options.optimizations, budget);
     }
-  const unsigned lanes = pool_.size() * pool_.size();
+  const size_t lanes = size_t{pool_.size()} * blocks_;
   for (const HostedWatchpoint& w : model.watches) {
     columns_.push_back(watch::variable_columns(w.watchpoint.program, model.universe));
     sending_.emplace_back(w.algorithm == watch::Algorithm::Distributed ? lanes : 0);
   }
 }
 
-uint32_t Runtime::chunk_begin(unsigned c) const {
-  return static_cast<uint32_t>(std::min<uint64_t>(uint64_t{c} * chunk_size_, model_.module_count()));
+uint32_t Runtime::first_block(unsigned chunk) const {
+  return static_cast<uint32_t>(uint64_t{chunk} * blocks_ / pool_.size());
+}
+
+uint32_t Runtime::block_begin(uint32_t block) const {
+  return static_cast<uint32_t>(std::min<uint64_t>(uint64_t{block} << block_shift_, model_.module_count()));
 }
 
 State Runtime::initial_state() {
@@ -68,17 +73,17 @@ State Runtime::initial_state() {
     } else {
       ws.agents.reserve(m);
       for (uint32_t i = 0; i < m; ++i) ws.agents.emplace_back(i, w.watchpoint.program, w.options.optimizations.temporal_spans);
-      ws.in_flight.resize(size_t{pool_.size()} * pool_.size());
+      ws.in_flight.resize(size_t{pool_.size()} * blocks_);
     }
   }
   next_values_.resize(s.values.size());
   return s;
 }
 
-void Runtime::run_programs(unsigned chunk, const State& state) {
+void Runtime::run_programs(unsigned chunk, uint32_t begin, uint32_t end, const State& state) {
   const uint32_t v = model_.variable_count(), programs = model_.program_count();
   Outbox& outbox = scratch_[chunk].outbox;
-  for (uint32_t m = chunk_begin(chunk); m < chunk_end(chunk); ++m) {
+  for (uint32_t m = begin; m < end; ++m) {
     const int64_t* before = state.values.data() + size_t{m} * v;
     int64_t* after = next_values_.data() + size_t{m} * v;
     std::memcpy(after, before, sizeof(int64_t) * v);  // a variable nobody assigns keeps its value
@@ -94,22 +99,22 @@ void Runtime::run_programs(unsigned chunk, const State& state) {
   }
 }
 
-void Runtime::run_agents(unsigned chunk, uint32_t w, State& state) {
-  const HostedWatchpoint& hosted = model_.watches[w];
-  const watch::Program& program = hosted.watchpoint.program;
+// One block of agents for one watchpoint, in the order that keeps the block's agents in cache:
+// each records its module's state at t and decides its own leaves, then the PatternMatchers sent
+// to the block arrive, then every agent starts its own.
+void Runtime::run_agents(unsigned chunk, uint32_t block, uint32_t w, State& state) {
+  const watch::Program& program = model_.watches[w].watchpoint.program;
   WatchState& ws = state.watches[w];
   ThreadScratch& s = scratch_[chunk];
   watch::AgentContext& ctx = s.agents[w];
   const std::vector<int>& columns = columns_[w];
   const uint32_t v = model_.variable_count();
   const int64_t t = state.step;
-  s.row_values.resize(columns.size());
-  s.row_has.resize(columns.size());
   // The agents run E+ steps behind, so that `next` can be read (DESIGN §4).
   const int64_t f = t - program.extent_plus;
+  const uint32_t begin = block_begin(block), end = block_begin(block + 1);
 
-  // Each agent records its own module's state at t: the variables the watchpoint reads.
-  for (uint32_t m = chunk_begin(chunk); m < chunk_end(chunk); ++m) {
+  for (uint32_t m = begin; m < end; ++m) {
     const bool present = state.present[m] != 0;
     for (size_t i = 0; i < columns.size(); ++i) {
       s.row_has[i] = columns[i] >= 0;
@@ -117,37 +122,44 @@ void Runtime::run_agents(unsigned chunk, uint32_t w, State& state) {
     }
     ws.agents[m].history().record(t, present, s.row_values.data(), s.row_has.data(),
                                   present ? state.graph->neighbors(m) : std::span<const uint32_t>{});
-    // While this agent is in cache: its own leaves for the step it is about to fill.
     if (f >= 0 && ws.agents[m].history().present(f)) ws.agents[m].prepare_all(f, program);
   }
-
-  ctx.step = watch::StepStats{};
-  ctx.step.step = f;
-  ctx.match_values = 0;
   if (f < 0) return;
-  ctx.step.live_by_filled.assign(static_cast<size_t>(program.slot_count()) + 1, 0);
-  const unsigned chunks = pool_.size();
   Lanes out;
-  out.row = sending_[w].data() + size_t{chunk} * chunks;
-  out.chunk_size = chunk_size_;
-  out.chunks = chunks;
-  for (unsigned from = 0; from < chunks; ++from)
-    ws.in_flight[size_t{from} * chunks + chunk].for_each(
+  out.row = sending_[w].data() + size_t{chunk} * blocks_;
+  out.block_shift = block_shift_;
+  for (unsigned from = 0; from < pool_.size(); ++from)
+    ws.in_flight[size_t{from} * blocks_ + block].for_each(
         [&](uint32_t to, std::byte* pm) {
           if (!ctx.over_budget) ws.agents[to].receive(f, pm, ctx, out);
         },
         [&](uint32_t next) { __builtin_prefetch(&ws.agents[next]); });
-  for (uint32_t m = chunk_begin(chunk); m < chunk_end(chunk) && !ctx.over_budget; ++m)
+  for (uint32_t m = begin; m < end && !ctx.over_budget; ++m)
     if (ws.agents[m].history().present(f)) ws.agents[m].start(f, ctx, out);
-  ctx.step.created += ctx.step.messages;  // starts were counted as they happened
 }
 
 void Runtime::run_chunk(unsigned chunk, State& state) {
-  scratch_[chunk].outbox.messages.clear();
-  run_programs(chunk, state);
-  for (uint32_t w = 0; w < model_.watches.size(); ++w)
-    if (model_.watches[w].algorithm == watch::Algorithm::Distributed && !state.watches[w].stopped)
-      run_agents(chunk, w, state);
+  ThreadScratch& s = scratch_[chunk];
+  s.outbox.messages.clear();
+  std::vector<uint32_t>& live = s.live_watches;
+  live.clear();
+  for (uint32_t w = 0; w < model_.watches.size(); ++w) {
+    if (model_.watches[w].algorithm != watch::Algorithm::Distributed || state.watches[w].stopped) continue;
+    live.push_back(w);
+    const watch::Program& program = model_.watches[w].watchpoint.program;
+    watch::AgentContext& ctx = s.agents[w];
+    ctx.step = watch::StepStats{};
+    ctx.step.step = state.step - program.extent_plus;
+    ctx.step.live_by_filled.assign(static_cast<size_t>(program.slot_count()) + 1, 0);
+    ctx.match_values = 0;
+    s.row_values.resize(std::max(s.row_values.size(), columns_[w].size()));
+    s.row_has.resize(std::max(s.row_has.size(), columns_[w].size()));
+  }
+  for (uint32_t block = first_block(chunk); block < first_block(chunk + 1); ++block) {
+    run_programs(chunk, block_begin(block), block_begin(block + 1), state);
+    for (uint32_t w : live) run_agents(chunk, block, w, state);
+  }
+  for (uint32_t w : live) s.agents[w].step.created += s.agents[w].step.messages;  // starts were counted as they happened
 }
 
 // Gathers the threads' matches and statistics; the PatternMatchers sent become those in flight.

@@ -1,11 +1,12 @@
 // The step loop (DESIGN §2): `step` runs one step of the whole ensemble, shaped
 // step(const Model&, State&) with the world and the worker threads beside it.
 //
-// Modules are split into chunks of consecutive ids, one per thread. A thread runs the programs of
-// its chunk's modules and then their distributed watchpoint agents; PatternMatchers a thread sends
-// go into a lane per receiving chunk, so that no two threads ever touch the same agent. Program
-// messages are gathered in chunk order, which is module order, so every result is independent of
-// the thread count.
+// Modules are split into blocks of consecutive ids (at most 4096), and each thread takes a run of
+// consecutive blocks. Block by block, a thread runs the programs of the block's modules and then
+// their distributed watchpoint agents, so that an agent is brought into cache once per step.
+// PatternMatchers go into a lane per (sending thread, receiving block): no two threads ever touch
+// the same agent. Program messages are gathered in thread order, which is module order, so every
+// result is independent of the thread count.
 #pragma once
 
 #include <cstdint>
@@ -72,22 +73,24 @@ class Runtime {
     std::vector<watch::AgentContext> agents;  // per watchpoint (distributed ones used)
     std::vector<int64_t> row_values;
     std::vector<uint8_t> row_has;
+    std::vector<uint32_t> live_watches;  // distributed watchpoints still observing
   };
 
   void run_chunk(unsigned chunk, State& state);
-  void run_programs(unsigned chunk, const State& state);
-  void run_agents(unsigned chunk, uint32_t watch, State& state);
+  void run_programs(unsigned chunk, uint32_t begin, uint32_t end, const State& state);
+  void run_agents(unsigned chunk, uint32_t block, uint32_t watch, State& state);
   void finish_distributed(uint32_t watch, State& state, WatchStepOutput& out);
   void observe_centralized(uint32_t watch, State& state, WatchStepOutput& out);
   void deliver_program_messages(State& state);
 
-  uint32_t chunk_begin(unsigned c) const;
-  uint32_t chunk_end(unsigned c) const { return chunk_begin(c + 1); }
+  uint32_t first_block(unsigned chunk) const;  // the thread's first block; first_block(threads) = blocks_
+  uint32_t block_begin(uint32_t block) const;  // its first module; block_begin(blocks_) = module count
 
   const Model& model_;
   World& world_;
   WorkerPool pool_;
-  uint32_t chunk_size_ = 1;
+  uint32_t block_shift_ = 0;  // blocks of 1 << block_shift_ modules
+  uint32_t blocks_ = 0;
   std::vector<ThreadScratch> scratch_;
   std::vector<int64_t> next_values_;
   std::vector<std::vector<int>> columns_;                  // per watch: program variable -> model column
