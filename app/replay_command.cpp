@@ -8,6 +8,7 @@
 
 #include "app/commands.h"
 #include "app/detector_flags.h"
+#include "app/output_files.h"
 #include "app/watch_args.h"
 #include "sim/match_log.h"
 #include "sim/trace.h"
@@ -49,18 +50,7 @@ int replay(const ReplayArgs& args) {
   // Output files are opened before the run, so that a bad path costs nothing.
   std::ofstream file, stats_file;
   std::ostream* out = nullptr;
-  if (!args.matches_path.empty()) {
-    if (args.matches_path == "-") {
-      out = &std::cout;
-    } else {
-      file.open(args.matches_path, std::ios::binary);
-      if (!file) {
-        std::cerr << args.matches_path << ": error: cannot write the matches file\n";
-        return 2;
-      }
-      out = &file;
-    }
-  }
+  if (!open_output(args.matches_path, "matches", file, out)) return 2;
   if (!args.stats_path.empty()) {
     stats_file.open(args.stats_path);
     if (!stats_file) {
@@ -135,13 +125,8 @@ int replay(const ReplayArgs& args) {
       j["watches"].push_back(stats_json(watches[i], detectors[i]->stats(), log.count(i)));
     stats_file << j.dump(1) << "\n";
   }
-  for (auto [stream, path] : {std::pair<std::ostream*, const std::string*>{out, &args.matches_path},
-                              {args.stats_path.empty() ? nullptr : &stats_file, &args.stats_path}}) {
-    if (stream != nullptr && !stream->flush()) {
-      std::cerr << *path << ": error: writing failed\n";
-      return 1;
-    }
-  }
+  if (!flush_outputs({{out, &args.matches_path}, {args.stats_path.empty() ? nullptr : &stats_file, &args.stats_path}}))
+    return 1;
   return stopped ? 1 : 0;
 }
 

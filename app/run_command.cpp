@@ -8,6 +8,7 @@
 
 #include "app/commands.h"
 #include "app/detector_flags.h"
+#include "app/output_files.h"
 #include "app/progress.h"
 #include "scenarios/scenario.h"
 #include "sim/match_log.h"
@@ -28,23 +29,6 @@ struct RunArgs {
   size_t print = 5;
   bool no_progress = false;
 };
-
-// Opens an output file named on the command line; "-" is stdout. False (with a message) when it
-// cannot be written: that is bad input, found before the run starts.
-bool open_output(const std::string& path, const char* what, std::ofstream& file, std::ostream*& out) {
-  if (path.empty()) return true;
-  if (path == "-") {
-    out = &std::cout;
-    return true;
-  }
-  file.open(path, std::ios::binary);
-  if (!file) {
-    std::cerr << path << ": error: cannot write the " << what << " file\n";
-    return false;
-  }
-  out = &file;
-  return true;
-}
 
 std::string group_text(const watch::Watchpoint& w, std::span<const sim::ModuleId> ids) {
   std::string s;
@@ -89,8 +73,7 @@ int run_scenario(const RunArgs& args) {
   int64_t max_lag = 0;
   for (const sim::HostedWatchpoint& h : model.watches) {
     infos.push_back({h.watchpoint.name, h.watchpoint.program.slot_names});
-    const int64_t k = h.watchpoint.program.slot_count();
-    max_lag = std::max(max_lag, h.watchpoint.program.extent_plus + (h.algorithm == watch::Algorithm::Distributed ? k - 1 : 0));
+    max_lag = std::max(max_lag, h.lag());
   }
   sim::MatchLog log(std::move(infos), matches, 1);
   std::vector<watch::MatchSink> sinks;
@@ -205,14 +188,7 @@ int run_scenario(const RunArgs& args) {
                     {"rolled_back", rolled_back}};
     *stats << j.dump(1) << "\n";
   }
-  for (auto [stream, path] : {std::pair<std::ostream*, const std::string*>{record, &args.record_path},
-                              {matches, &args.matches_path},
-                              {stats, &args.stats_path}}) {
-    if (stream != nullptr && !stream->flush()) {
-      std::cerr << *path << ": error: writing failed\n";
-      return 1;
-    }
-  }
+  if (!flush_outputs({{record, &args.record_path}, {matches, &args.matches_path}, {stats, &args.stats_path}})) return 1;
   return stopped ? 1 : 0;
 }
 

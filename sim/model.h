@@ -31,6 +31,13 @@ struct HostedWatchpoint {
   watch::Algorithm algorithm = watch::Algorithm::Distributed;
   MatchAction action = MatchAction::Log;
   watch::DetectorOptions options;
+
+  // Steps between a state and the watch step it completes, as Detector::lag():
+  // E+ (centralized), E+ + k - 1 (distributed).
+  int64_t lag() const {
+    const watch::Program& p = watchpoint.program;
+    return p.extent_plus + (algorithm == watch::Algorithm::Distributed ? p.slot_count() - 1 : 0);
+  }
 };
 
 struct Model {

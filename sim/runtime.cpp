@@ -51,8 +51,8 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads)
   }
 }
 
-uint32_t Runtime::first_block(unsigned chunk) const {
-  return static_cast<uint32_t>(uint64_t{chunk} * blocks_ / pool_.size());
+uint32_t Runtime::first_block(unsigned thread) const {
+  return static_cast<uint32_t>(uint64_t{thread} * blocks_ / pool_.size());
 }
 
 uint32_t Runtime::block_begin(uint32_t block) const {
@@ -80,9 +80,9 @@ State Runtime::initial_state() {
   return s;
 }
 
-void Runtime::run_programs(unsigned chunk, uint32_t begin, uint32_t end, const State& state) {
+void Runtime::run_programs(unsigned thread, uint32_t begin, uint32_t end, const State& state) {
   const uint32_t v = model_.variable_count(), programs = model_.program_count();
-  Outbox& outbox = scratch_[chunk].outbox;
+  Outbox& outbox = scratch_[thread].outbox;
   for (uint32_t m = begin; m < end; ++m) {
     const int64_t* before = state.values.data() + size_t{m} * v;
     int64_t* after = next_values_.data() + size_t{m} * v;
@@ -102,10 +102,10 @@ void Runtime::run_programs(unsigned chunk, uint32_t begin, uint32_t end, const S
 // One block of agents for one watchpoint, in the order that keeps the block's agents in cache:
 // each records its module's state at t and decides its own leaves, then the PatternMatchers sent
 // to the block arrive, then every agent starts its own.
-void Runtime::run_agents(unsigned chunk, uint32_t block, uint32_t w, State& state) {
+void Runtime::run_agents(unsigned thread, uint32_t block, uint32_t w, State& state) {
   const watch::Program& program = model_.watches[w].watchpoint.program;
   WatchState& ws = state.watches[w];
-  ThreadScratch& s = scratch_[chunk];
+  ThreadScratch& s = scratch_[thread];
   watch::AgentContext& ctx = s.agents[w];
   const std::vector<int>& columns = columns_[w];
   const uint32_t v = model_.variable_count();
@@ -126,7 +126,7 @@ void Runtime::run_agents(unsigned chunk, uint32_t block, uint32_t w, State& stat
   }
   if (f < 0) return;
   Lanes out;
-  out.row = sending_[w].data() + size_t{chunk} * blocks_;
+  out.row = sending_[w].data() + size_t{thread} * blocks_;
   out.block_shift = block_shift_;
   for (unsigned from = 0; from < pool_.size(); ++from)
     ws.in_flight[size_t{from} * blocks_ + block].for_each(
@@ -138,8 +138,8 @@ void Runtime::run_agents(unsigned chunk, uint32_t block, uint32_t w, State& stat
     if (ws.agents[m].history().present(f)) ws.agents[m].start(f, ctx, out);
 }
 
-void Runtime::run_chunk(unsigned chunk, State& state) {
-  ThreadScratch& s = scratch_[chunk];
+void Runtime::run_thread(unsigned thread, State& state) {
+  ThreadScratch& s = scratch_[thread];
   s.outbox.messages.clear();
   std::vector<uint32_t>& live = s.live_watches;
   live.clear();
@@ -155,9 +155,9 @@ void Runtime::run_chunk(unsigned chunk, State& state) {
     s.row_values.resize(std::max(s.row_values.size(), columns_[w].size()));
     s.row_has.resize(std::max(s.row_has.size(), columns_[w].size()));
   }
-  for (uint32_t block = first_block(chunk); block < first_block(chunk + 1); ++block) {
-    run_programs(chunk, block_begin(block), block_begin(block + 1), state);
-    for (uint32_t w : live) run_agents(chunk, block, w, state);
+  for (uint32_t block = first_block(thread); block < first_block(thread + 1); ++block) {
+    run_programs(thread, block_begin(block), block_begin(block + 1), state);
+    for (uint32_t w : live) run_agents(thread, block, w, state);
   }
   for (uint32_t w : live) s.agents[w].step.created += s.agents[w].step.messages;  // starts were counted as they happened
 }
@@ -194,7 +194,7 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
     }
   }
   // Everything that matched now was started at t0 = f - (k - 1).
-  const int64_t t0 = f - (k - 1);
+  const int64_t t0 = state.step - hosted.lag();
   if (t0 >= 0) {
     out.t = t0;
     for (ThreadScratch& s : scratch_) out.matches += s.agents[w].match_values / k;
@@ -224,7 +224,7 @@ void Runtime::observe_centralized(uint32_t w, State& state, WatchStepOutput& out
   const watch::Frame frame = make_frame(model_, state.step, state.values, state.present, *state.graph);
   const int64_t lag = ws.detector->lag();
   ws.detector->observe(frame);
-  if (state.step - lag >= 0 && !ws.stopped) {
+  if (state.step - lag >= 0) {
     out.observed = true;
     out.stats = ws.detector->stats().last;
   }
@@ -256,7 +256,7 @@ void Runtime::deliver_program_messages(State& state) {
 void Runtime::step(State& state, StepOutput& out) {
   out.step = state.step;
   out.watches.assign(model_.watches.size(), WatchStepOutput{});
-  pool_.run([&](unsigned chunk) { run_chunk(chunk, state); });
+  pool_.run([&](unsigned thread) { run_thread(thread, state); });
   for (const ThreadScratch& s : scratch_)
     if (!s.outbox.error.empty()) throw ProgramError(s.outbox.error);
 

@@ -76,14 +76,14 @@ class Runtime {
     std::vector<uint32_t> live_watches;  // distributed watchpoints still observing
   };
 
-  void run_chunk(unsigned chunk, State& state);
-  void run_programs(unsigned chunk, uint32_t begin, uint32_t end, const State& state);
-  void run_agents(unsigned chunk, uint32_t block, uint32_t watch, State& state);
+  void run_thread(unsigned thread, State& state);
+  void run_programs(unsigned thread, uint32_t begin, uint32_t end, const State& state);
+  void run_agents(unsigned thread, uint32_t block, uint32_t watch, State& state);
   void finish_distributed(uint32_t watch, State& state, WatchStepOutput& out);
   void observe_centralized(uint32_t watch, State& state, WatchStepOutput& out);
   void deliver_program_messages(State& state);
 
-  uint32_t first_block(unsigned chunk) const;  // the thread's first block; first_block(threads) = blocks_
+  uint32_t first_block(unsigned thread) const;  // the thread's first block; first_block(threads) = blocks_
   uint32_t block_begin(uint32_t block) const;  // its first module; block_begin(blocks_) = module count
 
   const Model& model_;

@@ -12,53 +12,29 @@
 #include <sstream>
 
 #include "sim/run.h"
+#include "tests/case_file.h"
 
 namespace dw::scenarios {
 namespace {
 
-struct Expected {
-  uint32_t line, column;
-  std::string fragment;
-};
+using test_support::ExpectedDiagnostic;
 
 std::vector<std::filesystem::path> case_files() {
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(DWATCH_SCENARIO_CASES_DIR))
-    if (e.path().extension() == ".toml") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  return files;
+  return test_support::case_files(DWATCH_SCENARIO_CASES_DIR, ".toml");
 }
 
 class ScenarioCase : public ::testing::TestWithParam<std::filesystem::path> {};
 
 TEST_P(ScenarioCase, GivesExactlyTheExpectedDiagnostics) {
   const std::string path = GetParam().string();
-  std::ifstream in(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  std::vector<Expected> expected;
-  bool ok = false;
-  std::istringstream lines(buffer.str());
-  for (std::string line; std::getline(lines, line);) {
-    const std::string tag = "# expect: ";
-    if (line.rfind(tag, 0) != 0) continue;
-    const std::string rest = line.substr(tag.size());
-    if (rest == "ok") {
-      ok = true;
-      continue;
-    }
-    Expected e{};
-    char c1, c2;
-    std::istringstream fields(rest);
-    fields >> e.line >> c1 >> e.column >> c2;
-    ASSERT_TRUE(fields && c1 == ':' && c2 == ':') << "bad expectation: " << line;
-    std::getline(fields, e.fragment);
-    e.fragment.erase(0, e.fragment.find_first_not_of(' '));
-    expected.push_back(e);
-  }
+  const test_support::CaseFile c = test_support::read_case_file(path);
+  ASSERT_TRUE(c.malformed.empty()) << "bad expectation: " << c.malformed.front();
+  const bool ok = c.ok;
+  std::vector<ExpectedDiagnostic> expected = c.expected;
   ASSERT_TRUE(ok != !expected.empty()) << "a case says either 'ok' or what it expects";
-  std::sort(expected.begin(), expected.end(),
-            [](const Expected& a, const Expected& b) { return std::tie(a.line, a.column) < std::tie(b.line, b.column); });
+  std::sort(expected.begin(), expected.end(), [](const ExpectedDiagnostic& a, const ExpectedDiagnostic& b) {
+    return std::tie(a.line, a.column) < std::tie(b.line, b.column);
+  });
 
   auto loaded = load_scenario(path);
   if (ok) {
@@ -72,21 +48,16 @@ TEST_P(ScenarioCase, GivesExactlyTheExpectedDiagnostics) {
   }
   ASSERT_TRUE(std::holds_alternative<std::string>(loaded)) << "the scenario loaded, but should not have";
   const std::string rendered = std::get<std::string>(loaded);
-  std::vector<Expected> got;
+  std::vector<ExpectedDiagnostic> got;
   std::istringstream out(rendered);
   std::string previous;
   for (std::string line; std::getline(out, line); previous = line) {
     // A header line: PATH:LINE:COL: error: MESSAGE
     if (line.rfind(path + ":", 0) == 0) {
-      Expected e{};
-      char c1, c2;
-      std::string error;
-      std::istringstream fields(line.substr(path.size() + 1));
-      fields >> e.line >> c1 >> e.column >> c2 >> error;
-      if (fields && c1 == ':' && c2 == ':' && error == "error:") {
-        std::getline(fields, e.fragment);
-        e.fragment.erase(0, e.fragment.find_first_not_of(' '));
-        got.push_back(e);
+      auto e = test_support::parse_location(line.substr(path.size() + 1));
+      if (e && e->fragment.rfind("error: ", 0) == 0) {
+        e->fragment.erase(0, 7);
+        got.push_back(*e);
       }
     }
     if (line.find('^') != std::string::npos) {
