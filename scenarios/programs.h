@@ -36,5 +36,7 @@ std::unique_ptr<const sim::HostProgram> make_random_vars(TableReader& params, co
 std::unique_ptr<const sim::HostProgram> make_leader_election(TableReader& params, const ProgramSetup& setup);
 std::unique_ptr<const sim::HostProgram> make_token_ring(TableReader& params, const ProgramSetup& setup);
 std::unique_ptr<const sim::HostProgram> make_aggregation_routing(TableReader& params, const ProgramSetup& setup);
+std::unique_ptr<const sim::HostProgram> make_body_sense(TableReader& params, const ProgramSetup& setup);
+std::unique_ptr<const sim::HostProgram> make_slide(TableReader& params, const ProgramSetup& setup);
 
 }  // namespace dw::scenarios

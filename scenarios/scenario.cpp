@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "physics/bullet_world.h"
 #include "scenarios/programs.h"
 #include "scenarios/table_reader.h"
 #include "sim/lattice.h"
@@ -62,7 +63,7 @@ struct Loader {
     return std::nullopt;
   }
 
-  std::optional<sim::LatticeSpec> lattice(TableReader& root) {
+  std::optional<sim::Lattice> lattice(TableReader& root) {
     const toml::table* t = root.table("lattice");
     if (!t) {
       if (!root.has("lattice")) root.missing("lattice");
@@ -81,6 +82,17 @@ struct Loader {
     }
     const auto size = r.integers("size", 1, 1'000'000, 1, 3);
     if (!size && !r.has("size")) r.missing("size");
+    // Boxes of cells left empty: [[lattice.empty]] from = [x, y, z], to = [x, y, z] (inclusive).
+    std::vector<std::array<std::vector<int64_t>, 2>> empty;
+    for (const toml::table* box : r.tables("empty")) {
+      TableReader e(*box, diagnostics, "[[lattice.empty]]");
+      auto from = e.integers("from", 0, 1'000'000, 3, 3), to = e.integers("to", 0, 1'000'000, 3, 3);
+      if (!from && !e.has("from")) e.missing("from");
+      if (!to && !e.has("to")) e.missing("to");
+      e.finish();
+      if (from && to) empty.push_back({*from, *to});
+      else ok = false;
+    }
     r.finish();
     if (!kind || !size) return std::nullopt;
     spec.kind = *kind;
@@ -101,7 +113,65 @@ struct Loader {
       ok = false;
     }
     if (!ok) return std::nullopt;
-    return spec;
+    sim::Lattice l = sim::make_lattice(spec);
+    for (const auto& [from, to] : empty)
+      sim::leave_empty(l, {uint32_t(from[0]), uint32_t(from[1]), uint32_t(from[2])},
+                       {uint32_t(to[0]), uint32_t(to[1]), uint32_t(to[2])});
+    return l;
+  }
+
+  std::optional<physics::ModuleShape> shape(TableReader& r, std::string_view key) {
+    const auto name = r.string(key);
+    if (!name) return std::nullopt;
+    if (*name == "box") return physics::ModuleShape::Box;
+    if (*name == "cylinder") return physics::ModuleShape::Cylinder;
+    if (*name == "sphere") return physics::ModuleShape::Sphere;
+    r.error(key, "'" + std::string(key) + "' must be \"box\", \"cylinder\" or \"sphere\", not \"" + *name + "\"");
+    return std::nullopt;
+  }
+
+  static sim::Vec3 vec3(const std::optional<std::vector<double>>& v, sim::Vec3 otherwise) {
+    return v ? sim::Vec3{float((*v)[0]), float((*v)[1]), float((*v)[2])} : otherwise;
+  }
+
+  // [physics]: nothing when it is off (a static lattice).
+  std::optional<physics::PhysicsSettings> physics_settings(TableReader& root) {
+    const toml::table* t = root.table("physics");
+    if (!t) return std::nullopt;
+    TableReader r(*t, diagnostics, "[physics]");
+    physics::PhysicsSettings p;
+    const bool on = r.boolean("enabled").value_or(false);
+    p.dt = float(r.number("dt", 1e-4, 1).value_or(p.dt));
+    p.gravity = vec3(r.numbers("gravity", 3), p.gravity);
+    p.shape = shape(r, "shape");
+    p.module_mass = float(r.number("module_mass", 1e-3, 1e6).value_or(p.module_mass));
+    p.contact_threshold =
+        float(r.number("contact_threshold", 0, physics::PhysicsSettings::kMaxContactThreshold).value_or(p.contact_threshold));
+    p.bonds = r.boolean("bonds").value_or(p.bonds);
+    p.anchor = r.boolean("anchor").value_or(p.anchor);
+    p.break_force = float(r.number("break_force", 0, 1e12).value_or(p.break_force));
+    p.friction = float(r.number("friction", 0, 10).value_or(p.friction));
+    p.restitution = float(r.number("restitution", 0, 1).value_or(p.restitution));
+    p.solver_iterations = int(r.integer("solver_iterations", 1, 1000).value_or(p.solver_iterations));
+    p.move_steps = r.integer("move_steps", 1, 100'000).value_or(p.move_steps);
+    for (const toml::table* prop : r.tables("prop")) {
+      TableReader q(*prop, diagnostics, "[[physics.prop]]");
+      physics::PropSpec b;
+      b.shape = shape(q, "shape").value_or(b.shape);
+      if (b.shape == physics::ModuleShape::Cylinder) q.error("shape", "a prop is a \"box\" or a \"sphere\"");
+      b.size = vec3(q.numbers("size", 3), b.size);
+      if (q.has("diameter")) b.size[0] = float(q.number("diameter", 1e-3, 1e3).value_or(1));
+      b.mass = float(q.number("mass", 0, 1e9).value_or(b.mass));
+      b.pose.position = vec3(q.numbers("position", 3), b.pose.position);
+      b.velocity.linear = vec3(q.numbers("velocity", 3), b.velocity.linear);
+      b.velocity.angular = vec3(q.numbers("angular_velocity", 3), b.velocity.angular);
+      if (!q.has("position")) q.missing("position");
+      q.finish();
+      p.props.push_back(b);
+    }
+    r.finish();
+    if (!on) return std::nullopt;
+    return p;
   }
 
   std::optional<std::vector<std::unique_ptr<const sim::HostProgram>>> programs(TableReader& root,
@@ -258,22 +328,17 @@ struct Loader {
     s.snapshots = static_cast<size_t>(snapshots.value_or(64));
     s.threads = static_cast<unsigned>(threads.value_or(1));
 
-    const auto spec = lattice(root);
+    auto built_lattice = lattice(root);
     std::optional<std::vector<std::unique_ptr<const sim::HostProgram>>> progs;
-    if (spec) {
-      const ProgramSetup setup{*spec, static_cast<uint32_t>(spec->module_count())};
+    if (built_lattice) {
+      const ProgramSetup setup{built_lattice->spec, static_cast<uint32_t>(built_lattice->spec.module_count())};
       progs = programs(root, setup);
     } else {
       root.node("program");  // its errors wait for a lattice
     }
     auto hosted = watches(root, overrides);
 
-    if (const toml::table* physics = root.table("physics")) {
-      TableReader r(*physics, diagnostics, "[physics]");
-      if (r.boolean("enabled").value_or(false))
-        r.error("enabled", "physics worlds are not available yet; this build runs static lattices only");
-      r.finish();
-    }
+    auto physics = physics_settings(root);
     if (const toml::table* view = root.table("view")) {
       TableReader r(*view, diagnostics, "[view]");
       s.view.color_by = r.string("color_by").value_or("");
@@ -283,9 +348,9 @@ struct Loader {
       r.finish();
     }
     root.finish();
-    if (!diagnostics.empty() || !extra.empty() || !spec || !progs || !hosted) return diagnostics.format() + extra;
+    if (!diagnostics.empty() || !extra.empty() || !built_lattice || !progs || !hosted) return diagnostics.format() + extra;
 
-    auto built = sim::build_model(sim::make_lattice(*spec), std::move(*progs), std::move(*hosted),
+    auto built = sim::build_model(std::move(*built_lattice), std::move(*progs), std::move(*hosted),
                                   overrides.seed.value_or(static_cast<uint64_t>(seed.value_or(1))));
     if (auto* message = std::get_if<std::string>(&built)) {
       diagnostics.add(doc.get("program")->source(), *message);
@@ -309,7 +374,8 @@ struct Loader {
       r.error("color_by", "no program has a variable named \"" + s.view.color_by + "\"");
       return diagnostics.format();
     }
-    s.world = std::make_unique<sim::StaticLatticeWorld>();
+    if (physics) s.world = std::make_unique<physics::BulletWorld>(std::move(*physics), s.model->lattice);
+    else s.world = std::make_unique<sim::StaticLatticeWorld>();
     return s;
   }
 };

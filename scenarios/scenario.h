@@ -22,8 +22,29 @@
 //   early_termination = true           # the §IV optimizations, all on by default
 //   neighbor_culling = true
 //   temporal_spans = true
-//   [physics]
+//   [[lattice.empty]]                  # cells left empty (inclusive lattice coordinates)
+//   from = [x, y, z]
+//   to = [x, y, z]
+//   [physics]                          # a Bullet world (DESIGN §8); off: the static lattice
 //   enabled = false
+//   dt = 0.0166667                     # seconds per step
+//   gravity = [0, 0, -9.81]
+//   shape = "box"                      # box | cylinder | sphere (default: by lattice kind)
+//   module_mass = 1
+//   contact_threshold = 0.01           # neighbours when at most this far apart (<= 0.015)
+//   bonds = true                       # latch modules touching at the start
+//   anchor = true                      # latch modules touching the ground to it
+//   break_force = 1000                 # newtons; a module pushed harder loses its bonds (0: never)
+//   friction = 0.6
+//   restitution = 0.1
+//   solver_iterations = 10
+//   move_steps = 30                    # steps a lattice move takes
+//   [[physics.prop]]                   # bodies that are not modules: projectiles, obstacles
+//   shape = "sphere"                   # sphere | box
+//   diameter = 1.5                     # a sphere's; a box has size = [x, y, z]
+//   mass = 40                          # 0: fixed in place
+//   position = [x, y, z]
+//   velocity = [x, y, z]
 //   [view]
 //   color_by = "isLeader"
 //   camera_eye = [x, y, z]             # default: fitted to the ensemble

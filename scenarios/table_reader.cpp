@@ -1,6 +1,7 @@
 #include "scenarios/table_reader.h"
 
 #include <algorithm>
+#include <sstream>
 
 namespace dw::scenarios {
 
@@ -137,6 +138,38 @@ std::optional<std::vector<int64_t>> TableReader::integers(std::string_view key, 
     out.push_back(v);
   }
   if (!ok) return std::nullopt;
+  return out;
+}
+
+std::optional<double> TableReader::number(std::string_view key, double min, double max) {
+  const toml::node* n = node(key);
+  if (!n) return std::nullopt;
+  const std::string k(key);
+  std::optional<double> v;
+  if (n->is_integer()) v = double(n->as_integer()->get());
+  else if (n->is_floating_point()) v = n->as_floating_point()->get();
+  if (!v) {
+    error(key, "'" + k + "' must be a number, not " + type_name(*n));
+    return std::nullopt;
+  }
+  if (!(*v >= min && *v <= max)) {  // NaN fails too
+    std::ostringstream range;
+    range << "'" << k << "' must be between " << min << " and " << max << ", not " << *v;
+    error(key, range.str());
+    return std::nullopt;
+  }
+  return v;
+}
+
+std::vector<const toml::table*> TableReader::tables(std::string_view key) {
+  const toml::node* n = node(key);
+  if (!n) return {};
+  const toml::array* a = n->as_array();
+  std::vector<const toml::table*> out;
+  if (a && a->is_array_of_tables())
+    for (const toml::node& e : *a) out.push_back(e.as_table());
+  else
+    error(key, "'" + std::string(key) + "' must be an array of tables ([[" + std::string(key) + "]]), not " + type_name(*n));
   return out;
 }
 

@@ -51,7 +51,10 @@ class TableReader {
   std::optional<std::string> string(std::string_view key);
   std::optional<std::vector<int64_t>> integers(std::string_view key, int64_t min, int64_t max, size_t min_count,
                                                size_t max_count);
+  std::optional<double> number(std::string_view key, double min, double max);
   std::optional<std::vector<double>> numbers(std::string_view key, size_t count);
+  // An array of tables ([[key]]); empty when absent or wrong.
+  std::vector<const toml::table*> tables(std::string_view key);
   const toml::table* table(std::string_view key);
 
   void error(std::string_view key, std::string message);  // at the key's value

@@ -10,6 +10,7 @@ packages=(
   nlohmann-json3-dev                           # writing JSON
   libcli11-dev                                 # the command line
   libtomlplusplus-dev                          # scenario files
+  libbullet-dev                                # the physics World
   clang libclang-rt-14-dev                     # the parser fuzz target and sanitizer builds
   time                                         # peak-memory figures for benchmarks (/usr/bin/time -v)
 )

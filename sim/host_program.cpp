@@ -15,20 +15,39 @@ uint64_t ModuleContext::random(uint32_t stream) const {
   return counter_random(seed_, id_, static_cast<uint64_t>(step_), (uint64_t{program_} << 32) | stream);
 }
 
+void ModuleContext::fail(const std::string& what) {
+  if (outbox_.error.empty())
+    outbox_.error = std::string(program_name_) + " on module " + std::to_string(id_) + " " + what;
+}
+
 bool ModuleContext::check_size(size_t words) {
   if (words <= Message::kMaxWords) return true;
-  if (outbox_.error.empty())
-    outbox_.error = std::string(program_name_) + " on module " + std::to_string(id_) + " sent a message of " +
-                    std::to_string(words) + " words; the most is " + std::to_string(Message::kMaxWords);
+  fail("sent a message of " + std::to_string(words) + " words; the most is " + std::to_string(Message::kMaxWords));
   return false;
+}
+
+void ModuleContext::actuate(const Actuation& a) {
+  if (!has_body()) {
+    fail("asked its body to move or latch at step " + std::to_string(step_) +
+         ", but the world has no bodies (the scenario's physics is off)");
+    return;
+  }
+  outbox_.actuations.push_back(a);
+}
+
+void ModuleContext::bond(ModuleId other) {
+  if (!is_neighbor(other)) {
+    fail("asked to bond with module " + std::to_string(other) + " at step " + std::to_string(step_) +
+         ", which is not its neighbour");
+    return;
+  }
+  actuate({Actuation::Kind::Bond, id_, other, {}});
 }
 
 void ModuleContext::send(ModuleId to, std::span<const int64_t> payload) {
   if (!check_size(payload.size())) return;
   if (!is_neighbor(to)) {
-    if (outbox_.error.empty())
-      outbox_.error = std::string(program_name_) + " on module " + std::to_string(id_) + " sent to module " +
-                      std::to_string(to) + " at step " + std::to_string(step_) + ", which is not its neighbour";
+    fail("sent to module " + std::to_string(to) + " at step " + std::to_string(step_) + ", which is not its neighbour");
     return;
   }
   Message& m = outbox_.messages.emplace_back();

@@ -6,14 +6,22 @@
 
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "sim/actuation.h"
+#include "sim/bodies.h"
 #include "sim/message.h"
 #include "sim/neighbor_graph.h"
 
 namespace dw::sim {
+
+// A host program misused the API; the run cannot go on.
+struct ProgramError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 struct VariableSpec {
   std::string name;
@@ -36,6 +44,7 @@ class HostProgram {
 // Where a step's sends go, per thread; the runtime checks and delivers them.
 struct Outbox {
   std::vector<Message> messages;
+  std::vector<Actuation> actuations;
   std::string error;  // the first misuse of the API (sending to a non-neighbour, too long a message)
 };
 
@@ -43,9 +52,9 @@ class ModuleContext {
  public:
   ModuleContext(ModuleId id, int64_t step, uint64_t seed, uint16_t program, std::span<const ModuleId> neighbors,
                 std::span<const Message> inbox, const int64_t* before, int64_t* after, Outbox& outbox,
-                std::string_view program_name)
+                std::string_view program_name, const Bodies& bodies)
       : id_(id), step_(step), seed_(seed), program_(program), neighbors_(neighbors), inbox_(inbox), before_(before),
-        after_(after), outbox_(outbox), program_name_(program_name) {}
+        after_(after), outbox_(outbox), program_name_(program_name), bodies_(bodies) {}
 
   ModuleId id() const { return id_; }
   int64_t step() const { return step_; }
@@ -74,8 +83,29 @@ class ModuleContext {
   void broadcast(std::span<const int64_t> payload);
   void broadcast(std::initializer_list<int64_t> payload) { broadcast(std::span(payload.begin(), payload.size())); }
 
+  // The module's body, as the step began (sensing). Only in a physical world: has_body() says.
+  bool has_body() const { return !bodies_.empty(); }
+  const Pose& pose() const { return bodies_.poses[id_]; }
+  const Velocity& velocity() const { return bodies_.velocities[id_]; }
+  // Making a lattice move (it then belongs to no cluster and has no bonds).
+  bool moving() const { return bodies_.moving(id_); }
+
+  // Actuation, carried out when the world moves on to the next step (see sim/actuation.h). In a
+  // world without bodies, asking is a program error.
+  void push(Vec3 impulse) { actuate({Actuation::Kind::Push, id_, 0, impulse}); }
+  // A lattice move by `offset`, one module size long, into a free cell: the module releases its
+  // bonds, glides there, and latches to what it touches on arrival. Refused (nothing happens)
+  // when the cell is taken or the module is already moving.
+  void move(Vec3 offset) { actuate({Actuation::Kind::Move, id_, 0, offset}); }
+  void release(ModuleId other) { actuate({Actuation::Kind::Release, id_, other, {}}); }
+  void release_all() { actuate({Actuation::Kind::ReleaseAll, id_, 0, {}}); }
+  // Latches to a neighbour (it must be one now).
+  void bond(ModuleId other);
+
  private:
   bool check_size(size_t words);
+  void actuate(const Actuation& a);
+  void fail(const std::string& what);
 
   ModuleId id_;
   int64_t step_;
@@ -87,6 +117,7 @@ class ModuleContext {
   int64_t* after_;
   Outbox& outbox_;
   std::string_view program_name_;
+  const Bodies& bodies_;
 };
 
 }  // namespace dw::sim

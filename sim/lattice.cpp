@@ -76,8 +76,8 @@ Lattice make_lattice(const LatticeSpec& spec) {
       break;
     }
     case LatticeKind::Ring: {
-      // Neighbours one module apart around a circle.
-      const double radius = nx / (2 * std::numbers::pi);
+      // Neighbours one module apart (a chord of 1) around a circle.
+      const double radius = 0.5 / std::sin(std::numbers::pi / nx);
       for (uint32_t i = 0; i < nx; ++i) {
         const double a = 2 * std::numbers::pi * i / nx;
         l.positions[i] = {float(radius * std::cos(a)), float(radius * std::sin(a)), 0};
@@ -92,8 +92,21 @@ Lattice make_lattice(const LatticeSpec& spec) {
       }
       break;
   }
+  l.occupied.assign(count, 1);
   l.graph = NeighborGraph::from_pairs(count, pairs);
   return l;
+}
+
+void leave_empty(Lattice& lattice, std::array<uint32_t, 3> from, std::array<uint32_t, 3> to) {
+  const auto& n = lattice.spec.size;
+  for (uint32_t z = from[2]; z <= std::min(to[2], n[2] - 1); ++z)
+    for (uint32_t y = from[1]; y <= std::min(to[1], n[1] - 1); ++y)
+      for (uint32_t x = from[0]; x <= std::min(to[0], n[0] - 1); ++x) lattice.occupied[x + n[0] * (y + n[1] * z)] = 0;
+  std::vector<std::pair<ModuleId, ModuleId>> pairs;
+  for (ModuleId m = 0; m < lattice.graph.module_count(); ++m)
+    for (ModuleId o : lattice.graph.neighbors(m))
+      if (m < o && lattice.occupied[m] && lattice.occupied[o]) pairs.emplace_back(m, o);
+  lattice.graph = NeighborGraph::from_pairs(lattice.graph.module_count(), pairs);
 }
 
 }  // namespace dw::sim

@@ -29,12 +29,16 @@ struct LatticeSpec {
 
 struct Lattice {
   LatticeSpec spec;
-  std::vector<std::array<float, 3>> positions;  // module centres, one module size apart
+  std::vector<std::array<float, 3>> positions;  // module centres, one module size apart; z is up
+  std::vector<uint8_t> occupied;                // per cell: 0 for a cell left empty (no module there)
   NeighborGraph graph;                          // face-adjacent modules
 };
 
 // Ring needs at least 3 modules; every size at least 1. The caller checks those (the scenario
 // loader reports them against the file).
 Lattice make_lattice(const LatticeSpec& spec);
+// Leaves the cells of a box (inclusive lattice coordinates, x y z) empty: their modules are
+// absent for the whole run and touch nobody.
+void leave_empty(Lattice& lattice, std::array<uint32_t, 3> from, std::array<uint32_t, 3> to);
 
 }  // namespace dw::sim

@@ -93,7 +93,7 @@ void Runtime::run_programs(unsigned thread, uint32_t begin, uint32_t end, const 
       const uint32_t base = model_.program_base[p];
       const HostProgram& program = *model_.programs[p];
       ModuleContext ctx(m, state.step, model_.seed, static_cast<uint16_t>(p), neighbors, state.inbox.of(m, p, programs),
-                        before + base, after + base, outbox, program.name());
+                        before + base, after + base, outbox, program.name(), state.bodies);
       program.step(ctx);
     }
   }
@@ -141,6 +141,7 @@ void Runtime::run_agents(unsigned thread, uint32_t block, uint32_t w, State& sta
 void Runtime::run_thread(unsigned thread, State& state) {
   ThreadScratch& s = scratch_[thread];
   s.outbox.messages.clear();
+  s.outbox.actuations.clear();
   std::vector<uint32_t>& live = s.live_watches;
   live.clear();
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
@@ -287,8 +288,11 @@ void Runtime::step(State& state, StepOutput& out) {
   const uint64_t sent_before = state.program_messages;
   deliver_program_messages(state);
   out.program_messages = state.program_messages - sent_before;
+  // Actuation requests in thread order, which is module order.
+  actuations_.clear();
+  for (const ThreadScratch& s : scratch_) actuations_.insert(actuations_.end(), s.outbox.actuations.begin(), s.outbox.actuations.end());
   ++state.step;
-  world_.advance(model_, state);
+  world_.advance(model_, state, actuations_);
 }
 
 }  // namespace dw::sim

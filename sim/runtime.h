@@ -10,7 +10,6 @@
 #pragma once
 
 #include <cstdint>
-#include <stdexcept>
 #include <vector>
 
 #include "sim/model.h"
@@ -19,11 +18,6 @@
 #include "sim/world.h"
 
 namespace dw::sim {
-
-// A host program misused the API; the run cannot go on.
-struct ProgramError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 // What one hosted watchpoint decided during a step.
 struct WatchStepOutput {
@@ -96,6 +90,7 @@ class Runtime {
   std::vector<std::vector<int>> columns_;                  // per watch: program variable -> model column
   std::vector<std::vector<watch::RecordBuffer>> sending_;  // per watch: lanes being filled
   std::vector<uint32_t> counts_;                           // for gathering messages
+  std::vector<Actuation> actuations_;                      // the step's, for the world
 };
 
 }  // namespace dw::sim

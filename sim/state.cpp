@@ -1,6 +1,7 @@
 #include "sim/state.h"
 
 #include <cstring>
+#include <type_traits>
 
 namespace dw::sim {
 namespace {
@@ -17,6 +18,18 @@ struct Hasher {
   void words(const std::vector<T>& v) {
     word(v.size());
     for (const T& x : v) word(static_cast<uint64_t>(x));
+  }
+  // Plain-data records (poses, bonds, ...), hashed bit for bit.
+  template <class T>
+  void records(const std::vector<T>& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    word(v.size());
+    if (!v.empty()) bytes(reinterpret_cast<const std::byte*>(v.data()), v.size() * sizeof(T));
+  }
+  template <class T>
+  void record(const T& x) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes(reinterpret_cast<const std::byte*>(&x), sizeof x);
   }
   void bytes(const std::byte* p, size_t n) {
     for (size_t i = 0; i + 8 <= n; i += 8) {
@@ -60,6 +73,28 @@ uint64_t hash_state(const State& s) {
     h.words(s.graph->begin);
     h.words(s.graph->ids);
   }
+  const Bodies& b = s.bodies;
+  h.records(b.poses);
+  h.records(b.velocities);
+  h.records(b.local);
+  h.words(b.cluster_of);
+  for (const Cluster& c : b.clusters) {
+    h.record(c.pose);
+    h.record(c.velocity);
+    h.word((uint64_t{c.first} << 32) | c.count);
+    h.word(c.anchored);
+  }
+  h.words(b.members);
+  h.records(b.bonds);
+  for (const Mover& m : b.movers) {
+    h.record(m.from);
+    h.record(m.to);
+    h.word(m.module);
+    h.word(static_cast<uint64_t>(m.start));
+    h.word(static_cast<uint64_t>(m.steps));
+  }
+  h.records(b.prop_poses);
+  h.records(b.prop_velocities);
   h.word(s.inbox.messages.size());
   for (const Message& m : s.inbox.messages) {
     h.word((uint64_t{m.from} << 32) | m.to);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/bodies.h"
 #include "sim/message.h"
 #include "sim/neighbor_graph.h"
 #include "watch/detector.h"
@@ -38,12 +39,13 @@ struct State {
   std::vector<int64_t> values;     // [module * variables + column]
   std::vector<uint8_t> present;    // [module]
   std::shared_ptr<const NeighborGraph> graph;  // N(m, step): what the next step's programs see
+  Bodies bodies;                   // poses, velocities, bonds (a physical world only)
   Mailbox inbox;                   // program messages to be read at `step`
   std::vector<WatchState> watches;
   uint64_t program_messages = 0;   // sent since step 0
 };
 
-// A hash of the whole state: step, variables, presence, topology, messages, detector state in
+// A hash of the whole state: step, variables, presence, topology, bodies, messages, detector state in
 // flight and match counts. PatternMatchers in flight are hashed as a multiset, since their order
 // in the lanes depends on the thread count and nothing else does.
 uint64_t hash_state(const State& state);

@@ -4,6 +4,9 @@
 // must be able to make that state agree with any State after a rollback.
 #pragma once
 
+#include <span>
+
+#include "sim/actuation.h"
 #include "sim/model.h"
 #include "sim/state.h"
 
@@ -16,9 +19,11 @@ class World {
   virtual void initialize(const Model& model, State& state) = 0;
   // Makes the world's own state agree with `state` (after a rollback).
   virtual void restore(const Model& model, const State& state) = 0;
-  // Moves the world on by one step, after the programs of step state.step - 1 ran: sets the
-  // presence and N(m, state.step) that the next step's programs see.
-  virtual void advance(const Model& model, State& state) = 0;
+  // Moves the world on by one step, after the programs of step state.step - 1 ran: carries out
+  // what they asked of their bodies (in module order), then sets the presence, the bodies and
+  // N(m, state.step) that the next step's programs see. A request the world cannot carry out
+  // throws ProgramError.
+  virtual void advance(const Model& model, State& state, std::span<const Actuation> actuations) = 0;
 };
 
 // The lattice as laid out: every module present, the lattice's face adjacency for ever. Every
@@ -27,7 +32,7 @@ class StaticLatticeWorld final : public World {
  public:
   void initialize(const Model& model, State& state) override;
   void restore(const Model&, const State&) override {}
-  void advance(const Model&, State&) override {}
+  void advance(const Model&, State&, std::span<const Actuation>) override {}
 
  private:
   std::shared_ptr<const NeighborGraph> graph_;

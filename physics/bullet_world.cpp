@@ -1,0 +1,190 @@
+#include "physics/bullet_world.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "physics/clusters.h"
+#include "sim/host_program.h"
+
+namespace dw::physics {
+namespace {
+
+float lowest_bottom(const sim::Lattice& lattice) {
+  float z = 0;
+  bool any = false;
+  for (size_t m = 0; m < lattice.positions.size(); ++m)
+    if (lattice.occupied[m]) {
+      z = any ? std::min(z, lattice.positions[m][2]) : lattice.positions[m][2];
+      any = true;
+    }
+  return z - 0.5f;
+}
+
+float distance(const sim::Vec3& a, const sim::Vec3& b) {
+  return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+}
+
+std::string who(const sim::Actuation& a, int64_t step) {
+  return "module " + std::to_string(a.module) + " at step " + std::to_string(step);
+}
+
+}  // namespace
+
+BulletWorld::BulletWorld(PhysicsSettings settings, const sim::Lattice& lattice)
+    : settings_(std::move(settings)),
+      shape_(settings_.shape.value_or(default_shape(lattice.spec.kind))),
+      ground_z_(lowest_bottom(lattice)),
+      dynamics_(settings_, shape_, ground_z_),
+      contacts_(shape_, settings_.contact_threshold) {}
+
+bool BulletWorld::touches_ground(const sim::Pose& pose) const {
+  return pose.position[2] - 0.5f - ground_z_ <= settings_.contact_threshold;
+}
+
+void BulletWorld::initialize(const sim::Model& model, sim::State& state) {
+  const uint32_t n = model.module_count();
+  state.present = model.lattice.occupied;
+  sim::Bodies& b = state.bodies;
+  b = sim::Bodies{};
+  b.poses.resize(n);
+  for (uint32_t m = 0; m < n; ++m) b.poses[m].position = model.lattice.positions[m];
+  b.velocities.resize(n);
+  b.local.resize(n);
+  for (const PropSpec& p : settings_.props) {
+    b.prop_poses.push_back(p.pose);
+    b.prop_velocities.push_back(p.velocity);
+  }
+  contacts_.reset();
+  state.graph = contacts_.update(b.poses, state.present);
+  // Real modules latch to what they touch as they are put in place.
+  if (settings_.bonds)
+    for (sim::ModuleId m = 0; m < n; ++m)
+      for (sim::ModuleId o : state.graph->neighbors(m))
+        if (m < o) b.bonds.push_back({m, o});
+  if (settings_.anchor)
+    for (sim::ModuleId m = 0; m < n; ++m)
+      if (state.present[m] && touches_ground(b.poses[m])) b.bonds.push_back({m, sim::kGround});
+  std::sort(b.bonds.begin(), b.bonds.end());
+  form_clusters(b, state.present, dynamics_.module_shape());
+}
+
+void BulletWorld::restore(const sim::Model&, const sim::State&) {
+  // Nothing of Bullet's outlives a step (physics/dynamics.h); the contact graph measures again.
+  contacts_.reset();
+}
+
+// Carries out one request; returns whether the bonds changed.
+bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vector<Push>& pushes) {
+  sim::Bodies& b = state.bodies;
+  const int64_t asked = state.step - 1;
+  auto erase_bonds = [&](auto&& which) { return std::erase_if(b.bonds, which) > 0; };
+  switch (a.kind) {
+    case sim::Actuation::Kind::Push:
+      pushes.push_back({a.module, a.vector});
+      return false;
+    case sim::Actuation::Kind::Release:
+      return erase_bonds([&](const sim::Bond& x) {
+        return (x.a == a.module && x.b == a.other) || (x.a == a.other && x.b == a.module);
+      });
+    case sim::Actuation::Kind::ReleaseAll:
+      return erase_bonds([&](const sim::Bond& x) { return x.a == a.module || x.b == a.module; });
+    case sim::Actuation::Kind::Bond: {
+      if (b.moving(a.module) || b.moving(a.other)) return false;  // latches only what is still
+      const sim::Bond bond{std::min(a.module, a.other), std::max(a.module, a.other)};
+      const auto at = std::lower_bound(b.bonds.begin(), b.bonds.end(), bond);
+      if (at != b.bonds.end() && *at == bond) return false;
+      b.bonds.insert(at, bond);
+      return true;
+    }
+    case sim::Actuation::Kind::Move: {
+      const float length = std::hypot(a.vector[0], a.vector[1], a.vector[2]);
+      if (std::abs(length - 1) > 1e-3f)
+        throw sim::ProgramError("a lattice move of " + who(a, asked) + " is " + std::to_string(length) +
+                                " module sizes long; a move goes to an adjacent cell, one size away");
+      if (b.moving(a.module)) return false;
+      sim::Pose to = b.poses[a.module];
+      for (int i = 0; i < 3; ++i) to.position[i] += a.vector[i];
+      // The cell must be free: no module there but one gliding out of it, none gliding into it.
+      for (sim::ModuleId m = 0; m < b.poses.size(); ++m)
+        if (m != a.module && state.present[m] && !b.moving(m) && distance(b.poses[m].position, to.position) < 0.5f)
+          return false;
+      for (const sim::Mover& mover : b.movers)
+        if (distance(mover.to.position, to.position) < 0.5f) return false;
+      sim::Mover mover{a.module, b.poses[a.module], to, asked, settings_.move_steps};
+      b.movers.insert(std::lower_bound(b.movers.begin(), b.movers.end(), mover,
+                                       [](const sim::Mover& x, const sim::Mover& y) { return x.module < y.module; }),
+                      mover);
+      b.velocities[a.module] = {};
+      erase_bonds([&](const sim::Bond& x) { return x.a == a.module || x.b == a.module; });
+      return true;  // it leaves its cluster
+    }
+  }
+  return false;
+}
+
+// Steps the bodies; a module pushed harder than the break force loses its bonds, and the step is
+// done again from the same start without them (bounded: each round breaks at least one bond).
+void BulletWorld::step_bodies(sim::State& state, std::span<const Push> pushes) {
+  sim::Bodies& b = state.bodies;
+  if (dynamics_.idle(b)) return;
+  sim::Bodies start = b;
+  for (int round = 0;; ++round) {
+    dynamics_.step(b, pushes, state.step, force_);
+    if (settings_.break_force <= 0 || round == 8) break;
+    std::vector<uint8_t> breaks(b.poses.size(), 0);
+    bool any = false;
+    for (size_t m = 0; m < force_.size(); ++m) breaks[m] = force_[m] > settings_.break_force;
+    std::vector<sim::Bond> kept;
+    for (const sim::Bond& bond : start.bonds) {
+      if (breaks[bond.a] || (bond.b != sim::kGround && breaks[bond.b])) any = true;
+      else kept.push_back(bond);
+    }
+    if (!any) break;
+    b = start;
+    b.bonds = std::move(kept);
+    form_clusters(b, state.present, dynamics_.module_shape());
+    start = b;
+  }
+  place_members(b);
+}
+
+void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const sim::Actuation> actuations) {
+  sim::Bodies& b = state.bodies;
+  std::vector<Push> pushes;
+  bool regroup = false;
+  for (const sim::Actuation& a : actuations) regroup |= carry_out(a, state, pushes);
+  if (regroup) form_clusters(b, state.present, dynamics_.module_shape());
+
+  step_bodies(state, pushes);
+
+  // Lattice moves go on; those that arrive latch to what they touch once the graph is read.
+  std::vector<sim::ModuleId> arrived;
+  for (const sim::Mover& m : b.movers) {
+    b.poses[m.module] = glide(m, state.step);
+    if (state.step - m.start >= m.steps) {
+      arrived.push_back(m.module);
+      b.velocities[m.module] = {};
+    } else {
+      const float per_second = 1 / (float(m.steps) * settings_.dt);
+      for (int i = 0; i < 3; ++i)
+        b.velocities[m.module].linear[i] = (m.to.position[i] - m.from.position[i]) * per_second;
+    }
+  }
+  std::erase_if(b.movers, [&](const sim::Mover& m) { return state.step - m.start >= m.steps; });
+
+  state.graph = contacts_.update(b.poses, state.present);
+
+  if (!arrived.empty()) {
+    for (sim::ModuleId m : arrived) {
+      if (settings_.bonds)
+        for (sim::ModuleId o : state.graph->neighbors(m))
+          if (!b.moving(o)) b.bonds.push_back({std::min(m, o), std::max(m, o)});
+      if (settings_.anchor && touches_ground(b.poses[m])) b.bonds.push_back({m, sim::kGround});
+    }
+    std::sort(b.bonds.begin(), b.bonds.end());
+    b.bonds.erase(std::unique(b.bonds.begin(), b.bonds.end()), b.bonds.end());
+    form_clusters(b, state.present, dynamics_.module_shape());
+  }
+}
+
+}  // namespace dw::physics

@@ -1,0 +1,46 @@
+// The physical World (DESIGN §8): every module a Bullet rigid body on a ground, latched to the
+// modules it touches; the neighbour graph read from contacts after every step; programs push
+// their modules, make lattice moves, and release or make bonds.
+//
+// A step: the programs' requests are carried out (in module order), the bodies that can move are
+// stepped (physics/dynamics.h), a module pushed by contacts harder than the break force loses its
+// bonds and the step is done again without them, lattice moves go on, the graph is read from
+// contacts, and a module that ends a lattice move latches to what it touches.
+#pragma once
+
+#include <memory>
+
+#include "physics/contact_graph.h"
+#include "physics/dynamics.h"
+#include "physics/settings.h"
+#include "sim/world.h"
+
+namespace dw::physics {
+
+class BulletWorld final : public sim::World {
+ public:
+  // The lattice fixes the module shape when the settings leave it open.
+  BulletWorld(PhysicsSettings settings, const sim::Lattice& lattice);
+
+  void initialize(const sim::Model& model, sim::State& state) override;
+  void restore(const sim::Model& model, const sim::State& state) override;
+  void advance(const sim::Model& model, sim::State& state, std::span<const sim::Actuation> actuations) override;
+
+  const PhysicsSettings& settings() const { return settings_; }
+  ModuleShape shape() const { return shape_; }
+  float ground_z() const { return ground_z_; }
+
+ private:
+  bool carry_out(const sim::Actuation& a, sim::State& state, std::vector<Push>& pushes);
+  void step_bodies(sim::State& state, std::span<const Push> pushes);
+  bool touches_ground(const sim::Pose& pose) const;
+
+  PhysicsSettings settings_;
+  ModuleShape shape_;
+  float ground_z_;
+  Dynamics dynamics_;
+  ContactGraph contacts_;
+  std::vector<float> force_;
+};
+
+}  // namespace dw::physics

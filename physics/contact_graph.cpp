@@ -1,0 +1,146 @@
+#include "physics/contact_graph.h"
+
+#include <algorithm>
+
+#include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
+#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+
+#include "physics/convert.h"
+#include "physics/shapes.h"
+
+namespace dw::physics {
+
+struct ContactGraph::Impl {
+  // Carries the graph to the near callback (a plain function pointer), so that nothing is global.
+  struct Dispatcher final : btCollisionDispatcher {
+    Dispatcher(btCollisionConfiguration* config, Impl& owner) : btCollisionDispatcher(config), owner(owner) {}
+    Impl& owner;
+  };
+
+  explicit Impl(ModuleShape kind, float threshold)
+      : dispatcher(&config, *this), world(&dispatcher, &broadphase, &config), shape(make_module_shape(kind)),
+        threshold(threshold) {
+    // The default box-box detector reports nothing across a gap, and the sphere-sphere one
+    // nothing beyond touching: GJK measures the gap for every module shape (DESIGN §8).
+    const int type = shape->getShapeType();
+    dispatcher.registerCollisionCreateFunc(
+        type, type, config.getCollisionAlgorithmCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE));
+    dispatcher.setNearCallback(&near_callback);
+  }
+
+  ~Impl() {
+    for (auto& o : objects)
+      if (o) world.removeCollisionObject(o.get());
+  }
+
+  // Measures a pair again, from an empty manifold, when either module moved or the pair is new.
+  static void near_callback(btBroadphasePair& pair, btCollisionDispatcher& d, const btDispatcherInfo& info) {
+    Impl& self = static_cast<Dispatcher&>(d).owner;
+    const auto* a = static_cast<const btCollisionObject*>(pair.m_pProxy0->m_clientObject);
+    const auto* b = static_cast<const btCollisionObject*>(pair.m_pProxy1->m_clientObject);
+    const btCollisionObjectWrapper wa(nullptr, a->getCollisionShape(), a, a->getWorldTransform(), -1, -1);
+    const btCollisionObjectWrapper wb(nullptr, b->getCollisionShape(), b, b->getWorldTransform(), -1, -1);
+    bool fresh = false;
+    if (!pair.m_algorithm) {
+      pair.m_algorithm = d.findAlgorithm(&wa, &wb, nullptr, BT_CONTACT_POINT_ALGORITHMS);
+      fresh = true;
+    }
+    if (!fresh && !self.moved[size_t(a->getUserIndex())] && !self.moved[size_t(b->getUserIndex())]) return;
+    btManifoldArray manifolds;
+    pair.m_algorithm->getAllContactManifolds(manifolds);
+    for (int i = 0; i < manifolds.size(); ++i) manifolds[i]->clearManifold();
+    btManifoldResult result(&wa, &wb);
+    pair.m_algorithm->processCollision(&wa, &wb, info, &result);
+    ++self.measured;
+  }
+
+  btDefaultCollisionConfiguration config;
+  Dispatcher dispatcher;
+  btDbvtBroadphase broadphase;
+  btCollisionWorld world;
+  std::unique_ptr<btCollisionShape> shape;
+  float threshold;
+  std::vector<std::unique_ptr<btCollisionObject>> objects;  // per module; null while absent
+  std::vector<sim::Pose> last;                               // the pose each object has
+  std::vector<uint8_t> moved;
+  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;
+  std::shared_ptr<const sim::NeighborGraph> graph;
+  uint64_t measured = 0;
+};
+
+ContactGraph::ContactGraph(ModuleShape shape, float threshold) : impl_(std::make_unique<Impl>(shape, threshold)) {}
+ContactGraph::~ContactGraph() = default;
+
+void ContactGraph::reset() { impl_->graph.reset(); }
+
+std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(std::span<const sim::Pose> poses,
+                                                               std::span<const uint8_t> present) {
+  Impl& s = *impl_;
+  const size_t n = poses.size();
+  const bool forget = !s.graph;
+  s.objects.resize(n);
+  s.last.resize(n);
+  s.moved.assign(n, 0);
+  bool changed = forget;
+  for (size_t m = 0; m < n; ++m) {
+    auto& object = s.objects[m];
+    if (!present[m]) {
+      if (object) {
+        s.world.removeCollisionObject(object.get());
+        object.reset();
+        changed = true;
+      }
+      continue;
+    }
+    if (!object) {
+      object = std::make_unique<btCollisionObject>();
+      object->setCollisionShape(s.shape.get());
+      object->setUserIndex(static_cast<int>(m));
+      object->setWorldTransform(to_bt(poses[m]));
+      s.world.addCollisionObject(object.get());
+    } else if (forget || !(poses[m] == s.last[m])) {
+      object->setWorldTransform(to_bt(poses[m]));
+      s.world.updateSingleAabb(object.get());
+    } else {
+      continue;
+    }
+    s.last[m] = poses[m];
+    s.moved[m] = 1;
+    changed = true;
+  }
+  s.measured = 0;
+  if (!changed) {
+    measured_ = 0;
+    return s.graph;
+  }
+
+  s.broadphase.calculateOverlappingPairs(&s.dispatcher);
+  s.dispatcher.dispatchAllCollisionPairs(s.broadphase.getOverlappingPairCache(), s.world.getDispatchInfo(), &s.dispatcher);
+  measured_ = s.measured;
+
+  // Every manifold of a pair counts: the pair touches when any point is within the threshold.
+  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;
+  for (int i = 0; i < s.dispatcher.getNumManifolds(); ++i) {
+    const btPersistentManifold* manifold = s.dispatcher.getManifoldByIndexInternal(i);
+    bool touching = false;
+    for (int p = 0; p < manifold->getNumContacts() && !touching; ++p)
+      touching = manifold->getContactPoint(p).getDistance() <= s.threshold;
+    if (!touching) continue;
+    const auto a = static_cast<sim::ModuleId>(manifold->getBody0()->getUserIndex());
+    const auto b = static_cast<sim::ModuleId>(manifold->getBody1()->getUserIndex());
+    pairs.emplace_back(std::min(a, b), std::max(a, b));
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  if (s.graph && pairs == s.pairs && s.graph->module_count() == n) return s.graph;
+  s.pairs = std::move(pairs);
+  s.graph = std::make_shared<const sim::NeighborGraph>(sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), s.pairs));
+  return s.graph;
+}
+
+}  // namespace dw::physics

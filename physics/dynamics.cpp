@@ -1,0 +1,216 @@
+#include "physics/dynamics.h"
+
+#include <algorithm>
+#include <bit>
+#include <unordered_map>
+
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
+#include <BulletCollision/CollisionShapes/btCompoundShape.h>
+#include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
+#include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include "physics/convert.h"
+#include "physics/shapes.h"
+
+namespace dw::physics {
+
+sim::Pose glide(const sim::Mover& mover, int64_t step) {
+  const int64_t done = std::clamp<int64_t>(step - mover.start, 0, mover.steps);
+  if (done == mover.steps) return mover.to;
+  const float f = float(done) / float(mover.steps);
+  sim::Pose p = mover.from;
+  for (int i = 0; i < 3; ++i) p.position[i] = mover.from.position[i] + (mover.to.position[i] - mover.from.position[i]) * f;
+  return p;
+}
+
+// A cluster's shape: its members' shapes at their local poses, and its principal inertia.
+struct Dynamics::Compound {
+  std::vector<sim::Pose> local;  // the key, compared in full: a hash alone could collide
+  std::unique_ptr<btCompoundShape> shape;
+  btVector3 inertia;
+  int64_t used = 0;
+};
+
+struct Dynamics::Shapes {
+  btDefaultCollisionConfiguration config;
+  std::unique_ptr<btCollisionShape> module;
+  btStaticPlaneShape ground;
+  std::vector<std::unique_ptr<btCollisionShape>> props;
+  std::unordered_map<uint64_t, Compound> compounds;  // by a hash of the local poses
+
+  Shapes(ModuleShape shape, float ground_z)
+      : config(), module(make_module_shape(shape)), ground(btVector3(0, 0, 1), ground_z) {
+    // One query must give a resting contact all its points: nothing is kept to build them up
+    // over several steps.
+    config.setPlaneConvexMultipointIterations();
+    config.setConvexConvexMultipointIterations();
+  }
+};
+
+Dynamics::Dynamics(const PhysicsSettings& settings, ModuleShape shape, float ground_z)
+    : settings_(settings), ground_z_(ground_z), shapes_(std::make_unique<Shapes>(shape, ground_z)),
+      module_shape_(shapes_->module.get()) {
+  for (const PropSpec& p : settings.props) shapes_->props.push_back(make_prop_shape(p));
+}
+
+Dynamics::~Dynamics() = default;
+
+bool Dynamics::idle(const sim::Bodies& b) const {
+  if (!b.movers.empty()) return false;
+  for (const sim::Cluster& c : b.clusters)
+    if (!c.anchored) return false;
+  for (const PropSpec& p : settings_.props)
+    if (p.mass > 0) return false;
+  return true;
+}
+
+const Dynamics::Compound& Dynamics::compound(const sim::Bodies& b, const sim::Cluster& c, int64_t step) {
+  uint64_t key = 0xcbf29ce484222325ull ^ c.count;
+  for (uint32_t i = c.first; i < c.first + c.count; ++i) {
+    const sim::Pose& p = b.local[b.members[i]];
+    for (float x : p.position) key = (key ^ std::bit_cast<uint32_t>(x)) * 0x100000001b3ull;
+    for (float x : p.orientation) key = (key ^ std::bit_cast<uint32_t>(x)) * 0x100000001b3ull;
+  }
+  auto same = [&](const Compound& k) {
+    if (k.local.size() != c.count) return false;
+    for (uint32_t i = 0; i < c.count; ++i)
+      if (!(k.local[i] == b.local[b.members[c.first + i]])) return false;
+    return true;
+  };
+  auto it = shapes_->compounds.find(key);
+  while (it != shapes_->compounds.end() && !same(it->second)) it = shapes_->compounds.find(++key);
+  if (it == shapes_->compounds.end()) {
+    Compound k;
+    k.shape = std::make_unique<btCompoundShape>(true, static_cast<int>(c.count));
+    for (uint32_t i = c.first; i < c.first + c.count; ++i) {
+      k.local.push_back(b.local[b.members[i]]);
+      k.shape->addChildShape(to_bt(k.local.back()), module_shape_);
+    }
+    std::vector<btScalar> masses(c.count, settings_.module_mass);
+    btTransform principal;
+    k.shape->calculatePrincipalAxisTransform(masses.data(), principal, k.inertia);
+    it = shapes_->compounds.emplace(key, std::move(k)).first;
+  }
+  it->second.used = step;
+  return it->second;
+}
+
+void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, std::vector<float>& force) {
+  const float dt = settings_.dt;
+  btDbvtBroadphase broadphase;
+  btCollisionDispatcher dispatcher(&shapes_->config);
+  btSequentialImpulseConstraintSolver solver;
+  std::vector<std::unique_ptr<btRigidBody>> bodies;  // outlive the world, which unlinks them when it goes
+  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &shapes_->config);
+  world.setGravity(to_bt(settings_.gravity));
+  world.getSolverInfo().m_numIterations = settings_.solver_iterations;
+  // Warm starting stays on: its cache is empty in a fresh world, and only with it does the solver
+  // write the applied impulses back to the contact points (read below for bond breaking).
+  world.getDispatchInfo().m_deterministicOverlappingPairs = true;
+
+  // A body's user index says what it is: ground -1, then clusters, movers, props.
+  const int clusters = static_cast<int>(b.clusters.size()), movers = static_cast<int>(b.movers.size());
+  auto add = [&](float mass, btCollisionShape* shape, const btVector3& inertia, const btTransform& pose, int tag) {
+    btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
+    info.m_startWorldTransform = pose;
+    info.m_friction = settings_.friction;
+    info.m_restitution = settings_.restitution;
+    auto& body = bodies.emplace_back(std::make_unique<btRigidBody>(info));
+    body->setActivationState(DISABLE_DEACTIVATION);  // sleeping changes contacts (DESIGN §8)
+    body->setUserIndex(tag);
+    world.addRigidBody(body.get());
+    return body.get();
+  };
+  btTransform identity;
+  identity.setIdentity();
+  add(0, &shapes_->ground, btVector3(0, 0, 0), identity, -1);
+
+  std::vector<btRigidBody*> cluster_body(b.clusters.size());
+  for (int i = 0; i < clusters; ++i) {
+    const sim::Cluster& c = b.clusters[size_t(i)];
+    btCollisionShape* shape = module_shape_;
+    const float mass = c.anchored ? 0 : settings_.module_mass * float(c.count);
+    btVector3 inertia(0, 0, 0);
+    if (c.count > 1) {
+      const Compound& k = compound(b, c, to);
+      shape = k.shape.get();
+      if (!c.anchored) inertia = k.inertia;
+    } else if (!c.anchored) {
+      shape->calculateLocalInertia(mass, inertia);
+    }
+    btRigidBody* body = cluster_body[size_t(i)] = add(mass, shape, inertia, to_bt(c.pose), i);
+    if (!c.anchored) {
+      body->setLinearVelocity(to_bt(c.velocity.linear));
+      body->setAngularVelocity(to_bt(c.velocity.angular));
+    }
+  }
+  for (int i = 0; i < movers; ++i) {
+    const sim::Mover& m = b.movers[size_t(i)];
+    btRigidBody* body = add(0, module_shape_, btVector3(0, 0, 0), to_bt(glide(m, to)), clusters + i);
+    body->setCollisionFlags(body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+    // Bullet takes a kinematic body's velocity from its last and its new pose.
+    body->setInterpolationWorldTransform(to_bt(glide(m, to - 1)));
+  }
+  std::vector<btRigidBody*> prop_body;
+  for (size_t i = 0; i < settings_.props.size(); ++i) {
+    const PropSpec& p = settings_.props[i];
+    btVector3 inertia(0, 0, 0);
+    if (p.mass > 0) shapes_->props[i]->calculateLocalInertia(p.mass, inertia);
+    btRigidBody* body = add(p.mass, shapes_->props[i].get(), inertia, to_bt(b.prop_poses[i]), clusters + movers + int(i));
+    body->setLinearVelocity(to_bt(b.prop_velocities[i].linear));
+    body->setAngularVelocity(to_bt(b.prop_velocities[i].angular));
+    prop_body.push_back(body);
+  }
+
+  for (const Push& p : pushes) {
+    const uint32_t c = b.cluster_of[p.module];
+    if (c == sim::kNoCluster || b.clusters[c].anchored) continue;  // held by the ground, or gliding
+    btRigidBody* body = cluster_body[c];
+    body->applyImpulse(to_bt(p.impulse), to_bt(b.poses[p.module].position) - body->getWorldTransform().getOrigin());
+  }
+
+  world.stepSimulation(dt, 0, dt);
+
+  for (int i = 0; i < clusters; ++i) {
+    sim::Cluster& c = b.clusters[size_t(i)];
+    if (c.anchored) continue;
+    const btRigidBody& body = *cluster_body[size_t(i)];
+    c.pose = from_bt(body.getWorldTransform());
+    c.velocity = {from_bt(body.getLinearVelocity()), from_bt(body.getAngularVelocity())};
+  }
+  for (size_t i = 0; i < prop_body.size(); ++i) {
+    if (settings_.props[i].mass <= 0) continue;
+    b.prop_poses[i] = from_bt(prop_body[i]->getWorldTransform());
+    b.prop_velocities[i] = {from_bt(prop_body[i]->getLinearVelocity()), from_bt(prop_body[i]->getAngularVelocity())};
+  }
+
+  // Contact forces per module, from the impulses the solver applied.
+  force.assign(b.poses.size(), 0.0f);
+  auto module_of = [&](const btCollisionObject* o, int child) -> int64_t {
+    const int tag = o->getUserIndex();
+    if (tag < 0 || tag >= clusters + movers) return -1;
+    if (tag >= clusters) return b.movers[size_t(tag - clusters)].module;
+    const sim::Cluster& c = b.clusters[size_t(tag)];
+    if (c.count == 1) return b.members[c.first];
+    if (child < 0 || uint32_t(child) >= c.count) return -1;
+    return b.members[c.first + uint32_t(child)];
+  };
+  for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
+    const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(i);
+    for (int p = 0; p < manifold->getNumContacts(); ++p) {
+      const btManifoldPoint& point = manifold->getContactPoint(p);
+      const float f = point.getAppliedImpulse() / dt;
+      if (f <= 0) continue;
+      if (const int64_t m = module_of(manifold->getBody0(), point.m_index0); m >= 0) force[size_t(m)] += f;
+      if (const int64_t m = module_of(manifold->getBody1(), point.m_index1); m >= 0) force[size_t(m)] += f;
+    }
+  }
+
+  std::erase_if(shapes_->compounds, [&](const auto& entry) { return entry.second.used < to - 1; });
+}
+
+}  // namespace dw::physics

@@ -1,0 +1,58 @@
+// One physics step of what can move (DESIGN §7, §8): clusters that are not anchored, modules
+// making a lattice move (kinematic), and props.
+//
+// The Bullet world is built from the state for each step and dropped after it, so nothing of
+// Bullet's carries from one step to the next: no warm-start caches, no persistent manifolds, no
+// pair-cache order. A step is therefore a pure function of the state, the live run and a run
+// re-simulated after a rollback compute the same thing, and no keyframes are needed. What is
+// kept between steps (the compound shapes of clusters) is itself a function of the state. The
+// price is a solver without warm starting, which is why moving clusters are rigid bodies rather
+// than modules held together by constraints.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "physics/settings.h"
+#include "sim/bodies.h"
+
+class btCollisionShape;
+
+namespace dw::physics {
+
+// Where a lattice move is at a step: from `from` at mover.start to `to` at start + steps.
+sim::Pose glide(const sim::Mover& mover, int64_t step);
+
+struct Push {
+  sim::ModuleId module = 0;
+  sim::Vec3 impulse{};
+};
+
+class Dynamics {
+ public:
+  Dynamics(const PhysicsSettings& settings, ModuleShape shape, float ground_z);
+  ~Dynamics();
+  Dynamics(const Dynamics&) = delete;
+  Dynamics& operator=(const Dynamics&) = delete;
+
+  btCollisionShape& module_shape() { return *module_shape_; }
+  // Nothing can move: every cluster anchored, no lattice move, no prop that is not fixed.
+  bool idle(const sim::Bodies& bodies) const;
+  // Moves the clusters, props and movers from step `to - 1` to step `to`; pushes are applied
+  // first. Writes each module's contact force (N) over the step into `force`.
+  void step(sim::Bodies& bodies, std::span<const Push> pushes, int64_t to, std::vector<float>& force);
+
+ private:
+  struct Compound;
+  const Compound& compound(const sim::Bodies& bodies, const sim::Cluster& cluster, int64_t step);
+
+  const PhysicsSettings& settings_;
+  float ground_z_;
+  struct Shapes;
+  std::unique_ptr<Shapes> shapes_;
+  btCollisionShape* module_shape_;
+};
+
+}  // namespace dw::physics

@@ -1,0 +1,50 @@
+// What a scenario fixes about the physics (DESIGN §8): const for the run, beside the Model.
+// Units: module sizes (1 m), kilograms, seconds; z is up and the ground lies under the lowest
+// modules.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "sim/bodies.h"
+#include "sim/lattice.h"
+
+namespace dw::physics {
+
+enum class ModuleShape { Box, Cylinder, Sphere };
+// Boxes for cubic and square2d, upright cylinders for hex2d, spheres for ring and line.
+ModuleShape default_shape(sim::LatticeKind kind);
+
+// A body that is not a module: a projectile, a ram, an obstacle. Touching it never makes a
+// neighbour.
+struct PropSpec {
+  ModuleShape shape = ModuleShape::Sphere;  // Sphere or Box
+  sim::Vec3 size{1, 1, 1};                  // a box's extents; a sphere's diameter is size[0]
+  float mass = 1;                           // 0: fixed in place
+  sim::Pose pose;
+  sim::Velocity velocity;
+};
+
+struct PhysicsSettings {
+  float dt = 1.0f / 60;
+  sim::Vec3 gravity{0, 0, -9.81f};
+  std::optional<ModuleShape> shape;  // default_shape(lattice kind) when unset
+  float module_mass = 1;
+  // Two modules are neighbours when their shapes are at most this far apart (DESIGN §8). At most
+  // kMaxContactThreshold, below which Bullet keeps contact points.
+  float contact_threshold = 0.01f;
+  static constexpr float kMaxContactThreshold = 0.015f;
+  bool bonds = true;   // modules touching at the start are latched together
+  bool anchor = true;  // modules touching the ground at the start are latched to it
+  // A module pushed by contacts harder than this (newtons, summed over a step) loses every bond;
+  // 0: bonds never break.
+  float break_force = 1000;
+  float friction = 0.6f;
+  float restitution = 0.1f;
+  int solver_iterations = 10;
+  int64_t move_steps = 30;  // steps a lattice move takes
+  std::vector<PropSpec> props;
+};
+
+}  // namespace dw::physics

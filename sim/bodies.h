@@ -1,0 +1,89 @@
+// The physical part of State (DESIGN §2, §8): where each module is, how it moves, which modules
+// are latched together. Plain data, written by a physical World (physics/) and read by programs,
+// the renderer and the state hash; a static lattice leaves it empty.
+//
+// Modules latched by bonds form a rigid *cluster* that moves as one body: its frame (pose and
+// velocity) is the state, each member's pose within it is fixed while the cluster lasts, and a
+// member's world pose is derived from the two. A cluster latched to the ground is anchored: it
+// does not move at all. A module making a lattice move belongs to no cluster while it moves.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <compare>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "sim/neighbor_graph.h"
+
+namespace dw::sim {
+
+using Vec3 = std::array<float, 3>;
+
+struct Pose {
+  Vec3 position{};
+  std::array<float, 4> orientation{0, 0, 0, 1};  // a unit quaternion x, y, z, w
+  bool operator==(const Pose&) const = default;
+};
+
+struct Velocity {
+  Vec3 linear{};
+  Vec3 angular{};
+  bool operator==(const Velocity&) const = default;
+};
+
+// No padding: the state hash reads them bit for bit.
+static_assert(sizeof(Pose) == 7 * sizeof(float) && sizeof(Velocity) == 6 * sizeof(float));
+
+// The ground, as the other end of a bond.
+inline constexpr ModuleId kGround = std::numeric_limits<ModuleId>::max();
+// cluster_of for a module that belongs to no cluster (absent, or making a lattice move).
+inline constexpr uint32_t kNoCluster = std::numeric_limits<uint32_t>::max();
+
+// A latch between two touching modules (a < b), or between a module and the ground (b = kGround).
+struct Bond {
+  ModuleId a = 0, b = 0;
+  auto operator<=>(const Bond&) const = default;
+};
+static_assert(sizeof(Bond) == 2 * sizeof(ModuleId));
+
+struct Cluster {
+  Pose pose;          // the frame: centre of mass, principal axes
+  Velocity velocity;  // of the centre of mass
+  uint32_t first = 0, count = 0;  // its members: Bodies::members[first, first + count)
+  bool anchored = false;          // latched to the ground: it does not move
+  bool operator==(const Cluster&) const = default;
+};
+
+// A lattice move: the module glides from one cell to the adjacent one over `steps` steps.
+struct Mover {
+  ModuleId module = 0;
+  Pose from, to;
+  int64_t start = 0;  // the first step of the glide
+  int64_t steps = 1;
+  bool operator==(const Mover&) const = default;
+};
+
+struct Bodies {
+  std::vector<Pose> poses;            // per module, in the world
+  std::vector<Velocity> velocities;   // per module: of its centre
+  std::vector<Pose> local;            // per module: its pose in its cluster's frame
+  std::vector<uint32_t> cluster_of;   // per module, or kNoCluster
+  std::vector<Cluster> clusters;      // ordered by their smallest member
+  std::vector<ModuleId> members;      // each cluster's members, ascending
+  std::vector<Bond> bonds;            // sorted
+  std::vector<Mover> movers;          // sorted by module
+  std::vector<Pose> prop_poses;       // the scenario's props (bodies that are not modules)
+  std::vector<Velocity> prop_velocities;
+
+  bool empty() const { return poses.empty(); }
+  // Making a lattice move.
+  bool moving(ModuleId m) const {
+    auto at = std::lower_bound(movers.begin(), movers.end(), m, [](const Mover& x, ModuleId id) { return x.module < id; });
+    return at != movers.end() && at->module == m;
+  }
+  bool operator==(const Bodies&) const = default;
+};
+
+}  // namespace dw::sim
