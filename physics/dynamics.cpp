@@ -188,7 +188,8 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     b.prop_velocities[i] = {from_bt(prop_body[i]->getLinearVelocity()), from_bt(prop_body[i]->getAngularVelocity())};
   }
 
-  // Contact forces per module, from the impulses the solver applied.
+  // Contact forces per module from other bodies, from the impulses the solver applied. The ground
+  // only carries what rests on it: its contacts do not count.
   force.assign(b.poses.size(), 0.0f);
   auto module_of = [&](const btCollisionObject* o, int child) -> int64_t {
     const int tag = o->getUserIndex();
@@ -204,7 +205,7 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     for (int p = 0; p < manifold->getNumContacts(); ++p) {
       const btManifoldPoint& point = manifold->getContactPoint(p);
       const float f = point.getAppliedImpulse() / dt;
-      if (f <= 0) continue;
+      if (f <= 0 || manifold->getBody0()->getUserIndex() < 0 || manifold->getBody1()->getUserIndex() < 0) continue;
       if (const int64_t m = module_of(manifold->getBody0(), point.m_index0); m >= 0) force[size_t(m)] += f;
       if (const int64_t m = module_of(manifold->getBody1(), point.m_index1); m >= 0) force[size_t(m)] += f;
     }

@@ -41,7 +41,8 @@ class Dynamics {
   // Nothing can move: every cluster anchored, no lattice move, no prop that is not fixed.
   bool idle(const sim::Bodies& bodies) const;
   // Moves the clusters, props and movers from step `to - 1` to step `to`; pushes are applied
-  // first. Writes each module's contact force (N) over the step into `force`.
+  // first. Writes each module's contact force (N) over the step from other bodies (the ground's
+  // support is left out) into `force`.
   void step(sim::Bodies& bodies, std::span<const Push> pushes, int64_t to, std::vector<float>& force);
 
  private:

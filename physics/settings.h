@@ -37,8 +37,8 @@ struct PhysicsSettings {
   static constexpr float kMaxContactThreshold = 0.015f;
   bool bonds = true;   // modules touching at the start are latched together
   bool anchor = true;  // modules touching the ground at the start are latched to it
-  // A module pushed by contacts harder than this (newtons, summed over a step) loses every bond;
-  // 0: bonds never break.
+  // A module pushed by other bodies harder than this (newtons, summed over a step) loses every
+  // bond; 0: bonds never break. The ground's support never breaks a bond.
   float break_force = 1000;
   float friction = 0.6f;
   float restitution = 0.1f;

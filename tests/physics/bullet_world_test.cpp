@@ -1,0 +1,235 @@
+// The Bullet World (physics/bullet_world.cpp): a resting lattice keeps exactly its face contacts,
+// hex and ring layouts touch as their lattices say, modules pushed apart lose their edge when the
+// gap passes the threshold (and a watchpoint stops matching at that step), lattice moves arrive
+// exactly and latch, and a world without bodies refuses actuation.
+#include "physics/bullet_world.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "sim/run.h"
+#include "sim/state.h"
+#include "watch/watchpoint.h"
+
+namespace dw::physics {
+namespace {
+
+// A program that runs a test's lambda on every module.
+class Scripted final : public sim::HostProgram {
+ public:
+  explicit Scripted(std::function<void(sim::ModuleContext&)> f) : f_(std::move(f)) {}
+  std::string_view name() const override { return "scripted"; }
+  std::vector<sim::VariableSpec> variables() const override { return {{"side", 0}}; }
+  void step(sim::ModuleContext& m) const override {
+    m.set(0, m.id());
+    f_(m);
+  }
+
+ private:
+  std::function<void(sim::ModuleContext&)> f_;
+};
+
+std::unique_ptr<sim::Model> model_of(sim::Lattice lattice, std::function<void(sim::ModuleContext&)> f = [](auto&) {},
+                                     std::vector<std::string> watches = {}) {
+  std::vector<std::unique_ptr<const sim::HostProgram>> programs;
+  programs.push_back(std::make_unique<Scripted>(std::move(f)));
+  std::vector<sim::HostedWatchpoint> hosted;
+  for (const std::string& text : watches) {
+    auto w = watch::compile_watchpoint("w", watch::SourceText("<test>", text));
+    hosted.push_back({std::get<watch::Watchpoint>(std::move(w)), watch::Algorithm::Centralized, sim::MatchAction::Log, {}});
+  }
+  auto built = sim::build_model(std::move(lattice), std::move(programs), std::move(hosted), 1);
+  return std::move(std::get<std::unique_ptr<sim::Model>>(built));
+}
+
+std::vector<std::pair<sim::ModuleId, sim::ModuleId>> edges(const sim::NeighborGraph& g) {
+  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> out;
+  for (sim::ModuleId m = 0; m < g.module_count(); ++m)
+    for (sim::ModuleId o : g.neighbors(m))
+      if (m < o) out.emplace_back(m, o);
+  return out;
+}
+
+float gap_x(const sim::State& s, sim::ModuleId a, sim::ModuleId b) {
+  return std::abs(s.bodies.poses[b].position[0] - s.bodies.poses[a].position[0]) - 1;
+}
+
+void expect_cube_holds(PhysicsSettings settings, uint32_t n, size_t face_pairs) {
+  const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {n, n, n}}));
+  BulletWorld world(settings, model->lattice);
+  sim::Run run(*model, world, {1, 0});
+  const auto lattice_edges = edges(model->lattice.graph);
+  ASSERT_EQ(lattice_edges.size(), face_pairs);
+  EXPECT_EQ(edges(*run.state().graph), lattice_edges) << "step 0: exactly the face pairs, no diagonals";
+  run.run_until(600);
+  EXPECT_EQ(edges(*run.state().graph), lattice_edges) << "after 600 steps";
+  float drift = 0;
+  for (sim::ModuleId m = 0; m < model->module_count(); ++m)
+    for (int i = 0; i < 3; ++i)
+      drift = std::max(drift, std::abs(run.state().bodies.poses[m].position[i] - model->lattice.positions[m][i]));
+  EXPECT_LT(drift, 0.02f);
+}
+
+TEST(BulletWorld, AnchoredCubeKeepsExactlyItsFaceContactsFor600Steps) {
+  expect_cube_holds({}, 10, 2700);
+}
+
+TEST(BulletWorld, FreeCubeRestingOnTheGroundKeepsItsFaceContacts) {
+  PhysicsSettings s;
+  s.anchor = false;  // one rigid cluster, a dynamic body standing on the ground
+  expect_cube_holds(s, 6, 540);
+}
+
+TEST(BulletWorld, LooseModulesWithoutBondsStillTouchAtTheStart) {
+  PhysicsSettings s;
+  s.bonds = false;
+  s.anchor = false;
+  const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {4, 4, 4}}));
+  BulletWorld world(s, model->lattice);
+  sim::Run run(*model, world, {1, 0});
+  EXPECT_EQ(edges(*run.state().graph), edges(model->lattice.graph));
+  EXPECT_TRUE(run.state().bodies.bonds.empty());
+  EXPECT_EQ(run.state().bodies.clusters.size(), 64u);
+}
+
+TEST(BulletWorld, HexAndRingInteriorsHaveSixAndTwoNeighbours) {
+  const auto hex = model_of(sim::make_lattice({sim::LatticeKind::Hex2d, {8, 8, 1}}));
+  BulletWorld hex_world({}, hex->lattice);
+  EXPECT_EQ(hex_world.shape(), ModuleShape::Cylinder);
+  sim::Run hex_run(*hex, hex_world, {1, 0});
+  hex_run.run_until(30);
+  const sim::NeighborGraph& g = *hex_run.state().graph;
+  for (uint32_t y = 1; y + 1 < 8; ++y)
+    for (uint32_t x = 1; x + 1 < 8; ++x) EXPECT_EQ(g.neighbors(x + 8 * y).size(), 6u) << x << "," << y;
+  EXPECT_EQ(edges(g), edges(hex->lattice.graph));
+
+  const auto ring = model_of(sim::make_lattice({sim::LatticeKind::Ring, {12, 1, 1}}));
+  BulletWorld ring_world({}, ring->lattice);
+  EXPECT_EQ(ring_world.shape(), ModuleShape::Sphere);
+  sim::Run ring_run(*ring, ring_world, {1, 0});
+  ring_run.run_until(30);
+  for (sim::ModuleId m = 0; m < 12; ++m) EXPECT_EQ(ring_run.state().graph->neighbors(m).size(), 2u);
+  EXPECT_EQ(edges(*ring_run.state().graph), edges(ring->lattice.graph));
+}
+
+TEST(BulletWorld, ModulesPushedApartLoseTheirEdgeWhenTheGapPassesTheThreshold) {
+  PhysicsSettings s;
+  s.bonds = false;
+  s.anchor = false;
+  s.gravity = {0, 0, 0};  // no friction with the ground: they glide apart at constant speed
+  const auto model = model_of(
+      sim::make_lattice({sim::LatticeKind::Cubic, {2, 1, 1}}),
+      [](sim::ModuleContext& m) {
+        if (m.step() == 5) m.push({m.id() == 0 ? -0.03f : 0.03f, 0, 0});  // 0.03 m/s each way
+      },
+      {"modules(a b); (a.side = 0) and (b.side = 1)"});
+  BulletWorld world(s, model->lattice);
+  sim::Run run(*model, world, {1, 0});
+  std::vector<float> gaps;
+  std::vector<bool> adjacent;
+  run.run_until(40, [&](const sim::State&, const sim::StepOutput& out) {
+    gaps.push_back(gap_x(run.state(), 0, 1));
+    adjacent.push_back(out.graph->adjacent(0, 1));
+  });
+  // The graph of step t comes from the poses after step t - 1.
+  int64_t lost = -1;
+  for (size_t t = 1; t < gaps.size(); ++t) {
+    EXPECT_EQ(adjacent[t], gaps[t - 1] <= s.contact_threshold) << "step " << t << " gap " << gaps[t - 1];
+    if (lost < 0 && !adjacent[t]) lost = int64_t(t);
+  }
+  ASSERT_GT(lost, 7) << "the gap grows 1 mm a step: a few steps pass before it is 10 mm";
+  ASSERT_LT(lost, 30);
+  const sim::MatchList& matches = run.matches(0);
+  ASSERT_FALSE(matches.t.empty());
+  EXPECT_EQ(matches.t.back() + 1, lost) << "the watchpoint matches until the edge is lost";
+  EXPECT_EQ(int64_t(matches.size()), lost) << "and at every step before";
+}
+
+TEST(BulletWorld, LatticeMoveGlidesIntoTheFreeCellAndLatches) {
+  sim::Lattice lattice = sim::make_lattice({sim::LatticeKind::Cubic, {3, 1, 2}});
+  sim::leave_empty(lattice, {1, 0, 1}, {2, 0, 1});  // the top row is free but for module 3
+  PhysicsSettings s;
+  s.move_steps = 10;
+  const auto model = model_of(lattice, [](sim::ModuleContext& m) {
+    if (m.id() == 3 && m.step() == 2) m.move({1, 0, 0});
+  });
+  BulletWorld world(s, model->lattice);
+  sim::Run run(*model, world, {1, 0});
+  EXPECT_TRUE(run.state().graph->adjacent(3, 0));
+  run.run_until(3);  // asked at step 2: a tenth of the way at step 3, there at step 12
+  EXPECT_TRUE(run.state().bodies.moving(3));
+  EXPECT_EQ(run.state().bodies.cluster_of[3], sim::kNoCluster);
+  EXPECT_FALSE(std::binary_search(run.state().bodies.bonds.begin(), run.state().bodies.bonds.end(), sim::Bond{0, 3}));
+  EXPECT_FLOAT_EQ(run.state().bodies.poses[3].position[0], 0.1f);
+  EXPECT_TRUE(run.state().graph->adjacent(3, 0)) << "sliding over module 0, still touching it";
+  EXPECT_TRUE(run.state().graph->adjacent(3, 1)) << "and now module 1 too";
+  run.run_until(11);
+  EXPECT_TRUE(run.state().bodies.moving(3));
+  run.run_until(12);
+  EXPECT_FALSE(run.state().bodies.moving(3));
+  EXPECT_FALSE(run.state().graph->adjacent(3, 0)) << "it left module 0 behind";
+  const sim::Pose& p = run.state().bodies.poses[3];
+  EXPECT_EQ(p.position, (sim::Vec3{1, 0, 1})) << "exactly in the cell";
+  EXPECT_TRUE(run.state().graph->adjacent(3, 1)) << "on top of module 1";
+  EXPECT_TRUE(std::binary_search(run.state().bodies.bonds.begin(), run.state().bodies.bonds.end(), sim::Bond{1, 3}));
+  EXPECT_EQ(run.state().bodies.cluster_of[3], run.state().bodies.cluster_of[1]) << "latched into the anchored row";
+}
+
+TEST(BulletWorld, MoveIntoATakenCellIsRefused) {
+  const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {2, 1, 1}}), [](sim::ModuleContext& m) {
+    if (m.id() == 0 && m.step() == 1) m.move({1, 0, 0});
+  });
+  BulletWorld world({}, model->lattice);
+  sim::Run run(*model, world, {1, 0});
+  run.run_until(5);
+  EXPECT_TRUE(run.state().bodies.movers.empty());
+  EXPECT_EQ(run.state().bodies.poses[0].position, (sim::Vec3{0, 0, 0}));
+}
+
+TEST(BulletWorld, ReleasedModuleFallsFromTheTopOfAColumn) {
+  // A column of three, the top one overhanging nothing once released from the one below... it
+  // rests on it; push it sideways off and it falls to the ground.
+  PhysicsSettings s;
+  const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {1, 1, 3}}), [](sim::ModuleContext& m) {
+    if (m.id() == 2 && m.step() == 1) {
+      m.release_all();
+      m.push({4, 0, 0});
+    }
+  });
+  BulletWorld world(s, model->lattice);
+  sim::Run run(*model, world, {1, 0});
+  run.run_until(120);
+  const sim::State& st = run.state();
+  EXPECT_LT(st.bodies.poses[2].position[2], 0.1f) << "it fell to the ground";
+  EXPECT_GT(st.bodies.poses[2].position[0], 0.9f);
+  EXPECT_FALSE(st.graph->adjacent(1, 2));
+  EXPECT_EQ(st.bodies.poses[0].position, (sim::Vec3{0, 0, 0})) << "the anchored column did not move";
+}
+
+TEST(BulletWorld, ActuationWithoutBodiesIsAProgramError) {
+  const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {2, 1, 1}}), [](sim::ModuleContext& m) {
+    if (m.step() == 3) m.push({1, 0, 0});
+  });
+  sim::StaticLatticeWorld world;
+  sim::Run run(*model, world, {1, 0});
+  EXPECT_THROW(run.run_until(10), sim::ProgramError);
+}
+
+TEST(BulletWorld, AMoveMustBeOneModuleLong) {
+  const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {2, 1, 1}}), [](sim::ModuleContext& m) {
+    if (m.step() == 1 && m.id() == 1) m.move({2, 0, 0});
+  });
+  BulletWorld world({}, model->lattice);
+  sim::Run run(*model, world, {1, 0});
+  try {
+    run.run_until(5);
+    FAIL() << "a move of two cells was carried out";
+  } catch (const sim::ProgramError& e) {
+    EXPECT_NE(std::string(e.what()).find("module 1 at step 1"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace dw::physics
