@@ -1,0 +1,153 @@
+// The scenarios with a Bullet world (scenarios/*.toml with [physics]): determinism and rollback
+// with physics (DESIGN §7), the wall that breaks, the §I watchpoint on sliding modules, and the
+// physics variants of leader election and token ring matching their static lattices exactly.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include "scenarios/scenario.h"
+#include "sim/run.h"
+#include "sim/state.h"
+
+namespace dw::scenarios {
+namespace {
+
+Scenario load_file(const std::string& name, ScenarioOverrides overrides = {}) {
+  auto loaded = load_scenario(std::string(DWATCH_SCENARIOS_DIR) + "/" + name, overrides);
+  if (auto* e = std::get_if<std::string>(&loaded)) ADD_FAILURE() << *e;
+  return std::move(std::get<Scenario>(loaded));
+}
+
+struct Trail {
+  std::vector<uint64_t> hashes;  // per step
+  std::vector<std::vector<int64_t>> matches;  // per watch: t, then slot ids
+};
+
+std::vector<std::vector<int64_t>> matches_of(const sim::Run& run) {
+  std::vector<std::vector<int64_t>> out;
+  for (uint32_t w = 0; w < run.model().watches.size(); ++w) {
+    const sim::MatchList& l = run.matches(w);
+    const uint32_t k = run.model().watches[w].watchpoint.program.slot_count();
+    std::vector<int64_t> flat;
+    for (size_t i = 0; i < l.size(); ++i) {
+      flat.push_back(l.t[i]);
+      for (uint32_t s = 0; s < k; ++s) flat.push_back(l.slots[i * k + s]);
+    }
+    out.push_back(std::move(flat));
+  }
+  return out;
+}
+
+Trail straight(const std::string& name, unsigned threads, int64_t steps, ScenarioOverrides overrides = {}) {
+  Scenario s = load_file(name, overrides);
+  sim::Run run(*s.model, *s.world, {threads, 0});
+  Trail t;
+  run.run_until(steps, [&](const sim::State& st, const sim::StepOutput&) { t.hashes.push_back(sim::hash_state(st)); });
+  t.matches = matches_of(run);
+  return t;
+}
+
+TEST(PushWall, TheWallBreaksModulesFallAndBothWatchpointsFire) {
+  Scenario s = load_file("push_wall.toml");
+  sim::Run run(*s.model, *s.world, {1, 0});
+  const size_t bonds_before = run.state().bodies.bonds.size();
+  run.run_until(600);
+  const sim::Bodies& b = run.state().bodies;
+  EXPECT_LT(b.bonds.size(), bonds_before) << "bonds broke";
+  int fell = 0;
+  for (sim::ModuleId m = 0; m < s.model->module_count(); ++m)
+    fell += b.poses[m].position[2] < s.model->lattice.positions[m][2] - 0.9f;
+  EXPECT_GE(fell, 3) << "modules fell";
+  EXPECT_GT(b.clusters.size(), 2u) << "the wall came apart";
+  EXPECT_GT(run.matches(0).size(), 0u) << "torn_off";
+  EXPECT_GT(run.matches(1).size(), 0u) << "both_moving";
+  EXPECT_GT(run.matches(1).t.front(), 20) << "nothing moves before the ball arrives";
+}
+
+TEST(PushWall, RolledBackTo200AndResumedEqualsTheUninterruptedRunHashForHash) {
+  const Trail uninterrupted = straight("push_wall.toml", 1, 600);
+  ASSERT_EQ(uninterrupted.hashes.size(), 600u);
+
+  Scenario s = load_file("push_wall.toml");
+  sim::Run run(*s.model, *s.world, {1, 400});
+  run.run_until(600);
+  ASSERT_TRUE(run.rollback_to(200));
+  std::vector<uint64_t> resumed;
+  run.run_until(600, [&](const sim::State& st, const sim::StepOutput&) { resumed.push_back(sim::hash_state(st)); });
+  ASSERT_EQ(resumed.size(), 399u);
+  for (size_t i = 0; i < resumed.size(); ++i)
+    ASSERT_EQ(resumed[i], uninterrupted.hashes[201 + i]) << "step " << 201 + i;
+  EXPECT_EQ(matches_of(run), uninterrupted.matches);
+}
+
+TEST(PushWall, SameSeedSameHashesOnAnyThreadCount) {
+  const Trail one = straight("push_wall.toml", 1, 200);
+  EXPECT_EQ(straight("push_wall.toml", 1, 200).hashes, one.hashes);
+  const Trail two = straight("push_wall.toml", 2, 200);
+  EXPECT_EQ(two.hashes, one.hashes);
+  EXPECT_EQ(two.matches, one.matches);
+}
+
+TEST(Slide, ModulesSettingOffOneStepApartMatchTheSectionIWatchpoint) {
+  Scenario s = load_file("slide.toml");
+  sim::Run run(*s.model, *s.world, {1, 0});
+  run.run_until(300);
+  const sim::MatchList& m = run.matches(0);
+  ASSERT_GT(m.size(), 0u);
+  // The head of the train ends at the stop, the others right behind it, on the top row.
+  const sim::Bodies& b = run.state().bodies;
+  EXPECT_TRUE(b.movers.empty());
+  std::vector<float> xs;
+  for (sim::ModuleId id = 12; id < 16; ++id) {
+    EXPECT_NEAR(b.poses[id].position[2], 1.0f, 1e-4f);
+    xs.push_back(b.poses[id].position[0]);
+  }
+  EXPECT_EQ(xs, (std::vector<float>{8, 9, 10, 11}));
+}
+
+TEST(Slide, AGapOfFourStepsNeverSetsNeighboursOffTogether) {
+  // The same file with gap = 4.
+  auto text = [] {
+    std::ifstream in(std::string(DWATCH_SCENARIOS_DIR) + "/slide.toml");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::string t = ss.str();
+    t.replace(t.find("\ngap = 0"), 8, "\ngap = 4");
+    return t;
+  }();
+  auto loaded = load_scenario_text("slide_gap4.toml", text);
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  Scenario& safe = std::get<Scenario>(loaded);
+  sim::Run run(*safe.model, *safe.world, {1, 0});
+  run.run_until(400);
+  EXPECT_EQ(run.matches(0).size(), 0u);
+  EXPECT_EQ(run.state().bodies.poses[15].position[0], 11.0f) << "and the train still arrives";
+}
+
+void expect_same_matches_as_static(const std::string& physics_file, const std::string& static_file, int64_t steps) {
+  for (unsigned threads : {1u, 2u}) {
+    Scenario p = load_file(physics_file), s = load_file(static_file);
+    sim::Run pr(*p.model, *p.world, {threads, 0}), sr(*s.model, *s.world, {threads, 0});
+    // Run through every pause: the matches of the whole run.
+    while (pr.run_until(steps)) {}
+    while (sr.run_until(steps)) {}
+    EXPECT_EQ(pr.steps_run(), steps);
+    ASSERT_FALSE(matches_of(sr)[0].empty());
+    EXPECT_EQ(matches_of(pr), matches_of(sr)) << physics_file << " on " << threads << " threads";
+    for (sim::ModuleId m = 0; m < p.model->module_count(); ++m)
+      ASSERT_TRUE(std::ranges::equal(pr.state().graph->neighbors(m), s.model->lattice.graph.neighbors(m))) << m;
+  }
+}
+
+TEST(PhysicsVariants, LeaderElectionMatchesExactlyTheStaticLattice) {
+  expect_same_matches_as_static("leader_election_physics.toml", "leader_election.toml", 200);
+}
+
+TEST(PhysicsVariants, TokenRingMatchesExactlyTheStaticRing) {
+  expect_same_matches_as_static("token_ring_physics.toml", "token_ring.toml", 100);
+}
+
+}  // namespace
+}  // namespace dw::scenarios
