@@ -157,11 +157,11 @@ int bench_engine(const BenchArgs& args) {
 }
 
 void add_bench_command(CLI::App& app, std::function<int()>& run) {
-  auto* cmd = app.add_subcommand("bench", "Reproduce the paper's measurements: engine, table1, overhead, million");
+  auto* cmd = app.add_subcommand("bench", "Reproduce the paper's measurements: engine, table1, overhead, million; physics");
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("name", args->name, "Benchmark to run")
       ->required()
-      ->check(CLI::IsMember({"engine", "table1", "overhead", "million"}));
+      ->check(CLI::IsMember({"engine", "table1", "overhead", "million", "physics"}));
   cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
       ->check(CLI::IsMember({"centralized", "distributed", "both"}));

@@ -144,6 +144,40 @@ int bench_runtime(const BenchArgs& args) {
     return 0;
   }
 
+  if (args.name == "physics") {
+    header("bench physics: resting lattices in the Bullet world, " + std::to_string(args.steps) +
+           " steps, body_sense (neighbour count, speed) on every module, " + threads);
+    const std::string sense = "[[program]]\nname = \"body_sense\"\n";
+    const std::string latched = "[physics]\nenabled = true\n", free = latched + "anchor = false\n";
+    auto per_step = [&](const RuntimeRow& x) {
+      std::cout << "    " << std::fixed << std::setprecision(3) << 1000 * x.seconds / double(args.steps)
+                << " ms per step (physics step, graph rebuild and programs)\n";
+    };
+    for (uint32_t n : {10u, 20u}) {
+      const std::string side = std::to_string(n) + "^3";
+      if (!row("resting " + side + ", latched to the ground", cube(n) + sense + latched, args, args.repeat, table, r))
+        return 1;
+      per_step(r);
+      if (!row("resting " + side + ", free on the ground", cube(n) + sense + free, args, args.repeat, table, r)) return 1;
+      per_step(r);
+    }
+    // The watchpoint's overhead over a 1,000-module physics run of leader election (hex 40x25).
+    const std::string election = "[lattice]\nkind = \"hex2d\"\nsize = [40, 25]\n[[program]]\nname = \"leader_election\"\n";
+    const std::string two_leaders =
+        "[[watch]]\nname = \"two_leaders\"\naction = \"count\"\ntext = \"modules(a b c); (a.isLeader = 1) and "
+        "(c.isLeader = 1)\"\n";
+    for (const auto& [label, physics] : {std::pair{"latched", latched}, std::pair{"free", free}}) {
+      RuntimeRow without, with;
+      if (!row(std::string("leader_election 1000, ") + label, election + physics, args, args.repeat, table, without))
+        return 1;
+      if (!row("  + two_leaders, distributed", election + physics + two_leaders, args, args.repeat, table, with))
+        return 1;
+      std::cout << std::fixed << std::setprecision(1) << "    watchpoint overhead: "
+                << 100 * (with.seconds / without.seconds - 1) << "%\n";
+    }
+    return 0;
+  }
+
   // million
   const uint32_t size = args.size == 10 ? 100 : args.size;
   header("bench million: " + std::to_string(size) + "^3 cube, " + std::to_string(args.steps) +

@@ -55,7 +55,7 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state) {
     b.prop_velocities.push_back(p.velocity);
   }
   contacts_.reset();
-  state.graph = contacts_.update(b.poses, state.present);
+  state.graph = contacts_.update(b, state.present);
   // Real modules latch to what they touch as they are put in place.
   if (settings_.bonds)
     for (sim::ModuleId m = 0; m < n; ++m)
@@ -172,7 +172,7 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
   }
   std::erase_if(b.movers, [&](const sim::Mover& m) { return state.step - m.start >= m.steps; });
 
-  state.graph = contacts_.update(b.poses, state.present);
+  state.graph = contacts_.update(b, state.present);
 
   if (!arrived.empty()) {
     for (sim::ModuleId m : arrived) {

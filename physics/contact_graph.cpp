@@ -38,19 +38,25 @@ struct ContactGraph::Impl {
       if (o) world.removeCollisionObject(o.get());
   }
 
-  // Measures a pair again, from an empty manifold, when either module moved or the pair is new.
+  // Measures a pair again, from an empty manifold, when what it is measured at changed or the
+  // pair is new: members of one cluster at their local poses, others at their world poses.
   static void near_callback(btBroadphasePair& pair, btCollisionDispatcher& d, const btDispatcherInfo& info) {
     Impl& self = static_cast<Dispatcher&>(d).owner;
     const auto* a = static_cast<const btCollisionObject*>(pair.m_pProxy0->m_clientObject);
     const auto* b = static_cast<const btCollisionObject*>(pair.m_pProxy1->m_clientObject);
-    const btCollisionObjectWrapper wa(nullptr, a->getCollisionShape(), a, a->getWorldTransform(), -1, -1);
-    const btCollisionObjectWrapper wb(nullptr, b->getCollisionShape(), b, b->getWorldTransform(), -1, -1);
+    const auto ia = size_t(a->getUserIndex()), ib = size_t(b->getUserIndex());
+    const bool same = self.cluster[ia] != sim::kNoCluster && self.cluster[ia] == self.cluster[ib];
+    const btTransform ta = same ? to_bt(self.local[ia]) : a->getWorldTransform();
+    const btTransform tb = same ? to_bt(self.local[ib]) : b->getWorldTransform();
+    const btCollisionObjectWrapper wa(nullptr, a->getCollisionShape(), a, ta, -1, -1);
+    const btCollisionObjectWrapper wb(nullptr, b->getCollisionShape(), b, tb, -1, -1);
     bool fresh = false;
     if (!pair.m_algorithm) {
       pair.m_algorithm = d.findAlgorithm(&wa, &wb, nullptr, BT_CONTACT_POINT_ALGORITHMS);
       fresh = true;
     }
-    if (!fresh && !self.moved[size_t(a->getUserIndex())] && !self.moved[size_t(b->getUserIndex())]) return;
+    const bool changed = self.regrouped[ia] || self.regrouped[ib] || (!same && (self.moved[ia] || self.moved[ib]));
+    if (!fresh && !changed) return;
     btManifoldArray manifolds;
     pair.m_algorithm->getAllContactManifolds(manifolds);
     for (int i = 0; i < manifolds.size(); ++i) manifolds[i]->clearManifold();
@@ -67,7 +73,9 @@ struct ContactGraph::Impl {
   float threshold;
   std::vector<std::unique_ptr<btCollisionObject>> objects;  // per module; null while absent
   std::vector<sim::Pose> last;                               // the pose each object has
-  std::vector<uint8_t> moved;
+  std::vector<uint32_t> cluster;                             // per module: its cluster, as last seen
+  std::vector<sim::Pose> local;                              // and its pose in that cluster
+  std::vector<uint8_t> moved, regrouped;
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;
   std::shared_ptr<const sim::NeighborGraph> graph;
   uint64_t measured = 0;
@@ -78,15 +86,29 @@ ContactGraph::~ContactGraph() = default;
 
 void ContactGraph::reset() { impl_->graph.reset(); }
 
-std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(std::span<const sim::Pose> poses,
+std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies& bodies,
                                                                std::span<const uint8_t> present) {
   Impl& s = *impl_;
+  const std::span<const sim::Pose> poses = bodies.poses;
   const size_t n = poses.size();
   const bool forget = !s.graph;
   s.objects.resize(n);
   s.last.resize(n);
+  s.cluster.resize(n, sim::kNoCluster);
+  s.local.resize(n);
   s.moved.assign(n, 0);
+  s.regrouped.assign(n, 0);
   bool changed = forget;
+  for (size_t m = 0; m < n; ++m) {
+    const uint32_t c = bodies.cluster_of.empty() ? sim::kNoCluster : bodies.cluster_of[m];
+    const sim::Pose local = c == sim::kNoCluster ? sim::Pose{} : bodies.local[m];
+    if (forget || c != s.cluster[m] || !(local == s.local[m])) {
+      s.cluster[m] = c;
+      s.local[m] = local;
+      s.regrouped[m] = 1;
+      changed = true;
+    }
+  }
   for (size_t m = 0; m < n; ++m) {
     auto& object = s.objects[m];
     if (!present[m]) {

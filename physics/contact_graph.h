@@ -3,9 +3,12 @@
 // contact points of each pair's manifolds merged, a pair adjacent when some point lies within the
 // threshold; module ids ride on setUserIndex.
 //
-// The graph is a pure function of the poses: a pair is re-measured, from an empty manifold, when
-// either module moved, and keeps its last measurement otherwise. So a still lattice costs a walk
-// over its pairs, and a restored world gives what the live one gave.
+// The graph is a pure function of the bodies: two modules of one rigid cluster are measured at
+// their poses in the cluster's frame (which do not change while the cluster lasts), any other
+// pair at its world poses. A pair is measured again, from an empty manifold, only when what it
+// is measured at changed, and keeps its last measurement otherwise. So a still lattice, or one
+// moving as a rigid whole, costs a walk over its pairs, and a restored world gives what the live
+// one gave.
 #pragma once
 
 #include <memory>
@@ -26,9 +29,9 @@ class ContactGraph {
   ContactGraph(const ContactGraph&) = delete;
   ContactGraph& operator=(const ContactGraph&) = delete;
 
-  // N(m) for the given poses; absent modules touch nobody. Returns the previous graph (the same
-  // object) when nothing moved.
-  std::shared_ptr<const sim::NeighborGraph> update(std::span<const sim::Pose> poses, std::span<const uint8_t> present);
+  // N(m) for the given bodies; absent modules touch nobody. Returns the previous graph (the same
+  // object) when no pair changed.
+  std::shared_ptr<const sim::NeighborGraph> update(const sim::Bodies& bodies, std::span<const uint8_t> present);
   // Forgets every measurement (the next update measures every pair).
   void reset();
 
