@@ -189,8 +189,8 @@ TEST(BulletWorld, MoveIntoATakenCellIsRefused) {
 }
 
 TEST(BulletWorld, ReleasedModuleFallsFromTheTopOfAColumn) {
-  // A column of three, the top one overhanging nothing once released from the one below... it
-  // rests on it; push it sideways off and it falls to the ground.
+  // The top of a latched column of three releases its bonds and pushes itself sideways: it slides
+  // off and falls to the ground, and the column stays where it was.
   PhysicsSettings s;
   const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {1, 1, 3}}), [](sim::ModuleContext& m) {
     if (m.id() == 2 && m.step() == 1) {
