@@ -123,27 +123,28 @@ bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vec
 }
 
 // Steps the bodies; a module pushed harder than the break force loses its bonds, and the step is
-// done again from the same start without them (bounded: each round breaks at least one bond).
+// done again from the same start without them (bounded: each round breaks at least one bond). A
+// dynamics step changes only the clusters' frames and the props, so only those are kept to redo it.
 void BulletWorld::step_bodies(sim::State& state, std::span<const Push> pushes) {
   sim::Bodies& b = state.bodies;
   if (dynamics_.idle(b)) return;
-  sim::Bodies start = b;
+  std::vector<sim::Cluster> clusters = b.clusters;
+  const std::vector<sim::Pose> prop_poses = b.prop_poses;
+  const std::vector<sim::Velocity> prop_velocities = b.prop_velocities;
   for (int round = 0;; ++round) {
     dynamics_.step(b, pushes, state.step, force_);
     if (settings_.break_force <= 0 || round == 8) break;
-    std::vector<uint8_t> breaks(b.poses.size(), 0);
-    bool any = false;
-    for (size_t m = 0; m < force_.size(); ++m) breaks[m] = force_[m] > settings_.break_force;
-    std::vector<sim::Bond> kept;
-    for (const sim::Bond& bond : start.bonds) {
-      if (breaks[bond.a] || (bond.b != sim::kGround && breaks[bond.b])) any = true;
-      else kept.push_back(bond);
-    }
-    if (!any) break;
-    b = start;
-    b.bonds = std::move(kept);
+    const size_t before = b.bonds.size();
+    std::erase_if(b.bonds, [&](const sim::Bond& bond) {
+      return force_[bond.a] > settings_.break_force ||
+             (bond.b != sim::kGround && force_[bond.b] > settings_.break_force);
+    });
+    if (b.bonds.size() == before) break;
+    b.clusters = clusters;
+    b.prop_poses = prop_poses;
+    b.prop_velocities = prop_velocities;
     form_clusters(b, state.present, dynamics_.module_shape());
-    start = b;
+    clusters = b.clusters;
   }
   place_members(b);
 }

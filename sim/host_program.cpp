@@ -50,24 +50,21 @@ void ModuleContext::send(ModuleId to, std::span<const int64_t> payload) {
     fail("sent to module " + std::to_string(to) + " at step " + std::to_string(step_) + ", which is not its neighbour");
     return;
   }
+  post(to, payload);
+}
+
+void ModuleContext::broadcast(std::span<const int64_t> payload) {
+  if (!check_size(payload.size())) return;
+  for (ModuleId n : neighbors_) post(n, payload);
+}
+
+void ModuleContext::post(ModuleId to, std::span<const int64_t> payload) {
   Message& m = outbox_.messages.emplace_back();
   m.from = id_;
   m.to = to;
   m.program = program_;
   m.size = static_cast<uint16_t>(payload.size());
   std::copy(payload.begin(), payload.end(), m.words.begin());
-}
-
-void ModuleContext::broadcast(std::span<const int64_t> payload) {
-  if (!check_size(payload.size())) return;
-  for (ModuleId n : neighbors_) {
-    Message& m = outbox_.messages.emplace_back();
-    m.from = id_;
-    m.to = n;
-    m.program = program_;
-    m.size = static_cast<uint16_t>(payload.size());
-    std::copy(payload.begin(), payload.end(), m.words.begin());
-  }
 }
 
 }  // namespace dw::sim

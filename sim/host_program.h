@@ -104,6 +104,7 @@ class ModuleContext {
 
  private:
   bool check_size(size_t words);
+  void post(ModuleId to, std::span<const int64_t> payload);
   void actuate(const Actuation& a);
   void fail(const std::string& what);
 

@@ -10,6 +10,7 @@
 #include "scenarios/scenario.h"
 #include "sim/run.h"
 #include "sim/state.h"
+#include "tests/sim/run_trail.h"
 
 namespace dw::scenarios {
 namespace {
@@ -20,25 +21,8 @@ Scenario load_file(const std::string& name, ScenarioOverrides overrides = {}) {
   return std::move(std::get<Scenario>(loaded));
 }
 
-struct Trail {
-  std::vector<uint64_t> hashes;  // per step
-  std::vector<std::vector<int64_t>> matches;  // per watch: t, then slot ids
-};
-
-std::vector<std::vector<int64_t>> matches_of(const sim::Run& run) {
-  std::vector<std::vector<int64_t>> out;
-  for (uint32_t w = 0; w < run.model().watches.size(); ++w) {
-    const sim::MatchList& l = run.matches(w);
-    const uint32_t k = run.model().watches[w].watchpoint.program.slot_count();
-    std::vector<int64_t> flat;
-    for (size_t i = 0; i < l.size(); ++i) {
-      flat.push_back(l.t[i]);
-      for (uint32_t s = 0; s < k; ++s) flat.push_back(l.slots[i * k + s]);
-    }
-    out.push_back(std::move(flat));
-  }
-  return out;
-}
+using sim::test::Trail;
+constexpr auto matches_of = sim::test::flat_matches;
 
 Trail straight(const std::string& name, unsigned threads, int64_t steps, ScenarioOverrides overrides = {}) {
   Scenario s = load_file(name, overrides);

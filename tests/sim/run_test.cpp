@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "sim/state.h"
+#include "tests/sim/run_trail.h"
 #include "tests/sim/test_programs.h"
 
 namespace dw::sim {
@@ -18,25 +19,9 @@ const std::vector<std::pair<std::string, watch::Algorithm>> kWatches{
     {"modules(a b); (a.v = 3) and (b.next.v = 3) and (a.last.v = 0)", watch::Algorithm::Distributed},
 };
 
-struct Trail {
-  std::vector<uint64_t> hashes;  // after each step
-  std::vector<std::vector<int64_t>> matches;  // per watch: t and ids, flattened
-};
+using test::Trail;
 
-Trail collect(sim::Run& run) {
-  Trail t;
-  for (uint32_t w = 0; w < run.model().watches.size(); ++w) {
-    const MatchList& l = run.matches(w);
-    std::vector<int64_t> flat;
-    const uint32_t k = run.model().watches[w].watchpoint.program.slot_count();
-    for (size_t i = 0; i < l.size(); ++i) {
-      flat.push_back(l.t[i]);
-      for (uint32_t s = 0; s < k; ++s) flat.push_back(l.slots[i * k + s]);
-    }
-    t.matches.push_back(std::move(flat));
-  }
-  return t;
-}
+Trail collect(const sim::Run& run) { return Trail{{}, test::flat_matches(run)}; }
 
 Trail straight_run(const Model& model, unsigned threads, int64_t steps) {
   StaticLatticeWorld world;
