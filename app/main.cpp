@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   dw::app::add_run_command(app, run);
   dw::app::add_check_command(app, run);
   dw::app::add_replay_command(app, run);
+  dw::app::add_render_command(app, run);
   dw::app::add_bench_command(app, run);
   try {
     app.parse(argc, argv);

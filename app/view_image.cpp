@@ -1,0 +1,77 @@
+#include "app/view_image.h"
+
+#include "physics/bullet_world.h"
+#include "render/image.h"
+#include "render/osmesa_context.h"
+#include "render/renderer.h"
+
+namespace dw::app {
+namespace {
+
+render::Shape shape_of(physics::ModuleShape s) {
+  switch (s) {
+    case physics::ModuleShape::Box: return render::Shape::Box;
+    case physics::ModuleShape::Cylinder: return render::Shape::Cylinder;
+    case physics::ModuleShape::Sphere: return render::Shape::Sphere;
+  }
+  return render::Shape::Box;
+}
+
+}  // namespace
+
+render::SceneSettings scene_settings(const scenarios::Scenario& scenario, const std::string& color_by) {
+  render::SceneSettings s;
+  s.title = scenario.name;
+  s.module_shape = render::default_shape(scenario.model->lattice.spec.kind);
+  s.color_by = color_by.empty() ? scenario.view.color_by : color_by;
+  auto vec = [](const std::array<double, 3>& a) { return sim::Vec3{float(a[0]), float(a[1]), float(a[2])}; };
+  if (scenario.view.camera_eye) s.camera_eye = vec(*scenario.view.camera_eye);
+  if (scenario.view.camera_target) s.camera_target = vec(*scenario.view.camera_target);
+  if (const auto* world = dynamic_cast<const physics::BulletWorld*>(scenario.world.get())) {
+    s.module_shape = shape_of(world->shape());
+    s.ground_z = world->ground_z();
+    for (const physics::PropSpec& p : world->settings().props)
+      s.props.push_back({shape_of(p.shape), p.size, p.pose});
+  }
+  return s;
+}
+
+std::vector<render::SceneGroup> groups_at(const sim::Run& run, int64_t t, Highlight highlight) {
+  std::vector<render::SceneGroup> groups;
+  if (highlight == Highlight::None) return groups;
+  const sim::Model& model = run.model();
+  for (uint32_t w = 0; w < model.watches.size(); ++w) {
+    const watch::Watchpoint& wp = model.watches[w].watchpoint;
+    const size_t k = size_t(wp.program.slot_count());
+    const sim::MatchList& list = run.matches(w);
+    for (size_t i = 0; i < list.size(); ++i) {
+      if (list.t[i] != t) continue;
+      groups.push_back({wp.name, t, wp.program.slot_names, {list.slots.begin() + i * k, list.slots.begin() + (i + 1) * k}});
+      if (highlight == Highlight::First) return groups;
+    }
+  }
+  return groups;
+}
+
+std::string check_color_by(const sim::Model& model, const std::string& color_by) {
+  if (color_by.empty() || model.column(color_by) >= 0) return {};
+  std::string names;
+  for (const std::string& v : model.universe.variables) names += (names.empty() ? "" : ", ") + v;
+  return "--color-by: no program has a variable named \"" + color_by + "\" (there are: " + names + ")";
+}
+
+std::string write_view(const render::Scene& scene, const std::string& path, int width, int height) {
+  auto context = render::OsMesaContext::create();
+  if (auto* error = std::get_if<std::string>(&context)) return *error;
+  try {
+    render::Renderer renderer(std::get<0>(context)->gl());
+    const render::Image image = renderer.render(scene, width, height);
+    std::string error;
+    if (!render::write_png(path, image, &error)) return error;
+  } catch (const render::RenderError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+}  // namespace dw::app

@@ -1,0 +1,32 @@
+// The headless 3D view of a scenario (DESIGN §9), shared by `dwatch render` and
+// `dwatch run --render`: a Scene from the run's state and matches, drawn through OSMesa to PNG.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "render/scene.h"
+#include "scenarios/scenario.h"
+#include "sim/run.h"
+
+namespace dw::app {
+
+enum class Highlight { First, All, None };
+
+// How the scenario's world draws (module shape, props, ground) and its view settings; a
+// non-empty `color_by` wins over the scenario's.
+render::SceneSettings scene_settings(const scenarios::Scenario& scenario, const std::string& color_by);
+
+// The matched groups of step t in `run`'s match lists, by watch in scenario order: the first one,
+// all, or none.
+std::vector<render::SceneGroup> groups_at(const sim::Run& run, int64_t t, Highlight highlight);
+
+// Checks a --color-by variable against the model; the error names the variables there are.
+std::string check_color_by(const sim::Model& model, const std::string& color_by);
+
+// Draws the scene headless and writes it as a PNG; an error message, or empty.
+std::string write_view(const render::Scene& scene, const std::string& path, int width, int height);
+
+}  // namespace dw::app

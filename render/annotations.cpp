@@ -1,0 +1,144 @@
+#include "render/annotations.h"
+
+#include <algorithm>
+#include <string>
+#include <unordered_map>
+
+#include "render/palette.h"
+
+namespace dw::render {
+namespace {
+
+constexpr glm::vec4 kInk{0.13f, 0.14f, 0.16f, 1};
+constexpr glm::vec4 kLink{0.84f, 0.11f, 0.16f, 1};  // slot links and label rings
+constexpr glm::vec4 kPaper{1, 1, 1, 1};
+constexpr glm::vec4 kPanel{1, 1, 1, 0.88f};
+
+glm::vec4 rgba(Color c) { return {c.r, c.g, c.b, 1}; }
+
+// The line under the title naming the first group: "two_leaders at t=12: a=4 b=5 c=9".
+std::string group_caption(const Scene& scene) {
+  if (scene.groups.empty()) return {};
+  const SceneGroup& g = scene.groups.front();
+  std::string s = g.watch + " at t=" + std::to_string(g.t) + ":";
+  for (size_t i = 0; i < g.modules.size(); ++i)
+    s += " " + (i < g.slot_names.size() ? g.slot_names[i] : "?") + "=" + std::to_string(g.modules[i]);
+  if (scene.groups.size() > 1) s += "   (+" + std::to_string(scene.groups.size() - 1) + " more)";
+  return s;
+}
+
+struct LegendBox {
+  glm::vec2 min, max;
+};
+
+// The legend's panel, under the title; its size follows its entries.
+LegendBox legend_box(const Scene& scene, const FontAtlas& font, int height) {
+  const float t = font.pixel_height();
+  const float top = t * (scene.groups.empty() ? 2.4f : 3.8f);
+  float text = font.text_width(scene.legend.title);
+  for (const LegendEntry& e : scene.legend.entries) text = std::max(text, t * 1.6f + font.text_width(e.label));
+  const float rows = scene.legend.gradient ? 6.0f : float(scene.legend.entries.size());
+  const float bottom = std::min(float(height) - t, top + t * (2.2f + rows * 1.35f));
+  return {{t * 0.8f, top}, {t * 0.8f + text + t * 1.4f, bottom}};
+}
+
+void draw_legend(Overlay& o, const Scene& scene, int height) {
+  const FontAtlas& font = o.font();
+  const float t = font.pixel_height();
+  const LegendBox box = legend_box(scene, font, height);
+  o.rect(box.min, box.max, kPanel);
+  const float x = box.min.x + t * 0.7f;
+  float y = box.min.y + t * 1.5f;
+  o.text({x, y}, scene.legend.title, kInk);
+  y += t * 0.8f;
+  const auto& entries = scene.legend.entries;
+  if (!scene.legend.gradient) {
+    for (const LegendEntry& e : entries) {
+      o.rect({x, y + t * 0.2f}, {x + t, y + t * 1.2f}, rgba(e.color));
+      o.text({x + t * 1.6f, y + t * 1.05f}, e.label, kInk);
+      y += t * 1.35f;
+    }
+    return;
+  }
+  // A bar from the largest value (top) to the smallest, labelled at each stop.
+  const float bar_top = y + t * 0.5f, bar_height = t * 1.35f * 5.0f;
+  constexpr int kSlices = 48;
+  for (int i = 0; i < kSlices; ++i) {
+    const float s0 = float(i) / kSlices, s1 = float(i + 1) / kSlices;
+    o.rect({x, bar_top + bar_height * s0}, {x + t, bar_top + bar_height * s1 + 0.5f},
+           rgba(gradient_color(1.0 - (s0 + s1) * 0.5)));
+  }
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const float s = entries.size() > 1 ? float(i) / float(entries.size() - 1) : 0;
+    const float at = bar_top + bar_height * (1 - s);
+    o.rect({x + t, at - 0.5f}, {x + t * 1.3f, at + 0.5f}, kInk);
+    o.text({x + t * 1.6f, at + t * 0.35f}, entries[i].label, kInk);
+  }
+}
+
+}  // namespace
+
+int text_size(int height) { return std::clamp(height / 34, 11, 40); }
+
+Region view_region(const Scene& scene, const FontAtlas& font, int width, int height) {
+  Region r;
+  const float t = font.pixel_height();
+  r.top = std::min(0.4f, t * (scene.groups.empty() ? 2.0f : 3.4f) / float(height));
+  r.bottom = 1 - std::min(0.2f, t * 0.6f / float(height));
+  if (!scene.legend.title.empty()) r.left = std::min(0.4f, (legend_box(scene, font, height).max.x + t * 0.5f) / float(width));
+  r.right = 1 - std::min(0.2f, t * 0.6f / float(width));
+  return r;
+}
+
+std::optional<glm::vec2> project(const glm::mat4& view_projection, glm::vec3 point, int width, int height) {
+  const glm::vec4 clip = view_projection * glm::vec4(point, 1);
+  if (clip.w <= 1e-6f) return std::nullopt;
+  const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+  return glm::vec2((ndc.x + 1) * 0.5f * float(width), (1 - ndc.y) * 0.5f * float(height));
+}
+
+void annotate(Overlay& o, const Scene& scene, const glm::mat4& view_projection, int width, int height) {
+  const FontAtlas& font = o.font();
+  const float t = font.pixel_height();
+
+  // Slot links and labels. A label floats above its module, on a short stem, so that it covers
+  // neither the module nor the links.
+  std::unordered_map<sim::ModuleId, const SceneModule*> by_id;
+  for (const SceneModule& m : scene.modules) by_id[m.id] = &m;
+  for (const SceneGroup& g : scene.groups) {
+    std::vector<std::optional<glm::vec2>> top(g.modules.size()), label(g.modules.size());
+    for (size_t i = 0; i < g.modules.size(); ++i) {
+      auto it = by_id.find(g.modules[i]);
+      if (it == by_id.end()) continue;
+      const auto& p = it->second->pose.position;
+      top[i] = project(view_projection, {p[0], p[1], p[2] + 0.5f}, width, height);
+      label[i] = project(view_projection, {p[0], p[1], p[2] + 1.4f}, width, height);
+    }
+    for (size_t i = 0; i + 1 < g.modules.size(); ++i) {
+      if (!top[i] || !top[i + 1]) continue;
+      o.line(*top[i], *top[i + 1], t * 0.42f, kPaper);
+      o.line(*top[i], *top[i + 1], t * 0.22f, kLink);
+    }
+    for (size_t i = 0; i < g.modules.size(); ++i) {
+      if (!top[i]) continue;
+      o.disc(*top[i], t * 0.28f, kLink);
+      if (!label[i]) continue;
+      o.line(*top[i], *label[i], t * 0.12f, kLink);
+      const float r = t * 0.72f;
+      o.disc(*label[i], r, kLink);
+      o.disc(*label[i], r - std::max(1.5f, t * 0.12f), kPaper);
+      const std::string name = i < g.slot_names.size() ? g.slot_names[i] : "?";
+      const float w = font.text_width(name);
+      o.text({label[i]->x - w * 0.5f, label[i]->y + font.ascent() * 0.36f}, name, kInk);
+    }
+  }
+
+  // Title, and the first group under it.
+  o.text({t * 0.8f, t * 1.45f}, scene.title, kInk);
+  const std::string caption = group_caption(scene);
+  if (!caption.empty()) o.text({t * 0.8f, t * 2.85f}, caption, kLink);
+
+  if (!scene.legend.title.empty()) draw_legend(o, scene, height);
+}
+
+}  // namespace dw::render

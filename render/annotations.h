@@ -1,0 +1,27 @@
+// What the view writes over the picture: the title, the groups' slot links and labels, and the
+// legend of the colour scale. Built as an Overlay, without GL.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <optional>
+
+#include "render/camera.h"
+#include "render/overlay.h"
+#include "render/scene.h"
+
+namespace dw::render {
+
+// The text size for an image of this height, in pixels.
+int text_size(int height);
+
+// Where the ensemble goes: below the title lines, right of the legend.
+Region view_region(const Scene& scene, const FontAtlas& font, int width, int height);
+
+// Where a point lands in the image (pixels, y down), or nothing behind the camera.
+std::optional<glm::vec2> project(const glm::mat4& view_projection, glm::vec3 point, int width, int height);
+
+// The title (and the first group's watch, step and slot bindings), each group's slots linked in
+// slot order with a label above each slot, and the legend.
+void annotate(Overlay& overlay, const Scene& scene, const glm::mat4& view_projection, int width, int height);
+
+}  // namespace dw::render

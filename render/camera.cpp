@@ -1,0 +1,122 @@
+#include "render/camera.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace dw::render {
+namespace {
+
+float region_aspect(int width, int height, const Region& r) {
+  return (r.right - r.left) * float(width) / std::max(1.0f, (r.bottom - r.top) * float(height));
+}
+
+// Near and far planes around the bounds (and the ground grid, which reaches past them).
+void fit_depth(Camera& c, const Bounds& b) {
+  const float distance = glm::length(c.eye - b.center());
+  const float reach = b.radius() * 4 + 4;
+  c.near_plane = std::max(0.05f, (distance - reach) * 0.5f);
+  c.far_plane = distance + reach;
+}
+
+}  // namespace
+
+Bounds scene_bounds(const Scene& scene) {
+  Bounds b{glm::vec3(1e30f), glm::vec3(-1e30f)};
+  auto add = [&](const sim::Vec3& p, glm::vec3 half) {
+    const glm::vec3 c(p[0], p[1], p[2]);
+    b.min = glm::min(b.min, c - half);
+    b.max = glm::max(b.max, c + half);
+  };
+  for (const SceneModule& m : scene.modules) add(m.pose.position, glm::vec3(0.5f));
+  for (const SceneProp& p : scene.props) {
+    const glm::vec3 half = p.shape == Shape::Sphere ? glm::vec3(p.size[0] * 0.5f) : glm::vec3(p.size[0], p.size[1], p.size[2]) * 0.5f;
+    add(p.pose.position, half);
+  }
+  if (scene.modules.empty() && scene.props.empty()) return Bounds{};
+  return b;
+}
+
+Camera make_camera(const Scene& scene, int width, int height, const Region& region) {
+  Camera c;
+  const Bounds b = scene_bounds(scene);
+  if (scene.camera_eye) {
+    const auto& e = *scene.camera_eye;
+    c.eye = {e[0], e[1], e[2]};
+    if (scene.camera_target) {
+      const auto& t = *scene.camera_target;
+      c.target = {t[0], t[1], t[2]};
+    } else {
+      c.target = b.center();
+    }
+    fit_depth(c, b);
+    return c;
+  }
+
+  // From the front-right, above; a flat ensemble from higher up.
+  const bool flat = b.max.z - b.min.z <= 1.01f;
+  const float elevation = glm::radians(flat ? 58.0f : 28.0f);
+  const float azimuth = glm::radians(flat ? -72.0f : -58.0f);
+  const glm::vec3 back(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+  c.target = b.center();
+  if (scene.camera_target) c.target = {(*scene.camera_target)[0], (*scene.camera_target)[1], (*scene.camera_target)[2]};
+
+  // The distance at which every corner of the bounds lies inside the field of view: a corner at
+  // offset (x, y) across the view and z towards the camera needs distance >= |x| / tan(half
+  // width) + z, and likewise for y.
+  const glm::vec3 forward = -back;
+  const glm::vec3 right = glm::normalize(glm::cross(forward, c.up));
+  const glm::vec3 up = glm::cross(right, forward);
+  const float tan_y = std::tan(c.fov_y * 0.5f);
+  const float tan_x = tan_y * region_aspect(width, height, region);
+  float distance = 1;
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec3 corner((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
+    const glm::vec3 rel = corner - c.target;
+    const float toward = glm::dot(rel, back);
+    distance = std::max(distance, std::abs(glm::dot(rel, right)) / tan_x + toward);
+    distance = std::max(distance, std::abs(glm::dot(rel, up)) / tan_y + toward);
+  }
+  c.eye = c.target + back * distance;
+  fit_depth(c, b);
+
+  // Perspective makes the near side larger than the far side, so the bounds' centre is not the
+  // picture's: look at what the corners cover on screen, move the target to its middle and the
+  // camera in or out until it fills the view with a small margin (converges in a few rounds).
+  for (int round = 0; round < 4; ++round) {
+    const glm::mat4 vp = glm::perspective(c.fov_y, region_aspect(width, height, region), c.near_plane, c.far_plane) *
+                         glm::lookAt(c.eye, c.target, c.up);
+    glm::vec2 lo(1e9f), hi(-1e9f);
+    for (int i = 0; i < 8; ++i) {
+      const glm::vec4 p = vp * glm::vec4((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z, 1);
+      const glm::vec2 ndc = glm::vec2(p) / p.w;
+      lo = glm::min(lo, ndc);
+      hi = glm::max(hi, ndc);
+    }
+    const glm::vec2 middle = (lo + hi) * 0.5f;
+    const float fill = std::max(hi.x - lo.x, hi.y - lo.y) * 0.5f / 0.94f;  // the margin: 3% a side
+    const float d = glm::length(c.eye - c.target);
+    c.target += right * (middle.x * d * tan_x) + up * (middle.y * d * tan_y);
+    c.eye = c.target + back * (d * fill);
+    fit_depth(c, b);
+  }
+  return c;
+}
+
+glm::mat4 view_projection(const Camera& camera, int width, int height, const Region& region) {
+  const glm::mat4 view = glm::lookAt(camera.eye, camera.target, camera.up);
+  const glm::mat4 projection =
+      glm::perspective(camera.fov_y, region_aspect(width, height, region), camera.near_plane, camera.far_plane);
+  // Maps the full clip square onto the region: scale, then move its centre (y up in clip space).
+  const float sx = region.right - region.left, sy = region.bottom - region.top;
+  const float cx = (region.left + region.right) - 1, cy = 1 - (region.top + region.bottom);
+  glm::mat4 place(1.0f);
+  place[0][0] = sx;
+  place[1][1] = sy;
+  place[3][0] = cx;
+  place[3][1] = cy;
+  return place * projection * view;
+}
+
+}  // namespace dw::render

@@ -1,0 +1,379 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "render/annotations.h"
+#include "render/meshes.h"
+#include "render/overlay.h"
+#include "render/shaders.h"
+
+namespace dw::render {
+namespace {
+
+constexpr glm::vec3 kBackground{0.965f, 0.969f, 0.976f};
+constexpr glm::vec3 kGround{0.905f, 0.914f, 0.929f};
+constexpr glm::vec3 kGridLine{0.78f, 0.80f, 0.83f};
+constexpr glm::vec4 kOutline{0.84f, 0.11f, 0.16f, 1};  // as the slot links
+constexpr Color kPropColor{0.50f, 0.46f, 0.43f};
+// Modules are drawn a little smaller than their cell, so that each one shows in a lattice.
+constexpr float kModuleScale = 0.9f;
+// How far the outline reaches past a highlighted module, in module sizes.
+constexpr float kOutlineScale = 1.12f;
+
+glm::mat4 transform(const sim::Pose& pose, glm::vec3 scale) {
+  const auto& p = pose.position;
+  const auto& q = pose.orientation;  // x, y, z, w
+  return glm::translate(glm::mat4(1), glm::vec3(p[0], p[1], p[2])) * glm::mat4_cast(glm::quat(q[3], q[0], q[1], q[2])) *
+         glm::scale(glm::mat4(1), scale);
+}
+
+// A colour faded towards a pale grey: the modules around a highlighted group.
+glm::vec4 dimmed(Color c) {
+  const float grey = 0.3f * c.r + 0.59f * c.g + 0.11f * c.b;
+  const glm::vec3 muted = glm::mix(glm::vec3(c.r, c.g, c.b), glm::vec3(grey), 0.4f);
+  return glm::vec4(glm::mix(muted, glm::vec3(0.92f), 0.3f), 0.32f);
+}
+
+}  // namespace
+
+struct Renderer::Program {
+  const Gl& gl;
+  GLuint id = 0;
+  Program(const Gl& g, std::string_view vertex, std::string_view fragment, const char* name) : gl(g) {
+    const GLuint vs = compile(GL_VERTEX_SHADER, vertex, name), fs = compile(GL_FRAGMENT_SHADER, fragment, name);
+    id = gl.CreateProgram();
+    gl.AttachShader(id, vs);
+    gl.AttachShader(id, fs);
+    gl.LinkProgram(id);
+    gl.DeleteShader(vs);
+    gl.DeleteShader(fs);
+    GLint ok = 0;
+    gl.GetProgramiv(id, GL_LINK_STATUS, &ok);
+    if (!ok) {
+      char log[2048] = {};
+      gl.GetProgramInfoLog(id, sizeof log, nullptr, log);
+      throw RenderError(std::string("the ") + name + " shaders do not link: " + log);
+    }
+  }
+  ~Program() { gl.DeleteProgram(id); }
+  GLuint compile(GLenum kind, std::string_view source, const char* name) {
+    const GLuint s = gl.CreateShader(kind);
+    const char* text = source.data();
+    const GLint length = GLint(source.size());
+    gl.ShaderSource(s, 1, &text, &length);
+    gl.CompileShader(s);
+    GLint ok = 0;
+    gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+      char log[2048] = {};
+      gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
+      throw RenderError(std::string("the ") + name + " shader does not compile: " + log);
+    }
+    return s;
+  }
+  GLint at(const char* uniform) const { return gl.GetUniformLocation(id, uniform); }
+};
+
+struct Renderer::Mesh {
+  GLuint vao = 0, vertices = 0;
+  GLsizei count = 0;
+};
+
+// Per instance: where the mesh goes and its colour (alpha < 1: translucent).
+struct Renderer::Instance {
+  glm::mat4 model;
+  glm::vec4 color;
+};
+
+struct Renderer::FontTexture {
+  FontAtlas atlas;
+  GLuint texture = 0;
+};
+
+Renderer::Renderer(const Gl& gl, std::string font_path) : gl_(gl), font_path_(std::move(font_path)) {
+  mesh_program_ = std::make_unique<Program>(gl_, shaders::mesh_vert, shaders::mesh_frag, "mesh");
+  ground_program_ = std::make_unique<Program>(gl_, shaders::ground_vert, shaders::ground_frag, "ground");
+  overlay_program_ = std::make_unique<Program>(gl_, shaders::overlay_vert, shaders::overlay_frag, "overlay");
+  gl_.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size_);
+  GLint samples = 0;
+  gl_.GetIntegerv(GL_MAX_SAMPLES, &samples);
+  samples_ = std::clamp(samples, 0, 4);
+
+  gl_.GenBuffers(1, &instance_buffer_);
+  for (Shape shape : {Shape::Box, Shape::Cylinder, Shape::Sphere}) {
+    const std::vector<MeshVertex> vertices = make_mesh(shape);
+    auto mesh = std::make_unique<Mesh>();
+    mesh->count = GLsizei(vertices.size());
+    gl_.GenVertexArrays(1, &mesh->vao);
+    gl_.BindVertexArray(mesh->vao);
+    gl_.GenBuffers(1, &mesh->vertices);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, mesh->vertices);
+    gl_.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(MeshVertex)), vertices.data(), GL_STATIC_DRAW);
+    gl_.EnableVertexAttribArray(0);
+    gl_.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex), reinterpret_cast<void*>(offsetof(MeshVertex, position)));
+    gl_.EnableVertexAttribArray(1);
+    gl_.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex), reinterpret_cast<void*>(offsetof(MeshVertex, normal)));
+    // The instance attributes read the shared instance buffer: a mat4 as four columns, a colour.
+    gl_.BindBuffer(GL_ARRAY_BUFFER, instance_buffer_);
+    for (GLuint c = 0; c < 4; ++c) {
+      gl_.EnableVertexAttribArray(2 + c);
+      gl_.VertexAttribPointer(2 + c, 4, GL_FLOAT, GL_FALSE, sizeof(Instance),
+                              reinterpret_cast<void*>(offsetof(Instance, model) + c * sizeof(glm::vec4)));
+      gl_.VertexAttribDivisor(2 + c, 1);
+    }
+    gl_.EnableVertexAttribArray(6);
+    gl_.VertexAttribPointer(6, 4, GL_FLOAT, GL_FALSE, sizeof(Instance), reinterpret_cast<void*>(offsetof(Instance, color)));
+    gl_.VertexAttribDivisor(6, 1);
+    meshes_[shape] = std::move(mesh);
+  }
+
+  const float corners[] = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
+  gl_.GenVertexArrays(1, &quad_vao_);
+  gl_.BindVertexArray(quad_vao_);
+  gl_.GenBuffers(1, &quad_buffer_);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, quad_buffer_);
+  gl_.BufferData(GL_ARRAY_BUFFER, sizeof corners, corners, GL_STATIC_DRAW);
+  gl_.EnableVertexAttribArray(0);
+  gl_.VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
+
+  gl_.GenVertexArrays(1, &overlay_vao_);
+  gl_.BindVertexArray(overlay_vao_);
+  gl_.GenBuffers(1, &overlay_buffer_);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, overlay_buffer_);
+  gl_.EnableVertexAttribArray(0);
+  gl_.VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex), reinterpret_cast<void*>(offsetof(OverlayVertex, x)));
+  gl_.EnableVertexAttribArray(1);
+  gl_.VertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex), reinterpret_cast<void*>(offsetof(OverlayVertex, u)));
+  gl_.EnableVertexAttribArray(2);
+  gl_.VertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex), reinterpret_cast<void*>(offsetof(OverlayVertex, r)));
+  gl_.BindVertexArray(0);
+}
+
+Renderer::~Renderer() {
+  for (auto& [shape, mesh] : meshes_) {
+    gl_.DeleteVertexArrays(1, &mesh->vao);
+    gl_.DeleteBuffers(1, &mesh->vertices);
+  }
+  for (auto& [size, font] : fonts_) gl_.DeleteTextures(1, &font->texture);
+  const GLuint vaos[] = {quad_vao_, overlay_vao_};
+  gl_.DeleteVertexArrays(2, vaos);
+  const GLuint buffers[] = {instance_buffer_, quad_buffer_, overlay_buffer_};
+  gl_.DeleteBuffers(3, buffers);
+  const GLuint fbos[] = {msaa_fbo_, resolve_fbo_};
+  gl_.DeleteFramebuffers(2, fbos);
+  const GLuint rbs[] = {msaa_color_, msaa_depth_, resolve_color_};
+  gl_.DeleteRenderbuffers(3, rbs);
+}
+
+void Renderer::resize(int width, int height) {
+  if (width == width_ && height == height_) return;
+  if (width < 1 || height < 1 || width > max_size_ || height > max_size_)
+    throw RenderError("an image of " + std::to_string(width) + "x" + std::to_string(height) +
+                      " is out of range (1 to " + std::to_string(max_size_) + " per side)");
+  if (!msaa_fbo_) {
+    gl_.GenFramebuffers(1, &msaa_fbo_);
+    gl_.GenFramebuffers(1, &resolve_fbo_);
+    gl_.GenRenderbuffers(1, &msaa_color_);
+    gl_.GenRenderbuffers(1, &msaa_depth_);
+    gl_.GenRenderbuffers(1, &resolve_color_);
+  }
+  gl_.BindRenderbuffer(GL_RENDERBUFFER, msaa_color_);
+  gl_.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_RGBA8, width, height);
+  gl_.BindRenderbuffer(GL_RENDERBUFFER, msaa_depth_);
+  gl_.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_DEPTH_COMPONENT24, width, height);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
+  gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_color_);
+  gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, msaa_depth_);
+  if (gl_.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw RenderError("the multisampled framebuffer is incomplete");
+  gl_.BindRenderbuffer(GL_RENDERBUFFER, resolve_color_);
+  gl_.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, resolve_fbo_);
+  gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolve_color_);
+  if (gl_.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw RenderError("the read-back framebuffer is incomplete");
+  width_ = width;
+  height_ = height;
+}
+
+Renderer::FontTexture& Renderer::font(int pixel_height) {
+  auto& slot = fonts_[pixel_height];
+  if (slot) return *slot;
+  auto baked = FontAtlas::bake(font_path_, float(pixel_height));
+  if (auto* error = std::get_if<std::string>(&baked)) {
+    fonts_.erase(pixel_height);
+    throw RenderError(*error);
+  }
+  auto f = std::make_unique<FontTexture>(FontTexture{std::get<FontAtlas>(std::move(baked)), 0});
+  gl_.GenTextures(1, &f->texture);
+  gl_.BindTexture(GL_TEXTURE_2D, f->texture);
+  gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_R8, f->atlas.width(), f->atlas.height(), 0, GL_RED, GL_UNSIGNED_BYTE,
+                 f->atlas.pixels().data());
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  slot = std::move(f);
+  return *slot;
+}
+
+void Renderer::draw_instances(const Mesh& mesh, const std::vector<Instance>& instances) {
+  if (instances.empty()) return;
+  gl_.BindBuffer(GL_ARRAY_BUFFER, instance_buffer_);
+  gl_.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(instances.size() * sizeof(Instance)), instances.data(), GL_STREAM_DRAW);
+  gl_.BindVertexArray(mesh.vao);
+  gl_.DrawArraysInstanced(GL_TRIANGLES, 0, mesh.count, GLsizei(instances.size()));
+}
+
+void Renderer::draw_ground(const Scene& scene, const glm::mat4& view_projection) {
+  const Bounds b = scene_bounds(scene);
+  const float reach = b.radius() * 2.5f + 3;
+  const Program& p = *ground_program_;
+  gl_.UseProgram(p.id);
+  gl_.UniformMatrix4fv(p.at("u_view_projection"), 1, GL_FALSE, glm::value_ptr(view_projection));
+  gl_.Uniform2f(p.at("u_center"), b.center().x, b.center().y);
+  gl_.Uniform1f(p.at("u_half_size"), reach);
+  gl_.Uniform1f(p.at("u_fade_radius"), reach);
+  gl_.Uniform1f(p.at("u_z"), scene.ground_z);
+  gl_.Uniform3fv(p.at("u_ground"), 1, glm::value_ptr(kGround));
+  gl_.Uniform3fv(p.at("u_line"), 1, glm::value_ptr(kGridLine));
+  gl_.Uniform3fv(p.at("u_background"), 1, glm::value_ptr(kBackground));
+  gl_.BindVertexArray(quad_vao_);
+  gl_.DrawArrays(GL_TRIANGLES, 0, 6);
+}
+
+void Renderer::draw_overlay(const std::vector<OverlayVertex>& vertices, const FontTexture& font, int width, int height) {
+  const Program& p = *overlay_program_;
+  gl_.UseProgram(p.id);
+  gl_.Uniform2f(p.at("u_size"), float(width), float(height));
+  gl_.Uniform1i(p.at("u_atlas"), 0);
+  gl_.ActiveTexture(GL_TEXTURE0);
+  gl_.BindTexture(GL_TEXTURE_2D, font.texture);
+  gl_.BindVertexArray(overlay_vao_);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, overlay_buffer_);
+  gl_.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(OverlayVertex)), vertices.data(), GL_STREAM_DRAW);
+  gl_.DrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size()));
+}
+
+void Renderer::draw(const Scene& scene, int width, int height, unsigned target) {
+  draw_frame(scene, width, height);
+  resolve(target);
+}
+
+void Renderer::resolve(unsigned target) {
+  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
+  gl_.BindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+  gl_.BlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void Renderer::draw_frame(const Scene& scene, int width, int height) {
+  resize(width, height);
+  FontTexture& text = font(text_size(height));
+  const Region region = view_region(scene, text.atlas, width, height);
+  const Camera camera = make_camera(scene, width, height, region);
+  const glm::mat4 view_projection = render::view_projection(camera, width, height, region);
+
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
+  gl_.Viewport(0, 0, width, height);
+  gl_.ClearColor(kBackground.r, kBackground.g, kBackground.b, 1);
+  gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  gl_.Enable(GL_DEPTH_TEST);
+  gl_.DepthFunc(GL_LEQUAL);
+  gl_.Enable(GL_MULTISAMPLE);
+  gl_.Disable(GL_BLEND);
+  gl_.Enable(GL_CULL_FACE);
+  gl_.CullFace(GL_BACK);
+
+  draw_ground(scene, view_projection);
+
+  // Solid: every module, or with groups highlighted only theirs; translucent: the others, far to
+  // near, so that each blends over what lies behind it.
+  const bool highlighting = !scene.groups.empty();
+  std::vector<Instance> solid, faded, outline, props;
+  std::vector<std::pair<float, size_t>> depth;
+  for (const SceneModule& m : scene.modules) {
+    if (!highlighting || m.highlighted) {
+      solid.push_back({transform(m.pose, glm::vec3(kModuleScale)), {m.color.r, m.color.g, m.color.b, 1}});
+      if (highlighting) outline.push_back({transform(m.pose, glm::vec3(kOutlineScale)), kOutline});
+    } else {
+      const auto& p = m.pose.position;
+      depth.push_back({glm::length(glm::vec3(p[0], p[1], p[2]) - camera.eye), faded.size()});
+      faded.push_back({transform(m.pose, glm::vec3(kModuleScale)), dimmed(m.color)});
+    }
+  }
+  std::sort(depth.begin(), depth.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<Instance> far_to_near;
+  far_to_near.reserve(faded.size());
+  for (const auto& [d, i] : depth) far_to_near.push_back(faded[i]);
+
+  const Program& p = *mesh_program_;
+  gl_.UseProgram(p.id);
+  gl_.UniformMatrix4fv(p.at("u_view_projection"), 1, GL_FALSE, glm::value_ptr(view_projection));
+  const glm::vec3 light = glm::normalize(glm::normalize(camera.eye - camera.target) + glm::vec3(0.3f, 0.1f, 1.2f));
+  gl_.Uniform3fv(p.at("u_light"), 1, glm::value_ptr(light));
+  const Mesh& module_mesh = *meshes_.at(scene.module_shape);
+
+  // The outline first: a grown copy of each highlighted module, flat, writing no depth; the
+  // module drawn over it leaves an even rim around its silhouette.
+  gl_.Uniform1i(p.at("u_unlit"), 1);
+  gl_.DepthMask(GL_FALSE);
+  draw_instances(module_mesh, outline);
+  gl_.DepthMask(GL_TRUE);
+
+  gl_.Uniform1i(p.at("u_unlit"), 0);
+  draw_instances(module_mesh, solid);
+  for (const SceneProp& prop : scene.props) {
+    const glm::vec3 size = prop.shape == Shape::Sphere ? glm::vec3(prop.size[0]) : glm::vec3(prop.size[0], prop.size[1], prop.size[2]);
+    props.assign(1, {transform(prop.pose, size), {kPropColor.r, kPropColor.g, kPropColor.b, 1}});
+    draw_instances(*meshes_.at(prop.shape), props);
+  }
+
+  gl_.Enable(GL_BLEND);
+  gl_.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  gl_.DepthMask(GL_FALSE);
+  draw_instances(module_mesh, far_to_near);
+  gl_.DepthMask(GL_TRUE);
+  gl_.Disable(GL_BLEND);
+
+  Overlay overlay(text.atlas);
+  annotate(overlay, scene, view_projection, width, height);
+  gl_.Disable(GL_DEPTH_TEST);
+  gl_.Disable(GL_CULL_FACE);
+  gl_.Enable(GL_BLEND);
+  gl_.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  draw_overlay(overlay.vertices(), text, width, height);
+  gl_.Disable(GL_BLEND);
+  gl_.BindVertexArray(0);
+}
+
+Image Renderer::render(const Scene& scene, int width, int height) {
+  draw_frame(scene, width, height);
+  resolve(resolve_fbo_);
+  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, resolve_fbo_);
+  Image image(width, height);
+  gl_.PixelStorei(GL_PACK_ALIGNMENT, 4);
+  gl_.ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (GLenum error = gl_.GetError(); error != GL_NO_ERROR)
+    throw RenderError("OpenGL error " + std::to_string(error) + " while drawing");
+  // GL's rows run bottom to top; images run top to bottom. Blending leaves alpha below 1 where
+  // translucent things were drawn: the picture itself is opaque.
+  const size_t row = size_t(width) * 4;
+  std::vector<uint8_t> swap(row);
+  for (int y = 0; y < height / 2; ++y) {
+    uint8_t* a = image.rgba.data() + size_t(y) * row;
+    uint8_t* b = image.rgba.data() + size_t(height - 1 - y) * row;
+    std::copy(a, a + row, swap.data());
+    std::copy(b, b + row, a);
+    std::copy(swap.data(), swap.data() + row, b);
+  }
+  for (size_t i = 3; i < image.rgba.size(); i += 4) image.rgba[i] = 255;
+  return image;
+}
+
+}  // namespace dw::render

@@ -1,0 +1,70 @@
+// The 3D view (DESIGN §9): draws a Scene with GL 3.3 core into whatever context is current,
+// headless (OSMesa) or in a window. Modules are instanced meshes under simple lighting over a
+// ground grid, coloured by a variable with a legend. When groups are highlighted, their modules
+// stay solid and outlined while the others fade to translucent, so a group inside a cube shows
+// through; the slots are linked in slot order and labelled. Edges are anti-aliased by
+// multisampling.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "render/camera.h"
+#include "render/font.h"
+#include "render/gl.h"
+#include "render/image.h"
+#include "render/scene.h"
+
+namespace dw::render {
+
+struct RenderError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class Renderer {
+ public:
+  // Compiles the shaders and uploads the meshes in the context whose functions `gl` holds (which
+  // must be current whenever the renderer is used). Throws RenderError.
+  explicit Renderer(const Gl& gl, std::string font_path = DWATCH_FONT_FILE);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Draws the scene at width x height into the renderer's multisampled framebuffer and resolves
+  // it into framebuffer `target` (0: the context's default one), which must be at least as large.
+  void draw(const Scene& scene, int width, int height, unsigned target);
+  // Draws the scene and reads it back, top row first.
+  Image render(const Scene& scene, int width, int height);
+
+  // The largest image side the context takes.
+  int max_size() const { return max_size_; }
+
+ private:
+  struct Program;
+  struct Mesh;
+  struct Instance;
+  struct FontTexture;
+
+  void resize(int width, int height);
+  void draw_frame(const Scene& scene, int width, int height);
+  void resolve(unsigned target);
+  FontTexture& font(int pixel_height);
+  void draw_instances(const Mesh& mesh, const std::vector<Instance>& instances);
+  void draw_ground(const Scene& scene, const glm::mat4& view_projection);
+  void draw_overlay(const std::vector<struct OverlayVertex>& vertices, const FontTexture& font, int width, int height);
+
+  const Gl& gl_;
+  std::string font_path_;
+  std::unique_ptr<Program> mesh_program_, ground_program_, overlay_program_;
+  std::map<Shape, std::unique_ptr<Mesh>> meshes_;
+  std::map<int, std::unique_ptr<FontTexture>> fonts_;
+  unsigned instance_buffer_ = 0, quad_vao_ = 0, quad_buffer_ = 0, overlay_vao_ = 0, overlay_buffer_ = 0;
+  // The multisampled framebuffer drawn into, and the plain one it resolves to for reading back.
+  unsigned msaa_fbo_ = 0, msaa_color_ = 0, msaa_depth_ = 0, resolve_fbo_ = 0, resolve_color_ = 0;
+  int width_ = 0, height_ = 0, samples_ = 4, max_size_ = 0;
+};
+
+}  // namespace dw::render

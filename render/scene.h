@@ -1,0 +1,90 @@
+// What the view shows (DESIGN §9): a plain Scene, built by a free function from the Model, a
+// State and the matched groups to highlight. The renderer draws a Scene and nothing else: it
+// never touches the simulation.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "sim/bodies.h"
+#include "sim/model.h"
+#include "sim/state.h"
+
+namespace dw::render {
+
+// As in the physics: boxes for cubic and square2d, upright cylinders for hex2d, spheres for ring
+// and line; one module size (1) across.
+enum class Shape { Box, Cylinder, Sphere };
+Shape default_shape(sim::LatticeKind kind);
+
+struct Color {
+  float r = 0, g = 0, b = 0;
+  bool operator==(const Color&) const = default;
+};
+
+struct SceneModule {
+  sim::ModuleId id = 0;
+  sim::Pose pose;
+  Color color;
+  bool highlighted = false;  // a slot of a highlighted group
+};
+
+// A body that is not a module (a projectile, an obstacle).
+struct SceneProp {
+  Shape shape = Shape::Sphere;
+  sim::Vec3 size{1, 1, 1};  // a box's extents; a sphere's diameter is size[0]
+  sim::Pose pose;
+};
+
+// A matched group: the module filling each slot, in slot order. The view links slot 1 to slot 2
+// to slot 3 ... and labels each module with its slot's name.
+struct SceneGroup {
+  std::string watch;
+  int64_t t = 0;
+  std::vector<std::string> slot_names;
+  std::vector<sim::ModuleId> modules;
+};
+
+struct LegendEntry {
+  Color color;
+  std::string label;
+};
+
+struct Legend {
+  std::string title;      // the variable; empty: no legend
+  bool gradient = false;  // a continuous scale: entries are stops from the smallest value up
+  std::vector<LegendEntry> entries;
+};
+
+struct Scene {
+  std::string title;  // e.g. "leader_election  step 12"
+  Shape module_shape = Shape::Box;
+  std::vector<SceneModule> modules;  // the present ones, by id
+  std::vector<SceneProp> props;
+  std::vector<SceneGroup> groups;    // highlighted; the other modules are dimmed
+  Legend legend;
+  float ground_z = -0.5f;
+  std::optional<sim::Vec3> camera_eye, camera_target;  // unset: the camera is fitted
+};
+
+// What a scene needs beyond the model and the state: how the world draws its bodies, and the
+// view settings of the scenario (or the command line).
+struct SceneSettings {
+  std::string title;
+  Shape module_shape = Shape::Box;
+  std::vector<SceneProp> props;          // shapes and sizes; poses are taken from the state
+  std::optional<float> ground_z;         // unset: half a module below the lowest lattice cell
+  std::string color_by;                  // a variable; empty: one colour for every module
+  std::optional<sim::Vec3> camera_eye, camera_target;
+};
+
+// Poses come from State::bodies in a physical world and from the lattice otherwise; colours from
+// the `color_by` variable's values in the state (those of step state.step - 1). Groups naming a
+// module that is absent or out of range are kept, but that slot is not drawn.
+Scene build_scene(const sim::Model& model, const sim::State& state, std::span<const SceneGroup> groups,
+                  const SceneSettings& settings);
+
+}  // namespace dw::render
