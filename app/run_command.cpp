@@ -10,6 +10,7 @@
 #include "app/detector_flags.h"
 #include "app/output_files.h"
 #include "app/progress.h"
+#include "app/view_image.h"
 #include "scenarios/scenario.h"
 #include "sim/match_log.h"
 #include "sim/run.h"
@@ -25,7 +26,7 @@ struct RunArgs {
   std::optional<unsigned> threads;
   std::optional<size_t> snapshots;
   std::string algorithm;
-  std::string record_path, matches_path, stats_path;
+  std::string record_path, matches_path, stats_path, render_path;
   size_t print = 5;
   bool no_progress = false;
 };
@@ -68,6 +69,14 @@ int run_scenario(const RunArgs& args) {
     std::cerr << "dwatch: error: only one of --record, --matches and --stats can go to stdout\n";
     return 2;
   }
+  if (args.render_path == "-") {
+    std::cerr << "dwatch: error: --render needs a file name\n";
+    return 2;
+  }
+  std::ofstream render_file;  // opened now only to find a bad path before the run
+  std::ostream* render_out = nullptr;
+  if (!open_output(args.render_path, "PNG", render_file, render_out)) return 2;
+  render_file.close();
 
   std::vector<sim::MatchLog::WatchInfo> infos;
   int64_t max_lag = 0;
@@ -160,6 +169,24 @@ int run_scenario(const RunArgs& args) {
     summary << std::setprecision(2) << " (" << seconds * 1e9 / double(ran) / model.module_count() << " ns per module-step)";
   summary << "\n  state hash: " << hex(hash) << "\n";
 
+  if (!args.render_path.empty()) {
+    // The view at the paused match's step with its group, or at the last step run.
+    const int64_t shown = ran == 0 ? 0 : run.state().step - 1;
+    std::vector<render::SceneGroup> groups;
+    if (pause && shown == pause->t) {
+      const watch::Watchpoint& w = model.watches[pause->watch].watchpoint;
+      groups.push_back({w.name, pause->t, w.program.slot_names, pause->group});
+    }
+    render::SceneSettings settings = scene_settings(scenario, "");
+    settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(shown);
+    const render::Scene scene = render::build_scene(model, run.state(), groups, settings);
+    if (std::string error = write_view(scene, args.render_path, 1280, 720); !error.empty()) {
+      std::cerr << "dwatch: " << args.render_path << ": error: " << error << "\n";
+      return 1;
+    }
+    summary << "  view of step " << shown << " written to " << args.render_path << "\n";
+  }
+
   if (stats) {
     nlohmann::ordered_json j;
     j["scenario"] = args.scenario;
@@ -208,6 +235,8 @@ void add_run_command(CLI::App& app, std::function<int()>& run) {
   cmd->add_option("--record", args->record_path, "Write what the watchpoints saw as a wptrace v1 TRACE");
   cmd->add_option("--matches", args->matches_path, "Write every match of log/pause watchpoints as JSON Lines (- for stdout)");
   cmd->add_option("--stats", args->stats_path, "Write run statistics as JSON");
+  cmd->add_option("--render", args->render_path,
+                  "Draw the 3D view to a PNG: at the first pause's step with its group, else at the last step");
   cmd->add_option("--print", args->print, "Matches to print per watchpoint when --matches is not given")->default_val(5);
   cmd->add_flag("--no-progress", args->no_progress, "No progress bar, even on a terminal");
   cmd->callback([&run, args] { run = [args] { return run_scenario(*args); }; });

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+#include <vector>
 
 namespace dw::render {
 namespace {
@@ -62,18 +63,27 @@ Camera make_camera(const Scene& scene, int width, int height, const Region& regi
   c.target = b.center();
   if (scene.camera_target) c.target = {(*scene.camera_target)[0], (*scene.camera_target)[1], (*scene.camera_target)[2]};
 
-  // The distance at which every corner of the bounds lies inside the field of view: a corner at
-  // offset (x, y) across the view and z towards the camera needs distance >= |x| / tan(half
-  // width) + z, and likewise for y.
+  // What must show: the corners of every module's and prop's box (not just of the bounds, whose
+  // corners can lie far outside a ring or a diagonal line).
+  std::vector<glm::vec3> points;
+  auto add = [&](const sim::Vec3& p, glm::vec3 half) {
+    for (int i = 0; i < 8; ++i)
+      points.push_back(glm::vec3(p[0], p[1], p[2]) + half * glm::vec3((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1));
+  };
+  for (const SceneModule& m : scene.modules) add(m.pose.position, glm::vec3(0.5f));
+  for (const SceneProp& p : scene.props) add(p.pose.position, glm::vec3(p.size[0], p.size[1], p.size[2]) * 0.5f);
+
+  // The distance at which every point lies inside the field of view: a point at offset (x, y)
+  // across the view and z towards the camera needs distance >= |x| / tan(half width) + z, and
+  // likewise for y.
   const glm::vec3 forward = -back;
   const glm::vec3 right = glm::normalize(glm::cross(forward, c.up));
   const glm::vec3 up = glm::cross(right, forward);
   const float tan_y = std::tan(c.fov_y * 0.5f);
   const float tan_x = tan_y * region_aspect(width, height, region);
   float distance = 1;
-  for (int i = 0; i < 8; ++i) {
-    const glm::vec3 corner((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
-    const glm::vec3 rel = corner - c.target;
+  for (const glm::vec3& point : points) {
+    const glm::vec3 rel = point - c.target;
     const float toward = glm::dot(rel, back);
     distance = std::max(distance, std::abs(glm::dot(rel, right)) / tan_x + toward);
     distance = std::max(distance, std::abs(glm::dot(rel, up)) / tan_y + toward);
@@ -82,14 +92,14 @@ Camera make_camera(const Scene& scene, int width, int height, const Region& regi
   fit_depth(c, b);
 
   // Perspective makes the near side larger than the far side, so the bounds' centre is not the
-  // picture's: look at what the corners cover on screen, move the target to its middle and the
+  // picture's: look at what the points cover on screen, move the target to its middle and the
   // camera in or out until it fills the view with a small margin (converges in a few rounds).
   for (int round = 0; round < 4; ++round) {
     const glm::mat4 vp = glm::perspective(c.fov_y, region_aspect(width, height, region), c.near_plane, c.far_plane) *
                          glm::lookAt(c.eye, c.target, c.up);
     glm::vec2 lo(1e9f), hi(-1e9f);
-    for (int i = 0; i < 8; ++i) {
-      const glm::vec4 p = vp * glm::vec4((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z, 1);
+    for (const glm::vec3& point : points) {
+      const glm::vec4 p = vp * glm::vec4(point, 1);
       const glm::vec2 ndc = glm::vec2(p) / p.w;
       lo = glm::min(lo, ndc);
       hi = glm::max(hi, ndc);
