@@ -318,27 +318,33 @@ void Renderer::draw_frame(const Scene& scene, int width, int height) {
   gl_.Uniform3fv(p.at("u_light"), 1, glm::value_ptr(light));
   const Mesh& module_mesh = *meshes_.at(scene.module_shape);
 
-  // The outline first: a grown copy of each highlighted module, flat, writing no depth; the
-  // module drawn over it leaves an even rim around its silhouette.
-  gl_.Uniform1i(p.at("u_unlit"), 1);
-  gl_.DepthMask(GL_FALSE);
-  draw_instances(module_mesh, outline);
-  gl_.DepthMask(GL_TRUE);
-
+  // Props and, with nothing highlighted, every module: solid.
   gl_.Uniform1i(p.at("u_unlit"), 0);
-  draw_instances(module_mesh, solid);
   for (const SceneProp& prop : scene.props) {
     const glm::vec3 size = prop.shape == Shape::Sphere ? glm::vec3(prop.size[0]) : glm::vec3(prop.size[0], prop.size[1], prop.size[2]);
     props.assign(1, {transform(prop.pose, size), {kPropColor.r, kPropColor.g, kPropColor.b, 1}});
     draw_instances(*meshes_.at(prop.shape), props);
   }
+  if (!highlighting) draw_instances(module_mesh, solid);
 
+  // The others, translucent, writing no depth.
   gl_.Enable(GL_BLEND);
   gl_.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   gl_.DepthMask(GL_FALSE);
   draw_instances(module_mesh, far_to_near);
-  gl_.DepthMask(GL_TRUE);
   gl_.Disable(GL_BLEND);
+
+  // The group last, so that no translucent module veils it, however deep inside the ensemble it
+  // lies: first a grown flat copy of each of its modules, writing no depth, then the modules over
+  // it, which leaves an even rim around their silhouettes.
+  if (highlighting) {
+    gl_.Uniform1i(p.at("u_unlit"), 1);
+    draw_instances(module_mesh, outline);
+    gl_.DepthMask(GL_TRUE);
+    gl_.Uniform1i(p.at("u_unlit"), 0);
+    draw_instances(module_mesh, solid);
+  }
+  gl_.DepthMask(GL_TRUE);
 
   Overlay overlay(text.atlas);
   annotate(overlay, scene, view_projection, width, height);

@@ -1,0 +1,83 @@
+#include "render/annotations.h"
+
+#include <gtest/gtest.h>
+
+namespace dw::render {
+namespace {
+
+const FontAtlas& font() {
+  static const FontAtlas atlas = std::get<FontAtlas>(FontAtlas::bake(DWATCH_FONT_FILE, 20));
+  return atlas;
+}
+
+Scene three_in_a_row() {
+  Scene s;
+  for (uint32_t i = 0; i < 3; ++i) {
+    SceneModule m;
+    m.id = i;
+    m.pose.position = {float(i), 0, 0};
+    s.modules.push_back(m);
+  }
+  s.title = "scene";
+  return s;
+}
+
+TEST(Project, MapsClipSpaceToPixelsWithYDown) {
+  const glm::mat4 identity(1.0f);
+  EXPECT_EQ(*project(identity, {0, 0, 0}, 200, 100), glm::vec2(100, 50));
+  EXPECT_EQ(*project(identity, {-1, 1, 0}, 200, 100), glm::vec2(0, 0));
+  EXPECT_EQ(*project(identity, {1, -1, 0}, 200, 100), glm::vec2(200, 100));
+  glm::mat4 behind(1.0f);
+  behind[3][3] = -1;  // w < 0: behind the camera
+  EXPECT_FALSE(project(behind, {0, 0, 0}, 200, 100).has_value());
+}
+
+TEST(ViewRegion, LeavesRoomForTheTitleTheGroupLineAndTheLegend) {
+  Scene s = three_in_a_row();
+  const Region plain = view_region(s, font(), 1000, 600);
+  EXPECT_EQ(plain.left, 0);
+  EXPECT_GT(plain.top, 0);
+  s.groups.push_back({"w", 0, {"a"}, {1}});
+  const Region grouped = view_region(s, font(), 1000, 600);
+  EXPECT_GT(grouped.top, plain.top);
+  s.legend = {"isLeader", false, {{Color{1, 0, 0}, "0"}, {Color{0, 1, 0}, "1"}}};
+  const Region legend = view_region(s, font(), 1000, 600);
+  EXPECT_GT(legend.left, 0.05f);
+  EXPECT_LT(legend.left, 0.4f);
+}
+
+// Vertices of the overlay's solid shapes in the colour of the slot links.
+size_t link_coloured(const Overlay& o) {
+  size_t n = 0;
+  for (const OverlayVertex& v : o.vertices())
+    if (v.r > 0.8f && v.g < 0.2f && v.b < 0.2f && v.u == font().white_u()) ++n;
+  return n;
+}
+
+TEST(Annotate, LinksAndLabelsEachSlotOfEachGroup) {
+  Scene s = three_in_a_row();
+  const glm::mat4 vp = view_projection(make_camera(s, 800, 600, {}), 800, 600, {});
+  Overlay bare(font());
+  annotate(bare, s, vp, 800, 600);
+  EXPECT_EQ(link_coloured(bare), 0u);
+
+  s.groups.push_back({"w", 3, {"a", "b", "c"}, {0, 1, 2}});
+  Overlay one(font());
+  annotate(one, s, vp, 800, 600);
+  const size_t per_group = link_coloured(one);
+  EXPECT_GT(per_group, 0u);
+  // A second group adds as much again; a group naming a module not in the scene draws nothing of
+  // that slot.
+  s.groups.push_back({"w", 3, {"a", "b", "c"}, {2, 1, 0}});
+  Overlay two(font());
+  annotate(two, s, vp, 800, 600);
+  EXPECT_EQ(link_coloured(two), 2 * per_group);
+  s.groups.back().modules = {2, 1, 77};
+  Overlay missing(font());
+  annotate(missing, s, vp, 800, 600);
+  EXPECT_LT(link_coloured(missing), 2 * per_group);
+  EXPECT_GT(link_coloured(missing), per_group);
+}
+
+}  // namespace
+}  // namespace dw::render

@@ -1,0 +1,122 @@
+// The renderer through a real OSMesa context: what lands in the pixels.
+#include "render/renderer.h"
+
+#include <gtest/gtest.h>
+
+#include "render/osmesa_context.h"
+
+namespace dw::render {
+namespace {
+
+class RendererTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    auto made = OsMesaContext::create();
+    ASSERT_TRUE(std::holds_alternative<std::unique_ptr<OsMesaContext>>(made)) << std::get<std::string>(made);
+    context_ = std::get<0>(std::move(made)).release();
+    renderer_ = new Renderer(context_->gl());
+  }
+  static void TearDownTestSuite() {
+    delete renderer_;
+    delete context_;
+  }
+  static OsMesaContext* context_;
+  static Renderer* renderer_;
+};
+OsMesaContext* RendererTest::context_ = nullptr;
+Renderer* RendererTest::renderer_ = nullptr;
+
+Scene cube(int n, Color color) {
+  Scene s;
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        SceneModule m;
+        m.id = sim::ModuleId(s.modules.size());
+        m.pose.position = {float(x), float(y), float(z)};
+        m.color = color;
+        s.modules.push_back(m);
+      }
+  return s;
+}
+
+// Pixels in a rectangle for which `test(r, g, b)` holds.
+template <typename Test>
+int count(const Image& image, int x0, int y0, int x1, int y1, Test test) {
+  int n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const uint8_t* p = image.pixel(x, y);
+      if (test(p[0], p[1], p[2])) ++n;
+    }
+  return n;
+}
+
+bool greenish(int r, int g, int b) { return g > r + 60 && g > b + 60; }
+bool link_red(int r, int g, int b) { return r > 170 && g < 70 && b < 80; }
+
+TEST_F(RendererTest, DrawsTheModulesInTheirColourOnTheBackground) {
+  const Image image = renderer_->render(cube(1, {0.1f, 0.8f, 0.2f}), 320, 240);
+  ASSERT_EQ(image.width, 320);
+  ASSERT_EQ(image.height, 240);
+  EXPECT_TRUE(greenish(image.pixel(160, 120)[0], image.pixel(160, 120)[1], image.pixel(160, 120)[2]));
+  EXPECT_GT(count(image, 0, 0, 320, 240, greenish), 320 * 240 / 5);  // the fitted module fills the view
+  for (size_t i = 3; i < image.rgba.size(); i += 4) ASSERT_EQ(image.rgba[i], 255);
+}
+
+TEST_F(RendererTest, ReadsBackTheRightWayUp) {
+  // The title is written at the top left: dark text pixels there, none in the bottom rows.
+  Scene s = cube(1, {0.1f, 0.8f, 0.2f});
+  s.title = "WWWWWWWWWWWW";
+  const Image image = renderer_->render(s, 400, 300);
+  auto ink = [](int r, int g, int b) { return r < 90 && g < 90 && b < 90; };
+  EXPECT_GT(count(image, 0, 0, 200, 30, ink), 40);
+  EXPECT_EQ(count(image, 0, 270, 200, 300, ink), 0);
+}
+
+TEST_F(RendererTest, AHighlightedGroupIsOutlinedAndShowsThroughTheOthers) {
+  // The middle module of a 5x5x5 cube is hidden from every side, until it is highlighted.
+  Scene s = cube(5, {0.55f, 0.63f, 0.72f});
+  const sim::ModuleId middle = 2 + 5 * (2 + 5 * 2);
+  s.modules[middle].color = {0.1f, 0.8f, 0.2f};
+  const Image plain = renderer_->render(s, 400, 300);
+  EXPECT_EQ(count(plain, 0, 0, 400, 300, greenish), 0);
+  EXPECT_EQ(count(plain, 0, 0, 400, 300, link_red), 0);
+
+  s.modules[middle].highlighted = true;
+  s.groups.push_back({"w", 0, {"a"}, {middle}});
+  const Image highlighted = renderer_->render(s, 400, 300);
+  EXPECT_GT(count(highlighted, 0, 0, 400, 300, greenish), 100);
+  EXPECT_GT(count(highlighted, 0, 0, 400, 300, link_red), 100);
+}
+
+TEST_F(RendererTest, TheSameSceneGivesTheSamePixels) {
+  Scene s = cube(3, {0.9f, 0.5f, 0.1f});
+  s.groups.push_back({"w", 0, {"a", "b"}, {0, 1}});
+  s.modules[0].highlighted = s.modules[1].highlighted = true;
+  const Image a = renderer_->render(s, 300, 200);
+  const Image b = renderer_->render(cube(2, {0, 0, 1}), 640, 480);  // a different size in between
+  const Image c = renderer_->render(s, 300, 200);
+  EXPECT_EQ(a.rgba, c.rgba);
+  EXPECT_NE(b.width, a.width);
+}
+
+TEST_F(RendererTest, ImagesOutOfRangeAreRefused) {
+  EXPECT_THROW(renderer_->render(cube(1, {}), 0, 100), RenderError);
+  EXPECT_THROW(renderer_->render(cube(1, {}), renderer_->max_size() + 1, 100), RenderError);
+}
+
+TEST(OsMesaContext, IsGl33CoreOrNewer) {
+  auto made = OsMesaContext::create();
+  ASSERT_TRUE(std::holds_alternative<std::unique_ptr<OsMesaContext>>(made));
+  const Gl& gl = std::get<0>(made)->gl();
+  GLint major = 0, minor = 0, profile = 0;
+  gl.GetIntegerv(GL_MAJOR_VERSION, &major);
+  gl.GetIntegerv(GL_MINOR_VERSION, &minor);
+  gl.GetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
+  EXPECT_GE(major * 10 + minor, 33);
+  EXPECT_TRUE(profile & GL_CONTEXT_CORE_PROFILE_BIT);
+}
+
+}  // namespace
+}  // namespace dw::render
