@@ -1,9 +1,11 @@
 // `dwatch render SCENARIO --step N --out PNG`: the 3D view of a scenario at one step, headless
 // (DESIGN §6, §9), with the groups its watchpoints matched at that step highlighted.
+#include <fstream>
 #include <iostream>
 #include <memory>
 
 #include "app/commands.h"
+#include "app/output_files.h"
 #include "app/view_image.h"
 #include "render/scene.h"
 #include "sim/run.h"
@@ -29,6 +31,13 @@ int render_scenario(const RenderArgs& args) {
     std::cerr << "dwatch: error: " << error << "\n";
     return 2;
   }
+  std::ofstream out_file;  // opened now only to find a bad path before the run
+  std::ostream* out = nullptr;
+  if (args.out == "-" || !open_output(args.out, "PNG", out_file, out)) {
+    if (args.out == "-") std::cerr << "dwatch: error: --out needs a file name\n";
+    return 2;
+  }
+  out_file.close();
   const int64_t step = args.step.value_or(std::max<int64_t>(0, scenario.steps - 1));
   int64_t lag = 0;
   for (const sim::HostedWatchpoint& h : model.watches) lag = std::max(lag, h.lag());

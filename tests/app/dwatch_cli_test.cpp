@@ -231,3 +231,60 @@ TEST_F(Cli, BenchTable1WritesItsCsv) {
   EXPECT_NE(csv.find("\"2:2:2:2\","), std::string::npos) << csv;
   EXPECT_NE(csv.find("\"1:1:1:1\","), std::string::npos) << csv;
 }
+
+// A PNG's size, from its IHDR chunk.
+std::pair<uint32_t, uint32_t> png_size(const fs::path& p) {
+  const std::string s = slurp(p);
+  if (s.size() < 24 || s.compare(1, 3, "PNG") != 0) return {0, 0};
+  auto be32 = [&](size_t at) {
+    return uint32_t(uint8_t(s[at])) << 24 | uint32_t(uint8_t(s[at + 1])) << 16 | uint32_t(uint8_t(s[at + 2])) << 8 |
+           uint32_t(uint8_t(s[at + 3]));
+  };
+  return {be32(16), be32(20)};
+}
+
+TEST_F(Cli, RenderWritesTheViewAndNamesTheHighlightedGroup) {
+  const fs::path png = dir_ / "ring.png";
+  const Result r = run("render " + (kScenarios / "token_ring.toml").string() + " --step 41 --width 320 --height 200 --out " +
+                       png.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(png_size(png), std::make_pair(320u, 200u));
+  EXPECT_NE(r.out.find("1 group highlighted"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("token_from_nowhere t=41: a=7 x=8 b=9"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, RenderHighlightsTheFirstAllOrNoneOfTheGroupsAtTheStep) {
+  const std::string le = (kScenarios / "leader_election.toml").string() + " --step 1 --width 64 --height 48 --out " +
+                         (dir_ / "le.png").string();
+  // `dwatch run` reports 91 matches at step 1 of this scenario.
+  EXPECT_NE(run("render " + le).out.find("1 group highlighted"), std::string::npos);
+  EXPECT_NE(run("render " + le + " --highlight all").out.find("91 groups highlighted"), std::string::npos);
+  EXPECT_NE(run("render " + le + " --highlight none").out.find("0 groups highlighted"), std::string::npos);
+}
+
+TEST_F(Cli, RunRenderDrawsThePausedStepAsRenderDoes) {
+  const std::string scenario = (kScenarios / "token_ring.toml").string();
+  const Result ran = run("run " + scenario + " --render " + (dir_ / "run.png").string());
+  ASSERT_EQ(ran.code, 0) << ran.err;
+  EXPECT_NE(ran.out.find("view of step 41 written to"), std::string::npos) << ran.out;
+  ASSERT_EQ(run("render " + scenario + " --step 41 --out " + (dir_ / "render.png").string()).code, 0);
+  EXPECT_EQ(slurp(dir_ / "run.png"), slurp(dir_ / "render.png"));
+  // Without a pause, the last step.
+  const Result last = run("run " + (kScenarios / "token_ring_correct.toml").string() + " --steps 30 --render " +
+                          (dir_ / "last.png").string());
+  ASSERT_EQ(last.code, 0) << last.err;
+  EXPECT_NE(last.out.find("view of step 29 written to"), std::string::npos) << last.out;
+}
+
+TEST_F(Cli, RenderMistakesAreBadInput) {
+  const std::string scenario = (kScenarios / "token_ring.toml").string();
+  const Result var = run("render " + scenario + " --color-by nope --out " + (dir_ / "x.png").string());
+  EXPECT_EQ(var.code, 2);
+  EXPECT_NE(var.err.find("no program has a variable named \"nope\" (there are: token"), std::string::npos) << var.err;
+  EXPECT_EQ(run("render " + scenario + " --out /nonexistent/dir/x.png").code, 2);
+  EXPECT_EQ(run("render " + scenario + " --out " + (dir_ / "x.png").string() + " --highlight some").code, 2);
+  EXPECT_EQ(run("render " + scenario + " --out " + (dir_ / "x.png").string() + " --width 0").code, 2);
+  EXPECT_EQ(run("render " + (dir_ / "missing.toml").string() + " --out " + (dir_ / "x.png").string()).code, 2);
+  EXPECT_EQ(run("run " + scenario + " --render /nonexistent/dir/x.png").code, 2);
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
