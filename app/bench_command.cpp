@@ -161,7 +161,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("name", args->name, "Benchmark to run")
       ->required()
-      ->check(CLI::IsMember({"engine", "table1", "overhead", "million", "physics"}));
+      ->check(CLI::IsMember({"engine", "table1", "overhead", "million", "physics", "render"}));
   cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
       ->check(CLI::IsMember({"centralized", "distributed", "both"}));
@@ -176,7 +176,11 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
   cmd->add_option("--write-trace", args->write_trace, "Also write the synthetic trace (wptrace v1) to FILE");
   add_detector_flags(*cmd, args->detector, /*with_algorithm=*/false);
   cmd->callback([&run, args] {
-    run = [args] { return args->name == "engine" ? bench_engine(*args) : bench_runtime(*args); };
+    run = [args] {
+      if (args->name == "engine") return bench_engine(*args);
+      if (args->name == "render") return bench_render(*args);
+      return bench_runtime(*args);
+    };
   });
 }
 

@@ -67,13 +67,12 @@ namespace dw::render {
   X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                            \
   X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                  \
   X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)                  \
+  X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                        \
   X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)                    \
   X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                                \
   X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                          \
   X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                                \
   X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                          \
-  X(PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC, RenderbufferStorageMultisample)    \
-  X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)                                  \
   X(PFNGLGENTEXTURESPROC, GenTextures)                                          \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                    \
   X(PFNGLBINDTEXTUREPROC, BindTexture)                                          \

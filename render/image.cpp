@@ -1,7 +1,6 @@
 #include "render/image.h"
 
-#include <stb_image.h>
-#include <stb_image_write.h>
+#include <png.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -9,22 +8,28 @@
 namespace dw::render {
 
 bool write_png(const std::string& path, const Image& image, std::string* error) {
-  if (stbi_write_png(path.c_str(), image.width, image.height, 4, image.rgba.data(), image.width * 4)) return true;
-  if (error) *error = "cannot write " + path;
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  png.width = png_uint_32(image.width);
+  png.height = png_uint_32(image.height);
+  png.format = PNG_FORMAT_RGBA;
+  if (png_image_write_to_file(&png, path.c_str(), 0, image.rgba.data(), image.width * 4, nullptr)) return true;
+  if (error) *error = "cannot write " + path + ": " + png.message;
+  png_image_free(&png);
   return false;
 }
 
 std::optional<Image> read_png(const std::string& path, std::string* error) {
-  int w = 0, h = 0, channels = 0;
-  unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 4);
-  if (!data) {
-    if (error) *error = "cannot read " + path + ": " + stbi_failure_reason();
-    return std::nullopt;
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  if (png_image_begin_read_from_file(&png, path.c_str())) {
+    png.format = PNG_FORMAT_RGBA;
+    Image image(int(png.width), int(png.height));
+    if (png_image_finish_read(&png, nullptr, image.rgba.data(), image.width * 4, nullptr)) return image;
   }
-  Image image(w, h);
-  std::copy(data, data + image.rgba.size(), image.rgba.begin());
-  stbi_image_free(data);
-  return image;
+  if (error) *error = "cannot read " + path + ": " + png.message;
+  png_image_free(&png);
+  return std::nullopt;
 }
 
 ImageDifference compare_images(const Image& expected, const Image& actual, int tolerance) {

@@ -1,5 +1,6 @@
 #include "render/overlay.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -17,19 +18,30 @@ void Overlay::line(glm::vec2 a, glm::vec2 b, float width, glm::vec4 color) {
   const glm::vec2 d = b - a;
   const float length = glm::length(d);
   if (length <= 0) return;
-  const glm::vec2 n = glm::vec2(-d.y, d.x) / length * (width * 0.5f);
-  for (glm::vec2 p : {a + n, b + n, b - n, a + n, b - n, a - n}) solid(p, color);
+  const glm::vec2 normal = glm::vec2(-d.y, d.x) / length;
+  const glm::vec2 core = normal * std::max(0.0f, width * 0.5f - 0.5f), edge = normal * (width * 0.5f + 0.5f);
+  const glm::vec4 clear(color.r, color.g, color.b, 0);
+  for (glm::vec2 p : {a + core, b + core, b - core, a + core, b - core, a - core}) solid(p, color);
+  // A pixel-wide fringe on either side fading out: the edges are anti-aliased.
+  for (float side : {1.0f, -1.0f}) {
+    const glm::vec2 in = core * side, out = edge * side;
+    solid(a + in, color), solid(b + in, color), solid(b + out, clear);
+    solid(a + in, color), solid(b + out, clear), solid(a + out, clear);
+  }
 }
 
 void Overlay::disc(glm::vec2 center, float radius, glm::vec4 color) {
-  // Enough segments that the edge looks round at this size.
+  // Enough segments that the edge looks round at this size, and a pixel-wide fringe fading out.
   const int segments = std::max(16, int(radius * 1.5f));
+  const glm::vec4 clear(color.r, color.g, color.b, 0);
+  const float inner = std::max(0.0f, radius - 0.5f), outer = radius + 0.5f;
   for (int i = 0; i < segments; ++i) {
     const float a0 = 2 * std::numbers::pi_v<float> * float(i) / float(segments);
     const float a1 = 2 * std::numbers::pi_v<float> * float(i + 1) / float(segments);
-    solid(center, color);
-    solid(center + radius * glm::vec2(std::cos(a0), std::sin(a0)), color);
-    solid(center + radius * glm::vec2(std::cos(a1), std::sin(a1)), color);
+    const glm::vec2 u0(std::cos(a0), std::sin(a0)), u1(std::cos(a1), std::sin(a1));
+    solid(center, color), solid(center + inner * u0, color), solid(center + inner * u1, color);
+    solid(center + inner * u0, color), solid(center + outer * u0, clear), solid(center + outer * u1, clear);
+    solid(center + inner * u0, color), solid(center + outer * u1, clear), solid(center + inner * u1, color);
   }
 }
 

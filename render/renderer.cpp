@@ -97,10 +97,11 @@ Renderer::Renderer(const Gl& gl, std::string font_path) : gl_(gl), font_path_(st
   mesh_program_ = std::make_unique<Program>(gl_, shaders::mesh_vert, shaders::mesh_frag, "mesh");
   ground_program_ = std::make_unique<Program>(gl_, shaders::ground_vert, shaders::ground_frag, "ground");
   overlay_program_ = std::make_unique<Program>(gl_, shaders::overlay_vert, shaders::overlay_frag, "overlay");
-  gl_.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size_);
-  GLint samples = 0;
-  gl_.GetIntegerv(GL_MAX_SAMPLES, &samples);
-  samples_ = std::clamp(samples, 0, 4);
+  fxaa_program_ = std::make_unique<Program>(gl_, shaders::fxaa_vert, shaders::fxaa_frag, "fxaa");
+  GLint renderbuffer = 0, texture = 0;
+  gl_.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
+  gl_.GetIntegerv(GL_MAX_TEXTURE_SIZE, &texture);
+  max_size_ = std::min(renderbuffer, texture);
 
   gl_.GenBuffers(1, &instance_buffer_);
   for (Shape shape : {Shape::Box, Shape::Cylinder, Shape::Sphere}) {
@@ -149,6 +150,7 @@ Renderer::Renderer(const Gl& gl, std::string font_path) : gl_(gl), font_path_(st
   gl_.VertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex), reinterpret_cast<void*>(offsetof(OverlayVertex, u)));
   gl_.EnableVertexAttribArray(2);
   gl_.VertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex), reinterpret_cast<void*>(offsetof(OverlayVertex, r)));
+  gl_.GenVertexArrays(1, &empty_vao_);  // the core profile draws nothing without a vertex array
   gl_.BindVertexArray(0);
 }
 
@@ -158,14 +160,15 @@ Renderer::~Renderer() {
     gl_.DeleteBuffers(1, &mesh->vertices);
   }
   for (auto& [size, font] : fonts_) gl_.DeleteTextures(1, &font->texture);
-  const GLuint vaos[] = {quad_vao_, overlay_vao_};
-  gl_.DeleteVertexArrays(2, vaos);
+  const GLuint vaos[] = {quad_vao_, overlay_vao_, empty_vao_};
+  gl_.DeleteVertexArrays(3, vaos);
   const GLuint buffers[] = {instance_buffer_, quad_buffer_, overlay_buffer_};
   gl_.DeleteBuffers(3, buffers);
-  const GLuint fbos[] = {msaa_fbo_, resolve_fbo_};
+  const GLuint fbos[] = {scene_fbo_, output_fbo_};
   gl_.DeleteFramebuffers(2, fbos);
-  const GLuint rbs[] = {msaa_color_, msaa_depth_, resolve_color_};
-  gl_.DeleteRenderbuffers(3, rbs);
+  gl_.DeleteTextures(1, &scene_color_);
+  const GLuint rbs[] = {scene_depth_, output_color_};
+  gl_.DeleteRenderbuffers(2, rbs);
 }
 
 void Renderer::resize(int width, int height) {
@@ -173,28 +176,33 @@ void Renderer::resize(int width, int height) {
   if (width < 1 || height < 1 || width > max_size_ || height > max_size_)
     throw RenderError("an image of " + std::to_string(width) + "x" + std::to_string(height) +
                       " is out of range (1 to " + std::to_string(max_size_) + " per side)");
-  if (!msaa_fbo_) {
-    gl_.GenFramebuffers(1, &msaa_fbo_);
-    gl_.GenFramebuffers(1, &resolve_fbo_);
-    gl_.GenRenderbuffers(1, &msaa_color_);
-    gl_.GenRenderbuffers(1, &msaa_depth_);
-    gl_.GenRenderbuffers(1, &resolve_color_);
+  if (!scene_fbo_) {
+    gl_.GenFramebuffers(1, &scene_fbo_);
+    gl_.GenFramebuffers(1, &output_fbo_);
+    gl_.GenTextures(1, &scene_color_);
+    gl_.GenRenderbuffers(1, &scene_depth_);
+    gl_.GenRenderbuffers(1, &output_color_);
   }
-  gl_.BindRenderbuffer(GL_RENDERBUFFER, msaa_color_);
-  gl_.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_RGBA8, width, height);
-  gl_.BindRenderbuffer(GL_RENDERBUFFER, msaa_depth_);
-  gl_.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_DEPTH_COMPONENT24, width, height);
-  gl_.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
-  gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_color_);
-  gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, msaa_depth_);
+  gl_.BindTexture(GL_TEXTURE_2D, scene_color_);
+  gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);  // the smoothing samples between pixels
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  gl_.BindRenderbuffer(GL_RENDERBUFFER, scene_depth_);
+  gl_.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, scene_fbo_);
+  gl_.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, scene_color_, 0);
+  gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, scene_depth_);
   if (gl_.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw RenderError("the multisampled framebuffer is incomplete");
-  gl_.BindRenderbuffer(GL_RENDERBUFFER, resolve_color_);
+    throw RenderError("the scene framebuffer is incomplete");
+  gl_.BindRenderbuffer(GL_RENDERBUFFER, output_color_);
   gl_.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
-  gl_.BindFramebuffer(GL_FRAMEBUFFER, resolve_fbo_);
-  gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolve_color_);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, output_fbo_);
+  gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, output_color_);
   if (gl_.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw RenderError("the read-back framebuffer is incomplete");
+    throw RenderError("the output framebuffer is incomplete");
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
   width_ = width;
   height_ = height;
 }
@@ -260,31 +268,51 @@ void Renderer::draw_overlay(const std::vector<OverlayVertex>& vertices, const Fo
 }
 
 void Renderer::draw(const Scene& scene, int width, int height, unsigned target) {
-  draw_frame(scene, width, height);
-  resolve(target);
-}
-
-void Renderer::resolve(unsigned target) {
-  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
-  gl_.BindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-  gl_.BlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
-}
-
-void Renderer::draw_frame(const Scene& scene, int width, int height) {
   resize(width, height);
   FontTexture& text = font(text_size(height));
   const Region region = view_region(scene, text.atlas, width, height);
   const Camera camera = make_camera(scene, width, height, region);
   const glm::mat4 view_projection = render::view_projection(camera, width, height, region);
 
-  gl_.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, scene_fbo_);
   gl_.Viewport(0, 0, width, height);
+  draw_bodies(scene, camera, view_projection);
+
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, target);
+  gl_.Viewport(0, 0, width, height);
+  smooth_edges();
+
+  // The flat layer goes over the smoothed picture: text stays sharp, and its shapes carry their
+  // own feathered edges.
+  Overlay overlay(text.atlas);
+  annotate(overlay, scene, view_projection, width, height);
+  gl_.Enable(GL_BLEND);
+  gl_.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  draw_overlay(overlay.vertices(), text, width, height);
+  gl_.Disable(GL_BLEND);
+  gl_.BindVertexArray(0);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void Renderer::smooth_edges() {
+  gl_.Disable(GL_DEPTH_TEST);
+  gl_.Disable(GL_CULL_FACE);
+  gl_.Disable(GL_BLEND);
+  const Program& p = *fxaa_program_;
+  gl_.UseProgram(p.id);
+  gl_.Uniform1i(p.at("u_color"), 0);
+  gl_.Uniform2f(p.at("u_texel"), 1.0f / float(width_), 1.0f / float(height_));
+  gl_.ActiveTexture(GL_TEXTURE0);
+  gl_.BindTexture(GL_TEXTURE_2D, scene_color_);
+  gl_.BindVertexArray(empty_vao_);
+  gl_.DrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::mat4& view_projection) {
   gl_.ClearColor(kBackground.r, kBackground.g, kBackground.b, 1);
   gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   gl_.Enable(GL_DEPTH_TEST);
   gl_.DepthFunc(GL_LEQUAL);
-  gl_.Enable(GL_MULTISAMPLE);
   gl_.Disable(GL_BLEND);
   gl_.Enable(GL_CULL_FACE);
   gl_.CullFace(GL_BACK);
@@ -345,22 +373,12 @@ void Renderer::draw_frame(const Scene& scene, int width, int height) {
     draw_instances(module_mesh, solid);
   }
   gl_.DepthMask(GL_TRUE);
-
-  Overlay overlay(text.atlas);
-  annotate(overlay, scene, view_projection, width, height);
-  gl_.Disable(GL_DEPTH_TEST);
-  gl_.Disable(GL_CULL_FACE);
-  gl_.Enable(GL_BLEND);
-  gl_.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-  draw_overlay(overlay.vertices(), text, width, height);
-  gl_.Disable(GL_BLEND);
-  gl_.BindVertexArray(0);
 }
 
 Image Renderer::render(const Scene& scene, int width, int height) {
-  draw_frame(scene, width, height);
-  resolve(resolve_fbo_);
-  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, resolve_fbo_);
+  resize(width, height);  // makes the output framebuffer
+  draw(scene, width, height, output_fbo_);
+  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, output_fbo_);
   Image image(width, height);
   gl_.PixelStorei(GL_PACK_ALIGNMENT, 4);
   gl_.ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());

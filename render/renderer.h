@@ -2,8 +2,8 @@
 // headless (OSMesa) or in a window. Modules are instanced meshes under simple lighting over a
 // ground grid, coloured by a variable with a legend. When groups are highlighted, their modules
 // stay solid and outlined while the others fade to translucent, so a group inside a cube shows
-// through; the slots are linked in slot order and labelled. Edges are anti-aliased by
-// multisampling.
+// through; the slots are linked in slot order and labelled. Edges are anti-aliased by a
+// post-process (FXAA) and the flat layer by feathered edges of its own.
 #pragma once
 
 #include <map>
@@ -33,8 +33,8 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Draws the scene at width x height into the renderer's multisampled framebuffer and resolves
-  // it into framebuffer `target` (0: the context's default one), which must be at least as large.
+  // Draws the scene at width x height into framebuffer `target` (0: the context's default one),
+  // which must be at least as large.
   void draw(const Scene& scene, int width, int height, unsigned target);
   // Draws the scene and reads it back, top row first.
   Image render(const Scene& scene, int width, int height);
@@ -49,8 +49,8 @@ class Renderer {
   struct FontTexture;
 
   void resize(int width, int height);
-  void draw_frame(const Scene& scene, int width, int height);
-  void resolve(unsigned target);
+  void draw_bodies(const Scene& scene, const Camera& camera, const glm::mat4& view_projection);
+  void smooth_edges();
   FontTexture& font(int pixel_height);
   void draw_instances(const Mesh& mesh, const std::vector<Instance>& instances);
   void draw_ground(const Scene& scene, const glm::mat4& view_projection);
@@ -58,13 +58,14 @@ class Renderer {
 
   const Gl& gl_;
   std::string font_path_;
-  std::unique_ptr<Program> mesh_program_, ground_program_, overlay_program_;
+  std::unique_ptr<Program> mesh_program_, ground_program_, overlay_program_, fxaa_program_;
   std::map<Shape, std::unique_ptr<Mesh>> meshes_;
   std::map<int, std::unique_ptr<FontTexture>> fonts_;
-  unsigned instance_buffer_ = 0, quad_vao_ = 0, quad_buffer_ = 0, overlay_vao_ = 0, overlay_buffer_ = 0;
-  // The multisampled framebuffer drawn into, and the plain one it resolves to for reading back.
-  unsigned msaa_fbo_ = 0, msaa_color_ = 0, msaa_depth_ = 0, resolve_fbo_ = 0, resolve_color_ = 0;
-  int width_ = 0, height_ = 0, samples_ = 4, max_size_ = 0;
+  unsigned instance_buffer_ = 0, quad_vao_ = 0, quad_buffer_ = 0, overlay_vao_ = 0, overlay_buffer_ = 0, empty_vao_ = 0;
+  // The bodies are drawn into a texture, which the edge smoothing reads; `render` draws the
+  // finished picture into the output framebuffer and reads it back.
+  unsigned scene_fbo_ = 0, scene_color_ = 0, scene_depth_ = 0, output_fbo_ = 0, output_color_ = 0;
+  int width_ = 0, height_ = 0, max_size_ = 0;
 };
 
 }  // namespace dw::render

@@ -11,7 +11,8 @@ packages=(
   libcli11-dev                                 # the command line
   libtomlplusplus-dev                          # scenario files
   libbullet-dev                                # the physics World
-  libosmesa6-dev libglm-dev libstb-dev         # the 3D view: headless GL, matrices, PNG and font baking
+  libosmesa6-dev libglm-dev libpng-dev         # the 3D view: headless GL, matrices, PNG files
+  libstb-dev                                   # stb_truetype: the view's text
   fonts-dejavu-core                            # the view's labels and legend
   clang libclang-rt-14-dev                     # the parser fuzz target and sanitizer builds
   time                                         # peak-memory figures for benchmarks (/usr/bin/time -v)

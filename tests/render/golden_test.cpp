@@ -10,6 +10,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <iomanip>
 #include <string>
 
 #include "render/image.h"
@@ -19,8 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr int kTolerance = 32;
-constexpr double kMaxShare = 0.005;
+constexpr int kTolerance = 16;
+constexpr double kMaxShare = 0.001;
 
 struct Golden {
   const char* name;
@@ -37,6 +38,9 @@ const Golden kGoldens[] = {
     {"cube_distance", "aggregation_routing.toml", "--step 30 --color-by dist"},
     {"push_wall", "push_wall.toml", "--step 80 --highlight all"},
 };
+
+// Names the case in gtest's messages.
+void PrintTo(const Golden& g, std::ostream* os) { *os << g.name; }
 
 class GoldenImage : public ::testing::TestWithParam<Golden> {};
 
@@ -64,7 +68,8 @@ TEST_P(GoldenImage, MatchesTheBlessedPicture) {
   if (!d.same_size || d.share > kMaxShare) {
     const fs::path diff_path = out_dir / (std::string(g.name) + ".diff.png");
     if (d.same_size) write_png(diff_path.string(), d.diff);
-    ADD_FAILURE() << g.name << ": " << d.differing << " pixels (" << d.share * 100 << "%) differ by more than "
+    ADD_FAILURE() << std::setprecision(3) << g.name << ": " << d.differing << " pixels (" << d.share * 100
+                  << "%) differ by more than "
                   << kTolerance << ", the largest by " << d.largest << "; allowed " << kMaxShare * 100 << "%"
                   << (d.same_size ? "" : " (the sizes differ)") << "\n  expected: " << golden_path.string()
                   << "\n  actual:   " << actual_path.string() << (d.same_size ? "\n  diff:     " + diff_path.string() : "");
