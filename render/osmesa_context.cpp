@@ -21,7 +21,9 @@ std::variant<std::unique_ptr<OsMesaContext>, std::string> OsMesaContext::create(
 }
 
 OsMesaContext::~OsMesaContext() {
-  if (context_) OSMesaDestroyContext(static_cast<OSMesaContext>(context_));
+  if (!context_) return;
+  if (OSMesaGetCurrentContext() == static_cast<OSMesaContext>(context_)) OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);
+  OSMesaDestroyContext(static_cast<OSMesaContext>(context_));
 }
 
 void OsMesaContext::make_current() {
