@@ -43,7 +43,14 @@ struct Renderer::Program {
   const Gl& gl;
   GLuint id = 0;
   Program(const Gl& g, std::string_view vertex, std::string_view fragment, const char* name) : gl(g) {
-    const GLuint vs = compile(GL_VERTEX_SHADER, vertex, name), fs = compile(GL_FRAGMENT_SHADER, fragment, name);
+    const GLuint vs = compile(GL_VERTEX_SHADER, vertex, name);
+    GLuint fs = 0;
+    try {
+      fs = compile(GL_FRAGMENT_SHADER, fragment, name);
+    } catch (const RenderError&) {
+      gl.DeleteShader(vs);
+      throw;
+    }
     id = gl.CreateProgram();
     gl.AttachShader(id, vs);
     gl.AttachShader(id, fs);
@@ -55,6 +62,7 @@ struct Renderer::Program {
     if (!ok) {
       char log[2048] = {};
       gl.GetProgramInfoLog(id, sizeof log, nullptr, log);
+      gl.DeleteProgram(id);
       throw RenderError(std::string("the ") + name + " shaders do not link: " + log);
     }
   }
@@ -70,6 +78,7 @@ struct Renderer::Program {
     if (!ok) {
       char log[2048] = {};
       gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
+      gl.DeleteShader(s);
       throw RenderError(std::string("the ") + name + " shader does not compile: " + log);
     }
     return s;

@@ -16,6 +16,7 @@
 #include "render/font.h"
 #include "render/gl.h"
 #include "render/image.h"
+#include "render/overlay.h"
 #include "render/scene.h"
 
 namespace dw::render {
@@ -54,7 +55,7 @@ class Renderer {
   FontTexture& font(int pixel_height);
   void draw_instances(const Mesh& mesh, const std::vector<Instance>& instances);
   void draw_ground(const Scene& scene, const glm::mat4& view_projection);
-  void draw_overlay(const std::vector<struct OverlayVertex>& vertices, const FontTexture& font, int width, int height);
+  void draw_overlay(const std::vector<OverlayVertex>& vertices, const FontTexture& font, int width, int height);
 
   const Gl& gl_;
   std::string font_path_;
