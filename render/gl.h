@@ -25,9 +25,12 @@ namespace dw::render {
   X(PFNGLBLENDFUNCPROC, BlendFunc)                                              \
   X(PFNGLDEPTHMASKPROC, DepthMask)                                              \
   X(PFNGLDEPTHFUNCPROC, DepthFunc)                                              \
+  X(PFNGLSTENCILFUNCPROC, StencilFunc)                                          \
+  X(PFNGLSTENCILOPPROC, StencilOp)                                              \
   X(PFNGLCULLFACEPROC, CullFace)                                                \
   X(PFNGLPOLYGONOFFSETPROC, PolygonOffset)                                      \
   X(PFNGLVIEWPORTPROC, Viewport)                                                \
+  X(PFNGLSCISSORPROC, Scissor)                                                  \
   X(PFNGLCLEARCOLORPROC, ClearColor)                                            \
   X(PFNGLCLEARPROC, Clear)                                                      \
   X(PFNGLREADPIXELSPROC, ReadPixels)                                            \
@@ -73,6 +76,7 @@ namespace dw::render {
   X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                          \
   X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                                \
   X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                          \
+  X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)                                  \
   X(PFNGLGENTEXTURESPROC, GenTextures)                                          \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                    \
   X(PFNGLBINDTEXTUREPROC, BindTexture)                                          \

@@ -199,10 +199,10 @@ void Renderer::resize(int width, int height) {
   gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   gl_.BindRenderbuffer(GL_RENDERBUFFER, scene_depth_);
-  gl_.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+  gl_.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
   gl_.BindFramebuffer(GL_FRAMEBUFFER, scene_fbo_);
   gl_.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, scene_color_, 0);
-  gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, scene_depth_);
+  gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, scene_depth_);
   if (gl_.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw RenderError("the scene framebuffer is incomplete");
   gl_.BindRenderbuffer(GL_RENDERBUFFER, output_color_);
@@ -287,9 +287,12 @@ void Renderer::draw(const Scene& scene, int width, int height, unsigned target) 
   gl_.Viewport(0, 0, width, height);
   draw_bodies(scene, camera, view_projection);
 
+  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, scene_fbo_);
+  gl_.BindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+  gl_.BlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   gl_.BindFramebuffer(GL_FRAMEBUFFER, target);
   gl_.Viewport(0, 0, width, height);
-  smooth_edges();
+  smooth_edges(scene, view_projection);
 
   // The flat layer goes over the smoothed picture: text stays sharp, and its shapes carry their
   // own feathered edges.
@@ -303,7 +306,33 @@ void Renderer::draw(const Scene& scene, int width, int height, unsigned target) 
   gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-void Renderer::smooth_edges() {
+void Renderer::smooth_edges(const Scene& scene, const glm::mat4& view_projection) {
+  // Only the bodies' edges need it (the ground grid is anti-aliased in its shader), so only the
+  // rectangle they cover on screen is smoothed; the rest was copied as it is.
+  glm::vec2 lo(1e9f), hi(-1e9f);
+  auto cover = [&](const sim::Pose& pose, glm::vec3 half) {
+    const glm::mat4 to_clip = view_projection * transform(pose, half * 2.0f);
+    for (int i = 0; i < 8; ++i) {
+      const glm::vec4 c = to_clip * glm::vec4((i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f, 1);
+      if (c.w <= 1e-6f) {  // behind the camera: smooth everything
+        lo = glm::vec2(-1), hi = glm::vec2(1);
+        return;
+      }
+      lo = glm::min(lo, glm::vec2(c) / c.w);
+      hi = glm::max(hi, glm::vec2(c) / c.w);
+    }
+  };
+  for (const SceneModule& m : scene.modules) cover(m.pose, glm::vec3(kOutlineScale * 0.5f));
+  for (const SceneProp& p : scene.props)
+    cover(p.pose, p.shape == Shape::Sphere ? glm::vec3(p.size[0] * 0.5f) : glm::vec3(p.size[0], p.size[1], p.size[2]) * 0.5f);
+  if (lo.x > hi.x) return;  // nothing drawn
+  const int x0 = std::clamp(int((lo.x + 1) * 0.5f * float(width_)) - 2, 0, width_);
+  const int y0 = std::clamp(int((lo.y + 1) * 0.5f * float(height_)) - 2, 0, height_);
+  const int x1 = std::clamp(int((hi.x + 1) * 0.5f * float(width_)) + 3, 0, width_);
+  const int y1 = std::clamp(int((hi.y + 1) * 0.5f * float(height_)) + 3, 0, height_);
+  if (x1 <= x0 || y1 <= y0) return;
+  gl_.Enable(GL_SCISSOR_TEST);
+  gl_.Scissor(x0, y0, x1 - x0, y1 - y0);
   gl_.Disable(GL_DEPTH_TEST);
   gl_.Disable(GL_CULL_FACE);
   gl_.Disable(GL_BLEND);
@@ -315,11 +344,12 @@ void Renderer::smooth_edges() {
   gl_.BindTexture(GL_TEXTURE_2D, scene_color_);
   gl_.BindVertexArray(empty_vao_);
   gl_.DrawArrays(GL_TRIANGLES, 0, 3);
+  gl_.Disable(GL_SCISSOR_TEST);
 }
 
 void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::mat4& view_projection) {
   gl_.ClearColor(kBackground.r, kBackground.g, kBackground.b, 1);
-  gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
   gl_.Enable(GL_DEPTH_TEST);
   gl_.DepthFunc(GL_LEQUAL);
   gl_.Disable(GL_BLEND);
@@ -328,8 +358,8 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
 
   draw_ground(scene, view_projection);
 
-  // Solid: every module, or with groups highlighted only theirs; translucent: the others, far to
-  // near, so that each blends over what lies behind it.
+  // Solid: every module, or with groups highlighted only theirs; translucent: the others, near to
+  // far (see below).
   const bool highlighting = !scene.groups.empty();
   std::vector<Instance> solid, faded, outline, props;
   std::vector<std::pair<float, size_t>> depth;
@@ -343,10 +373,10 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
       faded.push_back({transform(m.pose, glm::vec3(kModuleScale)), dimmed(m.color)});
     }
   }
-  std::sort(depth.begin(), depth.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-  std::vector<Instance> far_to_near;
-  far_to_near.reserve(faded.size());
-  for (const auto& [d, i] : depth) far_to_near.push_back(faded[i]);
+  std::sort(depth.begin(), depth.end());
+  std::vector<Instance> near_to_far;
+  near_to_far.reserve(faded.size());
+  for (const auto& [d, i] : depth) near_to_far.push_back(faded[i]);
 
   const Program& p = *mesh_program_;
   gl_.UseProgram(p.id);
@@ -362,26 +392,33 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
     props.assign(1, {transform(prop.pose, size), {kPropColor.r, kPropColor.g, kPropColor.b, 1}});
     draw_instances(*meshes_.at(prop.shape), props);
   }
-  if (!highlighting) draw_instances(module_mesh, solid);
+  if (!highlighting) {
+    draw_instances(module_mesh, solid);
+    return;
+  }
 
-  // The others, translucent, writing no depth.
+  // The group, marked in the stencil buffer: first a grown flat copy of each of its modules,
+  // writing no depth, then the modules over it, which leaves an even rim around their silhouettes.
+  gl_.Enable(GL_STENCIL_TEST);
+  gl_.StencilFunc(GL_ALWAYS, 1, 0xff);
+  gl_.StencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+  gl_.Uniform1i(p.at("u_unlit"), 1);
+  gl_.DepthMask(GL_FALSE);
+  draw_instances(module_mesh, outline);
+  gl_.DepthMask(GL_TRUE);
+  gl_.Uniform1i(p.at("u_unlit"), 0);
+  draw_instances(module_mesh, solid);
+
+  // The others, translucent, kept off the group's pixels, so that no module veils it however deep
+  // inside the ensemble it lies. Near to far with depth written, each pixel takes only the nearest
+  // layer: the ensemble reads as a pale shell, and a frame costs one layer, not ten.
+  gl_.StencilFunc(GL_NOTEQUAL, 1, 0xff);
+  gl_.StencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
   gl_.Enable(GL_BLEND);
   gl_.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-  gl_.DepthMask(GL_FALSE);
-  draw_instances(module_mesh, far_to_near);
+  draw_instances(module_mesh, near_to_far);
   gl_.Disable(GL_BLEND);
-
-  // The group last, so that no translucent module veils it, however deep inside the ensemble it
-  // lies: first a grown flat copy of each of its modules, writing no depth, then the modules over
-  // it, which leaves an even rim around their silhouettes.
-  if (highlighting) {
-    gl_.Uniform1i(p.at("u_unlit"), 1);
-    draw_instances(module_mesh, outline);
-    gl_.DepthMask(GL_TRUE);
-    gl_.Uniform1i(p.at("u_unlit"), 0);
-    draw_instances(module_mesh, solid);
-  }
-  gl_.DepthMask(GL_TRUE);
+  gl_.Disable(GL_STENCIL_TEST);
 }
 
 Image Renderer::render(const Scene& scene, int width, int height) {

@@ -51,7 +51,7 @@ class Renderer {
 
   void resize(int width, int height);
   void draw_bodies(const Scene& scene, const Camera& camera, const glm::mat4& view_projection);
-  void smooth_edges();
+  void smooth_edges(const Scene& scene, const glm::mat4& view_projection);
   FontTexture& font(int pixel_height);
   void draw_instances(const Mesh& mesh, const std::vector<Instance>& instances);
   void draw_ground(const Scene& scene, const glm::mat4& view_projection);
