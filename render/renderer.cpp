@@ -286,6 +286,9 @@ void Renderer::draw(const Scene& scene, int width, int height, unsigned target) 
   gl_.BindFramebuffer(GL_FRAMEBUFFER, scene_fbo_);
   gl_.Viewport(0, 0, width, height);
   draw_bodies(scene, camera, view_projection);
+  gl_.Disable(GL_DEPTH_TEST);
+  gl_.Disable(GL_CULL_FACE);
+  gl_.Disable(GL_BLEND);
 
   gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, scene_fbo_);
   gl_.BindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
@@ -333,9 +336,6 @@ void Renderer::smooth_edges(const Scene& scene, const glm::mat4& view_projection
   if (x1 <= x0 || y1 <= y0) return;
   gl_.Enable(GL_SCISSOR_TEST);
   gl_.Scissor(x0, y0, x1 - x0, y1 - y0);
-  gl_.Disable(GL_DEPTH_TEST);
-  gl_.Disable(GL_CULL_FACE);
-  gl_.Disable(GL_BLEND);
   const Program& p = *fxaa_program_;
   gl_.UseProgram(p.id);
   gl_.Uniform1i(p.at("u_color"), 0);

@@ -74,6 +74,16 @@ TEST_F(RendererTest, ReadsBackTheRightWayUp) {
   EXPECT_EQ(count(image, 0, 270, 200, 300, ink), 0);
 }
 
+TEST_F(RendererTest, AnEmptySceneStillShowsItsTitleOnTheBackground) {
+  Scene s;
+  s.title = "WWWWWWWWWWWW";
+  const Image image = renderer_->render(s, 400, 300);
+  auto ink = [](int r, int g, int b) { return r < 90 && g < 90 && b < 90; };
+  EXPECT_GT(count(image, 0, 0, 200, 30, ink), 40);
+  const uint8_t* corner = image.pixel(399, 299);
+  EXPECT_GT(corner[0], 200);
+}
+
 TEST_F(RendererTest, AHighlightedGroupIsOutlinedAndShowsThroughTheOthers) {
   // The middle module of a 5x5x5 cube is hidden from every side, until it is highlighted.
   Scene s = cube(5, {0.55f, 0.63f, 0.72f});
