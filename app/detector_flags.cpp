@@ -70,4 +70,10 @@ nlohmann::ordered_json stats_json(const watch::Watchpoint& w, const watch::Detec
   return j;
 }
 
+std::string group_text(std::span<const std::string> slot_names, std::span<const watch::ModuleId> ids) {
+  std::string s;
+  for (size_t i = 0; i < ids.size(); ++i) s += (i ? " " : "") + slot_names[i] + "=" + std::to_string(ids[i]);
+  return s;
+}
+
 }  // namespace dw::app

@@ -4,6 +4,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <span>
+#include <string>
 
 #include "watch/detector.h"
 #include "watch/watchpoint.h"
@@ -26,5 +28,7 @@ struct DetectorFlags {
 void add_detector_flags(CLI::App& cmd, DetectorFlags& flags, bool with_algorithm = true);
 void print_detector_stats(std::ostream& out, const watch::DetectorStats& st);
 nlohmann::ordered_json stats_json(const watch::Watchpoint& w, const watch::DetectorStats& st, uint64_t matches);
+// A matched group as "a=4 b=5 c=9": each slot's name and the module filling it.
+std::string group_text(std::span<const std::string> slot_names, std::span<const watch::ModuleId> ids);
 
 }  // namespace dw::app

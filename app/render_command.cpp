@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "app/detector_flags.h"
 #include "app/output_files.h"
 #include "app/view_image.h"
 #include "render/scene.h"
@@ -68,11 +69,8 @@ int render_scenario(const RenderArgs& args) {
   if (!settings.color_by.empty()) std::cout << " coloured by " << settings.color_by;
   std::cout << ", " << groups.size() << (groups.size() == 1 ? " group" : " groups") << " highlighted -> " << args.out
             << " (" << args.width << "x" << args.height << ")\n";
-  for (const render::SceneGroup& g : groups) {
-    std::cout << "  " << g.watch << " t=" << g.t << ":";
-    for (size_t i = 0; i < g.modules.size(); ++i) std::cout << " " << g.slot_names[i] << "=" << g.modules[i];
-    std::cout << "\n";
-  }
+  for (const render::SceneGroup& g : groups)
+    std::cout << "  " << g.watch << " t=" << g.t << ": " << group_text(g.slot_names, g.modules) << "\n";
   return 0;
 }
 

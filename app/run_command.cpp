@@ -31,12 +31,6 @@ struct RunArgs {
   bool no_progress = false;
 };
 
-std::string group_text(const watch::Watchpoint& w, std::span<const sim::ModuleId> ids) {
-  std::string s;
-  for (size_t i = 0; i < ids.size(); ++i) s += (i ? " " : "") + w.program.slot_names[i] + "=" + std::to_string(ids[i]);
-  return s;
-}
-
 std::string hex(uint64_t v) {
   std::ostringstream s;
   s << "0x" << std::hex << std::setw(16) << std::setfill('0') << v;
@@ -132,7 +126,7 @@ int run_scenario(const RunArgs& args) {
     if (pause && pause->watch == w) {
       summary << "; PAUSED at step " << pause->t;
       if (pause->detected != pause->t) summary << " (detected at step " << pause->detected << ")";
-      summary << ": " << group_text(h.watchpoint, pause->group);
+      summary << ": " << group_text(h.watchpoint.program.slot_names, pause->group);
       if (pause->matches > 1) summary << " and " << pause->matches - 1 << " more at that step";
     }
     summary << "\n";
@@ -140,7 +134,7 @@ int run_scenario(const RunArgs& args) {
     if (matches == nullptr) {
       const size_t k = static_cast<size_t>(h.watchpoint.program.slot_count());
       for (size_t i = 0; i < list.size() && i < args.print; ++i)
-        summary << "    t=" << list.t[i] << " " << group_text(h.watchpoint, {list.slots.data() + i * k, k}) << "\n";
+        summary << "    t=" << list.t[i] << " " << group_text(h.watchpoint.program.slot_names, {list.slots.data() + i * k, k}) << "\n";
       if (list.size() > args.print && args.print > 0)
         summary << "    ... " << (list.size() - args.print) << " more (--matches FILE writes them all)\n";
     }

@@ -22,7 +22,7 @@ render::Shape shape_of(physics::ModuleShape s) {
 render::SceneSettings scene_settings(const scenarios::Scenario& scenario, const std::string& color_by) {
   render::SceneSettings s;
   s.title = scenario.name;
-  s.module_shape = render::default_shape(scenario.model->lattice.spec.kind);
+  s.module_shape = shape_of(physics::default_shape(scenario.model->lattice.spec.kind));
   s.color_by = color_by.empty() ? scenario.view.color_by : color_by;
   auto vec = [](const std::array<double, 3>& a) { return sim::Vec3{float(a[0]), float(a[1]), float(a[2])}; };
   if (scenario.view.camera_eye) s.camera_eye = vec(*scenario.view.camera_eye);

@@ -23,6 +23,11 @@ void fit_depth(Camera& c, const Bounds& b) {
 
 }  // namespace
 
+glm::vec3 half_extent(const SceneProp& prop) {
+  if (prop.shape == Shape::Sphere) return glm::vec3(prop.size[0] * 0.5f);
+  return glm::vec3(prop.size[0], prop.size[1], prop.size[2]) * 0.5f;
+}
+
 Bounds scene_bounds(const Scene& scene) {
   Bounds b{glm::vec3(1e30f), glm::vec3(-1e30f)};
   auto add = [&](const sim::Vec3& p, glm::vec3 half) {
@@ -31,10 +36,7 @@ Bounds scene_bounds(const Scene& scene) {
     b.max = glm::max(b.max, c + half);
   };
   for (const SceneModule& m : scene.modules) add(m.pose.position, glm::vec3(0.5f));
-  for (const SceneProp& p : scene.props) {
-    const glm::vec3 half = p.shape == Shape::Sphere ? glm::vec3(p.size[0] * 0.5f) : glm::vec3(p.size[0], p.size[1], p.size[2]) * 0.5f;
-    add(p.pose.position, half);
-  }
+  for (const SceneProp& p : scene.props) add(p.pose.position, half_extent(p));
   if (scene.modules.empty() && scene.props.empty()) return Bounds{};
   return b;
 }
@@ -71,7 +73,7 @@ Camera make_camera(const Scene& scene, int width, int height, const Region& regi
       points.push_back(glm::vec3(p[0], p[1], p[2]) + half * glm::vec3((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1));
   };
   for (const SceneModule& m : scene.modules) add(m.pose.position, glm::vec3(0.5f));
-  for (const SceneProp& p : scene.props) add(p.pose.position, glm::vec3(p.size[0], p.size[1], p.size[2]) * 0.5f);
+  for (const SceneProp& p : scene.props) add(p.pose.position, half_extent(p));
 
   // The distance at which every point lies inside the field of view: a point at offset (x, y)
   // across the view and z towards the camera needs distance >= |x| / tan(half width) + z, and

@@ -23,6 +23,9 @@ struct Camera {
   float near_plane = 0.1f, far_plane = 1000;
 };
 
+// Half a prop's extents along its own axes: a box of its size, or a sphere of diameter size[0].
+glm::vec3 half_extent(const SceneProp& prop);
+
 // The smallest box holding every module and prop (modules one size across).
 struct Bounds {
   glm::vec3 min{0}, max{0};

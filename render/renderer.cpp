@@ -326,8 +326,7 @@ void Renderer::smooth_edges(const Scene& scene, const glm::mat4& view_projection
     }
   };
   for (const SceneModule& m : scene.modules) cover(m.pose, glm::vec3(kOutlineScale * 0.5f));
-  for (const SceneProp& p : scene.props)
-    cover(p.pose, p.shape == Shape::Sphere ? glm::vec3(p.size[0] * 0.5f) : glm::vec3(p.size[0], p.size[1], p.size[2]) * 0.5f);
+  for (const SceneProp& p : scene.props) cover(p.pose, half_extent(p));
   if (lo.x > hi.x) return;  // nothing drawn
   const int x0 = std::clamp(int((lo.x + 1) * 0.5f * float(width_)) - 2, 0, width_);
   const int y0 = std::clamp(int((lo.y + 1) * 0.5f * float(height_)) - 2, 0, height_);
@@ -388,8 +387,7 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
   // Props and, with nothing highlighted, every module: solid.
   gl_.Uniform1i(p.at("u_unlit"), 0);
   for (const SceneProp& prop : scene.props) {
-    const glm::vec3 size = prop.shape == Shape::Sphere ? glm::vec3(prop.size[0]) : glm::vec3(prop.size[0], prop.size[1], prop.size[2]);
-    props.assign(1, {transform(prop.pose, size), {kPropColor.r, kPropColor.g, kPropColor.b, 1}});
+    props.assign(1, {transform(prop.pose, 2.0f * half_extent(prop)), {kPropColor.r, kPropColor.g, kPropColor.b, 1}});
     draw_instances(*meshes_.at(prop.shape), props);
   }
   if (!highlighting) {

@@ -7,17 +7,6 @@
 
 namespace dw::render {
 
-Shape default_shape(sim::LatticeKind kind) {
-  switch (kind) {
-    case sim::LatticeKind::Cubic:
-    case sim::LatticeKind::Square2d: return Shape::Box;
-    case sim::LatticeKind::Hex2d: return Shape::Cylinder;
-    case sim::LatticeKind::Ring:
-    case sim::LatticeKind::Line: return Shape::Sphere;
-  }
-  return Shape::Box;
-}
-
 Scene build_scene(const sim::Model& model, const sim::State& state, std::span<const SceneGroup> groups,
                   const SceneSettings& settings) {
   Scene scene;

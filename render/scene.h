@@ -15,10 +15,8 @@
 
 namespace dw::render {
 
-// As in the physics: boxes for cubic and square2d, upright cylinders for hex2d, spheres for ring
-// and line; one module size (1) across.
+// As in the physics (physics::ModuleShape): one module size (1) across; a cylinder stands upright.
 enum class Shape { Box, Cylinder, Sphere };
-Shape default_shape(sim::LatticeKind kind);
 
 struct Color {
   float r = 0, g = 0, b = 0;

@@ -2,23 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/render/test_scenes.h"
+
 #include "render/annotations.h"
 
 namespace dw::render {
 namespace {
-
-Scene grid(int nx, int ny, int nz) {
-  Scene s;
-  for (int z = 0; z < nz; ++z)
-    for (int y = 0; y < ny; ++y)
-      for (int x = 0; x < nx; ++x) {
-        SceneModule m;
-        m.id = sim::ModuleId(s.modules.size());
-        m.pose.position = {float(x), float(y), float(z)};
-        s.modules.push_back(m);
-      }
-  return s;
-}
 
 // Every corner of every module lands inside the region, and the ensemble spans most of it in at
 // least one direction (the camera is fitted, not merely far away).
@@ -44,15 +33,15 @@ void expect_fitted(const Scene& scene, int width, int height, const Region& regi
   EXPECT_GT(std::max(fill_x, fill_y), 0.9f);
 }
 
-TEST(Camera, FitsACubeIntoTheWholeImage) { expect_fitted(grid(10, 10, 10), 1280, 720, Region{}); }
+TEST(Camera, FitsACubeIntoTheWholeImage) { expect_fitted(test::block(10, 10, 10), 1280, 720, Region{}); }
 
 TEST(Camera, FitsAFlatSheetIntoARegionLeftOfAndBelowTheAnnotations) {
-  expect_fitted(grid(12, 10, 1), 1280, 720, Region{0.15f, 0.1f, 0.98f, 0.97f});
+  expect_fitted(test::block(12, 10, 1), 1280, 720, Region{0.15f, 0.1f, 0.98f, 0.97f});
 }
 
 TEST(Camera, FitsALineAndATallImage) {
-  expect_fitted(grid(30, 1, 1), 400, 900, Region{});
-  expect_fitted(grid(1, 1, 1), 640, 360, Region{});
+  expect_fitted(test::block(30, 1, 1), 400, 900, Region{});
+  expect_fitted(test::block(1, 1, 1), 640, 360, Region{});
 }
 
 TEST(Camera, AFlatEnsembleIsSeenFromHigherUp) {
@@ -60,11 +49,11 @@ TEST(Camera, AFlatEnsembleIsSeenFromHigherUp) {
     const glm::vec3 d = glm::normalize(c.eye - c.target);
     return std::asin(d.z);
   };
-  EXPECT_GT(elevation(make_camera(grid(8, 8, 1), 800, 600, {})), elevation(make_camera(grid(8, 8, 8), 800, 600, {})));
+  EXPECT_GT(elevation(make_camera(test::block(8, 8, 1), 800, 600, {})), elevation(make_camera(test::block(8, 8, 8), 800, 600, {})));
 }
 
 TEST(Camera, TheScenarioCameraWins) {
-  Scene s = grid(3, 3, 3);
+  Scene s = test::block(3, 3, 3);
   s.camera_eye = sim::Vec3{10, -20, 30};
   s.camera_target = sim::Vec3{1, 2, 3};
   const Camera c = make_camera(s, 800, 600, {});

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/render/test_scenes.h"
+
 #include "render/osmesa_context.h"
 
 namespace dw::render {
@@ -26,20 +28,6 @@ class RendererTest : public ::testing::Test {
 OsMesaContext* RendererTest::context_ = nullptr;
 Renderer* RendererTest::renderer_ = nullptr;
 
-Scene cube(int n, Color color) {
-  Scene s;
-  for (int z = 0; z < n; ++z)
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        SceneModule m;
-        m.id = sim::ModuleId(s.modules.size());
-        m.pose.position = {float(x), float(y), float(z)};
-        m.color = color;
-        s.modules.push_back(m);
-      }
-  return s;
-}
-
 // Pixels in a rectangle for which `test(r, g, b)` holds.
 template <typename Test>
 int count(const Image& image, int x0, int y0, int x1, int y1, Test test) {
@@ -56,7 +44,7 @@ bool greenish(int r, int g, int b) { return g > r + 60 && g > b + 60; }
 bool link_red(int r, int g, int b) { return r > 170 && g < 70 && b < 80; }
 
 TEST_F(RendererTest, DrawsTheModulesInTheirColourOnTheBackground) {
-  const Image image = renderer_->render(cube(1, {0.1f, 0.8f, 0.2f}), 320, 240);
+  const Image image = renderer_->render(test::block(1, 1, 1, {0.1f, 0.8f, 0.2f}), 320, 240);
   ASSERT_EQ(image.width, 320);
   ASSERT_EQ(image.height, 240);
   EXPECT_TRUE(greenish(image.pixel(160, 120)[0], image.pixel(160, 120)[1], image.pixel(160, 120)[2]));
@@ -66,7 +54,7 @@ TEST_F(RendererTest, DrawsTheModulesInTheirColourOnTheBackground) {
 
 TEST_F(RendererTest, ReadsBackTheRightWayUp) {
   // The title is written at the top left: dark text pixels there, none in the bottom rows.
-  Scene s = cube(1, {0.1f, 0.8f, 0.2f});
+  Scene s = test::block(1, 1, 1, {0.1f, 0.8f, 0.2f});
   s.title = "WWWWWWWWWWWW";
   const Image image = renderer_->render(s, 400, 300);
   auto ink = [](int r, int g, int b) { return r < 90 && g < 90 && b < 90; };
@@ -86,7 +74,7 @@ TEST_F(RendererTest, AnEmptySceneStillShowsItsTitleOnTheBackground) {
 
 TEST_F(RendererTest, AHighlightedGroupIsOutlinedAndShowsThroughTheOthers) {
   // The middle module of a 5x5x5 cube is hidden from every side, until it is highlighted.
-  Scene s = cube(5, {0.55f, 0.63f, 0.72f});
+  Scene s = test::block(5, 5, 5, {0.55f, 0.63f, 0.72f});
   const sim::ModuleId middle = 2 + 5 * (2 + 5 * 2);
   s.modules[middle].color = {0.1f, 0.8f, 0.2f};
   const Image plain = renderer_->render(s, 400, 300);
@@ -101,19 +89,19 @@ TEST_F(RendererTest, AHighlightedGroupIsOutlinedAndShowsThroughTheOthers) {
 }
 
 TEST_F(RendererTest, TheSameSceneGivesTheSamePixels) {
-  Scene s = cube(3, {0.9f, 0.5f, 0.1f});
+  Scene s = test::block(3, 3, 3, {0.9f, 0.5f, 0.1f});
   s.groups.push_back({"w", 0, {"a", "b"}, {0, 1}});
   s.modules[0].highlighted = s.modules[1].highlighted = true;
   const Image a = renderer_->render(s, 300, 200);
-  const Image b = renderer_->render(cube(2, {0, 0, 1}), 640, 480);  // a different size in between
+  const Image b = renderer_->render(test::block(2, 2, 2, {0, 0, 1}), 640, 480);  // a different size in between
   const Image c = renderer_->render(s, 300, 200);
   EXPECT_EQ(a.rgba, c.rgba);
   EXPECT_NE(b.width, a.width);
 }
 
 TEST_F(RendererTest, ImagesOutOfRangeAreRefused) {
-  EXPECT_THROW(renderer_->render(cube(1, {}), 0, 100), RenderError);
-  EXPECT_THROW(renderer_->render(cube(1, {}), renderer_->max_size() + 1, 100), RenderError);
+  EXPECT_THROW(renderer_->render(test::block(1, 1, 1, {}), 0, 100), RenderError);
+  EXPECT_THROW(renderer_->render(test::block(1, 1, 1, {}), renderer_->max_size() + 1, 100), RenderError);
 }
 
 TEST(OsMesaContext, IsGl33CoreOrNewer) {

@@ -98,13 +98,5 @@ TEST(BuildScene, PhysicalPosesAndPropsComeFromTheState) {
   EXPECT_FLOAT_EQ(scene.ground_z, -4);
 }
 
-TEST(DefaultShape, FollowsThePhysics) {
-  EXPECT_EQ(default_shape(sim::LatticeKind::Cubic), Shape::Box);
-  EXPECT_EQ(default_shape(sim::LatticeKind::Square2d), Shape::Box);
-  EXPECT_EQ(default_shape(sim::LatticeKind::Hex2d), Shape::Cylinder);
-  EXPECT_EQ(default_shape(sim::LatticeKind::Ring), Shape::Sphere);
-  EXPECT_EQ(default_shape(sim::LatticeKind::Line), Shape::Sphere);
-}
-
 }  // namespace
 }  // namespace dw::render
