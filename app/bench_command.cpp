@@ -16,6 +16,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/integer_option.h"
 #include "app/bench.h"
 #include "app/bench_child.h"
 #include "app/commands.h"
@@ -124,8 +125,8 @@ int bench_engine(const BenchArgs& args) {
     spec.seed = args.seed;
     const sim::Trace trace = sim::make_cubic_random_vars(spec);
     if (!args.write_trace.empty()) {
-      if (!sim::write_trace(trace, args.write_trace)) {
-        std::cerr << args.write_trace << ": error: cannot write the trace\n";
+      if (std::string error = sim::write_trace(trace, args.write_trace); !error.empty()) {
+        std::cerr << "dwatch: error: " << error << "\n";
         return 1;
       }
       std::cout << "wrote " << args.write_trace << " (" << trace.line_count() << " lines, tuple " << tuple_text << ")\n";
@@ -165,14 +166,14 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
   cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
       ->check(CLI::IsMember({"centralized", "distributed", "both"}));
-  cmd->add_option("--size", args->size, "Lattice edge (modules per side; million: 100)")->check(CLI::Range(1u, 200u));
-  cmd->add_option("--steps", args->steps, "Steps to run")->check(CLI::Range(int64_t{1}, int64_t{1'000'000}));
-  cmd->add_option("--seed", args->seed, "Seed of the host program's random variables");
+  add_integer_option(*cmd, "--size", args->size, {"size", 1, 200}, "Lattice edge (modules per side; million: 100)");
+  add_integer_option(*cmd, "--steps", args->steps, {"steps", 1, 1'000'000}, "Steps to run");
+  add_integer_option(*cmd, "--seed", args->seed, scenarios::kSeedRange, "Seed of the host program's random variables");
   cmd->add_option("--out", args->out_dir, "Write NAME.csv into this directory");
-  cmd->add_option("--threads,-j", args->threads, "Threads stepping modules (table1, overhead, million)")
-      ->check(CLI::Range(1u, 256u));
-  cmd->add_option("--repeat", args->repeat, "Runs per row; the fastest and the median are reported")
-      ->check(CLI::Range(1, 100));
+  add_integer_option(*cmd, "--threads,-j", args->threads, scenarios::kThreadsRange,
+                     "Threads stepping modules (table1, overhead, million)");
+  add_integer_option(*cmd, "--repeat", args->repeat, {"repeat", 1, 100},
+                     "Runs per row; the fastest and the median are reported");
   cmd->add_option("--write-trace", args->write_trace, "Also write the synthetic trace (wptrace v1) to FILE");
   add_detector_flags(*cmd, args->detector, /*with_algorithm=*/false);
   cmd->callback([&run, args] {

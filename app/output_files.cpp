@@ -1,32 +1,81 @@
 #include "app/output_files.h"
 
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <unistd.h>
+
 #include <iostream>
 
 namespace dw::app {
+namespace {
 
-bool open_output(const std::string& path, const char* what, std::ofstream& file, std::ostream*& out) {
-  if (path.empty()) return true;
-  if (path == "-") {
-    out = &std::cout;
-    return true;
+// What a path is, to compare two: a device and inode when it exists, else its normalized path.
+struct Identity {
+  bool exists = false;
+  dev_t dev = 0;
+  ino_t ino = 0;
+  bool null_device = false;  // /dev/null: any number of outputs may go there
+  std::string path;
+  bool operator==(const Identity& o) const {
+    return exists == o.exists && (exists ? dev == o.dev && ino == o.ino : path == o.path);
   }
-  file.open(path, std::ios::binary);
-  if (!file) {
-    std::cerr << path << ": error: cannot write the " << what << " file\n";
-    return false;
+};
+
+Identity identity(const std::string& path) {
+  Identity id;
+  struct stat st {};
+  if (path == "-" ? ::fstat(STDOUT_FILENO, &st) == 0 : ::stat(path.c_str(), &st) == 0) {
+    id.exists = true;
+    id.dev = st.st_dev;
+    id.ino = st.st_ino;
+    id.null_device = S_ISCHR(st.st_mode) && st.st_rdev == makedev(1, 3);
+    return id;
   }
-  out = &file;
-  return true;
+  id.path = sim::resolved_path(path);
+  return id;
 }
 
-bool flush_outputs(const std::vector<std::pair<std::ostream*, const std::string*>>& outputs) {
-  for (const auto& [stream, path] : outputs) {
-    if (stream != nullptr && !stream->flush()) {
-      std::cerr << *path << ": error: writing failed\n";
-      return false;
+std::string spelled(const NamedFile& f) { return f.what + " " + (f.path == "-" ? "- (standard output)" : f.path); }
+
+}  // namespace
+
+bool check_distinct_files(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs) {
+  std::vector<std::pair<const std::string*, Identity>> in;
+  std::vector<std::pair<const NamedFile*, Identity>> out;
+  for (const std::string& path : inputs)
+    if (!path.empty() && path != "-") in.emplace_back(&path, identity(path));
+  for (const NamedFile& f : outputs)
+    if (!f.path.empty()) out.emplace_back(&f, identity(f.path));
+  std::string clash;
+  for (size_t i = 0; i < out.size() && clash.empty(); ++i) {
+    for (const auto& [path, id] : in)
+      if (clash.empty() && out[i].second == id) clash = spelled(*out[i].first) + " would overwrite the input " + *path;
+    for (size_t j = 0; j < i && clash.empty(); ++j)
+      if (out[i].second == out[j].second && !out[i].second.null_device)
+        clash = spelled(*out[j].first) + " and " + spelled(*out[i].first) + " name one file; give each output its own";
+  }
+  if (!clash.empty()) std::cerr << "dwatch: error: " << clash << "\n";
+  return clash.empty();
+}
+
+bool open_output(const NamedFile& file, std::unique_ptr<sim::OutputFile>& out) {
+  if (file.path.empty()) return true;
+  std::string error;
+  out = sim::OutputFile::open(file.path, &error);
+  if (!out) std::cerr << "dwatch: error: " << file.what << ": " << error << "\n";
+  return out != nullptr;
+}
+
+bool commit_outputs(const std::vector<sim::OutputFile*>& outputs) {
+  bool ok = true;
+  for (sim::OutputFile* out : outputs) {
+    if (out == nullptr) continue;
+    if (std::string error = out->commit(); !error.empty()) {
+      std::cerr << "dwatch: error: " << error << "\n";
+      ok = false;
     }
   }
-  return true;
+  return ok;
 }
 
 }  // namespace dw::app

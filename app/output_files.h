@@ -1,20 +1,35 @@
-// Output files named on the command line: opened before a run, so that a bad path costs nothing
-// and is bad input; flushed and checked after it, so that a failed write is a runtime failure.
+// Files named on the command line. Outputs are opened before a run, so that a bad path costs
+// nothing and is bad input, and committed after it (sim::OutputFile: a failed write destroys
+// nothing), so that a failed write is a runtime failure. Before anything runs, two outputs naming
+// one file, or an output naming an input, are bad input: compared by device and inode, so that
+// `./x`, a symlink or /dev/stdout next to `-` are caught as well.
 #pragma once
 
-#include <fstream>
+#include <memory>
 #include <ostream>
 #include <string>
-#include <utility>
 #include <vector>
+
+#include "sim/output_file.h"
 
 namespace dw::app {
 
-// Opens `path` (nothing to do when empty; "-" is stdout) and points `out` at it. False, with
-// `path: error: cannot write the WHAT file` on stderr, when it cannot be written.
-bool open_output(const std::string& path, const char* what, std::ofstream& file, std::ostream*& out);
+// A file as the command line names it: `what` says which ("--matches", "the scenario").
+struct NamedFile {
+  std::string what;
+  std::string path;  // "-" is standard output; empty: not given
+};
 
-// Flushes every (stream, path) given a stream; false, naming the path, when one write failed.
-bool flush_outputs(const std::vector<std::pair<std::ostream*, const std::string*>>& outputs);
+// False, with a message on stderr naming the two, when two outputs name one file or an output
+// names one of the inputs (files read: the scenario, a trace, watchpoint files).
+bool check_distinct_files(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs);
+
+// Opens `file` for writing unless its path is empty. False, with the error on stderr, when it
+// cannot be written.
+bool open_output(const NamedFile& file, std::unique_ptr<sim::OutputFile>& out);
+// The stream of an open output, or nullptr.
+inline std::ostream* stream_of(const std::unique_ptr<sim::OutputFile>& out) { return out ? &out->stream() : nullptr; }
+// Commits every open output; false, with the error on stderr, when one failed.
+bool commit_outputs(const std::vector<sim::OutputFile*>& outputs);
 
 }  // namespace dw::app

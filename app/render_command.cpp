@@ -4,6 +4,7 @@
 #include <iostream>
 #include <memory>
 
+#include "app/integer_option.h"
 #include "app/commands.h"
 #include "app/detector_flags.h"
 #include "app/output_files.h"
@@ -32,13 +33,13 @@ int render_scenario(const RenderArgs& args) {
     std::cerr << "dwatch: error: " << error << "\n";
     return 2;
   }
-  std::ofstream out_file;  // opened now only to find a bad path before the run
-  std::ostream* out = nullptr;
-  if (args.out == "-" || !open_output(args.out, "PNG", out_file, out)) {
-    if (args.out == "-") std::cerr << "dwatch: error: --out needs a file name\n";
+  if (args.out == "-") {
+    std::cerr << "dwatch: error: --out needs a file name\n";
     return 2;
   }
-  out_file.close();
+  const NamedFile out_file{"--out", args.out};
+  std::unique_ptr<sim::OutputFile> out;  // opened now: a bad path costs no run
+  if (!check_distinct_files(scenario.inputs, {out_file}) || !open_output(out_file, out)) return 2;
   const int64_t step = args.step.value_or(std::max<int64_t>(0, scenario.steps - 1));
   int64_t lag = 0;
   for (const sim::HostedWatchpoint& h : model.watches) lag = std::max(lag, h.lag());
@@ -61,8 +62,8 @@ int render_scenario(const RenderArgs& args) {
   render::SceneSettings settings = scene_settings(scenario, args.color_by);
   settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(step);
   const render::Scene scene = render::build_scene(model, *shown, groups, settings);
-  if (std::string error = write_view(scene, args.out, args.width, args.height); !error.empty()) {
-    std::cerr << "dwatch: " << args.out << ": error: " << error << "\n";
+  if (std::string error = write_view(scene, *out, args.width, args.height); !error.empty()) {
+    std::cerr << "dwatch: error: " << error << "\n";
     return 1;
   }
   std::cout << "render " << args.scenario << ": step " << step << ", " << scene.modules.size() << " modules";
@@ -80,11 +81,11 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
   auto* cmd = app.add_subcommand("render", "Draw a scenario's 3D view at one step to a PNG, headless");
   auto args = std::make_shared<RenderArgs>();
   cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
-  cmd->add_option("--step", args->step, "The step to show (default: the scenario's last)")
-      ->check(CLI::Range(int64_t{0}, int64_t{10'000'000}));
+  add_integer_option(*cmd, "--step", args->step, {"step", 0, scenarios::kStepsRange.max},
+                     "The step to show (default: the scenario's last)");
   cmd->add_option("--out,-o", args->out, "The PNG to write")->required();
-  cmd->add_option("--width", args->width, "Image width in pixels")->check(CLI::Range(16, 8192))->default_val(1280);
-  cmd->add_option("--height", args->height, "Image height in pixels")->check(CLI::Range(16, 8192))->default_val(720);
+  add_integer_option(*cmd, "--width", args->width, {"width", 16, 8192}, "Image width in pixels")->default_val(1280);
+  add_integer_option(*cmd, "--height", args->height, {"height", 16, 8192}, "Image height in pixels")->default_val(720);
   cmd->add_option("--color-by", args->color_by, "Colour modules by this variable (default: the scenario's [view])");
   cmd->add_option("--highlight", args->highlight, "Which groups matched at the step to highlight")
       ->check(CLI::IsMember({"first", "all", "none"}))

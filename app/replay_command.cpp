@@ -6,6 +6,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "app/integer_option.h"
 #include "app/commands.h"
 #include "app/detector_flags.h"
 #include "app/output_files.h"
@@ -31,7 +32,8 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 }
 
 int replay(const ReplayArgs& args) {
-  auto loaded = load_watchpoints(args.watches);
+  std::vector<std::string> inputs{args.trace};
+  auto loaded = load_watchpoints(args.watches, &inputs);
   if (auto* errors = std::get_if<std::string>(&loaded)) {
     std::cerr << *errors;
     return 2;
@@ -48,16 +50,12 @@ int replay(const ReplayArgs& args) {
   const double parse_seconds = seconds_since(parse_start);
 
   // Output files are opened before the run, so that a bad path costs nothing.
-  std::ofstream file, stats_file;
-  std::ostream* out = nullptr;
-  if (!open_output(args.matches_path, "matches", file, out)) return 2;
-  if (!args.stats_path.empty()) {
-    stats_file.open(args.stats_path);
-    if (!stats_file) {
-      std::cerr << args.stats_path << ": error: cannot write the stats file\n";
-      return 2;
-    }
-  }
+  const NamedFile matches_file{"--matches", args.matches_path}, stats_file{"--stats", args.stats_path};
+  std::unique_ptr<sim::OutputFile> matches_out, stats_out;
+  if (!check_distinct_files(inputs, {matches_file, stats_file}) || !open_output(matches_file, matches_out) ||
+      !open_output(stats_file, stats_out))
+    return 2;
+  std::ostream* out = stream_of(matches_out);
   std::vector<sim::MatchLog::WatchInfo> infos;
   for (const watch::Watchpoint& w : watches) infos.push_back({w.name, w.program.slot_names});
   sim::MatchLog log(std::move(infos), out, std::max<size_t>(args.print, 1));
@@ -80,7 +78,7 @@ int replay(const ReplayArgs& args) {
   const double detect_seconds = seconds_since(detect_start);
 
   // The summary goes to stdout unless the matches do.
-  std::ostream& summary = out == &std::cout ? std::cerr : std::cout;
+  std::ostream& summary = args.matches_path == "-" || args.stats_path == "-" ? std::cerr : std::cout;
   summary << "replay " << args.trace << ": " << trace.line_count() << " lines, " << trace.step_count() << " steps, "
           << trace.universe().module_count() << " modules; " << watch::algorithm_name(args.detector.algorithm())
           << " detector\n";
@@ -111,7 +109,7 @@ int replay(const ReplayArgs& args) {
   summary << std::fixed << std::setprecision(3) << "  time: reading " << parse_seconds << " s, detecting "
           << detect_seconds << " s\n";
 
-  if (!args.stats_path.empty()) {
+  if (stats_out) {
     nlohmann::ordered_json j;
     j["matches"] = total;
     j["algorithm"] = watch::algorithm_name(args.detector.algorithm());
@@ -123,10 +121,9 @@ int replay(const ReplayArgs& args) {
     j["watches"] = nlohmann::json::array();
     for (size_t i = 0; i < watches.size(); ++i)
       j["watches"].push_back(stats_json(watches[i], detectors[i]->stats(), log.count(i)));
-    stats_file << j.dump(1) << "\n";
+    stats_out->stream() << j.dump(1) << "\n";
   }
-  if (!flush_outputs({{out, &args.matches_path}, {args.stats_path.empty() ? nullptr : &stats_file, &args.stats_path}}))
-    return 1;
+  if (!commit_outputs({matches_out.get(), stats_out.get()})) return 1;
   return stopped ? 1 : 0;
 }
 
@@ -140,7 +137,8 @@ void add_replay_command(CLI::App& app, std::function<int()>& run) {
       ->required();
   cmd->add_option("--matches", args->matches_path, "Write every match as JSON Lines to FILE (- for stdout)");
   cmd->add_option("--stats", args->stats_path, "Write run statistics as JSON to FILE");
-  cmd->add_option("--print", args->print, "Matches to print per watchpoint when --matches is not given")
+  add_integer_option(*cmd, "--print", args->print, {"print", 0, 1'000'000},
+                     "Matches to print per watchpoint when --matches is not given")
       ->default_val(20);
   add_detector_flags(*cmd, args->detector);
   cmd->callback([&run, args] { run = [args] { return replay(*args); }; });

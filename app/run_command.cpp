@@ -8,6 +8,7 @@
 
 #include "app/commands.h"
 #include "app/detector_flags.h"
+#include "app/integer_option.h"
 #include "app/output_files.h"
 #include "app/progress.h"
 #include "app/view_image.h"
@@ -21,10 +22,7 @@ namespace {
 
 struct RunArgs {
   std::string scenario;
-  std::optional<int64_t> steps;
-  std::optional<uint64_t> seed;
-  std::optional<unsigned> threads;
-  std::optional<size_t> snapshots;
+  std::optional<int64_t> steps, seed, threads, snapshots;
   std::string algorithm;
   std::string record_path, matches_path, stats_path, render_path;
   size_t print = 5;
@@ -39,7 +37,7 @@ std::string hex(uint64_t v) {
 
 int run_scenario(const RunArgs& args) {
   scenarios::ScenarioOverrides overrides;
-  overrides.seed = args.seed;
+  if (args.seed) overrides.seed = static_cast<uint64_t>(*args.seed);
   if (!args.algorithm.empty())
     overrides.algorithm = args.algorithm == "centralized" ? watch::Algorithm::Centralized : watch::Algorithm::Distributed;
   auto loaded = scenarios::load_scenario(args.scenario, overrides);
@@ -50,27 +48,22 @@ int run_scenario(const RunArgs& args) {
   scenarios::Scenario& scenario = std::get<scenarios::Scenario>(loaded);
   const sim::Model& model = *scenario.model;
   const int64_t steps = args.steps.value_or(scenario.steps);
-  const unsigned threads = args.threads.value_or(scenario.threads);
-  const size_t snapshots = args.snapshots.value_or(scenario.snapshots);
+  const unsigned threads = args.threads ? static_cast<unsigned>(*args.threads) : scenario.threads;
+  const size_t snapshots = args.snapshots ? static_cast<size_t>(*args.snapshots) : scenario.snapshots;
 
-  std::ofstream record_file, matches_file, stats_file;
-  std::ostream *record = nullptr, *matches = nullptr, *stats = nullptr;
-  if (!open_output(args.record_path, "trace", record_file, record) ||
-      !open_output(args.matches_path, "matches", matches_file, matches) ||
-      !open_output(args.stats_path, "stats", stats_file, stats))
-    return 2;
-  if ((record == &std::cout) + (matches == &std::cout) + (stats == &std::cout) > 1) {
-    std::cerr << "dwatch: error: only one of --record, --matches and --stats can go to stdout\n";
-    return 2;
-  }
   if (args.render_path == "-") {
     std::cerr << "dwatch: error: --render needs a file name\n";
     return 2;
   }
-  std::ofstream render_file;  // opened now only to find a bad path before the run
-  std::ostream* render_out = nullptr;
-  if (!open_output(args.render_path, "PNG", render_file, render_out)) return 2;
-  render_file.close();
+  const NamedFile record_file{"--record", args.record_path}, matches_file{"--matches", args.matches_path},
+      stats_file{"--stats", args.stats_path}, render_file{"--render", args.render_path};
+  std::unique_ptr<sim::OutputFile> record_out, matches_out, stats_out, render_out;
+  if (!check_distinct_files(scenario.inputs, {record_file, matches_file, stats_file, render_file}) ||
+      !open_output(record_file, record_out) || !open_output(matches_file, matches_out) ||
+      !open_output(stats_file, stats_out) || !open_output(render_file, render_out))
+    return 2;
+  std::ostream *record = stream_of(record_out), *matches = stream_of(matches_out), *stats = stream_of(stats_out);
+  const bool to_stdout = args.record_path == "-" || args.matches_path == "-" || args.stats_path == "-";
 
   std::vector<sim::MatchLog::WatchInfo> infos;
   int64_t max_lag = 0;
@@ -106,7 +99,7 @@ int run_scenario(const RunArgs& args) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const int64_t ran = run.steps_run();
 
-  std::ostream& summary = (matches == &std::cout || record == &std::cout || stats == &std::cout) ? std::cerr : std::cout;
+  std::ostream& summary = to_stdout ? std::cerr : std::cout;
   const auto& spec = model.lattice.spec;
   summary << "run " << args.scenario << ": " << model.module_count() << " modules (" << sim::lattice_name(spec.kind)
           << " " << spec.size[0];
@@ -174,8 +167,8 @@ int run_scenario(const RunArgs& args) {
     render::SceneSettings settings = scene_settings(scenario, "");
     settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(shown);
     const render::Scene scene = render::build_scene(model, run.state(), groups, settings);
-    if (std::string error = write_view(scene, args.render_path, 1280, 720); !error.empty()) {
-      std::cerr << "dwatch: " << args.render_path << ": error: " << error << "\n";
+    if (std::string error = write_view(scene, *render_out, 1280, 720); !error.empty()) {
+      std::cerr << "dwatch: error: " << error << "\n";
       return 1;
     }
     summary << "  view of step " << shown << " written to " << args.render_path << "\n";
@@ -209,7 +202,7 @@ int run_scenario(const RunArgs& args) {
                     {"rolled_back", rolled_back}};
     *stats << j.dump(1) << "\n";
   }
-  if (!flush_outputs({{record, &args.record_path}, {matches, &args.matches_path}, {stats, &args.stats_path}})) return 1;
+  if (!commit_outputs({record_out.get(), matches_out.get(), stats_out.get()})) return 1;
   return stopped ? 1 : 0;
 }
 
@@ -219,11 +212,12 @@ void add_run_command(CLI::App& app, std::function<int()>& run) {
   auto* cmd = app.add_subcommand("run", "Run a scenario headless, watchpoints live");
   auto args = std::make_shared<RunArgs>();
   cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
-  cmd->add_option("--steps", args->steps, "Steps to run (default: the scenario's)")->check(CLI::Range(int64_t{0}, int64_t{10'000'000}));
-  cmd->add_option("--seed", args->seed, "Random seed (default: the scenario's)");
-  cmd->add_option("--threads,-j", args->threads, "Threads stepping modules (results never depend on it)")
-      ->check(CLI::Range(1u, 256u));
-  cmd->add_option("--snapshots", args->snapshots, "States kept for rollback (default: the scenario's)");
+  add_integer_option(*cmd, "--steps", args->steps, scenarios::kStepsRange, "Steps to run (default: the scenario's)");
+  add_integer_option(*cmd, "--seed", args->seed, scenarios::kSeedRange, "Random seed (default: the scenario's)");
+  add_integer_option(*cmd, "--threads,-j", args->threads, scenarios::kThreadsRange,
+                     "Threads stepping modules (results never depend on it)");
+  add_integer_option(*cmd, "--snapshots", args->snapshots, scenarios::kSnapshotsRange,
+                     "States kept for rollback (default: the scenario's)");
   cmd->add_option("--algorithm", args->algorithm, "Run every watchpoint with this algorithm")
       ->check(CLI::IsMember({"centralized", "distributed"}));
   cmd->add_option("--record", args->record_path, "Write what the watchpoints saw as a wptrace v1 TRACE");
@@ -231,7 +225,9 @@ void add_run_command(CLI::App& app, std::function<int()>& run) {
   cmd->add_option("--stats", args->stats_path, "Write run statistics as JSON");
   cmd->add_option("--render", args->render_path,
                   "Draw the 3D view to a PNG: at the first pause's step with its group, else at the last step");
-  cmd->add_option("--print", args->print, "Matches to print per watchpoint when --matches is not given")->default_val(5);
+  add_integer_option(*cmd, "--print", args->print, {"print", 0, 1'000'000},
+                     "Matches to print per watchpoint when --matches is not given")
+      ->default_val(5);
   cmd->add_flag("--no-progress", args->no_progress, "No progress bar, even on a terminal");
   cmd->callback([&run, args] { run = [args] { return run_scenario(*args); }; });
 }

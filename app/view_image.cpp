@@ -60,14 +60,17 @@ std::string check_color_by(const sim::Model& model, const std::string& color_by)
   return "--color-by: no program has a variable named \"" + color_by + "\" (there are: " + names + ")";
 }
 
-std::string write_view(const render::Scene& scene, const std::string& path, int width, int height) {
+std::string write_view(const render::Scene& scene, sim::OutputFile& out, int width, int height) {
   auto context = render::OsMesaContext::create();
   if (auto* error = std::get_if<std::string>(&context)) return *error;
   try {
     render::Renderer renderer(std::get<0>(context)->gl());
     const render::Image image = renderer.render(scene, width, height);
     std::string error;
-    if (!render::write_png(path, image, &error)) return error;
+    const auto bytes = render::encode_png(image, &error);
+    if (!bytes) return error;
+    out.stream().write(reinterpret_cast<const char*>(bytes->data()), static_cast<std::streamsize>(bytes->size()));
+    return out.commit();
   } catch (const render::RenderError& e) {
     return e.what();
   }

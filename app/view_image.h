@@ -9,6 +9,7 @@
 
 #include "render/scene.h"
 #include "scenarios/scenario.h"
+#include "sim/output_file.h"
 #include "sim/run.h"
 
 namespace dw::app {
@@ -26,7 +27,7 @@ std::vector<render::SceneGroup> groups_at(const sim::Run& run, int64_t t, Highli
 // Checks a --color-by variable against the model; the error names the variables there are.
 std::string check_color_by(const sim::Model& model, const std::string& color_by);
 
-// Draws the scene headless and writes it as a PNG; an error message, or empty.
-std::string write_view(const render::Scene& scene, const std::string& path, int width, int height);
+// Draws the scene headless and writes it as a PNG to `out`, committed; an error message, or empty.
+std::string write_view(const render::Scene& scene, sim::OutputFile& out, int width, int height);
 
 }  // namespace dw::app

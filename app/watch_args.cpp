@@ -17,7 +17,8 @@ bool is_name(const std::string& s) {
 
 }  // namespace
 
-std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const std::vector<std::string>& args) {
+std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const std::vector<std::string>& args,
+                                                                           std::vector<std::string>* files_read) {
   std::vector<watch::Watchpoint> out;
   std::string errors;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -32,6 +33,7 @@ std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const
     std::string text = arg;
     if (!arg.empty() && arg[0] == '@') {
       const std::string path = arg.substr(1);
+      if (files_read) files_read->push_back(path);
       std::ifstream in(path, std::ios::binary);
       if (!in) {
         errors += path + ": error: cannot read the watchpoint file\n";

@@ -2,21 +2,40 @@
 
 #include <png.h>
 
+#include "sim/output_file.h"
+
 #include <algorithm>
 #include <cstdlib>
 
 namespace dw::render {
 
-bool write_png(const std::string& path, const Image& image, std::string* error) {
+// Encoded in memory rather than by png_image_write_to_file, which remove()s its path when a write
+// fails -- a device node included. The bytes go through sim::OutputFile instead.
+std::optional<std::vector<uint8_t>> encode_png(const Image& image, std::string* error) {
   png_image png{};
   png.version = PNG_IMAGE_VERSION;
   png.width = png_uint_32(image.width);
   png.height = png_uint_32(image.height);
   png.format = PNG_FORMAT_RGBA;
-  if (png_image_write_to_file(&png, path.c_str(), 0, image.rgba.data(), image.width * 4, nullptr)) return true;
-  if (error) *error = "cannot write " + path + ": " + png.message;
+  png_alloc_size_t size = 0;
+  if (png_image_write_get_memory_size(png, size, 0, image.rgba.data(), image.width * 4, nullptr)) {
+    std::vector<uint8_t> bytes(size);
+    if (png_image_write_to_memory(&png, bytes.data(), &size, 0, image.rgba.data(), image.width * 4, nullptr)) {
+      bytes.resize(size);
+      return bytes;
+    }
+  }
+  if (error) *error = std::string("cannot encode the PNG: ") + png.message;
   png_image_free(&png);
-  return false;
+  return std::nullopt;
+}
+
+bool write_png(const std::string& path, const Image& image, std::string* error) {
+  const auto bytes = encode_png(image, error);
+  if (!bytes) return false;
+  std::string failed = sim::write_file(path, *bytes);
+  if (error) *error = failed;
+  return failed.empty();
 }
 
 std::optional<Image> read_png(const std::string& path, std::string* error) {

@@ -20,7 +20,10 @@ struct Image {
   const uint8_t* pixel(int x, int y) const { return &rgba[(size_t(y) * width + x) * 4]; }
 };
 
-// Writes a PNG; false (and `error` set) when the file cannot be written.
+// The image as a PNG file's bytes (libpng), or nothing (and `error` set).
+std::optional<std::vector<uint8_t>> encode_png(const Image& image, std::string* error = nullptr);
+// Writes a PNG through sim::OutputFile (a failed write leaves any old file as it was); false (and
+// `error` set) when the file cannot be written.
 bool write_png(const std::string& path, const Image& image, std::string* error = nullptr);
 // Reads a PNG as RGBA, or nothing (and `error` set).
 std::optional<Image> read_png(const std::string& path, std::string* error = nullptr);

@@ -12,7 +12,6 @@
 namespace dw::scenarios {
 namespace {
 
-constexpr int64_t kMaxSteps = 10'000'000;
 constexpr uint64_t kMaxModules = 100'000'000;
 
 // The watchpoint text's own characters in the file, everything else blanked (newlines kept):
@@ -41,6 +40,7 @@ struct Loader {
   watch::SourceText source;
   FileDiagnostics diagnostics{source};
   std::string extra;  // diagnostics rendered against other files (watchpoint files)
+  std::vector<std::string> inputs;  // the files read besides the scenario (watchpoint files)
 
   Loader(std::string p, std::string text) : path(p), source(std::move(p), std::move(text)) {}
 
@@ -80,7 +80,7 @@ struct Loader {
     } else if (!r.has("kind")) {
       r.missing("kind");
     }
-    const auto size = r.integers("size", 1, 1'000'000, 1, 3);
+    const auto size = r.integers("size", kSizeRange.min, kSizeRange.max, 1, 3);
     if (!size && !r.has("size")) r.missing("size");
     // Boxes of cells left empty: [[lattice.empty]] from = [x, y, z], to = [x, y, z] (inclusive).
     std::vector<std::array<std::vector<int64_t>, 2>> empty;
@@ -244,6 +244,7 @@ struct Loader {
     }
     // A file next to the scenario.
     const std::filesystem::path at = std::filesystem::path(path).parent_path() / *file;
+    inputs.push_back(at.string());
     std::ifstream in(at, std::ios::binary);
     if (!in) {
       r.error("file", "cannot read the watchpoint file " + at.string());
@@ -283,7 +284,7 @@ struct Loader {
       auto compiled = compile(r, name.empty() ? "watch" : name);
       const auto alg = algorithm(r);
       const auto act = action(r);
-      const auto max_live = r.integer("max_live", 0, INT64_MAX);
+      const auto max_live = r.integer(kMaxLiveRange);
       const auto early = r.boolean("early_termination");
       const auto cull = r.boolean("neighbor_culling");
       const auto spans = r.boolean("temporal_spans");
@@ -318,12 +319,13 @@ struct Loader {
     TableReader root(doc, diagnostics, "the scenario");
     Scenario s;
     s.path = path;
+    s.inputs.push_back(path);
     s.name = root.string("name").value_or(std::filesystem::path(path).stem().string());
     root.string("description");
-    const auto steps = root.integer("steps", 0, kMaxSteps);
-    const auto seed = root.integer("seed", 0, INT64_MAX);
-    const auto snapshots = root.integer("snapshots", 0, 100'000);
-    const auto threads = root.integer("threads", 1, 256);
+    const auto steps = root.integer(kStepsRange);
+    const auto seed = root.integer(kSeedRange);
+    const auto snapshots = root.integer(kSnapshotsRange);
+    const auto threads = root.integer(kThreadsRange);
     s.steps = steps.value_or(100);
     s.snapshots = static_cast<size_t>(snapshots.value_or(64));
     s.threads = static_cast<unsigned>(threads.value_or(1));
@@ -357,6 +359,7 @@ struct Loader {
       return diagnostics.format();
     }
     s.model = std::move(std::get<std::unique_ptr<sim::Model>>(built));
+    s.inputs.insert(s.inputs.end(), inputs.begin(), inputs.end());
     // A variable no program has would read as unknown forever: the watchpoint could never match.
     for (size_t w = 0; w < s.model->watches.size(); ++w)
       for (const std::string& v : s.model->watches[w].watchpoint.program.variables)

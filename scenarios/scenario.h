@@ -69,6 +69,7 @@ struct ViewSettings {
 
 struct Scenario {
   std::string path;
+  std::vector<std::string> inputs;  // every file it was read from: the scenario, watchpoint files
   std::string name;
   std::unique_ptr<sim::Model> model;
   std::unique_ptr<sim::World> world;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <sstream>
 
+#include "scenarios/limits.h"
+
 namespace dw::scenarios {
 
 FileDiagnostics::FileDiagnostics(const watch::SourceText& source) : source_(source) {
@@ -76,8 +78,7 @@ std::optional<int64_t> TableReader::integer(std::string_view key, int64_t min, i
   }
   const int64_t v = n->as_integer()->get();
   if (v < min || v > max) {
-    error(key, "'" + std::string(key) + "' must be between " + std::to_string(min) + " and " + std::to_string(max) +
-                   ", not " + std::to_string(v));
+    error(key, out_of_range_message(key, min, max, std::to_string(v)));
     return std::nullopt;
   }
   return v;

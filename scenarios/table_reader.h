@@ -11,6 +11,7 @@
 #include <toml++/toml.h>
 #include <vector>
 
+#include "scenarios/limits.h"
 #include "watch/diagnostic.h"
 #include "watch/source.h"
 
@@ -47,6 +48,7 @@ class TableReader {
 
   // Each returns nothing when the key is absent or wrong (then an error was reported).
   std::optional<int64_t> integer(std::string_view key, int64_t min, int64_t max);
+  std::optional<int64_t> integer(const IntegerRange& range) { return integer(range.key, range.min, range.max); }
   std::optional<bool> boolean(std::string_view key);
   std::optional<std::string> string(std::string_view key);
   std::optional<std::vector<int64_t>> integers(std::string_view key, int64_t min, int64_t max, size_t min_count,

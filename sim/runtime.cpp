@@ -39,10 +39,9 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads)
   scratch_.resize(pool_.size());
   for (ThreadScratch& s : scratch_)
     for (const HostedWatchpoint& w : model.watches) {
-      // The live budget is for the whole step; each thread gets its share.
-      uint64_t budget = w.options.live_budget;
-      if (budget) budget = std::max<uint64_t>(1, budget / pool_.size());
-      s.agents.emplace_back(w.watchpoint.program, w.options.optimizations, budget);
+      // Each thread may use the whole budget; whether the step went over it is decided on the
+      // threads' sum afterwards (finish_distributed), so the stop never depends on the thread count.
+      s.agents.emplace_back(w.watchpoint.program, w.options.optimizations, w.options.live_budget);
     }
   const size_t lanes = size_t{pool_.size()} * blocks_;
   for (const HostedWatchpoint& w : model.watches) {
@@ -150,6 +149,10 @@ void Runtime::run_thread(unsigned thread, State& state) {
     const watch::Program& program = model_.watches[w].watchpoint.program;
     watch::AgentContext& ctx = s.agents[w];
     ctx.step = watch::StepStats{};
+    // A budget stop belongs to the step that hit it: a run rolled back to before that step and
+    // resumed must start clean, as the straight run did (the stop itself is in State).
+    ctx.over_budget = false;
+    ctx.stop_reason.clear();
     ctx.step.step = state.step - program.extent_plus;
     ctx.step.live_by_filled.assign(static_cast<size_t>(program.slot_count()) + 1, 0);
     ctx.match_values = 0;
@@ -181,6 +184,7 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
   out.stats.live_by_filled.assign(size_t{k} + 1, 0);
   bool over = false;
   std::string reason;
+  uint64_t used = 0;
   for (ThreadScratch& s : scratch_) {
     const watch::StepStats& st = s.agents[w].step;
     for (size_t i = 0; i < st.live_by_filled.size(); ++i) out.stats.live_by_filled[i] += st.live_by_filled[i];
@@ -189,10 +193,25 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
     out.stats.messages += st.messages;
     out.stats.bytes += st.bytes;
     out.stats.matches += st.matches;
+    used += st.live + st.messages;
     if (s.agents[w].over_budget && !over) {
       over = true;
       reason = s.agents[w].stop_reason;
     }
+  }
+  if (hosted.options.live_budget != 0 && used > hosted.options.live_budget) over = true;
+  if (over) {
+    // The step that went over the budget was cut short wherever each thread was: none of it is
+    // reported, and the stopped watch lets go of its agents and PatternMatchers.
+    ws.stopped = true;
+    ws.stop_reason = reason.empty() ? "more than " + std::to_string(hosted.options.live_budget) +
+                                          " live PatternMatchers at detector step " + std::to_string(f)
+                                    : reason + " at detector step " + std::to_string(f);
+    out.observed = false;
+    ws.agents = {};
+    ws.in_flight = {};
+    for (watch::RecordBuffer& lane : sending_[w]) lane = {};
+    return;
   }
   // Everything that matched now was started at t0 = f - (k - 1).
   const int64_t t0 = state.step - hosted.lag();
@@ -204,12 +223,6 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
         out.slots.insert(out.slots.end(), s.agents[w].matches.begin(),
                          s.agents[w].matches.begin() + static_cast<ptrdiff_t>(s.agents[w].match_values));
     }
-  }
-  if (over) {
-    ws.stopped = true;
-    ws.stop_reason = reason.empty() ? "more than " + std::to_string(hosted.options.live_budget) +
-                                          " live PatternMatchers at detector step " + std::to_string(f)
-                                    : reason + " at detector step " + std::to_string(f);
   }
 }
 

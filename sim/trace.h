@@ -72,8 +72,8 @@ class TraceWriter {
   std::string line_;
 };
 
-// Writes a trace as wptrace v1, header first, one line per present module per step. False when
-// the file cannot be written.
-bool write_trace(const Trace& trace, const std::string& path);
+// Writes a trace as wptrace v1, header first, one line per present module per step, through an
+// OutputFile. Empty, or the error.
+std::string write_trace(const Trace& trace, const std::string& path);
 
 }  // namespace dw::sim

@@ -1,6 +1,6 @@
-#include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "sim/output_file.h"
 #include "sim/trace.h"
 
 namespace dw::sim {
@@ -34,12 +34,13 @@ void TraceWriter::write(const watch::Frame& f) {
   }
 }
 
-bool write_trace(const Trace& trace, const std::string& path) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) return false;
-  TraceWriter writer(out, trace.universe());
+std::string write_trace(const Trace& trace, const std::string& path) {
+  std::string error;
+  auto out = OutputFile::open(path, &error);
+  if (!out) return error;
+  TraceWriter writer(out->stream(), trace.universe());
   for (int64_t t = 0; t < trace.step_count(); ++t) writer.write(trace.frame(t));
-  return static_cast<bool>(out);
+  return out->commit();
 }
 
 }  // namespace dw::sim

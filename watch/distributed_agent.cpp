@@ -130,7 +130,8 @@ void DistributedAgent::prepare_slot(int64_t f, const Program& p, uint32_t slot) 
                                                                       PatternMatcherOutbox& out) {
   const Program& p = ctx.program;
   StepStats& st = ctx.step;
-  if (st.live >= ctx.live_limit) {
+  // The budget counts what is alive and what was sent this step, as in fill_and_spread.
+  if (st.live + st.messages >= ctx.live_limit) {
     ctx.over_budget = true;
     return;
   }

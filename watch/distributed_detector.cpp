@@ -51,13 +51,16 @@ void DistributedDetector::observe(const Frame& frame) {
 
   ctx_.step.created += ctx_.step.messages;  // starts were counted as they happened
   ctx_.step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  stats_.add(ctx_.step);
   if (ctx_.over_budget) {
+    // The step that went over the budget was cut short: none of it is reported (as in the
+    // threaded runtime, where where it was cut depends on the threads).
     stats_.stopped = true;
     stats_.stop_reason = ctx_.stop_reason.empty() ? "more than " + std::to_string(options_.live_budget) +
                                                      " live PatternMatchers at detector step " + std::to_string(f)
                                                : ctx_.stop_reason + " at detector step " + std::to_string(f);
+    return;
   }
+  stats_.add(ctx_.step);
 
   // Everything that matched now was started at t0 = f - (k - 1).
   const int64_t t0 = f - (program_.slot_count() - 1);

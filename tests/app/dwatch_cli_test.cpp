@@ -139,7 +139,9 @@ TEST_F(Cli, BadOptionsAreBadInput) {
   const Result unwritable = run("replay " + (c / "trace.jsonl").string() + " -w @" + (c / "watch.txt").string() +
                                 " --matches /nonexistent/dir/m.jsonl");
   EXPECT_EQ(unwritable.code, 2);
-  EXPECT_NE(unwritable.err.find("cannot write the matches file"), std::string::npos);
+  EXPECT_NE(unwritable.err.find("--matches: cannot write /nonexistent/dir/m.jsonl: No such file or directory"),
+            std::string::npos)
+      << unwritable.err;
   EXPECT_EQ(run("").code, 2);
 }
 
@@ -288,3 +290,81 @@ TEST_F(Cli, RenderMistakesAreBadInput) {
   EXPECT_EQ(run("run " + scenario + " --render /nonexistent/dir/x.png").code, 2);
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
 }
+
+namespace {
+
+// Every number on the command line takes its TOML key's range and words; none wraps.
+TEST_F(Cli, CommandLineNumbersTakeTheRangesOfTheirKeys) {
+  const std::string scenario = (kScenarios / "token_ring.toml").string();
+  for (const std::string value : {"-1", "18446744073709551615", "100001", "1e3", "x"}) {
+    const Result r = run("run " + scenario + " --snapshots " + value);
+    EXPECT_EQ(r.code, 2) << value << ": " << r.err;
+    const std::string expected = value == "1e3" || value == "x"
+                                     ? "'snapshots' must be an integer, not '" + value + "'"
+                                     : "'snapshots' must be between 0 and 100000, not " + value;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  }
+  // The same words as the scenario key.
+  const fs::path bad = write("bad.toml", "snapshots = -1\n[lattice]\nkind = \"ring\"\nsize = [5]\n[[program]]\nname = \"token_ring\"\n");
+  EXPECT_NE(run("run " + bad.string()).err.find("'snapshots' must be between 0 and 100000, not -1"), std::string::npos);
+  for (const std::string option : {"--seed -1", "--steps -5", "--threads 0", "--threads 4294967297", "--print -1"})
+    EXPECT_EQ(run("run " + scenario + " " + option).code, 2) << option;
+  EXPECT_EQ(run("render " + scenario + " --out " + (dir_ / "x.png").string() + " --width -1").code, 2);
+  EXPECT_EQ(run("replay x.jsonl -w 'modules(a); (a.x=1)' --max-live -1").code, 2);
+  EXPECT_EQ(run("bench engine --repeat 0").code, 2);
+}
+
+// Two outputs on one file, or an output on an input, in any spelling: bad input before any run.
+TEST_F(Cli, OutputsThatWouldClobberEachOtherOrAnInputAreBadInput) {
+  const fs::path scenario = dir_ / "s.toml";
+  fs::copy_file(kScenarios / "token_ring.toml", scenario);
+  const std::string original = slurp(scenario);
+  const std::string run_it = "run " + scenario.string() + " --no-progress";
+  const fs::path x = dir_ / "x.jsonl";
+  fs::create_symlink(x, dir_ / "link.jsonl");
+  for (const std::string& outputs : std::vector<std::string>{"--matches " + x.string() + " --record " + x.string(), "--matches " + x.string() + " --stats " + x.string(),
+        "--matches " + x.string() + " --stats " + (dir_ / "." / "x.jsonl").string(),
+        "--matches " + x.string() + " --record " + (dir_ / "link.jsonl").string(),
+        "--stats " + scenario.string(), "--render " + scenario.string(), "--matches - --stats /dev/stdout"}) {
+    const Result r = run(run_it + " " + outputs);
+    EXPECT_EQ(r.code, 2) << outputs << "\n" << r.err;
+    EXPECT_TRUE(r.err.find("name one file") != std::string::npos || r.err.find("would overwrite the input") != std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(x)) << "nothing ran: " << outputs;
+  }
+  EXPECT_EQ(slurp(scenario), original);
+  // A trace given to replay, and the watch file beside it.
+  ASSERT_EQ(run(run_it + " --record " + x.string()).code, 0);
+  const std::string trace = slurp(x);
+  const fs::path watch = write("w.watch", "modules(a b); (a.token = 1) and (b.token = 1)");
+  const Result r1 = run("replay " + x.string() + " -w @" + watch.string() + " --matches " + x.string());
+  EXPECT_EQ(r1.code, 2) << r1.err;
+  const Result r2 = run("replay " + x.string() + " -w @" + watch.string() + " --stats " + watch.string());
+  EXPECT_EQ(r2.code, 2) << r2.err;
+  EXPECT_EQ(slurp(x), trace);
+  // /dev/null takes any number of outputs.
+  EXPECT_EQ(run(run_it + " --matches /dev/null --stats /dev/null").code, 0);
+}
+
+// A write that fails is exit 1 naming the path and the reason, and destroys nothing.
+TEST_F(Cli, AFailedWriteNamesThePathAndDestroysNothing) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const std::string scenario = (kScenarios / "token_ring.toml").string();
+  const Result png = run("render " + scenario + " --step 5 --out /dev/full");
+  EXPECT_EQ(png.code, 1) << png.err;
+  EXPECT_NE(png.err.find("writing /dev/full failed: No space left on device"), std::string::npos) << png.err;
+  EXPECT_TRUE(fs::is_character_file("/dev/full")) << "the device node must survive";
+  const Result matches = run("run " + scenario + " --no-progress --matches /dev/full");
+  EXPECT_EQ(matches.code, 1) << matches.err;
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+  // A regular file that cannot grow (a file-size limit, SIGXFSZ ignored) keeps its old contents.
+  const fs::path old = write("old.png", "old picture");
+  const std::string limited = "sh -c 'trap \"\" XFSZ; ulimit -f 2; exec " + std::string(DWATCH_EXE) + " render " +
+                              scenario + " --step 5 --out " + old.string() + "'";
+  const int status = std::system((limited + " >/dev/null 2>&1").c_str());
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1);
+  EXPECT_EQ(slurp(old), "old picture");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 3) << "no temporary left behind";
+}
+
+}  // namespace

@@ -89,6 +89,43 @@ TEST(Run, SnapshotsReachBackExactlyK) {
   EXPECT_FALSE(none.rollback_to(2));
 }
 
+// A watch stopped at its live budget leaves nothing behind in the runtime: rolled back to before
+// the stop and resumed, the run stops at the same step with the same hashes as the straight run.
+TEST(Run, BudgetStopRolledBackAndResumedEqualsTheStraightRun) {
+  // `count` grows by about one a step, so PatternMatchers pile up only after step 20 or so.
+  const std::string text = "modules(a b c); (a.count > 30) and (b.count > 30) and (c.mix > b.mix)";
+  auto model = gossip_model({LatticeKind::Cubic, {6, 5, 4}},
+                            {{text, watch::Algorithm::Distributed}, {text, watch::Algorithm::Centralized}});
+  for (const HostedWatchpoint& h : model->watches) const_cast<HostedWatchpoint&>(h).options.live_budget = 400;
+  std::vector<uint64_t> first;  // the 1-thread run's hashes: the stop never depends on threads
+  for (unsigned threads : {1u, 2u, 3u}) {
+    StaticLatticeWorld world;
+    sim::Run straight(*model, world, {threads, 0});
+    std::vector<uint64_t> expected;
+    straight.run_until(40, [&](const State& s, const StepOutput&) { expected.push_back(hash_state(s)); });
+    for (uint32_t w : {0u, 1u}) {
+      ASSERT_TRUE(straight.stats(w).stopped) << "watch " << w << " should hit its budget";
+      EXPECT_GE(straight.stats(w).steps.size(), 20u) << "late, not at once: " << straight.stats(w).stop_reason;
+    }
+    EXPECT_FALSE(straight.matches(0).t.empty()) << "matches before the stop are kept";
+    if (first.empty()) first = expected;
+    EXPECT_EQ(expected, first) << threads << " threads";
+
+    sim::Run run(*model, world, {threads, 40});
+    std::vector<uint64_t> hashes(40);
+    const auto keep = [&](const State& s, const StepOutput& out) { hashes[size_t(out.step)] = hash_state(s); };
+    run.run_until(40, keep);
+    for (int64_t back : {19, 12, 2, -1}) {  // each before the budget stop
+      ASSERT_TRUE(run.rollback_to(back));
+      EXPECT_FALSE(run.stats(0).stopped) << "rolled back to step " << back;
+      run.run_until(40, keep);
+      EXPECT_EQ(hashes, expected) << "resumed after a rollback to step " << back << ", " << threads << " threads";
+      EXPECT_EQ(run.stats(0).stop_reason, straight.stats(0).stop_reason);
+      EXPECT_EQ(test::flat_matches(run), test::flat_matches(straight));
+    }
+  }
+}
+
 TEST(Run, ThreadCountNeverChangesResults) {
   const auto model = gossip_model({LatticeKind::Cubic, {7, 6, 5}}, kWatches, 42);
   const Trail one = straight_run(*model, 1, 40);

@@ -32,7 +32,7 @@ TEST(Trace, WrittenTraceReadsBackIdentically) {
   spec.maxima = {3, 1, 7, 2};
   const Trace original = make_cubic_random_vars(spec);
   const std::string path = (std::filesystem::temp_directory_path() / "dwatch_trace_roundtrip.jsonl").string();
-  ASSERT_TRUE(write_trace(original, path));
+  ASSERT_EQ(write_trace(original, path), "");
   auto read = read_trace(path);
   std::filesystem::remove(path);
   ASSERT_TRUE(std::holds_alternative<Trace>(read));

@@ -1,0 +1,49 @@
+// Output files that never destroy anything. A regular file (or a new one) is written to a
+// temporary file beside it and renamed into place only when complete, so a failed write leaves
+// the old file as it was and no temporary behind. Anything else -- a device, a FIFO,
+// /dev/stdout, "-" for standard output -- is written in place and never removed or truncated
+// away on failure. Errors name the path and the operating system's reason.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <ostream>
+#include <span>
+#include <string>
+
+namespace dw::sim {
+
+class OutputFile {
+ public:
+  // Opens `path` for writing ("-": standard output). Nothing, with `error` set to
+  // "cannot write PATH: REASON", when it cannot be written.
+  static std::unique_ptr<OutputFile> open(const std::string& path, std::string* error);
+  ~OutputFile();  // without a successful commit(), the temporary is removed; the target is untouched
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+
+  std::ostream& stream() { return stream_; }
+  const std::string& path() const { return path_; }
+  // Flushes what was written and puts it in place. Empty, or "writing PATH failed: REASON".
+  std::string commit();
+
+ private:
+  class FdBuffer;
+  OutputFile(std::string path, std::string temporary, int fd, bool owns_fd);
+
+  std::string path_;       // as the user named it
+  std::string temporary_;  // the file being written, renamed over target_ at commit; empty: in place
+  std::string target_;     // where the temporary goes (a symlink's target, resolved)
+  std::unique_ptr<FdBuffer> buffer_;
+  std::ostream stream_;
+  bool committed_ = false;
+};
+
+// `path` with every symbolic link followed, even one whose target does not exist yet (which is
+// where a write through the link lands), made absolute and normal.
+std::string resolved_path(const std::string& path);
+
+// Writes `bytes` to `path` through an OutputFile. Empty, or the error.
+std::string write_file(const std::string& path, std::span<const uint8_t> bytes);
+
+}  // namespace dw::sim
