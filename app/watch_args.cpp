@@ -2,8 +2,8 @@
 
 #include <cctype>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+
+#include "sim/read_file.h"
 
 namespace dw::app {
 namespace {
@@ -34,14 +34,13 @@ std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const
     if (!arg.empty() && arg[0] == '@') {
       const std::string path = arg.substr(1);
       if (files_read) files_read->push_back(path);
-      std::ifstream in(path, std::ios::binary);
-      if (!in) {
-        errors += path + ": error: cannot read the watchpoint file\n";
+      std::string error;
+      auto file_text = sim::read_file(path, &error);
+      if (!file_text) {
+        errors += path + ": error: " + error + " (the watchpoint file)\n";
         continue;
       }
-      std::stringstream buffer;
-      buffer << in.rdbuf();
-      text = buffer.str();
+      text = std::move(*file_text);
       source_name = path;
       if (name.empty()) {
         // A file named watch.txt is named by its folder, as in the conformance cases.

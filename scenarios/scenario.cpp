@@ -1,13 +1,13 @@
 #include "scenarios/scenario.h"
 
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "physics/bullet_world.h"
 #include "scenarios/programs.h"
 #include "scenarios/table_reader.h"
 #include "sim/lattice.h"
+#include "sim/read_file.h"
 
 namespace dw::scenarios {
 namespace {
@@ -245,14 +245,13 @@ struct Loader {
     // A file next to the scenario.
     const std::filesystem::path at = std::filesystem::path(path).parent_path() / *file;
     inputs.push_back(at.string());
-    std::ifstream in(at, std::ios::binary);
-    if (!in) {
-      r.error("file", "cannot read the watchpoint file " + at.string());
+    std::string error;
+    auto watch_text = sim::read_file(at.string(), &error);
+    if (!watch_text) {
+      r.error("file", error + " (the watchpoint file)");
       return std::nullopt;
     }
-    std::stringstream ss;
-    ss << in.rdbuf();
-    auto compiled = watch::compile_watchpoint(name, watch::SourceText(at.string(), ss.str()));
+    auto compiled = watch::compile_watchpoint(name, watch::SourceText(at.string(), std::move(*watch_text)));
     if (auto* w = std::get_if<watch::Watchpoint>(&compiled)) return std::move(*w);
     r.error("file", "the watchpoint in " + at.string() + " does not compile:");
     extra += std::get<watch::CompileError>(compiled).format();
@@ -361,17 +360,26 @@ struct Loader {
     s.model = std::move(std::get<std::unique_ptr<sim::Model>>(built));
     s.inputs.insert(s.inputs.end(), inputs.begin(), inputs.end());
     // A variable no program has would read as unknown forever: the watchpoint could never match.
-    for (size_t w = 0; w < s.model->watches.size(); ++w)
-      for (const std::string& v : s.model->watches[w].watchpoint.program.variables)
-        if (s.model->column(v) < 0) {
-          std::string known;
-          for (const std::string& k : s.model->universe.variables) known += (known.empty() ? "" : ", ") + k;
+    // The error points at the variable where it is first read, in the scenario or the watch file.
+    for (size_t w = 0; w < s.model->watches.size(); ++w) {
+      const watch::Watchpoint& wp = s.model->watches[w].watchpoint;
+      for (const std::string& v : wp.program.variables) {
+        if (s.model->column(v) >= 0) continue;
+        std::string known;
+        for (const std::string& k : s.model->universe.variables) known += (known.empty() ? "" : ", ") + k;
+        const std::string message = "watchpoint \"" + wp.name + "\" reads '" + v +
+                                    "', which no program has (variables: " + known + ")";
+        const watch::Span at = watch::first_use(wp.ast, v);
+        if (wp.source->name() == path) {
+          diagnostics.add({at, message});  // compiled in place: the span is the scenario file's
+        } else {
           TableReader r(*(*doc.get("watch")->as_array())[w].as_table(), diagnostics, "[[watch]]");
-          r.error(r.has("text") ? "text" : "file", "watchpoint \"" + s.model->watches[w].watchpoint.name +
-                                                       "\" reads '" + v + "', which no program has (variables: " +
-                                                       known + ")");
+          r.error(r.has("text") ? "text" : "file", message + ":");
+          extra += watch::format_diagnostic(*wp.source, {at, "'" + v + "' is read here"});
         }
-    if (!diagnostics.empty()) return diagnostics.format();
+      }
+    }
+    if (!diagnostics.empty()) return diagnostics.format() + extra;
     if (!s.view.color_by.empty() && s.model->column(s.view.color_by) < 0) {
       TableReader r(*doc.get("view")->as_table(), diagnostics, "[view]");
       r.error("color_by", "no program has a variable named \"" + s.view.color_by + "\"");
@@ -392,11 +400,10 @@ std::variant<Scenario, std::string> load_scenario_text(const std::string& path, 
 }
 
 std::variant<Scenario, std::string> load_scenario(const std::string& path, const ScenarioOverrides& overrides) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return path + ": error: cannot read the scenario file\n";
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return load_scenario_text(path, ss.str(), overrides);
+  std::string error;
+  auto text = sim::read_file(path, &error);
+  if (!text) return path + ": error: " + error + " (the scenario file)\n";
+  return load_scenario_text(path, std::move(*text), overrides);
 }
 
 }  // namespace dw::scenarios

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <unordered_map>
 
+#include "sim/read_file.h"
 #include "sim/trace.h"
 
 namespace dw::sim {
@@ -192,6 +193,7 @@ std::variant<Trace, std::vector<TraceError>> read_trace_text(const std::string& 
 
 std::variant<Trace, std::vector<TraceError>> read_trace(const std::string& path) {
   simdjson::padded_string text;
+  if (std::string error = check_readable(path); !error.empty()) return std::vector<TraceError>{{path, 0, 0, error}};
   if (auto err = simdjson::padded_string::load(path).get(text))
     return std::vector<TraceError>{{path, 0, 0, std::string("cannot read the trace: ") + simdjson::error_message(err)}};
   return TraceReader(path, text).run();

@@ -87,4 +87,15 @@ std::string to_string(const Ast& ast) {
   return out;
 }
 
+Span first_use(const Ast& ast, std::string_view variable) {
+  Span first{};
+  for (const Node& n : ast.nodes) {
+    if (n.kind != NodeKind::Compare) continue;
+    for (const Operand* o : {&n.left, &n.right})
+      if (!o->is_constant && o->variable == variable && (first.length() == 0 || o->span.begin < first.begin))
+        first = o->span;
+  }
+  return first;
+}
+
 }  // namespace dw::watch

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "watch/source.h"
@@ -66,5 +67,8 @@ struct Ast {
 std::string to_string(const Ast& ast);
 std::string to_string(const Ast& ast, const ModuleRef& m);
 std::string to_string(const Ast& ast, const Operand& o);
+
+// Where `variable` is first read (`a.last.x`), in source order; an empty span when it is not.
+Span first_use(const Ast& ast, std::string_view variable);
 
 }  // namespace dw::watch

@@ -8,14 +8,31 @@ std::string format_diagnostic(const SourceText& source, const Diagnostic& d) {
   const Location loc = source.locate(d.span.begin);
   std::string out = source.name() + ":" + std::to_string(loc.line) + ":" + std::to_string(loc.column) +
                     ": error: " + d.message + "\n";
-  const std::string_view line = source.line_at(d.span.begin);
-  out.append(line);
+  std::string_view line = source.line_at(d.span.begin);
+  uint32_t col0 = loc.column - 1;
+  // A long line is shown as a window of kShownColumns around the caret, elided with "...", so
+  // that a megabyte on one line gives a message of one line's worth.
+  std::string_view before, after;
+  if (line.size() > kShownColumns) {
+    size_t start = col0 > kShownColumns / 2 ? col0 - kShownColumns / 2 : 0;
+    size_t end = std::min(line.size(), start + kShownColumns);
+    start = end - kShownColumns;
+    const auto continuation = [&](size_t i) { return i < line.size() && (uint8_t(line[i]) & 0xC0) == 0x80; };
+    while (start > 0 && continuation(start)) --start;  // whole UTF-8 characters only
+    while (end < line.size() && continuation(end)) ++end;
+    if (start > 0) before = "...";
+    if (end < line.size()) after = "...";
+    line = line.substr(start, end - start);
+    col0 = static_cast<uint32_t>(col0 - start + before.size());
+  }
+  const std::string shown = std::string(before).append(line).append(after);
+  out += shown;
   out += '\n';
   // Copy tabs from the source line so that the caret lines up in any tab width.
-  const uint32_t col0 = loc.column - 1;
-  for (uint32_t i = 0; i < col0 && i < line.size(); ++i) out += line[i] == '\t' ? '\t' : ' ';
+  for (uint32_t i = 0; i < col0 && i < shown.size(); ++i) out += shown[i] == '\t' ? '\t' : ' ';
   out += '^';
-  const uint32_t visible = static_cast<uint32_t>(line.size()) > col0 ? static_cast<uint32_t>(line.size()) - col0 : 0;
+  const uint32_t width = static_cast<uint32_t>(before.size() + line.size());
+  const uint32_t visible = width > col0 ? width - col0 : 0;
   const uint32_t tildes = std::min(d.span.length(), visible);
   for (uint32_t i = 1; i < tildes; ++i) out += '~';
   out += '\n';

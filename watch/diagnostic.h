@@ -14,6 +14,8 @@ struct Diagnostic {
   std::string message;
 };
 
+// Columns of a long source line shown around the caret (the rest elided with "...").
+constexpr size_t kShownColumns = 160;
 // Renders one diagnostic: the location line, the source line, and `^~~~` under the span.
 std::string format_diagnostic(const SourceText& source, const Diagnostic& d);
 

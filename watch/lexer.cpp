@@ -20,19 +20,15 @@ TokenKind keyword_or_name(std::string_view word) {
   return TokenKind::Name;
 }
 
+}  // namespace
+
 class Lexer {
  public:
   explicit Lexer(const SourceText& source) : text_(source.text()) {}
 
-  std::vector<Token> run() {
-    std::vector<Token> out;
-    for (;;) {
-      skip_space_and_comments();
-      Token t = next();
-      const bool end = t.kind == TokenKind::End;
-      out.push_back(std::move(t));
-      if (end) return out;
-    }
+  Token token() {
+    skip_space_and_comments();
+    return next();
   }
 
  private:
@@ -156,7 +152,6 @@ class Lexer {
   size_t pos_ = 0;
 };
 
-}  // namespace
 
 bool is_keyword(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Next; }
 
@@ -191,6 +186,17 @@ std::string describe(TokenKind k) {
   return "?";
 }
 
-std::vector<Token> lex(const SourceText& source) { return Lexer(source).run(); }
+TokenStream::TokenStream(const SourceText& source) : lexer_(std::make_unique<Lexer>(source)) {}
+TokenStream::~TokenStream() = default;
+Token TokenStream::next() { return lexer_->token(); }
+
+std::vector<Token> lex(const SourceText& source) {
+  TokenStream stream(source);
+  std::vector<Token> out;
+  for (;;) {
+    out.push_back(stream.next());
+    if (out.back().kind == TokenKind::End) return out;
+  }
+}
 
 }  // namespace dw::watch

@@ -1,5 +1,7 @@
 #include "watch/parser.h"
 
+#include <array>
+#include <cstdlib>
 #include <string>
 
 #include "watch/lexer.h"
@@ -9,7 +11,7 @@ namespace {
 
 class Parser {
  public:
-  explicit Parser(const SourceText& source) : source_(source), tokens_(lex(source)) {}
+  explicit Parser(const SourceText& source) : source_(source), tokens_(source) {}
 
   ParseResult run() {
     parse_watchpoint();
@@ -19,8 +21,14 @@ class Parser {
  private:
   // ---- token stream -------------------------------------------------------------------------
 
-  const Token& peek() const { return tokens_[pos_]; }
-  const Token& previous() const { return tokens_[pos_ - 1]; }
+  // Tokens are lexed as the parser reaches them and kept in a small ring: the parser looks at most
+  // one token back and one ahead, and holds no reference to a token across more than a few.
+  const Token& at(size_t i) const {
+    while (lexed_ <= i) ring_[lexed_++ % kRing] = tokens_.next();
+    return ring_[i % kRing];
+  }
+  const Token& peek() const { return at(pos_); }
+  const Token& previous() const { return at(pos_ - 1); }
   bool check(TokenKind k) const { return peek().kind == k; }
   const Token& advance() {
     if (!check(TokenKind::End)) ++pos_;
@@ -84,7 +92,8 @@ class Parser {
 
   NodeIndex add(Node n) {
     if (ast_.nodes.size() >= kMaxNodes) {
-      if (!too_large_) report(n.span, "watchpoint too large: more than " + std::to_string(kMaxNodes) + " terms");
+      if (!too_large_) report(n.span, "watchpoint too large: more than " + std::to_string(kMaxNodes) +
+                                    " terms (comparisons, neighbor() tests, 'not's, and one per 'and'/'or')");
       too_large_ = true;
       bail_ = true;
     }
@@ -134,7 +143,7 @@ class Parser {
     if (!check(TokenKind::Modules)) {
       error_expected("'modules(...)' at the start of a watchpoint");
       // Recover only if the declaration is just misspelled: NAME '(' ...
-      if (!(check(TokenKind::Name) && tokens_[pos_ + 1].kind == TokenKind::LParen)) return;
+      if (!(check(TokenKind::Name) && at(pos_ + 1).kind == TokenKind::LParen)) return;
       panic_ = false;
     }
     advance();
@@ -284,12 +293,27 @@ class Parser {
     return add(std::move(n));
   }
 
+  // One 'last' (-1) or 'next' (+1) more on `m`. Past kMaxOffset: one error for the chain, which
+  // is still read to its end (in linear time) so that parsing goes on after it.
+  void shift(ModuleRef& m, int delta) {
+    if (std::abs(m.offset + delta) <= kMaxOffset) {
+      m.offset += delta;
+      return;
+    }
+    if (std::abs(m.offset) == kMaxOffset && !offset_reported_) {
+      offset_reported_ = true;
+      report(Span::cover(m.span, previous().span), "temporal offset past " + std::to_string(kMaxOffset) +
+                                                        " steps: a watchpoint looks at most " +
+                                                        std::to_string(kMaxOffset) + " steps back or ahead");
+    }
+  }
+
   // module := NAME ('.' ('last' | 'next'))*
   bool parse_module_in_neighbor(ModuleRef& out) {
     if (!parse_slot_name(out)) return false;
     while (match(TokenKind::Dot)) {
-      if (match(TokenKind::Last)) --out.offset;
-      else if (match(TokenKind::Next)) ++out.offset;
+      if (match(TokenKind::Last)) shift(out, -1);
+      else if (match(TokenKind::Next)) shift(out, +1);
       else {
         error_at(peek().span, "neighbor() takes modules, not variables: expected 'last' or 'next' after '.'");
         return false;
@@ -334,9 +358,9 @@ class Parser {
         return false;
       }
       if (match(TokenKind::Last)) {
-        --out.module.offset;
+        shift(out.module, -1);
       } else if (match(TokenKind::Next)) {
-        ++out.module.offset;
+        shift(out.module, +1);
       } else if (check(TokenKind::Name)) {
         const Token& t = advance();
         out.variable = std::string(source_.slice(t.span));
@@ -398,11 +422,15 @@ class Parser {
   std::string to_string_lhs(const Operand& o) const { return std::string(source_.slice(o.span)); }
 
   const SourceText& source_;
-  std::vector<Token> tokens_;
+  static constexpr size_t kRing = 8;
+  mutable TokenStream tokens_;
+  mutable std::array<Token, kRing> ring_;
+  mutable size_t lexed_ = 0;  // tokens lexed so far; token i is in ring_[i % kRing]
   size_t pos_ = 0;
   Ast ast_;
   std::vector<Diagnostic> diagnostics_;
   bool panic_ = false;      // recovering from a syntax error: further syntax errors are cascades
+  bool offset_reported_ = false;  // one error for offsets out of range, however many there are
   bool bail_ = false;       // nesting or size limit hit: stop parsing
   bool too_large_ = false;
   bool too_many_slots_ = false;

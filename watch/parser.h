@@ -12,8 +12,12 @@ namespace dw::watch {
 
 // Deepest nesting of parentheses and `not` accepted; deeper input is an error, not a stack overflow.
 constexpr int kMaxNesting = 256;
-// Most nodes a watchpoint may have.
+// Most nodes a watchpoint may have: each comparison, neighbor() and `not` is one, and each
+// `and` / `or` between two operands one more.
 constexpr size_t kMaxNodes = 4096;
+// Largest temporal offset, either way: `a.next.next...` past it is an error at its span rather
+// than history (and memory) in proportion to the offset.
+constexpr int kMaxOffset = 10'000;
 
 struct ParseResult {
   Ast ast;

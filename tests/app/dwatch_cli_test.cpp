@@ -71,7 +71,7 @@ TEST_F(Cli, CheckReportsEveryMistakeWithCaretsAndExitsTwo) {
 TEST_F(Cli, MissingWatchFileIsBadInput) {
   const Result r = run("check @" + (dir_ / "none.watch").string());
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("cannot read the watchpoint file"), std::string::npos);
+  EXPECT_NE(r.err.find("No such file or directory (the watchpoint file)"), std::string::npos) << r.err;
 }
 
 TEST_F(Cli, ReplayWritesSortedMatchesAndStats) {
@@ -134,7 +134,19 @@ TEST_F(Cli, BudgetStopsWithExitOneAndKeepsWhatWasFound) {
 TEST_F(Cli, BadOptionsAreBadInput) {
   EXPECT_EQ(run("replay x.jsonl -w 'modules(a); (a.x=1)' --algorithm sideways").code, 2);
   EXPECT_EQ(run("replay " + (dir_ / "missing.jsonl").string() + " -w 'modules(a); (a.x=1)'").code, 2);
-  EXPECT_EQ(run("frobnicate").code, 2);
+  const Result unknown = run("frobnicate");
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_NE(unknown.err.find("unknown command 'frobnicate' (the commands: run, check, replay, render, bench"),
+            std::string::npos)
+      << unknown.err;
+  const Result version = run("--version");
+  EXPECT_EQ(version.code, 0);
+  EXPECT_EQ(version.out, "dwatch " DWATCH_VERSION "\n");
+  for (const std::string command : {"run ", "render --out x.png ", "replay -w 'modules(a); (a.x=1)' ", "check @"}) {
+    const Result folder = run(command + dir_.string());
+    EXPECT_EQ(folder.code, 2) << command;
+    EXPECT_NE(folder.err.find("Is a directory"), std::string::npos) << command << ": " << folder.err;
+  }
   const fs::path c = cases_ / "07_last_last_single";
   const Result unwritable = run("replay " + (c / "trace.jsonl").string() + " -w @" + (c / "watch.txt").string() +
                                 " --matches /nonexistent/dir/m.jsonl");

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 namespace dw::watch {
 namespace {
 
@@ -28,6 +30,42 @@ TEST(Diagnostic, AtEndOfInputPointsPastTheLastCharacter) {
 TEST(Diagnostic, SpanPastTheLineIsClipped) {
   SourceText src("w", "ab\ncd");
   EXPECT_EQ(format_diagnostic(src, {{0, 5}, "m"}), "w:1:1: error: m\nab\n^~\n");
+}
+
+TEST(Diagnostic, ALongLineIsShownAsAWindowAroundTheCaret) {
+  const std::string text = "modules(a); " + std::string(1'000'000, '(');
+  SourceText src("w", text);
+  const uint32_t at = 500'000;
+  const std::string out = format_diagnostic(src, {{at, at + 1}, "m"});
+  EXPECT_LT(out.size(), 400u) << "not the whole megabyte";
+  std::istringstream lines(out);
+  std::string header, shown, caret;
+  std::getline(lines, header);
+  std::getline(lines, shown);
+  std::getline(lines, caret);
+  EXPECT_EQ(header, "w:1:500001: error: m");
+  EXPECT_EQ(shown.substr(0, 3), "...");
+  EXPECT_EQ(shown.substr(shown.size() - 3), "...");
+  EXPECT_LE(shown.size(), kShownColumns + 6);
+  EXPECT_EQ(caret.size(), caret.find('^') + 1);
+  EXPECT_EQ(shown[caret.find('^')], '(') << "the caret under the character";
+  // A line just short enough is shown whole; the start of a long one without a leading "...".
+  SourceText start("w", std::string(1000, 'x'));
+  const std::string first = format_diagnostic(start, {{2, 3}, "m"});
+  EXPECT_EQ(first.find("\nxx^"), std::string::npos);
+  EXPECT_NE(first.find("\n  ^\n"), std::string::npos) << first;
+  EXPECT_NE(first.find(std::string(kShownColumns, 'x') + "...\n"), std::string::npos);
+}
+
+TEST(Diagnostic, TheWindowNeverSplitsAUtf8Character) {
+  std::string text;
+  for (int i = 0; i < 400; ++i) text += "\xC3\xA9";  // é
+  SourceText src("w", text);
+  const std::string out = format_diagnostic(src, {{401, 402}, "m"});
+  const std::string shown = out.substr(out.find('\n') + 1, out.find('\n', out.find('\n') + 1) - out.find('\n') - 1);
+  const std::string inner = shown.substr(3, shown.size() - 6);
+  EXPECT_EQ(inner.size() % 2, 0u) << "whole two-byte characters only";
+  EXPECT_EQ(uint8_t(inner[0]), 0xC3u);
 }
 
 }  // namespace

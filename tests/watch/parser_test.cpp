@@ -110,6 +110,33 @@ TEST(Parser, HugeExpressionIsACleanError) {
   EXPECT_NE(r.diagnostics[0].message.find("too large"), std::string::npos);
 }
 
+std::string chain(const char* step, int n) {
+  std::string s;
+  for (int i = 0; i < n; ++i) s += step;
+  return s;
+}
+
+TEST(Parser, OffsetsUpToTheLimitParseAndPastItAreOneErrorAtTheirSpan) {
+  auto ok = p("modules(a); (a." + chain("next.", kMaxOffset) + "x = 1) and (a." + chain("last.", kMaxOffset) + "x = 1)");
+  EXPECT_TRUE(ok.ok());
+  const std::string text = "modules(a); (a.y = 0) and (a." + chain("next.", 100'000) + "x = 1) and (a." +
+                           chain("last.", kMaxOffset + 1) + "z = 1)";
+  auto r = p(text);
+  ASSERT_EQ(r.diagnostics.size(), 1u) << "one error for every offset out of range";
+  EXPECT_NE(r.diagnostics[0].message.find("past 10000 steps"), std::string::npos) << r.diagnostics[0].message;
+  EXPECT_EQ(r.diagnostics[0].span.begin, text.find("a.next")) << "at the module reference";
+  EXPECT_GT(r.diagnostics[0].span.length(), 5u * kMaxOffset);
+}
+
+TEST(Parser, HugeExpressionSaysWhatItCounts) {
+  std::string text = "modules(a); (a.x = 1)";
+  for (int i = 0; i < 5000; ++i) text += " or (a.x = 1)";
+  auto r = p(text);
+  ASSERT_EQ(r.diagnostics.size(), 1u);
+  EXPECT_NE(r.diagnostics[0].message.find("more than 4096 terms (comparisons, neighbor() tests"), std::string::npos)
+      << r.diagnostics[0].message;
+}
+
 TEST(Parser, TooManySlotsIsOneError) {
   std::string text = "modules(";
   for (int i = 0; i < kMaxSlots + 5; ++i) text += " s" + std::to_string(i);
