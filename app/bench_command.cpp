@@ -63,12 +63,14 @@ namespace {
 Row run_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorithm a, const watch::DetectorOptions& o,
             int repeat) {
   Row row;
+  auto reader = std::get<sim::FrameReader>(sim::FrameReader::make(trace, std::nullopt, sim::default_frame_budget()));
+  std::vector<sim::FrameBuffer> buffers(static_cast<size_t>(trace.step_count()));
   std::vector<watch::Frame> frames;
-  for (int64_t s = 0; s < trace.step_count(); ++s) frames.push_back(trace.frame(s));
+  for (int64_t s = 0; s < trace.step_count(); ++s) frames.push_back(reader.frame(s, buffers[size_t(s)]));
   std::vector<double> times;
   for (int r = 0; r < repeat; ++r) {
     uint64_t matches = 0;
-    auto detector = watch::make_detector(a, w, trace.universe(), o, [&](int64_t, std::span<const watch::ModuleId> ids) {
+    auto detector = watch::make_detector(a, w, reader.universe(), o, [&](int64_t, std::span<const watch::ModuleId> ids) {
       matches += ids.size() / 4;
     });
     const auto start = std::chrono::steady_clock::now();

@@ -1,4 +1,5 @@
 // `dwatch replay TRACE --watch ...`: run watchpoints over a recorded trace.
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <iomanip>
@@ -24,6 +25,7 @@ struct ReplayArgs {
   std::string matches_path;
   std::string stats_path;
   size_t print = 20;
+  double max_frame_gib = 0;  // 0: a quarter of the machine's memory
   DetectorFlags detector;
 };
 
@@ -40,6 +42,14 @@ int replay(const ReplayArgs& args) {
   }
   const auto& watches = std::get<std::vector<watch::Watchpoint>>(loaded);
 
+  // Output files are opened before the trace is read, so that a bad path costs nothing.
+  const NamedFile matches_file{"--matches", args.matches_path}, stats_file{"--stats", args.stats_path};
+  std::unique_ptr<sim::OutputFile> matches_out, stats_out;
+  if (!check_distinct_files(inputs, {matches_file, stats_file}) || !open_output(matches_file, matches_out) ||
+      !open_output(stats_file, stats_out))
+    return 2;
+  std::ostream* out = stream_of(matches_out);
+
   const auto parse_start = std::chrono::steady_clock::now();
   auto read = sim::read_trace(args.trace);
   if (auto* errors = std::get_if<std::vector<sim::TraceError>>(&read)) {
@@ -49,13 +59,27 @@ int replay(const ReplayArgs& args) {
   const sim::Trace& trace = std::get<sim::Trace>(read);
   const double parse_seconds = seconds_since(parse_start);
 
-  // Output files are opened before the run, so that a bad path costs nothing.
-  const NamedFile matches_file{"--matches", args.matches_path}, stats_file{"--stats", args.stats_path};
-  std::unique_ptr<sim::OutputFile> matches_out, stats_out;
-  if (!check_distinct_files(inputs, {matches_file, stats_file}) || !open_output(matches_file, matches_out) ||
-      !open_output(stats_file, stats_out))
-    return 2;
-  std::ostream* out = stream_of(matches_out);
+  // Frames hold only what the watchpoints read. A variable no line has would read as unknown
+  // everywhere, so its watchpoint can never match: said where it is read, and the replay goes on.
+  std::vector<std::string> read_vars;
+  for (const watch::Watchpoint& w : watches)
+    for (const std::string& v : w.program.variables) {
+      if (std::find(read_vars.begin(), read_vars.end(), v) == read_vars.end()) read_vars.push_back(v);
+      const auto& known = trace.universe().variables;
+      if (std::find(known.begin(), known.end(), v) == known.end())
+        std::cerr << watch::format_diagnostic(*w.source,
+                                              {watch::first_use(w.ast, v), "watchpoint \"" + w.name + "\" reads '" + v +
+                                                                               "', which no line of " + args.trace +
+                                                                               " has: it can never match"},
+                                              "warning");
+    }
+  auto made = sim::FrameReader::make(trace, read_vars,
+                                     args.max_frame_gib > 0 ? args.max_frame_gib * (1u << 30) : sim::default_frame_budget());
+  if (auto* why = std::get_if<std::string>(&made)) {
+    std::cerr << args.trace << ": error: " << *why << "\n";
+    return 1;
+  }
+  sim::FrameReader& frames = std::get<sim::FrameReader>(made);
   std::vector<sim::MatchLog::WatchInfo> infos;
   for (const watch::Watchpoint& w : watches) infos.push_back({w.name, w.program.slot_names});
   sim::MatchLog log(std::move(infos), out, std::max<size_t>(args.print, 1));
@@ -63,14 +87,14 @@ int replay(const ReplayArgs& args) {
   std::vector<std::unique_ptr<watch::Detector>> detectors;
   int64_t max_lag = 0;
   for (size_t i = 0; i < watches.size(); ++i) {
-    detectors.push_back(watch::make_detector(args.detector.algorithm(), watches[i], trace.universe(),
+    detectors.push_back(watch::make_detector(args.detector.algorithm(), watches[i], frames.universe(),
                                              args.detector.options(), log.sink(i)));
     max_lag = std::max(max_lag, detectors.back()->lag());
   }
 
   const auto detect_start = std::chrono::steady_clock::now();
   for (int64_t s = 0; s < trace.step_count(); ++s) {
-    const watch::Frame frame = trace.frame(s);
+    const watch::Frame frame = frames.frame(s);
     for (auto& d : detectors) d->observe(frame);
     log.release(s - max_lag);
   }
@@ -80,8 +104,10 @@ int replay(const ReplayArgs& args) {
   // The summary goes to stdout unless the matches do.
   std::ostream& summary = args.matches_path == "-" || args.stats_path == "-" ? std::cerr : std::cout;
   summary << "replay " << args.trace << ": " << trace.line_count() << " lines, " << trace.step_count() << " steps, "
-          << trace.universe().module_count() << " modules; " << watch::algorithm_name(args.detector.algorithm())
-          << " detector\n";
+          << trace.modules_with_lines() << " modules";
+  if (const uint32_t only_named = trace.universe().module_count() - trace.modules_with_lines())
+    summary << " (and " << only_named << " named only as neighbours)";
+  summary << "; " << watch::algorithm_name(args.detector.algorithm()) << " detector\n";
   bool stopped = false;
   uint64_t total = 0;
   for (size_t i = 0; i < watches.size(); ++i) {
@@ -116,7 +142,8 @@ int replay(const ReplayArgs& args) {
     j["trace"] = {{"path", args.trace},
                   {"lines", trace.line_count()},
                   {"steps", trace.step_count()},
-                  {"modules", trace.universe().module_count()}};
+                  {"modules", trace.modules_with_lines()},
+                  {"modules_named_only_as_neighbours", trace.universe().module_count() - trace.modules_with_lines()}};
     j["seconds"] = {{"reading", parse_seconds}, {"detecting", detect_seconds}};
     j["watches"] = nlohmann::json::array();
     for (size_t i = 0; i < watches.size(); ++i)
@@ -140,6 +167,9 @@ void add_replay_command(CLI::App& app, std::function<int()>& run) {
   add_integer_option(*cmd, "--print", args->print, {"print", 0, 1'000'000},
                      "Matches to print per watchpoint when --matches is not given")
       ->default_val(20);
+  cmd->add_option("--max-frame-memory", args->max_frame_gib,
+                  "GiB one dense frame (modules x variables read) may take (default: a quarter of the memory)")
+      ->check(CLI::Range(0.001, 1e6));
   add_detector_flags(*cmd, args->detector);
   cmd->callback([&run, args] { run = [args] { return replay(*args); }; });
 }

@@ -29,8 +29,7 @@ Trace make_cubic_random_vars(const CubicRandomVars& s) {
           if (z + 1 < s.nz) e.nbrs.push_back(id(x, y, z + 1));
           entries.push_back(std::move(e));
         }
-  // A cube is dense: every step's frame is as big as its lines, so it always fits.
-  return std::get<Trace>(Trace::build(entries, std::move(names)));
+  return Trace::build(std::move(entries), std::move(names));
 }
 
 }  // namespace dw::sim

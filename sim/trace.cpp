@@ -1,15 +1,15 @@
 #include "sim/trace.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <unordered_map>
 
 namespace dw::sim {
 
-std::variant<Trace, std::string> Trace::build(const std::vector<Entry>& entries,
-                                              std::vector<std::string> variable_names) {
+Trace Trace::build(std::vector<Entry> entries, std::vector<std::string> variable_names) {
   Trace trace;
-  trace.lines_ = entries.size();
   trace.universe_.variables = std::move(variable_names);
   std::vector<watch::ModuleId>& ids = trace.universe_.module_ids;
   int64_t last_step = -1;
@@ -48,69 +48,108 @@ std::variant<Trace, std::string> Trace::build(const std::vector<Entry>& entries,
   }
   auto dense = [&](watch::ModuleId m) { return compact ? dense_table[m] : dense_map.at(m); };
 
-  const size_t modules = ids.size();
-  const size_t vars = trace.universe_.variables.size();
-  // Lines sorted by (step, module): each step's neighbour lists then come out in module order.
-  std::vector<const Entry*> order(entries.size());
-  for (size_t i = 0; i < entries.size(); ++i) order[i] = &entries[i];
-  std::sort(order.begin(), order.end(),
-            [](const Entry* a, const Entry* b) { return a->t != b->t ? a->t < b->t : a->m < b->m; });
-
-  // Frames are dense (every module, every variable), but a step with no line shares one empty
-  // frame, so a sparse trace costs what its lines cost. Refuse what memory cannot hold.
-  size_t busy_steps = 0;
-  for (size_t i = 0; i < order.size(); ++i) busy_steps += i == 0 || order[i]->t != order[i - 1]->t;
-  const double frame_bytes = static_cast<double>(modules) * (9.0 * static_cast<double>(vars) + 5.0);
-  const double total_bytes = frame_bytes * static_cast<double>(busy_steps + 1);
-  if (total_bytes > kMaxTraceBytes) {
-    char gib[32];
-    std::snprintf(gib, sizeof gib, "%.1f", total_bytes / (1024.0 * 1024 * 1024));
-    return "the trace needs " + std::string(gib) + " GiB in memory (" + std::to_string(busy_steps) + " steps x " +
-           std::to_string(modules) + " modules x " + std::to_string(vars) + " variables); at most " +
-           std::to_string(static_cast<int>(kMaxTraceBytes / (1ull << 30))) + " GiB is allowed";
+  // Lines sorted by (step, module): each step's lines then come out in module order.
+  std::sort(entries.begin(), entries.end(),
+            [](const Entry& a, const Entry& b) { return a.t != b.t ? a.t < b.t : a.m < b.m; });
+  trace.step_count_ = last_step + 1;
+  trace.step_begin_.assign(static_cast<size_t>(trace.step_count_) + 1, 0);
+  std::vector<uint8_t> has_line(ids.size(), 0);
+  size_t values = 0, nbrs = 0;
+  for (const Entry& e : entries) {
+    ++trace.step_begin_[static_cast<size_t>(e.t) + 1];
+    values += e.vars.size();
+    nbrs += e.nbrs.size();
   }
-
-  auto empty_frame = [&](Step& s) {
-    s.present.assign(modules, 0);
-    s.values.assign(modules * vars, 0);
-    s.has_value.assign(modules * vars, 0);
-    s.nbr_begin.assign(modules + 1, 0);
-  };
-  trace.step_frame_.assign(static_cast<size_t>(last_step + 1), 0);
-  trace.steps_.reserve(busy_steps + 1);
-  empty_frame(trace.steps_.emplace_back());  // frame 0: everyone absent
-  for (size_t i = 0; i < order.size();) {
-    const int64_t t = order[i]->t;
-    trace.step_frame_[static_cast<size_t>(t)] = static_cast<uint32_t>(trace.steps_.size());
-    Step& s = trace.steps_.emplace_back();
-    empty_frame(s);
-    for (uint32_t m = 0; m < modules; ++m) {
-      s.nbr_begin[m] = static_cast<uint32_t>(s.nbrs.size());
-      if (i < order.size() && order[i]->t == t && order[i]->m == ids[m]) {
-        const Entry& e = *order[i++];
-        s.present[m] = 1;
-        for (const auto& [var, value] : e.vars) {
-          s.values[m * vars + var] = value;
-          s.has_value[m * vars + var] = 1;
-        }
-        for (watch::ModuleId n : e.nbrs) s.nbrs.push_back(dense(n));
-      }
+  for (size_t t = 0; t < static_cast<size_t>(trace.step_count_); ++t) trace.step_begin_[t + 1] += trace.step_begin_[t];
+  trace.line_module_.reserve(entries.size());
+  trace.value_begin_.reserve(entries.size() + 1);
+  trace.nbr_begin_.reserve(entries.size() + 1);
+  trace.value_var_.reserve(values);
+  trace.value_.reserve(values);
+  trace.nbrs_.reserve(nbrs);
+  for (Entry& e : entries) {
+    const uint32_t m = dense(e.m);
+    has_line[m] = 1;
+    trace.line_module_.push_back(m);
+    trace.value_begin_.push_back(trace.value_.size());
+    for (const auto& [var, value] : e.vars) {
+      trace.value_var_.push_back(var);
+      trace.value_.push_back(value);
     }
-    s.nbr_begin[modules] = static_cast<uint32_t>(s.nbrs.size());
+    trace.nbr_begin_.push_back(trace.nbrs_.size());
+    for (watch::ModuleId n : e.nbrs) trace.nbrs_.push_back(dense(n));
+    e = Entry{};  // its memory goes back as the flat arrays grow
   }
+  trace.value_begin_.push_back(trace.value_.size());
+  trace.nbr_begin_.push_back(trace.nbrs_.size());
+  trace.modules_with_lines_ = static_cast<uint32_t>(std::count(has_line.begin(), has_line.end(), 1));
   return trace;
 }
 
-watch::Frame Trace::frame(int64_t step) const {
-  const Step& s = steps_[step_frame_[static_cast<size_t>(step)]];
+double default_frame_budget() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page <= 0) return 2.0 * (1ull << 30);
+  return static_cast<double>(pages) * static_cast<double>(page) / 4;
+}
+
+std::variant<FrameReader, std::string> FrameReader::make(const Trace& trace,
+                                                          const std::optional<std::vector<std::string>>& variables,
+                                                          double max_frame_bytes) {
+  FrameReader reader(trace);
+  reader.universe_.module_ids = trace.universe_.module_ids;
+  const std::vector<std::string>& all = trace.universe_.variables;
+  reader.column_of_.assign(all.size(), -1);
+  for (size_t v = 0; v < all.size(); ++v) {
+    if (variables && std::find(variables->begin(), variables->end(), all[v]) == variables->end()) continue;
+    reader.column_of_[v] = static_cast<int32_t>(reader.universe_.variables.size());
+    reader.universe_.variables.push_back(all[v]);
+  }
+  const double modules = static_cast<double>(reader.universe_.module_ids.size());
+  const double vars = static_cast<double>(reader.universe_.variables.size());
+  const double frame_bytes = modules * (9.0 * vars + 5.0);
+  if (frame_bytes > max_frame_bytes) {
+    char need[32], most[32];
+    std::snprintf(need, sizeof need, "%.2f", frame_bytes / (1u << 30));
+    std::snprintf(most, sizeof most, "%.2f", max_frame_bytes / (1u << 30));
+    return "one frame of the trace needs " + std::string(need) + " GiB (" + std::to_string(modules) + " modules x " +
+           std::to_string(reader.universe_.variables.size()) + " variables); at most " + most +
+           " GiB is allowed (--max-frame-memory)";
+  }
+  return reader;
+}
+
+watch::Frame FrameReader::frame(int64_t step, FrameBuffer& b) const {
+  const Trace& t = *trace_;
+  const size_t modules = universe_.module_ids.size(), vars = universe_.variables.size();
+  b.present.assign(modules, 0);
+  b.values.assign(modules * vars, 0);
+  b.has_value.assign(modules * vars, 0);
+  b.nbr_begin.assign(modules + 1, 0);
+  b.nbrs.clear();
+  const uint64_t first = t.step_begin_[static_cast<size_t>(step)], last = t.step_begin_[static_cast<size_t>(step) + 1];
+  // Lines are in module order: the neighbour lists are laid out in that order too.
+  for (uint64_t line = first; line < last; ++line) {
+    const uint32_t m = t.line_module_[line];
+    b.present[m] = 1;
+    for (uint64_t i = t.value_begin_[line]; i < t.value_begin_[line + 1]; ++i) {
+      const int32_t c = column_of_[t.value_var_[i]];
+      if (c < 0) continue;
+      b.values[m * vars + static_cast<size_t>(c)] = t.value_[i];
+      b.has_value[m * vars + static_cast<size_t>(c)] = 1;
+    }
+    b.nbr_begin[m + 1] = static_cast<uint32_t>(t.nbr_begin_[line + 1] - t.nbr_begin_[line]);
+    b.nbrs.insert(b.nbrs.end(), t.nbrs_.begin() + static_cast<ptrdiff_t>(t.nbr_begin_[line]),
+                  t.nbrs_.begin() + static_cast<ptrdiff_t>(t.nbr_begin_[line + 1]));
+  }
+  for (size_t m = 0; m < modules; ++m) b.nbr_begin[m + 1] += b.nbr_begin[m];
   watch::Frame f;
   f.step = step;
-  f.present = s.present;
-  f.values = s.values;
-  f.has_value = s.has_value;
-  f.nbr_begin = s.nbr_begin;
-  f.nbrs = s.nbrs;
-  f.variable_count = static_cast<uint32_t>(universe_.variables.size());
+  f.present = b.present;
+  f.values = b.values;
+  f.has_value = b.has_value;
+  f.nbr_begin = b.nbr_begin;
+  f.nbrs = b.nbrs;
+  f.variable_count = static_cast<uint32_t>(vars);
   return f;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <variant>
@@ -13,14 +14,18 @@
 
 namespace dw::sim {
 
-// The whole trace in memory, step-major, in the dense layout the detectors read.
+// The whole trace in memory, as its lines were: sorted by (step, module), each with its variables
+// and neighbours, in flat arrays. Memory is in proportion to what the lines hold, however many
+// modules, variables and steps they name; dense frames are made one step at a time (FrameReader).
 class Trace {
  public:
-  // Module ids ascending; variables in order of first appearance.
+  // Every module with a line or named as a neighbour, ids ascending; variables in order of first
+  // appearance.
   const watch::Universe& universe() const { return universe_; }
-  int64_t step_count() const { return static_cast<int64_t>(step_frame_.size()); }
-  uint64_t line_count() const { return lines_; }
-  watch::Frame frame(int64_t step) const;
+  int64_t step_count() const { return step_count_; }
+  uint64_t line_count() const { return line_module_.size(); }
+  // Modules that have at least one line (the universe also holds ids named only as neighbours).
+  uint32_t modules_with_lines() const { return modules_with_lines_; }
 
   // One module's line at one step, as the reader or a recorder adds it.
   struct Entry {
@@ -29,23 +34,56 @@ class Trace {
     std::vector<std::pair<uint32_t, int64_t>> vars;  // (index into the variable names, value)
     std::vector<watch::ModuleId> nbrs;
   };
-  // The trace of these lines, or why it cannot be held (more than kMaxTraceBytes of frames).
-  static std::variant<Trace, std::string> build(const std::vector<Entry>& entries,
-                                                std::vector<std::string> variable_names);
-  static constexpr double kMaxTraceBytes = 8.0 * (1ull << 30);
+  static Trace build(std::vector<Entry> entries, std::vector<std::string> variable_names);
 
  private:
-  struct Step {
-    std::vector<uint8_t> present;
-    std::vector<int64_t> values;
-    std::vector<uint8_t> has_value;
-    std::vector<uint32_t> nbr_begin, nbrs;
-  };
+  friend class FrameReader;
   watch::Universe universe_;
-  std::vector<Step> steps_;             // distinct frames; 0 is the empty one
-  std::vector<uint32_t> step_frame_;    // step -> index into steps_
-  uint64_t lines_ = 0;
+  int64_t step_count_ = 0;
+  uint32_t modules_with_lines_ = 0;
+  std::vector<uint64_t> step_begin_;    // [step_count + 1]: the step's first line
+  std::vector<uint32_t> line_module_;   // dense module index per line
+  std::vector<uint64_t> value_begin_;   // [lines + 1] into value_var_ / value_
+  std::vector<uint32_t> value_var_;
+  std::vector<int64_t> value_;
+  std::vector<uint64_t> nbr_begin_;     // [lines + 1] into nbrs_
+  std::vector<uint32_t> nbrs_;          // dense module indices
 };
+
+// The storage of one dense frame.
+struct FrameBuffer {
+  std::vector<uint8_t> present;
+  std::vector<int64_t> values;
+  std::vector<uint8_t> has_value;
+  std::vector<uint32_t> nbr_begin, nbrs;
+};
+
+// Dense frames of a trace over chosen variables, made one step at a time: what the detectors read.
+// A frame holds every module, so its size is modules x chosen variables, refused past a budget.
+class FrameReader {
+ public:
+  // Frames over `variables` (those the trace has; all of the trace's when nothing is given), or
+  // why one frame would not fit in `max_frame_bytes`.
+  static std::variant<FrameReader, std::string> make(const Trace& trace,
+                                                     const std::optional<std::vector<std::string>>& variables,
+                                                     double max_frame_bytes);
+  // The trace's modules, and the chosen variables as the frames' columns.
+  const watch::Universe& universe() const { return universe_; }
+  // Step `step` in `buffer`'s storage; the frame is valid while `buffer` is not reused.
+  watch::Frame frame(int64_t step, FrameBuffer& buffer) const;
+  // The same in the reader's own buffer: valid until the next call.
+  watch::Frame frame(int64_t step) { return frame(step, own_); }
+
+ private:
+  explicit FrameReader(const Trace& trace) : trace_(&trace) {}
+  const Trace* trace_;
+  watch::Universe universe_;
+  std::vector<int32_t> column_of_;  // trace variable -> frame column, or -1
+  FrameBuffer own_;
+};
+
+// What a dense frame may take by default: a quarter of the machine's physical memory.
+double default_frame_budget();
 
 struct TraceError {
   std::string file;

@@ -38,8 +38,11 @@ std::string write_trace(const Trace& trace, const std::string& path) {
   std::string error;
   auto out = OutputFile::open(path, &error);
   if (!out) return error;
-  TraceWriter writer(out->stream(), trace.universe());
-  for (int64_t t = 0; t < trace.step_count(); ++t) writer.write(trace.frame(t));
+  auto made = FrameReader::make(trace, std::nullopt, default_frame_budget());
+  if (auto* why = std::get_if<std::string>(&made)) return *why;
+  FrameReader& frames = std::get<FrameReader>(made);
+  TraceWriter writer(out->stream(), frames.universe());
+  for (int64_t t = 0; t < trace.step_count(); ++t) writer.write(frames.frame(t));
   return out->commit();
 }
 

@@ -4,10 +4,10 @@
 
 namespace dw::watch {
 
-std::string format_diagnostic(const SourceText& source, const Diagnostic& d) {
+std::string format_diagnostic(const SourceText& source, const Diagnostic& d, std::string_view kind) {
   const Location loc = source.locate(d.span.begin);
-  std::string out = source.name() + ":" + std::to_string(loc.line) + ":" + std::to_string(loc.column) +
-                    ": error: " + d.message + "\n";
+  std::string out = source.name() + ":" + std::to_string(loc.line) + ":" + std::to_string(loc.column) + ": " +
+                    std::string(kind) + ": " + d.message + "\n";
   std::string_view line = source.line_at(d.span.begin);
   uint32_t col0 = loc.column - 1;
   // A long line is shown as a window of kShownColumns around the caret, elided with "...", so

@@ -17,7 +17,8 @@ struct Diagnostic {
 // Columns of a long source line shown around the caret (the rest elided with "...").
 constexpr size_t kShownColumns = 160;
 // Renders one diagnostic: the location line, the source line, and `^~~~` under the span.
-std::string format_diagnostic(const SourceText& source, const Diagnostic& d);
+// `kind` is "error", or "warning" for what does not stop anything.
+std::string format_diagnostic(const SourceText& source, const Diagnostic& d, std::string_view kind = "error");
 
 // Renders every diagnostic, one after another.
 std::string format_diagnostics(const SourceText& source, const std::vector<Diagnostic>& ds);

@@ -70,11 +70,13 @@ TEST_P(Conformance, MatchesTheReferenceUnderEveryOptimizationCombination) {
   const std::set<Match> want = expected(p.dir / ("expected." + std::string(watch::algorithm_name(p.algorithm)) + ".jsonl"));
   ASSERT_FALSE(want.empty());
 
+  // Frames over what the watchpoint reads, as `dwatch replay` makes them.
+  auto reader = std::get<sim::FrameReader>(sim::FrameReader::make(tr, w.program.variables, sim::default_frame_budget()));
   for (int bits = 0; bits < 8; ++bits) {
     watch::DetectorOptions o;
     o.optimizations = {(bits & 1) != 0, (bits & 2) != 0, (bits & 4) != 0};
     std::set<Match> got;
-    auto d = watch::make_detector(p.algorithm, w, tr.universe(), o, [&](int64_t t, std::span<const watch::ModuleId> ids) {
+    auto d = watch::make_detector(p.algorithm, w, reader.universe(), o, [&](int64_t t, std::span<const watch::ModuleId> ids) {
       const size_t k = w.program.slot_names.size();
       for (size_t i = 0; i < ids.size(); i += k) {
         Match m{t, {}};
@@ -82,7 +84,7 @@ TEST_P(Conformance, MatchesTheReferenceUnderEveryOptimizationCombination) {
         got.insert(std::move(m));
       }
     });
-    for (int64_t s = 0; s < tr.step_count(); ++s) d->observe(tr.frame(s));
+    for (int64_t s = 0; s < tr.step_count(); ++s) d->observe(reader.frame(s));
     EXPECT_EQ(got.size(), want.size()) << "optimizations " << bits;
     EXPECT_TRUE(got == want) << "optimizations " << bits;
   }

@@ -26,12 +26,13 @@ TEST(RandomVars, LiveRunMatchesTheSyntheticTableITrace) {
     spec.maxima = {2, 2, 3, 2};
     spec.seed = 3;
     const sim::Trace trace = sim::make_cubic_random_vars(spec);
+    auto frames = std::get<sim::FrameReader>(sim::FrameReader::make(trace, std::nullopt, sim::default_frame_budget()));
     uint64_t replayed = 0;
     auto detector = watch::make_detector(s.model->watches[0].algorithm, s.model->watches[0].watchpoint,
-                                         trace.universe(), {}, [&](int64_t, std::span<const watch::ModuleId> ids) {
+                                         frames.universe(), {}, [&](int64_t, std::span<const watch::ModuleId> ids) {
                                            replayed += ids.size() / 4;
                                          });
-    for (int64_t t = 0; t < trace.step_count(); ++t) detector->observe(trace.frame(t));
+    for (int64_t t = 0; t < trace.step_count(); ++t) detector->observe(frames.frame(t));
     EXPECT_GT(replayed, 0u);
     EXPECT_EQ(run.match_count(0), replayed);
     EXPECT_EQ(run.stats(0).created, detector->stats().created);

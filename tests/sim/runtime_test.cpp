@@ -133,13 +133,14 @@ TEST(Runtime, RecordedFramesReplayToTheLiveMatches) {
     auto read = read_trace_text("rec", recording.str());
     ASSERT_TRUE(std::holds_alternative<Trace>(read));
     const Trace& trace = std::get<Trace>(read);
+    auto frames = std::get<FrameReader>(FrameReader::make(trace, std::nullopt, default_frame_budget()));
     std::vector<std::vector<uint32_t>> replayed;
-    auto detector = watch::make_detector(algorithm, model->watches[0].watchpoint, trace.universe(), {},
+    auto detector = watch::make_detector(algorithm, model->watches[0].watchpoint, frames.universe(), {},
                                          [&](int64_t t, std::span<const watch::ModuleId> ids) {
                                            for (size_t i = 0; i < ids.size(); i += 3)
                                              replayed.push_back({uint32_t(t), ids[i], ids[i + 1], ids[i + 2]});
                                          });
-    for (int64_t t = 0; t < trace.step_count(); ++t) detector->observe(trace.frame(t));
+    for (int64_t t = 0; t < trace.step_count(); ++t) detector->observe(frames.frame(t));
     std::sort(live.begin(), live.end());
     std::sort(replayed.begin(), replayed.end());
     EXPECT_EQ(live, replayed) << watch::algorithm_name(algorithm);

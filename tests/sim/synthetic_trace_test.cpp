@@ -1,3 +1,4 @@
+#include "tests/sim/trace_frames.h"
 #include "sim/synthetic_trace.h"
 
 #include <gtest/gtest.h>
@@ -16,14 +17,15 @@ watch::Watchpoint fig6() {
 
 uint64_t count_matches(const Trace& trace, watch::Algorithm a, const watch::Watchpoint& w, std::vector<uint64_t>* per_t) {
   uint64_t total = 0;
-  auto d = watch::make_detector(a, w, trace.universe(), {}, [&](int64_t t, std::span<const watch::ModuleId> ids) {
+  const test::TraceFrames frames(trace);
+  auto d = watch::make_detector(a, w, frames.universe(), {}, [&](int64_t t, std::span<const watch::ModuleId> ids) {
     total += ids.size() / 4;
     if (per_t) {
       if (per_t->size() <= static_cast<size_t>(t)) per_t->resize(static_cast<size_t>(t) + 1);
       (*per_t)[static_cast<size_t>(t)] += ids.size() / 4;
     }
   });
-  for (int64_t s = 0; s < trace.step_count(); ++s) d->observe(trace.frame(s));
+  for (const watch::Frame& f : frames.all()) d->observe(f);
   return total;
 }
 
@@ -32,7 +34,8 @@ TEST(SyntheticTrace, CubeHasSixNeighboursInsideAndThreeAtCorners) {
   spec.steps = 1;
   const Trace t = make_cubic_random_vars(spec);
   EXPECT_EQ(t.universe().module_count(), 1000u);
-  const watch::Frame f = t.frame(0);
+  const test::TraceFrames frames(t);
+  const watch::Frame& f = frames.frame(0);
   EXPECT_EQ(f.neighbors(0).size(), 3u);
   EXPECT_EQ(f.neighbors(1 + 10 * (1 + 10 * 1)).size(), 6u);
   EXPECT_EQ(f.nbrs.size(), 2u * 2700) << "2,700 face pairs, each listed from both sides";
@@ -64,8 +67,9 @@ TEST(SyntheticTrace, SameSeedSameTraceOtherSeedOtherTrace) {
   spec.seed = 2;
   const Trace c = make_cubic_random_vars(spec);
   bool differs = false;
+  const test::TraceFrames framesa(a), framesb(b), framesc(c);
   for (int64_t s = 0; s < a.step_count(); ++s) {
-    const watch::Frame fa = a.frame(s), fb = b.frame(s), fc = c.frame(s);
+    const watch::Frame &fa = framesa.frame(s), &fb = framesb.frame(s), &fc = framesc.frame(s);
     EXPECT_TRUE(std::equal(fa.values.begin(), fa.values.end(), fb.values.begin()));
     differs |= !std::equal(fa.values.begin(), fa.values.end(), fc.values.begin());
     for (size_t i = 0; i < fa.values.size(); ++i) EXPECT_LT(fa.values[i], spec.maxima[i % 4]);
