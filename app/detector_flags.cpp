@@ -37,8 +37,10 @@ void add_detector_flags(CLI::App& cmd, DetectorFlags& flags, bool with_algorithm
 void print_detector_stats(std::ostream& out, const watch::DetectorStats& st) {
   out << "    PatternMatchers: " << st.created << " created, peak " << st.peak_live << " live in a step";
   if (st.messages) out << ", " << st.messages << " sent (" << st.bytes << " bytes)";
-  out << "; by slots filled:";
-  for (size_t i = 1; i < st.created_by_filled.size(); ++i) out << " " << i << ":" << st.created_by_filled[i];
+  if (st.created_by_filled.size() > 1) {  // nothing when no step was observed
+    out << "; by slots filled:";
+    for (size_t i = 1; i < st.created_by_filled.size(); ++i) out << " " << i << ":" << st.created_by_filled[i];
+  }
   out << "\n";
 }
 

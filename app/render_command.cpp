@@ -72,6 +72,12 @@ int render_scenario(const RenderArgs& args) {
             << " (" << args.width << "x" << args.height << ")\n";
   for (const render::SceneGroup& g : groups)
     std::cout << "  " << g.watch << " t=" << g.t << ": " << group_text(g.slot_names, g.modules) << "\n";
+  // A `count` watchpoint keeps no groups: say so rather than highlight nothing without a word.
+  if (highlight != Highlight::None)
+    for (const sim::HostedWatchpoint& h : model.watches)
+      if (h.action == sim::MatchAction::Count)
+        std::cout << "  " << h.watchpoint.name << " only counts its matches (action = \"count\"), so none of its groups is"
+                  << " highlighted; set action = \"log\" to see them\n";
   return 0;
 }
 

@@ -1,4 +1,5 @@
 // `dwatch run SCENARIO`: run a scenario headless with its watchpoints live (DESIGN §6).
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <iomanip>
@@ -101,9 +102,12 @@ int run_scenario(const RunArgs& args) {
 
   std::ostream& summary = to_stdout ? std::cerr : std::cout;
   const auto& spec = model.lattice.spec;
-  summary << "run " << args.scenario << ": " << model.module_count() << " modules (" << sim::lattice_name(spec.kind)
-          << " " << spec.size[0];
+  const auto& occupied = model.lattice.occupied;
+  const size_t present = static_cast<size_t>(std::count(occupied.begin(), occupied.end(), 1));
+  summary << "run " << args.scenario << ": " << present << " modules (" << sim::lattice_name(spec.kind) << " "
+          << spec.size[0];
   for (int d = 1; d < sim::lattice_dimensions(spec.kind); ++d) summary << "x" << spec.size[size_t(d)];
+  if (present < occupied.size()) summary << ", " << occupied.size() - present << " cells left empty";
   summary << "), " << ran << (ran == 1 ? " step" : " steps") << " of " << steps << ", seed " << model.seed << ", "
           << threads << (threads == 1 ? " thread" : " threads")
           << "\n  programs:";
@@ -177,7 +181,7 @@ int run_scenario(const RunArgs& args) {
   if (stats) {
     nlohmann::ordered_json j;
     j["scenario"] = args.scenario;
-    j["modules"] = model.module_count();
+    j["modules"] = present;
     j["steps"] = ran;
     j["seed"] = model.seed;
     j["threads"] = threads;

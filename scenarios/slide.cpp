@@ -31,8 +31,10 @@ class Slide final : public sim::HostProgram {
     m.set(kMoving, m.moving() ? 1 : 0);
     bool starting = false;
     if (z == layer_ && !m.moving()) {
-      // The cell ahead is free when no neighbour says it is there, or its occupant sets off.
-      bool free = x < stop_;
+      // The cell ahead is free when no neighbour says it is there, or its occupant sets off. At
+      // step 0 nothing has been heard yet, so nothing is known to be free: without this, every
+      // slider would set off at once instead of one step after the one ahead.
+      bool free = x < stop_ && m.step() > 0;
       for (const sim::Message& msg : m.inbox())
         if (msg[kWX] == x + 1 && msg[kWZ] == z && msg[kWStarting] == 0) free = false;
       const int64_t free_for = free ? m.get(kFreeFor) + 1 : 0;

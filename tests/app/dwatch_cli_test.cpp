@@ -379,4 +379,22 @@ TEST_F(Cli, AFailedWriteNamesThePathAndDestroysNothing) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 3) << "no temporary left behind";
 }
 
+// Summaries count what is there: present modules, not lattice cells; no empty lists.
+TEST_F(Cli, SummariesSayWhatIsThere) {
+  const Result slide = run("run " + (kScenarios / "slide.toml").string() + " --no-progress --steps 10");
+  EXPECT_NE(slide.out.find(": 16 modules (cubic 12x1x2, 8 cells left empty)"), std::string::npos) << slide.out;
+  const Result none = run("run " + (kScenarios / "token_ring.toml").string() + " --no-progress --steps 0");
+  EXPECT_EQ(none.code, 0) << none.err;
+  EXPECT_EQ(none.out.find("by slots filled"), std::string::npos) << none.out;
+  const fs::path counted = write("count.toml", "[lattice]\nkind = \"ring\"\nsize = [8]\n[[program]]\nname = \"token_ring\"\n"
+                                               "[[watch]]\nname = \"tokens\"\ntext = \"modules(a); (a.token = 1)\"\n"
+                                               "action = \"count\"\n");
+  const Result render = run("render " + counted.string() + " --step 3 --out " + (dir_ / "c.png").string());
+  EXPECT_EQ(render.code, 0) << render.err;
+  EXPECT_NE(render.out.find("tokens only counts its matches (action = \"count\")"), std::string::npos) << render.out;
+  const fs::path trace = write("t.jsonl", "{\"t\":0,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[1,2]}\n");
+  const Result replay = run("replay " + trace.string() + " -w 'modules(a); (a.x = 1)'");
+  EXPECT_NE(replay.out.find("1 lines, 1 steps, 1 modules (and 2 named only as neighbours)"), std::string::npos) << replay.out;
+}
+
 }  // namespace
