@@ -2,6 +2,7 @@
 // (sim/host_program.h), and the table that finds them by name for scenario files.
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <span>
 #include <string_view>
@@ -15,7 +16,9 @@ namespace dw::scenarios {
 // What a program may know about the ensemble it is built for.
 struct ProgramSetup {
   const sim::LatticeSpec& lattice;
-  uint32_t module_count;
+  uint32_t module_count;             // lattice cells: module ids are 0..module_count-1
+  std::span<const uint8_t> occupied;  // per cell: 0 when left empty (no module)
+  uint32_t present_count() const { return static_cast<uint32_t>(std::count(occupied.begin(), occupied.end(), 1)); }
 };
 
 // Reads the program's parameters from its [[program]] table (reporting mistakes there) and

@@ -13,6 +13,8 @@ namespace dw::scenarios {
 namespace {
 
 constexpr uint64_t kMaxModules = 100'000'000;
+// Positions (props, the camera) in module sizes: far beyond any lattice, and finite.
+constexpr double kMaxCoordinate = 1e6;
 
 // The watchpoint text's own characters in the file, everything else blanked (newlines kept):
 // compiled as if it were the whole file, its diagnostics point into the scenario file itself.
@@ -142,7 +144,7 @@ struct Loader {
     physics::PhysicsSettings p;
     const bool on = r.boolean("enabled").value_or(false);
     p.dt = float(r.number("dt", 1e-4, 1).value_or(p.dt));
-    p.gravity = vec3(r.numbers("gravity", 3), p.gravity);
+    p.gravity = vec3(r.numbers("gravity", 3, -1000, 1000), p.gravity);  // m/s^2: 100 g either way
     p.shape = shape(r, "shape");
     p.module_mass = float(r.number("module_mass", 1e-3, 1e6).value_or(p.module_mass));
     p.contact_threshold =
@@ -159,12 +161,12 @@ struct Loader {
       physics::PropSpec b;
       b.shape = shape(q, "shape").value_or(b.shape);
       if (b.shape == physics::ModuleShape::Cylinder) q.error("shape", "a prop is a \"box\" or a \"sphere\"");
-      b.size = vec3(q.numbers("size", 3), b.size);
+      b.size = vec3(q.numbers("size", 3, 1e-3, 1e3), b.size);
       if (q.has("diameter")) b.size[0] = float(q.number("diameter", 1e-3, 1e3).value_or(1));
       b.mass = float(q.number("mass", 0, 1e9).value_or(b.mass));
-      b.pose.position = vec3(q.numbers("position", 3), b.pose.position);
-      b.velocity.linear = vec3(q.numbers("velocity", 3), b.velocity.linear);
-      b.velocity.angular = vec3(q.numbers("angular_velocity", 3), b.velocity.angular);
+      b.pose.position = vec3(q.numbers("position", 3, -kMaxCoordinate, kMaxCoordinate), b.pose.position);
+      b.velocity.linear = vec3(q.numbers("velocity", 3, -1e4, 1e4), b.velocity.linear);            // m/s
+      b.velocity.angular = vec3(q.numbers("angular_velocity", 3, -1e4, 1e4), b.velocity.angular);  // rad/s
       if (!q.has("position")) q.missing("position");
       q.finish();
       p.props.push_back(b);
@@ -332,7 +334,8 @@ struct Loader {
     auto built_lattice = lattice(root);
     std::optional<std::vector<std::unique_ptr<const sim::HostProgram>>> progs;
     if (built_lattice) {
-      const ProgramSetup setup{built_lattice->spec, static_cast<uint32_t>(built_lattice->spec.module_count())};
+      const ProgramSetup setup{built_lattice->spec, static_cast<uint32_t>(built_lattice->spec.module_count()),
+                               built_lattice->occupied};
       progs = programs(root, setup);
     } else {
       root.node("program");  // its errors wait for a lattice
@@ -343,8 +346,9 @@ struct Loader {
     if (const toml::table* view = root.table("view")) {
       TableReader r(*view, diagnostics, "[view]");
       s.view.color_by = r.string("color_by").value_or("");
-      if (auto eye = r.numbers("camera_eye", 3)) s.view.camera_eye = std::array<double, 3>{(*eye)[0], (*eye)[1], (*eye)[2]};
-      if (auto target = r.numbers("camera_target", 3))
+      if (auto eye = r.numbers("camera_eye", 3, -kMaxCoordinate, kMaxCoordinate))
+        s.view.camera_eye = std::array<double, 3>{(*eye)[0], (*eye)[1], (*eye)[2]};
+      if (auto target = r.numbers("camera_target", 3, -kMaxCoordinate, kMaxCoordinate))
         s.view.camera_target = std::array<double, 3>{(*target)[0], (*target)[1], (*target)[2]};
       r.finish();
     }

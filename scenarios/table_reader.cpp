@@ -174,7 +174,7 @@ std::vector<const toml::table*> TableReader::tables(std::string_view key) {
   return out;
 }
 
-std::optional<std::vector<double>> TableReader::numbers(std::string_view key, size_t count) {
+std::optional<std::vector<double>> TableReader::numbers(std::string_view key, size_t count, double min, double max) {
   const toml::node* n = node(key);
   if (!n) return std::nullopt;
   const std::string k(key);
@@ -189,6 +189,12 @@ std::optional<std::vector<double>> TableReader::numbers(std::string_view key, si
     else if (e.is_floating_point()) out.push_back(e.as_floating_point()->get());
     else {
       diagnostics_.add(e.source(), "'" + k + "' must hold numbers, not " + type_name(e));
+      return std::nullopt;
+    }
+    if (!(out.back() >= min && out.back() <= max)) {  // NaN fails too
+      std::ostringstream range;
+      range << "each of '" << k << "' must be between " << min << " and " << max << ", not " << out.back();
+      diagnostics_.add(e.source(), range.str());
       return std::nullopt;
     }
   }

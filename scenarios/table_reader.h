@@ -54,7 +54,8 @@ class TableReader {
   std::optional<std::vector<int64_t>> integers(std::string_view key, int64_t min, int64_t max, size_t min_count,
                                                size_t max_count);
   std::optional<double> number(std::string_view key, double min, double max);
-  std::optional<std::vector<double>> numbers(std::string_view key, size_t count);
+  // `count` numbers, each finite and within [min, max].
+  std::optional<std::vector<double>> numbers(std::string_view key, size_t count, double min, double max);
   // An array of tables ([[key]]); empty when absent or wrong.
   std::vector<const toml::table*> tables(std::string_view key);
   const toml::table* table(std::string_view key);

@@ -38,6 +38,10 @@ class TokenRing final : public sim::HostProgram {
     m.set(kToken, holds);
     m.set(kKeep, 0);
     if (!holds || m.step() == lose_at_) return;
+    if (m.neighbors().empty()) {  // cut off from the ring (a module that fell away): keep the token
+      m.set(kKeep, 1);
+      return;
+    }
     m.send(successor(m), {1});
     if (m.step() == duplicate_at_) m.set(kKeep, 1);
   }
@@ -48,7 +52,7 @@ class TokenRing final : public sim::HostProgram {
     const auto n = m.neighbors();
     for (sim::ModuleId id : n)
       if (id > m.id()) return id;
-    return n.empty() ? m.id() : n.front();
+    return n.front();
   }
 
   int64_t timeout_, duplicate_at_, lose_at_;
@@ -63,6 +67,11 @@ std::unique_ptr<const sim::HostProgram> make_token_ring(TableReader& params, con
   const auto lose = params.integer("lose_at", 0, big);
   if (params.has("timeout") && !timeout) return nullptr;
   if ((params.has("duplicate_at") && !duplicate) || (params.has("lose_at") && !lose)) return nullptr;
+  if (setup.present_count() < 2) {
+    params.error("name", "token_ring passes a token to a neighbour: it needs at least 2 modules, and this lattice has " +
+                             std::to_string(setup.present_count()));
+    return nullptr;
+  }
   return std::make_unique<TokenRing>(timeout.value_or(setup.module_count), duplicate.value_or(never), lose.value_or(never));
 }
 
