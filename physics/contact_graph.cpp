@@ -1,3 +1,4 @@
+#include "physics/pair_cache.h"
 #include "physics/contact_graph.h"
 
 #include <algorithm>
@@ -34,6 +35,7 @@ struct ContactGraph::Impl {
   }
 
   ~Impl() {
+    drop_all_pairs(*world.getPairCache(), dispatcher);
     for (auto& o : objects)
       if (o) world.removeCollisionObject(o.get());
   }

@@ -1,3 +1,4 @@
+#include "physics/pair_cache.h"
 #include "physics/dynamics.h"
 
 #include <algorithm>
@@ -106,6 +107,7 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
   btSequentialImpulseConstraintSolver solver;
   std::vector<std::unique_ptr<btRigidBody>> bodies;  // outlive the world, which unlinks them when it goes
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &shapes_->config);
+  const PairsDroppedFirst<btDiscreteDynamicsWorld> teardown{world};
   world.setGravity(to_bt(settings_.gravity));
   world.getSolverInfo().m_numIterations = settings_.solver_iterations;
   // Warm starting stays on: its cache is empty in a fresh world, and only with it does the solver
