@@ -53,7 +53,7 @@ struct Dynamics::Shapes {
 };
 
 Dynamics::Dynamics(const PhysicsSettings& settings, ModuleShape shape, float ground_z)
-    : settings_(settings), ground_z_(ground_z), shapes_(std::make_unique<Shapes>(shape, ground_z)),
+    : settings_(settings), shapes_(std::make_unique<Shapes>(shape, ground_z)),
       module_shape_(shapes_->module.get()) {
   for (const PropSpec& p : settings.props) shapes_->props.push_back(make_prop_shape(p));
 }

@@ -50,7 +50,6 @@ class Dynamics {
   const Compound& compound(const sim::Bodies& bodies, const sim::Cluster& cluster, int64_t step);
 
   const PhysicsSettings& settings_;
-  float ground_z_;
   struct Shapes;
   std::unique_ptr<Shapes> shapes_;
   btCollisionShape* module_shape_;

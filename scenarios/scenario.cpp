@@ -12,7 +12,6 @@
 namespace dw::scenarios {
 namespace {
 
-constexpr uint64_t kMaxModules = 100'000'000;
 // Positions (props, the camera) in module sizes: far beyond any lattice, and finite.
 constexpr double kMaxCoordinate = 1e6;
 
@@ -65,7 +64,7 @@ struct Loader {
     return std::nullopt;
   }
 
-  std::optional<sim::Lattice> lattice(TableReader& root) {
+  std::optional<sim::Lattice> lattice(TableReader& root, uint64_t max_modules) {
     const toml::table* t = root.table("lattice");
     if (!t) {
       if (!root.has("lattice")) root.missing("lattice");
@@ -105,9 +104,9 @@ struct Loader {
       return std::nullopt;
     }
     for (size_t i = 0; i < dims; ++i) spec.size[i] = static_cast<uint32_t>((*size)[i]);
-    if (spec.module_count() > kMaxModules) {
+    if (spec.module_count() > max_modules) {
       r.error("size", "that is " + std::to_string(spec.module_count()) + " modules; the most is " +
-                          std::to_string(kMaxModules));
+                          std::to_string(max_modules));
       ok = false;
     }
     if (*kind == sim::LatticeKind::Ring && spec.size[0] < 3) {
@@ -331,7 +330,7 @@ struct Loader {
     s.snapshots = static_cast<size_t>(snapshots.value_or(64));
     s.threads = static_cast<unsigned>(threads.value_or(1));
 
-    auto built_lattice = lattice(root);
+    auto built_lattice = lattice(root, overrides.max_modules);
     std::optional<std::vector<std::unique_ptr<const sim::HostProgram>>> progs;
     if (built_lattice) {
       const ProgramSetup setup{built_lattice->spec, static_cast<uint32_t>(built_lattice->spec.module_count()),

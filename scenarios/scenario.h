@@ -83,6 +83,7 @@ struct Scenario {
 struct ScenarioOverrides {
   std::optional<uint64_t> seed;
   std::optional<watch::Algorithm> algorithm;
+  uint64_t max_modules = 100'000'000;  // the largest lattice accepted (a fuzzer asks for less)
 };
 
 // The scenario, or the rendered diagnostics.

@@ -13,7 +13,7 @@ case "$kind" in
 esac
 cmake -S . -B "$dir" -G Ninja -DDWATCH_WERROR=ON "${flags[@]}" >/dev/null
 if [ "$kind" = fuzz ]; then
-  cmake --build "$dir" --parallel "$(nproc)" --target parser_fuzz
+  cmake --build "$dir" --parallel "$(nproc)" --target parser_fuzz scenario_fuzz trace_fuzz
 else
   cmake --build "$dir" --parallel "$(nproc)"
 fi

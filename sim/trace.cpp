@@ -51,16 +51,19 @@ Trace Trace::build(std::vector<Entry> entries, std::vector<std::string> variable
   // Lines sorted by (step, module): each step's lines then come out in module order.
   std::sort(entries.begin(), entries.end(),
             [](const Entry& a, const Entry& b) { return a.t != b.t ? a.t < b.t : a.m < b.m; });
+  // Only the steps with lines are indexed: a trace whose one line is at step 9,999,999 is small.
   trace.step_count_ = last_step + 1;
-  trace.step_begin_.assign(static_cast<size_t>(trace.step_count_) + 1, 0);
   std::vector<uint8_t> has_line(ids.size(), 0);
   size_t values = 0, nbrs = 0;
-  for (const Entry& e : entries) {
-    ++trace.step_begin_[static_cast<size_t>(e.t) + 1];
-    values += e.vars.size();
-    nbrs += e.nbrs.size();
+  for (size_t i = 0; i < entries.size(); ++i) {
+    if (i == 0 || entries[i].t != entries[i - 1].t) {
+      trace.busy_steps_.push_back(entries[i].t);
+      trace.busy_begin_.push_back(i);
+    }
+    values += entries[i].vars.size();
+    nbrs += entries[i].nbrs.size();
   }
-  for (size_t t = 0; t < static_cast<size_t>(trace.step_count_); ++t) trace.step_begin_[t + 1] += trace.step_begin_[t];
+  trace.busy_begin_.push_back(entries.size());
   trace.line_module_.reserve(entries.size());
   trace.value_begin_.reserve(entries.size() + 1);
   trace.nbr_begin_.reserve(entries.size() + 1);
@@ -126,7 +129,13 @@ watch::Frame FrameReader::frame(int64_t step, FrameBuffer& b) const {
   b.has_value.assign(modules * vars, 0);
   b.nbr_begin.assign(modules + 1, 0);
   b.nbrs.clear();
-  const uint64_t first = t.step_begin_[static_cast<size_t>(step)], last = t.step_begin_[static_cast<size_t>(step) + 1];
+  uint64_t first = 0, last = 0;  // the step's lines, none when it has no line
+  const auto busy = std::lower_bound(t.busy_steps_.begin(), t.busy_steps_.end(), step);
+  if (busy != t.busy_steps_.end() && *busy == step) {
+    const size_t i = static_cast<size_t>(busy - t.busy_steps_.begin());
+    first = t.busy_begin_[i];
+    last = t.busy_begin_[i + 1];
+  }
   // Lines are in module order: the neighbour lists are laid out in that order too.
   for (uint64_t line = first; line < last; ++line) {
     const uint32_t m = t.line_module_[line];

@@ -41,7 +41,8 @@ class Trace {
   watch::Universe universe_;
   int64_t step_count_ = 0;
   uint32_t modules_with_lines_ = 0;
-  std::vector<uint64_t> step_begin_;    // [step_count + 1]: the step's first line
+  std::vector<int64_t> busy_steps_;     // the steps that have lines, ascending
+  std::vector<uint64_t> busy_begin_;    // [busy steps + 1]: each one's first line
   std::vector<uint32_t> line_module_;   // dense module index per line
   std::vector<uint64_t> value_begin_;   // [lines + 1] into value_var_ / value_
   std::vector<uint32_t> value_var_;
