@@ -16,11 +16,11 @@
 #include <iostream>
 #include <sstream>
 
-#include "app/integer_option.h"
 #include "app/bench.h"
 #include "app/bench_child.h"
 #include "app/commands.h"
 #include "app/detector_flags.h"
+#include "app/integer_option.h"
 #include "sim/synthetic_trace.h"
 #include "watch/make_detector.h"
 
@@ -29,7 +29,7 @@ namespace {
 
 struct Row {
   uint64_t matches = 0, created = 0, messages = 0, peak_live = 0;
-  double seconds = 0;         // the fastest of the repeats
+  double seconds = 0;  // the fastest of the repeats
   double median_seconds = 0;
   long peak_kib = 0;
   bool stopped = false;
@@ -70,9 +70,8 @@ Row run_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorith
   std::vector<double> times;
   for (int r = 0; r < repeat; ++r) {
     uint64_t matches = 0;
-    auto detector = watch::make_detector(a, w, reader.universe(), o, [&](int64_t, std::span<const watch::ModuleId> ids) {
-      matches += ids.size() / 4;
-    });
+    auto detector = watch::make_detector(
+        a, w, reader.universe(), o, [&](int64_t, std::span<const watch::ModuleId> ids) { matches += ids.size() / 4; });
     const auto start = std::chrono::steady_clock::now();
     for (const watch::Frame& f : frames) detector->observe(f);
     times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -113,7 +112,8 @@ int bench_engine(const BenchArgs& args) {
   std::cout << "bench engine: " << args.size << "^3 cubic lattice, " << args.steps << " steps, Fig. 6 watchpoint\n";
   std::cout << std::left << std::setw(11) << "tuple" << std::setw(13) << "algorithm" << std::right << std::setw(12)
             << "matches" << std::setw(14) << "created" << std::setw(12) << "peak live" << std::setw(10) << "best s"
-            << std::setw(10) << "median s" << std::setw(11) << "peak MiB" << "   by slots filled (Fig. 7)\n";
+            << std::setw(10) << "median s" << std::setw(11) << "peak MiB"
+            << "   by slots filled (Fig. 7)\n";
   int status = 0;
   for (const std::string& tuple_text : args.tuples) {
     sim::CubicRandomVars spec;
@@ -131,7 +131,8 @@ int bench_engine(const BenchArgs& args) {
         std::cerr << "dwatch: error: " << error << "\n";
         return 1;
       }
-      std::cout << "wrote " << args.write_trace << " (" << trace.line_count() << " lines, tuple " << tuple_text << ")\n";
+      std::cout << "wrote " << args.write_trace << " (" << trace.line_count() << " lines, tuple " << tuple_text
+                << ")\n";
     }
     for (watch::Algorithm a : algorithms) {
       Row row;
@@ -143,8 +144,7 @@ int bench_engine(const BenchArgs& args) {
       std::cout << std::left << std::setw(11) << tuple_text << std::setw(13) << watch::algorithm_name(a) << std::right
                 << std::setw(12) << row.matches << std::setw(14) << row.created << std::setw(12) << row.peak_live
                 << std::setw(10) << std::fixed << std::setprecision(3) << row.seconds << std::setw(10)
-                << row.median_seconds << std::setw(11)
-                << std::setprecision(1) << mib << "   ";
+                << row.median_seconds << std::setw(11) << std::setprecision(1) << mib << "   ";
       for (int i = 1; i <= 4; ++i) std::cout << (i > 1 ? " " : "") << row.by_filled[i];
       std::cout << (row.stopped ? "  stopped at the budget" : "") << "\n";
       if (csv) {
@@ -160,7 +160,8 @@ int bench_engine(const BenchArgs& args) {
 }
 
 void add_bench_command(CLI::App& app, std::function<int()>& run) {
-  auto* cmd = app.add_subcommand("bench", "Reproduce the paper's measurements: engine, table1, overhead, million; physics");
+  auto* cmd =
+      app.add_subcommand("bench", "Reproduce the paper's measurements: engine, table1, overhead, million; physics");
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("name", args->name, "Benchmark to run")
       ->required()

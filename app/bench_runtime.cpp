@@ -63,7 +63,8 @@ RuntimeRow run_scenario_text(const std::string& toml, const BenchArgs& args, int
       times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       continue;
     }
-    auto loaded = scenarios::load_scenario_text("bench.toml", "snapshots = 0\nseed = " + std::to_string(args.seed) + "\n" + toml);
+    auto loaded =
+        scenarios::load_scenario_text("bench.toml", "snapshots = 0\nseed = " + std::to_string(args.seed) + "\n" + toml);
     if (auto* e = std::get_if<std::string>(&loaded)) {
       std::cerr << *e;
       row.failed = true;
@@ -139,7 +140,8 @@ int bench_runtime(const BenchArgs& args) {
         std::cerr << "dwatch bench: error: tuple '" << tuple << "' is not four positive integers like 2:2:2:2\n";
         return 2;
       }
-      if (!row(tuple, cube(args.size) + random_vars(tuple) + fig6("distributed"), args, args.repeat, table, r)) return 1;
+      if (!row(tuple, cube(args.size) + random_vars(tuple) + fig6("distributed"), args, args.repeat, table, r))
+        return 1;
       total += r.seconds;
     }
     std::cout << std::fixed << std::setprecision(3) << "all rows: " << total << " s (best runs summed)\n";
@@ -156,7 +158,8 @@ int bench_runtime(const BenchArgs& args) {
     if (!row("  + random_vars [2:2:2:2]", vars, args, args.repeat, table, with_vars)) return 1;
     if (!row("  + Fig. 6 centralized", vars + fig6("centralized"), args, args.repeat, table, central)) return 1;
     if (!row("  + Fig. 6 distributed", vars + fig6("distributed"), args, args.repeat, table, distributed)) return 1;
-    std::cout << std::fixed << std::setprecision(1) << "watchpoint overhead over the workload with its variables: centralized "
+    std::cout << std::fixed << std::setprecision(1)
+              << "watchpoint overhead over the workload with its variables: centralized "
               << 100 * (central.seconds / with_vars.seconds - 1) << "%, distributed "
               << 100 * (distributed.seconds / with_vars.seconds - 1) << "% (the paper: 118%, 105%)\n";
     return 0;
@@ -181,11 +184,13 @@ int bench_runtime(const BenchArgs& args) {
       if (!row("resting " + side + ", latched to the ground", cube(n) + sense + latched, args, args.repeat, table, r))
         return 1;
       per_step(r);
-      if (!row("resting " + side + ", free on the ground", cube(n) + sense + free, args, args.repeat, table, r)) return 1;
+      if (!row("resting " + side + ", free on the ground", cube(n) + sense + free, args, args.repeat, table, r))
+        return 1;
       per_step(r);
     }
     // The watchpoint's overhead over a 1,000-module physics run of leader election (hex 40x25).
-    const std::string election = "[lattice]\nkind = \"hex2d\"\nsize = [40, 25]\n[[program]]\nname = \"leader_election\"\n";
+    const std::string election =
+        "[lattice]\nkind = \"hex2d\"\nsize = [40, 25]\n[[program]]\nname = \"leader_election\"\n";
     const std::string two_leaders =
         "[[watch]]\nname = \"two_leaders\"\naction = \"count\"\ntext = \"modules(a b c); (a.isLeader = 1) and "
         "(c.isLeader = 1)\"\n";
@@ -195,8 +200,8 @@ int bench_runtime(const BenchArgs& args) {
         return 1;
       if (!row("  + two_leaders, distributed", election + physics + two_leaders, args, args.repeat, table, with))
         return 1;
-      std::cout << std::fixed << std::setprecision(1) << "    watchpoint overhead: "
-                << 100 * (with.seconds / without.seconds - 1) << "%\n";
+      std::cout << std::fixed << std::setprecision(1)
+                << "    watchpoint overhead: " << 100 * (with.seconds / without.seconds - 1) << "%\n";
     }
     return 0;
   }

@@ -2,7 +2,6 @@
 
 #include "app/integer_option.h"
 
-
 #include "watch/ast.h"
 
 namespace dw::app {
@@ -27,7 +26,8 @@ void add_detector_flags(CLI::App& cmd, DetectorFlags& flags, bool with_algorithm
         ->capture_default_str();
   }
   cmd.add_flag("--no-early-termination", flags.no_early_termination, "Keep PatternMatchers that can no longer match");
-  cmd.add_flag("--no-neighbor-culling", flags.no_neighbor_culling, "Spread to every neighbour regardless of neighbor()");
+  cmd.add_flag("--no-neighbor-culling", flags.no_neighbor_culling,
+               "Spread to every neighbour regardless of neighbor()");
   cmd.add_flag("--no-temporal-spans", flags.no_temporal_spans, "Keep all history instead of each variable's span");
   add_integer_option(cmd, "--max-live", flags.max_live, scenarios::kMaxLiveRange,
                      "Budget: most PatternMatchers alive in one step; past it the run stops (exit 1). 0: none")

@@ -15,9 +15,11 @@ int main(int argc, char** argv) {
   dw::app::add_render_command(app, run);
   dw::app::add_bench_command(app, run);
   // A word where a command belongs that is none of them: say so, and name the real ones.
-  if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* c) { return c->get_name() == argv[1]; }).empty()) {
+  if (argc > 1 && argv[1][0] != '-' &&
+      app.get_subcommands([&](CLI::App* c) { return c->get_name() == argv[1]; }).empty()) {
     std::string names;
-    for (const CLI::App* c : app.get_subcommands([](CLI::App*) { return true; })) names += (names.empty() ? "" : ", ") + c->get_name();
+    for (const CLI::App* c : app.get_subcommands([](CLI::App*) { return true; }))
+      names += (names.empty() ? "" : ", ") + c->get_name();
     std::cerr << "dwatch: error: unknown command '" << argv[1] << "' (the commands: " << names
               << "; dwatch --help says more)\n";
     return 2;

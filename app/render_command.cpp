@@ -4,9 +4,9 @@
 #include <iostream>
 #include <memory>
 
-#include "app/integer_option.h"
 #include "app/commands.h"
 #include "app/detector_flags.h"
+#include "app/integer_option.h"
 #include "app/output_files.h"
 #include "app/view_image.h"
 #include "render/scene.h"
@@ -57,7 +57,9 @@ int render_scenario(const RenderArgs& args) {
     return 1;
   }
 
-  const Highlight highlight = args.highlight == "all" ? Highlight::All : args.highlight == "none" ? Highlight::None : Highlight::First;
+  const Highlight highlight = args.highlight == "all"    ? Highlight::All
+                              : args.highlight == "none" ? Highlight::None
+                                                         : Highlight::First;
   const std::vector<render::SceneGroup> groups = groups_at(run, step, highlight);
   render::SceneSettings settings = scene_settings(scenario, args.color_by);
   settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(step);
@@ -76,7 +78,8 @@ int render_scenario(const RenderArgs& args) {
   if (highlight != Highlight::None)
     for (const sim::HostedWatchpoint& h : model.watches)
       if (h.action == sim::MatchAction::Count)
-        std::cout << "  " << h.watchpoint.name << " only counts its matches (action = \"count\"), so none of its groups is"
+        std::cout << "  " << h.watchpoint.name
+                  << " only counts its matches (action = \"count\"), so none of its groups is"
                   << " highlighted; set action = \"log\" to see them\n";
   return 0;
 }

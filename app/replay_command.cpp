@@ -7,9 +7,9 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "app/integer_option.h"
 #include "app/commands.h"
 #include "app/detector_flags.h"
+#include "app/integer_option.h"
 #include "app/output_files.h"
 #include "app/watch_args.h"
 #include "sim/match_log.h"
@@ -67,14 +67,14 @@ int replay(const ReplayArgs& args) {
       if (std::find(read_vars.begin(), read_vars.end(), v) == read_vars.end()) read_vars.push_back(v);
       const auto& known = trace.universe().variables;
       if (std::find(known.begin(), known.end(), v) == known.end())
-        std::cerr << watch::format_diagnostic(*w.source,
-                                              {watch::first_use(w.ast, v), "watchpoint \"" + w.name + "\" reads '" + v +
-                                                                               "', which no line of " + args.trace +
-                                                                               " has: it can never match"},
-                                              "warning");
+        std::cerr << watch::format_diagnostic(
+            *w.source,
+            {watch::first_use(w.ast, v), "watchpoint \"" + w.name + "\" reads '" + v + "', which no line of " +
+                                             args.trace + " has: it can never match"},
+            "warning");
     }
-  auto made = sim::FrameReader::make(trace, read_vars,
-                                     args.max_frame_gib > 0 ? args.max_frame_gib * (1u << 30) : sim::default_frame_budget());
+  auto made = sim::FrameReader::make(
+      trace, read_vars, args.max_frame_gib > 0 ? args.max_frame_gib * (1u << 30) : sim::default_frame_budget());
   if (auto* why = std::get_if<std::string>(&made)) {
     std::cerr << args.trace << ": error: " << *why << "\n";
     return 1;

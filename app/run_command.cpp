@@ -40,7 +40,8 @@ int run_scenario(const RunArgs& args) {
   scenarios::ScenarioOverrides overrides;
   if (args.seed) overrides.seed = static_cast<uint64_t>(*args.seed);
   if (!args.algorithm.empty())
-    overrides.algorithm = args.algorithm == "centralized" ? watch::Algorithm::Centralized : watch::Algorithm::Distributed;
+    overrides.algorithm =
+        args.algorithm == "centralized" ? watch::Algorithm::Centralized : watch::Algorithm::Distributed;
   auto loaded = scenarios::load_scenario(args.scenario, overrides);
   if (auto* errors = std::get_if<std::string>(&loaded)) {
     std::cerr << *errors;
@@ -109,8 +110,7 @@ int run_scenario(const RunArgs& args) {
   for (int d = 1; d < sim::lattice_dimensions(spec.kind); ++d) summary << "x" << spec.size[size_t(d)];
   if (present < occupied.size()) summary << ", " << occupied.size() - present << " cells left empty";
   summary << "), " << ran << (ran == 1 ? " step" : " steps") << " of " << steps << ", seed " << model.seed << ", "
-          << threads << (threads == 1 ? " thread" : " threads")
-          << "\n  programs:";
+          << threads << (threads == 1 ? " thread" : " threads") << "\n  programs:";
   for (const auto& p : model.programs) summary << " " << p->name();
   summary << "; " << run.state().program_messages << " program messages\n";
 
@@ -131,7 +131,8 @@ int run_scenario(const RunArgs& args) {
     if (matches == nullptr) {
       const size_t k = static_cast<size_t>(h.watchpoint.program.slot_count());
       for (size_t i = 0; i < list.size() && i < args.print; ++i)
-        summary << "    t=" << list.t[i] << " " << group_text(h.watchpoint.program.slot_names, {list.slots.data() + i * k, k}) << "\n";
+        summary << "    t=" << list.t[i] << " "
+                << group_text(h.watchpoint.program.slot_names, {list.slots.data() + i * k, k}) << "\n";
       if (list.size() > args.print && args.print > 0)
         summary << "    ... " << (list.size() - args.print) << " more (--matches FILE writes them all)\n";
     }
@@ -157,7 +158,8 @@ int run_scenario(const RunArgs& args) {
   const uint64_t hash = sim::hash_state(run.state());
   summary << std::fixed << std::setprecision(3) << "  time: " << seconds << " s";
   if (ran > 0 && model.module_count() > 0)
-    summary << std::setprecision(2) << " (" << seconds * 1e9 / double(ran) / model.module_count() << " ns per module-step)";
+    summary << std::setprecision(2) << " (" << seconds * 1e9 / double(ran) / model.module_count()
+            << " ns per module-step)";
   summary << "\n  state hash: " << hex(hash) << "\n";
 
   if (!args.render_path.empty()) {
@@ -225,7 +227,8 @@ void add_run_command(CLI::App& app, std::function<int()>& run) {
   cmd->add_option("--algorithm", args->algorithm, "Run every watchpoint with this algorithm")
       ->check(CLI::IsMember({"centralized", "distributed"}));
   cmd->add_option("--record", args->record_path, "Write what the watchpoints saw as a wptrace v1 TRACE");
-  cmd->add_option("--matches", args->matches_path, "Write every match of log/pause watchpoints as JSON Lines (- for stdout)");
+  cmd->add_option("--matches", args->matches_path,
+                  "Write every match of log/pause watchpoints as JSON Lines (- for stdout)");
   cmd->add_option("--stats", args->stats_path, "Write run statistics as JSON");
   cmd->add_option("--render", args->render_path,
                   "Draw the 3D view to a PNG: at the first pause's step with its group, else at the last step");

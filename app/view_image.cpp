@@ -30,8 +30,7 @@ render::SceneSettings scene_settings(const scenarios::Scenario& scenario, const 
   if (const auto* world = dynamic_cast<const physics::BulletWorld*>(scenario.world.get())) {
     s.module_shape = shape_of(world->shape());
     s.ground_z = world->ground_z();
-    for (const physics::PropSpec& p : world->settings().props)
-      s.props.push_back({shape_of(p.shape), p.size, p.pose});
+    for (const physics::PropSpec& p : world->settings().props) s.props.push_back({shape_of(p.shape), p.size, p.pose});
   }
   return s;
 }
@@ -46,7 +45,8 @@ std::vector<render::SceneGroup> groups_at(const sim::Run& run, int64_t t, Highli
     const sim::MatchList& list = run.matches(w);
     for (size_t i = 0; i < list.size(); ++i) {
       if (list.t[i] != t) continue;
-      groups.push_back({wp.name, t, wp.program.slot_names, {list.slots.begin() + i * k, list.slots.begin() + (i + 1) * k}});
+      groups.push_back(
+          {wp.name, t, wp.program.slot_names, {list.slots.begin() + i * k, list.slots.begin() + (i + 1) * k}});
       if (highlight == Highlight::First) return groups;
     }
   }

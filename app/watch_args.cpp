@@ -25,7 +25,8 @@ std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const
     std::string arg = args[i];
     std::string name;
     // NAME=... names the watchpoint; a watchpoint's own text starts with `modules(`, never NAME=.
-    if (const size_t eq = arg.find('='); eq != std::string::npos && is_name(arg.substr(0, eq)) && arg.substr(0, eq) != "modules") {
+    if (const size_t eq = arg.find('=');
+        eq != std::string::npos && is_name(arg.substr(0, eq)) && arg.substr(0, eq) != "modules") {
       name = arg.substr(0, eq);
       arg = arg.substr(eq + 1);
     }

@@ -10,7 +10,7 @@
 namespace dw::app {
 
 // Compiles every watchpoint; on any error returns the rendered diagnostics of all of them.
-std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const std::vector<std::string>& args,
-                                                                           std::vector<std::string>* files_read = nullptr);
+std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(
+    const std::vector<std::string>& args, std::vector<std::string>* files_read = nullptr);
 
 }  // namespace dw::app

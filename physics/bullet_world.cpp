@@ -20,9 +20,7 @@ float lowest_bottom(const sim::Lattice& lattice) {
   return z - 0.5f;
 }
 
-float distance(const sim::Vec3& a, const sim::Vec3& b) {
-  return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
-}
+float distance(const sim::Vec3& a, const sim::Vec3& b) { return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
 
 std::string who(const sim::Actuation& a, int64_t step) {
   return "module " + std::to_string(a.module) + " at step " + std::to_string(step);
@@ -79,9 +77,7 @@ bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vec
   const int64_t asked = state.step - 1;
   auto erase_bonds = [&](auto&& which) { return std::erase_if(b.bonds, which) > 0; };
   switch (a.kind) {
-    case sim::Actuation::Kind::Push:
-      pushes.push_back({a.module, a.vector});
-      return false;
+    case sim::Actuation::Kind::Push: pushes.push_back({a.module, a.vector}); return false;
     case sim::Actuation::Kind::Release:
       return erase_bonds([&](const sim::Bond& x) {
         return (x.a == a.module && x.b == a.other) || (x.a == a.other && x.b == a.module);

@@ -1,5 +1,5 @@
-#include "physics/pair_cache.h"
 #include "physics/contact_graph.h"
+#include "physics/pair_cache.h"
 
 #include <algorithm>
 
@@ -24,7 +24,9 @@ struct ContactGraph::Impl {
   };
 
   explicit Impl(ModuleShape kind, float threshold)
-      : dispatcher(&config, *this), world(&dispatcher, &broadphase, &config), shape(make_module_shape(kind)),
+      : dispatcher(&config, *this),
+        world(&dispatcher, &broadphase, &config),
+        shape(make_module_shape(kind)),
         threshold(threshold) {
     // The default box-box detector reports nothing across a gap, and the sphere-sphere one
     // nothing beyond touching: GJK measures the gap for every module shape (DESIGN §8).
@@ -74,9 +76,9 @@ struct ContactGraph::Impl {
   std::unique_ptr<btCollisionShape> shape;
   float threshold;
   std::vector<std::unique_ptr<btCollisionObject>> objects;  // per module; null while absent
-  std::vector<sim::Pose> last;                               // the pose each object has
-  std::vector<uint32_t> cluster;                             // per module: its cluster, as last seen
-  std::vector<sim::Pose> local;                              // and its pose in that cluster
+  std::vector<sim::Pose> last;                              // the pose each object has
+  std::vector<uint32_t> cluster;                            // per module: its cluster, as last seen
+  std::vector<sim::Pose> local;                             // and its pose in that cluster
   std::vector<uint8_t> moved, regrouped;
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;
   std::shared_ptr<const sim::NeighborGraph> graph;
@@ -144,7 +146,8 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
   }
 
   s.broadphase.calculateOverlappingPairs(&s.dispatcher);
-  s.dispatcher.dispatchAllCollisionPairs(s.broadphase.getOverlappingPairCache(), s.world.getDispatchInfo(), &s.dispatcher);
+  s.dispatcher.dispatchAllCollisionPairs(s.broadphase.getOverlappingPairCache(), s.world.getDispatchInfo(),
+                                         &s.dispatcher);
   measured_ = s.measured;
 
   // Every manifold of a pair counts: the pair touches when any point is within the threshold.
@@ -163,7 +166,8 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   if (s.graph && pairs == s.pairs && s.graph->module_count() == n) return s.graph;
   s.pairs = std::move(pairs);
-  s.graph = std::make_shared<const sim::NeighborGraph>(sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), s.pairs));
+  s.graph =
+      std::make_shared<const sim::NeighborGraph>(sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), s.pairs));
   return s.graph;
 }
 

@@ -1,5 +1,5 @@
-#include "physics/pair_cache.h"
 #include "physics/dynamics.h"
+#include "physics/pair_cache.h"
 
 #include <algorithm>
 #include <bit>
@@ -24,7 +24,8 @@ sim::Pose glide(const sim::Mover& mover, int64_t step) {
   if (done == mover.steps) return mover.to;
   const float f = float(done) / float(mover.steps);
   sim::Pose p = mover.from;
-  for (int i = 0; i < 3; ++i) p.position[i] = mover.from.position[i] + (mover.to.position[i] - mover.from.position[i]) * f;
+  for (int i = 0; i < 3; ++i)
+    p.position[i] = mover.from.position[i] + (mover.to.position[i] - mover.from.position[i]) * f;
   return p;
 }
 
@@ -53,8 +54,7 @@ struct Dynamics::Shapes {
 };
 
 Dynamics::Dynamics(const PhysicsSettings& settings, ModuleShape shape, float ground_z)
-    : settings_(settings), shapes_(std::make_unique<Shapes>(shape, ground_z)),
-      module_shape_(shapes_->module.get()) {
+    : settings_(settings), shapes_(std::make_unique<Shapes>(shape, ground_z)), module_shape_(shapes_->module.get()) {
   for (const PropSpec& p : settings.props) shapes_->props.push_back(make_prop_shape(p));
 }
 
@@ -162,7 +162,8 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     const PropSpec& p = settings_.props[i];
     btVector3 inertia(0, 0, 0);
     if (p.mass > 0) shapes_->props[i]->calculateLocalInertia(p.mass, inertia);
-    btRigidBody* body = add(p.mass, shapes_->props[i].get(), inertia, to_bt(b.prop_poses[i]), clusters + movers + int(i));
+    btRigidBody* body =
+        add(p.mass, shapes_->props[i].get(), inertia, to_bt(b.prop_poses[i]), clusters + movers + int(i));
     body->setLinearVelocity(to_bt(b.prop_velocities[i].linear));
     body->setAngularVelocity(to_bt(b.prop_velocities[i].angular));
     prop_body.push_back(body);

@@ -85,7 +85,8 @@ Region view_region(const Scene& scene, const FontAtlas& font, int width, int hei
   const float t = font.pixel_height();
   r.top = std::min(0.4f, t * (scene.groups.empty() ? 2.0f : 3.4f) / float(height));
   r.bottom = 1 - std::min(0.2f, t * 0.6f / float(height));
-  if (!scene.legend.title.empty()) r.left = std::min(0.4f, (legend_box(scene, font, height).max.x + t * 0.5f) / float(width));
+  if (!scene.legend.title.empty())
+    r.left = std::min(0.4f, (legend_box(scene, font, height).max.x + t * 0.5f) / float(width));
   r.right = 1 - std::min(0.2f, t * 0.6f / float(width));
   return r;
 }

@@ -61,7 +61,8 @@ Camera make_camera(const Scene& scene, int width, int height, const Region& regi
   const bool flat = b.max.z - b.min.z <= 1.01f;
   const float elevation = glm::radians(flat ? 58.0f : 28.0f);
   const float azimuth = glm::radians(flat ? -72.0f : -58.0f);
-  const glm::vec3 back(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+  const glm::vec3 back(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                       std::sin(elevation));
   c.target = b.center();
   if (scene.camera_target) c.target = {(*scene.camera_target)[0], (*scene.camera_target)[1], (*scene.camera_target)[2]};
 
@@ -70,7 +71,8 @@ Camera make_camera(const Scene& scene, int width, int height, const Region& regi
   std::vector<glm::vec3> points;
   auto add = [&](const sim::Vec3& p, glm::vec3 half) {
     for (int i = 0; i < 8; ++i)
-      points.push_back(glm::vec3(p[0], p[1], p[2]) + half * glm::vec3((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1));
+      points.push_back(glm::vec3(p[0], p[1], p[2]) +
+                       half * glm::vec3((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1));
   };
   for (const SceneModule& m : scene.modules) add(m.pose.position, glm::vec3(0.5f));
   for (const SceneProp& p : scene.props) add(p.pose.position, half_extent(p));

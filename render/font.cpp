@@ -48,8 +48,7 @@ std::variant<FontAtlas, std::string> FontAtlas::bake(const std::string& ttf_path
   atlas.white_u_ = 2.0f / float(atlas.width_);
   atlas.white_v_ = (float(glyph_rows) + 2.0f) / float(atlas.height_);
 
-  for (const stbtt_bakedchar& b : baked)
-    atlas.glyphs_.push_back({b.x0, b.y0, b.x1, b.y1, b.xoff, b.yoff, b.xadvance});
+  for (const stbtt_bakedchar& b : baked) atlas.glyphs_.push_back({b.x0, b.y0, b.x1, b.y1, b.xoff, b.yoff, b.xadvance});
 
   stbtt_fontinfo info;
   if (!stbtt_InitFont(&info, ttf.data(), stbtt_GetFontOffsetForIndex(ttf.data(), 0)))
@@ -70,7 +69,8 @@ std::vector<FontAtlas::Quad> FontAtlas::layout(std::string_view text, float x, f
     // Glyphs start on whole pixels, so that text stays sharp.
     const float gx = std::round(x + g.xoff), gy = std::round(y + g.yoff);
     if (g.x1 > g.x0)
-      quads.push_back({gx, gy, gx + float(g.x1 - g.x0), gy + float(g.y1 - g.y0), g.x0 * iw, g.y0 * ih, g.x1 * iw, g.y1 * ih});
+      quads.push_back(
+          {gx, gy, gx + float(g.x1 - g.x0), gy + float(g.y1 - g.y0), g.x0 * iw, g.y0 * ih, g.x1 * iw, g.y1 * ih});
     x += g.xadvance;
   }
   return quads;

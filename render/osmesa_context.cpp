@@ -5,11 +5,16 @@
 namespace dw::render {
 
 std::variant<std::unique_ptr<OsMesaContext>, std::string> OsMesaContext::create() {
-  const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA,
-                            OSMESA_DEPTH_BITS, 0,  // depth lives in the renderer's framebuffers
-                            OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                            OSMESA_CONTEXT_MAJOR_VERSION, 3,
-                            OSMESA_CONTEXT_MINOR_VERSION, 3,
+  const int attributes[] = {OSMESA_FORMAT,
+                            OSMESA_RGBA,
+                            OSMESA_DEPTH_BITS,
+                            0,  // depth lives in the renderer's framebuffers
+                            OSMESA_PROFILE,
+                            OSMESA_CORE_PROFILE,
+                            OSMESA_CONTEXT_MAJOR_VERSION,
+                            3,
+                            OSMESA_CONTEXT_MINOR_VERSION,
+                            3,
                             0};
   std::unique_ptr<OsMesaContext> c(new OsMesaContext());
   c->context_ = OSMesaCreateContextAttribs(attributes, nullptr);

@@ -123,9 +123,11 @@ Renderer::Renderer(const Gl& gl, std::string font_path) : gl_(gl), font_path_(st
     gl_.BindBuffer(GL_ARRAY_BUFFER, mesh->vertices);
     gl_.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(MeshVertex)), vertices.data(), GL_STATIC_DRAW);
     gl_.EnableVertexAttribArray(0);
-    gl_.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex), reinterpret_cast<void*>(offsetof(MeshVertex, position)));
+    gl_.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex),
+                            reinterpret_cast<void*>(offsetof(MeshVertex, position)));
     gl_.EnableVertexAttribArray(1);
-    gl_.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex), reinterpret_cast<void*>(offsetof(MeshVertex, normal)));
+    gl_.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex),
+                            reinterpret_cast<void*>(offsetof(MeshVertex, normal)));
     // The instance attributes read the shared instance buffer: a mat4 as four columns, a colour.
     gl_.BindBuffer(GL_ARRAY_BUFFER, instance_buffer_);
     for (GLuint c = 0; c < 4; ++c) {
@@ -135,7 +137,8 @@ Renderer::Renderer(const Gl& gl, std::string font_path) : gl_(gl), font_path_(st
       gl_.VertexAttribDivisor(2 + c, 1);
     }
     gl_.EnableVertexAttribArray(6);
-    gl_.VertexAttribPointer(6, 4, GL_FLOAT, GL_FALSE, sizeof(Instance), reinterpret_cast<void*>(offsetof(Instance, color)));
+    gl_.VertexAttribPointer(6, 4, GL_FLOAT, GL_FALSE, sizeof(Instance),
+                            reinterpret_cast<void*>(offsetof(Instance, color)));
     gl_.VertexAttribDivisor(6, 1);
     meshes_[shape] = std::move(mesh);
   }
@@ -154,11 +157,14 @@ Renderer::Renderer(const Gl& gl, std::string font_path) : gl_(gl), font_path_(st
   gl_.GenBuffers(1, &overlay_buffer_);
   gl_.BindBuffer(GL_ARRAY_BUFFER, overlay_buffer_);
   gl_.EnableVertexAttribArray(0);
-  gl_.VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex), reinterpret_cast<void*>(offsetof(OverlayVertex, x)));
+  gl_.VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex),
+                          reinterpret_cast<void*>(offsetof(OverlayVertex, x)));
   gl_.EnableVertexAttribArray(1);
-  gl_.VertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex), reinterpret_cast<void*>(offsetof(OverlayVertex, u)));
+  gl_.VertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex),
+                          reinterpret_cast<void*>(offsetof(OverlayVertex, u)));
   gl_.EnableVertexAttribArray(2);
-  gl_.VertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex), reinterpret_cast<void*>(offsetof(OverlayVertex, r)));
+  gl_.VertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex),
+                          reinterpret_cast<void*>(offsetof(OverlayVertex, r)));
   gl_.GenVertexArrays(1, &empty_vao_);  // the core profile draws nothing without a vertex array
   gl_.BindVertexArray(0);
 }
@@ -263,7 +269,8 @@ void Renderer::draw_ground(const Scene& scene, const glm::mat4& view_projection)
   gl_.DrawArrays(GL_TRIANGLES, 0, 6);
 }
 
-void Renderer::draw_overlay(const std::vector<OverlayVertex>& vertices, const FontTexture& font, int width, int height) {
+void Renderer::draw_overlay(const std::vector<OverlayVertex>& vertices, const FontTexture& font, int width,
+                            int height) {
   const Program& p = *overlay_program_;
   gl_.UseProgram(p.id);
   gl_.Uniform2f(p.at("u_size"), float(width), float(height));
@@ -316,7 +323,8 @@ void Renderer::smooth_edges(const Scene& scene, const glm::mat4& view_projection
   auto cover = [&](const sim::Pose& pose, glm::vec3 half) {
     const glm::mat4 to_clip = view_projection * transform(pose, half * 2.0f);
     for (int i = 0; i < 8; ++i) {
-      const glm::vec4 c = to_clip * glm::vec4((i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f, 1);
+      const glm::vec4 c =
+          to_clip * glm::vec4((i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f, 1);
       if (c.w <= 1e-6f) {  // behind the camera: smooth everything
         lo = glm::vec2(-1), hi = glm::vec2(1);
         return;

@@ -62,7 +62,7 @@ struct Scene {
   Shape module_shape = Shape::Box;
   std::vector<SceneModule> modules;  // the present ones, by id
   std::vector<SceneProp> props;
-  std::vector<SceneGroup> groups;    // highlighted; the other modules are dimmed
+  std::vector<SceneGroup> groups;  // highlighted; the other modules are dimmed
   Legend legend;
   float ground_z = -0.5f;
   std::optional<sim::Vec3> camera_eye, camera_target;  // unset: the camera is fitted
@@ -73,9 +73,9 @@ struct Scene {
 struct SceneSettings {
   std::string title;
   Shape module_shape = Shape::Box;
-  std::vector<SceneProp> props;          // shapes and sizes; poses are taken from the state
-  std::optional<float> ground_z;         // unset: half a module below the lowest lattice cell
-  std::string color_by;                  // a variable; empty: one colour for every module
+  std::vector<SceneProp> props;   // shapes and sizes; poses are taken from the state
+  std::optional<float> ground_z;  // unset: half a module below the lowest lattice cell
+  std::string color_by;           // a variable; empty: one colour for every module
   std::optional<sim::Vec3> camera_eye, camera_target;
 };
 

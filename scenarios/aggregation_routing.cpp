@@ -76,8 +76,9 @@ std::unique_ptr<const sim::HostProgram> make_aggregation_routing(TableReader& pa
   const auto count = params.integer("landmarks", 0, kMaxLandmarks);
   if ((params.has("root") && !root) || (params.has("landmarks") && !count)) return nullptr;
   if (!setup.occupied[static_cast<size_t>(root.value_or(0))]) {
-    params.error(params.has("root") ? "root" : "name", "the root, module " + std::to_string(root.value_or(0)) +
-                                                           ", is in a cell left empty: give 'root' a module that is there");
+    params.error(params.has("root") ? "root" : "name",
+                 "the root, module " + std::to_string(root.value_or(0)) +
+                     ", is in a cell left empty: give 'root' a module that is there");
     return nullptr;
   }
   // Landmarks spread evenly over the ids.

@@ -10,7 +10,8 @@ constexpr ProgramInfo kPrograms[] = {
      make_token_ring},
     {"aggregation_routing", "data aggregation over a spanning tree plus landmark routing (paper §V-B)",
      make_aggregation_routing},
-    {"body_sense", "what a module feels of its body: neighbour count, moving, speed, height (physics)", make_body_sense},
+    {"body_sense", "what a module feels of its body: neighbour count, moving, speed, height (physics)",
+     make_body_sense},
     {"slide", "modules sliding along the top of a row by lattice moves, like a train (paper §I; physics)", make_slide},
 };
 

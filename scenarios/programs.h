@@ -16,7 +16,7 @@ namespace dw::scenarios {
 // What a program may know about the ensemble it is built for.
 struct ProgramSetup {
   const sim::LatticeSpec& lattice;
-  uint32_t module_count;             // lattice cells: module ids are 0..module_count-1
+  uint32_t module_count;              // lattice cells: module ids are 0..module_count-1
   std::span<const uint8_t> occupied;  // per cell: 0 when left empty (no module)
   uint32_t present_count() const { return static_cast<uint32_t>(std::count(occupied.begin(), occupied.end(), 1)); }
 };

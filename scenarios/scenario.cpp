@@ -40,7 +40,7 @@ struct Loader {
   std::string path;
   watch::SourceText source;
   FileDiagnostics diagnostics{source};
-  std::string extra;  // diagnostics rendered against other files (watchpoint files)
+  std::string extra;                // diagnostics rendered against other files (watchpoint files)
   std::vector<std::string> inputs;  // the files read besides the scenario (watchpoint files)
 
   Loader(std::string p, std::string text) : path(p), source(std::move(p), std::move(text)) {}
@@ -146,8 +146,8 @@ struct Loader {
     p.gravity = vec3(r.numbers("gravity", 3, -1000, 1000), p.gravity);  // m/s^2: 100 g either way
     p.shape = shape(r, "shape");
     p.module_mass = float(r.number("module_mass", 1e-3, 1e6).value_or(p.module_mass));
-    p.contact_threshold =
-        float(r.number("contact_threshold", 0, physics::PhysicsSettings::kMaxContactThreshold).value_or(p.contact_threshold));
+    p.contact_threshold = float(
+        r.number("contact_threshold", 0, physics::PhysicsSettings::kMaxContactThreshold).value_or(p.contact_threshold));
     p.bonds = r.boolean("bonds").value_or(p.bonds);
     p.anchor = r.boolean("anchor").value_or(p.anchor);
     p.break_force = float(r.number("break_force", 0, 1e12).value_or(p.break_force));
@@ -176,7 +176,7 @@ struct Loader {
   }
 
   std::optional<std::vector<std::unique_ptr<const sim::HostProgram>>> programs(TableReader& root,
-                                                                              const ProgramSetup& setup) {
+                                                                               const ProgramSetup& setup) {
     const toml::node* n = root.node("program");
     if (!n) {
       root.missing("program");
@@ -352,7 +352,8 @@ struct Loader {
       r.finish();
     }
     root.finish();
-    if (!diagnostics.empty() || !extra.empty() || !built_lattice || !progs || !hosted) return diagnostics.format() + extra;
+    if (!diagnostics.empty() || !extra.empty() || !built_lattice || !progs || !hosted)
+      return diagnostics.format() + extra;
 
     auto built = sim::build_model(std::move(*built_lattice), std::move(*progs), std::move(*hosted),
                                   overrides.seed.value_or(static_cast<uint64_t>(seed.value_or(1))));
@@ -370,8 +371,8 @@ struct Loader {
         if (s.model->column(v) >= 0) continue;
         std::string known;
         for (const std::string& k : s.model->universe.variables) known += (known.empty() ? "" : ", ") + k;
-        const std::string message = "watchpoint \"" + wp.name + "\" reads '" + v +
-                                    "', which no program has (variables: " + known + ")";
+        const std::string message =
+            "watchpoint \"" + wp.name + "\" reads '" + v + "', which no program has (variables: " + known + ")";
         const watch::Span at = watch::first_use(wp.ast, v);
         if (wp.source->name() == path) {
           diagnostics.add({at, message});  // compiled in place: the span is the scenario file's

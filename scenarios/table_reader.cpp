@@ -170,7 +170,8 @@ std::vector<const toml::table*> TableReader::tables(std::string_view key) {
   if (a && a->is_array_of_tables())
     for (const toml::node& e : *a) out.push_back(e.as_table());
   else
-    error(key, "'" + std::string(key) + "' must be an array of tables ([[" + std::string(key) + "]]), not " + type_name(*n));
+    error(key,
+          "'" + std::string(key) + "' must be an array of tables ([[" + std::string(key) + "]]), not " + type_name(*n));
   return out;
 }
 

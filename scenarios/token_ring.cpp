@@ -68,11 +68,13 @@ std::unique_ptr<const sim::HostProgram> make_token_ring(TableReader& params, con
   if (params.has("timeout") && !timeout) return nullptr;
   if ((params.has("duplicate_at") && !duplicate) || (params.has("lose_at") && !lose)) return nullptr;
   if (setup.present_count() < 2) {
-    params.error("name", "token_ring passes a token to a neighbour: it needs at least 2 modules, and this lattice has " +
-                             std::to_string(setup.present_count()));
+    params.error("name",
+                 "token_ring passes a token to a neighbour: it needs at least 2 modules, and this lattice has " +
+                     std::to_string(setup.present_count()));
     return nullptr;
   }
-  return std::make_unique<TokenRing>(timeout.value_or(setup.module_count), duplicate.value_or(never), lose.value_or(never));
+  return std::make_unique<TokenRing>(timeout.value_or(setup.module_count), duplicate.value_or(never),
+                                     lose.value_or(never));
 }
 
 }  // namespace dw::scenarios

@@ -49,8 +49,8 @@ struct Bond {
 static_assert(sizeof(Bond) == 2 * sizeof(ModuleId));
 
 struct Cluster {
-  Pose pose;          // the frame: centre of mass, principal axes
-  Velocity velocity;  // of the centre of mass
+  Pose pose;                      // the frame: centre of mass, principal axes
+  Velocity velocity;              // of the centre of mass
   uint32_t first = 0, count = 0;  // its members: Bodies::members[first, first + count)
   bool anchored = false;          // latched to the ground: it does not move
   bool operator==(const Cluster&) const = default;
@@ -66,21 +66,22 @@ struct Mover {
 };
 
 struct Bodies {
-  std::vector<Pose> poses;            // per module, in the world
-  std::vector<Velocity> velocities;   // per module: of its centre
-  std::vector<Pose> local;            // per module: its pose in its cluster's frame
-  std::vector<uint32_t> cluster_of;   // per module, or kNoCluster
-  std::vector<Cluster> clusters;      // ordered by their smallest member
-  std::vector<ModuleId> members;      // each cluster's members, ascending
-  std::vector<Bond> bonds;            // sorted
-  std::vector<Mover> movers;          // sorted by module
-  std::vector<Pose> prop_poses;       // the scenario's props (bodies that are not modules)
+  std::vector<Pose> poses;           // per module, in the world
+  std::vector<Velocity> velocities;  // per module: of its centre
+  std::vector<Pose> local;           // per module: its pose in its cluster's frame
+  std::vector<uint32_t> cluster_of;  // per module, or kNoCluster
+  std::vector<Cluster> clusters;     // ordered by their smallest member
+  std::vector<ModuleId> members;     // each cluster's members, ascending
+  std::vector<Bond> bonds;           // sorted
+  std::vector<Mover> movers;         // sorted by module
+  std::vector<Pose> prop_poses;      // the scenario's props (bodies that are not modules)
   std::vector<Velocity> prop_velocities;
 
   bool empty() const { return poses.empty(); }
   // Making a lattice move.
   bool moving(ModuleId m) const {
-    auto at = std::lower_bound(movers.begin(), movers.end(), m, [](const Mover& x, ModuleId id) { return x.module < id; });
+    auto at =
+        std::lower_bound(movers.begin(), movers.end(), m, [](const Mover& x, ModuleId id) { return x.module < id; });
     return at != movers.end() && at->module == m;
   }
   bool operator==(const Bodies&) const = default;

@@ -7,7 +7,9 @@
 
 namespace dw::sim {
 
-bool ModuleContext::is_neighbor(ModuleId m) const { return std::binary_search(neighbors_.begin(), neighbors_.end(), m); }
+bool ModuleContext::is_neighbor(ModuleId m) const {
+  return std::binary_search(neighbors_.begin(), neighbors_.end(), m);
+}
 
 uint64_t ModuleContext::random(uint32_t stream) const {
   // Program 0's streams are the bare stream numbers, so that a lone random_vars program draws

@@ -53,8 +53,17 @@ class ModuleContext {
   ModuleContext(ModuleId id, int64_t step, uint64_t seed, uint16_t program, std::span<const ModuleId> neighbors,
                 std::span<const Message> inbox, const int64_t* before, int64_t* after, Outbox& outbox,
                 std::string_view program_name, const Bodies& bodies)
-      : id_(id), step_(step), seed_(seed), program_(program), neighbors_(neighbors), inbox_(inbox), before_(before),
-        after_(after), outbox_(outbox), program_name_(program_name), bodies_(bodies) {}
+      : id_(id),
+        step_(step),
+        seed_(seed),
+        program_(program),
+        neighbors_(neighbors),
+        inbox_(inbox),
+        before_(before),
+        after_(after),
+        outbox_(outbox),
+        program_name_(program_name),
+        bodies_(bodies) {}
 
   ModuleId id() const { return id_; }
   int64_t step() const { return step_; }
@@ -78,7 +87,9 @@ class ModuleContext {
   // Sends to a neighbour (delivered at t + 1). Sending to a module that is not a neighbour, or
   // more than Message::kMaxWords words, is a program error that stops the run.
   void send(ModuleId to, std::span<const int64_t> payload);
-  void send(ModuleId to, std::initializer_list<int64_t> payload) { send(to, std::span(payload.begin(), payload.size())); }
+  void send(ModuleId to, std::initializer_list<int64_t> payload) {
+    send(to, std::span(payload.begin(), payload.size()));
+  }
   // Sends the same message to every neighbour.
   void broadcast(std::span<const int64_t> payload);
   void broadcast(std::initializer_list<int64_t> payload) { broadcast(std::span(payload.begin(), payload.size())); }

@@ -46,8 +46,8 @@ class MatchLog {
   };
   struct Watch {
     WatchInfo info;
-    std::string prefix;                 // {"watch":"name","t":
-    std::vector<std::string> slot_keys; // "a":
+    std::string prefix;                  // {"watch":"name","t":
+    std::vector<std::string> slot_keys;  // "a":
     uint64_t count = 0;
     std::vector<Kept> kept;
   };

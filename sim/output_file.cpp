@@ -65,7 +65,9 @@ class OutputFile::FdBuffer final : public std::streambuf {
 };
 
 OutputFile::OutputFile(std::string path, std::string temporary, int fd, bool owns_fd)
-    : path_(std::move(path)), temporary_(std::move(temporary)), buffer_(std::make_unique<FdBuffer>(fd, owns_fd)),
+    : path_(std::move(path)),
+      temporary_(std::move(temporary)),
+      buffer_(std::make_unique<FdBuffer>(fd, owns_fd)),
       stream_(buffer_.get()) {}
 
 OutputFile::~OutputFile() {

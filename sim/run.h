@@ -28,8 +28,8 @@ struct MatchList {
 // A `pause` watchpoint matched.
 struct Pause {
   uint32_t watch = 0;
-  int64_t t = 0;         // the match's step
-  int64_t detected = 0;  // the step during which it was found
+  int64_t t = 0;                // the match's step
+  int64_t detected = 0;         // the step during which it was found
   std::vector<ModuleId> group;  // the first match of that step, in slot order
   uint64_t matches = 0;         // matches of that watchpoint at that step
 };
@@ -73,7 +73,7 @@ class Run {
   std::vector<MatchList> matches_;
   std::vector<watch::DetectorStats> stats_;
   std::vector<std::vector<int64_t>> stats_step_;  // per watch: the run step of each series entry
-  int64_t pause_guard_ = -1;  // pauses detected at or before this step have fired
+  int64_t pause_guard_ = -1;                      // pauses detected at or before this step have fired
   StepOutput out_;
 };
 

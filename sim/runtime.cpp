@@ -62,7 +62,8 @@ State Runtime::initial_state() {
   State s;
   const uint32_t m = model_.module_count(), v = model_.variable_count();
   s.values.resize(size_t{m} * v);
-  for (uint32_t i = 0; i < m; ++i) std::copy(model_.initial_values.begin(), model_.initial_values.end(), s.values.begin() + size_t{i} * v);
+  for (uint32_t i = 0; i < m; ++i)
+    std::copy(model_.initial_values.begin(), model_.initial_values.end(), s.values.begin() + size_t{i} * v);
   world_.initialize(model_, s);
   for (const HostedWatchpoint& w : model_.watches) {
     WatchState& ws = s.watches.emplace_back();
@@ -71,7 +72,8 @@ State Runtime::initial_state() {
       ws.detector->stats().max_steps = 0;  // the run keeps its own series
     } else {
       ws.agents.reserve(m);
-      for (uint32_t i = 0; i < m; ++i) ws.agents.emplace_back(i, w.watchpoint.program, w.options.optimizations.temporal_spans);
+      for (uint32_t i = 0; i < m; ++i)
+        ws.agents.emplace_back(i, w.watchpoint.program, w.options.optimizations.temporal_spans);
       ws.in_flight.resize(size_t{pool_.size()} * blocks_);
     }
   }
@@ -163,7 +165,8 @@ void Runtime::run_thread(unsigned thread, State& state) {
     run_programs(thread, block_begin(block), block_begin(block + 1), state);
     for (uint32_t w : live) run_agents(thread, block, w, state);
   }
-  for (uint32_t w : live) s.agents[w].step.created += s.agents[w].step.messages;  // starts were counted as they happened
+  for (uint32_t w : live)
+    s.agents[w].step.created += s.agents[w].step.messages;  // starts were counted as they happened
 }
 
 // Gathers the threads' matches and statistics; the PatternMatchers sent become those in flight.
@@ -303,7 +306,8 @@ void Runtime::step(State& state, StepOutput& out) {
   out.program_messages = state.program_messages - sent_before;
   // Actuation requests in thread order, which is module order.
   actuations_.clear();
-  for (const ThreadScratch& s : scratch_) actuations_.insert(actuations_.end(), s.outbox.actuations.begin(), s.outbox.actuations.end());
+  for (const ThreadScratch& s : scratch_)
+    actuations_.insert(actuations_.end(), s.outbox.actuations.begin(), s.outbox.actuations.end());
   ++state.step;
   world_.advance(model_, state, actuations_);
 }

@@ -21,10 +21,10 @@ namespace dw::sim {
 
 // What one hosted watchpoint decided during a step.
 struct WatchStepOutput {
-  int64_t t = -1;          // the watch step whose matches were decided now; -1 when none was
+  int64_t t = -1;  // the watch step whose matches were decided now; -1 when none was
   uint64_t matches = 0;
   std::vector<ModuleId> slots;  // slot ids per match, matches in ascending order; not for `count`
-  bool observed = false;   // stats holds this step's statistics
+  bool observed = false;        // stats holds this step's statistics
   watch::StepStats stats;
 };
 
@@ -78,7 +78,7 @@ class Runtime {
   void deliver_program_messages(State& state);
 
   uint32_t first_block(unsigned thread) const;  // the thread's first block; first_block(threads) = blocks_
-  uint32_t block_begin(uint32_t block) const;  // its first module; block_begin(blocks_) = module count
+  uint32_t block_begin(uint32_t block) const;   // its first module; block_begin(blocks_) = module count
 
   const Model& model_;
   World& world_;

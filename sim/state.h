@@ -35,14 +35,14 @@ struct WatchState {
 };
 
 struct State {
-  int64_t step = 0;                // the next step to run; `values` are those of step - 1
-  std::vector<int64_t> values;     // [module * variables + column]
-  std::vector<uint8_t> present;    // [module]
+  int64_t step = 0;                            // the next step to run; `values` are those of step - 1
+  std::vector<int64_t> values;                 // [module * variables + column]
+  std::vector<uint8_t> present;                // [module]
   std::shared_ptr<const NeighborGraph> graph;  // N(m, step): what the next step's programs see
-  Bodies bodies;                   // poses, velocities, bonds (a physical world only)
-  Mailbox inbox;                   // program messages to be read at `step`
+  Bodies bodies;                               // poses, velocities, bonds (a physical world only)
+  Mailbox inbox;                               // program messages to be read at `step`
   std::vector<WatchState> watches;
-  uint64_t program_messages = 0;   // sent since step 0
+  uint64_t program_messages = 0;  // sent since step 0
 };
 
 // A hash of the whole state: step, variables, presence, topology, bodies, messages, detector state in

@@ -96,8 +96,8 @@ double default_frame_budget() {
 }
 
 std::variant<FrameReader, std::string> FrameReader::make(const Trace& trace,
-                                                          const std::optional<std::vector<std::string>>& variables,
-                                                          double max_frame_bytes) {
+                                                         const std::optional<std::vector<std::string>>& variables,
+                                                         double max_frame_bytes) {
   FrameReader reader(trace);
   reader.universe_.module_ids = trace.universe_.module_ids;
   const std::vector<std::string>& all = trace.universe_.variables;

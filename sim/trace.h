@@ -41,14 +41,14 @@ class Trace {
   watch::Universe universe_;
   int64_t step_count_ = 0;
   uint32_t modules_with_lines_ = 0;
-  std::vector<int64_t> busy_steps_;     // the steps that have lines, ascending
-  std::vector<uint64_t> busy_begin_;    // [busy steps + 1]: each one's first line
-  std::vector<uint32_t> line_module_;   // dense module index per line
-  std::vector<uint64_t> value_begin_;   // [lines + 1] into value_var_ / value_
+  std::vector<int64_t> busy_steps_;    // the steps that have lines, ascending
+  std::vector<uint64_t> busy_begin_;   // [busy steps + 1]: each one's first line
+  std::vector<uint32_t> line_module_;  // dense module index per line
+  std::vector<uint64_t> value_begin_;  // [lines + 1] into value_var_ / value_
   std::vector<uint32_t> value_var_;
   std::vector<int64_t> value_;
-  std::vector<uint64_t> nbr_begin_;     // [lines + 1] into nbrs_
-  std::vector<uint32_t> nbrs_;          // dense module indices
+  std::vector<uint64_t> nbr_begin_;  // [lines + 1] into nbrs_
+  std::vector<uint32_t> nbrs_;       // dense module indices
 };
 
 // The storage of one dense frame.

@@ -64,15 +64,11 @@ class TraceReader {
   // A JSON number that is an integer; 1.5, 1e3, true and "1" are not.
   bool integer(simdjson::dom::element v, int64_t& out, const Where& at, const std::string& what) {
     switch (v.type()) {
-      case simdjson::dom::element_type::INT64:
-        out = v.get_int64().value_unsafe();
-        return true;
+      case simdjson::dom::element_type::INT64: out = v.get_int64().value_unsafe(); return true;
       case simdjson::dom::element_type::UINT64:
         error(at, what + " does not fit in a signed 64-bit integer");
         return false;
-      default:
-        error(at, what + " must be an integer");
-        return false;
+      default: error(at, what + " must be an integer"); return false;
     }
   }
 
@@ -92,7 +88,8 @@ class TraceReader {
         int64_t version;
         if (!first) return error(at, "the {\"wptrace\":1} header may only be the first line");
         if (!integer(v, version, at, "\"wptrace\"")) return;
-        if (version != 1) return error(at, "unsupported trace version " + std::to_string(version) + " (this reader reads wptrace 1)");
+        if (version != 1)
+          return error(at, "unsupported trace version " + std::to_string(version) + " (this reader reads wptrace 1)");
         header = true;
       } else if (key == "t") {
         if (has_t) return error(at, "duplicate field \"t\"");
@@ -139,11 +136,13 @@ class TraceReader {
       }
     }
     if (header) {
-      if (has_t || has_m || has_vars || has_nbrs) return error(Where{text, {}, 0}, "the header line holds only \"wptrace\"");
+      if (has_t || has_m || has_vars || has_nbrs)
+        return error(Where{text, {}, 0}, "the header line holds only \"wptrace\"");
       return;
     }
     std::string missing;
-    for (auto [has, name] : {std::pair{has_t, "\"t\""}, {has_m, "\"m\""}, {has_vars, "\"vars\""}, {has_nbrs, "\"nbrs\""}})
+    for (auto [has, name] :
+         {std::pair{has_t, "\"t\""}, {has_m, "\"m\""}, {has_vars, "\"vars\""}, {has_nbrs, "\"nbrs\""}})
       if (!has) missing += (missing.empty() ? "" : ", ") + std::string(name);
     if (!missing.empty()) return error(Where{text, {}, 0}, "missing field " + missing);
     if (std::find(e.nbrs.begin(), e.nbrs.end(), e.m) != e.nbrs.end())
@@ -154,8 +153,8 @@ class TraceReader {
       return error(Where{text, {}, 0}, "a neighbour appears twice in \"nbrs\"");
     auto [it, inserted] = first_line_.emplace(hash_key(e.t, e.m), line_);
     if (!inserted)
-      return error(Where{text, {}, 0}, "duplicate line for module " + std::to_string(e.m) + " at step " + std::to_string(e.t) +
-                                    " (first at line " + std::to_string(it->second) + ")");
+      return error(Where{text, {}, 0}, "duplicate line for module " + std::to_string(e.m) + " at step " +
+                                           std::to_string(e.t) + " (first at line " + std::to_string(it->second) + ")");
     entries_.push_back(std::move(e));
   }
 

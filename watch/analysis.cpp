@@ -47,7 +47,9 @@ Analysis analyze(const Ast& ast) {
       return l.variable != r.variable ? l.variable < r.variable : l.offset < r.offset;
     });
     reads.erase(std::unique(reads.begin(), reads.end(),
-                            [](const SlotRead& l, const SlotRead& r) { return l.variable == r.variable && l.offset == r.offset; }),
+                            [](const SlotRead& l, const SlotRead& r) {
+                              return l.variable == r.variable && l.offset == r.offset;
+                            }),
                 reads.end());
   }
   return a;

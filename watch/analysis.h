@@ -35,11 +35,11 @@ struct NeighborConstraint {
 };
 
 struct Analysis {
-  std::vector<VariableUse> variables;  // in order of first use
+  std::vector<VariableUse> variables;             // in order of first use
   std::vector<std::vector<SlotRead>> slot_reads;  // per slot, sorted by (variable, offset)
   std::vector<NeighborConstraint> neighbors;
-  int extent_plus = 0;       // E+ = max(0, largest offset): how far the watchpoint looks ahead
-  int min_offset = 0;        // min(0, smallest offset): how far it looks back
+  int extent_plus = 0;          // E+ = max(0, largest offset): how far the watchpoint looks ahead
+  int min_offset = 0;           // min(0, smallest offset): how far it looks back
   int min_neighbor_offset = 0;  // min(0, smallest offset of a neighbor() term)
 
   int variable_index(const std::string& name) const;

@@ -71,9 +71,7 @@ void print(const Ast& ast, NodeIndex i, std::string& out) {
       out += to_string(ast, n.right);
       out += ')';
       return;
-    case NodeKind::Error:
-      out += "<error>";
-      return;
+    case NodeKind::Error: out += "<error>"; return;
   }
 }
 

@@ -37,8 +37,8 @@ const char* spelling(CompareOp op);
 // One side of a comparison: a state variable `module.name`, or (right-hand side only) a constant.
 struct Operand {
   bool is_constant = false;
-  ModuleRef module;     // state variable
-  std::string variable; // state variable
+  ModuleRef module;      // state variable
+  std::string variable;  // state variable
   int64_t constant = 0;
   Span span;
 };
@@ -52,7 +52,7 @@ struct Node {
   NodeIndex rhs = kNoNode;  // And/Or: right
   ModuleRef x, y;           // Neighbor(x y)
   CompareOp op = CompareOp::Equal;
-  Operand left, right;      // Compare
+  Operand left, right;  // Compare
 };
 
 struct Ast {

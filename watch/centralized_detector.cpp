@@ -8,7 +8,8 @@
 
 namespace dw::watch {
 
-CentralizedDetector::CentralizedDetector(const Watchpoint& w, const Universe& u, DetectorOptions options, MatchSink sink)
+CentralizedDetector::CentralizedDetector(const Watchpoint& w, const Universe& u, DetectorOptions options,
+                                         MatchSink sink)
     : Detector(u, std::move(sink)), program_(w.program), options_(options), columns_(variable_columns(w.program, u)) {
   const bool spans = options.optimizations.temporal_spans;
   history_.resize(program_.variables.size());
@@ -193,8 +194,8 @@ void CentralizedDetector::extend(uint32_t slot) {
     ++step_.created;
     if (options_.live_budget != 0 && step_.created > options_.live_budget) {
       stats_.stopped = true;
-      stats_.stop_reason = "more than " + std::to_string(options_.live_budget) +
-                           " PatternMatchers at watch step " + std::to_string(t_);
+      stats_.stop_reason =
+          "more than " + std::to_string(options_.live_budget) + " PatternMatchers at watch step " + std::to_string(t_);
       return;
     }
     Truth result;

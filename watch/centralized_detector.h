@@ -49,7 +49,7 @@ class CentralizedDetector final : public Detector {
 
   const Program& program_;
   DetectorOptions options_;
-  std::vector<int> columns_;  // program variable -> frame column
+  std::vector<int> columns_;               // program variable -> frame column
   std::vector<StepRing<Column>> history_;  // per program variable
   StepRing<Graph> graphs_;
 
@@ -59,10 +59,10 @@ class CentralizedDetector final : public Detector {
   std::vector<ResolvedTerm> lhs_, rhs_;        // per leaf
   std::vector<const Graph*> graph_at_offset_;  // [offset - min_neighbor_offset]
   std::vector<uint32_t> binding_;
-  uint32_t leaf_stride_ = 0;                   // leaves per level, rounded up for chunked copies
-  std::vector<Truth> leaves_;                  // (k + 1) levels of leaf values
-  std::vector<Truth> own_truth_;               // [leaf * M + module]: own leaves, decided per step
-  std::vector<uint8_t> decided_at_;            // [slot * L + leaf]: 1 when that slot decides the leaf
+  uint32_t leaf_stride_ = 0;         // leaves per level, rounded up for chunked copies
+  std::vector<Truth> leaves_;        // (k + 1) levels of leaf values
+  std::vector<Truth> own_truth_;     // [leaf * M + module]: own leaves, decided per step
+  std::vector<uint8_t> decided_at_;  // [slot * L + leaf]: 1 when that slot decides the leaf
   std::vector<Truth> stack_, trial_;
   std::vector<std::vector<uint32_t>> candidates_;  // per slot
   std::vector<uint32_t> mark_;

@@ -45,14 +45,14 @@ struct DetectorStats {
   static constexpr size_t kMaxSteps = 1'000'000;
   size_t max_steps = kMaxSteps;  // a live run keeps its own series and sets 0
   std::vector<StepStats> steps;
-  StepStats last;                // the most recent step
+  StepStats last;  // the most recent step
   bool steps_truncated = false;
   std::vector<uint64_t> created_by_filled;  // over the run
   uint64_t created = 0, messages = 0, bytes = 0, matches = 0;
   uint64_t peak_live = 0;
   uint64_t history_values = 0;  // values held in history at the end (all modules)
   double seconds = 0;
-  bool stopped = false;         // the live budget was exceeded
+  bool stopped = false;  // the live budget was exceeded
   std::string stop_reason;
 
   void add(const StepStats& s);

@@ -51,7 +51,8 @@ void DistributedAgent::prepare_slot(int64_t f, const Program& p, uint32_t slot) 
   if (p.shape == Program::Shape::Conjunction) {
     Truth partial = leaves[0];
     for (const uint16_t* l = own; l != own_end; ++l) partial = kleene_and(partial, own_truth(*l));
-    for (const uint16_t* l = carried; l != carried_end; ++l) partial = kleene_and(partial, decide(p.leaves[*l], f, &pm));
+    for (const uint16_t* l = carried; l != carried_end; ++l)
+      partial = kleene_and(partial, decide(p.leaves[*l], f, &pm));
     leaves[0] = partial;
     return partial;  // and-ed with the pending leaves' U this is F exactly when partial is F
   }
@@ -126,8 +127,8 @@ void DistributedAgent::prepare_slot(int64_t f, const Program& p, uint32_t slot) 
 }
 
 // Inlined into start() and receive(): it is the whole per-PatternMatcher cost.
-[[gnu::always_inline]] inline void DistributedAgent::fill_and_forward(int64_t f, PatternMatcherRef pm, AgentContext& ctx,
-                                                                      PatternMatcherOutbox& out) {
+[[gnu::always_inline]] inline void DistributedAgent::fill_and_forward(int64_t f, PatternMatcherRef pm,
+                                                                      AgentContext& ctx, PatternMatcherOutbox& out) {
   const Program& p = ctx.program;
   StepStats& st = ctx.step;
   // The budget counts what is alive and what was sent this step, as in fill_and_spread.
@@ -159,7 +160,6 @@ void DistributedAgent::prepare_slot(int64_t f, const Program& p, uint32_t slot) 
   }
 
   fill_and_spread(f, pm, ctx, out);
-
 }
 
 void DistributedAgent::start(int64_t f, AgentContext& ctx, PatternMatcherOutbox& out) {
@@ -228,6 +228,5 @@ bool DistributedAgent::culled(uint32_t candidate, const PatternMatcherRef& pm, A
   }
   return ctx.program.evaluate(ctx.trial.data(), ctx.stack.data()) == kFalse;
 }
-
 
 }  // namespace dw::watch

@@ -5,8 +5,8 @@
 // messages in a live run.
 #pragma once
 
-#include <cstddef>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -45,7 +45,7 @@ struct AgentContext {
   bool over_budget = false;  // the detector must stop: past the live budget, or stop_reason
   std::string stop_reason;
   uint32_t slot_appends_sets = 0;  // bit s: filling slot s appends neighbour sets
-  uint64_t live_limit;              // the live budget; no budget is the largest number
+  uint64_t live_limit;             // the live budget; no budget is the largest number
 
   std::vector<std::byte> scratch;
   std::vector<Truth> stack;

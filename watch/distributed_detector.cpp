@@ -4,11 +4,16 @@
 
 namespace dw::watch {
 
-DistributedDetector::DistributedDetector(const Watchpoint& w, const Universe& u, DetectorOptions options, MatchSink sink)
-    : Detector(u, std::move(sink)), program_(w.program), options_(options), columns_(variable_columns(w.program, u)),
+DistributedDetector::DistributedDetector(const Watchpoint& w, const Universe& u, DetectorOptions options,
+                                         MatchSink sink)
+    : Detector(u, std::move(sink)),
+      program_(w.program),
+      options_(options),
+      columns_(variable_columns(w.program, u)),
       ctx_(w.program, options.optimizations, options.live_budget) {
   agents_.reserve(u.module_count());
-  for (uint32_t m = 0; m < u.module_count(); ++m) agents_.emplace_back(m, program_, options.optimizations.temporal_spans);
+  for (uint32_t m = 0; m < u.module_count(); ++m)
+    agents_.emplace_back(m, program_, options.optimizations.temporal_spans);
   row_values_.resize(columns_.size());
   row_has_.resize(columns_.size());
 }
@@ -56,8 +61,8 @@ void DistributedDetector::observe(const Frame& frame) {
     // threaded runtime, where where it was cut depends on the threads).
     stats_.stopped = true;
     stats_.stop_reason = ctx_.stop_reason.empty() ? "more than " + std::to_string(options_.live_budget) +
-                                                     " live PatternMatchers at detector step " + std::to_string(f)
-                                               : ctx_.stop_reason + " at detector step " + std::to_string(f);
+                                                        " live PatternMatchers at detector step " + std::to_string(f)
+                                                  : ctx_.stop_reason + " at detector step " + std::to_string(f);
     return;
   }
   stats_.add(ctx_.step);

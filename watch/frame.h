@@ -13,8 +13,8 @@ using ModuleId = uint32_t;
 
 // Fixed for a run: which modules may ever appear, and which variable columns frames carry.
 struct Universe {
-  std::vector<ModuleId> module_ids;       // dense index -> stable id
-  std::vector<std::string> variables;     // column -> name
+  std::vector<ModuleId> module_ids;    // dense index -> stable id
+  std::vector<std::string> variables;  // column -> name
   uint32_t module_count() const { return static_cast<uint32_t>(module_ids.size()); }
 };
 

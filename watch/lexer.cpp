@@ -152,7 +152,6 @@ class Lexer {
   size_t pos_ = 0;
 };
 
-
 bool is_keyword(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Next; }
 
 bool is_comparison(TokenKind k) { return k >= TokenKind::Less && k <= TokenKind::LessEqual; }

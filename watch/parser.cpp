@@ -92,8 +92,9 @@ class Parser {
 
   NodeIndex add(Node n) {
     if (ast_.nodes.size() >= kMaxNodes) {
-      if (!too_large_) report(n.span, "watchpoint too large: more than " + std::to_string(kMaxNodes) +
-                                    " terms (comparisons, neighbor() tests, 'not's, and one per 'and'/'or')");
+      if (!too_large_)
+        report(n.span, "watchpoint too large: more than " + std::to_string(kMaxNodes) +
+                           " terms (comparisons, neighbor() tests, 'not's, and one per 'and'/'or')");
       too_large_ = true;
       bail_ = true;
     }
@@ -175,8 +176,7 @@ class Parser {
       }
     }
     advance();  // ')'
-    if (ast_.slots.empty())
-      report(Span::cover(open, previous().span), "'modules()' must name at least one module");
+    if (ast_.slots.empty()) report(Span::cover(open, previous().span), "'modules()' must name at least one module");
   }
 
   // or := and ('or' and)*
@@ -303,8 +303,8 @@ class Parser {
     if (std::abs(m.offset) == kMaxOffset && !offset_reported_) {
       offset_reported_ = true;
       report(Span::cover(m.span, previous().span), "temporal offset past " + std::to_string(kMaxOffset) +
-                                                        " steps: a watchpoint looks at most " +
-                                                        std::to_string(kMaxOffset) + " steps back or ahead");
+                                                       " steps: a watchpoint looks at most " +
+                                                       std::to_string(kMaxOffset) + " steps back or ahead");
     }
   }
 
@@ -325,7 +325,8 @@ class Parser {
 
   bool parse_slot_name(ModuleRef& out) {
     if (!check(TokenKind::Name)) {
-      if (is_keyword(peek().kind)) error_at(peek().span, "keyword " + describe(peek().kind) + " cannot be a module name");
+      if (is_keyword(peek().kind))
+        error_at(peek().span, "keyword " + describe(peek().kind) + " cannot be a module name");
       else error_expected("a module name");
       return false;
     }
@@ -400,8 +401,8 @@ class Parser {
       n.right.constant = t.value;
       n.right.span = t.span;
     } else if (check(TokenKind::NonInteger)) {
-      error_at(peek().span, "non-integer constant '" + std::string(source_.slice(peek().span)) +
-                                "': state variables are integers");
+      error_at(peek().span,
+               "non-integer constant '" + std::string(source_.slice(peek().span)) + "': state variables are integers");
       advance();
       panic_ = false;
       return error_node(start);
@@ -429,9 +430,9 @@ class Parser {
   size_t pos_ = 0;
   Ast ast_;
   std::vector<Diagnostic> diagnostics_;
-  bool panic_ = false;      // recovering from a syntax error: further syntax errors are cascades
+  bool panic_ = false;            // recovering from a syntax error: further syntax errors are cascades
   bool offset_reported_ = false;  // one error for offsets out of range, however many there are
-  bool bail_ = false;       // nesting or size limit hit: stop parsing
+  bool bail_ = false;             // nesting or size limit hit: stop parsing
   bool too_large_ = false;
   bool too_many_slots_ = false;
 };

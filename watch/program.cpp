@@ -22,13 +22,15 @@ class Compiler {
     p_.slots.resize(ast_.slots.size());
     emit_postfix();
     p_.leaf_count = static_cast<uint32_t>(p_.leaves.size());
-    const bool conjunction = std::all_of(p_.expr.begin(), p_.expr.end(),
-                                         [](const ExprOp& op) { return op.kind == ExprOp::PushLeaf || op.kind == ExprOp::And; });
+    const bool conjunction = std::all_of(p_.expr.begin(), p_.expr.end(), [](const ExprOp& op) {
+      return op.kind == ExprOp::PushLeaf || op.kind == ExprOp::And;
+    });
     p_.shape = conjunction ? Program::Shape::Conjunction : Program::Shape::General;
     // Carried sets must be ordered by slot, because a PatternMatcher appends them as it fills.
     std::vector<uint16_t> order(p_.sets.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint16_t>(i);
-    std::stable_sort(order.begin(), order.end(), [&](uint16_t a, uint16_t b) { return p_.sets[a].slot < p_.sets[b].slot; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint16_t a, uint16_t b) { return p_.sets[a].slot < p_.sets[b].slot; });
     std::vector<int16_t> renumber(order.size());
     std::vector<CarriedSet> sorted;
     for (size_t i = 0; i < order.size(); ++i) {

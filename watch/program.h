@@ -24,7 +24,7 @@ struct TermRef {
   int16_t slot = 0;
   int16_t variable = 0;  // index into Program::variables
   int16_t offset = 0;
-  int16_t cell = -1;     // >= 0: carried in this cell (distributed), the slot fills before decide_slot
+  int16_t cell = -1;  // >= 0: carried in this cell (distributed), the slot fills before decide_slot
 };
 
 // Whether `a op b` holds.
@@ -80,7 +80,7 @@ struct SlotProgram {
   // at a step, so an agent decides them once per step.
   std::vector<uint16_t> own_leaves;
   std::vector<uint16_t> carried_leaves;  // the rest: they read cells, sets or earlier slots' ids
-  std::vector<uint16_t> cull_leaves;  // neighbor(x this) leaves with x filled earlier: cull candidates
+  std::vector<uint16_t> cull_leaves;     // neighbor(x this) leaves with x filled earlier: cull candidates
 };
 
 class Program {
@@ -106,8 +106,14 @@ class Program {
       switch (op.kind) {
         case ExprOp::PushLeaf: stack[sp++] = leaf_values[op.leaf]; break;
         case ExprOp::Not: stack[sp - 1] = kleene_not(stack[sp - 1]); break;
-        case ExprOp::And: --sp; stack[sp - 1] = kleene_and(stack[sp - 1], stack[sp]); break;
-        case ExprOp::Or: --sp; stack[sp - 1] = kleene_or(stack[sp - 1], stack[sp]); break;
+        case ExprOp::And:
+          --sp;
+          stack[sp - 1] = kleene_and(stack[sp - 1], stack[sp]);
+          break;
+        case ExprOp::Or:
+          --sp;
+          stack[sp - 1] = kleene_or(stack[sp - 1], stack[sp]);
+          break;
       }
     }
     return stack[0];
@@ -127,7 +133,7 @@ class Program {
   enum class Shape : uint8_t { General, Conjunction };
   Shape shape = Shape::General;
   std::vector<CarriedCell> cells;
-  std::vector<CarriedSet> sets;          // ordered by slot: a PatternMatcher appends them as it fills
+  std::vector<CarriedSet> sets;  // ordered by slot: a PatternMatcher appends them as it fills
   std::vector<SlotProgram> slots;
 };
 

@@ -13,11 +13,26 @@ enum class TokenKind : uint8_t {
   Integer,     // fits in int64 (value), or overflowed (overflow = true)
   NonInteger,  // 1.5, 2e3: lexed so that the parser can say "non-integer constant"
   // keywords
-  Modules, Not, And, Or, Neighbor, Last, Next,
+  Modules,
+  Not,
+  And,
+  Or,
+  Neighbor,
+  Last,
+  Next,
   // punctuation
-  LParen, RParen, Semicolon, Dot, Comma,
+  LParen,
+  RParen,
+  Semicolon,
+  Dot,
+  Comma,
   // comparison operators
-  Less, Greater, Equal, NotEqual, GreaterEqual, LessEqual,
+  Less,
+  Greater,
+  Equal,
+  NotEqual,
+  GreaterEqual,
+  LessEqual,
   Invalid,  // a character or sequence that is not part of the language; `message` says why
   End,
 };

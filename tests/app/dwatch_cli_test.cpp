@@ -63,9 +63,10 @@ TEST_F(Cli, CheckReportsEveryMistakeWithCaretsAndExitsTwo) {
   const fs::path f = write("bad.watch", "modules(a b);\n(a.x = 1) and (c.y = 2)\n");
   const Result r = run("check @" + f.string());
   EXPECT_EQ(r.code, 2);
-  EXPECT_EQ(r.err, f.string() + ":2:16: error: module 'c' is not declared in modules(a b)\n"
-                                "(a.x = 1) and (c.y = 2)\n"
-                                "               ^\n");
+  EXPECT_EQ(r.err, f.string() +
+                       ":2:16: error: module 'c' is not declared in modules(a b)\n"
+                       "(a.x = 1) and (c.y = 2)\n"
+                       "               ^\n");
 }
 
 TEST_F(Cli, MissingWatchFileIsBadInput) {
@@ -116,7 +117,8 @@ TEST_F(Cli, SeveralWatchesAtOnce) {
 }
 
 TEST_F(Cli, BadTraceLineIsBadInputNamingTheLine) {
-  const fs::path t = write("t.jsonl", "{\"t\":0,\"m\":0,\"vars\":{},\"nbrs\":[]}\n{\"t\":0,\"m\":0,\"vars\":{},\"nbrs\":[]}\n");
+  const fs::path t =
+      write("t.jsonl", "{\"t\":0,\"m\":0,\"vars\":{},\"nbrs\":[]}\n{\"t\":0,\"m\":0,\"vars\":{},\"nbrs\":[]}\n");
   const Result r = run("replay " + t.string() + " -w 'modules(a); (a.x = 1)'");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, t.string() + ":2:1: error: duplicate line for module 0 at step 0 (first at line 1)\n");
@@ -196,8 +198,8 @@ TEST_F(Cli, RecordedRunReplaysToTheSameMatches) {
   const std::string text = "two_leaders='modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)'";
   for (const char* algorithm : {"distributed", "centralized"}) {
     const fs::path trace = dir_ / "t.jsonl", live = dir_ / "live.jsonl", replayed = dir_ / "replayed.jsonl";
-    const Result r = run("run " + scenario.string() + " --steps 30 --threads 2 --algorithm " + algorithm + " --record " +
-                         trace.string() + " --matches " + live.string());
+    const Result r = run("run " + scenario.string() + " --steps 30 --threads 2 --algorithm " + algorithm +
+                         " --record " + trace.string() + " --matches " + live.string());
     ASSERT_EQ(r.code, 0) << r.err;
     const Result p = run("replay " + trace.string() + " --watch " + text + " --algorithm " + algorithm + " --matches " +
                          replayed.string());
@@ -219,7 +221,8 @@ TEST_F(Cli, RunGivesTheSameStateHashOnAnyThreadCount) {
 }
 
 TEST_F(Cli, RunOfABadScenarioIsBadInputWithFileLineColumn) {
-  const fs::path f = write("bad.toml", "[lattice]\nkind = \"hex2d\"\nsize = [4, 4]\n[[program]]\nname = \"leader_election\"\nbugs = 1\n");
+  const fs::path f = write(
+      "bad.toml", "[lattice]\nkind = \"hex2d\"\nsize = [4, 4]\n[[program]]\nname = \"leader_election\"\nbugs = 1\n");
   const Result r = run("run " + f.string());
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err.rfind(f.string() + ":6:1: error: unknown key 'bugs' in [[program]] leader_election", 0), 0u) << r.err;
@@ -239,7 +242,8 @@ TEST_F(Cli, RunWritesStatsAsJson) {
 }
 
 TEST_F(Cli, BenchTable1WritesItsCsv) {
-  const Result r = run("bench table1 --size 4 --steps 6 --repeat 1 --tuple 2:2:2:2 --tuple 1:1:1:1 --out " + dir_.string());
+  const Result r =
+      run("bench table1 --size 4 --steps 6 --repeat 1 --tuple 2:2:2:2 --tuple 1:1:1:1 --out " + dir_.string());
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string csv = slurp(dir_ / "table1.csv");
   EXPECT_NE(csv.find("\"2:2:2:2\","), std::string::npos) << csv;
@@ -259,8 +263,8 @@ std::pair<uint32_t, uint32_t> png_size(const fs::path& p) {
 
 TEST_F(Cli, RenderWritesTheViewAndNamesTheHighlightedGroup) {
   const fs::path png = dir_ / "ring.png";
-  const Result r = run("render " + (kScenarios / "token_ring.toml").string() + " --step 41 --width 320 --height 200 --out " +
-                       png.string());
+  const Result r = run("render " + (kScenarios / "token_ring.toml").string() +
+                       " --step 41 --width 320 --height 200 --out " + png.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(png_size(png), std::make_pair(320u, 200u));
   EXPECT_NE(r.out.find("1 group highlighted"), std::string::npos) << r.out;
@@ -317,7 +321,8 @@ TEST_F(Cli, CommandLineNumbersTakeTheRangesOfTheirKeys) {
     EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
   }
   // The same words as the scenario key.
-  const fs::path bad = write("bad.toml", "snapshots = -1\n[lattice]\nkind = \"ring\"\nsize = [5]\n[[program]]\nname = \"token_ring\"\n");
+  const fs::path bad =
+      write("bad.toml", "snapshots = -1\n[lattice]\nkind = \"ring\"\nsize = [5]\n[[program]]\nname = \"token_ring\"\n");
   EXPECT_NE(run("run " + bad.string()).err.find("'snapshots' must be between 0 and 100000, not -1"), std::string::npos);
   for (const std::string option : {"--seed -1", "--steps -5", "--threads 0", "--threads 4294967297", "--print -1"})
     EXPECT_EQ(run("run " + scenario + " " + option).code, 2) << option;
@@ -334,13 +339,15 @@ TEST_F(Cli, OutputsThatWouldClobberEachOtherOrAnInputAreBadInput) {
   const std::string run_it = "run " + scenario.string() + " --no-progress";
   const fs::path x = dir_ / "x.jsonl";
   fs::create_symlink(x, dir_ / "link.jsonl");
-  for (const std::string& outputs : std::vector<std::string>{"--matches " + x.string() + " --record " + x.string(), "--matches " + x.string() + " --stats " + x.string(),
-        "--matches " + x.string() + " --stats " + (dir_ / "." / "x.jsonl").string(),
-        "--matches " + x.string() + " --record " + (dir_ / "link.jsonl").string(),
-        "--stats " + scenario.string(), "--render " + scenario.string(), "--matches - --stats /dev/stdout"}) {
+  for (const std::string& outputs : std::vector<std::string>{
+           "--matches " + x.string() + " --record " + x.string(), "--matches " + x.string() + " --stats " + x.string(),
+           "--matches " + x.string() + " --stats " + (dir_ / "." / "x.jsonl").string(),
+           "--matches " + x.string() + " --record " + (dir_ / "link.jsonl").string(), "--stats " + scenario.string(),
+           "--render " + scenario.string(), "--matches - --stats /dev/stdout"}) {
     const Result r = run(run_it + " " + outputs);
     EXPECT_EQ(r.code, 2) << outputs << "\n" << r.err;
-    EXPECT_TRUE(r.err.find("name one file") != std::string::npos || r.err.find("would overwrite the input") != std::string::npos)
+    EXPECT_TRUE(r.err.find("name one file") != std::string::npos ||
+                r.err.find("would overwrite the input") != std::string::npos)
         << r.err;
     EXPECT_FALSE(fs::exists(x)) << "nothing ran: " << outputs;
   }
@@ -386,15 +393,17 @@ TEST_F(Cli, SummariesSayWhatIsThere) {
   const Result none = run("run " + (kScenarios / "token_ring.toml").string() + " --no-progress --steps 0");
   EXPECT_EQ(none.code, 0) << none.err;
   EXPECT_EQ(none.out.find("by slots filled"), std::string::npos) << none.out;
-  const fs::path counted = write("count.toml", "[lattice]\nkind = \"ring\"\nsize = [8]\n[[program]]\nname = \"token_ring\"\n"
-                                               "[[watch]]\nname = \"tokens\"\ntext = \"modules(a); (a.token = 1)\"\n"
-                                               "action = \"count\"\n");
+  const fs::path counted = write("count.toml",
+                                 "[lattice]\nkind = \"ring\"\nsize = [8]\n[[program]]\nname = \"token_ring\"\n"
+                                 "[[watch]]\nname = \"tokens\"\ntext = \"modules(a); (a.token = 1)\"\n"
+                                 "action = \"count\"\n");
   const Result render = run("render " + counted.string() + " --step 3 --out " + (dir_ / "c.png").string());
   EXPECT_EQ(render.code, 0) << render.err;
   EXPECT_NE(render.out.find("tokens only counts its matches (action = \"count\")"), std::string::npos) << render.out;
   const fs::path trace = write("t.jsonl", "{\"t\":0,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[1,2]}\n");
   const Result replay = run("replay " + trace.string() + " -w 'modules(a); (a.x = 1)'");
-  EXPECT_NE(replay.out.find("1 lines, 1 steps, 1 modules (and 2 named only as neighbours)"), std::string::npos) << replay.out;
+  EXPECT_NE(replay.out.find("1 lines, 1 steps, 1 modules (and 2 named only as neighbours)"), std::string::npos)
+      << replay.out;
 }
 
 }  // namespace

@@ -63,27 +63,31 @@ TEST_P(Conformance, MatchesTheReferenceUnderEveryOptimizationCombination) {
   auto trace = sim::read_trace((p.dir / "trace.jsonl").string());
   ASSERT_TRUE(std::holds_alternative<sim::Trace>(trace));
   const sim::Trace& tr = std::get<sim::Trace>(trace);
-  auto compiled = watch::compile_watchpoint(p.dir.filename().string(),
-                                            watch::SourceText((p.dir / "watch.txt").string(), slurp(p.dir / "watch.txt")));
+  auto compiled = watch::compile_watchpoint(
+      p.dir.filename().string(), watch::SourceText((p.dir / "watch.txt").string(), slurp(p.dir / "watch.txt")));
   ASSERT_TRUE(std::holds_alternative<watch::Watchpoint>(compiled));
   const watch::Watchpoint& w = std::get<watch::Watchpoint>(compiled);
-  const std::set<Match> want = expected(p.dir / ("expected." + std::string(watch::algorithm_name(p.algorithm)) + ".jsonl"));
+  const std::set<Match> want =
+      expected(p.dir / ("expected." + std::string(watch::algorithm_name(p.algorithm)) + ".jsonl"));
   ASSERT_FALSE(want.empty());
 
   // Frames over what the watchpoint reads, as `dwatch replay` makes them.
-  auto reader = std::get<sim::FrameReader>(sim::FrameReader::make(tr, w.program.variables, sim::default_frame_budget()));
+  auto reader =
+      std::get<sim::FrameReader>(sim::FrameReader::make(tr, w.program.variables, sim::default_frame_budget()));
   for (int bits = 0; bits < 8; ++bits) {
     watch::DetectorOptions o;
     o.optimizations = {(bits & 1) != 0, (bits & 2) != 0, (bits & 4) != 0};
     std::set<Match> got;
-    auto d = watch::make_detector(p.algorithm, w, reader.universe(), o, [&](int64_t t, std::span<const watch::ModuleId> ids) {
-      const size_t k = w.program.slot_names.size();
-      for (size_t i = 0; i < ids.size(); i += k) {
-        Match m{t, {}};
-        for (size_t s = 0; s < k; ++s) m.second.emplace_back(w.program.slot_names[s], ids[i + s]);
-        got.insert(std::move(m));
-      }
-    });
+    auto d = watch::make_detector(p.algorithm, w, reader.universe(), o,
+                                  [&](int64_t t, std::span<const watch::ModuleId> ids) {
+                                    const size_t k = w.program.slot_names.size();
+                                    for (size_t i = 0; i < ids.size(); i += k) {
+                                      Match m{t, {}};
+                                      for (size_t s = 0; s < k; ++s)
+                                        m.second.emplace_back(w.program.slot_names[s], ids[i + s]);
+                                      got.insert(std::move(m));
+                                    }
+                                  });
     for (int64_t s = 0; s < tr.step_count(); ++s) d->observe(reader.frame(s));
     EXPECT_EQ(got.size(), want.size()) << "optimizations " << bits;
     EXPECT_TRUE(got == want) << "optimizations " << bits;

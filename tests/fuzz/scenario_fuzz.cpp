@@ -12,8 +12,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   dw::scenarios::ScenarioOverrides overrides;
   overrides.max_modules = 4096;
-  auto loaded = dw::scenarios::load_scenario_text("fuzz.toml", std::string(reinterpret_cast<const char*>(data), size),
-                                                  overrides);
+  auto loaded =
+      dw::scenarios::load_scenario_text("fuzz.toml", std::string(reinterpret_cast<const char*>(data), size), overrides);
   if (auto* errors = std::get_if<std::string>(&loaded)) {
     // Every diagnostic names the file and a line and column.
     if (errors->empty() || errors->rfind("fuzz.toml:", 0) != 0) __builtin_trap();

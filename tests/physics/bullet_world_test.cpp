@@ -31,14 +31,16 @@ class Scripted final : public sim::HostProgram {
   std::function<void(sim::ModuleContext&)> f_;
 };
 
-std::unique_ptr<sim::Model> model_of(sim::Lattice lattice, std::function<void(sim::ModuleContext&)> f = [](auto&) {},
-                                     std::vector<std::string> watches = {}) {
+std::unique_ptr<sim::Model> model_of(
+    sim::Lattice lattice, std::function<void(sim::ModuleContext&)> f = [](auto&) {},
+    std::vector<std::string> watches = {}) {
   std::vector<std::unique_ptr<const sim::HostProgram>> programs;
   programs.push_back(std::make_unique<Scripted>(std::move(f)));
   std::vector<sim::HostedWatchpoint> hosted;
   for (const std::string& text : watches) {
     auto w = watch::compile_watchpoint("w", watch::SourceText("<test>", text));
-    hosted.push_back({std::get<watch::Watchpoint>(std::move(w)), watch::Algorithm::Centralized, sim::MatchAction::Log, {}});
+    hosted.push_back(
+        {std::get<watch::Watchpoint>(std::move(w)), watch::Algorithm::Centralized, sim::MatchAction::Log, {}});
   }
   auto built = sim::build_model(std::move(lattice), std::move(programs), std::move(hosted), 1);
   return std::move(std::get<std::unique_ptr<sim::Model>>(built));
@@ -72,9 +74,7 @@ void expect_cube_holds(PhysicsSettings settings, uint32_t n, size_t face_pairs) 
   EXPECT_LT(drift, 0.02f);
 }
 
-TEST(BulletWorld, AnchoredCubeKeepsExactlyItsFaceContactsFor600Steps) {
-  expect_cube_holds({}, 10, 2700);
-}
+TEST(BulletWorld, AnchoredCubeKeepsExactlyItsFaceContactsFor600Steps) { expect_cube_holds({}, 10, 2700); }
 
 TEST(BulletWorld, FreeCubeRestingOnTheGroundKeepsItsFaceContacts) {
   PhysicsSettings s;
@@ -119,12 +119,11 @@ TEST(BulletWorld, ModulesPushedApartLoseTheirEdgeWhenTheGapPassesTheThreshold) {
   s.bonds = false;
   s.anchor = false;
   s.gravity = {0, 0, 0};  // no friction with the ground: they glide apart at constant speed
-  const auto model = model_of(
-      sim::make_lattice({sim::LatticeKind::Cubic, {2, 1, 1}}),
-      [](sim::ModuleContext& m) {
-        if (m.step() == 5) m.push({m.id() == 0 ? -0.03f : 0.03f, 0, 0});  // 0.03 m/s each way
-      },
-      {"modules(a b); (a.side = 0) and (b.side = 1)"});
+  const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {2, 1, 1}}),
+                              [](sim::ModuleContext& m) {
+                                if (m.step() == 5) m.push({m.id() == 0 ? -0.03f : 0.03f, 0, 0});  // 0.03 m/s each way
+                              },
+                              {"modules(a b); (a.side = 0) and (b.side = 1)"});
   BulletWorld world(s, model->lattice);
   sim::Run run(*model, world, {1, 0});
   std::vector<float> gaps;

@@ -18,7 +18,8 @@ void expect_fitted(const Scene& scene, int width, int height, const Region& regi
   for (const SceneModule& m : scene.modules)
     for (int i = 0; i < 8; ++i) {
       const auto& p = m.pose.position;
-      const glm::vec3 corner(p[0] + ((i & 1) ? 0.5f : -0.5f), p[1] + ((i & 2) ? 0.5f : -0.5f), p[2] + ((i & 4) ? 0.5f : -0.5f));
+      const glm::vec3 corner(p[0] + ((i & 1) ? 0.5f : -0.5f), p[1] + ((i & 2) ? 0.5f : -0.5f),
+                             p[2] + ((i & 4) ? 0.5f : -0.5f));
       const auto at = project(vp, corner, width, height);
       ASSERT_TRUE(at.has_value());
       lo = glm::min(lo, *at);
@@ -49,7 +50,8 @@ TEST(Camera, AFlatEnsembleIsSeenFromHigherUp) {
     const glm::vec3 d = glm::normalize(c.eye - c.target);
     return std::asin(d.z);
   };
-  EXPECT_GT(elevation(make_camera(test::block(8, 8, 1), 800, 600, {})), elevation(make_camera(test::block(8, 8, 8), 800, 600, {})));
+  EXPECT_GT(elevation(make_camera(test::block(8, 8, 1), 800, 600, {})),
+            elevation(make_camera(test::block(8, 8, 8), 800, 600, {})));
 }
 
 TEST(Camera, TheScenarioCameraWins) {

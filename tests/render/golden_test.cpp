@@ -50,8 +50,8 @@ TEST_P(GoldenImage, MatchesTheBlessedPicture) {
   fs::create_directories(out_dir);
   const fs::path actual_path = out_dir / (std::string(g.name) + ".actual.png");
   const fs::path golden_path = fs::path(DWATCH_GOLDEN_DIR) / (std::string(g.name) + ".png");
-  const std::string cmd = std::string(DWATCH_EXE) + " render " + DWATCH_SCENARIOS_DIR + "/" + g.scenario + " " + g.args +
-                          " --width 800 --height 450 --out " + actual_path.string() + " >/dev/null";
+  const std::string cmd = std::string(DWATCH_EXE) + " render " + DWATCH_SCENARIOS_DIR + "/" + g.scenario + " " +
+                          g.args + " --width 800 --height 450 --out " + actual_path.string() + " >/dev/null";
   const int status = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << cmd;
 
@@ -69,10 +69,10 @@ TEST_P(GoldenImage, MatchesTheBlessedPicture) {
     const fs::path diff_path = out_dir / (std::string(g.name) + ".diff.png");
     if (d.same_size) write_png(diff_path.string(), d.diff);
     ADD_FAILURE() << std::setprecision(3) << g.name << ": " << d.differing << " pixels (" << d.share * 100
-                  << "%) differ by more than "
-                  << kTolerance << ", the largest by " << d.largest << "; allowed " << kMaxShare * 100 << "%"
-                  << (d.same_size ? "" : " (the sizes differ)") << "\n  expected: " << golden_path.string()
-                  << "\n  actual:   " << actual_path.string() << (d.same_size ? "\n  diff:     " + diff_path.string() : "");
+                  << "%) differ by more than " << kTolerance << ", the largest by " << d.largest << "; allowed "
+                  << kMaxShare * 100 << "%" << (d.same_size ? "" : " (the sizes differ)")
+                  << "\n  expected: " << golden_path.string() << "\n  actual:   " << actual_path.string()
+                  << (d.same_size ? "\n  diff:     " + diff_path.string() : "");
   }
 }
 

@@ -18,7 +18,8 @@ std::string scenario(uint32_t nx, uint32_t ny, bool bug, const std::string& algo
   return "[lattice]\nkind = \"hex2d\"\nsize = [" + std::to_string(nx) + ", " + std::to_string(ny) +
          "]\n[[program]]\nname = \"leader_election\"\nbug = " + (bug ? "true" : "false") +
          "\n[[watch]]\nname = \"two_leaders\"\ntext = \"modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)\"\n"
-         "algorithm = \"" + algorithm + "\"\naction = \"" + action + "\"\n";
+         "algorithm = \"" +
+         algorithm + "\"\naction = \"" + action + "\"\n";
 }
 
 TEST(LeaderElection, CorrectVariantNeverHasTwoLeadersWithinTwoHopsAndCoversEveryone) {

@@ -118,8 +118,10 @@ void expect_same_matches_as_static(const std::string& physics_file, const std::s
     Scenario p = load_file(physics_file), s = load_file(static_file);
     sim::Run pr(*p.model, *p.world, {threads, 0}), sr(*s.model, *s.world, {threads, 0});
     // Run through every pause: the matches of the whole run.
-    while (pr.run_until(steps)) {}
-    while (sr.run_until(steps)) {}
+    while (pr.run_until(steps)) {
+    }
+    while (sr.run_until(steps)) {
+    }
     EXPECT_EQ(pr.steps_run(), steps);
     ASSERT_FALSE(matches_of(sr)[0].empty());
     EXPECT_EQ(matches_of(pr), matches_of(sr)) << physics_file << " on " << threads << " threads";

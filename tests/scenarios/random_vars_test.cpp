@@ -28,10 +28,9 @@ TEST(RandomVars, LiveRunMatchesTheSyntheticTableITrace) {
     const sim::Trace trace = sim::make_cubic_random_vars(spec);
     auto frames = std::get<sim::FrameReader>(sim::FrameReader::make(trace, std::nullopt, sim::default_frame_budget()));
     uint64_t replayed = 0;
-    auto detector = watch::make_detector(s.model->watches[0].algorithm, s.model->watches[0].watchpoint,
-                                         frames.universe(), {}, [&](int64_t, std::span<const watch::ModuleId> ids) {
-                                           replayed += ids.size() / 4;
-                                         });
+    auto detector =
+        watch::make_detector(s.model->watches[0].algorithm, s.model->watches[0].watchpoint, frames.universe(), {},
+                             [&](int64_t, std::span<const watch::ModuleId> ids) { replayed += ids.size() / 4; });
     for (int64_t t = 0; t < trace.step_count(); ++t) detector->observe(frames.frame(t));
     EXPECT_GT(replayed, 0u);
     EXPECT_EQ(run.match_count(0), replayed);
@@ -40,7 +39,8 @@ TEST(RandomVars, LiveRunMatchesTheSyntheticTableITrace) {
 }
 
 TEST(RandomVars, ValuesStayInRange) {
-  Scenario s = test::load("[lattice]\nkind = \"line\"\nsize = [50]\n[[program]]\nname = \"random_vars\"\ntuple = [1, 3]\n");
+  Scenario s =
+      test::load("[lattice]\nkind = \"line\"\nsize = [50]\n[[program]]\nname = \"random_vars\"\ntuple = [1, 3]\n");
   test::History x1, x2;
   auto a = test::record(*s.model, "x1", x1), b = test::record(*s.model, "x2", x2);
   sim::Run run(*s.model, *s.world, {1, 0});

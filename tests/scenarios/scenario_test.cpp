@@ -19,9 +19,7 @@ namespace {
 
 using test_support::ExpectedDiagnostic;
 
-std::vector<std::filesystem::path> case_files() {
-  return test_support::case_files(DWATCH_SCENARIO_CASES_DIR, ".toml");
-}
+std::vector<std::filesystem::path> case_files() { return test_support::case_files(DWATCH_SCENARIO_CASES_DIR, ".toml"); }
 
 class ScenarioCase : public ::testing::TestWithParam<std::filesystem::path> {};
 

@@ -39,13 +39,16 @@ watch::DetectorStats soak(const std::string& toml, unsigned threads, uint32_t se
   Scenario s = load(toml);
   sim::Run straight(*s.model, *s.world, {threads, 0});
   std::vector<uint64_t> expected;
-  straight.run_until(kSteps, [&](const sim::State& st, const sim::StepOutput&) { expected.push_back(sim::hash_state(st)); });
+  straight.run_until(kSteps,
+                     [&](const sim::State& st, const sim::StepOutput&) { expected.push_back(sim::hash_state(st)); });
   EXPECT_EQ(expected.size(), size_t(kSteps));
 
   Scenario again = load(toml);
   sim::Run run(*again.model, *again.world, {threads, kRing});
   std::vector<uint64_t> hashes(kSteps, 0);
-  const auto keep = [&](const sim::State& st, const sim::StepOutput& out) { hashes[size_t(out.step)] = sim::hash_state(st); };
+  const auto keep = [&](const sim::State& st, const sim::StepOutput& out) {
+    hashes[size_t(out.step)] = sim::hash_state(st);
+  };
   std::mt19937 random(seed);
   for (int i = 1; i <= 50; ++i) {
     const int64_t at = kSteps * i / 51;

@@ -57,7 +57,8 @@ TEST(Lattice, RingLineAndSquare) {
 }
 
 TEST(Lattice, NamesRoundTrip) {
-  for (LatticeKind k : {LatticeKind::Cubic, LatticeKind::Square2d, LatticeKind::Hex2d, LatticeKind::Ring, LatticeKind::Line})
+  for (LatticeKind k :
+       {LatticeKind::Cubic, LatticeKind::Square2d, LatticeKind::Hex2d, LatticeKind::Ring, LatticeKind::Line})
     EXPECT_EQ(lattice_from_name(lattice_name(k)), k);
   EXPECT_FALSE(lattice_from_name("hexagonal"));
 }

@@ -22,8 +22,10 @@ TEST(MatchLog, SortsByStepThenWatchThenSlotIds) {
             "{\"watch\":\"late\",\"t\":0,\"slots\":{\"a\":5,\"b\":1}}\n"
             "{\"watch\":\"early\",\"t\":0,\"slots\":{\"x\":7}}\n");
   log.finish();
-  EXPECT_NE(out.str().find("{\"watch\":\"early\",\"t\":1,\"slots\":{\"x\":3}}\n{\"watch\":\"early\",\"t\":1,\"slots\":{\"x\":4}}\n"),
-            std::string::npos);
+  EXPECT_NE(
+      out.str().find(
+          "{\"watch\":\"early\",\"t\":1,\"slots\":{\"x\":3}}\n{\"watch\":\"early\",\"t\":1,\"slots\":{\"x\":4}}\n"),
+      std::string::npos);
   EXPECT_EQ(log.count(0), 3u);
   EXPECT_EQ(log.count(1), 3u);
 }

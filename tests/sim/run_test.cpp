@@ -144,7 +144,8 @@ TEST(Run, SeedChangesTheRun) {
 }
 
 TEST(Run, PauseStopsAtTheMatchAndFiresOncePerDetection) {
-  std::vector<std::pair<std::string, watch::Algorithm>> w{{"modules(a b); (a.v = 1) and (b.v = 1)", watch::Algorithm::Distributed}};
+  std::vector<std::pair<std::string, watch::Algorithm>> w{
+      {"modules(a b); (a.v = 1) and (b.v = 1)", watch::Algorithm::Distributed}};
   auto model = gossip_model({LatticeKind::Square2d, {5, 5, 1}}, w);
   const_cast<HostedWatchpoint&>(model->watches[0]).action = MatchAction::Pause;
   StaticLatticeWorld world;

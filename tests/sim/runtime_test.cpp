@@ -20,7 +20,9 @@ namespace {
 class Probe final : public HostProgram {
  public:
   std::string_view name() const override { return "probe"; }
-  std::vector<VariableSpec> variables() const override { return {{"n", 10}, {"seen", -1}, {"first", -1}, {"got", 0}, {"r", 0}}; }
+  std::vector<VariableSpec> variables() const override {
+    return {{"n", 10}, {"seen", -1}, {"first", -1}, {"got", 0}, {"r", 0}};
+  }
   void step(ModuleContext& m) const override {
     m.set(0, m.get(0) + 1);
     m.set(1, m.get(0));  // the value before this step's assignment
@@ -82,8 +84,8 @@ TEST(Runtime, ProgramsSideBySideReadOnlyTheirOwnMessages) {
 TEST(Runtime, SendingToAModuleThatIsNotANeighbourStopsTheRun) {
   std::vector<std::unique_ptr<const HostProgram>> programs;
   programs.push_back(std::make_unique<test_programs::SendsToStranger>());
-  const auto model =
-      std::get<std::unique_ptr<Model>>(build_model(make_lattice({LatticeKind::Line, {8, 1, 1}}), std::move(programs), {}, 1));
+  const auto model = std::get<std::unique_ptr<Model>>(
+      build_model(make_lattice({LatticeKind::Line, {8, 1, 1}}), std::move(programs), {}, 1));
   StaticLatticeWorld world;
   Runtime rt(*model, world, 2);
   State s = rt.initial_state();

@@ -1,5 +1,5 @@
-#include "tests/sim/trace_frames.h"
 #include "sim/synthetic_trace.h"
+#include "tests/sim/trace_frames.h"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +15,8 @@ watch::Watchpoint fig6() {
   return std::move(std::get<watch::Watchpoint>(r));
 }
 
-uint64_t count_matches(const Trace& trace, watch::Algorithm a, const watch::Watchpoint& w, std::vector<uint64_t>* per_t) {
+uint64_t count_matches(const Trace& trace, watch::Algorithm a, const watch::Watchpoint& w,
+                       std::vector<uint64_t>* per_t) {
   uint64_t total = 0;
   const test::TraceFrames frames(trace);
   auto d = watch::make_detector(a, w, frames.universe(), {}, [&](int64_t t, std::span<const watch::ModuleId> ids) {

@@ -44,7 +44,8 @@ inline watch::Watchpoint compile(const std::string& text) {
   return std::get<watch::Watchpoint>(std::move(r));
 }
 
-inline std::unique_ptr<Model> gossip_model(LatticeSpec spec, std::vector<std::pair<std::string, watch::Algorithm>> watches,
+inline std::unique_ptr<Model> gossip_model(LatticeSpec spec,
+                                           std::vector<std::pair<std::string, watch::Algorithm>> watches,
                                            uint64_t seed = 1) {
   std::vector<std::unique_ptr<const HostProgram>> programs;
   programs.push_back(std::make_unique<Gossip>());
@@ -53,7 +54,8 @@ inline std::unique_ptr<Model> gossip_model(LatticeSpec spec, std::vector<std::pa
     watch::DetectorOptions options;
     hosted.push_back(HostedWatchpoint{compile(text), algorithm, MatchAction::Log, options});
   }
-  return std::get<std::unique_ptr<Model>>(build_model(make_lattice(spec), std::move(programs), std::move(hosted), seed));
+  return std::get<std::unique_ptr<Model>>(
+      build_model(make_lattice(spec), std::move(programs), std::move(hosted), seed));
 }
 
 }  // namespace dw::sim::test_programs

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include "tests/sim/trace_frames.h"
 #include "sim/trace.h"
+#include "tests/sim/trace_frames.h"
 
 namespace dw::sim {
 namespace {
@@ -89,22 +89,26 @@ TEST(TraceReader, NonIntegerValuesAreErrors) {
   EXPECT_EQ(first_error(R"({"t":0.0,"m":0,"vars":{},"nbrs":[]})"), "t.jsonl:1:2: error: step \"t\" must be an integer");
   EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{"x":18446744073709551615},"nbrs":[]})"),
             "t.jsonl:1:22: error: variable 'x' does not fit in a signed 64-bit integer");
-  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{},"nbrs":[1.0]})"), "t.jsonl:1:24: error: neighbour id must be an integer");
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{},"nbrs":[1.0]})"),
+            "t.jsonl:1:24: error: neighbour id must be an integer");
 }
 
 TEST(TraceReader, StructuralMistakes) {
   EXPECT_EQ(first_error(R"([1,2])"), "t.jsonl:1:1: error: expected a JSON object");
   EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":[],"nbrs":[]})"),
             "t.jsonl:1:14: error: \"vars\" must be an object of integer variables");
-  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{},"nbrs":[0]})"), "t.jsonl:1:1: error: module 0 lists itself as a neighbour");
-  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{},"nbrs":[1,1]})"), "t.jsonl:1:1: error: a neighbour appears twice in \"nbrs\"");
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{},"nbrs":[0]})"),
+            "t.jsonl:1:1: error: module 0 lists itself as a neighbour");
+  EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{},"nbrs":[1,1]})"),
+            "t.jsonl:1:1: error: a neighbour appears twice in \"nbrs\"");
   EXPECT_EQ(first_error(R"({"t":0,"m":-4,"vars":{},"nbrs":[]})"),
             "t.jsonl:1:8: error: module id \"m\" must be in 0..4294967295");
   EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{},"nbrs":[],"pose":[0,0,0]})"),
             "t.jsonl:1:34: error: unknown field \"pose\" (a line has \"t\", \"m\", \"vars\", \"nbrs\")");
   EXPECT_EQ(first_error("{\"t\":0,\"m\":0,\"vars\":{},\"nbrs\":[]}\n{\"wptrace\":1}"),
             "t.jsonl:2:2: error: the {\"wptrace\":1} header may only be the first line");
-  EXPECT_EQ(first_error(R"({"wptrace":2})"), "t.jsonl:1:2: error: unsupported trace version 2 (this reader reads wptrace 1)");
+  EXPECT_EQ(first_error(R"({"wptrace":2})"),
+            "t.jsonl:1:2: error: unsupported trace version 2 (this reader reads wptrace 1)");
   EXPECT_EQ(first_error(R"({"t":0,"m":0,"vars":{"x":1,"x":2},"nbrs":[]})"),
             "t.jsonl:1:22: error: variable 'x' appears twice");
 }

@@ -126,7 +126,8 @@ TEST(Trace, OneLineWithManyVariablesReadsInLinearTime) {
   // A name twice on that line is still caught, at its place.
   auto twice = read_trace_text("twice.jsonl", "{\"t\":0,\"m\":0,\"vars\":{\"a\":1,\"b\":2,\"a\":3},\"nbrs\":[]}");
   ASSERT_TRUE(std::holds_alternative<std::vector<TraceError>>(twice));
-  EXPECT_EQ(std::get<std::vector<TraceError>>(twice)[0].format(), "twice.jsonl:1:22: error: variable 'a' appears twice");
+  EXPECT_EQ(std::get<std::vector<TraceError>>(twice)[0].format(),
+            "twice.jsonl:1:22: error: variable 'a' appears twice");
 }
 
 }  // namespace

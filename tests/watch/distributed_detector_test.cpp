@@ -43,7 +43,8 @@ TEST(DistributedDetector, OnlyLinearChainsInSlotOrder) {
   for (const Match& m : d) EXPECT_EQ(m.second[1], 0u);
   const Watchpoint v = compile_or_die("modules(a b c); (b.x = 1) and (c.x = 1)");
   EXPECT_TRUE(e.run(Algorithm::Distributed, v).empty()) << "b-centre-c would need c after a";
-  EXPECT_EQ(e.run(Algorithm::Centralized, v).size(), 6u * 3) << "Alg. 1 finds a = centre, b and c two leaves, every step";
+  EXPECT_EQ(e.run(Algorithm::Centralized, v).size(), 6u * 3)
+      << "Alg. 1 finds a = centre, b and c two leaves, every step";
 }
 
 TEST(DistributedDetector, NeverSendsBackToAModuleAlreadyInThePatternMatcher) {

@@ -117,7 +117,8 @@ std::string chain(const char* step, int n) {
 }
 
 TEST(Parser, OffsetsUpToTheLimitParseAndPastItAreOneErrorAtTheirSpan) {
-  auto ok = p("modules(a); (a." + chain("next.", kMaxOffset) + "x = 1) and (a." + chain("last.", kMaxOffset) + "x = 1)");
+  auto ok =
+      p("modules(a); (a." + chain("next.", kMaxOffset) + "x = 1) and (a." + chain("last.", kMaxOffset) + "x = 1)");
   EXPECT_TRUE(ok.ok());
   const std::string text = "modules(a); (a.y = 0) and (a." + chain("next.", 100'000) + "x = 1) and (a." +
                            chain("last.", kMaxOffset + 1) + "z = 1)";

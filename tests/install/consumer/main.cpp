@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
   auto detector = dw::watch::make_detector(dw::watch::Algorithm::Centralized, watchpoint, universe, {},
                                            [&](int64_t t, std::span<const dw::watch::ModuleId> ids) {
                                              for (size_t i = 0; i < ids.size(); i += 3, ++matches)
-                                               std::cout << t << " " << ids[i] << " " << ids[i + 1] << " " << ids[i + 2] << "\n";
+                                               std::cout << t << " " << ids[i] << " " << ids[i + 1] << " " << ids[i + 2]
+                                                         << "\n";
                                            });
   const std::vector<uint8_t> present{1, 1, 1}, has{1, 1, 1};
   const std::vector<uint32_t> begin{0, 1, 3, 4}, nbrs{1, 0, 2, 1};
