@@ -14,7 +14,8 @@ packages=(
   libosmesa6-dev libglm-dev libpng-dev         # the 3D view: headless GL, matrices, PNG files
   libstb-dev                                   # stb_truetype: the view's text
   fonts-dejavu-core                            # the view's labels and legend
-  clang libclang-rt-14-dev                     # the parser fuzz target and sanitizer builds
+  clang libclang-rt-14-dev                     # the fuzz targets and sanitizer builds
+  clang-format                                 # scripts/check-format.sh (CI)
   time                                         # peak-memory figures for benchmarks (/usr/bin/time -v)
 )
 
