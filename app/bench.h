@@ -9,10 +9,12 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "app/detector_flags.h"
+#include "sim/output_file.h"
 
 namespace dw::app {
 
@@ -32,6 +34,12 @@ struct BenchArgs {
   int repeat = 5;
   DetectorFlags detector;
 };
+
+// The CSV file `--out DIR` asks for (DIR/NAME.csv, the folder made if need be), with its header
+// line written; nullptr when no --out was given. False, with the error on stderr, when it cannot
+// be written. It is committed (sim::OutputFile) when the benchmark is done.
+bool open_csv(const BenchArgs& args, const std::string& name, const std::string& header,
+              std::unique_ptr<sim::OutputFile>& out);
 
 // "8:4:2:1" -> {8, 4, 2, 1}; empty unless four positive integers.
 std::vector<int64_t> parse_tuple(const std::string& text);

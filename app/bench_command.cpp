@@ -21,6 +21,7 @@
 #include "app/commands.h"
 #include "app/detector_flags.h"
 #include "app/integer_option.h"
+#include "app/output_files.h"
 #include "sim/synthetic_trace.h"
 #include "watch/make_detector.h"
 
@@ -98,17 +99,12 @@ int bench_engine(const BenchArgs& args) {
   if (args.algorithm != "distributed") algorithms.push_back(watch::Algorithm::Centralized);
   if (args.algorithm != "centralized") algorithms.push_back(watch::Algorithm::Distributed);
 
-  std::ofstream csv;
-  if (!args.out_dir.empty()) {
-    std::filesystem::create_directories(args.out_dir);
-    csv.open(std::filesystem::path(args.out_dir) / "engine.csv");
-    if (!csv) {
-      std::cerr << args.out_dir << ": error: cannot write engine.csv\n";
-      return 1;
-    }
-    csv << "tuple,algorithm,matches,created,messages,peak_live,best_seconds,median_seconds,peak_mib,"
-           "filled1,filled2,filled3,filled4\n";
-  }
+  std::unique_ptr<sim::OutputFile> csv_file;
+  if (!open_csv(args, "engine",
+                "tuple,algorithm,matches,created,messages,peak_live,best_seconds,median_seconds,peak_mib,"
+                "filled1,filled2,filled3,filled4",
+                csv_file))
+    return 2;
   std::cout << "bench engine: " << args.size << "^3 cubic lattice, " << args.steps << " steps, Fig. 6 watchpoint\n";
   std::cout << std::left << std::setw(11) << "tuple" << std::setw(13) << "algorithm" << std::right << std::setw(12)
             << "matches" << std::setw(14) << "created" << std::setw(12) << "peak live" << std::setw(10) << "best s"
@@ -147,7 +143,8 @@ int bench_engine(const BenchArgs& args) {
                 << row.median_seconds << std::setw(11) << std::setprecision(1) << mib << "   ";
       for (int i = 1; i <= 4; ++i) std::cout << (i > 1 ? " " : "") << row.by_filled[i];
       std::cout << (row.stopped ? "  stopped at the budget" : "") << "\n";
-      if (csv) {
+      if (csv_file) {
+        std::ostream& csv = csv_file->stream();
         csv << tuple_text << "," << watch::algorithm_name(a) << "," << row.matches << "," << row.created << ","
             << row.messages << "," << row.peak_live << "," << row.seconds << "," << row.median_seconds << "," << mib;
         for (int i = 1; i <= 4; ++i) csv << "," << row.by_filled[i];
@@ -156,7 +153,22 @@ int bench_engine(const BenchArgs& args) {
       if (row.stopped) status = 1;
     }
   }
+  if (!commit_outputs({csv_file.get()})) return 1;
   return status;
+}
+
+bool open_csv(const BenchArgs& args, const std::string& name, const std::string& header,
+              std::unique_ptr<sim::OutputFile>& out) {
+  if (args.out_dir.empty()) return true;
+  std::error_code ec;
+  std::filesystem::create_directories(args.out_dir, ec);
+  if (ec) {
+    std::cerr << "dwatch: error: --out: cannot make " << args.out_dir << ": " << ec.message() << "\n";
+    return false;
+  }
+  if (!open_output({"--out", (std::filesystem::path(args.out_dir) / (name + ".csv")).string()}, out)) return false;
+  out->stream() << header << "\n";
+  return true;
 }
 
 void add_bench_command(CLI::App& app, std::function<int()>& run) {

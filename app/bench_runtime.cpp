@@ -10,6 +10,7 @@
 
 #include "app/bench.h"
 #include "app/bench_child.h"
+#include "app/output_files.h"
 #include "scenarios/scenario.h"
 #include "sim/run.h"
 
@@ -88,15 +89,7 @@ RuntimeRow run_scenario_text(const std::string& toml, const BenchArgs& args, int
 }
 
 struct Table {
-  std::ofstream csv;
-  bool open(const BenchArgs& args) {
-    if (args.out_dir.empty()) return true;
-    std::filesystem::create_directories(args.out_dir);
-    csv.open(std::filesystem::path(args.out_dir) / (args.name + ".csv"));
-    if (!csv) std::cerr << args.out_dir << ": error: cannot write " << args.name << ".csv\n";
-    else csv << "row,matches,created,messages,best_seconds,median_seconds,peak_mib\n";
-    return static_cast<bool>(csv);
-  }
+  std::unique_ptr<sim::OutputFile> csv;  // --out DIR: DIR/NAME.csv
 };
 
 // Runs one row in a child process and prints it; false when it failed.
@@ -112,8 +105,8 @@ bool row(const std::string& label, const std::string& toml, const BenchArgs& arg
             << out.created << std::setw(10) << std::fixed << std::setprecision(3) << out.seconds << std::setw(10)
             << out.median_seconds << std::setw(11) << std::setprecision(1) << mib << "\n";
   if (table.csv)
-    table.csv << '"' << label << "\"," << out.matches << "," << out.created << "," << out.messages << "," << out.seconds
-              << "," << out.median_seconds << "," << mib << "\n";
+    table.csv->stream() << '"' << label << "\"," << out.matches << "," << out.created << "," << out.messages << ","
+                        << out.seconds << "," << out.median_seconds << "," << mib << "\n";
   return true;
 }
 
@@ -123,11 +116,23 @@ void header(const std::string& title) {
             << "created" << std::setw(10) << "best s" << std::setw(10) << "median s" << std::setw(11) << "peak MiB\n";
 }
 
+int run_rows(const BenchArgs& args, Table& table);
+
 }  // namespace
 
 int bench_runtime(const BenchArgs& args) {
   Table table;
-  if (!table.open(args)) return 1;
+  if (!open_csv(args, args.name, "row,matches,created,messages,best_seconds,median_seconds,peak_mib", table.csv))
+    return 2;
+  const int status = run_rows(args, table);
+  if (!commit_outputs({table.csv.get()})) return 1;
+  return status;
+}
+
+namespace {
+
+// The rows of table1, overhead, million or physics.
+int run_rows(const BenchArgs& args, Table& table) {
   const std::string threads = std::to_string(args.threads) + (args.threads == 1 ? " thread" : " threads");
   RuntimeRow r;
 
@@ -213,5 +218,7 @@ int bench_runtime(const BenchArgs& args) {
   if (!row("8:4:2:1", cube(size) + random_vars("8:4:2:1") + fig6("distributed"), args, 1, table, r)) return 1;
   return 0;
 }
+
+}  // namespace
 
 }  // namespace dw::app
