@@ -241,7 +241,7 @@ void Runtime::observe_centralized(uint32_t w, State& state, WatchStepOutput& out
   const watch::Frame frame = make_frame(model_, state.step, state.values, state.present, *state.graph);
   const int64_t lag = ws.detector->lag();
   ws.detector->observe(frame);
-  if (state.step - lag >= 0) {
+  if (state.step - lag >= 0 && !ws.detector->stopped()) {  // a step cut short by the budget counts not
     out.observed = true;
     out.stats = ws.detector->stats().last;
   }

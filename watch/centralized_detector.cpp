@@ -65,6 +65,8 @@ void CentralizedDetector::observe(const Frame& frame) {
   step_.live_by_filled.assign(static_cast<size_t>(program_.slot_count()) + 1, 0);
   match_values_ = 0;
   run_step(t);
+  // The step that went over the budget was cut short: none of it is reported (as distributed).
+  if (stats_.stopped) return;
   step_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   stats_.add(step_);
   uint64_t held = static_cast<uint64_t>(graphs_.held());
