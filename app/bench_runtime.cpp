@@ -12,7 +12,7 @@
 #include "app/bench_child.h"
 #include "app/output_files.h"
 #include "scenarios/scenario.h"
-#include "sim/run.h"
+#include "sim/session.h"
 
 namespace dw::app {
 namespace {
@@ -53,26 +53,26 @@ RuntimeRow run_scenario_text(const std::string& toml, const BenchArgs& args, int
     if (timed == Timed::SetUp) {
       const auto start = std::chrono::steady_clock::now();
       {
-        auto loaded = scenarios::load_scenario_text("bench.toml", "snapshots = 0\n" + toml);
+        auto loaded = scenarios::load_scenario_text("bench.toml", toml);
         if (std::holds_alternative<std::string>(loaded)) {
           row.failed = true;
           return row;
         }
         scenarios::Scenario& s = std::get<scenarios::Scenario>(loaded);
-        sim::Run run(*s.model, *s.world, {args.threads, 0});
+        sim::Session run(*s.model, *s.world, {.threads = args.threads, .history_bytes = 0});  // no history: the runtime alone
       }
       times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       continue;
     }
     auto loaded =
-        scenarios::load_scenario_text("bench.toml", "snapshots = 0\nseed = " + std::to_string(args.seed) + "\n" + toml);
+        scenarios::load_scenario_text("bench.toml", "seed = " + std::to_string(args.seed) + "\n" + toml);
     if (auto* e = std::get_if<std::string>(&loaded)) {
       std::cerr << *e;
       row.failed = true;
       return row;
     }
     scenarios::Scenario& s = std::get<scenarios::Scenario>(loaded);
-    sim::Run run(*s.model, *s.world, {args.threads, 0});
+    sim::Session run(*s.model, *s.world, {.threads = args.threads, .history_bytes = 0});  // no history: the runtime alone
     const auto start = std::chrono::steady_clock::now();
     run.run_until(args.steps);
     times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

@@ -10,7 +10,7 @@
 #include "app/output_files.h"
 #include "app/view_image.h"
 #include "render/scene.h"
-#include "sim/run.h"
+#include "sim/session.h"
 
 namespace dw::app {
 namespace {
@@ -41,17 +41,14 @@ int render_scenario(const RenderArgs& args) {
   std::unique_ptr<sim::OutputFile> out;  // opened now: a bad path costs no run
   if (!check_distinct_files(scenario.inputs, {out_file}) || !open_output(out_file, out)) return 2;
   const int64_t step = args.step.value_or(std::max<int64_t>(0, scenario.steps - 1));
-  int64_t lag = 0;
-  for (const sim::HostedWatchpoint& h : model.watches) lag = std::max(lag, h.lag());
 
-  // Run to the step (through any pause), keep that state, then run on until every watchpoint has
-  // decided about that step, so that its matches are known.
-  sim::Run run(model, *scenario.world, {scenario.threads, 0});
-  std::optional<sim::State> shown;
+  // The session goes to the step (through any pause) and simulates on until every watchpoint
+  // has decided it, so that its matches are known.
+  sim::Session session(*scenario.model, *scenario.world,
+                       {scenario.threads, scenario.steps, scenario.history_mb << 20, scenario.events});
   try {
-    while (run.steps_run() < step + 1) run.run_until(step + 1);
-    shown = run.state();
-    while (run.steps_run() < step + 1 + lag) run.run_until(step + 1 + lag);
+    while (session.current() < step) session.run_until(step + 1);
+    session.decide(step);
   } catch (const sim::ProgramError& e) {
     std::cerr << "dwatch: " << args.scenario << ": error: " << e.what() << "\n";
     return 1;
@@ -60,10 +57,10 @@ int render_scenario(const RenderArgs& args) {
   const Highlight highlight = args.highlight == "all"    ? Highlight::All
                               : args.highlight == "none" ? Highlight::None
                                                          : Highlight::First;
-  const std::vector<render::SceneGroup> groups = groups_at(run, step, highlight);
+  const std::vector<render::SceneGroup> groups = groups_at(session, step, highlight);
   render::SceneSettings settings = scene_settings(scenario, args.color_by);
   settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(step);
-  const render::Scene scene = render::build_scene(model, *shown, groups, settings);
+  const render::Scene scene = render::build_scene(model, session.state(), groups, settings);
   if (std::string error = write_view(scene, *out, args.width, args.height); !error.empty()) {
     std::cerr << "dwatch: error: " << error << "\n";
     return 1;

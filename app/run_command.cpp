@@ -15,7 +15,7 @@
 #include "app/view_image.h"
 #include "scenarios/scenario.h"
 #include "sim/match_log.h"
-#include "sim/run.h"
+#include "sim/session.h"
 #include "sim/trace.h"
 
 namespace dw::app {
@@ -23,7 +23,7 @@ namespace {
 
 struct RunArgs {
   std::string scenario;
-  std::optional<int64_t> steps, seed, threads, snapshots;
+  std::optional<int64_t> steps, seed, threads, history_mb;
   std::string algorithm;
   std::string record_path, matches_path, stats_path, render_path;
   size_t print = 5;
@@ -51,7 +51,7 @@ int run_scenario(const RunArgs& args) {
   const sim::Model& model = *scenario.model;
   const int64_t steps = args.steps.value_or(scenario.steps);
   const unsigned threads = args.threads ? static_cast<unsigned>(*args.threads) : scenario.threads;
-  const size_t snapshots = args.snapshots ? static_cast<size_t>(*args.snapshots) : scenario.snapshots;
+  const size_t history_mb = args.history_mb ? static_cast<size_t>(*args.history_mb) : scenario.history_mb;
 
   if (args.render_path == "-") {
     std::cerr << "dwatch: error: --render needs a file name\n";
@@ -77,9 +77,9 @@ int run_scenario(const RunArgs& args) {
   std::vector<watch::MatchSink> sinks;
   for (size_t w = 0; w < model.watches.size(); ++w) sinks.push_back(log.sink(w));
   std::unique_ptr<sim::TraceWriter> recorder;
-  if (record) recorder = std::make_unique<sim::TraceWriter>(*record, model.universe);
+  if (record) recorder = std::make_unique<sim::TraceWriter>(*record, model.universe, scenario.events);
 
-  sim::Run run(model, *scenario.world, {threads, snapshots});
+  sim::Session run(*scenario.model, *scenario.world, {threads, steps, history_mb << 20, scenario.events});
   ProgressBar progress("run " + scenario.name, steps, !args.no_progress);
   const auto started = std::chrono::steady_clock::now();
   std::optional<sim::Pause> pause;
@@ -99,7 +99,7 @@ int run_scenario(const RunArgs& args) {
   log.finish();
   progress.finish();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  const int64_t ran = run.steps_run();
+  const int64_t ran = run.latest() + 1;
 
   std::ostream& summary = to_stdout ? std::cerr : std::cout;
   const auto& spec = model.lattice.spec;
@@ -112,7 +112,7 @@ int run_scenario(const RunArgs& args) {
   summary << "), " << ran << (ran == 1 ? " step" : " steps") << " of " << steps << ", seed " << model.seed << ", "
           << threads << (threads == 1 ? " thread" : " threads") << "\n  programs:";
   for (const auto& p : model.programs) summary << " " << p->name();
-  summary << "; " << run.state().program_messages << " program messages\n";
+  summary << "; " << run.head().program_messages << " program messages\n";
 
   bool stopped = false;
   for (uint32_t w = 0; w < model.watches.size(); ++w) {
@@ -143,18 +143,16 @@ int run_scenario(const RunArgs& args) {
                 << "; the matches found before are kept (max_live sets the budget)\n";
     }
   }
-  // The ensemble is shown as it was at the paused match's step, when the snapshots reach back.
-  // (Counts and statistics above are of everything run; a rollback forgets what came after.)
+  // The session stands at the paused match's step (or the last one run): the state shown and
+  // hashed is that step's. Counts and statistics are of everything run.
   std::vector<uint64_t> counts;
   std::vector<watch::DetectorStats> totals;
   for (uint32_t w = 0; w < model.watches.size(); ++w) {
     counts.push_back(run.match_count(w));
     totals.push_back(run.stats(w));
   }
-  const bool rolled_back = pause && pause->t < pause->detected && run.rollback_to(pause->t);
+  const bool rolled_back = pause && run.current() < run.latest();
   if (rolled_back) summary << "  rolled back to step " << pause->t << ", the paused match's step\n";
-  else if (pause && pause->t < pause->detected)
-    summary << "  (no snapshot reaches back to step " << pause->t << "; the state is that of step " << ran - 1 << ")\n";
   const uint64_t hash = sim::hash_state(run.state());
   summary << std::fixed << std::setprecision(3) << "  time: " << seconds << " s";
   if (ran > 0 && model.module_count() > 0)
@@ -164,7 +162,7 @@ int run_scenario(const RunArgs& args) {
 
   if (!args.render_path.empty()) {
     // The view at the paused match's step with its group, or at the last step run.
-    const int64_t shown = ran == 0 ? 0 : run.state().step - 1;
+    const int64_t shown = std::max<int64_t>(0, run.current());
     std::vector<render::SceneGroup> groups;
     if (pause && shown == pause->t) {
       const watch::Watchpoint& w = model.watches[pause->watch].watchpoint;
@@ -188,7 +186,7 @@ int run_scenario(const RunArgs& args) {
     j["seed"] = model.seed;
     j["threads"] = threads;
     j["seconds"] = seconds;
-    j["program_messages"] = run.state().program_messages;
+    j["program_messages"] = run.head().program_messages;
     j["state_hash"] = hex(hash);
     uint64_t total = 0;
     j["watches"] = nlohmann::json::array();
@@ -222,8 +220,8 @@ void add_run_command(CLI::App& app, std::function<int()>& run) {
   add_integer_option(*cmd, "--seed", args->seed, scenarios::kSeedRange, "Random seed (default: the scenario's)");
   add_integer_option(*cmd, "--threads,-j", args->threads, scenarios::kThreadsRange,
                      "Threads stepping modules (results never depend on it)");
-  add_integer_option(*cmd, "--snapshots", args->snapshots, scenarios::kSnapshotsRange,
-                     "States kept for rollback (default: the scenario's)");
+  add_integer_option(*cmd, "--history-mb", args->history_mb, scenarios::kHistoryRange,
+                     "Memory for the history's keyframes, in MiB (default: the scenario's)");
   cmd->add_option("--algorithm", args->algorithm, "Run every watchpoint with this algorithm")
       ->check(CLI::IsMember({"centralized", "distributed"}));
   cmd->add_option("--record", args->record_path, "Write what the watchpoints saw as a wptrace v1 TRACE");

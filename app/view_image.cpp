@@ -35,16 +35,15 @@ render::SceneSettings scene_settings(const scenarios::Scenario& scenario, const 
   return s;
 }
 
-std::vector<render::SceneGroup> groups_at(const sim::Run& run, int64_t t, Highlight highlight) {
+std::vector<render::SceneGroup> groups_at(const sim::Session& session, int64_t t, Highlight highlight) {
   std::vector<render::SceneGroup> groups;
   if (highlight == Highlight::None) return groups;
-  const sim::Model& model = run.model();
+  const sim::Model& model = session.model();
   for (uint32_t w = 0; w < model.watches.size(); ++w) {
     const watch::Watchpoint& wp = model.watches[w].watchpoint;
     const size_t k = size_t(wp.program.slot_count());
-    const sim::MatchList& list = run.matches(w);
-    for (size_t i = 0; i < list.size(); ++i) {
-      if (list.t[i] != t) continue;
+    const sim::MatchList& list = session.matches(w);
+    for (auto [i, last] = list.at(t); i < last; ++i) {
       groups.push_back(
           {wp.name, t, wp.program.slot_names, {list.slots.begin() + i * k, list.slots.begin() + (i + 1) * k}});
       if (highlight == Highlight::First) return groups;

@@ -10,7 +10,7 @@
 #include "render/scene.h"
 #include "scenarios/scenario.h"
 #include "sim/output_file.h"
-#include "sim/run.h"
+#include "sim/session.h"
 
 namespace dw::app {
 
@@ -20,9 +20,9 @@ enum class Highlight { First, All, None };
 // non-empty `color_by` wins over the scenario's.
 render::SceneSettings scene_settings(const scenarios::Scenario& scenario, const std::string& color_by);
 
-// The matched groups of step t in `run`'s match lists, by watch in scenario order: the first one,
-// all, or none.
-std::vector<render::SceneGroup> groups_at(const sim::Run& run, int64_t t, Highlight highlight);
+// The matched groups of step t in the session's match lists, by watch in scenario order: the first
+// one, all, or none.
+std::vector<render::SceneGroup> groups_at(const sim::Session& session, int64_t t, Highlight highlight);
 
 // Checks a --color-by variable against the model; the error names the variables there are.
 std::string check_color_by(const sim::Model& model, const std::string& color_by);

@@ -71,6 +71,17 @@ void BulletWorld::restore(const sim::Model&, const sim::State&) {
   contacts_.reset();
 }
 
+void BulletWorld::remove_module(const sim::Model& model, sim::State& state, sim::ModuleId m) {
+  if (!state.present[m]) return;
+  World::remove_module(model, state, m);
+  // Its body goes with it: no bonds, no glide, no cluster; the rest regroup without it.
+  sim::Bodies& b = state.bodies;
+  std::erase_if(b.bonds, [&](const sim::Bond& x) { return x.a == m || x.b == m; });
+  std::erase_if(b.movers, [&](const sim::Mover& x) { return x.module == m; });
+  b.velocities[m] = {};
+  form_clusters(b, state.present, dynamics_.module_shape());
+}
+
 // Carries out one request; returns whether the bonds changed.
 bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vector<Push>& pushes) {
   sim::Bodies& b = state.bodies;

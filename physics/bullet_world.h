@@ -25,6 +25,7 @@ class BulletWorld final : public sim::World {
   void initialize(const sim::Model& model, sim::State& state) override;
   void restore(const sim::Model& model, const sim::State& state) override;
   void advance(const sim::Model& model, sim::State& state, std::span<const sim::Actuation> actuations) override;
+  void remove_module(const sim::Model& model, sim::State& state, sim::ModuleId m) override;
 
   const PhysicsSettings& settings() const { return settings_; }
   ModuleShape shape() const { return shape_; }

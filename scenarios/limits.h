@@ -15,7 +15,7 @@ struct IntegerRange {
 
 inline constexpr IntegerRange kStepsRange{"steps", 0, 10'000'000};
 inline constexpr IntegerRange kSeedRange{"seed", 0, INT64_MAX};
-inline constexpr IntegerRange kSnapshotsRange{"snapshots", 0, 100'000};
+inline constexpr IntegerRange kHistoryRange{"history_mb", 1, 1'000'000};  // MiB for a session's keyframes
 inline constexpr IntegerRange kThreadsRange{"threads", 1, 256};
 inline constexpr IntegerRange kSizeRange{"size", 1, 1'000'000};
 inline constexpr IntegerRange kMaxLiveRange{"max_live", 0, INT64_MAX};

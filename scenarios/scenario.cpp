@@ -259,6 +259,66 @@ struct Loader {
     return std::nullopt;
   }
 
+  // [[event]]: at, module, and one of set = { var = value, ... }, remove = true, push = [x, y, z].
+  std::vector<sim::Intervention> events(const std::vector<const toml::table*>& tables, const sim::Model& model,
+                                        bool physics) {
+    std::vector<sim::Intervention> out;
+    for (const toml::table* t : tables) {
+      TableReader r(*t, diagnostics, "[[event]]");
+      const auto at = r.integer("at", 0, kStepsRange.max);
+      const auto module = r.integer("module", 0, int64_t{model.module_count()} - 1);
+      if (!r.has("at")) r.missing("at");
+      if (!r.has("module")) r.missing("module");
+      const int kinds = int(r.has("set")) + int(r.has("remove")) + int(r.has("push"));
+      if (kinds == 0) {
+        diagnostics.add(t->source(), "[[event]] needs one of 'set', 'remove' or 'push'");
+        r.finish();
+        continue;
+      }
+      if (kinds > 1) r.error(r.has("push") ? "push" : "remove", "an event does one thing: 'set', 'remove' or 'push'");
+      sim::Intervention base;
+      base.at = at.value_or(0);
+      base.module = static_cast<sim::ModuleId>(module.value_or(0));
+      base.scheduled = true;
+      const bool ok = at && module && kinds == 1;
+      if (const toml::table* set = r.has("set") ? r.table("set") : nullptr) {
+        if (set->empty()) r.error("set", "'set' names no variable: set = { var = value }");
+        for (const auto& [key, value] : *set) {
+          const int column = model.column(key.str());
+          if (column < 0) {
+            diagnostics.add(key.source(), "no program has a variable named \"" + std::string(key.str()) + "\"");
+          } else if (!value.is_integer()) {
+            diagnostics.add(value.source(), "'" + std::string(key.str()) + "' must be set to an integer");
+          } else if (ok) {
+            sim::Intervention i = base;
+            i.kind = sim::Intervention::Kind::Set;
+            i.column = column;
+            i.value = value.as_integer()->get();
+            out.push_back(i);
+          }
+        }
+      }
+      if (r.has("remove")) {
+        const auto remove = r.boolean("remove");
+        if (remove && !*remove) r.error("remove", "'remove' takes true (leave the key out for no removal)");
+        else if (remove && ok) out.push_back({.kind = sim::Intervention::Kind::Remove, .at = base.at,
+                                              .module = base.module, .scheduled = true});
+      }
+      if (r.has("push")) {
+        const auto push = r.numbers("push", 3, -1e9, 1e9);
+        if (push && !physics) r.error("push", "a push needs bodies: this scenario has no [physics]");
+        else if (push && ok) {
+          sim::Intervention i = base;
+          i.kind = sim::Intervention::Kind::Push;
+          i.impulse = {float((*push)[0]), float((*push)[1]), float((*push)[2])};
+          out.push_back(i);
+        }
+      }
+      r.finish();
+    }
+    return out;
+  }
+
   std::optional<std::vector<sim::HostedWatchpoint>> watches(TableReader& root, const ScenarioOverrides& overrides) {
     std::vector<sim::HostedWatchpoint> out;
     const toml::node* n = root.node("watch");
@@ -324,10 +384,10 @@ struct Loader {
     root.string("description");
     const auto steps = root.integer(kStepsRange);
     const auto seed = root.integer(kSeedRange);
-    const auto snapshots = root.integer(kSnapshotsRange);
+    const auto history = root.integer(kHistoryRange);
     const auto threads = root.integer(kThreadsRange);
     s.steps = steps.value_or(100);
-    s.snapshots = static_cast<size_t>(snapshots.value_or(64));
+    s.history_mb = static_cast<size_t>(history.value_or(768));
     s.threads = static_cast<unsigned>(threads.value_or(1));
 
     auto built_lattice = lattice(root, overrides.max_modules);
@@ -342,6 +402,7 @@ struct Loader {
     auto hosted = watches(root, overrides);
 
     auto physics = physics_settings(root);
+    const std::vector<const toml::table*> event_tables = root.tables("event");  // read once the model is
     if (const toml::table* view = root.table("view")) {
       TableReader r(*view, diagnostics, "[view]");
       s.view.color_by = r.string("color_by").value_or("");
@@ -389,6 +450,8 @@ struct Loader {
       r.error("color_by", "no program has a variable named \"" + s.view.color_by + "\"");
       return diagnostics.format();
     }
+    s.events = events(event_tables, *s.model, physics.has_value());
+    if (!diagnostics.empty()) return diagnostics.format();
     if (physics) s.world = std::make_unique<physics::BulletWorld>(std::move(*physics), s.model->lattice);
     else s.world = std::make_unique<sim::StaticLatticeWorld>();
     return s;

@@ -5,7 +5,7 @@
 //   name = "leader_election"          # default: the file's stem
 //   steps = 200                        # default 100
 //   seed = 1                           # default 1
-//   snapshots = 64                     # states kept for rollback (default 64)
+//   history_mb = 768                   # memory for the session's keyframes (default 768 MiB)
 //   threads = 1                        # default 1
 //   [lattice]                          # required
 //   kind = "hex2d"                     # cubic | square2d | hex2d | ring | line
@@ -45,6 +45,10 @@
 //   mass = 40                          # 0: fixed in place
 //   position = [x, y, z]
 //   velocity = [x, y, z]
+//   [[event]]                          # interventions scheduled at the start of step `at` (DESIGN §7)
+//   at = 40
+//   module = 7
+//   set = { token = 1 }                # or remove = true, or push = [x, y, z] (physics: N s)
 //   [view]
 //   color_by = "isLeader"
 //   camera_eye = [x, y, z]             # default: fitted to the ensemble
@@ -57,6 +61,7 @@
 #include <string>
 #include <variant>
 
+#include "sim/intervention.h"
 #include "sim/model.h"
 #include "sim/world.h"
 
@@ -74,7 +79,8 @@ struct Scenario {
   std::unique_ptr<sim::Model> model;
   std::unique_ptr<sim::World> world;
   int64_t steps = 100;
-  size_t snapshots = 64;
+  size_t history_mb = 768;
+  std::vector<sim::Intervention> events;  // [[event]], in file order
   unsigned threads = 1;
   ViewSettings view;
 };

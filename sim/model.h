@@ -32,12 +32,8 @@ struct HostedWatchpoint {
   MatchAction action = MatchAction::Log;
   watch::DetectorOptions options;
 
-  // Steps between a state and the watch step it completes, as Detector::lag():
-  // E+ (centralized), E+ + k - 1 (distributed).
-  int64_t lag() const {
-    const watch::Program& p = watchpoint.program;
-    return p.extent_plus + (algorithm == watch::Algorithm::Distributed ? p.slot_count() - 1 : 0);
-  }
+  // Steps between a state and the watch step it completes (watch::lag).
+  int64_t lag() const { return watch::lag(watchpoint.program, algorithm); }
 };
 
 struct Model {

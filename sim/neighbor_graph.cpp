@@ -9,6 +9,19 @@ bool NeighborGraph::adjacent(ModuleId a, ModuleId b) const {
   return std::binary_search(n.begin(), n.end(), b);
 }
 
+NeighborGraph NeighborGraph::without(ModuleId gone) const {
+  NeighborGraph g;
+  g.begin.assign(begin.size(), 0);
+  g.ids.reserve(ids.size());
+  for (ModuleId m = 0; m < module_count(); ++m) {
+    if (m != gone)
+      for (ModuleId n : neighbors(m))
+        if (n != gone) g.ids.push_back(n);
+    g.begin[m + 1] = static_cast<uint32_t>(g.ids.size());
+  }
+  return g;
+}
+
 NeighborGraph NeighborGraph::from_pairs(uint32_t module_count, std::span<const std::pair<ModuleId, ModuleId>> pairs) {
   NeighborGraph g;
   std::vector<uint32_t> degree(module_count + 1, 0);

@@ -23,6 +23,8 @@ struct NeighborGraph {
 
   // Builds a symmetric graph from undirected pairs; each list comes out sorted, duplicates removed.
   static NeighborGraph from_pairs(uint32_t module_count, std::span<const std::pair<ModuleId, ModuleId>> pairs);
+  // The same graph with module m cut out of it: no neighbours of its own, in nobody's list.
+  NeighborGraph without(ModuleId m) const;
 };
 
 }  // namespace dw::sim

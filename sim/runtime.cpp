@@ -65,20 +65,25 @@ State Runtime::initial_state() {
   for (uint32_t i = 0; i < m; ++i)
     std::copy(model_.initial_values.begin(), model_.initial_values.end(), s.values.begin() + size_t{i} * v);
   world_.initialize(model_, s);
-  for (const HostedWatchpoint& w : model_.watches) {
-    WatchState& ws = s.watches.emplace_back();
-    if (w.algorithm == watch::Algorithm::Centralized) {
-      ws.detector = watch::make_detector(w.algorithm, w.watchpoint, model_.universe, w.options, nullptr);
-      ws.detector->stats().max_steps = 0;  // the run keeps its own series
-    } else {
-      ws.agents.reserve(m);
-      for (uint32_t i = 0; i < m; ++i)
-        ws.agents.emplace_back(i, w.watchpoint.program, w.options.optimizations.temporal_spans);
-      ws.in_flight.resize(size_t{pool_.size()} * blocks_);
-    }
-  }
+  for (uint32_t w = 0; w < model_.watches.size(); ++w) s.watches.push_back(initial_watch_state(w));
   next_values_.resize(s.values.size());
   return s;
+}
+
+WatchState Runtime::initial_watch_state(uint32_t w) const {
+  const HostedWatchpoint& h = model_.watches[w];
+  WatchState ws;
+  if (h.algorithm == watch::Algorithm::Centralized) {
+    ws.detector = watch::make_detector(h.algorithm, h.watchpoint, model_.universe, h.options, nullptr);
+    ws.detector->stats().max_steps = 0;  // the run keeps its own series
+  } else {
+    const uint32_t m = model_.module_count();
+    ws.agents.reserve(m);
+    for (uint32_t i = 0; i < m; ++i)
+      ws.agents.emplace_back(i, h.watchpoint.program, h.options.optimizations.temporal_spans);
+    ws.in_flight.resize(size_t{pool_.size()} * blocks_);
+  }
+  return ws;
 }
 
 void Runtime::run_programs(unsigned thread, uint32_t begin, uint32_t end, const State& state) {
@@ -139,7 +144,7 @@ void Runtime::run_agents(unsigned thread, uint32_t block, uint32_t w, State& sta
     if (ws.agents[m].history().present(f)) ws.agents[m].start(f, ctx, out);
 }
 
-void Runtime::run_thread(unsigned thread, State& state) {
+void Runtime::run_thread(unsigned thread, State& state, std::span<const uint8_t> watching) {
   ThreadScratch& s = scratch_[thread];
   s.outbox.messages.clear();
   s.outbox.actuations.clear();
@@ -147,6 +152,7 @@ void Runtime::run_thread(unsigned thread, State& state) {
   live.clear();
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
     if (model_.watches[w].algorithm != watch::Algorithm::Distributed || state.watches[w].stopped) continue;
+    if (!watching.empty() && !watching[w]) continue;
     live.push_back(w);
     const watch::Program& program = model_.watches[w].watchpoint.program;
     watch::AgentContext& ctx = s.agents[w];
@@ -270,16 +276,40 @@ void Runtime::deliver_program_messages(State& state) {
   state.program_messages += total;
 }
 
-void Runtime::step(State& state, StepOutput& out) {
+void Runtime::intervene(State& state, std::span<const Intervention> interventions) {
+  const uint32_t v = model_.variable_count();
+  for (const Intervention& i : interventions) {
+    if (i.module >= model_.module_count() ||
+        (i.kind == Intervention::Kind::Set && (i.column < 0 || uint32_t(i.column) >= v)))
+      throw ProgramError(std::string("a ") + intervention_name(i.kind) + " intervention at step " +
+                         std::to_string(i.at) + " names no module or variable of the model");
+    switch (i.kind) {
+      case Intervention::Kind::Set: state.values[size_t{i.module} * v + size_t(i.column)] = i.value; break;
+      case Intervention::Kind::Remove: world_.remove_module(model_, state, i.module); break;
+      case Intervention::Kind::Push:
+        if (state.bodies.empty())
+          throw ProgramError("a push on module " + std::to_string(i.module) + " at step " + std::to_string(i.at) +
+                             " needs bodies: the scenario has no physics");
+        actuations_.push_back({Actuation::Kind::Push, i.module, 0, i.impulse});
+        break;
+    }
+  }
+}
+
+void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> interventions,
+                   std::span<const uint8_t> watching) {
   out.step = state.step;
   out.watches.assign(model_.watches.size(), WatchStepOutput{});
-  pool_.run([&](unsigned thread) { run_thread(thread, state); });
+  // Pushes made from outside go to the world first, then the programs' own requests.
+  actuations_.clear();
+  intervene(state, interventions);
+  pool_.run([&](unsigned thread) { run_thread(thread, state, watching); });
   for (const ThreadScratch& s : scratch_)
     if (!s.outbox.error.empty()) throw ProgramError(s.outbox.error);
 
   std::swap(state.values, next_values_);  // assign: the variables now hold step t's values
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
-    if (state.watches[w].stopped) continue;
+    if (state.watches[w].stopped || (!watching.empty() && !watching[w])) continue;
     if (model_.watches[w].algorithm == watch::Algorithm::Distributed) finish_distributed(w, state, out.watches[w]);
     else observe_centralized(w, state, out.watches[w]);
     WatchStepOutput& o = out.watches[w];
@@ -305,7 +335,6 @@ void Runtime::step(State& state, StepOutput& out) {
   deliver_program_messages(state);
   out.program_messages = state.program_messages - sent_before;
   // Actuation requests in thread order, which is module order.
-  actuations_.clear();
   for (const ThreadScratch& s : scratch_)
     actuations_.insert(actuations_.end(), s.outbox.actuations.begin(), s.outbox.actuations.end());
   ++state.step;

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "sim/intervention.h"
 #include "sim/model.h"
 #include "sim/state.h"
 #include "sim/worker_pool.h"
@@ -53,8 +54,14 @@ class Runtime {
 
   // The state before step 0: initial values, the world's step-0 topology, fresh detectors.
   State initial_state();
-  // Runs step state.step and leaves the state ready for the next one.
-  void step(State& state, StepOutput& out);
+  // A fresh detector state for watchpoint w, as before step 0.
+  WatchState initial_watch_state(uint32_t w) const;
+  // Runs step state.step and leaves the state ready for the next one. `interventions` are those
+  // of this step, carried out first in their order (a bad one throws ProgramError). Only the
+  // watchpoints `watching` marks (all when empty) observe the step; the others' states are left
+  // as they were, so a session can re-simulate for one watchpoint, or for none.
+  void step(State& state, StepOutput& out, std::span<const Intervention> interventions = {},
+            std::span<const uint8_t> watching = {});
 
   const Model& model() const { return model_; }
   World& world() { return world_; }
@@ -70,7 +77,8 @@ class Runtime {
     std::vector<uint32_t> live_watches;  // distributed watchpoints still observing
   };
 
-  void run_thread(unsigned thread, State& state);
+  void intervene(State& state, std::span<const Intervention> interventions);
+  void run_thread(unsigned thread, State& state, std::span<const uint8_t> watching);
   void run_programs(unsigned thread, uint32_t begin, uint32_t end, const State& state);
   void run_agents(unsigned thread, uint32_t block, uint32_t watch, State& state);
   void finish_distributed(uint32_t watch, State& state, WatchStepOutput& out);

@@ -120,4 +120,29 @@ uint64_t hash_state(const State& s) {
   return mix(h.h);
 }
 
+template <class T>
+size_t vector_bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+size_t graph_bytes(const NeighborGraph& g) { return vector_bytes(g.begin) + vector_bytes(g.ids); }
+
+size_t state_bytes(const State& s) {
+  // A heap block costs its size plus about 16 bytes of the allocator's.
+  constexpr size_t kBlock = 16;
+  const Bodies& b = s.bodies;
+  size_t n = sizeof(State) + vector_bytes(s.values) + vector_bytes(s.present) + vector_bytes(b.poses) +
+             vector_bytes(b.velocities) + vector_bytes(b.local) + vector_bytes(b.cluster_of) +
+             vector_bytes(b.clusters) + vector_bytes(b.members) + vector_bytes(b.bonds) + vector_bytes(b.movers) +
+             vector_bytes(b.prop_poses) + vector_bytes(b.prop_velocities) + vector_bytes(s.inbox.begin) +
+             vector_bytes(s.inbox.messages) + 16 * kBlock;
+  for (const WatchState& w : s.watches) {
+    n += sizeof(WatchState) + vector_bytes(w.agents) + vector_bytes(w.in_flight);
+    for (const watch::DistributedAgent& a : w.agents) n += a.history().bytes();
+    for (const watch::RecordBuffer& lane : w.in_flight) n += lane.bytes();
+    if (w.detector) n += w.detector->bytes();
+  }
+  return n;
+}
+
 }  // namespace dw::sim

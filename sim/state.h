@@ -50,4 +50,9 @@ struct State {
 // in the lanes depends on the thread count and nothing else does.
 uint64_t hash_state(const State& state);
 
+// The heap bytes a copy of the state holds, estimated from its sizes (the neighbour graph apart:
+// states often share one).
+size_t state_bytes(const State& state);
+size_t graph_bytes(const NeighborGraph& graph);
+
 }  // namespace dw::sim

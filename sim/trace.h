@@ -5,11 +5,13 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <ostream>
 #include <string>
 #include <variant>
 #include <vector>
 
+#include "sim/intervention.h"
 #include "watch/frame.h"
 
 namespace dw::sim {
@@ -99,9 +101,10 @@ std::variant<Trace, std::vector<TraceError>> read_trace(const std::string& path)
 std::variant<Trace, std::vector<TraceError>> read_trace_text(const std::string& name, const std::string& text);
 
 // Writes frames as wptrace v1 as they come: the header first, then one line per present module.
+// The header lists the interventions the run was made with (its provenance; readers skip them).
 class TraceWriter {
  public:
-  TraceWriter(std::ostream& out, const watch::Universe& universe);
+  TraceWriter(std::ostream& out, const watch::Universe& universe, std::span<const Intervention> interventions = {});
   void write(const watch::Frame& frame);
 
  private:

@@ -91,6 +91,11 @@ class TraceReader {
         if (version != 1)
           return error(at, "unsupported trace version " + std::to_string(version) + " (this reader reads wptrace 1)");
         header = true;
+      } else if (key == "interventions") {
+        // Provenance (DESIGN §7): how the run was made. The frames already carry its effects.
+        if (!first) return error(at, "\"interventions\" belongs to the header, the first line");
+        if (!v.is_array()) return error(at, "\"interventions\" must be an array");
+        header = true;
       } else if (key == "t") {
         if (has_t) return error(at, "duplicate field \"t\"");
         if (!integer(v, e.t, at, "step \"t\"")) return;

@@ -5,10 +5,19 @@
 
 namespace dw::sim {
 
-TraceWriter::TraceWriter(std::ostream& out, const watch::Universe& universe) : out_(out), universe_(universe) {
+TraceWriter::TraceWriter(std::ostream& out, const watch::Universe& universe,
+                         std::span<const Intervention> interventions)
+    : out_(out), universe_(universe) {
   // Variable names are escaped once by nlohmann; the numbers are written per line.
   for (const std::string& v : universe.variables) keys_.push_back(nlohmann::json(v).dump() + ":");
-  out_ << "{\"wptrace\":1}\n";
+  out_ << "{\"wptrace\":1";
+  if (!interventions.empty()) {
+    out_ << ",\"interventions\":[";
+    for (size_t i = 0; i < interventions.size(); ++i)
+      out_ << (i ? "," : "") << intervention_json(interventions[i], universe);
+    out_ << "]";
+  }
+  out_ << "}\n";
 }
 
 void TraceWriter::write(const watch::Frame& f) {

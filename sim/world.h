@@ -24,6 +24,9 @@ class World {
   // N(m, state.step) that the next step's programs see. A request the world cannot carry out
   // throws ProgramError.
   virtual void advance(const Model& model, State& state, std::span<const Actuation> actuations) = 0;
+  // An intervention (DESIGN §7) before step state.step runs: module m leaves the ensemble. It is
+  // absent from now on and out of N(·, state.step); a physical world also lets go of its body.
+  virtual void remove_module(const Model& model, State& state, ModuleId m);
 };
 
 // The lattice as laid out: every module present, the lattice's face adjacency for ever. Every

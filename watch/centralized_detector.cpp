@@ -54,6 +54,15 @@ void CentralizedDetector::record(const Frame& frame) {
   g.ids.assign(frame.nbrs.begin(), frame.nbrs.end());
 }
 
+size_t CentralizedDetector::bytes() const {
+  size_t n = sizeof(*this);
+  for (const StepRing<Column>& ring : history_)
+    for (const Column& c : ring.items()) n += c.value.capacity() * sizeof(int64_t) + c.known.capacity();
+  for (const Graph& g : graphs_.items())
+    n += g.present.capacity() + (g.begin.capacity() + g.ids.capacity()) * sizeof(uint32_t);
+  return n + (own_truth_.capacity() + leaves_.capacity()) * sizeof(Truth) + matches_.capacity() * sizeof(uint32_t);
+}
+
 void CentralizedDetector::observe(const Frame& frame) {
   if (stats_.stopped) return;
   const auto started = std::chrono::steady_clock::now();

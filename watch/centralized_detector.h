@@ -18,9 +18,10 @@ class CentralizedDetector final : public Detector {
   CentralizedDetector(const Watchpoint& watchpoint, const Universe& universe, DetectorOptions options, MatchSink sink);
 
   void observe(const Frame& frame) override;
-  int64_t lag() const override { return program_.extent_plus; }
+  int64_t lag() const override { return watch::lag(program_, Algorithm::Centralized); }
   std::unique_ptr<Detector> clone() const override { return std::make_unique<CentralizedDetector>(*this); }
   Algorithm algorithm() const override { return Algorithm::Centralized; }
+  size_t bytes() const override;
 
  private:
   // One variable of every module at one step.
@@ -47,7 +48,7 @@ class CentralizedDetector final : public Detector {
   bool culled(uint32_t slot, uint32_t candidate, const Truth* leaves);
   Truth neighbor(uint32_t x_module, int offset, uint32_t y_module) const;
 
-  const Program& program_;
+  Program program_;  // a copy: a snapshot of the detector needs nothing else to outlive it
   DetectorOptions options_;
   std::vector<int> columns_;               // program variable -> frame column
   std::vector<StepRing<Column>> history_;  // per program variable

@@ -6,6 +6,10 @@
 
 namespace dw::watch {
 
+int64_t lag(const Program& program, Algorithm algorithm) {
+  return program.extent_plus + (algorithm == Algorithm::Distributed ? program.slot_count() - 1 : 0);
+}
+
 std::vector<int> variable_columns(const Program& program, const Universe& universe) {
   std::vector<int> columns;
   for (const std::string& name : program.variables) {

@@ -28,6 +28,12 @@ struct DetectorOptions {
 enum class Algorithm { Centralized, Distributed };
 const char* algorithm_name(Algorithm a);
 
+class Program;
+// Steps between a frame and the watch step it completes (DESIGN §7, "decided steps"): E+ for the
+// centralized detector, E+ + k - 1 for the distributed one, whose PatternMatchers take a step
+// per slot. The one definition every detector, the runtime and the session use.
+int64_t lag(const Program& program, Algorithm algorithm);
+
 // Statistics of one detector step (the paper's Fig. 7 series is `live_by_filled`).
 struct StepStats {
   int64_t step = 0;                      // the detector step (its "now"), not the frame's
@@ -78,6 +84,8 @@ class Detector {
   virtual Algorithm algorithm() const = 0;
   // A copy of everything the detector holds, for snapshots; it sends matches to the same sink.
   virtual std::unique_ptr<Detector> clone() const = 0;
+  // Heap bytes the detector's state holds, estimated (for a session's history budget).
+  virtual size_t bytes() const = 0;
   void set_sink(MatchSink sink) { sink_ = std::move(sink); }
   DetectorStats& stats() { return stats_; }
   const DetectorStats& stats() const { return stats_; }

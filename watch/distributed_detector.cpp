@@ -18,6 +18,12 @@ DistributedDetector::DistributedDetector(const Watchpoint& w, const Universe& u,
   row_has_.resize(columns_.size());
 }
 
+size_t DistributedDetector::bytes() const {
+  size_t n = agents_.capacity() * sizeof(DistributedAgent);
+  for (const DistributedAgent& a : agents_) n += a.history().bytes();
+  return n;
+}
+
 void DistributedDetector::observe(const Frame& frame) {
   if (stats_.stopped) return;
   const auto started = std::chrono::steady_clock::now();

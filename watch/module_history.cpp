@@ -29,4 +29,13 @@ uint64_t ModuleHistory::held() const {
   return total + static_cast<uint64_t>(neighbors_.held());
 }
 
+size_t ModuleHistory::bytes() const {
+  constexpr size_t kBlock = 16;  // the allocator's own per heap block
+  size_t n = values_.capacity() * sizeof(StepRing<Value>) + kBlock;
+  for (const auto& ring : values_) n += ring.capacity() * sizeof(Value) + kBlock;
+  n += neighbors_.capacity() * sizeof(Neighbors) + kBlock;
+  for (const Neighbors& ns : neighbors_.items()) n += ns.ids.capacity() * sizeof(uint32_t) + (ns.ids.capacity() ? kBlock : 0);
+  return n;
+}
+
 }  // namespace dw::watch

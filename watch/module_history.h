@@ -41,6 +41,8 @@ class ModuleHistory {
 
   // Values and neighbour ids held now.
   uint64_t held() const;
+  // Heap bytes held (storage allocated, whether filled yet or not).
+  size_t bytes() const;
 
  private:
   struct Value {

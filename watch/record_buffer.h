@@ -20,7 +20,8 @@ class RecordBuffer {
   RecordBuffer& operator=(const RecordBuffer& other) {
     if (this == &other) return *this;
     size_ = 0;
-    if (other.size_ > capacity_) grow(other.size_);
+    // A copy (a snapshot) takes only the room it needs; appending grows it again.
+    if (other.size_ > capacity_) grow(other.size_, other.size_);
     if (other.size_) std::memcpy(data_.get(), other.data_.get(), other.size_);
     size_ = other.size_;
     return *this;
@@ -29,6 +30,7 @@ class RecordBuffer {
   RecordBuffer& operator=(RecordBuffer&&) = default;
 
   size_t size() const { return size_; }
+  size_t bytes() const { return capacity_ ? capacity_ + kSlack : 0; }  // held on the heap
   bool empty() const { return size_ == 0; }
   void clear() { size_ = 0; }
 
@@ -82,8 +84,8 @@ class RecordBuffer {
 
  private:
   static constexpr size_t kSlack = 16;  // for chunked copies past the last record
-  void grow(size_t need) {
-    size_t cap = capacity_ ? capacity_ : 1 << 16;
+  void grow(size_t need, size_t first = size_t{1} << 16) {
+    size_t cap = capacity_ ? capacity_ : first;
     while (cap < need) cap *= 2;
     auto bigger = std::make_unique_for_overwrite<std::byte[]>(cap + kSlack);
     if (size_) std::memcpy(bigger.get(), data_.get(), size_);

@@ -40,6 +40,10 @@ class StepRing {
     return &items_[static_cast<size_t>(step)];
   }
 
+  // The items' storage (not what they point to).
+  size_t capacity() const { return items_.capacity(); }
+  const std::vector<T>& items() const { return items_; }
+
   // How many steps' items are held now.
   int64_t held() const {
     if (newest_ < 0) return 0;

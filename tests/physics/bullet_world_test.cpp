@@ -9,7 +9,7 @@
 #include <cmath>
 #include <functional>
 
-#include "sim/run.h"
+#include "sim/session.h"
 #include "sim/state.h"
 #include "watch/watchpoint.h"
 
@@ -61,7 +61,7 @@ float gap_x(const sim::State& s, sim::ModuleId a, sim::ModuleId b) {
 void expect_cube_holds(PhysicsSettings settings, uint32_t n, size_t face_pairs) {
   const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {n, n, n}}));
   BulletWorld world(settings, model->lattice);
-  sim::Run run(*model, world, {1, 0});
+  sim::Session run(*model, world, {.threads = 1});
   const auto lattice_edges = edges(model->lattice.graph);
   ASSERT_EQ(lattice_edges.size(), face_pairs);
   EXPECT_EQ(edges(*run.state().graph), lattice_edges) << "step 0: exactly the face pairs, no diagonals";
@@ -88,7 +88,7 @@ TEST(BulletWorld, LooseModulesWithoutBondsStillTouchAtTheStart) {
   s.anchor = false;
   const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {4, 4, 4}}));
   BulletWorld world(s, model->lattice);
-  sim::Run run(*model, world, {1, 0});
+  sim::Session run(*model, world, {.threads = 1});
   EXPECT_EQ(edges(*run.state().graph), edges(model->lattice.graph));
   EXPECT_TRUE(run.state().bodies.bonds.empty());
   EXPECT_EQ(run.state().bodies.clusters.size(), 64u);
@@ -98,7 +98,7 @@ TEST(BulletWorld, HexAndRingInteriorsHaveSixAndTwoNeighbours) {
   const auto hex = model_of(sim::make_lattice({sim::LatticeKind::Hex2d, {8, 8, 1}}));
   BulletWorld hex_world({}, hex->lattice);
   EXPECT_EQ(hex_world.shape(), ModuleShape::Cylinder);
-  sim::Run hex_run(*hex, hex_world, {1, 0});
+  sim::Session hex_run(*hex, hex_world, {.threads = 1});
   hex_run.run_until(30);
   const sim::NeighborGraph& g = *hex_run.state().graph;
   for (uint32_t y = 1; y + 1 < 8; ++y)
@@ -108,7 +108,7 @@ TEST(BulletWorld, HexAndRingInteriorsHaveSixAndTwoNeighbours) {
   const auto ring = model_of(sim::make_lattice({sim::LatticeKind::Ring, {12, 1, 1}}));
   BulletWorld ring_world({}, ring->lattice);
   EXPECT_EQ(ring_world.shape(), ModuleShape::Sphere);
-  sim::Run ring_run(*ring, ring_world, {1, 0});
+  sim::Session ring_run(*ring, ring_world, {.threads = 1});
   ring_run.run_until(30);
   for (sim::ModuleId m = 0; m < 12; ++m) EXPECT_EQ(ring_run.state().graph->neighbors(m).size(), 2u);
   EXPECT_EQ(edges(*ring_run.state().graph), edges(ring->lattice.graph));
@@ -125,7 +125,7 @@ TEST(BulletWorld, ModulesPushedApartLoseTheirEdgeWhenTheGapPassesTheThreshold) {
                               },
                               {"modules(a b); (a.side = 0) and (b.side = 1)"});
   BulletWorld world(s, model->lattice);
-  sim::Run run(*model, world, {1, 0});
+  sim::Session run(*model, world, {.threads = 1});
   std::vector<float> gaps;
   std::vector<bool> adjacent;
   run.run_until(40, [&](const sim::State&, const sim::StepOutput& out) {
@@ -155,7 +155,7 @@ TEST(BulletWorld, LatticeMoveGlidesIntoTheFreeCellAndLatches) {
     if (m.id() == 3 && m.step() == 2) m.move({1, 0, 0});
   });
   BulletWorld world(s, model->lattice);
-  sim::Run run(*model, world, {1, 0});
+  sim::Session run(*model, world, {.threads = 1});
   EXPECT_TRUE(run.state().graph->adjacent(3, 0));
   run.run_until(3);  // asked at step 2: a tenth of the way at step 3, there at step 12
   EXPECT_TRUE(run.state().bodies.moving(3));
@@ -181,7 +181,7 @@ TEST(BulletWorld, MoveIntoATakenCellIsRefused) {
     if (m.id() == 0 && m.step() == 1) m.move({1, 0, 0});
   });
   BulletWorld world({}, model->lattice);
-  sim::Run run(*model, world, {1, 0});
+  sim::Session run(*model, world, {.threads = 1});
   run.run_until(5);
   EXPECT_TRUE(run.state().bodies.movers.empty());
   EXPECT_EQ(run.state().bodies.poses[0].position, (sim::Vec3{0, 0, 0}));
@@ -198,7 +198,7 @@ TEST(BulletWorld, ReleasedModuleFallsFromTheTopOfAColumn) {
     }
   });
   BulletWorld world(s, model->lattice);
-  sim::Run run(*model, world, {1, 0});
+  sim::Session run(*model, world, {.threads = 1});
   run.run_until(120);
   const sim::State& st = run.state();
   EXPECT_LT(st.bodies.poses[2].position[2], 0.1f) << "it fell to the ground";
@@ -212,7 +212,7 @@ TEST(BulletWorld, ActuationWithoutBodiesIsAProgramError) {
     if (m.step() == 3) m.push({1, 0, 0});
   });
   sim::StaticLatticeWorld world;
-  sim::Run run(*model, world, {1, 0});
+  sim::Session run(*model, world, {.threads = 1});
   EXPECT_THROW(run.run_until(10), sim::ProgramError);
 }
 
@@ -221,7 +221,7 @@ TEST(BulletWorld, AMoveMustBeOneModuleLong) {
     if (m.step() == 1 && m.id() == 1) m.move({2, 0, 0});
   });
   BulletWorld world({}, model->lattice);
-  sim::Run run(*model, world, {1, 0});
+  sim::Session run(*model, world, {.threads = 1});
   try {
     run.run_until(5);
     FAIL() << "a move of two cells was carried out";

@@ -17,7 +17,7 @@ TEST(AggregationRouting, ConvergesToBfsDistancesAndTheRootCountsEveryModule) {
     const sim::Model& model = *s.model;
     auto d = test::record(model, "dist", dist), su = test::record(model, "sum", sum),
          p = test::record(model, "parent", parent), l = test::record(model, "lm1", lm1);
-    sim::Run run(model, *s.world, {2, 0});
+    sim::Session run(model, *s.world, {.threads = 2});
     run.run_until(60, [&](const sim::State& st, const sim::StepOutput& o) {
       d(st, o);
       su(st, o);
@@ -46,7 +46,7 @@ TEST(AggregationRouting, ShippedScenarioNeverLosesCount) {
   auto loaded = load_scenario(std::string(DWATCH_SCENARIOS_DIR) + "/aggregation_routing.toml");
   ASSERT_TRUE(std::holds_alternative<Scenario>(loaded));
   Scenario& s = std::get<Scenario>(loaded);
-  sim::Run run(*s.model, *s.world, {s.threads, s.snapshots});
+  sim::Session run(*s.model, *s.world, {.threads = s.threads});
   run.run_until(s.steps);
   EXPECT_EQ(run.match_count(0), 0u);
   const int sum = s.model->column("sum");

@@ -29,9 +29,9 @@ TEST(LeaderElection, CorrectVariantNeverHasTwoLeadersWithinTwoHopsAndCoversEvery
         SCOPED_TRACE(std::to_string(nx) + "x" + std::to_string(ny) + " seed " + std::to_string(seed) + " " + algorithm);
         Scenario s = test::load(scenario(nx, ny, false, algorithm, "log"), {seed, std::nullopt});
         test::History leader;
-        sim::Run run(*s.model, *s.world, {1, 0});
+        sim::Session run(*s.model, *s.world, {.threads = 1});
         run.run_until(200, test::record(*s.model, "isLeader", leader));
-        EXPECT_EQ(run.steps_run(), 200);
+        EXPECT_EQ(run.current() + 1, 200);
         EXPECT_EQ(run.match_count(0), 0u);
         // The end state: leaders pairwise at least three hops apart, everyone within two of one.
         const sim::NeighborGraph& g = s.model->lattice.graph;
@@ -58,7 +58,7 @@ TEST(LeaderElection, BuggyVariantGivesTwoLeadersExactlyTwoHopsApart) {
     SCOPED_TRACE(algorithm);
     Scenario s = test::load(scenario(12, 10, true, algorithm, "log"));
     test::History leader;
-    sim::Run run(*s.model, *s.world, {2, 0});
+    sim::Session run(*s.model, *s.world, {.threads = 2});
     run.run_until(40, test::record(*s.model, "isLeader", leader));
     const sim::MatchList& matches = run.matches(0);
     ASSERT_GT(matches.size(), 0u);
@@ -83,12 +83,12 @@ TEST(LeaderElection, ShippedScenarioPausesOnTheFig2Violation) {
   auto loaded = load_scenario(std::string(DWATCH_SCENARIOS_DIR) + "/leader_election.toml");
   ASSERT_TRUE(std::holds_alternative<Scenario>(loaded));
   Scenario& s = std::get<Scenario>(loaded);
-  sim::Run run(*s.model, *s.world, {s.threads, s.snapshots});
+  sim::Session run(*s.model, *s.world, {.threads = s.threads});
   const auto pause = run.run_until(s.steps);
   ASSERT_TRUE(pause);
   EXPECT_EQ(pause->detected, pause->t + 2) << "three slots, distributed: two steps to fill them";
   EXPECT_EQ(test::bfs(s.model->lattice.graph, pause->group[0])[pause->group[2]], 2);
-  EXPECT_TRUE(run.rollback_to(pause->t));
+  EXPECT_TRUE(run.seek(pause->t));
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "scenarios/scenario.h"
-#include "sim/run.h"
+#include "sim/session.h"
 #include "sim/state.h"
 #include "tests/sim/run_trail.h"
 
@@ -26,7 +26,7 @@ constexpr auto matches_of = sim::test::flat_matches;
 
 Trail straight(const std::string& name, unsigned threads, int64_t steps, ScenarioOverrides overrides = {}) {
   Scenario s = load_file(name, overrides);
-  sim::Run run(*s.model, *s.world, {threads, 0});
+  sim::Session run(*s.model, *s.world, {.threads = threads});
   Trail t;
   run.run_until(steps, [&](const sim::State& st, const sim::StepOutput&) { t.hashes.push_back(sim::hash_state(st)); });
   t.matches = matches_of(run);
@@ -35,7 +35,7 @@ Trail straight(const std::string& name, unsigned threads, int64_t steps, Scenari
 
 TEST(PushWall, TheWallBreaksModulesFallAndBothWatchpointsFire) {
   Scenario s = load_file("push_wall.toml");
-  sim::Run run(*s.model, *s.world, {1, 0});
+  sim::Session run(*s.model, *s.world, {.threads = 1});
   const size_t bonds_before = run.state().bodies.bonds.size();
   run.run_until(600);
   const sim::Bodies& b = run.state().bodies;
@@ -55,9 +55,9 @@ TEST(PushWall, RolledBackTo200AndResumedEqualsTheUninterruptedRunHashForHash) {
   ASSERT_EQ(uninterrupted.hashes.size(), 600u);
 
   Scenario s = load_file("push_wall.toml");
-  sim::Run run(*s.model, *s.world, {1, 400});
+  sim::Session run(*s.model, *s.world, {.threads = 1});
   run.run_until(600);
-  ASSERT_TRUE(run.rollback_to(200));
+  ASSERT_TRUE(run.seek(200));
   std::vector<uint64_t> resumed;
   run.run_until(600, [&](const sim::State& st, const sim::StepOutput&) { resumed.push_back(sim::hash_state(st)); });
   ASSERT_EQ(resumed.size(), 399u);
@@ -76,7 +76,7 @@ TEST(PushWall, SameSeedSameHashesOnAnyThreadCount) {
 
 TEST(Slide, ModulesSettingOffOneStepApartMatchTheSectionIWatchpoint) {
   Scenario s = load_file("slide.toml");
-  sim::Run run(*s.model, *s.world, {1, 0});
+  sim::Session run(*s.model, *s.world, {.threads = 1});
   run.run_until(300);
   // The head (15) sets off at step 1, once it has heard that nothing is ahead; each of the others
   // one step after the one ahead of it. So exactly the three pairs (a sets off, b right behind it
@@ -107,7 +107,7 @@ TEST(Slide, AGapOfFourStepsNeverSetsNeighboursOffTogether) {
   auto loaded = load_scenario_text("slide_gap4.toml", text);
   ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
   Scenario& safe = std::get<Scenario>(loaded);
-  sim::Run run(*safe.model, *safe.world, {1, 0});
+  sim::Session run(*safe.model, *safe.world, {.threads = 1});
   run.run_until(400);
   EXPECT_EQ(run.matches(0).size(), 0u);
   EXPECT_EQ(run.state().bodies.poses[15].position[0], 11.0f) << "and the train still arrives";
@@ -116,13 +116,13 @@ TEST(Slide, AGapOfFourStepsNeverSetsNeighboursOffTogether) {
 void expect_same_matches_as_static(const std::string& physics_file, const std::string& static_file, int64_t steps) {
   for (unsigned threads : {1u, 2u}) {
     Scenario p = load_file(physics_file), s = load_file(static_file);
-    sim::Run pr(*p.model, *p.world, {threads, 0}), sr(*s.model, *s.world, {threads, 0});
+    sim::Session pr(*p.model, *p.world, {.threads = threads}), sr(*s.model, *s.world, {.threads = threads});
     // Run through every pause: the matches of the whole run.
     while (pr.run_until(steps)) {
     }
     while (sr.run_until(steps)) {
     }
-    EXPECT_EQ(pr.steps_run(), steps);
+    EXPECT_EQ(pr.current() + 1, steps);
     ASSERT_FALSE(matches_of(sr)[0].empty());
     EXPECT_EQ(matches_of(pr), matches_of(sr)) << physics_file << " on " << threads << " threads";
     for (sim::ModuleId m = 0; m < p.model->module_count(); ++m)

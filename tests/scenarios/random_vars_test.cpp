@@ -17,7 +17,7 @@ TEST(RandomVars, LiveRunMatchesTheSyntheticTableITrace) {
                                         "name = \"random_vars\"\ntuple = [2, 2, 3, 2]\n[[watch]]\nname = \"fig6\"\n"
                                         "action = \"count\"\nalgorithm = \"") +
                             algorithm + "\"\ntext = \"" + fig6 + "\"\n");
-    sim::Run run(*s.model, *s.world, {2, 0});
+    sim::Session run(*s.model, *s.world, {.threads = 2});
     run.run_until(30);
 
     sim::CubicRandomVars spec;
@@ -43,7 +43,7 @@ TEST(RandomVars, ValuesStayInRange) {
       test::load("[lattice]\nkind = \"line\"\nsize = [50]\n[[program]]\nname = \"random_vars\"\ntuple = [1, 3]\n");
   test::History x1, x2;
   auto a = test::record(*s.model, "x1", x1), b = test::record(*s.model, "x2", x2);
-  sim::Run run(*s.model, *s.world, {1, 0});
+  sim::Session run(*s.model, *s.world, {.threads = 1});
   run.run_until(20, [&](const sim::State& st, const sim::StepOutput& o) {
     a(st, o);
     b(st, o);

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "scenarios/scenario.h"
-#include "sim/run.h"
+#include "sim/session.h"
 
 namespace dw::scenarios::test {
 
@@ -23,7 +23,7 @@ struct History {
   int64_t operator()(int64_t t, sim::ModuleId m) const { return at[size_t(t)][m]; }
 };
 
-inline sim::Run::StepObserver record(const sim::Model& model, const std::string& variable, History& h) {
+inline sim::Session::StepObserver record(const sim::Model& model, const std::string& variable, History& h) {
   const int column = model.column(variable);
   EXPECT_GE(column, 0) << variable;
   return [&model, column, &h](const sim::State& s, const sim::StepOutput&) {

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "sim/run.h"
+#include "sim/session.h"
 #include "tests/case_file.h"
 
 namespace dw::scenarios {
@@ -39,9 +39,9 @@ TEST_P(ScenarioCase, GivesExactlyTheExpectedDiagnostics) {
     ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
     // It runs, too.
     Scenario& s = std::get<Scenario>(loaded);
-    sim::Run run(*s.model, *s.world, {s.threads, s.snapshots});
+    sim::Session run(*s.model, *s.world, {.threads = s.threads});
     run.run_until(s.steps);
-    EXPECT_EQ(run.steps_run(), s.steps);
+    EXPECT_EQ(run.current() + 1, s.steps);
     return;
   }
   ASSERT_TRUE(std::holds_alternative<std::string>(loaded)) << "the scenario loaded, but should not have";

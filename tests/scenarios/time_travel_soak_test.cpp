@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "scenarios/scenario.h"
-#include "sim/run.h"
+#include "sim/session.h"
 #include "sim/state.h"
 #include "tests/sim/run_trail.h"
 
@@ -37,14 +37,14 @@ Scenario load(const std::string& toml) {
 // Returns the straight run's statistics of watch `w`, for what the caller expects of it.
 watch::DetectorStats soak(const std::string& toml, unsigned threads, uint32_t seed, uint32_t w = 0) {
   Scenario s = load(toml);
-  sim::Run straight(*s.model, *s.world, {threads, 0});
+  sim::Session straight(*s.model, *s.world, {.threads = threads});
   std::vector<uint64_t> expected;
   straight.run_until(kSteps,
                      [&](const sim::State& st, const sim::StepOutput&) { expected.push_back(sim::hash_state(st)); });
   EXPECT_EQ(expected.size(), size_t(kSteps));
 
   Scenario again = load(toml);
-  sim::Run run(*again.model, *again.world, {threads, kRing});
+  sim::Session run(*again.model, *again.world, {.threads = threads});
   std::vector<uint64_t> hashes(kSteps, 0);
   const auto keep = [&](const sim::State& st, const sim::StepOutput& out) {
     hashes[size_t(out.step)] = sim::hash_state(st);
@@ -52,15 +52,15 @@ watch::DetectorStats soak(const std::string& toml, unsigned threads, uint32_t se
   std::mt19937 random(seed);
   for (int i = 1; i <= 50; ++i) {
     const int64_t at = kSteps * i / 51;
-    while (run.steps_run() < at) run.run_until(at, keep);
+    while (run.current() + 1 < at) run.run_until(at, keep);
     // The ring holds the state before step 0 and those after the last kRing steps.
     const int64_t back = std::max<int64_t>(-1, at - 1 - int64_t(random() % kRing));
-    EXPECT_TRUE(run.rollback_to(back)) << "rollback " << i << " to step " << back;
+    EXPECT_TRUE(run.seek(back)) << "rollback " << i << " to step " << back;
     if (back >= 0) {
       EXPECT_EQ(sim::hash_state(run.state()), expected[size_t(back)]) << "restored step " << back;
     }
   }
-  while (run.steps_run() < kSteps) run.run_until(kSteps, keep);
+  while (run.current() + 1 < kSteps) run.run_until(kSteps, keep);
   for (int64_t t = 0; t < kSteps; ++t) EXPECT_EQ(hashes[size_t(t)], expected[size_t(t)]) << "step " << t;
   EXPECT_EQ(sim::test::flat_matches(run), sim::test::flat_matches(straight));
   for (uint32_t w = 0; w < s.model->watches.size(); ++w) {

@@ -19,7 +19,7 @@ std::string scenario(uint32_t n, const std::string& bug) {
 TEST(TokenRing, ExactlyOneModuleHoldsTheTokenEveryStep) {
   Scenario s = test::load(scenario(9, ""));
   test::History token;
-  sim::Run run(*s.model, *s.world, {1, 0});
+  sim::Session run(*s.model, *s.world, {.threads = 1});
   run.run_until(50, test::record(*s.model, "token", token));
   for (int64_t t = 0; t < 50; ++t) {
     int holders = 0;
@@ -32,7 +32,7 @@ TEST(TokenRing, ExactlyOneModuleHoldsTheTokenEveryStep) {
 TEST(TokenRing, CorrectRingNeverMatches) {
   for (uint32_t n : {3u, 4u, 5u, 16u, 31u}) {
     Scenario s = test::load(scenario(n, ""));
-    sim::Run run(*s.model, *s.world, {1, 0});
+    sim::Session run(*s.model, *s.world, {.threads = 1});
     run.run_until(200);
     EXPECT_EQ(run.match_count(0), 0u) << n << " modules";
   }
@@ -42,7 +42,7 @@ TEST(TokenRing, DuplicatedTokenMatchesTheStepAfterAtTheHolder) {
   for (auto [n, at] : {std::pair{16u, 40}, {16u, 5}, {7u, 30}, {4u, 9}}) {
     SCOPED_TRACE(std::to_string(n) + " modules, duplicate_at " + std::to_string(at));
     Scenario s = test::load(scenario(n, "duplicate_at = " + std::to_string(at)));
-    sim::Run run(*s.model, *s.world, {1, 0});
+    sim::Session run(*s.model, *s.world, {.threads = 1});
     run.run_until(at + 60);
     const sim::MatchList& m = run.matches(0);
     ASSERT_GT(m.size(), 0u);
@@ -58,7 +58,7 @@ TEST(TokenRing, LostTokenMatchesWhenTheMasterRegeneratesIt) {
   for (auto [n, at] : {std::pair{16u, 40}, {16u, 47}, {5u, 12}}) {
     SCOPED_TRACE(std::to_string(n) + " modules, lose_at " + std::to_string(at));
     Scenario s = test::load(scenario(n, "lose_at = " + std::to_string(at)));
-    sim::Run run(*s.model, *s.world, {1, 0});
+    sim::Session run(*s.model, *s.world, {.threads = 1});
     run.run_until(at + 3 * int(n));
     const sim::MatchList& m = run.matches(0);
     ASSERT_GT(m.size(), 0u);
@@ -73,7 +73,7 @@ TEST(TokenRing, ShippedScenarioPausesAtStep41) {
   auto loaded = load_scenario(std::string(DWATCH_SCENARIOS_DIR) + "/token_ring.toml");
   ASSERT_TRUE(std::holds_alternative<Scenario>(loaded));
   Scenario& s = std::get<Scenario>(loaded);
-  sim::Run run(*s.model, *s.world, {s.threads, s.snapshots});
+  sim::Session run(*s.model, *s.world, {.threads = s.threads});
   const auto pause = run.run_until(s.steps);
   ASSERT_TRUE(pause);
   EXPECT_EQ(pause->t, 41);

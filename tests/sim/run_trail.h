@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/run.h"
+#include "sim/session.h"
 
 namespace dw::sim::test {
 
@@ -14,7 +14,7 @@ struct Trail {
   std::vector<std::vector<int64_t>> matches;  // per watch: t and ids, flattened
 };
 
-inline std::vector<std::vector<int64_t>> flat_matches(const sim::Run& run) {
+inline std::vector<std::vector<int64_t>> flat_matches(const sim::Session& run) {
   std::vector<std::vector<int64_t>> out;
   for (uint32_t w = 0; w < run.model().watches.size(); ++w) {
     const MatchList& l = run.matches(w);

@@ -1,6 +1,6 @@
 // Snapshots, rollback and resume (DESIGN §7), and thread-count independence: a resumed run equals
 // one that never rolled back, hash for hash at every step, and so do runs on 1, 2 and 3 threads.
-#include "sim/run.h"
+#include "sim/session.h"
 
 #include <gtest/gtest.h>
 
@@ -21,11 +21,11 @@ const std::vector<std::pair<std::string, watch::Algorithm>> kWatches{
 
 using test::Trail;
 
-Trail collect(const sim::Run& run) { return Trail{{}, test::flat_matches(run)}; }
+Trail collect(const sim::Session& run) { return Trail{{}, test::flat_matches(run)}; }
 
 Trail straight_run(const Model& model, unsigned threads, int64_t steps) {
   StaticLatticeWorld world;
-  sim::Run run(model, world, {threads, 0});
+  sim::Session run(model, world, {.threads = threads});
   std::vector<uint64_t> hashes;
   run.run_until(steps, [&](const State& s, const StepOutput&) { hashes.push_back(hash_state(s)); });
   Trail t = collect(run);
@@ -40,12 +40,12 @@ TEST(Run, ResumedRunEqualsUninterruptedRunAtEveryStep) {
   for (size_t w = 0; w < 3; ++w) EXPECT_FALSE(straight.matches[w].empty()) << "watch " << w << " should match";
 
   StaticLatticeWorld world;
-  sim::Run run(*model, world, {1, 20});
+  sim::Session run(*model, world, {.threads = 1});
   std::vector<uint64_t> hashes(60);
   const auto keep = [&](const State& s, const StepOutput& out) { hashes[size_t(out.step)] = hash_state(s); };
   run.run_until(45, keep);
-  ASSERT_TRUE(run.rollback_to(30));
-  EXPECT_EQ(run.steps_run(), 31);
+  ASSERT_TRUE(run.seek(30));
+  EXPECT_EQ(run.current() + 1, 31);
   EXPECT_EQ(hash_state(run.state()), straight.hashes[30]);
   // The matches found after step 30 are forgotten...
   for (uint32_t w = 0; w < 3; ++w)
@@ -62,13 +62,13 @@ TEST(Run, RollbackTwiceAndToTheStart) {
   const auto model = gossip_model({LatticeKind::Hex2d, {7, 6, 1}}, kWatches);
   const Trail straight = straight_run(*model, 1, 30);
   StaticLatticeWorld world;
-  sim::Run run(*model, world, {2, 100});
+  sim::Session run(*model, world, {.threads = 2});
   run.run_until(30);
-  ASSERT_TRUE(run.rollback_to(20));
-  ASSERT_TRUE(run.rollback_to(5));
-  EXPECT_FALSE(run.rollback_to(25)) << "the future after step 5 is gone";
-  ASSERT_TRUE(run.rollback_to(-1));
-  EXPECT_EQ(run.steps_run(), 0);
+  ASSERT_TRUE(run.seek(20));
+  ASSERT_TRUE(run.seek(5));
+  EXPECT_FALSE(run.seek(25)) << "the future after step 5 is gone";
+  ASSERT_TRUE(run.seek(-1));
+  EXPECT_EQ(run.current() + 1, 0);
   std::vector<uint64_t> hashes;
   run.run_until(30, [&](const State& s, const StepOutput&) { hashes.push_back(hash_state(s)); });
   EXPECT_EQ(hashes, straight.hashes);
@@ -78,15 +78,15 @@ TEST(Run, RollbackTwiceAndToTheStart) {
 TEST(Run, SnapshotsReachBackExactlyK) {
   const auto model = gossip_model({LatticeKind::Ring, {10, 1, 1}}, {});
   StaticLatticeWorld world;
-  sim::Run run(*model, world, {1, 5});
+  sim::Session run(*model, world, {.threads = 1});
   run.run_until(12);
   EXPECT_EQ(run.oldest_snapshot(), 6);
-  EXPECT_FALSE(run.rollback_to(5));
-  EXPECT_TRUE(run.rollback_to(6));
-  sim::Run none(*model, world, {1, 0});
+  EXPECT_FALSE(run.seek(5));
+  EXPECT_TRUE(run.seek(6));
+  sim::Session none(*model, world, {.threads = 1});
   none.run_until(3);
   EXPECT_FALSE(none.oldest_snapshot());
-  EXPECT_FALSE(none.rollback_to(2));
+  EXPECT_FALSE(none.seek(2));
 }
 
 // A watch stopped at its live budget leaves nothing behind in the runtime: rolled back to before
@@ -100,7 +100,7 @@ TEST(Run, BudgetStopRolledBackAndResumedEqualsTheStraightRun) {
   std::vector<uint64_t> first;  // the 1-thread run's hashes: the stop never depends on threads
   for (unsigned threads : {1u, 2u, 3u}) {
     StaticLatticeWorld world;
-    sim::Run straight(*model, world, {threads, 0});
+    sim::Session straight(*model, world, {.threads = threads});
     std::vector<uint64_t> expected;
     straight.run_until(40, [&](const State& s, const StepOutput&) { expected.push_back(hash_state(s)); });
     for (uint32_t w : {0u, 1u}) {
@@ -111,12 +111,12 @@ TEST(Run, BudgetStopRolledBackAndResumedEqualsTheStraightRun) {
     if (first.empty()) first = expected;
     EXPECT_EQ(expected, first) << threads << " threads";
 
-    sim::Run run(*model, world, {threads, 40});
+    sim::Session run(*model, world, {.threads = threads});
     std::vector<uint64_t> hashes(40);
     const auto keep = [&](const State& s, const StepOutput& out) { hashes[size_t(out.step)] = hash_state(s); };
     run.run_until(40, keep);
     for (int64_t back : {19, 12, 2, -1}) {  // each before the budget stop
-      ASSERT_TRUE(run.rollback_to(back));
+      ASSERT_TRUE(run.seek(back));
       EXPECT_FALSE(run.stats(0).stopped) << "rolled back to step " << back;
       run.run_until(40, keep);
       EXPECT_EQ(hashes, expected) << "resumed after a rollback to step " << back << ", " << threads << " threads";
@@ -149,14 +149,14 @@ TEST(Run, PauseStopsAtTheMatchAndFiresOncePerDetection) {
   auto model = gossip_model({LatticeKind::Square2d, {5, 5, 1}}, w);
   const_cast<HostedWatchpoint&>(model->watches[0]).action = MatchAction::Pause;
   StaticLatticeWorld world;
-  sim::Run run(*model, world, {1, 10});
+  sim::Session run(*model, world, {.threads = 1});
   const auto pause = run.run_until(50);
   ASSERT_TRUE(pause);
-  EXPECT_EQ(pause->detected, run.steps_run() - 1);
+  EXPECT_EQ(pause->detected, run.current() + 1 - 1);
   EXPECT_EQ(pause->t, pause->detected - 1) << "two slots: found one step after it started";
   EXPECT_EQ(pause->group.size(), 2u);
   // Rolled back to the match's step and resumed, the run goes on past it.
-  ASSERT_TRUE(run.rollback_to(pause->t));
+  ASSERT_TRUE(run.seek(pause->t));
   const auto next = run.run_until(50);
   if (next) {
     EXPECT_GT(next->detected, pause->detected);

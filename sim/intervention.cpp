@@ -1,0 +1,22 @@
+#include "sim/intervention.h"
+
+#include <nlohmann/json.hpp>
+
+namespace dw::sim {
+
+std::string intervention_json(const Intervention& i, const watch::Universe& universe) {
+  nlohmann::ordered_json j;
+  j["at"] = i.at;
+  j["module"] = i.module < universe.module_ids.size() ? universe.module_ids[i.module] : i.module;
+  switch (i.kind) {
+    case Intervention::Kind::Set:
+      j["set"] = {{universe.variables.at(static_cast<size_t>(i.column)), i.value}};
+      break;
+    case Intervention::Kind::Remove: j["remove"] = true; break;
+    case Intervention::Kind::Push: j["push"] = {i.impulse[0], i.impulse[1], i.impulse[2]}; break;
+  }
+  if (i.scheduled) j["scheduled"] = true;
+  return j.dump();
+}
+
+}  // namespace dw::sim

@@ -1,0 +1,411 @@
+#include "sim/session.h"
+
+#include <algorithm>
+
+#include "sim/trace.h"
+
+namespace dw::sim {
+
+std::pair<size_t, size_t> MatchList::at(int64_t step) const {
+  const auto [first, last] = std::equal_range(t.begin(), t.end(), step);
+  return {static_cast<size_t>(first - t.begin()), static_cast<size_t>(last - t.begin())};
+}
+
+Session::Session(Model& model, World& world, SessionOptions options)
+    : model_(model), world_(world), options_(std::move(options)) {
+  interventions_ = std::move(options_.events);
+  options_.events.clear();
+  std::stable_sort(interventions_.begin(), interventions_.end(),
+                   [](const Intervention& a, const Intervention& b) { return a.at < b.at; });
+  rebuild_runtime();
+  head_ = runtime_->initial_state();
+  world_on_ = &head_;
+  matches_.resize(model_.watches.size());
+  stats_.resize(model_.watches.size());
+  stats_step_.resize(model_.watches.size());
+  take_keyframe();
+}
+
+Session::~Session() = default;
+
+void Session::rebuild_runtime() {
+  runtime_ = std::make_unique<Runtime>(model_, world_, options_.threads);
+  world_on_ = nullptr;
+}
+
+int64_t Session::max_lag() const {
+  int64_t lag = 0;
+  for (const HostedWatchpoint& h : model_.watches) lag = std::max(lag, h.lag());
+  return lag;
+}
+
+int64_t Session::decided() const { return latest_ - max_lag(); }
+
+// Every step of every state goes through here: the interventions of the step are applied, and
+// the world is told when the state it steps is not the one it stepped last.
+void Session::step(State& state, StepOutput& out, std::span<const uint8_t> watching) {
+  if (world_on_ != &state) {
+    world_.restore(model_, state);
+    world_on_ = &state;
+  }
+  const auto [first, last] =
+      std::equal_range(interventions_.begin(), interventions_.end(), Intervention{.at = state.step},
+                       [](const Intervention& a, const Intervention& b) { return a.at < b.at; });
+  try {
+    runtime_->step(state, out, {first, last}, watching);
+  } catch (...) {
+    world_on_ = nullptr;  // the state is half stepped: the world must measure it again
+    throw;
+  }
+}
+
+void Session::step_head(const StepObserver& observer) {
+  take_keyframe();
+  step(head_, head_out_);
+  latest_ = head_.step - 1;
+  record_output(head_, head_out_, 0, static_cast<uint32_t>(model_.watches.size()));
+  if (observer) observer(head_, head_out_);
+}
+
+// A keyframe before every step that is a multiple of K; when they outgrow the budget, every other
+// one goes and K doubles (keyframe 0 always stays).
+void Session::take_keyframe() {
+  if (!has_history()) return;
+  if (head_.step % interval_ != 0 || head_.step / interval_ != static_cast<int64_t>(keyframes_.size())) return;
+  keyframes_.push_back(head_);
+  history_bytes_ += state_bytes(keyframes_.back());
+  if (keyframes_.size() == 1 || keyframes_.back().graph != keyframes_[keyframes_.size() - 2].graph)
+    history_bytes_ += graph_bytes(*keyframes_.back().graph);
+  while (history_bytes_ > options_.history_bytes && keyframes_.size() > 1) {
+    std::vector<State> kept;
+    for (size_t i = 0; i < keyframes_.size(); i += 2) kept.push_back(std::move(keyframes_[i]));
+    keyframes_ = std::move(kept);
+    interval_ *= 2;
+    recount_history();
+  }
+}
+
+void Session::recount_history() {
+  history_bytes_ = 0;
+  for (size_t i = 0; i < keyframes_.size(); ++i) {
+    history_bytes_ += state_bytes(keyframes_[i]);
+    if (i == 0 || keyframes_[i].graph != keyframes_[i - 1].graph) history_bytes_ += graph_bytes(*keyframes_[i].graph);
+  }
+}
+
+void Session::record_output(const State& state, const StepOutput& out, uint32_t first_watch, uint32_t watch_count) {
+  for (uint32_t w = first_watch; w < first_watch + watch_count; ++w) {
+    const WatchStepOutput& o = out.watches[w];
+    stats_[w].stopped = state.watches[w].stopped;
+    stats_[w].stop_reason = state.watches[w].stop_reason;
+    if (o.observed) {
+      stats_[w].add(o.stats);
+      stats_step_[w].push_back(out.step);
+    }
+    if (!o.slots.empty()) {
+      const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
+      MatchList& list = matches_[w];
+      list.slots.insert(list.slots.end(), o.slots.begin(), o.slots.end());
+      list.t.insert(list.t.end(), o.slots.size() / k, o.t);
+      list.detected.insert(list.detected.end(), o.slots.size() / k, out.step);
+    }
+  }
+}
+
+// Forgets what was found after step `through` (matches detected later, statistics of later steps).
+void Session::truncate_history(int64_t through) {
+  for (uint32_t w = 0; w < matches_.size(); ++w) {
+    MatchList& list = matches_[w];
+    const size_t keep = static_cast<size_t>(
+        std::upper_bound(list.detected.begin(), list.detected.end(), through) - list.detected.begin());
+    const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
+    list.t.resize(keep);
+    list.detected.resize(keep);
+    list.slots.resize(keep * k);
+    std::vector<int64_t>& at = stats_step_[w];
+    const size_t entries = static_cast<size_t>(std::upper_bound(at.begin(), at.end(), through) - at.begin());
+    std::vector<watch::StepStats> series(stats_[w].steps.begin(),
+                                         stats_[w].steps.begin() +
+                                             static_cast<ptrdiff_t>(std::min(entries, stats_[w].steps.size())));
+    at.resize(entries);
+    stats_[w] = watch::DetectorStats{};
+    for (const watch::StepStats& s : series) stats_[w].add(s);
+    stats_[w].stopped = head_.watches[w].stopped;
+    stats_[w].stop_reason = head_.watches[w].stop_reason;
+  }
+}
+
+std::optional<Pause> Session::pause_at(int64_t t) const {
+  for (uint32_t w = 0; w < model_.watches.size(); ++w) {
+    if (model_.watches[w].action != MatchAction::Pause) continue;
+    const MatchList& list = matches_[w];
+    const auto [first, last] = list.at(t);
+    if (first == last) continue;
+    const size_t k = model_.watches[w].watchpoint.program.slot_count();
+    return Pause{w,
+                 t,
+                 list.detected[first],
+                 {list.slots.begin() + static_cast<ptrdiff_t>(first * k),
+                  list.slots.begin() + static_cast<ptrdiff_t>((first + 1) * k)},
+                 last - first};
+  }
+  return std::nullopt;
+}
+
+std::optional<Pause> Session::run_until(int64_t end, const StepObserver& observer, const Control& control) {
+  const int64_t target = end - 1;
+  const int64_t limit = std::max(options_.end, end);  // steps simulated ahead stay below it
+  const int64_t lag = max_lag();
+  const int64_t from = current_;
+  while (current_ < target) {
+    const int64_t t = current_ + 1;
+    // The cursor moves onto a step once every watchpoint has decided it, or the end stops the look ahead.
+    const int64_t need = std::max(t, std::min(t + lag, limit - 1));
+    while (latest_ < need) {
+      if (control.stopped()) return std::nullopt;
+      step_head(observer);
+    }
+    current_ = t;
+    if (control.progress) control.progress(current_ - from, target - from);
+    if (auto pause = pause_at(t)) return pause;
+    if (control.stopped()) return std::nullopt;
+  }
+  return std::nullopt;
+}
+
+void Session::decide(int64_t t, const StepObserver& observer, const Control& control) {
+  while (latest_ < t + max_lag() && !control.stopped()) step_head(observer);
+}
+
+bool Session::seek(int64_t t, const Control& control) {
+  if (t < -1 || t > latest_ || (t < latest_ && !has_history())) return false;
+  if (t < latest_ && !materialize(t, control)) return false;
+  current_ = t;
+  return true;
+}
+
+// Brings view_ to the full state after step t (< latest_): on from where it is when that is
+// nearer, else from the keyframe at or before t.
+bool Session::materialize(int64_t t, const Control& control) {
+  const int64_t at = view_valid_ ? view_.step - 1 : -2;
+  if (at == t) return true;
+  if (!has_history()) return false;
+  const size_t index = t < 0 ? 0 : std::min(static_cast<size_t>(t / interval_), keyframes_.size() - 1);
+  const int64_t keyframe_step = static_cast<int64_t>(index) * interval_;
+  if (!(at < t && at >= keyframe_step)) {
+    view_ = keyframes_[index];
+    view_out_ = StepOutput{};
+    view_valid_ = true;
+    if (world_on_ == &view_) world_on_ = nullptr;
+  }
+  const int64_t from = view_.step;
+  while (view_.step <= t) {
+    if (control.stopped()) return false;
+    step(view_, view_out_);
+    if (control.progress) control.progress(view_.step - from, t + 1 - from);
+  }
+  return true;
+}
+
+const State& Session::state() {
+  // Without history only the latest state exists.
+  if (current_ == latest_ || !materialize(current_, {})) return head_;
+  return view_;
+}
+
+std::span<const uint8_t> Session::seen_present() {
+  const State& s = state();
+  const StepOutput& out = &s == &head_ ? head_out_ : view_out_;
+  return current_ < 0 ? std::span<const uint8_t>(s.present) : std::span<const uint8_t>(out.present);
+}
+
+const NeighborGraph& Session::seen_graph() {
+  const State& s = state();
+  const StepOutput& out = &s == &head_ ? head_out_ : view_out_;
+  return current_ < 0 ? *s.graph : *out.graph;
+}
+
+std::string Session::intervene(Intervention i) {
+  i.at = current_ + 1;
+  i.scheduled = false;
+  if (i.module >= model_.module_count())
+    return "module " + std::to_string(i.module) + " is not in the ensemble (ids 0.." +
+           std::to_string(static_cast<int64_t>(model_.module_count()) - 1) + ")";
+  if (i.kind == Intervention::Kind::Set && (i.column < 0 || static_cast<uint32_t>(i.column) >= model_.variable_count()))
+    return "no program has that variable";
+  if (i.kind == Intervention::Kind::Push && head_.bodies.empty())
+    return "push needs bodies, and this scenario has no physics";
+  if (current_ < latest_ && !has_history()) return "the session keeps no history to branch from";
+  if (current_ < latest_) {
+    // A new branch from the current step: its state becomes the head, the future is dropped.
+    materialize(current_, {});
+    head_ = std::move(view_);
+    head_out_ = std::move(view_out_);
+    view_valid_ = false;
+    world_on_ = nullptr;
+    latest_ = current_;
+    const size_t keep = static_cast<size_t>((current_ + 1) / interval_) + 1;
+    if (keyframes_.size() > keep) {
+      keyframes_.resize(keep);
+      recount_history();
+    }
+    truncate_history(current_);
+  }
+  // What was made in the dropped future goes with it; the scenario's schedule stays.
+  std::erase_if(interventions_, [&](const Intervention& x) { return x.at > i.at && !x.scheduled; });
+  const auto after = std::upper_bound(interventions_.begin(), interventions_.end(), i,
+                                      [](const Intervention& a, const Intervention& b) { return a.at < b.at; });
+  interventions_.insert(after, i);
+  return {};
+}
+
+int Session::watch_index(std::string_view name) const {
+  for (uint32_t w = 0; w < model_.watches.size(); ++w)
+    if (model_.watches[w].watchpoint.name == name) return static_cast<int>(w);
+  return -1;
+}
+
+// The state's simulation part; its watchpoints' states are left empty.
+State Session::simulation_copy(const State& s) const {
+  State c;
+  c.step = s.step;
+  c.values = s.values;
+  c.present = s.present;
+  c.graph = s.graph;
+  c.bodies = s.bodies;
+  c.inbox = s.inbox;
+  c.program_messages = s.program_messages;
+  c.watches.resize(s.watches.size());
+  return c;
+}
+
+std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control& control) {
+  // The new watchpoint goes in last and is evaluated alone over the history, from the first
+  // keyframe, its state copied into every keyframe on the way; only then does it take its place.
+  if (!has_history()) return std::nullopt;
+  const int replaces = watch_index(watch.watchpoint.name);
+  const uint32_t w = static_cast<uint32_t>(model_.watches.size());
+  model_.watches.push_back(std::move(watch));
+  rebuild_runtime();
+  matches_.emplace_back();
+  stats_.emplace_back();
+  stats_step_.emplace_back();
+  auto undo = [&] {
+    model_.watches.pop_back();
+    matches_.pop_back();
+    stats_.pop_back();
+    stats_step_.pop_back();
+    rebuild_runtime();
+  };
+
+  State s = simulation_copy(keyframes_[0]);
+  s.watches.push_back(runtime_->initial_watch_state(w));
+  std::vector<WatchState> at_keyframe{s.watches[w]};
+  std::vector<uint8_t> watching(w + 1, 0);
+  watching[w] = 1;
+  StepOutput out;
+  while (s.step <= latest_) {
+    if (control.stopped()) {
+      undo();
+      return std::nullopt;
+    }
+    if (s.step % interval_ == 0 && s.step > 0) at_keyframe.push_back(s.watches[w]);
+    try {
+      step(s, out, watching);
+    } catch (...) {
+      undo();
+      throw;
+    }
+    world_on_ = nullptr;  // `s` is a local
+    record_output(s, out, w, 1);
+    if (control.progress) control.progress(s.step, latest_ + 1);
+  }
+  if (s.step % interval_ == 0 && s.step > 0 && at_keyframe.size() < keyframes_.size())
+    at_keyframe.push_back(s.watches[w]);
+  for (size_t i = 0; i < keyframes_.size(); ++i) keyframes_[i].watches.push_back(std::move(at_keyframe[i]));
+  head_.watches.push_back(std::move(s.watches[w]));
+  view_valid_ = false;
+
+  if (replaces >= 0) {
+    // Into the old one's place: the other watchpoints keep their indices.
+    const auto r = static_cast<size_t>(replaces);
+    model_.watches[r] = std::move(model_.watches.back());
+    model_.watches.pop_back();
+    auto move_last = [r](auto& v) {
+      v[r] = std::move(v.back());
+      v.pop_back();
+    };
+    move_last(matches_);
+    move_last(stats_);
+    move_last(stats_step_);
+    move_last(head_.watches);
+    for (State& k : keyframes_) move_last(k.watches);
+    rebuild_runtime();
+    recount_history();
+    return static_cast<uint32_t>(replaces);
+  }
+  recount_history();
+  return w;
+}
+
+bool Session::remove_watch(std::string_view name) {
+  const int found = watch_index(name);
+  if (found < 0) return false;
+  const auto w = static_cast<ptrdiff_t>(found);
+  model_.watches.erase(model_.watches.begin() + w);
+  matches_.erase(matches_.begin() + w);
+  stats_.erase(stats_.begin() + w);
+  stats_step_.erase(stats_step_.begin() + w);
+  head_.watches.erase(head_.watches.begin() + w);
+  for (State& k : keyframes_) k.watches.erase(k.watches.begin() + w);
+  view_valid_ = false;
+  rebuild_runtime();
+  recount_history();
+  return true;
+}
+
+std::vector<uint64_t> Session::match_counts(uint32_t w, int64_t from, int64_t to) const {
+  std::vector<uint64_t> counts(static_cast<size_t>(std::max<int64_t>(0, to - from + 1)), 0);
+  const MatchList& list = matches_[w];
+  const size_t first = list.at(from).first;
+  for (size_t i = first; i < list.size() && list.t[i] <= to; ++i) ++counts[static_cast<size_t>(list.t[i] - from)];
+  return counts;
+}
+
+std::optional<std::vector<int64_t>> Session::series(ModuleId m, int column, int64_t from, int64_t to,
+                                                    const Control& control) {
+  std::vector<int64_t> values;
+  if (from > to || !has_history()) return values;
+  // The values do not depend on the watchpoints: the simulation alone is stepped.
+  const size_t index = std::min(static_cast<size_t>(std::max<int64_t>(0, from) / interval_), keyframes_.size() - 1);
+  State s = simulation_copy(keyframes_[index]);
+  const std::vector<uint8_t> none(model_.watches.size() + 1, 0);
+  StepOutput out;
+  const size_t v = model_.variable_count();
+  while (s.step <= to) {
+    if (control.stopped()) return std::nullopt;
+    step(s, out, none);
+    world_on_ = nullptr;
+    if (s.step - 1 >= from) values.push_back(s.values[size_t{m} * v + static_cast<size_t>(column)]);
+  }
+  return values;
+}
+
+std::string Session::record(std::ostream& out, const Control& control) {
+  if (!has_history()) return "the session keeps no history to record";
+  State s = simulation_copy(keyframes_[0]);
+  const std::vector<uint8_t> none(model_.watches.size() + 1, 0);
+  StepOutput step_out;
+  TraceWriter writer(out, model_.universe, interventions_);
+  while (s.step <= latest_) {
+    if (control.stopped()) return "cancelled";
+    step(s, step_out, none);
+    world_on_ = nullptr;
+    writer.write(observed_frame(model_, s, step_out));
+    if (control.progress) control.progress(s.step, latest_ + 1);
+  }
+  out.flush();
+  return out ? std::string{} : "writing the trace failed";
+}
+
+}  // namespace dw::sim

@@ -1,0 +1,186 @@
+// The debugging session (DESIGN §7): one object that the command line, the window, scripts and
+// tests all drive. It owns the run's whole history, step 0 to the latest, and a cursor on it:
+//
+//   - keyframes (full states) every K steps, K doubling whenever they outgrow their memory budget;
+//     any step is reached by restoring the keyframe before it and stepping on, so looking at the
+//     past never loses the future;
+//   - the matches and statistics of every watchpoint over the history, indexed by step;
+//   - interventions (set, remove, push) at the current step, which cut the future and start a
+//     branch, and the scenario's scheduled ones ([[event]]), applied as the steps run;
+//   - watchpoints added, replaced or removed at any time: a new one is evaluated over the whole
+//     history, so its matches equal those of a run that had it from step 0.
+//
+// Steps and positions: the *current* step t is the one shown; its state is the one after step t
+// ran (the values of step t). -1 is before step 0. The *latest* step is the last one simulated
+// on this branch. A watchpoint with lag λ has decided step t once step t + λ exists; the cursor
+// only moves onto steps every watchpoint has decided (simulating ahead as far as the session's
+// end allows), so a view of the current step shows all its matches, and a `pause` match stops
+// the cursor at the match's own step.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <span>
+#include <stop_token>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sim/intervention.h"
+#include "sim/runtime.h"
+
+namespace dw::sim {
+
+struct SessionOptions {
+  unsigned threads = 1;
+  // The scenario's steps: the session does not simulate ahead past step end - 1 (a run asked to
+  // go further may). 0: ahead only as far as each run is asked to go.
+  int64_t end = 0;
+  // Memory for keyframes; K doubles to stay within it (keyframe 0 always stays). 0: no history,
+  // for measuring the runtime alone: the session can then neither seek back, branch from the
+  // past, nor evaluate a new watchpoint over the past.
+  size_t history_bytes = size_t{768} << 20;
+  std::vector<Intervention> events;          // scheduled interventions ([[event]]), any order
+};
+
+// Lets a long operation be cancelled between steps and report how far it got. A cancelled
+// operation leaves the session as it was (seek, watch) or where it had got to (a run): what
+// follows never depends on where a cancel fell.
+struct Control {
+  std::stop_token stop;
+  std::function<void(int64_t done, int64_t total)> progress;
+  bool stopped() const { return stop.stop_requested(); }
+};
+
+// The matches of one watchpoint, in the order found (by t, then by slot ids).
+struct MatchList {
+  std::vector<int64_t> t;         // the match's watch step
+  std::vector<int64_t> detected;  // the step during which it was found (t + the watchpoint's lag)
+  std::vector<ModuleId> slots;    // slot_count ids per match
+  size_t size() const { return t.size(); }
+  // The matches of step t: [first, last) indices (t is sorted, so this is a binary search).
+  std::pair<size_t, size_t> at(int64_t step) const;
+};
+
+// A `pause` watchpoint matched at the current step.
+struct Pause {
+  uint32_t watch = 0;
+  int64_t t = 0;                // the match's step
+  int64_t detected = 0;         // the step during which it was found
+  std::vector<ModuleId> group;  // the first match of that step, in slot order
+  uint64_t matches = 0;         // matches of that watchpoint at that step
+};
+
+class Session {
+ public:
+  // `model` and `world` must outlive the session; the session adds and removes watchpoints in
+  // the model (nothing else of it changes).
+  Session(Model& model, World& world, SessionOptions options);
+  ~Session();
+
+  const Model& model() const { return model_; }
+  int64_t current() const { return current_; }
+  int64_t latest() const { return latest_; }
+  int64_t end() const { return options_.end; }
+  unsigned threads() const { return runtime_->threads(); }
+
+  // Called with every step simulated for the first time on this branch (the head's state and
+  // what the watchpoints reported).
+  using StepObserver = std::function<void(const State&, const StepOutput&)>;
+
+  // Moves the current step on until `end` steps have run (current = end - 1), stopping early at
+  // a `pause` match's step (returned) or when cancelled. Steps already simulated are revisited,
+  // new ones simulated. Throws ProgramError when a program fails.
+  std::optional<Pause> run_until(int64_t end, const StepObserver& observer = {}, const Control& control = {});
+  // Makes step t current (-1 ≤ t ≤ latest). False when cancelled (nothing changed then).
+  bool seek(int64_t t, const Control& control = {});
+  // Simulates ahead until every watchpoint has decided step t, past the session's end if need be.
+  void decide(int64_t t, const StepObserver& observer = {}, const Control& control = {});
+  // Through which step every watchpoint (or watchpoint w) has decided; latest() without any.
+  int64_t decided() const;
+  int64_t decided(uint32_t w) const { return latest_ - model_.watches[w].lag(); }
+
+  // An intervention at the current step t, applied at the start of step t + 1 (`at` is set so):
+  // the future after t is dropped and the next steps simulate the change. An error message when
+  // it names no module or variable, or pushes without physics; empty when done.
+  std::string intervene(Intervention intervention);
+  // Every intervention of this branch, scheduled or made, in the order they apply.
+  const std::vector<Intervention>& interventions() const { return interventions_; }
+
+  // Adds a watchpoint, or replaces the one with its name, and evaluates it over the whole history.
+  // Returns its index, or nothing when cancelled or without history (nothing changed then).
+  std::optional<uint32_t> set_watch(HostedWatchpoint watch, const Control& control = {});
+  // Removes the watchpoint with this name; false when there is none.
+  bool remove_watch(std::string_view name);
+  // The index of the watchpoint with this name, or -1.
+  int watch_index(std::string_view name) const;
+
+  // The full state at the current step (restored on demand), and after the latest step.
+  const State& state();
+  const State& head() const { return head_; }
+  uint64_t hash() { return hash_state(state()); }
+  // What the watchpoints saw at the current step besides the values: presence and N(m, t).
+  std::span<const uint8_t> seen_present();
+  const NeighborGraph& seen_graph();
+
+  // Matches of `log` and `pause` watchpoints over the history (a `count` one's list stays empty).
+  const MatchList& matches(uint32_t w) const { return matches_[w]; }
+  uint64_t match_count(uint32_t w) const { return head_.watches[w].matches; }
+  // Matches per step of steps [from, to], for a timeline.
+  std::vector<uint64_t> match_counts(uint32_t w, int64_t from, int64_t to) const;
+  // Statistics over the history (the per-step series is the session's own).
+  const watch::DetectorStats& stats(uint32_t w) const { return stats_[w]; }
+  // One variable of one module over steps [from, to] (to ≤ latest), re-simulated from the
+  // keyframes; nothing when cancelled.
+  std::optional<std::vector<int64_t>> series(ModuleId m, int column, int64_t from, int64_t to,
+                                             const Control& control = {});
+  // Writes steps 0..latest as a wptrace v1 trace whose header lists the interventions. An error
+  // message, or empty; false-y when cancelled is reported as "cancelled".
+  std::string record(std::ostream& out, const Control& control = {});
+
+  // The history's shape: keyframe interval K, keyframes held, and their estimated bytes.
+  bool has_history() const { return options_.history_bytes > 0; }
+  int64_t keyframe_interval() const { return interval_; }
+  size_t keyframes() const { return keyframes_.size(); }
+  size_t history_bytes() const { return history_bytes_; }
+
+ private:
+  void step(State& state, StepOutput& out, std::span<const uint8_t> watching = {});
+  void step_head(const StepObserver& observer);
+  void take_keyframe();
+  void recount_history();
+  void record_output(const State& state, const StepOutput& out, uint32_t first_watch, uint32_t watch_count);
+  void truncate_history(int64_t through);
+  std::optional<Pause> pause_at(int64_t t) const;
+  bool materialize(int64_t t, const Control& control);
+  State simulation_copy(const State& s) const;
+  void rebuild_runtime();
+  int64_t max_lag() const;
+
+  Model& model_;
+  World& world_;
+  SessionOptions options_;
+  std::unique_ptr<Runtime> runtime_;
+  std::vector<Intervention> interventions_;  // sorted by `at`, stable
+
+  State head_;  // after step latest_
+  StepOutput head_out_;
+  int64_t latest_ = -1, current_ = -1;
+  State view_;  // after some step <= latest_, when view_valid_; the current step's when current_ < latest_
+  StepOutput view_out_;
+  bool view_valid_ = false;
+  const State* world_on_ = nullptr;  // the state the world last stepped (it must be told of a change)
+
+  std::vector<State> keyframes_;  // keyframes_[i]: the state before step i * interval_
+  int64_t interval_ = 1;
+  size_t history_bytes_ = 0;
+
+  std::vector<MatchList> matches_;
+  std::vector<watch::DetectorStats> stats_;
+  std::vector<std::vector<int64_t>> stats_step_;  // per watch: the step of each series entry
+};
+
+}  // namespace dw::sim
