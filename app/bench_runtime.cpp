@@ -59,20 +59,21 @@ RuntimeRow run_scenario_text(const std::string& toml, const BenchArgs& args, int
           return row;
         }
         scenarios::Scenario& s = std::get<scenarios::Scenario>(loaded);
-        sim::Session run(*s.model, *s.world, {.threads = args.threads, .history_bytes = 0});  // no history: the runtime alone
+        sim::Session run(*s.model, *s.world,
+                         {.threads = args.threads, .history_bytes = 0});  // no history: the runtime alone
       }
       times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       continue;
     }
-    auto loaded =
-        scenarios::load_scenario_text("bench.toml", "seed = " + std::to_string(args.seed) + "\n" + toml);
+    auto loaded = scenarios::load_scenario_text("bench.toml", "seed = " + std::to_string(args.seed) + "\n" + toml);
     if (auto* e = std::get_if<std::string>(&loaded)) {
       std::cerr << *e;
       row.failed = true;
       return row;
     }
     scenarios::Scenario& s = std::get<scenarios::Scenario>(loaded);
-    sim::Session run(*s.model, *s.world, {.threads = args.threads, .history_bytes = 0});  // no history: the runtime alone
+    sim::Session run(*s.model, *s.world,
+                     {.threads = args.threads, .history_bytes = 0});  // no history: the runtime alone
     const auto start = std::chrono::steady_clock::now();
     run.run_until(args.steps);
     times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

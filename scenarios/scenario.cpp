@@ -275,12 +275,17 @@ struct Loader {
         r.finish();
         continue;
       }
-      if (kinds > 1) r.error(r.has("push") ? "push" : "remove", "an event does one thing: 'set', 'remove' or 'push'");
+      if (kinds > 1) {
+        r.error(r.has("push") ? "push" : "remove", "an event does one thing: 'set', 'remove' or 'push'");
+        for (const char* key : {"set", "remove", "push"}) r.node(key);
+        r.finish();
+        continue;
+      }
       sim::Intervention base;
       base.at = at.value_or(0);
       base.module = static_cast<sim::ModuleId>(module.value_or(0));
       base.scheduled = true;
-      const bool ok = at && module && kinds == 1;
+      const bool ok = at && module;
       if (const toml::table* set = r.has("set") ? r.table("set") : nullptr) {
         if (set->empty()) r.error("set", "'set' names no variable: set = { var = value }");
         for (const auto& [key, value] : *set) {
@@ -301,8 +306,9 @@ struct Loader {
       if (r.has("remove")) {
         const auto remove = r.boolean("remove");
         if (remove && !*remove) r.error("remove", "'remove' takes true (leave the key out for no removal)");
-        else if (remove && ok) out.push_back({.kind = sim::Intervention::Kind::Remove, .at = base.at,
-                                              .module = base.module, .scheduled = true});
+        else if (remove && ok)
+          out.push_back(
+              {.kind = sim::Intervention::Kind::Remove, .at = base.at, .module = base.module, .scheduled = true});
       }
       if (r.has("push")) {
         const auto push = r.numbers("push", 3, -1e9, 1e9);

@@ -9,9 +9,7 @@ std::string intervention_json(const Intervention& i, const watch::Universe& univ
   j["at"] = i.at;
   j["module"] = i.module < universe.module_ids.size() ? universe.module_ids[i.module] : i.module;
   switch (i.kind) {
-    case Intervention::Kind::Set:
-      j["set"] = {{universe.variables.at(static_cast<size_t>(i.column)), i.value}};
-      break;
+    case Intervention::Kind::Set: j["set"] = {{universe.variables.at(static_cast<size_t>(i.column)), i.value}}; break;
     case Intervention::Kind::Remove: j["remove"] = true; break;
     case Intervention::Kind::Push: j["push"] = {i.impulse[0], i.impulse[1], i.impulse[2]}; break;
   }

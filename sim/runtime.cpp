@@ -43,6 +43,7 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads)
       // threads' sum afterwards (finish_distributed), so the stop never depends on the thread count.
       s.agents.emplace_back(w.watchpoint.program, w.options.optimizations, w.options.live_budget);
     }
+  next_values_.resize(size_t{m} * model.variable_count());
   const size_t lanes = size_t{pool_.size()} * blocks_;
   for (const HostedWatchpoint& w : model.watches) {
     columns_.push_back(watch::variable_columns(w.watchpoint.program, model.universe));
@@ -66,7 +67,6 @@ State Runtime::initial_state() {
     std::copy(model_.initial_values.begin(), model_.initial_values.end(), s.values.begin() + size_t{i} * v);
   world_.initialize(model_, s);
   for (uint32_t w = 0; w < model_.watches.size(); ++w) s.watches.push_back(initial_watch_state(w));
-  next_values_.resize(s.values.size());
   return s;
 }
 

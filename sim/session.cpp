@@ -116,17 +116,17 @@ void Session::record_output(const State& state, const StepOutput& out, uint32_t 
 void Session::truncate_history(int64_t through) {
   for (uint32_t w = 0; w < matches_.size(); ++w) {
     MatchList& list = matches_[w];
-    const size_t keep = static_cast<size_t>(
-        std::upper_bound(list.detected.begin(), list.detected.end(), through) - list.detected.begin());
+    const size_t keep = static_cast<size_t>(std::upper_bound(list.detected.begin(), list.detected.end(), through) -
+                                            list.detected.begin());
     const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
     list.t.resize(keep);
     list.detected.resize(keep);
     list.slots.resize(keep * k);
     std::vector<int64_t>& at = stats_step_[w];
     const size_t entries = static_cast<size_t>(std::upper_bound(at.begin(), at.end(), through) - at.begin());
-    std::vector<watch::StepStats> series(stats_[w].steps.begin(),
-                                         stats_[w].steps.begin() +
-                                             static_cast<ptrdiff_t>(std::min(entries, stats_[w].steps.size())));
+    std::vector<watch::StepStats> series(
+        stats_[w].steps.begin(),
+        stats_[w].steps.begin() + static_cast<ptrdiff_t>(std::min(entries, stats_[w].steps.size())));
     at.resize(entries);
     stats_[w] = watch::DetectorStats{};
     for (const watch::StepStats& s : series) stats_[w].add(s);

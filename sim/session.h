@@ -43,7 +43,7 @@ struct SessionOptions {
   // for measuring the runtime alone: the session can then neither seek back, branch from the
   // past, nor evaluate a new watchpoint over the past.
   size_t history_bytes = size_t{768} << 20;
-  std::vector<Intervention> events;          // scheduled interventions ([[event]]), any order
+  std::vector<Intervention> events;  // scheduled interventions ([[event]]), any order
 };
 
 // Lets a long operation be cancelled between steps and report how far it got. A cancelled

@@ -34,7 +34,8 @@ size_t ModuleHistory::bytes() const {
   size_t n = values_.capacity() * sizeof(StepRing<Value>) + kBlock;
   for (const auto& ring : values_) n += ring.capacity() * sizeof(Value) + kBlock;
   n += neighbors_.capacity() * sizeof(Neighbors) + kBlock;
-  for (const Neighbors& ns : neighbors_.items()) n += ns.ids.capacity() * sizeof(uint32_t) + (ns.ids.capacity() ? kBlock : 0);
+  for (const Neighbors& ns : neighbors_.items())
+    n += ns.ids.capacity() * sizeof(uint32_t) + (ns.ids.capacity() ? kBlock : 0);
   return n;
 }
 

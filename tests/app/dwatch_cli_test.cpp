@@ -316,18 +316,19 @@ namespace {
 // Every number on the command line takes its TOML key's range and words; none wraps.
 TEST_F(Cli, CommandLineNumbersTakeTheRangesOfTheirKeys) {
   const std::string scenario = (kScenarios / "token_ring.toml").string();
-  for (const std::string value : {"-1", "18446744073709551615", "100001", "1e3", "x"}) {
-    const Result r = run("run " + scenario + " --snapshots " + value);
+  for (const std::string value : {"-1", "18446744073709551615", "1000001", "0", "1e3", "x"}) {
+    const Result r = run("run " + scenario + " --history-mb " + value);
     EXPECT_EQ(r.code, 2) << value << ": " << r.err;
     const std::string expected = value == "1e3" || value == "x"
-                                     ? "'snapshots' must be an integer, not '" + value + "'"
-                                     : "'snapshots' must be between 0 and 100000, not " + value;
+                                     ? "'history_mb' must be an integer, not '" + value + "'"
+                                     : "'history_mb' must be between 1 and 1000000, not " + value;
     EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
   }
   // The same words as the scenario key.
-  const fs::path bad =
-      write("bad.toml", "snapshots = -1\n[lattice]\nkind = \"ring\"\nsize = [5]\n[[program]]\nname = \"token_ring\"\n");
-  EXPECT_NE(run("run " + bad.string()).err.find("'snapshots' must be between 0 and 100000, not -1"), std::string::npos);
+  const fs::path bad = write(
+      "bad.toml", "history_mb = -1\n[lattice]\nkind = \"ring\"\nsize = [5]\n[[program]]\nname = \"token_ring\"\n");
+  EXPECT_NE(run("run " + bad.string()).err.find("'history_mb' must be between 1 and 1000000, not -1"),
+            std::string::npos);
   for (const std::string option : {"--seed -1", "--steps -5", "--threads 0", "--threads 4294967297", "--print -1"})
     EXPECT_EQ(run("run " + scenario + " " + option).code, 2) << option;
   EXPECT_EQ(run("render " + scenario + " --out " + (dir_ / "x.png").string() + " --width -1").code, 2);

@@ -128,8 +128,8 @@ TEST(BulletWorld, ModulesPushedApartLoseTheirEdgeWhenTheGapPassesTheThreshold) {
   sim::Session run(*model, world, {.threads = 1});
   std::vector<float> gaps;
   std::vector<bool> adjacent;
-  run.run_until(40, [&](const sim::State&, const sim::StepOutput& out) {
-    gaps.push_back(gap_x(run.state(), 0, 1));
+  run.run_until(40, [&](const sim::State& st, const sim::StepOutput& out) {
+    gaps.push_back(gap_x(st, 0, 1));
     adjacent.push_back(out.graph->adjacent(0, 1));
   });
   // The graph of step t comes from the poses after step t - 1.

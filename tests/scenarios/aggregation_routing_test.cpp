@@ -14,7 +14,7 @@ TEST(AggregationRouting, ConvergesToBfsDistancesAndTheRootCountsEveryModule) {
                             "\n[[program]]\nname = \"aggregation_routing\"\nroot = " + std::to_string(root) +
                             "\nlandmarks = 2\n");
     test::History dist, sum, parent, lm1;
-    const sim::Model& model = *s.model;
+    sim::Model& model = *s.model;
     auto d = test::record(model, "dist", dist), su = test::record(model, "sum", sum),
          p = test::record(model, "parent", parent), l = test::record(model, "lm1", lm1);
     sim::Session run(model, *s.world, {.threads = 2});
