@@ -13,5 +13,6 @@ void add_replay_command(CLI::App& app, std::function<int()>& run);
 void add_run_command(CLI::App& app, std::function<int()>& run);
 void add_bench_command(CLI::App& app, std::function<int()>& run);
 void add_render_command(CLI::App& app, std::function<int()>& run);
+void add_session_command(CLI::App& app, std::function<int()>& run);
 
 }  // namespace dw::app

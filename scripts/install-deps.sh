@@ -9,6 +9,7 @@ packages=(
   libsimdjson-dev                              # reading traces
   nlohmann-json3-dev                           # writing JSON
   libcli11-dev                                 # the command line
+  libedit-dev                                  # line editing at the session prompt
   libtomlplusplus-dev                          # scenario files
   libbullet-dev                                # the physics World
   libosmesa6-dev libglm-dev libpng-dev         # the 3D view: headless GL, matrices, PNG files

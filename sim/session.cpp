@@ -342,10 +342,18 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
     for (State& k : keyframes_) move_last(k.watches);
     rebuild_runtime();
     recount_history();
+    look_ahead({});
     return static_cast<uint32_t>(replaces);
   }
   recount_history();
+  look_ahead({});
   return w;
+}
+
+// A new watchpoint may have a longer lag: the current step is decided again, as far as the end allows.
+void Session::look_ahead(const StepObserver& observer) {
+  const int64_t need = std::min(current_ + max_lag(), options_.end - 1);
+  while (latest_ < need) step_head(observer);
 }
 
 bool Session::remove_watch(std::string_view name) {

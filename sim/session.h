@@ -150,6 +150,7 @@ class Session {
  private:
   void step(State& state, StepOutput& out, std::span<const uint8_t> watching = {});
   void step_head(const StepObserver& observer);
+  void look_ahead(const StepObserver& observer);
   void take_keyframe();
   void recount_history();
   void record_output(const State& state, const StepOutput& out, uint32_t first_watch, uint32_t watch_count);

@@ -1,0 +1,131 @@
+// `dwatch session SCENARIO [--script FILE|-]`: the debugger without a window (DESIGN §7a). A
+// script is checked whole before anything runs (a mistake is bad input, exit 2); then each
+// command is carried out and answered with one JSON object a line, and a command that fails
+// stops the script (exit 1, naming its line). On a terminal, without a script, it is a prompt.
+#include <unistd.h>
+// clang-format off: editline's header needs <cstdio> first
+#include <cstdio>
+#include <editline/readline.h>
+// clang-format on
+
+#include <iostream>
+#include <memory>
+
+#include "app/commands.h"
+#include "app/integer_option.h"
+#include "app/session_script.h"
+#include "sim/read_file.h"
+
+namespace dw::app {
+namespace {
+
+struct SessionArgs {
+  std::string scenario, script;
+  std::optional<int64_t> seed, threads, history_mb;
+};
+
+// Every line checked first; then carried out in order.
+int run_script(SessionShell& shell, const watch::SourceText& source) {
+  std::vector<SessionCommand> commands;
+  std::string mistakes;
+  const std::string& text = source.text();
+  uint32_t line = 1;
+  for (size_t begin = 0; begin < text.size(); ++line) {
+    auto parsed = shell.parse(source, static_cast<uint32_t>(begin), line);
+    if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) mistakes += watch::format_diagnostics(source, *ds);
+    else if (auto& c = std::get<std::optional<SessionCommand>>(parsed)) commands.push_back(std::move(*c));
+    const size_t newline = text.find('\n', begin);
+    begin = newline == std::string::npos ? text.size() : newline + 1;
+  }
+  if (!mistakes.empty()) {
+    std::cerr << mistakes;
+    return 2;
+  }
+  for (const SessionCommand& c : commands) {
+    auto answer = shell.execute(c);
+    if (auto* error = std::get_if<std::string>(&answer)) {
+      std::cout.flush();
+      std::cerr << source.name() << ":" << c.line << ": error: " << *error << " (the script stops here)\n";
+      return 1;
+    }
+    std::cout << std::get<nlohmann::ordered_json>(answer).dump() << "\n" << std::flush;
+  }
+  return 0;
+}
+
+// A prompt with line editing and history (libedit); mistakes and failures are reported and the
+// prompt goes on.
+int run_prompt(SessionShell& shell) {
+  std::cerr << "dwatch session: 'help' lists the commands, Ctrl-D leaves\n";
+  while (char* raw = readline("dwatch> ")) {
+    const std::string line(raw);
+    std::free(raw);
+    if (line.find_first_not_of(" \t") != std::string::npos) add_history(line.c_str());
+    const watch::SourceText source("<input>", line);
+    auto parsed = shell.parse(source, 0, 1);
+    if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) {
+      std::cerr << watch::format_diagnostics(source, *ds);
+      continue;
+    }
+    const auto& command = std::get<std::optional<SessionCommand>>(parsed);
+    if (!command) continue;
+    auto answer = shell.execute(*command);
+    if (auto* error = std::get_if<std::string>(&answer)) std::cerr << "error: " << *error << "\n";
+    else std::cout << std::get<nlohmann::ordered_json>(answer).dump() << "\n" << std::flush;
+  }
+  return 0;
+}
+
+int session_main(const SessionArgs& args) {
+  scenarios::ScenarioOverrides overrides;
+  if (args.seed) overrides.seed = static_cast<uint64_t>(*args.seed);
+  auto loaded = scenarios::load_scenario(args.scenario, overrides);
+  if (auto* errors = std::get_if<std::string>(&loaded)) {
+    std::cerr << *errors;
+    return 2;
+  }
+  scenarios::Scenario& scenario = std::get<scenarios::Scenario>(loaded);
+  std::optional<watch::SourceText> script;
+  if (!args.script.empty()) {
+    std::string error;
+    auto text = args.script == "-" ? std::optional<std::string>(std::string(std::istreambuf_iterator<char>(std::cin), {}))
+                                   : sim::read_file(args.script, &error);
+    if (!text) {
+      std::cerr << args.script << ": error: " << error << " (the script)\n";
+      return 2;
+    }
+    script.emplace(args.script == "-" ? "<stdin>" : args.script, std::move(*text));
+  } else if (!isatty(STDIN_FILENO)) {
+    script.emplace("<stdin>", std::string(std::istreambuf_iterator<char>(std::cin), {}));
+  }
+  sim::Session session(*scenario.model, *scenario.world,
+                       {.threads = args.threads ? static_cast<unsigned>(*args.threads) : scenario.threads,
+                        .end = scenario.steps,
+                        .history_bytes = (args.history_mb ? static_cast<size_t>(*args.history_mb) : scenario.history_mb)
+                                         << 20,
+                        .events = scenario.events});
+  SessionShell shell(scenario, session);
+  return script ? run_script(shell, *script) : run_prompt(shell);
+}
+
+}  // namespace
+
+void add_session_command(CLI::App& app, std::function<int()>& run) {
+  auto* cmd = app.add_subcommand("session", "The debugger without a window: commands from a script or a prompt");
+  auto args = std::make_shared<SessionArgs>();
+  cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
+  cmd->add_option("--script", args->script, "Commands to carry out, one a line (- for standard input)");
+  add_integer_option(*cmd, "--seed", args->seed, scenarios::kSeedRange, "Random seed (default: the scenario's)");
+  add_integer_option(*cmd, "--threads,-j", args->threads, scenarios::kThreadsRange,
+                     "Threads stepping modules (results never depend on it)");
+  add_integer_option(*cmd, "--history-mb", args->history_mb, scenarios::kHistoryRange,
+                     "Memory for the history's keyframes, in MiB (default: the scenario's)");
+  cmd->footer("Commands:\n  " + [] {
+    std::string all;
+    for (const std::string& line : session_command_help()) all += (all.empty() ? "" : "\n  ") + line;
+    return all;
+  }());
+  cmd->callback([&run, args] { run = [args] { return session_main(*args); }; });
+}
+
+}  // namespace dw::app

@@ -1,0 +1,485 @@
+#include "app/session_script.h"
+
+#include <charconv>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include "app/output_files.h"
+#include "app/view_image.h"
+#include "scenarios/limits.h"
+#include "sim/state.h"
+
+namespace dw::app {
+namespace {
+
+using Kind = SessionCommand::Kind;
+
+struct CommandSpec {
+  const char* name;
+  Kind kind;
+  const char* usage;
+  const char* what;
+};
+
+const CommandSpec kCommands[] = {
+    {"step", Kind::Step, "step [N]", "run N steps (default 1); stops at a pause"},
+    {"run", Kind::Run, "run [T]", "run until a pause fires, step T, or the scenario's end"},
+    {"seek", Kind::Seek, "seek T", "make step T current (0 <= T <= latest); nothing is lost"},
+    {"set", Kind::Set, "set M VAR VALUE", "intervention at the current step: a new branch"},
+    {"remove", Kind::Remove, "remove M", "intervention: module M leaves the ensemble"},
+    {"push", Kind::Push, "push M X Y Z", "intervention (physics): an impulse (N s) on M's body"},
+    {"watch", Kind::Watch, "watch NAME [centralized|distributed] [log|pause|count] TEXT",
+     "add or replace a watchpoint; answers its matches count over the history"},
+    {"unwatch", Kind::Unwatch, "unwatch NAME", "remove a watchpoint"},
+    {"matches", Kind::Matches, "matches [NAME] [T]", "the matches (as in the match log), of one watch / at step T"},
+    {"state", Kind::State, "state M", "module M at the current step: variables, neighbours, pose"},
+    {"hash", Kind::Hash, "hash", "the state hash at the current step"},
+    {"render", Kind::Render, "render FILE [W H]", "the 3D view of the current step (PNG)"},
+    {"record", Kind::Record, "record FILE", "the trace of steps 0..latest, its header listing the interventions"},
+    {"interventions", Kind::Interventions, "interventions", "the interventions of this branch, with their steps"},
+    {"status", Kind::Status, "status", "where the session stands: steps, watchpoints, history"},
+    {"help", Kind::Help, "help", "these commands"},
+};
+
+struct Token {
+  std::string_view text;
+  watch::Span span;
+};
+
+std::string hex(uint64_t v) {
+  std::ostringstream s;
+  s << "0x" << std::hex << std::setw(16) << std::setfill('0') << v;
+  return s.str();
+}
+
+std::optional<int64_t> integer(std::string_view s) {
+  int64_t v = 0;
+  const auto [end, error] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (error != std::errc{} || end != s.data() + s.size()) return std::nullopt;
+  return v;
+}
+
+std::optional<double> real(std::string_view s) {
+  double v = 0;
+  const auto [end, error] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (error != std::errc{} || end != s.data() + s.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
+const std::vector<std::string>& session_command_help() {
+  static const std::vector<std::string> help = [] {
+    std::vector<std::string> lines;
+    for (const CommandSpec& c : kCommands) {
+      std::string usage = c.usage;
+      usage.resize(std::max<size_t>(usage.size() + 2, 22), ' ');
+      lines.push_back(usage + c.what);
+    }
+    return lines;
+  }();
+  return help;
+}
+
+SessionShell::SessionShell(const scenarios::Scenario& scenario, sim::Session& session)
+    : scenario_(scenario), session_(session) {}
+
+// command := NAME ARG* ('#' comment)?      one a line; see kCommands for each command's arguments
+std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> SessionShell::parse(
+    const watch::SourceText& source, uint32_t begin, uint32_t line) {
+  const std::string& text = source.text();
+  uint32_t end = begin;
+  while (end < text.size() && text[end] != '\n') ++end;
+  uint32_t stop = begin;  // the command's end: before a comment
+  while (stop < end && text[stop] != '#') ++stop;
+  std::vector<Token> tokens;
+  for (uint32_t i = begin; i < stop;) {
+    if (std::isspace(static_cast<unsigned char>(text[i]))) {
+      ++i;
+      continue;
+    }
+    uint32_t j = i;
+    while (j < stop && !std::isspace(static_cast<unsigned char>(text[j]))) ++j;
+    tokens.push_back({std::string_view(text).substr(i, j - i), {i, j}});
+    i = j;
+  }
+  if (tokens.empty()) return std::optional<SessionCommand>{};
+
+  std::vector<watch::Diagnostic> mistakes;
+  auto fail = [&](watch::Span at, std::string message) {
+    mistakes.push_back({at, std::move(message)});
+    return mistakes;
+  };
+  const CommandSpec* spec = nullptr;
+  for (const CommandSpec& c : kCommands)
+    if (tokens[0].text == c.name) spec = &c;
+  if (!spec) return fail(tokens[0].span, "unknown command '" + std::string(tokens[0].text) + "' ('help' lists them)");
+
+  SessionCommand cmd;
+  cmd.kind = spec->kind;
+  cmd.line = line;
+  const watch::Span after_last{tokens.back().span.end, tokens.back().span.end + 1};
+  auto usage = [&](watch::Span at) { return fail(at, std::string("usage: ") + spec->usage); };
+  auto want = [&](size_t min, size_t max) -> bool {
+    if (tokens.size() - 1 < min) return usage(after_last), false;
+    if (tokens.size() - 1 > max) return usage(tokens[max + 1].span), false;
+    return true;
+  };
+  // An integer argument within [min, max].
+  auto number = [&](size_t i, int64_t min, int64_t max, const char* what) -> std::optional<int64_t> {
+    const auto v = integer(tokens[i].text);
+    if (!v || *v < min || *v > max) {
+      fail(tokens[i].span, std::string(what) + " must be an integer between " + std::to_string(min) + " and " +
+                               std::to_string(max) + ", not '" + std::string(tokens[i].text) + "'");
+      return std::nullopt;
+    }
+    return v;
+  };
+  const sim::Model& model = session_.model();
+  const int64_t last_module = static_cast<int64_t>(model.module_count()) - 1;
+  constexpr int64_t kMaxStep = scenarios::kStepsRange.max;
+
+  switch (cmd.kind) {
+    case Kind::Step:
+      if (!want(0, 1)) return mistakes;
+      cmd.number = tokens.size() > 1 ? number(1, 1, kMaxStep, "N") : 1;
+      break;
+    case Kind::Run:
+      if (!want(0, 1)) return mistakes;
+      if (tokens.size() > 1) cmd.number = number(1, 0, kMaxStep, "T");
+      break;
+    case Kind::Seek:
+      if (!want(1, 1)) return mistakes;
+      cmd.number = number(1, 0, kMaxStep, "T");
+      break;
+    case Kind::Set: {
+      if (!want(3, 3)) return mistakes;
+      const auto m = number(1, 0, last_module, "M");
+      const int column = model.column(tokens[2].text);
+      if (column < 0) {
+        std::string names;
+        for (const std::string& v : model.universe.variables) names += (names.empty() ? "" : ", ") + v;
+        fail(tokens[2].span, "no program has a variable named '" + std::string(tokens[2].text) + "' (there are: " +
+                                 names + ")");
+      }
+      const auto value = number(3, INT64_MIN, INT64_MAX, "VALUE");
+      if (m && column >= 0 && value)
+        cmd.intervention = sim::Intervention{.kind = sim::Intervention::Kind::Set,
+                                             .module = static_cast<sim::ModuleId>(*m),
+                                             .column = column,
+                                             .value = *value};
+      break;
+    }
+    case Kind::Remove:
+      if (!want(1, 1)) return mistakes;
+      if (const auto m = number(1, 0, last_module, "M"))
+        cmd.intervention =
+            sim::Intervention{.kind = sim::Intervention::Kind::Remove, .module = static_cast<sim::ModuleId>(*m)};
+      break;
+    case Kind::Push: {
+      if (!want(4, 4)) return mistakes;
+      if (session_.head().bodies.empty()) return fail(tokens[0].span, "push needs bodies: the scenario has no physics");
+      const auto m = number(1, 0, last_module, "M");
+      sim::Vec3 impulse{};
+      bool ok = m.has_value();
+      for (size_t i = 0; i < 3; ++i) {
+        const auto v = real(tokens[2 + i].text);
+        if (!v || std::abs(*v) > 1e9) {
+          fail(tokens[2 + i].span, "an impulse component is a number of N s (at most 1e9 either way), not '" +
+                                       std::string(tokens[2 + i].text) + "'");
+          ok = false;
+        } else {
+          impulse[i] = static_cast<float>(*v);
+        }
+      }
+      if (ok)
+        cmd.intervention = sim::Intervention{
+            .kind = sim::Intervention::Kind::Push, .module = static_cast<sim::ModuleId>(*m), .impulse = impulse};
+      break;
+    }
+    case Kind::Watch: {
+      // watch NAME [centralized|distributed] [log|pause|count] TEXT: TEXT is the rest of the line.
+      if (tokens.size() < 3) return usage(after_last);
+      cmd.name = tokens[1].text;
+      watch::Algorithm algorithm = watch::Algorithm::Distributed;
+      sim::MatchAction action = sim::MatchAction::Log;
+      size_t i = 2;
+      for (; i < tokens.size() && tokens[i].text.rfind("modules", 0) != 0; ++i) {
+        const std::string_view w = tokens[i].text;
+        if (w == "centralized") algorithm = watch::Algorithm::Centralized;
+        else if (w == "distributed") algorithm = watch::Algorithm::Distributed;
+        else if (w == "log") action = sim::MatchAction::Log;
+        else if (w == "pause") action = sim::MatchAction::Pause;
+        else if (w == "count") action = sim::MatchAction::Count;
+        else
+          return fail(tokens[i].span, "expected centralized, distributed, log, pause, count or the watchpoint's "
+                                      "text (modules(...); ...), not '" + std::string(w) + "'");
+      }
+      if (i == tokens.size()) return fail(after_last, "the watchpoint's text is missing: modules(...); ...");
+      // Compiled against the script's own text, blanked but for the watchpoint, so that its
+      // diagnostics point into the script.
+      std::string blanked(text.size(), ' ');
+      for (size_t c = 0; c < text.size(); ++c)
+        if (text[c] == '\n') blanked[c] = '\n';
+      std::copy(text.begin() + tokens[i].span.begin, text.begin() + stop, blanked.begin() + tokens[i].span.begin);
+      auto compiled = watch::compile_watchpoint(cmd.name, watch::SourceText(source.name(), std::move(blanked)));
+      if (auto* error = std::get_if<watch::CompileError>(&compiled)) return std::move(error->diagnostics);
+      watch::DetectorOptions options;
+      options.live_budget = 20'000'000;  // as a scenario's [[watch]] by default
+      sim::HostedWatchpoint hosted{std::move(std::get<watch::Watchpoint>(compiled)), algorithm, action, options};
+      for (const std::string& v : hosted.watchpoint.program.variables)
+        if (model.column(v) < 0)
+          fail(watch::first_use(hosted.watchpoint.ast, v), "'" + v + "' is no program's variable");
+      cmd.watch = std::move(hosted);
+      break;
+    }
+    case Kind::Unwatch:
+      if (!want(1, 1)) return mistakes;
+      cmd.name = tokens[1].text;
+      break;
+    case Kind::Matches:
+      if (!want(0, 2)) return mistakes;
+      for (size_t i = 1; i < tokens.size(); ++i) {
+        if (integer(tokens[i].text)) cmd.number = number(i, 0, kMaxStep, "T");
+        else if (i == 1) cmd.name = tokens[i].text;
+        else return usage(tokens[i].span);
+      }
+      break;
+    case Kind::State:
+      if (!want(1, 1)) return mistakes;
+      cmd.number = number(1, 0, last_module, "M");
+      break;
+    case Kind::Render:
+      if (tokens.size() != 2 && tokens.size() != 4) return usage(tokens.size() > 4 ? tokens[4].span : after_last);
+      cmd.name = tokens[1].text;
+      if (tokens.size() == 4) {
+        const auto w = number(2, 16, 8192, "W"), h = number(3, 16, 8192, "H");
+        if (w && h) cmd.width = static_cast<int>(*w), cmd.height = static_cast<int>(*h);
+      }
+      break;
+    case Kind::Record:
+      if (!want(1, 1)) return mistakes;
+      cmd.name = tokens[1].text;
+      break;
+    case Kind::Hash:
+    case Kind::Interventions:
+    case Kind::Status:
+    case Kind::Help:
+      if (!want(0, 0)) return mistakes;
+      break;
+  }
+  if (!mistakes.empty()) return mistakes;
+  return std::optional<SessionCommand>(std::move(cmd));
+}
+
+nlohmann::ordered_json SessionShell::position() {
+  nlohmann::ordered_json j;
+  j["current"] = session_.current();
+  j["latest"] = session_.latest();
+  j["decided"] = session_.decided();
+  return j;
+}
+
+nlohmann::ordered_json SessionShell::match_json(uint32_t w, size_t i) const {
+  const sim::HostedWatchpoint& h = session_.model().watches[w];
+  const sim::MatchList& list = session_.matches(w);
+  const size_t k = h.watchpoint.program.slot_count();
+  nlohmann::ordered_json j;
+  j["watch"] = h.watchpoint.name;
+  j["t"] = list.t[i];
+  nlohmann::ordered_json slots = nlohmann::ordered_json::object();
+  for (size_t s = 0; s < k; ++s)
+    slots[h.watchpoint.program.slot_names[s]] = session_.model().universe.module_ids[list.slots[i * k + s]];
+  j["slots"] = std::move(slots);
+  j["detected"] = list.detected[i];
+  return j;
+}
+
+std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const SessionCommand& cmd,
+                                                                         const sim::Control& control) {
+  using Result = std::variant<nlohmann::ordered_json, std::string>;
+  const auto failed = [](std::string why) { return Result(std::in_place_index<1>, std::move(why)); };
+  const sim::Model& model = session_.model();
+  nlohmann::ordered_json answer;
+  for (const CommandSpec& c : kCommands)
+    if (c.kind == cmd.kind) answer["cmd"] = c.name;
+  auto merge = [&](const nlohmann::ordered_json& more) {
+    for (auto it = more.begin(); it != more.end(); ++it) answer[it.key()] = it.value();
+  };
+  auto intervention_answer = [&](const sim::Intervention& i) {
+    return nlohmann::ordered_json::parse(sim::intervention_json(i, model.universe));
+  };
+  try {
+    switch (cmd.kind) {
+      case Kind::Step:
+      case Kind::Run: {
+        const int64_t target = cmd.kind == Kind::Step ? session_.current() + *cmd.number
+                               : cmd.number          ? *cmd.number
+                                                     : std::max(session_.end() - 1, session_.current());
+        const auto pause = session_.run_until(target + 1, {}, control);
+        merge(position());
+        if (pause) {
+          const sim::HostedWatchpoint& h = model.watches[pause->watch];
+          nlohmann::ordered_json group = nlohmann::ordered_json::object();
+          for (size_t s = 0; s < pause->group.size(); ++s)
+            group[h.watchpoint.program.slot_names[s]] = model.universe.module_ids[pause->group[s]];
+          answer["paused"] = {{"watch", h.watchpoint.name},
+                              {"t", pause->t},
+                              {"detected", pause->detected},
+                              {"group", group},
+                              {"matches", pause->matches}};
+        } else {
+          answer["paused"] = nullptr;
+        }
+        if (control.stopped()) answer["cancelled"] = true;
+        break;
+      }
+      case Kind::Seek:
+        if (*cmd.number > session_.latest())
+          return failed("step " + std::to_string(*cmd.number) + " has not been simulated (the latest is " +
+                        std::to_string(session_.latest()) + "; step or run to get there)");
+        if (!session_.seek(*cmd.number, control)) {
+          if (control.stopped()) return failed("cancelled");
+          return failed("the session keeps no history to seek back to");
+        }
+        merge(position());
+        break;
+      case Kind::Set:
+      case Kind::Remove:
+      case Kind::Push: {
+        const int64_t dropped = session_.latest() - session_.current();
+        if (std::string error = session_.intervene(*cmd.intervention); !error.empty()) return failed(error);
+        sim::Intervention made = *cmd.intervention;
+        made.at = session_.current() + 1;
+        answer["intervention"] = intervention_answer(made);
+        answer["dropped_steps"] = dropped;
+        merge(position());
+        break;
+      }
+      case Kind::Watch: {
+        const auto w = session_.set_watch(*cmd.watch, control);
+        if (!w) return failed(control.stopped() ? "cancelled" : "the session keeps no history to evaluate a watchpoint over");
+        const sim::HostedWatchpoint& h = model.watches[*w];
+        answer["watch"] = h.watchpoint.name;
+        answer["index"] = *w;
+        answer["algorithm"] = watch::algorithm_name(h.algorithm);
+        answer["action"] = sim::action_name(h.action);
+        answer["lag"] = h.lag();
+        answer["matches"] = session_.match_count(*w);
+        answer["decided"] = session_.decided(*w);
+        break;
+      }
+      case Kind::Unwatch:
+        if (!session_.remove_watch(cmd.name)) return failed("no watchpoint is named '" + cmd.name + "'");
+        answer["unwatched"] = cmd.name;
+        break;
+      case Kind::Matches: {
+        int w = -1;
+        if (!cmd.name.empty() && (w = session_.watch_index(cmd.name)) < 0)
+          return failed("no watchpoint is named '" + cmd.name + "'");
+        nlohmann::ordered_json list = nlohmann::ordered_json::array();
+        for (uint32_t i = 0; i < model.watches.size(); ++i) {
+          if (w >= 0 && i != static_cast<uint32_t>(w)) continue;
+          const sim::MatchList& m = session_.matches(i);
+          const auto [first, last] = cmd.number ? m.at(*cmd.number) : std::pair<size_t, size_t>{0, m.size()};
+          for (size_t k = first; k < last; ++k) list.push_back(match_json(i, k));
+        }
+        if (cmd.number) {
+          answer["t"] = *cmd.number;
+          answer["decided"] = *cmd.number <= session_.decided();
+        }
+        answer["count"] = list.size();
+        answer["matches"] = std::move(list);
+        break;
+      }
+      case Kind::State: {
+        const auto m = static_cast<sim::ModuleId>(*cmd.number);
+        const sim::State& s = session_.state();
+        answer["t"] = session_.current();
+        answer["module"] = model.universe.module_ids[m];
+        answer["present"] = session_.seen_present()[m] != 0;
+        nlohmann::ordered_json vars = nlohmann::ordered_json::object();
+        for (uint32_t v = 0; v < model.variable_count(); ++v)
+          vars[model.universe.variables[v]] = s.values[size_t{m} * model.variable_count() + v];
+        answer["vars"] = std::move(vars);
+        nlohmann::ordered_json nbrs = nlohmann::ordered_json::array();
+        for (sim::ModuleId n : session_.seen_graph().neighbors(m)) nbrs.push_back(model.universe.module_ids[n]);
+        answer["nbrs"] = std::move(nbrs);
+        if (!s.bodies.empty()) {
+          const sim::Pose& p = s.bodies.poses[m];
+          answer["pose"] = {{"position", p.position}, {"orientation", p.orientation}};
+        }
+        break;
+      }
+      case Kind::Hash:
+        answer["t"] = session_.current();
+        answer["hash"] = hex(session_.hash());
+        break;
+      case Kind::Render: {
+        const NamedFile file{"render", cmd.name};
+        std::unique_ptr<sim::OutputFile> out;
+        if (cmd.name == "-") return failed("render needs a file name");
+        if (!check_distinct_files(scenario_.inputs, {file}) || !open_output(file, out))
+          return failed("cannot write " + cmd.name);
+        const int64_t t = std::max<int64_t>(0, session_.current());
+        const std::vector<render::SceneGroup> groups = groups_at(session_, t, Highlight::First);
+        render::SceneSettings settings = scene_settings(scenario_, "");
+        settings.title = scenario_.name + "  \xC2\xB7  step " + std::to_string(t);
+        const render::Scene scene = render::build_scene(model, session_.state(), groups, settings);
+        if (std::string error = write_view(scene, *out, cmd.width, cmd.height); !error.empty()) return failed(error);
+        answer["render"] = cmd.name;
+        answer["t"] = t;
+        answer["width"] = cmd.width;
+        answer["height"] = cmd.height;
+        answer["groups"] = groups.size();
+        break;
+      }
+      case Kind::Record: {
+        const NamedFile file{"record", cmd.name};
+        std::unique_ptr<sim::OutputFile> out;
+        if (!check_distinct_files(scenario_.inputs, {file}) || !open_output(file, out))
+          return failed("cannot write " + cmd.name);
+        if (std::string error = session_.record(out->stream(), control); !error.empty()) return failed(error);
+        if (std::string error = out->commit(); !error.empty()) return failed(error);
+        answer["record"] = cmd.name;
+        answer["steps"] = session_.latest() + 1;
+        answer["interventions"] = session_.interventions().size();
+        break;
+      }
+      case Kind::Interventions: {
+        nlohmann::ordered_json list = nlohmann::ordered_json::array();
+        for (const sim::Intervention& i : session_.interventions()) list.push_back(intervention_answer(i));
+        answer["interventions"] = std::move(list);
+        break;
+      }
+      case Kind::Status: {
+        merge(position());
+        answer["end"] = session_.end();
+        nlohmann::ordered_json watches = nlohmann::ordered_json::array();
+        for (uint32_t w = 0; w < model.watches.size(); ++w) {
+          const sim::HostedWatchpoint& h = model.watches[w];
+          watches.push_back({{"name", h.watchpoint.name},
+                             {"algorithm", watch::algorithm_name(h.algorithm)},
+                             {"action", sim::action_name(h.action)},
+                             {"lag", h.lag()},
+                             {"decided", session_.decided(w)},
+                             {"matches", session_.match_count(w)},
+                             {"stopped", session_.stats(w).stopped}});
+        }
+        answer["watches"] = std::move(watches);
+        answer["interventions"] = session_.interventions().size();
+        answer["keyframe_interval"] = session_.keyframe_interval();
+        answer["keyframes"] = session_.keyframes();
+        answer["history_bytes"] = session_.history_bytes();
+        break;
+      }
+      case Kind::Help: answer["commands"] = session_command_help(); break;
+    }
+  } catch (const sim::ProgramError& e) {
+    return failed(e.what());
+  }
+  return answer;
+}
+
+}  // namespace dw::app

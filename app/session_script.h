@@ -1,0 +1,60 @@
+// The session command language (DESIGN §7a): one command a line, `#` comments, each answered
+// with one JSON object a line. `dwatch session` reads it from a script or a prompt; the window
+// sends the same commands. This file only parses and formats: every decision (where a run stops,
+// what an intervention drops, what a view of a step shows) is the session's (sim/session.h).
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "scenarios/scenario.h"
+#include "sim/session.h"
+#include "watch/diagnostic.h"
+
+namespace dw::app {
+
+struct SessionCommand {
+  enum class Kind {
+    Step, Run, Seek, Set, Remove, Push, Watch, Unwatch, Matches, State, Hash, Render, Record,
+    Interventions, Status, Help,
+  };
+  Kind kind = Kind::Help;
+  uint32_t line = 0;                     // in the script
+  std::optional<int64_t> number;         // step N, run T, seek T, matches T
+  std::string name;                      // watch/unwatch/matches NAME, render/record FILE
+  int width = 1280, height = 720;        // render
+  std::optional<sim::Intervention> intervention;
+  std::optional<sim::HostedWatchpoint> watch;
+};
+
+// The commands, one line each, as `help` answers them.
+const std::vector<std::string>& session_command_help();
+
+class SessionShell {
+ public:
+  // `scenario` gives the model the commands are checked against (its variables, modules, physics)
+  // and the files they must not overwrite.
+  SessionShell(const scenarios::Scenario& scenario, sim::Session& session);
+
+  // Parses the line of `source` that starts at byte `begin` (1-based number `line`). Nothing for
+  // a blank or comment line; the diagnostics (one per mistake) when it is wrong.
+  std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> parse(const watch::SourceText& source,
+                                                                                    uint32_t begin, uint32_t line);
+
+  // Carries a command out: its answer, or why it failed.
+  std::variant<nlohmann::ordered_json, std::string> execute(const SessionCommand& command,
+                                                             const sim::Control& control = {});
+
+ private:
+  nlohmann::ordered_json position();
+  nlohmann::ordered_json match_json(uint32_t w, size_t i) const;
+
+  const scenarios::Scenario& scenario_;
+  sim::Session& session_;
+};
+
+}  // namespace dw::app
