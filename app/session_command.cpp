@@ -4,8 +4,8 @@
 // stops the script (exit 1, naming its line). On a terminal, without a script, it is a prompt.
 #include <unistd.h>
 // clang-format off: editline's header needs <cstdio> first
-#include <cstdio>
 #include <editline/readline.h>
+#include <cstdio>
 // clang-format on
 
 #include <iostream>
@@ -32,7 +32,8 @@ int run_script(SessionShell& shell, const watch::SourceText& source) {
   uint32_t line = 1;
   for (size_t begin = 0; begin < text.size(); ++line) {
     auto parsed = shell.parse(source, static_cast<uint32_t>(begin), line);
-    if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) mistakes += watch::format_diagnostics(source, *ds);
+    if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed))
+      mistakes += watch::format_diagnostics(source, *ds);
     else if (auto& c = std::get<std::optional<SessionCommand>>(parsed)) commands.push_back(std::move(*c));
     const size_t newline = text.find('\n', begin);
     begin = newline == std::string::npos ? text.size() : newline + 1;
@@ -88,8 +89,9 @@ int session_main(const SessionArgs& args) {
   std::optional<watch::SourceText> script;
   if (!args.script.empty()) {
     std::string error;
-    auto text = args.script == "-" ? std::optional<std::string>(std::string(std::istreambuf_iterator<char>(std::cin), {}))
-                                   : sim::read_file(args.script, &error);
+    auto text = args.script == "-"
+                    ? std::optional<std::string>(std::string(std::istreambuf_iterator<char>(std::cin), {}))
+                    : sim::read_file(args.script, &error);
     if (!text) {
       std::cerr << args.script << ": error: " << error << " (the script)\n";
       return 2;
@@ -98,12 +100,12 @@ int session_main(const SessionArgs& args) {
   } else if (!isatty(STDIN_FILENO)) {
     script.emplace("<stdin>", std::string(std::istreambuf_iterator<char>(std::cin), {}));
   }
-  sim::Session session(*scenario.model, *scenario.world,
-                       {.threads = args.threads ? static_cast<unsigned>(*args.threads) : scenario.threads,
-                        .end = scenario.steps,
-                        .history_bytes = (args.history_mb ? static_cast<size_t>(*args.history_mb) : scenario.history_mb)
-                                         << 20,
-                        .events = scenario.events});
+  sim::Session session(
+      *scenario.model, *scenario.world,
+      {.threads = args.threads ? static_cast<unsigned>(*args.threads) : scenario.threads,
+       .end = scenario.steps,
+       .history_bytes = (args.history_mb ? static_cast<size_t>(*args.history_mb) : scenario.history_mb) << 20,
+       .events = scenario.events});
   SessionShell shell(scenario, session);
   return script ? run_script(shell, *script) : run_prompt(shell);
 }

@@ -160,8 +160,8 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       if (column < 0) {
         std::string names;
         for (const std::string& v : model.universe.variables) names += (names.empty() ? "" : ", ") + v;
-        fail(tokens[2].span, "no program has a variable named '" + std::string(tokens[2].text) + "' (there are: " +
-                                 names + ")");
+        fail(tokens[2].span,
+             "no program has a variable named '" + std::string(tokens[2].text) + "' (there are: " + names + ")");
       }
       const auto value = number(3, INT64_MIN, INT64_MAX, "VALUE");
       if (m && column >= 0 && value)
@@ -213,8 +213,10 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
         else if (w == "pause") action = sim::MatchAction::Pause;
         else if (w == "count") action = sim::MatchAction::Count;
         else
-          return fail(tokens[i].span, "expected centralized, distributed, log, pause, count or the watchpoint's "
-                                      "text (modules(...); ...), not '" + std::string(w) + "'");
+          return fail(tokens[i].span,
+                      "expected centralized, distributed, log, pause, count or the watchpoint's "
+                      "text (modules(...); ...), not '" +
+                          std::string(w) + "'");
       }
       if (i == tokens.size()) return fail(after_last, "the watchpoint's text is missing: modules(...); ...");
       // Compiled against the script's own text, blanked but for the watchpoint, so that its
@@ -297,7 +299,7 @@ nlohmann::ordered_json SessionShell::match_json(uint32_t w, size_t i) const {
 }
 
 std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const SessionCommand& cmd,
-                                                                         const sim::Control& control) {
+                                                                        const sim::Control& control) {
   using Result = std::variant<nlohmann::ordered_json, std::string>;
   const auto failed = [](std::string why) { return Result(std::in_place_index<1>, std::move(why)); };
   const sim::Model& model = session_.model();
@@ -315,8 +317,8 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
       case Kind::Step:
       case Kind::Run: {
         const int64_t target = cmd.kind == Kind::Step ? session_.current() + *cmd.number
-                               : cmd.number          ? *cmd.number
-                                                     : std::max(session_.end() - 1, session_.current());
+                               : cmd.number           ? *cmd.number
+                                                      : std::max(session_.end() - 1, session_.current());
         const auto pause = session_.run_until(target + 1, {}, control);
         merge(position());
         if (pause) {
@@ -359,7 +361,8 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
       }
       case Kind::Watch: {
         const auto w = session_.set_watch(*cmd.watch, control);
-        if (!w) return failed(control.stopped() ? "cancelled" : "the session keeps no history to evaluate a watchpoint over");
+        if (!w)
+          return failed(control.stopped() ? "cancelled" : "the session keeps no history to evaluate a watchpoint over");
         const sim::HostedWatchpoint& h = model.watches[*w];
         answer["watch"] = h.watchpoint.name;
         answer["index"] = *w;

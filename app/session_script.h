@@ -19,14 +19,28 @@ namespace dw::app {
 
 struct SessionCommand {
   enum class Kind {
-    Step, Run, Seek, Set, Remove, Push, Watch, Unwatch, Matches, State, Hash, Render, Record,
-    Interventions, Status, Help,
+    Step,
+    Run,
+    Seek,
+    Set,
+    Remove,
+    Push,
+    Watch,
+    Unwatch,
+    Matches,
+    State,
+    Hash,
+    Render,
+    Record,
+    Interventions,
+    Status,
+    Help,
   };
   Kind kind = Kind::Help;
-  uint32_t line = 0;                     // in the script
-  std::optional<int64_t> number;         // step N, run T, seek T, matches T
-  std::string name;                      // watch/unwatch/matches NAME, render/record FILE
-  int width = 1280, height = 720;        // render
+  uint32_t line = 0;               // in the script
+  std::optional<int64_t> number;   // step N, run T, seek T, matches T
+  std::string name;                // watch/unwatch/matches NAME, render/record FILE
+  int width = 1280, height = 720;  // render
   std::optional<sim::Intervention> intervention;
   std::optional<sim::HostedWatchpoint> watch;
 };
@@ -47,7 +61,7 @@ class SessionShell {
 
   // Carries a command out: its answer, or why it failed.
   std::variant<nlohmann::ordered_json, std::string> execute(const SessionCommand& command,
-                                                             const sim::Control& control = {});
+                                                            const sim::Control& control = {});
 
  private:
   nlohmann::ordered_json position();

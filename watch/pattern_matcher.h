@@ -89,8 +89,10 @@ class PatternMatcherRef {
   // Starts an empty record: nothing filled, every leaf Unknown.
   void init() {
     store32(0, l_->sets << 8);  // nothing filled
+    // Every byte defined (ids of empty slots, unknown cells, padding): a record is hashed and
+    // compared bit for bit, and must not carry what the scratch buffer held before.
+    std::memset(d_ + 4, 0, l_->sets - 4);
     std::memset(d_ + l_->leaves, l_->conjunction ? kTrue : kUnknown, l_->leaf_count);
-    std::memset(d_ + l_->known, 0, l_->cell_count);
   }
 
   std::byte* data() { return d_; }

@@ -67,7 +67,8 @@ TEST_P(SessionCase, AnswersAsExpected) {
   const std::vector<std::string> err_lines = lines_of(err);
   for (const std::string& expected : stderr_lines)
     EXPECT_NE(std::find(err_lines.begin(), err_lines.end(), expected), err_lines.end())
-        << "stderr lacks: " << expected << "\n" << err;
+        << "stderr lacks: " << expected << "\n"
+        << err;
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, SessionCase, ::testing::ValuesIn(case_files()),
