@@ -6,6 +6,7 @@
 //   physics   resting lattices in the Bullet world (1,000 and 8,000 modules), and the watchpoint
 //             overhead over a 1,000-module physics run of leader election
 //   render    frames of the headless 3D view at 1280x720, 1,000 and 10,000 modules (bench_render.cpp)
+//   session   the session's history: live cost, keyframes, seek, retroactive watchpoints (bench_session.cpp)
 #pragma once
 
 #include <cstdint>
@@ -47,5 +48,6 @@ std::vector<int64_t> parse_tuple(const std::string& text);
 int bench_engine(const BenchArgs& args);
 int bench_runtime(const BenchArgs& args);  // table1, overhead, million, physics
 int bench_render(const BenchArgs& args);
+int bench_session(const BenchArgs& args);
 
 }  // namespace dw::app

@@ -393,7 +393,7 @@ struct Loader {
     const auto history = root.integer(kHistoryRange);
     const auto threads = root.integer(kThreadsRange);
     s.steps = steps.value_or(100);
-    s.history_mb = static_cast<size_t>(history.value_or(768));
+    s.history_mb = static_cast<size_t>(history.value_or(256));
     s.threads = static_cast<unsigned>(threads.value_or(1));
 
     auto built_lattice = lattice(root, overrides.max_modules);

@@ -5,7 +5,7 @@
 //   name = "leader_election"          # default: the file's stem
 //   steps = 200                        # default 100
 //   seed = 1                           # default 1
-//   history_mb = 768                   # memory for the session's keyframes (default 768 MiB)
+//   history_mb = 256                   # memory for the session's keyframes (default 256 MiB)
 //   threads = 1                        # default 1
 //   [lattice]                          # required
 //   kind = "hex2d"                     # cubic | square2d | hex2d | ring | line
@@ -79,7 +79,7 @@ struct Scenario {
   std::unique_ptr<sim::Model> model;
   std::unique_ptr<sim::World> world;
   int64_t steps = 100;
-  size_t history_mb = 768;
+  size_t history_mb = 256;
   std::vector<sim::Intervention> events;  // [[event]], in file order
   unsigned threads = 1;
   ViewSettings view;

@@ -1,6 +1,7 @@
 #include "sim/session.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "sim/trace.h"
 
@@ -61,28 +62,60 @@ void Session::step(State& state, StepOutput& out, std::span<const uint8_t> watch
 
 void Session::step_head(const StepObserver& observer) {
   take_keyframe();
+  const auto started = std::chrono::steady_clock::now();
   step(head_, head_out_);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  step_seconds_ = step_seconds_ == 0 ? seconds : 0.9 * step_seconds_ + 0.1 * seconds;
   latest_ = head_.step - 1;
   record_output(head_, head_out_, 0, static_cast<uint32_t>(model_.watches.size()));
   if (observer) observer(head_, head_out_);
 }
 
-// A keyframe before every step that is a multiple of K; when they outgrow the budget, every other
-// one goes and K doubles (keyframe 0 always stays).
+// A keyframe before every step that is a multiple of K. When they outgrow the budget, or would
+// by the session's end at their present size, every other one goes and K doubles (keyframe 0
+// always stays). Dropped keyframes lend their storage to the next ones: copying into a state
+// that has the shape already allocates nothing.
 void Session::take_keyframe() {
   if (!has_history()) return;
   if (head_.step % interval_ != 0 || head_.step / interval_ != static_cast<int64_t>(keyframes_.size())) return;
-  keyframes_.push_back(head_);
+  const auto started = std::chrono::steady_clock::now();
+  if (spare_.empty()) {
+    keyframes_.push_back(head_);
+  } else {
+    keyframes_.push_back(std::move(spare_.back()));
+    spare_.pop_back();
+    keyframes_.back() = head_;
+  }
+  const double copy_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   history_bytes_ += state_bytes(keyframes_.back());
   if (keyframes_.size() == 1 || keyframes_.back().graph != keyframes_[keyframes_.size() - 2].graph)
     history_bytes_ += graph_bytes(*keyframes_.back().graph);
-  while (history_bytes_ > options_.history_bytes && keyframes_.size() > 1) {
-    std::vector<State> kept;
-    for (size_t i = 0; i < keyframes_.size(); i += 2) kept.push_back(std::move(keyframes_[i]));
-    keyframes_ = std::move(kept);
-    interval_ *= 2;
-    recount_history();
+  auto over_budget = [&] {
+    const size_t budget = options_.history_bytes;
+    if (history_bytes_ > budget) return true;
+    // At this size a keyframe, how many would the end need?
+    const int64_t left = options_.end - head_.step;
+    return left > 0 && history_bytes_ + static_cast<size_t>(left / interval_) * (history_bytes_ / keyframes_.size()) >
+                           budget + budget / 2;
+  };
+  while (keyframes_.size() > 1 && over_budget()) thin_keyframes();
+  // Nor may they cost the live run more than a small share of its time: where a step is cheap
+  // beside a copy of the state, keyframes are further apart, as long as a seek's stepping from
+  // one stays short.
+  if (keyframes_.size() > 1 && copy_seconds > kKeyframeTimeShare * double(interval_) * step_seconds_ &&
+      2 * double(interval_) * step_seconds_ <= kSeekStepSeconds)
+    thin_keyframes();
+}
+
+void Session::thin_keyframes() {
+  std::vector<State> kept;
+  for (size_t i = 0; i < keyframes_.size(); ++i) {
+    if (i % 2 == 0) kept.push_back(std::move(keyframes_[i]));
+    else if (spare_.size() < kSpareKeyframes) spare_.push_back(std::move(keyframes_[i]));
   }
+  keyframes_ = std::move(kept);
+  interval_ *= 2;
+  recount_history();
 }
 
 void Session::recount_history() {
@@ -300,16 +333,31 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
 
   State s = simulation_copy(keyframes_[0]);
   s.watches.push_back(runtime_->initial_watch_state(w));
-  std::vector<WatchState> at_keyframe{s.watches[w]};
+  std::vector<WatchState> at_keyframe{s.watches[w]};  // its state at keyframes_[i]
+  size_t added = state_bytes(State{.watches = {at_keyframe[0]}});
   std::vector<uint8_t> watching(w + 1, 0);
   watching[w] = 1;
   StepOutput out;
-  while (s.step <= latest_) {
+  while (s.step <= latest_ || (s.step % interval_ == 0 && s.step / interval_ < int64_t(keyframes_.size()))) {
+    if (s.step % interval_ == 0 && s.step > 0) {
+      at_keyframe.push_back(s.watches[w]);
+      added += state_bytes(State{.watches = {at_keyframe.back()}});
+      // Keyframes must stay within the budget with the new watchpoint's states in them too.
+      while (keyframes_.size() > 1 &&
+             history_bytes_ + added / at_keyframe.size() * keyframes_.size() > options_.history_bytes) {
+        thin_keyframes();
+        std::vector<WatchState> kept;
+        for (size_t i = 0; i < at_keyframe.size(); i += 2) kept.push_back(std::move(at_keyframe[i]));
+        at_keyframe = std::move(kept);
+        added = 0;
+        for (const WatchState& ws : at_keyframe) added += state_bytes(State{.watches = {ws}});
+      }
+    }
+    if (s.step > latest_) break;
     if (control.stopped()) {
       undo();
       return std::nullopt;
     }
-    if (s.step % interval_ == 0 && s.step > 0) at_keyframe.push_back(s.watches[w]);
     try {
       step(s, out, watching);
     } catch (...) {
@@ -320,8 +368,6 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
     record_output(s, out, w, 1);
     if (control.progress) control.progress(s.step, latest_ + 1);
   }
-  if (s.step % interval_ == 0 && s.step > 0 && at_keyframe.size() < keyframes_.size())
-    at_keyframe.push_back(s.watches[w]);
   for (size_t i = 0; i < keyframes_.size(); ++i) keyframes_[i].watches.push_back(std::move(at_keyframe[i]));
   head_.watches.push_back(std::move(s.watches[w]));
   view_valid_ = false;

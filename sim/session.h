@@ -42,7 +42,7 @@ struct SessionOptions {
   // Memory for keyframes; K doubles to stay within it (keyframe 0 always stays). 0: no history,
   // for measuring the runtime alone: the session can then neither seek back, branch from the
   // past, nor evaluate a new watchpoint over the past.
-  size_t history_bytes = size_t{768} << 20;
+  size_t history_bytes = size_t{256} << 20;
   std::vector<Intervention> events;  // scheduled interventions ([[event]]), any order
 };
 
@@ -152,6 +152,7 @@ class Session {
   void step_head(const StepObserver& observer);
   void look_ahead(const StepObserver& observer);
   void take_keyframe();
+  void thin_keyframes();
   void recount_history();
   void record_output(const State& state, const StepOutput& out, uint32_t first_watch, uint32_t watch_count);
   void truncate_history(int64_t through);
@@ -176,6 +177,11 @@ class Session {
   const State* world_on_ = nullptr;  // the state the world last stepped (it must be told of a change)
 
   std::vector<State> keyframes_;  // keyframes_[i]: the state before step i * interval_
+  static constexpr size_t kSpareKeyframes = 4;
+  std::vector<State> spare_;                          // dropped keyframes, their storage for the next
+  static constexpr double kKeyframeTimeShare = 0.08;  // of the live run's time, at most, for keyframes
+  static constexpr double kSeekStepSeconds = 0.025;   // stepping from a keyframe takes at most about this
+  double step_seconds_ = 0;                           // a live step's time, smoothed
   int64_t interval_ = 1;
   size_t history_bytes_ = 0;
 

@@ -45,7 +45,8 @@ TEST_P(Retroactive, WatchpointsAddedLateFindWhatTheyWouldHaveFoundFromTheStart) 
   if (fresh.model->watches.empty()) GTEST_SKIP() << "no watchpoints";
   sim::Session straight(*fresh.model, *fresh.world, {.threads = 2, .events = fresh.events});
   std::vector<uint64_t> hashes;
-  run_through(straight, kSteps, [&](const sim::State& s, const sim::StepOutput&) { hashes.push_back(sim::hash_state(s)); });
+  run_through(straight, kSteps,
+              [&](const sim::State& s, const sim::StepOutput&) { hashes.push_back(sim::hash_state(s)); });
 
   Scenario late = load(path, algorithm);
   std::vector<sim::HostedWatchpoint> watches = std::move(late.model->watches);
@@ -67,13 +68,14 @@ TEST_P(Retroactive, WatchpointsAddedLateFindWhatTheyWouldHaveFoundFromTheStart) 
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Shipped, Retroactive,
-    ::testing::Combine(::testing::ValuesIn(shipped()),
-                       ::testing::Values(watch::Algorithm::Centralized, watch::Algorithm::Distributed)),
-    [](const auto& info) {
-      return std::get<0>(info.param).stem().string() + "_" + watch::algorithm_name(std::get<1>(info.param));
-    });
+INSTANTIATE_TEST_SUITE_P(Shipped, Retroactive,
+                         ::testing::Combine(::testing::ValuesIn(shipped()),
+                                            ::testing::Values(watch::Algorithm::Centralized,
+                                                              watch::Algorithm::Distributed)),
+                         [](const auto& info) {
+                           return std::get<0>(info.param).stem().string() + "_" +
+                                  watch::algorithm_name(std::get<1>(info.param));
+                         });
 
 }  // namespace
 }  // namespace dw::scenarios

@@ -1,0 +1,200 @@
+// `dwatch bench session`: what the session's history costs and buys (DESIGN §7). Each row runs in
+// a child process (its peak memory its own):
+//   - the Table I ensemble (10^3 cube, random_vars [2:2:2:2], Fig. 6 distributed), 2,000 steps:
+//     the live run with the history on against off, keyframe sizes (estimated by the session and
+//     measured on the heap), and seeks to random steps;
+//   - a 1,000-module physics scenario (leader election on a 40x25 hex sheet, latched), the same;
+//   - a Fig. 6 watchpoint added after 1,000 steps of the Table I ensemble, evaluated over them;
+//   - 100,000 steps of the Table I ensemble ([8:4:2:1]): the history's memory.
+#include <malloc.h>
+
+#include <algorithm>
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+#include <random>
+
+#include "app/bench.h"
+#include "app/bench_child.h"
+#include "app/output_files.h"
+#include "scenarios/scenario.h"
+#include "sim/session.h"
+
+namespace dw::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+struct HistoryRow {
+  double live_off = 0, live_on = 0;  // best seconds
+  int64_t keyframes = 0, interval = 0;
+  uint64_t history_bytes = 0;
+  uint64_t state_bytes_measured = 0;  // heap taken by one copy of the latest state
+  uint64_t in_flight_bytes = 0, agent_bytes = 0;  // of which: PatternMatchers in flight, agents
+  double seek_max_ms = 0, seek_median_ms = 0;
+  bool failed = false;
+};
+
+struct RetroRow {
+  double seconds = 0;
+  uint64_t matches = 0, fresh_matches = 0;
+  bool failed = false;
+};
+
+std::string table1_text(const std::string& tuple, bool watch) {
+  std::string list = tuple;
+  std::replace(list.begin(), list.end(), ':', ',');
+  std::string text = "seed = 1\n[lattice]\nkind = \"cubic\"\nsize = [10, 10, 10]\n[[program]]\nname = "
+                     "\"random_vars\"\ntuple = [" +
+                     list + "]\n";
+  if (watch)
+    text += std::string("[[watch]]\nname = \"fig6\"\naction = \"count\"\nmax_live = 0\ntext = \"") + kFig6 + "\"\n";
+  return text;
+}
+
+const std::string kPhysicsElection =
+    "seed = 1\n[lattice]\nkind = \"hex2d\"\nsize = [40, 25]\n[[program]]\nname = \"leader_election\"\n"
+    "[[watch]]\nname = \"two_leaders\"\naction = \"count\"\n"
+    "text = \"modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)\"\n[physics]\nenabled = true\n";
+
+std::optional<scenarios::Scenario> load(const std::string& text) {
+  auto loaded = scenarios::load_scenario_text("bench.toml", text);
+  if (auto* e = std::get_if<std::string>(&loaded)) {
+    std::cerr << *e;
+    return std::nullopt;
+  }
+  return std::move(std::get<scenarios::Scenario>(loaded));
+}
+
+// A run of `steps` with the history on and off (best of `repeat` each), then seeks to 40 random
+// steps of the history.
+HistoryRow history_row(const std::string& text, int64_t steps, int repeat, unsigned threads) {
+  HistoryRow row;
+  for (int r = 0; r < repeat; ++r)
+    for (bool on : {false, true}) {
+      if (repeat == 0) break;
+      auto s = load(text);
+      if (!s) return row.failed = true, row;
+      sim::Session session(*s->model, *s->world,
+                           {.threads = threads, .end = steps, .history_bytes = on ? sim::SessionOptions{}.history_bytes : 0});
+      const auto start = Clock::now();
+      session.run_until(steps);
+      const double seconds = since(start);
+      double& best = on ? row.live_on : row.live_off;
+      best = r == 0 ? seconds : std::min(best, seconds);
+    }
+  auto s = load(text);
+  if (!s) return row.failed = true, row;
+  sim::Session session(*s->model, *s->world, {.threads = threads, .end = steps});
+  session.run_until(steps);
+  row.keyframes = static_cast<int64_t>(session.keyframes());
+  row.interval = session.keyframe_interval();
+  row.history_bytes = session.history_bytes();
+  {
+    const size_t before = mallinfo2().uordblks;
+    const sim::State copy = session.head();
+    row.state_bytes_measured = mallinfo2().uordblks - before;
+    for (const sim::WatchState& w : copy.watches) {
+      for (const watch::RecordBuffer& lane : w.in_flight) row.in_flight_bytes += lane.bytes();
+      for (const watch::DistributedAgent& a : w.agents) row.agent_bytes += sizeof a + a.history().bytes();
+    }
+  }
+  std::mt19937_64 rng(7);
+  std::vector<double> ms;
+  for (int i = 0; i < 40; ++i) {
+    const int64_t t = static_cast<int64_t>(rng() % static_cast<uint64_t>(steps - 1));
+    const auto start = Clock::now();
+    session.seek(t);
+    session.state();
+    ms.push_back(1000 * since(start));
+  }
+  std::sort(ms.begin(), ms.end());
+  row.seek_max_ms = ms.back();
+  row.seek_median_ms = ms[ms.size() / 2];
+  return row;
+}
+
+// A Fig. 6 watchpoint added after `steps` steps, against a run that had it from step 0.
+RetroRow retro_row(int64_t steps, unsigned threads) {
+  RetroRow row;
+  auto with = load(table1_text("2:2:2:2", true));
+  auto without = load(table1_text("2:2:2:2", false));
+  if (!with || !without) return row.failed = true, row;
+  sim::Session fresh(*with->model, *with->world, {.threads = threads, .history_bytes = 0});
+  fresh.run_until(steps);
+  row.fresh_matches = fresh.match_count(0);
+
+  sim::HostedWatchpoint watch = with->model->watches[0];
+  sim::Session session(*without->model, *without->world, {.threads = threads, .end = steps});
+  session.run_until(steps);
+  const auto start = Clock::now();
+  const auto w = session.set_watch(std::move(watch));
+  row.seconds = since(start);
+  if (!w) return row.failed = true, row;
+  row.matches = session.match_count(*w);
+  return row;
+}
+
+void print_history(const std::string& label, const HistoryRow& r, long peak_kib, sim::OutputFile* csv) {
+  const double kib = 1.0 / 1024;
+  std::cout << label << "\n" << std::fixed;
+  if (r.live_off > 0)
+    std::cout << std::setprecision(3) << "  live run: " << r.live_off << " s without history, " << r.live_on
+              << " s with it (" << std::setprecision(1) << 100 * (r.live_on / r.live_off - 1) << "%)\n";
+  std::cout << std::setprecision(1) << "  keyframes: " << r.keyframes << ", every " << r.interval << " steps, " << r.history_bytes * kib * kib
+            << " MiB estimated, " << r.history_bytes * kib / double(std::max<int64_t>(1, r.keyframes))
+            << " KiB each; one state measured on the heap: " << r.state_bytes_measured * kib << " KiB, of which "
+            << r.in_flight_bytes * kib << " KiB PatternMatchers in flight and " << r.agent_bytes * kib
+            << " KiB the agents' histories\n"
+            << "  seek to a random step: median " << std::setprecision(2) << r.seek_median_ms << " ms, worst "
+            << r.seek_max_ms << " ms (40 seeks)\n"
+            << "  peak memory: " << std::setprecision(1) << double(peak_kib) / 1024 << " MiB\n";
+  if (csv)
+    csv->stream() << '"' << label << "\"," << r.live_off << "," << r.live_on << "," << r.keyframes << "," << r.interval
+                  << "," << r.history_bytes << "," << r.state_bytes_measured << "," << r.seek_median_ms << ","
+                  << r.seek_max_ms << "," << double(peak_kib) / 1024 << "\n";
+}
+
+}  // namespace
+
+int bench_session(const BenchArgs& args) {
+  std::unique_ptr<sim::OutputFile> csv;
+  if (!open_csv(args, "session",
+                "row,live_off_s,live_on_s,keyframes,interval,history_bytes,state_bytes,seek_median_ms,seek_max_ms,"
+                "peak_mib",
+                csv))
+    return 2;
+  const int repeat = std::min(args.repeat, 3);
+  const unsigned threads = args.threads;
+  std::cout << "bench session: " << threads << (threads == 1 ? " thread" : " threads") << ", best of " << repeat
+            << " live runs\n";
+  long peak = 0;
+
+  HistoryRow h;
+  if (!in_child([&] { return history_row(table1_text("2:2:2:2", true), 2000, repeat, threads); }, h, peak) ||
+      h.failed)
+    return 1;
+  print_history("Table I ensemble (10^3, random_vars [2:2:2:2], Fig. 6 distributed), 2,000 steps", h, peak, csv.get());
+
+  if (!in_child([&] { return history_row(kPhysicsElection, 2000, repeat, threads); }, h, peak) || h.failed) return 1;
+  print_history("physics: leader election, 1,000 modules (hex 40x25, latched), two_leaders, 2,000 steps", h, peak,
+                csv.get());
+
+  RetroRow r;
+  if (!in_child([&] { return retro_row(1000, threads); }, r, peak) || r.failed) return 1;
+  std::cout << "retroactive Fig. 6 (distributed, [2:2:2:2]) over 1,000 steps of 1,000 modules: " << std::fixed
+            << std::setprecision(3) << r.seconds << " s, " << r.matches << " matches (a run with it from step 0: "
+            << r.fresh_matches << ")" << (r.matches == r.fresh_matches ? "" : "  MISMATCH") << "\n";
+  if (r.matches != r.fresh_matches) return 1;
+
+  const int64_t long_run = std::max<int64_t>(args.steps, 100'000);
+  // One run, with the history (its memory is the figure).
+  if (!in_child([&] { return history_row(table1_text("8:4:2:1", true), long_run, 0, threads); }, h, peak) || h.failed)
+    return 1;
+  print_history("history memory: Table I ensemble ([8:4:2:1]), " + std::to_string(long_run) + " steps", h, peak,
+                csv.get());
+  return commit_outputs({csv.get()}) ? 0 : 1;
+}
+
+}  // namespace dw::app
