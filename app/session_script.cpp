@@ -472,9 +472,10 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         }
         answer["watches"] = std::move(watches);
         answer["interventions"] = session_.interventions().size();
-        answer["keyframe_interval"] = session_.keyframe_interval();
-        answer["keyframes"] = session_.keyframes();
-        answer["history_bytes"] = session_.history_bytes();
+        // How the history is kept: it varies with the machine's speed (never the results).
+        answer["history"] = {{"keyframe_interval", session_.keyframe_interval()},
+                             {"keyframes", session_.keyframes()},
+                             {"bytes", session_.history_bytes()}};
         break;
       }
       case Kind::Help: answer["commands"] = session_command_help(); break;
