@@ -30,7 +30,7 @@ struct HistoryRow {
   double live_off = 0, live_on = 0;  // best seconds
   int64_t keyframes = 0, interval = 0;
   uint64_t history_bytes = 0;
-  uint64_t state_bytes_measured = 0;  // heap taken by one copy of the latest state
+  uint64_t state_bytes_measured = 0;              // heap taken by one copy of the latest state
   uint64_t in_flight_bytes = 0, agent_bytes = 0;  // of which: PatternMatchers in flight, agents
   double seek_max_ms = 0, seek_median_ms = 0;
   bool failed = false;
@@ -45,9 +45,10 @@ struct RetroRow {
 std::string table1_text(const std::string& tuple, bool watch) {
   std::string list = tuple;
   std::replace(list.begin(), list.end(), ':', ',');
-  std::string text = "seed = 1\n[lattice]\nkind = \"cubic\"\nsize = [10, 10, 10]\n[[program]]\nname = "
-                     "\"random_vars\"\ntuple = [" +
-                     list + "]\n";
+  std::string text =
+      "seed = 1\n[lattice]\nkind = \"cubic\"\nsize = [10, 10, 10]\n[[program]]\nname = "
+      "\"random_vars\"\ntuple = [" +
+      list + "]\n";
   if (watch)
     text += std::string("[[watch]]\nname = \"fig6\"\naction = \"count\"\nmax_live = 0\ntext = \"") + kFig6 + "\"\n";
   return text;
@@ -76,8 +77,9 @@ HistoryRow history_row(const std::string& text, int64_t steps, int repeat, unsig
       if (repeat == 0) break;
       auto s = load(text);
       if (!s) return row.failed = true, row;
-      sim::Session session(*s->model, *s->world,
-                           {.threads = threads, .end = steps, .history_bytes = on ? sim::SessionOptions{}.history_bytes : 0});
+      sim::Session session(
+          *s->model, *s->world,
+          {.threads = threads, .end = steps, .history_bytes = on ? sim::SessionOptions{}.history_bytes : 0});
       const auto start = Clock::now();
       session.run_until(steps);
       const double seconds = since(start);
@@ -142,8 +144,9 @@ void print_history(const std::string& label, const HistoryRow& r, long peak_kib,
   if (r.live_off > 0)
     std::cout << std::setprecision(3) << "  live run: " << r.live_off << " s without history, " << r.live_on
               << " s with it (" << std::setprecision(1) << 100 * (r.live_on / r.live_off - 1) << "%)\n";
-  std::cout << std::setprecision(1) << "  keyframes: " << r.keyframes << ", every " << r.interval << " steps, " << r.history_bytes * kib * kib
-            << " MiB estimated, " << r.history_bytes * kib / double(std::max<int64_t>(1, r.keyframes))
+  std::cout << std::setprecision(1) << "  keyframes: " << r.keyframes << ", every " << r.interval << " steps, "
+            << r.history_bytes * kib * kib << " MiB estimated, "
+            << r.history_bytes * kib / double(std::max<int64_t>(1, r.keyframes))
             << " KiB each; one state measured on the heap: " << r.state_bytes_measured * kib << " KiB, of which "
             << r.in_flight_bytes * kib << " KiB PatternMatchers in flight and " << r.agent_bytes * kib
             << " KiB the agents' histories\n"
@@ -172,8 +175,7 @@ int bench_session(const BenchArgs& args) {
   long peak = 0;
 
   HistoryRow h;
-  if (!in_child([&] { return history_row(table1_text("2:2:2:2", true), 2000, repeat, threads); }, h, peak) ||
-      h.failed)
+  if (!in_child([&] { return history_row(table1_text("2:2:2:2", true), 2000, repeat, threads); }, h, peak) || h.failed)
     return 1;
   print_history("Table I ensemble (10^3, random_vars [2:2:2:2], Fig. 6 distributed), 2,000 steps", h, peak, csv.get());
 
@@ -184,8 +186,9 @@ int bench_session(const BenchArgs& args) {
   RetroRow r;
   if (!in_child([&] { return retro_row(1000, threads); }, r, peak) || r.failed) return 1;
   std::cout << "retroactive Fig. 6 (distributed, [2:2:2:2]) over 1,000 steps of 1,000 modules: " << std::fixed
-            << std::setprecision(3) << r.seconds << " s, " << r.matches << " matches (a run with it from step 0: "
-            << r.fresh_matches << ")" << (r.matches == r.fresh_matches ? "" : "  MISMATCH") << "\n";
+            << std::setprecision(3) << r.seconds << " s, " << r.matches
+            << " matches (a run with it from step 0: " << r.fresh_matches << ")"
+            << (r.matches == r.fresh_matches ? "" : "  MISMATCH") << "\n";
   if (r.matches != r.fresh_matches) return 1;
 
   const int64_t long_run = std::max<int64_t>(args.steps, 100'000);

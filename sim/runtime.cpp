@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "watch/agent_step.h"
 #include "watch/make_detector.h"
 
 namespace dw::sim {
@@ -37,6 +38,7 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads)
   while (block_shift_ < 12 && (2u << block_shift_) <= per_thread) ++block_shift_;
   blocks_ = (m >> block_shift_) + ((m & ((1u << block_shift_) - 1)) != 0);
   scratch_.resize(pool_.size());
+  arriving_.resize(pool_.size());
   for (ThreadScratch& s : scratch_)
     for (const HostedWatchpoint& w : model.watches) {
       // Each thread may use the whole budget; whether the step went over it is decided on the
@@ -107,41 +109,22 @@ void Runtime::run_programs(unsigned thread, uint32_t begin, uint32_t end, const 
 
 // One block of agents for one watchpoint, in the order that keeps the block's agents in cache:
 // each records its module's state at t and decides its own leaves, then the PatternMatchers sent
-// to the block arrive, then every agent starts its own.
+// to the block arrive, then every agent starts its own (watch/agent_step.h).
 void Runtime::run_agents(unsigned thread, uint32_t block, uint32_t w, State& state) {
   const watch::Program& program = model_.watches[w].watchpoint.program;
   WatchState& ws = state.watches[w];
-  ThreadScratch& s = scratch_[thread];
-  watch::AgentContext& ctx = s.agents[w];
-  const std::vector<int>& columns = columns_[w];
-  const uint32_t v = model_.variable_count();
-  const int64_t t = state.step;
-  // The agents run E+ steps behind, so that `next` can be read (DESIGN §4).
-  const int64_t f = t - program.extent_plus;
   const uint32_t begin = block_begin(block), end = block_begin(block + 1);
-
-  for (uint32_t m = begin; m < end; ++m) {
-    const bool present = state.present[m] != 0;
-    for (size_t i = 0; i < columns.size(); ++i) {
-      s.row_has[i] = columns[i] >= 0;
-      s.row_values[i] = columns[i] >= 0 ? next_values_[size_t{m} * v + size_t(columns[i])] : 0;
-    }
-    ws.agents[m].history().record(t, present, s.row_values.data(), s.row_has.data(),
-                                  present ? state.graph->neighbors(m) : std::span<const uint32_t>{});
-    if (f >= 0 && ws.agents[m].history().present(f)) ws.agents[m].prepare_all(f, program);
-  }
+  const watch::Frame frame = make_frame(model_, state.step, next_values_, state.present, *state.graph);
+  watch::record_agents(ws.agents, begin, end, frame, program, columns_[w]);
+  const int64_t f = state.step - program.extent_plus;
   if (f < 0) return;
   Lanes out;
   out.row = sending_[w].data() + size_t{thread} * blocks_;
   out.block_shift = block_shift_;
+  arriving_[thread].clear();
   for (unsigned from = 0; from < pool_.size(); ++from)
-    ws.in_flight[size_t{from} * blocks_ + block].for_each(
-        [&](uint32_t to, std::byte* pm) {
-          if (!ctx.over_budget) ws.agents[to].receive(f, pm, ctx, out);
-        },
-        [&](uint32_t next) { __builtin_prefetch(&ws.agents[next]); });
-  for (uint32_t m = begin; m < end && !ctx.over_budget; ++m)
-    if (ws.agents[m].history().present(f)) ws.agents[m].start(f, ctx, out);
+    arriving_[thread].push_back(&ws.in_flight[size_t{from} * blocks_ + block]);
+  watch::step_agents(ws.agents, begin, end, f, arriving_[thread], scratch_[thread].agents[w], out);
 }
 
 void Runtime::run_thread(unsigned thread, State& state, std::span<const uint8_t> watching) {
@@ -155,24 +138,12 @@ void Runtime::run_thread(unsigned thread, State& state, std::span<const uint8_t>
     if (!watching.empty() && !watching[w]) continue;
     live.push_back(w);
     const watch::Program& program = model_.watches[w].watchpoint.program;
-    watch::AgentContext& ctx = s.agents[w];
-    ctx.step = watch::StepStats{};
-    // A budget stop belongs to the step that hit it: a run rolled back to before that step and
-    // resumed must start clean, as the straight run did (the stop itself is in State).
-    ctx.over_budget = false;
-    ctx.stop_reason.clear();
-    ctx.step.step = state.step - program.extent_plus;
-    ctx.step.live_by_filled.assign(static_cast<size_t>(program.slot_count()) + 1, 0);
-    ctx.match_values = 0;
-    s.row_values.resize(std::max(s.row_values.size(), columns_[w].size()));
-    s.row_has.resize(std::max(s.row_has.size(), columns_[w].size()));
+    watch::start_agent_step(s.agents[w], state.step - program.extent_plus);
   }
   for (uint32_t block = first_block(thread); block < first_block(thread + 1); ++block) {
     run_programs(thread, block_begin(block), block_begin(block + 1), state);
     for (uint32_t w : live) run_agents(thread, block, w, state);
   }
-  for (uint32_t w : live)
-    s.agents[w].step.created += s.agents[w].step.messages;  // starts were counted as they happened
 }
 
 // Gathers the threads' matches and statistics; the PatternMatchers sent become those in flight.
@@ -187,41 +158,21 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
     sending_[w][lane].clear();
   }
   if (f < 0) return;
-  out.observed = true;
-  out.stats = watch::StepStats{};
-  out.stats.step = f;
-  out.stats.live_by_filled.assign(size_t{k} + 1, 0);
-  bool over = false;
-  std::string reason;
-  uint64_t used = 0;
-  for (ThreadScratch& s : scratch_) {
-    const watch::StepStats& st = s.agents[w].step;
-    for (size_t i = 0; i < st.live_by_filled.size(); ++i) out.stats.live_by_filled[i] += st.live_by_filled[i];
-    out.stats.live += st.live;
-    out.stats.created += st.created;
-    out.stats.messages += st.messages;
-    out.stats.bytes += st.bytes;
-    out.stats.matches += st.matches;
-    used += st.live + st.messages;
-    if (s.agents[w].over_budget && !over) {
-      over = true;
-      reason = s.agents[w].stop_reason;
-    }
-  }
-  if (hosted.options.live_budget != 0 && used > hosted.options.live_budget) over = true;
-  if (over) {
+  std::vector<watch::AgentContext*> contexts;
+  for (ThreadScratch& s : scratch_) contexts.push_back(&s.agents[w]);
+  watch::AgentStepOutcome outcome = watch::finish_agent_step(contexts, f, hosted.options.live_budget);
+  if (outcome.over_budget) {
     // The step that went over the budget was cut short wherever each thread was: none of it is
     // reported, and the stopped watch lets go of its agents and PatternMatchers.
     ws.stopped = true;
-    ws.stop_reason = reason.empty() ? "more than " + std::to_string(hosted.options.live_budget) +
-                                          " live PatternMatchers at detector step " + std::to_string(f)
-                                    : reason + " at detector step " + std::to_string(f);
-    out.observed = false;
+    ws.stop_reason = std::move(outcome.stop_reason);
     ws.agents = {};
     ws.in_flight = {};
     for (watch::RecordBuffer& lane : sending_[w]) lane = {};
     return;
   }
+  out.observed = true;
+  out.stats = std::move(outcome.stats);
   // Everything that matched now was started at t0 = f - (k - 1).
   const int64_t t0 = state.step - hosted.lag();
   if (t0 >= 0) {

@@ -72,9 +72,7 @@ class Runtime {
   struct ThreadScratch {
     Outbox outbox;
     std::vector<watch::AgentContext> agents;  // per watchpoint (distributed ones used)
-    std::vector<int64_t> row_values;
-    std::vector<uint8_t> row_has;
-    std::vector<uint32_t> live_watches;  // distributed watchpoints still observing
+    std::vector<uint32_t> live_watches;       // distributed watchpoints still observing
   };
 
   void intervene(State& state, std::span<const Intervention> interventions);
@@ -95,10 +93,11 @@ class Runtime {
   uint32_t blocks_ = 0;
   std::vector<ThreadScratch> scratch_;
   std::vector<int64_t> next_values_;
-  std::vector<std::vector<int>> columns_;                  // per watch: program variable -> model column
-  std::vector<std::vector<watch::RecordBuffer>> sending_;  // per watch: lanes being filled
-  std::vector<uint32_t> counts_;                           // for gathering messages
-  std::vector<Actuation> actuations_;                      // the step's, for the world
+  std::vector<std::vector<int>> columns_;                    // per watch: program variable -> model column
+  std::vector<std::vector<watch::RecordBuffer>> sending_;    // per watch: lanes being filled
+  std::vector<uint32_t> counts_;                             // for gathering messages
+  std::vector<std::vector<watch::RecordBuffer*>> arriving_;  // per thread: a block's lanes
+  std::vector<Actuation> actuations_;                        // the step's, for the world
 };
 
 }  // namespace dw::sim

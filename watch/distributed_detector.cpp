@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "watch/agent_step.h"
+
 namespace dw::watch {
 
 DistributedDetector::DistributedDetector(const Watchpoint& w, const Universe& u, DetectorOptions options,
@@ -14,8 +16,6 @@ DistributedDetector::DistributedDetector(const Watchpoint& w, const Universe& u,
   agents_.reserve(u.module_count());
   for (uint32_t m = 0; m < u.module_count(); ++m)
     agents_.emplace_back(m, program_, options.optimizations.temporal_spans);
-  row_values_.resize(columns_.size());
-  row_has_.resize(columns_.size());
 }
 
 size_t DistributedDetector::bytes() const {
@@ -27,52 +27,23 @@ size_t DistributedDetector::bytes() const {
 void DistributedDetector::observe(const Frame& frame) {
   if (stats_.stopped) return;
   const auto started = std::chrono::steady_clock::now();
-
-  // Each agent records its own state: only the variables the watchpoint reads.
-  for (uint32_t m = 0; m < agents_.size(); ++m) {
-    const bool present = frame.present[m] != 0;
-    if (present) {
-      const size_t row = static_cast<size_t>(m) * frame.variable_count;
-      for (size_t v = 0; v < columns_.size(); ++v) {
-        const int c = columns_[v];
-        row_has_[v] = c >= 0 && frame.has_value[row + c];
-        row_values_[v] = row_has_[v] ? frame.values[row + c] : 0;
-      }
-    }
-    agents_[m].history().record(frame.step, present, row_values_.data(), row_has_.data(),
-                                present ? frame.neighbors(m) : std::span<const uint32_t>{});
-  }
-
-  // The detectors run E+ steps behind the frames, so that `next` can be read (DESIGN §4).
+  const uint32_t m = static_cast<uint32_t>(agents_.size());
+  record_agents(agents_, 0, m, frame, program_, columns_);
   const int64_t f = frame.step - program_.extent_plus;
   if (f < 0) return;
-  ctx_.step = StepStats{};
-  ctx_.step.step = f;
-  ctx_.step.live_by_filled.assign(static_cast<size_t>(program_.slot_count()) + 1, 0);
-  ctx_.match_values = 0;
-
+  start_agent_step(ctx_, f);
   transport_.deliver();
-  transport_.for_each_delivered(
-      [&](uint32_t to, std::byte* pm) {
-        if (!ctx_.over_budget) agents_[to].receive(f, pm, ctx_, transport_);
-      },
-      [&](uint32_t next) { __builtin_prefetch(&agents_[next]); });
-  for (uint32_t m = 0; m < agents_.size() && !ctx_.over_budget; ++m)
-    if (agents_[m].history().present(f)) agents_[m].start(f, ctx_, transport_);
-
-  ctx_.step.created += ctx_.step.messages;  // starts were counted as they happened
-  ctx_.step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  if (ctx_.over_budget) {
-    // The step that went over the budget was cut short: none of it is reported (as in the
-    // threaded runtime, where where it was cut depends on the threads).
+  RecordBuffer* arriving[] = {&transport_.delivered()};
+  step_agents(agents_, 0, m, f, arriving, ctx_, transport_);
+  AgentContext* contexts[] = {&ctx_};
+  AgentStepOutcome outcome = finish_agent_step(contexts, f, options_.live_budget);
+  outcome.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  if (outcome.over_budget) {
     stats_.stopped = true;
-    stats_.stop_reason = ctx_.stop_reason.empty() ? "more than " + std::to_string(options_.live_budget) +
-                                                        " live PatternMatchers at detector step " + std::to_string(f)
-                                                  : ctx_.stop_reason + " at detector step " + std::to_string(f);
+    stats_.stop_reason = std::move(outcome.stop_reason);
     return;
   }
-  stats_.add(ctx_.step);
-
+  stats_.add(outcome.stats);
   // Everything that matched now was started at t0 = f - (k - 1).
   const int64_t t0 = f - (program_.slot_count() - 1);
   if (t0 >= 0) emit(t0, {ctx_.matches.data(), ctx_.match_values});

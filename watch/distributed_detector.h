@@ -30,8 +30,6 @@ class DistributedDetector final : public Detector {
   std::vector<DistributedAgent> agents_;
   InProcessTransport transport_;
   AgentContext ctx_;
-  std::vector<int64_t> row_values_;
-  std::vector<uint8_t> row_has_;
 };
 
 }  // namespace dw::watch

@@ -21,11 +21,8 @@ class InProcessTransport final : public PatternMatcherOutbox {
     sending_.clear();
   }
 
-  // Calls fn(to, record) for every PatternMatcher delivered at this step (see RecordBuffer).
-  template <class Fn, class Hint>
-  void for_each_delivered(Fn&& fn, Hint&& hint) {
-    delivering_.for_each(std::forward<Fn>(fn), std::forward<Hint>(hint));
-  }
+  // The PatternMatchers delivered at this step (see RecordBuffer).
+  RecordBuffer& delivered() { return delivering_; }
 
  private:
   RecordBuffer sending_, delivering_;

@@ -1,0 +1,42 @@
+// One step of the distributed algorithm (paper Alg. 2, DESIGN §4) over a run of agents, as both
+// of its hosts run it: the runtime, block by block on its threads (sim/runtime.cpp), and the
+// replay detector, every module as one block (distributed_detector.cpp). One driver, so that the
+// two cannot drift apart.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "watch/distributed_agent.h"
+#include "watch/frame.h"
+#include "watch/record_buffer.h"
+
+namespace dw::watch {
+
+// Each agent of modules [begin, end) records its module's state at frame.step: the variables the
+// watchpoint reads (`columns`: program variable -> frame column, -1 for none) and N(m, t). Then,
+// at detector step f = frame.step - E+ (the agents run E+ behind, to read `next`), a present
+// agent decides its own leaves while its history is in cache.
+void record_agents(std::span<DistributedAgent> agents, uint32_t begin, uint32_t end, const Frame& frame,
+                   const Program& program, std::span<const int> columns);
+
+// Detector step f for agents [begin, end): the PatternMatchers sent to them during f - 1 (in the
+// `arriving` lanes) are received, then every present agent starts its own. Stops as soon as the
+// context is over its budget.
+void step_agents(std::span<DistributedAgent> agents, uint32_t begin, uint32_t end, int64_t f,
+                 std::span<RecordBuffer* const> arriving, AgentContext& ctx, PatternMatcherOutbox& out);
+
+// Makes a context ready for detector step f.
+void start_agent_step(AgentContext& ctx, int64_t f);
+
+// The step's outcome, summed over the contexts that ran it (one per thread).
+struct AgentStepOutcome {
+  StepStats stats;
+  bool over_budget = false;  // the step is cut short: it reports nothing, the watchpoint stops
+  std::string stop_reason;
+};
+AgentStepOutcome finish_agent_step(std::span<AgentContext* const> contexts, int64_t f, uint64_t live_budget);
+
+}  // namespace dw::watch
