@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include "scenarios/scenario.h"
@@ -166,6 +167,80 @@ TEST(PhysicsVariants, LeaderElectionMatchesExactlyTheStaticLattice) {
 
 TEST(PhysicsVariants, TokenRingMatchesExactlyTheStaticRing) {
   expect_same_matches_as_static("token_ring_physics.toml", "token_ring.toml", 100);
+}
+
+// Random walks of every operation on a physics scenario (steps, seeks, set, remove, push,
+// watchpoints added and removed) against a straight run with the walk's interventions scheduled:
+// equal hashes at every step and equal matches, on 1 and 2 threads.
+TEST(PhysicsSession, RandomWalksEqualTheStraightRunWithTheSameEvents) {
+  constexpr int64_t kSteps = 40;
+  const std::string texts[] = {"modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)",
+                               "modules(a b); (a.isLeader = 1) and (b.isLeader = 0)"};
+  size_t interventions = 0;
+  for (unsigned threads : {1u, 2u}) {
+    for (uint32_t seed = 1; seed <= 2; ++seed) {
+      std::mt19937 rng(seed * 104729 + threads);
+      auto pick = [&](int64_t n) { return static_cast<int64_t>(rng() % static_cast<uint64_t>(n)); };
+      Scenario s = load_file("leader_election_physics.toml");
+      const uint32_t modules = s.model->module_count();
+      const int leader = s.model->column("isLeader");
+      sim::Session run(*s.model, *s.world, {.threads = threads, .end = kSteps, .history_bytes = 2 << 20});
+      std::string log;
+      for (int op = 0; op < 16; ++op) {
+        const int64_t kind = pick(7);
+        if (kind <= 1) {
+          run.run_until(std::min<int64_t>(kSteps, run.current() + 2 + pick(8)));
+          log += " run>" + std::to_string(run.current());
+        } else if (kind == 2 && run.latest() >= 0) {
+          run.seek(pick(run.latest() + 1));
+          log += " seek" + std::to_string(run.current());
+        } else if (kind == 3) {
+          const auto m = static_cast<sim::ModuleId>(pick(modules));
+          ASSERT_EQ(run.intervene({.kind = sim::Intervention::Kind::Set, .module = m, .column = leader, .value = 1}),
+                    "");
+          log += " set@" + std::to_string(run.current());
+        } else if (kind == 4) {
+          ASSERT_EQ(run.intervene({.kind = sim::Intervention::Kind::Remove, .module = sim::ModuleId(pick(modules))}),
+                    "");
+          log += " remove@" + std::to_string(run.current());
+        } else if (kind == 5) {
+          const sim::Vec3 impulse{float(pick(40) - 20), float(pick(40) - 20), float(pick(30))};
+          ASSERT_EQ(
+              run.intervene(
+                  {.kind = sim::Intervention::Kind::Push, .module = sim::ModuleId(pick(modules)), .impulse = impulse}),
+              "");
+          log += " push@" + std::to_string(run.current());
+        } else {
+          const size_t which = static_cast<size_t>(pick(2));
+          auto compiled =
+              watch::compile_watchpoint("w" + std::to_string(which), watch::SourceText("<walk>", texts[which]));
+          ASSERT_TRUE(run.set_watch({std::get<watch::Watchpoint>(std::move(compiled)),
+                                     pick(2) ? watch::Algorithm::Centralized : watch::Algorithm::Distributed,
+                                     sim::MatchAction::Log,
+                                     {}}));
+          log += " watch" + std::to_string(which);
+        }
+      }
+      while (run.current() < kSteps - 1) run.run_until(kSteps);  // through the pauses
+      SCOPED_TRACE("threads " + std::to_string(threads) + ", walk" + log);
+
+      Scenario again = load_file("leader_election_physics.toml");
+      again.model->watches = run.model().watches;
+      sim::Session straight(*again.model, *again.world, {.threads = threads, .events = run.interventions()});
+      std::vector<uint64_t> hashes;
+      while (straight.current() < kSteps - 1)
+        straight.run_until(
+            kSteps, [&](const sim::State& st, const sim::StepOutput&) { hashes.push_back(sim::hash_state(st)); });
+      EXPECT_EQ(matches_of(run), matches_of(straight));
+      interventions += run.interventions().size();
+      ASSERT_EQ(run.latest() + 1, kSteps);
+      for (int64_t t = 0; t < kSteps; ++t) {
+        ASSERT_TRUE(run.seek(t));
+        ASSERT_EQ(run.hash(), hashes[size_t(t)]) << "step " << t;
+      }
+    }
+  }
+  EXPECT_GE(interventions, 4u) << "the walks intervened";
 }
 
 }  // namespace
