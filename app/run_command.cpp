@@ -30,12 +30,6 @@ struct RunArgs {
   bool no_progress = false;
 };
 
-std::string hex(uint64_t v) {
-  std::ostringstream s;
-  s << "0x" << std::hex << std::setw(16) << std::setfill('0') << v;
-  return s.str();
-}
-
 int run_scenario(const RunArgs& args) {
   scenarios::ScenarioOverrides overrides;
   if (args.seed) overrides.seed = static_cast<uint64_t>(*args.seed);
@@ -158,7 +152,7 @@ int run_scenario(const RunArgs& args) {
   if (ran > 0 && model.module_count() > 0)
     summary << std::setprecision(2) << " (" << seconds * 1e9 / double(ran) / model.module_count()
             << " ns per module-step)";
-  summary << "\n  state hash: " << hex(hash) << "\n";
+  summary << "\n  state hash: " << sim::hash_text(hash) << "\n";
 
   if (!args.render_path.empty()) {
     // The view at the paused match's step with its group, or at the last step run.
@@ -187,7 +181,7 @@ int run_scenario(const RunArgs& args) {
     j["threads"] = threads;
     j["seconds"] = seconds;
     j["program_messages"] = run.head().program_messages;
-    j["state_hash"] = hex(hash);
+    j["state_hash"] = sim::hash_text(hash);
     uint64_t total = 0;
     j["watches"] = nlohmann::json::array();
     for (uint32_t w = 0; w < model.watches.size(); ++w) {

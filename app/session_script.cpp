@@ -47,12 +47,6 @@ struct Token {
   watch::Span span;
 };
 
-std::string hex(uint64_t v) {
-  std::ostringstream s;
-  s << "0x" << std::hex << std::setw(16) << std::setfill('0') << v;
-  return s.str();
-}
-
 std::optional<int64_t> integer(std::string_view s) {
   int64_t v = 0;
   const auto [end, error] = std::from_chars(s.data(), s.data() + s.size(), v);
@@ -417,7 +411,7 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
       }
       case Kind::Hash:
         answer["t"] = session_.current();
-        answer["hash"] = hex(session_.hash());
+        answer["hash"] = sim::hash_text(session_.hash());
         break;
       case Kind::Render: {
         const NamedFile file{"render", cmd.name};

@@ -1,5 +1,6 @@
 #include "sim/state.h"
 
+#include <cstdio>
 #include <cstring>
 #include <type_traits>
 
@@ -62,6 +63,12 @@ WatchState& WatchState::operator=(const WatchState& other) {
   stopped = other.stopped;
   stop_reason = other.stop_reason;
   return *this;
+}
+
+std::string hash_text(uint64_t hash) {
+  char text[19];
+  std::snprintf(text, sizeof text, "0x%016llx", static_cast<unsigned long long>(hash));
+  return text;
 }
 
 uint64_t hash_state(const State& s) {

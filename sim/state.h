@@ -49,6 +49,8 @@ struct State {
 // flight and match counts. PatternMatchers in flight are hashed as a multiset, since their order
 // in the lanes depends on the thread count and nothing else does.
 uint64_t hash_state(const State& state);
+// A state hash as the outputs print it: 0x and 16 hex digits.
+std::string hash_text(uint64_t hash);
 
 // The heap bytes a copy of the state holds, estimated from its sizes (the neighbour graph apart:
 // states often share one).
