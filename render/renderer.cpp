@@ -283,6 +283,11 @@ void Renderer::draw_overlay(const std::vector<OverlayVertex>& vertices, const Fo
   gl_.DrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size()));
 }
 
+glm::mat4 Renderer::view_projection(const Scene& scene, int width, int height) {
+  const Region region = view_region(scene, font(text_size(height)).atlas, width, height);
+  return render::view_projection(make_camera(scene, width, height, region), width, height, region);
+}
+
 void Renderer::draw(const Scene& scene, int width, int height, unsigned target) {
   resize(width, height);
   FontTexture& text = font(text_size(height));

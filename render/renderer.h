@@ -40,6 +40,10 @@ class Renderer {
   // Draws the scene and reads it back, top row first.
   Image render(const Scene& scene, int width, int height);
 
+  // The world-to-clip transform `draw` uses for this scene at this size (the camera placed in the
+  // part of the image the title and legend leave): what picking needs.
+  glm::mat4 view_projection(const Scene& scene, int width, int height);
+
   // The largest image side the context takes.
   int max_size() const { return max_size_; }
 
