@@ -7,6 +7,7 @@
 //             overhead over a 1,000-module physics run of leader election
 //   render    frames of the headless 3D view at 1280x720, 1,000 and 10,000 modules (bench_render.cpp)
 //   session   the session's history: live cost, keyframes, seek, retroactive watchpoints (bench_session.cpp)
+//   view      the debugger window: frames/s, and how fast a click shows its step (app/view/bench_view.cpp)
 #pragma once
 
 #include <cstdint>
@@ -49,5 +50,6 @@ int bench_engine(const BenchArgs& args);
 int bench_runtime(const BenchArgs& args);  // table1, overhead, million, physics
 int bench_render(const BenchArgs& args);
 int bench_session(const BenchArgs& args);
+int bench_view(const BenchArgs& args);  // app/view/bench_view.cpp: the window (needs a display)
 
 }  // namespace dw::app

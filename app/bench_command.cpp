@@ -173,11 +173,11 @@ bool open_csv(const BenchArgs& args, const std::string& name, const std::string&
 
 void add_bench_command(CLI::App& app, std::function<int()>& run) {
   auto* cmd = app.add_subcommand(
-      "bench", "Reproduce the paper's measurements: engine, table1, overhead, million; physics, render, session");
+      "bench", "Reproduce the paper's measurements: engine, table1, overhead, million; physics, render, session, view");
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("name", args->name, "Benchmark to run")
       ->required()
-      ->check(CLI::IsMember({"engine", "table1", "overhead", "million", "physics", "render", "session"}));
+      ->check(CLI::IsMember({"engine", "table1", "overhead", "million", "physics", "render", "session", "view"}));
   cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
       ->check(CLI::IsMember({"centralized", "distributed", "both"}));
@@ -196,6 +196,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
       if (args->name == "engine") return bench_engine(*args);
       if (args->name == "render") return bench_render(*args);
       if (args->name == "session") return bench_session(*args);
+      if (args->name == "view") return bench_view(*args);
       return bench_runtime(*args);
     };
   });

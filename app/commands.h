@@ -14,5 +14,6 @@ void add_run_command(CLI::App& app, std::function<int()>& run);
 void add_bench_command(CLI::App& app, std::function<int()>& run);
 void add_render_command(CLI::App& app, std::function<int()>& run);
 void add_session_command(CLI::App& app, std::function<int()>& run);
+void add_view_command(CLI::App& app, std::function<int()>& run);  // app/view/view_command.cpp
 
 }  // namespace dw::app

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   dw::app::add_replay_command(app, run);
   dw::app::add_render_command(app, run);
   dw::app::add_session_command(app, run);
+  dw::app::add_view_command(app, run);
   dw::app::add_bench_command(app, run);
   // A word where a command belongs that is none of them: say so, and name the real ones.
   if (argc > 1 && argv[1][0] != '-' &&

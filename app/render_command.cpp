@@ -17,6 +17,7 @@ namespace {
 
 struct RenderArgs {
   std::string scenario, out, color_by, highlight = "first";
+  std::vector<float> camera_eye, camera_target;  // x, y, z: as the window's camera was
   std::optional<int64_t> step;
   int width = 1280, height = 720;
 };
@@ -59,6 +60,9 @@ int render_scenario(const RenderArgs& args) {
                                                          : Highlight::First;
   const std::vector<render::SceneGroup> groups = groups_at(session, step, highlight);
   render::SceneSettings settings = scene_settings(scenario, args.color_by);
+  auto vec = [](const std::vector<float>& v) { return sim::Vec3{v[0], v[1], v[2]}; };
+  if (!args.camera_eye.empty()) settings.camera_eye = vec(args.camera_eye);
+  if (!args.camera_target.empty()) settings.camera_target = vec(args.camera_target);
   settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(step);
   const render::Scene scene = render::build_scene(model, session.state(), groups, settings);
   if (std::string error = write_view(scene, *out, args.width, args.height); !error.empty()) {
@@ -96,6 +100,13 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
   cmd->add_option("--highlight", args->highlight, "Which groups matched at the step to highlight")
       ->check(CLI::IsMember({"first", "all", "none"}))
       ->default_val("first");
+  cmd->add_option("--camera-eye", args->camera_eye, "Where the camera is: X,Y,Z (default: the scenario's, or fitted)")
+      ->delimiter(',')
+      ->expected(3);
+  cmd->add_option("--camera-target", args->camera_target,
+                  "Where the camera looks: X,Y,Z (default: the ensemble's centre)")
+      ->delimiter(',')
+      ->expected(3);
   cmd->callback([&run, args] { run = [args] { return render_scenario(*args); }; });
 }
 

@@ -63,6 +63,14 @@ std::optional<double> real(std::string_view s) {
 
 }  // namespace
 
+std::vector<watch::Diagnostic> unknown_variables(const sim::Model& model, const watch::Watchpoint& watchpoint) {
+  std::vector<watch::Diagnostic> mistakes;
+  for (const std::string& v : watchpoint.program.variables)
+    if (model.column(v) < 0)
+      mistakes.push_back({watch::first_use(watchpoint.ast, v), "'" + v + "' is no program's variable"});
+  return mistakes;
+}
+
 const std::vector<std::string>& session_command_help() {
   static const std::vector<std::string> help = [] {
     std::vector<std::string> lines;
@@ -224,9 +232,7 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       watch::DetectorOptions options;
       options.live_budget = 20'000'000;  // as a scenario's [[watch]] by default
       sim::HostedWatchpoint hosted{std::move(std::get<watch::Watchpoint>(compiled)), algorithm, action, options};
-      for (const std::string& v : hosted.watchpoint.program.variables)
-        if (model.column(v) < 0)
-          fail(watch::first_use(hosted.watchpoint.ast, v), "'" + v + "' is no program's variable");
+      for (watch::Diagnostic& d : unknown_variables(model, hosted.watchpoint)) mistakes.push_back(std::move(d));
       cmd.watch = std::move(hosted);
       break;
     }

@@ -45,6 +45,9 @@ struct SessionCommand {
   std::optional<sim::HostedWatchpoint> watch;
 };
 
+// A mistake for each variable the watchpoint reads that no program of the model has.
+std::vector<watch::Diagnostic> unknown_variables(const sim::Model& model, const watch::Watchpoint& watchpoint);
+
 // The commands, one line each, as `help` answers them.
 const std::vector<std::string>& session_command_help();
 
@@ -63,9 +66,11 @@ class SessionShell {
   std::variant<nlohmann::ordered_json, std::string> execute(const SessionCommand& command,
                                                             const sim::Control& control = {});
 
+  // Match i of watchpoint w as a line of the match log (DESIGN §5).
+  nlohmann::ordered_json match_json(uint32_t w, size_t i) const;
+
  private:
   nlohmann::ordered_json position();
-  nlohmann::ordered_json match_json(uint32_t w, size_t i) const;
 
   const scenarios::Scenario& scenario_;
   sim::Session& session_;

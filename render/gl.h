@@ -33,6 +33,7 @@ namespace dw::render {
   X(PFNGLSCISSORPROC, Scissor)                                 \
   X(PFNGLCLEARCOLORPROC, ClearColor)                           \
   X(PFNGLCLEARPROC, Clear)                                     \
+  X(PFNGLCOLORMASKPROC, ColorMask)                             \
   X(PFNGLREADPIXELSPROC, ReadPixels)                           \
   X(PFNGLPIXELSTOREIPROC, PixelStorei)                         \
   X(PFNGLGENBUFFERSPROC, GenBuffers)                           \

@@ -288,6 +288,13 @@ glm::mat4 Renderer::view_projection(const Scene& scene, int width, int height) {
   return render::view_projection(make_camera(scene, width, height, region), width, height, region);
 }
 
+Camera Renderer::fitted_camera(const Scene& scene, int width, int height) {
+  Scene unset = scene;
+  unset.camera_eye.reset();
+  unset.camera_target.reset();
+  return make_camera(unset, width, height, view_region(unset, font(text_size(height)).atlas, width, height));
+}
+
 void Renderer::draw(const Scene& scene, int width, int height, unsigned target) {
   resize(width, height);
   FontTexture& text = font(text_size(height));

@@ -43,6 +43,8 @@ class Renderer {
   // The world-to-clip transform `draw` uses for this scene at this size (the camera placed in the
   // part of the image the title and legend leave): what picking needs.
   glm::mat4 view_projection(const Scene& scene, int width, int height);
+  // The camera `draw` would fit to the scene at this size if the scene set none.
+  Camera fitted_camera(const Scene& scene, int width, int height);
 
   // The largest image side the context takes.
   int max_size() const { return max_size_; }

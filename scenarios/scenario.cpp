@@ -479,4 +479,25 @@ std::variant<Scenario, std::string> load_scenario(const std::string& path, const
   return load_scenario_text(path, std::move(*text), overrides);
 }
 
+std::string events_toml(std::span<const sim::Intervention> interventions, const sim::Model& model) {
+  std::ostringstream out;
+  out.imbue(std::locale::classic());
+  out.precision(9);
+  for (const sim::Intervention& i : interventions) {
+    if (i.scheduled) continue;
+    out << "\n[[event]]\nat = " << i.at << "\nmodule = " << model.universe.module_ids[i.module] << "\n";
+    switch (i.kind) {
+      case sim::Intervention::Kind::Set:
+        out << "set = { " << model.universe.variables[size_t(i.column)] << " = " << i.value << " }\n";
+        break;
+      case sim::Intervention::Kind::Remove: out << "remove = true\n"; break;
+      case sim::Intervention::Kind::Push:
+        out << "push = [" << std::showpoint << i.impulse[0] << ", " << i.impulse[1] << ", " << i.impulse[2] << "]\n"
+            << std::noshowpoint;
+        break;
+    }
+  }
+  return out.str();
+}
+
 }  // namespace dw::scenarios

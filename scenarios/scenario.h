@@ -58,6 +58,7 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <variant>
 
@@ -96,5 +97,9 @@ struct ScenarioOverrides {
 std::variant<Scenario, std::string> load_scenario(const std::string& path, const ScenarioOverrides& overrides = {});
 std::variant<Scenario, std::string> load_scenario_text(const std::string& path, std::string text,
                                                        const ScenarioOverrides& overrides = {});
+
+// The interventions a session made (not the scheduled ones) as [[event]] tables, to append to
+// the scenario's own text: loaded again, the scenario schedules the same branch.
+std::string events_toml(std::span<const sim::Intervention> interventions, const sim::Model& model);
 
 }  // namespace dw::scenarios

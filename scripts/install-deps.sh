@@ -14,6 +14,8 @@ packages=(
   libbullet-dev                                # the physics World
   libosmesa6-dev libglm-dev libpng-dev         # the 3D view: headless GL, matrices, PNG files
   libstb-dev                                   # stb_truetype: the view's text
+  libimgui-dev libglfw3-dev libgl-dev          # the debugger window: Dear ImGui 1.86, GLFW 3.3, OpenGL
+  xvfb xauth libgl1-mesa-dri libglx-mesa0      # the window's tests: a real window under Xvfb (llvmpipe)
   fonts-dejavu-core                            # the view's labels and legend
   clang libclang-rt-14-dev                     # the fuzz targets and sanitizer builds
   clang-format                                 # scripts/check-format.sh (CI)

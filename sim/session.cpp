@@ -428,6 +428,16 @@ std::vector<uint64_t> Session::match_counts(uint32_t w, int64_t from, int64_t to
 
 std::optional<std::vector<int64_t>> Session::series(ModuleId m, int column, int64_t from, int64_t to,
                                                     const Control& control) {
+  auto rows = module_series(m, from, to, control);
+  if (!rows) return std::nullopt;
+  const size_t v = model_.variable_count();
+  std::vector<int64_t> values;
+  for (size_t i = static_cast<size_t>(column); i < rows->size(); i += v) values.push_back((*rows)[i]);
+  return values;
+}
+
+std::optional<std::vector<int64_t>> Session::module_series(ModuleId m, int64_t from, int64_t to,
+                                                           const Control& control) {
   std::vector<int64_t> values;
   if (from > to || !has_history()) return values;
   // The values do not depend on the watchpoints: the simulation alone is stepped.
@@ -440,7 +450,10 @@ std::optional<std::vector<int64_t>> Session::series(ModuleId m, int column, int6
     if (control.stopped()) return std::nullopt;
     step(s, out, none);
     world_on_ = nullptr;
-    if (s.step - 1 >= from) values.push_back(s.values[size_t{m} * v + static_cast<size_t>(column)]);
+    if (s.step - 1 >= from) {
+      const auto row = s.values.begin() + static_cast<std::ptrdiff_t>(size_t{m} * v);
+      values.insert(values.end(), row, row + static_cast<std::ptrdiff_t>(v));
+    }
   }
   return values;
 }

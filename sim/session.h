@@ -137,6 +137,9 @@ class Session {
   // keyframes; nothing when cancelled.
   std::optional<std::vector<int64_t>> series(ModuleId m, int column, int64_t from, int64_t to,
                                              const Control& control = {});
+  // Every variable of module m over steps [from, to] in one pass: (to - from + 1) rows of
+  // model().variable_count() values.
+  std::optional<std::vector<int64_t>> module_series(ModuleId m, int64_t from, int64_t to, const Control& control = {});
   // Writes steps 0..latest as a wptrace v1 trace whose header lists the interventions. An error
   // message, or empty; false-y when cancelled is reported as "cancelled".
   std::string record(std::ostream& out, const Control& control = {});

@@ -345,12 +345,19 @@ TEST(Session, QueriesForViews) {
   const auto model = gossip_model({LatticeKind::Cubic, {5, 4, 3}}, {kWatches[0]});
   StaticLatticeWorld world;
   Session run(*model, world, {.threads = 1, .history_bytes = 30 << 10});
-  std::vector<int64_t> mix_of_7;
+  std::vector<int64_t> mix_of_7, all_of_7;
   const size_t v = model->variable_count();
-  run.run_until(50, [&](const State& s, const StepOutput&) { mix_of_7.push_back(s.values[7 * v + 1]); });
+  run.run_until(50, [&](const State& s, const StepOutput&) {
+    mix_of_7.push_back(s.values[7 * v + 1]);
+    all_of_7.insert(all_of_7.end(), s.values.begin() + 7 * v, s.values.begin() + 8 * v);
+  });
   const auto series = run.series(7, model->column("mix"), 10, 45);
   ASSERT_TRUE(series);
   EXPECT_EQ(*series, std::vector<int64_t>(mix_of_7.begin() + 10, mix_of_7.begin() + 46));
+  // Every variable at once, as the window's inspector reads them: rows of the step's values.
+  const auto rows = run.module_series(7, 0, 49);
+  ASSERT_TRUE(rows);
+  EXPECT_EQ(*rows, all_of_7);
 
   const MatchList& list = run.matches(0);
   ASSERT_FALSE(list.t.empty());

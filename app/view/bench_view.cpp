@@ -1,0 +1,114 @@
+// `dwatch bench view`: the debugger window's frame rate and responsiveness (needs a display: run
+// it under `xvfb-run -a -s "-screen 0 1600x1000x24"` headless). For leader election on cubic
+// lattices of 1,000 and 10,000 modules with every panel open:
+//   - frames/s while the camera turns every frame, so that the 3D view is redrawn each time;
+//   - frames/s while playing as fast as the session steps;
+//   - the time from a click on a match row, and on the timeline, until the window shows that step.
+#include <algorithm>
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+
+#include "app/bench.h"
+#include "app/view/debugger.h"
+
+namespace dw::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string scenario_text(int side_x, int side_y, int side_z) {
+  return "name = \"bench_view\"\nsteps = 400\nseed = 1\n[lattice]\nkind = \"cubic\"\nsize = [" +
+         std::to_string(side_x) + ", " + std::to_string(side_y) + ", " + std::to_string(side_z) +
+         "]\n[[program]]\nname = \"leader_election\"\nbug = true\n[[watch]]\nname = \"two_leaders\"\n"
+         "text = \"modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)\"\nalgorithm = \"distributed\"\n"
+         "action = \"log\"\n[view]\ncolor_by = \"isLeader\"\n";
+}
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+}  // namespace
+
+int bench_view(const BenchArgs& args) {
+  auto window = view::GlfwWindow::create(1600, 1000, "dwatch bench view");
+  if (auto* error = std::get_if<std::string>(&window)) {
+    std::cerr << "dwatch bench view: error: " << *error << "\n";
+    return 1;
+  }
+  std::cout << "bench view: 1600x1000 window, every panel open; best of " << args.repeat << " runs\n";
+  std::cout << std::fixed << std::setprecision(1);
+  struct Size {
+    int x, y, z;
+  };
+  for (const Size s : {Size{10, 10, 10}, Size{22, 22, 21}}) {
+    auto loaded = scenarios::load_scenario_text("bench_view.toml", scenario_text(s.x, s.y, s.z));
+    if (auto* errors = std::get_if<std::string>(&loaded)) {
+      std::cerr << *errors;
+      return 1;
+    }
+    const scenarios::Scenario& scenario = std::get<scenarios::Scenario>(loaded);
+    sim::Session session(*scenario.model, *scenario.world,
+                         {args.threads, scenario.steps, scenario.history_mb << 20, scenario.events});
+    view::Debugger debugger(scenario, session, *std::get<0>(window), "");
+    view::ViewModel& model = debugger.model();
+    debugger.send("run 150");
+    debugger.settle();
+    model.selected = 0;
+    model.filter = {};
+    debugger.settle();
+
+    double orbit_fps = 0, play_fps = 0, match_click = 1e9, timeline_click = 1e9;
+    for (int r = 0; r < args.repeat; ++r) {
+      const int frames = 60;
+      auto start = Clock::now();
+      for (int f = 0; f < frames; ++f) {
+        model.camera.orbit(5, 0);
+        debugger.frame();
+      }
+      orbit_fps = std::max(orbit_fps, frames / seconds_since(start));
+
+      // Playing from step 150 as fast as possible: frames drawn while the worker steps.
+      debugger.send("seek 150");
+      debugger.settle();
+      model.speed = 0;
+      model.playing = true;
+      start = Clock::now();
+      int played = 0;
+      while (model.playing && seconds_since(start) < 2.0) {
+        debugger.frame();
+        ++played;
+      }
+      model.playing = false;
+      play_fps = std::max(play_fps, played / seconds_since(start));
+      debugger.settle();
+
+      // A click on a match row (the last one, far from the current step) until the step shows.
+      const view::Frame& shown = debugger.shown();
+      if (!shown.match_rows.empty()) {
+        const view::MatchRef ref = shown.match_rows[shown.match_rows.size() / 2].ref;
+        const int64_t want = shown.match_rows[shown.match_rows.size() / 2].t;
+        std::vector<std::string> commands;
+        debugger.worker().read([&](sim::Session& ss) { commands = model.on_match_click(ss, ref); });
+        start = Clock::now();
+        for (const std::string& c : commands) debugger.send(c);
+        while (debugger.shown().at.current != want) debugger.frame();
+        match_click = std::min(match_click, seconds_since(start));
+      }
+      // A click on the timeline at step 37.
+      view::Timeline timeline{0, std::max<int64_t>(debugger.shown().at.latest, 0), 0, 1000};
+      start = Clock::now();
+      for (const std::string& c : model.on_timeline_click(timeline, timeline.x_of(37), debugger.shown().at))
+        debugger.send(c);
+      while (debugger.shown().at.current != 37) debugger.frame();
+      timeline_click = std::min(timeline_click, seconds_since(start));
+    }
+    const uint32_t modules = scenario.model->module_count();
+    std::cout << "  " << std::setw(6) << modules << " modules: " << std::setw(6) << orbit_fps
+              << " frames/s turning the camera, " << std::setw(6) << play_fps << " frames/s playing at full speed, "
+              << "a match click shows its step in " << match_click * 1000 << " ms, a timeline click in "
+              << timeline_click * 1000 << " ms\n";
+  }
+  return 0;
+}
+
+}  // namespace dw::app

@@ -1,0 +1,605 @@
+#include "app/view/debugger.h"
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "render/annotations.h"
+#include "render/picking.h"
+
+namespace dw::view {
+namespace {
+
+// Steps a request asks for when playing as fast as possible adapt so that one takes about this.
+constexpr double kFastRequestSeconds = 0.02;
+
+std::string vec_text(glm::vec3 v) {
+  std::ostringstream s;
+  s.imbue(std::locale::classic());
+  s.precision(6);
+  s << v.x << "," << v.y << "," << v.z;
+  return s.str();
+}
+
+}  // namespace
+
+std::string layout_file() {
+  std::filesystem::path dir;
+  if (const char* xdg = std::getenv("XDG_CONFIG_HOME"); xdg && *xdg) dir = xdg;
+  else if (const char* home = std::getenv("HOME"); home && *home) dir = std::filesystem::path(home) / ".config";
+  else return {};
+  std::error_code ec;
+  std::filesystem::create_directories(dir / "dwatch", ec);
+  if (ec) return {};
+  return (dir / "dwatch" / "view.ini").string();
+}
+
+Debugger::Debugger(const scenarios::Scenario& scenario, sim::Session& session, GlfwWindow& window, std::string layout)
+    : scenario_(scenario),
+      session_(session),
+      window_(window),
+      layout_(std::move(layout)),
+      shell_(scenario, session),
+      worker_(std::make_unique<SessionWorker>(session)) {
+  window_.make_current();
+  renderer_ = std::make_unique<render::Renderer>(window_.gl());
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = layout_.empty() ? nullptr : layout_.c_str();
+  io.Fonts->AddFontFromFileTTF(DWATCH_FONT_FILE, 16.0f);
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(window_.handle(), true);
+  ImGui_ImplOpenGL3_Init("#version 330 core");
+  model_.color_by = scenario_.view.color_by;
+  edit_name_ = "w" + std::to_string(session_.model().watches.size() + 1);
+  last_request_ = std::chrono::steady_clock::now();
+}
+
+Debugger::~Debugger() {
+  worker_.reset();  // cancels and joins before anything it uses goes
+  window_.make_current();
+  const render::Gl& gl = window_.gl();
+  if (view_fbo_) gl.DeleteFramebuffers(1, &view_fbo_);
+  if (view_texture_) gl.DeleteTextures(1, &view_texture_);
+  renderer_.reset();
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+}
+
+std::string Debugger::send(const std::string& line) {
+  const watch::SourceText source("<window>", line);
+  auto parsed = shell_.parse(source, 0, 1);
+  if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) return watch::format_diagnostics(source, *ds);
+  auto& command = std::get<std::optional<app::SessionCommand>>(parsed);
+  if (!command) return {};
+  worker_->submit([this, line, c = std::move(*command)](sim::Session&, const sim::Control& control) {
+    Answer a{line, {}, {}};
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      auto result = shell_.execute(c, control);
+      if (auto* error = std::get_if<std::string>(&result)) a.error = *error;
+      else a.json = std::move(std::get<nlohmann::ordered_json>(result));
+    } catch (const std::exception& e) {  // a program failed: the session stays where it got to
+      a.error = e.what();
+    }
+    last_job_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::lock_guard lock(answers_mutex_);
+    answers_.push_back(std::move(a));
+  });
+  return {};
+}
+
+void Debugger::apply(const std::vector<std::string>& commands) {
+  for (const std::string& c : commands)
+    if (std::string error = send(c); !error.empty()) status(error);
+}
+
+void Debugger::status(std::string message) {
+  while (!message.empty() && message.back() == '\n') message.pop_back();
+  status_ = std::move(message);
+}
+
+void Debugger::refresh_frame() {
+  // Answers first: a pause stops playing and selects the group it matched.
+  std::optional<std::pair<std::string, int64_t>> paused;
+  {
+    std::lock_guard lock(answers_mutex_);
+    for (; answers_seen_ < answers_.size(); ++answers_seen_) {
+      const Answer& a = answers_[answers_seen_];
+      if (!a.error.empty()) {
+        status(a.line + ": " + a.error);
+        model_.playing = false;
+        continue;
+      }
+      if (a.json.contains("pause")) {
+        model_.playing = false;
+        const auto& p = a.json["pause"];
+        paused.emplace(p.value("watch", ""), p.value("t", int64_t{0}));
+        status("paused: " + p.dump());
+      } else if (!model_.playing) {
+        status(a.json.dump());
+      }
+    }
+  }
+  const uint64_t version = worker_->finished();
+  if (!paused && version == frame_.version && !frame_stale_) return;
+  const bool read = worker_->try_read([&](sim::Session& s) {
+    if (paused) {
+      const int w = s.watch_index(paused->first);
+      if (w >= 0) {
+        const auto [first, last] = s.matches(uint32_t(w)).at(paused->second);
+        if (first < last) {
+          model_.selected_match = MatchRef{uint32_t(w), first};
+          const size_t k = size_t(s.model().watches[size_t(w)].watchpoint.program.slot_count());
+          model_.selected = s.matches(uint32_t(w)).slots[first * k];
+          model_.focus_selection = true;
+        }
+      }
+    }
+    const ModuleWindow* window = module_window_ ? &*module_window_ : nullptr;
+    frame_ = read_frame(s, scenario_, model_, window, version);
+  });
+  if (!read) return;  // a job runs: the last Frame stays on screen
+  frame_stale_ = false;
+  drawn_key_.clear();
+
+  // The inspector's history of the selected module, when it is not the current step's.
+  if (model_.selected && !model_.playing && !module_window_asked_ && frame_.at.current >= 0 &&
+      !(module_window_ && module_window_->module == *model_.selected && module_window_->to == frame_.at.current)) {
+    module_window_asked_ = true;
+    const sim::ModuleId m = *model_.selected;
+    worker_->submit([this, m](sim::Session& s, const sim::Control& control) {
+      auto w = read_module_window(s, m, FrameLimits{}.plot_steps, control);
+      if (w) module_window_ = std::move(*w);
+      module_window_asked_ = false;
+    });
+  }
+}
+
+void Debugger::handle_keys() {
+  const ImGuiIO& io = ImGui::GetIO();
+  if (io.WantTextInput) return;
+  struct Binding {
+    int glfw_key;
+    Key key;
+  };
+  static constexpr Binding kBindings[] = {
+      {GLFW_KEY_SPACE, Key::Space}, {GLFW_KEY_RIGHT, Key::Right}, {GLFW_KEY_LEFT, Key::Left},
+      {GLFW_KEY_N, Key::N},         {GLFW_KEY_P, Key::P},         {GLFW_KEY_F, Key::F},
+      {GLFW_KEY_Z, Key::Z},         {GLFW_KEY_HOME, Key::Home},   {GLFW_KEY_END, Key::End},
+      {GLFW_KEY_F1, Key::F1},       {GLFW_KEY_F12, Key::F12},     {GLFW_KEY_ESCAPE, Key::Escape},
+  };
+  for (const Binding& b : kBindings) {
+    if (!ImGui::IsKeyPressed(b.glfw_key, b.key == Key::Right || b.key == Key::Left)) continue;
+    if (b.key == Key::Escape) worker_->cancel();
+    press(b.key);
+  }
+}
+
+void Debugger::press(Key key) {
+  const size_t w = size_t(model_.chosen_watch);
+  const std::span<const int64_t> steps =
+      w < frame_.watches.size() ? std::span<const int64_t>(frame_.watches[w].match_steps) : std::span<const int64_t>();
+  apply(model_.on_key(key, frame_.at, steps));
+  if (model_.screenshot_requested) {
+    model_.screenshot_requested = false;
+    const std::string path = "dwatch-" + scenario_.name + "-step-" + std::to_string(std::max<int64_t>(0, frame_.at.current)) + ".png";
+    const std::string error = screenshot_view(path);
+    status(error.empty() ? "screenshot of the 3D view -> " + path : error);
+  }
+  if (key == Key::F) drawn_key_.clear();
+}
+
+void Debugger::play() {
+  if (!model_.playing || suspend_play_ || !worker_->idle() || frame_stale_ || frame_.version != worker_->finished())
+    return;
+  const auto now = std::chrono::steady_clock::now();
+  const double since = std::chrono::duration<double>(now - last_request_).count();
+  const int64_t last = frame_.at.end > 0 ? frame_.at.end - 1 : INT64_MAX;
+  if (frame_.at.current >= last) {
+    model_.playing = false;
+    status("the scenario's end (step " + std::to_string(last) + "): step on with -> or `run` past it");
+    return;
+  }
+  int64_t n;
+  if (model_.speed <= 0) {
+    if (last_job_seconds_ > 0) {
+      if (last_job_seconds_ < kFastRequestSeconds * 0.5) fast_steps_ *= 2;
+      else if (last_job_seconds_ > kFastRequestSeconds * 2 && fast_steps_ > 1) fast_steps_ /= 2;
+    }
+    n = fast_steps_;
+  } else {
+    n = model_.steps_due(since);
+    if (n < 1) return;
+  }
+  n = std::min(n, last - frame_.at.current);
+  send(command::step(n));
+  last_request_ = now;
+}
+
+render::Scene& Debugger::camera_scene() {
+  const render::Camera c = model_.camera.camera();
+  frame_.scene.camera_eye = sim::Vec3{c.eye.x, c.eye.y, c.eye.z};
+  frame_.scene.camera_target = sim::Vec3{c.target.x, c.target.y, c.target.z};
+  return frame_.scene;
+}
+
+void Debugger::place_camera() {
+  if (view_.width < 16 || view_.height < 16 || frame_.scene.modules.empty()) return;
+  window_.make_current();
+  model_.camera = OrbitCamera::looking(renderer_->fitted_camera(frame_.scene, view_.width, view_.height));
+  model_.camera_placed = true;
+}
+
+void Debugger::focus_on_selection() {
+  model_.focus_selection = false;
+  if (!model_.selected) return;
+  for (const render::SceneModule& m : frame_.scene.modules)
+    if (m.id == *model_.selected) {
+      model_.camera.target = {m.pose.position[0], m.pose.position[1], m.pose.position[2]};
+      return;
+    }
+}
+
+void Debugger::render_view_texture() {
+  const render::Gl& gl = window_.gl();
+  if (!view_fbo_) {
+    gl.GenFramebuffers(1, &view_fbo_);
+    gl.GenTextures(1, &view_texture_);
+  }
+  if (texture_width_ != view_.width || texture_height_ != view_.height) {
+    gl.BindTexture(GL_TEXTURE_2D, view_texture_);
+    gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, view_.width, view_.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // one texel a pixel: as drawn
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, view_fbo_);
+    gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, view_texture_, 0);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    texture_width_ = view_.width;
+    texture_height_ = view_.height;
+    drawn_key_.clear();
+  }
+  const glm::vec3 eye = model_.camera.eye();
+  const std::string key = std::to_string(frame_.version) + "|" + vec_text(eye) + "|" + vec_text(model_.camera.target) +
+                          "|" + std::to_string(view_.width) + "x" + std::to_string(view_.height);
+  if (key == drawn_key_) return;
+  renderer_->draw(camera_scene(), view_.width, view_.height, view_fbo_);
+  // Blending leaves alpha below 1 where translucent things were drawn, and ImGui blends the image
+  // over the window: the picture is opaque, as `dwatch render` writes it.
+  gl.BindFramebuffer(GL_FRAMEBUFFER, view_fbo_);
+  gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);
+  gl.ClearColor(0, 0, 0, 1);
+  gl.Clear(GL_COLOR_BUFFER_BIT);
+  gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+  drawn_key_ = key;
+}
+
+void Debugger::draw_view() {
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(vp->WorkPos, ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(vp->WorkSize.x - kPanelWidth, vp->WorkSize.y - kTransportHeight), ImGuiCond_FirstUseEver);
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0);  // a border would cover the picture's edge
+  ImGui::Begin("3D view", nullptr, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+  ImGui::PopStyleVar(2);
+
+  // The tool row: colour-by, fit, centre, screenshot.
+  ImGui::SetCursorPos(ImVec2(ImGui::GetCursorPosX() + 6, ImGui::GetCursorPosY() + 4));
+  ImGui::SetNextItemWidth(160);
+  const auto& variables = session_.model().universe.variables;  // fixed for the run
+  if (ImGui::BeginCombo("colour by", model_.color_by.empty() ? "(one colour)" : model_.color_by.c_str())) {
+    if (ImGui::Selectable("(one colour)", model_.color_by.empty())) model_.color_by.clear(), frame_stale_ = true;
+    for (const std::string& v : variables)
+      if (ImGui::Selectable(v.c_str(), v == model_.color_by)) model_.color_by = v, frame_stale_ = true;
+    ImGui::EndCombo();
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Fit (F)")) press(Key::F);
+  ImGui::SameLine();
+  if (ImGui::Button("Centre (Z)")) press(Key::Z);
+  ImGui::SameLine();
+  if (ImGui::Button("Screenshot (F12)")) press(Key::F12);
+
+  const ImVec2 avail = ImGui::GetContentRegionAvail();
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
+  view_ = {origin.x * scale.x, origin.y * scale.y, std::max(16, int(avail.x * scale.x)),
+           std::max(16, int(avail.y * scale.y))};
+  if (!model_.camera_placed) place_camera();
+  if (model_.focus_selection) focus_on_selection();
+  render_view_texture();
+  const ImVec2 size(float(view_.width) / scale.x, float(view_.height) / scale.y);
+  ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(view_texture_)), size, ImVec2(0, 1), ImVec2(1, 0));
+  ImGui::SetCursorScreenPos(origin);
+  ImGui::InvisibleButton("view", size,
+                         ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight |
+                             ImGuiButtonFlags_MouseButtonMiddle);
+  const ImVec2 mouse = ImGui::GetIO().MousePos;
+  view_input((mouse.x - origin.x) * scale.x, (mouse.y - origin.y) * scale.y, ImGui::IsItemHovered());
+  ImGui::End();
+}
+
+std::optional<sim::ModuleId> Debugger::module_at(float x, float y) {
+  const glm::mat4 vp = renderer_->view_projection(camera_scene(), view_.width, view_.height);
+  return render::pick(frame_.scene, vp, view_.width, view_.height, {x, y});
+}
+
+void Debugger::view_input(float x, float y, bool hovered) {
+  ImGuiIO& io = ImGui::GetIO();
+  const bool active = ImGui::IsItemActive();
+  if (active && ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
+    dragging_ = true;
+    model_.camera.orbit(io.MouseDelta.x, io.MouseDelta.y);
+  } else if (active && (ImGui::IsMouseDragging(ImGuiMouseButton_Right) || ImGui::IsMouseDragging(ImGuiMouseButton_Middle))) {
+    dragging_ = true;
+    model_.camera.pan(io.MouseDelta.x, io.MouseDelta.y, int(float(view_.height) / io.DisplayFramebufferScale.y));
+  }
+  if (hovered && io.MouseWheel != 0) model_.camera.zoom(io.MouseWheel);
+  if (ImGui::IsMouseReleased(ImGuiMouseButton_Left)) {
+    if (hovered && !dragging_) {
+      model_.on_module_click(module_at(x, y));
+      frame_stale_ = true;
+    }
+    dragging_ = false;
+  }
+  if (ImGui::IsMouseReleased(ImGuiMouseButton_Right) || ImGui::IsMouseReleased(ImGuiMouseButton_Middle)) dragging_ = false;
+
+  hovered_.reset();
+  if (hovered && !dragging_) hovered_ = module_at(x, y);
+  if (hovered_) {
+    const sim::Model& m = session_.model();
+    ImGui::BeginTooltip();
+    ImGui::Text("module %u", m.universe.module_ids[*hovered_]);
+    if (!frame_.color_values.empty() && *hovered_ < frame_.color_values.size())
+      ImGui::Text("%s = %lld", model_.color_by.c_str(), static_cast<long long>(frame_.color_values[*hovered_]));
+    ImGui::TextDisabled("click to select");
+    ImGui::EndTooltip();
+  }
+}
+
+std::string Debugger::screenshot_view(const std::string& path) {
+  window_.make_current();
+  try {
+    const render::Image image = renderer_->render(camera_scene(), view_.width, view_.height);
+    std::string error;
+    if (!render::write_png(path, image, &error)) return error;
+  } catch (const render::RenderError& e) {
+    return e.what();
+  }
+  drawn_key_.clear();
+  return {};
+}
+
+void Debugger::frame() {
+  const auto start = std::chrono::steady_clock::now();
+  glfwPollEvents();
+  refresh_frame();
+  window_.make_current();
+  ImGui_ImplOpenGL3_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  ImGui::NewFrame();
+  handle_keys();
+  play();
+  draw_view();
+  draw_panels();
+  if (model_.show_help) help_window();
+  ImGui::Render();
+
+  int width = 0, height = 0;
+  glfwGetFramebufferSize(window_.handle(), &width, &height);
+  const render::Gl& gl = window_.gl();
+  gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl.Viewport(0, 0, width, height);
+  gl.ClearColor(0.1f, 0.1f, 0.12f, 1);
+  gl.Clear(GL_COLOR_BUFFER_BIT);
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  if (!window_shot_.empty()) {
+    render::Image image(width, height);
+    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+    gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+    render::Image flipped(width, height);
+    const size_t row = size_t(width) * 4;
+    for (int y = 0; y < height; ++y)
+      std::copy_n(image.rgba.data() + size_t(height - 1 - y) * row, row, flipped.rgba.data() + size_t(y) * row);
+    for (size_t i = 3; i < flipped.rgba.size(); i += 4) flipped.rgba[i] = 255;
+    window_shot_error_.clear();
+    render::write_png(window_shot_, flipped, &window_shot_error_);
+    window_shot_.clear();
+  }
+  glfwSwapBuffers(window_.handle());
+  frame_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool Debugger::settled() {
+  return worker_->idle() && frame_.version == worker_->finished() && !frame_stale_ && !module_window_asked_;
+}
+
+void Debugger::settle() {
+  suspend_play_ = true;
+  while (!settled()) frame();
+  suspend_play_ = false;
+}
+
+int Debugger::run_interactive() {
+  while (!glfwWindowShouldClose(window_.handle())) frame();
+  return 0;
+}
+
+nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& words, std::string& error) {
+  nlohmann::ordered_json answer;
+  answer["cmd"] = words[0];
+  const sim::Model& m = session_.model();
+  auto number = [&](size_t i, int64_t lo, int64_t hi, const char* what) -> std::optional<int64_t> {
+    if (i >= words.size()) {
+      error = std::string(what) + " is missing";
+      return std::nullopt;
+    }
+    char* end = nullptr;
+    const long long v = std::strtoll(words[i].c_str(), &end, 10);
+    if (*end || words[i].empty() || v < lo || v > hi) {
+      error = std::string(what) + " must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
+      return std::nullopt;
+    }
+    return v;
+  };
+  settle();
+  if (words[0] == "wait") {
+    const auto n = number(1, 0, 100000, "N");
+    if (!n) return answer;
+    for (int64_t i = 0; i < *n; ++i) frame();
+    answer["frames"] = *n;
+  } else if (words[0] == "key") {
+    const auto key = words.size() == 2 ? key_named(words[1]) : std::nullopt;
+    if (!key) {
+      error = "key NAME: one of space, right, left, n, p, f, z, home, end, f1, f12, escape";
+      return answer;
+    }
+    press(*key);
+    settle();
+    answer["key"] = words[1];
+    answer["current"] = frame_.at.current;
+  } else if (words[0] == "click" && words.size() >= 2 && words[1] == "timeline") {
+    const auto t = number(2, 0, std::max<int64_t>(timeline_.last, 0), "T");
+    if (!t) return answer;
+    const float x = timeline_.x_of(*t);
+    apply(model_.on_timeline_click(timeline_, x, frame_.at));
+    settle();
+    answer["x"] = x;
+    answer["current"] = frame_.at.current;
+  } else if (words[0] == "click" && words.size() >= 2 && words[1] == "match") {
+    const auto row = number(2, 0, int64_t(frame_.match_rows.size()) - 1, "ROW");
+    if (!row) return answer;
+    const MatchRef ref = frame_.match_rows[size_t(*row)].ref;
+    std::vector<std::string> commands;
+    worker_->read([&](sim::Session& s) { commands = model_.on_match_click(s, ref); });
+    apply(commands);
+    frame_stale_ = true;
+    settle();
+    frame();  // the camera centres on the group at the next frame
+    answer["current"] = frame_.at.current;
+    answer["selected"] = model_.selected ? nlohmann::ordered_json(m.universe.module_ids[*model_.selected]) : nullptr;
+  } else if (words[0] == "click") {
+    const auto module = number(1, 0, int64_t(m.module_count()) - 1, "M");
+    if (!module) return answer;
+    // Where module M shows, clicked through the same picking as the mouse.
+    const glm::mat4 vp = renderer_->view_projection(camera_scene(), view_.width, view_.height);
+    std::optional<glm::vec2> pixel;
+    for (const render::SceneModule& s : frame_.scene.modules)
+      if (s.id == sim::ModuleId(*module))
+        pixel = render::project(vp, {s.pose.position[0], s.pose.position[1], s.pose.position[2]}, view_.width,
+                                view_.height);
+    if (!pixel) {
+      error = "module " + std::to_string(*module) + " is not in the 3D view at this step";
+      return answer;
+    }
+    model_.on_module_click(module_at(pixel->x, pixel->y));
+    frame_stale_ = true;
+    settle();
+    answer["pixel"] = {pixel->x, pixel->y};
+    answer["selected"] = model_.selected ? nlohmann::ordered_json(m.universe.module_ids[*model_.selected]) : nullptr;
+  } else if (words[0] == "screenshot") {
+    if (words.size() != 2) {
+      error = "screenshot FILE";
+      return answer;
+    }
+    window_shot_ = words[1];
+    frame();
+    if (!window_shot_error_.empty()) {
+      error = window_shot_error_;
+      return answer;
+    }
+    const render::Camera c = model_.camera.camera();
+    answer["screenshot"] = words[1];
+    answer["t"] = std::max<int64_t>(0, frame_.at.current);
+    answer["view"] = {{"x", view_.x}, {"y", view_.y}, {"width", view_.width}, {"height", view_.height}};
+    answer["camera_eye"] = vec_text(c.eye);
+    answer["camera_target"] = vec_text(c.target);
+    answer["color_by"] = model_.color_by;
+  } else if (words[0] == "panel") {
+    if (words.size() != 2) {
+      error = "panel NAME: position, matches, watchpoints or inspector";
+      return answer;
+    }
+    answer = frame_.panel(words[1], m);
+    if (answer.contains("error")) error = answer["error"];
+  }
+  return answer;
+}
+
+int Debugger::run_script(const watch::SourceText& script) {
+  // Checked whole first, as `dwatch session` checks a script.
+  struct Line {
+    uint32_t number;
+    std::vector<std::string> window_words;  // a window command
+    std::string session_line;               // or a line of the session language
+  };
+  std::vector<Line> lines;
+  std::string mistakes;
+  const std::string& text = script.text();
+  uint32_t number = 1;
+  for (size_t begin = 0; begin < text.size(); ++number) {
+    const size_t newline = text.find('\n', begin);
+    const size_t stop = newline == std::string::npos ? text.size() : newline;
+    std::istringstream words_in(text.substr(begin, stop - begin));
+    std::vector<std::string> words;
+    for (std::string w; words_in >> w && w[0] != '#';) words.push_back(w);
+    static const char* kWindowCommands[] = {"click", "key", "wait", "screenshot", "panel"};
+    if (!words.empty() && std::find(std::begin(kWindowCommands), std::end(kWindowCommands), words[0]) != std::end(kWindowCommands)) {
+      lines.push_back({number, std::move(words), {}});
+    } else {
+      auto parsed = shell_.parse(script, uint32_t(begin), number);
+      if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) mistakes += watch::format_diagnostics(script, *ds);
+      else if (std::get<std::optional<app::SessionCommand>>(parsed)) lines.push_back({number, {}, text.substr(begin, stop - begin)});
+    }
+    begin = newline == std::string::npos ? text.size() : newline + 1;
+  }
+  if (!mistakes.empty()) {
+    std::cerr << mistakes;
+    return 2;
+  }
+  // The pointer rests in the window's corner, over no panel, so that no tooltip covers the view.
+  int width = 0, height = 0;
+  glfwGetWindowSize(window_.handle(), &width, &height);
+  glfwSetCursorPos(window_.handle(), width - 2, height - 2);
+  settle();
+  for (const Line& line : lines) {
+    std::string error;
+    nlohmann::ordered_json answer;
+    if (!line.window_words.empty()) {
+      answer = window_command(line.window_words, error);
+    } else {
+      size_t first;
+      {
+        std::lock_guard lock(answers_mutex_);
+        first = answers_.size();
+      }
+      error = send(line.session_line);
+      settle();
+      std::lock_guard lock(answers_mutex_);
+      if (error.empty() && answers_.size() > first) {
+        error = answers_[first].error;
+        answer = answers_[first].json;
+      }
+    }
+    if (!error.empty()) {
+      std::cout.flush();
+      std::cerr << script.name() << ":" << line.number << ": error: " << error << " (the script stops here)\n";
+      return 1;
+    }
+    std::cout << answer.dump() << "\n" << std::flush;
+  }
+  return 0;
+}
+
+}  // namespace dw::view

@@ -1,0 +1,155 @@
+// `dwatch view`: the debugger window (GLFW + Dear ImGui) over one session. The 3D view (the same
+// renderer and scene as `dwatch render`), the transport bar and a timeline of every watchpoint's
+// matches, and panels for the watchpoints, the matches, the selected module, interventions and
+// statistics. Every widget sends a line of the session language (DESIGN §7a) through the same
+// SessionShell as `dwatch session`, run by a worker thread so that the window keeps drawing; what
+// the panels show is a Frame read between jobs. A script drives the same window: the session's
+// commands, plus `click`, `key`, `wait`, `screenshot` and `panel`.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/session_script.h"
+#include "app/view/frame.h"
+#include "app/view/glfw_window.h"
+#include "app/view/session_worker.h"
+#include "app/view/view_model.h"
+#include "render/image.h"
+#include "render/renderer.h"
+
+namespace dw::view {
+
+// The window's settings file: $XDG_CONFIG_HOME/dwatch/view.ini (or ~/.config/...), never the
+// repository; empty when neither is set.
+std::string layout_file();
+
+class Debugger {
+ public:
+  // `layout`: where ImGui keeps the panels' places between runs; empty: not kept.
+  Debugger(const scenarios::Scenario& scenario, sim::Session& session, GlfwWindow& window, std::string layout);
+  ~Debugger();
+  Debugger(const Debugger&) = delete;
+  Debugger& operator=(const Debugger&) = delete;
+
+  // Until the window is closed.
+  int run_interactive();
+  // Every line checked first (a mistake: exit 2), then carried out, each answered with one JSON
+  // line on stdout; a command that fails stops the script (exit 1).
+  int run_script(const watch::SourceText& script);
+
+  // One frame: input, a fresh Frame if the session changed, panels, the 3D view, swap.
+  void frame();
+  // Frames until the worker has nothing left to do and the Frame is current.
+  void settle();
+
+  // Where the panels go the first time (afterwards the layout file says): a column on the right,
+  // the transport bar under the 3D view.
+  static constexpr float kPanelWidth = 480, kTransportHeight = 190;
+
+  ViewModel& model() { return model_; }
+  const Frame& shown() const { return frame_; }
+  SessionWorker& worker() { return *worker_; }
+  // Sends a line of the session language; an error message when it does not parse.
+  std::string send(const std::string& line);
+
+ private:
+  struct Answer {
+    std::string line;
+    std::string error;  // empty: `json` holds the answer
+    nlohmann::ordered_json json;
+  };
+  struct ViewArea {
+    float x = 0, y = 0;  // the 3D view's top-left corner in the window, in framebuffer pixels
+    int width = 0, height = 0;
+  };
+
+  // debugger.cpp
+  void refresh_frame();
+  bool settled();
+  void handle_keys();
+  void press(Key key);
+  void play();
+  void draw_view();
+  void view_input(float x, float y, bool hovered);
+  std::optional<sim::ModuleId> module_at(float x, float y);
+  render::Scene& camera_scene();  // the Frame's scene, seen through the user's camera
+  void place_camera();
+  void focus_on_selection();
+  void render_view_texture();
+  std::string screenshot_view(const std::string& path);
+  nlohmann::ordered_json window_command(const std::vector<std::string>& words, std::string& error);
+  void apply(const std::vector<std::string>& commands);
+  void status(std::string message);
+
+  // panels.cpp
+  void draw_panels();
+  void transport_panel();
+  void timeline(float width);
+  void watchpoints_panel();
+  void editor();
+  void matches_panel();
+  void inspector_panel();
+  void statistics_panel();
+  void help_window();
+
+  const scenarios::Scenario& scenario_;
+  sim::Session& session_;
+  GlfwWindow& window_;
+  std::string layout_;
+  app::SessionShell shell_;
+  std::unique_ptr<SessionWorker> worker_;
+  std::unique_ptr<render::Renderer> renderer_;
+  ViewModel model_;
+  Frame frame_;
+  bool frame_stale_ = true;
+
+  // The inspector's history of the selected module, written by a worker job (under the session's
+  // lock, as is every read of it).
+  std::optional<ModuleWindow> module_window_;
+  std::atomic<bool> module_window_asked_ = false;
+
+  std::mutex answers_mutex_;
+  std::vector<Answer> answers_;  // from the worker, in order
+  size_t answers_seen_ = 0;      // by the status line
+  std::string status_;           // the last answer or mistake, in the transport bar
+
+  // The 3D view: a texture the renderer draws into, redrawn when what it shows changes.
+  ViewArea view_;
+  unsigned view_fbo_ = 0, view_texture_ = 0;
+  int texture_width_ = 0, texture_height_ = 0;
+  std::string drawn_key_;  // what the texture shows
+  std::optional<sim::ModuleId> hovered_;
+  bool dragging_ = false;
+  std::string window_shot_, window_shot_error_;  // a script's `screenshot`, taken after the next frame
+  Timeline timeline_;                            // as last drawn
+
+  // Playing.
+  std::chrono::steady_clock::time_point last_request_;
+  int64_t fast_steps_ = 1;  // steps per request when playing as fast as possible
+  std::atomic<double> last_job_seconds_ = 0;
+  bool suspend_play_ = false;  // while a script waits for the session to settle
+
+  // The editor.
+  std::string edit_name_ = "w1", edit_text_;
+  int edit_algorithm_ = 1, edit_action_ = 0;  // distributed, log
+  std::string edit_checked_;  // the name and text last compiled
+  std::string edit_diagnostics_, edit_explanation_;
+  bool edit_ok_ = false;
+
+  // Interventions and files.
+  char set_variable_[64] = "", record_path_[256] = "trace.jsonl", matches_path_[256] = "matches.jsonl";
+  int64_t set_value_ = 0;
+  float push_[3] = {0, 0, 5};
+  int goto_step_ = 0;
+  int filter_module_ = -1;
+
+  double frame_seconds_ = 0;  // the last frame's time, for the statistics panel
+};
+
+}  // namespace dw::view

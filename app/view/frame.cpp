@@ -1,0 +1,198 @@
+#include "app/view/frame.h"
+
+#include <algorithm>
+
+#include "app/view_image.h"
+#include "sim/intervention.h"
+#include "watch/detector.h"
+
+namespace dw::view {
+
+std::string slots_text(const sim::Model& model, uint32_t watch, std::span<const sim::ModuleId> group) {
+  const auto& names = model.watches[watch].watchpoint.program.slot_names;
+  std::string s;
+  for (size_t i = 0; i < group.size() && i < names.size(); ++i)
+    s += (s.empty() ? "" : " ") + names[i] + "=" + std::to_string(model.universe.module_ids[group[i]]);
+  return s;
+}
+
+std::optional<ModuleWindow> read_module_window(sim::Session& session, sim::ModuleId m, int64_t steps,
+                                               const sim::Control& control) {
+  ModuleWindow w;
+  w.module = m;
+  w.to = session.current();
+  w.from = std::max<int64_t>(0, w.to - steps + 1);
+  if (w.to < 0) return w;
+  auto rows = session.module_series(m, w.from, w.to, control);
+  if (!rows) return std::nullopt;
+  w.rows = std::move(*rows);
+  return w;
+}
+
+namespace {
+
+std::vector<sim::ModuleId> group_of(const sim::Session& session, MatchRef r) {
+  const size_t k = size_t(session.model().watches[r.watch].watchpoint.program.slot_count());
+  const sim::MatchList& list = session.matches(r.watch);
+  return {list.slots.begin() + std::ptrdiff_t(r.index * k), list.slots.begin() + std::ptrdiff_t((r.index + 1) * k)};
+}
+
+Inspector inspect(sim::Session& session, const ViewModel& view, const ModuleWindow* window, const FrameLimits& limits) {
+  const sim::Model& model = session.model();
+  const sim::ModuleId m = *view.selected;
+  Inspector in;
+  in.module = m;
+  const sim::State& s = session.state();
+  const size_t v = model.variable_count();
+  const int64_t t = session.current();
+  in.present = t >= 0 && session.seen_present()[m] != 0;
+  const bool have_window = window && window->module == m && window->to == t && !window->rows.empty();
+  for (uint32_t c = 0; c < v; ++c) {
+    VariableRow row{model.universe.variables[c], s.values[size_t{m} * v + c], std::nullopt};
+    if (have_window && t - 1 >= window->from) row.before = window->rows[size_t(t - 1 - window->from) * v + c];
+    in.variables.push_back(std::move(row));
+  }
+  if (t >= 0)
+    for (sim::ModuleId n : session.seen_graph().neighbors(m)) in.neighbors.push_back(n);
+  if (!s.bodies.empty()) in.pose = s.bodies.poses[m];
+  MatchFilter only_m;
+  only_m.module = m;
+  MatchRows rows = filter_matches(session, only_m, limits.module_matches);
+  in.matches = std::move(rows.rows);
+  in.matches_total = rows.total;
+  in.plot_column = view.plot_variable.empty() ? 0 : std::max(0, model.column(view.plot_variable));
+  if (have_window) {
+    in.plot_from = window->from;
+    for (size_t i = size_t(in.plot_column); i < window->rows.size(); i += v) in.plot.push_back(float(window->rows[i]));
+  }
+  return in;
+}
+
+}  // namespace
+
+Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, const ViewModel& view,
+                 const ModuleWindow* window, uint64_t version, const FrameLimits& limits) {
+  const sim::Model& model = session.model();
+  Frame f;
+  f.version = version;
+  f.at = {session.current(), session.latest(), session.end()};
+  f.decided = session.decided();
+  f.history_bytes = session.history_bytes();
+  f.keyframes = session.keyframes();
+  f.keyframe_interval = session.keyframe_interval();
+
+  for (uint32_t w = 0; w < model.watches.size(); ++w) {
+    const sim::HostedWatchpoint& h = model.watches[w];
+    WatchRow row;
+    row.name = h.watchpoint.name;
+    row.algorithm = watch::algorithm_name(h.algorithm);
+    row.action = std::string(sim::action_name(h.action));
+    row.text = h.watchpoint.source->text();
+    row.lag = h.lag();
+    row.matches = session.match_count(w);
+    row.slots = size_t(h.watchpoint.program.slot_count());
+    row.match_steps = session.matches(w).t;
+    f.watches.push_back(std::move(row));
+
+    // The detector's statistics of the steps up to the current one.
+    std::vector<StatsRow> stats;
+    const watch::DetectorStats& ds = session.stats(w);
+    const int64_t t = std::max<int64_t>(0, f.at.current);
+    for (const watch::StepStats& st : ds.steps) {
+      if (st.step > t || st.step <= t - limits.stats_steps) continue;
+      stats.push_back({st.step, st.live, st.created, st.messages, st.matches, st.seconds, st.live_by_filled});
+    }
+    f.stats.push_back(std::move(stats));
+  }
+
+  for (const sim::Intervention& i : session.interventions()) {
+    f.intervention_steps.push_back(i.at);
+    f.interventions.push_back(sim::intervention_json(i, model.universe));
+  }
+
+  // The scene highlights one group of the current step, linked and labelled: the selected match
+  // when it is of this step, else the first (as `dwatch render` draws a step). The timeline and
+  // the matches table show the others.
+  const int64_t t = std::max<int64_t>(0, f.at.current);
+  std::vector<render::SceneGroup> groups;
+  if (f.at.current >= 0) groups = app::groups_at(session, t, app::Highlight::First);
+  if (const auto& chosen = view.selected_match; chosen && chosen->watch < model.watches.size() &&
+                                                chosen->index < session.matches(chosen->watch).size() &&
+                                                session.matches(chosen->watch).t[chosen->index] == t) {
+    const watch::Watchpoint& wp = model.watches[chosen->watch].watchpoint;
+    groups = {{wp.name, t, wp.program.slot_names, group_of(session, *chosen)}};
+  }
+  render::SceneSettings settings = app::scene_settings(scenario, view.color_by);
+  settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(t);
+  f.scene = render::build_scene(model, session.state(), groups, settings);
+  if (const int c = settings.color_by.empty() ? -1 : model.column(settings.color_by); c >= 0) {
+    const sim::State& s = session.state();
+    const size_t v = model.variable_count();
+    for (size_t m = 0; m < model.module_count(); ++m) f.color_values.push_back(s.values[m * v + size_t(c)]);
+  }
+
+  if (view.selected && *view.selected < model.module_count()) f.inspector = inspect(session, view, window, limits);
+
+  MatchRows rows = filter_matches(session, view.filter, limits.match_rows);
+  f.match_total = rows.total;
+  for (const MatchRef& r : rows.rows) {
+    const sim::MatchList& list = session.matches(r.watch);
+    f.match_rows.push_back({r, model.watches[r.watch].watchpoint.name, list.t[r.index], list.detected[r.index],
+                            slots_text(model, r.watch, group_of(session, r))});
+  }
+  return f;
+}
+
+nlohmann::ordered_json Frame::panel(const std::string& name, const sim::Model& model) const {
+  nlohmann::ordered_json j;
+  j["panel"] = name;
+  if (name == "position") {
+    j["current"] = at.current;
+    j["latest"] = at.latest;
+    j["decided"] = decided;
+  } else if (name == "matches") {
+    j["total"] = match_total;
+    nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+    for (const MatchRowText& r : match_rows)
+      rows.push_back({{"watch", r.watch}, {"t", r.t}, {"detected", r.detected}, {"slots", r.slots}});
+    j["rows"] = std::move(rows);
+  } else if (name == "watchpoints") {
+    nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+    for (const WatchRow& w : watches)
+      rows.push_back({{"name", w.name},
+                      {"algorithm", w.algorithm},
+                      {"action", w.action},
+                      {"lag", w.lag},
+                      {"matches", w.matches}});
+    j["rows"] = std::move(rows);
+  } else if (name == "inspector") {
+    if (!inspector) {
+      j["module"] = nullptr;
+      return j;
+    }
+    const Inspector& in = *inspector;
+    j["module"] = model.universe.module_ids[in.module];
+    j["t"] = at.current;
+    j["present"] = in.present;
+    nlohmann::ordered_json vars = nlohmann::ordered_json::array();
+    for (const VariableRow& v : in.variables) {
+      nlohmann::ordered_json row = {{"name", v.name}, {"value", v.value}};
+      if (v.before) row["before"] = *v.before;
+      row["changed"] = v.changed();
+      vars.push_back(std::move(row));
+    }
+    j["vars"] = std::move(vars);
+    nlohmann::ordered_json nbrs = nlohmann::ordered_json::array();
+    for (sim::ModuleId n : in.neighbors) nbrs.push_back(model.universe.module_ids[n]);
+    j["nbrs"] = std::move(nbrs);
+    j["matches"] = in.matches_total;
+    j["plot"] = {{"variable", model.universe.variables[size_t(in.plot_column)]},
+                 {"from", in.plot_from},
+                 {"points", in.plot.size()}};
+  } else {
+    j["error"] = "no panel named " + name + " (there are: position, matches, watchpoints, inspector)";
+  }
+  return j;
+}
+
+}  // namespace dw::view

@@ -1,0 +1,112 @@
+// What the window shows of the session, read in one go between the worker's jobs (a Frame): the
+// position, the watchpoints and their match steps, the interventions, the 3D scene of the current
+// step, the selected module's inspector, the statistics, and the rows of the matches table. Panels
+// draw only from a Frame, so they keep drawing while a job runs. Every text a panel shows comes
+// from here too, which is what a script's `panel` command reads back.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/view/view_model.h"
+#include "render/scene.h"
+#include "scenarios/scenario.h"
+#include "sim/session.h"
+
+namespace dw::view {
+
+struct WatchRow {
+  std::string name, algorithm, action, text;
+  int64_t lag = 0;
+  uint64_t matches = 0;
+  size_t slots = 0;
+  std::vector<int64_t> match_steps;  // sorted: the timeline lane, and N / P
+};
+
+struct VariableRow {
+  std::string name;
+  int64_t value = 0;
+  std::optional<int64_t> before;  // at the step before; nothing at step 0
+  bool changed() const { return before && *before != value; }
+};
+
+struct Inspector {
+  sim::ModuleId module = 0;
+  bool present = false;
+  std::vector<VariableRow> variables;
+  std::vector<sim::ModuleId> neighbors;
+  std::optional<sim::Pose> pose;
+  std::vector<MatchRef> matches;  // every match holding the module (up to a limit)
+  size_t matches_total = 0;
+  // The plotted variable (ViewModel::plot_variable) over steps [plot_from, plot_from + plot.size()).
+  int plot_column = 0;
+  int64_t plot_from = 0;
+  std::vector<float> plot;
+};
+
+struct StatsRow {  // one watchpoint's detector at one step
+  int64_t step = 0;
+  uint64_t live = 0, created = 0, messages = 0, matches = 0;
+  double seconds = 0;
+  std::vector<uint64_t> live_by_filled;
+};
+
+struct MatchRowText {
+  MatchRef ref;
+  std::string watch;
+  int64_t t = 0, detected = 0;
+  std::string slots;  // "a=3 b=7 c=8"
+};
+
+struct Frame {
+  uint64_t version = 0;  // the worker's finished jobs when read
+  Position at;
+  int64_t decided = -1;
+  std::vector<WatchRow> watches;
+  std::vector<int64_t> intervention_steps;
+  std::vector<std::string> interventions;  // one line each, as `interventions` answers
+  render::Scene scene;
+  std::vector<int64_t> color_values;  // per module, the colour-by variable's value (the tooltip)
+  std::optional<Inspector> inspector;
+  std::vector<std::vector<StatsRow>> stats;  // per watchpoint, the steps around the current one
+  std::vector<MatchRowText> match_rows;
+  size_t match_total = 0;
+  size_t history_bytes = 0, keyframes = 0;
+  int64_t keyframe_interval = 0;
+
+  // The panels' text, for scripts and tests: "matches" (rows), "inspector", "watchpoints",
+  // "position".
+  nlohmann::ordered_json panel(const std::string& name, const sim::Model& model) const;
+};
+
+// How much a Frame holds: table rows, the inspector's matches and plot, the statistics' steps.
+struct FrameLimits {
+  size_t match_rows = 100'000;
+  size_t module_matches = 1'000;
+  int64_t plot_steps = 100;  // the inspector's plot: this many steps ending at the current one
+  int64_t stats_steps = 200;
+};
+
+// Every variable of one module over the steps up to the current one: the inspector's marks of
+// what changed and its plot. Re-simulated from the keyframes (a job of its own, off the frame
+// loop), never moving the session's cursor.
+struct ModuleWindow {
+  sim::ModuleId module = 0;
+  int64_t from = 0, to = -1;
+  std::vector<int64_t> rows;  // (to - from + 1) rows of every variable
+};
+std::optional<ModuleWindow> read_module_window(sim::Session& session, sim::ModuleId m, int64_t steps,
+                                               const sim::Control& control = {});
+
+// Reads the session (which the caller must not share with a running job); `window`, when it is
+// the selected module's up to the current step, fills the inspector's history.
+Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, const ViewModel& model,
+                 const ModuleWindow* window, uint64_t version, const FrameLimits& limits = {});
+
+// "a=3 b=7": a group's slots by name.
+std::string slots_text(const sim::Model& model, uint32_t watch, std::span<const sim::ModuleId> group);
+
+}  // namespace dw::view

@@ -1,0 +1,472 @@
+// The debugger's panels (Dear ImGui): transport and timeline, watchpoints and the editor, the
+// matches table, the module inspector with interventions, statistics, help. Each draws from the
+// Frame and sends session commands; none reads the session while a job may run.
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+#include <cinttypes>
+#include <fstream>
+#include <sstream>
+
+#include "app/explain.h"
+#include "app/view/debugger.h"
+#include "watch/watchpoint.h"
+
+namespace dw::view {
+namespace {
+
+const ImU32 kLaneColors[] = {IM_COL32(230, 85, 60, 255), IM_COL32(70, 150, 230, 255), IM_COL32(90, 190, 90, 255),
+                             IM_COL32(220, 170, 40, 255), IM_COL32(170, 100, 220, 255)};
+
+void place(ImVec2 pos, ImVec2 size) {
+  ImGui::SetNextWindowPos(pos, ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(size, ImGuiCond_FirstUseEver);
+}
+
+// A panel of the right-hand column, from `top` to `bottom` (fractions of the window's height).
+void place_in_column(float top, float bottom) {
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  place(ImVec2(vp->WorkPos.x + vp->WorkSize.x - Debugger::kPanelWidth, vp->WorkPos.y + vp->WorkSize.y * top),
+        ImVec2(Debugger::kPanelWidth, vp->WorkSize.y * (bottom - top)));
+}
+
+}  // namespace
+
+void Debugger::draw_panels() {
+  transport_panel();
+  watchpoints_panel();
+  matches_panel();
+  inspector_panel();
+  statistics_panel();
+}
+
+void Debugger::transport_panel() {
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  place(ImVec2(vp->WorkPos.x, vp->WorkPos.y + vp->WorkSize.y - kTransportHeight),
+        ImVec2(vp->WorkSize.x - kPanelWidth, kTransportHeight));
+  ImGui::Begin("Transport and timeline", nullptr, ImGuiWindowFlags_NoCollapse);
+  const Position& at = frame_.at;
+  if (ImGui::Button(model_.playing ? "Pause (Space)" : "Play (Space)")) press(Key::Space);
+  ImGui::SameLine();
+  if (ImGui::Button("< Back")) press(Key::Left);
+  ImGui::SameLine();
+  if (ImGui::Button("Step >")) press(Key::Right);
+  ImGui::SameLine();
+  if (ImGui::Button("Run")) apply({command::run()});
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(150);
+  ImGui::SliderInt("steps/s", &model_.speed, 0, 240, model_.speed == 0 ? "fastest" : "%d");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(110);
+  ImGui::InputInt("##goto", &goto_step_);
+  ImGui::SameLine();
+  if (ImGui::Button("Go to step")) {
+    model_.playing = false;
+    const int64_t t = std::max(0, goto_step_);
+    apply({t <= at.latest ? command::seek(t) : command::run_to(t)});
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("< Prev match (P)")) press(Key::P);
+  ImGui::SameLine();
+  if (ImGui::Button("Next match (N) >")) press(Key::N);
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(140);
+  const char* chosen = size_t(model_.chosen_watch) < frame_.watches.size()
+                           ? frame_.watches[size_t(model_.chosen_watch)].name.c_str()
+                           : "(none)";
+  if (ImGui::BeginCombo("##chosen", chosen)) {
+    for (size_t w = 0; w < frame_.watches.size(); ++w)
+      if (ImGui::Selectable(frame_.watches[w].name.c_str(), int(w) == model_.chosen_watch)) model_.chosen_watch = int(w);
+    ImGui::EndCombo();
+  }
+
+  ImGui::Text("step %" PRId64 " of %" PRId64 " simulated (decided through %" PRId64 "; the scenario runs %" PRId64
+              ")   history: %zu keyframes every %" PRId64 " steps, %.1f MiB",
+              at.current, at.latest, frame_.decided, at.end, frame_.keyframes, frame_.keyframe_interval,
+              double(frame_.history_bytes) / (1 << 20));
+  if (!worker_->idle()) {
+    const auto [done, total] = worker_->progress();
+    ImGui::ProgressBar(total > 0 ? float(done) / float(total) : 0.0f, ImVec2(300, 0),
+                       total > 0 ? (std::to_string(done) + " / " + std::to_string(total)).c_str() : "working");
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel (Esc)")) worker_->cancel();
+    ImGui::SameLine();
+  }
+  ImGui::TextWrapped("%s", status_.c_str());
+  timeline(ImGui::GetContentRegionAvail().x);
+  ImGui::End();
+}
+
+void Debugger::timeline(float width) {
+  // One lane a watchpoint, then the interventions' lane; the cursor across all.
+  const float lane = 14, label = 110;
+  const size_t lanes = frame_.watches.size() + 1;
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  const float height = lane * float(lanes) + 4;
+  timeline_.first = 0;
+  timeline_.last = std::max({frame_.at.latest, frame_.at.end - 1, int64_t{0}});
+  timeline_.x0 = origin.x + label;
+  timeline_.width = std::max(10.0f, width - label - 4);
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  const int columns = int(timeline_.width);
+  const float simulated = timeline_.x_of(frame_.at.latest) - timeline_.x0;
+  draw->AddRectFilled(ImVec2(timeline_.x0, origin.y), ImVec2(timeline_.x0 + timeline_.width, origin.y + height),
+                      IM_COL32(45, 45, 50, 255));
+  draw->AddRectFilled(ImVec2(timeline_.x0, origin.y), ImVec2(timeline_.x0 + std::max(0.0f, simulated), origin.y + height),
+                      IM_COL32(60, 62, 70, 255));
+  for (size_t w = 0; w < lanes; ++w) {
+    const float y = origin.y + lane * float(w) + 2;
+    const bool interventions = w == frame_.watches.size();
+    const ImU32 color = interventions ? IM_COL32(240, 240, 240, 255) : kLaneColors[w % std::size(kLaneColors)];
+    draw->AddText(ImVec2(origin.x, y - 2), color,
+                  interventions ? "interventions" : frame_.watches[w].name.c_str());
+    const std::vector<int64_t>& steps = interventions ? frame_.intervention_steps : frame_.watches[w].match_steps;
+    const std::vector<uint32_t> density = lane_density(steps, timeline_, columns);
+    const uint32_t most = density.empty() ? 0 : *std::max_element(density.begin(), density.end());
+    for (int c = 0; c < columns; ++c) {
+      if (!density[size_t(c)]) continue;
+      // Density: a column's height grows with the log of its matches, so one match still shows.
+      const float share = most <= 1 ? 1.0f : 0.35f + 0.65f * std::log1p(float(density[size_t(c)])) / std::log1p(float(most));
+      const float x = timeline_.x0 + float(c);
+      draw->AddRectFilled(ImVec2(x, y + lane - 2 - (lane - 3) * share), ImVec2(x + 1, y + lane - 2), color);
+    }
+  }
+  const float cx = timeline_.x_of(std::max<int64_t>(0, frame_.at.current));
+  draw->AddLine(ImVec2(cx, origin.y), ImVec2(cx, origin.y + height), IM_COL32(255, 255, 255, 255), 2);
+
+  ImGui::SetCursorScreenPos(ImVec2(timeline_.x0, origin.y));
+  ImGui::InvisibleButton("timeline", ImVec2(timeline_.width, height));
+  const float mouse_x = ImGui::GetIO().MousePos.x;
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("step %" PRId64 " (click or drag to go there)", timeline_.step_at(mouse_x));
+  // A click seeks; a drag seeks as it goes, once the session is free (never queueing a backlog).
+  if (ImGui::IsItemActive() && (ImGui::IsItemClicked() || (worker_->idle() && timeline_.step_at(mouse_x) != frame_.at.current)))
+    apply(model_.on_timeline_click(timeline_, mouse_x, frame_.at));
+}
+
+void Debugger::watchpoints_panel() {
+  place_in_column(0.0f, 0.3f);
+  ImGui::Begin("Watchpoints");
+  if (ImGui::BeginTable("watches", 6, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
+    for (const char* h : {"name", "algorithm", "action", "lag", "matches", ""}) ImGui::TableSetupColumn(h);
+    ImGui::TableHeadersRow();
+    for (size_t w = 0; w < frame_.watches.size(); ++w) {
+      const WatchRow& row = frame_.watches[w];
+      ImGui::PushID(int(w));
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextColored(ImColor(kLaneColors[w % std::size(kLaneColors)]), "%s", row.name.c_str());
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", row.text.c_str());
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(row.algorithm.c_str());
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(row.action.c_str());
+      ImGui::TableNextColumn();
+      ImGui::Text("%" PRId64, row.lag);
+      ImGui::TableNextColumn();
+      ImGui::Text("%" PRIu64, row.matches);
+      ImGui::TableNextColumn();
+      if (ImGui::SmallButton("edit")) {
+        edit_name_ = row.name;
+        edit_text_ = row.text;
+        edit_algorithm_ = row.algorithm == "centralized" ? 0 : 1;
+        edit_action_ = row.action == "pause" ? 1 : row.action == "count" ? 2 : 0;
+        edit_checked_.clear();
+      }
+      ImGui::SameLine();
+      if (ImGui::SmallButton("remove")) apply({command::unwatch(row.name)});
+      ImGui::PopID();
+    }
+    ImGui::EndTable();
+  }
+  editor();
+  ImGui::End();
+}
+
+void Debugger::editor() {
+  ImGui::Separator();
+  ImGui::TextUnformatted("Editor: compiled as you type; Add / Replace evaluates it over the whole history");
+  ImGui::SetNextItemWidth(120);
+  ImGui::InputText("name", &edit_name_);
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(110);
+  ImGui::Combo("##algorithm", &edit_algorithm_, "centralized\0distributed\0");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(80);
+  ImGui::Combo("##action", &edit_action_, "log\0pause\0count\0");
+  ImGui::InputTextMultiline("##text", &edit_text_, ImVec2(-1, ImGui::GetTextLineHeight() * 4));
+
+  // Compiled whenever the text changes, with the diagnostics the command line prints.
+  const std::string key = edit_name_ + "\n" + edit_text_;
+  if (key != edit_checked_) {
+    edit_checked_ = key;
+    edit_ok_ = false;
+    edit_diagnostics_.clear();
+    edit_explanation_.clear();
+    if (!edit_text_.empty()) {
+      auto compiled = watch::compile_watchpoint(edit_name_, watch::SourceText("<editor>", edit_text_));
+      if (auto* error = std::get_if<watch::CompileError>(&compiled)) {
+        edit_diagnostics_ = error->format();
+      } else {
+        const watch::Watchpoint& w = std::get<watch::Watchpoint>(compiled);
+        const std::vector<watch::Diagnostic> unknown = app::unknown_variables(session_.model(), w);
+        if (!unknown.empty()) {
+          edit_diagnostics_ = watch::format_diagnostics(*w.source, unknown);
+        } else {
+          std::ostringstream explained;
+          app::explain_watchpoint(w, explained);
+          edit_explanation_ = explained.str();
+          edit_ok_ = true;
+        }
+      }
+    }
+  }
+  ImGui::BeginDisabled(!edit_ok_ || edit_name_.empty());
+  const bool exists = std::any_of(frame_.watches.begin(), frame_.watches.end(),
+                                  [&](const WatchRow& w) { return w.name == edit_name_; });
+  if (ImGui::Button(exists ? "Replace" : "Add")) {
+    static const char* kAlgorithms[] = {"centralized", "distributed"};
+    static const char* kActions[] = {"log", "pause", "count"};
+    apply({command::watch(edit_name_, std::string(kAlgorithms[edit_algorithm_]) + " " + kActions[edit_action_],
+                          edit_text_)});
+  }
+  ImGui::EndDisabled();
+  if (!edit_diagnostics_.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(255, 120, 110, 255));
+    ImGui::TextUnformatted(edit_diagnostics_.c_str());
+    ImGui::PopStyleColor();
+  } else if (!edit_explanation_.empty() && ImGui::CollapsingHeader("what it means (dwatch check)")) {
+    ImGui::TextUnformatted(edit_explanation_.c_str());
+  }
+}
+
+void Debugger::matches_panel() {
+  place_in_column(0.3f, 0.54f);
+  ImGui::Begin("Matches");
+  MatchFilter& filter = model_.filter;
+  ImGui::SetNextItemWidth(120);
+  const char* watch_label = filter.watch >= 0 && size_t(filter.watch) < frame_.watches.size()
+                                ? frame_.watches[size_t(filter.watch)].name.c_str()
+                                : "every watch";
+  if (ImGui::BeginCombo("##filter_watch", watch_label)) {
+    if (ImGui::Selectable("every watch", filter.watch < 0)) filter.watch = -1, frame_stale_ = true;
+    for (size_t w = 0; w < frame_.watches.size(); ++w)
+      if (ImGui::Selectable(frame_.watches[w].name.c_str(), int(w) == filter.watch)) filter.watch = int(w), frame_stale_ = true;
+    ImGui::EndCombo();
+  }
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(100);
+  if (ImGui::InputInt("module (-1: any)", &filter_module_)) {
+    filter_module_ = std::max(-1, filter_module_);
+    filter.module = filter_module_ >= 0 ? std::optional<sim::ModuleId>(sim::ModuleId(filter_module_)) : std::nullopt;
+    frame_stale_ = true;
+  }
+  ImGui::SameLine();
+  if (ImGui::SmallButton("copy JSON lines")) {
+    std::string lines;
+    worker_->try_read([&](sim::Session&) {
+      for (const MatchRowText& r : frame_.match_rows) lines += shell_.match_json(r.ref.watch, r.ref.index).dump() + "\n";
+    });
+    ImGui::SetClipboardText(lines.c_str());
+    status("copied " + std::to_string(frame_.match_rows.size()) + " matches as JSON lines");
+  }
+  ImGui::Text("%zu matches%s", frame_.match_total,
+              frame_.match_total > frame_.match_rows.size() ? " (the first shown: filter to narrow)" : "");
+  const ImGuiTableFlags flags = ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollY |
+                                ImGuiTableFlags_Sortable | ImGuiTableFlags_SizingStretchProp;
+  if (ImGui::BeginTable("matches", 4, flags)) {
+    ImGui::TableSetupScrollFreeze(0, 1);
+    ImGui::TableSetupColumn("watch", 0, 1, 1);
+    ImGui::TableSetupColumn("t", ImGuiTableColumnFlags_DefaultSort, 1, 0);
+    ImGui::TableSetupColumn("detected", 0, 1, 2);
+    ImGui::TableSetupColumn("slots", ImGuiTableColumnFlags_NoSort, 4, 3);
+    ImGui::TableHeadersRow();
+    if (ImGuiTableSortSpecs* sort = ImGui::TableGetSortSpecs(); sort && sort->SpecsDirty && sort->SpecsCount > 0) {
+      const ImGuiTableColumnSortSpecs& s = sort->Specs[0];
+      filter.order = s.ColumnUserID == 1   ? MatchFilter::Order::Watch
+                     : s.ColumnUserID == 2 ? MatchFilter::Order::Detected
+                                           : MatchFilter::Order::Step;
+      filter.descending = s.SortDirection == ImGuiSortDirection_Descending;
+      sort->SpecsDirty = false;
+      frame_stale_ = true;
+    }
+    ImGuiListClipper clipper;
+    clipper.Begin(int(frame_.match_rows.size()));
+    while (clipper.Step())
+      for (int i = clipper.DisplayStart; i < clipper.DisplayEnd; ++i) {
+        const MatchRowText& r = frame_.match_rows[size_t(i)];
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        const bool chosen = model_.selected_match == r.ref;
+        if (ImGui::Selectable((r.watch + "##" + std::to_string(i)).c_str(), chosen, ImGuiSelectableFlags_SpanAllColumns)) {
+          std::vector<std::string> commands;
+          worker_->try_read([&](sim::Session& s) { commands = model_.on_match_click(s, r.ref); });
+          apply(commands);
+          frame_stale_ = true;
+        }
+        ImGui::TableNextColumn();
+        ImGui::Text("%" PRId64, r.t);
+        ImGui::TableNextColumn();
+        ImGui::Text("%" PRId64, r.detected);
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(r.slots.c_str());
+      }
+    ImGui::EndTable();
+  }
+  ImGui::End();
+}
+
+void Debugger::inspector_panel() {
+  place_in_column(0.54f, 0.8f);
+  ImGui::Begin("Module");
+  const sim::Model& m = session_.model();
+  if (!frame_.inspector) {
+    ImGui::TextDisabled("click a module in the 3D view, a match or a neighbour");
+    ImGui::End();
+    return;
+  }
+  const Inspector& in = *frame_.inspector;
+  ImGui::Text("module %u at step %" PRId64 "%s", m.universe.module_ids[in.module], frame_.at.current,
+              in.present ? "" : "  (absent)");
+  if (in.pose) {
+    const auto& p = in.pose->position;
+    ImGui::SameLine();
+    ImGui::TextDisabled("  at (%.2f, %.2f, %.2f)", p[0], p[1], p[2]);
+  }
+  if (ImGui::BeginTable("vars", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
+    ImGui::TableSetupColumn("variable");
+    ImGui::TableSetupColumn("value");
+    ImGui::TableSetupColumn("step before");
+    ImGui::TableHeadersRow();
+    for (const VariableRow& v : in.variables) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      if (ImGui::Selectable(v.name.c_str(), v.name == model_.plot_variable || (model_.plot_variable.empty() && &v == &in.variables[0])))
+        model_.plot_variable = v.name, frame_stale_ = true;
+      ImGui::TableNextColumn();
+      if (v.changed()) ImGui::TextColored(ImVec4(1, 0.8f, 0.2f, 1), "%lld  (changed)", static_cast<long long>(v.value));
+      else ImGui::Text("%lld", static_cast<long long>(v.value));
+      ImGui::TableNextColumn();
+      if (v.before) ImGui::Text("%lld", static_cast<long long>(*v.before));
+      else ImGui::TextDisabled("-");
+    }
+    ImGui::EndTable();
+  }
+  if (!in.plot.empty()) {
+    const std::string label = m.universe.variables[size_t(in.plot_column)] + ", steps " + std::to_string(in.plot_from) +
+                              " to " + std::to_string(in.plot_from + int64_t(in.plot.size()) - 1);
+    ImGui::PlotLines("##plot", in.plot.data(), int(in.plot.size()), 0, label.c_str(), FLT_MAX, FLT_MAX, ImVec2(-1, 60));
+  }
+  ImGui::TextUnformatted("neighbours:");
+  for (sim::ModuleId n : in.neighbors) {
+    ImGui::SameLine();
+    if (ImGui::SmallButton(std::to_string(m.universe.module_ids[n]).c_str())) {
+      model_.on_module_click(n);
+      frame_stale_ = true;
+    }
+  }
+  ImGui::Text("in %zu matches", in.matches_total);
+  for (size_t i = 0; i < in.matches.size() && i < 8; ++i) {
+    const MatchRef r = in.matches[i];
+    if (r.watch >= frame_.watches.size() || r.index >= frame_.watches[r.watch].match_steps.size()) continue;
+    ImGui::SameLine();
+    const std::string label = frame_.watches[r.watch].name + "@" + std::to_string(frame_.watches[r.watch].match_steps[r.index]);
+    if (ImGui::SmallButton(label.c_str())) {
+      std::vector<std::string> commands;
+      worker_->try_read([&](sim::Session& s) { commands = model_.on_match_click(s, r); });
+      apply(commands);
+      frame_stale_ = true;
+    }
+  }
+
+  ImGui::Separator();
+  ImGui::TextUnformatted("Interventions at this step (each starts a branch):");
+  ImGui::SetNextItemWidth(100);
+  ImGui::InputText("var", set_variable_, sizeof set_variable_);
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(100);
+  ImGui::InputScalar("value", ImGuiDataType_S64, &set_value_);
+  ImGui::SameLine();
+  if (ImGui::Button("Set")) apply({command::set(in.module, set_variable_, set_value_)});
+  if (ImGui::Button("Remove module")) apply({command::remove(in.module)});
+  if (in.pose) {  // a physical world
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(160);
+    ImGui::InputFloat3("impulse", push_);
+    ImGui::SameLine();
+    if (ImGui::Button("Push")) apply({command::push(in.module, {push_[0], push_[1], push_[2]})});
+  }
+  ImGui::Text("%zu interventions on this branch", frame_.interventions.size());
+  ImGui::SameLine();
+  if (ImGui::SmallButton("save as scenario")) {
+    const std::string path = scenario_.name + "-branch.toml";
+    std::string events;
+    worker_->try_read([&](sim::Session& s) { events = scenarios::events_toml(s.interventions(), s.model()); });
+    std::ifstream in_file(scenario_.path);
+    std::ostringstream text;
+    text << in_file.rdbuf();
+    std::ofstream out(path);
+    out << text.str() << "\n# The branch made in dwatch view:" << events;
+    status(out ? "saved the scenario with this branch's interventions -> " + path : "cannot write " + path);
+  }
+  ImGui::SetNextItemWidth(160);
+  ImGui::InputText("##record", record_path_, sizeof record_path_);
+  ImGui::SameLine();
+  if (ImGui::SmallButton("record trace")) apply({std::string("record ") + record_path_});
+  ImGui::End();
+}
+
+void Debugger::statistics_panel() {
+  place_in_column(0.8f, 1.0f);
+  ImGui::Begin("Statistics");
+  ImGui::Text("frame %.1f ms (%.0f frames/s)", frame_seconds_ * 1000, ImGui::GetIO().Framerate);
+  for (size_t w = 0; w < frame_.stats.size(); ++w) {
+    const std::vector<StatsRow>& rows = frame_.stats[w];
+    if (!ImGui::CollapsingHeader(frame_.watches[w].name.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) continue;
+    if (rows.empty()) {
+      ImGui::TextDisabled("no steps yet");
+      continue;
+    }
+    const StatsRow& last = rows.back();
+    ImGui::Text("step %" PRId64 ": %" PRIu64 " PatternMatchers live, %" PRIu64 " created, %" PRIu64 " messages, %.3f ms",
+                last.step, last.live, last.created, last.messages, last.seconds * 1000);
+    std::vector<float> live, created, messages, ms;
+    for (const StatsRow& r : rows) {
+      live.push_back(float(r.live));
+      created.push_back(float(r.created));
+      messages.push_back(float(r.messages));
+      ms.push_back(float(r.seconds * 1000));
+    }
+    ImGui::PushID(int(w));
+    ImGui::PlotLines("live", live.data(), int(live.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-60, 40));
+    ImGui::PlotLines("created", created.data(), int(created.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-60, 40));
+    ImGui::PlotLines("messages", messages.data(), int(messages.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-60, 40));
+    ImGui::PlotLines("step ms", ms.data(), int(ms.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-60, 40));
+    // The paper's Fig. 7: PatternMatchers by slots filled, at this step.
+    std::vector<float> filled(last.live_by_filled.begin(), last.live_by_filled.end());
+    if (!filled.empty())
+      ImGui::PlotHistogram("by slots filled", filled.data(), int(filled.size()), 0, "live, 0..k filled", 0, FLT_MAX,
+                           ImVec2(-60, 50));
+    ImGui::PopID();
+  }
+  ImGui::End();
+}
+
+void Debugger::help_window() {
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+  ImGui::Begin("Help (F1)", &model_.show_help, ImGuiWindowFlags_AlwaysAutoResize);
+  if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg)) {
+    for (const KeyHelp& k : key_help()) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(k.keys.data(), k.keys.data() + k.keys.size());
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(k.what.data(), k.what.data() + k.what.size());
+    }
+    ImGui::EndTable();
+  }
+  ImGui::TextDisabled("A timeline lane per watchpoint shows where it matched; the bottom lane, interventions.");
+  ImGui::End();
+}
+
+}  // namespace dw::view

@@ -1,0 +1,257 @@
+#include "app/view/view_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace dw::view {
+
+OrbitCamera OrbitCamera::looking(const render::Camera& camera) {
+  OrbitCamera o;
+  o.target = camera.target;
+  const glm::vec3 back = camera.eye - camera.target;
+  o.distance = std::max(1e-3f, glm::length(back));
+  o.pitch = std::asin(std::clamp(back.z / o.distance, -1.0f, 1.0f));
+  o.yaw = std::atan2(back.y, back.x);
+  return o;
+}
+
+glm::vec3 OrbitCamera::eye() const {
+  const glm::vec3 back(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch));
+  return target + back * distance;
+}
+
+render::Camera OrbitCamera::camera() const {
+  render::Camera c;
+  c.eye = eye();
+  c.target = target;
+  return c;
+}
+
+void OrbitCamera::orbit(float dx, float dy) {
+  constexpr float kRadiansPerPixel = 0.01f;
+  constexpr float kMaxPitch = glm::radians(89.0f);
+  yaw -= dx * kRadiansPerPixel;
+  pitch = std::clamp(pitch + dy * kRadiansPerPixel, -kMaxPitch, kMaxPitch);
+}
+
+void OrbitCamera::pan(float dx, float dy, int view_height) {
+  const render::Camera c = camera();
+  const glm::vec3 forward = glm::normalize(c.target - c.eye);
+  const glm::vec3 right = glm::normalize(glm::cross(forward, c.up));
+  const glm::vec3 up = glm::cross(right, forward);
+  const float per_pixel = 2 * distance * std::tan(c.fov_y * 0.5f) / float(std::max(1, view_height));
+  target += (-dx * right + dy * up) * per_pixel;
+}
+
+void OrbitCamera::zoom(float notches) { distance = std::clamp(distance * std::pow(0.9f, notches), 0.5f, 1e5f); }
+
+int64_t Timeline::step_at(float x) const {
+  if (last <= first) return first;
+  const double f = (double(x) - x0) / std::max(1e-6f, width);
+  const int64_t t = first + int64_t(std::floor(f * double(last - first + 1)));
+  return std::clamp(t, first, last);
+}
+
+float Timeline::x_of(int64_t t) const {
+  const double steps = double(std::max<int64_t>(1, last - first + 1));
+  return x0 + float((double(t - first) + 0.5) / steps * width);
+}
+
+std::vector<uint32_t> lane_density(std::span<const int64_t> steps, const Timeline& timeline, int columns) {
+  std::vector<uint32_t> counts(size_t(std::max(0, columns)), 0);
+  if (columns <= 0) return counts;
+  for (int64_t t : steps) {
+    if (t < timeline.first || t > timeline.last) continue;
+    const float x = (timeline.x_of(t) - timeline.x0) / timeline.width * float(columns);
+    counts[size_t(std::clamp(int(x), 0, columns - 1))]++;
+  }
+  return counts;
+}
+
+std::optional<int64_t> next_match(std::span<const int64_t> steps, int64_t t) {
+  auto it = std::upper_bound(steps.begin(), steps.end(), t);
+  if (it == steps.end()) return std::nullopt;
+  return *it;
+}
+
+std::optional<int64_t> previous_match(std::span<const int64_t> steps, int64_t t) {
+  auto it = std::lower_bound(steps.begin(), steps.end(), t);
+  if (it == steps.begin()) return std::nullopt;
+  return *std::prev(it);
+}
+
+MatchRows filter_matches(const sim::Session& session, const MatchFilter& filter, size_t limit) {
+  MatchRows result;
+  const sim::Model& model = session.model();
+  std::vector<MatchRef> all;
+  for (uint32_t w = 0; w < model.watches.size(); ++w) {
+    if (filter.watch >= 0 && uint32_t(filter.watch) != w) continue;
+    const sim::MatchList& list = session.matches(w);
+    const size_t k = size_t(model.watches[w].watchpoint.program.slot_count());
+    for (size_t i = 0; i < list.size(); ++i) {
+      if (filter.module) {
+        auto first = list.slots.begin() + std::ptrdiff_t(i * k);
+        if (std::find(first, first + std::ptrdiff_t(k), *filter.module) == first + std::ptrdiff_t(k)) continue;
+      }
+      all.push_back({w, i});
+    }
+  }
+  // Ties keep the session's order (by step, then slot ids), so the table never shuffles.
+  auto key = [&](const MatchRef& r) -> std::pair<int64_t, int64_t> {
+    const sim::MatchList& list = session.matches(r.watch);
+    switch (filter.order) {
+      case MatchFilter::Order::Step: return {list.t[r.index], 0};
+      case MatchFilter::Order::Watch: return {r.watch, list.t[r.index]};
+      case MatchFilter::Order::Detected: return {list.detected[r.index], list.t[r.index]};
+    }
+    return {0, 0};
+  };
+  std::stable_sort(all.begin(), all.end(), [&](const MatchRef& a, const MatchRef& b) {
+    return filter.descending ? key(b) < key(a) : key(a) < key(b);
+  });
+  result.total = all.size();
+  if (all.size() > limit) all.resize(limit);
+  result.rows = std::move(all);
+  return result;
+}
+
+namespace {
+
+struct KeyEntry {
+  Key key;
+  std::string_view name;
+};
+constexpr KeyEntry kKeys[] = {
+    {Key::Space, "space"}, {Key::Right, "right"}, {Key::Left, "left"}, {Key::N, "n"},
+    {Key::P, "p"},         {Key::F, "f"},         {Key::Z, "z"},       {Key::Home, "home"},
+    {Key::End, "end"},     {Key::F1, "f1"},       {Key::F12, "f12"},   {Key::Escape, "escape"},
+};
+
+}  // namespace
+
+std::optional<Key> key_named(std::string_view name) {
+  for (const KeyEntry& e : kKeys)
+    if (e.name == name) return e.key;
+  return std::nullopt;
+}
+
+std::string_view key_name(Key key) {
+  for (const KeyEntry& e : kKeys)
+    if (e.key == key) return e.name;
+  return "?";
+}
+
+const std::vector<KeyHelp>& key_help() {
+  static const std::vector<KeyHelp> help = {
+      {"Space", "play / pause"},
+      {"Right", "one step forward"},
+      {"Left", "one step back (a seek: nothing is lost)"},
+      {"Home / End", "step 0 / the latest step"},
+      {"N / P", "next / previous match of the chosen watchpoint"},
+      {"F", "fit the ensemble into the view"},
+      {"Z", "centre the view on the selection"},
+      {"F12", "screenshot of the 3D view (PNG, as dwatch render draws it)"},
+      {"F1", "this help"},
+      {"Escape", "cancel the work in progress; close the help"},
+      {"Left drag", "orbit"},
+      {"Right or middle drag", "pan"},
+      {"Wheel", "zoom"},
+      {"Click", "select a module (click empty space to clear)"},
+  };
+  return help;
+}
+
+namespace command {
+std::string step(int64_t n) { return "step " + std::to_string(n); }
+std::string run() { return "run"; }
+std::string run_to(int64_t t) { return "run " + std::to_string(t); }
+std::string seek(int64_t t) { return "seek " + std::to_string(t); }
+std::string set(sim::ModuleId m, std::string_view variable, int64_t value) {
+  return "set " + std::to_string(m) + " " + std::string(variable) + " " + std::to_string(value);
+}
+std::string remove(sim::ModuleId m) { return "remove " + std::to_string(m); }
+std::string push(sim::ModuleId m, glm::vec3 impulse) {
+  auto number = [](float f) {
+    std::string s = std::to_string(f);
+    s.erase(s.find_last_not_of('0') + 1);
+    if (s.back() == '.') s.pop_back();
+    return s;
+  };
+  return "push " + std::to_string(m) + " " + number(impulse.x) + " " + number(impulse.y) + " " + number(impulse.z);
+}
+std::string watch(std::string_view name, std::string_view options, std::string_view text) {
+  // One command a line: the watchpoint's own line breaks become spaces (the language ignores them).
+  std::string flat(text);
+  std::replace(flat.begin(), flat.end(), '\n', ' ');
+  std::replace(flat.begin(), flat.end(), '\r', ' ');
+  return "watch " + std::string(name) + " " + (options.empty() ? "" : std::string(options) + " ") + flat;
+}
+std::string unwatch(std::string_view name) { return "unwatch " + std::string(name); }
+}  // namespace command
+
+std::vector<std::string> ViewModel::on_key(Key key, const Position& at, std::span<const int64_t> chosen_steps) {
+  switch (key) {
+    case Key::Space:
+      playing = !playing;
+      return {};
+    case Key::Right:
+      playing = false;
+      return {command::step(1)};
+    case Key::Left:
+      playing = false;
+      if (at.current <= 0) return {};
+      return {command::seek(at.current - 1)};
+    case Key::Home:
+      playing = false;
+      return {command::seek(0)};
+    case Key::End:
+      playing = false;
+      return {command::seek(at.latest)};
+    case Key::N:
+    case Key::P: {
+      playing = false;
+      const auto t = key == Key::N ? next_match(chosen_steps, at.current) : previous_match(chosen_steps, at.current);
+      if (!t) return {};
+      // A match ahead of the latest step cannot be known yet; one behind is a seek.
+      return {*t <= at.latest ? command::seek(*t) : command::run_to(*t)};
+    }
+    case Key::F: camera_placed = false; return {};
+    case Key::Z: focus_selection = selected.has_value(); return {};
+    case Key::F1: show_help = !show_help; return {};
+    case Key::F12: screenshot_requested = true; return {};
+    case Key::Escape: show_help = false; return {};
+  }
+  return {};
+}
+
+std::vector<std::string> ViewModel::on_timeline_click(const Timeline& timeline, float x, const Position& at) {
+  playing = false;
+  const int64_t t = timeline.step_at(x);
+  if (t == at.current) return {};
+  // Past the latest step the session must run there (stopping at a pause on the way).
+  if (t > at.latest) return {command::run_to(t)};
+  return {command::seek(t)};
+}
+
+std::vector<std::string> ViewModel::on_match_click(const sim::Session& session, MatchRef match) {
+  playing = false;
+  selected_match = match;
+  const sim::MatchList& list = session.matches(match.watch);
+  const size_t k = size_t(session.model().watches[match.watch].watchpoint.program.slot_count());
+  selected = list.slots[match.index * k];
+  focus_selection = true;
+  return {command::seek(list.t[match.index])};
+}
+
+void ViewModel::on_module_click(std::optional<sim::ModuleId> module) {
+  selected = module;
+  if (!module) selected_match.reset();
+}
+
+int64_t ViewModel::steps_due(double seconds) const {
+  if (speed <= 0) return 1;  // as fast as possible: one step a request, requests back to back
+  return int64_t(std::floor(seconds * speed));
+}
+
+}  // namespace dw::view

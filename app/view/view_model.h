@@ -1,0 +1,142 @@
+// The debugger window's state and the commands its widgets send (issue: `dwatch view`), kept
+// apart from any window so that tests drive it without one: the camera the user owns, the
+// selection, the timeline's mapping of pixels to steps, the matches table's filter and order, and
+// what each key does. The window (debugger.cpp) only draws this state and forwards input; the
+// session (sim/session.h) decides everything about time. Commands are lines of the session
+// language (DESIGN §7a), so a widget, a key and a script line take the same path.
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "render/camera.h"
+#include "sim/session.h"
+
+namespace dw::view {
+
+// A camera orbiting a target: yaw about the vertical (z) axis from +x, pitch above the horizon.
+// Dragging orbits and pans, the wheel zooms; `F` fits the ensemble, `Z` centres the selection.
+struct OrbitCamera {
+  glm::vec3 target{0};
+  float yaw = 0, pitch = 0.5f, distance = 10;
+
+  // The orbit that sees what `camera` sees.
+  static OrbitCamera looking(const render::Camera& camera);
+  glm::vec3 eye() const;
+  render::Camera camera() const;
+
+  // Turns by the mouse's move in pixels (a full turn per 630 pixels); the pitch stays within
+  // ±89 degrees so that up stays up.
+  void orbit(float dx, float dy);
+  // Moves the target across the view so that the scene follows the mouse: `view_height` pixels
+  // cover the field of view at the target's distance.
+  void pan(float dx, float dy, int view_height);
+  // Closer by 10% per wheel notch (farther for negative ones), never through the target.
+  void zoom(float notches);
+};
+
+// The timeline under the transport bar: steps first..last spread over [x0, x0 + width) pixels.
+struct Timeline {
+  int64_t first = 0, last = 0;
+  float x0 = 0, width = 1;
+  // The step drawn at pixel x (clamped into the timeline).
+  int64_t step_at(float x) const;
+  // The middle of step t's span of pixels.
+  float x_of(int64_t t) const;
+};
+
+// Matches per pixel column of a watchpoint's lane: `steps` are its matches' steps, sorted.
+std::vector<uint32_t> lane_density(std::span<const int64_t> steps, const Timeline& timeline, int columns);
+
+// The first match step after t, and the last before it, in sorted match steps.
+std::optional<int64_t> next_match(std::span<const int64_t> steps, int64_t t);
+std::optional<int64_t> previous_match(std::span<const int64_t> steps, int64_t t);
+
+// One match of one watchpoint, by its index in the session's list.
+struct MatchRef {
+  uint32_t watch = 0;
+  size_t index = 0;
+  bool operator==(const MatchRef&) const = default;
+};
+
+// The matches table's filter and order.
+struct MatchFilter {
+  int watch = -1;                       // -1: every watchpoint
+  std::optional<sim::ModuleId> module;  // only groups holding this module
+  enum class Order { Step, Watch, Detected } order = Order::Step;
+  bool descending = false;
+};
+
+// The matches the table lists, at most `limit` of them (the table says how many were left out).
+struct MatchRows {
+  std::vector<MatchRef> rows;
+  size_t total = 0;  // before the limit
+};
+MatchRows filter_matches(const sim::Session& session, const MatchFilter& filter, size_t limit);
+
+// The keys the window binds (F1 lists them).
+enum class Key { Space, Right, Left, N, P, F, Z, Home, End, F1, F12, Escape };
+std::optional<Key> key_named(std::string_view name);
+std::string_view key_name(Key key);
+struct KeyHelp {
+  std::string_view keys, what;
+};
+const std::vector<KeyHelp>& key_help();
+
+// Where the session is, as the window last read it.
+struct Position {
+  int64_t current = -1, latest = -1, end = 0;
+};
+
+// Lines of the session language that the widgets send.
+namespace command {
+std::string step(int64_t n);
+std::string run();
+std::string run_to(int64_t t);  // runs until step t is current (or a pause)
+std::string seek(int64_t t);
+std::string set(sim::ModuleId m, std::string_view variable, int64_t value);
+std::string remove(sim::ModuleId m);
+std::string push(sim::ModuleId m, glm::vec3 impulse);
+// `options`: the algorithm and action words ("distributed pause"), or empty for the defaults.
+std::string watch(std::string_view name, std::string_view options, std::string_view text);
+std::string unwatch(std::string_view name);
+}  // namespace command
+
+class ViewModel {
+ public:
+  // What the window shows and the user chose.
+  std::optional<sim::ModuleId> selected;
+  std::optional<MatchRef> selected_match;
+  OrbitCamera camera;
+  bool camera_placed = false;  // false: fit the camera to the ensemble at the next frame
+  bool playing = false;
+  int speed = 10;  // steps per second while playing; 0: as fast as the session steps
+  int chosen_watch = 0;
+  MatchFilter filter;
+  std::string color_by;
+  std::string plot_variable;  // the inspector's plot; empty: the first variable
+  bool show_help = false;
+
+  // What a key does: the commands to send (in order) and what changes here. `chosen_steps` are
+  // the chosen watchpoint's match steps (for N and P).
+  std::vector<std::string> on_key(Key key, const Position& at, std::span<const int64_t> chosen_steps);
+  // A click on the timeline at pixel x.
+  std::vector<std::string> on_timeline_click(const Timeline& timeline, float x, const Position& at);
+  // A click on a row of the matches table: go to its step, select the group and its first slot.
+  std::vector<std::string> on_match_click(const sim::Session& session, MatchRef match);
+  // A click in the 3D view on a module, or on nothing (clears the selection).
+  void on_module_click(std::optional<sim::ModuleId> module);
+  // Playing at `speed`: how many steps to ask for after `seconds` since the last request.
+  int64_t steps_due(double seconds) const;
+
+  // Set by `F1` and `F12` for the window to act on (it owns the file and the help window).
+  bool screenshot_requested = false;
+  bool focus_selection = false;  // `Z`, or a match chosen: the window centres the camera
+};
+
+}  // namespace dw::view

@@ -1,0 +1,178 @@
+// The debugger window as a person uses it: `dwatch view --script` drives the real GLFW + ImGui
+// window under Xvfb (xvfb-run), and what it shows is checked against the headless paths: the 3D
+// view's pixels against `dwatch render` of the same step and camera, the panels' text against
+// `dwatch session`'s answers, a timeline click against the step it should land on.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "render/image.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr int kTolerance = 16;  // as the golden images (tests/render/golden_test.cpp)
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Outcome {
+  int exit_code = -1;
+  std::vector<json> answers;
+  std::string err;
+};
+
+class Window : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("dwatch_view_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+
+  // Runs `dwatch ARGS` (under Xvfb when `window`), its stdout as JSON lines.
+  Outcome dwatch(const std::string& args, const std::string& script, bool window) {
+    std::ofstream(dir_ / "script") << script;
+    const std::string prefix = window ? "xvfb-run -a -s '-screen 0 1600x1000x24' " : "";
+    const std::string cmd = "cd " + dir_.string() + " && " + prefix + DWATCH_EXE + " " + args +
+                            " --script script >stdout 2>stderr";
+    Outcome r;
+    const int status = std::system(cmd.c_str());
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::istringstream out(slurp(dir_ / "stdout"));
+    for (std::string line; std::getline(out, line);) r.answers.push_back(json::parse(line));
+    r.err = slurp(dir_ / "stderr");
+    return r;
+  }
+
+  fs::path dir_;
+};
+
+const std::string kLeader = std::string(DWATCH_SCENARIOS_DIR) + "/leader_election.toml";
+
+TEST_F(Window, PausedOnTwoLeadersSeekBackSelectTheGroupAndScreenshot) {
+  const Outcome view = dwatch("view " + kLeader,
+                          "run\n"
+                          "seek 0\n"
+                          "panel position\n"
+                          "click timeline 1\n"
+                          "click match 0\n"
+                          "panel matches\n"
+                          "panel inspector\n"
+                          "click 17\n"
+                          "panel inspector\n"
+                          "screenshot window.png\n",
+                          true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 10u) << view.err;
+  const json& paused = view.answers[0];
+  ASSERT_TRUE(paused.contains("paused")) << paused;
+  const int64_t t = paused["paused"]["t"];
+  EXPECT_EQ(view.answers[2]["current"], 0);
+  // The timeline click at step t lands on step t.
+  EXPECT_EQ(view.answers[3]["current"], t);
+  // The first match row is the paused group: selecting it selects its first slot.
+  EXPECT_EQ(view.answers[4]["current"], t);
+  EXPECT_EQ(view.answers[4]["selected"], paused["paused"]["group"]["a"]);
+
+  // The panels show what the headless session answers at the same step.
+  const Outcome session = dwatch("session " + kLeader,
+                             "run\nmatches two_leaders " + std::to_string(t) + "\nstate " +
+                                 std::to_string(int(paused["paused"]["group"]["a"])) + "\nseek " +
+                                 std::to_string(t - 1) + "\nstate " +
+                                 std::to_string(int(paused["paused"]["group"]["a"])) + "\n",
+                             false);
+  ASSERT_EQ(session.exit_code, 0) << session.err;
+  const json& table = view.answers[5];
+  const json& listed = session.answers[1]["matches"];
+  ASSERT_EQ(table["total"], paused["paused"]["matches"]);
+  ASSERT_EQ(table["rows"].size(), listed.size());
+  for (size_t i = 0; i < listed.size(); ++i) {
+    std::string slots;
+    for (auto it = listed[i]["slots"].begin(); it != listed[i]["slots"].end(); ++it)
+      slots += (slots.empty() ? "" : " ") + it.key() + "=" + std::to_string(int(it.value()));
+    EXPECT_EQ(table["rows"][i]["slots"], slots) << "row " << i;
+    EXPECT_EQ(table["rows"][i]["t"], t);
+  }
+  const json& inspector = view.answers[6];
+  const json& now = session.answers[2]["vars"];
+  const json& before = session.answers[4]["vars"];
+  EXPECT_EQ(inspector["module"], paused["paused"]["group"]["a"]);
+  for (const json& v : inspector["vars"]) {
+    EXPECT_EQ(v["value"], now[v["name"].get<std::string>()]) << v;
+    EXPECT_EQ(v["before"], before[v["name"].get<std::string>()]) << v;
+    EXPECT_EQ(v["changed"], v["value"] != v["before"]);
+  }
+  EXPECT_EQ(inspector["nbrs"], session.answers[2]["nbrs"]);
+  // A click where module 17 shows selects it (picking).
+  EXPECT_EQ(view.answers[7]["selected"], 17);
+  EXPECT_EQ(view.answers[8]["module"], 17);
+
+  // The 3D view's pixels are `dwatch render` of the same step and camera.
+  const json& shot = view.answers[9];
+  const int x = int(shot["view"]["x"].get<double>()), y = int(shot["view"]["y"].get<double>());
+  const int w = shot["view"]["width"], h = shot["view"]["height"];
+  const std::string render = "cd " + dir_.string() + " && " + DWATCH_EXE + " render " + kLeader + " --step " +
+                             std::to_string(t) + " --width " + std::to_string(w) + " --height " + std::to_string(h) +
+                             " --camera-eye " + shot["camera_eye"].get<std::string>() + " --camera-target " +
+                             shot["camera_target"].get<std::string>() + " --out render.png >/dev/null";
+  ASSERT_EQ(std::system(render.c_str()), 0);
+  std::string error;
+  const auto window = dw::render::read_png((dir_ / "window.png").string(), &error);
+  ASSERT_TRUE(window) << error;
+  const auto expected = dw::render::read_png((dir_ / "render.png").string(), &error);
+  ASSERT_TRUE(expected) << error;
+  ASSERT_LE(x + w, window->width);
+  ASSERT_LE(y + h, window->height);
+  dw::render::Image crop(w, h);
+  for (int row = 0; row < h; ++row)
+    std::copy_n(window->pixel(x, y + row), size_t(w) * 4, crop.pixel(0, row));
+  const auto d = dw::render::compare_images(*expected, crop, kTolerance);
+  EXPECT_LE(d.share, 0.001) << d.differing << " pixels differ, the largest by " << d.largest << " (see "
+                            << (dir_ / "diff.png").string() << ")";
+  if (d.share > 0.001) dw::render::write_png((dir_ / "diff.png").string(), d.diff);
+  // The rest of the window is not the 3D view: the panels are there.
+  EXPECT_GT(window->width, w + 200);
+}
+
+TEST_F(Window, KeysStepSeekAndFindTheNextMatch) {
+  const Outcome view = dwatch("view " + kLeader,
+                          "key right\nkey right\nkey right\nkey left\nkey home\nkey n\npanel position\nkey f1\nwait 2\n",
+                          true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 9u);
+  EXPECT_EQ(view.answers[0]["current"], 0);
+  EXPECT_EQ(view.answers[1]["current"], 1);
+  EXPECT_EQ(view.answers[2]["current"], 2);
+  EXPECT_EQ(view.answers[3]["current"], 1);  // back is a seek
+  EXPECT_EQ(view.answers[4]["current"], 0);
+  // N: the next step with a two_leaders match after step 0 (step 1 on this scenario, as the
+  // session's own run pauses there).
+  const Outcome session = dwatch("session " + kLeader, "run\n", false);
+  ASSERT_EQ(session.exit_code, 0);
+  EXPECT_EQ(view.answers[5]["current"], session.answers[0]["paused"]["t"]);
+}
+
+TEST_F(Window, ScriptMistakesAreBadInputAndFailuresStopTheScript) {
+  const Outcome bad = dwatch("view " + kLeader, "step\nkey\nseek x\n", true);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("script:3:6: error:"), std::string::npos) << bad.err;
+  const Outcome failed = dwatch("view " + kLeader, "key nosuch\n", true);
+  EXPECT_EQ(failed.exit_code, 1);
+  EXPECT_NE(failed.err.find("script:1: error: key NAME"), std::string::npos) << failed.err;
+}
+
+}  // namespace

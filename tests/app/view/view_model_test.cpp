@@ -1,0 +1,187 @@
+// The debugger's view model and Frame without a window: the camera, the timeline's mapping, what
+// each key and click sends to the session, the matches table's filter and order, and the Frame's
+// panels read from a real session.
+#include "app/view/view_model.h"
+
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+#include "app/view/frame.h"
+#include "scenarios/scenario.h"
+
+namespace dw::view {
+namespace {
+
+TEST(OrbitCamera, LooksWhereTheCameraItCameFromLooks) {
+  render::Camera c;
+  c.eye = {4, -7, 9};
+  c.target = {1, 2, -1};
+  const OrbitCamera o = OrbitCamera::looking(c);
+  const render::Camera back = o.camera();
+  EXPECT_NEAR(glm::distance(back.eye, c.eye), 0, 1e-4);
+  EXPECT_NEAR(glm::distance(back.target, c.target), 0, 1e-6);
+}
+
+TEST(OrbitCamera, OrbitKeepsTheDistancePanMovesTheTargetZoomStopsShort) {
+  OrbitCamera o;
+  o.distance = 20;
+  const glm::vec3 eye = o.eye();
+  o.orbit(100, 0);
+  EXPECT_NEAR(glm::distance(o.eye(), o.target), 20, 1e-4);
+  EXPECT_GT(glm::distance(o.eye(), eye), 1);
+  o.orbit(0, 100000);  // straight up is as far as it goes
+  EXPECT_NEAR(o.pitch, glm::radians(89.0f), 1e-5);
+  const glm::vec3 target = o.target;
+  o.pan(100, 0, 500);
+  EXPECT_GT(glm::distance(o.target, target), 0.5f);
+  EXPECT_NEAR(o.target.z, target.z, 0.5f);  // seen from above, a sideways drag moves across the ground
+  for (int i = 0; i < 1000; ++i) o.zoom(1);
+  EXPECT_GE(o.distance, 0.5f);
+}
+
+TEST(Timeline, StepsAndPixelsMapBothWays) {
+  const Timeline t{0, 199, 100, 400};
+  for (int64_t s : {0, 1, 57, 198, 199}) EXPECT_EQ(t.step_at(t.x_of(s)), s) << s;
+  EXPECT_EQ(t.step_at(0), 0);      // left of the timeline: the first step
+  EXPECT_EQ(t.step_at(1e6f), 199);  // right of it: the last
+  EXPECT_FLOAT_EQ(t.x_of(0), 101);  // the middle of step 0's two pixels
+}
+
+TEST(Timeline, LaneDensityCountsMatchesPerColumn) {
+  const Timeline t{0, 99, 0, 10};
+  const std::vector<int64_t> steps = {0, 0, 5, 9, 10, 55, 99, 150};
+  const std::vector<uint32_t> d = lane_density(steps, t, 10);
+  ASSERT_EQ(d.size(), 10u);
+  EXPECT_EQ(d[0], 4u);  // steps 0, 0, 5, 9
+  EXPECT_EQ(d[1], 1u);
+  EXPECT_EQ(d[5], 1u);
+  EXPECT_EQ(d[9], 1u);  // 150 is past the timeline
+  EXPECT_EQ(std::accumulate(d.begin(), d.end(), 0u), 7u);
+}
+
+TEST(Matches, NextAndPreviousSkipTheCurrentStep) {
+  const std::vector<int64_t> steps = {3, 3, 8, 20};
+  EXPECT_EQ(next_match(steps, 3), 8);
+  EXPECT_EQ(next_match(steps, 0), 3);
+  EXPECT_EQ(next_match(steps, 20), std::nullopt);
+  EXPECT_EQ(previous_match(steps, 8), 3);
+  EXPECT_EQ(previous_match(steps, 3), std::nullopt);
+}
+
+TEST(ViewModel, KeysSendTheSessionCommands) {
+  ViewModel m;
+  const Position at{10, 40, 200};
+  const std::vector<int64_t> steps = {5, 12, 90};
+  EXPECT_EQ(m.on_key(Key::Right, at, steps), std::vector<std::string>{"step 1"});
+  EXPECT_EQ(m.on_key(Key::Left, at, steps), std::vector<std::string>{"seek 9"});
+  EXPECT_TRUE(m.on_key(Key::Left, {0, 40, 200}, steps).empty());  // nothing before step 0
+  EXPECT_EQ(m.on_key(Key::N, at, steps), std::vector<std::string>{"seek 12"});
+  EXPECT_EQ(m.on_key(Key::P, at, steps), std::vector<std::string>{"seek 5"});
+  // A match past the latest step: the session runs there.
+  EXPECT_EQ(m.on_key(Key::N, {12, 40, 200}, steps), std::vector<std::string>{"run 90"});
+  EXPECT_EQ(m.on_key(Key::End, at, steps), std::vector<std::string>{"seek 40"});
+  EXPECT_FALSE(m.playing);
+  m.on_key(Key::Space, at, steps);
+  EXPECT_TRUE(m.playing);
+  m.on_key(Key::Right, at, steps);
+  EXPECT_FALSE(m.playing) << "stepping pauses";
+  m.camera_placed = true;
+  m.on_key(Key::F, at, steps);
+  EXPECT_FALSE(m.camera_placed) << "F fits the camera again";
+  m.on_key(Key::Z, at, steps);
+  EXPECT_FALSE(m.focus_selection) << "nothing selected to centre on";
+  m.selected = 3;
+  m.on_key(Key::Z, at, steps);
+  EXPECT_TRUE(m.focus_selection);
+}
+
+TEST(ViewModel, TimelineClicksSeekOrRun) {
+  ViewModel m;
+  const Timeline t{0, 199, 0, 200};
+  EXPECT_EQ(m.on_timeline_click(t, t.x_of(30), {10, 40, 200}), std::vector<std::string>{"seek 30"});
+  EXPECT_EQ(m.on_timeline_click(t, t.x_of(120), {10, 40, 200}), std::vector<std::string>{"run 120"});
+  EXPECT_TRUE(m.on_timeline_click(t, t.x_of(10), {10, 40, 200}).empty());
+}
+
+TEST(ViewModel, PlayingAsksForStepsAtItsSpeed) {
+  ViewModel m;
+  m.speed = 30;
+  EXPECT_EQ(m.steps_due(0.01), 0);
+  EXPECT_EQ(m.steps_due(0.1), 3);
+  m.speed = 0;
+  EXPECT_EQ(m.steps_due(0.0), 1);
+}
+
+TEST(Commands, AreLinesOfTheSessionLanguage) {
+  EXPECT_EQ(command::set(7, "token", -3), "set 7 token -3");
+  EXPECT_EQ(command::push(2, {0.5f, 0, -1.25f}), "push 2 0.5 0 -1.25");
+  EXPECT_EQ(command::watch("w", "centralized pause", "modules(a);\n(a.x = 1)"),
+            "watch w centralized pause modules(a); (a.x = 1)");
+}
+
+// A real session: leader election run to its pause.
+struct Leader : ::testing::Test {
+  void SetUp() override {
+    auto loaded = scenarios::load_scenario(std::string(DWATCH_SCENARIOS_DIR) + "/leader_election.toml");
+    ASSERT_TRUE(std::holds_alternative<scenarios::Scenario>(loaded));
+    scenario = std::make_unique<scenarios::Scenario>(std::move(std::get<scenarios::Scenario>(loaded)));
+    session = std::make_unique<sim::Session>(*scenario->model, *scenario->world,
+                                             sim::SessionOptions{1, scenario->steps, 64 << 20, scenario->events});
+    pause = session->run_until(scenario->steps);
+    ASSERT_TRUE(pause);
+  }
+  std::unique_ptr<scenarios::Scenario> scenario;
+  std::unique_ptr<sim::Session> session;
+  std::optional<sim::Pause> pause;
+};
+
+TEST_F(Leader, TheMatchesTableFiltersByModuleAndSorts) {
+  const sim::MatchList& list = session->matches(0);
+  const size_t k = 3;
+  const sim::ModuleId m = pause->group[1];
+  const MatchRows all = filter_matches(*session, {}, 1'000'000);
+  EXPECT_EQ(all.total, list.size());
+  MatchFilter only;
+  only.module = m;
+  const MatchRows rows = filter_matches(*session, only, 1'000'000);
+  size_t holding = 0;
+  for (size_t i = 0; i < list.size(); ++i)
+    holding += std::count(list.slots.begin() + i * k, list.slots.begin() + (i + 1) * k, m) > 0;
+  EXPECT_EQ(rows.total, holding);
+  for (const MatchRef& r : rows.rows)
+    EXPECT_NE(std::find(list.slots.begin() + r.index * k, list.slots.begin() + (r.index + 1) * k, m),
+              list.slots.begin() + (r.index + 1) * k);
+  MatchFilter latest_first;
+  latest_first.descending = true;
+  const MatchRows desc = filter_matches(*session, latest_first, 5);
+  EXPECT_EQ(desc.rows.size(), std::min<size_t>(5, list.size()));
+  EXPECT_EQ(desc.total, list.size());
+  for (size_t i = 1; i < desc.rows.size(); ++i) EXPECT_GE(list.t[desc.rows[i - 1].index], list.t[desc.rows[i].index]);
+}
+
+TEST_F(Leader, AMatchClickSeeksToItsStepAndSelectsItsGroup) {
+  ViewModel view;
+  const auto [first, last] = session->matches(0).at(pause->t);
+  ASSERT_LT(first, last);
+  EXPECT_EQ(view.on_match_click(*session, {0, first}), std::vector<std::string>{"seek " + std::to_string(pause->t)});
+  EXPECT_EQ(view.selected, pause->group[0]);
+  EXPECT_TRUE(view.focus_selection);
+
+  // The Frame highlights that group, and the inspector shows the module's values.
+  const auto window = read_module_window(*session, *view.selected, 100);
+  ASSERT_TRUE(window);
+  const Frame f = read_frame(*session, *scenario, view, &*window, 1);
+  ASSERT_EQ(f.scene.groups.size(), 1u);
+  EXPECT_EQ(f.scene.groups[0].modules, pause->group);
+  ASSERT_TRUE(f.inspector);
+  const nlohmann::ordered_json panel = f.panel("inspector", *scenario->model);
+  EXPECT_EQ(panel["module"], pause->group[0]);
+  const int leader = scenario->model->column("isLeader");
+  EXPECT_EQ(f.inspector->variables[size_t(leader)].value, 1) << "slot a of two_leaders is a leader";
+  EXPECT_EQ(f.inspector->plot.size(), size_t(pause->t + 1));
+  EXPECT_EQ(f.panel("nosuch", *scenario->model).count("error"), 1u);
+}
+
+}  // namespace
+}  // namespace dw::view
