@@ -1,9 +1,9 @@
 #include "app/view/debugger.h"
 
 #include <GLFW/glfw3.h>
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -75,32 +75,33 @@ Debugger::~Debugger() {
   ImGui::DestroyContext();
 }
 
-std::string Debugger::send(const std::string& line) {
-  const watch::SourceText source("<window>", line);
-  auto parsed = shell_.parse(source, 0, 1);
-  if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) return watch::format_diagnostics(source, *ds);
-  auto& command = std::get<std::optional<app::SessionCommand>>(parsed);
-  if (!command) return {};
-  worker_->submit([this, line, c = std::move(*command)](sim::Session&, const sim::Control& control) {
+void Debugger::send(const std::string& line) {
+  // Parsed on the worker too: checking a command reads the session (a push needs bodies), which
+  // only the job that holds it may do.
+  worker_->submit([this, line](sim::Session&, const sim::Control& control) {
     Answer a{line, {}, {}};
     const auto start = std::chrono::steady_clock::now();
-    try {
-      auto result = shell_.execute(c, control);
-      if (auto* error = std::get_if<std::string>(&result)) a.error = *error;
-      else a.json = std::move(std::get<nlohmann::ordered_json>(result));
-    } catch (const std::exception& e) {  // a program failed: the session stays where it got to
-      a.error = e.what();
+    const watch::SourceText source("<window>", line);
+    auto parsed = shell_.parse(source, 0, 1);
+    if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) {
+      a.error = watch::format_diagnostics(source, *ds);
+    } else if (auto& command = std::get<std::optional<app::SessionCommand>>(parsed)) {
+      try {
+        auto result = shell_.execute(*command, control);
+        if (auto* error = std::get_if<std::string>(&result)) a.error = *error;
+        else a.json = std::move(std::get<nlohmann::ordered_json>(result));
+      } catch (const std::exception& e) {  // a program failed: the session stays where it got to
+        a.error = e.what();
+      }
     }
     last_job_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::lock_guard lock(answers_mutex_);
     answers_.push_back(std::move(a));
   });
-  return {};
 }
 
 void Debugger::apply(const std::vector<std::string>& commands) {
-  for (const std::string& c : commands)
-    if (std::string error = send(c); !error.empty()) status(error);
+  for (const std::string& c : commands) send(c);
 }
 
 void Debugger::status(std::string message) {
@@ -192,7 +193,8 @@ void Debugger::press(Key key) {
   apply(model_.on_key(key, frame_.at, steps));
   if (model_.screenshot_requested) {
     model_.screenshot_requested = false;
-    const std::string path = "dwatch-" + scenario_.name + "-step-" + std::to_string(std::max<int64_t>(0, frame_.at.current)) + ".png";
+    const std::string path =
+        "dwatch-" + scenario_.name + "-step-" + std::to_string(std::max<int64_t>(0, frame_.at.current)) + ".png";
     const std::string error = screenshot_view(path);
     status(error.empty() ? "screenshot of the 3D view -> " + path : error);
   }
@@ -287,7 +289,8 @@ void Debugger::render_view_texture() {
 void Debugger::draw_view() {
   const ImGuiViewport* vp = ImGui::GetMainViewport();
   ImGui::SetNextWindowPos(vp->WorkPos, ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(vp->WorkSize.x - kPanelWidth, vp->WorkSize.y - kTransportHeight), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(vp->WorkSize.x - kPanelWidth, vp->WorkSize.y - kTransportHeight),
+                           ImGuiCond_FirstUseEver);
   ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
   ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0);  // a border would cover the picture's edge
   ImGui::Begin("3D view", nullptr, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
@@ -321,9 +324,9 @@ void Debugger::draw_view() {
   const ImVec2 size(float(view_.width) / scale.x, float(view_.height) / scale.y);
   ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(view_texture_)), size, ImVec2(0, 1), ImVec2(1, 0));
   ImGui::SetCursorScreenPos(origin);
-  ImGui::InvisibleButton("view", size,
-                         ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight |
-                             ImGuiButtonFlags_MouseButtonMiddle);
+  ImGui::InvisibleButton(
+      "view", size,
+      ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight | ImGuiButtonFlags_MouseButtonMiddle);
   const ImVec2 mouse = ImGui::GetIO().MousePos;
   view_input((mouse.x - origin.x) * scale.x, (mouse.y - origin.y) * scale.y, ImGui::IsItemHovered());
   ImGui::End();
@@ -340,7 +343,8 @@ void Debugger::view_input(float x, float y, bool hovered) {
   if (active && ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
     dragging_ = true;
     model_.camera.orbit(io.MouseDelta.x, io.MouseDelta.y);
-  } else if (active && (ImGui::IsMouseDragging(ImGuiMouseButton_Right) || ImGui::IsMouseDragging(ImGuiMouseButton_Middle))) {
+  } else if (active &&
+             (ImGui::IsMouseDragging(ImGuiMouseButton_Right) || ImGui::IsMouseDragging(ImGuiMouseButton_Middle))) {
     dragging_ = true;
     model_.camera.pan(io.MouseDelta.x, io.MouseDelta.y, int(float(view_.height) / io.DisplayFramebufferScale.y));
   }
@@ -352,7 +356,8 @@ void Debugger::view_input(float x, float y, bool hovered) {
     }
     dragging_ = false;
   }
-  if (ImGui::IsMouseReleased(ImGuiMouseButton_Right) || ImGui::IsMouseReleased(ImGuiMouseButton_Middle)) dragging_ = false;
+  if (ImGui::IsMouseReleased(ImGuiMouseButton_Right) || ImGui::IsMouseReleased(ImGuiMouseButton_Middle))
+    dragging_ = false;
 
   hovered_.reset();
   if (hovered && !dragging_) hovered_ = module_at(x, y);
@@ -555,12 +560,15 @@ int Debugger::run_script(const watch::SourceText& script) {
     std::vector<std::string> words;
     for (std::string w; words_in >> w && w[0] != '#';) words.push_back(w);
     static const char* kWindowCommands[] = {"click", "key", "wait", "screenshot", "panel"};
-    if (!words.empty() && std::find(std::begin(kWindowCommands), std::end(kWindowCommands), words[0]) != std::end(kWindowCommands)) {
+    if (!words.empty() &&
+        std::find(std::begin(kWindowCommands), std::end(kWindowCommands), words[0]) != std::end(kWindowCommands)) {
       lines.push_back({number, std::move(words), {}});
     } else {
       auto parsed = shell_.parse(script, uint32_t(begin), number);
-      if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) mistakes += watch::format_diagnostics(script, *ds);
-      else if (std::get<std::optional<app::SessionCommand>>(parsed)) lines.push_back({number, {}, text.substr(begin, stop - begin)});
+      if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed))
+        mistakes += watch::format_diagnostics(script, *ds);
+      else if (std::get<std::optional<app::SessionCommand>>(parsed))
+        lines.push_back({number, {}, text.substr(begin, stop - begin)});
     }
     begin = newline == std::string::npos ? text.size() : newline + 1;
   }
@@ -584,7 +592,7 @@ int Debugger::run_script(const watch::SourceText& script) {
         std::lock_guard lock(answers_mutex_);
         first = answers_.size();
       }
-      error = send(line.session_line);
+      send(line.session_line);
       settle();
       std::lock_guard lock(answers_mutex_);
       if (error.empty() && answers_.size() > first) {

@@ -55,8 +55,9 @@ class Debugger {
   ViewModel& model() { return model_; }
   const Frame& shown() const { return frame_; }
   SessionWorker& worker() { return *worker_; }
-  // Sends a line of the session language; an error message when it does not parse.
-  std::string send(const std::string& line);
+  // Sends a line of the session language to the worker; its answer (or mistake) comes back
+  // through the status line, and to a script.
+  void send(const std::string& line);
 
  private:
   struct Answer {
@@ -138,7 +139,7 @@ class Debugger {
   // The editor.
   std::string edit_name_ = "w1", edit_text_;
   int edit_algorithm_ = 1, edit_action_ = 0;  // distributed, log
-  std::string edit_checked_;  // the name and text last compiled
+  std::string edit_checked_;                  // the name and text last compiled
   std::string edit_diagnostics_, edit_explanation_;
   bool edit_ok_ = false;
 

@@ -159,11 +159,8 @@ nlohmann::ordered_json Frame::panel(const std::string& name, const sim::Model& m
   } else if (name == "watchpoints") {
     nlohmann::ordered_json rows = nlohmann::ordered_json::array();
     for (const WatchRow& w : watches)
-      rows.push_back({{"name", w.name},
-                      {"algorithm", w.algorithm},
-                      {"action", w.action},
-                      {"lag", w.lag},
-                      {"matches", w.matches}});
+      rows.push_back(
+          {{"name", w.name}, {"algorithm", w.algorithm}, {"action", w.action}, {"lag", w.lag}, {"matches", w.matches}});
     j["rows"] = std::move(rows);
   } else if (name == "inspector") {
     if (!inspector) {

@@ -14,7 +14,7 @@ std::string glfw_error() {
 }  // namespace
 
 std::variant<std::unique_ptr<GlfwWindow>, std::string> GlfwWindow::create(int width, int height,
-                                                                         const std::string& title) {
+                                                                          const std::string& title) {
   if (!glfwInit()) return "cannot open a window: " + glfw_error() + " (is DISPLAY set? headless: xvfb-run)";
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);

@@ -77,7 +77,8 @@ void Debugger::transport_panel() {
                            : "(none)";
   if (ImGui::BeginCombo("##chosen", chosen)) {
     for (size_t w = 0; w < frame_.watches.size(); ++w)
-      if (ImGui::Selectable(frame_.watches[w].name.c_str(), int(w) == model_.chosen_watch)) model_.chosen_watch = int(w);
+      if (ImGui::Selectable(frame_.watches[w].name.c_str(), int(w) == model_.chosen_watch))
+        model_.chosen_watch = int(w);
     ImGui::EndCombo();
   }
 
@@ -113,21 +114,21 @@ void Debugger::timeline(float width) {
   const float simulated = timeline_.x_of(frame_.at.latest) - timeline_.x0;
   draw->AddRectFilled(ImVec2(timeline_.x0, origin.y), ImVec2(timeline_.x0 + timeline_.width, origin.y + height),
                       IM_COL32(45, 45, 50, 255));
-  draw->AddRectFilled(ImVec2(timeline_.x0, origin.y), ImVec2(timeline_.x0 + std::max(0.0f, simulated), origin.y + height),
-                      IM_COL32(60, 62, 70, 255));
+  draw->AddRectFilled(ImVec2(timeline_.x0, origin.y),
+                      ImVec2(timeline_.x0 + std::max(0.0f, simulated), origin.y + height), IM_COL32(60, 62, 70, 255));
   for (size_t w = 0; w < lanes; ++w) {
     const float y = origin.y + lane * float(w) + 2;
     const bool interventions = w == frame_.watches.size();
     const ImU32 color = interventions ? IM_COL32(240, 240, 240, 255) : kLaneColors[w % std::size(kLaneColors)];
-    draw->AddText(ImVec2(origin.x, y - 2), color,
-                  interventions ? "interventions" : frame_.watches[w].name.c_str());
+    draw->AddText(ImVec2(origin.x, y - 2), color, interventions ? "interventions" : frame_.watches[w].name.c_str());
     const std::vector<int64_t>& steps = interventions ? frame_.intervention_steps : frame_.watches[w].match_steps;
     const std::vector<uint32_t> density = lane_density(steps, timeline_, columns);
     const uint32_t most = density.empty() ? 0 : *std::max_element(density.begin(), density.end());
     for (int c = 0; c < columns; ++c) {
       if (!density[size_t(c)]) continue;
       // Density: a column's height grows with the log of its matches, so one match still shows.
-      const float share = most <= 1 ? 1.0f : 0.35f + 0.65f * std::log1p(float(density[size_t(c)])) / std::log1p(float(most));
+      const float share =
+          most <= 1 ? 1.0f : 0.35f + 0.65f * std::log1p(float(density[size_t(c)])) / std::log1p(float(most));
       const float x = timeline_.x0 + float(c);
       draw->AddRectFilled(ImVec2(x, y + lane - 2 - (lane - 3) * share), ImVec2(x + 1, y + lane - 2), color);
     }
@@ -138,16 +139,19 @@ void Debugger::timeline(float width) {
   ImGui::SetCursorScreenPos(ImVec2(timeline_.x0, origin.y));
   ImGui::InvisibleButton("timeline", ImVec2(timeline_.width, height));
   const float mouse_x = ImGui::GetIO().MousePos.x;
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("step %" PRId64 " (click or drag to go there)", timeline_.step_at(mouse_x));
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("step %" PRId64 " (click or drag to go there)", timeline_.step_at(mouse_x));
   // A click seeks; a drag seeks as it goes, once the session is free (never queueing a backlog).
-  if (ImGui::IsItemActive() && (ImGui::IsItemClicked() || (worker_->idle() && timeline_.step_at(mouse_x) != frame_.at.current)))
+  if (ImGui::IsItemActive() &&
+      (ImGui::IsItemClicked() || (worker_->idle() && timeline_.step_at(mouse_x) != frame_.at.current)))
     apply(model_.on_timeline_click(timeline_, mouse_x, frame_.at));
 }
 
 void Debugger::watchpoints_panel() {
   place_in_column(0.0f, 0.3f);
   ImGui::Begin("Watchpoints");
-  if (ImGui::BeginTable("watches", 6, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
+  if (ImGui::BeginTable("watches", 6,
+                        ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
     for (const char* h : {"name", "algorithm", "action", "lag", "matches", ""}) ImGui::TableSetupColumn(h);
     ImGui::TableHeadersRow();
     for (size_t w = 0; w < frame_.watches.size(); ++w) {
@@ -251,7 +255,8 @@ void Debugger::matches_panel() {
   if (ImGui::BeginCombo("##filter_watch", watch_label)) {
     if (ImGui::Selectable("every watch", filter.watch < 0)) filter.watch = -1, frame_stale_ = true;
     for (size_t w = 0; w < frame_.watches.size(); ++w)
-      if (ImGui::Selectable(frame_.watches[w].name.c_str(), int(w) == filter.watch)) filter.watch = int(w), frame_stale_ = true;
+      if (ImGui::Selectable(frame_.watches[w].name.c_str(), int(w) == filter.watch))
+        filter.watch = int(w), frame_stale_ = true;
     ImGui::EndCombo();
   }
   ImGui::SameLine();
@@ -265,7 +270,8 @@ void Debugger::matches_panel() {
   if (ImGui::SmallButton("copy JSON lines")) {
     std::string lines;
     worker_->try_read([&](sim::Session&) {
-      for (const MatchRowText& r : frame_.match_rows) lines += shell_.match_json(r.ref.watch, r.ref.index).dump() + "\n";
+      for (const MatchRowText& r : frame_.match_rows)
+        lines += shell_.match_json(r.ref.watch, r.ref.index).dump() + "\n";
     });
     ImGui::SetClipboardText(lines.c_str());
     status("copied " + std::to_string(frame_.match_rows.size()) + " matches as JSON lines");
@@ -298,7 +304,8 @@ void Debugger::matches_panel() {
         ImGui::TableNextRow();
         ImGui::TableNextColumn();
         const bool chosen = model_.selected_match == r.ref;
-        if (ImGui::Selectable((r.watch + "##" + std::to_string(i)).c_str(), chosen, ImGuiSelectableFlags_SpanAllColumns)) {
+        if (ImGui::Selectable((r.watch + "##" + std::to_string(i)).c_str(), chosen,
+                              ImGuiSelectableFlags_SpanAllColumns)) {
           std::vector<std::string> commands;
           worker_->try_read([&](sim::Session& s) { commands = model_.on_match_click(s, r.ref); });
           apply(commands);
@@ -341,7 +348,8 @@ void Debugger::inspector_panel() {
     for (const VariableRow& v : in.variables) {
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
-      if (ImGui::Selectable(v.name.c_str(), v.name == model_.plot_variable || (model_.plot_variable.empty() && &v == &in.variables[0])))
+      if (ImGui::Selectable(v.name.c_str(),
+                            v.name == model_.plot_variable || (model_.plot_variable.empty() && &v == &in.variables[0])))
         model_.plot_variable = v.name, frame_stale_ = true;
       ImGui::TableNextColumn();
       if (v.changed()) ImGui::TextColored(ImVec4(1, 0.8f, 0.2f, 1), "%lld  (changed)", static_cast<long long>(v.value));
@@ -370,7 +378,8 @@ void Debugger::inspector_panel() {
     const MatchRef r = in.matches[i];
     if (r.watch >= frame_.watches.size() || r.index >= frame_.watches[r.watch].match_steps.size()) continue;
     ImGui::SameLine();
-    const std::string label = frame_.watches[r.watch].name + "@" + std::to_string(frame_.watches[r.watch].match_steps[r.index]);
+    const std::string label =
+        frame_.watches[r.watch].name + "@" + std::to_string(frame_.watches[r.watch].match_steps[r.index]);
     if (ImGui::SmallButton(label.c_str())) {
       std::vector<std::string> commands;
       worker_->try_read([&](sim::Session& s) { commands = model_.on_match_click(s, r); });
@@ -428,7 +437,8 @@ void Debugger::statistics_panel() {
       continue;
     }
     const StatsRow& last = rows.back();
-    ImGui::Text("step %" PRId64 ": %" PRIu64 " PatternMatchers live, %" PRIu64 " created, %" PRIu64 " messages, %.3f ms",
+    ImGui::Text("step %" PRId64 ": %" PRIu64 " PatternMatchers live, %" PRIu64 " created, %" PRIu64
+                " messages, %.3f ms",
                 last.step, last.live, last.created, last.messages, last.seconds * 1000);
     std::vector<float> live, created, messages, ms;
     for (const StatsRow& r : rows) {

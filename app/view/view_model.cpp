@@ -192,22 +192,14 @@ std::string unwatch(std::string_view name) { return "unwatch " + std::string(nam
 
 std::vector<std::string> ViewModel::on_key(Key key, const Position& at, std::span<const int64_t> chosen_steps) {
   switch (key) {
-    case Key::Space:
-      playing = !playing;
-      return {};
-    case Key::Right:
-      playing = false;
-      return {command::step(1)};
+    case Key::Space: playing = !playing; return {};
+    case Key::Right: playing = false; return {command::step(1)};
     case Key::Left:
       playing = false;
       if (at.current <= 0) return {};
       return {command::seek(at.current - 1)};
-    case Key::Home:
-      playing = false;
-      return {command::seek(0)};
-    case Key::End:
-      playing = false;
-      return {command::seek(at.latest)};
+    case Key::Home: playing = false; return {command::seek(0)};
+    case Key::End: playing = false; return {command::seek(at.latest)};
     case Key::N:
     case Key::P: {
       playing = false;

@@ -142,8 +142,9 @@ TEST_F(Cli, BadOptionsAreBadInput) {
   EXPECT_EQ(run("replay " + (dir_ / "missing.jsonl").string() + " -w 'modules(a); (a.x=1)'").code, 2);
   const Result unknown = run("frobnicate");
   EXPECT_EQ(unknown.code, 2);
-  EXPECT_NE(unknown.err.find("unknown command 'frobnicate' (the commands: run, check, replay, render, session, view, bench"),
-            std::string::npos)
+  EXPECT_NE(
+      unknown.err.find("unknown command 'frobnicate' (the commands: run, check, replay, render, session, view, bench"),
+      std::string::npos)
       << unknown.err;
   const Result version = run("--version");
   EXPECT_EQ(version.code, 0);

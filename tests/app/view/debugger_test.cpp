@@ -47,8 +47,8 @@ class Window : public ::testing::Test {
   Outcome dwatch(const std::string& args, const std::string& script, bool window) {
     std::ofstream(dir_ / "script") << script;
     const std::string prefix = window ? "xvfb-run -a -s '-screen 0 1600x1000x24' " : "";
-    const std::string cmd = "cd " + dir_.string() + " && " + prefix + DWATCH_EXE + " " + args +
-                            " --script script >stdout 2>stderr";
+    const std::string cmd =
+        "cd " + dir_.string() + " && " + prefix + DWATCH_EXE + " " + args + " --script script >stdout 2>stderr";
     Outcome r;
     const int status = std::system(cmd.c_str());
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -65,17 +65,17 @@ const std::string kLeader = std::string(DWATCH_SCENARIOS_DIR) + "/leader_electio
 
 TEST_F(Window, PausedOnTwoLeadersSeekBackSelectTheGroupAndScreenshot) {
   const Outcome view = dwatch("view " + kLeader,
-                          "run\n"
-                          "seek 0\n"
-                          "panel position\n"
-                          "click timeline 1\n"
-                          "click match 0\n"
-                          "panel matches\n"
-                          "panel inspector\n"
-                          "click 17\n"
-                          "panel inspector\n"
-                          "screenshot window.png\n",
-                          true);
+                              "run\n"
+                              "seek 0\n"
+                              "panel position\n"
+                              "click timeline 1\n"
+                              "click match 0\n"
+                              "panel matches\n"
+                              "panel inspector\n"
+                              "click 17\n"
+                              "panel inspector\n"
+                              "screenshot window.png\n",
+                              true);
   ASSERT_EQ(view.exit_code, 0) << view.err;
   ASSERT_EQ(view.answers.size(), 10u) << view.err;
   const json& paused = view.answers[0];
@@ -89,12 +89,12 @@ TEST_F(Window, PausedOnTwoLeadersSeekBackSelectTheGroupAndScreenshot) {
   EXPECT_EQ(view.answers[4]["selected"], paused["paused"]["group"]["a"]);
 
   // The panels show what the headless session answers at the same step.
-  const Outcome session = dwatch("session " + kLeader,
-                             "run\nmatches two_leaders " + std::to_string(t) + "\nstate " +
-                                 std::to_string(int(paused["paused"]["group"]["a"])) + "\nseek " +
-                                 std::to_string(t - 1) + "\nstate " +
-                                 std::to_string(int(paused["paused"]["group"]["a"])) + "\n",
-                             false);
+  const Outcome session =
+      dwatch("session " + kLeader,
+             "run\nmatches two_leaders " + std::to_string(t) + "\nstate " +
+                 std::to_string(int(paused["paused"]["group"]["a"])) + "\nseek " + std::to_string(t - 1) + "\nstate " +
+                 std::to_string(int(paused["paused"]["group"]["a"])) + "\n",
+             false);
   ASSERT_EQ(session.exit_code, 0) << session.err;
   const json& table = view.answers[5];
   const json& listed = session.answers[1]["matches"];
@@ -138,8 +138,7 @@ TEST_F(Window, PausedOnTwoLeadersSeekBackSelectTheGroupAndScreenshot) {
   ASSERT_LE(x + w, window->width);
   ASSERT_LE(y + h, window->height);
   dw::render::Image crop(w, h);
-  for (int row = 0; row < h; ++row)
-    std::copy_n(window->pixel(x, y + row), size_t(w) * 4, crop.pixel(0, row));
+  for (int row = 0; row < h; ++row) std::copy_n(window->pixel(x, y + row), size_t(w) * 4, crop.pixel(0, row));
   const auto d = dw::render::compare_images(*expected, crop, kTolerance);
   EXPECT_LE(d.share, 0.001) << d.differing << " pixels differ, the largest by " << d.largest << " (see "
                             << (dir_ / "diff.png").string() << ")";
@@ -149,9 +148,9 @@ TEST_F(Window, PausedOnTwoLeadersSeekBackSelectTheGroupAndScreenshot) {
 }
 
 TEST_F(Window, KeysStepSeekAndFindTheNextMatch) {
-  const Outcome view = dwatch("view " + kLeader,
-                          "key right\nkey right\nkey right\nkey left\nkey home\nkey n\npanel position\nkey f1\nwait 2\n",
-                          true);
+  const Outcome view =
+      dwatch("view " + kLeader,
+             "key right\nkey right\nkey right\nkey left\nkey home\nkey n\npanel position\nkey f1\nwait 2\n", true);
   ASSERT_EQ(view.exit_code, 0) << view.err;
   ASSERT_EQ(view.answers.size(), 9u);
   EXPECT_EQ(view.answers[0]["current"], 0);

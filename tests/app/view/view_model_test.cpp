@@ -43,7 +43,7 @@ TEST(OrbitCamera, OrbitKeepsTheDistancePanMovesTheTargetZoomStopsShort) {
 TEST(Timeline, StepsAndPixelsMapBothWays) {
   const Timeline t{0, 199, 100, 400};
   for (int64_t s : {0, 1, 57, 198, 199}) EXPECT_EQ(t.step_at(t.x_of(s)), s) << s;
-  EXPECT_EQ(t.step_at(0), 0);      // left of the timeline: the first step
+  EXPECT_EQ(t.step_at(0), 0);       // left of the timeline: the first step
   EXPECT_EQ(t.step_at(1e6f), 199);  // right of it: the last
   EXPECT_FLOAT_EQ(t.x_of(0), 101);  // the middle of step 0's two pixels
 }
