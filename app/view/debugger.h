@@ -144,7 +144,14 @@ class Debugger {
   bool edit_ok_ = false;
 
   // Interventions and files.
-  char set_variable_[64] = "", record_path_[256] = "trace.jsonl", matches_path_[256] = "matches.jsonl";
+  // Watchpoints switched off: out of the session (they watch nothing), their definitions kept
+  // here, so that switching one on evaluates it over the history again.
+  struct DisabledWatch {
+    std::string name, options, text;
+  };
+  std::vector<DisabledWatch> disabled_;
+  int set_column_ = 0;
+  char record_path_[256] = "trace.jsonl", matches_path_[256] = "matches.jsonl";
   int64_t set_value_ = 0;
   float push_[3] = {0, 0, 5};
   int goto_step_ = 0;

@@ -19,7 +19,7 @@
 namespace dw::view {
 
 struct WatchRow {
-  std::string name, algorithm, action, text;
+  std::string name, algorithm, shape, action, text;
   int64_t lag = 0;
   uint64_t matches = 0;
   size_t slots = 0;

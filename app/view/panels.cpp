@@ -150,23 +150,29 @@ void Debugger::timeline(float width) {
 void Debugger::watchpoints_panel() {
   place_in_column(0.0f, 0.3f);
   ImGui::Begin("Watchpoints");
-  if (ImGui::BeginTable("watches", 6,
+  if (ImGui::BeginTable("watches", 7,
                         ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
-    for (const char* h : {"name", "algorithm", "action", "lag", "matches", ""}) ImGui::TableSetupColumn(h);
+    for (const char* h : {"on", "name", "algorithm", "shape", "action", "matches", ""}) ImGui::TableSetupColumn(h);
     ImGui::TableHeadersRow();
     for (size_t w = 0; w < frame_.watches.size(); ++w) {
       const WatchRow& row = frame_.watches[w];
       ImGui::PushID(int(w));
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
+      bool on = true;
+      if (ImGui::Checkbox("##on", &on)) {  // off: out of the session, its definition kept here
+        disabled_.push_back({row.name, row.algorithm + " " + row.action, row.text});
+        apply({command::unwatch(row.name)});
+      }
+      ImGui::TableNextColumn();
       ImGui::TextColored(ImColor(kLaneColors[w % std::size(kLaneColors)]), "%s", row.name.c_str());
-      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", row.text.c_str());
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\nlag %" PRId64 " steps", row.text.c_str(), row.lag);
       ImGui::TableNextColumn();
       ImGui::TextUnformatted(row.algorithm.c_str());
       ImGui::TableNextColumn();
-      ImGui::TextUnformatted(row.action.c_str());
+      ImGui::TextUnformatted(row.shape.c_str());
       ImGui::TableNextColumn();
-      ImGui::Text("%" PRId64, row.lag);
+      ImGui::TextUnformatted(row.action.c_str());
       ImGui::TableNextColumn();
       ImGui::Text("%" PRIu64, row.matches);
       ImGui::TableNextColumn();
@@ -179,6 +185,23 @@ void Debugger::watchpoints_panel() {
       }
       ImGui::SameLine();
       if (ImGui::SmallButton("remove")) apply({command::unwatch(row.name)});
+      ImGui::PopID();
+    }
+    for (size_t d = 0; d < disabled_.size(); ++d) {
+      ImGui::PushID(int(1000 + d));
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      bool on = false;
+      if (ImGui::Checkbox("##on", &on)) {  // on again: evaluated over the whole history
+        apply({command::watch(disabled_[d].name, disabled_[d].options, disabled_[d].text)});
+        disabled_.erase(disabled_.begin() + std::ptrdiff_t(d));
+        ImGui::PopID();
+        break;
+      }
+      ImGui::TableNextColumn();
+      ImGui::TextDisabled("%s", disabled_[d].name.c_str());
+      ImGui::TableNextColumn();
+      ImGui::TextDisabled("off");
       ImGui::PopID();
     }
     ImGui::EndTable();
@@ -275,6 +298,23 @@ void Debugger::matches_panel() {
     });
     ImGui::SetClipboardText(lines.c_str());
     status("copied " + std::to_string(frame_.match_rows.size()) + " matches as JSON lines");
+  }
+  ImGui::SetNextItemWidth(180);
+  ImGui::InputText("##matches_path", matches_path_, sizeof matches_path_);
+  ImGui::SameLine();
+  if (ImGui::SmallButton("save the matches")) {
+    // Every match of every watchpoint, as the match log writes them (DESIGN §5).
+    std::string lines;
+    size_t written = 0;
+    const bool read = worker_->try_read([&](sim::Session& s) {
+      for (uint32_t w = 0; w < s.model().watches.size(); ++w)
+        for (size_t i = 0; i < s.matches(w).size(); ++i, ++written) lines += shell_.match_json(w, i).dump() + "\n";
+    });
+    std::ofstream out;
+    if (read) out.open(matches_path_), out << lines;
+    status(!read ? std::string("the session is busy: save again when it is done")
+           : out ? "saved " + std::to_string(written) + " matches -> " + matches_path_
+                 : std::string("cannot write ") + matches_path_);
   }
   ImGui::Text("%zu matches%s", frame_.match_total,
               frame_.match_total > frame_.match_rows.size() ? " (the first shown: filter to narrow)" : "");
@@ -390,13 +430,18 @@ void Debugger::inspector_panel() {
 
   ImGui::Separator();
   ImGui::TextUnformatted("Interventions at this step (each starts a branch):");
-  ImGui::SetNextItemWidth(100);
-  ImGui::InputText("var", set_variable_, sizeof set_variable_);
+  ImGui::SetNextItemWidth(120);
+  set_column_ = std::clamp(set_column_, 0, int(m.variable_count()) - 1);
+  if (ImGui::BeginCombo("##setvar", m.universe.variables[size_t(set_column_)].c_str())) {
+    for (size_t v = 0; v < m.variable_count(); ++v)
+      if (ImGui::Selectable(m.universe.variables[v].c_str(), int(v) == set_column_)) set_column_ = int(v);
+    ImGui::EndCombo();
+  }
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(100);
-  ImGui::InputScalar("value", ImGuiDataType_S64, &set_value_);
+  ImGui::SetNextItemWidth(120);
+  ImGui::InputScalar("##value", ImGuiDataType_S64, &set_value_);
   ImGui::SameLine();
-  if (ImGui::Button("Set")) apply({command::set(in.module, set_variable_, set_value_)});
+  if (ImGui::Button("Set")) apply({command::set(in.module, m.universe.variables[size_t(set_column_)], set_value_)});
   if (ImGui::Button("Remove module")) apply({command::remove(in.module)});
   if (in.pose) {  // a physical world
     ImGui::SameLine();
