@@ -68,6 +68,8 @@ Debugger::~Debugger() {
   window_.make_current();
   const render::Gl& gl = window_.gl();
   if (view_fbo_) gl.DeleteFramebuffers(1, &view_fbo_);
+  if (composed_fbo_) gl.DeleteFramebuffers(1, &composed_fbo_);
+  if (composed_color_) gl.DeleteRenderbuffers(1, &composed_color_);
   if (view_texture_) gl.DeleteTextures(1, &view_texture_);
   renderer_.reset();
   ImGui_ImplOpenGL3_Shutdown();
@@ -121,9 +123,9 @@ void Debugger::refresh_frame() {
         model_.playing = false;
         continue;
       }
-      if (a.json.contains("pause")) {
+      if (a.json.contains("paused") && !a.json["paused"].is_null()) {
         model_.playing = false;
-        const auto& p = a.json["pause"];
+        const auto& p = a.json["paused"];
         paused.emplace(p.value("watch", ""), p.value("t", int64_t{0}));
         status("paused: " + p.dump());
       } else if (!model_.playing) {
@@ -146,8 +148,13 @@ void Debugger::refresh_frame() {
         }
       }
     }
-    const ModuleWindow* window = module_window_ ? &*module_window_ : nullptr;
-    frame_ = read_frame(s, scenario_, model_, window, version);
+    FrameRequest request{version, module_window_ ? &*module_window_ : nullptr, timeline_, timeline_columns_};
+    // While playing, the matches table is read again twice a second, not at every step.
+    const auto now = std::chrono::steady_clock::now();
+    if (model_.playing && now - rows_read_at_ < std::chrono::milliseconds(500)) request.keep_rows = &frame_;
+    else rows_read_at_ = now;
+    Frame next = read_frame(s, scenario_, model_, request);
+    frame_ = std::move(next);
   });
   if (!read) return;  // a job runs: the last Frame stays on screen
   frame_stale_ = false;
@@ -189,7 +196,7 @@ void Debugger::handle_keys() {
 void Debugger::press(Key key) {
   const size_t w = size_t(model_.chosen_watch);
   const std::span<const int64_t> steps =
-      w < frame_.watches.size() ? std::span<const int64_t>(frame_.watches[w].match_steps) : std::span<const int64_t>();
+      w < frame_.watches.size() ? std::span<const int64_t>(frame_.watches[w].nearest_steps) : std::span<const int64_t>();
   apply(model_.on_key(key, frame_.at, steps));
   if (model_.screenshot_requested) {
     model_.screenshot_requested = false;
@@ -252,7 +259,7 @@ void Debugger::focus_on_selection() {
     }
 }
 
-void Debugger::render_view_texture() {
+void Debugger::render_view_texture(bool moving) {
   const render::Gl& gl = window_.gl();
   if (!view_fbo_) {
     gl.GenFramebuffers(1, &view_fbo_);
@@ -261,7 +268,7 @@ void Debugger::render_view_texture() {
   if (texture_width_ != view_.width || texture_height_ != view_.height) {
     gl.BindTexture(GL_TEXTURE_2D, view_texture_);
     gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, view_.width, view_.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // one texel a pixel: as drawn
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     gl.BindFramebuffer(GL_FRAMEBUFFER, view_fbo_);
     gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, view_texture_, 0);
@@ -270,11 +277,12 @@ void Debugger::render_view_texture() {
     texture_height_ = view_.height;
     drawn_key_.clear();
   }
-  const glm::vec3 eye = model_.camera.eye();
-  const std::string key = std::to_string(frame_.version) + "|" + vec_text(eye) + "|" + vec_text(model_.camera.target) +
-                          "|" + std::to_string(view_.width) + "x" + std::to_string(view_.height);
+  const float scale = moving ? kMotionScale : 1.0f;
+  const int width = std::max(16, int(float(view_.width) * scale)), height = std::max(16, int(float(view_.height) * scale));
+  const std::string key = std::to_string(frame_.version) + "|" + vec_text(model_.camera.eye()) + "|" +
+                          vec_text(model_.camera.target) + "|" + std::to_string(width) + "x" + std::to_string(height);
   if (key == drawn_key_) return;
-  renderer_->draw(camera_scene(), view_.width, view_.height, view_fbo_);
+  renderer_->draw(camera_scene(), width, height, view_fbo_);
   // Blending leaves alpha below 1 where translucent things were drawn, and ImGui blends the image
   // over the window: the picture is opaque, as `dwatch render` writes it.
   gl.BindFramebuffer(GL_FRAMEBUFFER, view_fbo_);
@@ -284,6 +292,8 @@ void Debugger::render_view_texture() {
   gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
   drawn_key_ = key;
+  drawn_width_ = width;
+  drawn_height_ = height;
 }
 
 void Debugger::draw_view() {
@@ -293,7 +303,10 @@ void Debugger::draw_view() {
                            ImGuiCond_FirstUseEver);
   ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
   ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0);  // a border would cover the picture's edge
-  ImGui::Begin("3D view", nullptr, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+  // No background: the picture is copied into the window's framebuffer before ImGui draws (see
+  // frame()), which a software rasteriser does far faster than it samples a textured quad.
+  ImGui::Begin("3D view", nullptr,
+               ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse | ImGuiWindowFlags_NoBackground);
   ImGui::PopStyleVar(2);
 
   // The tool row: colour-by, fit, centre, screenshot.
@@ -320,10 +333,12 @@ void Debugger::draw_view() {
            std::max(16, int(avail.y * scale.y))};
   if (!model_.camera_placed) place_camera();
   if (model_.focus_selection) focus_on_selection();
-  render_view_texture();
+  const glm::vec3 eye = model_.camera.eye();
+  const bool moving = model_.playing || eye != last_eye_ || model_.camera.target != last_target_;
+  last_eye_ = eye;
+  last_target_ = model_.camera.target;
+  render_view_texture(moving);
   const ImVec2 size(float(view_.width) / scale.x, float(view_.height) / scale.y);
-  ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(view_texture_)), size, ImVec2(0, 1), ImVec2(1, 0));
-  ImGui::SetCursorScreenPos(origin);
   ImGui::InvisibleButton(
       "view", size,
       ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight | ImGuiButtonFlags_MouseButtonMiddle);
@@ -402,17 +417,22 @@ void Debugger::frame() {
 
   int width = 0, height = 0;
   glfwGetFramebufferSize(window_.handle(), &width, &height);
-  const render::Gl& gl = window_.gl();
-  gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-  gl.Viewport(0, 0, width, height);
-  gl.ClearColor(0.1f, 0.1f, 0.12f, 1);
-  gl.Clear(GL_COLOR_BUFFER_BIT);
-  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  if (compose(width, height)) {
+    // Something changed: the finished picture goes to the window.
+    const render::Gl& gl = window_.gl();
+    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, composed_fbo_);
+    gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    gl.BlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    glfwSwapBuffers(window_.handle());
+  }
   if (!window_shot_.empty()) {
+    const render::Gl& gl = window_.gl();
     render::Image image(width, height);
-    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, composed_fbo_);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
     gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
     render::Image flipped(width, height);
     const size_t row = size_t(width) * 4;
     for (int y = 0; y < height; ++y)
@@ -422,8 +442,78 @@ void Debugger::frame() {
     render::write_png(window_shot_, flipped, &window_shot_error_);
     window_shot_.clear();
   }
-  glfwSwapBuffers(window_.handle());
   frame_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (start - frame_time_shown_at_ > std::chrono::milliseconds(500)) {
+    shown_frame_ms_ = frame_seconds_ * 1000;
+    frame_time_shown_at_ = start;
+  }
+}
+
+bool Debugger::compose(int width, int height) {
+  // What ImGui drew this frame, as a hash of its vertices, indices and commands: unchanged, the
+  // panels need not be rasterised again (llvmpipe spends most of a frame doing that).
+  const ImDrawData* data = ImGui::GetDrawData();
+  uint64_t hash = 1469598103934665603ull;
+  auto mix = [&](const void* bytes, size_t n) {
+    const auto* p = static_cast<const unsigned char*>(bytes);
+    for (size_t i = 0; i < n; ++i) hash = (hash ^ p[i]) * 1099511628211ull;
+  };
+  bool over_view = false;  // some of ImGui's drawing lies on the 3D view (a tooltip, a popup)
+  // (Inset by a few pixels: the neighbouring panels' borders run along its edges.)
+  const float vx0 = view_.x + 3, vy0 = view_.y + 3, vx1 = view_.x + float(view_.width) - 3,
+              vy1 = view_.y + float(view_.height) - 3;
+  for (int l = 0; l < data->CmdListsCount; ++l) {
+    const ImDrawList* list = data->CmdLists[l];
+    mix(list->VtxBuffer.Data, size_t(list->VtxBuffer.Size) * sizeof(ImDrawVert));
+    mix(list->IdxBuffer.Data, size_t(list->IdxBuffer.Size) * sizeof(ImDrawIdx));
+    for (const ImDrawCmd& c : list->CmdBuffer) {
+      mix(&c.ClipRect, sizeof c.ClipRect);
+      mix(&c.ElemCount, sizeof c.ElemCount);
+    }
+    for (const ImDrawVert& v : list->VtxBuffer)
+      if (v.pos.x > vx0 && v.pos.x < vx1 && v.pos.y > vy0 && v.pos.y < vy1) over_view = true;
+  }
+  mix(&width, sizeof width);
+  mix(&height, sizeof height);
+  const bool ui_changed = hash != composed_ui_hash_ || over_view;
+  const bool view_changed = drawn_key_ != composed_view_key_;
+  if (!ui_changed && !view_changed) return false;
+
+  const render::Gl& gl = window_.gl();
+  if (composed_width_ != width || composed_height_ != height) {
+    if (!composed_fbo_) {
+      gl.GenFramebuffers(1, &composed_fbo_);
+      gl.GenRenderbuffers(1, &composed_color_);
+    }
+    gl.BindRenderbuffer(GL_RENDERBUFFER, composed_color_);
+    gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, composed_fbo_);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, composed_color_);
+    composed_width_ = width;
+    composed_height_ = height;
+  }
+  gl.BindFramebuffer(GL_FRAMEBUFFER, composed_fbo_);
+  if (ui_changed) {
+    gl.Viewport(0, 0, width, height);
+    gl.ClearColor(0.1f, 0.1f, 0.12f, 1);
+    gl.Clear(GL_COLOR_BUFFER_BIT);
+  }
+  if (view_texture_ && drawn_width_ > 0) {
+    // The 3D view, stretched when it was drawn smaller while moving; GL's rows run bottom up.
+    const int x0 = int(view_.x), y0 = height - int(view_.y) - view_.height;
+    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, view_fbo_);
+    gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, composed_fbo_);
+    gl.BlitFramebuffer(0, 0, drawn_width_, drawn_height_, x0, y0, x0 + view_.width, y0 + view_.height,
+                       GL_COLOR_BUFFER_BIT, drawn_width_ == view_.width ? GL_NEAREST : GL_LINEAR);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, composed_fbo_);
+  }
+  // ImGui draws into whatever framebuffer is bound; it touches nothing of the 3D view's area but
+  // what lies over it (then `over_view` redrew everything in order).
+  if (ui_changed) ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+  composed_ui_hash_ = hash;
+  composed_view_key_ = drawn_key_;
+  return true;
 }
 
 bool Debugger::settled() {

@@ -50,7 +50,7 @@ class Debugger {
 
   // Where the panels go the first time (afterwards the layout file says): a column on the right,
   // the transport bar under the 3D view.
-  static constexpr float kPanelWidth = 480, kTransportHeight = 190;
+  static constexpr float kPanelWidth = 520, kTransportHeight = 190;
 
   ViewModel& model() { return model_; }
   const Frame& shown() const { return frame_; }
@@ -82,7 +82,10 @@ class Debugger {
   render::Scene& camera_scene();  // the Frame's scene, seen through the user's camera
   void place_camera();
   void focus_on_selection();
-  void render_view_texture();
+  void render_view_texture(bool moving);
+  // Puts the 3D view and the panels together in composed_fbo_, redrawing only what changed; false
+  // when nothing did (the window keeps what it shows).
+  bool compose(int width, int height);
   std::string screenshot_view(const std::string& path);
   nlohmann::ordered_json window_command(const std::vector<std::string>& words, std::string& error);
   void apply(const std::vector<std::string>& commands);
@@ -125,6 +128,19 @@ class Debugger {
   unsigned view_fbo_ = 0, view_texture_ = 0;
   int texture_width_ = 0, texture_height_ = 0;
   std::string drawn_key_;  // what the texture shows
+  // While the camera moves or the session plays, the view is drawn at a lower resolution (a
+  // software rasteriser's cost grows with the pixels) and again in full once it holds still.
+  static constexpr float kMotionScale = 0.35f;
+  int drawn_width_ = 0, drawn_height_ = 0;
+  glm::vec3 last_eye_{0}, last_target_{0};
+  // The window's picture, kept between frames: the panels are rasterised again only when ImGui's
+  // drawing changed, the 3D view copied in only when it was drawn again.
+  unsigned composed_fbo_ = 0, composed_color_ = 0;
+  int composed_width_ = 0, composed_height_ = 0;
+  uint64_t composed_ui_hash_ = 0;
+  std::string composed_view_key_;
+  int timeline_columns_ = 0;  // the timeline's width in pixels as last drawn
+  std::chrono::steady_clock::time_point rows_read_at_;
   std::optional<sim::ModuleId> hovered_;
   bool dragging_ = false;
   std::string window_shot_, window_shot_error_;  // a script's `screenshot`, taken after the next frame
@@ -157,7 +173,11 @@ class Debugger {
   int goto_step_ = 0;
   int filter_module_ = -1;
 
-  double frame_seconds_ = 0;  // the last frame's time, for the statistics panel
+  double frame_seconds_ = 0;  // the last frame's time
+  // What the statistics panel shows of it, updated twice a second (a number changing every frame
+  // would make every frame redraw the panels).
+  double shown_frame_ms_ = 0;
+  std::chrono::steady_clock::time_point frame_time_shown_at_;
 };
 
 }  // namespace dw::view

@@ -58,7 +58,7 @@ Inspector inspect(sim::Session& session, const ViewModel& view, const ModuleWind
   MatchFilter only_m;
   only_m.module = m;
   MatchRows rows = filter_matches(session, only_m, limits.module_matches);
-  in.matches = std::move(rows.rows);
+  for (const MatchRef& r : rows.rows) in.matches.push_back({r, session.matches(r.watch).t[r.index]});
   in.matches_total = rows.total;
   in.plot_column = view.plot_variable.empty() ? 0 : std::max(0, model.column(view.plot_variable));
   if (have_window) {
@@ -71,10 +71,12 @@ Inspector inspect(sim::Session& session, const ViewModel& view, const ModuleWind
 }  // namespace
 
 Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, const ViewModel& view,
-                 const ModuleWindow* window, uint64_t version, const FrameLimits& limits) {
+                 const FrameRequest& request, const FrameLimits& limits) {
   const sim::Model& model = session.model();
   Frame f;
-  f.version = version;
+  f.version = request.version;
+  f.timeline = request.timeline;
+  f.columns = request.columns;
   f.at = {session.current(), session.latest(), session.end()};
   f.decided = session.decided();
   f.history_bytes = session.history_bytes();
@@ -94,7 +96,11 @@ Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, con
     row.lag = h.lag();
     row.matches = session.match_count(w);
     row.slots = size_t(h.watchpoint.program.slot_count());
-    row.match_steps = session.matches(w).t;
+    const std::vector<int64_t>& steps = session.matches(w).t;
+    const int64_t now = f.at.current;
+    if (auto p = previous_match(steps, now)) row.nearest_steps.push_back(*p);
+    if (auto n = next_match(steps, now)) row.nearest_steps.push_back(*n);
+    row.lane = lane_density(steps, request.timeline, request.columns);
     f.watches.push_back(std::move(row));
 
     // The detector's statistics of the steps up to the current one.
@@ -134,8 +140,14 @@ Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, con
     for (size_t m = 0; m < model.module_count(); ++m) f.color_values.push_back(s.values[m * v + size_t(c)]);
   }
 
-  if (view.selected && *view.selected < model.module_count()) f.inspector = inspect(session, view, window, limits);
+  if (view.selected && *view.selected < model.module_count())
+    f.inspector = inspect(session, view, request.window, limits);
 
+  if (request.keep_rows) {
+    f.match_rows = request.keep_rows->match_rows;
+    f.match_total = request.keep_rows->match_total;
+    return f;
+  }
   MatchRows rows = filter_matches(session, view.filter, limits.match_rows);
   f.match_total = rows.total;
   for (const MatchRef& r : rows.rows) {

@@ -23,7 +23,8 @@ struct WatchRow {
   int64_t lag = 0;
   uint64_t matches = 0;
   size_t slots = 0;
-  std::vector<int64_t> match_steps;  // sorted: the timeline lane, and N / P
+  std::vector<int64_t> nearest_steps;  // the match steps just before and after the current one: P and N
+  std::vector<uint32_t> lane;          // matches per column of the timeline (Frame::timeline)
 };
 
 struct VariableRow {
@@ -39,7 +40,7 @@ struct Inspector {
   std::vector<VariableRow> variables;
   std::vector<sim::ModuleId> neighbors;
   std::optional<sim::Pose> pose;
-  std::vector<MatchRef> matches;  // every match holding the module (up to a limit)
+  std::vector<std::pair<MatchRef, int64_t>> matches;  // the matches holding the module, with their steps (a few)
   size_t matches_total = 0;
   // The plotted variable (ViewModel::plot_variable) over steps [plot_from, plot_from + plot.size()).
   int plot_column = 0;
@@ -67,6 +68,8 @@ struct Frame {
   int64_t decided = -1;
   std::vector<WatchRow> watches;
   std::vector<int64_t> intervention_steps;
+  Timeline timeline;  // the geometry the lanes were counted for
+  int columns = 0;
   std::vector<std::string> interventions;  // one line each, as `interventions` answers
   render::Scene scene;
   std::vector<int64_t> color_values;  // per module, the colour-by variable's value (the tooltip)
@@ -84,8 +87,8 @@ struct Frame {
 
 // How much a Frame holds: table rows, the inspector's matches and plot, the statistics' steps.
 struct FrameLimits {
-  size_t match_rows = 100'000;
-  size_t module_matches = 1'000;
+  size_t match_rows = 10'000;
+  size_t module_matches = 100;
   int64_t plot_steps = 100;  // the inspector's plot: this many steps ending at the current one
   int64_t stats_steps = 200;
 };
@@ -101,10 +104,18 @@ struct ModuleWindow {
 std::optional<ModuleWindow> read_module_window(sim::Session& session, sim::ModuleId m, int64_t steps,
                                                const sim::Control& control = {});
 
-// Reads the session (which the caller must not share with a running job); `window`, when it is
-// the selected module's up to the current step, fills the inspector's history.
+// What a Frame is read for besides the view model.
+struct FrameRequest {
+  uint64_t version = 0;                  // the worker's finished jobs
+  const ModuleWindow* window = nullptr;  // when it is the selected module's up to the current step: the inspector's history
+  Timeline timeline;                     // the timeline as drawn, and its width in pixels: the lanes
+  int columns = 0;
+  const Frame* keep_rows = nullptr;  // while playing: the matches table of this Frame stays (rows cost O(matches))
+};
+
+// Reads the session (which the caller must not share with a running job).
 Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, const ViewModel& model,
-                 const ModuleWindow* window, uint64_t version, const FrameLimits& limits = {});
+                 const FrameRequest& request, const FrameLimits& limits = {});
 
 // "a=3 b=7": a group's slots by name.
 std::string slots_text(const sim::Model& model, uint32_t watch, std::span<const sim::ModuleId> group);

@@ -116,13 +116,19 @@ void Debugger::timeline(float width) {
                       IM_COL32(45, 45, 50, 255));
   draw->AddRectFilled(ImVec2(timeline_.x0, origin.y),
                       ImVec2(timeline_.x0 + std::max(0.0f, simulated), origin.y + height), IM_COL32(60, 62, 70, 255));
+  // The lanes were counted with the session for the timeline as drawn last; a new width or length
+  // asks for a fresh Frame.
+  timeline_columns_ = columns;
+  if (frame_.columns != columns || frame_.timeline.last != timeline_.last || frame_.timeline.width != timeline_.width)
+    frame_stale_ = true;
+  const std::vector<uint32_t> interventions_lane = lane_density(frame_.intervention_steps, timeline_, columns);
   for (size_t w = 0; w < lanes; ++w) {
     const float y = origin.y + lane * float(w) + 2;
     const bool interventions = w == frame_.watches.size();
     const ImU32 color = interventions ? IM_COL32(240, 240, 240, 255) : kLaneColors[w % std::size(kLaneColors)];
     draw->AddText(ImVec2(origin.x, y - 2), color, interventions ? "interventions" : frame_.watches[w].name.c_str());
-    const std::vector<int64_t>& steps = interventions ? frame_.intervention_steps : frame_.watches[w].match_steps;
-    const std::vector<uint32_t> density = lane_density(steps, timeline_, columns);
+    const std::vector<uint32_t>& density = interventions ? interventions_lane : frame_.watches[w].lane;
+    if (density.size() != size_t(columns)) continue;  // counted for another width: the next Frame's
     const uint32_t most = density.empty() ? 0 : *std::max_element(density.begin(), density.end());
     for (int c = 0; c < columns; ++c) {
       if (!density[size_t(c)]) continue;
@@ -148,7 +154,7 @@ void Debugger::timeline(float width) {
 }
 
 void Debugger::watchpoints_panel() {
-  place_in_column(0.0f, 0.3f);
+  place_in_column(0.0f, 0.26f);
   ImGui::Begin("Watchpoints");
   if (ImGui::BeginTable("watches", 7,
                         ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
@@ -268,7 +274,7 @@ void Debugger::editor() {
 }
 
 void Debugger::matches_panel() {
-  place_in_column(0.3f, 0.54f);
+  place_in_column(0.26f, 0.48f);
   ImGui::Begin("Matches");
   MatchFilter& filter = model_.filter;
   ImGui::SetNextItemWidth(120);
@@ -364,7 +370,7 @@ void Debugger::matches_panel() {
 }
 
 void Debugger::inspector_panel() {
-  place_in_column(0.54f, 0.8f);
+  place_in_column(0.48f, 0.76f);
   ImGui::Begin("Module");
   const sim::Model& m = session_.model();
   if (!frame_.inspector) {
@@ -415,11 +421,10 @@ void Debugger::inspector_panel() {
   }
   ImGui::Text("in %zu matches", in.matches_total);
   for (size_t i = 0; i < in.matches.size() && i < 8; ++i) {
-    const MatchRef r = in.matches[i];
-    if (r.watch >= frame_.watches.size() || r.index >= frame_.watches[r.watch].match_steps.size()) continue;
+    const auto& [r, t] = in.matches[i];
+    if (r.watch >= frame_.watches.size()) continue;
     ImGui::SameLine();
-    const std::string label =
-        frame_.watches[r.watch].name + "@" + std::to_string(frame_.watches[r.watch].match_steps[r.index]);
+    const std::string label = frame_.watches[r.watch].name + "@" + std::to_string(t) + "##" + std::to_string(i);
     if (ImGui::SmallButton(label.c_str())) {
       std::vector<std::string> commands;
       worker_->try_read([&](sim::Session& s) { commands = model_.on_match_click(s, r); });
@@ -427,7 +432,6 @@ void Debugger::inspector_panel() {
       frame_stale_ = true;
     }
   }
-
   ImGui::Separator();
   ImGui::TextUnformatted("Interventions at this step (each starts a branch):");
   ImGui::SetNextItemWidth(120);
@@ -471,9 +475,9 @@ void Debugger::inspector_panel() {
 }
 
 void Debugger::statistics_panel() {
-  place_in_column(0.8f, 1.0f);
+  place_in_column(0.76f, 1.0f);
   ImGui::Begin("Statistics");
-  ImGui::Text("frame %.1f ms (%.0f frames/s)", frame_seconds_ * 1000, ImGui::GetIO().Framerate);
+  ImGui::Text("frame %.1f ms", shown_frame_ms_);
   for (size_t w = 0; w < frame_.stats.size(); ++w) {
     const std::vector<StatsRow>& rows = frame_.stats[w];
     if (!ImGui::CollapsingHeader(frame_.watches[w].name.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) continue;
@@ -493,15 +497,25 @@ void Debugger::statistics_panel() {
       ms.push_back(float(r.seconds * 1000));
     }
     ImGui::PushID(int(w));
-    ImGui::PlotLines("live", live.data(), int(live.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-60, 40));
-    ImGui::PlotLines("created", created.data(), int(created.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-60, 40));
-    ImGui::PlotLines("messages", messages.data(), int(messages.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-60, 40));
-    ImGui::PlotLines("step ms", ms.data(), int(ms.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-60, 40));
-    // The paper's Fig. 7: PatternMatchers by slots filled, at this step.
-    std::vector<float> filled(last.live_by_filled.begin(), last.live_by_filled.end());
-    if (!filled.empty())
-      ImGui::PlotHistogram("by slots filled", filled.data(), int(filled.size()), 0, "live, 0..k filled", 0, FLT_MAX,
-                           ImVec2(-60, 50));
+    // Five small plots over the steps up to the current one, side by side.
+    if (ImGui::BeginTable("plots", 5, ImGuiTableFlags_SizingStretchSame)) {
+      auto plot = [](const char* what, const std::vector<float>& values, bool histogram = false) {
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(what);
+        const std::string id = std::string("##") + what;
+        if (histogram)
+          ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-1, 40));
+        else
+          ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-1, 40));
+      };
+      plot("live", live);
+      plot("created", created);
+      plot("messages", messages);
+      plot("step ms", ms);
+      // The paper's Fig. 7: PatternMatchers by slots filled (0..k), at this step.
+      plot("by filled", std::vector<float>(last.live_by_filled.begin(), last.live_by_filled.end()), true);
+      ImGui::EndTable();
+    }
     ImGui::PopID();
   }
   ImGui::End();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numeric>
 
 namespace dw::view {
@@ -61,10 +62,17 @@ float Timeline::x_of(int64_t t) const {
 std::vector<uint32_t> lane_density(std::span<const int64_t> steps, const Timeline& timeline, int columns) {
   std::vector<uint32_t> counts(size_t(std::max(0, columns)), 0);
   if (columns <= 0) return counts;
-  for (int64_t t : steps) {
-    if (t < timeline.first || t > timeline.last) continue;
-    const float x = (timeline.x_of(t) - timeline.x0) / timeline.width * float(columns);
-    counts[size_t(std::clamp(int(x), 0, columns - 1))]++;
+  // The column a step falls in grows with the step: each column's first match is a binary search
+  // away, so a lane costs columns x log(matches), however many matches there are.
+  auto column = [&](int64_t t) {
+    return std::clamp(int((timeline.x_of(t) - timeline.x0) / timeline.width * float(columns)), 0, columns - 1);
+  };
+  auto first = std::lower_bound(steps.begin(), steps.end(), timeline.first);
+  const auto end = std::upper_bound(first, steps.end(), timeline.last);
+  for (int c = 0; c < columns && first != end; ++c) {
+    const auto next = std::partition_point(first, end, [&](int64_t t) { return column(t) <= c; });
+    counts[size_t(c)] = uint32_t(next - first);
+    first = next;
   }
   return counts;
 }
@@ -84,18 +92,26 @@ std::optional<int64_t> previous_match(std::span<const int64_t> steps, int64_t t)
 MatchRows filter_matches(const sim::Session& session, const MatchFilter& filter, size_t limit) {
   MatchRows result;
   const sim::Model& model = session.model();
-  std::vector<MatchRef> all;
+  std::vector<MatchRef> all, one, merged;
+  auto step_of = [&](const MatchRef& r) { return session.matches(r.watch).t[r.index]; };
   for (uint32_t w = 0; w < model.watches.size(); ++w) {
     if (filter.watch >= 0 && uint32_t(filter.watch) != w) continue;
     const sim::MatchList& list = session.matches(w);
     const size_t k = size_t(model.watches[w].watchpoint.program.slot_count());
+    one.clear();
     for (size_t i = 0; i < list.size(); ++i) {
       if (filter.module) {
         auto first = list.slots.begin() + std::ptrdiff_t(i * k);
         if (std::find(first, first + std::ptrdiff_t(k), *filter.module) == first + std::ptrdiff_t(k)) continue;
       }
-      all.push_back({w, i});
+      one.push_back({w, i});
     }
+    // Each list is in step order already: merging them (stably, earlier watchpoints first) gives
+    // the default order in linear time, which matters while the window plays.
+    merged.clear();
+    std::merge(all.begin(), all.end(), one.begin(), one.end(), std::back_inserter(merged),
+               [&](const MatchRef& a, const MatchRef& b) { return step_of(a) < step_of(b); });
+    std::swap(all, merged);
   }
   // Ties keep the session's order (by step, then slot ids), so the table never shuffles.
   auto key = [&](const MatchRef& r) -> std::pair<int64_t, int64_t> {
@@ -107,9 +123,10 @@ MatchRows filter_matches(const sim::Session& session, const MatchFilter& filter,
     }
     return {0, 0};
   };
-  std::stable_sort(all.begin(), all.end(), [&](const MatchRef& a, const MatchRef& b) {
-    return filter.descending ? key(b) < key(a) : key(a) < key(b);
-  });
+  if (filter.order != MatchFilter::Order::Step || filter.descending)
+    std::stable_sort(all.begin(), all.end(), [&](const MatchRef& a, const MatchRef& b) {
+      return filter.descending ? key(b) < key(a) : key(a) < key(b);
+    });
   result.total = all.size();
   if (all.size() > limit) all.resize(limit);
   result.rows = std::move(all);

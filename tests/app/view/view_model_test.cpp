@@ -58,6 +58,15 @@ TEST(Timeline, LaneDensityCountsMatchesPerColumn) {
   EXPECT_EQ(d[5], 1u);
   EXPECT_EQ(d[9], 1u);  // 150 is past the timeline
   EXPECT_EQ(std::accumulate(d.begin(), d.end(), 0u), 7u);
+  // The same as counting each step's column one by one, for a lane wider than the steps too.
+  for (const Timeline& t2 : {Timeline{0, 999, 5, 300}, Timeline{20, 60, 0, 700}}) {
+    std::vector<int64_t> many;
+    for (int64_t s = 0; s < 1000; s += 1 + s % 7) many.push_back(s);
+    std::vector<uint32_t> one_by_one(size_t(t2.width), 0);
+    for (int64_t s : many)
+      if (s >= t2.first && s <= t2.last) one_by_one[size_t((t2.x_of(s) - t2.x0) / t2.width * t2.width)]++;
+    EXPECT_EQ(lane_density(many, t2, int(t2.width)), one_by_one);
+  }
 }
 
 TEST(Matches, NextAndPreviousSkipTheCurrentStep) {
@@ -171,7 +180,15 @@ TEST_F(Leader, AMatchClickSeeksToItsStepAndSelectsItsGroup) {
   // The Frame highlights that group, and the inspector shows the module's values.
   const auto window = read_module_window(*session, *view.selected, 100);
   ASSERT_TRUE(window);
-  const Frame f = read_frame(*session, *scenario, view, &*window, 1);
+  const Timeline timeline{0, session->latest(), 0, 50};
+  const Frame f = read_frame(*session, *scenario, view, {1, &*window, timeline, 50});
+  // The timeline's lane counts every match of the history once, in the column of its step.
+  const std::vector<uint32_t>& lane = f.watches[0].lane;
+  ASSERT_EQ(lane.size(), 50u);
+  EXPECT_EQ(std::accumulate(lane.begin(), lane.end(), size_t{0}), session->matches(0).size());
+  EXPECT_EQ(lane, lane_density(session->matches(0).t, timeline, 50));
+  // Seen from the step the session is on (the pause), the next match is ahead of it or none.
+  for (int64_t s : f.watches[0].nearest_steps) EXPECT_NE(s, pause->t);
   ASSERT_EQ(f.scene.groups.size(), 1u);
   EXPECT_EQ(f.scene.groups[0].modules, pause->group);
   ASSERT_TRUE(f.inspector);
