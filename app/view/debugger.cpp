@@ -165,11 +165,13 @@ void Debugger::refresh_frame() {
       !(module_window_ && module_window_->module == *model_.selected && module_window_->to == frame_.at.current)) {
     module_window_asked_ = true;
     const sim::ModuleId m = *model_.selected;
-    worker_->submit([this, m](sim::Session& s, const sim::Control& control) {
-      auto w = read_module_window(s, m, FrameLimits{}.plot_steps, control);
-      if (w) module_window_ = std::move(*w);
-      module_window_asked_ = false;
-    });
+    worker_->submit(
+        [this, m](sim::Session& s, const sim::Control& control) {
+          auto w = read_module_window(s, m, FrameLimits{}.plot_steps, control);
+          if (w) module_window_ = std::move(*w);
+          module_window_asked_ = false;
+        },
+        /*background=*/true);
   }
 }
 
@@ -195,8 +197,9 @@ void Debugger::handle_keys() {
 
 void Debugger::press(Key key) {
   const size_t w = size_t(model_.chosen_watch);
-  const std::span<const int64_t> steps =
-      w < frame_.watches.size() ? std::span<const int64_t>(frame_.watches[w].nearest_steps) : std::span<const int64_t>();
+  const std::span<const int64_t> steps = w < frame_.watches.size()
+                                             ? std::span<const int64_t>(frame_.watches[w].nearest_steps)
+                                             : std::span<const int64_t>();
   apply(model_.on_key(key, frame_.at, steps));
   if (model_.screenshot_requested) {
     model_.screenshot_requested = false;
@@ -278,7 +281,8 @@ void Debugger::render_view_texture(bool moving) {
     drawn_key_.clear();
   }
   const float scale = moving ? kMotionScale : 1.0f;
-  const int width = std::max(16, int(float(view_.width) * scale)), height = std::max(16, int(float(view_.height) * scale));
+  const int width = std::max(16, int(float(view_.width) * scale)),
+            height = std::max(16, int(float(view_.height) * scale));
   const std::string key = std::to_string(frame_.version) + "|" + vec_text(model_.camera.eye()) + "|" +
                           vec_text(model_.camera.target) + "|" + std::to_string(width) + "x" + std::to_string(height);
   if (key == drawn_key_) return;
@@ -334,9 +338,13 @@ void Debugger::draw_view() {
   if (!model_.camera_placed) place_camera();
   if (model_.focus_selection) focus_on_selection();
   const glm::vec3 eye = model_.camera.eye();
-  const bool moving = model_.playing || eye != last_eye_ || model_.camera.target != last_target_;
+  // Moving: playing, the camera turning, or the step just changed (a click on the timeline or a
+  // match shows the step at once, drawn smaller, and in full at the next frame).
+  const bool moving =
+      model_.playing || eye != last_eye_ || model_.camera.target != last_target_ || frame_.version != last_version_;
   last_eye_ = eye;
   last_target_ = model_.camera.target;
+  last_version_ = frame_.version;
   render_view_texture(moving);
   const ImVec2 size(float(view_.width) / scale.x, float(view_.height) / scale.y);
   ImGui::InvisibleButton(

@@ -133,6 +133,7 @@ class Debugger {
   static constexpr float kMotionScale = 0.35f;
   int drawn_width_ = 0, drawn_height_ = 0;
   glm::vec3 last_eye_{0}, last_target_{0};
+  uint64_t last_version_ = 0;
   // The window's picture, kept between frames: the panels are rasterised again only when ImGui's
   // drawing changed, the 3D view copied in only when it was drawn again.
   unsigned composed_fbo_ = 0, composed_color_ = 0;

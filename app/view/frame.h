@@ -106,9 +106,10 @@ std::optional<ModuleWindow> read_module_window(sim::Session& session, sim::Modul
 
 // What a Frame is read for besides the view model.
 struct FrameRequest {
-  uint64_t version = 0;                  // the worker's finished jobs
-  const ModuleWindow* window = nullptr;  // when it is the selected module's up to the current step: the inspector's history
-  Timeline timeline;                     // the timeline as drawn, and its width in pixels: the lanes
+  uint64_t version = 0;  // the worker's finished jobs
+  const ModuleWindow* window =
+      nullptr;        // when it is the selected module's up to the current step: the inspector's history
+  Timeline timeline;  // the timeline as drawn, and its width in pixels: the lanes
   int columns = 0;
   const Frame* keep_rows = nullptr;  // while playing: the matches table of this Frame stays (rows cost O(matches))
 };

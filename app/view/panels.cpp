@@ -505,8 +505,7 @@ void Debugger::statistics_panel() {
         const std::string id = std::string("##") + what;
         if (histogram)
           ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-1, 40));
-        else
-          ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-1, 40));
+        else ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-1, 40));
       };
       plot("live", live);
       plot("created", created);

@@ -11,10 +11,14 @@ SessionWorker::~SessionWorker() {
   queue_changed_.notify_all();
 }
 
-void SessionWorker::submit(Job job) {
+void SessionWorker::submit(Job job, bool background) {
   {
     std::lock_guard lock(queue_mutex_);
-    queue_.push_back(std::move(job));
+    if (!background) {
+      std::erase_if(queue_, [](const Queued& q) { return q.background; });
+      if (running_ && running_background_) job_stop_.request_stop();
+    }
+    queue_.push_back({std::move(job), background});
   }
   queue_changed_.notify_all();
 }
@@ -53,7 +57,8 @@ void SessionWorker::loop(std::stop_token stop) {
     {
       std::unique_lock lock(queue_mutex_);
       if (!queue_changed_.wait(lock, stop, [&] { return !queue_.empty(); })) return;
-      job = std::move(queue_.front());
+      job = std::move(queue_.front().job);
+      running_background_ = queue_.front().background;
       queue_.pop_front();
       running_ = true;
       job_stop_ = std::stop_source();

@@ -25,8 +25,9 @@ class SessionWorker {
   SessionWorker(const SessionWorker&) = delete;
   SessionWorker& operator=(const SessionWorker&) = delete;
 
-  // Queues a job; it runs after those queued before it.
-  void submit(Job job);
+  // Queues a job; it runs after those queued before it. A background job (the inspector's history)
+  // gives way: a job submitted after it stops it (and drops it if it has not started).
+  void submit(Job job, bool background = false);
   // Nothing queued and nothing running.
   bool idle() const;
   // Blocks until idle.
@@ -61,8 +62,12 @@ class SessionWorker {
   mutable std::mutex queue_mutex_;
   std::condition_variable_any queue_changed_;
   std::condition_variable idle_changed_;
-  std::deque<Job> queue_;
-  bool running_ = false;
+  struct Queued {
+    Job job;
+    bool background = false;
+  };
+  std::deque<Queued> queue_;
+  bool running_ = false, running_background_ = false;
   std::stop_source job_stop_;
   int64_t done_ = 0, total_ = 0;
   uint64_t finished_ = 0;

@@ -70,9 +70,12 @@ TEST_F(Worker, CancelStopsTheRunningJobAndDropsTheQueuedOnes) {
       c.progress(done, total);
       if (!told.exchange(true)) stepping.count_down();
     };
-    s.run_until(1'000'000, [&](const sim::State&, const sim::StepOutput&) {
-      if (!told.exchange(true)) stepping.count_down();
-    }, reporting);
+    s.run_until(
+        1'000'000,
+        [&](const sim::State&, const sim::StepOutput&) {
+          if (!told.exchange(true)) stepping.count_down();
+        },
+        reporting);
   });
   worker.submit([&](sim::Session&, const sim::Control&) { later_ran = true; });
   stepping.wait();
@@ -83,6 +86,30 @@ TEST_F(Worker, CancelStopsTheRunningJobAndDropsTheQueuedOnes) {
   worker.try_read([&](sim::Session& s) { current = s.current(); });
   EXPECT_GE(current, 0);
   EXPECT_LT(current, 999'999) << "the run stopped where it had got to";
+}
+
+TEST_F(Worker, ABackgroundJobGivesWayToTheNextCommand) {
+  SessionWorker worker(*session);
+  std::latch started(1);
+  std::atomic<bool> background_stopped = false, queued_background_ran = false;
+  worker.submit(
+      [&](sim::Session&, const sim::Control& c) {
+        started.count_down();
+        while (!c.stopped()) std::this_thread::yield();
+        background_stopped = true;
+      },
+      true);
+  started.wait();
+  worker.submit([&](sim::Session&, const sim::Control&) { queued_background_ran = true; }, true);
+  int64_t seen = -2;
+  worker.submit([&](sim::Session& s, const sim::Control&) {
+    s.run_until(3);
+    seen = s.current();
+  });
+  worker.wait_idle();
+  EXPECT_TRUE(background_stopped);
+  EXPECT_FALSE(queued_background_ran) << "a background job waiting behind a command is dropped";
+  EXPECT_EQ(seen, 2);
 }
 
 }  // namespace
