@@ -654,13 +654,26 @@ int Debugger::run_script(const watch::SourceText& script) {
   for (size_t begin = 0; begin < text.size(); ++number) {
     const size_t newline = text.find('\n', begin);
     const size_t stop = newline == std::string::npos ? text.size() : newline;
-    std::istringstream words_in(text.substr(begin, stop - begin));
-    std::vector<std::string> words;
-    for (std::string w; words_in >> w && w[0] != '#';) words.push_back(w);
-    static const char* kWindowCommands[] = {"click", "key", "wait", "screenshot", "panel"};
-    if (!words.empty() &&
-        std::find(std::begin(kWindowCommands), std::end(kWindowCommands), words[0]) != std::end(kWindowCommands)) {
-      lines.push_back({number, std::move(words), {}});
+    std::vector<ScriptWord> words;
+    for (size_t i = begin; i < stop;) {
+      if (text[i] == ' ' || text[i] == '\t' || text[i] == '\r') {
+        ++i;
+        continue;
+      }
+      if (text[i] == '#') break;
+      const size_t from = i;
+      while (i < stop && text[i] != ' ' && text[i] != '\t' && text[i] != '\r') ++i;
+      words.push_back({text.substr(from, i - from), {uint32_t(from), uint32_t(i)}});
+    }
+    if (!words.empty() && is_window_command(words[0].text)) {
+      const watch::Span end{uint32_t(stop), uint32_t(stop + 1)};
+      if (auto d = check_window_command(words, session_.model().module_count(), end)) {
+        mistakes += watch::format_diagnostics(script, {*d});
+      } else {
+        std::vector<std::string> plain;
+        for (const ScriptWord& w : words) plain.push_back(w.text);
+        lines.push_back({number, std::move(plain), {}});
+      }
     } else {
       auto parsed = shell_.parse(script, uint32_t(begin), number);
       if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed))

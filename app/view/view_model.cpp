@@ -153,10 +153,52 @@ std::optional<Key> key_named(std::string_view name) {
   return std::nullopt;
 }
 
-std::string_view key_name(Key key) {
-  for (const KeyEntry& e : kKeys)
-    if (e.key == key) return e.name;
-  return "?";
+bool is_window_command(std::string_view word) {
+  return word == "click" || word == "key" || word == "wait" || word == "screenshot" || word == "panel";
+}
+
+std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord> words, uint32_t module_count,
+                                                      watch::Span end_of_line) {
+  auto at = [&](size_t i) { return i < words.size() ? words[i].span : end_of_line; };
+  auto mistake = [&](size_t i, std::string message) { return watch::Diagnostic{at(i), std::move(message)}; };
+  auto integer = [&](size_t i, int64_t lo, int64_t hi, const char* what) -> std::optional<watch::Diagnostic> {
+    if (i >= words.size()) return mistake(i, std::string(what) + " is missing");
+    const std::string& w = words[i].text;
+    char* end = nullptr;
+    const long long v = std::strtoll(w.c_str(), &end, 10);
+    if (w.empty() || *end || v < lo || v > hi)
+      return mistake(
+          i, std::string(what) + " must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
+    return std::nullopt;
+  };
+  const std::string& name = words[0].text;
+  size_t want = 2;
+  std::optional<watch::Diagnostic> d;
+  if (name == "click") {
+    if (words.size() > 1 && (words[1].text == "match" || words[1].text == "timeline")) {
+      want = 3;
+      d = integer(2, 0, int64_t{1} << 40, words[1].text == "match" ? "ROW" : "T");
+    } else {
+      d = integer(1, 0, int64_t{module_count} - 1, "M");
+    }
+  } else if (name == "key") {
+    if (words.size() < 2 || !key_named(words[1].text)) {
+      std::string names;
+      for (const KeyEntry& e : kKeys) names += (names.empty() ? "" : ", ") + std::string(e.name);
+      d = mistake(1, "key NAME: one of " + names);
+    }
+  } else if (name == "wait") {
+    d = integer(1, 0, 100'000, "N");
+  } else if (name == "screenshot") {
+    if (words.size() < 2) d = mistake(1, "screenshot FILE: the PNG to write");
+  } else if (name == "panel") {
+    static const char* kPanels[] = {"position", "matches", "watchpoints", "inspector"};
+    if (words.size() < 2 || std::find(std::begin(kPanels), std::end(kPanels), words[1].text) == std::end(kPanels))
+      d = mistake(1, "panel NAME: position, matches, watchpoints or inspector");
+  }
+  if (!d && words.size() > want)
+    d = mistake(want, "'" + name + "' takes " + std::to_string(want - 1) + " more word" + (want == 2 ? "" : "s"));
+  return d;
 }
 
 const std::vector<KeyHelp>& key_help() {

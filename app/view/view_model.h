@@ -16,6 +16,7 @@
 
 #include "render/camera.h"
 #include "sim/session.h"
+#include "watch/diagnostic.h"
 
 namespace dw::view {
 
@@ -82,11 +83,22 @@ MatchRows filter_matches(const sim::Session& session, const MatchFilter& filter,
 // The keys the window binds (F1 lists them).
 enum class Key { Space, Right, Left, N, P, F, Z, Home, End, F1, F12, Escape };
 std::optional<Key> key_named(std::string_view name);
-std::string_view key_name(Key key);
 struct KeyHelp {
   std::string_view keys, what;
 };
 const std::vector<KeyHelp>& key_help();
+
+// A script's words, with where each stands in the script.
+struct ScriptWord {
+  std::string text;
+  watch::Span span;
+};
+// The commands only the window has (DESIGN §7a): click M | click match ROW | click timeline T,
+// key NAME, wait N, screenshot FILE, panel NAME.
+bool is_window_command(std::string_view word);
+// A mistake in one (its words, the span just past the line's end), or nothing.
+std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord> words, uint32_t module_count,
+                                                      watch::Span end_of_line);
 
 // Where the session is, as the window last read it.
 struct Position {

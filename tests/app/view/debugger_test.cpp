@@ -166,12 +166,18 @@ TEST_F(Window, KeysStepSeekAndFindTheNextMatch) {
 }
 
 TEST_F(Window, ScriptMistakesAreBadInputAndFailuresStopTheScript) {
-  const Outcome bad = dwatch("view " + kLeader, "step\nkey\nseek x\n", true);
+  // Every line is checked before the window does anything: the window's own commands too.
+  const Outcome bad = dwatch("view " + kLeader, "step\nkey\nseek x\nwait 1 2\n", true);
   EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_TRUE(bad.answers.empty());
+  EXPECT_NE(bad.err.find("script:2:4: error: key NAME: one of space"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("script:3:6: error:"), std::string::npos) << bad.err;
-  const Outcome failed = dwatch("view " + kLeader, "key nosuch\n", true);
+  EXPECT_NE(bad.err.find("script:4:8: error: 'wait' takes 1 more word"), std::string::npos) << bad.err;
+  // A command that cannot be carried out stops the script there.
+  const Outcome failed = dwatch("view " + kLeader, "step\nclick match 5000\nstep\n", true);
   EXPECT_EQ(failed.exit_code, 1);
-  EXPECT_NE(failed.err.find("script:1: error: key NAME"), std::string::npos) << failed.err;
+  EXPECT_EQ(failed.answers.size(), 1u);
+  EXPECT_NE(failed.err.find("script:2: error: ROW must be an integer"), std::string::npos) << failed.err;
 }
 
 }  // namespace

@@ -129,6 +129,36 @@ TEST(Commands, AreLinesOfTheSessionLanguage) {
             "watch w centralized pause modules(a); (a.x = 1)");
 }
 
+TEST(WindowCommands, AreCheckedWithTheirColumn) {
+  auto check = [](const std::string& line) -> std::string {
+    std::vector<ScriptWord> words;
+    for (size_t i = 0; i < line.size();) {
+      if (line[i] == ' ') {
+        ++i;
+        continue;
+      }
+      const size_t from = i;
+      while (i < line.size() && line[i] != ' ') ++i;
+      words.push_back({line.substr(from, i - from), {uint32_t(from), uint32_t(i)}});
+    }
+    const auto d = check_window_command(words, 10, {uint32_t(line.size()), uint32_t(line.size() + 1)});
+    return d ? std::to_string(d->span.begin) + ": " + d->message : "ok";
+  };
+  EXPECT_EQ(check("click 9"), "ok");
+  EXPECT_EQ(check("click 10"), "6: M must be an integer from 0 to 9");
+  EXPECT_EQ(check("click match 3"), "ok");
+  EXPECT_EQ(check("click timeline"), "14: T is missing");
+  EXPECT_EQ(check("key f12"), "ok");
+  EXPECT_EQ(check("key F12").substr(0, 16), "4: key NAME: one");
+  EXPECT_EQ(check("wait -1"), "5: N must be an integer from 0 to 100000");
+  EXPECT_EQ(check("screenshot"), "10: screenshot FILE: the PNG to write");
+  EXPECT_EQ(check("panel inspector"), "ok");
+  EXPECT_EQ(check("panel stats"), "6: panel NAME: position, matches, watchpoints or inspector");
+  EXPECT_EQ(check("panel matches x"), "14: 'panel' takes 1 more word");
+  EXPECT_TRUE(is_window_command("click"));
+  EXPECT_FALSE(is_window_command("seek"));
+}
+
 // A real session: leader election run to its pause.
 struct Leader : ::testing::Test {
   void SetUp() override {
