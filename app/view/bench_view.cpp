@@ -57,7 +57,7 @@ int bench_view(const BenchArgs& args) {
     model.filter = {};
     debugger.settle();
 
-    double orbit_fps = 0, play_fps = 0, match_click = 1e9, timeline_click = 1e9;
+    double orbit_fps = 0, play_fps = 0, play_steps = 0, match_click = 1e9, timeline_click = 1e9;
     for (int r = 0; r < args.repeat; ++r) {
       const int frames = 60;
       auto start = Clock::now();
@@ -79,8 +79,10 @@ int bench_view(const BenchArgs& args) {
         ++played;
       }
       model.playing = false;
-      play_fps = std::max(play_fps, played / seconds_since(start));
+      const double played_seconds = seconds_since(start);
+      play_fps = std::max(play_fps, played / played_seconds);
       debugger.settle();
+      play_steps = std::max(play_steps, double(debugger.shown().at.current - 150) / played_seconds);
 
       // A click on a match row (the last one, far from the current step) until the step shows.
       const view::Frame& shown = debugger.shown();
@@ -104,7 +106,8 @@ int bench_view(const BenchArgs& args) {
     }
     const uint32_t modules = scenario.model->module_count();
     std::cout << "  " << std::setw(6) << modules << " modules: " << std::setw(6) << orbit_fps
-              << " frames/s turning the camera, " << std::setw(6) << play_fps << " frames/s playing at full speed, "
+              << " frames/s turning the camera, " << std::setw(6) << play_fps << " frames/s playing at full speed ("
+              << play_steps << " steps/s), "
               << "a match click shows its step in " << match_click * 1000 << " ms, a timeline click in "
               << timeline_click * 1000 << " ms\n";
   }

@@ -151,8 +151,19 @@ void Debugger::refresh_frame() {
     FrameRequest request{version, module_window_ ? &*module_window_ : nullptr, timeline_, timeline_columns_};
     // While playing, the matches table is read again twice a second, not at every step.
     const auto now = std::chrono::steady_clock::now();
-    if (model_.playing && now - rows_read_at_ < std::chrono::milliseconds(500)) request.keep_rows = &frame_;
-    else rows_read_at_ = now;
+    // The rows depend only on the filter and the match lists, which a seek leaves as they are.
+    std::string rows_key = std::to_string(model_.filter.watch) + "|" +
+                           (model_.filter.module ? std::to_string(*model_.filter.module) : "-") + "|" +
+                           std::to_string(int(model_.filter.order)) + std::to_string(model_.filter.descending) + "|" +
+                           std::to_string(s.interventions().size());
+    for (uint32_t w = 0; w < s.model().watches.size(); ++w)
+      rows_key += "|" + s.model().watches[w].watchpoint.source->text() + "#" + std::to_string(s.matches(w).size());
+    if (rows_key == rows_key_ || (model_.playing && now - rows_read_at_ < std::chrono::milliseconds(500))) {
+      request.keep_rows = &frame_;
+    } else {
+      rows_read_at_ = now;
+      rows_key_ = std::move(rows_key);
+    }
     Frame next = read_frame(s, scenario_, model_, request);
     frame_ = std::move(next);
   });
@@ -224,9 +235,11 @@ void Debugger::play() {
   }
   int64_t n;
   if (model_.speed <= 0) {
-    if (last_job_seconds_ > 0) {
-      if (last_job_seconds_ < kFastRequestSeconds * 0.5) fast_steps_ *= 2;
-      else if (last_job_seconds_ > kFastRequestSeconds * 2 && fast_steps_ > 1) fast_steps_ /= 2;
+    // As many steps a request as take about kFastRequestSeconds, from what the last playing
+    // request took a step (play only asks when the worker is idle, so the last job was it).
+    if (fast_asked_ > 0 && last_job_seconds_ > 0) {
+      const double per_step = last_job_seconds_ / double(fast_asked_);
+      fast_steps_ = std::clamp<int64_t>(int64_t(kFastRequestSeconds / per_step), 1, 1000);
     }
     n = fast_steps_;
   } else {
@@ -234,6 +247,7 @@ void Debugger::play() {
     if (n < 1) return;
   }
   n = std::min(n, last - frame_.at.current);
+  fast_asked_ = model_.speed <= 0 ? n : 0;
   send(command::step(n));
   last_request_ = now;
 }

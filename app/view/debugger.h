@@ -142,6 +142,7 @@ class Debugger {
   std::string composed_view_key_;
   int timeline_columns_ = 0;  // the timeline's width in pixels as last drawn
   std::chrono::steady_clock::time_point rows_read_at_;
+  std::string rows_key_;  // what the matches table's rows were read for
   std::optional<sim::ModuleId> hovered_;
   bool dragging_ = false;
   std::string window_shot_, window_shot_error_;  // a script's `screenshot`, taken after the next frame
@@ -150,6 +151,7 @@ class Debugger {
   // Playing.
   std::chrono::steady_clock::time_point last_request_;
   int64_t fast_steps_ = 1;  // steps per request when playing as fast as possible
+  int64_t fast_asked_ = 0;  // steps of the last such request
   std::atomic<double> last_job_seconds_ = 0;
   bool suspend_play_ = false;  // while a script waits for the session to settle
 
