@@ -20,8 +20,8 @@ namespace dw::app {
 namespace {
 
 struct SessionArgs {
-  std::string scenario, script;
-  std::optional<int64_t> seed, threads, history_mb;
+  SessionSource source;
+  std::string script;
 };
 
 // Every line checked first; then carried out in order.
@@ -78,14 +78,9 @@ int run_prompt(SessionShell& shell) {
 }
 
 int session_main(const SessionArgs& args) {
-  scenarios::ScenarioOverrides overrides;
-  if (args.seed) overrides.seed = static_cast<uint64_t>(*args.seed);
-  auto loaded = scenarios::load_scenario(args.scenario, overrides);
-  if (auto* errors = std::get_if<std::string>(&loaded)) {
-    std::cerr << *errors;
-    return 2;
-  }
-  scenarios::Scenario& scenario = std::get<scenarios::Scenario>(loaded);
+  std::optional<scenarios::Scenario> loaded = load_session_scenario(args.source);
+  if (!loaded) return 2;
+  const scenarios::Scenario& scenario = *loaded;
   std::optional<watch::SourceText> script;
   if (!args.script.empty()) {
     std::string error;
@@ -100,12 +95,7 @@ int session_main(const SessionArgs& args) {
   } else if (!isatty(STDIN_FILENO)) {
     script.emplace("<stdin>", std::string(std::istreambuf_iterator<char>(std::cin), {}));
   }
-  sim::Session session(
-      *scenario.model, *scenario.world,
-      {.threads = args.threads ? static_cast<unsigned>(*args.threads) : scenario.threads,
-       .end = scenario.steps,
-       .history_bytes = (args.history_mb ? static_cast<size_t>(*args.history_mb) : scenario.history_mb) << 20,
-       .events = scenario.events});
+  sim::Session session(*scenario.model, *scenario.world, session_options(scenario, args.source));
   SessionShell shell(scenario, session);
   return script ? run_script(shell, *script) : run_prompt(shell);
 }
@@ -115,13 +105,8 @@ int session_main(const SessionArgs& args) {
 void add_session_command(CLI::App& app, std::function<int()>& run) {
   auto* cmd = app.add_subcommand("session", "The debugger without a window: commands from a script or a prompt");
   auto args = std::make_shared<SessionArgs>();
-  cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
+  add_session_source(*cmd, args->source);
   cmd->add_option("--script", args->script, "Commands to carry out, one a line (- for standard input)");
-  add_integer_option(*cmd, "--seed", args->seed, scenarios::kSeedRange, "Random seed (default: the scenario's)");
-  add_integer_option(*cmd, "--threads,-j", args->threads, scenarios::kThreadsRange,
-                     "Threads stepping modules (results never depend on it)");
-  add_integer_option(*cmd, "--history-mb", args->history_mb, scenarios::kHistoryRange,
-                     "Memory for the history's keyframes, in MiB (default: the scenario's)");
   cmd->footer("Commands:\n  " + [] {
     std::string all;
     for (const std::string& line : session_command_help()) all += (all.empty() ? "" : "\n  ") + line;

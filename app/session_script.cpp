@@ -3,8 +3,10 @@
 #include <charconv>
 #include <cmath>
 #include <iomanip>
+#include <iostream>
 #include <sstream>
 
+#include "app/integer_option.h"
 #include "app/output_files.h"
 #include "app/view_image.h"
 #include "scenarios/limits.h"
@@ -62,6 +64,33 @@ std::optional<double> real(std::string_view s) {
 }
 
 }  // namespace
+
+void add_session_source(CLI::App& cmd, SessionSource& source) {
+  cmd.add_option("scenario", source.scenario, "Scenario file (TOML)")->required();
+  add_integer_option(cmd, "--seed", source.seed, scenarios::kSeedRange, "Random seed (default: the scenario's)");
+  add_integer_option(cmd, "--threads,-j", source.threads, scenarios::kThreadsRange,
+                     "Threads stepping modules (results never depend on it)");
+  add_integer_option(cmd, "--history-mb", source.history_mb, scenarios::kHistoryRange,
+                     "Memory for the history's keyframes, in MiB (default: the scenario's)");
+}
+
+std::optional<scenarios::Scenario> load_session_scenario(const SessionSource& source) {
+  scenarios::ScenarioOverrides overrides;
+  if (source.seed) overrides.seed = static_cast<uint64_t>(*source.seed);
+  auto loaded = scenarios::load_scenario(source.scenario, overrides);
+  if (auto* errors = std::get_if<std::string>(&loaded)) {
+    std::cerr << *errors;
+    return std::nullopt;
+  }
+  return std::move(std::get<scenarios::Scenario>(loaded));
+}
+
+sim::SessionOptions session_options(const scenarios::Scenario& scenario, const SessionSource& source) {
+  return {.threads = source.threads ? static_cast<unsigned>(*source.threads) : scenario.threads,
+          .end = scenario.steps,
+          .history_bytes = (source.history_mb ? static_cast<size_t>(*source.history_mb) : scenario.history_mb) << 20,
+          .events = scenario.events};
+}
 
 std::vector<watch::Diagnostic> unknown_variables(const sim::Model& model, const watch::Watchpoint& watchpoint) {
   std::vector<watch::Diagnostic> mistakes;

@@ -4,6 +4,7 @@
 // what an intervention drops, what a view of a step shows) is the session's (sim/session.h).
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -44,6 +45,19 @@ struct SessionCommand {
   std::optional<sim::Intervention> intervention;
   std::optional<sim::HostedWatchpoint> watch;
 };
+
+// What `dwatch session` and `dwatch view` take besides their own options: the scenario, and
+// what may override it.
+struct SessionSource {
+  std::string scenario;
+  std::optional<int64_t> seed, threads, history_mb;
+};
+// Registers the scenario argument and --seed, --threads, --history-mb on a subcommand.
+void add_session_source(CLI::App& cmd, SessionSource& source);
+// The scenario with the overrides, or nothing (its diagnostics printed on stderr).
+std::optional<scenarios::Scenario> load_session_scenario(const SessionSource& source);
+// The session's settings: the scenario's, with the overrides.
+sim::SessionOptions session_options(const scenarios::Scenario& scenario, const SessionSource& source);
 
 // A mistake for each variable the watchpoint reads that no program of the model has.
 std::vector<watch::Diagnostic> unknown_variables(const sim::Model& model, const watch::Watchpoint& watchpoint);

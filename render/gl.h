@@ -13,6 +13,8 @@
 
 #include <string>
 
+#include "render/image.h"
+
 namespace dw::render {
 
 // X(type, name): every function as PFNGL<NAME>PROC, loaded from "gl<name>".
@@ -97,5 +99,9 @@ using GetProcAddress = void (*(*)(const char* name))();
 
 // Loads every function; returns the names of those the context lacks (empty: all there).
 std::string load_gl(Gl& gl, GetProcAddress get_proc_address);
+
+// The pixels of a framebuffer, top row first and opaque (blending leaves alpha below 1 where
+// translucent things were drawn; the picture itself is opaque).
+Image read_framebuffer(const Gl& gl, unsigned framebuffer, int width, int height);
 
 }  // namespace dw::render

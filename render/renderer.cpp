@@ -442,25 +442,9 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
 Image Renderer::render(const Scene& scene, int width, int height) {
   resize(width, height);  // makes the output framebuffer
   draw(scene, width, height, output_fbo_);
-  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, output_fbo_);
-  Image image(width, height);
-  gl_.PixelStorei(GL_PACK_ALIGNMENT, 4);
-  gl_.ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
-  gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+  Image image = read_framebuffer(gl_, output_fbo_, width, height);
   if (GLenum error = gl_.GetError(); error != GL_NO_ERROR)
     throw RenderError("OpenGL error " + std::to_string(error) + " while drawing");
-  // GL's rows run bottom to top; images run top to bottom. Blending leaves alpha below 1 where
-  // translucent things were drawn: the picture itself is opaque.
-  const size_t row = size_t(width) * 4;
-  std::vector<uint8_t> swap(row);
-  for (int y = 0; y < height / 2; ++y) {
-    uint8_t* a = image.rgba.data() + size_t(y) * row;
-    uint8_t* b = image.rgba.data() + size_t(height - 1 - y) * row;
-    std::copy(a, a + row, swap.data());
-    std::copy(b, b + row, a);
-    std::copy(swap.data(), swap.data() + row, b);
-  }
-  for (size_t i = 3; i < image.rgba.size(); i += 4) image.rgba[i] = 255;
   return image;
 }
 

@@ -449,19 +449,9 @@ void Debugger::frame() {
     glfwSwapBuffers(window_.handle());
   }
   if (!window_shot_.empty()) {
-    const render::Gl& gl = window_.gl();
-    render::Image image(width, height);
-    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, composed_fbo_);
-    gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
-    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-    render::Image flipped(width, height);
-    const size_t row = size_t(width) * 4;
-    for (int y = 0; y < height; ++y)
-      std::copy_n(image.rgba.data() + size_t(height - 1 - y) * row, row, flipped.rgba.data() + size_t(y) * row);
-    for (size_t i = 3; i < flipped.rgba.size(); i += 4) flipped.rgba[i] = 255;
+    const render::Image image = render::read_framebuffer(window_.gl(), composed_fbo_, width, height);
     window_shot_error_.clear();
-    render::write_png(window_shot_, flipped, &window_shot_error_);
+    render::write_png(window_shot_, image, &window_shot_error_);
     window_shot_.clear();
   }
   frame_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -13,21 +13,16 @@ namespace dw::app {
 namespace {
 
 struct ViewArgs {
-  std::string scenario, script;
-  std::optional<int64_t> seed, threads, history_mb;
+  SessionSource source;
+  std::string script;
   int width = 1600, height = 1000;
   bool keep_layout = true;
 };
 
 int view_main(const ViewArgs& args) {
-  scenarios::ScenarioOverrides overrides;
-  if (args.seed) overrides.seed = static_cast<uint64_t>(*args.seed);
-  auto loaded = scenarios::load_scenario(args.scenario, overrides);
-  if (auto* errors = std::get_if<std::string>(&loaded)) {
-    std::cerr << *errors;
-    return 2;
-  }
-  const scenarios::Scenario& scenario = std::get<scenarios::Scenario>(loaded);
+  std::optional<scenarios::Scenario> loaded = load_session_scenario(args.source);
+  if (!loaded) return 2;
+  const scenarios::Scenario& scenario = *loaded;
   std::optional<watch::SourceText> script;
   if (!args.script.empty()) {
     std::string error;
@@ -43,12 +38,7 @@ int view_main(const ViewArgs& args) {
     std::cerr << "dwatch view: error: " << *error << "\n";
     return 1;
   }
-  sim::Session session(
-      *scenario.model, *scenario.world,
-      {.threads = args.threads ? static_cast<unsigned>(*args.threads) : scenario.threads,
-       .end = scenario.steps,
-       .history_bytes = (args.history_mb ? static_cast<size_t>(*args.history_mb) : scenario.history_mb) << 20,
-       .events = scenario.events});
+  sim::Session session(*scenario.model, *scenario.world, session_options(scenario, args.source));
   // A script gets the default layout, whatever the user's own file says: its screenshots must
   // not depend on how someone arranged the panels.
   view::Debugger debugger(scenario, session, *std::get<0>(window),
@@ -61,15 +51,10 @@ int view_main(const ViewArgs& args) {
 void add_view_command(CLI::App& app, std::function<int()>& run) {
   auto* cmd = app.add_subcommand("view", "The debugger window: 3D view, timeline, watchpoints, matches, inspector");
   auto args = std::make_shared<ViewArgs>();
-  cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
+  add_session_source(*cmd, args->source);
   cmd->add_option("--script", args->script,
                   "Drive the window with commands: the session's, plus click M | click match ROW | click timeline T, "
                   "key NAME, wait N, screenshot FILE, panel NAME");
-  add_integer_option(*cmd, "--seed", args->seed, scenarios::kSeedRange, "Random seed (default: the scenario's)");
-  add_integer_option(*cmd, "--threads,-j", args->threads, scenarios::kThreadsRange,
-                     "Threads stepping modules (results never depend on it)");
-  add_integer_option(*cmd, "--history-mb", args->history_mb, scenarios::kHistoryRange,
-                     "Memory for the history's keyframes, in MiB (default: the scenario's)");
   add_integer_option(*cmd, "--width", args->width, {"width", 640, 8192}, "Window width")->default_val(1600);
   add_integer_option(*cmd, "--height", args->height, {"height", 480, 8192}, "Window height")->default_val(1000);
   cmd->add_flag("!--forget-layout", args->keep_layout,
