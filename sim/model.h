@@ -33,7 +33,7 @@ struct HostedWatchpoint {
   watch::DetectorOptions options;
 
   // Steps between a state and the watch step it completes (watch::lag).
-  int64_t lag() const { return watch::lag(watchpoint.program, algorithm); }
+  int64_t lag() const { return watch::lag(watchpoint.program, algorithm, options); }
 };
 
 struct Model {

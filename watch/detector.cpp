@@ -6,8 +6,63 @@
 
 namespace dw::watch {
 
-int64_t lag(const Program& program, Algorithm algorithm) {
-  return program.extent_plus + (algorithm == Algorithm::Distributed ? program.slot_count() - 1 : 0);
+int64_t lag(const Program& program, Algorithm algorithm, const DetectorOptions& options) {
+  if (algorithm == Algorithm::Centralized) return program.extent_plus;
+  if (simultaneous(algorithm, options))
+    return program.extent_plus + hop_latency(group_shape(algorithm, options), program.slot_count());
+  return program.extent_plus + program.slot_count() - 1;
+}
+
+const char* shape_name(GroupShape s) {
+  switch (s) {
+    case GroupShape::Chain: return "chain";
+    case GroupShape::Ordered: return "ordered";
+    case GroupShape::Any: return "any";
+  }
+  return "?";
+}
+
+std::optional<GroupShape> parse_shape(std::string_view name) {
+  for (GroupShape s : {GroupShape::Chain, GroupShape::Ordered, GroupShape::Any})
+    if (name == shape_name(s)) return s;
+  return std::nullopt;
+}
+
+const char* states_name(States s) { return s == States::Consistent ? "consistent" : "simultaneous"; }
+
+std::optional<States> parse_states(std::string_view name) {
+  for (States s : {States::Consistent, States::Simultaneous})
+    if (name == states_name(s)) return s;
+  return std::nullopt;
+}
+
+GroupShape group_shape(Algorithm algorithm, const DetectorOptions& options) {
+  if (options.shape) return *options.shape;
+  return algorithm == Algorithm::Centralized ? GroupShape::Ordered : GroupShape::Chain;
+}
+
+bool simultaneous(Algorithm algorithm, const DetectorOptions& options) {
+  return algorithm == Algorithm::Distributed && options.states == States::Simultaneous;
+}
+
+std::string unsupported(Algorithm algorithm, const DetectorOptions& options) {
+  if (algorithm == Algorithm::Centralized) {
+    if (options.states == States::Consistent)
+      return "the centralized detector compares simultaneous states; states = \"consistent\" is the distributed "
+             "algorithm's";
+    return "";
+  }
+  const GroupShape shape = group_shape(algorithm, options);
+  if (!simultaneous(algorithm, options) && shape != GroupShape::Chain)
+    return std::string("shape \"") + shape_name(shape) +
+           "\" needs states = \"simultaneous\": the paper's distributed algorithm (consistent states) finds only "
+           "chains";
+  return "";
+}
+
+int64_t hop_latency(GroupShape shape, int slots) {
+  const int64_t k = slots;
+  return shape == GroupShape::Chain ? k - 1 : k * (k - 1) / 2;
 }
 
 std::vector<int> variable_columns(const Program& program, const Universe& universe) {
@@ -38,6 +93,7 @@ void DetectorStats::add(const StepStats& s) {
   for (size_t i = 0; i < s.live_by_filled.size(); ++i) created_by_filled[i] += s.live_by_filled[i];
   created += s.created;
   messages += s.messages;
+  lost += s.lost;
   bytes += s.bytes;
   matches += s.matches;
   peak_live = std::max(peak_live, s.live);

@@ -4,8 +4,10 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "watch/frame.h"
@@ -19,20 +21,49 @@ struct Optimizations {
   bool temporal_spans = true;     // keep each variable's history for exactly its span
 };
 
+enum class Algorithm { Centralized, Distributed };
+const char* algorithm_name(Algorithm a);
+
+// Which connected groups match (DESIGN §4a), over the neighbour graph at the match's step:
+// Chain, a path in slot order; Ordered, each slot a neighbour of an earlier one (the paper's
+// Alg. 1); Any, every connected group in every slot assignment.
+enum class GroupShape : uint8_t { Chain, Ordered, Any };
+const char* shape_name(GroupShape s);
+std::optional<GroupShape> parse_shape(std::string_view name);
+
+// Which states the distributed algorithm compares (DESIGN §4a): Consistent, each slot at its own
+// fill step (the paper's Alg. 2); Simultaneous, every slot at the PatternMatcher's start step.
+enum class States : uint8_t { Consistent, Simultaneous };
+const char* states_name(States s);
+std::optional<States> parse_states(std::string_view name);
+
 struct DetectorOptions {
   Optimizations optimizations;
   // Most PatternMatchers alive in one step; past it the detector stops. 0 means no limit.
   uint64_t live_budget = 0;
+  std::optional<GroupShape> shape;  // unset: the algorithm's own (see group_shape)
+  std::optional<States> states;     // unset: consistent (distributed); the centralized is simultaneous
 };
 
-enum class Algorithm { Centralized, Distributed };
-const char* algorithm_name(Algorithm a);
+// The shape a detector finds: the option, or the paper's (ordered centralized, chain distributed).
+GroupShape group_shape(Algorithm algorithm, const DetectorOptions& options);
+// Whether the distributed algorithm runs in simultaneous-state mode.
+bool simultaneous(Algorithm algorithm, const DetectorOptions& options);
+// Why an algorithm cannot run with these options, or "" when it can.
+std::string unsupported(Algorithm algorithm, const DetectorOptions& options);
+
+// Hops a simultaneous-state PatternMatcher of k slots takes at most before it is decided (L in
+// DESIGN §4a): k - 1 for chains, where each slot is one hop from the one before; k(k - 1)/2 for
+// ordered and any groups, where reaching slot i + 1 may mean walking back through the i slots
+// filled so far (at most i - 1 hops over their tree) and one hop on.
+int64_t hop_latency(GroupShape shape, int slots);
 
 class Program;
 // Steps between a frame and the watch step it completes (DESIGN §7, "decided steps"): E+ for the
 // centralized detector, E+ + k - 1 for the distributed one, whose PatternMatchers take a step
-// per slot. The one definition every detector, the runtime and the session use.
-int64_t lag(const Program& program, Algorithm algorithm);
+// per slot, E+ + L in simultaneous-state mode. The one definition every detector, the runtime
+// and the session use.
+int64_t lag(const Program& program, Algorithm algorithm, const DetectorOptions& options);
 
 // Statistics of one detector step (the paper's Fig. 7 series is `live_by_filled`).
 struct StepStats {
@@ -42,6 +73,7 @@ struct StepStats {
   uint64_t created = 0;
   uint64_t messages = 0;  // distributed: PatternMatchers sent to a neighbour
   uint64_t bytes = 0;     // distributed: their size
+  uint64_t lost = 0;      // simultaneous states: PatternMatchers dropped by a link gone before their hop
   uint64_t matches = 0;
   double seconds = 0;
 };
@@ -54,7 +86,7 @@ struct DetectorStats {
   StepStats last;  // the most recent step
   bool steps_truncated = false;
   std::vector<uint64_t> created_by_filled;  // over the run
-  uint64_t created = 0, messages = 0, bytes = 0, matches = 0;
+  uint64_t created = 0, messages = 0, bytes = 0, matches = 0, lost = 0;
   uint64_t peak_live = 0;
   uint64_t history_values = 0;  // values held in history at the end (all modules)
   double seconds = 0;
@@ -79,6 +111,9 @@ class Detector {
   // Frames arrive in step order 0, 1, 2, ... A watch step t is decided once frame t + lag() has
   // been observed; its matches go to the sink then.
   virtual void observe(const Frame& frame) = 0;
+  // The input has ended: decide every watch step the frames observed can decide, as far as the
+  // last frame allows (a simultaneous-state detector drains its PatternMatchers in flight).
+  virtual void finish() {}
   // Steps between a frame and the watch step it completes: E+ (centralized), E+ + k - 1 (distributed).
   virtual int64_t lag() const = 0;
   virtual Algorithm algorithm() const = 0;

@@ -18,7 +18,7 @@ class DistributedDetector final : public Detector {
   DistributedDetector(const Watchpoint& watchpoint, const Universe& universe, DetectorOptions options, MatchSink sink);
 
   void observe(const Frame& frame) override;
-  int64_t lag() const override { return watch::lag(program_, Algorithm::Distributed); }
+  int64_t lag() const override { return watch::lag(program_, Algorithm::Distributed, options_); }
   std::unique_ptr<Detector> clone() const override { return std::make_unique<DistributedDetector>(*this); }
   Algorithm algorithm() const override { return Algorithm::Distributed; }
   size_t bytes() const override;

@@ -2,6 +2,7 @@
 
 #include "watch/centralized_detector.h"
 #include "watch/distributed_detector.h"
+#include "watch/simultaneous_detector.h"
 
 namespace dw::watch {
 
@@ -9,6 +10,8 @@ std::unique_ptr<Detector> make_detector(Algorithm algorithm, const Watchpoint& w
                                         DetectorOptions options, MatchSink sink) {
   if (algorithm == Algorithm::Centralized)
     return std::make_unique<CentralizedDetector>(watchpoint, universe, options, std::move(sink));
+  if (simultaneous(algorithm, options))
+    return std::make_unique<SimultaneousDetector>(watchpoint, universe, options, std::move(sink));
   return std::make_unique<DistributedDetector>(watchpoint, universe, options, std::move(sink));
 }
 

@@ -8,7 +8,8 @@
 
 namespace dw::watch {
 
-// `watchpoint` and `universe` must outlive the detector.
+// `watchpoint` and `universe` must outlive the detector. The options must be supported
+// (watch::unsupported).
 std::unique_ptr<Detector> make_detector(Algorithm algorithm, const Watchpoint& watchpoint, const Universe& universe,
                                         DetectorOptions options, MatchSink sink);
 

@@ -10,7 +10,7 @@
 
 namespace dw::watch {
 
-template <class T>
+template <class T, class Storage = std::vector<T>>
 class StepRing {
  public:
   void configure(int64_t depth) {
@@ -42,7 +42,7 @@ class StepRing {
 
   // The items' storage (not what they point to).
   size_t capacity() const { return items_.capacity(); }
-  const std::vector<T>& items() const { return items_; }
+  const Storage& items() const { return items_; }
 
   // How many steps' items are held now.
   int64_t held() const {
@@ -51,7 +51,7 @@ class StepRing {
   }
 
  private:
-  std::vector<T> items_;
+  Storage items_;
   int64_t depth_ = 0;
   size_t mask_ = 0;
   int64_t newest_ = -1;

@@ -1,0 +1,71 @@
+// The search at the heart of the centralized reading (paper Alg. 1, DESIGN §4 and §4a): every
+// binding of one watch step whose slots form the group shape and make the expression true. Depth
+// first over the slots in order, so memory stays bounded by the watchpoint's size, with the
+// paper's early termination and neighbour culling. The centralized detector runs it over the
+// whole ensemble; for `any` groups it assigns the slots within one connected group, which is also
+// what a simultaneous-state PatternMatcher does at the module that completes its group.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "watch/detector.h"
+#include "watch/step_view.h"
+
+namespace dw::watch {
+
+// Matches of one watch step: slot_count dense ids each, the first `values` of `ids` (grown in
+// chunks, so that adding one is a plain chunked copy).
+struct MatchBuffer {
+  std::vector<uint32_t> ids;
+  size_t values = 0;
+  void add(const uint32_t* binding, uint32_t k);
+};
+
+class BindingSearch {
+ public:
+  BindingSearch(const Program& program, const Optimizations& optimizations, uint64_t live_budget, uint32_t modules);
+
+  // Chain or Ordered bindings with slot 0 from `first`, each later slot a neighbour at t of the
+  // slot before (Chain) or of any earlier slot (Ordered).
+  void search(const StepView& view, GroupShape shape, std::span<const uint32_t> first, StepStats& stats,
+              MatchBuffer& out);
+  // Every assignment of the slots to the modules of `group` (as many as slots).
+  void assign(const StepView& view, std::span<const uint32_t> group, StepStats& stats, MatchBuffer& out);
+
+  // Whether `module` can fill some slot: its own leaves there leave the expression not false.
+  bool may_fill(const StepView& view, uint32_t module);
+
+  bool stopped() const { return !stop_reason_.empty(); }
+  const std::string& stop_reason() const { return stop_reason_; }
+
+ private:
+  void extend(uint32_t slot);
+  bool culled(uint32_t slot, uint32_t candidate, const Truth* leaves);
+  void next_generation();
+
+  const Program& program_;
+  Optimizations optimizations_;
+  uint64_t live_budget_;
+  uint32_t modules_;
+  std::string stop_reason_;
+
+  // The search under way.
+  const StepView* view_ = nullptr;
+  GroupShape shape_ = GroupShape::Ordered;
+  std::span<const uint32_t> group_;
+  StepStats* stats_ = nullptr;
+  MatchBuffer* out_ = nullptr;
+  std::vector<uint32_t> binding_;
+  uint32_t leaf_stride_ = 0;         // leaves per level, rounded up for chunked copies
+  std::vector<Truth> leaves_;        // (k + 1) levels of leaf values
+  std::vector<uint8_t> decided_at_;  // [slot * L + leaf]: 1 when that slot decides the leaf
+  std::vector<Truth> stack_, trial_;
+  std::vector<std::vector<uint32_t>> candidates_;  // per slot
+  std::vector<uint32_t> mark_;
+  uint32_t generation_ = 0;
+};
+
+}  // namespace dw::watch

@@ -1,0 +1,101 @@
+// Every connected group of k modules, each exactly once (DESIGN §4a, shape `any`): the ESU
+// algorithm (Wernicke, "Efficient detection of network motifs", 2006). A group grows from its
+// smallest module v only by modules greater than v that are *exclusive* neighbours of the module
+// just added (adjacent to no module already in the group or beside it), so that no set of modules
+// is reached by two orders. It enumerates sets, never ordered sequences: nothing is de-duplicated.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "watch/step_view.h"
+
+namespace dw::watch {
+
+// Whether some member of `group` reaches every other over the recorded (directed) edges within it.
+bool rooted(const StepHistory::Graph& graph, std::span<const uint32_t> group);
+// Whether every edge between present modules goes both ways.
+bool symmetric(const StepHistory::Graph& graph);
+
+class ConnectedGroups {
+ public:
+  explicit ConnectedGroups(uint32_t modules) : closed_(modules, 0) {}
+
+  // Calls fn(group) for every set of k modules with eligible[m] that is connected in `graph` at
+  // step t: some order of it has each module after the first in N(an earlier one) (over a
+  // directed graph that is the same as a root reaching every member; over an undirected one,
+  // plain connectivity). `group` lists the modules in the order they joined.
+  template <class Fn>
+  void enumerate(const StepHistory::Graph& graph, std::span<const uint8_t> eligible, uint32_t k, Fn&& fn);
+
+ private:
+  void undirect(const StepHistory::Graph& graph, std::span<const uint8_t> eligible);
+  template <class Fn>
+  void grow(std::vector<uint32_t>& ext, uint32_t root, uint32_t k, const StepHistory::Graph& graph, Fn& fn);
+  std::span<const uint32_t> adjacent(uint32_t m) const { return {ids_.data() + begin_[m], ids_.data() + begin_[m + 1]}; }
+
+  std::vector<uint32_t> begin_, ids_;   // the graph among eligible modules, undirected, no repeats
+  bool symmetric_ = true;               // every edge among eligible modules goes both ways
+  std::vector<uint32_t> closed_;        // [module]: members it is, or is beside
+  std::vector<uint32_t> group_;
+  std::vector<std::vector<uint32_t>> ext_;  // the extension set at each depth
+  std::vector<std::pair<uint32_t, uint32_t>> pairs_;
+};
+
+template <class Fn>
+void ConnectedGroups::enumerate(const StepHistory::Graph& graph, std::span<const uint8_t> eligible, uint32_t k,
+                                Fn&& fn) {
+  if (k == 0) return;
+  undirect(graph, eligible);
+  ext_.resize(k + 1);
+  const uint32_t modules = static_cast<uint32_t>(begin_.size() - 1);
+  for (uint32_t v = 0; v < modules; ++v) {
+    if (!eligible[v]) continue;
+    group_.assign(1, v);
+    if (k == 1) {
+      fn(std::span<const uint32_t>(group_));
+      continue;
+    }
+    std::vector<uint32_t>& ext = ext_[1];
+    ext.clear();
+    ++closed_[v];
+    for (uint32_t u : adjacent(v)) {
+      ++closed_[u];
+      if (u > v) ext.push_back(u);
+    }
+    grow(ext, v, k, graph, fn);
+    --closed_[v];
+    for (uint32_t u : adjacent(v)) --closed_[u];
+  }
+}
+
+template <class Fn>
+void ConnectedGroups::grow(std::vector<uint32_t>& ext, uint32_t root, uint32_t k, const StepHistory::Graph& graph,
+                           Fn& fn) {
+  const size_t depth = group_.size();
+  if (depth + 1 == k) {  // the last member: every module left in the extension set completes a group
+    for (uint32_t w : ext) {
+      group_.push_back(w);
+      if (symmetric_ || rooted(graph, group_)) fn(std::span<const uint32_t>(group_));
+      group_.pop_back();
+    }
+    return;
+  }
+  std::vector<uint32_t>& next = ext_[depth + 1];
+  for (size_t i = 0; i < ext.size(); ++i) {
+    const uint32_t w = ext[i];
+    next.assign(ext.begin() + static_cast<ptrdiff_t>(i) + 1, ext.end());
+    for (uint32_t u : adjacent(w))
+      if (u > root && closed_[u] == 0) next.push_back(u);
+    ++closed_[w];
+    for (uint32_t u : adjacent(w)) ++closed_[u];
+    group_.push_back(w);
+    grow(next, root, k, graph, fn);
+    group_.pop_back();
+    --closed_[w];
+    for (uint32_t u : adjacent(w)) --closed_[u];
+  }
+}
+
+}  // namespace dw::watch

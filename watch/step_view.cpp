@@ -1,0 +1,120 @@
+#include "watch/step_view.h"
+
+#include <algorithm>
+
+#include "watch/detector.h"
+
+namespace dw::watch {
+
+StepHistory::StepHistory(const Program& p, const Universe& u, bool spans, int64_t later)
+    : modules_(u.module_count()), frame_columns_(variable_columns(p, u)), columns_(p.variables.size()) {
+  for (size_t v = 0; v < columns_.size(); ++v)
+    columns_[v].configure(spans ? p.extent_plus - p.variable_min_offset[v] + 1 + later : 0);
+  graphs_.configure(spans ? p.extent_plus - p.min_neighbor_offset + 1 + later : 0);
+}
+
+void StepHistory::record(const Frame& frame) {
+  for (size_t v = 0; v < columns_.size(); ++v) {
+    Column& col = columns_[v].write(frame.step);
+    col.value.resize(modules_);
+    col.known.resize(modules_);
+    const int c = frame_columns_[v];
+    for (uint32_t m = 0; m < modules_; ++m) {
+      const size_t at = static_cast<size_t>(m) * frame.variable_count + static_cast<size_t>(c);
+      const bool known = c >= 0 && frame.present[m] && frame.has_value[at];
+      col.known[m] = known;
+      col.value[m] = known ? frame.values[at] : 0;
+    }
+  }
+  Graph& g = graphs_.write(frame.step);
+  g.present.assign(frame.present.begin(), frame.present.end());
+  g.begin.assign(frame.nbr_begin.begin(), frame.nbr_begin.end());
+  g.ids.assign(frame.nbrs.begin(), frame.nbrs.end());
+}
+
+size_t StepHistory::bytes() const {
+  size_t n = sizeof(*this);
+  for (const auto& ring : columns_)
+    for (const Column& c : ring.items()) n += c.value.capacity() * sizeof(int64_t) + c.known.capacity();
+  for (const Graph& g : graphs_.items())
+    n += g.present.capacity() + (g.begin.capacity() + g.ids.capacity()) * sizeof(uint32_t);
+  return n;
+}
+
+uint64_t StepHistory::held_values() const {
+  uint64_t held = static_cast<uint64_t>(graphs_.held());
+  for (const auto& ring : columns_) held += static_cast<uint64_t>(ring.held()) * modules_;
+  return held;
+}
+
+StepView::StepView(const Program& p, uint32_t modules)
+    : program_(&p),
+      modules_(modules),
+      lhs_(p.leaves.size()),
+      rhs_(p.leaves.size()),
+      graph_at_offset_(static_cast<size_t>(p.extent_plus - p.min_neighbor_offset) + 1),
+      own_truth_(p.leaves.size() * modules) {}
+
+void StepView::resolve(const StepHistory& history, int64_t t) {
+  const Program& p = *program_;
+  t_ = t;
+  now_ = history.graph(t);
+  // Resolve every term's step once, so that the inner loops only index arrays.
+  auto resolve_term = [&](const TermRef& term) {
+    ResolvedTerm r;
+    if (const StepHistory::Column* c = history.column(term.variable, t + term.offset)) {
+      r.value = c->value.data();
+      r.known = c->known.data();
+    }
+    return r;
+  };
+  for (size_t i = 0; i < p.leaves.size(); ++i) {
+    const Leaf& leaf = p.leaves[i];
+    if (leaf.kind != LeafKind::Compare) continue;
+    lhs_[i] = resolve_term(leaf.lhs);
+    rhs_[i] = leaf.rhs_is_constant ? ResolvedTerm{} : resolve_term(leaf.rhs);
+  }
+  for (size_t o = 0; o < graph_at_offset_.size(); ++o)
+    graph_at_offset_[o] = history.graph(t + p.min_neighbor_offset + static_cast<int64_t>(o));
+  // A leaf that reads one slot only has the same truth for every binding that puts module m in
+  // that slot: decide it once per module.
+  for (const SlotProgram& sp : p.slots)
+    for (uint16_t l : sp.own_leaves)
+      for (uint32_t m = 0; m < modules_; ++m) own_truth_[l * modules_ + m] = compare(p.leaves[l], l, m, m);
+}
+
+bool StepView::adjacent(uint32_t from, uint32_t to) const {
+  if (now_ == nullptr || !now_->present[from]) return false;
+  const auto n = now_->neighbors(from);
+  return std::find(n.begin(), n.end(), to) != n.end();
+}
+
+Truth StepView::neighbor(uint32_t x, int offset, uint32_t y) const {
+  const StepHistory::Graph* g = graph_at_offset_[static_cast<size_t>(offset - program_->min_neighbor_offset)];
+  if (g == nullptr || !g->present[x]) return kUnknown;
+  const uint32_t* b = g->ids.data() + g->begin[x];
+  const uint32_t* e = g->ids.data() + g->begin[x + 1];
+  return truth_of(std::find(b, e, y) != e);
+}
+
+Truth StepView::compare(const Leaf& leaf, uint32_t i, uint32_t lm, uint32_t rm) const {
+  const ResolvedTerm& l = lhs_[i];
+  if (l.value == nullptr || !l.known[lm]) return kUnknown;
+  int64_t b = leaf.constant;
+  if (!leaf.rhs_is_constant) {
+    const ResolvedTerm& r = rhs_[i];
+    if (r.value == nullptr || !r.known[rm]) return kUnknown;
+    b = r.value[rm];
+  }
+  return truth_of(holds(leaf.op, l.value[lm], b));
+}
+
+Truth StepView::decide(uint32_t i, const uint32_t* binding) const {
+  const Leaf& leaf = program_->leaves[i];
+  if (leaf.kind == LeafKind::Neighbor)
+    return neighbor(binding[static_cast<size_t>(leaf.x)], leaf.offset, binding[static_cast<size_t>(leaf.y)]);
+  const uint32_t rm = leaf.rhs_is_constant ? 0 : binding[static_cast<size_t>(leaf.rhs.slot)];
+  return compare(leaf, i, binding[static_cast<size_t>(leaf.lhs.slot)], rm);
+}
+
+}  // namespace dw::watch

@@ -1,0 +1,89 @@
+// The ensemble's recent steps as a whole-ensemble reading needs them (DESIGN §4), and one watch
+// step t read through them with every slot's "now" at t (simultaneous states). The centralized
+// detector reads one step at a time; the simultaneous-state distributed detector holds a view per
+// start step in flight.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <span>
+#include <vector>
+
+#include "watch/frame.h"
+#include "watch/kleene.h"
+#include "watch/program.h"
+#include "watch/step_ring.h"
+
+namespace dw::watch {
+
+class StepHistory {
+ public:
+  // One variable of every module at one step.
+  struct Column {
+    std::vector<int64_t> value;
+    std::vector<uint8_t> known;
+  };
+  // Presence and the neighbour graph at one step.
+  struct Graph {
+    std::vector<uint8_t> present;
+    std::vector<uint32_t> begin, ids;
+    std::span<const uint32_t> neighbors(uint32_t m) const { return {ids.data() + begin[m], ids.data() + begin[m + 1]}; }
+  };
+
+  // Keeps what watch steps up to `later` steps behind the newest frame read (every step without
+  // temporal spans).
+  StepHistory(const Program& program, const Universe& universe, bool temporal_spans, int64_t later);
+
+  void record(const Frame& frame);
+  const Column* column(int variable, int64_t step) const { return columns_[static_cast<size_t>(variable)].find(step); }
+  const Graph* graph(int64_t step) const { return graphs_.find(step); }
+  size_t bytes() const;
+  uint64_t held_values() const;  // values and graphs held, in module-steps
+
+ private:
+  uint32_t modules_;
+  std::vector<int> frame_columns_;          // program variable -> frame column
+  // Deques: a StepView keeps pointers to the items across later writes (see StepRing).
+  std::vector<StepRing<Column, std::deque<Column>>> columns_;  // per program variable
+  StepRing<Graph, std::deque<Graph>> graphs_;
+};
+
+class StepView {
+ public:
+  StepView() = default;
+  explicit StepView(const Program& program, uint32_t modules);
+
+  // Reads watch step t: resolves every term to its step's column and decides each module's own
+  // leaves (SlotProgram::own_leaves) once.
+  void resolve(const StepHistory& history, int64_t t);
+
+  int64_t t() const { return t_; }
+  const StepHistory::Graph* now() const { return now_; }  // the graph at t, or null
+  bool present(uint32_t m) const { return now_ != nullptr && now_->present[m]; }
+  bool adjacent(uint32_t from, uint32_t to) const;  // to in N(from, t)
+
+  // A comparison leaf with its left operand read from module lm and its right from rm.
+  Truth compare(const Leaf& leaf, uint32_t leaf_index, uint32_t lm, uint32_t rm) const;
+  // neighbor(x y) at `offset`: y in N(x, t + offset).
+  Truth neighbor(uint32_t x, int offset, uint32_t y) const;
+  // A leaf for a binding (module per slot) that fills every slot the leaf reads.
+  Truth decide(uint32_t leaf_index, const uint32_t* binding) const;
+  Truth own(uint32_t leaf_index, uint32_t module) const { return own_truth_[leaf_index * modules_ + module]; }
+  const Truth* own_truth() const { return own_truth_.data(); }
+  size_t bytes() const { return own_truth_.capacity() + sizeof(*this); }
+
+ private:
+  struct ResolvedTerm {
+    const int64_t* value = nullptr;
+    const uint8_t* known = nullptr;
+  };
+  const Program* program_ = nullptr;
+  uint32_t modules_ = 0;
+  int64_t t_ = -1;
+  const StepHistory::Graph* now_ = nullptr;
+  std::vector<ResolvedTerm> lhs_, rhs_;                     // per leaf
+  std::vector<const StepHistory::Graph*> graph_at_offset_;  // [offset - min_neighbor_offset]
+  std::vector<Truth> own_truth_;                            // [leaf * M + module]
+};
+
+}  // namespace dw::watch
