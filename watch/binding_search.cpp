@@ -29,8 +29,8 @@ BindingSearch::BindingSearch(const Program& p, const Optimizations& o, uint64_t 
   mark_.assign(modules, 0);
 }
 
-void BindingSearch::search(const StepView& view, GroupShape shape, std::span<const uint32_t> first,
-                           StepStats& stats, MatchBuffer& out) {
+void BindingSearch::search(const StepView& view, GroupShape shape, std::span<const uint32_t> first, StepStats& stats,
+                           MatchBuffer& out) {
   view_ = &view;
   shape_ = shape;
   group_ = {};
@@ -41,8 +41,7 @@ void BindingSearch::search(const StepView& view, GroupShape shape, std::span<con
   extend(0);
 }
 
-void BindingSearch::assign(const StepView& view, std::span<const uint32_t> group, StepStats& stats,
-                           MatchBuffer& out) {
+void BindingSearch::assign(const StepView& view, std::span<const uint32_t> group, StepStats& stats, MatchBuffer& out) {
   view_ = &view;
   shape_ = GroupShape::Any;
   group_ = group;
@@ -118,8 +117,8 @@ void BindingSearch::extend(uint32_t slot) {
     ++st.live;
     ++st.created;
     if (live_budget_ != 0 && st.created > live_budget_) {
-      stop_reason_ = "more than " + std::to_string(live_budget_) + " PatternMatchers at watch step " +
-                     std::to_string(view_->t());
+      stop_reason_ =
+          "more than " + std::to_string(live_budget_) + " PatternMatchers at watch step " + std::to_string(view_->t());
       return;
     }
     Truth result;

@@ -4,23 +4,17 @@
 
 namespace dw::watch {
 
-// The graph among eligible modules with every edge both ways and no repeats; notes whether the
-// recorded graph already was so (then every connected set is rooted, and `rooted` is skipped).
-void ConnectedGroups::undirect(const StepHistory::Graph& graph, std::span<const uint8_t> eligible) {
+bool UndirectedGraph::build(const StepHistory::Graph& graph, std::span<const uint8_t> among) {
   const uint32_t modules = static_cast<uint32_t>(graph.present.size());
   pairs_.clear();
   for (uint32_t m = 0; m < modules; ++m) {
-    if (!eligible[m]) continue;
+    if (!among[m]) continue;
     for (uint32_t n : graph.neighbors(m))
-      if (n != m && n < modules && eligible[n]) pairs_.emplace_back(m, n);
+      if (n != m && n < modules && among[n]) pairs_.emplace_back(m, n);
   }
   std::sort(pairs_.begin(), pairs_.end());
   pairs_.erase(std::unique(pairs_.begin(), pairs_.end()), pairs_.end());
   const size_t directed = pairs_.size();
-  const size_t both_ways = static_cast<size_t>(std::count_if(pairs_.begin(), pairs_.end(), [&](const auto& p) {
-    return std::binary_search(pairs_.begin(), pairs_.end(), std::make_pair(p.second, p.first));
-  }));
-  symmetric_ = both_ways == directed;
   for (size_t i = 0; i < directed; ++i) pairs_.emplace_back(pairs_[i].second, pairs_[i].first);
   std::sort(pairs_.begin(), pairs_.end());
   pairs_.erase(std::unique(pairs_.begin(), pairs_.end()), pairs_.end());
@@ -29,7 +23,7 @@ void ConnectedGroups::undirect(const StepHistory::Graph& graph, std::span<const 
   for (uint32_t m = 0; m < modules; ++m) begin_[m + 1] += begin_[m];
   ids_.resize(pairs_.size());
   for (size_t i = 0; i < pairs_.size(); ++i) ids_[i] = pairs_[i].second;  // sorted by first: in place
-  if (closed_.size() < modules) closed_.assign(modules, 0);
+  return pairs_.size() == directed;
 }
 
 bool rooted(const StepHistory::Graph& graph, std::span<const uint32_t> group) {
@@ -51,19 +45,6 @@ bool rooted(const StepHistory::Graph& graph, std::span<const uint32_t> group) {
     if (reached == all) return true;
   }
   return false;
-}
-
-bool symmetric(const StepHistory::Graph& graph) {
-  const uint32_t modules = static_cast<uint32_t>(graph.present.size());
-  for (uint32_t m = 0; m < modules; ++m) {
-    if (!graph.present[m]) continue;
-    for (uint32_t n : graph.neighbors(m)) {
-      if (n >= modules || !graph.present[n]) continue;
-      const auto back = graph.neighbors(n);
-      if (std::find(back.begin(), back.end(), m) == back.end()) return false;
-    }
-  }
-  return true;
 }
 
 }  // namespace dw::watch

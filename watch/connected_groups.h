@@ -15,8 +15,22 @@ namespace dw::watch {
 
 // Whether some member of `group` reaches every other over the recorded (directed) edges within it.
 bool rooted(const StepHistory::Graph& graph, std::span<const uint32_t> group);
-// Whether every edge between present modules goes both ways.
-bool symmetric(const StepHistory::Graph& graph);
+
+// The graph among some modules with every recorded edge both ways, no repeats, no self-links.
+class UndirectedGraph {
+ public:
+  // Returns whether the recorded graph among them already went both ways.
+  bool build(const StepHistory::Graph& graph, std::span<const uint8_t> among);
+  std::span<const uint32_t> neighbors(uint32_t m) const {
+    return {ids_.data() + begin_[m], ids_.data() + begin_[m + 1]};
+  }
+  uint32_t module_count() const { return static_cast<uint32_t>(begin_.size() - 1); }
+  size_t bytes() const { return (begin_.capacity() + ids_.capacity()) * sizeof(uint32_t) + pairs_.capacity() * 8; }
+
+ private:
+  std::vector<uint32_t> begin_, ids_;
+  std::vector<std::pair<uint32_t, uint32_t>> pairs_;
+};
 
 class ConnectedGroups {
  public:
@@ -30,26 +44,25 @@ class ConnectedGroups {
   void enumerate(const StepHistory::Graph& graph, std::span<const uint8_t> eligible, uint32_t k, Fn&& fn);
 
  private:
-  void undirect(const StepHistory::Graph& graph, std::span<const uint8_t> eligible);
   template <class Fn>
   void grow(std::vector<uint32_t>& ext, uint32_t root, uint32_t k, const StepHistory::Graph& graph, Fn& fn);
-  std::span<const uint32_t> adjacent(uint32_t m) const { return {ids_.data() + begin_[m], ids_.data() + begin_[m + 1]}; }
+  std::span<const uint32_t> adjacent(uint32_t m) const { return undirected_.neighbors(m); }
 
-  std::vector<uint32_t> begin_, ids_;   // the graph among eligible modules, undirected, no repeats
-  bool symmetric_ = true;               // every edge among eligible modules goes both ways
-  std::vector<uint32_t> closed_;        // [module]: members it is, or is beside
+  UndirectedGraph undirected_;    // the graph among eligible modules
+  bool symmetric_ = true;         // every edge among them goes both ways
+  std::vector<uint32_t> closed_;  // [module]: members it is, or is beside
   std::vector<uint32_t> group_;
   std::vector<std::vector<uint32_t>> ext_;  // the extension set at each depth
-  std::vector<std::pair<uint32_t, uint32_t>> pairs_;
 };
 
 template <class Fn>
 void ConnectedGroups::enumerate(const StepHistory::Graph& graph, std::span<const uint8_t> eligible, uint32_t k,
                                 Fn&& fn) {
   if (k == 0) return;
-  undirect(graph, eligible);
+  symmetric_ = undirected_.build(graph, eligible);
   ext_.resize(k + 1);
-  const uint32_t modules = static_cast<uint32_t>(begin_.size() - 1);
+  const uint32_t modules = undirected_.module_count();
+  if (closed_.size() < modules) closed_.assign(modules, 0);
   for (uint32_t v = 0; v < modules; ++v) {
     if (!eligible[v]) continue;
     group_.assign(1, v);

@@ -26,9 +26,7 @@ SimultaneousDetector::SimultaneousDetector(const Watchpoint& w, const Universe& 
       leaf_words_(static_cast<uint32_t>((w.program.leaves.size() + 3) / 4)),
       fixed_words_(2 * k_ + leaf_words_),
       history_(*program_, u, options.optimizations.temporal_spans, latency_),
-      views_(static_cast<size_t>(latency_) + 1, StepView(*program_, u.module_count())),
-      found_(static_cast<size_t>(latency_) + 1),
-      symmetric_(static_cast<size_t>(latency_) + 1, 1),
+      starts_(static_cast<size_t>(latency_) + 1, StartStep{StepView(*program_, u.module_count()), {}, {}, true}),
       search_(*program_, options.optimizations, 0, u.module_count()),
       mark_(u.module_count(), 0),
       stack_(static_cast<size_t>(w.program.max_stack)),
@@ -44,8 +42,7 @@ std::unique_ptr<Detector> SimultaneousDetector::clone() const {
 
 size_t SimultaneousDetector::bytes() const {
   size_t n = sizeof(*this) + history_.bytes();
-  for (const StepView& v : views_) n += v.bytes();
-  for (const MatchBuffer& m : found_) n += m.ids.capacity() * sizeof(uint32_t);
+  for (const StartStep& s : starts_) n += s.view.bytes() + s.found.ids.capacity() * sizeof(uint32_t) + s.groups.bytes();
   n += (arriving_.capacity() + sent_.capacity()) * sizeof(Walker);
   return n + (arriving_words_.capacity() + sent_words_.capacity()) * sizeof(uint32_t);
 }
@@ -71,10 +68,11 @@ void SimultaneousDetector::step(int64_t f, bool start_new) {
   step_.step = f;
   step_.live_by_filled.assign(k_ + 1, 0);
   if (start_new) {
-    view(f).resolve(history_, f);
-    found(f).values = 0;
-    symmetric_[static_cast<size_t>(f % static_cast<int64_t>(symmetric_.size()))] =
-        view(f).now() != nullptr && symmetric(*view(f).now());
+    StartStep& s = at(f);
+    s.view.resolve(history_, f);
+    s.found.values = 0;
+    if (shape_ == GroupShape::Any && s.view.now() != nullptr)
+      s.symmetric = s.groups.build(*s.view.now(), s.view.now()->present);
   }
   std::swap(arriving_, sent_);
   std::swap(arriving_words_, sent_words_);
@@ -102,17 +100,7 @@ void SimultaneousDetector::step(int64_t f, bool start_new) {
 }
 
 void SimultaneousDetector::report(int64_t t0) {
-  MatchBuffer& m = found(t0);
-  // Over a graph with one-way links, ESU's canonical growth is not unique: keep each match once.
-  if (shape_ == GroupShape::Any && !symmetric_[static_cast<size_t>(t0 % static_cast<int64_t>(symmetric_.size()))] &&
-      m.values > k_) {
-    std::vector<std::vector<uint32_t>> rows;
-    for (size_t i = 0; i < m.values; i += k_) rows.emplace_back(m.ids.begin() + i, m.ids.begin() + i + k_);
-    std::sort(rows.begin(), rows.end());
-    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-    m.values = 0;
-    for (const auto& r : rows) m.add(r.data(), k_);
-  }
+  const MatchBuffer& m = at(t0).found;
   emit(t0, {m.ids.data(), m.values});
 }
 
@@ -162,7 +150,7 @@ void SimultaneousDetector::fill_chain(int64_t f, Walker w, uint32_t* words) {
   if (w.filled == k_) {
     if (result == kTrue) {
       ++step_.matches;
-      found(w.t0).add(members, k_);
+      at(w.t0).found.add(members, k_);
     }
     return;
   }
@@ -205,7 +193,8 @@ void SimultaneousDetector::fill_chain(int64_t f, Walker w, uint32_t* words) {
 // Any: the module at target joins the group (ESU); a complete group assigns the slots, an
 // incomplete one extends by each module of its extension set in turn.
 void SimultaneousDetector::join_group(int64_t f, Walker w, uint32_t* words) {
-  const StepView& v = view(w.t0);
+  StartStep& s = at(w.t0);
+  const StepView& v = s.view;
   const uint32_t i = w.filled;
   uint32_t* members = words;
   uint32_t* parents = words + k_;
@@ -218,23 +207,23 @@ void SimultaneousDetector::join_group(int64_t f, Walker w, uint32_t* words) {
   w.filled = static_cast<uint8_t>(i + 1);
   if (w.filled == k_) {
     const std::span<const uint32_t> group(members, k_);
-    if (symmetric_[static_cast<size_t>(w.t0 % static_cast<int64_t>(symmetric_.size()))] || rooted(*v.now(), group))
-      search_.assign(v, group, step_, found(w.t0));
+    if (s.symmetric || rooted(*v.now(), group)) search_.assign(v, group, step_, s.found);
     return;
   }
   // The extension set: what is left of the one it came with, then the exclusive neighbours of
-  // the new member (beside no earlier member), greater than the group's first module.
+  // the new member (beside no earlier member), greater than the group's first module. Over a
+  // graph with one-way links ESU grows over both ways; a hop against a one-way link is lost.
   if (++generation_ == 0) {
     std::fill(mark_.begin(), mark_.end(), 0);
     generation_ = 1;
   }
   for (uint32_t j = 0; j <= i; ++j) mark_[members[j]] = generation_;
   for (uint32_t j = 0; j < i; ++j)
-    for (uint32_t u : v.now()->neighbors(members[j])) mark_[u] = generation_;
+    for (uint32_t u : s.groups.neighbors(members[j])) mark_[u] = generation_;
   std::vector<uint32_t>& all = ext_;
   all.assign(ext, ext + 2u * w.ext);
-  for (uint32_t u : v.now()->neighbors(w.target)) {
-    if (mark_[u] == generation_ || u <= members[0] || !v.present(u)) continue;
+  for (uint32_t u : s.groups.neighbors(w.target)) {
+    if (mark_[u] == generation_ || u <= members[0]) continue;
     mark_[u] = generation_;
     all.push_back(u);
     all.push_back(i);

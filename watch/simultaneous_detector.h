@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "watch/binding_search.h"
+#include "watch/connected_groups.h"
 #include "watch/detector.h"
 #include "watch/step_view.h"
 #include "watch/watchpoint.h"
@@ -31,8 +32,7 @@ namespace dw::watch {
 
 class SimultaneousDetector final : public Detector {
  public:
-  SimultaneousDetector(const Watchpoint& watchpoint, const Universe& universe, DetectorOptions options,
-                       MatchSink sink);
+  SimultaneousDetector(const Watchpoint& watchpoint, const Universe& universe, DetectorOptions options, MatchSink sink);
 
   void observe(const Frame& frame) override;
   void finish() override;
@@ -52,8 +52,8 @@ class SimultaneousDetector final : public Detector {
     uint32_t target = 0;
     uint32_t data = 0;
     uint16_t ext = 0;
-    uint8_t filled = 0;   // members so far
-    uint8_t via = 0;      // the member next to target, from which the last hop leaves
+    uint8_t filled = 0;    // members so far
+    uint8_t via = 0;       // the member next to target, from which the last hop leaves
     uint8_t position = 0;  // the member it is at while walking back
     bool walking = false;  // at == members[position], not yet at via
   };
@@ -66,8 +66,15 @@ class SimultaneousDetector final : public Detector {
   void hop(int64_t f, Walker w, const uint32_t* words, uint32_t word_count);
   uint8_t toward(const uint32_t* parents, uint8_t from, uint8_t to) const;
   const StepHistory::Graph* links(int64_t f) const { return history_.graph(std::min(f, newest_)); }
-  StepView& view(int64_t t0) { return views_[static_cast<size_t>(t0 % static_cast<int64_t>(views_.size()))]; }
-  MatchBuffer& found(int64_t t0) { return found_[static_cast<size_t>(t0 % static_cast<int64_t>(found_.size()))]; }
+  // What the PatternMatchers of one start step t0 read, and the matches they found.
+  struct StartStep {
+    StepView view;
+    MatchBuffer found;
+    UndirectedGraph groups;  // any: N(t0) both ways among present modules, for ESU
+    bool symmetric = true;   // any: N(t0) already went both ways
+  };
+  StartStep& at(int64_t t0) { return starts_[static_cast<size_t>(t0 % static_cast<int64_t>(starts_.size()))]; }
+  StepView& view(int64_t t0) { return at(t0).view; }
   void report(int64_t t0);
 
   // Shared by clones, so that the references the parts below keep stay valid in a snapshot;
@@ -77,14 +84,12 @@ class SimultaneousDetector final : public Detector {
   GroupShape shape_;
   uint32_t k_;
   int64_t latency_;
-  uint32_t leaf_words_;  // leaves packed four to a word
+  uint32_t leaf_words_;   // leaves packed four to a word
   uint32_t fixed_words_;  // members + parents + leaves
   StepHistory history_;
-  int64_t newest_ = -1;  // the newest frame's step
-  int64_t next_f_ = 0;   // the next detector step to run
-  std::vector<StepView> views_;   // per start step in flight, by t0 mod (L + 1)
-  std::vector<MatchBuffer> found_;  // likewise
-  std::vector<uint8_t> symmetric_;  // likewise: N(t0) lists every edge both ways
+  int64_t newest_ = -1;            // the newest frame's step
+  int64_t next_f_ = 0;             // the next detector step to run
+  std::vector<StartStep> starts_;  // per start step in flight, by t0 mod (L + 1)
   BindingSearch search_;
   // PatternMatchers arriving at this step and sent during it.
   std::vector<Walker> arriving_, sent_;

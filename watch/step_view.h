@@ -42,7 +42,7 @@ class StepHistory {
 
  private:
   uint32_t modules_;
-  std::vector<int> frame_columns_;          // program variable -> frame column
+  std::vector<int> frame_columns_;  // program variable -> frame column
   // Deques: a StepView keeps pointers to the items across later writes (see StepRing).
   std::vector<StepRing<Column, std::deque<Column>>> columns_;  // per program variable
   StepRing<Graph, std::deque<Graph>> graphs_;

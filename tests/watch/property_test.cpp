@@ -223,6 +223,57 @@ std::set<Match> brute_distributed(const TestEnsemble& e, const Watchpoint& w) {
   return out;
 }
 
+// Whether binding b, every module present at t, forms the group shape over N(t) (DESIGN §4a).
+bool forms(const TestEnsemble& e, int64_t t, const std::vector<uint32_t>& b, GroupShape shape) {
+  for (uint32_t m : b)
+    if (!e.present(t, m)) return false;
+  auto ordered = [&](const std::vector<uint32_t>& order) {
+    for (size_t i = 1; i < order.size(); ++i) {
+      bool linked = false;
+      for (size_t j = 0; j < i && !linked; ++j) linked = adjacent(e, t, order[j], order[i]);
+      if (!linked) return false;
+    }
+    return true;
+  };
+  switch (shape) {
+    case GroupShape::Chain:
+      for (size_t i = 1; i < b.size(); ++i)
+        if (!adjacent(e, t, b[i - 1], b[i])) return false;
+      return true;
+    case GroupShape::Ordered: return ordered(b);
+    case GroupShape::Any: {
+      std::vector<uint32_t> order = b;
+      std::sort(order.begin(), order.end());
+      do {
+        if (ordered(order)) return true;
+      } while (std::next_permutation(order.begin(), order.end()));
+      return false;
+    }
+  }
+  return false;
+}
+
+// Every injective assignment that forms the shape at t and makes the expression true at t.
+std::set<Match> brute_shape(const TestEnsemble& e, const Watchpoint& w, GroupShape shape) {
+  std::set<Match> out;
+  const size_t k = w.ast.slots.size();
+  for (int64_t t = 0; t + w.analysis.extent_plus < e.steps(); ++t)
+    permutations(e.universe().module_count(), k, [&](const std::vector<uint32_t>& b) {
+      if (forms(e, t, b, shape) && evaluate(w.ast, w.ast.root, e, b, std::vector<int64_t>(k, t)) == K::T)
+        out.insert({t, std::vector<ModuleId>(b.begin(), b.end())});
+    });
+  return out;
+}
+
+DetectorOptions with_shape(GroupShape shape, const Optimizations& o = {}, bool simultaneous = false) {
+  DetectorOptions options{o, 0};
+  options.shape = shape;
+  if (simultaneous) options.states = States::Simultaneous;
+  return options;
+}
+
+constexpr GroupShape kShapes[] = {GroupShape::Chain, GroupShape::Ordered, GroupShape::Any};
+
 // ---- properties ---------------------------------------------------------------------------------
 
 constexpr int kCases = 250;
@@ -289,6 +340,85 @@ TEST(Property, FrozenEnsembleDistributedIsTheLinearChainSubsetOfCentralized) {
     compared += !chains.empty();
   }
   EXPECT_GT(compared, kCases / 5u);
+}
+
+TEST(Property, CentralizedShapesEqualBruteForceUnderEveryOptimizationCombination) {
+  Generator g(4242);
+  size_t nonempty = 0;
+  for (int c = 0; c < kCases; ++c) {
+    const TestEnsemble e = g.ensemble(c % 2 == 0);
+    const Watchpoint w = compile_or_die(g.watch(g.pick(1, 4), true));
+    for (GroupShape shape : kShapes) {
+      const auto expected = brute_shape(e, w, shape);
+      nonempty += shape == GroupShape::Any && !expected.empty();
+      for (const Optimizations& o : testing::all_optimization_combinations())
+        ASSERT_EQ(e.run(Algorithm::Centralized, w, with_shape(shape, o)), expected)
+            << to_string(w.ast) << " shape " << shape_name(shape) << " case " << c;
+    }
+  }
+  EXPECT_GT(nonempty, kCases / 5u);
+}
+
+TEST(Property, ShapesNestChainInOrderedInAny) {
+  Generator g(31);
+  size_t strict = 0;
+  for (int c = 0; c < kCases; ++c) {
+    const TestEnsemble e = g.ensemble(c % 2 == 0);
+    const Watchpoint w = compile_or_die(g.watch(g.pick(2, 4), false));
+    const auto chain = e.run(Algorithm::Centralized, w, with_shape(GroupShape::Chain));
+    const auto ordered = e.run(Algorithm::Centralized, w, with_shape(GroupShape::Ordered));
+    const auto any = e.run(Algorithm::Centralized, w, with_shape(GroupShape::Any));
+    EXPECT_TRUE(std::includes(ordered.begin(), ordered.end(), chain.begin(), chain.end())) << to_string(w.ast);
+    EXPECT_TRUE(std::includes(any.begin(), any.end(), ordered.begin(), ordered.end())) << to_string(w.ast);
+    strict += chain.size() < ordered.size() && ordered.size() < any.size();
+  }
+  EXPECT_GT(strict, 0u) << "some case must tell the three shapes apart";
+}
+
+TEST(Property, SimultaneousDistributedEqualsCentralizedOnFrozenTopologies) {
+  Generator g(77);
+  size_t nonempty = 0;
+  for (int c = 0; c < kCases; ++c) {
+    const TestEnsemble e = g.ensemble(true);
+    const Watchpoint w = compile_or_die(g.watch(g.pick(1, 4), true));
+    for (GroupShape shape : kShapes) {
+      const auto central = e.run(Algorithm::Centralized, w, with_shape(shape));
+      nonempty += !central.empty();
+      for (const Optimizations& o : testing::all_optimization_combinations()) {
+        DetectorStats stats;
+        ASSERT_EQ(e.run(Algorithm::Distributed, w, with_shape(shape, o, true), &stats), central)
+            << to_string(w.ast) << " shape " << shape_name(shape) << " case " << c;
+        EXPECT_EQ(stats.lost, 0u);
+      }
+    }
+  }
+  EXPECT_GT(nonempty, kCases / 5u);
+}
+
+TEST(Property, SimultaneousDistributedOnMovingTopologiesIsASubsetAndCountsWhatItLoses) {
+  Generator g(555);
+  size_t lossy = 0, equal = 0;
+  for (int c = 0; c < kCases; ++c) {
+    const TestEnsemble e = g.ensemble(false);
+    const Watchpoint w = compile_or_die(g.watch(g.pick(1, 4), true));
+    for (GroupShape shape : kShapes) {
+      const auto central = e.run(Algorithm::Centralized, w, with_shape(shape));
+      for (const Optimizations& o : testing::all_optimization_combinations()) {
+        DetectorStats stats;
+        const auto d = e.run(Algorithm::Distributed, w, with_shape(shape, o, true), &stats);
+        ASSERT_TRUE(std::includes(central.begin(), central.end(), d.begin(), d.end()))
+            << to_string(w.ast) << " shape " << shape_name(shape) << " case " << c;
+        if (d != central) {
+          EXPECT_GT(stats.lost, 0u) << to_string(w.ast) << " shape " << shape_name(shape) << " case " << c;
+          ++lossy;
+        } else {
+          ++equal;
+        }
+      }
+    }
+  }
+  EXPECT_GT(lossy, 0u);
+  EXPECT_GT(equal, 0u);
 }
 
 TEST(Property, NormalFormReparsesToTheSameMatches) {

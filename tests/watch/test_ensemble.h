@@ -98,6 +98,7 @@ class TestEnsemble {
       f.variable_count = static_cast<uint32_t>(vc);
       detector->observe(f);
     }
+    detector->finish();
     if (stats) *stats = detector->stats();
     return out;
   }
