@@ -16,6 +16,8 @@ watch::DetectorOptions DetectorFlags::options() const {
   o.optimizations.neighbor_culling = !no_neighbor_culling;
   o.optimizations.temporal_spans = !no_temporal_spans;
   o.live_budget = max_live;
+  if (!shape_name.empty()) o.shape = watch::parse_shape(shape_name);
+  if (!states_name.empty()) o.states = watch::parse_states(states_name);
   return o;
 }
 
@@ -25,6 +27,12 @@ void add_detector_flags(CLI::App& cmd, DetectorFlags& flags, bool with_algorithm
         ->check(CLI::IsMember({"centralized", "distributed"}))
         ->capture_default_str();
   }
+  cmd.add_option("--shape", flags.shape_name,
+                 "Groups to find: chain, ordered or any (default: ordered centralized, chain distributed)")
+      ->check(CLI::IsMember({"chain", "ordered", "any"}));
+  cmd.add_option("--states", flags.states_name,
+                 "Distributed: consistent (the paper's) or simultaneous (exact, any shape; DESIGN §4a)")
+      ->check(CLI::IsMember({"consistent", "simultaneous"}));
   cmd.add_flag("--no-early-termination", flags.no_early_termination, "Keep PatternMatchers that can no longer match");
   cmd.add_flag("--no-neighbor-culling", flags.no_neighbor_culling,
                "Spread to every neighbour regardless of neighbor()");
@@ -37,6 +45,7 @@ void add_detector_flags(CLI::App& cmd, DetectorFlags& flags, bool with_algorithm
 void print_detector_stats(std::ostream& out, const watch::DetectorStats& st) {
   out << "    PatternMatchers: " << st.created << " created, peak " << st.peak_live << " live in a step";
   if (st.messages) out << ", " << st.messages << " sent (" << st.bytes << " bytes)";
+  if (st.lost) out << ", " << st.lost << " lost to links gone";
   if (st.created_by_filled.size() > 1) {  // nothing when no step was observed
     out << "; by slots filled:";
     for (size_t i = 1; i < st.created_by_filled.size(); ++i) out << " " << i << ":" << st.created_by_filled[i];
@@ -54,6 +63,7 @@ nlohmann::ordered_json stats_json(const watch::Watchpoint& w, const watch::Detec
   j["bytes"] = st.bytes;
   j["peak_live"] = st.peak_live;
   j["created_by_filled"] = st.created_by_filled;
+  j["lost"] = st.lost;
   j["history_values"] = st.history_values;
   j["seconds"] = st.seconds;
   j["stopped"] = st.stopped;
@@ -66,12 +76,27 @@ nlohmann::ordered_json stats_json(const watch::Watchpoint& w, const watch::Detec
                      {"created", s.created},
                      {"messages", s.messages},
                      {"bytes", s.bytes},
+                     {"lost", s.lost},
                      {"matches", s.matches},
                      {"seconds", s.seconds}});
   }
   j["per_step"] = std::move(steps);
   if (st.steps_truncated) j["per_step_truncated"] = true;  // only the first DetectorStats::kMaxSteps
   return j;
+}
+
+std::string reading_text(watch::Algorithm algorithm, const watch::DetectorOptions& options, int slots) {
+  std::string s = watch::algorithm_name(algorithm);
+  const watch::GroupShape shape = watch::group_shape(algorithm, options);
+  const bool paper = !options.shape || *options.shape == watch::group_shape(algorithm, {});
+  if (watch::simultaneous(algorithm, options)) {
+    const int64_t hops = watch::hop_latency(shape, slots);
+    s += ", simultaneous states, " + std::string(watch::shape_name(shape)) + " groups, latency " +
+         std::to_string(hops) + " hop" + (hops == 1 ? "" : "s");
+  } else if (!paper) {
+    s += std::string(", ") + watch::shape_name(shape) + " groups";
+  }
+  return s;
 }
 
 std::string group_text(std::span<const std::string> slot_names, std::span<const watch::ModuleId> ids) {

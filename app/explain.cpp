@@ -1,5 +1,7 @@
 #include "app/explain.h"
 
+#include "watch/detector.h"
+
 namespace dw::app {
 namespace {
 
@@ -47,6 +49,17 @@ void explain_watchpoint(const watch::Watchpoint& w, std::ostream& out) {
     if (n.x < n.y) out << "culls candidates for " << y << " to N(" << x << "); " << x << " carries its neighbour set\n";
     else out << "decided by " << x << " from its own neighbour set (no culling)\n";
   }
+  // DESIGN §4a: what each reading finds and how long it takes to decide a watch step.
+  const int k = p.slot_count();
+  const int64_t e = a.extent_plus;
+  using watch::GroupShape;
+  out << "  readings       (a watch step t is decided at step t + lag)\n";
+  out << "    centralized: chain, ordered (default) or any groups, simultaneous states; lag E+ = " << e << "\n";
+  out << "    distributed, consistent states (the paper's): chain groups only; lag E+ + k - 1 = " << e + k - 1 << "\n";
+  out << "    distributed, simultaneous states: latency L = k - 1 = " << watch::hop_latency(GroupShape::Chain, k)
+      << " hops for chain, k(k - 1)/2 = " << watch::hop_latency(GroupShape::Any, k)
+      << " for ordered and any; lag E+ + L = " << e + watch::hop_latency(GroupShape::Chain, k) << " / "
+      << e + watch::hop_latency(GroupShape::Any, k) << "\n";
   out << "  PatternMatcher " << p.leaves.size() << " leaves, " << p.cells.size() << " carried value(s), "
       << p.sets.size() << " carried neighbour set(s)\n";
 }

@@ -41,6 +41,12 @@ int replay(const ReplayArgs& args) {
     return 2;
   }
   const auto& watches = std::get<std::vector<watch::Watchpoint>>(loaded);
+  const watch::Algorithm algorithm = args.detector.algorithm();
+  const watch::DetectorOptions options = args.detector.options();
+  if (const std::string why = watch::unsupported(algorithm, options); !why.empty()) {
+    std::cerr << "dwatch: error: " << why << "\n";
+    return 2;
+  }
 
   // Output files are opened before the trace is read, so that a bad path costs nothing.
   const NamedFile matches_file{"--matches", args.matches_path}, stats_file{"--stats", args.stats_path};
@@ -87,8 +93,7 @@ int replay(const ReplayArgs& args) {
   std::vector<std::unique_ptr<watch::Detector>> detectors;
   int64_t max_lag = 0;
   for (size_t i = 0; i < watches.size(); ++i) {
-    detectors.push_back(watch::make_detector(args.detector.algorithm(), watches[i], frames.universe(),
-                                             args.detector.options(), log.sink(i)));
+    detectors.push_back(watch::make_detector(algorithm, watches[i], frames.universe(), options, log.sink(i)));
     max_lag = std::max(max_lag, detectors.back()->lag());
   }
 
@@ -98,6 +103,7 @@ int replay(const ReplayArgs& args) {
     for (auto& d : detectors) d->observe(frame);
     log.release(s - max_lag);
   }
+  for (auto& d : detectors) d->finish();  // a simultaneous-state detector drains
   log.finish();
   const double detect_seconds = seconds_since(detect_start);
 
@@ -107,7 +113,8 @@ int replay(const ReplayArgs& args) {
           << trace.modules_with_lines() << " modules";
   if (const uint32_t only_named = trace.universe().module_count() - trace.modules_with_lines())
     summary << " (and " << only_named << " named only as neighbours)";
-  summary << "; " << watch::algorithm_name(args.detector.algorithm()) << " detector\n";
+  summary << "; " << reading_text(algorithm, options, watches.empty() ? 1 : watches.front().program.slot_count())
+          << " detector\n";
   bool stopped = false;
   uint64_t total = 0;
   for (size_t i = 0; i < watches.size(); ++i) {
@@ -138,7 +145,10 @@ int replay(const ReplayArgs& args) {
   if (stats_out) {
     nlohmann::ordered_json j;
     j["matches"] = total;
-    j["algorithm"] = watch::algorithm_name(args.detector.algorithm());
+    j["algorithm"] = watch::algorithm_name(algorithm);
+    j["shape"] = watch::shape_name(watch::group_shape(algorithm, options));
+    if (algorithm == watch::Algorithm::Distributed)
+      j["states"] = watch::states_name(options.states.value_or(watch::States::Consistent));
     j["trace"] = {{"path", args.trace},
                   {"lines", trace.line_count()},
                   {"steps", trace.step_count()},

@@ -24,7 +24,7 @@ namespace {
 struct RunArgs {
   std::string scenario;
   std::optional<int64_t> steps, seed, threads, history_mb;
-  std::string algorithm;
+  std::string algorithm, shape, states;
   std::string record_path, matches_path, stats_path, render_path;
   size_t print = 5;
   bool no_progress = false;
@@ -36,6 +36,8 @@ int run_scenario(const RunArgs& args) {
   if (!args.algorithm.empty())
     overrides.algorithm =
         args.algorithm == "centralized" ? watch::Algorithm::Centralized : watch::Algorithm::Distributed;
+  if (!args.shape.empty()) overrides.shape = watch::parse_shape(args.shape);
+  if (!args.states.empty()) overrides.states = watch::parse_states(args.states);
   auto loaded = scenarios::load_scenario(args.scenario, overrides);
   if (auto* errors = std::get_if<std::string>(&loaded)) {
     std::cerr << *errors;
@@ -85,6 +87,9 @@ int run_scenario(const RunArgs& args) {
       log.release(out.step - max_lag);
       progress.update(out.step + 1);
     });
+    // Simultaneous-state watchpoints decide the run's last steps by draining (DESIGN §4a).
+    if (!pause && run.latest() + 1 == steps)
+      run.drain([&](uint32_t w, int64_t t, std::span<const watch::ModuleId> ids) { sinks[w](t, ids); });
   } catch (const sim::ProgramError& e) {
     progress.finish();
     std::cerr << "dwatch: " << args.scenario << ": error: " << e.what() << "\n";
@@ -112,7 +117,8 @@ int run_scenario(const RunArgs& args) {
   for (uint32_t w = 0; w < model.watches.size(); ++w) {
     const sim::HostedWatchpoint& h = model.watches[w];
     const uint64_t count = run.match_count(w);
-    summary << "  " << h.watchpoint.name << " [" << watch::algorithm_name(h.algorithm) << ", "
+    summary << "  " << h.watchpoint.name << " ["
+            << reading_text(h.algorithm, h.options, h.watchpoint.program.slot_count()) << ", "
             << sim::action_name(h.action) << "]: " << count << " match" << (count == 1 ? "" : "es");
     if (pause && pause->watch == w) {
       summary << "; PAUSED at step " << pause->t;
@@ -187,7 +193,11 @@ int run_scenario(const RunArgs& args) {
     for (uint32_t w = 0; w < model.watches.size(); ++w) {
       total += counts[w];
       auto entry = stats_json(model.watches[w].watchpoint, totals[w], counts[w]);
-      entry["algorithm"] = watch::algorithm_name(model.watches[w].algorithm);
+      const sim::HostedWatchpoint& h = model.watches[w];
+      entry["algorithm"] = watch::algorithm_name(h.algorithm);
+      entry["shape"] = watch::shape_name(watch::group_shape(h.algorithm, h.options));
+      if (h.algorithm == watch::Algorithm::Distributed)
+        entry["states"] = watch::states_name(h.options.states.value_or(watch::States::Consistent));
       entry["action"] = sim::action_name(model.watches[w].action);
       j["watches"].push_back(std::move(entry));
     }
@@ -218,6 +228,11 @@ void add_run_command(CLI::App& app, std::function<int()>& run) {
                      "Memory for the history's keyframes, in MiB (default: the scenario's)");
   cmd->add_option("--algorithm", args->algorithm, "Run every watchpoint with this algorithm")
       ->check(CLI::IsMember({"centralized", "distributed"}));
+  cmd->add_option("--shape", args->shape, "Run every watchpoint finding these groups: chain, ordered or any")
+      ->check(CLI::IsMember({"chain", "ordered", "any"}));
+  cmd->add_option("--states", args->states,
+                  "Run every distributed watchpoint over consistent (the paper's) or simultaneous states")
+      ->check(CLI::IsMember({"consistent", "simultaneous"}));
   cmd->add_option("--record", args->record_path, "Write what the watchpoints saw as a wptrace v1 TRACE");
   cmd->add_option("--matches", args->matches_path,
                   "Write every match of log/pause watchpoints as JSON Lines (- for stdout)");

@@ -230,11 +230,14 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       break;
     }
     case Kind::Watch: {
-      // watch NAME [centralized|distributed] [log|pause|count] TEXT: TEXT is the rest of the line.
+      // watch NAME [centralized|distributed] [chain|ordered|any] [consistent|simultaneous]
+      //       [log|pause|count] TEXT: TEXT is the rest of the line.
       if (tokens.size() < 3) return usage(after_last);
       cmd.name = tokens[1].text;
       watch::Algorithm algorithm = watch::Algorithm::Distributed;
       sim::MatchAction action = sim::MatchAction::Log;
+      watch::DetectorOptions options;
+      options.live_budget = 20'000'000;  // as a scenario's [[watch]] by default
       size_t i = 2;
       for (; i < tokens.size() && tokens[i].text.rfind("modules", 0) != 0; ++i) {
         const std::string_view w = tokens[i].text;
@@ -243,12 +246,16 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
         else if (w == "log") action = sim::MatchAction::Log;
         else if (w == "pause") action = sim::MatchAction::Pause;
         else if (w == "count") action = sim::MatchAction::Count;
+        else if (auto shape = watch::parse_shape(w)) options.shape = shape;
+        else if (auto states = watch::parse_states(w)) options.states = states;
         else
           return fail(tokens[i].span,
-                      "expected centralized, distributed, log, pause, count or the watchpoint's "
-                      "text (modules(...); ...), not '" +
+                      "expected centralized, distributed, chain, ordered, any, consistent, simultaneous, log, "
+                      "pause, count or the watchpoint's text (modules(...); ...), not '" +
                           std::string(w) + "'");
       }
+      if (const std::string why = watch::unsupported(algorithm, options); !why.empty())
+        return fail(tokens[1].span, why);
       if (i == tokens.size()) return fail(after_last, "the watchpoint's text is missing: modules(...); ...");
       // Compiled against the script's own text, blanked but for the watchpoint, so that its
       // diagnostics point into the script.
@@ -258,8 +265,6 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       std::copy(text.begin() + tokens[i].span.begin, text.begin() + stop, blanked.begin() + tokens[i].span.begin);
       auto compiled = watch::compile_watchpoint(cmd.name, watch::SourceText(source.name(), std::move(blanked)));
       if (auto* error = std::get_if<watch::CompileError>(&compiled)) return std::move(error->diagnostics);
-      watch::DetectorOptions options;
-      options.live_budget = 20'000'000;  // as a scenario's [[watch]] by default
       sim::HostedWatchpoint hosted{std::move(std::get<watch::Watchpoint>(compiled)), algorithm, action, options};
       for (watch::Diagnostic& d : unknown_variables(model, hosted.watchpoint)) mistakes.push_back(std::move(d));
       cmd.watch = std::move(hosted);
@@ -396,6 +401,7 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         answer["watch"] = h.watchpoint.name;
         answer["index"] = *w;
         answer["algorithm"] = watch::algorithm_name(h.algorithm);
+        answer["shape"] = watch::shape_name(watch::group_shape(h.algorithm, h.options));
         answer["action"] = sim::action_name(h.action);
         answer["lag"] = h.lag();
         answer["matches"] = session_.match_count(*w);
@@ -493,6 +499,7 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
           const sim::HostedWatchpoint& h = model.watches[w];
           watches.push_back({{"name", h.watchpoint.name},
                              {"algorithm", watch::algorithm_name(h.algorithm)},
+                             {"shape", watch::shape_name(watch::group_shape(h.algorithm, h.options))},
                              {"action", sim::action_name(h.action)},
                              {"lag", h.lag()},
                              {"decided", session_.decided(w)},

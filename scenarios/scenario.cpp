@@ -54,6 +54,22 @@ struct Loader {
     return std::nullopt;
   }
 
+  std::optional<watch::GroupShape> shape(TableReader& r) {
+    const auto s = r.string("shape");
+    if (!s) return std::nullopt;
+    if (auto v = watch::parse_shape(*s)) return v;
+    r.error("shape", "'shape' must be \"chain\", \"ordered\" or \"any\", not \"" + *s + "\"");
+    return std::nullopt;
+  }
+
+  std::optional<watch::States> states(TableReader& r) {
+    const auto s = r.string("states");
+    if (!s) return std::nullopt;
+    if (auto v = watch::parse_states(*s)) return v;
+    r.error("states", "'states' must be \"consistent\" or \"simultaneous\", not \"" + *s + "\"");
+    return std::nullopt;
+  }
+
   std::optional<sim::MatchAction> action(TableReader& r) {
     const auto s = r.string("action");
     if (!s) return std::nullopt;
@@ -349,26 +365,34 @@ struct Loader {
       names.push_back(name);
       auto compiled = compile(r, name.empty() ? "watch" : name);
       const auto alg = algorithm(r);
+      const auto group = shape(r);
+      const auto state_mode = states(r);
       const auto act = action(r);
       const auto max_live = r.integer(kMaxLiveRange);
       const auto early = r.boolean("early_termination");
       const auto cull = r.boolean("neighbor_culling");
       const auto spans = r.boolean("temporal_spans");
       r.finish();
-      if (!compiled || (r.has("algorithm") && !alg) || (r.has("action") && !act) || (r.has("max_live") && !max_live) ||
-          (r.has("early_termination") && !early) || (r.has("neighbor_culling") && !cull) ||
-          (r.has("temporal_spans") && !spans)) {
+      if (!compiled || (r.has("algorithm") && !alg) || (r.has("shape") && !group) || (r.has("states") && !state_mode) ||
+          (r.has("action") && !act) || (r.has("max_live") && !max_live) || (r.has("early_termination") && !early) ||
+          (r.has("neighbor_culling") && !cull) || (r.has("temporal_spans") && !spans)) {
         ok = false;
         continue;
       }
       watch::DetectorOptions options;
+      options.shape = overrides.shape ? overrides.shape : group;
+      options.states = overrides.states ? overrides.states : state_mode;
+      const watch::Algorithm chosen = overrides.algorithm.value_or(alg.value_or(watch::Algorithm::Distributed));
+      if (const std::string why = watch::unsupported(chosen, options); !why.empty()) {
+        r.error(r.has("shape") ? "shape" : r.has("states") ? "states" : r.has("algorithm") ? "algorithm" : "name", why);
+        ok = false;
+        continue;
+      }
       options.live_budget = static_cast<uint64_t>(max_live.value_or(20'000'000));
       options.optimizations.early_termination = early.value_or(true);
       options.optimizations.neighbor_culling = cull.value_or(true);
       options.optimizations.temporal_spans = spans.value_or(true);
-      out.push_back(sim::HostedWatchpoint{std::move(*compiled),
-                                          overrides.algorithm.value_or(alg.value_or(watch::Algorithm::Distributed)),
-                                          act.value_or(sim::MatchAction::Log), options});
+      out.push_back(sim::HostedWatchpoint{std::move(*compiled), chosen, act.value_or(sim::MatchAction::Log), options});
     }
     if (!ok) return std::nullopt;
     return out;

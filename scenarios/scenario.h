@@ -17,6 +17,9 @@
 //   name = "two_leaders"
 //   text = "modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)"   # or file = "x.watch"
 //   algorithm = "distributed"          # or centralized (default distributed)
+//   shape = "chain"                    # chain | ordered | any (DESIGN §4a; default: ordered
+//                                      # centralized, chain distributed)
+//   states = "simultaneous"            # distributed: consistent (the paper's) | simultaneous
 //   action = "pause"                   # pause | log | count (default log)
 //   max_live = 20000000                # the PatternMatcher budget (0: none)
 //   early_termination = true           # the §IV optimizations, all on by default
@@ -90,6 +93,8 @@ struct Scenario {
 struct ScenarioOverrides {
   std::optional<uint64_t> seed;
   std::optional<watch::Algorithm> algorithm;
+  std::optional<watch::GroupShape> shape;
+  std::optional<watch::States> states;
   uint64_t max_modules = 100'000'000;  // the largest lattice accepted (a fuzzer asks for less)
 };
 

@@ -34,6 +34,11 @@ struct HostedWatchpoint {
 
   // Steps between a state and the watch step it completes (watch::lag).
   int64_t lag() const { return watch::lag(watchpoint.program, algorithm, options); }
+  // The paper's distributed algorithm runs on the modules, as agents the runtime steps with
+  // them; every other reading is a detector observing the run's frames.
+  bool runs_on_agents() const {
+    return algorithm == watch::Algorithm::Distributed && !watch::simultaneous(algorithm, options);
+  }
 };
 
 struct Model {

@@ -49,7 +49,7 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads)
   const size_t lanes = size_t{pool_.size()} * blocks_;
   for (const HostedWatchpoint& w : model.watches) {
     columns_.push_back(watch::variable_columns(w.watchpoint.program, model.universe));
-    sending_.emplace_back(w.algorithm == watch::Algorithm::Distributed ? lanes : 0);
+    sending_.emplace_back(w.runs_on_agents() ? lanes : 0);
   }
 }
 
@@ -75,7 +75,7 @@ State Runtime::initial_state() {
 WatchState Runtime::initial_watch_state(uint32_t w) const {
   const HostedWatchpoint& h = model_.watches[w];
   WatchState ws;
-  if (h.algorithm == watch::Algorithm::Centralized) {
+  if (!h.runs_on_agents()) {
     ws.detector = watch::make_detector(h.algorithm, h.watchpoint, model_.universe, h.options, nullptr);
     ws.detector->stats().max_steps = 0;  // the run keeps its own series
   } else {
@@ -134,7 +134,7 @@ void Runtime::run_thread(unsigned thread, State& state, std::span<const uint8_t>
   std::vector<uint32_t>& live = s.live_watches;
   live.clear();
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
-    if (model_.watches[w].algorithm != watch::Algorithm::Distributed || state.watches[w].stopped) continue;
+    if (!model_.watches[w].runs_on_agents() || state.watches[w].stopped) continue;
     if (!watching.empty() && !watching[w]) continue;
     live.push_back(w);
     const watch::Program& program = model_.watches[w].watchpoint.program;
@@ -186,7 +186,7 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
   }
 }
 
-void Runtime::observe_centralized(uint32_t w, State& state, WatchStepOutput& out) {
+void Runtime::observe_detector(uint32_t w, State& state, WatchStepOutput& out) {
   WatchState& ws = state.watches[w];
   const bool keep = model_.watches[w].action != MatchAction::Count;
   const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
@@ -261,8 +261,8 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
   std::swap(state.values, next_values_);  // assign: the variables now hold step t's values
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
     if (state.watches[w].stopped || (!watching.empty() && !watching[w])) continue;
-    if (model_.watches[w].algorithm == watch::Algorithm::Distributed) finish_distributed(w, state, out.watches[w]);
-    else observe_centralized(w, state, out.watches[w]);
+    if (model_.watches[w].runs_on_agents()) finish_distributed(w, state, out.watches[w]);
+    else observe_detector(w, state, out.watches[w]);
     WatchStepOutput& o = out.watches[w];
     state.watches[w].matches += o.matches;
     // Matches in a fixed order whatever the thread count: by slot ids.

@@ -80,7 +80,7 @@ class Runtime {
   void run_programs(unsigned thread, uint32_t begin, uint32_t end, const State& state);
   void run_agents(unsigned thread, uint32_t block, uint32_t watch, State& state);
   void finish_distributed(uint32_t watch, State& state, WatchStepOutput& out);
-  void observe_centralized(uint32_t watch, State& state, WatchStepOutput& out);
+  void observe_detector(uint32_t watch, State& state, WatchStepOutput& out);
   void deliver_program_messages(State& state);
 
   uint32_t first_block(unsigned thread) const;  // the thread's first block; first_block(threads) = blocks_

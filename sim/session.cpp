@@ -61,6 +61,7 @@ void Session::step(State& state, StepOutput& out, std::span<const uint8_t> watch
 }
 
 void Session::step_head(const StepObserver& observer) {
+  if (drained_) throw std::logic_error("a drained session simulates no further step");
   take_keyframe();
   const auto started = std::chrono::steady_clock::now();
   step(head_, head_out_);
@@ -143,6 +144,45 @@ void Session::record_output(const State& state, const StepOutput& out, uint32_t 
       list.detected.insert(list.detected.end(), o.slots.size() / k, out.step);
     }
   }
+}
+
+void Session::drain(const DrainSink& sink) {
+  for (uint32_t w = 0; w < model_.watches.size(); ++w) {
+    WatchState& ws = head_.watches[w];
+    if (!ws.detector || ws.stopped) continue;
+    const HostedWatchpoint& h = model_.watches[w];
+    const uint32_t k = h.watchpoint.program.slot_count();
+    MatchList& list = matches_[w];
+    ws.detector->set_sink([&](int64_t t, std::span<const ModuleId> ids) {
+      ws.matches += ids.size() / k;
+      if (h.action != MatchAction::Count) {
+        list.slots.insert(list.slots.end(), ids.begin(), ids.end());
+        list.t.insert(list.t.end(), ids.size() / k, t);
+        list.detected.insert(list.detected.end(), ids.size() / k, latest_);
+      }
+      if (sink) sink(w, t, ids);
+    });
+    const watch::DetectorStats before = ws.detector->stats();
+    ws.detector->finish();
+    // The drain's work, as one more entry of the session's series.
+    const watch::DetectorStats& after = ws.detector->stats();
+    watch::StepStats drained;
+    drained.step = latest_;
+    drained.live_by_filled.assign(k + 1, 0);
+    for (size_t i = 0; i < after.created_by_filled.size() && i < before.created_by_filled.size(); ++i)
+      drained.live_by_filled[i] = after.created_by_filled[i] - before.created_by_filled[i];
+    drained.created = after.created - before.created;
+    drained.messages = after.messages - before.messages;
+    drained.bytes = after.bytes - before.bytes;
+    drained.lost = after.lost - before.lost;
+    drained.matches = after.matches - before.matches;
+    drained.seconds = after.seconds - before.seconds;
+    if (drained.created || drained.messages || drained.matches || drained.lost) {
+      stats_[w].add(drained);
+      stats_step_[w].push_back(latest_);
+    }
+  }
+  drained_ = true;
 }
 
 // Forgets what was found after step `through` (matches detected later, statistics of later steps).

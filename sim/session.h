@@ -95,6 +95,12 @@ class Session {
   // a `pause` match's step (returned) or when cancelled. Steps already simulated are revisited,
   // new ones simulated. Throws ProgramError when a program fails.
   std::optional<Pause> run_until(int64_t end, const StepObserver& observer = {}, const Control& control = {});
+  // The run is over (`dwatch run`'s last call, DESIGN §4a): the detectors that decide late, in
+  // simultaneous-state mode, drain their PatternMatchers over the last step's links. What they
+  // find joins the history as detected at the latest step (a `pause` one does not pause) and goes
+  // to `sink`. The session simulates no further step afterwards.
+  using DrainSink = std::function<void(uint32_t watch, int64_t t, std::span<const ModuleId> slots)>;
+  void drain(const DrainSink& sink = {});
   // Makes step t current (-1 ≤ t ≤ latest). False when cancelled (nothing changed then).
   bool seek(int64_t t, const Control& control = {});
   // Simulates ahead until every watchpoint has decided step t, past the session's end if need be.
@@ -172,6 +178,7 @@ class Session {
   std::vector<Intervention> interventions_;  // sorted by `at`, stable
 
   State head_;  // after step latest_
+  bool drained_ = false;
   StepOutput head_out_;
   int64_t latest_ = -1, current_ = -1;
   State view_;  // after some step <= latest_, when view_valid_; the current step's when current_ < latest_

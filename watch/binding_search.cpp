@@ -7,12 +7,6 @@
 
 namespace dw::watch {
 
-void MatchBuffer::add(const uint32_t* binding, uint32_t k) {
-  if (values + k + kCopyChunk > ids.size()) ids.resize(2 * ids.size() + 4096);
-  copy_ids(ids.data() + values, binding, k);
-  values += k;
-}
-
 BindingSearch::BindingSearch(const Program& p, const Optimizations& o, uint64_t budget, uint32_t modules)
     : program_(p), optimizations_(o), live_budget_(budget), modules_(modules) {
   const size_t k = static_cast<size_t>(p.slot_count());

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "watch/chunked_copy.h"
 #include "watch/detector.h"
 #include "watch/step_view.h"
 
@@ -21,7 +22,12 @@ namespace dw::watch {
 struct MatchBuffer {
   std::vector<uint32_t> ids;
   size_t values = 0;
-  void add(const uint32_t* binding, uint32_t k);
+  void add(const uint32_t* binding, uint32_t k) {
+    if (values + k + kCopyChunk > ids.size()) grow();
+    copy_ids(ids.data() + values, binding, k);
+    values += k;
+  }
+  void grow() { ids.resize(2 * ids.size() + 4096); }
 };
 
 class BindingSearch {

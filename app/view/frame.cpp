@@ -90,7 +90,8 @@ Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, con
     row.algorithm = watch::algorithm_name(h.algorithm);
     // The groups each algorithm finds (DESIGN §4a): the paper's Alg. 1 prefix-connected orders,
     // its Alg. 2 linear chains in slot order.
-    row.shape = h.algorithm == watch::Algorithm::Centralized ? "ordered" : "chain";
+    row.shape = watch::shape_name(watch::group_shape(h.algorithm, h.options));
+    if (watch::simultaneous(h.algorithm, h.options)) row.shape += ", simultaneous";
     row.action = std::string(sim::action_name(h.action));
     row.text = h.watchpoint.source->text();
     row.lag = h.lag();

@@ -59,8 +59,8 @@ struct LoadedCase {
 inline LoadedCase load_case(const fs::path& dir) {
   auto trace = sim::read_trace((dir / "trace.jsonl").string());
   EXPECT_TRUE(std::holds_alternative<sim::Trace>(trace));
-  auto compiled = watch::compile_watchpoint(
-      dir.filename().string(), watch::SourceText((dir / "watch.txt").string(), slurp(dir / "watch.txt")));
+  auto compiled = watch::compile_watchpoint(dir.filename().string(),
+                                            watch::SourceText((dir / "watch.txt").string(), slurp(dir / "watch.txt")));
   EXPECT_TRUE(std::holds_alternative<watch::Watchpoint>(compiled));
   return {std::get<sim::Trace>(std::move(trace)), std::get<watch::Watchpoint>(std::move(compiled))};
 }
@@ -70,19 +70,18 @@ inline LoadedCase load_case(const fs::path& dir) {
 inline std::set<CaseMatch> replay_case(const LoadedCase& c, watch::Algorithm algorithm, watch::DetectorOptions o,
                                        watch::DetectorStats* stats = nullptr) {
   const watch::Watchpoint& w = c.watchpoint;
-  auto reader = std::get<sim::FrameReader>(
-      sim::FrameReader::make(c.trace, w.program.variables, sim::default_frame_budget()));
+  auto reader =
+      std::get<sim::FrameReader>(sim::FrameReader::make(c.trace, w.program.variables, sim::default_frame_budget()));
   std::set<CaseMatch> got;
-  auto d = watch::make_detector(algorithm, w, reader.universe(), o,
-                                [&](int64_t t, std::span<const watch::ModuleId> ids) {
-                                  const size_t k = w.program.slot_names.size();
-                                  for (size_t i = 0; i < ids.size(); i += k) {
-                                    CaseMatch m{t, {}};
-                                    for (size_t s = 0; s < k; ++s)
-                                      m.second.emplace_back(w.program.slot_names[s], ids[i + s]);
-                                    EXPECT_TRUE(got.insert(std::move(m)).second) << "a match reported twice";
-                                  }
-                                });
+  auto d =
+      watch::make_detector(algorithm, w, reader.universe(), o, [&](int64_t t, std::span<const watch::ModuleId> ids) {
+        const size_t k = w.program.slot_names.size();
+        for (size_t i = 0; i < ids.size(); i += k) {
+          CaseMatch m{t, {}};
+          for (size_t s = 0; s < k; ++s) m.second.emplace_back(w.program.slot_names[s], ids[i + s]);
+          EXPECT_TRUE(got.insert(std::move(m)).second) << "a match reported twice";
+        }
+      });
   for (int64_t s = 0; s < c.trace.step_count(); ++s) d->observe(reader.frame(s));
   d->finish();
   if (stats) *stats = d->stats();

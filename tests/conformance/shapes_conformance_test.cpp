@@ -25,7 +25,8 @@ class ShapeConformance : public ::testing::TestWithParam<Param> {};
 TEST_P(ShapeConformance, MatchesTheReferenceUnderEveryOptimizationCombination) {
   const Param& p = GetParam();
   const LoadedCase c = load_case(p.dir);
-  const std::set<CaseMatch> want = expected_matches(p.dir / ("expected." + std::string(shape_name(p.shape)) + ".jsonl"));
+  const std::set<CaseMatch> want =
+      expected_matches(p.dir / ("expected." + std::string(shape_name(p.shape)) + ".jsonl"));
   ASSERT_FALSE(want.empty());
   const bool fixed_topology = p.dir.filename().string().ends_with("_static");
   for (int bits = 0; bits < 8; ++bits) {
