@@ -1,5 +1,7 @@
 // `dwatch bench NAME`: reproductions of the paper's measurements.
 //   engine    Table I on the watch engine alone, over a synthetic trace (bench_command.cpp)
+//   shapes    every group shape and state mode (DESIGN §4a) on the engine: time, messages per match
+//             (bench_shapes.cpp)
 //   table1    Table I through the runtime: the host program running, the watchpoint live
 //   overhead  the watchpoint's overhead over a medium-intensity workload (paper §V-B)
 //   million   a 100^3 cube, [8:4:2:1], Fig. 6, distributed: time and memory at scale
@@ -17,6 +19,8 @@
 
 #include "app/detector_flags.h"
 #include "sim/output_file.h"
+#include "sim/trace.h"
+#include "watch/watchpoint.h"
 
 namespace dw::app {
 
@@ -46,7 +50,23 @@ bool open_csv(const BenchArgs& args, const std::string& name, const std::string&
 // "8:4:2:1" -> {8, 4, 2, 1}; empty unless four positive integers.
 std::vector<int64_t> parse_tuple(const std::string& text);
 
+// One detector over a trace's frames, the way `bench engine` and `bench shapes` time it.
+struct EngineRow {
+  uint64_t matches = 0, created = 0, messages = 0, lost = 0, peak_live = 0;
+  double seconds = 0;  // the fastest of the repeats
+  double median_seconds = 0;
+  long peak_kib = 0;
+  bool stopped = false;
+  uint64_t by_filled[5] = {};  // PatternMatchers by slots filled, 1..4 (the paper's Fig. 7)
+};
+// Runs a fresh detector over every frame `repeat` times (and drains it), counting matches; the
+// frames are built before timing. Timing noise on a shared machine only ever adds, so the
+// fastest run is the figure; the median is kept beside it. Four-slot watchpoints.
+EngineRow run_engine_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorithm a,
+                         const watch::DetectorOptions& o, int repeat);
+
 int bench_engine(const BenchArgs& args);
+int bench_shapes(const BenchArgs& args, bool tuples_given);
 int bench_runtime(const BenchArgs& args);  // table1, overhead, million, physics
 int bench_render(const BenchArgs& args);
 int bench_session(const BenchArgs& args);

@@ -26,18 +26,6 @@
 #include "watch/make_detector.h"
 
 namespace dw::app {
-namespace {
-
-struct Row {
-  uint64_t matches = 0, created = 0, messages = 0, peak_live = 0;
-  double seconds = 0;  // the fastest of the repeats
-  double median_seconds = 0;
-  long peak_kib = 0;
-  bool stopped = false;
-  uint64_t by_filled[5] = {};  // PatternMatchers by slots filled, 1..4 (the paper's Fig. 7)
-};
-
-}  // namespace
 
 std::vector<int64_t> parse_tuple(const std::string& text) {
   std::vector<int64_t> out;
@@ -56,14 +44,9 @@ std::vector<int64_t> parse_tuple(const std::string& text) {
   return out.size() == 4 ? out : std::vector<int64_t>{};
 }
 
-namespace {
-
-// Runs a fresh detector over every frame `repeat` times, counting matches; the frames are built
-// before timing. Timing noise on a shared machine only ever adds, so the fastest run is the
-// figure; the median is kept beside it.
-Row run_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorithm a, const watch::DetectorOptions& o,
-            int repeat) {
-  Row row;
+EngineRow run_engine_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorithm a,
+                         const watch::DetectorOptions& o, int repeat) {
+  EngineRow row;
   auto reader = std::get<sim::FrameReader>(sim::FrameReader::make(trace, std::nullopt, sim::default_frame_budget()));
   std::vector<sim::FrameBuffer> buffers(static_cast<size_t>(trace.step_count()));
   std::vector<watch::Frame> frames;
@@ -75,11 +58,13 @@ Row run_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorith
         a, w, reader.universe(), o, [&](int64_t, std::span<const watch::ModuleId> ids) { matches += ids.size() / 4; });
     const auto start = std::chrono::steady_clock::now();
     for (const watch::Frame& f : frames) detector->observe(f);
+    detector->finish();
     times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     const watch::DetectorStats& st = detector->stats();
     row.matches = matches;
     row.created = st.created;
     row.messages = st.messages;
+    row.lost = st.lost;
     row.peak_live = st.peak_live;
     row.stopped = st.stopped;
     for (size_t i = 0; i < st.created_by_filled.size() && i < 5; ++i) row.by_filled[i] = st.created_by_filled[i];
@@ -89,8 +74,6 @@ Row run_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorith
   row.median_seconds = times[times.size() / 2];
   return row;
 }
-
-}  // namespace
 
 int bench_engine(const BenchArgs& args) {
   auto compiled = watch::compile_watchpoint("fig6", watch::SourceText("fig6", kFig6));
@@ -131,8 +114,9 @@ int bench_engine(const BenchArgs& args) {
                 << ")\n";
     }
     for (watch::Algorithm a : algorithms) {
-      Row row;
-      if (!in_child([&] { return run_row(trace, w, a, args.detector.options(), args.repeat); }, row, row.peak_kib)) {
+      EngineRow row;
+      if (!in_child([&] { return run_engine_row(trace, w, a, args.detector.options(), args.repeat); }, row,
+                    row.peak_kib)) {
         std::cerr << "dwatch bench: error: the benchmark run failed\n";
         return 1;
       }
@@ -173,11 +157,13 @@ bool open_csv(const BenchArgs& args, const std::string& name, const std::string&
 
 void add_bench_command(CLI::App& app, std::function<int()>& run) {
   auto* cmd = app.add_subcommand(
-      "bench", "Reproduce the paper's measurements: engine, table1, overhead, million; physics, render, session, view");
+      "bench",
+      "Reproduce the paper's measurements: engine, table1, overhead, million; shapes, physics, render, session, view");
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("name", args->name, "Benchmark to run")
       ->required()
-      ->check(CLI::IsMember({"engine", "table1", "overhead", "million", "physics", "render", "session", "view"}));
+      ->check(
+          CLI::IsMember({"engine", "shapes", "table1", "overhead", "million", "physics", "render", "session", "view"}));
   cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
       ->check(CLI::IsMember({"centralized", "distributed", "both"}));
@@ -191,9 +177,11 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
                      "Runs per row; the fastest and the median are reported");
   cmd->add_option("--write-trace", args->write_trace, "Also write the synthetic trace (wptrace v1) to FILE");
   add_detector_flags(*cmd, args->detector, /*with_algorithm=*/false);
-  cmd->callback([&run, args] {
-    run = [args] {
+  cmd->callback([&run, args, cmd] {
+    const bool tuples_given = cmd->count("--tuple") > 0;
+    run = [args, tuples_given] {
       if (args->name == "engine") return bench_engine(*args);
+      if (args->name == "shapes") return bench_shapes(*args, tuples_given);
       if (args->name == "render") return bench_render(*args);
       if (args->name == "session") return bench_session(*args);
       if (args->name == "view") return bench_view(*args);

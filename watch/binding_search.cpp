@@ -14,13 +14,23 @@ BindingSearch::BindingSearch(const Program& p, const Optimizations& o, uint64_t 
   binding_.resize(k + kCopyChunk);  // slack for chunked copies
   leaf_stride_ = static_cast<uint32_t>((leaves + kByteChunk - 1) / kByteChunk * kByteChunk);
   leaves_.resize((k + 1) * leaf_stride_ + kByteChunk);
-  decided_at_.assign(k * leaves, 0);
+  pending_.assign(k, 0);
   for (size_t slot = 0; slot < k; ++slot)
-    for (uint16_t l : p.slots[slot].leaves) decided_at_[slot * leaves + l] = 1;
+    for (size_t later = slot + 1; later < k; ++later)
+      if (!p.slots[later].leaves.empty()) pending_[slot] = kFalse;  // an unknown leaf may be false
   stack_.resize(static_cast<size_t>(p.max_stack));
   trial_.resize(leaves);
   candidates_.resize(k);
   mark_.assign(modules, 0);
+  for (uint32_t slot = 0; slot < k; ++slot) {
+    Level lv;
+    lv.slot = slot;
+    lv.program = &p.slots[slot];
+    lv.last = slot + 1 == k;
+    lv.cull = o.neighbor_culling && !lv.program->cull_leaves.empty();
+    lv.conjunction = p.shape == Program::Shape::Conjunction;
+    levels_.push_back(lv);
+  }
 }
 
 void BindingSearch::search(const StepView& view, GroupShape shape, std::span<const uint32_t> first, StepStats& stats,
@@ -32,7 +42,7 @@ void BindingSearch::search(const StepView& view, GroupShape shape, std::span<con
   out_ = &out;
   std::fill(leaves_.begin(), leaves_.begin() + static_cast<ptrdiff_t>(program_.leaves.size()), kUnknown);
   candidates_[0].assign(first.begin(), first.end());
-  extend(0);
+  extend(0, {});
 }
 
 void BindingSearch::assign(const StepView& view, std::span<const uint32_t> group, StepStats& stats, MatchBuffer& out) {
@@ -42,8 +52,21 @@ void BindingSearch::assign(const StepView& view, std::span<const uint32_t> group
   stats_ = &stats;
   out_ = &out;
   std::fill(leaves_.begin(), leaves_.begin() + static_cast<ptrdiff_t>(program_.leaves.size()), kUnknown);
-  candidates_[0].assign(group.begin(), group.end());
-  extend(0);
+  // Which members may take each slot: with early termination, only those whose own leaves there
+  // leave the expression not false (a member that may take none makes the group match nothing).
+  const uint32_t k = static_cast<uint32_t>(program_.slot_count());
+  const uint32_t all_members = k == 32 ? ~0u : (1u << group.size()) - 1;
+  uint32_t covered = 0;
+  const uint32_t all_slots = k == 32 ? ~0u : (1u << k) - 1;
+  std::fill(takers_, takers_ + k, 0u);
+  for (uint32_t i = 0; i < group.size(); ++i) {
+    const uint32_t slots = optimizations_.early_termination ? view.fillable(group[i]) : all_slots;
+    if (slots == 0) return;
+    covered |= slots;
+    for (uint32_t bits = slots; bits != 0; bits &= bits - 1) takers_[__builtin_ctz(bits)] |= 1u << i;
+  }
+  if (covered != all_slots) return;
+  assign_slot(0, all_members, {});
 }
 
 void BindingSearch::next_generation() {
@@ -53,110 +76,118 @@ void BindingSearch::next_generation() {
   }
 }
 
-// Fills `slot` with each candidate in turn and goes deeper while the expression can still hold.
-void BindingSearch::extend(uint32_t slot) {
-  const uint32_t k = static_cast<uint32_t>(program_.slot_count());
-  const SlotProgram& sp = program_.slots[slot];
-  const Truth* parent = leaves_.data() + slot * leaf_stride_;
-  Truth* child = leaves_.data() + (slot + 1) * leaf_stride_;
+[[gnu::always_inline]] inline BindingSearch::Level BindingSearch::level(uint32_t slot, Fold decided) const {
+  Level lv = levels_[slot];
+  lv.decided = decided;
+  // Pointers made here, not kept: a copy of the search has leaves of its own.
+  lv.parent = leaves_.data() + slot * leaf_stride_;
+  lv.child = const_cast<Truth*>(leaves_.data()) + (slot + 1) * leaf_stride_;
+  return lv;
+}
+
+// Module c takes the level's slot: counts it, decides the leaves the slot completes, and reports
+// a match at the last slot. Returns whether to go deeper (false also when the search stopped).
+[[gnu::always_inline]] inline bool BindingSearch::take(const Level& lv, uint32_t c, Fold& decided) {
+  const uint32_t slot = lv.slot;
+  if (lv.cull && culled(slot, c, lv.parent)) return false;
   StepStats& st = *stats_;
-
-  if (slot > 0) {
-    // Candidates: not yet bound, and the group's members (Any) or present neighbours at t of the
-    // slot before (Chain) or of any slot filled so far (Ordered).
-    std::vector<uint32_t>& cands = candidates_[slot];
-    cands.clear();
-    next_generation();
-    for (uint32_t j = 0; j < slot; ++j) mark_[binding_[j]] = generation_;
-    if (shape_ == GroupShape::Any) {
-      for (uint32_t m : group_)
-        if (mark_[m] != generation_) cands.push_back(m);
-    } else {
-      const StepHistory::Graph& now = *view_->now();
-      for (uint32_t j = shape_ == GroupShape::Chain ? slot - 1 : 0; j < slot; ++j)
-        for (uint32_t n : now.neighbors(binding_[j])) {
-          if (mark_[n] == generation_ || !now.present[n]) continue;
-          mark_[n] = generation_;
-          cands.push_back(n);
-        }
-    }
+  binding_[slot] = c;
+  ++st.live_by_filled[slot + 1];
+  ++st.live;
+  ++st.created;
+  if (live_budget_ != 0 && st.created > live_budget_) {
+    stop_reason_ =
+        "more than " + std::to_string(live_budget_) + " PatternMatchers at watch step " + std::to_string(view_->t());
+    return false;
   }
-
   // Plain pointers: stores through Truth* (a char type) could alias a vector's own fields.
+  const SlotProgram& sp = *lv.program;
   const uint16_t* own = sp.own_leaves.data();
   const uint16_t* own_end = own + sp.own_leaves.size();
   const uint16_t* carried = sp.carried_leaves.data();
   const uint16_t* carried_end = carried + sp.carried_leaves.size();
   const Truth* own_truth = view_->own_truth();
   const uint32_t modules = modules_;
-  const bool last = slot + 1 == k;
-  const bool cull = optimizations_.neighbor_culling && !sp.cull_leaves.empty();
-  // For a conjunction, the leaves decided before this slot fold once into (all, any); each
-  // candidate only folds in its own leaves, and the last slot never writes a child level.
-  const bool conjunction = program_.shape == Program::Shape::Conjunction;
-  Truth base_all = 1, base_any = 0;
-  if (conjunction) {
-    const uint8_t* decided_here = decided_at_.data() + slot * program_.leaf_count;
-    for (uint32_t l = 0; l < program_.leaf_count; ++l)
-      if (!decided_here[l]) {
-        base_all &= parent[l];
-        base_any |= parent[l];
+  const Truth* parent = lv.parent;
+  Truth* child = lv.child;
+  Truth result;
+  if (lv.conjunction) {
+    // The leaves decided before this slot come folded into (all, any); each candidate only folds
+    // in its own, and leaves decided at later slots are unknown (pending_). The last slot never
+    // writes a child level.
+    Truth all = lv.decided.all, any = lv.decided.any;
+    if (!lv.last) copy_bytes(child, parent, leaf_stride_);
+    for (const uint16_t* l = own; l != own_end; ++l) {
+      const Truth v = own_truth[*l * modules + c];
+      all &= v;
+      any |= v;
+      if (!lv.last) child[*l] = v;
+    }
+    for (const uint16_t* l = carried; l != carried_end; ++l) {
+      const Truth v = view_->decide(*l, binding_.data());
+      all &= v;
+      any |= v;
+      if (!lv.last) child[*l] = v;
+    }
+    decided = {all, any};
+    result = static_cast<Truth>((all & 1) | ((any | pending_[slot]) & 2));
+  } else {
+    copy_bytes(child, parent, leaf_stride_);
+    for (const uint16_t* l = own; l != own_end; ++l) child[*l] = own_truth[*l * modules + c];
+    for (const uint16_t* l = carried; l != carried_end; ++l) child[*l] = view_->decide(*l, binding_.data());
+    result = program_.evaluate(child, stack_.data());
+  }
+  if (lv.last) {
+    if (result == kTrue) {
+      ++st.matches;
+      out_->add(binding_.data(), slot + 1);
+    }
+    return false;
+  }
+  return !(result == kFalse && optimizations_.early_termination);
+}
+
+// Chain and Ordered: fills `slot` with each candidate in turn and goes deeper while the
+// expression can still hold.
+void BindingSearch::extend(uint32_t slot, Fold decided) {
+  if (slot > 0) {
+    // Candidates: not yet bound, present neighbours at t of the slot before (Chain) or of any
+    // slot filled so far (Ordered).
+    std::vector<uint32_t>& cands = candidates_[slot];
+    cands.clear();
+    next_generation();
+    for (uint32_t j = 0; j < slot; ++j) mark_[binding_[j]] = generation_;
+    const StepHistory::Graph& now = *view_->now();
+    for (uint32_t j = shape_ == GroupShape::Chain ? slot - 1 : 0; j < slot; ++j)
+      for (uint32_t n : now.neighbors(binding_[j])) {
+        if (mark_[n] == generation_ || !now.present[n]) continue;
+        mark_[n] = generation_;
+        cands.push_back(n);
       }
   }
+  const Level lv = level(slot, decided);
   for (uint32_t c : candidates_[slot]) {
+    Fold next;
+    if (take(lv, c, next)) extend(slot + 1, next);
     if (stopped()) return;
-    if (cull && culled(slot, c, parent)) continue;
-    binding_[slot] = c;
-    ++st.live_by_filled[slot + 1];
-    ++st.live;
-    ++st.created;
-    if (live_budget_ != 0 && st.created > live_budget_) {
-      stop_reason_ =
-          "more than " + std::to_string(live_budget_) + " PatternMatchers at watch step " + std::to_string(view_->t());
-      return;
-    }
-    Truth result;
-    if (conjunction) {
-      Truth all = base_all, any = base_any;
-      if (!last) copy_bytes(child, parent, leaf_stride_);
-      for (const uint16_t* l = own; l != own_end; ++l) {
-        const Truth v = own_truth[*l * modules + c];
-        all &= v;
-        any |= v;
-        if (!last) child[*l] = v;
-      }
-      for (const uint16_t* l = carried; l != carried_end; ++l) {
-        const Truth v = view_->decide(*l, binding_.data());
-        all &= v;
-        any |= v;
-        if (!last) child[*l] = v;
-      }
-      result = static_cast<Truth>((all & 1) | (any & 2));
-    } else {
-      copy_bytes(child, parent, leaf_stride_);
-      for (const uint16_t* l = own; l != own_end; ++l) child[*l] = own_truth[*l * modules + c];
-      for (const uint16_t* l = carried; l != carried_end; ++l) child[*l] = view_->decide(*l, binding_.data());
-      result = program_.evaluate(child, stack_.data());
-    }
-    if (last) {
-      if (result == kTrue) {
-        ++st.matches;
-        out_->add(binding_.data(), k);
-      }
-      continue;
-    }
-    if (result == kFalse && optimizations_.early_termination) continue;
-    extend(slot + 1);
   }
 }
 
-bool BindingSearch::may_fill(const StepView& view, uint32_t module) {
-  for (const SlotProgram& sp : program_.slots) {
-    std::fill(trial_.begin(), trial_.end(), kUnknown);
-    for (uint16_t l : sp.own_leaves) trial_[l] = view.own(l, module);
-    if (program_.evaluate(trial_.data(), stack_.data()) != kFalse) return true;
+// Any, within one group: `slot` takes each unbound member that may take it (bits of `unbound`).
+void BindingSearch::assign_slot(uint32_t slot, uint32_t unbound, Fold decided) {
+  const Level lv = level(slot, decided);
+  const uint32_t k = static_cast<uint32_t>(levels_.size());
+  for (uint32_t bits = unbound & takers_[slot]; bits != 0; bits &= bits - 1) {
+    const uint32_t i = static_cast<uint32_t>(__builtin_ctz(bits));
+    // Early termination: every later slot must keep a member that may take it.
+    const uint32_t left = unbound & ~(1u << i);
+    bool open = true;
+    for (uint32_t later = slot + 1; later < k && open; ++later) open = (left & takers_[later]) != 0;
+    if (!open) continue;
+    Fold next;
+    if (take(lv, group_[i], next)) assign_slot(slot + 1, left, next);
+    if (stopped()) return;
   }
-  return false;
 }
 
 // Neighbour culling (paper §IV-C): would the expression be false whatever else fills, if

@@ -38,17 +38,32 @@ class BindingSearch {
   // slot before (Chain) or of any earlier slot (Ordered).
   void search(const StepView& view, GroupShape shape, std::span<const uint32_t> first, StepStats& stats,
               MatchBuffer& out);
-  // Every assignment of the slots to the modules of `group` (as many as slots).
+  // Every assignment of the slots to the modules of `group` (as many as slots). The view must be
+  // resolved with its fillable slots.
   void assign(const StepView& view, std::span<const uint32_t> group, StepStats& stats, MatchBuffer& out);
-
-  // Whether `module` can fill some slot: its own leaves there leave the expression not false.
-  bool may_fill(const StepView& view, uint32_t module);
 
   bool stopped() const { return !stop_reason_.empty(); }
   const std::string& stop_reason() const { return stop_reason_; }
 
  private:
-  void extend(uint32_t slot);
+  // A conjunction's leaves decided so far, folded: and of their "may be true" bits, or of their
+  // "may be false" bits.
+  struct Fold {
+    Truth all = 1, any = 0;
+  };
+  // One slot of the search: what every candidate for it shares.
+  struct Level {
+    uint32_t slot = 0;
+    const SlotProgram* program = nullptr;
+    const Truth* parent = nullptr;
+    Truth* child = nullptr;
+    bool last = false, cull = false, conjunction = false;
+    Fold decided;
+  };
+  Level level(uint32_t slot, Fold decided) const;
+  bool take(const Level& level, uint32_t candidate, Fold& decided);
+  void extend(uint32_t slot, Fold decided);
+  void assign_slot(uint32_t slot, uint32_t unbound, Fold decided);
   bool culled(uint32_t slot, uint32_t candidate, const Truth* leaves);
   void next_generation();
 
@@ -65,12 +80,14 @@ class BindingSearch {
   StepStats* stats_ = nullptr;
   MatchBuffer* out_ = nullptr;
   std::vector<uint32_t> binding_;
-  uint32_t leaf_stride_ = 0;         // leaves per level, rounded up for chunked copies
-  std::vector<Truth> leaves_;        // (k + 1) levels of leaf values
-  std::vector<uint8_t> decided_at_;  // [slot * L + leaf]: 1 when that slot decides the leaf
+  uint32_t leaf_stride_ = 0;    // leaves per level, rounded up for chunked copies
+  std::vector<Truth> leaves_;   // (k + 1) levels of leaf values
+  std::vector<Truth> pending_;  // [slot]: kFalse when a later slot decides some leaf, else 0
   std::vector<Truth> stack_, trial_;
   std::vector<std::vector<uint32_t>> candidates_;  // per slot
   std::vector<uint32_t> mark_;
+  std::vector<Level> levels_;  // per slot: what does not change (level() adds the rest)
+  uint32_t takers_[32] = {};   // any: per slot, the group's members (bits) that may take it
   uint32_t generation_ = 0;
 };
 

@@ -44,7 +44,7 @@ void CentralizedDetector::observe(const Frame& frame) {
 }
 
 void CentralizedDetector::run_step(int64_t t) {
-  view_.resolve(history_, t);
+  view_.resolve(history_, t, shape_ == GroupShape::Any);
   const StepHistory::Graph& now = *view_.now();
   const uint32_t modules = universe_.module_count();
   if (shape_ != GroupShape::Any) {
@@ -58,7 +58,7 @@ void CentralizedDetector::run_step(int64_t t) {
   // that can fill no slot (its own leaves make the expression false in each) is in no match, so
   // the groups are those of the graph without it.
   for (uint32_t m = 0; m < modules; ++m)
-    eligible_[m] = now.present[m] && (!options_.optimizations.early_termination || search_.may_fill(view_, m));
+    eligible_[m] = now.present[m] && (!options_.optimizations.early_termination || view_.fillable(m) != 0);
   groups_.enumerate(now, eligible_, static_cast<uint32_t>(program_->slot_count()),
                     [&](std::span<const uint32_t> group) {
                       if (!search_.stopped()) search_.assign(view_, group, step_, matches_);

@@ -36,7 +36,7 @@ std::unique_ptr<Detector> SimultaneousDetector::clone() const {
   auto copy = std::make_unique<SimultaneousDetector>(*this);
   // The views point into this detector's history: read the copy's own.
   for (int64_t t0 = std::max<int64_t>(0, next_f_ - 1 - latency_); t0 < next_f_; ++t0)
-    copy->view(t0).resolve(copy->history_, t0);
+    copy->view(t0).resolve(copy->history_, t0, shape_ == GroupShape::Any);
   return copy;
 }
 
@@ -69,7 +69,7 @@ void SimultaneousDetector::step(int64_t f, bool start_new) {
   step_.live_by_filled.assign(k_ + 1, 0);
   if (start_new) {
     StartStep& s = at(f);
-    s.view.resolve(history_, f);
+    s.view.resolve(history_, f, shape_ == GroupShape::Any);
     s.found.values = 0;
     if (shape_ == GroupShape::Any && s.view.now() != nullptr)
       s.symmetric = s.groups.build(*s.view.now(), s.view.now()->present);
@@ -78,9 +78,10 @@ void SimultaneousDetector::step(int64_t f, bool start_new) {
   std::swap(arriving_words_, sent_words_);
   sent_.clear();
   sent_words_.clear();
+  links_ = links(f);
   for (const Walker& w : arriving_) {
     if (!stop_reason_.empty()) break;
-    arrive(f, w, arriving_words_.data() + w.data);
+    arrive(w, arriving_words_.data() + w.data);  // each record is read once: filled in place
   }
   if (start_new && view(f).now() != nullptr)
     for (uint32_t m = 0; m < universe_.module_count() && stop_reason_.empty(); ++m)
@@ -104,35 +105,35 @@ void SimultaneousDetector::report(int64_t t0) {
   emit(t0, {m.ids.data(), m.values});
 }
 
-void SimultaneousDetector::arrive(int64_t f, const Walker& w, const uint32_t* words) {
-  const StepHistory::Graph* g = links(f);
-  if (g == nullptr || !g->present[w.at]) {  // the module it hopped to has left
+void SimultaneousDetector::arrive(const Walker& w, uint32_t* words) {
+  if (links_ == nullptr || !links_->present[w.at]) {  // the module it hopped to has left
     ++step_.lost;
     return;
   }
-  const uint32_t count = fixed_words_ + 2u * w.ext;
-  scratch_.assign(words, words + count);
-  if (w.walking) return hop(f, w, scratch_.data(), count);
-  if (shape_ == GroupShape::Any) join_group(f, w, scratch_.data());
-  else fill_chain(f, w, scratch_.data());
+  if (w.walking) return hop(w, words, fixed_words_ + 2u * w.ext);
+  if (shape_ == GroupShape::Any) join_group(w, words);
+  else fill_chain(w, words);
 }
 
-void SimultaneousDetector::start(int64_t f, uint32_t module) {
+void SimultaneousDetector::start(int64_t t0, uint32_t module) {
   ++step_.created;
   Walker w;
-  w.t0 = f;
+  w.t0 = t0;
   w.at = w.target = module;
-  scratch_.assign(fixed_words_, 0);
+  if (start_words_.empty()) {  // no member, no parent, every leaf unknown
+    start_words_.assign(fixed_words_, 0);
+    start_words_[k_] = kNoParent;
+    std::memset(start_words_.data() + 2 * k_, kUnknown, leaf_words_ * 4);
+  }
+  scratch_ = start_words_;
   uint32_t* words = scratch_.data();
-  words[k_] = kNoParent;
-  std::memset(words + 2 * k_, kUnknown, leaf_words_ * 4);
-  if (shape_ == GroupShape::Any) join_group(f, w, words);
-  else fill_chain(f, w, words);
+  if (shape_ == GroupShape::Any) join_group(w, words);
+  else fill_chain(w, words);
 }
 
 // Chain and ordered: the module at target fills the next slot with its state at t0, decides the
 // leaves that slot completes, and sends the PatternMatcher on to each candidate for the slot after.
-void SimultaneousDetector::fill_chain(int64_t f, Walker w, uint32_t* words) {
+void SimultaneousDetector::fill_chain(Walker w, uint32_t* words) {
   const StepView& v = view(w.t0);
   const uint32_t slot = w.filled;
   uint32_t* members = words;
@@ -184,7 +185,7 @@ void SimultaneousDetector::fill_chain(int64_t f, Walker w, uint32_t* words) {
       child.position = static_cast<uint8_t>(slot);
       parents[slot + 1] = j;
       ++step_.created;
-      hop(f, child, words, fixed_words_);
+      hop(child, words, fixed_words_);
       if (!stop_reason_.empty()) return;
     }
   }
@@ -192,7 +193,7 @@ void SimultaneousDetector::fill_chain(int64_t f, Walker w, uint32_t* words) {
 
 // Any: the module at target joins the group (ESU); a complete group assigns the slots, an
 // incomplete one extends by each module of its extension set in turn.
-void SimultaneousDetector::join_group(int64_t f, Walker w, uint32_t* words) {
+void SimultaneousDetector::join_group(Walker w, uint32_t* words) {
   StartStep& s = at(w.t0);
   const StepView& v = s.view;
   const uint32_t i = w.filled;
@@ -203,7 +204,7 @@ void SimultaneousDetector::join_group(int64_t f, Walker w, uint32_t* words) {
   ++step_.live_by_filled[i + 1];
   ++step_.live;
   // Early termination: a module that can fill no slot is in no match, nor is any group through it.
-  if (options_.optimizations.early_termination && !search_.may_fill(v, w.target)) return;
+  if (options_.optimizations.early_termination && v.fillable(w.target) == 0) return;
   w.filled = static_cast<uint8_t>(i + 1);
   if (w.filled == k_) {
     const std::span<const uint32_t> group(members, k_);
@@ -241,7 +242,7 @@ void SimultaneousDetector::join_group(int64_t f, Walker w, uint32_t* words) {
     copy.assign(words, words + fixed_words_);
     copy.insert(copy.end(), all.begin() + 2 * (e + 1), all.end());
     ++step_.created;
-    hop(f, child, copy.data(), static_cast<uint32_t>(copy.size()));
+    hop(child, copy.data(), static_cast<uint32_t>(copy.size()));
     if (!stop_reason_.empty()) return;
   }
 }
@@ -255,7 +256,7 @@ uint8_t SimultaneousDetector::toward(const uint32_t* parents, uint8_t from, uint
 
 // One hop of `w` from where it is: toward the member `via` over the group's tree, or from `via`
 // to `target`. It needs the link now (detector step f); a link that is gone loses it.
-void SimultaneousDetector::hop(int64_t f, Walker w, const uint32_t* words, uint32_t word_count) {
+void SimultaneousDetector::hop(Walker w, const uint32_t* words, uint32_t word_count) {
   uint32_t next;
   if (w.position == w.via) {
     next = w.target;
@@ -265,7 +266,7 @@ void SimultaneousDetector::hop(int64_t f, Walker w, const uint32_t* words, uint3
     next = words[w.position];
     w.walking = true;
   }
-  const StepHistory::Graph* g = links(f);
+  const StepHistory::Graph* g = links_;
   const bool linked = g != nullptr && g->present[w.at] && [&] {
     const auto n = g->neighbors(w.at);
     return std::find(n.begin(), n.end(), next) != n.end();

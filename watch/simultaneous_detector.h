@@ -59,11 +59,11 @@ class SimultaneousDetector final : public Detector {
   };
 
   void step(int64_t f, bool start);
-  void arrive(int64_t f, const Walker& w, const uint32_t* words);
-  void start(int64_t f, uint32_t module);
-  void fill_chain(int64_t f, Walker w, uint32_t* words);
-  void join_group(int64_t f, Walker w, uint32_t* words);
-  void hop(int64_t f, Walker w, const uint32_t* words, uint32_t word_count);
+  void arrive(const Walker& w, uint32_t* words);
+  void start(int64_t t0, uint32_t module);
+  void fill_chain(Walker w, uint32_t* words);
+  void join_group(Walker w, uint32_t* words);
+  void hop(Walker w, const uint32_t* words, uint32_t word_count);
   uint8_t toward(const uint32_t* parents, uint8_t from, uint8_t to) const;
   const StepHistory::Graph* links(int64_t f) const { return history_.graph(std::min(f, newest_)); }
   // What the PatternMatchers of one start step t0 read, and the matches they found.
@@ -94,7 +94,8 @@ class SimultaneousDetector final : public Detector {
   // PatternMatchers arriving at this step and sent during it.
   std::vector<Walker> arriving_, sent_;
   std::vector<uint32_t> arriving_words_, sent_words_;
-  std::vector<uint32_t> scratch_, mark_, ext_, child_words_;
+  const StepHistory::Graph* links_ = nullptr;  // the links of the step running (links(f))
+  std::vector<uint32_t> scratch_, start_words_, mark_, ext_, child_words_;
   std::vector<Truth> stack_, trial_;
   uint32_t generation_ = 0;
   StepStats step_;

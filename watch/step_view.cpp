@@ -55,7 +55,7 @@ StepView::StepView(const Program& p, uint32_t modules)
       graph_at_offset_(static_cast<size_t>(p.extent_plus - p.min_neighbor_offset) + 1),
       own_truth_(p.leaves.size() * modules) {}
 
-void StepView::resolve(const StepHistory& history, int64_t t) {
+void StepView::resolve(const StepHistory& history, int64_t t, bool slots) {
   const Program& p = *program_;
   t_ = t;
   now_ = history.graph(t);
@@ -81,6 +81,17 @@ void StepView::resolve(const StepHistory& history, int64_t t) {
   for (const SlotProgram& sp : p.slots)
     for (uint16_t l : sp.own_leaves)
       for (uint32_t m = 0; m < modules_; ++m) own_truth_[l * modules_ + m] = compare(p.leaves[l], l, m, m);
+  if (!slots) return;
+  fillable_.assign(modules_, 0);
+  std::vector<Truth> trial(p.leaves.size()), stack(static_cast<size_t>(p.max_stack));
+  for (uint32_t s = 0; s < p.slots.size(); ++s) {
+    const SlotProgram& sp = p.slots[s];
+    std::fill(trial.begin(), trial.end(), kUnknown);
+    for (uint32_t m = 0; m < modules_; ++m) {
+      for (uint16_t l : sp.own_leaves) trial[l] = own(l, m);
+      if (p.evaluate(trial.data(), stack.data()) != kFalse) fillable_[m] |= 1u << s;
+    }
+  }
 }
 
 bool StepView::adjacent(uint32_t from, uint32_t to) const {

@@ -54,8 +54,8 @@ class StepView {
   explicit StepView(const Program& program, uint32_t modules);
 
   // Reads watch step t: resolves every term to its step's column and decides each module's own
-  // leaves (SlotProgram::own_leaves) once.
-  void resolve(const StepHistory& history, int64_t t);
+  // leaves (SlotProgram::own_leaves) once; with `slots`, also which slots each module may fill.
+  void resolve(const StepHistory& history, int64_t t, bool slots = false);
 
   int64_t t() const { return t_; }
   const StepHistory::Graph* now() const { return now_; }  // the graph at t, or null
@@ -70,6 +70,9 @@ class StepView {
   Truth decide(uint32_t leaf_index, const uint32_t* binding) const;
   Truth own(uint32_t leaf_index, uint32_t module) const { return own_truth_[leaf_index * modules_ + module]; }
   const Truth* own_truth() const { return own_truth_.data(); }
+  // The slots (bit s) where the module's own leaves leave the expression not false: the only
+  // slots it can fill in a match. Read with resolve(..., slots = true).
+  uint32_t fillable(uint32_t module) const { return fillable_[module]; }
   size_t bytes() const { return own_truth_.capacity() + sizeof(*this); }
 
  private:
@@ -84,6 +87,7 @@ class StepView {
   std::vector<ResolvedTerm> lhs_, rhs_;                     // per leaf
   std::vector<const StepHistory::Graph*> graph_at_offset_;  // [offset - min_neighbor_offset]
   std::vector<Truth> own_truth_;                            // [leaf * M + module]
+  std::vector<uint32_t> fillable_;                          // [module]
 };
 
 }  // namespace dw::watch
