@@ -49,8 +49,8 @@ int bench_shapes(const BenchArgs& args, bool tuples_given) {
             << " steps, Fig. 6 watchpoint, 1 thread; best and median of " << args.repeat << "\n";
   std::cout << std::left << std::setw(9) << "tuple" << std::setw(34) << "reading" << std::right << std::setw(11)
             << "matches" << std::setw(12) << "created" << std::setw(12) << "messages" << std::setw(7) << "lost"
-            << std::setw(10) << "msg/match" << std::setw(9) << "best s" << std::setw(10) << "median s"
-            << std::setw(10) << "peak MiB\n";
+            << std::setw(10) << "msg/match" << std::setw(9) << "best s" << std::setw(10) << "median s" << std::setw(10)
+            << "peak MiB\n";
   int status = 0;
   for (const std::string& tuple_text : tuples) {
     sim::CubicRandomVars spec;
@@ -84,17 +84,16 @@ int bench_shapes(const BenchArgs& args, bool tuples_given) {
       if (csv_file)
         csv_file->stream() << tuple_text << "," << r.name << "," << watch::algorithm_name(r.algorithm) << ","
                            << watch::shape_name(r.shape) << ","
-                           << (r.algorithm == watch::Algorithm::Distributed ? watch::states_name(r.states) : "")
-                           << "," << row.matches << "," << row.created << "," << row.messages << "," << row.lost
-                           << "," << per_match << "," << row.seconds << "," << row.median_seconds << "," << mib
-                           << "\n";
+                           << (r.algorithm == watch::Algorithm::Distributed ? watch::states_name(r.states) : "") << ","
+                           << row.matches << "," << row.created << "," << row.messages << "," << row.lost << ","
+                           << per_match << "," << row.seconds << "," << row.median_seconds << "," << mib << "\n";
       if (row.stopped) status = 1;
     }
     // The bars of issue 14, by the fastest runs.
     auto ratio = [&](size_t a, size_t b) { return rows[a].seconds / std::max(rows[b].seconds, 1e-9); };
     std::cout << std::setprecision(2) << "  simultaneous chain / consistent chain: " << ratio(4, 3)
-              << "x;  simultaneous any / centralized any: " << ratio(6, 2) << "x;  centralized any: "
-              << std::setprecision(3) << rows[2].seconds << " s\n";
+              << "x;  simultaneous any / centralized any: " << ratio(6, 2)
+              << "x;  centralized any: " << std::setprecision(3) << rows[2].seconds << " s\n";
   }
   if (!commit_outputs({csv_file.get()})) return 1;
   return status;

@@ -54,6 +54,64 @@ class TestEnsemble {
     return it->second;
   }
 
+  // Where a frame's arrays live.
+  struct FrameData {
+    std::vector<int64_t> values;
+    std::vector<uint8_t> has;
+    std::vector<uint32_t> begin, nbrs;
+  };
+
+  // Step t as a detector observes it.
+  Frame frame(int64_t t, FrameData& d) const {
+    const size_t mc = universe_.module_count(), vc = universe_.variables.size();
+    const Step& s = steps_[static_cast<size_t>(t)];
+    d.values.assign(mc * vc, 0);
+    d.has.assign(mc * vc, 0);
+    d.begin.assign(mc + 1, 0);
+    d.nbrs.clear();
+    for (size_t m = 0; m < mc; ++m) {
+      d.begin[m] = static_cast<uint32_t>(d.nbrs.size());
+      if (!s.present[m]) continue;
+      for (size_t v = 0; v < vc; ++v) {
+        auto it = s.vars[m].find(universe_.variables[v]);
+        if (it != s.vars[m].end()) {
+          d.values[m * vc + v] = it->second;
+          d.has[m * vc + v] = 1;
+        }
+      }
+      d.nbrs.insert(d.nbrs.end(), s.nbrs[m].begin(), s.nbrs[m].end());
+    }
+    d.begin[mc] = static_cast<uint32_t>(d.nbrs.size());
+    Frame f;
+    f.step = t;
+    f.present = s.present;
+    f.values = d.values;
+    f.has_value = d.has;
+    f.nbr_begin = d.begin;
+    f.nbrs = d.nbrs;
+    f.variable_count = static_cast<uint32_t>(vc);
+    return f;
+  }
+
+  // Feeds every step to `d`, and once step `at` is observed, clones it (the clone sends its
+  // matches to `sink`) and feeds the clone the later steps too; both drain at the end.
+  std::unique_ptr<Detector> feed_and_clone(Detector& d, int64_t at, MatchSink sink) const {
+    std::unique_ptr<Detector> copy;
+    FrameData data;
+    for (int64_t t = 0; t < steps(); ++t) {
+      const Frame f = frame(t, data);
+      d.observe(f);
+      if (copy) copy->observe(f);
+      if (t == at) {
+        copy = d.clone();
+        copy->set_sink(std::move(sink));
+      }
+    }
+    d.finish();
+    if (copy) copy->finish();
+    return copy;
+  }
+
   // Feeds every step to a detector of `algorithm` and returns its matches as a set.
   std::set<Match> run(Algorithm algorithm, const Watchpoint& w, DetectorOptions options = {},
                       DetectorStats* stats = nullptr) const {
@@ -69,35 +127,8 @@ class TestEnsemble {
         EXPECT_TRUE(fresh) << "a binding is reported once per step";
       }
     });
-    const size_t mc = universe_.module_count(), vc = universe_.variables.size();
-    for (int64_t t = 0; t < steps(); ++t) {
-      const Step& s = steps_[static_cast<size_t>(t)];
-      std::vector<int64_t> values(mc * vc, 0);
-      std::vector<uint8_t> has(mc * vc, 0);
-      std::vector<uint32_t> begin(mc + 1, 0), nbrs;
-      for (size_t m = 0; m < mc; ++m) {
-        begin[m] = static_cast<uint32_t>(nbrs.size());
-        if (!s.present[m]) continue;
-        for (size_t v = 0; v < vc; ++v) {
-          auto it = s.vars[m].find(universe_.variables[v]);
-          if (it != s.vars[m].end()) {
-            values[m * vc + v] = it->second;
-            has[m * vc + v] = 1;
-          }
-        }
-        nbrs.insert(nbrs.end(), s.nbrs[m].begin(), s.nbrs[m].end());
-      }
-      begin[mc] = static_cast<uint32_t>(nbrs.size());
-      Frame f;
-      f.step = t;
-      f.present = s.present;
-      f.values = values;
-      f.has_value = has;
-      f.nbr_begin = begin;
-      f.nbrs = nbrs;
-      f.variable_count = static_cast<uint32_t>(vc);
-      detector->observe(f);
-    }
+    FrameData data;
+    for (int64_t t = 0; t < steps(); ++t) detector->observe(frame(t, data));
     detector->finish();
     if (stats) *stats = detector->stats();
     return out;
