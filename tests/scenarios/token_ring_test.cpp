@@ -11,9 +11,28 @@ const char* kFig3 =
     "modules(a x b); neighbor(x b) and (x.token = 1) and (((a.last.token = 1) and (b.last.token = 1)) or "
     "((a.last.token = 0) and (b.last.token = 0)))";
 
-std::string scenario(uint32_t n, const std::string& bug) {
+// The Fig. 3 watchpoint read centrally, or by the modules over simultaneous states (DESIGN §4a),
+// or by the paper's distributed algorithm over consistent states.
+const char* kCentralized = "algorithm = \"centralized\"";
+const char* kSimultaneous = "algorithm = \"distributed\"\nstates = \"simultaneous\"";
+const char* kConsistent = "algorithm = \"distributed\"";
+
+std::string scenario(uint32_t n, const std::string& bug, const char* reading = kCentralized) {
   return "[lattice]\nkind = \"ring\"\nsize = [" + std::to_string(n) + "]\n[[program]]\nname = \"token_ring\"\n" + bug +
-         "\n[[watch]]\nname = \"fig3\"\nalgorithm = \"centralized\"\naction = \"log\"\ntext = \"" + kFig3 + "\"\n";
+         "\n[[watch]]\nname = \"fig3\"\n" + reading + "\naction = \"log\"\ntext = \"" + kFig3 + "\"\n";
+}
+
+// The matches of a run of `steps` steps, drained at the end: (t, slots) in order.
+std::vector<std::pair<int64_t, std::vector<sim::ModuleId>>> run_matches(const std::string& text, int64_t steps) {
+  Scenario s = test::load(text);
+  sim::Session run(*s.model, *s.world, {.threads = 1});
+  run.run_until(steps);
+  run.drain();
+  const sim::MatchList& m = run.matches(0);
+  std::vector<std::pair<int64_t, std::vector<sim::ModuleId>>> out;
+  for (size_t i = 0; i < m.size(); ++i) out.push_back({m.t[i], {m.slots.begin() + 3 * i, m.slots.begin() + 3 * i + 3}});
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 TEST(TokenRing, ExactlyOneModuleHoldsTheTokenEveryStep) {
@@ -67,6 +86,33 @@ TEST(TokenRing, LostTokenMatchesWhenTheMasterRegeneratesIt) {
     EXPECT_EQ(m.t[0], last_seen + n + 1);
     EXPECT_EQ(m.slots[1], 0u) << "the master regenerates";
   }
+}
+
+// The modules find exactly what the centralized reading finds: the duplicated and the lost
+// tokens, and nothing on a correct ring, where the paper's consistent reading (b.last read a step
+// after a's) matches a correct token at every step.
+TEST(TokenRing, SimultaneousDistributedReadingFindsExactlyTheCentralizedMatches) {
+  for (const std::string bug : {"", "duplicate_at = 40", "duplicate_at = 5", "lose_at = 40", "lose_at = 47"}) {
+    SCOPED_TRACE(bug);
+    const auto central = run_matches(scenario(16, bug, kCentralized), 120);
+    const auto distributed = run_matches(scenario(16, bug, kSimultaneous), 120);
+    EXPECT_EQ(distributed, central);
+    EXPECT_EQ(central.empty(), bug.empty());
+  }
+  EXPECT_GT(run_matches(scenario(16, "", kConsistent), 120).size(), 100u);
+}
+
+TEST(TokenRing, ShippedDistributedScenarioPausesAtStep41) {
+  auto loaded = load_scenario(std::string(DWATCH_SCENARIOS_DIR) + "/token_ring_distributed.toml");
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded));
+  Scenario& s = std::get<Scenario>(loaded);
+  ASSERT_TRUE(watch::simultaneous(s.model->watches[0].algorithm, s.model->watches[0].options));
+  sim::Session run(*s.model, *s.world, {.threads = s.threads});
+  const auto pause = run.run_until(s.steps);
+  ASSERT_TRUE(pause);
+  EXPECT_EQ(pause->t, 41);
+  EXPECT_EQ(pause->detected, 41 + 2) << "E+ = 0, and a chain of 3 takes L = 2 hops";
+  EXPECT_EQ(pause->group[1], 40u % 16u);
 }
 
 TEST(TokenRing, ShippedScenarioPausesAtStep41) {
