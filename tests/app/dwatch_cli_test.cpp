@@ -413,3 +413,64 @@ TEST_F(Cli, SummariesSayWhatIsThere) {
 }
 
 }  // namespace
+
+namespace {
+
+class ShapesCli : public Cli {};
+
+// `replay --shape S --states simultaneous` on a shapes conformance case writes as many matches as
+// the reference; a shape the paper's reading cannot find is bad input.
+TEST_F(ShapesCli, ReplayFindsEveryShapeAndRefusesWhatTheReadingCannotFind) {
+  const fs::path c = fs::path(DWATCH_CONFORMANCE_DIR).parent_path() / "conformance_shapes" / "s01_star_hex_static";
+  for (const char* shape : {"chain", "ordered", "any"}) {
+    for (const char* reading : {"--algorithm centralized", "--algorithm distributed --states simultaneous"}) {
+      const fs::path out = dir_ / (std::string(shape) + ".jsonl");
+      const Result r = run("replay " + (c / "trace.jsonl").string() + " --watch @" + (c / "watch.txt").string() +
+                           " --shape " + shape + " " + reading + " --matches " + out.string());
+      ASSERT_EQ(r.code, 0) << r.err;
+      const std::string want = slurp(c / ("expected." + std::string(shape) + ".jsonl")), got = slurp(out);
+      EXPECT_EQ(std::count(got.begin(), got.end(), '\n'), std::count(want.begin(), want.end(), '\n'))
+          << shape << " " << reading;
+    }
+  }
+  const Result refused = run("replay " + (c / "trace.jsonl").string() + " --watch @" + (c / "watch.txt").string() +
+                             " --algorithm distributed --shape any");
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_NE(refused.err.find("shape \"any\" needs states = \"simultaneous\""), std::string::npos) << refused.err;
+  EXPECT_EQ(run("replay " + (c / "trace.jsonl").string() + " --watch x --shape star").code, 2);
+}
+
+TEST_F(ShapesCli, CheckStatesEachReadingsLag) {
+  const Result r = run("check 'modules(a b c d); (a.x = 1) and (b.next.x = 0)'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("lag E+ = 1"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("lag E+ + k - 1 = 4"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("L = k - 1 = 3 hops for chain, k(k - 1)/2 = 6 for ordered and any; lag E+ + L = 4 / 7"),
+            std::string::npos)
+      << r.out;
+}
+
+// A run drains its simultaneous-state watchpoints: the last steps are decided as a replay of its
+// trace decides them, with the same matches.
+TEST_F(ShapesCli, RunDrainsAndEqualsTheReplayOfItsTrace) {
+  const std::string scenario = std::string(DWATCH_SCENARIOS_DIR) + "/token_ring_distributed.toml";
+  const fs::path trace = dir_ / "t.jsonl", live = dir_ / "live.jsonl", replayed = dir_ / "replayed.jsonl";
+  const std::string fig3 =
+      "'modules(a x b); neighbor(x b) and (x.token = 1) and (((a.last.token = 1) and (b.last.token = 1)) or "
+      "((a.last.token = 0) and (b.last.token = 0)))'";
+  const Result r = run("run " + scenario + " --steps 42 --record " + trace.string() + " --matches " + live.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Result p = run("replay " + trace.string() + " --watch token_from_nowhere=" + fig3 +
+                       " --algorithm distributed --states simultaneous --matches " + replayed.string());
+  ASSERT_EQ(p.code, 0) << p.err;
+  EXPECT_NE(slurp(live).find("\"t\":41"), std::string::npos) << "step 41 is the last step: decided by the drain";
+  auto ts = [](const std::string& text) {
+    std::vector<std::string> lines;
+    std::stringstream in(text);
+    for (std::string line; std::getline(in, line);) lines.push_back(line.substr(0, line.find("\"detected\"")));
+    return lines;
+  };
+  EXPECT_EQ(ts(slurp(live)), ts(slurp(replayed)));
+}
+
+}  // namespace

@@ -37,8 +37,8 @@ TEST(ConnectedGroups, CountsTheConnectedFourModuleGroupsOfTheTableICube) {
 }
 
 // Brute force: every k-subset whose induced subgraph has a root reaching every member.
-std::set<std::vector<uint32_t>> brute(const std::vector<std::vector<uint32_t>>& nbrs, const std::vector<uint8_t>& present,
-                                      uint32_t k) {
+std::set<std::vector<uint32_t>> brute(const std::vector<std::vector<uint32_t>>& nbrs,
+                                      const std::vector<uint8_t>& present, uint32_t k) {
   std::set<std::vector<uint32_t>> out;
   const uint32_t n = static_cast<uint32_t>(nbrs.size());
   for (uint32_t mask = 0; mask < (1u << n); ++mask) {

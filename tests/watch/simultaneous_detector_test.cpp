@@ -30,8 +30,8 @@ TEST(SimultaneousDetector, FindsTheCentralizedCountsOnTheTableICube) {
   for (const auto& [shape, count] : expected) {
     DetectorOptions central;
     central.shape = shape;
-    for (const auto& [algorithm, options] : {std::pair{Algorithm::Centralized, central},
-                                             std::pair{Algorithm::Distributed, simultaneous(shape)}}) {
+    for (const auto& [algorithm, options] :
+         {std::pair{Algorithm::Centralized, central}, std::pair{Algorithm::Distributed, simultaneous(shape)}}) {
       size_t found = 0;
       auto d = make_detector(algorithm, w, e.universe(), options,
                              [&](int64_t, std::span<const ModuleId> ids) { found += ids.size() / 4; });
@@ -124,8 +124,7 @@ TEST(SimultaneousDetector, ACloneMidRunGoesOnAsTheRunItWasCopiedFrom) {
       cloned.emplace_back(t, std::vector<ModuleId>(ids.begin(), ids.end()));
     });
     ASSERT_FALSE(cloned.empty());
-    const std::vector<Reported> tail(straight.end() - static_cast<ptrdiff_t>(cloned.size()),
-                                                       straight.end());
+    const std::vector<Reported> tail(straight.end() - static_cast<ptrdiff_t>(cloned.size()), straight.end());
     EXPECT_EQ(cloned, tail) << shape_name(shape);
   }
 }
