@@ -158,6 +158,7 @@ class Debugger {
   // The editor.
   std::string edit_name_ = "w1", edit_text_;
   int edit_algorithm_ = 1, edit_action_ = 0;  // distributed, log
+  int edit_shape_ = 0, edit_states_ = 0;      // chain, consistent: the paper's distributed reading
   std::string edit_checked_;                  // the name and text last compiled
   std::string edit_diagnostics_, edit_explanation_;
   bool edit_ok_ = false;

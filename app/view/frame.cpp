@@ -88,10 +88,10 @@ Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, con
     WatchRow row;
     row.name = h.watchpoint.name;
     row.algorithm = watch::algorithm_name(h.algorithm);
-    // The groups each algorithm finds (DESIGN §4a): the paper's Alg. 1 prefix-connected orders,
-    // its Alg. 2 linear chains in slot order.
+    // The groups it finds and the states it compares (DESIGN §4a).
     row.shape = watch::shape_name(watch::group_shape(h.algorithm, h.options));
-    if (watch::simultaneous(h.algorithm, h.options)) row.shape += ", simultaneous";
+    if (h.algorithm == watch::Algorithm::Distributed)
+      row.states = watch::states_name(h.options.states.value_or(watch::States::Consistent));
     row.action = std::string(sim::action_name(h.action));
     row.text = h.watchpoint.source->text();
     row.lag = h.lag();

@@ -167,14 +167,14 @@ void Debugger::watchpoints_panel() {
       ImGui::TableNextColumn();
       bool on = true;
       if (ImGui::Checkbox("##on", &on)) {  // off: out of the session, its definition kept here
-        disabled_.push_back({row.name, row.algorithm + " " + row.action, row.text});
+        disabled_.push_back({row.name, row.words(), row.text});
         apply({command::unwatch(row.name)});
       }
       ImGui::TableNextColumn();
       ImGui::TextColored(ImColor(kLaneColors[w % std::size(kLaneColors)]), "%s", row.name.c_str());
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\nlag %" PRId64 " steps", row.text.c_str(), row.lag);
       ImGui::TableNextColumn();
-      ImGui::TextUnformatted(row.algorithm.c_str());
+      ImGui::TextUnformatted(row.states == "simultaneous" ? "distributed, simultaneous" : row.algorithm.c_str());
       ImGui::TableNextColumn();
       ImGui::TextUnformatted(row.shape.c_str());
       ImGui::TableNextColumn();
@@ -186,6 +186,8 @@ void Debugger::watchpoints_panel() {
         edit_name_ = row.name;
         edit_text_ = row.text;
         edit_algorithm_ = row.algorithm == "centralized" ? 0 : 1;
+        edit_shape_ = row.shape == "chain" ? 0 : row.shape == "ordered" ? 1 : 2;
+        edit_states_ = row.states == "simultaneous" ? 1 : 0;
         edit_action_ = row.action == "pause" ? 1 : row.action == "count" ? 2 : 0;
         edit_checked_.clear();
       }
@@ -226,6 +228,14 @@ void Debugger::editor() {
   ImGui::Combo("##algorithm", &edit_algorithm_, "centralized\0distributed\0");
   ImGui::SameLine();
   ImGui::SetNextItemWidth(80);
+  ImGui::Combo("##shape", &edit_shape_, "chain\0ordered\0any\0");
+  if (edit_algorithm_ == 1) {
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(110);
+    ImGui::Combo("##states", &edit_states_, "consistent\0simultaneous\0");
+  }
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(80);
   ImGui::Combo("##action", &edit_action_, "log\0pause\0count\0");
   ImGui::InputTextMultiline("##text", &edit_text_, ImVec2(-1, ImGui::GetTextLineHeight() * 4));
 
@@ -254,16 +264,30 @@ void Debugger::editor() {
       }
     }
   }
-  ImGui::BeginDisabled(!edit_ok_ || edit_name_.empty());
+  // A reading that cannot find the shape (the paper's distributed one finds chains only) is said,
+  // not sent.
+  static const char* kAlgorithms[] = {"centralized", "distributed"};
+  static const char* kShapes[] = {"chain", "ordered", "any"};
+  static const char* kStates[] = {"consistent", "simultaneous"};
+  watch::DetectorOptions reading;
+  reading.shape = watch::parse_shape(kShapes[edit_shape_]);
+  if (edit_algorithm_ == 1) reading.states = watch::parse_states(kStates[edit_states_]);
+  const std::string unsupported =
+      watch::unsupported(edit_algorithm_ == 0 ? watch::Algorithm::Centralized : watch::Algorithm::Distributed, reading);
+  ImGui::BeginDisabled(!edit_ok_ || edit_name_.empty() || !unsupported.empty());
   const bool exists = std::any_of(frame_.watches.begin(), frame_.watches.end(),
                                   [&](const WatchRow& w) { return w.name == edit_name_; });
   if (ImGui::Button(exists ? "Replace" : "Add")) {
-    static const char* kAlgorithms[] = {"centralized", "distributed"};
     static const char* kActions[] = {"log", "pause", "count"};
-    apply({command::watch(edit_name_, std::string(kAlgorithms[edit_algorithm_]) + " " + kActions[edit_action_],
-                          edit_text_)});
+    std::string words = std::string(kAlgorithms[edit_algorithm_]) + " " + kShapes[edit_shape_];
+    if (edit_algorithm_ == 1) words += std::string(" ") + kStates[edit_states_];
+    apply({command::watch(edit_name_, words + " " + kActions[edit_action_], edit_text_)});
   }
   ImGui::EndDisabled();
+  if (!unsupported.empty()) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("%s", unsupported.c_str());
+  }
   if (!edit_diagnostics_.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(255, 120, 110, 255));
     ImGui::TextUnformatted(edit_diagnostics_.c_str());
