@@ -196,9 +196,9 @@ void Runtime::observe_detector(uint32_t w, State& state, WatchStepOutput& out) {
     if (keep) out.slots.assign(ids.begin(), ids.end());
   });
   const watch::Frame frame = make_frame(model_, state.step, state.values, state.present, *state.graph);
-  const int64_t lag = ws.detector->lag();
+  const uint64_t before = ws.detector->stats().observed_steps;
   ws.detector->observe(frame);
-  if (state.step - lag >= 0 && !ws.detector->stopped()) {  // a step cut short by the budget counts not
+  if (ws.detector->stats().observed_steps > before) {  // a step cut short by the budget counts not
     out.observed = true;
     out.stats = ws.detector->stats().last;
   }

@@ -94,6 +94,7 @@ void DetectorStats::add(const StepStats& s) {
   created += s.created;
   messages += s.messages;
   lost += s.lost;
+  ++observed_steps;
   bytes += s.bytes;
   matches += s.matches;
   peak_live = std::max(peak_live, s.live);

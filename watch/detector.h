@@ -87,6 +87,7 @@ struct DetectorStats {
   bool steps_truncated = false;
   std::vector<uint64_t> created_by_filled;  // over the run
   uint64_t created = 0, messages = 0, bytes = 0, matches = 0, lost = 0;
+  uint64_t observed_steps = 0;  // detector steps run (added)
   uint64_t peak_live = 0;
   uint64_t history_values = 0;  // values held in history at the end (all modules)
   double seconds = 0;
