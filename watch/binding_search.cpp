@@ -22,6 +22,8 @@ BindingSearch::BindingSearch(const Program& p, const Optimizations& o, uint64_t 
   trial_.resize(leaves);
   candidates_.resize(k);
   mark_.assign(modules, 0);
+  own_conjunction_ = p.shape == Program::Shape::Conjunction;
+  for (const SlotProgram& sp : p.slots) own_conjunction_ &= sp.carried_leaves.empty();
   for (uint32_t slot = 0; slot < k; ++slot) {
     Level lv;
     lv.slot = slot;
@@ -51,7 +53,6 @@ void BindingSearch::assign(const StepView& view, std::span<const uint32_t> group
   group_ = group;
   stats_ = &stats;
   out_ = &out;
-  std::fill(leaves_.begin(), leaves_.begin() + static_cast<ptrdiff_t>(program_.leaves.size()), kUnknown);
   // Which members may take each slot: with early termination, only those whose own leaves there
   // leave the expression not false (a member that may take none makes the group match nothing).
   const uint32_t k = static_cast<uint32_t>(program_.slot_count());
@@ -59,13 +60,18 @@ void BindingSearch::assign(const StepView& view, std::span<const uint32_t> group
   uint32_t covered = 0;
   const uint32_t all_slots = k == 32 ? ~0u : (1u << k) - 1;
   std::fill(takers_, takers_ + k, 0u);
+  std::fill(satisfiers_, satisfiers_ + k, 0u);
   for (uint32_t i = 0; i < group.size(); ++i) {
     const uint32_t slots = optimizations_.early_termination ? view.fillable(group[i]) : all_slots;
     if (slots == 0) return;
     covered |= slots;
     for (uint32_t bits = slots; bits != 0; bits &= bits - 1) takers_[__builtin_ctz(bits)] |= 1u << i;
+    for (uint32_t bits = view.satisfied(group[i]); bits != 0; bits &= bits - 1)
+      satisfiers_[__builtin_ctz(bits)] |= 1u << i;
   }
   if (covered != all_slots) return;
+  if (own_conjunction_ && optimizations_.early_termination) return assign_own(0, all_members, true);
+  std::fill(leaves_.begin(), leaves_.begin() + static_cast<ptrdiff_t>(program_.leaves.size()), kUnknown);
   assign_slot(0, all_members, {});
 }
 
@@ -187,6 +193,38 @@ void BindingSearch::assign_slot(uint32_t slot, uint32_t unbound, Fold decided) {
     Fold next;
     if (take(lv, group_[i], next)) assign_slot(slot + 1, left, next);
     if (stopped()) return;
+  }
+}
+
+// assign_slot for a conjunction of own leaves: with early termination every member taking a slot
+// leaves it not false, so a binding is true exactly when each member satisfies its slot. The same
+// bindings are visited and counted as by assign_slot; only the leaves are not written.
+void BindingSearch::assign_own(uint32_t slot, uint32_t unbound, bool satisfied) {
+  const uint32_t k = static_cast<uint32_t>(levels_.size());
+  StepStats& st = *stats_;
+  for (uint32_t bits = unbound & takers_[slot]; bits != 0; bits &= bits - 1) {
+    const uint32_t i = static_cast<uint32_t>(__builtin_ctz(bits));
+    const uint32_t left = unbound & ~(1u << i);
+    bool open = true;
+    for (uint32_t later = slot + 1; later < k && open; ++later) open = (left & takers_[later]) != 0;
+    if (!open) continue;
+    binding_[slot] = group_[i];
+    ++st.live_by_filled[slot + 1];
+    ++st.live;
+    ++st.created;
+    if (live_budget_ != 0 && st.created > live_budget_) {
+      stop_reason_ =
+          "more than " + std::to_string(live_budget_) + " PatternMatchers at watch step " + std::to_string(view_->t());
+      return;
+    }
+    const bool all = satisfied && (satisfiers_[slot] >> i & 1);
+    if (slot + 1 < k) {
+      assign_own(slot + 1, left, all);
+      if (stopped()) return;
+    } else if (all) {
+      ++st.matches;
+      out_->add(binding_.data(), k);
+    }
   }
 }
 

@@ -64,6 +64,7 @@ class BindingSearch {
   bool take(const Level& level, uint32_t candidate, Fold& decided);
   void extend(uint32_t slot, Fold decided);
   void assign_slot(uint32_t slot, uint32_t unbound, Fold decided);
+  void assign_own(uint32_t slot, uint32_t unbound, bool satisfied);
   bool culled(uint32_t slot, uint32_t candidate, const Truth* leaves);
   void next_generation();
 
@@ -87,7 +88,11 @@ class BindingSearch {
   std::vector<std::vector<uint32_t>> candidates_;  // per slot
   std::vector<uint32_t> mark_;
   std::vector<Level> levels_;  // per slot: what does not change (level() adds the rest)
-  uint32_t takers_[32] = {};   // any: per slot, the group's members (bits) that may take it
+  uint32_t takers_[32] = {};
+  uint32_t satisfiers_[32] = {};  // any: per slot, the members whose own leaves there are all true
+  // A conjunction of own leaves only (each reads one slot's module): a binding matches exactly
+  // when every slot's own leaves are true, so assign_own needs no leaf values.
+  bool own_conjunction_ = false;  // any: per slot, the group's members (bits) that may take it
   uint32_t generation_ = 0;
 };
 

@@ -83,6 +83,7 @@ void StepView::resolve(const StepHistory& history, int64_t t, bool slots) {
       for (uint32_t m = 0; m < modules_; ++m) own_truth_[l * modules_ + m] = compare(p.leaves[l], l, m, m);
   if (!slots) return;
   fillable_.assign(modules_, 0);
+  satisfied_.assign(modules_, 0);
   std::vector<Truth> trial(p.leaves.size()), stack(static_cast<size_t>(p.max_stack));
   for (uint32_t s = 0; s < p.slots.size(); ++s) {
     const SlotProgram& sp = p.slots[s];
@@ -90,6 +91,9 @@ void StepView::resolve(const StepHistory& history, int64_t t, bool slots) {
     for (uint32_t m = 0; m < modules_; ++m) {
       for (uint16_t l : sp.own_leaves) trial[l] = own(l, m);
       if (p.evaluate(trial.data(), stack.data()) != kFalse) fillable_[m] |= 1u << s;
+      bool all = true;
+      for (uint16_t l : sp.own_leaves) all &= own(l, m) == kTrue;
+      if (all) satisfied_[m] |= 1u << s;
     }
   }
 }

@@ -73,6 +73,8 @@ class StepView {
   // The slots (bit s) where the module's own leaves leave the expression not false: the only
   // slots it can fill in a match. Read with resolve(..., slots = true).
   uint32_t fillable(uint32_t module) const { return fillable_[module]; }
+  // The slots (bit s) where every own leaf of the module is true.
+  uint32_t satisfied(uint32_t module) const { return satisfied_[module]; }
   size_t bytes() const { return own_truth_.capacity() + sizeof(*this); }
 
  private:
@@ -87,7 +89,7 @@ class StepView {
   std::vector<ResolvedTerm> lhs_, rhs_;                     // per leaf
   std::vector<const StepHistory::Graph*> graph_at_offset_;  // [offset - min_neighbor_offset]
   std::vector<Truth> own_truth_;                            // [leaf * M + module]
-  std::vector<uint32_t> fillable_;                          // [module]
+  std::vector<uint32_t> fillable_, satisfied_;              // [module]
 };
 
 }  // namespace dw::watch
