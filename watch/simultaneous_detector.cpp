@@ -150,7 +150,10 @@ void SimultaneousDetector::fill_chain(Walker w, uint32_t* words) {
   if (w.filled == k_) {
     if (result == kTrue) {
       ++step_.matches;
-      at(w.t0).found.add(members, k_);
+      // MatchBuffer::add copies in chunks that may read past k ids: from a copy with room.
+      uint32_t ids[kMaxSlots + kCopyChunk];
+      std::memcpy(ids, members, 4 * size_t{k_});
+      at(w.t0).found.add(ids, k_);
     }
     return;
   }
