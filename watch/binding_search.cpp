@@ -22,6 +22,7 @@ BindingSearch::BindingSearch(const Program& p, const Optimizations& o, uint64_t 
   trial_.resize(leaves);
   candidates_.resize(k);
   mark_.assign(modules, 0);
+  slot_count_ = static_cast<uint32_t>(k);
   own_conjunction_ = p.shape == Program::Shape::Conjunction;
   for (const SlotProgram& sp : p.slots) own_conjunction_ &= sp.carried_leaves.empty();
   for (uint32_t slot = 0; slot < k; ++slot) {
@@ -75,6 +76,12 @@ void BindingSearch::assign(const StepView& view, std::span<const uint32_t> group
   assign_slot(0, all_members, {});
 }
 
+// Kept out of line: the string work would otherwise weigh on every node of the search.
+[[gnu::noinline, gnu::cold]] void BindingSearch::over_budget() {
+  stop_reason_ =
+      "more than " + std::to_string(live_budget_) + " PatternMatchers at watch step " + std::to_string(view_->t());
+}
+
 void BindingSearch::next_generation() {
   if (++generation_ == 0) {
     std::fill(mark_.begin(), mark_.end(), 0);
@@ -102,8 +109,7 @@ void BindingSearch::next_generation() {
   ++st.live;
   ++st.created;
   if (live_budget_ != 0 && st.created > live_budget_) {
-    stop_reason_ =
-        "more than " + std::to_string(live_budget_) + " PatternMatchers at watch step " + std::to_string(view_->t());
+    over_budget();
     return false;
   }
   // Plain pointers: stores through Truth* (a char type) could alias a vector's own fields.
@@ -182,7 +188,7 @@ void BindingSearch::extend(uint32_t slot, Fold decided) {
 // Any, within one group: `slot` takes each unbound member that may take it (bits of `unbound`).
 void BindingSearch::assign_slot(uint32_t slot, uint32_t unbound, Fold decided) {
   const Level lv = level(slot, decided);
-  const uint32_t k = static_cast<uint32_t>(levels_.size());
+  const uint32_t k = slot_count_;
   for (uint32_t bits = unbound & takers_[slot]; bits != 0; bits &= bits - 1) {
     const uint32_t i = static_cast<uint32_t>(__builtin_ctz(bits));
     // Early termination: every later slot must keep a member that may take it.
@@ -200,7 +206,7 @@ void BindingSearch::assign_slot(uint32_t slot, uint32_t unbound, Fold decided) {
 // leaves it not false, so a binding is true exactly when each member satisfies its slot. The same
 // bindings are visited and counted as by assign_slot; only the leaves are not written.
 void BindingSearch::assign_own(uint32_t slot, uint32_t unbound, bool satisfied) {
-  const uint32_t k = static_cast<uint32_t>(levels_.size());
+  const uint32_t k = slot_count_;
   StepStats& st = *stats_;
   for (uint32_t bits = unbound & takers_[slot]; bits != 0; bits &= bits - 1) {
     const uint32_t i = static_cast<uint32_t>(__builtin_ctz(bits));
@@ -213,8 +219,7 @@ void BindingSearch::assign_own(uint32_t slot, uint32_t unbound, bool satisfied) 
     ++st.live;
     ++st.created;
     if (live_budget_ != 0 && st.created > live_budget_) {
-      stop_reason_ =
-          "more than " + std::to_string(live_budget_) + " PatternMatchers at watch step " + std::to_string(view_->t());
+      over_budget();
       return;
     }
     const bool all = satisfied && (satisfiers_[slot] >> i & 1);

@@ -67,6 +67,7 @@ class BindingSearch {
   void assign_own(uint32_t slot, uint32_t unbound, bool satisfied);
   bool culled(uint32_t slot, uint32_t candidate, const Truth* leaves);
   void next_generation();
+  void over_budget();
 
   const Program& program_;
   Optimizations optimizations_;
@@ -92,7 +93,8 @@ class BindingSearch {
   uint32_t satisfiers_[32] = {};  // any: per slot, the members whose own leaves there are all true
   // A conjunction of own leaves only (each reads one slot's module): a binding matches exactly
   // when every slot's own leaves are true, so assign_own needs no leaf values.
-  bool own_conjunction_ = false;  // any: per slot, the group's members (bits) that may take it
+  bool own_conjunction_ = false;
+  uint32_t slot_count_ = 0;  // any: per slot, the group's members (bits) that may take it
   uint32_t generation_ = 0;
 };
 
