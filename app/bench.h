@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,10 @@ bool open_csv(const BenchArgs& args, const std::string& name, const std::string&
 
 // "8:4:2:1" -> {8, 4, 2, 1}; empty unless four positive integers.
 std::vector<int64_t> parse_tuple(const std::string& text);
+
+// The Table I ensemble for one tuple ("2:2:2:2"): an args.size^3 cube of random_vars for
+// args.steps steps; nothing, with the error on stderr, when the tuple is not four positive integers.
+std::optional<sim::Trace> table1_trace(const BenchArgs& args, const std::string& tuple_text);
 
 // One detector over a trace's frames, the way `bench engine` and `bench shapes` time it.
 struct EngineRow {

@@ -44,6 +44,19 @@ std::vector<int64_t> parse_tuple(const std::string& text) {
   return out.size() == 4 ? out : std::vector<int64_t>{};
 }
 
+std::optional<sim::Trace> table1_trace(const BenchArgs& args, const std::string& tuple_text) {
+  sim::CubicRandomVars spec;
+  spec.maxima = parse_tuple(tuple_text);
+  if (spec.maxima.empty()) {
+    std::cerr << "dwatch bench: error: tuple '" << tuple_text << "' is not four positive integers like 2:2:2:2\n";
+    return std::nullopt;
+  }
+  spec.nx = spec.ny = spec.nz = args.size;
+  spec.steps = args.steps;
+  spec.seed = args.seed;
+  return sim::make_cubic_random_vars(spec);
+}
+
 EngineRow run_engine_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorithm a,
                          const watch::DetectorOptions& o, int repeat) {
   EngineRow row;
@@ -95,16 +108,9 @@ int bench_engine(const BenchArgs& args) {
             << "   by slots filled (Fig. 7)\n";
   int status = 0;
   for (const std::string& tuple_text : args.tuples) {
-    sim::CubicRandomVars spec;
-    spec.maxima = parse_tuple(tuple_text);
-    if (spec.maxima.empty()) {
-      std::cerr << "dwatch bench: error: tuple '" << tuple_text << "' is not four positive integers like 2:2:2:2\n";
-      return 2;
-    }
-    spec.nx = spec.ny = spec.nz = args.size;
-    spec.steps = args.steps;
-    spec.seed = args.seed;
-    const sim::Trace trace = sim::make_cubic_random_vars(spec);
+    const std::optional<sim::Trace> made = table1_trace(args, tuple_text);
+    if (!made) return 2;
+    const sim::Trace& trace = *made;
     if (!args.write_trace.empty()) {
       if (std::string error = sim::write_trace(trace, args.write_trace); !error.empty()) {
         std::cerr << "dwatch: error: " << error << "\n";

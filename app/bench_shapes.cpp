@@ -7,7 +7,6 @@
 #include "app/bench.h"
 #include "app/bench_child.h"
 #include "app/output_files.h"
-#include "sim/synthetic_trace.h"
 
 namespace dw::app {
 namespace {
@@ -53,16 +52,9 @@ int bench_shapes(const BenchArgs& args, bool tuples_given) {
             << "peak MiB\n";
   int status = 0;
   for (const std::string& tuple_text : tuples) {
-    sim::CubicRandomVars spec;
-    spec.maxima = parse_tuple(tuple_text);
-    if (spec.maxima.empty()) {
-      std::cerr << "dwatch bench: error: tuple '" << tuple_text << "' is not four positive integers like 2:2:2:2\n";
-      return 2;
-    }
-    spec.nx = spec.ny = spec.nz = args.size;
-    spec.steps = args.steps;
-    spec.seed = args.seed;
-    const sim::Trace trace = sim::make_cubic_random_vars(spec);
+    const std::optional<sim::Trace> made = table1_trace(args, tuple_text);
+    if (!made) return 2;
+    const sim::Trace& trace = *made;
     std::vector<EngineRow> rows;
     for (const Reading& r : kReadings) {
       watch::DetectorOptions o = args.detector.options();

@@ -186,16 +186,20 @@ void BindingSearch::extend(uint32_t slot, Fold decided) {
 }
 
 // Any, within one group: `slot` takes each unbound member that may take it (bits of `unbound`).
+// Early termination within a group: once `slot` is taken, every later slot must keep a member
+// (bits of `left`) that may take it.
+[[gnu::always_inline]] inline bool BindingSearch::completable(uint32_t slot, uint32_t left) const {
+  for (uint32_t later = slot + 1; later < slot_count_; ++later)
+    if ((left & takers_[later]) == 0) return false;
+  return true;
+}
+
 void BindingSearch::assign_slot(uint32_t slot, uint32_t unbound, Fold decided) {
   const Level lv = level(slot, decided);
-  const uint32_t k = slot_count_;
   for (uint32_t bits = unbound & takers_[slot]; bits != 0; bits &= bits - 1) {
     const uint32_t i = static_cast<uint32_t>(__builtin_ctz(bits));
-    // Early termination: every later slot must keep a member that may take it.
     const uint32_t left = unbound & ~(1u << i);
-    bool open = true;
-    for (uint32_t later = slot + 1; later < k && open; ++later) open = (left & takers_[later]) != 0;
-    if (!open) continue;
+    if (!completable(slot, left)) continue;
     Fold next;
     if (take(lv, group_[i], next)) assign_slot(slot + 1, left, next);
     if (stopped()) return;
@@ -211,9 +215,7 @@ void BindingSearch::assign_own(uint32_t slot, uint32_t unbound, bool satisfied) 
   for (uint32_t bits = unbound & takers_[slot]; bits != 0; bits &= bits - 1) {
     const uint32_t i = static_cast<uint32_t>(__builtin_ctz(bits));
     const uint32_t left = unbound & ~(1u << i);
-    bool open = true;
-    for (uint32_t later = slot + 1; later < k && open; ++later) open = (left & takers_[later]) != 0;
-    if (!open) continue;
+    if (!completable(slot, left)) continue;
     binding_[slot] = group_[i];
     ++st.live_by_filled[slot + 1];
     ++st.live;

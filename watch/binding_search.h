@@ -65,6 +65,7 @@ class BindingSearch {
   void extend(uint32_t slot, Fold decided);
   void assign_slot(uint32_t slot, uint32_t unbound, Fold decided);
   void assign_own(uint32_t slot, uint32_t unbound, bool satisfied);
+  bool completable(uint32_t slot, uint32_t left) const;
   bool culled(uint32_t slot, uint32_t candidate, const Truth* leaves);
   void next_generation();
   void over_budget();
