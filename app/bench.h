@@ -7,14 +7,18 @@
 //   million   a 100^3 cube, [8:4:2:1], Fig. 6, distributed: time and memory at scale
 //   physics   resting lattices in the Bullet world (1,000 and 8,000 modules), and the watchpoint
 //             overhead over a 1,000-module physics run of leader election
+//   paper     the paper's whole §V: Table I, Fig. 7, Fig. 8, Table II beside its published numbers,
+//             as CSV, plots and paper.md (bench_paper.cpp, paper_report.cpp, scripts/plot_paper.py)
 //   render    frames of the headless 3D view at 1280x720, 1,000 and 10,000 modules (bench_render.cpp)
 //   session   the session's history: live cost, keyframes, seek, retroactive watchpoints (bench_session.cpp)
 //   view      the debugger window: frames/s, and how fast a click shows its step (app/view/bench_view.cpp)
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,6 +32,10 @@ namespace dw::app {
 // The paper's Fig. 6 watchpoint, as the benchmarks use it (x_i = 0 has probability 1/max_i).
 constexpr const char* kFig6 = "modules(a b c d); (a.x1 = 0) and (b.x2 = 0) and (c.x3 = 0) and (d.x4 = 0)";
 
+// Modules(s1 ... sk); (s1.x1 = 0) and ... and (sk.xk = 0): the paper's Table II expressions
+// (Fig. 6 is the one of size 4, with slots a b c d).
+std::string conjunction_watch(int size);
+
 struct BenchArgs {
   std::string name;
   std::vector<std::string> tuples{"1:1:1:1", "2:1:1:1", "2:2:2:2", "1:2:4:8", "8:4:2:1"};
@@ -39,6 +47,8 @@ struct BenchArgs {
   std::string out_dir;
   std::string write_trace;
   int repeat = 5;
+  bool quick = false;                       // paper: fewer repeats and Fig. 8 sizes
+  std::string table2_workload = "random_vars";  // paper: Table II's baseline
   DetectorFlags detector;
 };
 
@@ -70,7 +80,36 @@ struct EngineRow {
 EngineRow run_engine_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorithm a,
                          const watch::DetectorOptions& o, int repeat);
 
+// One detector over a trace's frames once, every match handed to `on_match` too (untimed counts).
+using MatchSink = std::function<void(int64_t step, std::span<const watch::ModuleId> ids)>;
+EngineRow count_engine_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorithm a,
+                           const watch::DetectorOptions& o, const MatchSink& on_match);
+
+// Scenario text for the runtime benchmarks, which go through the scenario loader like any file.
+std::string cubic_toml(uint32_t nx, uint32_t ny, uint32_t nz);
+std::string random_vars_toml(std::span<const int64_t> maxima);
+// A counting [[watch]] read the way the command's flags say (--no-*, --max-live, --shape, --states).
+std::string watch_toml(const std::string& name, const std::string& text, watch::Algorithm a,
+                       const DetectorFlags& flags);
+// The paper's "medium-intensity workload" (§V-B): data aggregation and landmark routing.
+inline constexpr const char* kAggregationToml = "[[program]]\nname = \"aggregation_routing\"\nlandmarks = 3\n";
+
+// A scenario run from scratch `repeat` times in a child process (its peak memory its own).
+struct RuntimeRow {
+  uint64_t matches = 0, created = 0, messages = 0;  // of the first watch, if any
+  double seconds = 0, median_seconds = 0;           // the fastest run, and the median
+  long peak_kib = 0;
+  bool failed = false, stopped = false;  // stopped: the watch reached its --max-live budget
+};
+// What a row times: the steps of a run, or setting it up (loading the scenario, building its
+// world and first state) and tearing it down again.
+enum class Timed { Steps, SetUp };
+// False, with the error on stderr, when the run failed.
+bool run_runtime_row(const std::string& toml, const BenchArgs& args, int repeat, RuntimeRow& row,
+                     Timed timed = Timed::Steps);
+
 int bench_engine(const BenchArgs& args);
+int bench_paper(const BenchArgs& args);
 int bench_shapes(const BenchArgs& args, bool tuples_given);
 int bench_runtime(const BenchArgs& args);  // table1, overhead, million, physics
 int bench_render(const BenchArgs& args);

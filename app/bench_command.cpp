@@ -57,18 +57,26 @@ std::optional<sim::Trace> table1_trace(const BenchArgs& args, const std::string&
   return sim::make_cubic_random_vars(spec);
 }
 
-EngineRow run_engine_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorithm a,
-                         const watch::DetectorOptions& o, int repeat) {
+namespace {
+
+// Runs a fresh detector over every frame `repeat` times (and drains it); the frames are built
+// before timing.
+EngineRow engine_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorithm a,
+                     const watch::DetectorOptions& o, int repeat, const MatchSink* on_match) {
   EngineRow row;
   auto reader = std::get<sim::FrameReader>(sim::FrameReader::make(trace, std::nullopt, sim::default_frame_budget()));
   std::vector<sim::FrameBuffer> buffers(static_cast<size_t>(trace.step_count()));
   std::vector<watch::Frame> frames;
   for (int64_t s = 0; s < trace.step_count(); ++s) frames.push_back(reader.frame(s, buffers[size_t(s)]));
+  const size_t slots = w.program.slots.size();
   std::vector<double> times;
   for (int r = 0; r < repeat; ++r) {
     uint64_t matches = 0;
-    auto detector = watch::make_detector(
-        a, w, reader.universe(), o, [&](int64_t, std::span<const watch::ModuleId> ids) { matches += ids.size() / 4; });
+    auto detector = watch::make_detector(a, w, reader.universe(), o,
+                                         [&](int64_t step, std::span<const watch::ModuleId> ids) {
+                                           matches += ids.size() / slots;
+                                           if (on_match) (*on_match)(step, ids);
+                                         });
     const auto start = std::chrono::steady_clock::now();
     for (const watch::Frame& f : frames) detector->observe(f);
     detector->finish();
@@ -86,6 +94,18 @@ EngineRow run_engine_row(const sim::Trace& trace, const watch::Watchpoint& w, wa
   row.seconds = times.front();
   row.median_seconds = times[times.size() / 2];
   return row;
+}
+
+}  // namespace
+
+EngineRow run_engine_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorithm a,
+                         const watch::DetectorOptions& o, int repeat) {
+  return engine_row(trace, w, a, o, repeat, nullptr);
+}
+
+EngineRow count_engine_row(const sim::Trace& trace, const watch::Watchpoint& w, watch::Algorithm a,
+                           const watch::DetectorOptions& o, const MatchSink& on_match) {
+  return engine_row(trace, w, a, o, 1, on_match ? &on_match : nullptr);
 }
 
 int bench_engine(const BenchArgs& args) {
@@ -164,12 +184,14 @@ bool open_csv(const BenchArgs& args, const std::string& name, const std::string&
 void add_bench_command(CLI::App& app, std::function<int()>& run) {
   auto* cmd = app.add_subcommand(
       "bench",
-      "Reproduce the paper's measurements: engine, table1, overhead, million; shapes, physics, render, session, view");
+      "Reproduce the paper's measurements: paper (all of §V, with plots), engine, table1, overhead, million; shapes, "
+      "physics, render, session, view");
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("name", args->name, "Benchmark to run")
       ->required()
       ->check(
-          CLI::IsMember({"engine", "shapes", "table1", "overhead", "million", "physics", "render", "session", "view"}));
+          CLI::IsMember(
+          {"engine", "shapes", "table1", "overhead", "million", "physics", "paper", "render", "session", "view"}));
   cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
       ->check(CLI::IsMember({"centralized", "distributed", "both"}));
@@ -181,6 +203,10 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
                      "Threads stepping modules (table1, overhead, million)");
   add_integer_option(*cmd, "--repeat", args->repeat, {"repeat", 1, 100},
                      "Runs per row; the fastest and the median are reported");
+  cmd->add_flag("--quick", args->quick, "paper: fewer repeats and Fig. 8 sizes (about a minute)");
+  cmd->add_option("--table2-workload", args->table2_workload,
+                  "paper: Table II's baseline, random_vars alone (the default) or with aggregation_routing")
+      ->check(CLI::IsMember({"random_vars", "aggregation_routing"}));
   cmd->add_option("--write-trace", args->write_trace, "Also write the synthetic trace (wptrace v1) to FILE");
   add_detector_flags(*cmd, args->detector, /*with_algorithm=*/false);
   cmd->callback([&run, args, cmd] {
@@ -188,6 +214,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
     run = [args, tuples_given] {
       if (args->name == "engine") return bench_engine(*args);
       if (args->name == "shapes") return bench_shapes(*args, tuples_given);
+      if (args->name == "paper") return bench_paper(*args);
       if (args->name == "render") return bench_render(*args);
       if (args->name == "session") return bench_session(*args);
       if (args->name == "view") return bench_view(*args);

@@ -15,61 +15,55 @@
 #include "sim/session.h"
 
 namespace dw::app {
-namespace {
 
-struct RuntimeRow {
-  uint64_t matches = 0, created = 0, messages = 0;
-  double seconds = 0, median_seconds = 0;
-  bool failed = false;
-};
-
-std::string cube(uint32_t size) {
-  const std::string n = std::to_string(size);
-  return "[lattice]\nkind = \"cubic\"\nsize = [" + n + ", " + n + ", " + n + "]\n";
+std::string cubic_toml(uint32_t nx, uint32_t ny, uint32_t nz) {
+  return "[lattice]\nkind = \"cubic\"\nsize = [" + std::to_string(nx) + ", " + std::to_string(ny) + ", " +
+         std::to_string(nz) + "]\n";
 }
 
-std::string random_vars(const std::string& tuple) {
-  std::string list = tuple;
-  std::replace(list.begin(), list.end(), ':', ',');
+std::string random_vars_toml(std::span<const int64_t> maxima) {
+  std::string list;
+  for (int64_t m : maxima) list += (list.empty() ? "" : ", ") + std::to_string(m);
   return "[[program]]\nname = \"random_vars\"\ntuple = [" + list + "]\n";
 }
 
-std::string fig6(const char* algorithm) {
-  return std::string("[[watch]]\nname = \"fig6\"\naction = \"count\"\nmax_live = 0\nalgorithm = \"") + algorithm +
-         "\"\ntext = \"" + kFig6 + "\"\n";
+std::string watch_toml(const std::string& name, const std::string& text, watch::Algorithm a,
+                       const DetectorFlags& flags) {
+  std::string t = "[[watch]]\nname = \"" + name + "\"\naction = \"count\"\nalgorithm = \"" +
+                  watch::algorithm_name(a) + "\"\ntext = \"" + text + "\"\nmax_live = " + std::to_string(flags.max_live) +
+                  "\n";
+  if (flags.no_early_termination) t += "early_termination = false\n";
+  if (flags.no_neighbor_culling) t += "neighbor_culling = false\n";
+  if (flags.no_temporal_spans) t += "temporal_spans = false\n";
+  if (!flags.shape_name.empty()) t += "shape = \"" + flags.shape_name + "\"\n";
+  if (!flags.states_name.empty()) t += "states = \"" + flags.states_name + "\"\n";
+  return t;
 }
 
-const std::string kAggregation = "[[program]]\nname = \"aggregation_routing\"\nlandmarks = 3\n";
-
-// What a row times: the steps of a run, or setting it up (loading the scenario, building its
-// world and first state) and tearing it down again.
-enum class Timed { Steps, SetUp };
+namespace {
 
 // Runs the scenario `repeat` times from scratch; the fastest run is the figure.
 RuntimeRow run_scenario_text(const std::string& toml, const BenchArgs& args, int repeat, Timed timed) {
   RuntimeRow row;
   std::vector<double> times;
   for (int r = 0; r < repeat; ++r) {
+    const std::string text = "seed = " + std::to_string(args.seed) + "\n" + toml;
+    auto loaded = scenarios::load_scenario_text("bench.toml", text);
+    if (auto* e = std::get_if<std::string>(&loaded)) {
+      std::cerr << *e;
+      row.failed = true;
+      return row;
+    }
     if (timed == Timed::SetUp) {
       const auto start = std::chrono::steady_clock::now();
       {
-        auto loaded = scenarios::load_scenario_text("bench.toml", toml);
-        if (std::holds_alternative<std::string>(loaded)) {
-          row.failed = true;
-          return row;
-        }
-        scenarios::Scenario& s = std::get<scenarios::Scenario>(loaded);
+        auto again = scenarios::load_scenario_text("bench.toml", text);
+        scenarios::Scenario& s = std::get<scenarios::Scenario>(again);
         sim::Session run(*s.model, *s.world,
                          {.threads = args.threads, .history_bytes = 0});  // no history: the runtime alone
       }
       times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       continue;
-    }
-    auto loaded = scenarios::load_scenario_text("bench.toml", "seed = " + std::to_string(args.seed) + "\n" + toml);
-    if (auto* e = std::get_if<std::string>(&loaded)) {
-      std::cerr << *e;
-      row.failed = true;
-      return row;
     }
     scenarios::Scenario& s = std::get<scenarios::Scenario>(loaded);
     sim::Session run(*s.model, *s.world,
@@ -81,6 +75,7 @@ RuntimeRow run_scenario_text(const std::string& toml, const BenchArgs& args, int
       row.matches = run.match_count(0);
       row.created = run.stats(0).created;
       row.messages = run.stats(0).messages;
+      row.stopped = run.stats(0).stopped;
     }
   }
   std::sort(times.begin(), times.end());
@@ -89,25 +84,38 @@ RuntimeRow run_scenario_text(const std::string& toml, const BenchArgs& args, int
   return row;
 }
 
+}  // namespace
+
+bool run_runtime_row(const std::string& toml, const BenchArgs& args, int repeat, RuntimeRow& row, Timed timed) {
+  long peak_kib = 0;
+  if (!in_child([&] { return run_scenario_text(toml, args, repeat, timed); }, row, peak_kib) || row.failed) {
+    std::cerr << "dwatch bench: error: the benchmark run failed\n";
+    return false;
+  }
+  row.peak_kib = peak_kib;
+  return true;
+}
+
+namespace {
+
 struct Table {
   std::unique_ptr<sim::OutputFile> csv;  // --out DIR: DIR/NAME.csv
+  bool stopped = false;                  // some row's watch reached its budget
 };
 
 // Runs one row in a child process and prints it; false when it failed.
 bool row(const std::string& label, const std::string& toml, const BenchArgs& args, int repeat, Table& table,
          RuntimeRow& out, Timed timed = Timed::Steps) {
-  long peak_kib = 0;
-  if (!in_child([&] { return run_scenario_text(toml, args, repeat, timed); }, out, peak_kib) || out.failed) {
-    std::cerr << "dwatch bench: error: the benchmark run failed\n";
-    return false;
-  }
-  const double mib = static_cast<double>(peak_kib) / 1024.0;
+  if (!run_runtime_row(toml, args, repeat, out, timed)) return false;
+  const double mib = static_cast<double>(out.peak_kib) / 1024.0;
   std::cout << std::left << std::setw(40) << label << std::right << std::setw(12) << out.matches << std::setw(14)
             << out.created << std::setw(10) << std::fixed << std::setprecision(3) << out.seconds << std::setw(10)
-            << out.median_seconds << std::setw(11) << std::setprecision(1) << mib << "\n";
+            << out.median_seconds << std::setw(11) << std::setprecision(1) << mib
+            << (out.stopped ? "  stopped at the --max-live budget" : "") << "\n";
   if (table.csv)
     table.csv->stream() << '"' << label << "\"," << out.matches << "," << out.created << "," << out.messages << ","
-                        << out.seconds << "," << out.median_seconds << "," << mib << "\n";
+                        << out.seconds << "," << out.median_seconds << "," << mib << "," << out.stopped << "\n";
+  if (out.stopped) table.stopped = true;
   return true;
 }
 
@@ -123,17 +131,18 @@ int run_rows(const BenchArgs& args, Table& table);
 
 int bench_runtime(const BenchArgs& args) {
   Table table;
-  if (!open_csv(args, args.name, "row,matches,created,messages,best_seconds,median_seconds,peak_mib", table.csv))
+  if (!open_csv(args, args.name, "row,matches,created,messages,best_seconds,median_seconds,peak_mib,stopped", table.csv))
     return 2;
   const int status = run_rows(args, table);
   if (!commit_outputs({table.csv.get()})) return 1;
-  return status;
+  return status != 0 ? status : table.stopped ? 1 : 0;
 }
 
 namespace {
 
 // The rows of table1, overhead, million or physics.
 int run_rows(const BenchArgs& args, Table& table) {
+  auto fig6 = [&](watch::Algorithm a) { return watch_toml("fig6", kFig6, a, args.detector); };
   const std::string threads = std::to_string(args.threads) + (args.threads == 1 ? " thread" : " threads");
   RuntimeRow r;
 
@@ -146,7 +155,7 @@ int run_rows(const BenchArgs& args, Table& table) {
         std::cerr << "dwatch bench: error: tuple '" << tuple << "' is not four positive integers like 2:2:2:2\n";
         return 2;
       }
-      if (!row(tuple, cube(args.size) + random_vars(tuple) + fig6("distributed"), args, args.repeat, table, r))
+      if (!row(tuple, cubic_toml(args.size, args.size, args.size) + random_vars_toml(parse_tuple(tuple)) + fig6(watch::Algorithm::Distributed), args, args.repeat, table, r))
         return 1;
       total += r.seconds;
     }
@@ -157,13 +166,13 @@ int run_rows(const BenchArgs& args, Table& table) {
   if (args.name == "overhead") {
     header("bench overhead: " + std::to_string(args.size) + "^3 cube, " + std::to_string(args.steps) +
            " steps, aggregation_routing (paper §V-B), " + threads);
-    const std::string base = cube(args.size) + kAggregation;
+    const std::string base = cubic_toml(args.size, args.size, args.size) + kAggregationToml;
     RuntimeRow alone, with_vars, central, distributed;
     if (!row("aggregation_routing", base, args, args.repeat, table, alone)) return 1;
-    const std::string vars = base + random_vars("2:2:2:2");
+    const std::string vars = base + random_vars_toml(parse_tuple("2:2:2:2"));
     if (!row("  + random_vars [2:2:2:2]", vars, args, args.repeat, table, with_vars)) return 1;
-    if (!row("  + Fig. 6 centralized", vars + fig6("centralized"), args, args.repeat, table, central)) return 1;
-    if (!row("  + Fig. 6 distributed", vars + fig6("distributed"), args, args.repeat, table, distributed)) return 1;
+    if (!row("  + Fig. 6 centralized", vars + fig6(watch::Algorithm::Centralized), args, args.repeat, table, central)) return 1;
+    if (!row("  + Fig. 6 distributed", vars + fig6(watch::Algorithm::Distributed), args, args.repeat, table, distributed)) return 1;
     std::cout << std::fixed << std::setprecision(1)
               << "watchpoint overhead over the workload with its variables: centralized "
               << 100 * (central.seconds / with_vars.seconds - 1) << "%, distributed "
@@ -182,15 +191,15 @@ int run_rows(const BenchArgs& args, Table& table) {
     };
     // Setting up a physics world is linear in the modules (physics/pair_cache.h says why it was not).
     for (uint32_t n : {10u, 20u, 30u, 40u})
-      if (!row("set up and torn down, " + std::to_string(n) + "^3", cube(n) + sense + latched, args, args.repeat, table,
+      if (!row("set up and torn down, " + std::to_string(n) + "^3", cubic_toml(n, n, n) + sense + latched, args, args.repeat, table,
                r, Timed::SetUp))
         return 1;
     for (uint32_t n : {10u, 20u}) {
       const std::string side = std::to_string(n) + "^3";
-      if (!row("resting " + side + ", latched to the ground", cube(n) + sense + latched, args, args.repeat, table, r))
+      if (!row("resting " + side + ", latched to the ground", cubic_toml(n, n, n) + sense + latched, args, args.repeat, table, r))
         return 1;
       per_step(r);
-      if (!row("resting " + side + ", free on the ground", cube(n) + sense + free, args, args.repeat, table, r))
+      if (!row("resting " + side + ", free on the ground", cubic_toml(n, n, n) + sense + free, args, args.repeat, table, r))
         return 1;
       per_step(r);
     }
@@ -198,8 +207,8 @@ int run_rows(const BenchArgs& args, Table& table) {
     const std::string election =
         "[lattice]\nkind = \"hex2d\"\nsize = [40, 25]\n[[program]]\nname = \"leader_election\"\n";
     const std::string two_leaders =
-        "[[watch]]\nname = \"two_leaders\"\naction = \"count\"\ntext = \"modules(a b c); (a.isLeader = 1) and "
-        "(c.isLeader = 1)\"\n";
+        watch_toml("two_leaders", "modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)",
+                   watch::Algorithm::Distributed, args.detector);
     for (const auto& [label, physics] : {std::pair{"latched", latched}, std::pair{"free", free}}) {
       RuntimeRow without, with;
       if (!row(std::string("leader_election 1000, ") + label, election + physics, args, args.repeat, table, without))
@@ -216,7 +225,7 @@ int run_rows(const BenchArgs& args, Table& table) {
   const uint32_t size = args.size == 10 ? 100 : args.size;
   header("bench million: " + std::to_string(size) + "^3 cube, " + std::to_string(args.steps) +
          " steps, random_vars [8:4:2:1] + Fig. 6 live, distributed, " + threads);
-  if (!row("8:4:2:1", cube(size) + random_vars("8:4:2:1") + fig6("distributed"), args, 1, table, r)) return 1;
+  if (!row("8:4:2:1", cubic_toml(size, size, size) + random_vars_toml(parse_tuple("8:4:2:1")) + fig6(watch::Algorithm::Distributed), args, 1, table, r)) return 1;
   return 0;
 }
 
