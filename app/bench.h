@@ -104,9 +104,11 @@ struct RuntimeRow {
 // What a row times: the steps of a run, or setting it up (loading the scenario, building its
 // world and first state) and tearing it down again.
 enum class Timed { Steps, SetUp };
-// False, with the error on stderr, when the run failed.
+// At least `repeat` runs, and more (up to 100) until the timed parts add up to `min_seconds`, so
+// that a row of a few milliseconds is the best of many. False, with the error on stderr, when the
+// run failed.
 bool run_runtime_row(const std::string& toml, const BenchArgs& args, int repeat, RuntimeRow& row,
-                     Timed timed = Timed::Steps);
+                     Timed timed = Timed::Steps, double min_seconds = 0);
 
 int bench_engine(const BenchArgs& args);
 int bench_paper(const BenchArgs& args);

@@ -13,6 +13,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <sstream>
 #include <thread>
 
 #include "app/bench.h"
@@ -86,51 +87,37 @@ std::string utc_now() {
   return text;
 }
 
-// Table I and the counts behind Fig. 7: each tuple live, and the engine over the same ensemble.
-bool measure_table1(PaperRun& run, const watch::Watchpoint& fig6) {
-  const BenchArgs& args = run.args;
-  std::cout << "Table I: " << args.size << "^3 cube, " << args.steps << " steps, random_vars + Fig. 6, distributed\n"
-            << std::left << std::setw(10) << "tuple" << std::right << std::setw(12) << "matches" << std::setw(10)
-            << "best s" << std::setw(12) << "chain sets" << std::setw(12) << "groups" << std::setw(14)
-            << "one per group" << std::setw(14) << "paper matches" << std::setw(9) << "paper s\n";
-  watch::DetectorOptions any = args.detector.options();
-  any.shape = watch::GroupShape::Any;
-  for (const std::string& tuple : args.tuples) {
-    const std::optional<sim::Trace> trace = table1_trace(args, tuple);
-    if (!trace) return false;
-    if (run.groups_per_step == 0) run.groups_per_step = connected_groups(*trace);
-    PaperTable1Row row;
-    row.tuple = tuple;
-    if (!run_runtime_row(cubic_toml(args.size, args.size, args.size) + random_vars_toml(parse_tuple(tuple)) +
-                             watch_toml("fig6", kFig6, watch::Algorithm::Distributed, args.detector),
-                         args, args.repeat, row.live))
-      return false;
-    DistinctSets chains, groups;
-    row.distributed = count_engine_row(*trace, fig6, watch::Algorithm::Distributed, args.detector.options(),
-                                       [&](int64_t t, std::span<const watch::ModuleId> ids) { chains.add(t, ids); });
-    row.centralized = count_engine_row(*trace, fig6, watch::Algorithm::Centralized, args.detector.options(), {});
-    count_engine_row(*trace, fig6, watch::Algorithm::Centralized, any,
-                     [&](int64_t t, std::span<const watch::ModuleId> ids) { groups.add(t, ids); });
-    row.chain_sets = chains.finish();
-    row.groups_matched = groups.finish();
-    double p = 1;
-    for (int64_t m : parse_tuple(tuple)) p /= static_cast<double>(m);
-    row.one_per_group = static_cast<double>(run.groups_per_step) * static_cast<double>(args.steps) * p;
-    // The live run and the engine read the same ensemble: a difference would be a bug.
-    if (row.live.matches != row.distributed.matches && !row.live.stopped && !row.distributed.stopped) {
-      std::cerr << "dwatch bench: error: tuple " << tuple << ": the live run found " << row.live.matches
-                << " matches, the engine over its trace " << row.distributed.matches << "\n";
-      return false;
+// A row to time, and where its figures go.
+struct TimedJob {
+  std::string toml;
+  RuntimeRow* row;
+};
+
+// Times every job in passes: each pass runs every row once (the best of runs adding up to
+// paper_min_seconds), and a row keeps its fastest pass. A burst of load from elsewhere then
+// slows one pass of many rows, not every run of one row, which best-of-N in a row cannot undo.
+bool time_jobs(const PaperRun& run, const std::vector<TimedJob>& jobs) {
+  const int passes = run.args.repeat;
+  std::vector<std::vector<double>> bests(jobs.size());
+  for (int pass = 0; pass < passes; ++pass) {
+    std::cout << "  timing: pass " << pass + 1 << " of " << passes << " over " << jobs.size() << " rows\r"
+              << std::flush;
+    for (size_t j = 0; j < jobs.size(); ++j) {
+      RuntimeRow r;
+      if (!run_runtime_row(jobs[j].toml, run.args, 1, r, Timed::Steps, paper_min_seconds(run.args))) return false;
+      if (pass == 0 || r.seconds < jobs[j].row->seconds) {
+        const long peak = std::max(jobs[j].row->peak_kib, r.peak_kib);
+        *jobs[j].row = r;
+        jobs[j].row->peak_kib = peak;
+      }
+      bests[j].push_back(r.seconds);
     }
-    const auto published = paper::table1(tuple);
-    std::cout << std::left << std::setw(10) << tuple << std::right << std::setw(12) << row.live.matches
-              << std::setw(10) << std::fixed << std::setprecision(3) << row.live.seconds << std::setw(12)
-              << row.chain_sets << std::setw(12) << row.groups_matched << std::setw(14) << std::setprecision(0)
-              << row.one_per_group;
-    if (published) std::cout << std::setw(14) << published->matches << std::setw(8) << published->seconds;
-    std::cout << (row.live.stopped ? "  stopped at the --max-live budget" : "") << "\n";
-    run.table1.push_back(std::move(row));
   }
+  for (size_t j = 0; j < jobs.size(); ++j) {
+    std::sort(bests[j].begin(), bests[j].end());
+    jobs[j].row->median_seconds = bests[j][bests[j].size() / 2];
+  }
+  std::cout << std::string(60, ' ') << "\r";
   return true;
 }
 
@@ -146,66 +133,120 @@ std::vector<uint32_t> fig8_planes(const BenchArgs& args) {
   return planes;
 }
 
-// Fig. 8: the medium-intensity workload on size x size x k stacked planes, without a watch, with
-// Fig. 6 centralized and with Fig. 6 distributed.
-bool measure_fig8(PaperRun& run) {
+// The rows of every experiment, laid out in `run`, and the runs that time them:
+//   Table I   random_vars + Fig. 6, distributed, per tuple;
+//   Fig. 8    the medium-intensity workload on size x size x k stacked planes, without a watch,
+//             with Fig. 6 centralized, with Fig. 6 distributed;
+//   Table II  expressions of 1..5 slots, centralized, at three frequencies of x_i = 0, over a
+//             baseline of random_vars (five variables at that frequency), with aggregation_routing
+//             if asked.
+std::vector<TimedJob> plan(PaperRun& run) {
   const BenchArgs& args = run.args;
-  const std::array<int64_t, 4> tuple{2, 2, 2, 2};
-  std::cout << "Fig. 8: " << args.size << " x " << args.size
-            << " stacked planes, aggregation_routing + random_vars [2:2:2:2], " << args.steps << " steps\n"
-            << std::setw(8) << "modules" << std::setw(14) << "no watch s" << std::setw(15) << "centralized s"
-            << std::setw(15) << "distributed s\n";
-  for (uint32_t k : fig8_planes(args)) {
-    Fig8Row row;
-    row.planes = k;
-    row.modules = args.size * args.size * k;
-    const std::string base = cubic_toml(args.size, args.size, k) + kAggregationToml + random_vars_toml(tuple);
-    if (!run_runtime_row(base, args, args.repeat, row.runs[kNoWatch])) return false;
-    if (!run_runtime_row(base + watch_toml("fig6", kFig6, watch::Algorithm::Centralized, args.detector), args,
-                         args.repeat, row.runs[kCentralized]))
+  const std::string cube = cubic_toml(args.size, args.size, args.size);
+  auto fig6 = [&](watch::Algorithm a) { return watch_toml("fig6", kFig6, a, args.detector); };
+  run.table1.resize(args.tuples.size());
+  run.fig8.resize(fig8_planes(args).size());
+  std::vector<TimedJob> jobs;
+  for (size_t i = 0; i < args.tuples.size(); ++i) {
+    run.table1[i].tuple = args.tuples[i];
+    jobs.push_back({cube + random_vars_toml(parse_tuple(args.tuples[i])) + fig6(watch::Algorithm::Distributed),
+                    &run.table1[i].live});
+  }
+  const std::array<int64_t, 4> fig8_tuple{2, 2, 2, 2};
+  for (size_t i = 0; i < run.fig8.size(); ++i) {
+    Fig8Row& row = run.fig8[i];
+    row.planes = fig8_planes(args)[i];
+    row.modules = args.size * args.size * row.planes;
+    const std::string base = cubic_toml(args.size, args.size, row.planes) + kAggregationToml + random_vars_toml(fig8_tuple);
+    jobs.push_back({base, &row.runs[kNoWatch]});
+    jobs.push_back({base + fig6(watch::Algorithm::Centralized), &row.runs[kCentralized]});
+    jobs.push_back({base + fig6(watch::Algorithm::Distributed), &row.runs[kDistributed]});
+  }
+  for (size_t f = 0; f < paper::kFrequencies.size(); ++f) {
+    const std::vector<int64_t> maxima(paper::kTable2Sizes, paper::kFrequencies[f].max);
+    std::string base = cube + random_vars_toml(maxima);
+    if (args.table2_workload == "aggregation_routing") base += kAggregationToml;
+    jobs.push_back({base, &run.table2_baseline[f]});
+    for (int size = 1; size <= paper::kTable2Sizes; ++size)
+      jobs.push_back({base + watch_toml("size" + std::to_string(size), conjunction_watch(size),
+                                        watch::Algorithm::Centralized, args.detector),
+                      &run.table2[size_t(size - 1)][f]});
+  }
+  return jobs;
+}
+
+// Table I's other counts and Fig. 7's: the engine over each tuple's ensemble, untimed.
+bool count_table1(PaperRun& run, const watch::Watchpoint& fig6) {
+  const BenchArgs& args = run.args;
+  watch::DetectorOptions any = args.detector.options();
+  any.shape = watch::GroupShape::Any;
+  for (PaperTable1Row& row : run.table1) {
+    const std::optional<sim::Trace> trace = table1_trace(args, row.tuple);
+    if (!trace) return false;
+    if (run.groups_per_step == 0) run.groups_per_step = connected_groups(*trace);
+    DistinctSets chains, groups;
+    row.distributed = count_engine_row(*trace, fig6, watch::Algorithm::Distributed, args.detector.options(),
+                                       [&](int64_t t, std::span<const watch::ModuleId> ids) { chains.add(t, ids); });
+    row.centralized = count_engine_row(*trace, fig6, watch::Algorithm::Centralized, args.detector.options(), {});
+    count_engine_row(*trace, fig6, watch::Algorithm::Centralized, any,
+                     [&](int64_t t, std::span<const watch::ModuleId> ids) { groups.add(t, ids); });
+    row.chain_sets = chains.finish();
+    row.groups_matched = groups.finish();
+    double p = 1;
+    for (int64_t m : parse_tuple(row.tuple)) p /= static_cast<double>(m);
+    row.one_per_group = static_cast<double>(run.groups_per_step) * static_cast<double>(args.steps) * p;
+    // The live run and the engine read the same ensemble: a difference would be a bug.
+    if (row.live.matches != row.distributed.matches && !row.live.stopped && !row.distributed.stopped) {
+      std::cerr << "dwatch bench: error: tuple " << row.tuple << ": the live run found " << row.live.matches
+                << " matches, the engine over its trace " << row.distributed.matches << "\n";
       return false;
-    if (!run_runtime_row(base + watch_toml("fig6", kFig6, watch::Algorithm::Distributed, args.detector), args,
-                         args.repeat, row.runs[kDistributed]))
-      return false;
-    std::cout << std::setw(8) << row.modules << std::fixed << std::setprecision(4);
-    for (const RuntimeRow& r : row.runs) std::cout << std::setw(14) << r.seconds << (r.stopped ? "*" : " ");
-    std::cout << "\n";
-    run.fig8.push_back(row);
+    }
   }
   return true;
 }
 
-// Table II: expressions of 1..5 slots, centralized, at three frequencies of x_i = 0, over a
-// baseline of random_vars (five variables at that frequency), with aggregation_routing if asked.
-bool measure_table2(PaperRun& run) {
+void print_tables(const PaperRun& run) {
   const BenchArgs& args = run.args;
+  const char* stopped = "  stopped at the --max-live budget";
+  std::cout << "Table I: " << args.size << "^3 cube, " << args.steps << " steps, random_vars + Fig. 6, distributed\n"
+            << std::left << std::setw(10) << "tuple" << std::right << std::setw(12) << "matches" << std::setw(10)
+            << "best s" << std::setw(12) << "chain sets" << std::setw(12) << "groups" << std::setw(14)
+            << "one per group" << std::setw(14) << "paper matches" << std::setw(9) << "paper s\n";
+  for (const PaperTable1Row& row : run.table1) {
+    std::cout << std::left << std::setw(10) << row.tuple << std::right << std::setw(12) << row.live.matches
+              << std::setw(10) << std::fixed << std::setprecision(3) << row.live.seconds << std::setw(12)
+              << row.chain_sets << std::setw(12) << row.groups_matched << std::setw(14) << std::setprecision(0)
+              << row.one_per_group;
+    if (const auto published = paper::table1(row.tuple))
+      std::cout << std::setw(14) << published->matches << std::setw(8) << published->seconds;
+    std::cout << (row.live.stopped ? stopped : "") << "\n";
+  }
+
+  std::cout << "Fig. 8: " << args.size << " x " << args.size
+            << " stacked planes, aggregation_routing + random_vars [2:2:2:2], " << args.steps << " steps\n"
+            << std::setw(8) << "modules" << std::setw(14) << "no watch s" << std::setw(15) << "centralized s"
+            << std::setw(15) << "distributed s\n";
+  for (const Fig8Row& row : run.fig8) {
+    std::cout << std::setw(8) << row.modules << std::fixed << std::setprecision(4);
+    for (const RuntimeRow& r : row.runs) std::cout << std::setw(14) << r.seconds << (r.stopped ? "*" : " ");
+    std::cout << "\n";
+  }
+
   std::cout << "Table II: " << args.size << "^3 cube, " << args.steps << " steps, centralized, baseline "
             << args.table2_workload << "; overhead in percent (the paper's in brackets)\n"
             << std::setw(5) << "size";
   for (const paper::Frequency& f : paper::kFrequencies) std::cout << std::setw(22) << f.name;
   std::cout << "\n";
-  for (size_t f = 0; f < paper::kFrequencies.size(); ++f) {
-    const std::vector<int64_t> maxima(paper::kTable2Sizes, paper::kFrequencies[f].max);
-    std::string base = cubic_toml(args.size, args.size, args.size) + random_vars_toml(maxima);
-    if (args.table2_workload == "aggregation_routing") base += kAggregationToml;
-    if (!run_runtime_row(base, args, args.repeat, run.table2_baseline[f])) return false;
-    for (int size = 1; size <= paper::kTable2Sizes; ++size)
-      if (!run_runtime_row(base + watch_toml("size" + std::to_string(size), conjunction_watch(size),
-                                             watch::Algorithm::Centralized, args.detector),
-                           args, args.repeat, run.table2[size - 1][f]))
-        return false;
-  }
   for (int size = 1; size <= paper::kTable2Sizes; ++size) {
     std::cout << std::setw(5) << size;
     for (size_t f = 0; f < paper::kFrequencies.size(); ++f) {
       std::ostringstream cell;
       cell << std::fixed << std::setprecision(1) << table2_overhead(run, size, f) << " ["
-           << paper::kTable2[size - 1][f] << "]" << (run.table2[size - 1][f].stopped ? "*" : "");
+           << paper::kTable2[size - 1][f] << "]" << (run.table2[size_t(size - 1)][f].stopped ? "*" : "");
       std::cout << std::setw(22) << cell.str();
     }
     std::cout << "\n";
   }
-  return true;
 }
 
 bool any_stopped(const PaperRun& run) {
@@ -240,7 +281,7 @@ int bench_paper(const BenchArgs& given) {
   run.version = DWATCH_VERSION;
   double load[1] = {0};
   if (getloadavg(load, 1) == 1) run.load_average = load[0];
-  const std::string dir = run.args.out_dir.empty() ? "paper" : run.args.out_dir;
+  const std::string dir = out_dir(run.args);
 
   // The outputs are opened first, so that a bad --out costs nothing.
   std::error_code ec;
@@ -259,8 +300,9 @@ int bench_paper(const BenchArgs& given) {
             << (run.args.repeat == 1 ? " run" : " runs") << " per row, the fastest kept; writing " << dir << "/\n";
   const auto start = std::chrono::steady_clock::now();
   auto compiled = watch::compile_watchpoint("fig6", watch::SourceText("fig6", kFig6));
-  if (!measure_table1(run, std::get<watch::Watchpoint>(compiled)) || !measure_fig8(run) || !measure_table2(run))
-    return 1;
+  const std::vector<TimedJob> jobs = plan(run);
+  if (!time_jobs(run, jobs) || !count_table1(run, std::get<watch::Watchpoint>(compiled))) return 1;
+  print_tables(run);
 
   const std::vector<Verdict> judged = verdicts(run);
   std::cout << "The paper's claims:\n";

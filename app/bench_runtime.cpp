@@ -42,41 +42,55 @@ std::string watch_toml(const std::string& name, const std::string& text, watch::
 
 namespace {
 
-// Runs the scenario `repeat` times from scratch; the fastest run is the figure.
-RuntimeRow run_scenario_text(const std::string& toml, const BenchArgs& args, int repeat, Timed timed) {
+// One run of the scenario from scratch: the seconds its timed part took, or a negative number,
+// with the error on stderr, when the scenario does not load. Fills in the first watch's counts.
+double run_scenario_once(const std::string& text, const BenchArgs& args, Timed timed, RuntimeRow& row) {
+  auto loaded = scenarios::load_scenario_text("bench.toml", text);
+  if (auto* e = std::get_if<std::string>(&loaded)) {
+    std::cerr << *e;
+    return -1;
+  }
+  const sim::SessionOptions options{.threads = args.threads, .history_bytes = 0};  // no history: the runtime alone
+  if (timed == Timed::SetUp) {
+    const auto start = std::chrono::steady_clock::now();
+    {
+      auto again = scenarios::load_scenario_text("bench.toml", text);
+      scenarios::Scenario& s = std::get<scenarios::Scenario>(again);
+      sim::Session run(*s.model, *s.world, options);
+    }
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  scenarios::Scenario& s = std::get<scenarios::Scenario>(loaded);
+  sim::Session run(*s.model, *s.world, options);
+  const auto start = std::chrono::steady_clock::now();
+  run.run_until(args.steps);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!s.model->watches.empty()) {
+    row.matches = run.match_count(0);
+    row.created = run.stats(0).created;
+    row.messages = run.stats(0).messages;
+    row.stopped = run.stats(0).stopped;
+  }
+  return seconds;
+}
+
+// Runs the scenario `repeat` times, or more until the runs add up to `min_seconds`; the fastest
+// run is the figure.
+RuntimeRow run_scenario_text(const std::string& toml, const BenchArgs& args, int repeat, Timed timed,
+                             double min_seconds) {
+  constexpr size_t kMostRuns = 100;
+  const std::string text = "seed = " + std::to_string(args.seed) + "\n" + toml;
   RuntimeRow row;
   std::vector<double> times;
-  for (int r = 0; r < repeat; ++r) {
-    const std::string text = "seed = " + std::to_string(args.seed) + "\n" + toml;
-    auto loaded = scenarios::load_scenario_text("bench.toml", text);
-    if (auto* e = std::get_if<std::string>(&loaded)) {
-      std::cerr << *e;
+  double total = 0;
+  while (times.size() < size_t(repeat) || (total < min_seconds && times.size() < kMostRuns)) {
+    const double seconds = run_scenario_once(text, args, timed, row);
+    if (seconds < 0) {
       row.failed = true;
       return row;
     }
-    if (timed == Timed::SetUp) {
-      const auto start = std::chrono::steady_clock::now();
-      {
-        auto again = scenarios::load_scenario_text("bench.toml", text);
-        scenarios::Scenario& s = std::get<scenarios::Scenario>(again);
-        sim::Session run(*s.model, *s.world,
-                         {.threads = args.threads, .history_bytes = 0});  // no history: the runtime alone
-      }
-      times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-      continue;
-    }
-    scenarios::Scenario& s = std::get<scenarios::Scenario>(loaded);
-    sim::Session run(*s.model, *s.world,
-                     {.threads = args.threads, .history_bytes = 0});  // no history: the runtime alone
-    const auto start = std::chrono::steady_clock::now();
-    run.run_until(args.steps);
-    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    if (!s.model->watches.empty()) {
-      row.matches = run.match_count(0);
-      row.created = run.stats(0).created;
-      row.messages = run.stats(0).messages;
-      row.stopped = run.stats(0).stopped;
-    }
+    times.push_back(seconds);
+    total += seconds;
   }
   std::sort(times.begin(), times.end());
   row.seconds = times.front();
@@ -86,9 +100,11 @@ RuntimeRow run_scenario_text(const std::string& toml, const BenchArgs& args, int
 
 }  // namespace
 
-bool run_runtime_row(const std::string& toml, const BenchArgs& args, int repeat, RuntimeRow& row, Timed timed) {
+bool run_runtime_row(const std::string& toml, const BenchArgs& args, int repeat, RuntimeRow& row, Timed timed,
+                     double min_seconds) {
   long peak_kib = 0;
-  if (!in_child([&] { return run_scenario_text(toml, args, repeat, timed); }, row, peak_kib) || row.failed) {
+  if (!in_child([&] { return run_scenario_text(toml, args, repeat, timed, min_seconds); }, row, peak_kib) ||
+      row.failed) {
     std::cerr << "dwatch bench: error: the benchmark run failed\n";
     return false;
   }

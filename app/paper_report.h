@@ -50,6 +50,9 @@ struct PaperRun {
   std::array<std::array<RuntimeRow, paper::kFrequencies.size()>, paper::kTable2Sizes> table2;
 };
 
+// How long a timed row's runs add up to at least: the best of many for rows of a few milliseconds.
+inline double paper_min_seconds(const BenchArgs& args) { return args.quick ? 0.1 : 0.3; }
+
 const char* fig8_series_name(int series);
 // Fig. 8: seconds against modules, one series.
 LinearFit fig8_fit(const PaperRun& run, int series);
@@ -72,6 +75,8 @@ void write_fig8_csv(const PaperRun& run, std::ostream& out);
 void write_table2_csv(const PaperRun& run, std::ostream& out);
 // paper.md: every number beside the paper's, the machine, the commands, the verdicts.
 std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judged);
+// Where the files go: --out, or ./paper.
+std::string out_dir(const BenchArgs& args);
 // The command line that reproduces `run`, and the one that redraws its plots.
 std::string paper_command(const PaperRun& run);
 std::string plot_command(const std::string& dir);

@@ -52,12 +52,12 @@ def table1(directory):
                     textcoords="offset points", xytext=(6, -11), fontsize=8, color=COLORS[0])
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("successful matches in 100 steps (each system's own count)")
+    ax.set_xlabel("successful matches in %s steps (each system's own count)" % rows[0]["steps"])
     ax.set_ylabel("execution time (s)")
     ax.legend(loc="center right")
     ax.margins(x=0.15, y=0.15)
     finish(fig, ax, os.path.join(directory, "table1.png"),
-           "Table I: matches vs. execution time, 1,000 modules, distributed")
+           "Table I: matches vs. execution time, %s modules, distributed" % f"{int(rows[0]['modules']):,}")
 
 
 def fig7(directory):
@@ -76,8 +76,8 @@ def fig7(directory):
     ax.set_yscale("log")
     ax.set_xticks([1, 2, 3, 4])
     ax.set_xlabel("slots filled")
-    ax.set_ylabel("PatternMatchers created in 100 steps")
-    ax.legend(fontsize=8, ncol=2, loc="lower left")
+    ax.set_ylabel("PatternMatchers created in %s steps (%s modules)" % (rows[0]["steps"], f"{int(rows[0]['modules']):,}"))
+    ax.legend(fontsize=8, ncol=2, loc="upper left")
     finish(fig, ax, os.path.join(directory, "fig7.png"),
            "Fig. 7: PatternMatchers by slots filled (distributed solid, centralized dashed)")
 
@@ -93,8 +93,9 @@ def fig8(directory):
                 label="%s (measured)" % series)
         ax.plot(x, [1000 * float(r["fit_seconds"]) for r in points], "-", color=color,
                 label="%s: linear fit, R² = %.3f" % (series, float(points[0]["r_squared"])))
-    ax.set_xlabel("modules (10 × 10 stacked planes)")
-    ax.set_ylabel("execution time of 100 steps (ms)")
+    side = round((int(rows[0]["modules"]) / int(rows[0]["planes"])) ** 0.5)
+    ax.set_xlabel("modules (%d × %d stacked planes)" % (side, side))
+    ax.set_ylabel("execution time of %s steps (ms)" % rows[0]["steps"])
     ax.set_xlim(left=0)
     ax.set_ylim(bottom=0)
     ax.legend(fontsize=8, loc="upper left")
@@ -123,7 +124,8 @@ def table2(directory):
     ax.set_ylabel("overhead (%)" + (", ≤ 0 drawn at 0.1" if clipped else ""))
     ax.legend(fontsize=8, ncol=2, loc="upper left")
     finish(fig, ax, os.path.join(directory, "table2.png"),
-           "Table II: centralized overhead vs. expression size (baseline: %s)" % rows[0]["workload"])
+           "Table II: centralized overhead vs. expression size, %s modules (baseline: %s)"
+           % (f"{int(rows[0]['modules']):,}", rows[0]["workload"]))
 
 
 def main():
