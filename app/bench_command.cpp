@@ -72,11 +72,11 @@ EngineRow engine_row(const sim::Trace& trace, const watch::Watchpoint& w, watch:
   std::vector<double> times;
   for (int r = 0; r < repeat; ++r) {
     uint64_t matches = 0;
-    auto detector = watch::make_detector(a, w, reader.universe(), o,
-                                         [&](int64_t step, std::span<const watch::ModuleId> ids) {
-                                           matches += ids.size() / slots;
-                                           if (on_match) (*on_match)(step, ids);
-                                         });
+    auto detector =
+        watch::make_detector(a, w, reader.universe(), o, [&](int64_t step, std::span<const watch::ModuleId> ids) {
+          matches += ids.size() / slots;
+          if (on_match) (*on_match)(step, ids);
+        });
     const auto start = std::chrono::steady_clock::now();
     for (const watch::Frame& f : frames) detector->observe(f);
     detector->finish();
@@ -189,8 +189,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("name", args->name, "Benchmark to run")
       ->required()
-      ->check(
-          CLI::IsMember(
+      ->check(CLI::IsMember(
           {"engine", "shapes", "table1", "overhead", "million", "physics", "paper", "render", "session", "view"}));
   cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")

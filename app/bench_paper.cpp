@@ -2,6 +2,7 @@
 // Fig. 7, Fig. 8 and Table II, measured here, then handed to paper_report.cpp for the CSV files,
 // the verdicts and paper.md, and to scripts/plot_paper.py for the plots.
 #include <sys/utsname.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -61,9 +62,8 @@ uint64_t connected_groups(const sim::Trace& trace) {
   auto reader = std::get<sim::FrameReader>(sim::FrameReader::make(trace, std::nullopt, sim::default_frame_budget()));
   sim::FrameBuffer buffer;
   const watch::Frame f = reader.frame(0, buffer);
-  watch::StepHistory::Graph graph{{f.present.begin(), f.present.end()},
-                                  {f.nbr_begin.begin(), f.nbr_begin.end()},
-                                  {f.nbrs.begin(), f.nbrs.end()}};
+  watch::StepHistory::Graph graph{
+      {f.present.begin(), f.present.end()}, {f.nbr_begin.begin(), f.nbr_begin.end()}, {f.nbrs.begin(), f.nbrs.end()}};
   watch::ConnectedGroups groups(static_cast<uint32_t>(f.present.size()));
   uint64_t n = 0;
   groups.enumerate(graph, graph.present, 4, [&](std::span<const uint32_t>) { ++n; });
@@ -99,9 +99,10 @@ struct TimedJob {
 bool time_jobs(const PaperRun& run, const std::vector<TimedJob>& jobs) {
   const int passes = run.args.repeat;
   std::vector<std::vector<double>> bests(jobs.size());
+  const bool terminal = isatty(STDOUT_FILENO);  // a progress line, rewritten in place
   for (int pass = 0; pass < passes; ++pass) {
-    std::cout << "  timing: pass " << pass + 1 << " of " << passes << " over " << jobs.size() << " rows\r"
-              << std::flush;
+    std::cout << "  timing: pass " << pass + 1 << " of " << passes << " over " << jobs.size() << " rows"
+              << (terminal ? "\r" : "\n") << std::flush;
     for (size_t j = 0; j < jobs.size(); ++j) {
       RuntimeRow r;
       if (!run_runtime_row(jobs[j].toml, run.args, 1, r, Timed::Steps, paper_min_seconds(run.args))) return false;
@@ -117,7 +118,7 @@ bool time_jobs(const PaperRun& run, const std::vector<TimedJob>& jobs) {
     std::sort(bests[j].begin(), bests[j].end());
     jobs[j].row->median_seconds = bests[j][bests[j].size() / 2];
   }
-  std::cout << std::string(60, ' ') << "\r";
+  if (terminal) std::cout << std::string(60, ' ') << "\r";
   return true;
 }
 
@@ -157,7 +158,8 @@ std::vector<TimedJob> plan(PaperRun& run) {
     Fig8Row& row = run.fig8[i];
     row.planes = fig8_planes(args)[i];
     row.modules = args.size * args.size * row.planes;
-    const std::string base = cubic_toml(args.size, args.size, row.planes) + kAggregationToml + random_vars_toml(fig8_tuple);
+    const std::string base =
+        cubic_toml(args.size, args.size, row.planes) + kAggregationToml + random_vars_toml(fig8_tuple);
     jobs.push_back({base, &row.runs[kNoWatch]});
     jobs.push_back({base + fig6(watch::Algorithm::Centralized), &row.runs[kCentralized]});
     jobs.push_back({base + fig6(watch::Algorithm::Distributed), &row.runs[kDistributed]});
@@ -241,8 +243,8 @@ void print_tables(const PaperRun& run) {
     std::cout << std::setw(5) << size;
     for (size_t f = 0; f < paper::kFrequencies.size(); ++f) {
       std::ostringstream cell;
-      cell << std::fixed << std::setprecision(1) << table2_overhead(run, size, f) << " ["
-           << paper::kTable2[size - 1][f] << "]" << (run.table2[size_t(size - 1)][f].stopped ? "*" : "");
+      cell << std::fixed << std::setprecision(1) << table2_overhead(run, size, f) << " [" << paper::kTable2[size - 1][f]
+           << "]" << (run.table2[size_t(size - 1)][f].stopped ? "*" : "");
       std::cout << std::setw(22) << cell.str();
     }
     std::cout << "\n";
@@ -272,6 +274,11 @@ std::string conjunction_watch(int size) {
 }
 
 int bench_paper(const BenchArgs& given) {
+  for (const std::string& tuple : given.tuples)
+    if (parse_tuple(tuple).empty()) {
+      std::cerr << "dwatch bench: error: tuple '" << tuple << "' is not four positive integers like 2:2:2:2\n";
+      return 2;
+    }
   PaperRun run;
   run.args = given;
   if (run.args.quick) run.args.repeat = std::min(run.args.repeat, 2);
@@ -296,8 +303,8 @@ int bench_paper(const BenchArgs& given) {
     if (!open_output({"--out", (std::filesystem::path(dir) / kFiles[i]).string()}, files[i])) return 2;
 
   std::cout << "bench paper: the paper's §V on " << run.cpu << " (" << run.cores << " cores, load average "
-            << std::fixed << std::setprecision(2) << run.load_average << "), " << run.args.repeat
-            << (run.args.repeat == 1 ? " run" : " runs") << " per row, the fastest kept; writing " << dir << "/\n";
+            << std::fixed << std::setprecision(2) << run.load_average << "), every row timed in " << run.args.repeat
+            << (run.args.repeat == 1 ? " pass" : " passes") << ", its fastest kept; writing " << dir << "/\n";
   const auto start = std::chrono::steady_clock::now();
   auto compiled = watch::compile_watchpoint("fig6", watch::SourceText("fig6", kFig6));
   const std::vector<TimedJob> jobs = plan(run);
@@ -315,7 +322,7 @@ int bench_paper(const BenchArgs& given) {
   files[4]->stream() << paper_markdown(run, judged);
   if (!commit_outputs({files[0].get(), files[1].get(), files[2].get(), files[3].get(), files[4].get()})) return 1;
 
-  const std::string plot = plot_command(dir);
+  const std::string plot = plot_command(dir, plot_script());
   if (std::system((plot + " >&2").c_str()) != 0) {
     std::cerr << "dwatch bench: error: the plots were not made (" << plot
               << "); the CSV files and paper.md are written. Plotting needs Debian's python3-matplotlib "

@@ -29,9 +29,8 @@ std::string random_vars_toml(std::span<const int64_t> maxima) {
 
 std::string watch_toml(const std::string& name, const std::string& text, watch::Algorithm a,
                        const DetectorFlags& flags) {
-  std::string t = "[[watch]]\nname = \"" + name + "\"\naction = \"count\"\nalgorithm = \"" +
-                  watch::algorithm_name(a) + "\"\ntext = \"" + text + "\"\nmax_live = " + std::to_string(flags.max_live) +
-                  "\n";
+  std::string t = "[[watch]]\nname = \"" + name + "\"\naction = \"count\"\nalgorithm = \"" + watch::algorithm_name(a) +
+                  "\"\ntext = \"" + text + "\"\nmax_live = " + std::to_string(flags.max_live) + "\n";
   if (flags.no_early_termination) t += "early_termination = false\n";
   if (flags.no_neighbor_culling) t += "neighbor_culling = false\n";
   if (flags.no_temporal_spans) t += "temporal_spans = false\n";
@@ -147,7 +146,8 @@ int run_rows(const BenchArgs& args, Table& table);
 
 int bench_runtime(const BenchArgs& args) {
   Table table;
-  if (!open_csv(args, args.name, "row,matches,created,messages,best_seconds,median_seconds,peak_mib,stopped", table.csv))
+  if (!open_csv(args, args.name, "row,matches,created,messages,best_seconds,median_seconds,peak_mib,stopped",
+                table.csv))
     return 2;
   const int status = run_rows(args, table);
   if (!commit_outputs({table.csv.get()})) return 1;
@@ -171,7 +171,10 @@ int run_rows(const BenchArgs& args, Table& table) {
         std::cerr << "dwatch bench: error: tuple '" << tuple << "' is not four positive integers like 2:2:2:2\n";
         return 2;
       }
-      if (!row(tuple, cubic_toml(args.size, args.size, args.size) + random_vars_toml(parse_tuple(tuple)) + fig6(watch::Algorithm::Distributed), args, args.repeat, table, r))
+      if (!row(tuple,
+               cubic_toml(args.size, args.size, args.size) + random_vars_toml(parse_tuple(tuple)) +
+                   fig6(watch::Algorithm::Distributed),
+               args, args.repeat, table, r))
         return 1;
       total += r.seconds;
     }
@@ -187,8 +190,11 @@ int run_rows(const BenchArgs& args, Table& table) {
     if (!row("aggregation_routing", base, args, args.repeat, table, alone)) return 1;
     const std::string vars = base + random_vars_toml(parse_tuple("2:2:2:2"));
     if (!row("  + random_vars [2:2:2:2]", vars, args, args.repeat, table, with_vars)) return 1;
-    if (!row("  + Fig. 6 centralized", vars + fig6(watch::Algorithm::Centralized), args, args.repeat, table, central)) return 1;
-    if (!row("  + Fig. 6 distributed", vars + fig6(watch::Algorithm::Distributed), args, args.repeat, table, distributed)) return 1;
+    if (!row("  + Fig. 6 centralized", vars + fig6(watch::Algorithm::Centralized), args, args.repeat, table, central))
+      return 1;
+    if (!row("  + Fig. 6 distributed", vars + fig6(watch::Algorithm::Distributed), args, args.repeat, table,
+             distributed))
+      return 1;
     std::cout << std::fixed << std::setprecision(1)
               << "watchpoint overhead over the workload with its variables: centralized "
               << 100 * (central.seconds / with_vars.seconds - 1) << "%, distributed "
@@ -207,24 +213,25 @@ int run_rows(const BenchArgs& args, Table& table) {
     };
     // Setting up a physics world is linear in the modules (physics/pair_cache.h says why it was not).
     for (uint32_t n : {10u, 20u, 30u, 40u})
-      if (!row("set up and torn down, " + std::to_string(n) + "^3", cubic_toml(n, n, n) + sense + latched, args, args.repeat, table,
-               r, Timed::SetUp))
+      if (!row("set up and torn down, " + std::to_string(n) + "^3", cubic_toml(n, n, n) + sense + latched, args,
+               args.repeat, table, r, Timed::SetUp))
         return 1;
     for (uint32_t n : {10u, 20u}) {
       const std::string side = std::to_string(n) + "^3";
-      if (!row("resting " + side + ", latched to the ground", cubic_toml(n, n, n) + sense + latched, args, args.repeat, table, r))
+      if (!row("resting " + side + ", latched to the ground", cubic_toml(n, n, n) + sense + latched, args, args.repeat,
+               table, r))
         return 1;
       per_step(r);
-      if (!row("resting " + side + ", free on the ground", cubic_toml(n, n, n) + sense + free, args, args.repeat, table, r))
+      if (!row("resting " + side + ", free on the ground", cubic_toml(n, n, n) + sense + free, args, args.repeat, table,
+               r))
         return 1;
       per_step(r);
     }
     // The watchpoint's overhead over a 1,000-module physics run of leader election (hex 40x25).
     const std::string election =
         "[lattice]\nkind = \"hex2d\"\nsize = [40, 25]\n[[program]]\nname = \"leader_election\"\n";
-    const std::string two_leaders =
-        watch_toml("two_leaders", "modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)",
-                   watch::Algorithm::Distributed, args.detector);
+    const std::string two_leaders = watch_toml("two_leaders", "modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)",
+                                               watch::Algorithm::Distributed, args.detector);
     for (const auto& [label, physics] : {std::pair{"latched", latched}, std::pair{"free", free}}) {
       RuntimeRow without, with;
       if (!row(std::string("leader_election 1000, ") + label, election + physics, args, args.repeat, table, without))
@@ -241,7 +248,11 @@ int run_rows(const BenchArgs& args, Table& table) {
   const uint32_t size = args.size == 10 ? 100 : args.size;
   header("bench million: " + std::to_string(size) + "^3 cube, " + std::to_string(args.steps) +
          " steps, random_vars [8:4:2:1] + Fig. 6 live, distributed, " + threads);
-  if (!row("8:4:2:1", cubic_toml(size, size, size) + random_vars_toml(parse_tuple("8:4:2:1")) + fig6(watch::Algorithm::Distributed), args, 1, table, r)) return 1;
+  if (!row(
+          "8:4:2:1",
+          cubic_toml(size, size, size) + random_vars_toml(parse_tuple("8:4:2:1")) + fig6(watch::Algorithm::Distributed),
+          args, 1, table, r))
+    return 1;
   return 0;
 }
 

@@ -42,16 +42,10 @@ struct RetroRow {
   bool failed = false;
 };
 
-std::string table1_text(const std::string& tuple, bool watch) {
-  std::string list = tuple;
-  std::replace(list.begin(), list.end(), ':', ',');
-  std::string text =
-      "seed = 1\n[lattice]\nkind = \"cubic\"\nsize = [10, 10, 10]\n[[program]]\nname = "
-      "\"random_vars\"\ntuple = [" +
-      list + "]\n";
-  if (watch)
-    text += std::string("[[watch]]\nname = \"fig6\"\naction = \"count\"\nmax_live = 0\ntext = \"") + kFig6 + "\"\n";
-  return text;
+// The Table I ensemble for a tuple, with the Fig. 6 watch read as `watch` says, or none.
+std::string table1_text(const std::string& tuple, const DetectorFlags* watch) {
+  return "seed = 1\n" + cubic_toml(10, 10, 10) + random_vars_toml(parse_tuple(tuple)) +
+         (watch ? watch_toml("fig6", kFig6, watch::Algorithm::Distributed, *watch) : "");
 }
 
 const std::string kPhysicsElection =
@@ -118,10 +112,10 @@ HistoryRow history_row(const std::string& text, int64_t steps, int repeat, unsig
 }
 
 // A Fig. 6 watchpoint added after `steps` steps, against a run that had it from step 0.
-RetroRow retro_row(int64_t steps, unsigned threads) {
+RetroRow retro_row(int64_t steps, unsigned threads, const DetectorFlags& flags) {
   RetroRow row;
-  auto with = load(table1_text("2:2:2:2", true));
-  auto without = load(table1_text("2:2:2:2", false));
+  auto with = load(table1_text("2:2:2:2", &flags));
+  auto without = load(table1_text("2:2:2:2", nullptr));
   if (!with || !without) return row.failed = true, row;
   sim::Session fresh(*with->model, *with->world, {.threads = threads, .history_bytes = 0});
   fresh.run_until(steps);
@@ -175,7 +169,8 @@ int bench_session(const BenchArgs& args) {
   long peak = 0;
 
   HistoryRow h;
-  if (!in_child([&] { return history_row(table1_text("2:2:2:2", true), 2000, repeat, threads); }, h, peak) || h.failed)
+  if (!in_child([&] { return history_row(table1_text("2:2:2:2", &args.detector), 2000, repeat, threads); }, h, peak) ||
+      h.failed)
     return 1;
   print_history("Table I ensemble (10^3, random_vars [2:2:2:2], Fig. 6 distributed), 2,000 steps", h, peak, csv.get());
 
@@ -184,7 +179,7 @@ int bench_session(const BenchArgs& args) {
                 csv.get());
 
   RetroRow r;
-  if (!in_child([&] { return retro_row(1000, threads); }, r, peak) || r.failed) return 1;
+  if (!in_child([&] { return retro_row(1000, threads, args.detector); }, r, peak) || r.failed) return 1;
   std::cout << "retroactive Fig. 6 (distributed, [2:2:2:2]) over 1,000 steps of 1,000 modules: " << std::fixed
             << std::setprecision(3) << r.seconds << " s, " << r.matches
             << " matches (a run with it from step 0: " << r.fresh_matches << ")"
@@ -193,7 +188,8 @@ int bench_session(const BenchArgs& args) {
 
   const int64_t long_run = std::max<int64_t>(args.steps, 100'000);
   // One run, with the history (its memory is the figure).
-  if (!in_child([&] { return history_row(table1_text("8:4:2:1", true), long_run, 0, threads); }, h, peak) || h.failed)
+  if (!in_child([&] { return history_row(table1_text("8:4:2:1", &args.detector), long_run, 0, threads); }, h, peak) ||
+      h.failed)
     return 1;
   print_history("history memory: Table I ensemble ([8:4:2:1]), " + std::to_string(long_run) + " steps", h, peak,
                 csv.get());

@@ -43,8 +43,8 @@ inline constexpr double kFig8CentralizedOverhead = 118;  // percent
 inline constexpr double kFig8DistributedOverhead = 105;
 
 // The text's claims (§V-A, §VI).
-inline constexpr double kWorstSlowdown = 14;            // "a slowdown of about fourteen times"
-inline constexpr double kReasonableOverhead = 100;      // "overhead of 100% or less"
-inline constexpr double kTrajectoryTimeRatio = 6;       // [1:2:4:8] "almost 6 times as long as" [8:4:2:1]
+inline constexpr double kWorstSlowdown = 14;        // "a slowdown of about fourteen times"
+inline constexpr double kReasonableOverhead = 100;  // "overhead of 100% or less"
+inline constexpr double kTrajectoryTimeRatio = 6;   // [1:2:4:8] "almost 6 times as long as" [8:4:2:1]
 
 }  // namespace dw::app::paper

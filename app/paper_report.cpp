@@ -58,7 +58,8 @@ constexpr Reading kReadings[] = {
 double worst_deviation(const PaperRun& run, const Reading& reading) {
   double worst = 0;
   for (const PaperTable1Row& r : run.table1)
-    if (const auto p = paper::table1(r.tuple)) worst = std::max(worst, std::abs(reading.count(r) / double(p->matches) - 1));
+    if (const auto p = paper::table1(r.tuple))
+      worst = std::max(worst, std::abs(reading.count(r) / double(p->matches) - 1));
   return worst;
 }
 
@@ -136,7 +137,8 @@ std::vector<Verdict> verdicts(const PaperRun& run) {
     add("[1:2:4:8] and [8:4:2:1] give almost the same number of matches (§V-A)",
         grouped(double(p_late.matches)) + " and " + grouped(double(p_early.matches)) + " (" +
             fixed(double(p_late.matches) / double(p_early.matches), 2) + "×)",
-        grouped(double(late->live.matches)) + " and " + grouped(double(early->live.matches)) + " (" + fixed(m, 2) + "×)",
+        grouped(double(late->live.matches)) + " and " + grouped(double(early->live.matches)) + " (" + fixed(m, 2) +
+            "×)",
         "within 10% of each other", std::abs(m - 1) <= 0.1);
     const double t = late->live.seconds / early->live.seconds;
     add("[1:2:4:8] takes almost 6 times as long as [8:4:2:1] (§V-A)",
@@ -154,8 +156,7 @@ std::vector<Verdict> verdicts(const PaperRun& run) {
     for (const paper::Table1Row& r : paper::kTable1) px.push_back(double(r.matches)), py.push_back(r.seconds);
     add("Time grows about linearly with the number of matches (Table I, §V-A)",
         "R² " + fixed(fit_line(px, py).r_squared, 3) + " over its five rows",
-        "R² " + fixed(f.r_squared, 3) + " over " + std::to_string(x.size()) + " rows", "R² ≥ 0.8",
-        f.r_squared >= 0.8);
+        "R² " + fixed(f.r_squared, 3) + " over " + std::to_string(x.size()) + " rows", "R² ≥ 0.8", f.r_squared >= 0.8);
   }
   if (run.fig8.size() >= 3) {
     std::string measured;
@@ -169,11 +170,11 @@ std::vector<Verdict> verdicts(const PaperRun& run) {
         measured, "R² ≥ 0.95 for each linear fit", linear);
     const double c = fig8_mean_overhead(run, kCentralized), d = fig8_mean_overhead(run, kDistributed);
     add("Mean overhead over the medium-intensity workload: 118% centralized, 105% distributed (Fig. 8, §V-B)",
-        "118% and 105%", fixed(c, 0) + "% and " + fixed(d, 0) + "%",
-        "each within a factor of two of the paper's", c >= 59 && c <= 236 && d >= 52.5 && d <= 210);
-    add("The distributed version costs less than the centralized one (§V-B, on a dual-core machine)",
-        "105% < 118%", fixed(d, 0) + "% vs " + fixed(c, 0) + "% on " + std::to_string(run.args.threads) +
-                           (run.args.threads == 1 ? " thread" : " threads"),
+        "118% and 105%", fixed(c, 0) + "% and " + fixed(d, 0) + "%", "each within a factor of two of the paper's",
+        c >= 59 && c <= 236 && d >= 52.5 && d <= 210);
+    add("The distributed version costs less than the centralized one (§V-B, on a dual-core machine)", "105% < 118%",
+        fixed(d, 0) + "% vs " + fixed(c, 0) + "% on " + std::to_string(run.args.threads) +
+            (run.args.threads == 1 ? " thread" : " threads"),
         "distributed overhead < centralized", d < c);
     add("Reasonable watchpoints introduce overhead of 100% or less (§VI)", "≤ 100% (Fig. 8: 105–118%)",
         "Fig. 8: " + fixed(c, 0) + "% and " + fixed(d, 0) + "%",
@@ -184,7 +185,8 @@ std::vector<Verdict> verdicts(const PaperRun& run) {
   const double worst = 1 + table2_overhead(run, paper::kTable2Sizes, high) / 100;
   const double paper_worst = paper::kTable2[paper::kTable2Sizes - 1][high];
   add("The most extreme example is a slowdown of about fourteen times (Table II, size 5, high; §VI)",
-      fixed(1 + paper_worst / 100, 1) + "× (" + fixed(paper_worst, 1) + "%)", fixed(worst, 1) + "× (" + fixed(100 * (worst - 1), 0) + "%)",
+      fixed(1 + paper_worst / 100, 1) + "× (" + fixed(paper_worst, 1) + "%)",
+      fixed(worst, 1) + "× (" + fixed(100 * (worst - 1), 0) + "%)",
       "between 7× and 28× (within a factor of two of 14×)",
       worst >= paper::kWorstSlowdown / 2 && worst <= paper::kWorstSlowdown * 2);
   bool growing = true;
@@ -209,15 +211,17 @@ std::vector<Verdict> verdicts(const PaperRun& run) {
 }
 
 void write_table1_csv(const PaperRun& run, std::ostream& out) {
+  out << std::setprecision(10);  // seconds of a few milliseconds keep their digits
   const std::string ensemble = std::to_string(modules(run)) + "," + std::to_string(run.args.steps) + ",";
-  out << "modules,steps,tuple,paper_matches,paper_seconds,matches,best_seconds,median_seconds,created,messages,peak_mib,"
+  out << "modules,steps,tuple,paper_matches,paper_seconds,matches,best_seconds,median_seconds,created,messages,peak_"
+         "mib,"
          "chain_sets,groups_matched,one_per_group,stopped\n";
   for (const PaperTable1Row& r : run.table1) {
     const auto p = paper::table1(r.tuple);
-    out << ensemble << r.tuple << "," << (p ? std::to_string(p->matches) : "") << "," << (p ? fixed(p->seconds, 0) : "") << ","
-        << r.live.matches << "," << r.live.seconds << "," << r.live.median_seconds << "," << r.live.created << ","
-        << r.live.messages << "," << fixed(mib(r.live), 1) << "," << r.chain_sets << "," << r.groups_matched << ","
-        << fixed(r.one_per_group, 0) << "," << r.live.stopped << "\n";
+    out << ensemble << r.tuple << "," << (p ? std::to_string(p->matches) : "") << "," << (p ? fixed(p->seconds, 0) : "")
+        << "," << r.live.matches << "," << r.live.seconds << "," << r.live.median_seconds << "," << r.live.created
+        << "," << r.live.messages << "," << fixed(mib(r.live), 1) << "," << r.chain_sets << "," << r.groups_matched
+        << "," << fixed(r.one_per_group, 0) << "," << r.live.stopped << "\n";
   }
 }
 
@@ -231,19 +235,25 @@ void write_fig7_csv(const PaperRun& run, std::ostream& out) {
 }
 
 void write_fig8_csv(const PaperRun& run, std::ostream& out) {
-  out << "steps,planes,modules,series,best_seconds,median_seconds,matches,fit_seconds,r_squared,stopped\n";
+  out << std::setprecision(10);  // seconds of a few milliseconds keep their digits
+  out << "steps,planes,modules,series,best_seconds,median_seconds,matches,fit_seconds,r_squared,"
+         "paper_overhead_percent,stopped\n";
   for (int s = 0; s < kFig8Series; ++s) {
     const LinearFit fit = fig8_fit(run, s);
+    const std::string published = s == kCentralized   ? fixed(paper::kFig8CentralizedOverhead, 0)
+                                  : s == kDistributed ? fixed(paper::kFig8DistributedOverhead, 0)
+                                                      : "";
     for (const Fig8Row& r : run.fig8) {
       const RuntimeRow& x = r.runs[size_t(s)];
-      out << run.args.steps << "," << r.planes << "," << r.modules << "," << fig8_series_name(s) << "," << x.seconds << ","
-          << x.median_seconds << "," << x.matches << "," << fit.at(r.modules) << "," << fit.r_squared << ","
-          << x.stopped << "\n";
+      out << run.args.steps << "," << r.planes << "," << r.modules << "," << fig8_series_name(s) << "," << x.seconds
+          << "," << x.median_seconds << "," << x.matches << "," << fit.at(r.modules) << "," << fit.r_squared << ","
+          << published << "," << x.stopped << "\n";
     }
   }
 }
 
 void write_table2_csv(const PaperRun& run, std::ostream& out) {
+  out << std::setprecision(10);  // seconds of a few milliseconds keep their digits
   const std::string ensemble = std::to_string(modules(run)) + "," + std::to_string(run.args.steps) + ",";
   out << "modules,steps,size,frequency,max,workload,baseline_seconds,best_seconds,median_seconds,overhead_percent,"
          "paper_overhead_percent,matches,created,stopped\n";
@@ -276,9 +286,11 @@ std::string paper_command(const PaperRun& run) {
 
 std::string out_dir(const BenchArgs& args) { return args.out_dir.empty() ? "paper" : args.out_dir; }
 
-std::string plot_command(const std::string& dir) {
+const char* plot_script() { return DWATCH_PLOT_SCRIPT; }
+
+std::string plot_command(const std::string& dir, const std::string& script) {
   // Debian's matplotlib is only importable by Debian's interpreter (DESIGN §9).
-  return std::string("/usr/bin/python3 '") + DWATCH_PLOT_SCRIPT + "' '" + dir + "'";
+  return "/usr/bin/python3 '" + script + "' '" + dir + "'";
 }
 
 std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judged) {
@@ -286,18 +298,21 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
   std::ostringstream md;
   const std::string cube = std::to_string(a.size) + "³";
   md << "# The paper's evaluation, regenerated\n\n"
-     << "Every table and figure of §V of *Distributed Watchpoints* (De Rosa et al.), measured by dwatch "
-     << run.version << " on " << run.date << ", beside the numbers the paper publishes. Made by:\n\n"
-     << "```\n" << paper_command(run) << "\n" << plot_command(out_dir(a)) << "   # the plots, from the CSV files\n```\n\n"
+     << "Every table and figure of §V of *Distributed Watchpoints* (De Rosa et al.), measured by dwatch " << run.version
+     << " on " << run.date << ", beside the numbers the paper publishes. Made by:\n\n"
+     << "```\n"
+     << paper_command(run) << "\n"
+     << plot_command(out_dir(a), "scripts/plot_paper.py") << "   # the plots, from the CSV files\n```\n\n"
      << "- **Machine:** " << run.cpu << ", " << run.cores << " cores, load average " << fixed(run.load_average, 2)
      << " at the start. The paper: DPRSim on dual-core Linux machines (2011).\n"
      << "- **Ensemble:** a " << cube << " cubic lattice (" << grouped(double(modules(run))) << " modules), " << a.steps
      << " steps, seed " << a.seed << ", " << a.threads << (a.threads == 1 ? " thread" : " threads")
      << " stepping modules; physics and rendering off, as in the paper.\n"
-     << "- **Times** are of the steps alone, the fastest of at least " << a.repeat
-     << (a.repeat == 1 ? " run" : " runs") << ", and of more (up to 100) until a row's runs add up to "
+     << "- **Times** are of the steps alone. Every row is timed in " << a.repeat
+     << (a.repeat == 1 ? " pass" : " passes") << " over all the rows, each pass the best of runs adding up to "
      << fixed(paper_min_seconds(a), 2)
-     << " s; the median is in the CSV files. Noise on a shared machine only ever adds.\n"
+     << " s, and keeps its fastest pass (the median pass is in the CSV files): a burst of load from elsewhere "
+        "slows one pass of many rows rather than every run of one.\n"
      << "- **Watchpoint:** Fig. 6, `" << kFig6 << "`, host program `random_vars` (x_i uniform in 0..max_i − 1).\n\n";
 
   md << "## Verdicts\n\n| claim | paper | dwatch | holds when | verdict |\n|---|---|---|---|---|\n";
@@ -312,8 +327,8 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
   for (const PaperTable1Row& r : run.table1) {
     const auto p = paper::table1(r.tuple);
     md << "| [" << r.tuple << "] | " << (p ? grouped(double(p->matches)) : "—") << " | "
-       << grouped(double(r.live.matches)) << " | " << ratio(double(r.live.matches), p ? double(p->matches) : 0)
-       << " | " << (p ? fixed(p->seconds, 0) : "—") << " | " << fixed(r.live.seconds, 3) << " | "
+       << grouped(double(r.live.matches)) << " | " << ratio(double(r.live.matches), p ? double(p->matches) : 0) << " | "
+       << (p ? fixed(p->seconds, 0) : "—") << " | " << fixed(r.live.seconds, 3) << " | "
        << (p ? grouped(p->seconds / r.live.seconds) + "×" : "—") << " | " << grouped(double(r.live.created)) << " | "
        << grouped(double(r.live.messages)) << " | " << fixed(mib(r.live), 1) << " |\n";
   }
@@ -360,15 +375,17 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
           "with x1 = 0) rather than half. Counting each connected group once with one assignment of slots fixed "
           "before the values are known gives the paper's numbers in every row; an enumeration that reaches each "
           "set of modules once, in one order (as ESU does, DESIGN §4a), counts that way. Alg. 2's chains cannot "
-          "form the star-shaped groups (one module beside the three others) at all. dwatch keeps the paper's stated semantics for its "
-                  "matches (DESIGN §4); `shape = \"any\"` finds every connected group.\n";
+          "form the star-shaped groups (one module beside the three others) at all. dwatch keeps the paper's stated "
+          "semantics for its "
+          "matches (DESIGN §4); `shape = \"any\"` finds every connected group.\n";
   md << "\n## Fig. 7: PatternMatchers created by slots filled (" << grouped(double(modules(run))) << " modules, "
      << a.steps << " steps)\n\n![Fig. 7](fig7.png)\n\n"
      << "The paper prints Fig. 7 as a plot without values, so there is nothing to set these beside; its text "
         "says [1:1:1:1] explodes, [2:2:2:2] cuts it by halves at each slot, and [1:2:4:8] culls late while "
         "[8:4:2:1] culls early.\n\n| tuple | reading | 1 | 2 | 3 | 4 |\n|---|---|---|---|---|---|\n";
   for (const PaperTable1Row& r : run.table1)
-    for (const auto& [name, row] : {std::pair{"distributed", &r.distributed}, std::pair{"centralized", &r.centralized}}) {
+    for (const auto& [name, row] :
+         {std::pair{"distributed", &r.distributed}, std::pair{"centralized", &r.centralized}}) {
       md << "| [" << r.tuple << "] | " << name << " |";
       for (int filled = 1; filled <= 4; ++filled) md << " " << grouped(double(row->by_filled[filled])) << " |";
       md << "\n";
@@ -381,16 +398,15 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
   for (const Fig8Row& r : run.fig8) {
     const double none = r.runs[kNoWatch].seconds;
     md << "| " << r.modules << " | " << fixed(none, 4) << " | " << fixed(r.runs[kCentralized].seconds, 4) << " | "
-       << fixed(100 * (r.runs[kCentralized].seconds / none - 1), 0) << "% | "
-       << fixed(r.runs[kDistributed].seconds, 4) << " | " << fixed(100 * (r.runs[kDistributed].seconds / none - 1), 0)
-       << "% |\n";
+       << fixed(100 * (r.runs[kCentralized].seconds / none - 1), 0) << "% | " << fixed(r.runs[kDistributed].seconds, 4)
+       << " | " << fixed(100 * (r.runs[kDistributed].seconds / none - 1), 0) << "% |\n";
   }
   md << "\n| series | seconds per 1,000 modules (slope) | R² | mean overhead | the paper |\n|---|---|---|---|---|\n";
   for (int s = 0; s < kFig8Series; ++s) {
     const LinearFit f = fig8_fit(run, s);
     md << "| " << fig8_series_name(s) << " | " << fixed(1000 * f.slope, 4) << " | " << fixed(f.r_squared, 3) << " | "
        << (s == kNoWatch ? "—" : fixed(fig8_mean_overhead(run, s), 0) + "%") << " | "
-       << (s == kNoWatch            ? "linear"
+       << (s == kNoWatch       ? "linear"
            : s == kCentralized ? "linear, 118%"
                                : "linear, 105%")
        << " |\n";
@@ -416,7 +432,8 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
   md << "\n|---|---|---|---|---|---|---|\n";
   for (size_t f = 0; f < paper::kFrequencies.size(); ++f) {
     md << "| " << paper::kFrequencies[f].name << " | " << fixed(run.table2_baseline[f].seconds, 4) << " |";
-    for (int size = 1; size <= paper::kTable2Sizes; ++size) md << " " << fixed(run.table2[size_t(size - 1)][f].seconds, 4) << " |";
+    for (int size = 1; size <= paper::kTable2Sizes; ++size)
+      md << " " << fixed(run.table2[size_t(size - 1)][f].seconds, 4) << " |";
     md << "\n";
   }
 
@@ -431,8 +448,7 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
   md << ". The baseline workloads are cheaper still, so the same watchpoint is a larger fraction of a run: the "
         "percentages say how the watch's cost compares with dwatch's stepping, not that it costs more than the "
         "paper's.";
-  if (all)
-    md << " The worst case, [1:1:1:1], took " << fixed(all->live.seconds, 3) << " s against the paper's 715 s.";
+  if (all) md << " The worst case, [1:1:1:1], took " << fixed(all->live.seconds, 3) << " s against the paper's 715 s.";
   md << "\n";
   return md.str();
 }

@@ -42,7 +42,7 @@ struct PaperRun {
   BenchArgs args;  // as run (repeat after --quick)
   std::string date, cpu, version;
   unsigned cores = 0;
-  double load_average = 0;     // over the last minute, at the start
+  double load_average = 0;       // over the last minute, at the start
   uint64_t groups_per_step = 0;  // connected 4-module groups of the Table I lattice
   std::vector<PaperTable1Row> table1;
   std::vector<Fig8Row> fig8;
@@ -79,6 +79,8 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
 std::string out_dir(const BenchArgs& args);
 // The command line that reproduces `run`, and the one that redraws its plots.
 std::string paper_command(const PaperRun& run);
-std::string plot_command(const std::string& dir);
+// `script` is scripts/plot_paper.py: plot_script() where this build found it.
+std::string plot_command(const std::string& dir, const std::string& script);
+const char* plot_script();
 
 }  // namespace dw::app

@@ -20,6 +20,7 @@ packages=(
   clang libclang-rt-14-dev                     # the fuzz targets and sanitizer builds
   clang-format                                 # scripts/check-format.sh (CI)
   time                                         # peak-memory figures for benchmarks (/usr/bin/time -v)
+  python3-matplotlib                           # bench paper's plots (scripts/plot_paper.py, /usr/bin/python3)
 )
 
 missing=()

@@ -1,6 +1,5 @@
 // The dwatch executable as a user meets it: exit codes, diagnostics on stderr, files written.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
@@ -10,47 +9,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "tests/app/cli.h"
+
 namespace {
 
-namespace fs = std::filesystem;
-
-struct Result {
-  int code;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class Cli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("dwatch_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  // Runs dwatch with `args` (already shell-quoted as needed).
-  Result run(const std::string& args) {
-    const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
-    const std::string cmd = std::string(DWATCH_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
-    const int status = std::system(cmd.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-  }
-
-  fs::path write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return dir_ / name;
-  }
-
-  fs::path dir_;
-  const fs::path cases_ = DWATCH_CONFORMANCE_DIR;
-};
+using namespace dw::cli_test;
 
 TEST_F(Cli, CheckExplainsAValidWatchpoint) {
   const Result r = run("check 'modules(a b c);(a.isLeader = 1) and (c.next.isLeader = 1)'");
@@ -255,15 +218,33 @@ TEST_F(Cli, BenchTable1WritesItsCsv) {
   EXPECT_NE(csv.find("\"1:1:1:1\","), std::string::npos) << csv;
 }
 
-// A PNG's size, from its IHDR chunk.
-std::pair<uint32_t, uint32_t> png_size(const fs::path& p) {
-  const std::string s = slurp(p);
-  if (s.size() < 24 || s.compare(1, 3, "PNG") != 0) return {0, 0};
-  auto be32 = [&](size_t at) {
-    return uint32_t(uint8_t(s[at])) << 24 | uint32_t(uint8_t(s[at + 1])) << 16 | uint32_t(uint8_t(s[at + 2])) << 8 |
-           uint32_t(uint8_t(s[at + 3]));
+// The runtime benchmarks read the watch as the detector flags say.
+TEST_F(Cli, RuntimeBenchesHonourTheDetectorFlags) {
+  // The row of a table1 CSV file: matches, created, messages, best, median, peak MiB, stopped.
+  auto row = [](const fs::path& csv) {
+    std::istringstream in(slurp(csv));
+    std::string line;
+    std::getline(in, line);  // the header
+    std::getline(in, line);
+    std::vector<std::string> cells;
+    std::istringstream fields(line);
+    for (std::string cell; std::getline(fields, cell, ',');) cells.push_back(cell);
+    return cells;
   };
-  return {be32(16), be32(20)};
+  const std::string table1 = "bench table1 --size 4 --steps 6 --repeat 1 --tuple 2:2:2:2 --out ";
+  ASSERT_EQ(run(table1 + (dir_ / "paper").string()).code, 0);
+  ASSERT_EQ(run(table1 + (dir_ / "late").string() + " --no-early-termination").code, 0);
+  const auto paper = row(dir_ / "paper" / "table1.csv"), late = row(dir_ / "late" / "table1.csv");
+  ASSERT_EQ(paper.size(), 8u);
+  ASSERT_EQ(late.size(), 8u);
+  EXPECT_EQ(late[1], paper[1]);                            // the same matches
+  EXPECT_GT(std::stoull(late[2]), std::stoull(paper[2]));  // from more PatternMatchers
+  EXPECT_EQ(paper[7], "0");
+
+  const Result budget = run(table1 + (dir_ / "budget").string() + " --max-live 10");
+  EXPECT_EQ(budget.code, 1);
+  EXPECT_NE(budget.out.find("stopped at the --max-live budget"), std::string::npos) << budget.out;
+  EXPECT_EQ(row(dir_ / "budget" / "table1.csv")[7], "1");
 }
 
 TEST_F(Cli, RenderWritesTheViewAndNamesTheHighlightedGroup) {
