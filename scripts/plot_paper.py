@@ -133,7 +133,7 @@ def table2(directory):
     ax.set_ylabel("overhead (%)" + (", ≤ 0 drawn at 0.1" if clipped else ""))
     ax.legend(fontsize=8, ncol=2, loc="upper left")
     finish(fig, ax, os.path.join(directory, "table2.png"),
-           "Table II: centralized overhead vs. expression size, %s modules (baseline: %s)"
+           "Table II: centralized overhead vs. expression size\n%s modules, baseline workload: %s"
            % (f"{int(rows[0]['modules']):,}", rows[0]["workload"]))
 
 
