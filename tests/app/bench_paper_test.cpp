@@ -96,8 +96,8 @@ TEST_F(BenchPaper, TableOneCountsEachReadingAsItMustBe) {
     const uint64_t matches = std::stoull(r.at("matches")), chain_sets = std::stoull(r.at("chain_sets"));
     const uint64_t matched_groups = std::stoull(r.at("groups_matched"));
     EXPECT_GT(chain_sets, 0u);
-    EXPECT_LE(chain_sets, matches);               // a set counted once however many chains match it
-    EXPECT_LE(matched_groups, groups * 8);        // each connected group at most once a step
+    EXPECT_LE(chain_sets, matches);         // a set counted once however many chains match it
+    EXPECT_LE(matched_groups, groups * 8);  // each connected group at most once a step
     EXPECT_GE(std::stod(r.at("best_seconds")), 0);
     double p = 1;
     std::istringstream tuple(r.at("tuple"));

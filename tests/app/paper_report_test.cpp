@@ -143,8 +143,7 @@ TEST(PaperCsv, ColumnsThePlotScriptReads) {
             "peak_mib,chain_sets,groups_matched,one_per_group,stopped");
   EXPECT_NE(t1.str().find("\n1000,100,2:1:1:1,3119538,358,3119538,358,"), std::string::npos) << t1.str();
   // Size 5, high: the overhead and the paper's, side by side.
-  EXPECT_NE(t2.str().find("\n1000,100,5,high,2,random_vars,1,15.325,0,1432.5,1432.5,"), std::string::npos)
-      << t2.str();
+  EXPECT_NE(t2.str().find("\n1000,100,5,high,2,random_vars,1,15.325,0,1432.5,1432.5,"), std::string::npos) << t2.str();
   // The fit of each series, at each size, and its R².
   EXPECT_NE(f8.str().find("\n100,10,1000,distributed,0.205,0,0,0.205,1,105,0\n"), std::string::npos) << f8.str();
   EXPECT_NE(f8.str().find("\n100,10,1000,no watchpoint,0.1,0,0,0.1,1,,0\n"), std::string::npos) << f8.str();
