@@ -47,7 +47,7 @@ struct BenchArgs {
   std::string out_dir;
   std::string write_trace;
   int repeat = 5;
-  bool quick = false;                           // paper: fewer repeats and Fig. 8 sizes
+  bool quick = false;                           // paper: at most 2 passes, 4 sizes for Fig. 8
   std::string table2_workload = "random_vars";  // paper: Table II's baseline
   DetectorFlags detector;
 };

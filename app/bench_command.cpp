@@ -201,8 +201,8 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
   add_integer_option(*cmd, "--threads,-j", args->threads, scenarios::kThreadsRange,
                      "Threads stepping modules (table1, overhead, million)");
   add_integer_option(*cmd, "--repeat", args->repeat, {"repeat", 1, 100},
-                     "Runs per row; the fastest and the median are reported");
-  cmd->add_flag("--quick", args->quick, "paper: fewer repeats and Fig. 8 sizes (about a minute)");
+                     "Runs per row (paper: passes over all the rows); the fastest and the median are reported");
+  cmd->add_flag("--quick", args->quick, "paper: at most 2 passes, 4 sizes for Fig. 8 (under a minute)");
   cmd->add_option("--table2-workload", args->table2_workload,
                   "paper: Table II's baseline, random_vars alone (the default) or with aggregation_routing")
       ->check(CLI::IsMember({"random_vars", "aggregation_routing"}));

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 
 #include "app/bench.h"
 #include "app/bench_child.h"
@@ -44,27 +45,31 @@ namespace {
 // One run of the scenario from scratch: the seconds its timed part took, or a negative number,
 // with the error on stderr, when the scenario does not load. Fills in the first watch's counts.
 double run_scenario_once(const std::string& text, const BenchArgs& args, Timed timed, RuntimeRow& row) {
-  auto loaded = scenarios::load_scenario_text("bench.toml", text);
-  if (auto* e = std::get_if<std::string>(&loaded)) {
-    std::cerr << *e;
-    return -1;
-  }
+  auto load = [&]() -> std::optional<scenarios::Scenario> {
+    auto loaded = scenarios::load_scenario_text("bench.toml", text);
+    if (auto* e = std::get_if<std::string>(&loaded)) {
+      std::cerr << *e;
+      return std::nullopt;
+    }
+    return std::move(std::get<scenarios::Scenario>(loaded));
+  };
   const sim::SessionOptions options{.threads = args.threads, .history_bytes = 0};  // no history: the runtime alone
   if (timed == Timed::SetUp) {
     const auto start = std::chrono::steady_clock::now();
     {
-      auto again = scenarios::load_scenario_text("bench.toml", text);
-      scenarios::Scenario& s = std::get<scenarios::Scenario>(again);
-      sim::Session run(*s.model, *s.world, options);
+      const std::optional<scenarios::Scenario> s = load();
+      if (!s) return -1;
+      sim::Session run(*s->model, *s->world, options);
     }
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  scenarios::Scenario& s = std::get<scenarios::Scenario>(loaded);
-  sim::Session run(*s.model, *s.world, options);
+  const std::optional<scenarios::Scenario> s = load();
+  if (!s) return -1;
+  sim::Session run(*s->model, *s->world, options);
   const auto start = std::chrono::steady_clock::now();
   run.run_until(args.steps);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!s.model->watches.empty()) {
+  if (!s->model->watches.empty()) {
     row.matches = run.match_count(0);
     row.created = run.stats(0).created;
     row.messages = run.stats(0).messages;
