@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "physics/bullet_world.h"
+#include "scenarios/lua_program.h"
 #include "scenarios/programs.h"
 #include "scenarios/table_reader.h"
 #include "sim/lattice.h"
@@ -208,6 +209,11 @@ struct Loader {
     for (const toml::node& e : *a) {
       const toml::table& t = *e.as_table();
       TableReader r(t, diagnostics, "[[program]]");
+      if (r.has("script")) {
+        if (auto program = script_program(r)) out.push_back(std::move(program));
+        else ok = false;
+        continue;
+      }
       const auto name = r.string("name");
       if (!name) {
         if (!r.has("name")) r.missing("name");
@@ -231,6 +237,32 @@ struct Loader {
     }
     if (!ok) return std::nullopt;
     return out;
+  }
+
+  // A [[program]] with `script = "x.lua"` (next to the scenario) and the script's parameters.
+  std::unique_ptr<const sim::HostProgram> script_program(TableReader& r) {
+    const auto script = r.string("script");
+    if (!script) return nullptr;
+    if (r.has("name")) {
+      r.error("name", "a [[program]] is a built-in program (name) or a script (script), not both");
+      return nullptr;
+    }
+    const std::filesystem::path at = std::filesystem::path(path).parent_path() / *script;
+    inputs.push_back(at.string());
+    std::string error;
+    auto text = sim::read_file(at.string(), &error);
+    if (!text) {
+      r.error("script", error + " (the program's script)");
+      return nullptr;
+    }
+    std::string why;
+    auto program = make_lua_program(at.string(), *text, r, why);
+    r.finish();
+    if (!program && !why.empty()) {
+      r.error("script", "the script does not load:");
+      extra += why + "\n";
+    }
+    return program;
   }
 
   std::optional<watch::Watchpoint> compile(TableReader& r, const std::string& name) {

@@ -12,6 +12,7 @@ packages=(
   libedit-dev                                  # line editing at the session prompt
   libtomlplusplus-dev                          # scenario files
   libbullet-dev                                # the physics World
+  liblua5.4-dev                                # host programs written by users in Lua 5.4
   libosmesa6-dev libglm-dev libpng-dev         # the 3D view: headless GL, matrices, PNG files
   libstb-dev                                   # stb_truetype: the view's text
   libimgui-dev libglfw3-dev libgl-dev          # the debugger window: Dear ImGui 1.86, GLFW 3.3, OpenGL

@@ -78,6 +78,8 @@ class ModuleContext {
   int64_t get(uint32_t variable) const { return before_[variable]; }
   // Assigns the value the variable has at step t.
   void set(uint32_t variable, int64_t value) { after_[variable] = value; }
+  // The value assigned so far in this step (the value at t - 1 when none was).
+  int64_t assigned(uint32_t variable) const { return after_[variable]; }
 
   // This module's random numbers: a pure function of (seed, module, step, program, stream).
   uint64_t random(uint32_t stream) const;
@@ -113,11 +115,13 @@ class ModuleContext {
   // Latches to a neighbour (it must be one now).
   void bond(ModuleId other);
 
+  // A program error that stops the run: "<program> on module <id> <what>" (the first one wins).
+  void fail(const std::string& what);
+
  private:
   bool check_size(size_t words);
   void post(ModuleId to, std::span<const int64_t> payload);
   void actuate(const Actuation& a);
-  void fail(const std::string& what);
 
   ModuleId id_;
   int64_t step_;

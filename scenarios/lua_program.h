@@ -1,0 +1,35 @@
+// Host programs written by users in Lua 5.4 (DESIGN §11): `[[program]] script = "x.lua"` plus the
+// script's parameters. The script declares `program = { vars = {...}, params = {...} }` and
+// defines `step(m)` (and optionally `init(m)`); `m` is the module's side of the host-program API
+// (sim/host_program.h): m.id, m.step, m:get, m:set, m:neighbors, m:inbox, m:send, m:broadcast,
+// m:random, m:param.
+//
+// Sandboxed: only the base functions that touch nothing outside the script, and the string, table,
+// math (without its random numbers) and utf8 libraries; an instruction budget per call and a
+// memory cap per Lua state. A module's state lives only in its variables: once loaded, a script
+// may not write a global, a table reached from one, or a local declared outside the function
+// running. One Lua state per thread that steps modules, never per module.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "scenarios/programs.h"
+
+namespace dw::scenarios {
+
+// Limits of one Lua state.
+struct LuaLimits {
+  int64_t instructions = 10'000'000;  // VM instructions per init/step call
+  size_t memory_bytes = 64u << 20;    // per Lua state (one per stepping thread)
+};
+
+// Builds the program of the script `display` (as messages name it) with the source `text` and the
+// parameters of its [[program]] table, each of which the script must declare. nullptr when it does
+// not compile or declare itself properly, or a parameter is wrong: the reason is in `why`
+// (`display:LINE: message` for the script's own mistakes), or reported at the parameter's key.
+std::unique_ptr<const sim::HostProgram> make_lua_program(const std::string& display, const std::string& text,
+                                                         TableReader& params, std::string& why,
+                                                         const LuaLimits& limits = {});
+
+}  // namespace dw::scenarios
