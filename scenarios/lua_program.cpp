@@ -78,8 +78,7 @@ class LuaState {
     *static_cast<LuaState**>(lua_getextraspace(L_)) = this;
     lua_sethook(L_, &LuaState::count_hook, LUA_MASKCOUNT, kHookEvery);
     open_sandbox();
-    if (luaL_loadbufferx(L_, text.data(), text.size(), ("@" + display).c_str(), "t") != LUA_OK ||
-        !call(0, 0)) {
+    if (luaL_loadbufferx(L_, text.data(), text.size(), ("@" + display).c_str(), "t") != LUA_OK || !call(0, 0)) {
       error_ = pop_message();
       return;
     }
@@ -149,11 +148,10 @@ class LuaState {
 
     // The module: one userdata, pointed at each module in turn.
     *static_cast<LuaState**>(lua_newuserdatauv(L_, sizeof(LuaState*), 0)) = this;
-    static constexpr luaL_Reg kMethods[] = {{"get", &LuaState::get},         {"set", &LuaState::set},
-                                            {"neighbors", &LuaState::neighbors}, {"inbox", &LuaState::inbox},
-                                            {"send", &LuaState::send},       {"broadcast", &LuaState::broadcast},
-                                            {"random", &LuaState::random},   {"param", &LuaState::param},
-                                            {nullptr, nullptr}};
+    static constexpr luaL_Reg kMethods[] = {
+        {"get", &LuaState::get},       {"set", &LuaState::set},     {"neighbors", &LuaState::neighbors},
+        {"inbox", &LuaState::inbox},   {"send", &LuaState::send},   {"broadcast", &LuaState::broadcast},
+        {"random", &LuaState::random}, {"param", &LuaState::param}, {nullptr, nullptr}};
     lua_newtable(L_);  // the userdata's metatable
     lua_newtable(L_);  // its methods
     luaL_setfuncs(L_, kMethods, 0);
@@ -193,8 +191,7 @@ class LuaState {
       message = display_ + ": " + (initializing ? "init" : "step") + " wrote the local '" + name +
                 "' declared outside it: a script keeps its state in its variables (m:set), which a rollback restores";
     }
-    if (!message.empty())
-      m.fail("at step " + std::to_string(m.step()) + ": " + message);
+    if (!message.empty()) m.fail("at step " + std::to_string(m.step()) + ": " + message);
     module_context_ = nullptr;
   }
 
@@ -225,8 +222,15 @@ class LuaState {
   static void count_hook(lua_State* L, lua_Debug*) {
     LuaState& s = of(L);
     s.executed_ += kHookEvery;
-    if (s.executed_ > s.limits_.instructions)
-      luaL_error(L, "ran more than %I instructions in one call (an endless loop?)", (lua_Integer)s.limits_.instructions);
+    if (s.executed_ <= s.limits_.instructions) return;
+    // The hook runs inside the function it interrupted: level 0 is the script's line.
+    lua_Debug at;
+    std::string where;
+    if (lua_getstack(L, 0, &at) && lua_getinfo(L, "Sl", &at) && at.currentline > 0)
+      where = std::string(at.short_src) + ":" + std::to_string(at.currentline) + ": ";
+    lua_pushfstring(L, "%sran more than %I instructions in one call (an endless loop?)", where.c_str(),
+                    lua_Integer(s.limits_.instructions));
+    lua_error(L);
   }
 
   void open_sandbox() {

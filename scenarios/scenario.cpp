@@ -256,7 +256,7 @@ struct Loader {
       return nullptr;
     }
     std::string why;
-    auto program = make_lua_program(at.string(), *text, r, why);
+    auto program = make_lua_program(*script, *text, r, why);  // named as the scenario names it
     r.finish();
     if (!program && !why.empty()) {
       r.error("script", "the script does not load:");

@@ -1,8 +1,8 @@
 // Token passing on a ring (the paper's Fig. 3 setting). The module holding the token at step t
 // passes it to its successor (the neighbour with the next id around the ring), which holds it at
 // t + 1: exactly one module holds it at every step. Module 0 is the master: if the token has not
-// come back for more than `timeout` steps (default: the ring's size) it regenerates one — which
-// is also how the first token appears, at step 0.
+// come back for more than `timeout` steps (default: the ring's size) it regenerates one; it makes
+// the first token at step 0.
 //
 // Bugs, for the Fig. 3 watchpoint to find:
 //   duplicate_at = S  the holder at step S keeps the token and passes a copy: at S + 1 the
@@ -23,16 +23,13 @@ class TokenRing final : public sim::HostProgram {
   TokenRing(int64_t timeout, int64_t duplicate_at, int64_t lose_at)
       : timeout_(timeout), duplicate_at_(duplicate_at), lose_at_(lose_at) {}
   std::string_view name() const override { return "token_ring"; }
-  std::vector<sim::VariableSpec> variables() const override {
-    // _since starts past the timeout, so that the master makes the first token at step 0.
-    return {{"token", 0}, {"_since", timeout_}, {"_keep", 0}};
-  }
+  std::vector<sim::VariableSpec> variables() const override { return {{"token", 0}, {"_since", 0}, {"_keep", 0}}; }
 
   void step(sim::ModuleContext& m) const override {
     bool holds = !m.inbox().empty() || m.get(kKeep) != 0;
     if (m.id() == 0) {
       const int64_t since = holds ? 0 : m.get(kSince) + 1;
-      if (since > timeout_) holds = true;  // the token is lost: make a new one
+      if (since > timeout_ || m.step() == 0) holds = true;  // the token is lost, or not yet made: make one
       m.set(kSince, holds ? 0 : since);
     }
     m.set(kToken, holds);

@@ -1,8 +1,8 @@
 -- Token passing on a ring (the paper's Fig. 3 setting), the Lua twin of scenarios/token_ring.cpp:
 -- the same variables in the same order, the same messages, so the same state hashes and matches.
 -- The module holding the token at step t passes it to its successor (the neighbour with the next
--- id around the ring). Module 0 is the master: when the token has not come back for more than
--- `timeout` steps it makes a new one, which is also how the first token appears, at step 0.
+-- id around the ring). Module 0 is the master: it makes the first token at step 0, and a new one
+-- when the token has not come back for more than `timeout` steps.
 -- Bugs for the watchpoint to find: duplicate_at = S (the holder keeps the token and passes a
 -- copy), lose_at = S (the holder drops it). -1: never.
 program = {
@@ -18,15 +18,11 @@ local function successor(m, neighbors)
   return neighbors[1]
 end
 
-function init(m)
-  m:set("_since", m:param("timeout"))  -- past the timeout: the master makes the first token at step 0
-end
-
 function step(m)
   local holds = #m:inbox() > 0 or m:get("_keep") ~= 0
   if m.id == 0 then
     local since = holds and 0 or m:get("_since") + 1
-    if since > m:param("timeout") then holds = true end  -- the token is lost: make a new one
+    if since > m:param("timeout") or m.step == 0 then holds = true end  -- lost, or not yet made: make one
     m:set("_since", holds and 0 or since)
   end
   m:set("token", holds and 1 or 0)

@@ -1,0 +1,235 @@
+// Host programs in Lua (scenarios/lua_program.cpp): a port gives its C++ twin's states bit for
+// bit, on any thread count and through rollback; the sandbox and its limits; and every mistake a
+// script can make, named where it happened.
+#include "scenarios/lua_program.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "tests/scenarios/scenario_helpers.h"
+
+namespace dw::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kLua = fs::path(DWATCH_SCENARIOS_DIR) / "lua";
+
+const char* kFig3 =
+    "modules(a x b); neighbor(x b) and (x.token = 1) and (((a.last.token = 1) and (b.last.token = 1)) or "
+    "((a.last.token = 0) and (b.last.token = 0)))";
+
+// A 16-module ring running token_ring, built in or from scenarios/lua/token_ring.lua, under the
+// Fig. 3 watchpoint.
+Scenario ring(bool lua, const std::string& bug, unsigned threads = 1) {
+  const std::string program = lua ? "[[program]]\nscript = \"token_ring.lua\"\n" : "[[program]]\nname = \"token_ring\"\n";
+  const std::string text = "threads = " + std::to_string(threads) + "\n[lattice]\nkind = \"ring\"\nsize = [16]\n" +
+                           program + bug + "\n[[watch]]\nname = \"fig3\"\nalgorithm = \"centralized\"\naction = " +
+                           "\"log\"\ntext = \"" + kFig3 + "\"\n";
+  auto loaded = load_scenario_text((kLua / "inline.toml").string(), text);
+  if (auto* e = std::get_if<std::string>(&loaded)) ADD_FAILURE() << *e;
+  return std::move(std::get<Scenario>(loaded));
+}
+
+TEST(LuaProgram, TokenRingPortGivesTheTwinsStateEveryStepAndTheSameMatches) {
+  for (const std::string bug : {"", "duplicate_at = 40", "lose_at = 47"}) {
+    SCOPED_TRACE(bug);
+    Scenario cpp = ring(false, bug), lua = ring(true, bug);
+    ASSERT_EQ(lua.model->variable_count(), cpp.model->variable_count());
+    sim::Session a(*cpp.model, *cpp.world, {.threads = 1}), b(*lua.model, *lua.world, {.threads = 1});
+    for (int64_t t = 0; t < 120; ++t) {
+      a.run_until(t + 1);  // the state after step t
+      b.run_until(t + 1);
+      ASSERT_EQ(a.hash(), b.hash()) << "step " << t;
+    }
+    EXPECT_EQ(a.match_count(0), b.match_count(0));
+    EXPECT_EQ(a.matches(0).slots, b.matches(0).slots);
+    EXPECT_EQ(a.matches(0).t, b.matches(0).t);
+    if (!bug.empty()) {
+      EXPECT_GT(b.match_count(0), 0u);
+    }
+  }
+}
+
+TEST(LuaProgram, SameStatesOnAnyThreadCountAndThroughRollback) {
+  Scenario one = ring(true, "duplicate_at = 40", 1), two = ring(true, "duplicate_at = 40", 2);
+  sim::Session a(*one.model, *one.world, {.threads = 1}), b(*two.model, *two.world, {.threads = 2});
+  a.run_until(90);
+  b.run_until(90);
+  EXPECT_EQ(a.hash(), b.hash());
+  const uint64_t at89 = a.hash();
+  ASSERT_TRUE(a.seek(30));
+  EXPECT_NE(a.hash(), at89);
+  ASSERT_TRUE(a.seek(89));  // re-simulated from a keyframe
+  EXPECT_EQ(a.hash(), at89);
+}
+
+// A scenario of `n` modules in a line running `script` (written next to it), with `params`.
+class LuaScript : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("dwatch_lua_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::variant<Scenario, std::string> load(const std::string& script, const std::string& params = "", int n = 4) {
+    std::ofstream(dir_ / "x.lua") << script;
+    const std::string text = "[lattice]\nkind = \"line\"\nsize = [" + std::to_string(n) +
+                             "]\n[[program]]\nscript = \"x.lua\"\n" + params;
+    return load_scenario_text((dir_ / "s.toml").string(), text);
+  }
+  // The error that stops a run of `steps` steps, or "" when it runs through.
+  std::string run_error(const std::string& script, int64_t steps = 5) {
+    auto loaded = load(script);
+    if (auto* e = std::get_if<std::string>(&loaded)) return "load: " + *e;
+    Scenario& s = std::get<Scenario>(loaded);
+    sim::Session run(*s.model, *s.world, {.threads = 1});
+    try {
+      run.run_until(steps);
+    } catch (const sim::ProgramError& e) {
+      return e.what();
+    }
+    return "";
+  }
+  std::string script_path() const { return "x.lua"; }  // as the scenario names it
+
+  fs::path dir_;
+};
+
+const std::string kHeader = "program = { vars = { \"v\" }, params = { k = 3 } }\n";
+
+TEST_F(LuaScript, ParametersTakeTheScenariosValueElseTheDeclaredDefault) {
+  const std::string script = kHeader + "function step(m) m:set(\"v\", m:param(\"k\") * 10 + m.id) end\n";
+  for (const auto& [params, k] : {std::pair{"", 3}, std::pair{"k = 7\n", 7}}) {
+    auto loaded = load(script, params);
+    ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+    Scenario& s = std::get<Scenario>(loaded);
+    sim::Session run(*s.model, *s.world, {.threads = 1});
+    run.run_until(1);  // step 0
+    EXPECT_EQ(run.state().values[2], k * 10 + 2);
+  }
+  auto unknown = load(script, "q = 1\n");
+  ASSERT_TRUE(std::holds_alternative<std::string>(unknown));
+  EXPECT_NE(std::get<std::string>(unknown).find("q"), std::string::npos) << std::get<std::string>(unknown);
+}
+
+TEST_F(LuaScript, MessagesNeighboursRandomAndInitFollowTheApi) {
+  // Each module sends its id to its right neighbour; at the next step the receiver records the
+  // sender. init sets v to 100 + id, which step 0 reads.
+  const std::string script =
+      "program = { vars = { \"from\", \"first\", \"r\" } }\n"
+      "function init(m) m:set(\"first\", 100 + m.id) end\n"
+      "function step(m)\n"
+      "  if m.step == 0 then m:set(\"first\", m:get(\"first\") + 1) end\n"
+      "  for _, msg in ipairs(m:inbox()) do m:set(\"from\", msg.from * 10 + msg.data[1]) end\n"
+      "  local n = m:neighbors()\n"
+      "  if n[#n] > m.id then m:send(n[#n], { m.id }) end\n"
+      "  m:set(\"r\", m:random(1000) * 1000 + m:random(1000))\n"
+      "end\n";
+  auto loaded = load(script);
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  Scenario& s = std::get<Scenario>(loaded);
+  sim::Session run(*s.model, *s.world, {.threads = 1});
+  run.run_until(2);  // through step 1
+  const auto& v = run.state().values;  // [module * 3 + variable]
+  for (int m = 1; m < 4; ++m) EXPECT_EQ(v[size_t(m) * 3], (m - 1) * 10 + (m - 1)) << m;
+  for (int m = 0; m < 4; ++m) EXPECT_EQ(v[size_t(m) * 3 + 1], 101 + m) << "init, then step 0 read it";
+  EXPECT_NE(v[2] / 1000, v[2] % 1000) << "two draws in a step are two numbers";
+}
+
+TEST_F(LuaScript, ASyntaxErrorIsALoadErrorNamingTheScriptLine) {
+  auto loaded = load(kHeader + "function step(m)\n  m:set(\"v\", )\nend\n");
+  ASSERT_TRUE(std::holds_alternative<std::string>(loaded));
+  const std::string& e = std::get<std::string>(loaded);
+  EXPECT_NE(e.find("s.toml:5:10: error: the script does not load:"), std::string::npos) << e;
+  EXPECT_NE(e.find(script_path() + ":3: unexpected symbol near ')'"), std::string::npos) << e;
+}
+
+TEST_F(LuaScript, AScriptThatDoesNotDeclareItselfIsALoadError) {
+  for (const auto& [script, why] :
+       {std::pair{"function step(m) end", "the script must set `program = { vars = {...} }`"},
+        std::pair{"program = { vars = { 1 } }\nfunction step(m) end", "`program.vars` must list names"},
+        std::pair{"program = { vars = {} }", "the script must define `function step(m)`"},
+        std::pair{"program = { vars = {}, params = { k = 1.5 } }\nfunction step(m) end",
+                  "`program.params` must map names to integers"}}) {
+    auto loaded = load(script);
+    ASSERT_TRUE(std::holds_alternative<std::string>(loaded)) << script;
+    EXPECT_NE(std::get<std::string>(loaded).find(why), std::string::npos) << std::get<std::string>(loaded);
+  }
+}
+
+TEST_F(LuaScript, RuntimeErrorsNameTheScriptLineTheModuleAndTheStep) {
+  const std::string e = run_error(kHeader + "function step(m)\n  if m.step == 2 and m.id == 1 then\n    local x = nil + 1\n  end\nend\n");
+  EXPECT_NE(e.find("on module 1 at step 2: " + script_path() + ":4: attempt to perform arithmetic on a nil value"),
+            std::string::npos)
+      << e;
+}
+
+TEST_F(LuaScript, MisusingTheApiIsAnErrorAtTheCallersLine) {
+  const std::string p = script_path();
+  EXPECT_NE(run_error(kHeader + "function step(m)\n  m:set(\"w\", 1)\nend\n")
+                .find(p + ":3: 'w' is not a variable of this program"),
+            std::string::npos);
+  EXPECT_NE(run_error(kHeader + "function step(m)\n  m:set(\"v\", 1.5)\nend\n")
+                .find(p + ":3: a variable's value must be an integer, not 1.5"),
+            std::string::npos);
+  EXPECT_NE(run_error(kHeader + "function step(m)\n  if m.id == 0 then m:send(3, { 1 }) end\nend\n")
+                .find(p + ":3: module 0 sent to 3, which is not its neighbour"),
+            std::string::npos);
+  EXPECT_NE(run_error(kHeader + "function step(m)\n  m:broadcast({ 1, 2, 3, 4, 5, 6, 7, 8, 9 })\nend\n")
+                .find(p + ":3: a message holds at most 8 integers, not 9"),
+            std::string::npos);
+  EXPECT_NE(run_error(kHeader + "function step(m)\n  m:param(\"z\")\nend\n").find(p + ":3: 'z' is not a parameter"),
+            std::string::npos);
+}
+
+TEST_F(LuaScript, StateOutsideTheVariablesIsAnError) {
+  const std::string p = script_path();
+  // A global written while stepping, new or old.
+  EXPECT_NE(run_error(kHeader + "function step(m)\n  count = 1\nend\n").find(p + ":3: writes 'count' outside"),
+            std::string::npos);
+  EXPECT_NE(run_error(kHeader + "seen = 0\nfunction step(m)\n  seen = seen + 1\nend\n").find(p + ":4: writes 'seen'"),
+            std::string::npos);
+  // A table reached from a global, and a library.
+  EXPECT_NE(run_error(kHeader + "cache = {}\nfunction step(m)\n  cache[m.id] = 1\nend\n").find(p + ":4: writes '0'"),
+            std::string::npos);
+  EXPECT_NE(run_error(kHeader + "function step(m)\n  string.x = 1\nend\n").find(p + ":3: writes 'x'"),
+            std::string::npos);
+  // A local of the script, written by step.
+  EXPECT_NE(run_error(kHeader + "local n = 0\nfunction step(m)\n  n = n + 1\nend\n").find("step wrote the local 'n'"),
+            std::string::npos);
+  // Reading them, and local tables of a call, are fine.
+  EXPECT_EQ(run_error(kHeader + "local base = { 5 }\nK = 2\nfunction step(m)\n  local t = {}\n  t[1] = base[1] * K\n"
+                                "  m:set(\"v\", #base + t[1])\nend\n"),
+            "");
+}
+
+TEST_F(LuaScript, TheSandboxHasNoFilesProcessesOrLoaders) {
+  for (const char* name : {"io", "os", "require", "load", "loadfile", "dofile", "debug", "package", "print"}) {
+    const std::string e = run_error(kHeader + "function step(m)\n  local x = " + name + ".x\nend\n");
+    EXPECT_NE(e.find("attempt to index a nil value (global '" + std::string(name) + "')"), std::string::npos)
+        << name << ": " << e;
+  }
+  EXPECT_NE(run_error(kHeader + "function step(m)\n  m:set(\"v\", math.random(3))\nend\n")
+                .find("attempt to call a nil value (field 'random')"),
+            std::string::npos);
+}
+
+TEST_F(LuaScript, AnEndlessLoopStopsAtTheInstructionBudget) {
+  const std::string e = run_error(kHeader + "function step(m)\n  while true do end\nend\n");
+  EXPECT_NE(e.find(script_path() + ":3: ran more than 10000000 instructions in one call"), std::string::npos) << e;
+  EXPECT_NE(e.find("on module 0 at step 0"), std::string::npos) << e;
+}
+
+TEST_F(LuaScript, MemoryBeyondTheCapIsAnError) {
+  const std::string e =
+      run_error(kHeader + "function step(m)\n  local s = string.rep(\"x\", 1 << 27)\nend\n");  // 128 MiB
+  EXPECT_NE(e.find("not enough memory"), std::string::npos) << e;
+}
+
+}  // namespace
+}  // namespace dw::scenarios
