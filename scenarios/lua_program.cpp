@@ -392,11 +392,14 @@ class LuaState {
     module(L).broadcast(words);
     return 0;
   }
+  // m:random(n): 0 .. n - 1; m:random(0): 64 random bits (as Lua's math.random(0)). Each draw of
+  // a step reads its own stream, the first stream 0.
   static int random(lua_State* L) {
     const int64_t n = integer(L, 2, "the bound of m:random(n)");
-    if (n < 1) luaL_error(L, "m:random(n) needs n >= 1, not %I", lua_Integer(n));
-    LuaState& s = of(L);
-    lua_pushinteger(L, module(L).uniform(n, s.draws_++));  // each draw of a step its own stream
+    if (n < 0) luaL_error(L, "m:random(n) needs n >= 1 (or 0 for 64 bits), not %I", lua_Integer(n));
+    sim::ModuleContext& m = module(L);
+    const uint32_t stream = of(L).draws_++;
+    lua_pushinteger(L, n == 0 ? static_cast<lua_Integer>(m.random(stream)) : m.uniform(n, stream));
     return 1;
   }
   static int param(lua_State* L) {

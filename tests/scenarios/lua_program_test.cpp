@@ -24,10 +24,11 @@ const char* kFig3 =
 // A 16-module ring running token_ring, built in or from scenarios/lua/token_ring.lua, under the
 // Fig. 3 watchpoint.
 Scenario ring(bool lua, const std::string& bug, unsigned threads = 1) {
-  const std::string program = lua ? "[[program]]\nscript = \"token_ring.lua\"\n" : "[[program]]\nname = \"token_ring\"\n";
-  const std::string text = "threads = " + std::to_string(threads) + "\n[lattice]\nkind = \"ring\"\nsize = [16]\n" +
-                           program + bug + "\n[[watch]]\nname = \"fig3\"\nalgorithm = \"centralized\"\naction = " +
-                           "\"log\"\ntext = \"" + kFig3 + "\"\n";
+  const std::string program =
+      lua ? "[[program]]\nscript = \"token_ring.lua\"\n" : "[[program]]\nname = \"token_ring\"\n";
+  const std::string text =
+      "threads = " + std::to_string(threads) + "\n[lattice]\nkind = \"ring\"\nsize = [16]\n" + program + bug +
+      "\n[[watch]]\nname = \"fig3\"\nalgorithm = \"centralized\"\naction = " + "\"log\"\ntext = \"" + kFig3 + "\"\n";
   auto loaded = load_scenario_text((kLua / "inline.toml").string(), text);
   if (auto* e = std::get_if<std::string>(&loaded)) ADD_FAILURE() << *e;
   return std::move(std::get<Scenario>(loaded));
@@ -50,6 +51,36 @@ TEST(LuaProgram, TokenRingPortGivesTheTwinsStateEveryStepAndTheSameMatches) {
     if (!bug.empty()) {
       EXPECT_GT(b.match_count(0), 0u);
     }
+  }
+}
+
+// Leader election on a hex sheet, built in or from scenarios/lua/leader_election.lua, under the
+// Fig. 2 watchpoint (distributed), counting.
+Scenario election(bool lua, bool bug, unsigned threads = 1) {
+  const std::string program =
+      lua ? std::string("[[program]]\nscript = \"leader_election.lua\"\nbug = ") + (bug ? "1" : "0")
+          : std::string("[[program]]\nname = \"leader_election\"\nbug = ") + (bug ? "true" : "false");
+  const std::string text = "threads = " + std::to_string(threads) + "\n[lattice]\nkind = \"hex2d\"\nsize = [12, 10]\n" +
+                           program + "\n[[watch]]\nname = \"two_leaders\"\naction = \"log\"\n" +
+                           "text = \"modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)\"\n";
+  auto loaded = load_scenario_text((kLua / "inline.toml").string(), text);
+  if (auto* e = std::get_if<std::string>(&loaded)) ADD_FAILURE() << *e;
+  return std::move(std::get<Scenario>(loaded));
+}
+
+TEST(LuaProgram, LeaderElectionPortGivesTheTwinsStateEveryStepAndTheSameMatches) {
+  for (bool bug : {false, true}) {
+    SCOPED_TRACE(bug ? "bug" : "correct");
+    Scenario cpp = election(false, bug), lua = election(true, bug, 2);
+    sim::Session a(*cpp.model, *cpp.world, {.threads = 1}), b(*lua.model, *lua.world, {.threads = 2});
+    for (int64_t t = 0; t < 40; ++t) {
+      a.run_until(t + 1);
+      b.run_until(t + 1);
+      ASSERT_EQ(a.hash(), b.hash()) << "step " << t;
+    }
+    EXPECT_EQ(a.matches(0).slots, b.matches(0).slots);
+    EXPECT_EQ(a.matches(0).t, b.matches(0).t);
+    EXPECT_EQ(b.match_count(0) > 0, bug);
   }
 }
 
@@ -78,8 +109,8 @@ class LuaScript : public ::testing::Test {
 
   std::variant<Scenario, std::string> load(const std::string& script, const std::string& params = "", int n = 4) {
     std::ofstream(dir_ / "x.lua") << script;
-    const std::string text = "[lattice]\nkind = \"line\"\nsize = [" + std::to_string(n) +
-                             "]\n[[program]]\nscript = \"x.lua\"\n" + params;
+    const std::string text =
+        "[lattice]\nkind = \"line\"\nsize = [" + std::to_string(n) + "]\n[[program]]\nscript = \"x.lua\"\n" + params;
     return load_scenario_text((dir_ / "s.toml").string(), text);
   }
   // The error that stops a run of `steps` steps, or "" when it runs through.
@@ -134,7 +165,7 @@ TEST_F(LuaScript, MessagesNeighboursRandomAndInitFollowTheApi) {
   ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
   Scenario& s = std::get<Scenario>(loaded);
   sim::Session run(*s.model, *s.world, {.threads = 1});
-  run.run_until(2);  // through step 1
+  run.run_until(2);                    // through step 1
   const auto& v = run.state().values;  // [module * 3 + variable]
   for (int m = 1; m < 4; ++m) EXPECT_EQ(v[size_t(m) * 3], (m - 1) * 10 + (m - 1)) << m;
   for (int m = 0; m < 4; ++m) EXPECT_EQ(v[size_t(m) * 3 + 1], 101 + m) << "init, then step 0 read it";
@@ -163,7 +194,8 @@ TEST_F(LuaScript, AScriptThatDoesNotDeclareItselfIsALoadError) {
 }
 
 TEST_F(LuaScript, RuntimeErrorsNameTheScriptLineTheModuleAndTheStep) {
-  const std::string e = run_error(kHeader + "function step(m)\n  if m.step == 2 and m.id == 1 then\n    local x = nil + 1\n  end\nend\n");
+  const std::string e =
+      run_error(kHeader + "function step(m)\n  if m.step == 2 and m.id == 1 then\n    local x = nil + 1\n  end\nend\n");
   EXPECT_NE(e.find("on module 1 at step 2: " + script_path() + ":4: attempt to perform arithmetic on a nil value"),
             std::string::npos)
       << e;
