@@ -84,6 +84,18 @@ TEST(LuaProgram, LeaderElectionPortGivesTheTwinsStateEveryStepAndTheSameMatches)
   }
 }
 
+TEST(LuaProgram, TheReadmesGradientExampleFindsEveryHopDistance) {
+  auto loaded = load_scenario((kLua / "gradient.toml").string());
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  Scenario& s = std::get<Scenario>(loaded);
+  sim::Session run(*s.model, *s.world, {.threads = 2});
+  run.run_until(s.steps);
+  const std::vector<int> hops = test::bfs(*run.state().graph, 65);
+  for (sim::ModuleId m = 0; m < s.model->module_count(); ++m)
+    EXPECT_EQ(run.state().values[m], hops[m]) << "module " << m;
+  EXPECT_GT(run.match_count(0), 0u);
+}
+
 TEST(LuaProgram, SameStatesOnAnyThreadCountAndThroughRollback) {
   Scenario one = ring(true, "duplicate_at = 40", 1), two = ring(true, "duplicate_at = 40", 2);
   sim::Session a(*one.model, *one.world, {.threads = 1}), b(*two.model, *two.world, {.threads = 2});
