@@ -2,6 +2,7 @@
 
 #include <lua.hpp>
 
+#include <array>
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
@@ -223,13 +224,15 @@ class LuaState {
     LuaState& s = of(L);
     s.executed_ += kHookEvery;
     if (s.executed_ <= s.limits_.instructions) return;
-    // The hook runs inside the function it interrupted: level 0 is the script's line.
+    // The hook runs inside the function it interrupted: level 0 is the script's line. (Nothing
+    // with a destructor may be alive here: lua_error jumps over C++ frames.)
     lua_Debug at;
-    std::string where;
     if (lua_getstack(L, 0, &at) && lua_getinfo(L, "Sl", &at) && at.currentline > 0)
-      where = std::string(at.short_src) + ":" + std::to_string(at.currentline) + ": ";
-    lua_pushfstring(L, "%sran more than %I instructions in one call (an endless loop?)", where.c_str(),
+      lua_pushfstring(L, "%s:%d: ", at.short_src, at.currentline);
+    else lua_pushliteral(L, "");
+    lua_pushfstring(L, "ran more than %I instructions in one call (an endless loop?)",
                     lua_Integer(s.limits_.instructions));
+    lua_concat(L, 2);
     lua_error(L);
   }
 
@@ -364,32 +367,38 @@ class LuaState {
     }
     return 1;
   }
-  // The words of a message: a list of integers, at most Message::kMaxWords.
-  static std::vector<int64_t> payload(lua_State* L, int arg) {
+  // The words of a message: a list of integers, at most Message::kMaxWords. Trivially
+  // destructible, as everything alive where a Lua error may jump.
+  struct Payload {
+    std::array<int64_t, sim::Message::kMaxWords> words;
+    size_t size;
+    std::span<const int64_t> span() const { return {words.data(), size}; }
+  };
+  static Payload payload(lua_State* L, int arg) {
     luaL_checktype(L, arg, LUA_TTABLE);
     const lua_Integer n = luaL_len(L, arg);
     if (n > lua_Integer(sim::Message::kMaxWords))
       luaL_error(L, "a message holds at most %d integers, not %I", int(sim::Message::kMaxWords), n);
-    std::vector<int64_t> words(static_cast<size_t>(n));
+    Payload p{{}, static_cast<size_t>(n)};
     for (lua_Integer i = 1; i <= n; ++i) {
       lua_geti(L, arg, i);
-      words[size_t(i - 1)] = integer(L, -1, "a message word");
+      p.words[size_t(i - 1)] = integer(L, -1, "a message word");
       lua_pop(L, 1);
     }
-    return words;
+    return p;
   }
   static int send(lua_State* L) {
     sim::ModuleContext& m = module(L);
     const int64_t to = integer(L, 2, "the module sent to");
     if (to < 0 || to > int64_t(UINT32_MAX) || !m.is_neighbor(sim::ModuleId(to)))
       luaL_error(L, "module %d sent to %I, which is not its neighbour", int(m.id()), lua_Integer(to));
-    const std::vector<int64_t> words = payload(L, 3);
-    m.send(sim::ModuleId(to), words);
+    const Payload words = payload(L, 3);
+    m.send(sim::ModuleId(to), words.span());
     return 0;
   }
   static int broadcast(lua_State* L) {
-    const std::vector<int64_t> words = payload(L, 2);
-    module(L).broadcast(words);
+    const Payload words = payload(L, 2);
+    module(L).broadcast(words.span());
     return 0;
   }
   // m:random(n): 0 .. n - 1; m:random(0): 64 random bits (as Lua's math.random(0)). Each draw of

@@ -229,6 +229,9 @@ TEST_F(LuaScript, MisusingTheApiIsAnErrorAtTheCallersLine) {
             std::string::npos);
   EXPECT_NE(run_error(kHeader + "function step(m)\n  m:param(\"z\")\nend\n").find(p + ":3: 'z' is not a parameter"),
             std::string::npos);
+  EXPECT_NE(run_error(kHeader + "function step(m)\n  m:broadcast({ 1, \"two\" })\nend\n")
+                .find(p + ":3: a message word must be an integer, not string"),
+            std::string::npos);
 }
 
 TEST_F(LuaScript, StateOutsideTheVariablesIsAnError) {
