@@ -9,6 +9,10 @@
 
 namespace dw::app::paper {
 
+// The ensemble of every experiment but Fig. 8: a 10x10x10 cube, 100 steps.
+inline constexpr int kModules = 1000;
+inline constexpr int kSteps = 100;
+
 // Table I: successful matches and seconds per host-program tuple, 1,000 modules, distributed.
 struct Table1Row {
   std::string_view tuple;
