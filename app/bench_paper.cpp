@@ -145,8 +145,9 @@ std::vector<TimedJob> plan(PaperRun& run) {
   const BenchArgs& args = run.args;
   const std::string cube = cubic_toml(args.size, args.size, args.size);
   auto fig6 = [&](watch::Algorithm a) { return watch_toml("fig6", kFig6, a, args.detector); };
+  const std::vector<uint32_t> planes = fig8_planes(args);
   run.table1.resize(args.tuples.size());
-  run.fig8.resize(fig8_planes(args).size());
+  run.fig8.resize(planes.size());
   std::vector<TimedJob> jobs;
   for (size_t i = 0; i < args.tuples.size(); ++i) {
     run.table1[i].tuple = args.tuples[i];
@@ -156,7 +157,7 @@ std::vector<TimedJob> plan(PaperRun& run) {
   const std::array<int64_t, 4> fig8_tuple{2, 2, 2, 2};
   for (size_t i = 0; i < run.fig8.size(); ++i) {
     Fig8Row& row = run.fig8[i];
-    row.planes = fig8_planes(args)[i];
+    row.planes = planes[i];
     row.modules = args.size * args.size * row.planes;
     const std::string base =
         cubic_toml(args.size, args.size, row.planes) + kAggregationToml + random_vars_toml(fig8_tuple);

@@ -460,8 +460,7 @@ class LuaProgram final : public sim::HostProgram {
     std::unique_ptr<LuaState>& s = states_[std::this_thread::get_id()];
     if (!s) {
       s = std::make_unique<LuaState>(display_, text_, limits_);
-      Declared again;
-      if (s->error().empty() && s->declare(again)) s->prepare(declared_);
+      if (s->error().empty()) s->prepare(declared_);  // declared once, when the scenario loaded
     }
     return *s;
   }
