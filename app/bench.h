@@ -11,6 +11,7 @@
 //             as CSV, plots and paper.md (bench_paper.cpp, paper_report.cpp, scripts/plot_paper.py)
 //   render    frames of the headless 3D view at 1280x720, 1,000 and 10,000 modules (bench_render.cpp)
 //   session   the session's history: live cost, keyframes, seek, retroactive watchpoints (bench_session.cpp)
+//   lua       the Lua ports of scenarios/lua/ beside their C++ twins: speed and memory (bench_lua.cpp)
 //   view      the debugger window: frames/s, and how fast a click shows its step (app/view/bench_view.cpp)
 #pragma once
 
@@ -116,6 +117,9 @@ int bench_shapes(const BenchArgs& args, bool tuples_given);
 int bench_runtime(const BenchArgs& args);  // table1, overhead, million, physics
 int bench_render(const BenchArgs& args);
 int bench_session(const BenchArgs& args);
-int bench_view(const BenchArgs& args);  // app/view/bench_view.cpp: the window (needs a display)
+int bench_view(const BenchArgs& args);
+int bench_lua(const BenchArgs& args);
+// Where the shipped Lua ports are (scenarios/lua/ of the source tree).
+const char* lua_dir();  // app/view/bench_view.cpp: the window (needs a display)
 
 }  // namespace dw::app

@@ -185,12 +185,12 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
   auto* cmd = app.add_subcommand(
       "bench",
       "Reproduce the paper's measurements: paper (all of §V, with plots), engine, table1, overhead, million; shapes, "
-      "physics, render, session, view");
+      "physics, render, session, view, lua");
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("name", args->name, "Benchmark to run")
       ->required()
-      ->check(CLI::IsMember(
-          {"engine", "shapes", "table1", "overhead", "million", "physics", "paper", "render", "session", "view"}));
+      ->check(CLI::IsMember({"engine", "shapes", "table1", "overhead", "million", "physics", "paper", "render",
+                             "session", "view", "lua"}));
   cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
       ->check(CLI::IsMember({"centralized", "distributed", "both"}));
@@ -202,7 +202,8 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
                      "Threads stepping modules (table1, overhead, million)");
   add_integer_option(*cmd, "--repeat", args->repeat, {"repeat", 1, 100},
                      "Runs per row (paper: passes over all the rows); the fastest and the median are reported");
-  cmd->add_flag("--quick", args->quick, "paper: at most 2 passes, 4 sizes for Fig. 8 (under a minute)");
+  cmd->add_flag("--quick", args->quick,
+                "paper: at most 2 passes, 4 sizes for Fig. 8 (under a minute); lua: the memory row at 50^3");
   cmd->add_option("--table2-workload", args->table2_workload,
                   "paper: Table II's baseline, random_vars alone (the default) or with aggregation_routing")
       ->check(CLI::IsMember({"random_vars", "aggregation_routing"}));
@@ -217,6 +218,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
       if (args->name == "render") return bench_render(*args);
       if (args->name == "session") return bench_session(*args);
       if (args->name == "view") return bench_view(*args);
+      if (args->name == "lua") return bench_lua(*args);
       return bench_runtime(*args);
     };
   });

@@ -1,13 +1,14 @@
 #include "scenarios/lua_program.h"
 
+#include "scenarios/lua_watchdog.h"
+
 #include <lua.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <cstring>
-#include <mutex>
-#include <thread>
-#include <unordered_map>
+#include <vector>
 
 namespace dw::scenarios {
 namespace {
@@ -66,8 +67,8 @@ struct Declared {
   bool has_init = false;
 };
 
-// One Lua state: the script loaded into it, sandboxed and frozen. Owned by one thread at a time.
-class LuaState {
+// One Lua state: the script loaded into it, sandboxed and frozen; a stepping thread's scratch.
+class LuaState final : public sim::ProgramScratch {
  public:
   LuaState(const std::string& display, const std::string& text, const LuaLimits& limits)
       : limits_(limits), display_(display) {
@@ -77,6 +78,8 @@ class LuaState {
       return;
     }
     *static_cast<LuaState**>(lua_getextraspace(L_)) = this;
+    // A step's tables live for that step only: the young generation is where they die.
+    lua_gc(L_, LUA_GCGEN, 0, 0);
     lua_sethook(L_, &LuaState::count_hook, LUA_MASKCOUNT, kHookEvery);
     open_sandbox();
     if (luaL_loadbufferx(L_, text.data(), text.size(), ("@" + display).c_str(), "t") != LUA_OK || !call(0, 0)) {
@@ -84,7 +87,7 @@ class LuaState {
       return;
     }
   }
-  ~LuaState() {
+  ~LuaState() override {
     if (L_) lua_close(L_);
   }
   LuaState(const LuaState&) = delete;
@@ -130,38 +133,70 @@ class LuaState {
 
   // Binds the module API and freezes the script (see kFreeze); false with error() set.
   bool prepare(const Declared& d) {
-    lua_newtable(L_);  // variable name -> index
-    for (size_t i = 0; i < d.vars.size(); ++i) {
-      lua_pushinteger(L_, lua_Integer(i));
-      lua_setfield(L_, -2, d.vars[i].c_str());
-    }
-    vars_ = luaL_ref(L_, LUA_REGISTRYINDEX);
     lua_newtable(L_);  // parameter name -> value
     for (const auto& [name, value] : d.params) {
       lua_pushinteger(L_, value);
       lua_setfield(L_, -2, name.c_str());
     }
-    params_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+    const int params = lua_gettop(L_);
+    lua_newtable(L_);  // variable name -> index
+    for (size_t i = 0; i < d.vars.size(); ++i) {
+      lua_pushinteger(L_, lua_Integer(i));
+      lua_setfield(L_, -2, d.vars[i].c_str());
+    }
+    const int vars = lua_gettop(L_);
     lua_getglobal(L_, "step");
     step_ = luaL_ref(L_, LUA_REGISTRYINDEX);
     lua_getglobal(L_, "init");
     init_ = luaL_ref(L_, LUA_REGISTRYINDEX);
 
-    // The module: one userdata, pointed at each module in turn.
-    *static_cast<LuaState**>(lua_newuserdatauv(L_, sizeof(LuaState*), 0)) = this;
-    static constexpr luaL_Reg kMethods[] = {
-        {"get", &LuaState::get},       {"set", &LuaState::set},     {"neighbors", &LuaState::neighbors},
-        {"inbox", &LuaState::inbox},   {"send", &LuaState::send},   {"broadcast", &LuaState::broadcast},
-        {"random", &LuaState::random}, {"param", &LuaState::param}, {nullptr, nullptr}};
-    lua_newtable(L_);  // the userdata's metatable
-    lua_newtable(L_);  // its methods
+    // The module: one table, pointed at each module in turn. Its only own fields are id and step,
+    // rewritten before every call, so nothing a script writes there outlives the call; the
+    // methods sit behind its metatable, and a new field is an error. get and set find variables
+    // in their upvalue, param the parameters in its own.
+    lua_createtable(L_, 0, 2);
+    for (const char* key : {"id", "step"}) {
+      lua_pushstring(L_, key);
+      lua_pushinteger(L_, 0);
+      lua_rawset(L_, -3);
+    }
+    lua_createtable(L_, 0, 2);  // its metatable
+    lua_createtable(L_, 0, 8);  // the methods
+    static constexpr luaL_Reg kByVariable[] = {{"get", &LuaState::get}, {"set", &LuaState::set}, {nullptr, nullptr}};
+    lua_pushvalue(L_, vars);
+    luaL_setfuncs(L_, kByVariable, 1);
+    lua_pushvalue(L_, params);
+    lua_pushcclosure(L_, &LuaState::param, 1);
+    lua_setfield(L_, -2, "param");
+    // The tables m:inbox and m:neighbors hand out (their upvalues), and the metatable that lets
+    // no entry be added to them.
+    lua_createtable(L_, 0, 2);
+    lua_pushcfunction(L_, &LuaState::new_entry);
+    lua_setfield(L_, -2, "__newindex");
+    lua_pushboolean(L_, 0);
+    lua_setfield(L_, -2, "__metatable");
+    read_only_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+    for (int pool = 0; pool < 3; ++pool) lua_newtable(L_);  // kLists, kMessages, kWords
+    lua_pushvalue(L_, -3);
+    lua_pushcclosure(L_, &LuaState::neighbors, 1);
+    lua_setfield(L_, -5, "neighbors");
+    lua_pushliteral(L_, "from");
+    lua_pushliteral(L_, "data");
+    lua_pushcclosure(L_, &LuaState::inbox, 5);
+    lua_setfield(L_, -2, "inbox");
+    static constexpr luaL_Reg kMethods[] = {{"send", &LuaState::send},
+                                            {"broadcast", &LuaState::broadcast},
+                                            {"random", &LuaState::random},
+                                            {nullptr, nullptr}};
     luaL_setfuncs(L_, kMethods, 0);
-    lua_pushcclosure(L_, &LuaState::index, 1);
     lua_setfield(L_, -2, "__index");
+    lua_pushcfunction(L_, &LuaState::new_field);
+    lua_setfield(L_, -2, "__newindex");
     lua_pushboolean(L_, 0);
     lua_setfield(L_, -2, "__metatable");
     lua_setmetatable(L_, -2);
     module_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+    lua_pop(L_, 2);  // params, vars
 
     luaL_requiref(L_, LUA_DBLIBNAME, luaopen_debug, 0);  // for kFreeze only: never a global
     const int debug = lua_gettop(L_);
@@ -169,11 +204,27 @@ class LuaState {
     lua_pushglobaltable(L_);
     lua_pushvalue(L_, debug);
     if (!call(2, 1)) return failed();
-    checks_ = luaL_ref(L_, LUA_REGISTRYINDEX);
-    lua_pop(L_, 1);
-    lua_rawgeti(L_, LUA_REGISTRYINDEX, checks_);
-    check_count_ = lua_Integer(lua_rawlen(L_, -1));
-    lua_pop(L_, 1);
+    // What every call needs stays on the stack: the module table, the keys of its fields, and
+    // for each upvalue to check its function and its value (kFreeze's quadruples).
+    lua_remove(L_, debug);
+    const int checks = lua_gettop(L_);  // the stack's only entry, removed when the slots above are made
+    const auto quadruples = static_cast<lua_Integer>(lua_rawlen(L_, checks));
+    luaL_checkstack(L_, int(quadruples) + 8, "upvalues to check");
+    lua_rawgeti(L_, LUA_REGISTRYINDEX, module_);
+    lua_pushliteral(L_, "id");
+    lua_pushliteral(L_, "step");
+    for (lua_Integer i = 1; i + 3 <= quadruples; i += 4) {
+      lua_rawgeti(L_, checks, i + 1);
+      lua_rawgeti(L_, checks, i + 2);
+      checks_.push_back({int(lua_tointeger(L_, -2)), lua_tostring(L_, -1)});
+      lua_pop(L_, 2);
+      lua_rawgeti(L_, checks, i);
+      lua_rawgeti(L_, checks, i + 3);
+    }
+    lua_remove(L_, checks);
+    saved_.resize(d.vars.size());
+    // Loading counted every instruction; the calls are counted only when the watchdog says so.
+    if (limits_.patience.count() > 0) lua_sethook(L_, nullptr, 0, 0);
     return true;
   }
 
@@ -182,11 +233,31 @@ class LuaState {
   void run(sim::ModuleContext& m, bool initializing, bool after_init = false) {
     module_context_ = &m;
     after_init_ = after_init;
-    draws_ = 0;
-    lua_rawgeti(L_, LUA_REGISTRYINDEX, initializing ? init_ : step_);
-    lua_rawgeti(L_, LUA_REGISTRYINDEX, module_);
+    lua_pushvalue(L_, kIdKey);
+    lua_pushinteger(L_, m.id());
+    lua_rawset(L_, kModuleSlot);
+    lua_pushvalue(L_, kStepKey);
+    lua_pushinteger(L_, m.step());
+    lua_rawset(L_, kModuleSlot);
+    const int function = initializing ? init_ : step_;
+    bool ok = false;
+    if (limits_.patience.count() == 0) {
+      ok = attempt(function, true);
+    } else {
+      // What the call does goes into the module's variables and its outbox: kept, to take back
+      // if the watchdog interrupts it and it runs again, counted.
+      const sim::ModuleContext::Sent sent = m.sent();
+      for (size_t v = 0; v < saved_.size(); ++v) saved_[v] = m.assigned(uint32_t(v));
+      ok = attempt(function, false);
+      if (!ok && LuaWatchdog::is_interruption(L_, -1)) {
+        lua_pop(L_, 1);
+        for (size_t v = 0; v < saved_.size(); ++v) m.set(uint32_t(v), saved_[v]);
+        m.take_back(sent);
+        ok = attempt(function, true);
+      }
+    }
     std::string message;
-    if (!call(1, 0)) {
+    if (!ok) {
       message = pop_message();
     } else if (const char* name = changed_upvalue()) {
       message = display_ + ": " + (initializing ? "init" : "step") + " wrote the local '" + name +
@@ -198,6 +269,8 @@ class LuaState {
 
  private:
   static constexpr int kHookEvery = 1000;
+  // Stack slots of the state's own thread, between calls (prepare pushes them).
+  static constexpr int kModuleSlot = 1, kIdKey = 2, kStepKey = 3, kFirstCheck = 4;
 
   static LuaState& of(lua_State* L) { return **static_cast<LuaState**>(lua_getextraspace(L)); }
   static sim::ModuleContext& module(lua_State* L) {
@@ -259,6 +332,26 @@ class LuaState {
     lua_pop(L_, 1);
   }
 
+  // One try of a call of init or step (the registry's `function`) on the module, with every
+  // instruction counted or under the watchdog; the error stays on the stack when false.
+  bool attempt(int function, bool counted) {
+    draws_ = 0;
+    for (Pool& pool : pools_) pool.handed_out = 0;
+    lua_rawgeti(L_, LUA_REGISTRYINDEX, function);
+    lua_pushvalue(L_, kModuleSlot);
+    if (counted) {
+      if (limits_.patience.count() > 0) lua_sethook(L_, &LuaState::count_hook, LUA_MASKCOUNT, kHookEvery);
+      const bool ok = call(1, 0);
+      if (limits_.patience.count() > 0) lua_sethook(L_, nullptr, 0, 0);
+      return ok;
+    }
+    if (!watchdog_) watchdog_ = std::make_unique<LuaWatchdog>(L_, limits_.patience);
+    watchdog_->begin();
+    const bool ok = lua_pcall(L_, 1, 0, 0) == LUA_OK;
+    watchdog_->end();
+    return ok;
+  }
+
   // pcall with the instruction budget reset; the error message stays on the stack when false.
   bool call(int args, int results) {
     executed_ = 0;
@@ -276,47 +369,28 @@ class LuaState {
 
   // The name of an upvalue a call changed, or nullptr.
   const char* changed_upvalue() {
-    if (check_count_ == 0) return nullptr;
-    lua_rawgeti(L_, LUA_REGISTRYINDEX, checks_);
-    const char* changed = nullptr;
-    for (lua_Integer i = 1; i + 3 <= check_count_ && !changed; i += 4) {
-      lua_rawgeti(L_, -1, i);  // the function
-      lua_rawgeti(L_, -2, i + 1);
-      const int index = int(lua_tointeger(L_, -1));
+    for (size_t k = 0; k < checks_.size(); ++k) {
+      const int function = kFirstCheck + 2 * int(k);
+      lua_getupvalue(L_, function, checks_[k].index);
+      const bool same = lua_rawequal(L_, -1, function + 1);
       lua_pop(L_, 1);
-      lua_getupvalue(L_, -1, index);
-      lua_rawgeti(L_, -3, i + 3);
-      if (!lua_rawequal(L_, -1, -2)) {
-        lua_rawgeti(L_, -4, i + 2);
-        changed = lua_tostring(L_, -1);  // kept alive by the checks table
-        lua_pop(L_, 1);
-      }
-      lua_pop(L_, 3);
+      if (!same) return checks_[k].name.c_str();
     }
-    lua_pop(L_, 1);
-    return changed;
+    return nullptr;
   }
 
-  // m.id, m.step, and the methods.
-  static int index(lua_State* L) {
-    const char* key = luaL_checkstring(L, 2);
-    if (std::strcmp(key, "id") == 0) {
-      lua_pushinteger(L, module(L).id());
-    } else if (std::strcmp(key, "step") == 0) {
-      lua_pushinteger(L, module(L).step());
-    } else {
-      lua_getfield(L, lua_upvalueindex(1), key);
-    }
-    return 1;
+  static int new_field(lua_State* L) {
+    return luaL_error(L, "sets m.%s: the module has no such field (a script keeps its state with m:set)",
+                      luaL_tolstring(L, 2, nullptr));
   }
 
-  static uint32_t variable(lua_State* L, int arg) {
-    const char* name = luaL_checkstring(L, arg);
-    lua_rawgeti(L, LUA_REGISTRYINDEX, of(L).vars_);
-    if (lua_getfield(L, -1, name) != LUA_TNUMBER)
-      luaL_error(L, "'%s' is not a variable of this program (declare it in program.vars)", name);
+  // The variable named by argument 2, looked up in the calling function's upvalue.
+  static uint32_t variable(lua_State* L) {
+    lua_pushvalue(L, 2);
+    if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNUMBER)
+      luaL_error(L, "'%s' is not a variable of this program (declare it in program.vars)", luaL_checkstring(L, 2));
     const auto index = static_cast<uint32_t>(lua_tointeger(L, -1));
-    lua_pop(L, 2);
+    lua_pop(L, 1);
     return index;
   }
 
@@ -330,43 +404,85 @@ class LuaState {
   }
 
   static int get(lua_State* L) {
-    const uint32_t v = variable(L, 2);
+    const uint32_t v = variable(L);
     // At step 0, after init, what init set stands for the values before the step.
     lua_pushinteger(L, of(L).after_init_ ? module(L).assigned(v) : module(L).get(v));
     return 1;
   }
   static int set(lua_State* L) {
-    const uint32_t v = variable(L, 2);
+    const uint32_t v = variable(L);
     module(L).set(v, integer(L, 3, "a variable's value"));
     return 0;
   }
+  static int new_entry(lua_State* L) {
+    return luaL_error(L, "adds '%s' to a table of m:inbox() or m:neighbors(), which are the step's own (copy it first)",
+                      luaL_tolstring(L, 2, nullptr));
+  }
+
+  // Tables handed out by m:inbox and m:neighbors, kept from call to call instead of garbage
+  // made per module: what a script got from a pool may have been changed, never kept (its state
+  // lives in its variables). Lists and words are arrays, messages have the fields from and data.
+  // The pools are the methods' upvalues (kLists, kMessages, kWords), in this order.
+  enum PoolKind { kLists, kMessages, kWords };
+  struct Pool {
+    std::vector<uint32_t> filled;  // entries written into each table
+    uint32_t handed_out = 0;       // tables handed out in this call
+  };
+
+  // A table of the pool at `upvalue` for this call at the top of the stack, holding `size`
+  // entries: those from 1 to `size` are the caller's to fill, the ones after are cleared here.
+  void take_table(lua_State* L, PoolKind kind, int upvalue, uint32_t size) {
+    Pool& pool = pools_[kind];
+    const uint32_t slot = pool.handed_out++;
+    if (slot == pool.filled.size()) {
+      lua_createtable(L, kind == kMessages ? 0 : int(std::max(size, 8u)), kind == kMessages ? 2 : 0);
+      lua_rawgeti(L, LUA_REGISTRYINDEX, read_only_);
+      lua_setmetatable(L, -2);
+      lua_pushvalue(L, -1);
+      lua_rawseti(L, lua_upvalueindex(upvalue), lua_Integer(slot) + 1);
+      pool.filled.push_back(0);
+    } else {
+      lua_rawgeti(L, lua_upvalueindex(upvalue), lua_Integer(slot) + 1);
+      for (uint32_t i = size; i < pool.filled[slot]; ++i) {
+        lua_pushnil(L);
+        lua_rawseti(L, -2, lua_Integer(i) + 1);
+      }
+    }
+    pool.filled[slot] = size;
+  }
+
   static int neighbors(lua_State* L) {
     const auto n = module(L).neighbors();
-    lua_createtable(L, int(n.size()), 0);
+    of(L).take_table(L, kLists, 1, uint32_t(n.size()));
     for (size_t i = 0; i < n.size(); ++i) {
       lua_pushinteger(L, n[i]);
       lua_rawseti(L, -2, lua_Integer(i + 1));
     }
     return 1;
   }
+  // { { from = id, data = { words } }, ... }. Upvalues: the three pools, "from" and "data".
   static int inbox(lua_State* L) {
+    LuaState& s = of(L);
     const auto in = module(L).inbox();
-    lua_createtable(L, int(in.size()), 0);
+    s.take_table(L, kLists, 1, uint32_t(in.size()));
     for (size_t i = 0; i < in.size(); ++i) {
-      lua_createtable(L, 0, 2);
+      s.take_table(L, kMessages, 2, 0);
+      lua_pushvalue(L, lua_upvalueindex(4));
       lua_pushinteger(L, in[i].from);
-      lua_setfield(L, -2, "from");
+      lua_rawset(L, -3);
       const auto words = in[i].payload();
-      lua_createtable(L, int(words.size()), 0);
+      lua_pushvalue(L, lua_upvalueindex(5));
+      s.take_table(L, kWords, 3, uint32_t(words.size()));
       for (size_t w = 0; w < words.size(); ++w) {
         lua_pushinteger(L, words[w]);
         lua_rawseti(L, -2, lua_Integer(w + 1));
       }
-      lua_setfield(L, -2, "data");
+      lua_rawset(L, -3);
       lua_rawseti(L, -2, lua_Integer(i + 1));
     }
     return 1;
   }
+
   // The words of a message: a list of integers, at most Message::kMaxWords. Trivially
   // destructible, as everything alive where a Lua error may jump.
   struct Payload {
@@ -376,12 +492,12 @@ class LuaState {
   };
   static Payload payload(lua_State* L, int arg) {
     luaL_checktype(L, arg, LUA_TTABLE);
-    const lua_Integer n = luaL_len(L, arg);
+    const auto n = static_cast<lua_Integer>(lua_rawlen(L, arg));
     if (n > lua_Integer(sim::Message::kMaxWords))
       luaL_error(L, "a message holds at most %d integers, not %I", int(sim::Message::kMaxWords), n);
     Payload p{{}, static_cast<size_t>(n)};
     for (lua_Integer i = 1; i <= n; ++i) {
-      lua_geti(L, arg, i);
+      lua_rawgeti(L, arg, i);
       p.words[size_t(i - 1)] = integer(L, -1, "a message word");
       lua_pop(L, 1);
     }
@@ -412,10 +528,9 @@ class LuaState {
     return 1;
   }
   static int param(lua_State* L) {
-    const char* name = luaL_checkstring(L, 2);
-    lua_rawgeti(L, LUA_REGISTRYINDEX, of(L).params_);
-    if (lua_getfield(L, -1, name) != LUA_TNUMBER)
-      luaL_error(L, "'%s' is not a parameter of this program (declare it in program.params)", name);
+    lua_pushvalue(L, 2);
+    if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNUMBER)
+      luaL_error(L, "'%s' is not a parameter of this program (declare it in program.params)", luaL_checkstring(L, 2));
     return 1;
   }
 
@@ -424,9 +539,15 @@ class LuaState {
   std::string display_, error_;
   size_t bytes_ = 0;
   int64_t executed_ = 0;
-  int vars_ = LUA_NOREF, params_ = LUA_NOREF, step_ = LUA_NOREF, init_ = LUA_NOREF, module_ = LUA_NOREF,
-      checks_ = LUA_NOREF;
-  lua_Integer check_count_ = 0;
+  int step_ = LUA_NOREF, init_ = LUA_NOREF, module_ = LUA_NOREF, read_only_ = LUA_NOREF;
+  struct Check {
+    int index;  // of the upvalue in its function
+    std::string name;
+  };
+  std::vector<Check> checks_;  // their functions and values are on the stack from kFirstCheck
+  std::array<Pool, 3> pools_;
+  std::vector<int64_t> saved_;             // the variables before a call, to take back
+  std::unique_ptr<LuaWatchdog> watchdog_;  // made at the first call
   sim::ModuleContext* module_context_ = nullptr;
   bool after_init_ = false;  // step 0 of a script with init: m:get reads what init set
   uint32_t draws_ = 0;
@@ -444,7 +565,7 @@ class LuaProgram final : public sim::HostProgram {
     return out;
   }
   void step(sim::ModuleContext& m) const override {
-    LuaState& s = state();
+    auto& s = static_cast<LuaState&>(*m.scratch());
     if (!s.error().empty()) {
       m.fail("at step " + std::to_string(m.step()) + ": " + s.error());
       return;
@@ -452,24 +573,17 @@ class LuaProgram final : public sim::HostProgram {
     if (m.step() == 0 && declared_.has_init) s.run(m, true);
     s.run(m, false, m.step() == 0 && declared_.has_init);
   }
-
- private:
-  // This thread's Lua state, made on its first step: a state is used by one thread only.
-  LuaState& state() const {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    std::unique_ptr<LuaState>& s = states_[std::this_thread::get_id()];
-    if (!s) {
-      s = std::make_unique<LuaState>(display_, text_, limits_);
-      if (s->error().empty()) s->prepare(declared_);  // declared once, when the scenario loaded
-    }
-    return *s;
+  // A stepping thread's own Lua state, declared from what the script declared at load.
+  std::unique_ptr<sim::ProgramScratch> make_scratch() const override {
+    auto s = std::make_unique<LuaState>(display_, text_, limits_);
+    if (s->error().empty()) s->prepare(declared_);
+    return s;
   }
 
+ private:
   std::string display_, text_;
   Declared declared_;
   LuaLimits limits_;
-  mutable std::mutex mutex_;
-  mutable std::unordered_map<std::thread::id, std::unique_ptr<LuaState>> states_;
 };
 
 }  // namespace

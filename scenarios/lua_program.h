@@ -11,6 +11,7 @@
 // running. One Lua state per thread that steps modules, never per module.
 #pragma once
 
+#include <chrono>
 #include <memory>
 #include <string>
 
@@ -22,6 +23,9 @@ namespace dw::scenarios {
 struct LuaLimits {
   int64_t instructions = 10'000'000;  // VM instructions per init/step call
   size_t memory_bytes = 64u << 20;    // per Lua state (one per stepping thread)
+  // Calls run uncounted, at full speed; one still running after this long is run again with
+  // every instruction counted (scenarios/lua_watchdog.h). Zero: every call counted.
+  std::chrono::milliseconds patience{10};
 };
 
 // Builds the program of the script `display` (as messages name it) with the source `text` and the

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -30,6 +31,13 @@ struct VariableSpec {
 
 class ModuleContext;
 
+// Working memory a program keeps per stepping thread (an interpreter, buffers), never a module's
+// state, which lives in its variables only. Every runtime thread has its own, so no lock is taken.
+class ProgramScratch {
+ public:
+  virtual ~ProgramScratch() = default;
+};
+
 class HostProgram {
  public:
   virtual ~HostProgram() = default;
@@ -39,6 +47,9 @@ class HostProgram {
   // Runs once per present module and step: reads the inbox, the neighbours and the variables,
   // assigns variables and sends messages.
   virtual void step(ModuleContext& module) const = 0;
+  // A stepping thread's scratch, made when the runtime starts (ModuleContext::scratch hands it
+  // back); nullptr, the default, when the program needs none.
+  virtual std::unique_ptr<ProgramScratch> make_scratch() const { return nullptr; }
 };
 
 // Where a step's sends go, per thread; the runtime checks and delivers them.
@@ -52,7 +63,7 @@ class ModuleContext {
  public:
   ModuleContext(ModuleId id, int64_t step, uint64_t seed, uint16_t program, std::span<const ModuleId> neighbors,
                 std::span<const Message> inbox, const int64_t* before, int64_t* after, Outbox& outbox,
-                std::string_view program_name, const Bodies& bodies)
+                std::string_view program_name, const Bodies& bodies, ProgramScratch* scratch = nullptr)
       : id_(id),
         step_(step),
         seed_(seed),
@@ -63,7 +74,8 @@ class ModuleContext {
         after_(after),
         outbox_(outbox),
         program_name_(program_name),
-        bodies_(bodies) {}
+        bodies_(bodies),
+        scratch_(scratch) {}
 
   ModuleId id() const { return id_; }
   int64_t step() const { return step_; }
@@ -85,6 +97,19 @@ class ModuleContext {
   uint64_t random(uint32_t stream) const;
   // Uniform in 0 .. n - 1 (n > 0).
   int64_t uniform(int64_t n, uint32_t stream) const { return static_cast<int64_t>(random(stream) % uint64_t(n)); }
+
+  // What the step has sent and asked of the body so far, to take back (a call run again).
+  struct Sent {
+    size_t messages, actuations;
+  };
+  Sent sent() const { return {outbox_.messages.size(), outbox_.actuations.size()}; }
+  void take_back(Sent s) {
+    outbox_.messages.resize(s.messages);
+    outbox_.actuations.resize(s.actuations);
+  }
+
+  // This thread's scratch of the program (HostProgram::make_scratch).
+  ProgramScratch* scratch() const { return scratch_; }
 
   // Sends to a neighbour (delivered at t + 1). Sending to a module that is not a neighbour, or
   // more than Message::kMaxWords words, is a program error that stops the run.
@@ -134,6 +159,7 @@ class ModuleContext {
   Outbox& outbox_;
   std::string_view program_name_;
   const Bodies& bodies_;
+  ProgramScratch* scratch_;
 };
 
 }  // namespace dw::sim

@@ -39,12 +39,14 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads)
   blocks_ = (m >> block_shift_) + ((m & ((1u << block_shift_) - 1)) != 0);
   scratch_.resize(pool_.size());
   arriving_.resize(pool_.size());
-  for (ThreadScratch& s : scratch_)
+  for (ThreadScratch& s : scratch_) {
+    for (const auto& program : model.programs) s.programs.push_back(program->make_scratch());
     for (const HostedWatchpoint& w : model.watches) {
       // Each thread may use the whole budget; whether the step went over it is decided on the
       // threads' sum afterwards (finish_distributed), so the stop never depends on the thread count.
       s.agents.emplace_back(w.watchpoint.program, w.options.optimizations, w.options.live_budget);
     }
+  }
   next_values_.resize(size_t{m} * model.variable_count());
   const size_t lanes = size_t{pool_.size()} * blocks_;
   for (const HostedWatchpoint& w : model.watches) {
@@ -90,7 +92,7 @@ WatchState Runtime::initial_watch_state(uint32_t w) const {
 
 void Runtime::run_programs(unsigned thread, uint32_t begin, uint32_t end, const State& state) {
   const uint32_t v = model_.variable_count(), programs = model_.program_count();
-  Outbox& outbox = scratch_[thread].outbox;
+  ThreadScratch& scratch = scratch_[thread];
   for (uint32_t m = begin; m < end; ++m) {
     const int64_t* before = state.values.data() + size_t{m} * v;
     int64_t* after = next_values_.data() + size_t{m} * v;
@@ -101,7 +103,8 @@ void Runtime::run_programs(unsigned thread, uint32_t begin, uint32_t end, const 
       const uint32_t base = model_.program_base[p];
       const HostProgram& program = *model_.programs[p];
       ModuleContext ctx(m, state.step, model_.seed, static_cast<uint16_t>(p), neighbors, state.inbox.of(m, p, programs),
-                        before + base, after + base, outbox, program.name(), state.bodies);
+                        before + base, after + base, scratch.outbox, program.name(), state.bodies,
+                        scratch.programs[p].get());
       program.step(ctx);
     }
   }

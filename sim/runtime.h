@@ -71,8 +71,9 @@ class Runtime {
   struct Lanes;  // a thread's PatternMatcher outbox
   struct ThreadScratch {
     Outbox outbox;
-    std::vector<watch::AgentContext> agents;  // per watchpoint (distributed ones used)
-    std::vector<uint32_t> live_watches;       // distributed watchpoints still observing
+    std::vector<std::unique_ptr<ProgramScratch>> programs;  // per program (HostProgram::make_scratch)
+    std::vector<watch::AgentContext> agents;                // per watchpoint (distributed ones used)
+    std::vector<uint32_t> live_watches;                     // distributed watchpoints still observing
   };
 
   void intervene(State& state, std::span<const Intervention> interventions);

@@ -16,7 +16,7 @@ program = {
   params = { bug = 0 },
 }
 
-local UNDECIDED, LEADER, FOLLOWER = 0, 1, 2
+local UNDECIDED <const>, LEADER <const>, FOLLOWER <const> = 0, 1, 2
 
 function step(m)
   local priority = m:get("_priority")
@@ -27,21 +27,28 @@ function step(m)
   end
   local status = m:get("_status")
 
-  -- The neighbourhood as the inbox tells it (the neighbours' state at t - 1).
+  -- The neighbourhood as the inbox tells it (the neighbours' state at t - 1): each message is
+  -- { status, priority, best priority within one hop, leader within one hop }.
   local leader_1hop, leader_2hop = false, false
-  local best_neighbor, best_2hop = -1, -1
-  for _, msg in ipairs(m:inbox()) do
-    local status_of, priority_of, best_of, leader_of = msg.data[1], msg.data[2], msg.data[3], msg.data[4]
-    if status_of == LEADER then leader_1hop = true end
-    if status_of == UNDECIDED then best_neighbor = math.max(best_neighbor, priority_of) end
-    if leader_of ~= 0 then leader_2hop = true end
-    best_2hop = math.max(best_2hop, best_of)
+  local best_neighbor, best_2hop = -1, -1  -- of the undecided neighbours; what they know of
+  local inbox = m:inbox()
+  for i = 1, #inbox do
+    local data = inbox[i].data
+    local status_of, priority_of, best_of = data[1], data[2], data[3]
+    if status_of == LEADER then
+      leader_1hop = true
+    elseif status_of == UNDECIDED and priority_of > best_neighbor then
+      best_neighbor = priority_of
+    end
+    if data[4] ~= 0 then leader_2hop = true end
+    if best_of > best_2hop then best_2hop = best_of end
   end
 
   local bug = m:param("bug") ~= 0
   if status == UNDECIDED then
     local covered = leader_1hop or (not bug and leader_2hop)
-    local rival = bug and best_neighbor or math.max(best_neighbor, best_2hop)
+    local rival = best_neighbor
+    if not bug and best_2hop > rival then rival = best_2hop end
     local ready = bug and 1 or 2  -- the step from which the compared priorities have arrived
     if covered then
       status = FOLLOWER
@@ -53,6 +60,7 @@ function step(m)
   m:set("isLeader", status == LEADER and 1 or 0)
   -- What the neighbours learn: the new status, the best undecided priority within one hop, and
   -- whether a leader is within one hop.
-  local best_1hop = math.max(status == UNDECIDED and priority or -1, best_neighbor)
+  local best_1hop = status == UNDECIDED and priority or -1
+  if best_neighbor > best_1hop then best_1hop = best_neighbor end
   m:broadcast({ status, priority, best_1hop, (leader_1hop or status == LEADER) and 1 or 0 })
 end

@@ -1,0 +1,94 @@
+#include "scenarios/lua_watchdog.h"
+
+#include <cerrno>
+#include <csignal>
+
+namespace dw::scenarios {
+namespace {
+
+// SIGURG: ignored when nobody handles it, and used by no library dwatch links (Go's runtime
+// preempts goroutines with it for the same reasons).
+constexpr int kSignal = SIGURG;
+
+// The error value that marks an interruption: its address, which no script can make.
+constexpr char kInterruption = 0;
+
+// The watchdog whose call this thread is running. A signal handler learns nothing else about the
+// thread it interrupts, so this one thread-local is the way in; the signal names its watchdog, and
+// a handler that finds another (or none) does nothing.
+thread_local LuaWatchdog* t_running = nullptr;
+
+void install_handler(void (*handler)(int, siginfo_t*, void*)) {
+  // Signal dispositions belong to the process: installed once, the same for every watchdog.
+  static std::once_flag installed;
+  std::call_once(installed, [handler] {
+    struct sigaction action {};
+    action.sa_sigaction = handler;
+    action.sa_flags = SA_SIGINFO | SA_RESTART;
+    sigemptyset(&action.sa_mask);
+    sigaction(kSignal, &action, nullptr);
+  });
+}
+
+}  // namespace
+
+LuaWatchdog::LuaWatchdog(lua_State* L, std::chrono::milliseconds patience) : L_(L), patience_(patience) {
+  install_handler(&LuaWatchdog::on_signal);
+  watcher_ = std::thread([this] { watch(); });
+}
+
+LuaWatchdog::~LuaWatchdog() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  watcher_.join();
+}
+
+void LuaWatchdog::begin() {
+  // A hook left by a signal that came after the last call ended would interrupt this one at once.
+  if (lua_gethook(L_) == &LuaWatchdog::interrupt) lua_sethook(L_, nullptr, 0, 0);
+  caller_.store(pthread_self(), std::memory_order_relaxed);
+  t_running = this;
+  calls_.store(calls_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
+}
+
+void LuaWatchdog::end() {
+  t_running = nullptr;
+  calls_.store(calls_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
+}
+
+bool LuaWatchdog::is_interruption(lua_State* L, int index) {
+  return lua_touserdata(L, index) == &kInterruption;
+}
+
+void LuaWatchdog::on_signal(int, siginfo_t* info, void*) {
+  const int saved = errno;
+  LuaWatchdog* w = t_running;
+  if (w && info->si_value.sival_ptr == w) lua_sethook(w->L_, &LuaWatchdog::interrupt, LUA_MASKCOUNT, 1);
+  errno = saved;
+}
+
+void LuaWatchdog::interrupt(lua_State* L, lua_Debug*) {
+  // Stays installed: a script that catches the error with pcall meets it again at its next
+  // instruction, until it reaches the caller.
+  lua_pushlightuserdata(L, const_cast<char*>(&kInterruption));
+  lua_error(L);
+}
+
+void LuaWatchdog::watch() {
+  uint64_t seen = 0;
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!wake_.wait_for(lock, patience_, [this] { return stopping_; })) {
+    const uint64_t now = calls_.load(std::memory_order_acquire);
+    if ((now & 1) != 0 && now == seen) {  // the same call as a patience ago
+      sigval value{};
+      value.sival_ptr = this;
+      pthread_sigqueue(caller_.load(std::memory_order_relaxed), kSignal, value);
+    }
+    seen = now;
+  }
+}
+
+}  // namespace dw::scenarios
