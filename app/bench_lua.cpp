@@ -19,8 +19,8 @@ struct Workload {
   std::string lattice;  // scenario text
   uint64_t modules;
   int64_t steps;
-  std::string params;   // scenario keys of the [[program]] table
-  double bar_us = 0;    // the bar for the Lua port, µs per module-step (0: none)
+  std::string params;  // scenario keys of the [[program]] table
+  double bar_us = 0;   // the bar for the Lua port, µs per module-step (0: none)
 };
 
 std::string program_toml(const Workload& w, bool lua) {
@@ -43,8 +43,7 @@ const char* lua_dir() { return DWATCH_LUA_DIR; }
 
 int bench_lua(const BenchArgs& args) {
   std::unique_ptr<sim::OutputFile> csv;
-  if (!open_csv(args, "lua", "row,language,modules,steps,best_seconds,median_seconds,us_per_module_step,peak_mib",
-                csv))
+  if (!open_csv(args, "lua", "row,language,modules,steps,best_seconds,median_seconds,us_per_module_step,peak_mib", csv))
     return 2;
   const uint32_t big = args.quick ? 50 : 100;
   const std::vector<Workload> speed = {
@@ -58,18 +57,19 @@ int bench_lua(const BenchArgs& args) {
             << (args.threads == 1 ? " thread" : " threads") << ", no watchpoint\n"
             << std::left << std::setw(34) << "row" << std::right << std::setw(10) << "best s" << std::setw(10)
             << "median s" << std::setw(16) << "us/module-step" << std::setw(10) << "peak MiB" << std::setw(10)
-            << "Lua/C++" << "\n";
+            << "Lua/C++"
+            << "\n";
   bool all_met = true;
   auto run = [&](const Workload& w, Measured& m) {
     for (const bool lua : {false, true}) {
       RuntimeRow& r = lua ? m.lua : m.cpp;
       BenchArgs a = args;
       a.steps = w.steps;
-      if (!run_runtime_row(w.lattice + program_toml(w, lua), a, w.modules > 100'000 ? 1 : args.repeat, r,
-                           Timed::Steps, 0.5))
+      if (!run_runtime_row(w.lattice + program_toml(w, lua), a, w.modules > 100'000 ? 1 : args.repeat, r, Timed::Steps,
+                           0.5))
         return false;
-      const std::string label = std::string(w.program) + (lua ? ".lua" : " (C++)") + ", " +
-                                std::to_string(w.modules) + " x " + std::to_string(w.steps);
+      const std::string label = std::string(w.program) + (lua ? ".lua" : " (C++)") + ", " + std::to_string(w.modules) +
+                                " x " + std::to_string(w.steps);
       const double mib = double(r.peak_kib) / 1024.0;
       std::cout << std::left << std::setw(34) << label << std::right << std::fixed << std::setprecision(3)
                 << std::setw(10) << r.seconds << std::setw(10) << r.median_seconds << std::setw(16) << m.us(r, w)

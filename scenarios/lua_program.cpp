@@ -133,18 +133,27 @@ class LuaState final : public sim::ProgramScratch {
 
   // Binds the module API and freezes the script (see kFreeze); false with error() set.
   bool prepare(const Declared& d) {
-    lua_newtable(L_);  // parameter name -> value
+    auto index_table = [&](Names which, const std::vector<std::string>& names) {
+      lua_newtable(L_);  // name -> index
+      for (size_t i = 0; i < names.size(); ++i) {
+        lua_pushinteger(L_, lua_Integer(i));
+        lua_setfield(L_, -2, names[i].c_str());
+        // The key's own string when Lua interns it (pushed twice, the same address), which the
+        // table keeps alive; a longer name is looked up in the table.
+        const char* once = lua_pushstring(L_, names[i].c_str());
+        const char* twice = lua_pushstring(L_, names[i].c_str());
+        names_[which].push_back(once == twice ? once : nullptr);
+        lua_pop(L_, 2);
+      }
+      return lua_gettop(L_);
+    };
+    std::vector<std::string> param_names;
     for (const auto& [name, value] : d.params) {
-      lua_pushinteger(L_, value);
-      lua_setfield(L_, -2, name.c_str());
+      param_names.push_back(name);
+      param_values_.push_back(value);
     }
-    const int params = lua_gettop(L_);
-    lua_newtable(L_);  // variable name -> index
-    for (size_t i = 0; i < d.vars.size(); ++i) {
-      lua_pushinteger(L_, lua_Integer(i));
-      lua_setfield(L_, -2, d.vars[i].c_str());
-    }
-    const int vars = lua_gettop(L_);
+    const int params = index_table(kParameters, param_names);
+    const int vars = index_table(kVariables, d.vars);
     lua_getglobal(L_, "step");
     step_ = luaL_ref(L_, LUA_REGISTRYINDEX);
     lua_getglobal(L_, "init");
@@ -384,18 +393,30 @@ class LuaState final : public sim::ProgramScratch {
                       luaL_tolstring(L, 2, nullptr));
   }
 
-  // The variable named by argument 2, looked up in the calling function's upvalue.
-  static uint32_t variable(lua_State* L) {
+  // The index of the variable (kVariables) or parameter (kParameters) named by argument 2. Names
+  // of up to 40 bytes are interned by Lua: the string passed is the very one the table of names
+  // holds (which keeps it alive), so comparing addresses finds it; the upvalue table looks up the
+  // rest, and reports a name that is neither.
+  enum Names { kVariables, kParameters };
+  static uint32_t lookup(lua_State* L, Names which) {
+    const std::vector<const char*>& names = of(L).names_[which];
+    if (const char* name = lua_tolstring(L, 2, nullptr))
+      for (size_t i = 0; i < names.size(); ++i)
+        if (names[i] == name) return uint32_t(i);
     lua_pushvalue(L, 2);
     if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNUMBER)
-      luaL_error(L, "'%s' is not a variable of this program (declare it in program.vars)", luaL_checkstring(L, 2));
+      luaL_error(L,
+                 which == kVariables ? "'%s' is not a variable of this program (declare it in program.vars)"
+                                     : "'%s' is not a parameter of this program (declare it in program.params)",
+                 luaL_checkstring(L, 2));
     const auto index = static_cast<uint32_t>(lua_tointeger(L, -1));
     lua_pop(L, 1);
     return index;
   }
 
   static int64_t integer(lua_State* L, int arg, const char* what) {
-    int ok = 0;
+    if (lua_isinteger(L, arg)) return lua_tointeger(L, arg);
+    int ok = 0;  // a float with an integral value, or not a number at all
     const lua_Integer v = lua_tointegerx(L, arg, &ok);
     if (!ok || lua_type(L, arg) != LUA_TNUMBER)
       luaL_error(L, "%s must be an integer, not %s", what,
@@ -404,13 +425,13 @@ class LuaState final : public sim::ProgramScratch {
   }
 
   static int get(lua_State* L) {
-    const uint32_t v = variable(L);
+    const uint32_t v = lookup(L, kVariables);
     // At step 0, after init, what init set stands for the values before the step.
     lua_pushinteger(L, of(L).after_init_ ? module(L).assigned(v) : module(L).get(v));
     return 1;
   }
   static int set(lua_State* L) {
-    const uint32_t v = variable(L);
+    const uint32_t v = lookup(L, kVariables);
     module(L).set(v, integer(L, 3, "a variable's value"));
     return 0;
   }
@@ -496,11 +517,10 @@ class LuaState final : public sim::ProgramScratch {
     if (n > lua_Integer(sim::Message::kMaxWords))
       luaL_error(L, "a message holds at most %d integers, not %I", int(sim::Message::kMaxWords), n);
     Payload p{{}, static_cast<size_t>(n)};
-    for (lua_Integer i = 1; i <= n; ++i) {
-      lua_rawgeti(L, arg, i);
-      p.words[size_t(i - 1)] = integer(L, -1, "a message word");
-      lua_pop(L, 1);
-    }
+    const int top = lua_gettop(L);
+    for (lua_Integer i = 1; i <= n; ++i) lua_rawgeti(L, arg, i);
+    for (int i = 0; i < int(n); ++i) p.words[size_t(i)] = integer(L, top + 1 + i, "a message word");
+    lua_settop(L, top);
     return p;
   }
   static int send(lua_State* L) {
@@ -528,9 +548,7 @@ class LuaState final : public sim::ProgramScratch {
     return 1;
   }
   static int param(lua_State* L) {
-    lua_pushvalue(L, 2);
-    if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNUMBER)
-      luaL_error(L, "'%s' is not a parameter of this program (declare it in program.params)", luaL_checkstring(L, 2));
+    lua_pushinteger(L, of(L).param_values_[lookup(L, kParameters)]);
     return 1;
   }
 
@@ -546,6 +564,8 @@ class LuaState final : public sim::ProgramScratch {
   };
   std::vector<Check> checks_;  // their functions and values are on the stack from kFirstCheck
   std::array<Pool, 3> pools_;
+  std::array<std::vector<const char*>, 2> names_;  // of the variables and the parameters (see lookup)
+  std::vector<int64_t> param_values_;
   std::vector<int64_t> saved_;             // the variables before a call, to take back
   std::unique_ptr<LuaWatchdog> watchdog_;  // made at the first call
   sim::ModuleContext* module_context_ = nullptr;

@@ -59,9 +59,7 @@ void LuaWatchdog::end() {
   calls_.store(calls_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
 }
 
-bool LuaWatchdog::is_interruption(lua_State* L, int index) {
-  return lua_touserdata(L, index) == &kInterruption;
-}
+bool LuaWatchdog::is_interruption(lua_State* L, int index) { return lua_touserdata(L, index) == &kInterruption; }
 
 void LuaWatchdog::on_signal(int, siginfo_t* info, void*) {
   const int saved = errno;

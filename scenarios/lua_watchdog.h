@@ -9,13 +9,13 @@
 // counting hook, so whether a call exceeds its instruction budget never depends on timing.
 #pragma once
 
-#include <lua.hpp>
 #include <pthread.h>
+#include <lua.hpp>
 
 #include <atomic>
-#include <csignal>
 #include <chrono>
 #include <condition_variable>
+#include <csignal>
 #include <mutex>
 #include <thread>
 

@@ -16,7 +16,10 @@ program = {
   params = { bug = 0 },
 }
 
-local UNDECIDED <const>, LEADER <const>, FOLLOWER <const> = 0, 1, 2
+-- Statuses (<const>: compiled in, so step keeps nothing outside the module's variables).
+local UNDECIDED <const> = 0
+local LEADER <const> = 1
+local FOLLOWER <const> = 2
 
 function step(m)
   local priority = m:get("_priority")
