@@ -193,10 +193,10 @@ class LuaState final : public sim::ProgramScratch {
     lua_pushliteral(L_, "data");
     lua_pushcclosure(L_, &LuaState::inbox, 5);
     lua_setfield(L_, -2, "inbox");
-    static constexpr luaL_Reg kMethods[] = {{"send", &LuaState::send},
-                                            {"broadcast", &LuaState::broadcast},
-                                            {"random", &LuaState::random},
-                                            {nullptr, nullptr}};
+    static constexpr luaL_Reg kMethods[] = {{"send", &LuaState::send},     {"broadcast", &LuaState::broadcast},
+                                            {"random", &LuaState::random}, {"position", &LuaState::position},
+                                            {"moving", &LuaState::moving}, {"move", &LuaState::move},
+                                            {"push", &LuaState::push},     {nullptr, nullptr}};
     luaL_setfuncs(L_, kMethods, 0);
     lua_setfield(L_, -2, "__index");
     lua_pushcfunction(L_, &LuaState::new_field);
@@ -547,6 +547,44 @@ class LuaState final : public sim::ProgramScratch {
     lua_pushinteger(L, n == 0 ? static_cast<lua_Integer>(m.random(stream)) : m.uniform(n, stream));
     return 1;
   }
+  // The body (DESIGN §11, mirroring sim::ModuleContext's sensing and actuation): only in a world
+  // with bodies, which the scenario's [physics] makes.
+  static sim::ModuleContext& body(lua_State* L, const char* method) {
+    sim::ModuleContext& m = module(L);
+    if (!m.has_body())
+      luaL_error(L, "m:%s() needs a body, and this world has none (the scenario's [physics] is off)", method);
+    return m;
+  }
+  static sim::Vec3 vector(lua_State* L) {  // arguments 2, 3 and 4
+    sim::Vec3 v;
+    for (int i = 0; i < 3; ++i) v[size_t(i)] = float(luaL_checknumber(L, 2 + i));
+    return v;
+  }
+  // m:position(): x, y, z of the body's centre as the step began, in module sizes.
+  static int position(lua_State* L) {
+    const sim::Vec3& p = body(L, "position").pose().position;
+    for (float c : p) lua_pushnumber(L, c);
+    return 3;
+  }
+  // m:moving(): whether a lattice move of the module is under way.
+  static int moving(lua_State* L) {
+    lua_pushboolean(L, body(L, "moving").moving());
+    return 1;
+  }
+  // m:move(dx, dy, dz): a lattice move by one module size into a free cell, carried out as the
+  // world steps on (refused when the cell is taken or the module is already moving).
+  static int move(lua_State* L) {
+    sim::ModuleContext& m = body(L, "move");
+    m.move(vector(L));
+    return 0;
+  }
+  // m:push(x, y, z): an impulse on the body, applied as the world steps on.
+  static int push(lua_State* L) {
+    sim::ModuleContext& m = body(L, "push");
+    m.push(vector(L));
+    return 0;
+  }
+
   static int param(lua_State* L) {
     lua_pushinteger(L, of(L).param_values_[lookup(L, kParameters)]);
     return 1;

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "scenarios/table_reader.h"
 #include "tests/scenarios/scenario_helpers.h"
 
 namespace dw::scenarios {
@@ -82,6 +83,25 @@ TEST(LuaProgram, LeaderElectionPortGivesTheTwinsStateEveryStepAndTheSameMatches)
     EXPECT_EQ(a.matches(0).t, b.matches(0).t);
     EXPECT_EQ(b.match_count(0) > 0, bug);
   }
+}
+
+// The shipped scenario and its Lua twin (same lattice, root and landmarks, the same watchpoint).
+TEST(LuaProgram, AggregationRoutingPortGivesTheTwinsStateEveryStepAndTheSameMatches) {
+  auto cpp_loaded = load_scenario(std::string(DWATCH_SCENARIOS_DIR) + "/aggregation_routing.toml");
+  auto lua_loaded = load_scenario((kLua / "aggregation_routing.toml").string());
+  ASSERT_TRUE(std::holds_alternative<Scenario>(cpp_loaded)) << std::get<std::string>(cpp_loaded);
+  ASSERT_TRUE(std::holds_alternative<Scenario>(lua_loaded)) << std::get<std::string>(lua_loaded);
+  Scenario &cpp = std::get<Scenario>(cpp_loaded), &lua = std::get<Scenario>(lua_loaded);
+  ASSERT_EQ(lua.model->variable_count(), cpp.model->variable_count());
+  sim::Session a(*cpp.model, *cpp.world, {.threads = 1}), b(*lua.model, *lua.world, {.threads = 2});
+  for (int64_t t = 0; t < 60; ++t) {
+    a.run_until(t + 1);
+    b.run_until(t + 1);
+    ASSERT_EQ(a.hash(), b.hash()) << "step " << t;
+  }
+  // The tree has formed: the root counts every module.
+  EXPECT_EQ(b.state().values[2], int64_t(lua.model->module_count()));
+  EXPECT_EQ(a.match_count(0), b.match_count(0));
 }
 
 TEST(LuaProgram, TheReadmesGradientExampleFindsEveryHopDistance) {
@@ -276,6 +296,101 @@ TEST_F(LuaScript, MemoryBeyondTheCapIsAnError) {
   const std::string e =
       run_error(kHeader + "function step(m)\n  local s = string.rep(\"x\", 1 << 27)\nend\n");  // 128 MiB
   EXPECT_NE(e.find("not enough memory"), std::string::npos) << e;
+}
+
+TEST_F(LuaScript, TheBodyIsOnlyThereWithPhysics) {
+  for (const char* call : {"m:position()", "m:moving()", "m:move(1, 0, 0)", "m:push(0, 0, 1)"}) {
+    const std::string e = run_error(kHeader + "function step(m)\n  " + call + "\nend\n");
+    EXPECT_NE(e.find(script_path() + ":3: m:"), std::string::npos) << call << ": " << e;
+    EXPECT_NE(e.find("needs a body, and this world has none"), std::string::npos) << call << ": " << e;
+  }
+}
+
+// slide.lua senses its position and moves in the Bullet world exactly as its C++ twin does.
+TEST(LuaProgram, SlidePortMovesInTheWorldAsItsTwinDoes) {
+  auto cpp_loaded = load_scenario(std::string(DWATCH_SCENARIOS_DIR) + "/slide.toml");
+  auto lua_loaded = load_scenario((kLua / "slide.toml").string());
+  ASSERT_TRUE(std::holds_alternative<Scenario>(cpp_loaded)) << std::get<std::string>(cpp_loaded);
+  ASSERT_TRUE(std::holds_alternative<Scenario>(lua_loaded)) << std::get<std::string>(lua_loaded);
+  Scenario &cpp = std::get<Scenario>(cpp_loaded), &lua = std::get<Scenario>(lua_loaded);
+  sim::Session a(*cpp.model, *cpp.world, {.threads = 1}), b(*lua.model, *lua.world, {.threads = 1});
+  const uint32_t v = lua.model->variable_count(), cell_x = uint32_t(lua.model->column("cell_x"));
+  std::vector<int64_t> start;
+  for (int64_t t = 0; t < 80; ++t) {
+    a.run_until(t + 1);
+    b.run_until(t + 1);
+    ASSERT_EQ(a.hash(), b.hash()) << "step " << t;
+    if (t == 0)
+      for (sim::ModuleId m = 0; m < lua.model->module_count(); ++m) start.push_back(b.state().values[m * v + cell_x]);
+  }
+  int64_t furthest = 0;  // the furthest a module has slid along x
+  for (sim::ModuleId m = 0; m < lua.model->module_count(); ++m)
+    furthest = std::max(furthest, b.state().values[m * v + cell_x] - start[m]);
+  EXPECT_GE(furthest, 4) << "the train moved";
+  EXPECT_EQ(a.matches(0).slots, b.matches(0).slots);
+  EXPECT_GT(b.match_count(0), 0u);
+}
+
+// Names longer than Lua interns are found all the same.
+TEST_F(LuaScript, LongVariableAndParameterNamesWork) {
+  const std::string v(60, 'v'), k(50, 'k');
+  const std::string script = "program = { vars = { \"a\", \"" + v + "\" }, params = { " + k +
+                             " = 4 } }\nfunction step(m) m:set(\"" + v + "\", m:param(\"" + k + "\") + m:get(\"" + v +
+                             "\")) end\n";
+  auto loaded = load(script);
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  Scenario& s = std::get<Scenario>(loaded);
+  sim::Session run(*s.model, *s.world, {.threads = 1});
+  run.run_until(3);
+  EXPECT_EQ(run.state().values[1], 12);
+}
+
+// A Lua program with `limits` in place of the scenario's, on its lattice and world.
+std::unique_ptr<sim::Model> with_limits(const Scenario& s, const std::string& script, const LuaLimits& limits) {
+  const watch::SourceText source("limits.toml", "");
+  FileDiagnostics diagnostics(source);
+  const toml::table params;
+  TableReader reader(params, diagnostics, "[[program]]");
+  std::string why;
+  std::vector<std::unique_ptr<const sim::HostProgram>> programs;
+  programs.push_back(make_lua_program("x.lua", script, reader, why, limits));
+  EXPECT_TRUE(programs.back()) << why;
+  auto model = sim::build_model(s.model->lattice, std::move(programs), {}, s.model->seed);
+  return std::move(std::get<std::unique_ptr<sim::Model>>(model));
+}
+
+// A call the watchdog interrupts runs again counted: what the interrupted try set and sent is
+// taken back, so the run equals one where every call was counted from the start.
+TEST_F(LuaScript, ACallRunAgainAfterTheWatchdogLeavesNoTrace) {
+  const std::string script =
+      "program = { vars = { \"v\", \"got\" } }\n"
+      "function step(m)\n"
+      "  local got = 0\n"
+      "  for _, msg in ipairs(m:inbox()) do got = got + msg.data[1] end\n"
+      "  m:set(\"got\", got)\n"
+      "  m:broadcast({ m.id + 1 })\n"
+      "  m:set(\"v\", m:get(\"v\") + 1)\n"
+      "  local s = 0\n"
+      "  for i = 1, 300000 do s = s + i % 7 end\n"  // a few milliseconds: past a patience of 1 ms
+      "  m:set(\"v\", m:get(\"v\") + s % 5)\n"
+      "end\n";
+  auto loaded = load(script);
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  const Scenario& s = std::get<Scenario>(loaded);
+  const auto impatient = with_limits(s, script, {.patience = std::chrono::milliseconds(1)});
+  const auto counted = with_limits(s, script, {.patience = std::chrono::milliseconds(0)});
+  sim::Session a(*impatient, *s.world, {.threads = 1}), b(*counted, *s.world, {.threads = 1});
+  for (int64_t t = 0; t < 3; ++t) {
+    a.run_until(t + 1);
+    b.run_until(t + 1);
+    ASSERT_EQ(a.hash(), b.hash()) << "step " << t;
+  }
+  // One message from each neighbour, none twice: modules 0 1 2 3 in a line.
+  const auto& v = a.state().values;  // [module * 2 + variable]
+  EXPECT_EQ(v[1], 2);
+  EXPECT_EQ(v[3], 1 + 3);
+  EXPECT_EQ(v[5], 2 + 4);
+  EXPECT_EQ(v[7], 3);
 }
 
 }  // namespace

@@ -1,0 +1,60 @@
+// The watchdog (scenarios/lua_watchdog.cpp) interrupts a call that runs past its patience, and
+// only such a call.
+#include "scenarios/lua_watchdog.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+namespace dw::scenarios {
+namespace {
+
+using namespace std::chrono_literals;
+
+struct State {
+  lua_State* L = luaL_newstate();
+  State() { luaL_openlibs(L); }
+  ~State() { lua_close(L); }
+};
+
+// Runs `code` as one call under the watchdog; true when it was interrupted.
+bool interrupted(lua_State* L, LuaWatchdog& watchdog, const char* code) {
+  EXPECT_EQ(luaL_loadstring(L, code), LUA_OK);
+  watchdog.begin();
+  const int status = lua_pcall(L, 0, 0, 0);
+  watchdog.end();
+  const bool was = status != LUA_OK && LuaWatchdog::is_interruption(L, -1);
+  lua_settop(L, 0);
+  return was;
+}
+
+TEST(LuaWatchdog, InterruptsAnEndlessLoopAfterItsPatience) {
+  State s;
+  LuaWatchdog watchdog(s.L, 5ms);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_TRUE(interrupted(s.L, watchdog, "while true do end"));
+  const auto took = std::chrono::steady_clock::now() - start;
+  EXPECT_GE(took, 5ms);
+  EXPECT_LT(took, 5s);
+}
+
+TEST(LuaWatchdog, AScriptCatchingTheInterruptionMeetsItAgain) {
+  State s;
+  LuaWatchdog watchdog(s.L, 5ms);
+  EXPECT_TRUE(interrupted(s.L, watchdog, "while true do pcall(function() while true do end end) end"));
+}
+
+TEST(LuaWatchdog, LeavesShortCallsAloneAndTheNextCallUntouched) {
+  State s;
+  LuaWatchdog watchdog(s.L, 200ms);
+  for (int i = 0; i < 1000; ++i) ASSERT_FALSE(interrupted(s.L, watchdog, "local x = 0 for i = 1, 100 do x = x + i end"));
+  // An error of the script's own is not an interruption.
+  ASSERT_EQ(luaL_loadstring(s.L, "error('mine')"), LUA_OK);
+  watchdog.begin();
+  EXPECT_NE(lua_pcall(s.L, 0, 0, 0), LUA_OK);
+  watchdog.end();
+  EXPECT_FALSE(LuaWatchdog::is_interruption(s.L, -1));
+}
+
+}  // namespace
+}  // namespace dw::scenarios
