@@ -40,6 +40,8 @@ const CommandSpec kCommands[] = {
     {"render", Kind::Render, "render FILE [W H]", "the 3D view of the current step (PNG)"},
     {"record", Kind::Record, "record FILE", "the trace of steps 0..latest, its header listing the interventions"},
     {"interventions", Kind::Interventions, "interventions", "the interventions of this branch, with their steps"},
+    {"reload", Kind::Reload, "reload",
+     "load the scenario's Lua scripts again: the changed program runs from the next step, a new branch"},
     {"status", Kind::Status, "status", "where the session stands: steps, watchpoints, history"},
     {"help", Kind::Help, "help", "these commands"},
 };
@@ -300,6 +302,7 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       break;
     case Kind::Hash:
     case Kind::Interventions:
+    case Kind::Reload:
     case Kind::Status:
     case Kind::Help:
       if (!want(0, 0)) return mistakes;
@@ -389,6 +392,17 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         sim::Intervention made = *cmd.intervention;
         made.at = session_.current() + 1;
         answer["intervention"] = intervention_answer(made);
+        answer["dropped_steps"] = dropped;
+        merge(position());
+        break;
+      }
+      case Kind::Reload: {
+        if (scenario_.scripts.empty()) return failed("the scenario runs no Lua script to reload");
+        const int64_t dropped = session_.latest() - session_.current();
+        auto reloaded = scenarios::reload_scripts(scenario_, session_);
+        if (auto* error = std::get_if<std::string>(&reloaded)) return failed(*error);
+        answer["reloaded"] = std::get<std::vector<std::string>>(reloaded);
+        answer["from"] = session_.current() + 1;
         answer["dropped_steps"] = dropped;
         merge(position());
         break;

@@ -34,6 +34,7 @@ struct SessionCommand {
     Render,
     Record,
     Interventions,
+    Reload,
     Status,
     Help,
   };

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <vector>
 
 namespace dw::scenarios {
@@ -646,24 +647,54 @@ class LuaProgram final : public sim::HostProgram {
 
 }  // namespace
 
-std::unique_ptr<const sim::HostProgram> make_lua_program(const std::string& display, const std::string& text,
-                                                         TableReader& params, std::string& why,
-                                                         const LuaLimits& limits) {
+namespace {
+
+// What the script declares, checked by loading it once; nothing, with the reason in `why`.
+std::optional<Declared> declared_by(const std::string& display, const std::string& text, std::string& why,
+                                    const LuaLimits& limits) {
   LuaState probe(display, text, limits);
   Declared declared;
   if (!probe.error().empty() || !probe.declare(declared) || !probe.prepare(declared)) {
     why = probe.error();
-    return nullptr;
+    return std::nullopt;
   }
+  return declared;
+}
+
+}  // namespace
+
+std::unique_ptr<const sim::HostProgram> make_lua_program(const std::string& display, const std::string& text,
+                                                         TableReader& params, std::string& why, const LuaLimits& limits,
+                                                         ParamValues* given) {
+  std::optional<Declared> declared = declared_by(display, text, why, limits);
+  if (!declared) return nullptr;
   bool ok = true;
-  for (auto& [name, value] : declared.params)
+  for (auto& [name, value] : declared->params)
     if (params.has(name)) {
       const auto v = params.integer(name, INT64_MIN, INT64_MAX);
       if (v) value = *v;
       else ok = false;
+      if (v && given) given->emplace_back(name, *v);
     }
   if (!ok) return nullptr;
-  return std::make_unique<LuaProgram>(display, text, std::move(declared), limits);
+  return std::make_unique<LuaProgram>(display, text, std::move(*declared), limits);
+}
+
+std::unique_ptr<const sim::HostProgram> make_lua_program(const std::string& display, const std::string& text,
+                                                         const ParamValues& given, std::string& why,
+                                                         const LuaLimits& limits) {
+  std::optional<Declared> declared = declared_by(display, text, why, limits);
+  if (!declared) return nullptr;
+  for (const auto& [name, value] : given) {
+    auto it =
+        std::find_if(declared->params.begin(), declared->params.end(), [&](const auto& p) { return p.first == name; });
+    if (it == declared->params.end()) {
+      why = display + ": the scenario sets '" + name + "', which the script no longer declares in program.params";
+      return nullptr;
+    }
+    it->second = value;
+  }
+  return std::make_unique<LuaProgram>(display, text, std::move(*declared), limits);
 }
 
 }  // namespace dw::scenarios

@@ -14,6 +14,8 @@
 #include <chrono>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "scenarios/programs.h"
 
@@ -28,12 +30,21 @@ struct LuaLimits {
   std::chrono::milliseconds patience{10};
 };
 
+// Parameter values a scenario gives a script, by name.
+using ParamValues = std::vector<std::pair<std::string, int64_t>>;
+
 // Builds the program of the script `display` (as messages name it) with the source `text` and the
 // parameters of its [[program]] table, each of which the script must declare. nullptr when it does
 // not compile or declare itself properly, or a parameter is wrong: the reason is in `why`
 // (`display:LINE: message` for the script's own mistakes), or reported at the parameter's key.
+// The values the table gave go to `given`, to load the script again with them.
 std::unique_ptr<const sim::HostProgram> make_lua_program(const std::string& display, const std::string& text,
                                                          TableReader& params, std::string& why,
+                                                         const LuaLimits& limits = {}, ParamValues* given = nullptr);
+// The same with the values given before (a script loaded again after a change): each must still
+// be declared.
+std::unique_ptr<const sim::HostProgram> make_lua_program(const std::string& display, const std::string& text,
+                                                         const ParamValues& given, std::string& why,
                                                          const LuaLimits& limits = {});
 
 }  // namespace dw::scenarios

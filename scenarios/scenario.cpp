@@ -43,6 +43,7 @@ struct Loader {
   FileDiagnostics diagnostics{source};
   std::string extra;                // diagnostics rendered against other files (watchpoint files)
   std::vector<std::string> inputs;  // the files read besides the scenario (watchpoint files)
+  std::vector<ScriptSource> scripts;
 
   Loader(std::string p, std::string text) : path(p), source(std::move(p), std::move(text)) {}
 
@@ -210,7 +211,7 @@ struct Loader {
       const toml::table& t = *e.as_table();
       TableReader r(t, diagnostics, "[[program]]");
       if (r.has("script")) {
-        if (auto program = script_program(r)) out.push_back(std::move(program));
+        if (auto program = script_program(r, uint32_t(out.size()))) out.push_back(std::move(program));
         else ok = false;
         continue;
       }
@@ -240,7 +241,7 @@ struct Loader {
   }
 
   // A [[program]] with `script = "x.lua"` (next to the scenario) and the script's parameters.
-  std::unique_ptr<const sim::HostProgram> script_program(TableReader& r) {
+  std::unique_ptr<const sim::HostProgram> script_program(TableReader& r, uint32_t index) {
     const auto script = r.string("script");
     if (!script) return nullptr;
     if (r.has("name")) {
@@ -256,8 +257,10 @@ struct Loader {
       return nullptr;
     }
     std::string why;
-    auto program = make_lua_program(*script, *text, r, why);  // named as the scenario names it
+    ScriptSource source{index, *script, at.string(), {}};
+    auto program = make_lua_program(*script, *text, r, why, {}, &source.params);  // named as the scenario names it
     r.finish();
+    if (program) scripts.push_back(std::move(source));
     if (!program && !why.empty()) {
       r.error("script", "the script does not load:");
       extra += why + "\n";
@@ -486,6 +489,7 @@ struct Loader {
     }
     s.model = std::move(std::get<std::unique_ptr<sim::Model>>(built));
     s.inputs.insert(s.inputs.end(), inputs.begin(), inputs.end());
+    s.scripts = std::move(scripts);
     // A variable no program has would read as unknown forever: the watchpoint could never match.
     // The error points at the variable where it is first read, in the scenario or the watch file.
     for (size_t w = 0; w < s.model->watches.size(); ++w) {
@@ -554,6 +558,31 @@ std::string events_toml(std::span<const sim::Intervention> interventions, const 
     }
   }
   return out.str();
+}
+
+std::variant<std::vector<std::string>, std::string> reload_scripts(const Scenario& scenario, sim::Session& session) {
+  std::vector<std::pair<uint32_t, std::shared_ptr<const sim::HostProgram>>> loaded;
+  for (const ScriptSource& source : scenario.scripts) {
+    std::string why;
+    auto text = sim::read_file(source.file, &why);
+    if (!text) return why;
+    std::shared_ptr<const sim::HostProgram> program = make_lua_program(source.display, *text, source.params, why);
+    if (!program) return why;
+    loaded.emplace_back(source.program, std::move(program));
+  }
+  // All of them load: now they replace the old ones (variables checked first, so that a refusal
+  // changes nothing).
+  for (const auto& [p, program] : loaded)
+    if (!sim::same_variables(*program, *scenario.model->programs[p]))
+      return std::string(program->name()) +
+             " now declares other variables than the run has; a script reloaded must keep them (load the "
+             "scenario again instead)";
+  std::vector<std::string> names;
+  for (auto& [p, program] : loaded) {
+    names.emplace_back(program->name());
+    if (std::string why = session.replace_program(p, std::move(program)); !why.empty()) return why;
+  }
+  return names;
 }
 
 }  // namespace dw::scenarios

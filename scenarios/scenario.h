@@ -63,10 +63,12 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <variant>
 
 #include "sim/intervention.h"
 #include "sim/model.h"
+#include "sim/session.h"
 #include "sim/world.h"
 
 namespace dw::scenarios {
@@ -74,6 +76,14 @@ namespace dw::scenarios {
 struct ViewSettings {
   std::string color_by;  // a variable name, or empty
   std::optional<std::array<double, 3>> camera_eye, camera_target;
+};
+
+// A [[program]] read from a script: what loading it again takes.
+struct ScriptSource {
+  uint32_t program = 0;                                 // its index in the model's programs
+  std::string display;                                  // the script as the scenario names it
+  std::string file;                                     // where it is
+  std::vector<std::pair<std::string, int64_t>> params;  // the values the scenario gives it
 };
 
 struct Scenario {
@@ -87,7 +97,14 @@ struct Scenario {
   std::vector<sim::Intervention> events;  // [[event]], in file order
   unsigned threads = 1;
   ViewSettings view;
+  std::vector<ScriptSource> scripts;
 };
+
+// Loads the scenario's scripts again from their files (they changed) and runs each in place of
+// its old self from the step after the session's current one, on a new branch
+// (sim::Session::replace_program). The scripts reloaded, or the first reason one cannot be (a
+// mistake in it, a parameter it no longer declares, other variables): then nothing changed.
+std::variant<std::vector<std::string>, std::string> reload_scripts(const Scenario& scenario, sim::Session& session);
 
 // Command-line settings that win over the file's.
 struct ScenarioOverrides {

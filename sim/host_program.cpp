@@ -7,6 +7,12 @@
 
 namespace dw::sim {
 
+bool same_variables(const HostProgram& a, const HostProgram& b) {
+  const std::vector<VariableSpec> x = a.variables(), y = b.variables();
+  return std::equal(x.begin(), x.end(), y.begin(), y.end(),
+                    [](const VariableSpec& u, const VariableSpec& v) { return u.name == v.name; });
+}
+
 bool ModuleContext::is_neighbor(ModuleId m) const {
   return std::binary_search(neighbors_.begin(), neighbors_.end(), m);
 }
@@ -18,8 +24,10 @@ uint64_t ModuleContext::random(uint32_t stream) const {
 }
 
 void ModuleContext::fail(const std::string& what) {
-  if (outbox_.error.empty())
-    outbox_.error = std::string(program_name_) + " on module " + std::to_string(id_) + " " + what;
+  if (!outbox_.error.empty()) return;
+  outbox_.error = std::string(program_name_) + " on module " + std::to_string(id_) + " " + what;
+  outbox_.error_module = id_;
+  outbox_.error_step = step_;
 }
 
 bool ModuleContext::check_size(size_t words) {

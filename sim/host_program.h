@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -22,6 +23,11 @@ namespace dw::sim {
 // A host program misused the API; the run cannot go on.
 struct ProgramError : std::runtime_error {
   using std::runtime_error::runtime_error;
+  ProgramError(const std::string& what, ModuleId module, int64_t step)
+      : std::runtime_error(what), module(module), step(step) {}
+  // The module whose program failed and the step it was running; none for a bad intervention.
+  std::optional<ModuleId> module;
+  int64_t step = -1;
 };
 
 struct VariableSpec {
@@ -52,11 +58,16 @@ class HostProgram {
   virtual std::unique_ptr<ProgramScratch> make_scratch() const { return nullptr; }
 };
 
+// Whether two programs keep the same variables (names, in order): one may replace the other in a run.
+bool same_variables(const HostProgram& a, const HostProgram& b);
+
 // Where a step's sends go, per thread; the runtime checks and delivers them.
 struct Outbox {
   std::vector<Message> messages;
   std::vector<Actuation> actuations;
-  std::string error;  // the first misuse of the API (sending to a non-neighbour, too long a message)
+  std::string error;          // the first misuse of the API (sending to a non-neighbour, too long a message)
+  ModuleId error_module = 0;  // whose it was, at which step
+  int64_t error_step = -1;
 };
 
 class ModuleContext {

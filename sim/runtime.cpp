@@ -39,6 +39,7 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads)
   blocks_ = (m >> block_shift_) + ((m & ((1u << block_shift_) - 1)) != 0);
   scratch_.resize(pool_.size());
   arriving_.resize(pool_.size());
+  for (const auto& program : model.programs) programs_.push_back(program.get());
   for (ThreadScratch& s : scratch_) {
     for (const auto& program : model.programs) s.programs.push_back(program->make_scratch());
     for (const HostedWatchpoint& w : model.watches) {
@@ -53,6 +54,12 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads)
     columns_.push_back(watch::variable_columns(w.watchpoint.program, model.universe));
     sending_.emplace_back(w.runs_on_agents() ? lanes : 0);
   }
+}
+
+void Runtime::use_program(uint32_t p, const HostProgram& program) {
+  if (programs_[p] == &program) return;
+  programs_[p] = &program;
+  for (ThreadScratch& s : scratch_) s.programs[p] = program.make_scratch();
 }
 
 uint32_t Runtime::first_block(unsigned thread) const {
@@ -101,7 +108,7 @@ void Runtime::run_programs(unsigned thread, uint32_t begin, uint32_t end, const 
     const auto neighbors = state.graph->neighbors(m);
     for (uint32_t p = 0; p < programs; ++p) {
       const uint32_t base = model_.program_base[p];
-      const HostProgram& program = *model_.programs[p];
+      const HostProgram& program = *programs_[p];
       ModuleContext ctx(m, state.step, model_.seed, static_cast<uint16_t>(p), neighbors, state.inbox.of(m, p, programs),
                         before + base, after + base, scratch.outbox, program.name(), state.bodies,
                         scratch.programs[p].get());
@@ -134,6 +141,7 @@ void Runtime::run_thread(unsigned thread, State& state, std::span<const uint8_t>
   ThreadScratch& s = scratch_[thread];
   s.outbox.messages.clear();
   s.outbox.actuations.clear();
+  s.outbox.error.clear();  // a failed step may be tried again (a script reloaded, a seek back)
   std::vector<uint32_t>& live = s.live_watches;
   live.clear();
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
@@ -259,7 +267,7 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
   intervene(state, interventions);
   pool_.run([&](unsigned thread) { run_thread(thread, state, watching); });
   for (const ThreadScratch& s : scratch_)
-    if (!s.outbox.error.empty()) throw ProgramError(s.outbox.error);
+    if (!s.outbox.error.empty()) throw ProgramError(s.outbox.error, s.outbox.error_module, s.outbox.error_step);
 
   std::swap(state.values, next_values_);  // assign: the variables now hold step t's values
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {

@@ -63,6 +63,10 @@ class Runtime {
   void step(State& state, StepOutput& out, std::span<const Intervention> interventions = {},
             std::span<const uint8_t> watching = {});
 
+  // Runs `program` as program p from the next step on (a script reloaded, Session::replace_program;
+  // it keeps p's variables), each thread with a fresh scratch for it.
+  void use_program(uint32_t p, const HostProgram& program);
+
   const Model& model() const { return model_; }
   World& world() { return world_; }
   unsigned threads() const { return pool_.size(); }
@@ -93,6 +97,7 @@ class Runtime {
   uint32_t block_shift_ = 0;  // blocks of 1 << block_shift_ modules
   uint32_t blocks_ = 0;
   std::vector<ThreadScratch> scratch_;
+  std::vector<const HostProgram*> programs_;  // in use, by index: the model's unless replaced
   std::vector<int64_t> next_values_;
   std::vector<std::vector<int>> columns_;                    // per watch: program variable -> model column
   std::vector<std::vector<watch::RecordBuffer>> sending_;    // per watch: lanes being filled

@@ -45,6 +45,13 @@ int64_t Session::decided() const { return latest_ - max_lag(); }
 // Every step of every state goes through here: the interventions of the step are applied, and
 // the world is told when the state it steps is not the one it stepped last.
 void Session::step(State& state, StepOutput& out, std::span<const uint8_t> watching) {
+  // The programs of this step's time: the model's, or the last replacement made before it.
+  for (uint32_t p = 0; p < model_.program_count(); ++p) {
+    const HostProgram* program = model_.programs[p].get();
+    for (const ProgramVersion& v : program_versions_)
+      if (v.program == p && v.from <= state.step) program = v.replacement.get();
+    runtime_->use_program(p, *program);
+  }
   if (world_on_ != &state) {
     world_.restore(model_, state);
     world_on_ = &state;
@@ -309,26 +316,45 @@ std::string Session::intervene(Intervention i) {
   if (i.kind == Intervention::Kind::Push && head_.bodies.empty())
     return "push needs bodies, and this scenario has no physics";
   if (current_ < latest_ && !has_history()) return "the session keeps no history to branch from";
-  if (current_ < latest_) {
-    // A new branch from the current step: its state becomes the head, the future is dropped.
-    materialize(current_, {});
-    head_ = std::move(view_);
-    head_out_ = std::move(view_out_);
-    view_valid_ = false;
-    world_on_ = nullptr;
-    latest_ = current_;
-    const size_t keep = static_cast<size_t>((current_ + 1) / interval_) + 1;
-    if (keyframes_.size() > keep) {
-      keyframes_.resize(keep);
-      recount_history();
-    }
-    truncate_history(current_);
-  }
-  // What was made in the dropped future goes with it; the scenario's schedule stays.
-  std::erase_if(interventions_, [&](const Intervention& x) { return x.at > i.at && !x.scheduled; });
+  if (current_ < latest_) branch_here();
+  drop_changes_after(i.at);
   const auto after = std::upper_bound(interventions_.begin(), interventions_.end(), i,
                                       [](const Intervention& a, const Intervention& b) { return a.at < b.at; });
   interventions_.insert(after, i);
+  return {};
+}
+
+void Session::branch_here() {
+  materialize(current_, {});
+  head_ = std::move(view_);
+  head_out_ = std::move(view_out_);
+  view_valid_ = false;
+  world_on_ = nullptr;
+  latest_ = current_;
+  const size_t keep = static_cast<size_t>((current_ + 1) / interval_) + 1;
+  if (keyframes_.size() > keep) {
+    keyframes_.resize(keep);
+    recount_history();
+  }
+  truncate_history(current_);
+}
+
+// What was made in a dropped future goes with it; the scenario's schedule stays.
+void Session::drop_changes_after(int64_t at) {
+  std::erase_if(interventions_, [&](const Intervention& x) { return x.at > at && !x.scheduled; });
+  std::erase_if(program_versions_, [&](const ProgramVersion& v) { return v.from > at; });
+}
+
+std::string Session::replace_program(uint32_t p, std::shared_ptr<const HostProgram> program) {
+  if (p >= model_.program_count()) return "there is no program " + std::to_string(p);
+  if (!same_variables(*program, *model_.programs[p]))
+    return std::string(program->name()) +
+           " now declares other variables than the run has; a program replaced in a run must keep them";
+  if (current_ < latest_ && !has_history()) return "the session keeps no history to branch from";
+  if (current_ < latest_) branch_here();
+  const int64_t from = current_ + 1;
+  drop_changes_after(from);
+  program_versions_.push_back({from, p, std::move(program)});
   return {};
 }
 

@@ -116,6 +116,12 @@ class Session {
   // Every intervention of this branch, scheduled or made, in the order they apply.
   const std::vector<Intervention>& interventions() const { return interventions_; }
 
+  // Runs `program` in place of program p from the step after the current one on (a script
+  // changed and loaded again): the future after the current step is dropped, as with an
+  // intervention, and the past keeps the program it ran, so re-simulating it gives it again. An
+  // error message when `program` does not keep p's variables; empty when done.
+  std::string replace_program(uint32_t p, std::shared_ptr<const HostProgram> program);
+
   // Adds a watchpoint, or replaces the one with its name, and evaluates it over the whole history.
   // Returns its index, or nothing when cancelled or without history (nothing changed then).
   std::optional<uint32_t> set_watch(HostedWatchpoint watch, const Control& control = {});
@@ -169,6 +175,8 @@ class Session {
   bool materialize(int64_t t, const Control& control);
   State simulation_copy(const State& s) const;
   void rebuild_runtime();
+  void branch_here();  // the current step becomes the head: the future is dropped
+  void drop_changes_after(int64_t at);
   int64_t max_lag() const;
 
   Model& model_;
@@ -176,6 +184,12 @@ class Session {
   SessionOptions options_;
   std::unique_ptr<Runtime> runtime_;
   std::vector<Intervention> interventions_;  // sorted by `at`, stable
+  struct ProgramVersion {
+    int64_t from;  // the first step it runs
+    uint32_t program;
+    std::shared_ptr<const HostProgram> replacement;
+  };
+  std::vector<ProgramVersion> program_versions_;  // sorted by `from`
 
   State head_;  // after step latest_
   bool drained_ = false;

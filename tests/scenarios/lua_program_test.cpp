@@ -393,5 +393,52 @@ TEST_F(LuaScript, ACallRunAgainAfterTheWatchdogLeavesNoTrace) {
   EXPECT_EQ(v[7], 3);
 }
 
+// A script fixed while the session runs is loaded again: it runs from the step after the current
+// one, on a new branch; the past keeps the old script, re-simulated or not.
+TEST_F(LuaScript, AScriptReloadedRunsFromTheNextStepAndThePastKeepsTheOld) {
+  const std::string broken = kHeader +
+                             "function step(m)\n  if m.step == 6 then error('boom') end\n"
+                             "  m:set(\"v\", m:get(\"v\") + 1)\nend\n";
+  const std::string fixed = kHeader + "function step(m)\n  m:set(\"v\", m:get(\"v\") + 100)\nend\n";
+  auto loaded = load(broken);
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  Scenario& s = std::get<Scenario>(loaded);
+  ASSERT_EQ(s.scripts.size(), 1u);
+  sim::Session run(*s.model, *s.world, {.threads = 2});
+  try {
+    run.run_until(10);
+    FAIL() << "the script fails at step 6";
+  } catch (const sim::ProgramError& e) {
+    EXPECT_EQ(e.step, 6);
+    EXPECT_EQ(e.module, 0u);
+  }
+  ASSERT_EQ(run.latest(), 5);
+  ASSERT_TRUE(run.seek(4));
+  const uint64_t at2 = (run.seek(2), run.hash());
+  ASSERT_TRUE(run.seek(4));
+
+  // A mistake in the new text, or other variables: refused, nothing changes.
+  std::ofstream(dir_ / "x.lua") << kHeader + "function step(m)\n  m:set(\"v\", )\nend\n";
+  auto refused = reload_scripts(s, run);
+  ASSERT_TRUE(std::holds_alternative<std::string>(refused));
+  EXPECT_NE(std::get<std::string>(refused).find("x.lua:3:"), std::string::npos) << std::get<std::string>(refused);
+  std::ofstream(dir_ / "x.lua") << "program = { vars = { \"w\" } }\nfunction step(m) end\n";
+  refused = reload_scripts(s, run);
+  ASSERT_TRUE(std::holds_alternative<std::string>(refused));
+  EXPECT_NE(std::get<std::string>(refused).find("other variables"), std::string::npos);
+  EXPECT_EQ(run.latest(), 5);
+
+  std::ofstream(dir_ / "x.lua") << fixed;
+  auto reloaded = reload_scripts(s, run);
+  ASSERT_TRUE(std::holds_alternative<std::vector<std::string>>(reloaded)) << std::get<std::string>(reloaded);
+  EXPECT_EQ(std::get<std::vector<std::string>>(reloaded), std::vector<std::string>{"x.lua"});
+  EXPECT_EQ(run.latest(), 4) << "the future after the current step is dropped";
+  run.run_until(10);
+  EXPECT_EQ(run.state().values[0], 5 + 5 * 100) << "steps 0..4 the old script, 5..9 the new";
+  ASSERT_TRUE(run.seek(2));
+  EXPECT_EQ(run.hash(), at2) << "the past keeps the old script";
+  EXPECT_EQ(run.state().values[0], 3);
+}
+
 }  // namespace
 }  // namespace dw::scenarios

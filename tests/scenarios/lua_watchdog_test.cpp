@@ -47,7 +47,8 @@ TEST(LuaWatchdog, AScriptCatchingTheInterruptionMeetsItAgain) {
 TEST(LuaWatchdog, LeavesShortCallsAloneAndTheNextCallUntouched) {
   State s;
   LuaWatchdog watchdog(s.L, 200ms);
-  for (int i = 0; i < 1000; ++i) ASSERT_FALSE(interrupted(s.L, watchdog, "local x = 0 for i = 1, 100 do x = x + i end"));
+  for (int i = 0; i < 1000; ++i)
+    ASSERT_FALSE(interrupted(s.L, watchdog, "local x = 0 for i = 1, 100 do x = x + i end"));
   // An error of the script's own is not an interruption.
   ASSERT_EQ(luaL_loadstring(s.L, "error('mine')"), LUA_OK);
   watchdog.begin();
