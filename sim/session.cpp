@@ -71,7 +71,13 @@ void Session::step_head(const StepObserver& observer) {
   if (drained_) throw std::logic_error("a drained session simulates no further step");
   take_keyframe();
   const auto started = std::chrono::steady_clock::now();
-  step(head_, head_out_);
+  try {
+    step(head_, head_out_);
+  } catch (const ProgramError& e) {
+    if (e.module) failure_ = ProgramFailure{e.step, *e.module, e.what()};
+    throw;
+  }
+  failure_.reset();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   step_seconds_ = step_seconds_ == 0 ? seconds : 0.9 * step_seconds_ + 0.1 * seconds;
   latest_ = head_.step - 1;
@@ -341,6 +347,7 @@ void Session::branch_here() {
 
 // What was made in a dropped future goes with it; the scenario's schedule stays.
 void Session::drop_changes_after(int64_t at) {
+  failure_.reset();  // the steps after `at` will run otherwise
   std::erase_if(interventions_, [&](const Intervention& x) { return x.at > at && !x.scheduled; });
   std::erase_if(program_versions_, [&](const ProgramVersion& v) { return v.from > at; });
 }

@@ -65,6 +65,13 @@ struct MatchList {
   std::pair<size_t, size_t> at(int64_t step) const;
 };
 
+// A program's failure that stopped the run: the step it was running and the module.
+struct ProgramFailure {
+  int64_t step = 0;
+  ModuleId module = 0;
+  std::string message;
+};
+
 // A `pause` watchpoint matched at the current step.
 struct Pause {
   uint32_t watch = 0;
@@ -121,6 +128,10 @@ class Session {
   // intervention, and the past keeps the program it ran, so re-simulating it gives it again. An
   // error message when `program` does not keep p's variables; empty when done.
   std::string replace_program(uint32_t p, std::shared_ptr<const HostProgram> program);
+
+  // The program failure that stopped the run at step latest() + 1: nothing once a step after the
+  // latest went through, or the future changed (an intervention, a program replaced).
+  const std::optional<ProgramFailure>& failure() const { return failure_; }
 
   // Adds a watchpoint, or replaces the one with its name, and evaluates it over the whole history.
   // Returns its index, or nothing when cancelled or without history (nothing changed then).
@@ -190,6 +201,7 @@ class Session {
     std::shared_ptr<const HostProgram> replacement;
   };
   std::vector<ProgramVersion> program_versions_;  // sorted by `from`
+  std::optional<ProgramFailure> failure_;
 
   State head_;  // after step latest_
   bool drained_ = false;

@@ -168,6 +168,13 @@ void Debugger::refresh_frame() {
     frame_ = std::move(next);
   });
   if (!read) return;  // a job runs: the last Frame stays on screen
+  // A program failure, new: its module is selected (the run stands at the last step that went through).
+  if (frame_.failure && (!shown_failure_ || shown_failure_->step != frame_.failure->step ||
+                         shown_failure_->module != frame_.failure->module)) {
+    model_.selected = frame_.failure->module;
+    model_.playing = false;
+  }
+  shown_failure_ = frame_.failure;
   frame_stale_ = false;
   drawn_key_.clear();
 

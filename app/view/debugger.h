@@ -112,6 +112,7 @@ class Debugger {
   ViewModel model_;
   Frame frame_;
   bool frame_stale_ = true;
+  std::optional<sim::ProgramFailure> shown_failure_;  // the Frame's, when last read
 
   // The inspector's history of the selected module, written by a worker job (under the session's
   // lock, as is every read of it).

@@ -82,6 +82,7 @@ Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, con
   f.history_bytes = session.history_bytes();
   f.keyframes = session.keyframes();
   f.keyframe_interval = session.keyframe_interval();
+  f.failure = session.failure();
 
   for (uint32_t w = 0; w < model.watches.size(); ++w) {
     const sim::HostedWatchpoint& h = model.watches[w];
@@ -166,6 +167,10 @@ nlohmann::ordered_json Frame::panel(const std::string& name, const sim::Model& m
     j["current"] = at.current;
     j["latest"] = at.latest;
     j["decided"] = decided;
+    if (failure)
+      j["failure"] = {{"step", failure->step},
+                      {"module", model.universe.module_ids[failure->module]},
+                      {"message", failure->message}};
   } else if (name == "matches") {
     j["total"] = match_total;
     nlohmann::ordered_json rows = nlohmann::ordered_json::array();

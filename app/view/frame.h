@@ -82,6 +82,7 @@ struct Frame {
   size_t match_total = 0;
   size_t history_bytes = 0, keyframes = 0;
   int64_t keyframe_interval = 0;
+  std::optional<sim::ProgramFailure> failure;  // what stopped the run, shown until it moves on
 
   // The panels' text, for scripts and tests: "matches" (rows), "inspector", "watchpoints",
   // "position".

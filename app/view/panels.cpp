@@ -55,6 +55,12 @@ void Debugger::transport_panel() {
   ImGui::SameLine();
   if (ImGui::Button("Run")) apply({command::run()});
   ImGui::SameLine();
+  if (!scenario_.scripts.empty()) {
+    if (ImGui::Button("Reload scripts")) apply({command::reload()});
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("Load the scenario's Lua scripts again: they run from the step after this one, a new branch");
+    ImGui::SameLine();
+  }
   ImGui::SetNextItemWidth(150);
   ImGui::SliderInt("steps/s", &model_.speed, 0, 240, model_.speed == 0 ? "fastest" : "%d");
   ImGui::SameLine();
@@ -94,7 +100,16 @@ void Debugger::transport_panel() {
     if (ImGui::Button("Cancel (Esc)")) worker_->cancel();
     ImGui::SameLine();
   }
-  ImGui::TextWrapped("%s", status_.c_str());
+  if (frame_.failure) {
+    // What stopped the run, in red, at the step it happened; the module is selected.
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.35f, 0.3f, 1.0f));
+    ImGui::TextWrapped("Program error at step %" PRId64 " (module %" PRId64 "); the run stands at step %" PRId64 ": %s",
+                       frame_.failure->step, int64_t(scenario_.model->universe.module_ids[frame_.failure->module]),
+                       at.latest, frame_.failure->message.c_str());
+    ImGui::PopStyleColor();
+  } else {
+    ImGui::TextWrapped("%s", status_.c_str());
+  }
   timeline(ImGui::GetContentRegionAvail().x);
   ImGui::End();
 }

@@ -224,6 +224,7 @@ const std::vector<KeyHelp>& key_help() {
 namespace command {
 std::string step(int64_t n) { return "step " + std::to_string(n); }
 std::string run() { return "run"; }
+std::string reload() { return "reload"; }
 std::string run_to(int64_t t) { return "run " + std::to_string(t); }
 std::string seek(int64_t t) { return "seek " + std::to_string(t); }
 std::string set(sim::ModuleId m, std::string_view variable, int64_t value) {

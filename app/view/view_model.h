@@ -117,6 +117,7 @@ std::string push(sim::ModuleId m, glm::vec3 impulse);
 // `options`: the algorithm and action words ("distributed pause"), or empty for the defaults.
 std::string watch(std::string_view name, std::string_view options, std::string_view text);
 std::string unwatch(std::string_view name);
+std::string reload();
 }  // namespace command
 
 class ViewModel {

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <numeric>
 
 #include "app/view/frame.h"
@@ -228,6 +230,38 @@ TEST_F(Leader, AMatchClickSeeksToItsStepAndSelectsItsGroup) {
   EXPECT_EQ(f.inspector->variables[size_t(leader)].value, 1) << "slot a of two_leaders is a leader";
   EXPECT_EQ(f.inspector->plot.size(), size_t(pause->t + 1));
   EXPECT_EQ(f.panel("nosuch", *scenario->model).count("error"), 1u);
+}
+
+// A script's runtime error, as the window shows it: the position panel names the step and the
+// module until the run moves on, here after the script is fixed and loaded again.
+TEST(ProgramFailure, IsShownAtItsStepUntilTheRunMovesOn) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("dwatch_failure_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string header = "program = { vars = { \"v\" } }\n";
+  std::ofstream(dir / "x.lua") << header +
+                                      "function step(m)\n  if m.step == 6 and m.id == 2 then error('boom') end\nend\n";
+  std::ofstream(dir / "s.toml")
+      << "steps = 20\n[lattice]\nkind = \"line\"\nsize = [4]\n[[program]]\nscript = \"x.lua\"\n";
+  auto loaded = scenarios::load_scenario((dir / "s.toml").string());
+  ASSERT_TRUE(std::holds_alternative<scenarios::Scenario>(loaded)) << std::get<std::string>(loaded);
+  scenarios::Scenario& scenario = std::get<scenarios::Scenario>(loaded);
+  sim::Session session(*scenario.model, *scenario.world, {1, scenario.steps});
+  EXPECT_THROW(session.run_until(20), sim::ProgramError);
+  ViewModel view;
+  nlohmann::ordered_json position = read_frame(session, scenario, view, {}).panel("position", *scenario.model);
+  ASSERT_TRUE(position.contains("failure")) << position.dump();
+  EXPECT_EQ(position["failure"]["step"], 6);
+  EXPECT_EQ(position["failure"]["module"], 2);
+  EXPECT_NE(position["failure"]["message"].get<std::string>().find("x.lua:3: boom"), std::string::npos);
+  EXPECT_EQ(position["latest"], 5) << "the run stands at the last step that went through";
+
+  std::ofstream(dir / "x.lua") << header + "function step(m) m:set(\"v\", m.step) end\n";
+  ASSERT_TRUE(std::holds_alternative<std::vector<std::string>>(scenarios::reload_scripts(scenario, session)));
+  EXPECT_FALSE(read_frame(session, scenario, view, {}).panel("position", *scenario.model).contains("failure"));
+  session.run_until(20);
+  EXPECT_EQ(session.state().values[2], 19);
+  fs::remove_all(dir);
 }
 
 }  // namespace
