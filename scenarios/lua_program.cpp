@@ -334,6 +334,12 @@ class LuaState final : public sim::ProgramScratch {
       lua_pushnil(L_);
       lua_setglobal(L_, name);
     }
+    // Strings' metatable is shared by every string: hidden, so that nothing can be kept in it.
+    lua_pushliteral(L_, "");
+    lua_getmetatable(L_, -1);
+    lua_pushboolean(L_, 0);
+    lua_setfield(L_, -2, "__metatable");
+    lua_pop(L_, 2);
     lua_getglobal(L_, LUA_MATHLIBNAME);  // m:random is the module's generator; math's is not
     for (const char* name : {"random", "randomseed"}) {
       lua_pushnil(L_);

@@ -266,6 +266,10 @@ TEST_F(LuaScript, StateOutsideTheVariablesIsAnError) {
             std::string::npos);
   EXPECT_NE(run_error(kHeader + "function step(m)\n  string.x = 1\nend\n").find(p + ":3: writes 'x'"),
             std::string::npos);
+  // Strings' shared metatable is out of reach, and their methods still work.
+  EXPECT_NE(run_error(kHeader + "function step(m)\n  getmetatable('').x = 1\nend\n").find(p + ":3: attempt to index"),
+            std::string::npos);
+  EXPECT_EQ(run_error(kHeader + "function step(m)\n  m:set(\"v\", #(\"ab\"):rep(3))\nend\n"), "");
   // A local of the script, written by step.
   EXPECT_NE(run_error(kHeader + "local n = 0\nfunction step(m)\n  n = n + 1\nend\n").find("step wrote the local 'n'"),
             std::string::npos);
