@@ -180,4 +180,26 @@ TEST_F(Window, ScriptMistakesAreBadInputAndFailuresStopTheScript) {
   EXPECT_NE(failed.err.find("script:2: error: ROW must be an integer"), std::string::npos) << failed.err;
 }
 
+// A Lua script's error in the window: the run stands at the last step that went through and the
+// position panel names the failure; the fixed script, reloaded, runs on from there.
+TEST_F(Window, AScriptErrorIsShownAndTheFixedScriptReloaded) {
+  const std::string header = "program = { vars = { \"v\" } }\n";
+  std::ofstream(dir_ / "x.lua") << header + "function step(m)\n  if m.step == 6 then error('boom') end\nend\n";
+  std::ofstream(dir_ / "s.toml")
+      << "steps = 20\n[lattice]\nkind = \"line\"\nsize = [4]\n[[program]]\nscript = \"x.lua\"\n";
+  const Outcome failed = dwatch("view s.toml", "run\n", true);
+  EXPECT_EQ(failed.exit_code, 1);
+  EXPECT_NE(failed.err.find("x.lua on module 0 at step 6: x.lua:3: boom"), std::string::npos) << failed.err;
+
+  std::ofstream(dir_ / "x.lua") << header + "function step(m) m:set(\"v\", m.step) end\n";
+  const Outcome fixed = dwatch("view s.toml", "run 5\nseek 3\nreload\npanel position\nrun\n", true);
+  ASSERT_EQ(fixed.exit_code, 0) << fixed.err;
+  ASSERT_EQ(fixed.answers.size(), 5u) << fixed.err;
+  EXPECT_EQ(fixed.answers[2]["reloaded"], json::array({"x.lua"}));
+  EXPECT_EQ(fixed.answers[2]["from"], 4);
+  EXPECT_EQ(fixed.answers[3]["latest"], 3) << "the future after the current step is dropped";
+  EXPECT_FALSE(fixed.answers[3].contains("failure"));
+  EXPECT_EQ(fixed.answers[4]["current"], 19);
+}
+
 }  // namespace
