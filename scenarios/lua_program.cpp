@@ -243,12 +243,6 @@ class LuaState final : public sim::ProgramScratch {
   void run(sim::ModuleContext& m, bool initializing, bool after_init = false) {
     module_context_ = &m;
     after_init_ = after_init;
-    lua_pushvalue(L_, kIdKey);
-    lua_pushinteger(L_, m.id());
-    lua_rawset(L_, kModuleSlot);
-    lua_pushvalue(L_, kStepKey);
-    lua_pushinteger(L_, m.step());
-    lua_rawset(L_, kModuleSlot);
     const int function = initializing ? init_ : step_;
     bool ok = false;
     if (limits_.patience.count() == 0) {
@@ -351,8 +345,15 @@ class LuaState final : public sim::ProgramScratch {
   // One try of a call of init or step (the registry's `function`) on the module, with every
   // instruction counted or under the watchdog; the error stays on the stack when false.
   bool attempt(int function, bool counted) {
+    // Everything a try may have changed starts afresh (a script may write m.id or m.step).
     draws_ = 0;
     for (Pool& pool : pools_) pool.handed_out = 0;
+    lua_pushvalue(L_, kIdKey);
+    lua_pushinteger(L_, module_context_->id());
+    lua_rawset(L_, kModuleSlot);
+    lua_pushvalue(L_, kStepKey);
+    lua_pushinteger(L_, module_context_->step());
+    lua_rawset(L_, kModuleSlot);
     lua_rawgeti(L_, LUA_REGISTRYINDEX, function);
     lua_pushvalue(L_, kModuleSlot);
     if (counted) {
