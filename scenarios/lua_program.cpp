@@ -692,14 +692,15 @@ std::unique_ptr<const sim::HostProgram> make_lua_program(const std::string& disp
                                                          const LuaLimits& limits) {
   std::optional<Declared> declared = declared_by(display, text, why, limits);
   if (!declared) return nullptr;
-  for (const auto& [name, value] : given) {
-    auto it =
-        std::find_if(declared->params.begin(), declared->params.end(), [&](const auto& p) { return p.first == name; });
+  for (const auto& param : given) {
+    auto it = std::find_if(declared->params.begin(), declared->params.end(),
+                           [&](const auto& p) { return p.first == param.first; });
     if (it == declared->params.end()) {
-      why = display + ": the scenario sets '" + name + "', which the script no longer declares in program.params";
+      why =
+          display + ": the scenario sets '" + param.first + "', which the script no longer declares in program.params";
       return nullptr;
     }
-    it->second = value;
+    it->second = param.second;
   }
   return std::make_unique<LuaProgram>(display, text, std::move(*declared), limits);
 }
