@@ -94,7 +94,6 @@ class LuaState final : public sim::ProgramScratch {
   LuaState(const LuaState&) = delete;
   LuaState& operator=(const LuaState&) = delete;
 
-  lua_State* L() const { return L_; }
   const std::string& error() const { return error_; }
 
   // Reads `program`, `step` and `init` as the script defined them; false with error() set when

@@ -240,6 +240,20 @@ struct Loader {
     return out;
   }
 
+  // A file the scenario names, next to it.
+  std::string beside(const std::string& name) const {
+    return (std::filesystem::path(path).parent_path() / name).string();
+  }
+  // Its text, counted among the scenario's inputs; nothing, with the error at `key`, when it
+  // cannot be read.
+  std::optional<std::string> read_beside(TableReader& r, const char* key, const std::string& at, const char* what) {
+    inputs.push_back(at);
+    std::string error;
+    auto text = sim::read_file(at, &error);
+    if (!text) r.error(key, error + " (" + what + ")");
+    return text;
+  }
+
   // A [[program]] with `script = "x.lua"` (next to the scenario) and the script's parameters.
   std::unique_ptr<const sim::HostProgram> script_program(TableReader& r, uint32_t index) {
     const auto script = r.string("script");
@@ -248,16 +262,11 @@ struct Loader {
       r.error("name", "a [[program]] is a built-in program (name) or a script (script), not both");
       return nullptr;
     }
-    const std::filesystem::path at = std::filesystem::path(path).parent_path() / *script;
-    inputs.push_back(at.string());
-    std::string error;
-    auto text = sim::read_file(at.string(), &error);
-    if (!text) {
-      r.error("script", error + " (the program's script)");
-      return nullptr;
-    }
+    const std::string at = beside(*script);
+    auto text = read_beside(r, "script", at, "the program's script");
+    if (!text) return nullptr;
     std::string why;
-    ScriptSource source{index, *script, at.string(), {}};
+    ScriptSource source{index, *script, at, {}};
     auto program = make_lua_program(*script, *text, r, why, {}, &source.params);  // named as the scenario names it
     r.finish();
     if (program) scripts.push_back(std::move(source));
@@ -295,17 +304,12 @@ struct Loader {
       return std::nullopt;
     }
     // A file next to the scenario.
-    const std::filesystem::path at = std::filesystem::path(path).parent_path() / *file;
-    inputs.push_back(at.string());
-    std::string error;
-    auto watch_text = sim::read_file(at.string(), &error);
-    if (!watch_text) {
-      r.error("file", error + " (the watchpoint file)");
-      return std::nullopt;
-    }
-    auto compiled = watch::compile_watchpoint(name, watch::SourceText(at.string(), std::move(*watch_text)));
+    const std::string at = beside(*file);
+    auto watch_text = read_beside(r, "file", at, "the watchpoint file");
+    if (!watch_text) return std::nullopt;
+    auto compiled = watch::compile_watchpoint(name, watch::SourceText(at, std::move(*watch_text)));
     if (auto* w = std::get_if<watch::Watchpoint>(&compiled)) return std::move(*w);
-    r.error("file", "the watchpoint in " + at.string() + " does not compile:");
+    r.error("file", "the watchpoint in " + at + " does not compile:");
     extra += std::get<watch::CompileError>(compiled).format();
     return std::nullopt;
   }
@@ -561,27 +565,18 @@ std::string events_toml(std::span<const sim::Intervention> interventions, const 
 }
 
 std::variant<std::vector<std::string>, std::string> reload_scripts(const Scenario& scenario, sim::Session& session) {
-  std::vector<std::pair<uint32_t, std::shared_ptr<const sim::HostProgram>>> loaded;
+  std::vector<sim::Session::Replacement> loaded;
+  std::vector<std::string> names;
   for (const ScriptSource& source : scenario.scripts) {
     std::string why;
     auto text = sim::read_file(source.file, &why);
     if (!text) return why;
     std::shared_ptr<const sim::HostProgram> program = make_lua_program(source.display, *text, source.params, why);
     if (!program) return why;
-    loaded.emplace_back(source.program, std::move(program));
-  }
-  // All of them load: now they replace the old ones (variables checked first, so that a refusal
-  // changes nothing).
-  for (const auto& [p, program] : loaded)
-    if (!sim::same_variables(*program, *scenario.model->programs[p]))
-      return std::string(program->name()) +
-             " now declares other variables than the run has; a script reloaded must keep them (load the "
-             "scenario again instead)";
-  std::vector<std::string> names;
-  for (auto& [p, program] : loaded) {
     names.emplace_back(program->name());
-    if (std::string why = session.replace_program(p, std::move(program)); !why.empty()) return why;
+    loaded.push_back({source.program, std::move(program)});
   }
+  if (std::string why = session.replace_programs(std::move(loaded)); !why.empty()) return why;
   return names;
 }
 

@@ -102,7 +102,7 @@ struct Scenario {
 
 // Loads the scenario's scripts again from their files (they changed) and runs each in place of
 // its old self from the step after the session's current one, on a new branch
-// (sim::Session::replace_program). The scripts reloaded, or the first reason one cannot be (a
+// (sim::Session::replace_programs). The scripts reloaded, or the first reason one cannot be (a
 // mistake in it, a parameter it no longer declares, other variables): then nothing changed.
 std::variant<std::vector<std::string>, std::string> reload_scripts(const Scenario& scenario, sim::Session& session);
 

@@ -63,7 +63,7 @@ class Runtime {
   void step(State& state, StepOutput& out, std::span<const Intervention> interventions = {},
             std::span<const uint8_t> watching = {});
 
-  // Runs `program` as program p from the next step on (a script reloaded, Session::replace_program;
+  // Runs `program` as program p from the next step on (a script reloaded, Session::replace_programs;
   // it keeps p's variables), each thread with a fresh scratch for it.
   void use_program(uint32_t p, const HostProgram& program);
 

@@ -352,16 +352,19 @@ void Session::drop_changes_after(int64_t at) {
   std::erase_if(program_versions_, [&](const ProgramVersion& v) { return v.from > at; });
 }
 
-std::string Session::replace_program(uint32_t p, std::shared_ptr<const HostProgram> program) {
-  if (p >= model_.program_count()) return "there is no program " + std::to_string(p);
-  if (!same_variables(*program, *model_.programs[p]))
-    return std::string(program->name()) +
-           " now declares other variables than the run has; a program replaced in a run must keep them";
+std::string Session::replace_programs(std::vector<Replacement> replacements) {
+  for (const Replacement& r : replacements) {
+    if (r.program >= model_.program_count()) return "there is no program " + std::to_string(r.program);
+    if (!same_variables(*r.with, *model_.programs[r.program]))
+      return std::string(r.with->name()) +
+             " now declares other variables than the run has; a program replaced in a run must keep them (load the "
+             "scenario again instead)";
+  }
   if (current_ < latest_ && !has_history()) return "the session keeps no history to branch from";
   if (current_ < latest_) branch_here();
   const int64_t from = current_ + 1;
   drop_changes_after(from);
-  program_versions_.push_back({from, p, std::move(program)});
+  for (Replacement& r : replacements) program_versions_.push_back({from, r.program, std::move(r.with)});
   return {};
 }
 

@@ -123,11 +123,16 @@ class Session {
   // Every intervention of this branch, scheduled or made, in the order they apply.
   const std::vector<Intervention>& interventions() const { return interventions_; }
 
-  // Runs `program` in place of program p from the step after the current one on (a script
+  // Runs each replacement in place of its program from the step after the current one on (scripts
   // changed and loaded again): the future after the current step is dropped, as with an
-  // intervention, and the past keeps the program it ran, so re-simulating it gives it again. An
-  // error message when `program` does not keep p's variables; empty when done.
-  std::string replace_program(uint32_t p, std::shared_ptr<const HostProgram> program);
+  // intervention, and the past keeps the programs it ran, so re-simulating it gives it again. An
+  // error message, and nothing replaced, when one does not keep its program's variables; empty
+  // when done.
+  struct Replacement {
+    uint32_t program;
+    std::shared_ptr<const HostProgram> with;
+  };
+  std::string replace_programs(std::vector<Replacement> replacements);
 
   // The program failure that stopped the run at step latest() + 1: nothing once a step after the
   // latest went through, or the future changed (an intervention, a program replaced).
