@@ -93,7 +93,7 @@ HistoryRow history_row(const std::string& text, int64_t steps, int repeat, unsig
     row.state_bytes_measured = mallinfo2().uordblks - before;
     for (const sim::WatchState& w : copy.watches) {
       for (const watch::RecordBuffer& lane : w.in_flight) row.in_flight_bytes += lane.bytes();
-      for (const watch::DistributedAgent& a : w.agents) row.agent_bytes += sizeof a + a.history().bytes();
+      if (w.agents) row.agent_bytes += w.agents->bytes();
     }
   }
   std::mt19937_64 rng(7);

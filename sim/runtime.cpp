@@ -13,20 +13,27 @@ struct Runtime::Lanes final : watch::PatternMatcherOutbox {
   watch::RecordBuffer* row;  // this thread's lanes, one per receiving block
   uint32_t block_shift;
   void send(uint32_t, std::span<const uint32_t> to, const std::byte* pm, uint32_t bytes) override {
-    for (const uint32_t& n : to) row[n >> block_shift].append({&n, 1}, pm, bytes);
+    // One record per run of receivers in the same block.
+    for (size_t i = 0, j; i < to.size(); i = j) {
+      const uint32_t block = to[i] >> block_shift;
+      for (j = i + 1; j < to.size() && to[j] >> block_shift == block; ++j) {
+      }
+      row[block].append(to.subspan(i, j - i), pm, bytes);
+    }
   }
 };
 
 watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_t> values,
-                        std::span<const uint8_t> present, const NeighborGraph& graph) {
+                        std::span<const uint8_t> present, const std::shared_ptr<const NeighborGraph>& graph) {
   watch::Frame frame;
   frame.step = step;
   frame.present = present;
   frame.values = values;
   frame.has_value = model.all_known;
-  frame.nbr_begin = graph.begin;
-  frame.nbrs = graph.ids;
+  frame.nbr_begin = graph->begin;
+  frame.nbrs = graph->ids;
   frame.variable_count = model.variable_count();
+  frame.topology = graph;
   return frame;
 }
 
@@ -88,10 +95,7 @@ WatchState Runtime::initial_watch_state(uint32_t w) const {
     ws.detector = watch::make_detector(h.algorithm, h.watchpoint, model_.universe, h.options, nullptr);
     ws.detector->stats().max_steps = 0;  // the run keeps its own series
   } else {
-    const uint32_t m = model_.module_count();
-    ws.agents.reserve(m);
-    for (uint32_t i = 0; i < m; ++i)
-      ws.agents.emplace_back(i, h.watchpoint.program, h.options.optimizations.temporal_spans);
+    ws.agents.emplace(h.watchpoint.program, h.options.optimizations.temporal_spans, model_.module_count());
     ws.in_flight.resize(size_t{pool_.size()} * blocks_);
   }
   return ws;
@@ -124,8 +128,8 @@ void Runtime::run_agents(unsigned thread, uint32_t block, uint32_t w, State& sta
   const watch::Program& program = model_.watches[w].watchpoint.program;
   WatchState& ws = state.watches[w];
   const uint32_t begin = block_begin(block), end = block_begin(block + 1);
-  const watch::Frame frame = make_frame(model_, state.step, next_values_, state.present, *state.graph);
-  watch::record_agents(ws.agents, begin, end, frame, program, columns_[w]);
+  const watch::Frame frame = make_frame(model_, state.step, next_values_, state.present, state.graph);
+  ws.agents->record(frame, begin, end, program, columns_[w]);
   const int64_t f = state.step - program.extent_plus;
   if (f < 0) return;
   Lanes out;
@@ -134,26 +138,19 @@ void Runtime::run_agents(unsigned thread, uint32_t block, uint32_t w, State& sta
   arriving_[thread].clear();
   for (unsigned from = 0; from < pool_.size(); ++from)
     arriving_[thread].push_back(&ws.in_flight[size_t{from} * blocks_ + block]);
-  watch::step_agents(ws.agents, begin, end, f, arriving_[thread], scratch_[thread].agents[w], out);
+  watch::step_agents(*ws.agents, begin, end, f, arriving_[thread], scratch_[thread].agents[w], out);
 }
 
-void Runtime::run_thread(unsigned thread, State& state, std::span<const uint8_t> watching) {
+void Runtime::run_thread(unsigned thread, State& state) {
   ThreadScratch& s = scratch_[thread];
   s.outbox.messages.clear();
   s.outbox.actuations.clear();
   s.outbox.error.clear();  // a failed step may be tried again (a script reloaded, a seek back)
-  std::vector<uint32_t>& live = s.live_watches;
-  live.clear();
-  for (uint32_t w = 0; w < model_.watches.size(); ++w) {
-    if (!model_.watches[w].runs_on_agents() || state.watches[w].stopped) continue;
-    if (!watching.empty() && !watching[w]) continue;
-    live.push_back(w);
-    const watch::Program& program = model_.watches[w].watchpoint.program;
-    watch::start_agent_step(s.agents[w], state.step - program.extent_plus);
-  }
+  for (uint32_t w : agent_watches_)
+    watch::start_agent_step(s.agents[w], state.step - model_.watches[w].watchpoint.program.extent_plus);
   for (uint32_t block = first_block(thread); block < first_block(thread + 1); ++block) {
     run_programs(thread, block_begin(block), block_begin(block + 1), state);
-    for (uint32_t w : live) run_agents(thread, block, w, state);
+    for (uint32_t w : agent_watches_) run_agents(thread, block, w, state);
   }
 }
 
@@ -177,7 +174,7 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
     // reported, and the stopped watch lets go of its agents and PatternMatchers.
     ws.stopped = true;
     ws.stop_reason = std::move(outcome.stop_reason);
-    ws.agents = {};
+    ws.agents.reset();
     ws.in_flight = {};
     for (watch::RecordBuffer& lane : sending_[w]) lane = {};
     return;
@@ -206,7 +203,7 @@ void Runtime::observe_detector(uint32_t w, State& state, WatchStepOutput& out) {
     out.matches += ids.size() / k;
     if (keep) out.slots.assign(ids.begin(), ids.end());
   });
-  const watch::Frame frame = make_frame(model_, state.step, state.values, state.present, *state.graph);
+  const watch::Frame frame = make_frame(model_, state.step, state.values, state.present, state.graph);
   const uint64_t before = ws.detector->stats().observed_steps;
   ws.detector->observe(frame);
   if (ws.detector->stats().observed_steps > before) {  // a step cut short by the budget counts not
@@ -265,7 +262,15 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
   // Pushes made from outside go to the world first, then the programs' own requests.
   actuations_.clear();
   intervene(state, interventions);
-  pool_.run([&](unsigned thread) { run_thread(thread, state, watching); });
+  // The watchpoints whose agents run this step make room for it before the threads record it.
+  agent_watches_.clear();
+  for (uint32_t w = 0; w < model_.watches.size(); ++w) {
+    if (!model_.watches[w].runs_on_agents() || state.watches[w].stopped) continue;
+    if (!watching.empty() && !watching[w]) continue;
+    agent_watches_.push_back(w);
+    state.watches[w].agents->begin_record(make_frame(model_, state.step, next_values_, state.present, state.graph));
+  }
+  pool_.run([&](unsigned thread) { run_thread(thread, state); });
   for (const ThreadScratch& s : scratch_)
     if (!s.outbox.error.empty()) throw ProgramError(s.outbox.error, s.outbox.error_module, s.outbox.error_step);
 

@@ -39,12 +39,13 @@ struct StepOutput {
   uint64_t program_messages = 0;
 };
 
-// The frame the watchpoints see of a step: the variables, presence and N(m, step).
+// The frame the watchpoints see of a step: the variables, presence and N(m, step) (lent, see
+// Frame::topology).
 watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_t> values,
-                        std::span<const uint8_t> present, const NeighborGraph& graph);
+                        std::span<const uint8_t> present, const std::shared_ptr<const NeighborGraph>& graph);
 // The frame of the step that `out` reports, while `state` still holds that step's variables.
 inline watch::Frame observed_frame(const Model& model, const State& state, const StepOutput& out) {
-  return make_frame(model, out.step, state.values, out.present, *out.graph);
+  return make_frame(model, out.step, state.values, out.present, out.graph);
 }
 
 class Runtime {
@@ -77,11 +78,10 @@ class Runtime {
     Outbox outbox;
     std::vector<std::unique_ptr<ProgramScratch>> programs;  // per program (HostProgram::make_scratch)
     std::vector<watch::AgentContext> agents;                // per watchpoint (distributed ones used)
-    std::vector<uint32_t> live_watches;                     // distributed watchpoints still observing
   };
 
   void intervene(State& state, std::span<const Intervention> interventions);
-  void run_thread(unsigned thread, State& state, std::span<const uint8_t> watching);
+  void run_thread(unsigned thread, State& state);
   void run_programs(unsigned thread, uint32_t begin, uint32_t end, const State& state);
   void run_agents(unsigned thread, uint32_t block, uint32_t watch, State& state);
   void finish_distributed(uint32_t watch, State& state, WatchStepOutput& out);
@@ -102,6 +102,7 @@ class Runtime {
   std::vector<std::vector<int>> columns_;                    // per watch: program variable -> model column
   std::vector<std::vector<watch::RecordBuffer>> sending_;    // per watch: lanes being filled
   std::vector<uint32_t> counts_;                             // for gathering messages
+  std::vector<uint32_t> agent_watches_;                      // this step: watchpoints whose agents run
   std::vector<std::vector<watch::RecordBuffer*>> arriving_;  // per thread: a block's lanes
   std::vector<Actuation> actuations_;                        // the step's, for the world
 };

@@ -144,8 +144,8 @@ size_t state_bytes(const State& s) {
              vector_bytes(b.prop_poses) + vector_bytes(b.prop_velocities) + vector_bytes(s.inbox.begin) +
              vector_bytes(s.inbox.messages) + 16 * kBlock;
   for (const WatchState& w : s.watches) {
-    n += sizeof(WatchState) + vector_bytes(w.agents) + vector_bytes(w.in_flight);
-    for (const watch::DistributedAgent& a : w.agents) n += a.history().bytes();
+    n += sizeof(WatchState) + vector_bytes(w.in_flight);
+    if (w.agents) n += w.agents->bytes();
     for (const watch::RecordBuffer& lane : w.in_flight) n += lane.bytes();
     if (w.detector) n += w.detector->bytes();
   }

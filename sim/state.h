@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,7 +11,7 @@
 #include "sim/message.h"
 #include "sim/neighbor_graph.h"
 #include "watch/detector.h"
-#include "watch/distributed_agent.h"
+#include "watch/distributed_agents.h"
 #include "watch/record_buffer.h"
 
 namespace dw::sim {
@@ -21,7 +22,7 @@ struct WatchState {
   std::unique_ptr<watch::Detector> detector;
   // Distributed: one agent per module, and the PatternMatchers in flight to be read at the
   // state's step, in lanes [sending thread * blocks + receiving block] (see Runtime).
-  std::vector<watch::DistributedAgent> agents;
+  std::optional<watch::DistributedAgents> agents;
   std::vector<watch::RecordBuffer> in_flight;
   uint64_t matches = 0;
   bool stopped = false;  // past the live budget: the watchpoint observes no more

@@ -2,46 +2,16 @@
 
 namespace dw::watch {
 
-void record_agents(std::span<DistributedAgent> agents, uint32_t begin, uint32_t end, const Frame& frame,
-                   const Program& program, std::span<const int> columns) {
-  constexpr size_t kMaxInline = 64;
-  int64_t values[kMaxInline];
-  uint8_t has[kMaxInline];
-  std::vector<int64_t> more_values;
-  std::vector<uint8_t> more_has;
-  int64_t* row_values = values;
-  uint8_t* row_has = has;
-  if (columns.size() > kMaxInline) {
-    more_values.resize(columns.size());
-    more_has.resize(columns.size());
-    row_values = more_values.data();
-    row_has = more_has.data();
-  }
-  const int64_t f = frame.step - program.extent_plus;
-  for (uint32_t m = begin; m < end; ++m) {
-    const bool present = frame.present[m] != 0;
-    const size_t row = size_t{m} * frame.variable_count;
-    for (size_t v = 0; v < columns.size(); ++v) {
-      const int c = columns[v];
-      row_has[v] = present && c >= 0 && frame.has_value[row + size_t(c)];
-      row_values[v] = row_has[v] ? frame.values[row + size_t(c)] : 0;
-    }
-    agents[m].history().record(frame.step, present, row_values, row_has,
-                               present ? frame.neighbors(m) : std::span<const uint32_t>{});
-    if (f >= 0 && agents[m].history().present(f)) agents[m].prepare_all(f, program);
-  }
-}
-
-void step_agents(std::span<DistributedAgent> agents, uint32_t begin, uint32_t end, int64_t f,
+void step_agents(DistributedAgents& agents, uint32_t begin, uint32_t end, int64_t f,
                  std::span<RecordBuffer* const> arriving, AgentContext& ctx, PatternMatcherOutbox& out) {
   for (RecordBuffer* lane : arriving)
     lane->for_each(
-        [&](uint32_t to, std::byte* pm) {
-          if (!ctx.over_budget) agents[to].receive(f, pm, ctx, out);
+        [&](uint32_t to, const std::byte* pm) {
+          if (!ctx.over_budget) agents.receive(to, f, pm, ctx, out);
         },
-        [&](uint32_t next) { __builtin_prefetch(&agents[next]); });
+        [&](uint32_t next) { agents.prefetch(next); });
   for (uint32_t m = begin; m < end && !ctx.over_budget; ++m)
-    if (agents[m].history().present(f)) agents[m].start(f, ctx, out);
+    if (agents.present(m, f)) agents.start(m, f, ctx, out);
 }
 
 void start_agent_step(AgentContext& ctx, int64_t f) {

@@ -9,23 +9,17 @@
 #include <string>
 #include <vector>
 
-#include "watch/distributed_agent.h"
+#include "watch/distributed_agents.h"
 #include "watch/frame.h"
 #include "watch/record_buffer.h"
 
 namespace dw::watch {
 
-// Each agent of modules [begin, end) records its module's state at frame.step: the variables the
-// watchpoint reads (`columns`: program variable -> frame column, -1 for none) and N(m, t). Then,
-// at detector step f = frame.step - E+ (the agents run E+ behind, to read `next`), a present
-// agent decides its own leaves while its history is in cache.
-void record_agents(std::span<DistributedAgent> agents, uint32_t begin, uint32_t end, const Frame& frame,
-                   const Program& program, std::span<const int> columns);
 
 // Detector step f for agents [begin, end): the PatternMatchers sent to them during f - 1 (in the
 // `arriving` lanes) are received, then every present agent starts its own. Stops as soon as the
 // context is over its budget.
-void step_agents(std::span<DistributedAgent> agents, uint32_t begin, uint32_t end, int64_t f,
+void step_agents(DistributedAgents& agents, uint32_t begin, uint32_t end, int64_t f,
                  std::span<RecordBuffer* const> arriving, AgentContext& ctx, PatternMatcherOutbox& out);
 
 // Makes a context ready for detector step f.

@@ -12,23 +12,17 @@ DistributedDetector::DistributedDetector(const Watchpoint& w, const Universe& u,
       program_(w.program),
       options_(options),
       columns_(variable_columns(w.program, u)),
-      ctx_(w.program, options.optimizations, options.live_budget) {
-  agents_.reserve(u.module_count());
-  for (uint32_t m = 0; m < u.module_count(); ++m)
-    agents_.emplace_back(m, program_, options.optimizations.temporal_spans);
-}
+      agents_(w.program, options.optimizations.temporal_spans, u.module_count()),
+      ctx_(w.program, options.optimizations, options.live_budget) {}
 
-size_t DistributedDetector::bytes() const {
-  size_t n = agents_.capacity() * sizeof(DistributedAgent);
-  for (const DistributedAgent& a : agents_) n += a.history().bytes();
-  return n;
-}
+size_t DistributedDetector::bytes() const { return sizeof(DistributedAgents) + agents_.bytes(); }
 
 void DistributedDetector::observe(const Frame& frame) {
   if (stats_.stopped) return;
   const auto started = std::chrono::steady_clock::now();
-  const uint32_t m = static_cast<uint32_t>(agents_.size());
-  record_agents(agents_, 0, m, frame, program_, columns_);
+  const uint32_t m = agents_.size();
+  agents_.begin_record(frame);
+  agents_.record(frame, 0, m, program_, columns_);
   const int64_t f = frame.step - program_.extent_plus;
   if (f < 0) return;
   start_agent_step(ctx_, f);
@@ -47,8 +41,7 @@ void DistributedDetector::observe(const Frame& frame) {
   // Everything that matched now was started at t0 = f - (k - 1).
   const int64_t t0 = f - (program_.slot_count() - 1);
   if (t0 >= 0) emit(t0, {ctx_.matches.data(), ctx_.match_values});
-  // Every agent records every step (absent or not), so all hold the same amount of history.
-  stats_.history_values = agents_.empty() ? 0 : agents_.front().history().held() * agents_.size();
+  stats_.history_values = agents_.history().held();
 }
 
 }  // namespace dw::watch

@@ -1,4 +1,4 @@
-// The distributed detector (paper Alg. 2, DESIGN §4): one DistributedAgent per module, the
+// The distributed detector (paper Alg. 2, DESIGN §4): one distributed agent per module, the
 // PatternMatchers they exchange carried by an in-process transport. Consistent states, linear
 // chains: slot i is filled at step t0 + i - 1 by a neighbour of the module that filled slot i - 1.
 #pragma once
@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "watch/detector.h"
-#include "watch/distributed_agent.h"
+#include "watch/distributed_agents.h"
 #include "watch/in_process_transport.h"
 #include "watch/watchpoint.h"
 
@@ -27,7 +27,7 @@ class DistributedDetector final : public Detector {
   const Program& program_;
   DetectorOptions options_;
   std::vector<int> columns_;  // program variable -> frame column, -1 if frames never carry it
-  std::vector<DistributedAgent> agents_;
+  DistributedAgents agents_;
   InProcessTransport transport_;
   AgentContext ctx_;
 };

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -26,6 +27,9 @@ struct Frame {
   std::span<const uint32_t> nbr_begin;  // [module_count + 1]: CSR offsets into nbrs
   std::span<const uint32_t> nbrs;       // N(m, step) as dense indices, in recorded order
   uint32_t variable_count = 0;
+  // The owner of nbr_begin and nbrs when they stay unchanged for as long as it lives (the runtime's
+  // neighbour graph): a history of neighbour sets then shares them instead of copying them.
+  std::shared_ptr<const void> topology;
 
   std::span<const uint32_t> neighbors(uint32_t m) const {
     return nbrs.subspan(nbr_begin[m], nbr_begin[m + 1] - nbr_begin[m]);

@@ -4,7 +4,7 @@
 
 #include <utility>
 
-#include "watch/distributed_agent.h"
+#include "watch/distributed_agents.h"
 #include "watch/record_buffer.h"
 
 namespace dw::watch {

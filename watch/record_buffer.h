@@ -1,5 +1,10 @@
-// PatternMatchers in flight, packed in one growing byte buffer: each record is the receiver's
-// dense index followed by the PatternMatcher. Appending never allocates per message.
+// PatternMatchers in flight, packed in one growing byte buffer. A module sends the same
+// PatternMatcher to several neighbours, so a record is one PatternMatcher with its receivers:
+//
+//   uint32 count | uint32 receivers[count] | PatternMatcher
+//
+// and each receiver reads it where it lies (a receiver that fills a slot copies it first).
+// Appending never allocates per message.
 #pragma once
 
 #include <cstddef>
@@ -34,52 +39,51 @@ class RecordBuffer {
   bool empty() const { return size_ == 0; }
   void clear() { size_ = 0; }
 
-  // Appends one copy of `pm` (`bytes` long, whole 32-bit words) for each receiver in `to`.
+  // Appends the PatternMatcher `pm` (`bytes` long, whole 32-bit words) for the receivers in `to`.
   void append(std::span<const uint32_t> to, const std::byte* pm, uint32_t bytes) {
-    const size_t need = size_ + to.size() * (4 + static_cast<size_t>(bytes));
+    const uint32_t count = static_cast<uint32_t>(to.size());
+    const size_t need = size_ + 4 * (1 + size_t{count}) + bytes;
     if (need > capacity_) grow(need);
     std::byte* at = data_.get() + size_;
-    for (uint32_t n : to) {
-      std::memcpy(at, &n, 4);
-      // Copied in chunks (see copy_ids): the buffer keeps slack for the chunk past the end.
-      copy_ids(reinterpret_cast<uint32_t*>(at + 4), reinterpret_cast<const uint32_t*>(pm), bytes / 4);
-      at += 4 + bytes;
-    }
+    std::memcpy(at, &count, 4);
+    std::memcpy(at + 4, to.data(), 4 * size_t{count});
+    // Copied in chunks (see copy_ids): the buffer keeps slack for the chunk past the end.
+    copy_ids(reinterpret_cast<uint32_t*>(at + 4 * (1 + size_t{count})), reinterpret_cast<const uint32_t*>(pm),
+             bytes / 4);
     size_ = need;
   }
 
-  // Calls fn(to, record) for every record in order; fn may modify the record in place. hint(to)
-  // names the next record's receiver ahead of time, so that its state can be fetched meanwhile.
+  // Calls fn(to, pm) for every receiver of every record, in order. hint(to) names the next
+  // record's first receiver ahead of time, so that its state can be fetched meanwhile.
   template <class Fn, class Hint>
-  void for_each(Fn&& fn, Hint&& hint) {
-    std::byte* at = data_.get();
-    std::byte* end = at + size_;
+  void for_each(Fn&& fn, Hint&& hint) const {
+    const std::byte* at = data_.get();
+    const std::byte* end = at + size_;
     while (at < end) {
-      uint32_t to;
-      std::memcpy(&to, at, 4);
-      std::byte* next = at + 4 + PatternMatcherRef::bytes_of(at + 4);
+      uint32_t count;
+      std::memcpy(&count, at, 4);
+      const std::byte* to = at + 4;
+      const std::byte* pm = to + 4 * size_t{count};
+      const std::byte* next = pm + PatternMatcherRef::bytes_of(pm);
       if (next < end) {
         uint32_t next_to;
-        std::memcpy(&next_to, next, 4);
+        std::memcpy(&next_to, next + 4, 4);
         hint(next_to);
       }
-      fn(to, at + 4);
+      for (uint32_t i = 0; i < count; ++i) {
+        uint32_t receiver;
+        std::memcpy(&receiver, to + 4 * size_t{i}, 4);
+        fn(receiver, pm);
+      }
       at = next;
     }
   }
 
-  // Read-only walk, for hashing and counting: fn(to, record, bytes).
+  // fn(to, pm, bytes) for every receiver of every record, for hashing and counting.
   template <class Fn>
   void visit(Fn&& fn) const {
-    const std::byte* at = data_.get();
-    const std::byte* end = at + size_;
-    while (at < end) {
-      uint32_t to;
-      std::memcpy(&to, at, 4);
-      const uint32_t bytes = PatternMatcherRef::bytes_of(at + 4);
-      fn(to, at + 4, bytes);
-      at += 4 + bytes;
-    }
+    for_each([&](uint32_t to, const std::byte* pm) { fn(to, pm, PatternMatcherRef::bytes_of(pm)); },
+             [](uint32_t) {});
   }
 
  private:

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace dw::watch {
@@ -39,6 +40,7 @@ class StepRing {
     if (depth_ > 0) return step <= newest_ - depth_ ? nullptr : &items_[static_cast<size_t>(step) & mask_];
     return &items_[static_cast<size_t>(step)];
   }
+  T* find(int64_t step) { return const_cast<T*>(std::as_const(*this).find(step)); }
 
   // The items' storage (not what they point to).
   size_t capacity() const { return items_.capacity(); }

@@ -1,0 +1,90 @@
+#include "watch/agent_history.h"
+
+#include <algorithm>
+
+namespace dw::watch {
+
+void AgentHistory::configure(const Program& p, bool temporal_spans, uint32_t modules) {
+  modules_ = modules;
+  values_.assign(p.variables.size(), {});
+  for (size_t v = 0; v < values_.size(); ++v)
+    values_[v].configure(temporal_spans ? p.extent_plus - p.variable_min_offset[v] + 1 : 0);
+  // Neighbour sets (and presence) are read at the fill step, to spread, and at neighbor() offsets.
+  topology_.configure(temporal_spans ? p.extent_plus - p.min_neighbor_offset + 1 : 0);
+}
+
+void AgentHistory::begin_record(const Frame& frame) {
+  for (StepRing<Values>& ring : values_) {
+    Values& row = ring.write(frame.step);
+    row.values.resize(modules_);
+    row.known.resize(modules_);
+  }
+  // A graph copied for an earlier step serves again while the frames' graph stays the same (a
+  // trace of a static lattice). Taken before the write, which may reuse its ring entry.
+  Topology last;
+  if (const Topology* t = topology_.find(frame.step - 1); t != nullptr && !frame.topology && !t->shared) last = *t;
+  Topology& t = topology_.write(frame.step);
+  t.present.resize(modules_);
+  if (frame.topology) {
+    t.owner = frame.topology;
+    t.begin = frame.nbr_begin;
+    t.ids = frame.nbrs;
+    t.shared = true;
+    return;
+  }
+  t.shared = false;
+  if (last.owner && std::ranges::equal(last.begin, frame.nbr_begin) && std::ranges::equal(last.ids, frame.nbrs)) {
+    t.owner = std::move(last.owner);
+    t.begin = last.begin;
+    t.ids = last.ids;
+    return;
+  }
+  auto copy = std::make_shared<Graph>(Graph{{frame.nbr_begin.begin(), frame.nbr_begin.end()},
+                                            {frame.nbrs.begin(), frame.nbrs.end()}});
+  t.begin = copy->begin;
+  t.ids = copy->ids;
+  t.owner = std::move(copy);
+}
+
+void AgentHistory::record(const Frame& frame, uint32_t begin, uint32_t end, std::span<const int> columns) {
+  Topology& t = *topology_.find(frame.step);
+  for (uint32_t m = begin; m < end; ++m) t.present[m] = frame.present[m];
+  for (size_t v = 0; v < values_.size(); ++v) {
+    Values& row = *values_[v].find(frame.step);
+    if (columns[v] < 0) {  // frames never carry it: unknown throughout
+      std::fill(row.known.begin() + begin, row.known.begin() + end, 0);
+      std::fill(row.values.begin() + begin, row.values.begin() + end, 0);
+      continue;
+    }
+    const size_t c = static_cast<size_t>(columns[v]);
+    for (uint32_t m = begin; m < end; ++m) {
+      const size_t at = size_t{m} * frame.variable_count + c;
+      const bool known = frame.present[m] && frame.has_value[at];
+      row.known[m] = known;
+      row.values[m] = known ? frame.values[at] : 0;
+    }
+  }
+}
+
+uint64_t AgentHistory::held() const {
+  uint64_t steps = static_cast<uint64_t>(topology_.held());
+  for (const auto& ring : values_) steps += static_cast<uint64_t>(ring.held());
+  return steps * modules_;
+}
+
+size_t AgentHistory::bytes() const {
+  constexpr size_t kBlock = 16;  // the allocator's own per heap block
+  size_t n = 0;
+  for (const auto& ring : values_) n += ring.capacity() * (sizeof(Values) + modules_ * 9 + 2 * kBlock);
+  const void* counted = nullptr;  // copied graphs serve consecutive steps: each is counted once
+  for (const Topology& t : topology_.items()) {
+    n += sizeof(Topology) + t.present.capacity() + kBlock;
+    if (t.owner && !t.shared && t.owner.get() != counted) {
+      n += (t.begin.size() + t.ids.size()) * sizeof(uint32_t) + 3 * kBlock;
+      counted = t.owner.get();
+    }
+  }
+  return n;
+}
+
+}  // namespace dw::watch

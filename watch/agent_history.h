@@ -1,0 +1,84 @@
+// The recent past of every module, as the distributed agents keep it (paper §III-B): the values
+// of the variables the watchpoint reads and the modules' neighbour sets, each over exactly the
+// steps the watchpoint can still ask for (paper §IV-A), or over the whole run when spans are off.
+//
+// Laid out by step, not by module, so that recording a step is a few contiguous copies and
+// nothing is allocated per module: one ring of rows [module] per program variable, and per step
+// the modules' presence and N(m, t) as a CSR graph. A host that lends its graph (Frame::topology)
+// has it shared, not copied; a static lattice then costs one graph for the whole history.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "watch/frame.h"
+#include "watch/program.h"
+#include "watch/step_ring.h"
+
+namespace dw::watch {
+
+class AgentHistory {
+ public:
+  void configure(const Program& program, bool temporal_spans, uint32_t modules);
+
+  // Makes room for the frame's step and takes its neighbour graph. Once per step, before the
+  // modules are recorded (by one thread: the blocks may then be recorded by several).
+  void begin_record(const Frame& frame);
+  // Records modules [begin, end) of the frame: presence and the values of the program's
+  // variables (`columns`: program variable -> frame column, -1 for none).
+  void record(const Frame& frame, uint32_t begin, uint32_t end, std::span<const int> columns);
+
+  // The value of a program variable of module m at `step`; false when unknown (absent, missing,
+  // before 0, forgotten).
+  bool value(uint32_t m, int variable, int64_t step, int64_t& out) const {
+    const Values* row = values_[static_cast<size_t>(variable)].find(step);
+    if (row == nullptr || !row->known[m]) return false;
+    out = row->values[m];
+    return true;
+  }
+
+  // N(m, step), or nullptr when the module was absent then (or the step is unknown); `count` is
+  // its size.
+  const uint32_t* neighbors(uint32_t m, int64_t step, uint32_t& count) const {
+    const Topology* t = topology_.find(step);
+    if (t == nullptr || !t->present[m]) return nullptr;
+    count = t->begin[m + 1] - t->begin[m];
+    return t->ids.data() + t->begin[m];
+  }
+
+  bool present(uint32_t m, int64_t step) const {
+    const Topology* t = topology_.find(step);
+    return t != nullptr && t->present[m];
+  }
+
+  uint32_t modules() const { return modules_; }
+  // Values and neighbour ids held now, summed over the modules.
+  uint64_t held() const;
+  // Heap bytes held (storage allocated, whether filled yet or not); a graph shared with the
+  // host is not counted.
+  size_t bytes() const;
+
+ private:
+  struct Values {
+    std::vector<int64_t> values;  // [module]
+    std::vector<uint8_t> known;   // [module]
+  };
+  struct Topology {
+    std::vector<uint8_t> present;       // [module]
+    std::shared_ptr<const void> owner;  // keeps begin and ids alive
+    std::span<const uint32_t> begin;    // [module + 1]
+    std::span<const uint32_t> ids;
+    bool shared = false;  // owned by the host, not by this history
+  };
+  struct Graph {  // a graph this history had to copy
+    std::vector<uint32_t> begin, ids;
+  };
+
+  uint32_t modules_ = 0;
+  std::vector<StepRing<Values>> values_;  // per program variable
+  StepRing<Topology> topology_;           // presence and N(m, step)
+};
+
+}  // namespace dw::watch

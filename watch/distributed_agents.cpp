@@ -1,0 +1,254 @@
+#include "watch/distributed_agents.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace dw::watch {
+namespace {
+
+// The scratch record is sent with chunked copies (copy_ids) that may read past its end.
+constexpr size_t kScratchSlack = 16;
+
+Truth membership(const uint32_t* ids, uint32_t count, uint32_t m) {
+  if (count == kUnknownSet) return kUnknown;
+  return truth_of(std::find(ids, ids + count, m) != ids + count);
+}
+
+// A PatternMatcher with `filled` slots is alive at this step, unless that would pass the budget:
+// what is alive and what was sent this step, as in fill_and_spread.
+bool admit(AgentContext& ctx, uint32_t filled) {
+  StepStats& st = ctx.step;
+  if (st.live + st.messages >= ctx.live_limit) {
+    ctx.over_budget = true;
+    return false;
+  }
+  ++st.live_by_filled[filled];
+  ++st.live;
+  return true;
+}
+
+}  // namespace
+
+AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t budget)
+    : program(p),
+      layout(p),
+      optimizations(o),
+      slot_count(static_cast<uint32_t>(p.slot_count())),
+      live_limit(budget ? budget : UINT64_MAX) {
+  stack.resize(static_cast<size_t>(p.max_stack));
+  trial.resize(p.leaves.size());
+  scratch.resize(layout.sets + kScratchSlack);
+}
+
+DistributedAgents::DistributedAgents(const Program& p, bool temporal_spans, uint32_t modules)
+    : stride_(p.shape == Program::Shape::Conjunction ? static_cast<uint32_t>(p.slot_count())
+                                                     : static_cast<uint32_t>(p.leaves.size())),
+      own_(size_t{modules} * stride_, kUnknown) {
+  history_.configure(p, temporal_spans, modules);
+}
+
+void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end, const Program& p,
+                               std::span<const int> columns) {
+  history_.record(frame, begin, end, columns);
+  const int64_t f = frame.step - p.extent_plus;
+  if (f < 0) return;
+  const bool conjunction = p.shape == Program::Shape::Conjunction;
+  for (uint32_t m = begin; m < end; ++m) {
+    if (!history_.present(m, f)) continue;
+    Truth* own = own_.data() + size_t{m} * stride_;
+    for (uint32_t slot = 0; slot < p.slots.size(); ++slot) {
+      Truth all = kTrue;
+      for (uint16_t l : p.slots[slot].own_leaves) {
+        const Truth t = decide(p.leaves[l], m, f, nullptr);
+        if (conjunction) all = kleene_and(all, t);
+        else own[l] = t;
+      }
+      if (conjunction) own[slot] = all;
+    }
+  }
+}
+
+// Decides every leaf that filling `slot` decides into `leaves` (the PatternMatcher's, or a copy)
+// and returns the expression's truth so far.
+[[gnu::always_inline]] inline Truth DistributedAgents::decide_leaves(const SlotProgram& sp, uint32_t slot, uint32_t m,
+                                                                     int64_t f, PatternMatcherRef& pm, Truth* leaves,
+                                                                     AgentContext& ctx) const {
+  const Program& p = ctx.program;
+  const Truth* own = own_.data() + size_t{m} * stride_;
+  // Plain pointers: stores through Truth* (a char type) could alias a vector's own fields.
+  const uint16_t* carried = sp.carried_leaves.data();
+  const uint16_t* carried_end = carried + sp.carried_leaves.size();
+  if (p.shape == Program::Shape::Conjunction) {
+    Truth partial = kleene_and(leaves[0], own[slot]);
+    for (const uint16_t* l = carried; l != carried_end; ++l)
+      partial = kleene_and(partial, decide(p.leaves[*l], m, f, &pm));
+    leaves[0] = partial;
+    return partial;  // and-ed with the pending leaves' U this is F exactly when partial is F
+  }
+  for (uint16_t l : sp.own_leaves) leaves[l] = own[l];
+  for (const uint16_t* l = carried; l != carried_end; ++l) leaves[*l] = decide(p.leaves[*l], m, f, &pm);
+  return p.evaluate(leaves, ctx.stack.data());
+}
+
+// The last slot: decide and report. The record itself goes nowhere, so it is read, not written
+// (other receivers read it too). No later slot reads this one, so it writes no cells or sets.
+[[gnu::always_inline]] inline void DistributedAgents::finish(uint32_t m, int64_t f, PatternMatcherRef pm,
+                                                             AgentContext& ctx) const {
+  const uint32_t slot = pm.filled();
+  Truth conjunction = pm.leaves()[0];
+  Truth* leaves = &conjunction;
+  if (ctx.program.shape != Program::Shape::Conjunction) {
+    std::memcpy(ctx.trial.data(), pm.leaves(), ctx.trial.size());
+    leaves = ctx.trial.data();
+  }
+  if (decide_leaves(ctx.program.slots[slot], slot, m, f, pm, leaves, ctx) != kTrue) return;
+  ++ctx.step.matches;
+  if (ctx.match_values + slot + 1 + kCopyChunk > ctx.matches.size()) ctx.matches.resize(2 * ctx.matches.size() + 4096);
+  uint32_t* match = ctx.matches.data() + ctx.match_values;
+  copy_ids(match, reinterpret_cast<const uint32_t*>(pm.data() + ctx.layout.ids), slot);
+  match[slot] = m;
+  ctx.match_values += slot + 1;
+}
+
+// Fills a slot that is not the last (in the context's scratch record) and spreads the
+// PatternMatcher to the neighbours.
+void DistributedAgents::fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef pm, AgentContext& ctx,
+                                        PatternMatcherOutbox& out) {
+  const Program& p = ctx.program;
+  StepStats& st = ctx.step;
+  const uint32_t slot = pm.filled();
+  const uint32_t filled = slot + 1;
+  const SlotProgram& sp = p.slots[slot];
+  pm.set_id(slot, m);
+  for (uint16_t c : sp.cells) {
+    const CarriedCell& cell = p.cells[c];
+    int64_t v = 0;
+    const bool known = history_.value(m, cell.variable, f + cell.offset, v);
+    pm.set_cell(c, v, known);
+  }
+  for (uint16_t s : sp.sets) {
+    uint32_t count = 0;
+    const uint32_t* n = history_.neighbors(m, f + p.sets[s].offset, count);
+    if (n == nullptr) count = kUnknownSet;
+    const uint32_t at = pm.bytes();
+    const uint64_t size = uint64_t{at} + 4 + (n == nullptr ? 0 : 4 * uint64_t{count});
+    if (size > kMaxPatternMatcherBytes) {
+      ctx.over_budget = true;
+      ctx.stop_reason = "a PatternMatcher would carry more than 16 MiB of neighbour sets";
+      return;
+    }
+    const uint32_t grown = static_cast<uint32_t>(size);
+    if (ctx.scratch.size() < grown + kScratchSlack) {
+      ctx.scratch.resize(grown * 2 + kScratchSlack);
+      pm = PatternMatcherRef(ctx.scratch.data(), ctx.layout);
+    }
+    std::memcpy(ctx.scratch.data() + at, &count, 4);
+    if (n != nullptr && count != 0) std::memcpy(ctx.scratch.data() + at + 4, n, 4 * size_t{count});
+    pm.set_bytes(grown);
+  }
+  const Truth result = decide_leaves(sp, slot, m, f, pm, pm.leaves(), ctx);
+  pm.set_filled(filled);
+  if (result == kFalse && ctx.optimizations.early_termination) return;
+
+  // Spread to every neighbour not already in the chain (and not culled).
+  uint32_t ids[kMaxSlots];
+  for (uint32_t s = 0; s < filled; ++s) ids[s] = pm.id(s);
+  uint32_t degree = 0;
+  const uint32_t* nbrs = history_.neighbors(m, f, degree);  // m is present at f
+  if (ctx.targets.size() < degree) ctx.targets.resize(degree);
+  uint32_t* targets = ctx.targets.data();
+  size_t count = 0;
+  const bool cull = ctx.optimizations.neighbor_culling && !p.slots[filled].cull_leaves.empty();
+  for (const uint32_t* n = nbrs; n != nbrs + degree; ++n) {
+    if (std::find(ids, ids + filled, *n) != ids + filled) continue;
+    if (cull && culled(*n, pm, ctx)) continue;
+    targets[count++] = *n;
+  }
+  const uint64_t used = st.messages + st.live;
+  const uint64_t room = ctx.live_limit > used ? ctx.live_limit - used : 0;
+  if (count > room) {
+    count = room;
+    ctx.over_budget = true;
+  }
+  if (count == 0) return;
+  const uint32_t bytes = pm.bytes();
+  out.send(m, {targets, count}, pm.data(), bytes);
+  st.messages += count;
+  st.bytes += count * bytes;
+}
+
+void DistributedAgents::start(uint32_t m, int64_t f, AgentContext& ctx, PatternMatcherOutbox& out) {
+  PatternMatcherRef pm(ctx.scratch.data(), ctx.layout);
+  pm.init();
+  ++ctx.step.created;
+  if (!admit(ctx, 1)) return;
+  if (ctx.slot_count == 1) finish(m, f, pm, ctx);
+  else fill_and_spread(m, f, pm, ctx, out);
+}
+
+void DistributedAgents::receive(uint32_t m, int64_t f, const std::byte* incoming, AgentContext& ctx,
+                                PatternMatcherOutbox& out) {
+  // Sent to a neighbour at f - 1; a module that has left by f never fills it.
+  if (!history_.present(m, f)) return;
+  // Only read through this view: the record is shared by all its receivers.
+  PatternMatcherRef view(const_cast<std::byte*>(incoming), ctx.layout);
+  const uint32_t filled = view.filled() + 1;
+  if (!admit(ctx, filled)) return;
+  if (filled == ctx.slot_count) {
+    finish(m, f, view, ctx);
+    return;
+  }
+  const uint32_t bytes = view.bytes();
+  if (ctx.scratch.size() < bytes + kScratchSlack) ctx.scratch.resize(bytes + kScratchSlack);
+  // Chunked: the lanes keep slack past their last record, the scratch past its end.
+  copy_ids(reinterpret_cast<uint32_t*>(ctx.scratch.data()), reinterpret_cast<const uint32_t*>(incoming), bytes / 4);
+  fill_and_spread(m, f, PatternMatcherRef(ctx.scratch.data(), ctx.layout), ctx, out);
+}
+
+// `pm` is null for own leaves, which read nothing carried.
+Truth DistributedAgents::decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef* pm) const {
+  if (leaf.kind == LeafKind::Neighbor) {
+    if (leaf.set >= 0) {  // x filled earlier and carried N(x): am I in it?
+      uint32_t count;
+      const uint32_t* ids = pm->set(static_cast<uint32_t>(leaf.set), count);
+      return membership(ids, count, m);
+    }
+    // I am x: is y, filled earlier, in my own neighbour set at the offset?
+    uint32_t count = 0;
+    const uint32_t* mine = history_.neighbors(m, f + leaf.offset, count);
+    if (mine == nullptr) return kUnknown;
+    const uint32_t y = pm->id(static_cast<uint32_t>(leaf.y));
+    return truth_of(std::find(mine, mine + count, y) != mine + count);
+  }
+  auto operand = [&](const TermRef& t, int64_t& v) {
+    return t.cell >= 0 ? pm->cell(static_cast<uint32_t>(t.cell), v) : history_.value(m, t.variable, f + t.offset, v);
+  };
+  int64_t a, b = leaf.constant;
+  if (!operand(leaf.lhs, a)) return kUnknown;
+  if (!leaf.rhs_is_constant && !operand(leaf.rhs, b)) return kUnknown;
+  return truth_of(holds(leaf.op, a, b));
+}
+
+// Neighbour culling (paper §IV-C): would the expression be false whatever else fills, if
+// `candidate` took the next slot? Only neighbor(x next) terms with x already filled can tell.
+bool DistributedAgents::culled(uint32_t candidate, const PatternMatcherRef& pm, AgentContext& ctx) const {
+  const std::vector<uint16_t>& cull = ctx.program.slots[pm.filled()].cull_leaves;
+  if (ctx.program.shape == Program::Shape::Conjunction) {
+    Truth trial = pm.leaves()[0];
+    for (uint16_t l : cull) {
+      uint32_t count;
+      const uint32_t* ids = pm.set(static_cast<uint32_t>(ctx.program.leaves[l].set), count);
+      trial = kleene_and(trial, membership(ids, count, candidate));
+    }
+    return trial == kFalse;
+  }
+  std::memcpy(ctx.trial.data(), pm.leaves(), ctx.trial.size());
+  for (uint16_t l : cull) {
+    uint32_t count;
+    const uint32_t* ids = pm.set(static_cast<uint32_t>(ctx.program.leaves[l].set), count);
+    ctx.trial[l] = membership(ids, count, candidate);
+  }
+  return ctx.program.evaluate(ctx.trial.data(), ctx.stack.data()) == kFalse;
+}
+
+}  // namespace dw::watch

@@ -1,0 +1,102 @@
+// The distributed watchpoint agents (paper Alg. 2), one per module: each keeps its module's
+// history, starts one PatternMatcher per step, fills the next slot of every PatternMatcher that
+// arrives, evaluates it, and hands clones to an outbox for delivery to its neighbours next step.
+// The outbox is the seam to the messaging: an in-process transport for replay, the runtime's
+// lanes in a live run.
+//
+// The agents of one watchpoint are held together, laid out by field rather than by module
+// (AgentHistory, and the per-step truths below), so that an arriving PatternMatcher touches a
+// few bytes of its receiver and nothing is allocated per module.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "watch/agent_history.h"
+#include "watch/chunked_copy.h"
+#include "watch/detector.h"
+#include "watch/frame.h"
+#include "watch/pattern_matcher.h"
+#include "watch/program.h"
+
+namespace dw::watch {
+
+class PatternMatcherOutbox {
+ public:
+  virtual ~PatternMatcherOutbox() = default;
+  // `from` sends the PatternMatcher `pm` (`bytes` long) to each neighbour in `to`, to arrive at
+  // the next step.
+  virtual void send(uint32_t from, std::span<const uint32_t> to, const std::byte* pm, uint32_t bytes) = 0;
+};
+
+// What agents share while one detector step runs: the compiled watchpoint, scratch space, and
+// where statistics and matches go. One per thread.
+struct AgentContext {
+  AgentContext(const Program& program, const Optimizations& optimizations, uint64_t live_budget);
+
+  const Program& program;
+  PatternMatcherLayout layout;
+  Optimizations optimizations;
+
+  StepStats step;  // this step's statistics
+  // Dense ids, slot_count per match, all of watch step f - k + 1: the first match_values of
+  // `matches` (grown in chunks, so that adding a match is a plain write).
+  std::vector<uint32_t> matches;  // with kCopyChunk - 1 spare values at the end
+  size_t match_values = 0;
+  bool over_budget = false;  // the detector must stop: past the live budget, or stop_reason
+  std::string stop_reason;
+  uint32_t slot_count;  // of the program
+  uint64_t live_limit;  // the live budget; no budget is the largest number
+
+  std::vector<std::byte> scratch;  // the PatternMatcher being filled
+  std::vector<Truth> stack;
+  std::vector<Truth> trial;
+  std::vector<uint32_t> targets;
+};
+
+class DistributedAgents {
+ public:
+  DistributedAgents(const Program& program, bool temporal_spans, uint32_t modules);
+
+  uint32_t size() const { return history_.modules(); }
+  const AgentHistory& history() const { return history_; }
+  // Heap bytes held.
+  size_t bytes() const { return history_.bytes() + own_.capacity(); }
+
+  // Makes room for the frame's step: once per step, before record (see AgentHistory).
+  void begin_record(const Frame& frame) { history_.begin_record(frame); }
+  // Modules [begin, end) record their state at frame.step. Then, at detector step
+  // f = frame.step - E+ (the agents run E+ behind, to read `next`), each present one decides its
+  // own leaves while its history is in cache.
+  void record(const Frame& frame, uint32_t begin, uint32_t end, const Program& program,
+              std::span<const int> columns);
+
+  bool present(uint32_t m, int64_t f) const { return history_.present(m, f); }
+  // Fetches what a PatternMatcher arriving at m will read, ahead of time.
+  void prefetch(uint32_t m) const { __builtin_prefetch(own_.data() + size_t{m} * stride_); }
+  // Detector step f: a fresh PatternMatcher with module m in its first slot.
+  void start(uint32_t m, int64_t f, AgentContext& ctx, PatternMatcherOutbox& out);
+  // Detector step f: a PatternMatcher sent to m by a neighbour at f - 1 arrives. It is read where
+  // it lies, and copied to be filled.
+  void receive(uint32_t m, int64_t f, const std::byte* pm, AgentContext& ctx, PatternMatcherOutbox& out);
+
+ private:
+  void fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out);
+  void finish(uint32_t m, int64_t f, PatternMatcherRef pm, AgentContext& ctx) const;
+  Truth decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef* pm) const;
+  Truth decide_leaves(const SlotProgram& sp, uint32_t slot, uint32_t m, int64_t f, PatternMatcherRef& pm,
+                      Truth* leaves, AgentContext& ctx) const;
+  bool culled(uint32_t candidate, const PatternMatcherRef& pm, AgentContext& ctx) const;
+
+  // The own leaves (SlotProgram::own_leaves) of every present module, decided once per detector
+  // step when it records: the same for every PatternMatcher it fills then. For a conjunction,
+  // one truth per slot (the and of that slot's own leaves); otherwise one per leaf.
+  uint32_t stride_;
+  std::vector<Truth> own_;  // [module * stride_ + slot or leaf]
+  AgentHistory history_;
+};
+
+}  // namespace dw::watch
