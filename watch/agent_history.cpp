@@ -39,8 +39,8 @@ void AgentHistory::begin_record(const Frame& frame) {
     t.ids = last.ids;
     return;
   }
-  auto copy = std::make_shared<Graph>(Graph{{frame.nbr_begin.begin(), frame.nbr_begin.end()},
-                                            {frame.nbrs.begin(), frame.nbrs.end()}});
+  auto copy = std::make_shared<Graph>(
+      Graph{{frame.nbr_begin.begin(), frame.nbr_begin.end()}, {frame.nbrs.begin(), frame.nbrs.end()}});
   t.begin = copy->begin;
   t.ids = copy->ids;
   t.owner = std::move(copy);

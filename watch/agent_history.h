@@ -52,6 +52,11 @@ class AgentHistory {
     const Topology* t = topology_.find(step);
     return t != nullptr && t->present[m];
   }
+  // Every module's presence at `step` ([module]), or nullptr when the step is unknown.
+  const uint8_t* presence(int64_t step) const {
+    const Topology* t = topology_.find(step);
+    return t != nullptr ? t->present.data() : nullptr;
+  }
 
   uint32_t modules() const { return modules_; }
   // Values and neighbour ids held now, summed over the modules.

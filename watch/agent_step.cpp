@@ -6,12 +6,13 @@ void step_agents(DistributedAgents& agents, uint32_t begin, uint32_t end, int64_
                  std::span<RecordBuffer* const> arriving, AgentContext& ctx, PatternMatcherOutbox& out) {
   for (RecordBuffer* lane : arriving)
     lane->for_each(
-        [&](uint32_t to, const std::byte* pm) {
+        [&](std::span<const uint32_t> to, const std::byte* pm) {
           if (!ctx.over_budget) agents.receive(to, f, pm, ctx, out);
         },
         [&](uint32_t next) { agents.prefetch(next); });
+  const uint8_t* present = agents.history().presence(f);
   for (uint32_t m = begin; m < end && !ctx.over_budget; ++m)
-    if (agents.present(m, f)) agents.start(m, f, ctx, out);
+    if (present[m]) agents.start(m, f, ctx, out);
 }
 
 void start_agent_step(AgentContext& ctx, int64_t f) {

@@ -15,7 +15,6 @@
 
 namespace dw::watch {
 
-
 // Detector step f for agents [begin, end): the PatternMatchers sent to them during f - 1 (in the
 // `arriving` lanes) are received, then every present agent starts its own. Stops as soon as the
 // context is over its budget.

@@ -153,6 +153,11 @@ void DistributedAgents::fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef
   // Spread to every neighbour not already in the chain (and not culled).
   uint32_t ids[kMaxSlots];
   for (uint32_t s = 0; s < filled; ++s) ids[s] = pm.id(s);
+  auto in_chain = [&](uint32_t n) {
+    bool found = false;
+    for (uint32_t s = 0; s < filled; ++s) found |= ids[s] == n;
+    return found;
+  };
   uint32_t degree = 0;
   const uint32_t* nbrs = history_.neighbors(m, f, degree);  // m is present at f
   if (ctx.targets.size() < degree) ctx.targets.resize(degree);
@@ -160,7 +165,7 @@ void DistributedAgents::fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef
   size_t count = 0;
   const bool cull = ctx.optimizations.neighbor_culling && !p.slots[filled].cull_leaves.empty();
   for (const uint32_t* n = nbrs; n != nbrs + degree; ++n) {
-    if (std::find(ids, ids + filled, *n) != ids + filled) continue;
+    if (in_chain(*n)) continue;
     if (cull && culled(*n, pm, ctx)) continue;
     targets[count++] = *n;
   }
@@ -186,23 +191,71 @@ void DistributedAgents::start(uint32_t m, int64_t f, AgentContext& ctx, PatternM
   else fill_and_spread(m, f, pm, ctx, out);
 }
 
-void DistributedAgents::receive(uint32_t m, int64_t f, const std::byte* incoming, AgentContext& ctx,
+void DistributedAgents::receive(std::span<const uint32_t> to, int64_t f, const std::byte* incoming, AgentContext& ctx,
                                 PatternMatcherOutbox& out) {
-  // Sent to a neighbour at f - 1; a module that has left by f never fills it.
-  if (!history_.present(m, f)) return;
+  // Sent to neighbours at f - 1; a module that has left by f never fills it.
+  const uint8_t* present = history_.presence(f);
   // Only read through this view: the record is shared by all its receivers.
   PatternMatcherRef view(const_cast<std::byte*>(incoming), ctx.layout);
   const uint32_t filled = view.filled() + 1;
-  if (!admit(ctx, filled)) return;
   if (filled == ctx.slot_count) {
-    finish(m, f, view, ctx);
+    finish_all(to, f, present, view, ctx);
     return;
   }
   const uint32_t bytes = view.bytes();
   if (ctx.scratch.size() < bytes + kScratchSlack) ctx.scratch.resize(bytes + kScratchSlack);
-  // Chunked: the lanes keep slack past their last record, the scratch past its end.
-  copy_ids(reinterpret_cast<uint32_t*>(ctx.scratch.data()), reinterpret_cast<const uint32_t*>(incoming), bytes / 4);
-  fill_and_spread(m, f, PatternMatcherRef(ctx.scratch.data(), ctx.layout), ctx, out);
+  for (uint32_t m : to) {
+    if (!present[m]) continue;
+    if (!admit(ctx, filled)) return;
+    // Chunked: the lanes keep slack past their last record, the scratch past its end.
+    copy_ids(reinterpret_cast<uint32_t*>(ctx.scratch.data()), reinterpret_cast<const uint32_t*>(incoming), bytes / 4);
+    fill_and_spread(m, f, PatternMatcherRef(ctx.scratch.data(), ctx.layout), ctx, out);
+    if (ctx.over_budget) return;
+  }
+}
+
+// The last slot for every receiver of one record (all at detector step f, whose presence is
+// `present`). A conjunction whose last slot decides only own leaves, the commonest case, is one
+// lookup per receiver.
+void DistributedAgents::finish_all(std::span<const uint32_t> to, int64_t f, const uint8_t* present,
+                                   PatternMatcherRef pm, AgentContext& ctx) const {
+  const uint32_t slot = pm.filled();
+  const SlotProgram& sp = ctx.program.slots[slot];
+  StepStats& st = ctx.step;
+  if (ctx.program.shape != Program::Shape::Conjunction || !sp.carried_leaves.empty()) {
+    for (uint32_t m : to) {
+      if (!present[m]) continue;
+      if (!admit(ctx, slot + 1)) return;
+      finish(m, f, pm, ctx);
+    }
+    return;
+  }
+  const uint64_t used = st.live + st.messages;
+  const uint64_t room = ctx.live_limit > used ? ctx.live_limit - used : 0;
+  if (ctx.match_values + to.size() * (slot + 1) + kCopyChunk > ctx.matches.size())
+    ctx.matches.resize(2 * ctx.matches.size() + to.size() * (slot + 1) + 4096);
+  const Truth before = pm.leaves()[0];
+  const uint32_t* ids = reinterpret_cast<const uint32_t*>(pm.data() + ctx.layout.ids);
+  const Truth* own = own_.data() + slot;
+  uint32_t* match = ctx.matches.data() + ctx.match_values;
+  uint64_t live = 0;
+  for (uint32_t m : to) {
+    if (!present[m]) continue;
+    if (live == room) {
+      ctx.over_budget = true;
+      break;
+    }
+    ++live;
+    if (kleene_and(before, own[size_t{m} * stride_]) != kTrue) continue;
+    copy_ids(match, ids, slot);
+    match[slot] = m;
+    match += slot + 1;
+  }
+  const size_t values = static_cast<size_t>(match - ctx.matches.data()) - ctx.match_values;
+  ctx.match_values += values;
+  st.matches += values / (slot + 1);
+  st.live += live;
+  st.live_by_filled[slot + 1] += live;
 }
 
 // `pm` is null for own leaves, which read nothing carried.

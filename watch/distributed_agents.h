@@ -71,24 +71,25 @@ class DistributedAgents {
   // Modules [begin, end) record their state at frame.step. Then, at detector step
   // f = frame.step - E+ (the agents run E+ behind, to read `next`), each present one decides its
   // own leaves while its history is in cache.
-  void record(const Frame& frame, uint32_t begin, uint32_t end, const Program& program,
-              std::span<const int> columns);
+  void record(const Frame& frame, uint32_t begin, uint32_t end, const Program& program, std::span<const int> columns);
 
-  bool present(uint32_t m, int64_t f) const { return history_.present(m, f); }
   // Fetches what a PatternMatcher arriving at m will read, ahead of time.
   void prefetch(uint32_t m) const { __builtin_prefetch(own_.data() + size_t{m} * stride_); }
   // Detector step f: a fresh PatternMatcher with module m in its first slot.
   void start(uint32_t m, int64_t f, AgentContext& ctx, PatternMatcherOutbox& out);
-  // Detector step f: a PatternMatcher sent to m by a neighbour at f - 1 arrives. It is read where
-  // it lies, and copied to be filled.
-  void receive(uint32_t m, int64_t f, const std::byte* pm, AgentContext& ctx, PatternMatcherOutbox& out);
+  // Detector step f: a PatternMatcher sent by a neighbour at f - 1 arrives at the modules `to`,
+  // in their order. It is read where it lies, and copied to be filled.
+  void receive(std::span<const uint32_t> to, int64_t f, const std::byte* pm, AgentContext& ctx,
+               PatternMatcherOutbox& out);
 
  private:
   void fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out);
   void finish(uint32_t m, int64_t f, PatternMatcherRef pm, AgentContext& ctx) const;
+  void finish_all(std::span<const uint32_t> to, int64_t f, const uint8_t* present, PatternMatcherRef pm,
+                  AgentContext& ctx) const;
   Truth decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef* pm) const;
-  Truth decide_leaves(const SlotProgram& sp, uint32_t slot, uint32_t m, int64_t f, PatternMatcherRef& pm,
-                      Truth* leaves, AgentContext& ctx) const;
+  Truth decide_leaves(const SlotProgram& sp, uint32_t slot, uint32_t m, int64_t f, PatternMatcherRef& pm, Truth* leaves,
+                      AgentContext& ctx) const;
   bool culled(uint32_t candidate, const PatternMatcherRef& pm, AgentContext& ctx) const;
 
   // The own leaves (SlotProgram::own_leaves) of every present module, decided once per detector

@@ -53,8 +53,8 @@ class RecordBuffer {
     size_ = need;
   }
 
-  // Calls fn(to, pm) for every receiver of every record, in order. hint(to) names the next
-  // record's first receiver ahead of time, so that its state can be fetched meanwhile.
+  // Calls fn(receivers, pm) for every record, in order. hint(to) names the next record's first
+  // receiver ahead of time, so that its state can be fetched meanwhile.
   template <class Fn, class Hint>
   void for_each(Fn&& fn, Hint&& hint) const {
     const std::byte* at = data_.get();
@@ -62,19 +62,16 @@ class RecordBuffer {
     while (at < end) {
       uint32_t count;
       std::memcpy(&count, at, 4);
-      const std::byte* to = at + 4;
-      const std::byte* pm = to + 4 * size_t{count};
+      // The buffer is 16-byte aligned and every record a whole number of 32-bit words.
+      const uint32_t* to = reinterpret_cast<const uint32_t*>(at + 4);
+      const std::byte* pm = at + 4 * (1 + size_t{count});
       const std::byte* next = pm + PatternMatcherRef::bytes_of(pm);
       if (next < end) {
         uint32_t next_to;
         std::memcpy(&next_to, next + 4, 4);
         hint(next_to);
       }
-      for (uint32_t i = 0; i < count; ++i) {
-        uint32_t receiver;
-        std::memcpy(&receiver, to + 4 * size_t{i}, 4);
-        fn(receiver, pm);
-      }
+      fn(std::span<const uint32_t>(to, count), pm);
       at = next;
     }
   }
@@ -82,8 +79,11 @@ class RecordBuffer {
   // fn(to, pm, bytes) for every receiver of every record, for hashing and counting.
   template <class Fn>
   void visit(Fn&& fn) const {
-    for_each([&](uint32_t to, const std::byte* pm) { fn(to, pm, PatternMatcherRef::bytes_of(pm)); },
-             [](uint32_t) {});
+    for_each(
+        [&](std::span<const uint32_t> to, const std::byte* pm) {
+          for (uint32_t n : to) fn(n, pm, PatternMatcherRef::bytes_of(pm));
+        },
+        [](uint32_t) {});
   }
 
  private:
