@@ -151,23 +151,31 @@ void DistributedAgents::fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef
   if (result == kFalse && ctx.optimizations.early_termination) return;
 
   // Spread to every neighbour not already in the chain (and not culled).
-  uint32_t ids[kMaxSlots];
-  for (uint32_t s = 0; s < filled; ++s) ids[s] = pm.id(s);
+  // The chain's ids padded to fours with an id no module has, so that a test is straight-line
+  // compares (one group of four for chains up to four).
+  uint32_t ids[kMaxSlots + 3];
+  const uint32_t padded = (filled + 3) & ~3u;
+  for (uint32_t s = 0; s < padded; ++s) ids[s] = s < filled ? pm.id(s) : UINT32_MAX;
   auto in_chain = [&](uint32_t n) {
-    bool found = false;
-    for (uint32_t s = 0; s < filled; ++s) found |= ids[s] == n;
+    bool found = (ids[0] == n) | (ids[1] == n) | (ids[2] == n) | (ids[3] == n);
+    for (uint32_t s = 4; s < padded; s += 4)
+      found |= (ids[s] == n) | (ids[s + 1] == n) | (ids[s + 2] == n) | (ids[s + 3] == n);
     return found;
   };
   uint32_t degree = 0;
-  const uint32_t* nbrs = history_.neighbors(m, f, degree);  // m is present at f
-  if (ctx.targets.size() < degree) ctx.targets.resize(degree);
+  const uint32_t* nbrs = history_.neighbors(m, f, degree);                                // m is present at f
+  if (ctx.targets.size() < degree + kCopyChunk) ctx.targets.resize(degree + kCopyChunk);  // see copy_ids
   uint32_t* targets = ctx.targets.data();
   size_t count = 0;
   const bool cull = ctx.optimizations.neighbor_culling && !p.slots[filled].cull_leaves.empty();
-  for (const uint32_t* n = nbrs; n != nbrs + degree; ++n) {
-    if (in_chain(*n)) continue;
-    if (cull && culled(*n, pm, ctx)) continue;
-    targets[count++] = *n;
+  if (cull) {
+    for (const uint32_t* n = nbrs; n != nbrs + degree; ++n)
+      if (!in_chain(*n) && !culled(*n, pm, ctx)) targets[count++] = *n;
+  } else {
+    for (const uint32_t* n = nbrs; n != nbrs + degree; ++n) {  // without branches: most are taken
+      targets[count] = *n;
+      count += !in_chain(*n);
+    }
   }
   const uint64_t used = st.messages + st.live;
   const uint64_t room = ctx.live_limit > used ? ctx.live_limit - used : 0;

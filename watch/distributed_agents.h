@@ -28,7 +28,7 @@ class PatternMatcherOutbox {
  public:
   virtual ~PatternMatcherOutbox() = default;
   // `from` sends the PatternMatcher `pm` (`bytes` long) to each neighbour in `to`, to arrive at
-  // the next step.
+  // the next step. Both may be read up to kCopyChunk values past their end (see copy_ids).
   virtual void send(uint32_t from, std::span<const uint32_t> to, const std::byte* pm, uint32_t bytes) = 0;
 };
 

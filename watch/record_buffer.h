@@ -39,15 +39,18 @@ class RecordBuffer {
   bool empty() const { return size_ == 0; }
   void clear() { size_ = 0; }
 
-  // Appends the PatternMatcher `pm` (`bytes` long, whole 32-bit words) for the receivers in `to`.
+  // Appends the PatternMatcher `pm` (`bytes` long, whole 32-bit words) for the receivers in `to`
+  // (readable for kCopyChunk values past its end).
   void append(std::span<const uint32_t> to, const std::byte* pm, uint32_t bytes) {
     const uint32_t count = static_cast<uint32_t>(to.size());
     const size_t need = size_ + 4 * (1 + size_t{count}) + bytes;
     if (need > capacity_) grow(need);
     std::byte* at = data_.get() + size_;
     std::memcpy(at, &count, 4);
-    std::memcpy(at + 4, to.data(), 4 * size_t{count});
-    // Copied in chunks (see copy_ids): the buffer keeps slack for the chunk past the end.
+    // Copied in chunks (see copy_ids): `to` must have room for reading a chunk past its end. What
+    // the receivers' last chunk writes past them, the PatternMatcher overwrites; for its own last
+    // chunk the buffer keeps slack.
+    copy_ids(reinterpret_cast<uint32_t*>(at + 4), to.data(), count);
     copy_ids(reinterpret_cast<uint32_t*>(at + 4 * (1 + size_t{count})), reinterpret_cast<const uint32_t*>(pm),
              bytes / 4);
     size_ = need;
