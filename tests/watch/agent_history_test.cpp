@@ -108,7 +108,8 @@ TEST(AgentHistory, AGraphThatStaysTheSameIsHeldOnce) {
     return h.bytes();
   };
   const size_t values_and_presence = history_bytes(40, true, false);
-  EXPECT_EQ(history_bytes(40, false, false) - values_and_presence, history_bytes(2, false, false) - history_bytes(2, true, false))
+  EXPECT_EQ(history_bytes(40, false, false) - values_and_presence,
+            history_bytes(2, false, false) - history_bytes(2, true, false))
       << "an unchanged graph copied once, whatever the steps";
   EXPECT_GT(history_bytes(40, false, true), history_bytes(40, false, false)) << "a changing graph is copied per change";
 }
