@@ -53,8 +53,9 @@ void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end,
   const int64_t f = frame.step - p.extent_plus;
   if (f < 0) return;
   const bool conjunction = p.shape == Program::Shape::Conjunction;
+  const uint8_t* present = history_.presence(f);
   for (uint32_t m = begin; m < end; ++m) {
-    if (!history_.present(m, f)) continue;
+    if (!present[m]) continue;
     Truth* own = own_.data() + size_t{m} * stride_;
     for (uint32_t slot = 0; slot < p.slots.size(); ++slot) {
       Truth all = kTrue;

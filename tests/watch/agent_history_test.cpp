@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "test_ensemble.h"
 
 namespace dw::watch {
@@ -43,14 +45,19 @@ void record(AgentHistory& h, const Frame& f) {
   h.record(f, 2, 3, columns);
 }
 
-TEST(AgentHistory, KeepsExactlyTheStepsTheSpansNeed) {
-  // x is read at t - 2, t - 1 and t: three steps of values; neighbour sets only at t.
-  const Watchpoint w = compile_or_die("modules(a b); (a.last.last.x = b.last.x) and (a.x = 0)");
-  const Program& p = w.program;
+// The history a watchpoint keeps of the first six frames.
+AgentHistory six_steps(const std::string& watchpoint, bool temporal_spans) {
+  const Watchpoint w = compile_or_die(watchpoint);
   AgentHistory h;
-  h.configure(p, true, 3);
+  h.configure(w.program, temporal_spans, 3);
   Frames frames;
   for (int64_t t = 0; t < 6; ++t) record(h, frames.at(t));
+  return h;
+}
+
+TEST(AgentHistory, KeepsExactlyTheStepsTheSpansNeed) {
+  // x is read at t - 2, t - 1 and t: three steps of values; neighbour sets only at t.
+  const AgentHistory h = six_steps("modules(a b); (a.last.last.x = b.last.x) and (a.x = 0)", true);
   int64_t v = -1;
   EXPECT_FALSE(h.value(0, 0, 2, v)) << "step 2 is forgotten: only 3..5 are held";
   ASSERT_TRUE(h.value(1, 0, 3, v));
@@ -72,12 +79,7 @@ TEST(AgentHistory, KeepsExactlyTheStepsTheSpansNeed) {
 }
 
 TEST(AgentHistory, WithoutSpansKeepsTheWholeRun) {
-  const Watchpoint w = compile_or_die("modules(a b); (a.x = 0)");
-  const Program& p = w.program;
-  AgentHistory h;
-  h.configure(p, false, 3);
-  Frames frames;
-  for (int64_t t = 0; t < 6; ++t) record(h, frames.at(t));
+  const AgentHistory h = six_steps("modules(a b); (a.x = 0)", false);
   int64_t v = -1;
   ASSERT_TRUE(h.value(2, 0, 0, v));
   EXPECT_EQ(v, 2);
