@@ -39,6 +39,16 @@ class AgentHistory {
     return true;
   }
 
+  // Every module's value of a program variable at `step` ([module], meaningful where known[m]),
+  // or false when the step is unknown (before 0, not recorded yet, or forgotten).
+  bool column(int variable, int64_t step, const int64_t*& values, const uint8_t*& known) const {
+    const Values* row = values_[static_cast<size_t>(variable)].find(step);
+    if (row == nullptr) return false;
+    values = row->values.data();
+    known = row->known.data();
+    return true;
+  }
+
   // N(m, step), or nullptr when the module was absent then (or the step is unknown); `count` is
   // its size.
   const uint32_t* neighbors(uint32_t m, int64_t step, uint32_t& count) const {

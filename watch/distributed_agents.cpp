@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <functional>
 
 namespace dw::watch {
 namespace {
@@ -43,6 +44,7 @@ AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t bu
 DistributedAgents::DistributedAgents(const Program& p, bool temporal_spans, uint32_t modules)
     : stride_(p.shape == Program::Shape::Conjunction ? static_cast<uint32_t>(p.slot_count())
                                                      : static_cast<uint32_t>(p.leaves.size())),
+      first_slot_own_(p.shape == Program::Shape::Conjunction && p.slots[0].carried_leaves.empty()),
       own_(size_t{modules} * stride_, kUnknown) {
   history_.configure(p, temporal_spans, modules);
 }
@@ -53,19 +55,48 @@ void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end,
   const int64_t f = frame.step - p.extent_plus;
   if (f < 0) return;
   const bool conjunction = p.shape == Program::Shape::Conjunction;
-  const uint8_t* present = history_.presence(f);
-  for (uint32_t m = begin; m < end; ++m) {
-    if (!present[m]) continue;
-    Truth* own = own_.data() + size_t{m} * stride_;
-    for (uint32_t slot = 0; slot < p.slots.size(); ++slot) {
-      Truth all = kTrue;
-      for (uint16_t l : p.slots[slot].own_leaves) {
-        const Truth t = decide(p.leaves[l], m, f, nullptr);
-        if (conjunction) all = kleene_and(all, t);
-        else own[l] = t;
-      }
-      if (conjunction) own[slot] = all;
+  for (uint32_t slot = 0; slot < p.slots.size(); ++slot) {
+    if (conjunction)
+      for (uint32_t m = begin; m < end; ++m) own_[size_t{m} * stride_ + slot] = kTrue;
+    for (uint16_t l : p.slots[slot].own_leaves)
+      decide_own(p.leaves[l], f, begin, end, conjunction ? slot : l, conjunction);
+  }
+}
+
+// Own leaf `leaf` of modules [begin, end) at detector step f, a column at a time: into
+// own_[m * stride_ + at], and-ed into it for a conjunction. Absent modules get a truth too, which
+// nothing reads.
+void DistributedAgents::decide_own(const Leaf& leaf, int64_t f, uint32_t begin, uint32_t end, uint32_t at,
+                                   bool conjunction) {
+  Truth* own = own_.data() + at;
+  auto put = [&](uint32_t m, Truth t) {
+    Truth& o = own[size_t{m} * stride_];
+    o = conjunction ? kleene_and(o, t) : t;
+  };
+  const int64_t *a = nullptr, *b = nullptr;
+  const uint8_t *a_known = nullptr, *b_known = nullptr;
+  if (!history_.column(leaf.lhs.variable, f + leaf.lhs.offset, a, a_known) ||
+      (!leaf.rhs_is_constant && !history_.column(leaf.rhs.variable, f + leaf.rhs.offset, b, b_known))) {
+    for (uint32_t m = begin; m < end; ++m) put(m, kUnknown);
+    return;
+  }
+  // One loop per operator and right-hand side, so that the loop body has no branches.
+  auto columns = [&](auto holds_op) {
+    if (b == nullptr) {
+      const int64_t c = leaf.constant;
+      for (uint32_t m = begin; m < end; ++m) put(m, a_known[m] ? truth_of(holds_op(a[m], c)) : kUnknown);
+    } else {
+      for (uint32_t m = begin; m < end; ++m)
+        put(m, a_known[m] & b_known[m] ? truth_of(holds_op(a[m], b[m])) : kUnknown);
     }
+  };
+  switch (leaf.op) {
+    case CompareOp::Less: columns(std::less<int64_t>{}); break;
+    case CompareOp::Greater: columns(std::greater<int64_t>{}); break;
+    case CompareOp::Equal: columns(std::equal_to<int64_t>{}); break;
+    case CompareOp::NotEqual: columns(std::not_equal_to<int64_t>{}); break;
+    case CompareOp::GreaterEqual: columns(std::greater_equal<int64_t>{}); break;
+    case CompareOp::LessEqual: columns(std::less_equal<int64_t>{}); break;
   }
 }
 
@@ -82,12 +113,12 @@ void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end,
   if (p.shape == Program::Shape::Conjunction) {
     Truth partial = kleene_and(leaves[0], own[slot]);
     for (const uint16_t* l = carried; l != carried_end; ++l)
-      partial = kleene_and(partial, decide(p.leaves[*l], m, f, &pm));
+      partial = kleene_and(partial, decide(p.leaves[*l], m, f, pm));
     leaves[0] = partial;
     return partial;  // and-ed with the pending leaves' U this is F exactly when partial is F
   }
   for (uint16_t l : sp.own_leaves) leaves[l] = own[l];
-  for (const uint16_t* l = carried; l != carried_end; ++l) leaves[*l] = decide(p.leaves[*l], m, f, &pm);
+  for (const uint16_t* l = carried; l != carried_end; ++l) leaves[*l] = decide(p.leaves[*l], m, f, pm);
   return p.evaluate(leaves, ctx.stack.data());
 }
 
@@ -192,10 +223,13 @@ void DistributedAgents::fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef
 }
 
 void DistributedAgents::start(uint32_t m, int64_t f, AgentContext& ctx, PatternMatcherOutbox& out) {
-  PatternMatcherRef pm(ctx.scratch.data(), ctx.layout);
-  pm.init();
   ++ctx.step.created;
   if (!admit(ctx, 1)) return;
+  // A conjunction whose first slot is decided by own leaves alone, false here: the PatternMatcher
+  // ends where it starts (early termination), so there is nothing to fill.
+  if (first_slot_own_ && own_[size_t{m} * stride_] == kFalse && ctx.optimizations.early_termination) return;
+  PatternMatcherRef pm(ctx.scratch.data(), ctx.layout);
+  pm.init();
   if (ctx.slot_count == 1) finish(m, f, pm, ctx);
   else fill_and_spread(m, f, pm, ctx, out);
 }
@@ -267,23 +301,23 @@ void DistributedAgents::finish_all(std::span<const uint32_t> to, int64_t f, cons
   st.live_by_filled[slot + 1] += live;
 }
 
-// `pm` is null for own leaves, which read nothing carried.
-Truth DistributedAgents::decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef* pm) const {
+// A carried leaf (SlotProgram::carried_leaves), read against the PatternMatcher being filled.
+Truth DistributedAgents::decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef& pm) const {
   if (leaf.kind == LeafKind::Neighbor) {
     if (leaf.set >= 0) {  // x filled earlier and carried N(x): am I in it?
       uint32_t count;
-      const uint32_t* ids = pm->set(static_cast<uint32_t>(leaf.set), count);
+      const uint32_t* ids = pm.set(static_cast<uint32_t>(leaf.set), count);
       return membership(ids, count, m);
     }
     // I am x: is y, filled earlier, in my own neighbour set at the offset?
     uint32_t count = 0;
     const uint32_t* mine = history_.neighbors(m, f + leaf.offset, count);
     if (mine == nullptr) return kUnknown;
-    const uint32_t y = pm->id(static_cast<uint32_t>(leaf.y));
+    const uint32_t y = pm.id(static_cast<uint32_t>(leaf.y));
     return truth_of(std::find(mine, mine + count, y) != mine + count);
   }
   auto operand = [&](const TermRef& t, int64_t& v) {
-    return t.cell >= 0 ? pm->cell(static_cast<uint32_t>(t.cell), v) : history_.value(m, t.variable, f + t.offset, v);
+    return t.cell >= 0 ? pm.cell(static_cast<uint32_t>(t.cell), v) : history_.value(m, t.variable, f + t.offset, v);
   };
   int64_t a, b = leaf.constant;
   if (!operand(leaf.lhs, a)) return kUnknown;

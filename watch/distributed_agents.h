@@ -87,7 +87,8 @@ class DistributedAgents {
   void finish(uint32_t m, int64_t f, PatternMatcherRef pm, AgentContext& ctx) const;
   void finish_all(std::span<const uint32_t> to, int64_t f, const uint8_t* present, PatternMatcherRef pm,
                   AgentContext& ctx) const;
-  Truth decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef* pm) const;
+  void decide_own(const Leaf& leaf, int64_t f, uint32_t begin, uint32_t end, uint32_t at, bool conjunction);
+  Truth decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef& pm) const;
   Truth decide_leaves(const SlotProgram& sp, uint32_t slot, uint32_t m, int64_t f, PatternMatcherRef& pm, Truth* leaves,
                       AgentContext& ctx) const;
   bool culled(uint32_t candidate, const PatternMatcherRef& pm, AgentContext& ctx) const;
@@ -96,6 +97,7 @@ class DistributedAgents {
   // step when it records: the same for every PatternMatcher it fills then. For a conjunction,
   // one truth per slot (the and of that slot's own leaves); otherwise one per leaf.
   uint32_t stride_;
+  bool first_slot_own_;     // a conjunction whose first slot has own leaves only
   std::vector<Truth> own_;  // [module * stride_ + slot or leaf]
   AgentHistory history_;
 };
