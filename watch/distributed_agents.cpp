@@ -44,7 +44,6 @@ AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t bu
 DistributedAgents::DistributedAgents(const Program& p, bool temporal_spans, uint32_t modules)
     : stride_(p.shape == Program::Shape::Conjunction ? static_cast<uint32_t>(p.slot_count())
                                                      : static_cast<uint32_t>(p.leaves.size())),
-      first_slot_own_(p.shape == Program::Shape::Conjunction && p.slots[0].carried_leaves.empty()),
       own_(size_t{modules} * stride_, kUnknown) {
   history_.configure(p, temporal_spans, modules);
 }
@@ -54,40 +53,36 @@ void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end,
   history_.record(frame, begin, end, columns);
   const int64_t f = frame.step - p.extent_plus;
   if (f < 0) return;
+  // Every truth starts true and has its leaves and-ed in: a conjunction's truth per slot all the
+  // slot's own leaves, any other shape's truth per leaf just that leaf.
   const bool conjunction = p.shape == Program::Shape::Conjunction;
-  for (uint32_t slot = 0; slot < p.slots.size(); ++slot) {
-    if (conjunction)
-      for (uint32_t m = begin; m < end; ++m) own_[size_t{m} * stride_ + slot] = kTrue;
-    for (uint16_t l : p.slots[slot].own_leaves)
-      decide_own(p.leaves[l], f, begin, end, conjunction ? slot : l, conjunction);
-  }
+  std::fill(own_.data() + size_t{begin} * stride_, own_.data() + size_t{end} * stride_, kTrue);
+  for (uint32_t slot = 0; slot < p.slots.size(); ++slot)
+    for (uint16_t l : p.slots[slot].own_leaves) decide_own(p.leaves[l], f, begin, end, conjunction ? slot : l);
 }
 
-// Own leaf `leaf` of modules [begin, end) at detector step f, a column at a time: into
-// own_[m * stride_ + at], and-ed into it for a conjunction. Absent modules get a truth too, which
-// nothing reads.
-void DistributedAgents::decide_own(const Leaf& leaf, int64_t f, uint32_t begin, uint32_t end, uint32_t at,
-                                   bool conjunction) {
+// And-s own leaf `leaf` of modules [begin, end) at detector step f into own_[m * stride_ + at], a
+// column at a time. Absent modules get a truth too, which nothing reads.
+void DistributedAgents::decide_own(const Leaf& leaf, int64_t f, uint32_t begin, uint32_t end, uint32_t at) {
   Truth* own = own_.data() + at;
-  auto put = [&](uint32_t m, Truth t) {
-    Truth& o = own[size_t{m} * stride_];
-    o = conjunction ? kleene_and(o, t) : t;
-  };
+  const size_t stride = stride_;
   const int64_t *a = nullptr, *b = nullptr;
   const uint8_t *a_known = nullptr, *b_known = nullptr;
   if (!history_.column(leaf.lhs.variable, f + leaf.lhs.offset, a, a_known) ||
       (!leaf.rhs_is_constant && !history_.column(leaf.rhs.variable, f + leaf.rhs.offset, b, b_known))) {
-    for (uint32_t m = begin; m < end; ++m) put(m, kUnknown);
+    for (uint32_t m = begin; m < end; ++m) own[m * stride] = kleene_and(own[m * stride], kUnknown);
     return;
   }
   // One loop per operator and right-hand side, so that the loop body has no branches.
   auto columns = [&](auto holds_op) {
     if (b == nullptr) {
       const int64_t c = leaf.constant;
-      for (uint32_t m = begin; m < end; ++m) put(m, a_known[m] ? truth_of(holds_op(a[m], c)) : kUnknown);
+      for (uint32_t m = begin; m < end; ++m)
+        own[m * stride] = kleene_and(own[m * stride], a_known[m] ? truth_of(holds_op(a[m], c)) : kUnknown);
     } else {
       for (uint32_t m = begin; m < end; ++m)
-        put(m, a_known[m] & b_known[m] ? truth_of(holds_op(a[m], b[m])) : kUnknown);
+        own[m * stride] =
+            kleene_and(own[m * stride], a_known[m] & b_known[m] ? truth_of(holds_op(a[m], b[m])) : kUnknown);
     }
   };
   switch (leaf.op) {
@@ -225,9 +220,7 @@ void DistributedAgents::fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef
 void DistributedAgents::start(uint32_t m, int64_t f, AgentContext& ctx, PatternMatcherOutbox& out) {
   ++ctx.step.created;
   if (!admit(ctx, 1)) return;
-  // A conjunction whose first slot is decided by own leaves alone, false here: the PatternMatcher
-  // ends where it starts (early termination), so there is nothing to fill.
-  if (first_slot_own_ && own_[size_t{m} * stride_] == kFalse && ctx.optimizations.early_termination) return;
+  if (ends_here(m, 0, ctx)) return;
   PatternMatcherRef pm(ctx.scratch.data(), ctx.layout);
   pm.init();
   if (ctx.slot_count == 1) finish(m, f, pm, ctx);
@@ -250,6 +243,7 @@ void DistributedAgents::receive(std::span<const uint32_t> to, int64_t f, const s
   for (uint32_t m : to) {
     if (!present[m]) continue;
     if (!admit(ctx, filled)) return;
+    if (ends_here(m, filled - 1, ctx)) continue;
     // Chunked: the lanes keep slack past their last record, the scratch past its end.
     copy_ids(reinterpret_cast<uint32_t*>(ctx.scratch.data()), reinterpret_cast<const uint32_t*>(incoming), bytes / 4);
     fill_and_spread(m, f, PatternMatcherRef(ctx.scratch.data(), ctx.layout), ctx, out);

@@ -83,11 +83,17 @@ class DistributedAgents {
                PatternMatcherOutbox& out);
 
  private:
+  // A conjunction with an own leaf false at m ends when m fills `slot`, whatever it carries
+  // (early termination): there is nothing to fill or send.
+  bool ends_here(uint32_t m, uint32_t slot, const AgentContext& ctx) const {
+    return ctx.program.shape == Program::Shape::Conjunction && ctx.optimizations.early_termination &&
+           own_[size_t{m} * stride_ + slot] == kFalse;
+  }
   void fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out);
   void finish(uint32_t m, int64_t f, PatternMatcherRef pm, AgentContext& ctx) const;
   void finish_all(std::span<const uint32_t> to, int64_t f, const uint8_t* present, PatternMatcherRef pm,
                   AgentContext& ctx) const;
-  void decide_own(const Leaf& leaf, int64_t f, uint32_t begin, uint32_t end, uint32_t at, bool conjunction);
+  void decide_own(const Leaf& leaf, int64_t f, uint32_t begin, uint32_t end, uint32_t at);
   Truth decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef& pm) const;
   Truth decide_leaves(const SlotProgram& sp, uint32_t slot, uint32_t m, int64_t f, PatternMatcherRef& pm, Truth* leaves,
                       AgentContext& ctx) const;
@@ -97,7 +103,6 @@ class DistributedAgents {
   // step when it records: the same for every PatternMatcher it fills then. For a conjunction,
   // one truth per slot (the and of that slot's own leaves); otherwise one per leaf.
   uint32_t stride_;
-  bool first_slot_own_;     // a conjunction whose first slot has own leaves only
   std::vector<Truth> own_;  // [module * stride_ + slot or leaf]
   AgentHistory history_;
 };
