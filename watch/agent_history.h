@@ -49,6 +49,16 @@ class AgentHistory {
     return true;
   }
 
+  // The CSR neighbour graph at `step` ([module + 1] offsets and the ids), or nulls when unknown.
+  struct StepGraph {
+    const uint32_t* begin = nullptr;
+    const uint32_t* ids = nullptr;
+  };
+  StepGraph graph(int64_t step) const {
+    const Topology* t = topology_.find(step);
+    return t != nullptr ? StepGraph{t->begin.data(), t->ids.data()} : StepGraph{};
+  }
+
   // N(m, step), or nullptr when the module was absent then (or the step is unknown); `count` is
   // its size.
   const uint32_t* neighbors(uint32_t m, int64_t step, uint32_t& count) const {

@@ -59,6 +59,11 @@ void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end,
   std::fill(own_.data() + size_t{begin} * stride_, own_.data() + size_t{end} * stride_, kTrue);
   for (uint32_t slot = 0; slot < p.slots.size(); ++slot)
     for (uint16_t l : p.slots[slot].own_leaves) decide_own(p.leaves[l], f, begin, end, conjunction ? slot : l);
+  // The PatternMatchers arriving next read the modules' neighbour lists in no order a prefetcher
+  // could follow; fetched now, in order, they are in cache by then.
+  if (const AgentHistory::StepGraph g = history_.graph(f); g.ids != nullptr)
+    for (const uint32_t* n = g.ids + g.begin[begin]; n < g.ids + g.begin[end]; n += 64 / sizeof(uint32_t))
+      __builtin_prefetch(n);
 }
 
 // And-s own leaf `leaf` of modules [begin, end) at detector step f into own_[m * stride_ + at], a
