@@ -32,6 +32,7 @@ BindingSearch::BindingSearch(const Program& p, const Optimizations& o, uint64_t 
     lv.last = slot + 1 == k;
     lv.cull = o.neighbor_culling && !lv.program->cull_leaves.empty();
     lv.conjunction = p.shape == Program::Shape::Conjunction;
+    lv.own_last = lv.last && slot > 0 && lv.conjunction && !lv.cull && lv.program->carried_leaves.empty();
     levels_.push_back(lv);
   }
 }
@@ -152,7 +153,7 @@ void BindingSearch::next_generation() {
   if (lv.last) {
     if (result == kTrue) {
       ++st.matches;
-      out_->add(binding_.data(), slot + 1);
+      out_->add(binding_.data(), slot + 1, c);
     }
     return false;
   }
@@ -162,6 +163,7 @@ void BindingSearch::next_generation() {
 // Chain and Ordered: fills `slot` with each candidate in turn and goes deeper while the
 // expression can still hold.
 void BindingSearch::extend(uint32_t slot, Fold decided) {
+  if (levels_[slot].own_last) return finish_own(slot, decided);
   if (slot > 0) {
     // Candidates: not yet bound, present neighbours at t of the slot before (Chain) or of any
     // slot filled so far (Ordered).
@@ -183,6 +185,37 @@ void BindingSearch::extend(uint32_t slot, Fold decided) {
     if (take(lv, c, next)) extend(slot + 1, next);
     if (stopped()) return;
   }
+}
+
+// extend at the last slot of a conjunction whose last slot only reads its module's own state
+// (Fig. 6 and most of Table I): each candidate counts and matches when its own leaves there are
+// true, so the candidates are taken as they are found. The same candidates in the same order as
+// extend and take, and the same statistics.
+void BindingSearch::finish_own(uint32_t slot, Fold decided) {
+  next_generation();
+  uint32_t* binding = binding_.data();
+  for (uint32_t j = 0; j < slot; ++j) mark_[binding[j]] = generation_;
+  // The binding matches when every leaf is true: those decided so far, and the slot's own.
+  const bool so_far = (decided.all & 1) != 0 && (decided.any & 2) == 0;
+  const Truth* own = view_->own_slot_truth(slot);
+  const StepHistory::Graph& now = *view_->now();
+  uint64_t taken = 0, matches = 0;
+  for (uint32_t j = shape_ == GroupShape::Chain ? slot - 1 : 0; j < slot; ++j)
+    for (uint32_t n : now.neighbors(binding[j])) {
+      if (mark_[n] == generation_ || !now.present[n]) continue;
+      mark_[n] = generation_;
+      ++taken;
+      if (!so_far || own[n] != kTrue) continue;
+      out_->add(binding, slot + 1, n);
+      ++matches;
+    }
+  StepStats& st = *stats_;
+  st.live_by_filled[slot + 1] += taken;
+  st.live += taken;
+  st.created += taken;
+  st.matches += matches;
+  // Checked once for the slot's candidates: a step over the budget reports nothing anyway.
+  if (live_budget_ != 0 && st.created > live_budget_) over_budget();
 }
 
 // Any, within one group: `slot` takes each unbound member that may take it (bits of `unbound`).
@@ -230,7 +263,7 @@ void BindingSearch::assign_own(uint32_t slot, uint32_t unbound, bool satisfied) 
       if (stopped()) return;
     } else if (all) {
       ++st.matches;
-      out_->add(binding_.data(), k);
+      out_->add(binding_.data(), k, group_[i]);
     }
   }
 }

@@ -22,9 +22,13 @@ namespace dw::watch {
 struct MatchBuffer {
   std::vector<uint32_t> ids;
   size_t values = 0;
-  void add(const uint32_t* binding, uint32_t k) {
+  // Adds the binding `first` (k - 1 ids) then `last`. The last id is written on its own: copying
+  // it from where it was just stored would stall on store forwarding.
+  void add(const uint32_t* first, uint32_t k, uint32_t last) {
     if (values + k + kCopyChunk > ids.size()) grow();
-    copy_ids(ids.data() + values, binding, k);
+    uint32_t* match = ids.data() + values;
+    copy_ids(match, first, k - 1);
+    match[k - 1] = last;
     values += k;
   }
   void grow() { ids.resize(2 * ids.size() + 4096); }
@@ -58,11 +62,13 @@ class BindingSearch {
     const Truth* parent = nullptr;
     Truth* child = nullptr;
     bool last = false, cull = false, conjunction = false;
+    bool own_last = false;  // the last slot of a conjunction, decided by own leaves alone (finish_own)
     Fold decided;
   };
   Level level(uint32_t slot, Fold decided) const;
   bool take(const Level& level, uint32_t candidate, Fold& decided);
   void extend(uint32_t slot, Fold decided);
+  void finish_own(uint32_t slot, Fold decided);
   void assign_slot(uint32_t slot, uint32_t unbound, Fold decided);
   void assign_own(uint32_t slot, uint32_t unbound, bool satisfied);
   bool completable(uint32_t slot, uint32_t left) const;

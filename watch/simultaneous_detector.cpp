@@ -153,7 +153,7 @@ void SimultaneousDetector::fill_chain(Walker w, uint32_t* words) {
       // MatchBuffer::add copies in chunks that may read past k ids: from a copy with room.
       uint32_t ids[kMaxSlots + kCopyChunk];
       std::memcpy(ids, members, 4 * size_t{k_});
-      at(w.t0).found.add(ids, k_);
+      at(w.t0).found.add(ids, k_, ids[k_ - 1]);
     }
     return;
   }

@@ -81,6 +81,13 @@ void StepView::resolve(const StepHistory& history, int64_t t, bool slots) {
   for (const SlotProgram& sp : p.slots)
     for (uint16_t l : sp.own_leaves)
       for (uint32_t m = 0; m < modules_; ++m) own_truth_[l * modules_ + m] = compare(p.leaves[l], l, m, m);
+  if (p.shape == Program::Shape::Conjunction) {
+    own_slot_truth_.assign(p.slots.size() * modules_, kTrue);
+    for (uint32_t s = 0; s < p.slots.size(); ++s)
+      for (uint16_t l : p.slots[s].own_leaves)
+        for (uint32_t m = 0; m < modules_; ++m)
+          own_slot_truth_[s * modules_ + m] = kleene_and(own_slot_truth_[s * modules_ + m], own(l, m));
+  }
   if (!slots) return;
   fillable_.assign(modules_, 0);
   satisfied_.assign(modules_, 0);

@@ -70,12 +70,15 @@ class StepView {
   Truth decide(uint32_t leaf_index, const uint32_t* binding) const;
   Truth own(uint32_t leaf_index, uint32_t module) const { return own_truth_[leaf_index * modules_ + module]; }
   const Truth* own_truth() const { return own_truth_.data(); }
+  // A conjunction's own leaves of `slot`, and-ed, for every module ([module]): what filling the
+  // slot adds to the conjunction from the module's own state.
+  const Truth* own_slot_truth(uint32_t slot) const { return own_slot_truth_.data() + size_t{slot} * modules_; }
   // The slots (bit s) where the module's own leaves leave the expression not false: the only
   // slots it can fill in a match. Read with resolve(..., slots = true).
   uint32_t fillable(uint32_t module) const { return fillable_[module]; }
   // The slots (bit s) where every own leaf of the module is true.
   uint32_t satisfied(uint32_t module) const { return satisfied_[module]; }
-  size_t bytes() const { return own_truth_.capacity() + sizeof(*this); }
+  size_t bytes() const { return own_truth_.capacity() + own_slot_truth_.capacity() + sizeof(*this); }
 
  private:
   struct ResolvedTerm {
@@ -89,6 +92,7 @@ class StepView {
   std::vector<ResolvedTerm> lhs_, rhs_;                     // per leaf
   std::vector<const StepHistory::Graph*> graph_at_offset_;  // [offset - min_neighbor_offset]
   std::vector<Truth> own_truth_;                            // [leaf * M + module]
+  std::vector<Truth> own_slot_truth_;                       // conjunction: [slot * M + module]
   std::vector<uint32_t> fillable_, satisfied_;              // [module]
 };
 
