@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "test_ensemble.h"
 
 namespace dw::watch {
@@ -158,6 +160,27 @@ TEST(DistributedDetector, StatisticsFollowTheChains) {
   EXPECT_EQ(st.created_by_filled[2], 16u);
   EXPECT_EQ(st.created_by_filled[3], 8u);
   EXPECT_EQ(st.messages, 12u * 2 + 16u);  // every 1-slot PM to 2 neighbours, every 2-slot to 1
+}
+
+TEST(DistributedDetector, APatternMatcherEndingOnAFalseOwnLeafIsCountedAsTheSearchCountsIt) {
+  // x = 0 1 2 0 1 2 0 1 around a ring of 8, the same every step. Per step: 8 starts; the three
+  // with a.x = 0 reach 6 b's, of which 4 have b.x != 2 and each reach one c; c.x < 2 at 2 of them.
+  // The PatternMatchers that end at a false own leaf are counted though nothing is filled.
+  const auto e = ring(8, 6, [](int, uint32_t m) { return static_cast<int>(m % 3); });
+  const Watchpoint w = compile_or_die("modules(a b c); (a.x = 0) and (b.x != 2) and (c.x < 2)");
+  DetectorStats distributed, centralized;
+  DetectorOptions chain;
+  chain.shape = GroupShape::Chain;
+  const auto by_agents = e.run(Algorithm::Distributed, w, {}, &distributed);
+  const auto by_search = e.run(Algorithm::Centralized, w, chain, &centralized);
+  EXPECT_EQ(by_agents.size(), 2u * 4);  // t0 = 0..3 complete within 6 steps
+  EXPECT_EQ(by_search.size(), 2u * 6);
+  for (const DetectorStats* st : {&distributed, &centralized}) {
+    const auto step3 = std::find_if(st->steps.begin(), st->steps.end(), [](const StepStats& s) { return s.step == 3; });
+    ASSERT_NE(step3, st->steps.end());
+    EXPECT_EQ(step3->live_by_filled, (std::vector<uint64_t>{0, 8, 6, 4}));
+    EXPECT_EQ(step3->matches, 2u);
+  }
 }
 
 }  // namespace
