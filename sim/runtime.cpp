@@ -39,10 +39,16 @@ watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_
 
 Runtime::Runtime(const Model& model, World& world, unsigned threads)
     : model_(model), world_(world), pool_(std::max(1u, std::min(threads, std::max(1u, model.module_count())))) {
-  // Blocks of at most 4096 modules (a power of two), at least two per thread.
+  // Blocks of at most 4096 modules (a power of two). A neighbour list that crosses a block boundary
+  // is sent as one record per block, so blocks are as large as the threads allow: one thread takes
+  // the ensemble as one block (up to 4096), and several take at least one block each, never so
+  // large that a thread is left without one.
   const uint32_t m = model.module_count();
-  const uint32_t per_thread = std::max(1u, m / (2 * pool_.size()));
-  while (block_shift_ < 12 && (2u << block_shift_) <= per_thread) ++block_shift_;
+  const uint32_t per_thread = std::max(1u, m / pool_.size());
+  if (pool_.size() == 1)
+    while (block_shift_ < 12 && (1u << block_shift_) < per_thread) ++block_shift_;
+  else
+    while (block_shift_ < 12 && (2u << block_shift_) <= per_thread) ++block_shift_;
   blocks_ = (m >> block_shift_) + ((m & ((1u << block_shift_) - 1)) != 0);
   scratch_.resize(pool_.size());
   arriving_.resize(pool_.size());
