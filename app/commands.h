@@ -5,12 +5,15 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 
+#include "sim/rank_exchange.h"
+
 namespace dw::app {
 
 // Registers a subcommand on `app`; `run` is set to the function that carries it out once parsed.
 void add_check_command(CLI::App& app, std::function<int()>& run);
 void add_replay_command(CLI::App& app, std::function<int()>& run);
-void add_run_command(CLI::App& app, std::function<int()>& run);
+// `ranks`: this process is one rank of a run over several (mpirun, DESIGN §12), or null.
+void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks = nullptr);
 void add_bench_command(CLI::App& app, std::function<int()>& run);
 void add_render_command(CLI::App& app, std::function<int()>& run);
 void add_session_command(CLI::App& app, std::function<int()>& run);

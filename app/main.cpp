@@ -1,15 +1,38 @@
 // dwatch: a testbed for modular-robot ensembles with distributed watchpoints built in.
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 
 #include "app/commands.h"
+#ifdef DWATCH_MPI
+#include "dist/mpi_exchange.h"
+#endif
 
 int main(int argc, char** argv) {
+  // Started by mpirun as one of several ranks (DESIGN §12): only `run` runs over ranks.
+  const char* world_size = std::getenv("OMPI_COMM_WORLD_SIZE");
+  const bool several = world_size != nullptr && std::atoi(world_size) > 1;
+#ifdef DWATCH_MPI
+  dw::dist::MpiProcess mpi(argc, argv);
+  dw::sim::RankExchange* ranks = mpi.ranks();
+#else
+  dw::sim::RankExchange* ranks = nullptr;
+  if (several) {
+    std::cerr << "dwatch: error: started by mpirun as one of " << world_size
+              << " ranks, but this dwatch was built without MPI (libopenmpi-dev; scripts/install-deps.sh)\n";
+    return 2;
+  }
+#endif
+  if (several && (argc < 2 || std::string(argv[1]) != "run")) {
+    if (ranks == nullptr || ranks->rank() == 0)
+      std::cerr << "dwatch: error: only 'dwatch run' runs over several ranks (mpirun -np N dwatch run SCENARIO)\n";
+    return 2;
+  }
   CLI::App app{"dwatch: distributed watchpoints for modular-robot ensembles"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "dwatch " DWATCH_VERSION);
   std::function<int()> run;
-  dw::app::add_run_command(app, run);
+  dw::app::add_run_command(app, run, ranks);
   dw::app::add_check_command(app, run);
   dw::app::add_replay_command(app, run);
   dw::app::add_render_command(app, run);

@@ -30,7 +30,20 @@ struct RunArgs {
   bool no_progress = false;
 };
 
-int run_scenario(const RunArgs& args) {
+// Over several ranks, the status every rank goes on with: the worst any rank had (only rank 0
+// opens the outputs, and every rank must stop if one of them cannot be).
+int agree(sim::RankExchange* ranks, int status) {
+  if (ranks == nullptr) return status;
+  uint64_t worst[2] = {status == 1, status == 2};
+  ranks->sum(worst);
+  return worst[1] ? 2 : worst[0] ? 1 : 0;
+}
+
+int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
+  // Over several ranks, rank 0 speaks and writes the outputs; every rank runs its part.
+  const bool lead = ranks == nullptr || ranks->rank() == 0;
+  std::ostream quiet(nullptr);
+  std::ostream& errors = lead ? std::cerr : quiet;
   scenarios::ScenarioOverrides overrides;
   if (args.seed) overrides.seed = static_cast<uint64_t>(*args.seed);
   if (!args.algorithm.empty())
@@ -39,8 +52,8 @@ int run_scenario(const RunArgs& args) {
   if (!args.shape.empty()) overrides.shape = watch::parse_shape(args.shape);
   if (!args.states.empty()) overrides.states = watch::parse_states(args.states);
   auto loaded = scenarios::load_scenario(args.scenario, overrides);
-  if (auto* errors = std::get_if<std::string>(&loaded)) {
-    std::cerr << *errors;
+  if (auto* message = std::get_if<std::string>(&loaded)) {
+    errors << *message;
     return 2;
   }
   scenarios::Scenario& scenario = std::get<scenarios::Scenario>(loaded);
@@ -50,15 +63,25 @@ int run_scenario(const RunArgs& args) {
   const size_t history_mb = args.history_mb ? static_cast<size_t>(*args.history_mb) : scenario.history_mb;
 
   if (args.render_path == "-") {
-    std::cerr << "dwatch: error: --render needs a file name\n";
+    errors << "dwatch: error: --render needs a file name\n";
     return 2;
+  }
+  if (ranks) {
+    if (const std::string why = sim::why_not_over_ranks(model); !why.empty()) {
+      errors << "dwatch: error: " << args.scenario << " cannot run over " << ranks->ranks() << " ranks: " << why
+             << "\n";
+      return 2;
+    }
   }
   const NamedFile record_file{"--record", args.record_path}, matches_file{"--matches", args.matches_path},
       stats_file{"--stats", args.stats_path}, render_file{"--render", args.render_path};
   std::unique_ptr<sim::OutputFile> record_out, matches_out, stats_out, render_out;
-  if (!check_distinct_files(scenario.inputs, {record_file, matches_file, stats_file, render_file}) ||
-      !open_output(record_file, record_out) || !open_output(matches_file, matches_out) ||
-      !open_output(stats_file, stats_out) || !open_output(render_file, render_out))
+  if (agree(ranks,
+            lead && !(check_distinct_files(scenario.inputs, {record_file, matches_file, stats_file, render_file}) &&
+                      open_output(record_file, record_out) && open_output(matches_file, matches_out) &&
+                      open_output(stats_file, stats_out) && open_output(render_file, render_out))
+                ? 2
+                : 0) != 0)
     return 2;
   std::ostream *record = stream_of(record_out), *matches = stream_of(matches_out), *stats = stream_of(stats_out);
   const bool to_stdout = args.record_path == "-" || args.matches_path == "-" || args.stats_path == "-";
@@ -74,14 +97,18 @@ int run_scenario(const RunArgs& args) {
   for (size_t w = 0; w < model.watches.size(); ++w) sinks.push_back(log.sink(w));
   std::unique_ptr<sim::TraceWriter> recorder;
   if (record) recorder = std::make_unique<sim::TraceWriter>(*record, model.universe, scenario.events);
+  const bool recording = agree(ranks, record != nullptr) != 0;  // every rank gives its part of each frame
 
-  sim::Session run(*scenario.model, *scenario.world, {threads, steps, history_mb << 20, scenario.events});
-  ProgressBar progress("run " + scenario.name, steps, !args.no_progress);
+  sim::Session run(*scenario.model, *scenario.world, {threads, steps, history_mb << 20, scenario.events, ranks});
+  ProgressBar progress("run " + scenario.name, steps, lead && !args.no_progress);
   const auto started = std::chrono::steady_clock::now();
   std::optional<sim::Pause> pause;
   try {
     pause = run.run_until(steps, [&](const sim::State& state, const sim::StepOutput& out) {
-      if (recorder) recorder->write(sim::observed_frame(model, state, out));
+      if (recording) {
+        std::vector<int64_t> values = run.whole_values(state);
+        if (recorder) recorder->write(sim::make_frame(model, out.step, values, out.present, out.graph));
+      }
       for (size_t w = 0; w < out.watches.size(); ++w)
         if (!out.watches[w].slots.empty()) sinks[w](out.watches[w].t, out.watches[w].slots);
       log.release(out.step - max_lag);
@@ -92,7 +119,7 @@ int run_scenario(const RunArgs& args) {
       run.drain([&](uint32_t w, int64_t t, std::span<const watch::ModuleId> ids) { sinks[w](t, ids); });
   } catch (const sim::ProgramError& e) {
     progress.finish();
-    std::cerr << "dwatch: " << args.scenario << ": error: " << e.what() << "\n";
+    errors << "dwatch: " << args.scenario << ": error: " << e.what() << "\n";
     return 1;
   }
   log.finish();
@@ -100,7 +127,7 @@ int run_scenario(const RunArgs& args) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const int64_t ran = run.latest() + 1;
 
-  std::ostream& summary = to_stdout ? std::cerr : std::cout;
+  std::ostream& summary = !lead ? quiet : to_stdout ? std::cerr : std::cout;
   const auto& spec = model.lattice.spec;
   const auto& occupied = model.lattice.occupied;
   const size_t present = static_cast<size_t>(std::count(occupied.begin(), occupied.end(), 1));
@@ -109,7 +136,9 @@ int run_scenario(const RunArgs& args) {
   for (int d = 1; d < sim::lattice_dimensions(spec.kind); ++d) summary << "x" << spec.size[size_t(d)];
   if (present < occupied.size()) summary << ", " << occupied.size() - present << " cells left empty";
   summary << "), " << ran << (ran == 1 ? " step" : " steps") << " of " << steps << ", seed " << model.seed << ", "
-          << threads << (threads == 1 ? " thread" : " threads") << "\n  programs:";
+          << threads << (threads == 1 ? " thread" : " threads");
+  if (ranks) summary << " on each of " << ranks->ranks() << " ranks";
+  summary << "\n  programs:";
   for (const auto& p : model.programs) summary << " " << p->name();
   summary << "; " << run.head().program_messages << " program messages\n";
 
@@ -139,8 +168,8 @@ int run_scenario(const RunArgs& args) {
     print_detector_stats(summary, run.stats(w));
     if (run.stats(w).stopped) {
       stopped = true;
-      std::cerr << "dwatch: " << h.watchpoint.name << ": stopped: " << run.stats(w).stop_reason
-                << "; the matches found before are kept (max_live sets the budget)\n";
+      errors << "dwatch: " << h.watchpoint.name << ": stopped: " << run.stats(w).stop_reason
+             << "; the matches found before are kept (max_live sets the budget)\n";
     }
   }
   // The session stands at the paused match's step (or the last one run): the state shown and
@@ -153,7 +182,7 @@ int run_scenario(const RunArgs& args) {
   }
   const bool rolled_back = pause && run.current() < run.latest();
   if (rolled_back) summary << "  rolled back to step " << pause->t << ", the paused match's step\n";
-  const uint64_t hash = sim::hash_state(run.state());
+  const uint64_t hash = run.hash();
   summary << std::fixed << std::setprecision(3) << "  time: " << seconds << " s";
   if (ran > 0 && model.module_count() > 0)
     summary << std::setprecision(2) << " (" << seconds * 1e9 / double(ran) / model.module_count()
@@ -170,7 +199,10 @@ int run_scenario(const RunArgs& args) {
     }
     render::SceneSettings settings = scene_settings(scenario, "");
     settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(shown);
-    const render::Scene scene = render::build_scene(model, run.state(), groups, settings);
+    sim::State whole = run.state();  // over ranks, the variables of every rank's modules
+    whole.values = run.whole_values(whole);
+    if (!lead) return stopped ? 1 : 0;
+    const render::Scene scene = render::build_scene(model, whole, groups, settings);
     if (std::string error = write_view(scene, *render_out, 1280, 720); !error.empty()) {
       std::cerr << "dwatch: error: " << error << "\n";
       return 1;
@@ -185,6 +217,7 @@ int run_scenario(const RunArgs& args) {
     j["steps"] = ran;
     j["seed"] = model.seed;
     j["threads"] = threads;
+    j["ranks"] = ranks ? ranks->ranks() : 1;
     j["seconds"] = seconds;
     j["program_messages"] = run.head().program_messages;
     j["state_hash"] = sim::hash_text(hash);
@@ -216,7 +249,7 @@ int run_scenario(const RunArgs& args) {
 
 }  // namespace
 
-void add_run_command(CLI::App& app, std::function<int()>& run) {
+void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks) {
   auto* cmd = app.add_subcommand("run", "Run a scenario headless, watchpoints live");
   auto args = std::make_shared<RunArgs>();
   cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
@@ -243,7 +276,7 @@ void add_run_command(CLI::App& app, std::function<int()>& run) {
                      "Matches to print per watchpoint when --matches is not given")
       ->default_val(5);
   cmd->add_flag("--no-progress", args->no_progress, "No progress bar, even on a terminal");
-  cmd->callback([&run, args] { run = [args] { return run_scenario(*args); }; });
+  cmd->callback([&run, args, ranks] { run = [args, ranks] { return run_scenario(*args, ranks); }; });
 }
 
 }  // namespace dw::app

@@ -37,19 +37,41 @@ watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_
   return frame;
 }
 
-Runtime::Runtime(const Model& model, World& world, unsigned threads)
-    : model_(model), world_(world), pool_(std::max(1u, std::min(threads, std::max(1u, model.module_count())))) {
+std::string why_not_over_ranks(const Model& model) {
+  for (const HostedWatchpoint& w : model.watches)
+    if (!w.runs_on_agents())
+      return "watchpoint '" + w.watchpoint.name + "' is " +
+             (w.algorithm == watch::Algorithm::Centralized ? "centralized" : "read over simultaneous states") +
+             ": its detector observes the whole ensemble in one place, which no rank holds; over ranks a "
+             "watchpoint runs on the modules' agents (algorithm = \"distributed\", states = \"consistent\"; "
+             "or --algorithm distributed --states consistent)";
+  return {};
+}
+
+Runtime::Runtime(const Model& model, World& world, unsigned threads, RankExchange* ranks)
+    : model_(model),
+      world_(world),
+      pool_(std::max(1u, std::min(threads, std::max(1u, model.module_count())))),
+      ranks_(ranks) {
   // Blocks of at most 4096 modules (a power of two). A neighbour list that crosses a block boundary
   // is sent as one record per block, so blocks are as large as the threads allow: one thread takes
-  // the ensemble as one block (up to 4096), and several take at least one block each, never so
-  // large that a thread is left without one.
+  // the ensemble as one block (up to 4096), and several (over all ranks) take at least one block
+  // each, never so large that one is left without.
   const uint32_t m = model.module_count();
-  const uint32_t per_thread = std::max(1u, m / pool_.size());
-  if (pool_.size() == 1)
+  const uint32_t rank_count = ranks_ ? static_cast<uint32_t>(ranks_->ranks()) : 1;
+  const uint32_t workers = pool_.size() * rank_count;
+  const uint32_t per_thread = std::max(1u, m / workers);
+  if (workers == 1)
     while (block_shift_ < 12 && (1u << block_shift_) < per_thread) ++block_shift_;
   else
     while (block_shift_ < 12 && (2u << block_shift_) <= per_thread) ++block_shift_;
   blocks_ = (m >> block_shift_) + ((m & ((1u << block_shift_) - 1)) != 0);
+  // Each rank takes a contiguous run of blocks: a slab of the lattice, whose ids run x, y, z.
+  for (uint32_t r = 0; r <= rank_count; ++r)
+    rank_begin_.push_back(block_begin(static_cast<uint32_t>(uint64_t{r} * blocks_ / rank_count)));
+  const uint32_t me = ranks_ ? static_cast<uint32_t>(ranks_->rank()) : 0;
+  own_first_ = static_cast<uint32_t>(uint64_t{me} * blocks_ / rank_count);
+  own_end_ = static_cast<uint32_t>(uint64_t{me + 1} * blocks_ / rank_count);
   scratch_.resize(pool_.size());
   arriving_.resize(pool_.size());
   for (const auto& program : model.programs) programs_.push_back(program.get());
@@ -76,7 +98,11 @@ void Runtime::use_program(uint32_t p, const HostProgram& program) {
 }
 
 uint32_t Runtime::first_block(unsigned thread) const {
-  return static_cast<uint32_t>(uint64_t{thread} * blocks_ / pool_.size());
+  return own_first_ + static_cast<uint32_t>(uint64_t{thread} * (own_end_ - own_first_) / pool_.size());
+}
+
+uint32_t Runtime::rank_of(ModuleId m) const {
+  return static_cast<uint32_t>(std::upper_bound(rank_begin_.begin(), rank_begin_.end(), m) - rank_begin_.begin() - 1);
 }
 
 uint32_t Runtime::block_begin(uint32_t block) const {
@@ -171,10 +197,31 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
     std::swap(ws.in_flight[lane], sending_[w][lane]);
     sending_[w][lane].clear();
   }
+  if (ranks_) deliver_in_flight(ws);
   if (f < 0) return;
   std::vector<watch::AgentContext*> contexts;
   for (ThreadScratch& s : scratch_) contexts.push_back(&s.agents[w]);
-  watch::AgentStepOutcome outcome = watch::finish_agent_step(contexts, f, hosted.options.live_budget);
+  watch::AgentStepOutcome outcome = watch::sum_agent_step(contexts, f);
+  if (ranks_) {
+    // The step's statistics are those of all ranks, and so is the budget's verdict.
+    watch::StepStats& st = outcome.stats;
+    std::vector<uint64_t> sums = st.live_by_filled;
+    sums.insert(sums.end(), {st.live, st.created, st.messages, st.bytes, st.matches, outcome.over_budget});
+    ranks_->sum(sums);
+    const size_t n = st.live_by_filled.size();
+    std::copy(sums.begin(), sums.begin() + static_cast<ptrdiff_t>(n), st.live_by_filled.begin());
+    st.live = sums[n], st.created = sums[n + 1], st.messages = sums[n + 2], st.bytes = sums[n + 3];
+    st.matches = sums[n + 4];
+    if (sums[n + 5] != 0) {  // the reason of the first rank that gave one
+      for (const auto& why : ranks_->all_gather(std::as_bytes(std::span(outcome.stop_reason))))
+        if (!why.empty()) {
+          outcome.stop_reason.assign(reinterpret_cast<const char*>(why.data()), why.size());
+          break;
+        }
+      outcome.over_budget = true;
+    }
+  }
+  watch::decide_agent_budget(outcome, f, hosted.options.live_budget);
   if (outcome.over_budget) {
     // The step that went over the budget was cut short wherever each thread was: none of it is
     // reported, and the stopped watch lets go of its agents and PatternMatchers.
@@ -192,10 +239,17 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
   if (t0 >= 0) {
     out.t = t0;
     for (ThreadScratch& s : scratch_) out.matches += s.agents[w].match_values / k;
+    if (ranks_) ranks_->sum({&out.matches, 1});
     if (hosted.action != MatchAction::Count && out.matches) {
       for (ThreadScratch& s : scratch_)
         out.slots.insert(out.slots.end(), s.agents[w].matches.begin(),
                          s.agents[w].matches.begin() + static_cast<ptrdiff_t>(s.agents[w].match_values));
+      if (ranks_) {  // every rank's, on every rank: each decides alike where to pause
+        std::vector<ModuleId> all;
+        for (const auto& part : ranks_->all_gather(std::as_bytes(std::span(out.slots))))
+          all.insert(all.end(), records_of<ModuleId>(part).begin(), records_of<ModuleId>(part).end());
+        out.slots = std::move(all);
+      }
     }
   }
 }
@@ -225,20 +279,158 @@ void Runtime::observe_detector(uint32_t w, State& state, WatchStepOutput& out) {
 void Runtime::deliver_program_messages(State& state) {
   const uint32_t programs = model_.program_count();
   const size_t groups = size_t{model_.module_count()} * programs;
-  size_t total = 0;
-  for (const ThreadScratch& s : scratch_) total += s.outbox.messages.size();
+  const uint32_t me = ranks_ ? static_cast<uint32_t>(ranks_->rank()) : 0;
+  // Messages to another rank's modules go there; those sent here come in from every rank.
+  std::vector<std::vector<std::byte>> received;
+  if (ranks_) {
+    std::vector<std::vector<std::byte>> out(static_cast<size_t>(ranks_->ranks()));
+    for (const ThreadScratch& s : scratch_)
+      for (const Message& m : s.outbox.messages)
+        if (const uint32_t r = rank_of(m.to); r != me) append_records(out[r], std::span(&m, 1));
+    received = ranks_->exchange(out);
+  }
+  // The messages to this rank's modules in sender order: from the ranks before, its own (in
+  // thread order, which is module order), from the ranks after.
+  auto each = [&](auto&& fn) {
+    for (uint32_t r = 0; r + 1 < rank_begin_.size(); ++r) {
+      if (r != me) {
+        for (const Message& m : records_of<Message>(received[r])) fn(m);
+        continue;
+      }
+      for (const ThreadScratch& s : scratch_)
+        for (const Message& m : s.outbox.messages)
+          if (!ranks_ || rank_of(m.to) == me) fn(m);
+    }
+  };
+  uint64_t total = 0;
+  each([&](const Message&) { ++total; });
   Mailbox& box = state.inbox;
   box.begin.assign(groups + 1, 0);
   box.messages.resize(total);
+  uint64_t sent = total;  // every message is received by exactly one rank
+  if (ranks_) ranks_->sum({&sent, 1});
+  state.program_messages += sent;
   if (total == 0) return;
   // A stable counting sort by (receiver, program): senders stay in id order within a group.
-  for (const ThreadScratch& s : scratch_)
-    for (const Message& m : s.outbox.messages) ++box.begin[size_t{m.to} * programs + m.program + 1];
+  each([&](const Message& m) { ++box.begin[size_t{m.to} * programs + m.program + 1]; });
   for (size_t g = 0; g < groups; ++g) box.begin[g + 1] += box.begin[g];
   counts_.assign(box.begin.begin(), box.begin.end() - 1);
+  each([&](const Message& m) { box.messages[counts_[size_t{m.to} * programs + m.program]++] = m; });
+}
+
+// PatternMatchers sent to another rank's blocks go there, in one batch per rank: each lane as
+// (block, bytes, records), appended on arrival to the block's first lane. Their order in the lanes
+// matters to nothing (DESIGN §4: a multiset), as with threads.
+void Runtime::deliver_in_flight(WatchState& ws) {
+  std::vector<std::vector<std::byte>> out(static_cast<size_t>(ranks_->ranks()));
+  for (uint32_t thread = 0; thread < pool_.size(); ++thread)
+    for (uint32_t block = 0; block < blocks_; ++block) {
+      watch::RecordBuffer& lane = ws.in_flight[size_t{thread} * blocks_ + block];
+      if (lane.empty() || (block >= own_first_ && block < own_end_)) continue;
+      std::vector<std::byte>& to = out[rank_of(block_begin(block))];
+      const uint64_t head[2] = {block, lane.size()};
+      append_records(to, std::span<const uint64_t>(head));
+      to.insert(to.end(), lane.data(), lane.data() + lane.size());
+      lane.clear();
+    }
+  for (const std::vector<std::byte>& part : ranks_->exchange(out))
+    for (size_t at = 0; at < part.size();) {
+      uint64_t head[2];
+      std::memcpy(head, part.data() + at, sizeof head);
+      ws.in_flight[head[0]].append_records(part.data() + at + sizeof head, head[1]);
+      at += sizeof head + head[1];
+    }
+}
+
+// A program's misuse on any rank stops every rank, with the first one in module order: the
+// lowest rank's, and within it the lowest thread's.
+void Runtime::agree_on_failure() {
+  const Outbox* failed = nullptr;
   for (const ThreadScratch& s : scratch_)
-    for (const Message& m : s.outbox.messages) box.messages[counts_[size_t{m.to} * programs + m.program]++] = m;
-  state.program_messages += total;
+    if (!s.outbox.error.empty()) {
+      failed = &s.outbox;
+      break;
+    }
+  if (ranks_ && any_rank(failed != nullptr)) {
+    std::vector<std::byte> mine;
+    if (failed) {
+      const int64_t where[2] = {failed->error_step, failed->error_module};
+      append_records(mine, std::span<const int64_t>(where));
+      append_records(mine, std::span(failed->error.data(), failed->error.size()));
+    }
+    for (const auto& part : ranks_->all_gather(mine)) {
+      if (part.empty()) continue;
+      int64_t where[2];
+      std::memcpy(where, part.data(), sizeof where);
+      throw ProgramError(
+          std::string(reinterpret_cast<const char*>(part.data()) + sizeof where, part.size() - sizeof where),
+          static_cast<ModuleId>(where[1]), where[0]);
+    }
+  }
+  if (failed) throw ProgramError(failed->error, failed->error_module, failed->error_step);
+}
+
+// Actuation requests in module order (thread order, then rank order): the world is stepped whole
+// on every rank, so every rank needs all of them.
+void Runtime::gather_actuations() {
+  std::vector<Actuation> mine;
+  for (const ThreadScratch& s : scratch_)
+    mine.insert(mine.end(), s.outbox.actuations.begin(), s.outbox.actuations.end());
+  if (!ranks_) {
+    actuations_.insert(actuations_.end(), mine.begin(), mine.end());
+    return;
+  }
+  std::vector<std::byte> bytes;
+  append_records(bytes, std::span<const Actuation>(mine));
+  for (const auto& part : ranks_->all_gather(bytes))
+    actuations_.insert(actuations_.end(), records_of<Actuation>(part).begin(), records_of<Actuation>(part).end());
+}
+
+bool Runtime::any_rank(bool yes) {
+  if (!ranks_) return yes;
+  uint64_t count = yes;
+  ranks_->sum({&count, 1});
+  return count != 0;
+}
+
+std::vector<int64_t> Runtime::whole_values(const State& state) {
+  if (!ranks_) return state.values;
+  const uint32_t v = model_.variable_count(), me = static_cast<uint32_t>(ranks_->rank());
+  const auto own =
+      std::span(state.values).subspan(size_t{rank_begin_[me]} * v, size_t{rank_begin_[me + 1] - rank_begin_[me]} * v);
+  std::vector<int64_t> values;
+  values.reserve(state.values.size());
+  for (const auto& part : ranks_->all_gather(std::as_bytes(own)))
+    values.insert(values.end(), records_of<int64_t>(part).begin(), records_of<int64_t>(part).end());
+  return values;
+}
+
+uint64_t Runtime::hash(const State& state) {
+  std::vector<InFlightDigest> digests;
+  for (const WatchState& w : state.watches) digests.push_back(in_flight_digest(w));
+  if (!ranks_) return hash_state(state, digests);
+  // The whole state as one process would hold it: each rank's modules' values and inboxes, in
+  // rank order (module order), and the in-flight multisets added up. The rest every rank holds.
+  State whole;
+  whole.step = state.step;
+  whole.present = state.present;
+  whole.graph = state.graph;
+  whole.bodies = state.bodies;
+  whole.program_messages = state.program_messages;
+  whole.values = whole_values(state);
+  for (const auto& part : ranks_->all_gather(std::as_bytes(std::span(state.inbox.messages))))
+    whole.inbox.messages.insert(whole.inbox.messages.end(), records_of<Message>(part).begin(),
+                                records_of<Message>(part).end());
+  std::vector<uint64_t> sums;
+  for (const InFlightDigest& d : digests) sums.insert(sums.end(), {d.sum, d.count});
+  ranks_->sum(sums);
+  for (size_t w = 0; w < digests.size(); ++w) digests[w] = {sums[2 * w], sums[2 * w + 1]};
+  for (const WatchState& w : state.watches) {
+    whole.watches.emplace_back();
+    whole.watches.back().matches = w.matches;
+    whole.watches.back().stopped = w.stopped;
+  }
+  return hash_state(whole, digests);
 }
 
 void Runtime::intervene(State& state, std::span<const Intervention> interventions) {
@@ -277,8 +469,7 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
     state.watches[w].agents->begin_record(make_frame(model_, state.step, next_values_, state.present, state.graph));
   }
   pool_.run([&](unsigned thread) { run_thread(thread, state); });
-  for (const ThreadScratch& s : scratch_)
-    if (!s.outbox.error.empty()) throw ProgramError(s.outbox.error, s.outbox.error_module, s.outbox.error_step);
+  agree_on_failure();
 
   std::swap(state.values, next_values_);  // assign: the variables now hold step t's values
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
@@ -307,9 +498,7 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
   const uint64_t sent_before = state.program_messages;
   deliver_program_messages(state);
   out.program_messages = state.program_messages - sent_before;
-  // Actuation requests in thread order, which is module order.
-  for (const ThreadScratch& s : scratch_)
-    actuations_.insert(actuations_.end(), s.outbox.actuations.begin(), s.outbox.actuations.end());
+  gather_actuations();
   ++state.step;
   world_.advance(model_, state, actuations_);
 }

@@ -14,6 +14,7 @@
 
 #include "sim/intervention.h"
 #include "sim/model.h"
+#include "sim/rank_exchange.h"
 #include "sim/state.h"
 #include "sim/worker_pool.h"
 #include "sim/world.h"
@@ -48,10 +49,17 @@ inline watch::Frame observed_frame(const Model& model, const State& state, const
   return make_frame(model, out.step, state.values, out.present, out.graph);
 }
 
+// Why `model` cannot run over several ranks, or empty when it can (DESIGN §12): a centralized
+// detector observes the whole ensemble at once, which no rank holds.
+std::string why_not_over_ranks(const Model& model);
+
 class Runtime {
  public:
-  // `model` and `world` must outlive the runtime.
-  Runtime(const Model& model, World& world, unsigned threads);
+  // `model` and `world` must outlive the runtime, and `ranks` too when given: then this process is
+  // one rank of a run over several (DESIGN §12). It steps the modules of its rank's blocks, a
+  // contiguous run of ids; every rank keeps the world (its bodies and N(m, t)) whole, with the
+  // actuations of all, and the rest of the state for its own modules only.
+  Runtime(const Model& model, World& world, unsigned threads, RankExchange* ranks = nullptr);
 
   // The state before step 0: initial values, the world's step-0 topology, fresh detectors.
   State initial_state();
@@ -72,6 +80,15 @@ class Runtime {
   World& world() { return world_; }
   unsigned threads() const { return pool_.size(); }
 
+  // The state hash (hash_state) of the whole ensemble: over several ranks, of the parts every rank
+  // holds, on every rank (a collective call).
+  uint64_t hash(const State& state);
+  // The variables of every module in `state` (model order): over several ranks, gathered from the
+  // rank of each (a collective call); otherwise state.values.
+  std::vector<int64_t> whole_values(const State& state);
+  // Whether any rank says yes: a decision every rank must take alike (a collective call).
+  bool any_rank(bool yes);
+
  private:
   struct Lanes;  // a thread's PatternMatcher outbox
   struct ThreadScratch {
@@ -87,8 +104,12 @@ class Runtime {
   void finish_distributed(uint32_t watch, State& state, WatchStepOutput& out);
   void observe_detector(uint32_t watch, State& state, WatchStepOutput& out);
   void deliver_program_messages(State& state);
+  void deliver_in_flight(WatchState& ws);
+  void gather_actuations();
+  void agree_on_failure();
+  uint32_t rank_of(ModuleId m) const;
 
-  uint32_t first_block(unsigned thread) const;  // the thread's first block; first_block(threads) = blocks_
+  uint32_t first_block(unsigned thread) const;  // the thread's first block; first_block(threads) = the rank's end
   uint32_t block_begin(uint32_t block) const;   // its first module; block_begin(blocks_) = module count
 
   const Model& model_;
@@ -96,6 +117,9 @@ class Runtime {
   WorkerPool pool_;
   uint32_t block_shift_ = 0;  // blocks of 1 << block_shift_ modules
   uint32_t blocks_ = 0;
+  RankExchange* ranks_;                   // null: this process runs every module
+  std::vector<uint32_t> rank_begin_;      // per rank, its first module; [ranks] = module count
+  uint32_t own_first_ = 0, own_end_ = 0;  // this rank's blocks
   std::vector<ThreadScratch> scratch_;
   std::vector<const HostProgram*> programs_;  // in use, by index: the model's unless replaced
   std::vector<int64_t> next_values_;

@@ -30,7 +30,7 @@ Session::Session(Model& model, World& world, SessionOptions options)
 Session::~Session() = default;
 
 void Session::rebuild_runtime() {
-  runtime_ = std::make_unique<Runtime>(model_, world_, options_.threads);
+  runtime_ = std::make_unique<Runtime>(model_, world_, options_.threads, options_.ranks);
   world_on_ = nullptr;
 }
 
@@ -112,12 +112,15 @@ void Session::take_keyframe() {
     return left > 0 && history_bytes_ + static_cast<size_t>(left / interval_) * (history_bytes_ / keyframes_.size()) >
                            budget + budget / 2;
   };
-  while (keyframes_.size() > 1 && over_budget()) thin_keyframes();
+  // Over several ranks each measures its own part; they thin together, so that every rank's
+  // history steps alike (runtime_->any_rank is the decision itself in one process).
+  while (keyframes_.size() > 1 && runtime_->any_rank(over_budget())) thin_keyframes();
   // Nor may they cost the live run more than a small share of its time: where a step is cheap
   // beside a copy of the state, keyframes are further apart, as long as a seek's stepping from
   // one stays short.
-  if (keyframes_.size() > 1 && copy_seconds > kKeyframeTimeShare * double(interval_) * step_seconds_ &&
-      2 * double(interval_) * step_seconds_ <= kSeekStepSeconds)
+  if (keyframes_.size() > 1 &&
+      runtime_->any_rank(copy_seconds > kKeyframeTimeShare * double(interval_) * step_seconds_ &&
+                         2 * double(interval_) * step_seconds_ <= kSeekStepSeconds))
     thin_keyframes();
 }
 

@@ -44,6 +44,9 @@ struct SessionOptions {
   // past, nor evaluate a new watchpoint over the past.
   size_t history_bytes = size_t{256} << 20;
   std::vector<Intervention> events;  // scheduled interventions ([[event]]), any order
+  // This process is one rank of a run over several (DESIGN §12): every rank makes the same calls
+  // on its session, which steps the rank's modules and takes every decision alike on all ranks.
+  RankExchange* ranks = nullptr;
 };
 
 // Lets a long operation be cancelled between steps and report how far it got. A cancelled
@@ -149,7 +152,11 @@ class Session {
   // The full state at the current step (restored on demand), and after the latest step.
   const State& state();
   const State& head() const { return head_; }
-  uint64_t hash() { return hash_state(state()); }
+  // The current step's state hash (over ranks, a collective call).
+  uint64_t hash() { return runtime_->hash(state()); }
+  // The variables of every module in `state` (one of this session's): over ranks, gathered from
+  // the rank of each (a collective call).
+  std::vector<int64_t> whole_values(const State& state) { return runtime_->whole_values(state); }
   // What the watchpoints saw at the current step besides the values: presence and N(m, t).
   std::span<const uint8_t> seen_present();
   const NeighborGraph& seen_graph();

@@ -71,7 +71,26 @@ std::string hash_text(uint64_t hash) {
   return text;
 }
 
+InFlightDigest in_flight_digest(const WatchState& w) {
+  InFlightDigest d;
+  for (const watch::RecordBuffer& lane : w.in_flight)
+    lane.visit([&](uint32_t to, const std::byte* pm, uint32_t bytes) {
+      Hasher one;
+      one.word(to);
+      one.bytes(pm, bytes);
+      d.sum += mix(one.h);
+      ++d.count;
+    });
+  return d;
+}
+
 uint64_t hash_state(const State& s) {
+  std::vector<InFlightDigest> digests;
+  for (const WatchState& w : s.watches) digests.push_back(in_flight_digest(w));
+  return hash_state(s, digests);
+}
+
+uint64_t hash_state(const State& s, std::span<const InFlightDigest> in_flight) {
   Hasher h;
   h.word(static_cast<uint64_t>(s.step));
   h.words(s.values);
@@ -109,20 +128,11 @@ uint64_t hash_state(const State& s) {
     for (int64_t w : m.payload()) h.word(static_cast<uint64_t>(w));
   }
   h.word(s.program_messages);
-  for (const WatchState& w : s.watches) {
-    h.word(w.matches);
-    h.word(w.stopped);
-    uint64_t multiset = 0, count = 0;
-    for (const watch::RecordBuffer& lane : w.in_flight)
-      lane.visit([&](uint32_t to, const std::byte* pm, uint32_t bytes) {
-        Hasher one;
-        one.word(to);
-        one.bytes(pm, bytes);
-        multiset += mix(one.h);
-        ++count;
-      });
-    h.word(multiset);
-    h.word(count);
+  for (size_t w = 0; w < s.watches.size(); ++w) {
+    h.word(s.watches[w].matches);
+    h.word(s.watches[w].stopped);
+    h.word(in_flight[w].sum);
+    h.word(in_flight[w].count);
   }
   return mix(h.h);
 }

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,14 @@ struct State {
 // flight and match counts. PatternMatchers in flight are hashed as a multiset, since their order
 // in the lanes depends on the thread count and nothing else does.
 uint64_t hash_state(const State& state);
+// What hash_state takes of one watchpoint's PatternMatchers in flight: a sum of their hashes and
+// their count, which add up over parts of the state (the ranks of a run, DESIGN §12).
+struct InFlightDigest {
+  uint64_t sum = 0, count = 0;
+};
+InFlightDigest in_flight_digest(const WatchState& watch);
+// hash_state with each watchpoint's in-flight digest given rather than read from its lanes.
+uint64_t hash_state(const State& state, std::span<const InFlightDigest> in_flight);
 // A state hash as the outputs print it: 0x and 16 hex digits.
 std::string hash_text(uint64_t hash);
 

@@ -27,11 +27,16 @@ void start_agent_step(AgentContext& ctx, int64_t f) {
 }
 
 AgentStepOutcome finish_agent_step(std::span<AgentContext* const> contexts, int64_t f, uint64_t live_budget) {
+  AgentStepOutcome o = sum_agent_step(contexts, f);
+  decide_agent_budget(o, f, live_budget);
+  return o;
+}
+
+AgentStepOutcome sum_agent_step(std::span<AgentContext* const> contexts, int64_t f) {
   AgentStepOutcome o;
   o.stats.step = f;
   const size_t k = contexts.empty() ? 0 : static_cast<size_t>(contexts.front()->program.slot_count());
   o.stats.live_by_filled.assign(k + 1, 0);
-  uint64_t used = 0;
   for (AgentContext* ctx : contexts) {
     ctx->step.created += ctx->step.messages;  // starts were counted as they happened
     const StepStats& st = ctx->step;
@@ -41,20 +46,22 @@ AgentStepOutcome finish_agent_step(std::span<AgentContext* const> contexts, int6
     o.stats.messages += st.messages;
     o.stats.bytes += st.bytes;
     o.stats.matches += st.matches;
-    used += st.live + st.messages;
     if (ctx->over_budget && !o.over_budget) {
       o.over_budget = true;
       o.stop_reason = ctx->stop_reason;
     }
   }
+  return o;
+}
+
+void decide_agent_budget(AgentStepOutcome& o, int64_t f, uint64_t live_budget) {
   // Each context may use the whole budget; whether the step went over it is decided on their sum,
-  // so that the stop never depends on how many threads ran the step.
-  if (live_budget != 0 && used > live_budget) o.over_budget = true;
+  // so that the stop never depends on how many threads (or ranks) ran the step.
+  if (live_budget != 0 && o.stats.live + o.stats.messages > live_budget) o.over_budget = true;
   if (o.over_budget)
     o.stop_reason = o.stop_reason.empty() ? "more than " + std::to_string(live_budget) +
                                                 " live PatternMatchers at detector step " + std::to_string(f)
                                           : o.stop_reason + " at detector step " + std::to_string(f);
-  return o;
 }
 
 }  // namespace dw::watch

@@ -31,5 +31,9 @@ struct AgentStepOutcome {
   std::string stop_reason;
 };
 AgentStepOutcome finish_agent_step(std::span<AgentContext* const> contexts, int64_t f, uint64_t live_budget);
+// finish_agent_step in two parts, for hosts that add up outcomes of their own first (the ranks of
+// a run): the contexts' sum, and the budget's verdict on a sum.
+AgentStepOutcome sum_agent_step(std::span<AgentContext* const> contexts, int64_t f);
+void decide_agent_budget(AgentStepOutcome& outcome, int64_t f, uint64_t live_budget);
 
 }  // namespace dw::watch

@@ -56,6 +56,15 @@ class RecordBuffer {
     size_ = need;
   }
 
+  // The records, as append wrote them: size() bytes.
+  const std::byte* data() const { return data_.get(); }
+  // Appends records another buffer holds (data() and size() of it): whole records only.
+  void append_records(const std::byte* records, size_t size) {
+    if (size_ + size > capacity_) grow(size_ + size);
+    if (size) std::memcpy(data_.get() + size_, records, size);
+    size_ += size;
+  }
+
   // Calls fn(receivers, pm) for every record, in order. hint(to) names the next record's first
   // receiver ahead of time, so that its state can be fetched meanwhile.
   template <class Fn, class Hint>

@@ -1,0 +1,94 @@
+#include "dist/mpi_exchange.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <climits>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+namespace dw::dist {
+namespace {
+
+// MPI counts are ints: a buffer goes in pieces of at most this many bytes.
+constexpr uint64_t kPiece = uint64_t{1} << 30;
+
+class MpiExchange final : public sim::RankExchange {
+ public:
+  MpiExchange() {
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks_);
+  }
+  int rank() const override { return rank_; }
+  int ranks() const override { return ranks_; }
+
+  std::vector<std::vector<std::byte>> exchange(std::span<const std::vector<std::byte>> out) override {
+    const size_t n = static_cast<size_t>(ranks_);
+    std::vector<uint64_t> out_sizes(n, 0), in_sizes(n, 0);
+    for (size_t r = 0; r < n; ++r)
+      if (int(r) != rank_) out_sizes[r] = out[r].size();
+    MPI_Alltoall(out_sizes.data(), 1, MPI_UINT64_T, in_sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+    std::vector<std::vector<std::byte>> in(n);
+    std::vector<MPI_Request> requests;
+    // Only the ranks with something to say are sent to or heard from: the neighbouring ones.
+    for (size_t r = 0; r < n; ++r) {
+      in[r].resize(in_sizes[r]);
+      for (uint64_t at = 0; at < in_sizes[r]; at += kPiece)
+        requests.push_back(MPI_REQUEST_NULL), MPI_Irecv(in[r].data() + at, int(std::min(kPiece, in_sizes[r] - at)),
+                                                        MPI_BYTE, int(r), 0, MPI_COMM_WORLD, &requests.back());
+    }
+    for (size_t r = 0; r < n; ++r)
+      for (uint64_t at = 0; at < out_sizes[r]; at += kPiece)
+        requests.push_back(MPI_REQUEST_NULL), MPI_Isend(out[r].data() + at, int(std::min(kPiece, out_sizes[r] - at)),
+                                                        MPI_BYTE, int(r), 0, MPI_COMM_WORLD, &requests.back());
+    MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+    return in;
+  }
+
+  std::vector<std::vector<std::byte>> all_gather(std::span<const std::byte> mine) override {
+    const size_t n = static_cast<size_t>(ranks_);
+    uint64_t size = mine.size();
+    std::vector<uint64_t> sizes(n);
+    MPI_Allgather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+    std::vector<std::vector<std::byte>> all(n);
+    for (size_t r = 0; r < n; ++r) {
+      all[r].resize(sizes[r]);
+      if (int(r) == rank_ && size) std::memcpy(all[r].data(), mine.data(), size);
+      for (uint64_t at = 0; at < sizes[r]; at += kPiece)
+        MPI_Bcast(all[r].data() + at, int(std::min(kPiece, sizes[r] - at)), MPI_BYTE, int(r), MPI_COMM_WORLD);
+    }
+    return all;
+  }
+
+  void sum(std::span<uint64_t> values) override {
+    MPI_Allreduce(MPI_IN_PLACE, values.data(), int(values.size()), MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+  }
+
+ private:
+  int rank_ = 0, ranks_ = 1;
+};
+
+}  // namespace
+
+bool started_by_mpirun() {
+  const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
+  return size != nullptr && std::atoi(size) > 1;
+}
+
+MpiProcess::MpiProcess(int& argc, char**& argv) {
+  if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr) return;
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  initialized_ = true;
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  if (ranks > 1) exchange_ = std::make_unique<MpiExchange>();
+}
+
+MpiProcess::~MpiProcess() {
+  exchange_.reset();
+  if (initialized_) MPI_Finalize();
+}
+
+}  // namespace dw::dist

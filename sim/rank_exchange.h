@@ -1,0 +1,43 @@
+// The seam to the other processes (ranks) of one run (DESIGN §12). Each rank runs the whole
+// session and steps its own part of the modules; what crosses between the parts (program
+// messages, PatternMatchers, matches, statistics, a failure) goes through these few collective
+// calls, which every rank makes in the same order. `dist/` implements them with Open MPI; `sim/`
+// knows no MPI.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dw::sim {
+
+class RankExchange {
+ public:
+  virtual ~RankExchange() = default;
+
+  virtual int rank() const = 0;
+  virtual int ranks() const = 0;
+
+  // Sends out[r] to rank r (out[rank()] is not sent) and returns what each rank sent here, in
+  // rank order (empty for this rank). A rank that has nothing for another sends it nothing but
+  // its size.
+  virtual std::vector<std::vector<std::byte>> exchange(std::span<const std::vector<std::byte>> out) = 0;
+  // Every rank's `mine`, in rank order, on every rank.
+  virtual std::vector<std::vector<std::byte>> all_gather(std::span<const std::byte> mine) = 0;
+  // Sums `values` element-wise over the ranks, in place, on every rank.
+  virtual void sum(std::span<uint64_t> values) = 0;
+};
+
+// Plain records in and out of the byte buffers the exchange carries.
+template <class T>
+void append_records(std::vector<std::byte>& to, std::span<const T> records) {
+  const auto* bytes = reinterpret_cast<const std::byte*>(records.data());
+  to.insert(to.end(), bytes, bytes + records.size_bytes());
+}
+template <class T>
+std::span<const T> records_of(const std::vector<std::byte>& bytes) {
+  return {reinterpret_cast<const T*>(bytes.data()), bytes.size() / sizeof(T)};
+}
+
+}  // namespace dw::sim
