@@ -1,0 +1,122 @@
+// `mpirun -np N dwatch run` (dist/, DESIGN §12) as a user runs it: every output file and the state
+// hash equal those of the same run in one process, for 2, 3 and 4 ranks, on static lattices and
+// on a lattice that moves (the Bullet world, kept whole on every rank).
+#include <nlohmann/json.hpp>
+
+#include "tests/app/cli.h"
+
+namespace dw::cli_test {
+namespace {
+
+class MpiRun : public Cli {
+ protected:
+  void SetUp() override {
+    Cli::SetUp();
+    // Open MPI refuses root without these (DESIGN §12); the tests may run as root in CI.
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  }
+
+  // dwatch over `ranks` processes, started as a user starts it.
+  Result mpirun(int ranks, const std::string& args) {
+    const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
+    const std::string cmd = "mpirun --oversubscribe -np " + std::to_string(ranks) + " " + DWATCH_EXE + " " + args +
+                            " >" + out.string() + " 2>" + err.string();
+    const int status = std::system(cmd.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+  }
+
+  // The run's statistics but for what depends on how it ran (time, threads, ranks).
+  static nlohmann::json results(const fs::path& stats) {
+    nlohmann::json j = nlohmann::json::parse(slurp(stats));
+    for (const char* key : {"seconds", "threads", "ranks"}) j.erase(key);
+    return j;
+  }
+
+  // Runs `args` in one process and over 2, 3 and 4 ranks (with `threads` each), and expects the
+  // same files: matches, statistics (with the state hash) and, if `record`, the trace.
+  void expect_same_over_ranks(const std::string& args, int threads = 1, bool record = false) {
+    auto outputs = [&](const std::string& tag) {
+      return " --matches " + (dir_ / (tag + ".jsonl")).string() + " --stats " + (dir_ / (tag + ".json")).string() +
+             (record ? " --record " + (dir_ / (tag + ".trace")).string() : "");
+    };
+    const Result one = run("run " + args + " -j " + std::to_string(threads) + outputs("one"));
+    ASSERT_EQ(one.code, 0) << one.err;
+    const nlohmann::json expected = results(dir_ / "one.json");
+    ASSERT_GT(expected["steps"].get<int>(), 0);
+    for (int ranks : {2, 3, 4}) {
+      SCOPED_TRACE(std::to_string(ranks) + " ranks");
+      const std::string tag = "r" + std::to_string(ranks);
+      const Result r = mpirun(ranks, "run " + args + " -j " + std::to_string(threads) + outputs(tag));
+      ASSERT_EQ(r.code, 0) << r.err;
+      EXPECT_EQ(slurp(dir_ / (tag + ".jsonl")), slurp(dir_ / "one.jsonl"));
+      EXPECT_EQ(results(dir_ / (tag + ".json")), expected);
+      EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / (tag + ".json")))["ranks"], ranks);
+      if (record) {
+        EXPECT_EQ(slurp(dir_ / (tag + ".trace")), slurp(dir_ / "one.trace"));
+      }
+      // Rank 0 alone speaks: one summary, the same hash as the one process printed.
+      const std::string hash = "state hash: " + expected["state_hash"].get<std::string>();
+      EXPECT_EQ(r.out.find(hash), r.out.rfind(hash)) << r.out;
+      EXPECT_NE(r.out.find(hash), std::string::npos) << r.out;
+    }
+  }
+
+  const std::string scenarios_ = DWATCH_SCENARIOS_DIR;
+};
+
+TEST_F(MpiRun, LeaderElectionOnAHexSheetEqualsOneProcess) {
+  expect_same_over_ranks(scenarios_ + "/leader_election.toml --algorithm distributed");
+  // The run found something to compare: the 1-hop bug's leaders.
+  EXPECT_GT(results(dir_ / "one.json")["matches"].get<int>(), 0);
+}
+
+TEST_F(MpiRun, TableOneCubeEqualsOneProcessWithTwoThreadsPerRank) {
+  expect_same_over_ranks(scenarios_ + "/table1.toml --steps 30", 2);
+  EXPECT_GT(results(dir_ / "one.json")["matches"].get<int>(), 1000);
+}
+
+TEST_F(MpiRun, TokenRingPausedAndRolledBackEqualsOneProcess) {
+  // A pause found k - 1 steps late rolls every rank back to the match's step.
+  expect_same_over_ranks(scenarios_ + "/token_ring_distributed.toml --states consistent");
+  EXPECT_TRUE(results(dir_ / "one.json").contains("pause"));
+}
+
+TEST_F(MpiRun, SlidingModulesInTheBulletWorldEqualOneProcessTraceIncluded) {
+  // Contacts made and broken as modules glide: N(m, t) changes, from actuations on every rank.
+  expect_same_over_ranks(scenarios_ + "/slide.toml --algorithm distributed", 1, true);
+  EXPECT_GT(results(dir_ / "one.json")["matches"].get<int>(), 0);
+}
+
+TEST_F(MpiRun, ACentralizedWatchpointIsRefusedWithTheReason) {
+  const Result r = mpirun(2, "run " + scenarios_ + "/token_ring.toml --matches " + (dir_ / "m.jsonl").string());
+  EXPECT_EQ(r.code, 2);
+  const std::string said = "cannot run over 2 ranks: watchpoint 'token_from_nowhere' is centralized";
+  EXPECT_NE(r.err.find(said), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find(said), r.err.rfind(said)) << "said once, by rank 0: " << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "m.jsonl"));
+}
+
+TEST_F(MpiRun, AProgramFailingOnTheLastRankStopsEveryRankWithItsMessage) {
+  write("fail.lua",
+        "program = { vars = { \"v\" } }\n"
+        "function step(m)\n  m:set(\"v\", m.step)\n  if m.step == 3 and m.id == 120 then local x = nil + 1 end\nend\n");
+  const fs::path scenario = write("fail.toml",
+                                  "steps = 10\n[lattice]\nkind = \"cubic\"\nsize = [5, 5, 5]\n"
+                                  "[[program]]\nscript = \"fail.lua\"\n");
+  const Result one = run("run " + scenario.string());
+  ASSERT_EQ(one.code, 1);
+  ASSERT_NE(one.err.find("module 120"), std::string::npos) << one.err;
+  const Result r = mpirun(3, "run " + scenario.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.err.substr(0, r.err.find("\n--") + 1), one.err) << "rank 0 says what one process says, once";
+}
+
+TEST_F(MpiRun, OnlyRunRunsOverRanks) {
+  const Result r = mpirun(2, "check 'modules(a); (a.x = 1)'");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("only 'dwatch run' runs over several ranks"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace dw::cli_test
