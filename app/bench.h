@@ -5,6 +5,7 @@
 //   table1    Table I through the runtime: the host program running, the watchpoint live
 //   overhead  the watchpoint's overhead over a medium-intensity workload (paper §V-B)
 //   million   a 100^3 cube, [8:4:2:1], Fig. 6, distributed: time and memory at scale
+//   mpi       the same over several processes (mpirun): time, bytes between ranks, memory per rank
 //   physics   resting lattices in the Bullet world (1,000 and 8,000 modules), and the watchpoint
 //             overhead over a 1,000-module physics run of leader election
 //   paper     the paper's whole §V: Table I, Fig. 7, Fig. 8, Table II beside its published numbers,
@@ -115,6 +116,10 @@ int bench_engine(const BenchArgs& args);
 int bench_paper(const BenchArgs& args);
 int bench_shapes(const BenchArgs& args, bool tuples_given);
 int bench_runtime(const BenchArgs& args);  // table1, overhead, million, physics
+int bench_mpi(const BenchArgs& args);      // bench_mpi.cpp
+// The million-module ensemble at edge `size` (bench million, bench mpi): random_vars [8:4:2:1] and
+// Fig. 6, distributed, counting; the default --max-live grows with the modules past a million.
+std::string million_toml(uint32_t size, DetectorFlags flags);
 int bench_render(const BenchArgs& args);
 int bench_session(const BenchArgs& args);
 int bench_view(const BenchArgs& args);

@@ -185,11 +185,11 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
   auto* cmd = app.add_subcommand(
       "bench",
       "Reproduce the paper's measurements: paper (all of §V, with plots), engine, table1, overhead, million; shapes, "
-      "physics, render, session, view, lua");
+      "mpi, physics, render, session, view, lua");
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("name", args->name, "Benchmark to run")
       ->required()
-      ->check(CLI::IsMember({"engine", "shapes", "table1", "overhead", "million", "physics", "paper", "render",
+      ->check(CLI::IsMember({"engine", "shapes", "table1", "overhead", "million", "mpi", "physics", "paper", "render",
                              "session", "view", "lua"}));
   cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
@@ -219,6 +219,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
       if (args->name == "session") return bench_session(*args);
       if (args->name == "view") return bench_view(*args);
       if (args->name == "lua") return bench_lua(*args);
+      if (args->name == "mpi") return bench_mpi(*args);
       return bench_runtime(*args);
     };
   });

@@ -40,6 +40,15 @@ std::string watch_toml(const std::string& name, const std::string& text, watch::
   return t;
 }
 
+std::string million_toml(uint32_t size, DetectorFlags flags) {
+  // The default budget is sized for a million modules; a larger ensemble gets as much per module.
+  const uint64_t modules = uint64_t{size} * size * size;
+  if (flags.max_live == DetectorFlags{}.max_live && modules > 1'000'000)
+    flags.max_live = modules / 1'000'000 * flags.max_live;
+  return cubic_toml(size, size, size) + random_vars_toml(parse_tuple("8:4:2:1")) +
+         watch_toml("fig6", kFig6, watch::Algorithm::Distributed, flags);
+}
+
 namespace {
 
 // One run of the scenario from scratch: the seconds its timed part took, or a negative number,
@@ -253,15 +262,8 @@ int run_rows(const BenchArgs& args, Table& table) {
   const uint32_t size = args.size == 10 ? 100 : args.size;
   header("bench million: " + std::to_string(size) + "^3 cube, " + std::to_string(args.steps) +
          " steps, random_vars [8:4:2:1] + Fig. 6 live, distributed, " + threads);
-  // The default budget is sized for a million modules; a larger ensemble gets as much per module.
-  DetectorFlags flags = args.detector;
   const uint64_t modules = uint64_t{size} * size * size;
-  if (flags.max_live == DetectorFlags{}.max_live && modules > 1'000'000)
-    flags.max_live = modules / 1'000'000 * flags.max_live;
-  auto ensemble = [&](uint32_t n) {
-    return cubic_toml(n, n, n) + random_vars_toml(parse_tuple("8:4:2:1")) +
-           watch_toml("fig6", kFig6, watch::Algorithm::Distributed, flags);
-  };
+  auto ensemble = [&](uint32_t n) { return million_toml(n, args.detector); };
   // The same run on 10^3 modules first: what a PatternMatcher costs when everything is in cache.
   RuntimeRow small;
   if (!row("8:4:2:1, 10^3 modules", ensemble(10), args, std::max(args.repeat, 5), table, small)) return 1;

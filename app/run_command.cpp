@@ -1,4 +1,5 @@
 // `dwatch run SCENARIO`: run a scenario headless with its watchpoints live (DESIGN §6).
+#include <sys/resource.h>
 #include <algorithm>
 #include <chrono>
 #include <fstream>
@@ -183,11 +184,25 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   const bool rolled_back = pause && run.current() < run.latest();
   if (rolled_back) summary << "  rolled back to step " << pause->t << ", the paused match's step\n";
   const uint64_t hash = run.hash();
+  uint64_t between_ranks = run.bytes_to_ranks();
+  if (ranks) ranks->sum({&between_ranks, 1});
+  // Peak memory: this process's, and over ranks the largest rank's and all ranks' together.
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  uint64_t peak_kib = static_cast<uint64_t>(usage.ru_maxrss), peak_kib_all = peak_kib;
+  if (ranks) {
+    ranks->sum({&peak_kib_all, 1});
+    for (const auto& part : ranks->all_gather(std::as_bytes(std::span(&peak_kib, 1))))
+      peak_kib = std::max(peak_kib, sim::records_of<uint64_t>(part)[0]);
+  }
   summary << std::fixed << std::setprecision(3) << "  time: " << seconds << " s";
   if (ran > 0 && model.module_count() > 0)
     summary << std::setprecision(2) << " (" << seconds * 1e9 / double(ran) / model.module_count()
             << " ns per module-step)";
   summary << "\n  state hash: " << sim::hash_text(hash) << "\n";
+  if (ranks && ran > 0)
+    summary << "  between ranks: " << between_ranks << " bytes, " << between_ranks / uint64_t(ran)
+            << " per step (program messages and PatternMatchers)\n";
 
   if (!args.render_path.empty()) {
     // The view at the paused match's step with its group, or at the last step run.
@@ -218,6 +233,9 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
     j["seed"] = model.seed;
     j["threads"] = threads;
     j["ranks"] = ranks ? ranks->ranks() : 1;
+    j["bytes_between_ranks"] = between_ranks;
+    j["peak_mib"] = double(peak_kib) / 1024;  // of the largest rank
+    j["peak_mib_all_ranks"] = double(peak_kib_all) / 1024;
     j["seconds"] = seconds;
     j["program_messages"] = run.head().program_messages;
     j["state_hash"] = sim::hash_text(hash);

@@ -287,6 +287,7 @@ void Runtime::deliver_program_messages(State& state) {
     for (const ThreadScratch& s : scratch_)
       for (const Message& m : s.outbox.messages)
         if (const uint32_t r = rank_of(m.to); r != me) append_records(out[r], std::span(&m, 1));
+    for (const auto& part : out) bytes_to_ranks_ += part.size();
     received = ranks_->exchange(out);
   }
   // The messages to this rank's modules in sender order: from the ranks before, its own (in
@@ -333,6 +334,7 @@ void Runtime::deliver_in_flight(WatchState& ws) {
       to.insert(to.end(), lane.data(), lane.data() + lane.size());
       lane.clear();
     }
+  for (const auto& part : out) bytes_to_ranks_ += part.size();
   for (const std::vector<std::byte>& part : ranks_->exchange(out))
     for (size_t at = 0; at < part.size();) {
       uint64_t head[2];

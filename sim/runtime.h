@@ -86,6 +86,9 @@ class Runtime {
   // The variables of every module in `state` (model order): over several ranks, gathered from the
   // rank of each (a collective call); otherwise state.values.
   std::vector<int64_t> whole_values(const State& state);
+  // Bytes this rank has sent to the others since the runtime was made: program messages and
+  // PatternMatchers (the per-step batches), not the gathers of matches and statistics.
+  uint64_t bytes_to_ranks() const { return bytes_to_ranks_; }
   // Whether any rank says yes: a decision every rank must take alike (a collective call).
   bool any_rank(bool yes);
 
@@ -120,6 +123,7 @@ class Runtime {
   RankExchange* ranks_;                   // null: this process runs every module
   std::vector<uint32_t> rank_begin_;      // per rank, its first module; [ranks] = module count
   uint32_t own_first_ = 0, own_end_ = 0;  // this rank's blocks
+  uint64_t bytes_to_ranks_ = 0;
   std::vector<ThreadScratch> scratch_;
   std::vector<const HostProgram*> programs_;  // in use, by index: the model's unless replaced
   std::vector<int64_t> next_values_;

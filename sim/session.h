@@ -157,6 +157,8 @@ class Session {
   // The variables of every module in `state` (one of this session's): over ranks, gathered from
   // the rank of each (a collective call).
   std::vector<int64_t> whole_values(const State& state) { return runtime_->whole_values(state); }
+  // Bytes this rank sent to the other ranks (Runtime::bytes_to_ranks).
+  uint64_t bytes_to_ranks() const { return runtime_->bytes_to_ranks(); }
   // What the watchpoints saw at the current step besides the values: presence and N(m, t).
   std::span<const uint8_t> seen_present();
   const NeighborGraph& seen_graph();
