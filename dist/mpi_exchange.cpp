@@ -52,7 +52,20 @@ class MpiExchange final : public sim::RankExchange {
     std::vector<uint64_t> sizes(n);
     MPI_Allgather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
     std::vector<std::vector<std::byte>> all(n);
-    for (size_t r = 0; r < n; ++r) {
+    uint64_t total = 0;
+    for (uint64_t s : sizes) total += s;
+    if (total <= uint64_t{INT_MAX}) {  // the usual case: one call, whatever the number of ranks
+      std::vector<int> counts(n), at(n);
+      std::vector<std::byte> flat(total);
+      for (size_t r = 0, offset = 0; r < n; offset += sizes[r], ++r) {
+        counts[r] = int(sizes[r]);
+        at[r] = int(offset);
+      }
+      MPI_Allgatherv(mine.data(), int(size), MPI_BYTE, flat.data(), counts.data(), at.data(), MPI_BYTE, MPI_COMM_WORLD);
+      for (size_t r = 0; r < n; ++r) all[r].assign(flat.begin() + at[r], flat.begin() + at[r] + counts[r]);
+      return all;
+    }
+    for (size_t r = 0; r < n; ++r) {  // past 2 GiB in all: each rank's part broadcast in pieces
       all[r].resize(sizes[r]);
       if (int(r) == rank_ && size) std::memcpy(all[r].data(), mine.data(), size);
       for (uint64_t at = 0; at < sizes[r]; at += kPiece)

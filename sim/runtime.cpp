@@ -345,22 +345,26 @@ void Runtime::deliver_in_flight(WatchState& ws) {
 }
 
 // A program's misuse on any rank stops every rank, with the first one in module order: the
-// lowest rank's, and within it the lowest thread's.
-void Runtime::agree_on_failure() {
+// lowest rank's, and within it the lowest thread's. Otherwise the actuation requests go to the
+// world in module order (thread order, then rank order): the world is stepped whole on every rank,
+// so every rank needs all of them. One sum over the ranks says whether either has to be gathered.
+void Runtime::agree_on_failure_and_gather_actuations() {
   const Outbox* failed = nullptr;
-  for (const ThreadScratch& s : scratch_)
-    if (!s.outbox.error.empty()) {
-      failed = &s.outbox;
-      break;
-    }
-  if (ranks_ && any_rank(failed != nullptr)) {
-    std::vector<std::byte> mine;
+  std::vector<Actuation> mine;
+  for (const ThreadScratch& s : scratch_) {
+    if (!failed && !s.outbox.error.empty()) failed = &s.outbox;
+    mine.insert(mine.end(), s.outbox.actuations.begin(), s.outbox.actuations.end());
+  }
+  uint64_t counts[2] = {failed != nullptr, mine.size()};
+  if (ranks_) ranks_->sum(counts);
+  if (ranks_ && counts[0] != 0) {
+    std::vector<std::byte> said;
     if (failed) {
       const int64_t where[2] = {failed->error_step, failed->error_module};
-      append_records(mine, std::span<const int64_t>(where));
-      append_records(mine, std::span(failed->error.data(), failed->error.size()));
+      append_records(said, std::span<const int64_t>(where));
+      append_records(said, std::span(failed->error.data(), failed->error.size()));
     }
-    for (const auto& part : ranks_->all_gather(mine)) {
+    for (const auto& part : ranks_->all_gather(said)) {
       if (part.empty()) continue;
       int64_t where[2];
       std::memcpy(where, part.data(), sizeof where);
@@ -370,15 +374,7 @@ void Runtime::agree_on_failure() {
     }
   }
   if (failed) throw ProgramError(failed->error, failed->error_module, failed->error_step);
-}
-
-// Actuation requests in module order (thread order, then rank order): the world is stepped whole
-// on every rank, so every rank needs all of them.
-void Runtime::gather_actuations() {
-  std::vector<Actuation> mine;
-  for (const ThreadScratch& s : scratch_)
-    mine.insert(mine.end(), s.outbox.actuations.begin(), s.outbox.actuations.end());
-  if (!ranks_) {
+  if (!ranks_ || counts[1] == 0) {
     actuations_.insert(actuations_.end(), mine.begin(), mine.end());
     return;
   }
@@ -471,7 +467,7 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
     state.watches[w].agents->begin_record(make_frame(model_, state.step, next_values_, state.present, state.graph));
   }
   pool_.run([&](unsigned thread) { run_thread(thread, state); });
-  agree_on_failure();
+  agree_on_failure_and_gather_actuations();
 
   std::swap(state.values, next_values_);  // assign: the variables now hold step t's values
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
@@ -500,7 +496,6 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
   const uint64_t sent_before = state.program_messages;
   deliver_program_messages(state);
   out.program_messages = state.program_messages - sent_before;
-  gather_actuations();
   ++state.step;
   world_.advance(model_, state, actuations_);
 }

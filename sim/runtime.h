@@ -108,8 +108,7 @@ class Runtime {
   void observe_detector(uint32_t watch, State& state, WatchStepOutput& out);
   void deliver_program_messages(State& state);
   void deliver_in_flight(WatchState& ws);
-  void gather_actuations();
-  void agree_on_failure();
+  void agree_on_failure_and_gather_actuations();
   uint32_t rank_of(ModuleId m) const;
 
   uint32_t first_block(unsigned thread) const;  // the thread's first block; first_block(threads) = the rank's end
