@@ -1,0 +1,149 @@
+// The runtime over several ranks (sim/runtime.cpp with a RankExchange, DESIGN §12), without MPI:
+// the ranks are threads of this test, exchanging through memory. After every step, the state hash
+// of the whole (Runtime::hash), the statistics and the matches equal those of one runtime.
+#include <gtest/gtest.h>
+
+#include <barrier>
+#include <thread>
+
+#include "sim/runtime.h"
+#include "tests/sim/test_programs.h"
+
+namespace dw::sim {
+namespace {
+
+// Ranks as threads: each call is a meeting of all of them at a barrier, as MPI's collectives are.
+class ThreadRanks {
+ public:
+  explicit ThreadRanks(int n) : n_(n), sync_(n), posted_(size_t(n)), sums_(size_t(n)) {}
+
+  class Rank final : public RankExchange {
+   public:
+    Rank(ThreadRanks& all, int me) : all_(all), me_(me) {}
+    int rank() const override { return me_; }
+    int ranks() const override { return all_.n_; }
+    std::vector<std::vector<std::byte>> exchange(std::span<const std::vector<std::byte>> out) override {
+      all_.posted_[size_t(me_)].assign(out.begin(), out.end());
+      all_.sync_.arrive_and_wait();
+      std::vector<std::vector<std::byte>> in(size_t(all_.n_));
+      for (int r = 0; r < all_.n_; ++r)
+        if (r != me_) in[size_t(r)] = all_.posted_[size_t(r)][size_t(me_)];
+      all_.sync_.arrive_and_wait();
+      return in;
+    }
+    std::vector<std::vector<std::byte>> all_gather(std::span<const std::byte> mine) override {
+      all_.posted_[size_t(me_)] = {std::vector<std::byte>(mine.begin(), mine.end())};
+      all_.sync_.arrive_and_wait();
+      std::vector<std::vector<std::byte>> all;
+      for (int r = 0; r < all_.n_; ++r) all.push_back(all_.posted_[size_t(r)][0]);
+      all_.sync_.arrive_and_wait();
+      return all;
+    }
+    void sum(std::span<uint64_t> values) override {
+      all_.sums_[size_t(me_)].assign(values.begin(), values.end());
+      all_.sync_.arrive_and_wait();
+      for (size_t i = 0; i < values.size(); ++i) {
+        values[i] = 0;
+        for (int r = 0; r < all_.n_; ++r) values[i] += all_.sums_[size_t(r)][i];
+      }
+      all_.sync_.arrive_and_wait();
+    }
+
+   private:
+    ThreadRanks& all_;
+    int me_;
+  };
+
+ private:
+  int n_;
+  std::barrier<> sync_;
+  std::vector<std::vector<std::vector<std::byte>>> posted_;  // [from][to]
+  std::vector<std::vector<uint64_t>> sums_;
+};
+
+// What one rank saw of each step: the hash of the whole, and per watch its matches and counts.
+struct Seen {
+  std::vector<uint64_t> hashes;
+  std::vector<std::vector<ModuleId>> slots;
+  std::vector<uint64_t> created, messages, program_messages;
+  bool operator==(const Seen&) const = default;
+};
+
+Seen run(const Model& model, int steps, unsigned threads, RankExchange* ranks) {
+  StaticLatticeWorld world;
+  Runtime rt(model, world, threads, ranks);
+  State s = rt.initial_state();
+  StepOutput out;
+  Seen seen;
+  for (int t = 0; t < steps; ++t) {
+    rt.step(s, out);
+    seen.hashes.push_back(rt.hash(s));
+    seen.slots.push_back(out.watches[0].slots);
+    seen.created.push_back(out.watches[0].stats.created);
+    seen.messages.push_back(out.watches[0].stats.messages);
+    seen.program_messages.push_back(s.program_messages);
+  }
+  return seen;
+}
+
+// Runs `fn(rank)` on `n` ranks, each its own thread, and returns what each gave.
+template <class Fn>
+auto on_ranks(int n, Fn fn) {
+  ThreadRanks all(n);
+  using Result = std::invoke_result_t<Fn, RankExchange&>;
+  std::vector<Result> results(static_cast<size_t>(n));
+  std::vector<std::thread> threads;
+  for (int r = 0; r < n; ++r)
+    threads.emplace_back([&, r] {
+      ThreadRanks::Rank rank(all, r);
+      results[size_t(r)] = fn(rank);
+    });
+  for (std::thread& t : threads) t.join();
+  return results;
+}
+
+TEST(RuntimeRanks, EveryStepOfEveryRankEqualsOneRuntime) {
+  // Three slots across a 9x7 hex sheet, with history (c.last) and program messages every step.
+  const auto model =
+      test_programs::gossip_model({LatticeKind::Hex2d, {9, 7, 1}},
+                                  {{"modules(a b c); (a.v = 1) and (b.v != 1) and (c.v = 1) and (c.last.mix < a.mix)",
+                                    watch::Algorithm::Distributed}});
+  const Seen one = run(*model, 30, 1, nullptr);
+  ASSERT_GT(one.program_messages.back(), 0u);
+  size_t matched = 0;
+  for (const auto& s : one.slots) matched += s.size();
+  ASSERT_GT(matched, 0u) << "the watchpoint must match for the comparison to mean something";
+  for (int n : {2, 3, 5})
+    for (unsigned threads : {1u, 2u}) {
+      const std::vector<Seen> ranks = on_ranks(n, [&](RankExchange& r) { return run(*model, 30, threads, &r); });
+      for (int r = 0; r < n; ++r)
+        EXPECT_EQ(ranks[size_t(r)], one) << n << " ranks x " << threads << " threads, rank " << r;
+    }
+}
+
+TEST(RuntimeRanks, AProgramFailingOnOneRankStopsEveryRankWithItsError) {
+  // SendsToStranger: module 5 sends to module 0, which is no neighbour, at step 2.
+  std::vector<std::unique_ptr<const HostProgram>> programs;
+  programs.push_back(std::make_unique<test_programs::SendsToStranger>());
+  const auto model = std::get<std::unique_ptr<Model>>(
+      build_model(make_lattice({LatticeKind::Line, {8, 1, 1}}), std::move(programs), {}, 1));
+  const std::vector<std::string> said = on_ranks(4, [&](RankExchange& r) -> std::string {
+    StaticLatticeWorld world;
+    Runtime rt(*model, world, 1, &r);
+    State s = rt.initial_state();
+    StepOutput out;
+    try {
+      for (int t = 0; t < 5; ++t) rt.step(s, out);
+    } catch (const ProgramError& e) {
+      return std::to_string(s.step) + ": module " + std::to_string(e.module.value_or(999)) + ": " + e.what();
+    }
+    return "no error";
+  });
+  for (const std::string& s : said) {
+    EXPECT_EQ(s, said[0]);
+    EXPECT_NE(s.find("module 5"), std::string::npos) << s;
+  }
+}
+
+}  // namespace
+}  // namespace dw::sim
