@@ -1,6 +1,9 @@
 #include "dist/mpi_exchange.h"
 
 #include <mpi.h>
+#ifdef DWATCH_METIS
+#include <metis.h>
+#endif
 
 #include <algorithm>
 #include <climits>
@@ -77,6 +80,36 @@ class MpiExchange final : public sim::RankExchange {
   void sum(std::span<uint64_t> values) override {
     MPI_Allreduce(MPI_IN_PLACE, values.data(), int(values.size()), MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
   }
+
+#ifdef DWATCH_METIS
+  // METIS's k-way partition, computed on rank 0 (with a fixed seed) and given to all, so that no
+  // rank can differ from another by a library's whim.
+  std::vector<uint32_t> partition_graph(std::span<const uint32_t> first, std::span<const uint32_t> adjacent,
+                                        std::span<const uint32_t> vertex_weight,
+                                        std::span<const uint32_t> edge_weight) override {
+    std::vector<uint32_t> parts;
+    if (rank_ == 0) {
+      std::vector<idx_t> xadj(first.begin(), first.end()), adjncy(adjacent.begin(), adjacent.end()),
+          vwgt(vertex_weight.begin(), vertex_weight.end()), adjwgt(edge_weight.begin(), edge_weight.end());
+      for (idx_t& w : vwgt) w = std::max<idx_t>(w, 1);  // an empty block still weighs something
+      idx_t vertices = idx_t(vwgt.size()), constraints = 1, nparts = ranks_, cut = 0;
+      std::vector<idx_t> part(vwgt.size(), 0);
+      idx_t options[METIS_NOPTIONS];
+      METIS_SetDefaultOptions(options);
+      options[METIS_OPTION_SEED] = 1;
+      if (vertices > nparts &&
+          METIS_PartGraphKway(&vertices, &constraints, xadj.data(), adjncy.data(), vwgt.data(), nullptr, adjwgt.data(),
+                              &nparts, nullptr, nullptr, options, &cut, part.data()) != METIS_OK)
+        part.assign(vwgt.size(), 0);
+      if (vertices <= nparts)  // METIS wants more vertices than parts: one block a rank
+        for (idx_t v = 0; v < vertices; ++v) part[size_t(v)] = v;
+      parts.assign(part.begin(), part.end());
+    }
+    const std::vector<std::vector<std::byte>> all = all_gather(std::as_bytes(std::span<const uint32_t>(parts)));
+    parts.assign(sim::records_of<uint32_t>(all[0]).begin(), sim::records_of<uint32_t>(all[0]).end());
+    return parts;
+  }
+#endif
 
  private:
   int rank_ = 0, ranks_ = 1;

@@ -23,6 +23,7 @@ packages=(
   time                                         # peak-memory figures for benchmarks (/usr/bin/time -v)
   python3-matplotlib                           # bench paper's plots (scripts/plot_paper.py, /usr/bin/python3)
   libopenmpi-dev openmpi-bin                   # runs over several processes (mpirun -np N dwatch run, DESIGN §12)
+  libmetis-dev                                 # their --partition metis
 )
 
 missing=()

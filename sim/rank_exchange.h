@@ -27,6 +27,23 @@ class RankExchange {
   virtual std::vector<std::vector<std::byte>> all_gather(std::span<const std::byte> mine) = 0;
   // Sums `values` element-wise over the ranks, in place, on every rank.
   virtual void sum(std::span<uint64_t> values) = 0;
+
+  // Parts of a graph for the ranks (Partition::Graph): the rank of each vertex, the same on
+  // every rank, keeping the summed weights of the vertices near equal and of the edges cut small.
+  // The graph is in CSR form (the edges of v are adjacent[first[v] .. first[v + 1])), given alike
+  // on every rank. Empty when this exchange has no graph partitioner.
+  virtual std::vector<uint32_t> partition_graph(std::span<const uint32_t> first, std::span<const uint32_t> adjacent,
+                                                std::span<const uint32_t> vertex_weight,
+                                                std::span<const uint32_t> edge_weight) {
+    (void)first, (void)adjacent, (void)vertex_weight, (void)edge_weight;
+    return {};
+  }
+};
+
+// How the modules are shared among ranks, in blocks of consecutive ids (DESIGN §12).
+enum class Partition {
+  Blocks,  // runs of consecutive blocks, each rank's holding about as many modules: slabs of a lattice
+  Graph,   // a k-way partition of the blocks' neighbour graph (METIS): for what ids do not lay out
 };
 
 // Plain records in and out of the byte buffers the exchange carries.

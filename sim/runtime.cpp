@@ -48,7 +48,7 @@ std::string why_not_over_ranks(const Model& model) {
   return {};
 }
 
-Runtime::Runtime(const Model& model, World& world, unsigned threads, RankExchange* ranks)
+Runtime::Runtime(const Model& model, World& world, unsigned threads, RankExchange* ranks, Partition partition)
     : model_(model),
       world_(world),
       pool_(std::max(1u, std::min(threads, std::max(1u, model.module_count())))),
@@ -66,12 +66,7 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads, RankExchang
   else
     while (block_shift_ < 12 && (2u << block_shift_) <= per_thread) ++block_shift_;
   blocks_ = (m >> block_shift_) + ((m & ((1u << block_shift_) - 1)) != 0);
-  // Each rank takes a contiguous run of blocks: a slab of the lattice, whose ids run x, y, z.
-  for (uint32_t r = 0; r <= rank_count; ++r)
-    rank_begin_.push_back(block_begin(static_cast<uint32_t>(uint64_t{r} * blocks_ / rank_count)));
-  const uint32_t me = ranks_ ? static_cast<uint32_t>(ranks_->rank()) : 0;
-  own_first_ = static_cast<uint32_t>(uint64_t{me} * blocks_ / rank_count);
-  own_end_ = static_cast<uint32_t>(uint64_t{me + 1} * blocks_ / rank_count);
+  place_blocks(partition);
   scratch_.resize(pool_.size());
   arriving_.resize(pool_.size());
   for (const auto& program : model.programs) programs_.push_back(program.get());
@@ -97,13 +92,60 @@ void Runtime::use_program(uint32_t p, const HostProgram& program) {
   for (ThreadScratch& s : scratch_) s.programs[p] = program.make_scratch();
 }
 
-uint32_t Runtime::first_block(unsigned thread) const {
-  return own_first_ + static_cast<uint32_t>(uint64_t{thread} * (own_end_ - own_first_) / pool_.size());
+// Which rank steps each block. By blocks: each rank a run of consecutive blocks holding about as
+// many present modules as the others (on a lattice, whose ids run x, y, z: a slab). By graph: the
+// blocks' neighbour graph at step 0 (the lattice's), weighted by present modules and by links
+// between blocks, cut k-way by the exchange's partitioner.
+void Runtime::place_blocks(Partition partition) {
+  const uint32_t rank_count = ranks_ ? static_cast<uint32_t>(ranks_->ranks()) : 1;
+  const uint32_t me = ranks_ ? static_cast<uint32_t>(ranks_->rank()) : 0;
+  const std::vector<uint8_t>& occupied = model_.lattice.occupied;
+  std::vector<uint32_t> weight(blocks_, 0);
+  for (uint32_t m = 0; m < model_.module_count(); ++m)
+    weight[m >> block_shift_] += m < occupied.size() ? occupied[m] : 1;
+  if (partition == Partition::Graph && rank_count > 1) {
+    const NeighborGraph& g = model_.lattice.graph;
+    std::vector<std::vector<std::pair<uint32_t, uint32_t>>> links(blocks_);  // per block: (block, links)
+    for (uint32_t m = 0; m < g.module_count(); ++m)
+      for (ModuleId n : g.neighbors(m)) {
+        const uint32_t a = m >> block_shift_, b = n >> block_shift_;
+        if (a == b) continue;
+        auto& row = links[a];
+        if (row.empty() || row.back().first != b) {
+          auto at = std::find_if(row.begin(), row.end(), [&](const auto& e) { return e.first == b; });
+          if (at == row.end()) row.push_back({b, 0}), at = row.end() - 1;
+          ++at->second;
+        } else {
+          ++row.back().second;
+        }
+      }
+    std::vector<uint32_t> first{0}, adjacent, link_weight;
+    for (auto& row : links) {
+      std::sort(row.begin(), row.end());
+      for (const auto& [b, w] : row) adjacent.push_back(b), link_weight.push_back(w);
+      first.push_back(static_cast<uint32_t>(adjacent.size()));
+    }
+    block_rank_ = ranks_->partition_graph(first, adjacent, weight, link_weight);
+    if (block_rank_.size() != blocks_)
+      throw std::invalid_argument("this build has no graph partitioner (METIS): partition by blocks");
+  } else {
+    uint64_t total = 0, seen = 0;
+    for (uint32_t w : weight) total += w;
+    block_rank_.assign(blocks_, 0);
+    for (uint32_t b = 0; b < blocks_; ++b) {
+      // The block goes to the rank whose share its middle module falls in.
+      const uint64_t middle = 2 * seen + weight[b];
+      block_rank_[b] =
+          total == 0 ? 0 : static_cast<uint32_t>(std::min<uint64_t>(rank_count - 1, middle * rank_count / (2 * total)));
+      seen += weight[b];
+    }
+  }
+  own_blocks_.clear();
+  for (uint32_t b = 0; b < blocks_; ++b)
+    if (block_rank_[b] == me) own_blocks_.push_back(b);
 }
 
-uint32_t Runtime::rank_of(ModuleId m) const {
-  return static_cast<uint32_t>(std::upper_bound(rank_begin_.begin(), rank_begin_.end(), m) - rank_begin_.begin() - 1);
-}
+uint32_t Runtime::rank_of(ModuleId m) const { return block_rank_[m >> block_shift_]; }
 
 uint32_t Runtime::block_begin(uint32_t block) const {
   return static_cast<uint32_t>(std::min<uint64_t>(uint64_t{block} << block_shift_, model_.module_count()));
@@ -180,7 +222,9 @@ void Runtime::run_thread(unsigned thread, State& state) {
   s.outbox.error.clear();  // a failed step may be tried again (a script reloaded, a seek back)
   for (uint32_t w : agent_watches_)
     watch::start_agent_step(s.agents[w], state.step - model_.watches[w].watchpoint.program.extent_plus);
-  for (uint32_t block = first_block(thread); block < first_block(thread + 1); ++block) {
+  const size_t owned = own_blocks_.size();
+  for (size_t i = thread * owned / pool_.size(); i < (thread + 1) * owned / pool_.size(); ++i) {
+    const uint32_t block = own_blocks_[i];
     run_programs(thread, block_begin(block), block_begin(block + 1), state);
     for (uint32_t w : agent_watches_) run_agents(thread, block, w, state);
   }
@@ -290,18 +334,15 @@ void Runtime::deliver_program_messages(State& state) {
     for (const auto& part : out) bytes_to_ranks_ += part.size();
     received = ranks_->exchange(out);
   }
-  // The messages to this rank's modules in sender order: from the ranks before, its own (in
-  // thread order, which is module order), from the ranks after.
+  // The messages to this rank's modules: its own (in thread order, which is module order), then
+  // those of every other rank (each in module order); over ranks, each inbox is put in sender
+  // order below.
   auto each = [&](auto&& fn) {
-    for (uint32_t r = 0; r + 1 < rank_begin_.size(); ++r) {
-      if (r != me) {
-        for (const Message& m : records_of<Message>(received[r])) fn(m);
-        continue;
-      }
-      for (const ThreadScratch& s : scratch_)
-        for (const Message& m : s.outbox.messages)
-          if (!ranks_ || rank_of(m.to) == me) fn(m);
-    }
+    for (const ThreadScratch& s : scratch_)
+      for (const Message& m : s.outbox.messages)
+        if (!ranks_ || rank_of(m.to) == me) fn(m);
+    for (const std::vector<std::byte>& part : received)
+      for (const Message& m : records_of<Message>(part)) fn(m);
   };
   uint64_t total = 0;
   each([&](const Message&) { ++total; });
@@ -317,6 +358,11 @@ void Runtime::deliver_program_messages(State& state) {
   for (size_t g = 0; g < groups; ++g) box.begin[g + 1] += box.begin[g];
   counts_.assign(box.begin.begin(), box.begin.end() - 1);
   each([&](const Message& m) { box.messages[counts_[size_t{m.to} * programs + m.program]++] = m; });
+  if (ranks_)  // a sender's messages stay in the order sent; a group holds a few
+    for (size_t g = 0; g < groups; ++g)
+      if (box.begin[g + 1] - box.begin[g] > 1)
+        std::stable_sort(box.messages.begin() + box.begin[g], box.messages.begin() + box.begin[g + 1],
+                         [](const Message& a, const Message& b) { return a.from < b.from; });
 }
 
 // PatternMatchers sent to another rank's blocks go there, in one batch per rank: each lane as
@@ -327,8 +373,8 @@ void Runtime::deliver_in_flight(WatchState& ws) {
   for (uint32_t thread = 0; thread < pool_.size(); ++thread)
     for (uint32_t block = 0; block < blocks_; ++block) {
       watch::RecordBuffer& lane = ws.in_flight[size_t{thread} * blocks_ + block];
-      if (lane.empty() || (block >= own_first_ && block < own_end_)) continue;
-      std::vector<std::byte>& to = out[rank_of(block_begin(block))];
+      if (lane.empty() || block_rank_[block] == static_cast<uint32_t>(ranks_->rank())) continue;
+      std::vector<std::byte>& to = out[block_rank_[block]];
       const uint64_t head[2] = {block, lane.size()};
       append_records(to, std::span<const uint64_t>(head));
       to.insert(to.end(), lane.data(), lane.data() + lane.size());
@@ -344,10 +390,11 @@ void Runtime::deliver_in_flight(WatchState& ws) {
     }
 }
 
-// A program's misuse on any rank stops every rank, with the first one in module order: the
-// lowest rank's, and within it the lowest thread's. Otherwise the actuation requests go to the
-// world in module order (thread order, then rank order): the world is stepped whole on every rank,
-// so every rank needs all of them. One sum over the ranks says whether either has to be gathered.
+// A program's misuse on any rank stops every rank, with the first one in module order, as one
+// process reports it (its first thread's first). Otherwise the actuation requests go to the world
+// in module order, as one process has them (in thread order): the world is stepped whole on
+// every rank, so every rank needs all of them. One sum over the ranks says whether either has to
+// be gathered.
 void Runtime::agree_on_failure_and_gather_actuations() {
   const Outbox* failed = nullptr;
   std::vector<Actuation> mine;
@@ -364,14 +411,18 @@ void Runtime::agree_on_failure_and_gather_actuations() {
       append_records(said, std::span<const int64_t>(where));
       append_records(said, std::span(failed->error.data(), failed->error.size()));
     }
-    for (const auto& part : ranks_->all_gather(said)) {
-      if (part.empty()) continue;
-      int64_t where[2];
-      std::memcpy(where, part.data(), sizeof where);
-      throw ProgramError(
-          std::string(reinterpret_cast<const char*>(part.data()) + sizeof where, part.size() - sizeof where),
-          static_cast<ModuleId>(where[1]), where[0]);
+    const std::vector<std::vector<std::byte>> all = ranks_->all_gather(said);
+    const std::vector<std::byte>* first = nullptr;
+    int64_t where[2] = {0, INT64_MAX};
+    for (const auto& part : all) {
+      int64_t at[2];
+      if (part.empty() || (std::memcpy(at, part.data(), sizeof at), at[1] >= where[1])) continue;
+      first = &part;
+      std::memcpy(where, at, sizeof where);
     }
+    throw ProgramError(
+        std::string(reinterpret_cast<const char*>(first->data()) + sizeof where, first->size() - sizeof where),
+        static_cast<ModuleId>(where[1]), where[0]);
   }
   if (failed) throw ProgramError(failed->error, failed->error_module, failed->error_step);
   if (!ranks_ || counts[1] == 0) {
@@ -380,8 +431,11 @@ void Runtime::agree_on_failure_and_gather_actuations() {
   }
   std::vector<std::byte> bytes;
   append_records(bytes, std::span<const Actuation>(mine));
+  const size_t before = actuations_.size();  // the interventions' pushes come first
   for (const auto& part : ranks_->all_gather(bytes))
     actuations_.insert(actuations_.end(), records_of<Actuation>(part).begin(), records_of<Actuation>(part).end());
+  std::stable_sort(actuations_.begin() + static_cast<ptrdiff_t>(before), actuations_.end(),
+                   [](const Actuation& a, const Actuation& b) { return a.module < b.module; });
 }
 
 bool Runtime::any_rank(bool yes) {
@@ -393,13 +447,22 @@ bool Runtime::any_rank(bool yes) {
 
 std::vector<int64_t> Runtime::whole_values(const State& state) {
   if (!ranks_) return state.values;
-  const uint32_t v = model_.variable_count(), me = static_cast<uint32_t>(ranks_->rank());
-  const auto own =
-      std::span(state.values).subspan(size_t{rank_begin_[me]} * v, size_t{rank_begin_[me + 1] - rank_begin_[me]} * v);
-  std::vector<int64_t> values;
-  values.reserve(state.values.size());
-  for (const auto& part : ranks_->all_gather(std::as_bytes(own)))
-    values.insert(values.end(), records_of<int64_t>(part).begin(), records_of<int64_t>(part).end());
+  // Each rank gives its blocks' rows in block order; every rank knows whose each block is.
+  const size_t v = model_.variable_count();
+  std::vector<int64_t> own;
+  for (uint32_t b : own_blocks_)
+    own.insert(own.end(), state.values.begin() + static_cast<ptrdiff_t>(block_begin(b) * v),
+               state.values.begin() + static_cast<ptrdiff_t>(block_begin(b + 1) * v));
+  std::vector<int64_t> values(state.values.size());
+  const std::vector<std::vector<std::byte>> parts = ranks_->all_gather(std::as_bytes(std::span(own)));
+  std::vector<size_t> read(parts.size(), 0);
+  for (uint32_t b = 0; b < blocks_; ++b) {
+    const std::span<const int64_t> part = records_of<int64_t>(parts[block_rank_[b]]);
+    const size_t n = (block_begin(b + 1) - block_begin(b)) * v;
+    std::copy_n(part.begin() + static_cast<ptrdiff_t>(read[block_rank_[b]]), n,
+                values.begin() + static_cast<ptrdiff_t>(block_begin(b) * v));
+    read[block_rank_[b]] += n;
+  }
   return values;
 }
 
@@ -419,6 +482,10 @@ uint64_t Runtime::hash(const State& state) {
   for (const auto& part : ranks_->all_gather(std::as_bytes(std::span(state.inbox.messages))))
     whole.inbox.messages.insert(whole.inbox.messages.end(), records_of<Message>(part).begin(),
                                 records_of<Message>(part).end());
+  // By receiver, as one inbox holds them (each receiver's messages come from one rank, in order).
+  std::stable_sort(whole.inbox.messages.begin(), whole.inbox.messages.end(), [](const Message& a, const Message& b) {
+    return std::pair(a.to, a.program) < std::pair(b.to, b.program);
+  });
   std::vector<uint64_t> sums;
   for (const InFlightDigest& d : digests) sums.insert(sums.end(), {d.sum, d.count});
   ranks_->sum(sums);

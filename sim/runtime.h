@@ -59,7 +59,8 @@ class Runtime {
   // one rank of a run over several (DESIGN §12). It steps the modules of its rank's blocks, a
   // contiguous run of ids; every rank keeps the world (its bodies and N(m, t)) whole, with the
   // actuations of all, and the rest of the state for its own modules only.
-  Runtime(const Model& model, World& world, unsigned threads, RankExchange* ranks = nullptr);
+  Runtime(const Model& model, World& world, unsigned threads, RankExchange* ranks = nullptr,
+          Partition partition = Partition::Blocks);
 
   // The state before step 0: initial values, the world's step-0 topology, fresh detectors.
   State initial_state();
@@ -111,17 +112,17 @@ class Runtime {
   void agree_on_failure_and_gather_actuations();
   uint32_t rank_of(ModuleId m) const;
 
-  uint32_t first_block(unsigned thread) const;  // the thread's first block; first_block(threads) = the rank's end
-  uint32_t block_begin(uint32_t block) const;   // its first module; block_begin(blocks_) = module count
+  uint32_t block_begin(uint32_t block) const;  // its first module; block_begin(blocks_) = module count
+  void place_blocks(Partition partition);      // block_rank_ and own_blocks_
 
   const Model& model_;
   World& world_;
   WorkerPool pool_;
   uint32_t block_shift_ = 0;  // blocks of 1 << block_shift_ modules
   uint32_t blocks_ = 0;
-  RankExchange* ranks_;                   // null: this process runs every module
-  std::vector<uint32_t> rank_begin_;      // per rank, its first module; [ranks] = module count
-  uint32_t own_first_ = 0, own_end_ = 0;  // this rank's blocks
+  RankExchange* ranks_;               // null: this process runs every module
+  std::vector<uint32_t> block_rank_;  // per block, the rank that steps it
+  std::vector<uint32_t> own_blocks_;  // this rank's, ascending; thread t takes the t-th of equal runs
   uint64_t bytes_to_ranks_ = 0;
   std::vector<ThreadScratch> scratch_;
   std::vector<const HostProgram*> programs_;  // in use, by index: the model's unless replaced

@@ -30,7 +30,7 @@ Session::Session(Model& model, World& world, SessionOptions options)
 Session::~Session() = default;
 
 void Session::rebuild_runtime() {
-  runtime_ = std::make_unique<Runtime>(model_, world_, options_.threads, options_.ranks);
+  runtime_ = std::make_unique<Runtime>(model_, world_, options_.threads, options_.ranks, options_.partition);
   world_on_ = nullptr;
 }
 

@@ -47,6 +47,7 @@ struct SessionOptions {
   // This process is one rank of a run over several (DESIGN §12): every rank makes the same calls
   // on its session, which steps the rank's modules and takes every decision alike on all ranks.
   RankExchange* ranks = nullptr;
+  Partition partition = Partition::Blocks;  // how the modules are shared among the ranks
 };
 
 // Lets a long operation be cancelled between steps and report how far it got. A cancelled

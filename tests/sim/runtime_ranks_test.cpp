@@ -48,6 +48,13 @@ class ThreadRanks {
       }
       all_.sync_.arrive_and_wait();
     }
+    // Blocks dealt round-robin: no rank's modules are one run of ids, its neighbours' never either.
+    std::vector<uint32_t> partition_graph(std::span<const uint32_t> first, std::span<const uint32_t>,
+                                          std::span<const uint32_t>, std::span<const uint32_t>) override {
+      std::vector<uint32_t> parts(first.size() - 1);
+      for (size_t b = 0; b < parts.size(); ++b) parts[b] = static_cast<uint32_t>(b % size_t(all_.n_));
+      return parts;
+    }
 
    private:
     ThreadRanks& all_;
@@ -69,9 +76,10 @@ struct Seen {
   bool operator==(const Seen&) const = default;
 };
 
-Seen run(const Model& model, int steps, unsigned threads, RankExchange* ranks) {
+Seen run(const Model& model, int steps, unsigned threads, RankExchange* ranks,
+         Partition partition = Partition::Blocks) {
   StaticLatticeWorld world;
-  Runtime rt(model, world, threads, ranks);
+  Runtime rt(model, world, threads, ranks, partition);
   State s = rt.initial_state();
   StepOutput out;
   Seen seen;
@@ -113,12 +121,15 @@ TEST(RuntimeRanks, EveryStepOfEveryRankEqualsOneRuntime) {
   size_t matched = 0;
   for (const auto& s : one.slots) matched += s.size();
   ASSERT_GT(matched, 0u) << "the watchpoint must match for the comparison to mean something";
-  for (int n : {2, 3, 5})
-    for (unsigned threads : {1u, 2u}) {
-      const std::vector<Seen> ranks = on_ranks(n, [&](RankExchange& r) { return run(*model, 30, threads, &r); });
-      for (int r = 0; r < n; ++r)
-        EXPECT_EQ(ranks[size_t(r)], one) << n << " ranks x " << threads << " threads, rank " << r;
-    }
+  for (Partition partition : {Partition::Blocks, Partition::Graph})
+    for (int n : {2, 3, 5})
+      for (unsigned threads : {1u, 2u}) {
+        const std::vector<Seen> ranks =
+            on_ranks(n, [&](RankExchange& r) { return run(*model, 30, threads, &r, partition); });
+        for (int r = 0; r < n; ++r)
+          EXPECT_EQ(ranks[size_t(r)], one) << n << " ranks x " << threads << " threads, rank " << r
+                                           << (partition == Partition::Graph ? ", blocks round-robin" : "");
+      }
 }
 
 TEST(RuntimeRanks, AProgramFailingOnOneRankStopsEveryRankWithItsError) {
