@@ -470,15 +470,11 @@ uint64_t Runtime::hash(const State& state) {
   std::vector<InFlightDigest> digests;
   for (const WatchState& w : state.watches) digests.push_back(in_flight_digest(w));
   if (!ranks_) return hash_state(state, digests);
-  // The whole state as one process would hold it: each rank's modules' values and inboxes, in
-  // rank order (module order), and the in-flight multisets added up. The rest every rank holds.
-  State whole;
-  whole.step = state.step;
-  whole.present = state.present;
-  whole.graph = state.graph;
-  whole.bodies = state.bodies;
-  whole.program_messages = state.program_messages;
+  // The whole state as one process would hold it: each rank's modules' values and inboxes, put
+  // back in module order, and the in-flight multisets added up. The rest every rank holds.
+  State whole = simulation_part(state);
   whole.values = whole_values(state);
+  whole.inbox.messages.clear();
   for (const auto& part : ranks_->all_gather(std::as_bytes(std::span(state.inbox.messages))))
     whole.inbox.messages.insert(whole.inbox.messages.end(), records_of<Message>(part).begin(),
                                 records_of<Message>(part).end());
@@ -490,10 +486,9 @@ uint64_t Runtime::hash(const State& state) {
   for (const InFlightDigest& d : digests) sums.insert(sums.end(), {d.sum, d.count});
   ranks_->sum(sums);
   for (size_t w = 0; w < digests.size(); ++w) digests[w] = {sums[2 * w], sums[2 * w + 1]};
-  for (const WatchState& w : state.watches) {
-    whole.watches.emplace_back();
-    whole.watches.back().matches = w.matches;
-    whole.watches.back().stopped = w.stopped;
+  for (size_t w = 0; w < state.watches.size(); ++w) {
+    whole.watches[w].matches = state.watches[w].matches;
+    whole.watches[w].stopped = state.watches[w].stopped;
   }
   return hash_state(whole, digests);
 }

@@ -199,7 +199,6 @@ class Session {
   void truncate_history(int64_t through);
   std::optional<Pause> pause_at(int64_t t) const;
   bool materialize(int64_t t, const Control& control);
-  State simulation_copy(const State& s) const;
   void rebuild_runtime();
   void branch_here();  // the current step becomes the head: the future is dropped
   void drop_changes_after(int64_t at);

@@ -71,6 +71,19 @@ std::string hash_text(uint64_t hash) {
   return text;
 }
 
+State simulation_part(const State& s) {
+  State c;
+  c.step = s.step;
+  c.values = s.values;
+  c.present = s.present;
+  c.graph = s.graph;
+  c.bodies = s.bodies;
+  c.inbox = s.inbox;
+  c.program_messages = s.program_messages;
+  c.watches.resize(s.watches.size());
+  return c;
+}
+
 InFlightDigest in_flight_digest(const WatchState& w) {
   InFlightDigest d;
   for (const watch::RecordBuffer& lane : w.in_flight)

@@ -47,6 +47,10 @@ struct State {
   uint64_t program_messages = 0;  // sent since step 0
 };
 
+// The state's simulation part: everything but the watchpoints' states, which are left empty (one
+// per watchpoint), for simulating again or for putting a whole together from parts.
+State simulation_part(const State& state);
+
 // A hash of the whole state: step, variables, presence, topology, bodies, messages, detector state in
 // flight and match counts. PatternMatchers in flight are hashed as a multiset, since their order
 // in the lanes depends on the thread count and nothing else does.
