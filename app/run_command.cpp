@@ -31,15 +31,6 @@ struct RunArgs {
   bool no_progress = false;
 };
 
-// Over several ranks, the status every rank goes on with: the worst any rank had (only rank 0
-// opens the outputs, and every rank must stop if one of them cannot be).
-int agree(sim::RankExchange* ranks, int status) {
-  if (ranks == nullptr) return status;
-  uint64_t worst[2] = {status == 1, status == 2};
-  ranks->sum(worst);
-  return worst[1] ? 2 : worst[0] ? 1 : 0;
-}
-
 int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   // Over several ranks, rank 0 speaks and writes the outputs; every rank runs its part.
   const bool lead = ranks == nullptr || ranks->rank() == 0;
@@ -77,12 +68,11 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   const NamedFile record_file{"--record", args.record_path}, matches_file{"--matches", args.matches_path},
       stats_file{"--stats", args.stats_path}, render_file{"--render", args.render_path};
   std::unique_ptr<sim::OutputFile> record_out, matches_out, stats_out, render_out;
-  if (agree(ranks,
-            lead && !(check_distinct_files(scenario.inputs, {record_file, matches_file, stats_file, render_file}) &&
-                      open_output(record_file, record_out) && open_output(matches_file, matches_out) &&
-                      open_output(stats_file, stats_out) && open_output(render_file, render_out))
-                ? 2
-                : 0) != 0)
+  // Only rank 0 opens the outputs; if it cannot, every rank stops.
+  if (sim::any_rank(ranks, lead && !(check_distinct_files(scenario.inputs,
+                                                          {record_file, matches_file, stats_file, render_file}) &&
+                                     open_output(record_file, record_out) && open_output(matches_file, matches_out) &&
+                                     open_output(stats_file, stats_out) && open_output(render_file, render_out))))
     return 2;
   std::ostream *record = stream_of(record_out), *matches = stream_of(matches_out), *stats = stream_of(stats_out);
   const bool to_stdout = args.record_path == "-" || args.matches_path == "-" || args.stats_path == "-";
@@ -98,7 +88,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   for (size_t w = 0; w < model.watches.size(); ++w) sinks.push_back(log.sink(w));
   std::unique_ptr<sim::TraceWriter> recorder;
   if (record) recorder = std::make_unique<sim::TraceWriter>(*record, model.universe, scenario.events);
-  const bool recording = agree(ranks, record != nullptr) != 0;  // every rank gives its part of each frame
+  const bool recording = !args.record_path.empty();  // on every rank: each gives its part of each frame
 
   const sim::Partition partition = args.partition == "metis" ? sim::Partition::Graph : sim::Partition::Blocks;
   sim::Session run(*scenario.model, *scenario.world,

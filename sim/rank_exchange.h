@@ -46,6 +46,15 @@ enum class Partition {
   Graph,   // a k-way partition of the blocks' neighbour graph (METIS): for what ids do not lay out
 };
 
+// Whether `yes` holds on any rank: a decision every rank takes alike (a collective call); in one
+// process (no ranks), `yes`.
+inline bool any_rank(RankExchange* ranks, bool yes) {
+  if (ranks == nullptr) return yes;
+  uint64_t count = yes;
+  ranks->sum({&count, 1});
+  return count != 0;
+}
+
 // Plain records in and out of the byte buffers the exchange carries.
 template <class T>
 void append_records(std::vector<std::byte>& to, std::span<const T> records) {

@@ -438,12 +438,7 @@ void Runtime::agree_on_failure_and_gather_actuations() {
                    [](const Actuation& a, const Actuation& b) { return a.module < b.module; });
 }
 
-bool Runtime::any_rank(bool yes) {
-  if (!ranks_) return yes;
-  uint64_t count = yes;
-  ranks_->sum({&count, 1});
-  return count != 0;
-}
+bool Runtime::any_rank(bool yes) { return sim::any_rank(ranks_, yes); }
 
 std::vector<int64_t> Runtime::whole_values(const State& state) {
   if (!ranks_) return state.values;

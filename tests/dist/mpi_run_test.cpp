@@ -133,6 +133,14 @@ TEST_F(MpiRun, AProgramFailingOnTheLastRankStopsEveryRankWithItsMessage) {
   EXPECT_EQ(r.err.substr(0, r.err.find("\n--") + 1), one.err) << "rank 0 says what one process says, once";
 }
 
+TEST_F(MpiRun, AnOutputRankZeroCannotOpenStopsEveryRank) {
+  const Result r = mpirun(3, "run " + scenarios_ + "/table1.toml --matches /no/such/dir/m.jsonl");
+  EXPECT_EQ(r.code, 2);
+  const std::string said = "--matches: cannot write /no/such/dir/m.jsonl";
+  EXPECT_NE(r.err.find(said), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find(said), r.err.rfind(said)) << r.err;
+}
+
 TEST_F(MpiRun, OnlyRunRunsOverRanks) {
   const Result r = mpirun(2, "check 'modules(a); (a.x = 1)'");
   EXPECT_EQ(r.code, 2);
