@@ -1,9 +1,7 @@
 #include "dist/mpi_exchange.h"
 
-#include <mpi.h>
-#ifdef DWATCH_METIS
 #include <metis.h>
-#endif
+#include <mpi.h>
 
 #include <algorithm>
 #include <climits>
@@ -81,7 +79,6 @@ class MpiExchange final : public sim::RankExchange {
     MPI_Allreduce(MPI_IN_PLACE, values.data(), int(values.size()), MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
   }
 
-#ifdef DWATCH_METIS
   // METIS's k-way partition, computed on rank 0 (with a fixed seed) and given to all, so that no
   // rank can differ from another by a library's whim.
   std::vector<uint32_t> partition_graph(std::span<const uint32_t> first, std::span<const uint32_t> adjacent,
@@ -109,7 +106,6 @@ class MpiExchange final : public sim::RankExchange {
     parts.assign(sim::records_of<uint32_t>(all[0]).begin(), sim::records_of<uint32_t>(all[0]).end());
     return parts;
   }
-#endif
 
  private:
   int rank_ = 0, ranks_ = 1;

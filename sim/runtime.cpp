@@ -104,30 +104,26 @@ void Runtime::place_blocks(Partition partition) {
   for (uint32_t m = 0; m < model_.module_count(); ++m)
     weight[m >> block_shift_] += m < occupied.size() ? occupied[m] : 1;
   if (partition == Partition::Graph && rank_count > 1) {
+    // The links between blocks, as sorted (block, block) pairs: equal pairs make one edge's weight.
     const NeighborGraph& g = model_.lattice.graph;
-    std::vector<std::vector<std::pair<uint32_t, uint32_t>>> links(blocks_);  // per block: (block, links)
+    std::vector<std::pair<uint32_t, uint32_t>> pairs;
     for (uint32_t m = 0; m < g.module_count(); ++m)
-      for (ModuleId n : g.neighbors(m)) {
-        const uint32_t a = m >> block_shift_, b = n >> block_shift_;
-        if (a == b) continue;
-        auto& row = links[a];
-        if (row.empty() || row.back().first != b) {
-          auto at = std::find_if(row.begin(), row.end(), [&](const auto& e) { return e.first == b; });
-          if (at == row.end()) row.push_back({b, 0}), at = row.end() - 1;
-          ++at->second;
-        } else {
-          ++row.back().second;
-        }
+      for (ModuleId n : g.neighbors(m))
+        if (m >> block_shift_ != n >> block_shift_) pairs.push_back({m >> block_shift_, n >> block_shift_});
+    std::sort(pairs.begin(), pairs.end());
+    std::vector<uint32_t> first(blocks_ + 1, 0), adjacent, link_weight;
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      if (i > 0 && pairs[i] == pairs[i - 1]) {
+        ++link_weight.back();
+        continue;
       }
-    std::vector<uint32_t> first{0}, adjacent, link_weight;
-    for (auto& row : links) {
-      std::sort(row.begin(), row.end());
-      for (const auto& [b, w] : row) adjacent.push_back(b), link_weight.push_back(w);
-      first.push_back(static_cast<uint32_t>(adjacent.size()));
+      adjacent.push_back(pairs[i].second);
+      link_weight.push_back(1);
+      ++first[pairs[i].first + 1];
     }
+    for (uint32_t b = 0; b < blocks_; ++b) first[b + 1] += first[b];
     block_rank_ = ranks_->partition_graph(first, adjacent, weight, link_weight);
-    if (block_rank_.size() != blocks_)
-      throw std::invalid_argument("this build has no graph partitioner (METIS): partition by blocks");
+    if (block_rank_.size() != blocks_) throw std::logic_error("the rank exchange has no graph partitioner");
   } else {
     uint64_t total = 0, seen = 0;
     for (uint32_t w : weight) total += w;
