@@ -86,6 +86,18 @@ TEST_F(MpiRun, LeaderElectionOnAHexSheetEqualsOneProcess) {
   EXPECT_GT(results(dir_ / "one.json")["matches"].get<int>(), 0);
 }
 
+TEST_F(MpiRun, ScheduledInterventionsEqualOneProcess) {
+  // The leader election logging every match, with a module removed and a variable set on the way:
+  // interventions apply on every rank, to the world whole and to the owner's variables.
+  std::string text = slurp(scenarios_ + "/leader_election.toml");
+  text.replace(text.find("action = \"pause\""), 16, "action = \"log\"");
+  const fs::path scenario = write("events.toml", text +
+                                                     "\n[[event]]\nat = 4\nmodule = 70\nremove = true\n"
+                                                     "\n[[event]]\nat = 3\nmodule = 90\nset = { isLeader = 1 }\n");
+  expect_same_over_ranks(scenario.string() + " --algorithm distributed");
+  EXPECT_GT(results(dir_ / "one.json")["matches"].get<int>(), 1000);
+}
+
 TEST_F(MpiRun, TableOneCubeEqualsOneProcessWithTwoThreadsPerRank) {
   expect_same_over_ranks(scenarios_ + "/table1.toml --steps 30", 2);
   EXPECT_GT(results(dir_ / "one.json")["matches"].get<int>(), 1000);
