@@ -47,30 +47,22 @@ class MpiExchange final : public sim::RankExchange {
     return in;
   }
 
-  std::vector<std::vector<std::byte>> all_gather(std::span<const std::byte> mine) override {
+  sim::Gathered all_gather(std::span<const std::byte> mine) override {
     const size_t n = static_cast<size_t>(ranks_);
     uint64_t size = mine.size();
     std::vector<uint64_t> sizes(n);
     MPI_Allgather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
-    std::vector<std::vector<std::byte>> all(n);
-    uint64_t total = 0;
-    for (uint64_t s : sizes) total += s;
-    if (total <= uint64_t{INT_MAX}) {  // the usual case: one call, whatever the number of ranks
+    sim::Gathered all(sizes);
+    if (all.offset(n) <= uint64_t{INT_MAX}) {  // the usual case: one call, whatever the number of ranks
       std::vector<int> counts(n), at(n);
-      std::vector<std::byte> flat(total);
-      for (size_t r = 0, offset = 0; r < n; offset += sizes[r], ++r) {
-        counts[r] = int(sizes[r]);
-        at[r] = int(offset);
-      }
-      MPI_Allgatherv(mine.data(), int(size), MPI_BYTE, flat.data(), counts.data(), at.data(), MPI_BYTE, MPI_COMM_WORLD);
-      for (size_t r = 0; r < n; ++r) all[r].assign(flat.begin() + at[r], flat.begin() + at[r] + counts[r]);
+      for (size_t r = 0; r < n; ++r) counts[r] = int(sizes[r]), at[r] = int(all.offset(r));
+      MPI_Allgatherv(mine.data(), int(size), MPI_BYTE, all.data(0), counts.data(), at.data(), MPI_BYTE, MPI_COMM_WORLD);
       return all;
     }
     for (size_t r = 0; r < n; ++r) {  // past 2 GiB in all: each rank's part broadcast in pieces
-      all[r].resize(sizes[r]);
-      if (int(r) == rank_ && size) std::memcpy(all[r].data(), mine.data(), size);
+      if (int(r) == rank_ && size) std::memcpy(all.data(r), mine.data(), size);
       for (uint64_t at = 0; at < sizes[r]; at += kPiece)
-        MPI_Bcast(all[r].data() + at, int(std::min(kPiece, sizes[r] - at)), MPI_BYTE, int(r), MPI_COMM_WORLD);
+        MPI_Bcast(all.data(r) + at, int(std::min(kPiece, sizes[r] - at)), MPI_BYTE, int(r), MPI_COMM_WORLD);
     }
     return all;
   }
@@ -102,7 +94,7 @@ class MpiExchange final : public sim::RankExchange {
         for (idx_t v = 0; v < vertices; ++v) part[size_t(v)] = v;
       parts.assign(part.begin(), part.end());
     }
-    const std::vector<std::vector<std::byte>> all = all_gather(std::as_bytes(std::span<const uint32_t>(parts)));
+    const sim::Gathered all = all_gather(std::as_bytes(std::span<const uint32_t>(parts)));
     parts.assign(sim::records_of<uint32_t>(all[0]).begin(), sim::records_of<uint32_t>(all[0]).end());
     return parts;
   }

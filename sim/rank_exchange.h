@@ -7,10 +7,44 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
 namespace dw::sim {
+
+// Every rank's part of an all-gather, in rank order, in one buffer: (*this)[r] is rank r's. Each
+// part starts 16-byte aligned, so that it can be read as records in place (records_of).
+class Gathered {
+ public:
+  explicit Gathered(std::span<const uint64_t> sizes) {
+    size_t at = 0;
+    for (uint64_t size : sizes) {
+      offsets_.push_back(at);
+      at += (size + 15) & ~uint64_t{15};
+    }
+    offsets_.push_back(at);
+    sizes_.assign(sizes.begin(), sizes.end());
+    bytes_ = std::make_unique_for_overwrite<std::byte[]>(at + 16);
+    for (size_t r = 0; r < sizes_.size(); ++r) parts_.emplace_back(data(r), sizes_[r]);
+  }
+  size_t size() const { return sizes_.size(); }
+  std::span<const std::byte> operator[](size_t r) const { return parts_[r]; }
+  auto begin() const { return parts_.begin(); }
+  auto end() const { return parts_.end(); }
+  // Where rank r's part goes, and its offset in the buffer.
+  std::byte* data(size_t r) { return aligned() + offsets_[r]; }
+  size_t offset(size_t r) const { return offsets_[r]; }
+
+ private:
+  std::byte* aligned() const {
+    return reinterpret_cast<std::byte*>((reinterpret_cast<uintptr_t>(bytes_.get()) + 15) & ~uintptr_t{15});
+  }
+  std::unique_ptr<std::byte[]> bytes_;
+  std::vector<size_t> offsets_;
+  std::vector<uint64_t> sizes_;
+  std::vector<std::span<const std::byte>> parts_;
+};
 
 class RankExchange {
  public:
@@ -24,7 +58,7 @@ class RankExchange {
   // its size.
   virtual std::vector<std::vector<std::byte>> exchange(std::span<const std::vector<std::byte>> out) = 0;
   // Every rank's `mine`, in rank order, on every rank.
-  virtual std::vector<std::vector<std::byte>> all_gather(std::span<const std::byte> mine) = 0;
+  virtual Gathered all_gather(std::span<const std::byte> mine) = 0;
   // Sums `values` element-wise over the ranks, in place, on every rank.
   virtual void sum(std::span<uint64_t> values) = 0;
 
@@ -62,7 +96,7 @@ void append_records(std::vector<std::byte>& to, std::span<const T> records) {
   to.insert(to.end(), bytes, bytes + records.size_bytes());
 }
 template <class T>
-std::span<const T> records_of(const std::vector<std::byte>& bytes) {
+std::span<const T> records_of(std::span<const std::byte> bytes) {
   return {reinterpret_cast<const T*>(bytes.data()), bytes.size() / sizeof(T)};
 }
 

@@ -407,8 +407,8 @@ void Runtime::agree_on_failure_and_gather_actuations() {
       append_records(said, std::span<const int64_t>(where));
       append_records(said, std::span(failed->error.data(), failed->error.size()));
     }
-    const std::vector<std::vector<std::byte>> all = ranks_->all_gather(said);
-    const std::vector<std::byte>* first = nullptr;
+    const Gathered all = ranks_->all_gather(said);
+    const std::span<const std::byte>* first = nullptr;
     int64_t where[2] = {0, INT64_MAX};
     for (const auto& part : all) {
       int64_t at[2];
@@ -440,12 +440,20 @@ std::vector<int64_t> Runtime::whole_values(const State& state) {
   if (!ranks_) return state.values;
   // Each rank gives its blocks' rows in block order; every rank knows whose each block is.
   const size_t v = model_.variable_count();
-  std::vector<int64_t> own;
-  for (uint32_t b : own_blocks_)
-    own.insert(own.end(), state.values.begin() + static_cast<ptrdiff_t>(block_begin(b) * v),
-               state.values.begin() + static_cast<ptrdiff_t>(block_begin(b + 1) * v));
+  std::vector<int64_t> copied;  // unless the blocks are one run (--partition blocks), read in place
+  std::span<const int64_t> own;
+  if (!own_blocks_.empty() && own_blocks_.back() - own_blocks_.front() + 1 == own_blocks_.size()) {
+    own = std::span(state.values)
+              .subspan(block_begin(own_blocks_.front()) * v,
+                       (block_begin(own_blocks_.back() + 1) - block_begin(own_blocks_.front())) * v);
+  } else {
+    for (uint32_t b : own_blocks_)
+      copied.insert(copied.end(), state.values.begin() + static_cast<ptrdiff_t>(block_begin(b) * v),
+                    state.values.begin() + static_cast<ptrdiff_t>(block_begin(b + 1) * v));
+    own = copied;
+  }
   std::vector<int64_t> values(state.values.size());
-  const std::vector<std::vector<std::byte>> parts = ranks_->all_gather(std::as_bytes(std::span(own)));
+  const Gathered parts = ranks_->all_gather(std::as_bytes(own));
   std::vector<size_t> read(parts.size(), 0);
   for (uint32_t b = 0; b < blocks_; ++b) {
     const std::span<const int64_t> part = records_of<int64_t>(parts[block_rank_[b]]);
@@ -463,8 +471,7 @@ uint64_t Runtime::hash(const State& state) {
   if (!ranks_) return hash_state(state, digests);
   // The whole state as one process would hold it: each rank's modules' values and inboxes, put
   // back in module order, and the in-flight multisets added up. The rest every rank holds.
-  State whole = simulation_part(state);
-  whole.values = whole_values(state);
+  State whole = simulation_part(state, whole_values(state));
   whole.inbox.messages.clear();
   for (const auto& part : ranks_->all_gather(std::as_bytes(std::span(state.inbox.messages))))
     whole.inbox.messages.insert(whole.inbox.messages.end(), records_of<Message>(part).begin(),

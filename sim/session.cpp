@@ -396,7 +396,7 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
     rebuild_runtime();
   };
 
-  State s = simulation_part(keyframes_[0]);
+  State s = simulation_part(keyframes_[0], keyframes_[0].values);
   s.watches.push_back(runtime_->initial_watch_state(w));
   std::vector<WatchState> at_keyframe{s.watches[w]};  // its state at keyframes_[i]
   size_t added = state_bytes(State{.watches = {at_keyframe[0]}});
@@ -507,7 +507,7 @@ std::optional<std::vector<int64_t>> Session::module_series(ModuleId m, int64_t f
   if (from > to || !has_history()) return values;
   // The values do not depend on the watchpoints: the simulation alone is stepped.
   const size_t index = std::min(static_cast<size_t>(std::max<int64_t>(0, from) / interval_), keyframes_.size() - 1);
-  State s = simulation_part(keyframes_[index]);
+  State s = simulation_part(keyframes_[index], keyframes_[index].values);
   const std::vector<uint8_t> none(model_.watches.size() + 1, 0);
   StepOutput out;
   const size_t v = model_.variable_count();
@@ -525,7 +525,7 @@ std::optional<std::vector<int64_t>> Session::module_series(ModuleId m, int64_t f
 
 std::string Session::record(std::ostream& out, const Control& control) {
   if (!has_history()) return "the session keeps no history to record";
-  State s = simulation_part(keyframes_[0]);
+  State s = simulation_part(keyframes_[0], keyframes_[0].values);
   const std::vector<uint8_t> none(model_.watches.size() + 1, 0);
   StepOutput step_out;
   TraceWriter writer(out, model_.universe, interventions_);

@@ -71,10 +71,10 @@ std::string hash_text(uint64_t hash) {
   return text;
 }
 
-State simulation_part(const State& s) {
+State simulation_part(const State& s, std::vector<int64_t> values) {
   State c;
   c.step = s.step;
-  c.values = s.values;
+  c.values = std::move(values);
   c.present = s.present;
   c.graph = s.graph;
   c.bodies = s.bodies;

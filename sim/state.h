@@ -47,9 +47,10 @@ struct State {
   uint64_t program_messages = 0;  // sent since step 0
 };
 
-// The state's simulation part: everything but the watchpoints' states, which are left empty (one
-// per watchpoint), for simulating again or for putting a whole together from parts.
-State simulation_part(const State& state);
+// The state's simulation part with `values` for its variables: everything but the watchpoints'
+// states, which are left empty (one per watchpoint), for simulating again (with the state's own
+// values) or for putting a whole together from parts (with the values of all).
+State simulation_part(const State& state, std::vector<int64_t> values);
 
 // A hash of the whole state: step, variables, presence, topology, bodies, messages, detector state in
 // flight and match counts. PatternMatchers in flight are hashed as a multiset, since their order

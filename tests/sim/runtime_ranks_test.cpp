@@ -31,11 +31,14 @@ class ThreadRanks {
       all_.sync_.arrive_and_wait();
       return in;
     }
-    std::vector<std::vector<std::byte>> all_gather(std::span<const std::byte> mine) override {
+    Gathered all_gather(std::span<const std::byte> mine) override {
       all_.posted_[size_t(me_)] = {std::vector<std::byte>(mine.begin(), mine.end())};
       all_.sync_.arrive_and_wait();
-      std::vector<std::vector<std::byte>> all;
-      for (int r = 0; r < all_.n_; ++r) all.push_back(all_.posted_[size_t(r)][0]);
+      std::vector<uint64_t> sizes;
+      for (int r = 0; r < all_.n_; ++r) sizes.push_back(all_.posted_[size_t(r)][0].size());
+      Gathered all(sizes);
+      for (int r = 0; r < all_.n_; ++r)
+        std::copy(all_.posted_[size_t(r)][0].begin(), all_.posted_[size_t(r)][0].end(), all.data(size_t(r)));
       all_.sync_.arrive_and_wait();
       return all;
     }
