@@ -393,9 +393,12 @@ struct Loader {
     std::vector<std::string> names;
     for (const toml::node& e : *a) {
       TableReader r(*e.as_table(), diagnostics, "[[watch]]");
-      std::string name = r.string("name").value_or("");
+      const std::optional<std::string> given = r.string("name");  // a wrong type is reported here
+      std::string name = given.value_or("");
       if (name.empty()) {
+        // Matches, logs and the session's commands name a watchpoint by it: it cannot be blank.
         if (!r.has("name")) r.missing("name");
+        else if (given) r.error("name", "a watchpoint's name cannot be empty");
         ok = false;
       } else if (std::find(names.begin(), names.end(), name) != names.end()) {
         r.error("name", "a second watchpoint named \"" + name + "\"");
