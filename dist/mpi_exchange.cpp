@@ -35,14 +35,18 @@ class MpiExchange final : public sim::RankExchange {
     // Only the ranks with something to say are sent to or heard from: the neighbouring ones.
     for (size_t r = 0; r < n; ++r) {
       in[r].resize(in_sizes[r]);
-      for (uint64_t at = 0; at < in_sizes[r]; at += kPiece)
-        requests.push_back(MPI_REQUEST_NULL), MPI_Irecv(in[r].data() + at, int(std::min(kPiece, in_sizes[r] - at)),
-                                                        MPI_BYTE, int(r), 0, MPI_COMM_WORLD, &requests.back());
+      for (uint64_t at = 0; at < in_sizes[r]; at += kPiece) {
+        requests.emplace_back();
+        MPI_Irecv(in[r].data() + at, int(std::min(kPiece, in_sizes[r] - at)), MPI_BYTE, int(r), 0, MPI_COMM_WORLD,
+                  &requests.back());
+      }
     }
     for (size_t r = 0; r < n; ++r)
-      for (uint64_t at = 0; at < out_sizes[r]; at += kPiece)
-        requests.push_back(MPI_REQUEST_NULL), MPI_Isend(out[r].data() + at, int(std::min(kPiece, out_sizes[r] - at)),
-                                                        MPI_BYTE, int(r), 0, MPI_COMM_WORLD, &requests.back());
+      for (uint64_t at = 0; at < out_sizes[r]; at += kPiece) {
+        requests.emplace_back();
+        MPI_Isend(out[r].data() + at, int(std::min(kPiece, out_sizes[r] - at)), MPI_BYTE, int(r), 0, MPI_COMM_WORLD,
+                  &requests.back());
+      }
     MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
     return in;
   }
@@ -104,11 +108,6 @@ class MpiExchange final : public sim::RankExchange {
 };
 
 }  // namespace
-
-bool started_by_mpirun() {
-  const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
-  return size != nullptr && std::atoi(size) > 1;
-}
 
 MpiProcess::MpiProcess(int& argc, char**& argv) {
   if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr) return;

@@ -26,7 +26,4 @@ class MpiProcess {
   std::unique_ptr<sim::RankExchange> exchange_;
 };
 
-// Whether this process was started by mpirun, as one of several ranks.
-bool started_by_mpirun();
-
 }  // namespace dw::dist

@@ -24,11 +24,10 @@ class Gathered {
       at += (size + 15) & ~uint64_t{15};
     }
     offsets_.push_back(at);
-    sizes_.assign(sizes.begin(), sizes.end());
     bytes_ = std::make_unique_for_overwrite<std::byte[]>(at + 16);
-    for (size_t r = 0; r < sizes_.size(); ++r) parts_.emplace_back(data(r), sizes_[r]);
+    for (size_t r = 0; r < sizes.size(); ++r) parts_.emplace_back(data(r), sizes[r]);
   }
-  size_t size() const { return sizes_.size(); }
+  size_t size() const { return parts_.size(); }
   std::span<const std::byte> operator[](size_t r) const { return parts_[r]; }
   auto begin() const { return parts_.begin(); }
   auto end() const { return parts_.end(); }
@@ -41,8 +40,7 @@ class Gathered {
     return reinterpret_cast<std::byte*>((reinterpret_cast<uintptr_t>(bytes_.get()) + 15) & ~uintptr_t{15});
   }
   std::unique_ptr<std::byte[]> bytes_;
-  std::vector<size_t> offsets_;
-  std::vector<uint64_t> sizes_;
+  std::vector<size_t> offsets_;  // [ranks + 1]
   std::vector<std::span<const std::byte>> parts_;
 };
 

@@ -242,25 +242,7 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
   std::vector<watch::AgentContext*> contexts;
   for (ThreadScratch& s : scratch_) contexts.push_back(&s.agents[w]);
   watch::AgentStepOutcome outcome = watch::sum_agent_step(contexts, f);
-  if (ranks_) {
-    // The step's statistics are those of all ranks, and so is the budget's verdict.
-    watch::StepStats& st = outcome.stats;
-    std::vector<uint64_t> sums = st.live_by_filled;
-    sums.insert(sums.end(), {st.live, st.created, st.messages, st.bytes, st.matches, outcome.over_budget});
-    ranks_->sum(sums);
-    const size_t n = st.live_by_filled.size();
-    std::copy(sums.begin(), sums.begin() + static_cast<ptrdiff_t>(n), st.live_by_filled.begin());
-    st.live = sums[n], st.created = sums[n + 1], st.messages = sums[n + 2], st.bytes = sums[n + 3];
-    st.matches = sums[n + 4];
-    if (sums[n + 5] != 0) {  // the reason of the first rank that gave one
-      for (const auto& why : ranks_->all_gather(std::as_bytes(std::span(outcome.stop_reason))))
-        if (!why.empty()) {
-          outcome.stop_reason.assign(reinterpret_cast<const char*>(why.data()), why.size());
-          break;
-        }
-      outcome.over_budget = true;
-    }
-  }
+  if (ranks_) add_up_over_ranks(outcome);
   watch::decide_agent_budget(outcome, f, hosted.options.live_budget);
   if (outcome.over_budget) {
     // The step that went over the budget was cut short wherever each thread was: none of it is
@@ -322,13 +304,18 @@ void Runtime::deliver_program_messages(State& state) {
   const uint32_t me = ranks_ ? static_cast<uint32_t>(ranks_->rank()) : 0;
   // Messages to another rank's modules go there; those sent here come in from every rank.
   std::vector<std::vector<std::byte>> received;
+  uint64_t total = 0;  // to this rank's modules
   if (ranks_) {
     std::vector<std::vector<std::byte>> out(static_cast<size_t>(ranks_->ranks()));
     for (const ThreadScratch& s : scratch_)
       for (const Message& m : s.outbox.messages)
         if (const uint32_t r = rank_of(m.to); r != me) append_records(out[r], std::span(&m, 1));
+        else ++total;
     for (const auto& part : out) bytes_to_ranks_ += part.size();
     received = ranks_->exchange(out);
+    for (const auto& part : received) total += part.size() / sizeof(Message);
+  } else {
+    for (const ThreadScratch& s : scratch_) total += s.outbox.messages.size();
   }
   // The messages to this rank's modules: its own (in thread order, which is module order), then
   // those of every other rank (each in module order); over ranks, each inbox is put in sender
@@ -340,8 +327,6 @@ void Runtime::deliver_program_messages(State& state) {
     for (const std::vector<std::byte>& part : received)
       for (const Message& m : records_of<Message>(part)) fn(m);
   };
-  uint64_t total = 0;
-  each([&](const Message&) { ++total; });
   Mailbox& box = state.inbox;
   box.begin.assign(groups + 1, 0);
   box.messages.resize(total);
@@ -361,15 +346,36 @@ void Runtime::deliver_program_messages(State& state) {
                          [](const Message& a, const Message& b) { return a.from < b.from; });
 }
 
+// The step's statistics are those of all ranks, and so is a stop: with the reason of the first
+// rank that gave one.
+void Runtime::add_up_over_ranks(watch::AgentStepOutcome& outcome) {
+  watch::StepStats& st = outcome.stats;
+  std::vector<uint64_t> sums = st.live_by_filled;
+  sums.insert(sums.end(), {st.live, st.created, st.messages, st.bytes, st.matches, outcome.over_budget});
+  ranks_->sum(sums);
+  const size_t n = st.live_by_filled.size();
+  std::copy(sums.begin(), sums.begin() + static_cast<ptrdiff_t>(n), st.live_by_filled.begin());
+  st.live = sums[n], st.created = sums[n + 1], st.messages = sums[n + 2], st.bytes = sums[n + 3];
+  st.matches = sums[n + 4];
+  if (sums[n + 5] == 0) return;
+  outcome.over_budget = true;
+  for (const std::span<const std::byte> why : ranks_->all_gather(std::as_bytes(std::span(outcome.stop_reason))))
+    if (!why.empty()) {
+      outcome.stop_reason.assign(reinterpret_cast<const char*>(why.data()), why.size());
+      break;
+    }
+}
+
 // PatternMatchers sent to another rank's blocks go there, in one batch per rank: each lane as
 // (block, bytes, records), appended on arrival to the block's first lane. Their order in the lanes
 // matters to nothing (DESIGN §4: a multiset), as with threads.
 void Runtime::deliver_in_flight(WatchState& ws) {
+  const uint32_t me = static_cast<uint32_t>(ranks_->rank());
   std::vector<std::vector<std::byte>> out(static_cast<size_t>(ranks_->ranks()));
   for (uint32_t thread = 0; thread < pool_.size(); ++thread)
     for (uint32_t block = 0; block < blocks_; ++block) {
       watch::RecordBuffer& lane = ws.in_flight[size_t{thread} * blocks_ + block];
-      if (lane.empty() || block_rank_[block] == static_cast<uint32_t>(ranks_->rank())) continue;
+      if (lane.empty() || block_rank_[block] == me) continue;
       std::vector<std::byte>& to = out[block_rank_[block]];
       const uint64_t head[2] = {block, lane.size()};
       append_records(to, std::span<const uint64_t>(head));
@@ -393,12 +399,12 @@ void Runtime::deliver_in_flight(WatchState& ws) {
 // be gathered.
 void Runtime::agree_on_failure_and_gather_actuations() {
   const Outbox* failed = nullptr;
-  std::vector<Actuation> mine;
+  const size_t before = actuations_.size();  // the interventions' pushes come first
   for (const ThreadScratch& s : scratch_) {
     if (!failed && !s.outbox.error.empty()) failed = &s.outbox;
-    mine.insert(mine.end(), s.outbox.actuations.begin(), s.outbox.actuations.end());
+    actuations_.insert(actuations_.end(), s.outbox.actuations.begin(), s.outbox.actuations.end());
   }
-  uint64_t counts[2] = {failed != nullptr, mine.size()};
+  uint64_t counts[2] = {failed != nullptr, actuations_.size() - before};
   if (ranks_) ranks_->sum(counts);
   if (ranks_ && counts[0] != 0) {
     std::vector<std::byte> said;
@@ -407,34 +413,30 @@ void Runtime::agree_on_failure_and_gather_actuations() {
       append_records(said, std::span<const int64_t>(where));
       append_records(said, std::span(failed->error.data(), failed->error.size()));
     }
+    // Each failing rank said (step, module, message); the lowest module's is the one.
     const Gathered all = ranks_->all_gather(said);
-    const std::span<const std::byte>* first = nullptr;
     int64_t where[2] = {0, INT64_MAX};
-    for (const auto& part : all) {
+    std::string message;
+    for (const std::span<const std::byte> part : all) {
+      if (part.empty()) continue;
       int64_t at[2];
-      if (part.empty() || (std::memcpy(at, part.data(), sizeof at), at[1] >= where[1])) continue;
-      first = &part;
+      std::memcpy(at, part.data(), sizeof at);
+      if (at[1] >= where[1]) continue;
       std::memcpy(where, at, sizeof where);
+      message.assign(reinterpret_cast<const char*>(part.data()) + sizeof at, part.size() - sizeof at);
     }
-    throw ProgramError(
-        std::string(reinterpret_cast<const char*>(first->data()) + sizeof where, first->size() - sizeof where),
-        static_cast<ModuleId>(where[1]), where[0]);
+    throw ProgramError(message, static_cast<ModuleId>(where[1]), where[0]);
   }
   if (failed) throw ProgramError(failed->error, failed->error_module, failed->error_step);
-  if (!ranks_ || counts[1] == 0) {
-    actuations_.insert(actuations_.end(), mine.begin(), mine.end());
-    return;
-  }
-  std::vector<std::byte> bytes;
-  append_records(bytes, std::span<const Actuation>(mine));
-  const size_t before = actuations_.size();  // the interventions' pushes come first
-  for (const auto& part : ranks_->all_gather(bytes))
+  if (!ranks_ || counts[1] == 0) return;
+  std::vector<std::byte> mine;
+  append_records(mine, std::span<const Actuation>(actuations_).subspan(before));
+  actuations_.resize(before);
+  for (const auto& part : ranks_->all_gather(mine))
     actuations_.insert(actuations_.end(), records_of<Actuation>(part).begin(), records_of<Actuation>(part).end());
   std::stable_sort(actuations_.begin() + static_cast<ptrdiff_t>(before), actuations_.end(),
                    [](const Actuation& a, const Actuation& b) { return a.module < b.module; });
 }
-
-bool Runtime::any_rank(bool yes) { return sim::any_rank(ranks_, yes); }
 
 std::vector<int64_t> Runtime::whole_values(const State& state) {
   if (!ranks_) return state.values;
@@ -466,9 +468,9 @@ std::vector<int64_t> Runtime::whole_values(const State& state) {
 }
 
 uint64_t Runtime::hash(const State& state) {
+  if (!ranks_) return hash_state(state);
   std::vector<InFlightDigest> digests;
   for (const WatchState& w : state.watches) digests.push_back(in_flight_digest(w));
-  if (!ranks_) return hash_state(state, digests);
   // The whole state as one process would hold it: each rank's modules' values and inboxes, put
   // back in module order, and the in-flight multisets added up. The rest every rank holds.
   State whole = simulation_part(state, whole_values(state));

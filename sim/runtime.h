@@ -19,6 +19,10 @@
 #include "sim/worker_pool.h"
 #include "sim/world.h"
 
+namespace dw::watch {
+struct AgentStepOutcome;  // watch/agent_step.h
+}
+
 namespace dw::sim {
 
 // What one hosted watchpoint decided during a step.
@@ -49,16 +53,16 @@ inline watch::Frame observed_frame(const Model& model, const State& state, const
   return make_frame(model, out.step, state.values, out.present, out.graph);
 }
 
-// Why `model` cannot run over several ranks, or empty when it can (DESIGN §12): a centralized
-// detector observes the whole ensemble at once, which no rank holds.
+// Why `model` cannot run over several ranks, or empty when it can (DESIGN §12): a centralized or
+// simultaneous-state detector observes the whole ensemble in one place, which no rank holds.
 std::string why_not_over_ranks(const Model& model);
 
 class Runtime {
  public:
   // `model` and `world` must outlive the runtime, and `ranks` too when given: then this process is
-  // one rank of a run over several (DESIGN §12). It steps the modules of its rank's blocks, a
-  // contiguous run of ids; every rank keeps the world (its bodies and N(m, t)) whole, with the
-  // actuations of all, and the rest of the state for its own modules only.
+  // one rank of a run over several (DESIGN §12). It steps the modules of the blocks `partition`
+  // gives its rank; every rank keeps the world (its bodies and N(m, t)) whole, with the actuations
+  // of all, and the rest of the state for its own modules only.
   Runtime(const Model& model, World& world, unsigned threads, RankExchange* ranks = nullptr,
           Partition partition = Partition::Blocks);
 
@@ -90,8 +94,6 @@ class Runtime {
   // Bytes this rank has sent to the others since the runtime was made: program messages and
   // PatternMatchers (the per-step batches), not the gathers of matches and statistics.
   uint64_t bytes_to_ranks() const { return bytes_to_ranks_; }
-  // Whether any rank says yes: a decision every rank must take alike (a collective call).
-  bool any_rank(bool yes);
 
  private:
   struct Lanes;  // a thread's PatternMatcher outbox
@@ -109,6 +111,7 @@ class Runtime {
   void observe_detector(uint32_t watch, State& state, WatchStepOutput& out);
   void deliver_program_messages(State& state);
   void deliver_in_flight(WatchState& ws);
+  void add_up_over_ranks(watch::AgentStepOutcome& outcome);
   void agree_on_failure_and_gather_actuations();
   uint32_t rank_of(ModuleId m) const;
 

@@ -113,14 +113,14 @@ void Session::take_keyframe() {
                            budget + budget / 2;
   };
   // Over several ranks each measures its own part; they thin together, so that every rank's
-  // history steps alike (runtime_->any_rank is the decision itself in one process).
-  while (keyframes_.size() > 1 && runtime_->any_rank(over_budget())) thin_keyframes();
+  // history steps alike (in one process any_rank is the decision itself).
+  while (keyframes_.size() > 1 && any_rank(options_.ranks, over_budget())) thin_keyframes();
   // Nor may they cost the live run more than a small share of its time: where a step is cheap
   // beside a copy of the state, keyframes are further apart, as long as a seek's stepping from
   // one stays short.
   if (keyframes_.size() > 1 &&
-      runtime_->any_rank(copy_seconds > kKeyframeTimeShare * double(interval_) * step_seconds_ &&
-                         2 * double(interval_) * step_seconds_ <= kSeekStepSeconds))
+      any_rank(options_.ranks, copy_seconds > kKeyframeTimeShare * double(interval_) * step_seconds_ &&
+                                   2 * double(interval_) * step_seconds_ <= kSeekStepSeconds))
     thin_keyframes();
 }
 

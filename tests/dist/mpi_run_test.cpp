@@ -27,8 +27,8 @@ class MpiRun : public Cli {
   // dwatch over `ranks` processes, started as a user starts it.
   Result mpirun(int ranks, const std::string& args) {
     const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
-    const std::string cmd = "mpirun --oversubscribe -np " + std::to_string(ranks) + " " + DWATCH_EXE + " " + args +
-                            " >" + out.string() + " 2>" + err.string();
+    const std::string cmd = std::string(DWATCH_MPIRUN) + " --oversubscribe -np " + std::to_string(ranks) + " " +
+                            DWATCH_EXE + " " + args + " >" + out.string() + " 2>" + err.string();
     const int status = std::system(cmd.c_str());
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
   }
