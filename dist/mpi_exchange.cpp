@@ -24,31 +24,46 @@ class MpiExchange final : public sim::RankExchange {
   int rank() const override { return rank_; }
   int ranks() const override { return ranks_; }
 
-  std::vector<std::vector<std::byte>> exchange(std::span<const std::vector<std::byte>> out) override {
+  // The sizes go by a non-blocking all-to-all and the batches by Isend at once; each receive is
+  // posted as soon as its size is known (in progress() or in the finish), and every call to
+  // progress() lets Open MPI move the bytes on meanwhile.
+  void start_exchange(std::vector<std::vector<std::byte>> out) override {
     const size_t n = static_cast<size_t>(ranks_);
-    std::vector<uint64_t> out_sizes(n, 0), in_sizes(n, 0);
+    out_ = std::move(out);
+    out_sizes_.assign(n, 0);
+    in_sizes_.assign(n, 0);
     for (size_t r = 0; r < n; ++r)
-      if (int(r) != rank_) out_sizes[r] = out[r].size();
-    MPI_Alltoall(out_sizes.data(), 1, MPI_UINT64_T, in_sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
-    std::vector<std::vector<std::byte>> in(n);
-    std::vector<MPI_Request> requests;
+      if (int(r) != rank_) out_sizes_[r] = out_[r].size();
+    MPI_Ialltoall(out_sizes_.data(), 1, MPI_UINT64_T, in_sizes_.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD, &sizes_);
+    requests_.clear();
     // Only the ranks with something to say are sent to or heard from: the neighbouring ones.
-    for (size_t r = 0; r < n; ++r) {
-      in[r].resize(in_sizes[r]);
-      for (uint64_t at = 0; at < in_sizes[r]; at += kPiece) {
-        requests.emplace_back();
-        MPI_Irecv(in[r].data() + at, int(std::min(kPiece, in_sizes[r] - at)), MPI_BYTE, int(r), 0, MPI_COMM_WORLD,
-                  &requests.back());
-      }
-    }
     for (size_t r = 0; r < n; ++r)
-      for (uint64_t at = 0; at < out_sizes[r]; at += kPiece) {
-        requests.emplace_back();
-        MPI_Isend(out[r].data() + at, int(std::min(kPiece, out_sizes[r] - at)), MPI_BYTE, int(r), 0, MPI_COMM_WORLD,
-                  &requests.back());
+      for (uint64_t at = 0; at < out_sizes_[r]; at += kPiece) {
+        requests_.emplace_back();
+        MPI_Isend(out_[r].data() + at, int(std::min(kPiece, out_sizes_[r] - at)), MPI_BYTE, int(r), 0, MPI_COMM_WORLD,
+                  &requests_.back());
       }
-    MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
-    return in;
+    receiving_ = false;
+  }
+
+  void progress() override {
+    if (!receiving_) {
+      int sized = 0;
+      MPI_Test(&sizes_, &sized, MPI_STATUS_IGNORE);
+      if (sized) post_receives();
+    }
+    int done = 0;
+    MPI_Testall(int(requests_.size()), requests_.data(), &done, MPI_STATUSES_IGNORE);
+  }
+
+  std::vector<std::vector<std::byte>> finish_exchange() override {
+    if (!receiving_) {
+      MPI_Wait(&sizes_, MPI_STATUS_IGNORE);
+      post_receives();
+    }
+    MPI_Waitall(int(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
+    out_.clear();
+    return std::move(in_);
   }
 
   sim::Gathered all_gather(std::span<const std::byte> mine) override {
@@ -104,7 +119,28 @@ class MpiExchange final : public sim::RankExchange {
   }
 
  private:
+  void post_receives() {
+    const size_t n = static_cast<size_t>(ranks_);
+    in_.assign(n, {});
+    for (size_t r = 0; r < n; ++r) {
+      in_[r].resize(in_sizes_[r]);
+      for (uint64_t at = 0; at < in_sizes_[r]; at += kPiece) {
+        requests_.emplace_back();
+        MPI_Irecv(in_[r].data() + at, int(std::min(kPiece, in_sizes_[r] - at)), MPI_BYTE, int(r), 0, MPI_COMM_WORLD,
+                  &requests_.back());
+      }
+    }
+    receiving_ = true;
+  }
+
   int rank_ = 0, ranks_ = 1;
+  // The exchange under way: what goes (kept until it has gone), what comes, their sizes, and the
+  // requests of both.
+  std::vector<std::vector<std::byte>> out_, in_;
+  std::vector<uint64_t> out_sizes_, in_sizes_;
+  MPI_Request sizes_ = MPI_REQUEST_NULL;
+  std::vector<MPI_Request> requests_;
+  bool receiving_ = false;  // the sizes have come and the receives are posted
 };
 
 }  // namespace

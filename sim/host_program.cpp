@@ -24,7 +24,9 @@ uint64_t ModuleContext::random(uint32_t stream) const {
 }
 
 void ModuleContext::fail(const std::string& what) {
-  if (!outbox_.error.empty()) return;
+  // The lowest module's first misuse wins: the one module order meets first, whatever order a
+  // thread ran its blocks in (over ranks, border blocks go first).
+  if (!outbox_.error.empty() && outbox_.error_module <= id_) return;
   outbox_.error = std::string(program_name_) + " on module " + std::to_string(id_) + " " + what;
   outbox_.error_module = id_;
   outbox_.error_step = step_;

@@ -65,7 +65,7 @@ bool same_variables(const HostProgram& a, const HostProgram& b);
 struct Outbox {
   std::vector<Message> messages;
   std::vector<Actuation> actuations;
-  std::string error;          // the first misuse of the API (sending to a non-neighbour, too long a message)
+  std::string error;          // the lowest module's first misuse of the API (sending to a non-neighbour, ...)
   ModuleId error_module = 0;  // whose it was, at which step
   int64_t error_step = -1;
 };
@@ -151,7 +151,7 @@ class ModuleContext {
   // Latches to a neighbour (it must be one now).
   void bond(ModuleId other);
 
-  // A program error that stops the run: "<program> on module <id> <what>" (the first one wins).
+  // A program error that stops the run: "<program> on module <id> <what>" (the lowest module's first one wins).
   void fail(const std::string& what);
 
  private:

@@ -51,10 +51,15 @@ class RankExchange {
   virtual int rank() const = 0;
   virtual int ranks() const = 0;
 
-  // Sends out[r] to rank r (out[rank()] is not sent) and returns what each rank sent here, in
-  // rank order (empty for this rank). A rank that has nothing for another sends it nothing but
-  // its size.
-  virtual std::vector<std::vector<std::byte>> exchange(std::span<const std::vector<std::byte>> out) = 0;
+  // An all-to-all that overlaps work: start_exchange starts sending out[r] to rank r (out[rank()]
+  // is not sent) and returns at once; the bytes move while this rank works on, as long as it
+  // calls progress() now and then; finish_exchange waits for what each rank sent here and returns
+  // it, in rank order (empty for this rank). A rank that has nothing for another sends it nothing
+  // but its size. One exchange at a time, and no other call between its start and its finish but
+  // progress().
+  virtual void start_exchange(std::vector<std::vector<std::byte>> out) = 0;
+  virtual void progress() {}
+  virtual std::vector<std::vector<std::byte>> finish_exchange() = 0;
   // Every rank's `mine`, in rank order, on every rank.
   virtual Gathered all_gather(std::span<const std::byte> mine) = 0;
   // Sums `values` element-wise over the ranks, in place, on every rank.

@@ -68,6 +68,7 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads, RankExchang
   blocks_ = (m >> block_shift_) + ((m & ((1u << block_shift_) - 1)) != 0);
   place_blocks(partition);
   scratch_.resize(pool_.size());
+  border_messages_.resize(pool_.size());
   arriving_.resize(pool_.size());
   for (const auto& program : model.programs) programs_.push_back(program.get());
   for (ThreadScratch& s : scratch_) {
@@ -211,18 +212,157 @@ void Runtime::run_agents(unsigned thread, uint32_t block, uint32_t w, State& sta
   watch::step_agents(*ws.agents, begin, end, f, arriving_[thread], scratch_[thread].agents[w], out);
 }
 
-void Runtime::run_thread(unsigned thread, State& state) {
+void Runtime::start_thread(unsigned thread, const State& state) {
   ThreadScratch& s = scratch_[thread];
   s.outbox.messages.clear();
   s.outbox.actuations.clear();
   s.outbox.error.clear();  // a failed step may be tried again (a script reloaded, a seek back)
   for (uint32_t w : agent_watches_)
     watch::start_agent_step(s.agents[w], state.step - model_.watches[w].watchpoint.program.extent_plus);
-  const size_t owned = own_blocks_.size();
-  for (size_t i = thread * owned / pool_.size(); i < (thread + 1) * owned / pool_.size(); ++i) {
-    const uint32_t block = own_blocks_[i];
-    run_programs(thread, block_begin(block), block_begin(block + 1), state);
-    for (uint32_t w : agent_watches_) run_agents(thread, block, w, state);
+}
+
+// The thread's share of `blocks`: the t-th of equal runs.
+void Runtime::run_blocks(unsigned thread, std::span<const uint32_t> blocks, State& state) {
+  const size_t n = blocks.size();
+  for (size_t i = thread * n / pool_.size(); i < (thread + 1) * n / pool_.size(); ++i) {
+    if (exchanging_ && thread == 0) ranks_->progress();  // thread 0 is the caller's, the one that calls MPI
+    run_programs(thread, block_begin(blocks[i]), block_begin(blocks[i] + 1), state);
+    for (uint32_t w : agent_watches_) run_agents(thread, blocks[i], w, state);
+  }
+}
+
+// Over ranks, the blocks that may send to another rank run first; their batches then travel while
+// the interior blocks run, and what the other ranks sent is taken in at the end (DESIGN §12).
+void Runtime::run_over_ranks(State& state) {
+  split_own_blocks(state);
+  pool_.run([&](unsigned thread) {
+    start_thread(thread, state);
+    run_blocks(thread, border_blocks_, state);
+    border_messages_[thread] = scratch_[thread].outbox.messages.size();
+  });
+  ranks_->start_exchange(batches_for_ranks());
+  exchanging_ = true;
+  pool_.run([&](unsigned thread) { run_blocks(thread, interior_blocks_, state); });
+  exchanging_ = false;
+  arrived_ = ranks_->finish_exchange();
+  open_batches();
+}
+
+// A block may send to another rank when one of its modules has a neighbour there: in N(m, t),
+// along which the programs send, or in N(m, t - E+) of a watch whose agents run, along which they
+// send (DistributedAgents::fill_and_spread). Worked out once per graph: a static lattice's once
+// for the run.
+void Runtime::split_own_blocks(const State& state) {
+  struct Graph {
+    std::shared_ptr<const void> owner;
+    const uint32_t* begin;
+    const uint32_t* ids;
+  };
+  std::vector<Graph> graphs{{state.graph, state.graph->begin.data(), state.graph->ids.data()}};
+  for (uint32_t w : agent_watches_) {
+    const watch::AgentHistory& history = state.watches[w].agents->history();
+    const int64_t f = state.step - model_.watches[w].watchpoint.program.extent_plus;
+    if (auto owner = history.graph_owner(f)) graphs.push_back({owner, history.graph(f).begin, history.graph(f).ids});
+  }
+  const uint32_t me = static_cast<uint32_t>(ranks_->rank());
+  std::vector<Border> kept;
+  for (const Graph& g : graphs) {
+    auto same = [&](const Border& b) { return b.graph == g.owner; };
+    if (std::ranges::any_of(kept, same)) continue;
+    if (auto known = std::ranges::find_if(borders_, same); known != borders_.end()) {
+      kept.push_back(std::move(*known));
+      continue;
+    }
+    Border& b = kept.emplace_back(Border{g.owner, std::vector<uint8_t>(own_blocks_.size(), 0)});
+    for (size_t i = 0; i < own_blocks_.size(); ++i)
+      for (uint32_t m = block_begin(own_blocks_[i]); m < block_begin(own_blocks_[i] + 1) && !b.crosses[i]; ++m)
+        for (uint32_t e = g.begin[m]; e < g.begin[m + 1]; ++e)
+          if (rank_of(g.ids[e]) != me) {
+            b.crosses[i] = 1;
+            break;
+          }
+  }
+  borders_ = std::move(kept);
+  border_blocks_.clear();
+  interior_blocks_.clear();
+  for (size_t i = 0; i < own_blocks_.size(); ++i) {
+    const bool border = std::ranges::any_of(borders_, [&](const Border& b) { return b.crosses[i] != 0; });
+    (border ? border_blocks_ : interior_blocks_).push_back(own_blocks_[i]);
+  }
+}
+
+// What the border blocks sent to other ranks' modules, one batch per rank: the program messages
+// (their count, then the records), then for each watch whose agents run, its lanes to that rank's
+// blocks (their bytes, then each as block, bytes, records). The lanes are emptied: their
+// PatternMatchers are in flight in the batch. A rank with nothing for another sends it nothing.
+std::vector<std::vector<std::byte>> Runtime::batches_for_ranks() {
+  const uint32_t me = static_cast<uint32_t>(ranks_->rank());
+  std::vector<std::vector<std::byte>> out(static_cast<size_t>(ranks_->ranks()));
+  std::vector<bool> carries(out.size(), false);
+  auto put = [](std::vector<std::byte>& to, uint64_t value) {
+    append_records(to, std::span<const uint64_t>(&value, 1));
+  };
+  auto patch = [](std::vector<std::byte>& to, size_t at, uint64_t value) {
+    std::memcpy(to.data() + at, &value, sizeof value);
+  };
+  for (std::vector<std::byte>& to : out) put(to, 0);
+  for (const ThreadScratch& s : scratch_)
+    for (const Message& m : s.outbox.messages)
+      if (const uint32_t r = rank_of(m.to); r != me) append_records(out[r], std::span<const Message>(&m, 1));
+  for (size_t r = 0; r < out.size(); ++r) {
+    const uint64_t count = (out[r].size() - sizeof(uint64_t)) / sizeof(Message);
+    patch(out[r], 0, count);
+    carries[r] = count != 0;
+  }
+  for (uint32_t w : agent_watches_) {
+    std::vector<size_t> head(out.size());
+    for (size_t r = 0; r < out.size(); ++r) head[r] = out[r].size(), put(out[r], 0);
+    for (uint32_t thread = 0; thread < pool_.size(); ++thread)
+      for (uint32_t block = 0; block < blocks_; ++block) {
+        watch::RecordBuffer& lane = sending_[w][size_t{thread} * blocks_ + block];
+        if (lane.empty() || block_rank_[block] == me) continue;
+        std::vector<std::byte>& to = out[block_rank_[block]];
+        put(to, block);
+        put(to, lane.size());
+        to.insert(to.end(), lane.data(), lane.data() + lane.size());
+        lane.clear();
+      }
+    for (size_t r = 0; r < out.size(); ++r) {
+      const uint64_t bytes = out[r].size() - head[r] - sizeof(uint64_t);
+      patch(out[r], head[r], bytes);
+      carries[r] = carries[r] || bytes != 0;
+    }
+  }
+  for (size_t r = 0; r < out.size(); ++r) {
+    if (!carries[r]) out[r].clear();
+    bytes_to_ranks_ += out[r].size();
+  }
+  return out;
+}
+
+// The batches that arrived (batches_for_ranks), opened in place: the messages, and each watch's
+// lanes, by rank.
+void Runtime::open_batches() {
+  arrived_messages_.assign(arrived_.size(), {});
+  arrived_lanes_.assign(model_.watches.size(), {});
+  for (size_t r = 0; r < arrived_.size(); ++r) {
+    const std::span<const std::byte> part = arrived_[r];
+    if (part.empty()) continue;
+    size_t at = 0;
+    auto take = [&] {
+      uint64_t value;
+      std::memcpy(&value, part.data() + at, sizeof value);
+      at += sizeof value;
+      return value;
+    };
+    const uint64_t count = take();
+    arrived_messages_[r] = records_of<Message>(part.subspan(at, count * sizeof(Message)));
+    at += count * sizeof(Message);
+    for (uint32_t w : agent_watches_) {
+      const uint64_t bytes = take();
+      arrived_lanes_[w].push_back(part.subspan(at, bytes));
+      at += bytes;
+    }
   }
 }
 
@@ -237,7 +377,7 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
     std::swap(ws.in_flight[lane], sending_[w][lane]);
     sending_[w][lane].clear();
   }
-  if (ranks_) deliver_in_flight(ws);
+  if (ranks_) take_arrived_lanes(w, ws);
   if (f < 0) return;
   std::vector<watch::AgentContext*> contexts;
   for (ThreadScratch& s : scratch_) contexts.push_back(&s.agents[w]);
@@ -302,18 +442,17 @@ void Runtime::deliver_program_messages(State& state) {
   const uint32_t programs = model_.program_count();
   const size_t groups = size_t{model_.module_count()} * programs;
   const uint32_t me = ranks_ ? static_cast<uint32_t>(ranks_->rank()) : 0;
-  // Messages to another rank's modules go there; those sent here come in from every rank.
-  std::vector<std::vector<std::byte>> received;
   uint64_t total = 0;  // to this rank's modules
   if (ranks_) {
-    std::vector<std::vector<std::byte>> out(static_cast<size_t>(ranks_->ranks()));
-    for (const ThreadScratch& s : scratch_)
-      for (const Message& m : s.outbox.messages)
-        if (const uint32_t r = rank_of(m.to); r != me) append_records(out[r], std::span(&m, 1));
-        else ++total;
-    for (const auto& part : out) bytes_to_ranks_ += part.size();
-    received = ranks_->exchange(out);
-    for (const auto& part : received) total += part.size() / sizeof(Message);
+    // Those to another rank's modules went in the border blocks' batches; those sent here came in.
+    for (unsigned thread = 0; thread < pool_.size(); ++thread) {
+      const std::vector<Message>& sent = scratch_[thread].outbox.messages;
+      for (size_t i = 0; i < sent.size(); ++i)
+        if (rank_of(sent[i].to) == me) ++total;
+        else if (i >= border_messages_[thread])
+          throw std::logic_error("a block taken for interior sent to another rank: its message would be lost");
+    }
+    for (const std::span<const Message> part : arrived_messages_) total += part.size();
   } else {
     for (const ThreadScratch& s : scratch_) total += s.outbox.messages.size();
   }
@@ -324,8 +463,8 @@ void Runtime::deliver_program_messages(State& state) {
     for (const ThreadScratch& s : scratch_)
       for (const Message& m : s.outbox.messages)
         if (!ranks_ || rank_of(m.to) == me) fn(m);
-    for (const std::vector<std::byte>& part : received)
-      for (const Message& m : records_of<Message>(part)) fn(m);
+    for (const std::span<const Message> part : arrived_messages_)
+      for (const Message& m : part) fn(m);
   };
   Mailbox& box = state.inbox;
   box.begin.assign(groups + 1, 0);
@@ -366,34 +505,25 @@ void Runtime::add_up_over_ranks(watch::AgentStepOutcome& outcome) {
     }
 }
 
-// PatternMatchers sent to another rank's blocks go there, in one batch per rank: each lane as
-// (block, bytes, records), appended on arrival to the block's first lane. Their order in the lanes
-// matters to nothing (DESIGN §4: a multiset), as with threads.
-void Runtime::deliver_in_flight(WatchState& ws) {
+// The PatternMatchers other ranks sent to this rank's blocks (batches_for_ranks), appended to each
+// block's first lane. Their order in the lanes matters to nothing (DESIGN §4: a multiset), as with
+// threads.
+void Runtime::take_arrived_lanes(uint32_t w, WatchState& ws) {
   const uint32_t me = static_cast<uint32_t>(ranks_->rank());
-  std::vector<std::vector<std::byte>> out(static_cast<size_t>(ranks_->ranks()));
-  for (uint32_t thread = 0; thread < pool_.size(); ++thread)
-    for (uint32_t block = 0; block < blocks_; ++block) {
-      watch::RecordBuffer& lane = ws.in_flight[size_t{thread} * blocks_ + block];
-      if (lane.empty() || block_rank_[block] == me) continue;
-      std::vector<std::byte>& to = out[block_rank_[block]];
-      const uint64_t head[2] = {block, lane.size()};
-      append_records(to, std::span<const uint64_t>(head));
-      to.insert(to.end(), lane.data(), lane.data() + lane.size());
-      lane.clear();
-    }
-  for (const auto& part : out) bytes_to_ranks_ += part.size();
-  for (const std::vector<std::byte>& part : ranks_->exchange(out))
-    for (size_t at = 0; at < part.size();) {
+  for (size_t lane = 0; lane < ws.in_flight.size(); ++lane)
+    if (!ws.in_flight[lane].empty() && block_rank_[lane % blocks_] != me)
+      throw std::logic_error("a block taken for interior sent to another rank: its PatternMatchers would be lost");
+  for (const std::span<const std::byte> lanes : arrived_lanes_[w])
+    for (size_t at = 0; at < lanes.size();) {
       uint64_t head[2];
-      std::memcpy(head, part.data() + at, sizeof head);
-      ws.in_flight[head[0]].append_records(part.data() + at + sizeof head, head[1]);
+      std::memcpy(head, lanes.data() + at, sizeof head);
+      ws.in_flight[head[0]].append_records(lanes.data() + at + sizeof head, head[1]);
       at += sizeof head + head[1];
     }
 }
 
 // A program's misuse on any rank stops every rank, with the first one in module order, as one
-// process reports it (its first thread's first). Otherwise the actuation requests go to the world
+// process reports it (each thread's outbox keeps its lowest module's). Otherwise the actuation requests go to the world
 // in module order, as one process has them (in thread order): the world is stepped whole on
 // every rank, so every rank needs all of them. One sum over the ranks says whether either has to
 // be gathered.
@@ -401,7 +531,7 @@ void Runtime::agree_on_failure_and_gather_actuations() {
   const Outbox* failed = nullptr;
   const size_t before = actuations_.size();  // the interventions' pushes come first
   for (const ThreadScratch& s : scratch_) {
-    if (!failed && !s.outbox.error.empty()) failed = &s.outbox;
+    if (!s.outbox.error.empty() && (!failed || s.outbox.error_module < failed->error_module)) failed = &s.outbox;
     actuations_.insert(actuations_.end(), s.outbox.actuations.begin(), s.outbox.actuations.end());
   }
   uint64_t counts[2] = {failed != nullptr, actuations_.size() - before};
@@ -526,9 +656,17 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
     if (!model_.watches[w].runs_on_agents() || state.watches[w].stopped) continue;
     if (!watching.empty() && !watching[w]) continue;
     agent_watches_.push_back(w);
+    for (watch::RecordBuffer& lane : sending_[w]) lane.clear();  // a step that failed may have filled some
     state.watches[w].agents->begin_record(make_frame(model_, state.step, next_values_, state.present, state.graph));
   }
-  pool_.run([&](unsigned thread) { run_thread(thread, state); });
+  if (ranks_) {
+    run_over_ranks(state);
+  } else {
+    pool_.run([&](unsigned thread) {
+      start_thread(thread, state);
+      run_blocks(thread, own_blocks_, state);
+    });
+  }
   agree_on_failure_and_gather_actuations();
 
   std::swap(state.values, next_values_);  // assign: the variables now hold step t's values

@@ -104,13 +104,18 @@ class Runtime {
   };
 
   void intervene(State& state, std::span<const Intervention> interventions);
-  void run_thread(unsigned thread, State& state);
+  void start_thread(unsigned thread, const State& state);
+  void run_blocks(unsigned thread, std::span<const uint32_t> blocks, State& state);
+  void run_over_ranks(State& state);
+  void split_own_blocks(const State& state);
+  std::vector<std::vector<std::byte>> batches_for_ranks();
+  void open_batches();
   void run_programs(unsigned thread, uint32_t begin, uint32_t end, const State& state);
   void run_agents(unsigned thread, uint32_t block, uint32_t watch, State& state);
   void finish_distributed(uint32_t watch, State& state, WatchStepOutput& out);
   void observe_detector(uint32_t watch, State& state, WatchStepOutput& out);
   void deliver_program_messages(State& state);
-  void deliver_in_flight(WatchState& ws);
+  void take_arrived_lanes(uint32_t watch, WatchState& ws);
   void add_up_over_ranks(watch::AgentStepOutcome& outcome);
   void agree_on_failure_and_gather_actuations();
   uint32_t rank_of(ModuleId m) const;
@@ -127,6 +132,21 @@ class Runtime {
   std::vector<uint32_t> block_rank_;  // per block, the rank that steps it
   std::vector<uint32_t> own_blocks_;  // this rank's, ascending; thread t takes the t-th of equal runs
   uint64_t bytes_to_ranks_ = 0;
+  // This step's own blocks that may send to another rank, which run first so that their batches
+  // travel while the others (interior) run; and what they are worked out from, per graph sent
+  // along (the programs' N(m, t), each watch's agents' N(m, t - E+)): per own block, whether a
+  // module of it has a neighbour on another rank. Keeping the graph keeps its identity unique.
+  std::vector<uint32_t> border_blocks_, interior_blocks_;
+  struct Border {
+    std::shared_ptr<const void> graph;
+    std::vector<uint8_t> crosses;
+  };
+  std::vector<Border> borders_;
+  bool exchanging_ = false;                                 // thread 0 lets the exchange on between blocks
+  std::vector<size_t> border_messages_;                     // per thread: its outbox's messages from border blocks
+  std::vector<std::vector<std::byte>> arrived_;             // this step's batches from the other ranks
+  std::vector<std::span<const Message>> arrived_messages_;  // per rank
+  std::vector<std::vector<std::span<const std::byte>>> arrived_lanes_;  // per watch, per rank
   std::vector<ThreadScratch> scratch_;
   std::vector<const HostProgram*> programs_;  // in use, by index: the model's unless replaced
   std::vector<int64_t> next_values_;

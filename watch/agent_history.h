@@ -59,6 +59,13 @@ class AgentHistory {
     return t != nullptr ? StepGraph{t->begin.data(), t->ids.data()} : StepGraph{};
   }
 
+  // What keeps the graph at `step` alive (the host's own, when it lent it), or null when the step
+  // is unknown: the graph's identity, for a host that works something out once per graph.
+  std::shared_ptr<const void> graph_owner(int64_t step) const {
+    const Topology* t = topology_.find(step);
+    return t != nullptr ? t->owner : nullptr;
+  }
+
   // N(m, step), or nullptr when the module was absent then (or the step is unknown); `count` is
   // its size.
   const uint32_t* neighbors(uint32_t m, int64_t step, uint32_t& count) const {

@@ -22,8 +22,11 @@ class ThreadRanks {
     Rank(ThreadRanks& all, int me) : all_(all), me_(me) {}
     int rank() const override { return me_; }
     int ranks() const override { return all_.n_; }
-    std::vector<std::vector<std::byte>> exchange(std::span<const std::vector<std::byte>> out) override {
-      all_.posted_[size_t(me_)].assign(out.begin(), out.end());
+    // Nothing moves before the finish: every rank meets there.
+    void start_exchange(std::vector<std::vector<std::byte>> out) override {
+      all_.posted_[size_t(me_)] = std::move(out);
+    }
+    std::vector<std::vector<std::byte>> finish_exchange() override {
       all_.sync_.arrive_and_wait();
       std::vector<std::vector<std::byte>> in(size_t(all_.n_));
       for (int r = 0; r < all_.n_; ++r)
@@ -79,9 +82,38 @@ struct Seen {
   bool operator==(const Seen&) const = default;
 };
 
+// A world whose links change every step: on odd steps each module is linked to its lattice
+// neighbours and to the module half the ensemble away, on even steps to the lattice's only. Over
+// ranks, a block with no neighbour on another rank at step t may have had one at t - 1, along
+// which agents that run a step behind (`next`) send.
+class FarLinksOnOddSteps final : public World {
+ public:
+  void initialize(const Model& model, State& state) override {
+    state.present.assign(model.module_count(), 1);
+    state.graph = graph(model, 0);
+  }
+  void restore(const Model&, const State&) override {}
+  void advance(const Model& model, State& state, std::span<const Actuation>) override {
+    state.graph = graph(model, state.step);
+  }
+
+ private:
+  static std::shared_ptr<const NeighborGraph> graph(const Model& model, int64_t step) {
+    const NeighborGraph& lattice = model.lattice.graph;
+    const uint32_t m = lattice.module_count();
+    std::vector<std::pair<ModuleId, ModuleId>> pairs;
+    for (ModuleId a = 0; a < m; ++a)
+      for (ModuleId b : lattice.neighbors(a)) pairs.push_back({a, b});
+    if (step % 2 == 1)
+      for (ModuleId a = 0; a < m / 2; ++a) pairs.push_back({a, a + m / 2});
+    return std::make_shared<const NeighborGraph>(NeighborGraph::from_pairs(m, pairs));
+  }
+};
+
+template <class W = StaticLatticeWorld>
 Seen run(const Model& model, int steps, unsigned threads, RankExchange* ranks,
          Partition partition = Partition::Blocks) {
-  StaticLatticeWorld world;
+  W world;
   Runtime rt(model, world, threads, ranks, partition);
   State s = rt.initial_state();
   StepOutput out;
@@ -135,27 +167,60 @@ TEST(RuntimeRanks, EveryStepOfEveryRankEqualsOneRuntime) {
       }
 }
 
-TEST(RuntimeRanks, AProgramFailingOnOneRankStopsEveryRankWithItsError) {
-  // SendsToStranger: module 5 sends to module 0, which is no neighbour, at step 2.
-  std::vector<std::unique_ptr<const HostProgram>> programs;
-  programs.push_back(std::make_unique<test_programs::SendsToStranger>());
-  const auto model = std::get<std::unique_ptr<Model>>(
-      build_model(make_lattice({LatticeKind::Line, {8, 1, 1}}), std::move(programs), {}, 1));
-  const std::vector<std::string> said = on_ranks(4, [&](RankExchange& r) -> std::string {
-    StaticLatticeWorld world;
-    Runtime rt(*model, world, 1, &r);
-    State s = rt.initial_state();
-    StepOutput out;
-    try {
-      for (int t = 0; t < 5; ++t) rt.step(s, out);
-    } catch (const ProgramError& e) {
-      return std::to_string(s.step) + ": module " + std::to_string(e.module.value_or(999)) + ": " + e.what();
+TEST(RuntimeRanks, LinksThatChangeEveryStepGiveTheResultsOfOneRuntime) {
+  // b.next: the agents run a step behind the programs, and send along the links of that step. On
+  // a line of 4 blocks of 4096 over 2 ranks, rank 0's block 0 has no neighbour on rank 1 at even
+  // steps, and at odd ones has (the far links): its agents must count as on the border.
+  const auto model = test_programs::gossip_model(
+      {LatticeKind::Line, {4 * 4096, 1, 1}},
+      {{"modules(a b c); (a.v = 1) and (b.next.v != 1) and (c.v = 1) and (c.last.mix < a.mix)",
+        watch::Algorithm::Distributed}});
+  const Seen one = run<FarLinksOnOddSteps>(*model, 20, 1, nullptr);
+  size_t matched = 0;
+  for (const auto& s : one.slots)
+    for (size_t i = 0; i + 2 < s.size(); i += 3)
+      matched += std::max(s[i], s[i + 1]) - std::min(s[i], s[i + 1]) == 2 * 4096 ||
+                 std::max(s[i + 1], s[i + 2]) - std::min(s[i + 1], s[i + 2]) == 2 * 4096;
+  ASSERT_GT(matched, 0u) << "some matches must run over a far link for the comparison to mean something";
+  for (int n : {2, 3})
+    for (unsigned threads : {1u, 2u}) {
+      const std::vector<Seen> ranks =
+          on_ranks(n, [&](RankExchange& r) { return run<FarLinksOnOddSteps>(*model, 20, threads, &r); });
+      for (int r = 0; r < n; ++r)
+        EXPECT_EQ(ranks[size_t(r)], one) << n << " ranks x " << threads << " threads, rank " << r;
     }
-    return "no error";
-  });
-  for (const std::string& s : said) {
-    EXPECT_EQ(s, said[0]);
-    EXPECT_NE(s.find("module 5"), std::string::npos) << s;
+}
+
+// What a run of SendsToStranger(modules) on a line of `length` ended with: the step and the error.
+std::string failure(uint32_t length, const std::vector<ModuleId>& modules, RankExchange* ranks) {
+  std::vector<std::unique_ptr<const HostProgram>> programs;
+  programs.push_back(std::make_unique<test_programs::SendsToStranger>(modules));
+  const auto model = std::get<std::unique_ptr<Model>>(
+      build_model(make_lattice({LatticeKind::Line, {length, 1, 1}}), std::move(programs), {}, 1));
+  StaticLatticeWorld world;
+  Runtime rt(*model, world, 1, ranks);
+  State s = rt.initial_state();
+  StepOutput out;
+  try {
+    for (int t = 0; t < 5; ++t) rt.step(s, out);
+  } catch (const ProgramError& e) {
+    return std::to_string(s.step) + ": module " + std::to_string(e.module.value_or(999)) + ": " + e.what();
+  }
+  return "no error";
+}
+
+TEST(RuntimeRanks, AProgramFailingOnOneRankStopsEveryRankWithItsError) {
+  // The lowest failing module's error is the one, as in one process, whichever rank it is on and
+  // whichever block of its rank runs first. On a line of 8, modules 5 alone, and 1 and 3 (over 4
+  // ranks each is another rank's). On a line of 4 blocks of 4096 over 2 ranks, rank 0 holds
+  // blocks 0 and 1: 5000 is in block 1, on the border, which runs first; 100 is inside.
+  const std::pair<uint32_t, std::vector<ModuleId>> cases[] = {{8, {5}}, {8, {3, 1}}, {4 * 4096, {5000, 100}}};
+  for (const auto& [length, modules] : cases) {
+    const std::string one = failure(length, modules, nullptr);
+    ASSERT_NE(one.find("module " + std::to_string(std::ranges::min(modules)) + ":"), std::string::npos) << one;
+    for (int n : {2, 4})
+      for (const std::string& said : on_ranks(n, [&](RankExchange& r) { return failure(length, modules, &r); }))
+        EXPECT_EQ(said, one) << n << " ranks, line of " << length;
   }
 }
 

@@ -96,7 +96,7 @@ TEST(Runtime, SendingToAModuleThatIsNotANeighbourStopsTheRun) {
     rt.step(s, out);
     FAIL() << "expected a ProgramError";
   } catch (const ProgramError& e) {
-    EXPECT_NE(std::string(e.what()).find("module 5 sent to module 0 at step 2, which is not its neighbour"),
+    EXPECT_NE(std::string(e.what()).find("module 5 sent to module 7 at step 2, which is not its neighbour"),
               std::string::npos)
         << e.what();
   }

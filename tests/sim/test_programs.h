@@ -29,14 +29,19 @@ class Gossip final : public HostProgram {
   }
 };
 
-// Sends to module 0 from everywhere: a misuse the runtime must stop.
+// At step 2, each of `modules` sends to the module two ids on, which is no neighbour on a line:
+// a misuse the runtime must stop.
 class SendsToStranger final : public HostProgram {
  public:
+  explicit SendsToStranger(std::vector<ModuleId> modules = {5}) : modules_(std::move(modules)) {}
   std::string_view name() const override { return "stranger"; }
   std::vector<VariableSpec> variables() const override { return {{"s", 0}}; }
   void step(ModuleContext& m) const override {
-    if (m.step() == 2 && m.id() == 5) m.send(0, {1});
+    if (m.step() == 2 && std::ranges::find(modules_, m.id()) != modules_.end()) m.send(m.id() + 2, {1});
   }
+
+ private:
+  std::vector<ModuleId> modules_;
 };
 
 inline watch::Watchpoint compile(const std::string& text) {

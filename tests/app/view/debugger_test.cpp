@@ -46,7 +46,10 @@ class Window : public ::testing::Test {
   // Runs `dwatch ARGS` (under Xvfb when `window`), its stdout as JSON lines.
   Outcome dwatch(const std::string& args, const std::string& script, bool window) {
     std::ofstream(dir_ / "script") << script;
-    const std::string prefix = window ? "xvfb-run -a -s '-screen 0 1600x1000x24' " : "";
+    // The X authority file in the test's own directory: xvfb-run then makes no temporary one, whose
+    // removal failed now and then (its exit code 5 in place of the command's).
+    const std::string prefix =
+        window ? "xvfb-run -a -f " + (dir_ / "Xauthority").string() + " -s '-screen 0 1600x1000x24' " : "";
     const std::string cmd =
         "cd " + dir_.string() + " && " + prefix + DWATCH_EXE + " " + args + " --script script >stdout 2>stderr";
     Outcome r;
@@ -168,14 +171,14 @@ TEST_F(Window, KeysStepSeekAndFindTheNextMatch) {
 TEST_F(Window, ScriptMistakesAreBadInputAndFailuresStopTheScript) {
   // Every line is checked before the window does anything: the window's own commands too.
   const Outcome bad = dwatch("view " + kLeader, "step\nkey\nseek x\nwait 1 2\n", true);
-  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
   EXPECT_TRUE(bad.answers.empty());
   EXPECT_NE(bad.err.find("script:2:4: error: key NAME: one of space"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("script:3:6: error:"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("script:4:8: error: 'wait' takes 1 more word"), std::string::npos) << bad.err;
   // A command that cannot be carried out stops the script there.
   const Outcome failed = dwatch("view " + kLeader, "step\nclick match 5000\nstep\n", true);
-  EXPECT_EQ(failed.exit_code, 1);
+  EXPECT_EQ(failed.exit_code, 1) << failed.err;
   EXPECT_EQ(failed.answers.size(), 1u);
   EXPECT_NE(failed.err.find("script:2: error: ROW must be an integer"), std::string::npos) << failed.err;
 }
@@ -188,7 +191,7 @@ TEST_F(Window, AScriptErrorIsShownAndTheFixedScriptReloaded) {
   std::ofstream(dir_ / "s.toml")
       << "steps = 20\n[lattice]\nkind = \"line\"\nsize = [4]\n[[program]]\nscript = \"x.lua\"\n";
   const Outcome failed = dwatch("view s.toml", "run\n", true);
-  EXPECT_EQ(failed.exit_code, 1);
+  EXPECT_EQ(failed.exit_code, 1) << failed.err;
   EXPECT_NE(failed.err.find("x.lua on module 0 at step 6: x.lua:3: boom"), std::string::npos) << failed.err;
 
   std::ofstream(dir_ / "x.lua") << header + "function step(m) m:set(\"v\", m.step) end\n";
