@@ -24,12 +24,14 @@ struct Runtime::Lanes final : watch::PatternMatcherOutbox {
 };
 
 watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_t> values,
-                        std::span<const uint8_t> present, const std::shared_ptr<const NeighborGraph>& graph) {
+                        std::span<const uint8_t> present, const std::shared_ptr<const NeighborGraph>& graph,
+                        uint32_t first_module) {
   watch::Frame frame;
   frame.step = step;
   frame.present = present;
   frame.values = values;
-  frame.has_value = model.all_known;
+  frame.has_value = std::span(model.all_known).subspan(size_t{first_module} * model.variable_count(), values.size());
+  frame.first_module = first_module;
   frame.nbr_begin = graph->begin;
   frame.nbrs = graph->ids;
   frame.variable_count = model.variable_count();
@@ -79,7 +81,7 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads, RankExchang
       s.agents.emplace_back(w.watchpoint.program, w.options.optimizations, w.options.live_budget);
     }
   }
-  next_values_.resize(size_t{m} * model.variable_count());
+  next_values_.resize(size_t{window_} * model.variable_count());
   const size_t lanes = size_t{pool_.size()} * blocks_;
   for (const HostedWatchpoint& w : model.watches) {
     columns_.push_back(watch::variable_columns(w.watchpoint.program, model.universe));
@@ -140,6 +142,8 @@ void Runtime::place_blocks(Partition partition) {
   own_blocks_.clear();
   for (uint32_t b = 0; b < blocks_; ++b)
     if (block_rank_[b] == me) own_blocks_.push_back(b);
+  first_ = own_blocks_.empty() ? 0 : block_begin(own_blocks_.front());
+  window_ = own_blocks_.empty() ? 0 : block_begin(own_blocks_.back() + 1) - first_;
 }
 
 uint32_t Runtime::rank_of(ModuleId m) const { return block_rank_[m >> block_shift_]; }
@@ -150,9 +154,9 @@ uint32_t Runtime::block_begin(uint32_t block) const {
 
 State Runtime::initial_state() {
   State s;
-  const uint32_t m = model_.module_count(), v = model_.variable_count();
-  s.values.resize(size_t{m} * v);
-  for (uint32_t i = 0; i < m; ++i)
+  const uint32_t v = model_.variable_count();
+  s.values.resize(size_t{window_} * v);
+  for (uint32_t i = 0; i < window_; ++i)
     std::copy(model_.initial_values.begin(), model_.initial_values.end(), s.values.begin() + size_t{i} * v);
   world_.initialize(model_, s);
   for (uint32_t w = 0; w < model_.watches.size(); ++w) s.watches.push_back(initial_watch_state(w));
@@ -166,7 +170,7 @@ WatchState Runtime::initial_watch_state(uint32_t w) const {
     ws.detector = watch::make_detector(h.algorithm, h.watchpoint, model_.universe, h.options, nullptr);
     ws.detector->stats().max_steps = 0;  // the run keeps its own series
   } else {
-    ws.agents.emplace(h.watchpoint.program, h.options.optimizations.temporal_spans, model_.module_count());
+    ws.agents.emplace(h.watchpoint.program, h.options.optimizations.temporal_spans, first_, window_);
     ws.in_flight.resize(size_t{pool_.size()} * blocks_);
   }
   return ws;
@@ -176,17 +180,17 @@ void Runtime::run_programs(unsigned thread, uint32_t begin, uint32_t end, const 
   const uint32_t v = model_.variable_count(), programs = model_.program_count();
   ThreadScratch& scratch = scratch_[thread];
   for (uint32_t m = begin; m < end; ++m) {
-    const int64_t* before = state.values.data() + size_t{m} * v;
-    int64_t* after = next_values_.data() + size_t{m} * v;
+    const int64_t* before = state.values.data() + size_t{m - first_} * v;
+    int64_t* after = next_values_.data() + size_t{m - first_} * v;
     std::memcpy(after, before, sizeof(int64_t) * v);  // a variable nobody assigns keeps its value
     if (!state.present[m]) continue;
     const auto neighbors = state.graph->neighbors(m);
     for (uint32_t p = 0; p < programs; ++p) {
       const uint32_t base = model_.program_base[p];
       const HostProgram& program = *programs_[p];
-      ModuleContext ctx(m, state.step, model_.seed, static_cast<uint16_t>(p), neighbors, state.inbox.of(m, p, programs),
-                        before + base, after + base, scratch.outbox, program.name(), state.bodies,
-                        scratch.programs[p].get());
+      ModuleContext ctx(m, state.step, model_.seed, static_cast<uint16_t>(p), neighbors,
+                        state.inbox.of(m - first_, p, programs), before + base, after + base, scratch.outbox,
+                        program.name(), state.bodies, scratch.programs[p].get());
       program.step(ctx);
     }
   }
@@ -199,7 +203,7 @@ void Runtime::run_agents(unsigned thread, uint32_t block, uint32_t w, State& sta
   const watch::Program& program = model_.watches[w].watchpoint.program;
   WatchState& ws = state.watches[w];
   const uint32_t begin = block_begin(block), end = block_begin(block + 1);
-  const watch::Frame frame = make_frame(model_, state.step, next_values_, state.present, state.graph);
+  const watch::Frame frame = make_frame(model_, state.step, next_values_, state.present, state.graph, first_);
   ws.agents->record(frame, begin, end, program, columns_[w]);
   const int64_t f = state.step - program.extent_plus;
   if (f < 0) return;
@@ -440,7 +444,7 @@ void Runtime::observe_detector(uint32_t w, State& state, WatchStepOutput& out) {
 
 void Runtime::deliver_program_messages(State& state) {
   const uint32_t programs = model_.program_count();
-  const size_t groups = size_t{model_.module_count()} * programs;
+  const size_t groups = size_t{window_} * programs;
   const uint32_t me = ranks_ ? static_cast<uint32_t>(ranks_->rank()) : 0;
   uint64_t total = 0;  // to this rank's modules
   if (ranks_) {
@@ -474,10 +478,10 @@ void Runtime::deliver_program_messages(State& state) {
   state.program_messages += sent;
   if (total == 0) return;
   // A stable counting sort by (receiver, program): senders stay in id order within a group.
-  each([&](const Message& m) { ++box.begin[size_t{m.to} * programs + m.program + 1]; });
+  each([&](const Message& m) { ++box.begin[size_t{m.to - first_} * programs + m.program + 1]; });
   for (size_t g = 0; g < groups; ++g) box.begin[g + 1] += box.begin[g];
   counts_.assign(box.begin.begin(), box.begin.end() - 1);
-  each([&](const Message& m) { box.messages[counts_[size_t{m.to} * programs + m.program]++] = m; });
+  each([&](const Message& m) { box.messages[counts_[size_t{m.to - first_} * programs + m.program]++] = m; });
   if (ranks_)  // a sender's messages stay in the order sent; a group holds a few
     for (size_t g = 0; g < groups; ++g)
       if (box.begin[g + 1] - box.begin[g] > 1)
@@ -573,18 +577,14 @@ std::vector<int64_t> Runtime::whole_values(const State& state) {
   // Each rank gives its blocks' rows in block order; every rank knows whose each block is.
   const size_t v = model_.variable_count();
   std::vector<int64_t> copied;  // unless the blocks are one run (--partition blocks), read in place
-  std::span<const int64_t> own;
-  if (!own_blocks_.empty() && own_blocks_.back() - own_blocks_.front() + 1 == own_blocks_.size()) {
-    own = std::span(state.values)
-              .subspan(block_begin(own_blocks_.front()) * v,
-                       (block_begin(own_blocks_.back() + 1) - block_begin(own_blocks_.front())) * v);
-  } else {
+  std::span<const int64_t> own = state.values;
+  if (!own_blocks_.empty() && own_blocks_.back() - own_blocks_.front() + 1 != own_blocks_.size()) {
     for (uint32_t b : own_blocks_)
-      copied.insert(copied.end(), state.values.begin() + static_cast<ptrdiff_t>(block_begin(b) * v),
-                    state.values.begin() + static_cast<ptrdiff_t>(block_begin(b + 1) * v));
+      copied.insert(copied.end(), state.values.begin() + static_cast<ptrdiff_t>((block_begin(b) - first_) * v),
+                    state.values.begin() + static_cast<ptrdiff_t>((block_begin(b + 1) - first_) * v));
     own = copied;
   }
-  std::vector<int64_t> values(state.values.size());
+  std::vector<int64_t> values(size_t{model_.module_count()} * v);
   const Gathered parts = ranks_->all_gather(std::as_bytes(own));
   std::vector<size_t> read(parts.size(), 0);
   for (uint32_t b = 0; b < blocks_; ++b) {
@@ -605,6 +605,7 @@ uint64_t Runtime::hash(const State& state) {
   // back in module order, and the in-flight multisets added up. The rest every rank holds.
   State whole = simulation_part(state, whole_values(state));
   whole.inbox.messages.clear();
+  whole.inbox.begin.clear();  // this rank's receivers' groups: none of the whole's, and not hashed
   for (const auto& part : ranks_->all_gather(std::as_bytes(std::span(state.inbox.messages))))
     whole.inbox.messages.insert(whole.inbox.messages.end(), records_of<Message>(part).begin(),
                                 records_of<Message>(part).end());
@@ -631,7 +632,10 @@ void Runtime::intervene(State& state, std::span<const Intervention> intervention
       throw ProgramError(std::string("a ") + intervention_name(i.kind) + " intervention at step " +
                          std::to_string(i.at) + " names no module or variable of the model");
     switch (i.kind) {
-      case Intervention::Kind::Set: state.values[size_t{i.module} * v + size_t(i.column)] = i.value; break;
+      case Intervention::Kind::Set:  // the module's rank's alone: no other holds its variables
+        if (!ranks_ || rank_of(i.module) == static_cast<uint32_t>(ranks_->rank()))
+          state.values[size_t{i.module - first_} * v + size_t(i.column)] = i.value;
+        break;
       case Intervention::Kind::Remove: world_.remove_module(model_, state, i.module); break;
       case Intervention::Kind::Push:
         if (state.bodies.empty())
@@ -657,7 +661,8 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
     if (!watching.empty() && !watching[w]) continue;
     agent_watches_.push_back(w);
     for (watch::RecordBuffer& lane : sending_[w]) lane.clear();  // a step that failed may have filled some
-    state.watches[w].agents->begin_record(make_frame(model_, state.step, next_values_, state.present, state.graph));
+    state.watches[w].agents->begin_record(
+        make_frame(model_, state.step, next_values_, state.present, state.graph, first_));
   }
   if (ranks_) {
     run_over_ranks(state);

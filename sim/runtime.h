@@ -44,10 +44,11 @@ struct StepOutput {
   uint64_t program_messages = 0;
 };
 
-// The frame the watchpoints see of a step: the variables, presence and N(m, step) (lent, see
-// Frame::topology).
+// The frame the watchpoints see of a step: the variables (of the modules from `first_module` on;
+// all of them but over ranks), presence and N(m, step) (lent, see Frame::topology).
 watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_t> values,
-                        std::span<const uint8_t> present, const std::shared_ptr<const NeighborGraph>& graph);
+                        std::span<const uint8_t> present, const std::shared_ptr<const NeighborGraph>& graph,
+                        uint32_t first_module = 0);
 // The frame of the step that `out` reports, while `state` still holds that step's variables.
 inline watch::Frame observed_frame(const Model& model, const State& state, const StepOutput& out) {
   return make_frame(model, out.step, state.values, out.present, out.graph);
@@ -84,6 +85,11 @@ class Runtime {
   const Model& model() const { return model_; }
   World& world() { return world_; }
   unsigned threads() const { return pool_.size(); }
+
+  // The modules whose variables, inboxes and agents this process's states hold: [first, first +
+  // count), all of them in one process; over ranks, from its first block to its last (DESIGN §12).
+  uint32_t first_module() const { return first_; }
+  uint32_t module_window() const { return window_; }
 
   // The state hash (hash_state) of the whole ensemble: over several ranks, of the parts every rank
   // holds, on every rank (a collective call).
@@ -131,6 +137,7 @@ class Runtime {
   RankExchange* ranks_;               // null: this process runs every module
   std::vector<uint32_t> block_rank_;  // per block, the rank that steps it
   std::vector<uint32_t> own_blocks_;  // this rank's, ascending; thread t takes the t-th of equal runs
+  uint32_t first_ = 0, window_ = 0;   // the modules the state holds (module_window)
   uint64_t bytes_to_ranks_ = 0;
   // This step's own blocks that may send to another rank, which run first so that their batches
   // travel while the others (interior) run; and what they are worked out from, per graph sent

@@ -16,6 +16,10 @@ Session::Session(Model& model, World& world, SessionOptions options)
     : model_(model), world_(world), options_(std::move(options)) {
   interventions_ = std::move(options_.events);
   options_.events.clear();
+  // Over ranks the budget is the run's: each rank's keyframes hold its own modules' part, so each
+  // gets an equal share, and K steps as in one process.
+  if (options_.ranks && options_.history_bytes > 0)
+    options_.history_bytes = std::max<size_t>(1, options_.history_bytes / static_cast<size_t>(options_.ranks->ranks()));
   std::stable_sort(interventions_.begin(), interventions_.end(),
                    [](const Intervention& a, const Intervention& b) { return a.at < b.at; });
   rebuild_runtime();

@@ -39,7 +39,8 @@ struct SessionOptions {
   // The scenario's steps: the session does not simulate ahead past step end - 1 (a run asked to
   // go further may). 0: ahead only as far as each run is asked to go.
   int64_t end = 0;
-  // Memory for keyframes; K doubles to stay within it (keyframe 0 always stays). 0: no history,
+  // Memory for keyframes (over ranks, for all of theirs); K doubles to stay within it (keyframe 0
+  // always stays). 0: no history,
   // for measuring the runtime alone: the session can then neither seek back, branch from the
   // past, nor evaluate a new watchpoint over the past.
   size_t history_bytes = size_t{256} << 20;

@@ -4,7 +4,8 @@
 
 namespace dw::watch {
 
-void AgentHistory::configure(const Program& p, bool temporal_spans, uint32_t modules) {
+void AgentHistory::configure(const Program& p, bool temporal_spans, uint32_t first, uint32_t modules) {
+  first_ = first;
   modules_ = modules;
   values_.assign(p.variables.size(), {});
   for (size_t v = 0; v < values_.size(); ++v)
@@ -48,20 +49,20 @@ void AgentHistory::begin_record(const Frame& frame) {
 
 void AgentHistory::record(const Frame& frame, uint32_t begin, uint32_t end, std::span<const int> columns) {
   Topology& t = *topology_.find(frame.step);
-  for (uint32_t m = begin; m < end; ++m) t.present[m] = frame.present[m];
+  for (uint32_t m = begin; m < end; ++m) t.present[m - first_] = frame.present[m];
   for (size_t v = 0; v < values_.size(); ++v) {
     Values& row = *values_[v].find(frame.step);
     if (columns[v] < 0) {  // frames never carry it: unknown throughout
-      std::fill(row.known.begin() + begin, row.known.begin() + end, 0);
-      std::fill(row.values.begin() + begin, row.values.begin() + end, 0);
+      std::fill(row.known.begin() + (begin - first_), row.known.begin() + (end - first_), 0);
+      std::fill(row.values.begin() + (begin - first_), row.values.begin() + (end - first_), 0);
       continue;
     }
     const size_t c = static_cast<size_t>(columns[v]);
     for (uint32_t m = begin; m < end; ++m) {
-      const size_t at = size_t{m} * frame.variable_count + c;
+      const size_t at = size_t{m - frame.first_module} * frame.variable_count + c;
       const bool known = frame.present[m] && frame.has_value[at];
-      row.known[m] = known;
-      row.values[m] = known ? frame.values[at] : 0;
+      row.known[m - first_] = known;
+      row.values[m - first_] = known ? frame.values[at] : 0;
     }
   }
 }

@@ -21,7 +21,9 @@ namespace dw::watch {
 
 class AgentHistory {
  public:
-  void configure(const Program& program, bool temporal_spans, uint32_t modules);
+  // Keeps the past of modules [first, first + modules) (all of them in one process; a rank's
+  // own, DESIGN §12). Modules are named by their ids throughout; rows hold only these.
+  void configure(const Program& program, bool temporal_spans, uint32_t first, uint32_t modules);
 
   // Makes room for the frame's step and takes its neighbour graph. Once per step, before the
   // modules are recorded (by one thread: the blocks may then be recorded by several).
@@ -34,13 +36,13 @@ class AgentHistory {
   // before 0, forgotten).
   bool value(uint32_t m, int variable, int64_t step, int64_t& out) const {
     const Values* row = values_[static_cast<size_t>(variable)].find(step);
-    if (row == nullptr || !row->known[m]) return false;
-    out = row->values[m];
+    if (row == nullptr || !row->known[m - first_]) return false;
+    out = row->values[m - first_];
     return true;
   }
 
-  // Every module's value of a program variable at `step` ([module], meaningful where known[m]),
-  // or false when the step is unknown (before 0, not recorded yet, or forgotten).
+  // Every kept module's value of a program variable at `step` ([m - first()], meaningful where
+  // known), or false when the step is unknown (before 0, not recorded yet, or forgotten).
   bool column(int variable, int64_t step, const int64_t*& values, const uint8_t*& known) const {
     const Values* row = values_[static_cast<size_t>(variable)].find(step);
     if (row == nullptr) return false;
@@ -70,21 +72,22 @@ class AgentHistory {
   // its size.
   const uint32_t* neighbors(uint32_t m, int64_t step, uint32_t& count) const {
     const Topology* t = topology_.find(step);
-    if (t == nullptr || !t->present[m]) return nullptr;
+    if (t == nullptr || !t->present[m - first_]) return nullptr;
     count = t->begin[m + 1] - t->begin[m];
     return t->ids.data() + t->begin[m];
   }
 
   bool present(uint32_t m, int64_t step) const {
     const Topology* t = topology_.find(step);
-    return t != nullptr && t->present[m];
+    return t != nullptr && t->present[m - first_];
   }
-  // Every module's presence at `step` ([module]), or nullptr when the step is unknown.
+  // Every kept module's presence at `step` ([m - first()]), or nullptr when the step is unknown.
   const uint8_t* presence(int64_t step) const {
     const Topology* t = topology_.find(step);
     return t != nullptr ? t->present.data() : nullptr;
   }
 
+  uint32_t first() const { return first_; }
   uint32_t modules() const { return modules_; }
   // Values and neighbour ids held now, summed over the modules.
   uint64_t held() const;
@@ -94,11 +97,11 @@ class AgentHistory {
 
  private:
   struct Values {
-    std::vector<int64_t> values;  // [module]
-    std::vector<uint8_t> known;   // [module]
+    std::vector<int64_t> values;  // [m - first_]
+    std::vector<uint8_t> known;   // [m - first_]
   };
   struct Topology {
-    std::vector<uint8_t> present;       // [module]
+    std::vector<uint8_t> present;       // [m - first_]
     std::shared_ptr<const void> owner;  // keeps begin and ids alive
     std::span<const uint32_t> begin;    // [module + 1]
     std::span<const uint32_t> ids;
@@ -108,7 +111,7 @@ class AgentHistory {
     std::vector<uint32_t> begin, ids;
   };
 
-  uint32_t modules_ = 0;
+  uint32_t first_ = 0, modules_ = 0;
   std::vector<StepRing<Values>> values_;  // per program variable
   StepRing<Topology> topology_;           // presence and N(m, step)
 };

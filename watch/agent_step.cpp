@@ -10,9 +10,10 @@ void step_agents(DistributedAgents& agents, uint32_t begin, uint32_t end, int64_
           if (!ctx.over_budget) agents.receive(to, f, pm, ctx, out);
         },
         [&](uint32_t next) { agents.prefetch(next); });
-  const uint8_t* present = agents.history().presence(f);
+  const uint8_t* present = agents.history().presence(f);  // from the history's first module on
+  const uint32_t first = agents.history().first();
   for (uint32_t m = begin; m < end && !ctx.over_budget; ++m)
-    if (present[m]) agents.start(m, f, ctx, out);
+    if (present[m - first]) agents.start(m, f, ctx, out);
 }
 
 void start_agent_step(AgentContext& ctx, int64_t f) {

@@ -41,11 +41,12 @@ AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t bu
   scratch.resize(layout.sets + kScratchSlack);
 }
 
-DistributedAgents::DistributedAgents(const Program& p, bool temporal_spans, uint32_t modules)
+DistributedAgents::DistributedAgents(const Program& p, bool temporal_spans, uint32_t first, uint32_t modules)
     : stride_(p.shape == Program::Shape::Conjunction ? static_cast<uint32_t>(p.slot_count())
                                                      : static_cast<uint32_t>(p.leaves.size())),
+      first_(first),
       own_(size_t{modules} * stride_, kUnknown) {
-  history_.configure(p, temporal_spans, modules);
+  history_.configure(p, temporal_spans, first, modules);
 }
 
 void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end, const Program& p,
@@ -56,7 +57,7 @@ void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end,
   // Every truth starts true and has its leaves and-ed in: a conjunction's truth per slot all the
   // slot's own leaves, any other shape's truth per leaf just that leaf.
   const bool conjunction = p.shape == Program::Shape::Conjunction;
-  std::fill(own_.data() + size_t{begin} * stride_, own_.data() + size_t{end} * stride_, kTrue);
+  std::fill(own_.data() + size_t{begin - first_} * stride_, own_.data() + size_t{end - first_} * stride_, kTrue);
   for (uint32_t slot = 0; slot < p.slots.size(); ++slot)
     for (uint16_t l : p.slots[slot].own_leaves) decide_own(p.leaves[l], f, begin, end, conjunction ? slot : l);
   // The PatternMatchers arriving next read the modules' neighbour lists in no order a prefetcher
@@ -69,6 +70,7 @@ void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end,
 // And-s own leaf `leaf` of modules [begin, end) at detector step f into own_[m * stride_ + at], a
 // column at a time. Absent modules get a truth too, which nothing reads.
 void DistributedAgents::decide_own(const Leaf& leaf, int64_t f, uint32_t begin, uint32_t end, uint32_t at) {
+  begin -= first_, end -= first_;  // own_ and the history's columns are kept from first_ on
   Truth* own = own_.data() + at;
   const size_t stride = stride_;
   const int64_t *a = nullptr, *b = nullptr;
@@ -106,7 +108,7 @@ void DistributedAgents::decide_own(const Leaf& leaf, int64_t f, uint32_t begin, 
                                                                      int64_t f, PatternMatcherRef& pm, Truth* leaves,
                                                                      AgentContext& ctx) const {
   const Program& p = ctx.program;
-  const Truth* own = own_.data() + size_t{m} * stride_;
+  const Truth* own = own_.data() + size_t{m - first_} * stride_;
   // Plain pointers: stores through Truth* (a char type) could alias a vector's own fields.
   const uint16_t* carried = sp.carried_leaves.data();
   const uint16_t* carried_end = carried + sp.carried_leaves.size();
@@ -246,7 +248,7 @@ void DistributedAgents::receive(std::span<const uint32_t> to, int64_t f, const s
   const uint32_t bytes = view.bytes();
   if (ctx.scratch.size() < bytes + kScratchSlack) ctx.scratch.resize(bytes + kScratchSlack);
   for (uint32_t m : to) {
-    if (!present[m]) continue;
+    if (!present[m - first_]) continue;
     if (!admit(ctx, filled)) return;
     if (ends_here(m, filled - 1, ctx)) continue;
     // Chunked: the lanes keep slack past their last record, the scratch past its end.
@@ -257,7 +259,7 @@ void DistributedAgents::receive(std::span<const uint32_t> to, int64_t f, const s
 }
 
 // The last slot for every receiver of one record (all at detector step f, whose presence is
-// `present`). A conjunction whose last slot decides only own leaves, the commonest case, is one
+// `present`, from first_ on). A conjunction whose last slot decides only own leaves, the commonest case, is one
 // lookup per receiver.
 void DistributedAgents::finish_all(std::span<const uint32_t> to, int64_t f, const uint8_t* present,
                                    PatternMatcherRef pm, AgentContext& ctx) const {
@@ -266,7 +268,7 @@ void DistributedAgents::finish_all(std::span<const uint32_t> to, int64_t f, cons
   StepStats& st = ctx.step;
   if (ctx.program.shape != Program::Shape::Conjunction || !sp.carried_leaves.empty()) {
     for (uint32_t m : to) {
-      if (!present[m]) continue;
+      if (!present[m - first_]) continue;
       if (!admit(ctx, slot + 1)) return;
       finish(m, f, pm, ctx);
     }
@@ -282,13 +284,13 @@ void DistributedAgents::finish_all(std::span<const uint32_t> to, int64_t f, cons
   uint32_t* match = ctx.matches.data() + ctx.match_values;
   uint64_t live = 0;
   for (uint32_t m : to) {
-    if (!present[m]) continue;
+    if (!present[m - first_]) continue;
     if (live == room) {
       ctx.over_budget = true;
       break;
     }
     ++live;
-    if (kleene_and(before, own[size_t{m} * stride_]) != kTrue) continue;
+    if (kleene_and(before, own[size_t{m - first_} * stride_]) != kTrue) continue;
     copy_ids(match, ids, slot);
     match[slot] = m;
     match += slot + 1;

@@ -59,7 +59,8 @@ struct AgentContext {
 
 class DistributedAgents {
  public:
-  DistributedAgents(const Program& program, bool temporal_spans, uint32_t modules);
+  // The agents of modules [first, first + modules): all of them, or a rank's own (DESIGN §12).
+  DistributedAgents(const Program& program, bool temporal_spans, uint32_t first, uint32_t modules);
 
   uint32_t size() const { return history_.modules(); }
   const AgentHistory& history() const { return history_; }
@@ -74,7 +75,7 @@ class DistributedAgents {
   void record(const Frame& frame, uint32_t begin, uint32_t end, const Program& program, std::span<const int> columns);
 
   // Fetches what a PatternMatcher arriving at m will read, ahead of time.
-  void prefetch(uint32_t m) const { __builtin_prefetch(own_.data() + size_t{m} * stride_); }
+  void prefetch(uint32_t m) const { __builtin_prefetch(own_.data() + size_t{m - first_} * stride_); }
   // Detector step f: a fresh PatternMatcher with module m in its first slot.
   void start(uint32_t m, int64_t f, AgentContext& ctx, PatternMatcherOutbox& out);
   // Detector step f: a PatternMatcher sent by a neighbour at f - 1 arrives at the modules `to`,
@@ -87,7 +88,7 @@ class DistributedAgents {
   // (early termination): there is nothing to fill or send.
   bool ends_here(uint32_t m, uint32_t slot, const AgentContext& ctx) const {
     return ctx.program.shape == Program::Shape::Conjunction && ctx.optimizations.early_termination &&
-           own_[size_t{m} * stride_ + slot] == kFalse;
+           own_[size_t{m - first_} * stride_ + slot] == kFalse;
   }
   void fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out);
   void finish(uint32_t m, int64_t f, PatternMatcherRef pm, AgentContext& ctx) const;
@@ -103,7 +104,8 @@ class DistributedAgents {
   // step when it records: the same for every PatternMatcher it fills then. For a conjunction,
   // one truth per slot (the and of that slot's own leaves); otherwise one per leaf.
   uint32_t stride_;
-  std::vector<Truth> own_;  // [module * stride_ + slot or leaf]
+  uint32_t first_;          // the first module's id
+  std::vector<Truth> own_;  // [(module - first_) * stride_ + slot or leaf]
   AgentHistory history_;
 };
 

@@ -12,7 +12,7 @@ DistributedDetector::DistributedDetector(const Watchpoint& w, const Universe& u,
       program_(w.program),
       options_(options),
       columns_(variable_columns(w.program, u)),
-      agents_(w.program, options.optimizations.temporal_spans, u.module_count()),
+      agents_(w.program, options.optimizations.temporal_spans, 0, u.module_count()),
       ctx_(w.program, options.optimizations, options.live_budget) {}
 
 size_t DistributedDetector::bytes() const { return sizeof(DistributedAgents) + agents_.bytes(); }

@@ -21,9 +21,11 @@ struct Universe {
 
 struct Frame {
   int64_t step = 0;
-  std::span<const uint8_t> present;     // [module]: 1 when the module exists at this step
-  std::span<const int64_t> values;      // [module * variable_count + column]
-  std::span<const uint8_t> has_value;   // same shape: 0 when the module lacks the variable
+  std::span<const uint8_t> present;  // [module]: 1 when the module exists at this step
+  // Over ranks a frame carries the variables of a rank's modules only: those from first_module on.
+  std::span<const int64_t> values;     // [(module - first_module) * variable_count + column]
+  std::span<const uint8_t> has_value;  // same shape: 0 when the module lacks the variable
+  uint32_t first_module = 0;
   std::span<const uint32_t> nbr_begin;  // [module_count + 1]: CSR offsets into nbrs
   std::span<const uint32_t> nbrs;       // N(m, step) as dense indices, in recorded order
   uint32_t variable_count = 0;

@@ -49,7 +49,7 @@ void record(AgentHistory& h, const Frame& f) {
 AgentHistory six_steps(const std::string& watchpoint, bool temporal_spans) {
   const Watchpoint w = compile_or_die(watchpoint);
   AgentHistory h;
-  h.configure(w.program, temporal_spans, 3);
+  h.configure(w.program, temporal_spans, 0, 3);
   Frames frames;
   for (int64_t t = 0; t < 6; ++t) record(h, frames.at(t));
   return h;
@@ -95,7 +95,7 @@ TEST(AgentHistory, AGraphThatStaysTheSameIsHeldOnce) {
   Frames frames;
   auto history_bytes = [&](int steps, bool lent, bool changing) {
     AgentHistory h;
-    h.configure(p, false, 3);
+    h.configure(p, false, 0, 3);
     auto owner = std::make_shared<int>(0);
     for (int64_t t = 0; t < steps; ++t) {
       Frame f = frames.at(changing ? t : 0);
