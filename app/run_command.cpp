@@ -25,7 +25,7 @@ namespace {
 struct RunArgs {
   std::string scenario;
   std::optional<int64_t> steps, seed, threads, history_mb;
-  std::string algorithm, shape, states, partition = "blocks";
+  std::string algorithm, shape, states, partition = "auto";
   std::string record_path, matches_path, stats_path, render_path;
   size_t print = 5;
   bool no_progress = false;
@@ -90,7 +90,9 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   if (record) recorder = std::make_unique<sim::TraceWriter>(*record, model.universe, scenario.events);
   const bool recording = !args.record_path.empty();  // on every rank: each gives its part of each frame
 
-  const sim::Partition partition = args.partition == "metis" ? sim::Partition::Graph : sim::Partition::Blocks;
+  const sim::Partition partition = args.partition == "metis"    ? sim::Partition::Graph
+                                   : args.partition == "blocks" ? sim::Partition::Blocks
+                                                                : sim::Partition::Auto;
   sim::Session run(*scenario.model, *scenario.world,
                    {threads, steps, history_mb << 20, scenario.events, ranks, partition});
   ProgressBar progress("run " + scenario.name, steps, lead && !args.no_progress);
@@ -130,7 +132,8 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   if (present < occupied.size()) summary << ", " << occupied.size() - present << " cells left empty";
   summary << "), " << ran << (ran == 1 ? " step" : " steps") << " of " << steps << ", seed " << model.seed << ", "
           << threads << (threads == 1 ? " thread" : " threads");
-  if (ranks) summary << " on each of " << ranks->ranks() << " ranks (partition: " << args.partition << ")";
+  const char* shared_by = run.partition() == sim::Partition::Graph ? "metis" : "blocks";
+  if (ranks) summary << " on each of " << ranks->ranks() << " ranks (partition: " << shared_by << ")";
   summary << "\n  programs:";
   for (const auto& p : model.programs) summary << " " << p->name();
   summary << "; " << run.head().program_messages << " program messages\n";
@@ -225,7 +228,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
     j["seed"] = model.seed;
     j["threads"] = threads;
     j["ranks"] = ranks ? ranks->ranks() : 1;
-    if (ranks) j["partition"] = args.partition;
+    if (ranks) j["partition"] = shared_by;
     j["bytes_between_ranks"] = between_ranks;
     j["peak_mib"] = double(peak_kib) / 1024;  // of the largest rank
     j["peak_mib_all_ranks"] = double(peak_kib_all) / 1024;
@@ -278,9 +281,10 @@ void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange
                   "Run every distributed watchpoint over consistent (the paper's) or simultaneous states")
       ->check(CLI::IsMember({"consistent", "simultaneous"}));
   cmd->add_option("--partition", args->partition,
-                  "Over several ranks (mpirun), share the modules in runs of blocks (slabs of a lattice) or by a "
-                  "METIS partition of their neighbour graph")
-      ->check(CLI::IsMember({"blocks", "metis"}));
+                  "Over several ranks (mpirun), share the modules in runs of blocks (slabs of a lattice), by a "
+                  "METIS partition of their neighbour graph, or (auto) by blocks for a static lattice and by METIS "
+                  "when bodies move")
+      ->check(CLI::IsMember({"auto", "blocks", "metis"}));
   cmd->add_option("--record", args->record_path, "Write what the watchpoints saw as a wptrace v1 TRACE");
   cmd->add_option("--matches", args->matches_path,
                   "Write every match of log/pause watchpoints as JSON Lines (- for stdout)");

@@ -26,6 +26,7 @@ class BulletWorld final : public sim::World {
   void restore(const sim::Model& model, const sim::State& state) override;
   void advance(const sim::Model& model, sim::State& state, std::span<const sim::Actuation> actuations) override;
   void remove_module(const sim::Model& model, sim::State& state, sim::ModuleId m) override;
+  bool moves() const override { return true; }
 
   const PhysicsSettings& settings() const { return settings_; }
   ModuleShape shape() const { return shape_; }

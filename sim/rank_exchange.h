@@ -79,6 +79,7 @@ class RankExchange {
 
 // How the modules are shared among ranks, in blocks of consecutive ids (DESIGN §12).
 enum class Partition {
+  Auto,    // Blocks for a static lattice, Graph for a world whose links move (World::moves)
   Blocks,  // runs of consecutive blocks, each rank's holding about as many modules: slabs of a lattice
   Graph,   // a k-way partition of the blocks' neighbour graph (METIS): for what ids do not lay out
 };

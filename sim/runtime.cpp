@@ -106,6 +106,8 @@ void Runtime::place_blocks(Partition partition) {
   std::vector<uint32_t> weight(blocks_, 0);
   for (uint32_t m = 0; m < model_.module_count(); ++m)
     weight[m >> block_shift_] += m < occupied.size() ? occupied[m] : 1;
+  if (partition == Partition::Auto) partition = world_.moves() ? Partition::Graph : Partition::Blocks;
+  partition_ = partition;
   if (partition == Partition::Graph && rank_count > 1) {
     // The links between blocks, as sorted (block, block) pairs: equal pairs make one edge's weight.
     const NeighborGraph& g = model_.lattice.graph;

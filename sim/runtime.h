@@ -65,7 +65,7 @@ class Runtime {
   // gives its rank; every rank keeps the world (its bodies and N(m, t)) whole, with the actuations
   // of all, and the rest of the state for its own modules only.
   Runtime(const Model& model, World& world, unsigned threads, RankExchange* ranks = nullptr,
-          Partition partition = Partition::Blocks);
+          Partition partition = Partition::Auto);
 
   // The state before step 0: initial values, the world's step-0 topology, fresh detectors.
   State initial_state();
@@ -100,6 +100,8 @@ class Runtime {
   // Bytes this rank has sent to the others since the runtime was made: program messages and
   // PatternMatchers (the per-step batches), not the gathers of matches and statistics.
   uint64_t bytes_to_ranks() const { return bytes_to_ranks_; }
+  // How the modules are shared among the ranks: Blocks or Graph (Auto decided).
+  Partition partition() const { return partition_; }
 
  private:
   struct Lanes;  // a thread's PatternMatcher outbox
@@ -139,6 +141,7 @@ class Runtime {
   std::vector<uint32_t> own_blocks_;  // this rank's, ascending; thread t takes the t-th of equal runs
   uint32_t first_ = 0, window_ = 0;   // the modules the state holds (module_window)
   uint64_t bytes_to_ranks_ = 0;
+  Partition partition_;
   // This step's own blocks that may send to another rank, which run first so that their batches
   // travel while the others (interior) run; and what they are worked out from, per graph sent
   // along (the programs' N(m, t), each watch's agents' N(m, t - E+)): per own block, whether a

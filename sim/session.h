@@ -48,7 +48,7 @@ struct SessionOptions {
   // This process is one rank of a run over several (DESIGN §12): every rank makes the same calls
   // on its session, which steps the rank's modules and takes every decision alike on all ranks.
   RankExchange* ranks = nullptr;
-  Partition partition = Partition::Blocks;  // how the modules are shared among the ranks
+  Partition partition = Partition::Auto;  // how the modules are shared among the ranks
 };
 
 // Lets a long operation be cancelled between steps and report how far it got. A cancelled
@@ -161,6 +161,7 @@ class Session {
   std::vector<int64_t> whole_values(const State& state) { return runtime_->whole_values(state); }
   // Bytes this rank sent to the other ranks (Runtime::bytes_to_ranks).
   uint64_t bytes_to_ranks() const { return runtime_->bytes_to_ranks(); }
+  Partition partition() const { return runtime_->partition(); }
   // What the watchpoints saw at the current step besides the values: presence and N(m, t).
   std::span<const uint8_t> seen_present();
   const NeighborGraph& seen_graph();

@@ -27,6 +27,9 @@ class World {
   // An intervention (DESIGN §7) before step state.step runs: module m leaves the ensemble. It is
   // absent from now on and out of N(·, state.step); a physical world also lets go of its body.
   virtual void remove_module(const Model& model, State& state, ModuleId m);
+  // Whether N(m, t) changes as the run goes (bodies moving), beyond interventions: then the ids'
+  // order says less about who will touch whom, and ranks share the modules by their graph.
+  virtual bool moves() const { return false; }
 };
 
 // The lattice as laid out: every module present, the lattice's face adjacency for ever. Every

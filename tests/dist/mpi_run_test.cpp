@@ -64,7 +64,7 @@ class MpiRun : public Cli {
       EXPECT_EQ(results(dir_ / (tag + ".json")), expected);
       const nlohmann::json how = nlohmann::json::parse(slurp(dir_ / (tag + ".json")));
       EXPECT_EQ(how["ranks"], ranks);
-      if (over_ranks.empty()) {  // slabs always border; METIS may keep a small graph's links in one part
+      if (how["partition"] == "blocks") {  // slabs always border; METIS may keep a small graph's links in one part
         EXPECT_GT(how["bytes_between_ranks"].get<uint64_t>(), 0u) << "the parts did talk";
       }
       if (record) {
@@ -101,6 +101,7 @@ TEST_F(MpiRun, ScheduledInterventionsEqualOneProcess) {
 TEST_F(MpiRun, TableOneCubeEqualsOneProcessWithTwoThreadsPerRank) {
   expect_same_over_ranks(scenarios_ + "/table1.toml --steps 30", 2);
   EXPECT_GT(results(dir_ / "one.json")["matches"].get<int>(), 1000);
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "r3.json"))["partition"], "blocks") << "a static lattice's default";
 }
 
 TEST_F(MpiRun, TableOneCubeByAMetisPartitionEqualsOneProcess) {
@@ -117,7 +118,9 @@ TEST_F(MpiRun, TokenRingPausedAndRolledBackEqualsOneProcess) {
 TEST_F(MpiRun, SlidingModulesInTheBulletWorldEqualOneProcessTraceIncluded) {
   // Contacts made and broken as modules glide: N(m, t) changes, from actuations on every rank.
   expect_same_over_ranks(scenarios_ + "/slide.toml --algorithm distributed", 1, true);
-  expect_same_over_ranks(scenarios_ + "/slide.toml --algorithm distributed", 1, true, "--partition metis");
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "r3.json"))["partition"], "metis") << "the default when bodies move";
+  expect_same_over_ranks(scenarios_ + "/slide.toml --algorithm distributed", 1, true, "--partition blocks");
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "r3.json"))["partition"], "blocks");
   EXPECT_GT(results(dir_ / "one.json")["matches"].get<int>(), 0);
 }
 

@@ -78,6 +78,48 @@ TEST(AgentHistory, KeepsExactlyTheStepsTheSpansNeed) {
   EXPECT_EQ(h.held(), (3u + 1u) * 3u) << "three steps of x and one of topology, for each module";
 }
 
+TEST(AgentHistory, ARanksHistoryKeepsItsOwnModulesByTheirIds) {
+  // Modules 1 and 2 of the three, from frames that carry the variables of those two only (a
+  // rank's, DESIGN §12): what they read is what the whole history reads of them.
+  const Watchpoint w = compile_or_die("modules(a b); (a.last.x = b.x)");
+  const AgentHistory whole = six_steps("modules(a b); (a.last.x = b.x)", true);
+  AgentHistory part;
+  part.configure(w.program, true, 1, 2);
+  Frames frames;
+  const int columns[] = {0};
+  for (int64_t t = 0; t < 6; ++t) {
+    Frame f = frames.at(t);
+    f.values = f.values.subspan(1);
+    f.has_value = f.has_value.subspan(1);
+    f.first_module = 1;
+    part.begin_record(f);
+    part.record(f, 1, 3, columns);
+  }
+  EXPECT_EQ(part.first(), 1u);
+  EXPECT_EQ(part.held(), (2u + 1u) * 2u) << "two steps of x and one of topology, for two modules";
+  for (uint32_t m : {1u, 2u})
+    for (int64_t t : {4, 5}) {
+      int64_t a = -1, b = -1;
+      EXPECT_EQ(part.value(m, 0, t, a), whole.value(m, 0, t, b)) << m << " at " << t;
+      EXPECT_EQ(a, b) << m << " at " << t;  // -1 both when unknown
+      EXPECT_EQ(part.present(m, t), whole.present(m, t));
+      uint32_t count = 0, whole_count = 0;
+      const uint32_t* n = part.neighbors(m, t, count);
+      EXPECT_EQ(n == nullptr, whole.neighbors(m, t, whole_count) == nullptr);
+      if (n) {
+        EXPECT_EQ(count, whole_count);
+      }
+    }
+  int64_t v = -1;
+  ASSERT_TRUE(part.value(2, 0, 4, v));
+  EXPECT_EQ(v, 42);
+  const int64_t* column = nullptr;
+  const uint8_t* known = nullptr;
+  ASSERT_TRUE(part.column(0, 5, column, known));
+  EXPECT_EQ(column[0], 51) << "columns start at the first module kept";
+  EXPECT_EQ(known[1], 0) << "module 2 is absent at odd steps";
+}
+
 TEST(AgentHistory, WithoutSpansKeepsTheWholeRun) {
   const AgentHistory h = six_steps("modules(a b); (a.x = 0)", false);
   int64_t v = -1;
