@@ -51,6 +51,7 @@ struct BenchArgs {
   int repeat = 5;
   bool quick = false;                           // paper: at most 2 passes, 4 sizes for Fig. 8
   std::string table2_workload = "random_vars";  // paper: Table II's baseline
+  std::string partition = "auto";               // mpi: run --partition
   DetectorFlags detector;
 };
 

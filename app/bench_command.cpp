@@ -207,6 +207,8 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
   cmd->add_option("--table2-workload", args->table2_workload,
                   "paper: Table II's baseline, random_vars alone (the default) or with aggregation_routing")
       ->check(CLI::IsMember({"random_vars", "aggregation_routing"}));
+  cmd->add_option("--partition", args->partition, "mpi: how the ranks share the modules (run --partition)")
+      ->check(CLI::IsMember({"auto", "blocks", "metis"}));
   cmd->add_option("--write-trace", args->write_trace, "Also write the synthetic trace (wptrace v1) to FILE");
   add_detector_flags(*cmd, args->detector, /*with_algorithm=*/false);
   cmd->callback([&run, args, cmd] {

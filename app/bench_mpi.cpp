@@ -34,14 +34,14 @@ struct Layout {
 };
 
 // One run: what its --stats said, or a null document when it failed (its stderr is passed on).
-nlohmann::json run_once(const Layout& l, const fs::path& scenario, const fs::path& dir) {
+nlohmann::json run_once(const Layout& l, const fs::path& scenario, const std::string& partition, const fs::path& dir) {
   const fs::path stats = dir / "stats.json", err = dir / "stderr";
   std::vector<std::string> args;
   if (l.ranks > 1) args = {"mpirun", "--oversubscribe", "-np", std::to_string(l.ranks)};
   args.push_back(fs::read_symlink("/proc/self/exe").string());
   for (const char* a : {"run", scenario.c_str(), "--no-progress", "--print", "0", "-j"}) args.emplace_back(a);
   args.push_back(std::to_string(l.threads));
-  args.insert(args.end(), {"--stats", stats.string()});
+  args.insert(args.end(), {"--partition", partition, "--stats", stats.string()});
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -95,7 +95,8 @@ int bench_mpi(const BenchArgs& args) {
   const std::vector<Layout> layouts{{1, args.threads == 1 ? 2 : args.threads}, {2, 1}, {2, 2}, {4, 1}};
   const uint64_t modules = uint64_t{size} * size * size;
   std::cout << "bench mpi: " << size << "^3 cube, " << args.steps
-            << " steps, random_vars [8:4:2:1] + Fig. 6 live, distributed; dwatch run under mpirun\n"
+            << " steps, random_vars [8:4:2:1] + Fig. 6 live, distributed; dwatch run --partition " << args.partition
+            << " under mpirun\n"
             << std::left << std::setw(22) << "layout" << std::right << std::setw(12) << "matches" << std::setw(10)
             << "best s" << std::setw(10) << "median s" << std::setw(16) << "bytes / step" << std::setw(14)
             << "MiB per rank" << std::setw(12) << "MiB, all"
@@ -107,7 +108,7 @@ int bench_mpi(const BenchArgs& args) {
     std::vector<double> times;
     nlohmann::json stats;
     for (int i = 0; i < args.repeat; ++i) {
-      stats = run_once(l, scenario, dir);
+      stats = run_once(l, scenario, args.partition, dir);
       if (stats.is_discarded() || stats.is_null()) return 1;
       times.push_back(stats["seconds"].get<double>());
     }
