@@ -191,6 +191,35 @@ TEST(RuntimeRanks, LinksThatChangeEveryStepGiveTheResultsOfOneRuntime) {
     }
 }
 
+TEST(RuntimeRanks, EachRankHoldsItsOwnModulesStateOnly) {
+  // 4 blocks of 4096 on a line over 3 ranks: each rank's variables, inboxes and agents are those
+  // of its run of blocks, and the runs add up to the ensemble.
+  const auto model =
+      test_programs::gossip_model({LatticeKind::Line, {4 * 4096, 1, 1}},
+                                  {{"modules(a b); (a.v = 1) and (b.v = 1)", watch::Algorithm::Distributed}});
+  const size_t v = model->variable_count();
+  const std::vector<std::pair<uint32_t, uint32_t>> windows = on_ranks(3, [&](RankExchange& r) {
+    StaticLatticeWorld world;
+    Runtime rt(*model, world, 1, &r);
+    State s = rt.initial_state();
+    StepOutput out;
+    for (int t = 0; t < 3; ++t) rt.step(s, out);
+    EXPECT_EQ(s.values.size(), size_t{rt.module_window()} * v);
+    EXPECT_EQ(s.inbox.begin.size(), size_t{rt.module_window()} * model->program_count() + 1);
+    EXPECT_EQ(s.watches[0].agents->size(), rt.module_window());
+    EXPECT_EQ(s.watches[0].agents->history().first(), rt.first_module());
+    return std::pair(rt.first_module(), rt.module_window());
+  });
+  uint32_t next = 0;
+  for (const auto& [first, count] : windows) {
+    EXPECT_EQ(first, next);
+    EXPECT_GT(count, 0u);
+    EXPECT_LT(count, model->module_count());
+    next = first + count;
+  }
+  EXPECT_EQ(next, model->module_count());
+}
+
 // What a run of SendsToStranger(modules) on a line of `length` ended with: the step and the error.
 std::string failure(uint32_t length, const std::vector<ModuleId>& modules, RankExchange* ranks) {
   std::vector<std::unique_ptr<const HostProgram>> programs;
