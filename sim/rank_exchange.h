@@ -17,6 +17,7 @@ namespace dw::sim {
 // part starts 16-byte aligned, so that it can be read as records in place (records_of).
 class Gathered {
  public:
+  Gathered() = default;
   explicit Gathered(std::span<const uint64_t> sizes) {
     size_t at = 0;
     for (uint64_t size : sizes) {

@@ -574,9 +574,9 @@ void Runtime::agree_on_failure_and_gather_actuations() {
                    [](const Actuation& a, const Actuation& b) { return a.module < b.module; });
 }
 
-std::vector<int64_t> Runtime::whole_values(const State& state) {
-  if (!ranks_) return state.values;
-  // Each rank gives its blocks' rows in block order; every rank knows whose each block is.
+// Each rank gives its blocks' rows in block order, and every rank knows whose each block is: the
+// rows of every block, in block order, lie in the gathered parts.
+std::vector<std::span<const int64_t>> Runtime::gather_values(const State& state, Gathered& parts) {
   const size_t v = model_.variable_count();
   std::vector<int64_t> copied;  // unless the blocks are one run (--partition blocks), read in place
   std::span<const int64_t> own = state.values;
@@ -586,16 +586,24 @@ std::vector<int64_t> Runtime::whole_values(const State& state) {
                     state.values.begin() + static_cast<ptrdiff_t>((block_begin(b + 1) - first_) * v));
     own = copied;
   }
-  std::vector<int64_t> values(size_t{model_.module_count()} * v);
-  const Gathered parts = ranks_->all_gather(std::as_bytes(own));
+  parts = ranks_->all_gather(std::as_bytes(own));
+  std::vector<std::span<const int64_t>> rows;
   std::vector<size_t> read(parts.size(), 0);
   for (uint32_t b = 0; b < blocks_; ++b) {
-    const std::span<const int64_t> part = records_of<int64_t>(parts[block_rank_[b]]);
     const size_t n = (block_begin(b + 1) - block_begin(b)) * v;
-    std::copy_n(part.begin() + static_cast<ptrdiff_t>(read[block_rank_[b]]), n,
-                values.begin() + static_cast<ptrdiff_t>(block_begin(b) * v));
+    rows.push_back(records_of<int64_t>(parts[block_rank_[b]]).subspan(read[block_rank_[b]], n));
     read[block_rank_[b]] += n;
   }
+  return rows;
+}
+
+std::vector<int64_t> Runtime::whole_values(const State& state) {
+  if (!ranks_) return state.values;
+  Gathered parts;
+  std::vector<int64_t> values;
+  values.reserve(size_t{model_.module_count()} * model_.variable_count());
+  for (const std::span<const int64_t> rows : gather_values(state, parts))
+    values.insert(values.end(), rows.begin(), rows.end());
   return values;
 }
 
@@ -605,7 +613,10 @@ uint64_t Runtime::hash(const State& state) {
   for (const WatchState& w : state.watches) digests.push_back(in_flight_digest(w));
   // The whole state as one process would hold it: each rank's modules' values and inboxes, put
   // back in module order, and the in-flight multisets added up. The rest every rank holds.
-  State whole = simulation_part(state, whole_values(state));
+  // The variables are hashed where they were gathered, not copied into one more whole.
+  Gathered parts;
+  const std::vector<std::span<const int64_t>> rows = gather_values(state, parts);
+  State whole = simulation_part(state, {});
   whole.inbox.messages.clear();
   whole.inbox.begin.clear();  // this rank's receivers' groups: none of the whole's, and not hashed
   for (const auto& part : ranks_->all_gather(std::as_bytes(std::span(state.inbox.messages))))
@@ -623,7 +634,7 @@ uint64_t Runtime::hash(const State& state) {
     whole.watches[w].matches = state.watches[w].matches;
     whole.watches[w].stopped = state.watches[w].stopped;
   }
-  return hash_state(whole, digests);
+  return hash_state(whole, digests, rows);
 }
 
 void Runtime::intervene(State& state, std::span<const Intervention> interventions) {

@@ -124,6 +124,7 @@ class Runtime {
   void observe_detector(uint32_t watch, State& state, WatchStepOutput& out);
   void deliver_program_messages(State& state);
   void take_arrived_lanes(uint32_t watch, WatchState& ws);
+  std::vector<std::span<const int64_t>> gather_values(const State& state, Gathered& parts);
   void add_up_over_ranks(watch::AgentStepOutcome& outcome);
   void agree_on_failure_and_gather_actuations();
   uint32_t rank_of(ModuleId m) const;

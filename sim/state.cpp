@@ -100,13 +100,19 @@ InFlightDigest in_flight_digest(const WatchState& w) {
 uint64_t hash_state(const State& s) {
   std::vector<InFlightDigest> digests;
   for (const WatchState& w : s.watches) digests.push_back(in_flight_digest(w));
-  return hash_state(s, digests);
+  const std::span<const int64_t> values[] = {s.values};
+  return hash_state(s, digests, values);
 }
 
-uint64_t hash_state(const State& s, std::span<const InFlightDigest> in_flight) {
+uint64_t hash_state(const State& s, std::span<const InFlightDigest> in_flight,
+                    std::span<const std::span<const int64_t>> values) {
   Hasher h;
   h.word(static_cast<uint64_t>(s.step));
-  h.words(s.values);
+  size_t count = 0;  // as h.words(values put together)
+  for (const auto& part : values) count += part.size();
+  h.word(count);
+  for (const auto& part : values)
+    for (int64_t x : part) h.word(static_cast<uint64_t>(x));
   h.words(s.present);
   if (s.graph) {
     h.words(s.graph->begin);

@@ -62,8 +62,11 @@ struct InFlightDigest {
   uint64_t sum = 0, count = 0;
 };
 InFlightDigest in_flight_digest(const WatchState& watch);
-// hash_state with each watchpoint's in-flight digest given rather than read from its lanes.
-uint64_t hash_state(const State& state, std::span<const InFlightDigest> in_flight);
+// hash_state with each watchpoint's in-flight digest given rather than read from its lanes, and
+// the variables given as parts, one after another in module order, in place of state.values: a
+// whole put together from the ranks' parts without copying them into one (DESIGN §12).
+uint64_t hash_state(const State& state, std::span<const InFlightDigest> in_flight,
+                    std::span<const std::span<const int64_t>> values);
 // A state hash as the outputs print it: 0x and 16 hex digits.
 std::string hash_text(uint64_t hash);
 
