@@ -529,10 +529,10 @@ void Runtime::take_arrived_lanes(uint32_t w, WatchState& ws) {
 }
 
 // A program's misuse on any rank stops every rank, with the first one in module order, as one
-// process reports it (each thread's outbox keeps its lowest module's). Otherwise the actuation requests go to the world
-// in module order, as one process has them (in thread order): the world is stepped whole on
-// every rank, so every rank needs all of them. One sum over the ranks says whether either has to
-// be gathered.
+// process reports it (each thread's outbox keeps its lowest module's). Otherwise the actuation
+// requests go to the world in module order, as one process has them (in thread order): the world
+// is stepped whole on every rank, so every rank needs all of them. One sum over the ranks says
+// whether either has to be gathered.
 void Runtime::agree_on_failure_and_gather_actuations() {
   const Outbox* failed = nullptr;
   const size_t before = actuations_.size();  // the interventions' pushes come first

@@ -259,8 +259,8 @@ void DistributedAgents::receive(std::span<const uint32_t> to, int64_t f, const s
 }
 
 // The last slot for every receiver of one record (all at detector step f, whose presence is
-// `present`, from first_ on). A conjunction whose last slot decides only own leaves, the commonest case, is one
-// lookup per receiver.
+// `present`, from first_ on). A conjunction whose last slot decides only own leaves, the commonest
+// case, is one lookup per receiver.
 void DistributedAgents::finish_all(std::span<const uint32_t> to, int64_t f, const uint8_t* present,
                                    PatternMatcherRef pm, AgentContext& ctx) const {
   const uint32_t slot = pm.filled();
