@@ -93,7 +93,7 @@ Lattice make_lattice(const LatticeSpec& spec) {
       break;
   }
   l.occupied.assign(count, 1);
-  l.graph = NeighborGraph::from_pairs(count, pairs);
+  l.graph = std::make_shared<const NeighborGraph>(NeighborGraph::from_pairs(count, pairs));
   return l;
 }
 
@@ -103,10 +103,11 @@ void leave_empty(Lattice& lattice, std::array<uint32_t, 3> from, std::array<uint
     for (uint32_t y = from[1]; y <= std::min(to[1], n[1] - 1); ++y)
       for (uint32_t x = from[0]; x <= std::min(to[0], n[0] - 1); ++x) lattice.occupied[x + n[0] * (y + n[1] * z)] = 0;
   std::vector<std::pair<ModuleId, ModuleId>> pairs;
-  for (ModuleId m = 0; m < lattice.graph.module_count(); ++m)
-    for (ModuleId o : lattice.graph.neighbors(m))
+  for (ModuleId m = 0; m < lattice.graph->module_count(); ++m)
+    for (ModuleId o : lattice.graph->neighbors(m))
       if (m < o && lattice.occupied[m] && lattice.occupied[o]) pairs.emplace_back(m, o);
-  lattice.graph = NeighborGraph::from_pairs(lattice.graph.module_count(), pairs);
+  lattice.graph =
+      std::make_shared<const NeighborGraph>(NeighborGraph::from_pairs(lattice.graph->module_count(), pairs));
 }
 
 }  // namespace dw::sim

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -31,7 +32,8 @@ struct Lattice {
   LatticeSpec spec;
   std::vector<std::array<float, 3>> positions;  // module centres, one module size apart; z is up
   std::vector<uint8_t> occupied;                // per cell: 0 for a cell left empty (no module there)
-  NeighborGraph graph;                          // face-adjacent modules
+  // Face-adjacent modules; shared, not copied, by the states of a static lattice (the world's).
+  std::shared_ptr<const NeighborGraph> graph = std::make_shared<const NeighborGraph>();
 };
 
 // Ring needs at least 3 modules; every size at least 1. The caller checks those (the scenario

@@ -9,9 +9,8 @@ void World::remove_module(const Model&, State& state, ModuleId m) {
 }
 
 void StaticLatticeWorld::initialize(const Model& model, State& state) {
-  if (!graph_) graph_ = std::make_shared<const NeighborGraph>(model.lattice.graph);
   state.present = model.lattice.occupied;
-  state.graph = graph_;
+  state.graph = model.lattice.graph;
 }
 
 }  // namespace dw::sim

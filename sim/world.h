@@ -39,9 +39,6 @@ class StaticLatticeWorld final : public World {
   void initialize(const Model& model, State& state) override;
   void restore(const Model&, const State&) override {}
   void advance(const Model&, State&, std::span<const Actuation>) override {}
-
- private:
-  std::shared_ptr<const NeighborGraph> graph_;
 };
 
 }  // namespace dw::sim

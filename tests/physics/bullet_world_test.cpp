@@ -62,7 +62,7 @@ void expect_cube_holds(PhysicsSettings settings, uint32_t n, size_t face_pairs) 
   const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {n, n, n}}));
   BulletWorld world(settings, model->lattice);
   sim::Session run(*model, world, {.threads = 1});
-  const auto lattice_edges = edges(model->lattice.graph);
+  const auto lattice_edges = edges(*model->lattice.graph);
   ASSERT_EQ(lattice_edges.size(), face_pairs);
   EXPECT_EQ(edges(*run.state().graph), lattice_edges) << "step 0: exactly the face pairs, no diagonals";
   run.run_until(600);
@@ -89,7 +89,7 @@ TEST(BulletWorld, LooseModulesWithoutBondsStillTouchAtTheStart) {
   const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {4, 4, 4}}));
   BulletWorld world(s, model->lattice);
   sim::Session run(*model, world, {.threads = 1});
-  EXPECT_EQ(edges(*run.state().graph), edges(model->lattice.graph));
+  EXPECT_EQ(edges(*run.state().graph), edges(*model->lattice.graph));
   EXPECT_TRUE(run.state().bodies.bonds.empty());
   EXPECT_EQ(run.state().bodies.clusters.size(), 64u);
 }
@@ -103,7 +103,7 @@ TEST(BulletWorld, HexAndRingInteriorsHaveSixAndTwoNeighbours) {
   const sim::NeighborGraph& g = *hex_run.state().graph;
   for (uint32_t y = 1; y + 1 < 8; ++y)
     for (uint32_t x = 1; x + 1 < 8; ++x) EXPECT_EQ(g.neighbors(x + 8 * y).size(), 6u) << x << "," << y;
-  EXPECT_EQ(edges(g), edges(hex->lattice.graph));
+  EXPECT_EQ(edges(g), edges(*hex->lattice.graph));
 
   const auto ring = model_of(sim::make_lattice({sim::LatticeKind::Ring, {12, 1, 1}}));
   BulletWorld ring_world({}, ring->lattice);
@@ -111,7 +111,7 @@ TEST(BulletWorld, HexAndRingInteriorsHaveSixAndTwoNeighbours) {
   sim::Session ring_run(*ring, ring_world, {.threads = 1});
   ring_run.run_until(30);
   for (sim::ModuleId m = 0; m < 12; ++m) EXPECT_EQ(ring_run.state().graph->neighbors(m).size(), 2u);
-  EXPECT_EQ(edges(*ring_run.state().graph), edges(ring->lattice.graph));
+  EXPECT_EQ(edges(*ring_run.state().graph), edges(*ring->lattice.graph));
 }
 
 TEST(BulletWorld, ModulesPushedApartLoseTheirEdgeWhenTheGapPassesTheThreshold) {

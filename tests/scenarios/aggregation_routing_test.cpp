@@ -24,7 +24,7 @@ TEST(AggregationRouting, ConvergesToBfsDistancesAndTheRootCountsEveryModule) {
       p(st, o);
       l(st, o);
     });
-    const sim::NeighborGraph& g = model.lattice.graph;
+    const sim::NeighborGraph& g = *model.lattice.graph;
     const auto from_root = test::bfs(g, sim::ModuleId(root));
     const uint32_t n = g.module_count();
     const sim::ModuleId landmark1 = sim::ModuleId(3 * n / 4);

@@ -34,7 +34,7 @@ TEST(LeaderElection, CorrectVariantNeverHasTwoLeadersWithinTwoHopsAndCoversEvery
         EXPECT_EQ(run.current() + 1, 200);
         EXPECT_EQ(run.match_count(0), 0u);
         // The end state: leaders pairwise at least three hops apart, everyone within two of one.
-        const sim::NeighborGraph& g = s.model->lattice.graph;
+        const sim::NeighborGraph& g = *s.model->lattice.graph;
         std::vector<int> nearest(g.module_count(), 1 << 20);
         int leaders = 0;
         for (sim::ModuleId m = 0; m < g.module_count(); ++m) {
@@ -63,7 +63,7 @@ TEST(LeaderElection, BuggyVariantGivesTwoLeadersExactlyTwoHopsApart) {
     const sim::MatchList& matches = run.matches(0);
     ASSERT_GT(matches.size(), 0u);
     const bool distributed = std::string(algorithm) == "distributed";
-    const sim::NeighborGraph& g = s.model->lattice.graph;
+    const sim::NeighborGraph& g = *s.model->lattice.graph;
     for (size_t i = 0; i < matches.size(); ++i) {
       const int64_t t = matches.t[i];
       const sim::ModuleId a = matches.slots[3 * i], b = matches.slots[3 * i + 1], c = matches.slots[3 * i + 2];
@@ -87,7 +87,7 @@ TEST(LeaderElection, ShippedScenarioPausesOnTheFig2Violation) {
   const auto pause = run.run_until(s.steps);
   ASSERT_TRUE(pause);
   EXPECT_EQ(pause->detected, pause->t + 2) << "three slots, distributed: two steps to fill them";
-  EXPECT_EQ(test::bfs(s.model->lattice.graph, pause->group[0])[pause->group[2]], 2);
+  EXPECT_EQ(test::bfs(*s.model->lattice.graph, pause->group[0])[pause->group[2]], 2);
   EXPECT_TRUE(run.seek(pause->t));
 }
 

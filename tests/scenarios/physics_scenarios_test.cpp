@@ -157,7 +157,7 @@ void expect_same_matches_as_static(const std::string& physics_file, const std::s
     ASSERT_FALSE(matches_of(sr)[0].empty());
     EXPECT_EQ(matches_of(pr), matches_of(sr)) << physics_file << " on " << threads << " threads";
     for (sim::ModuleId m = 0; m < p.model->module_count(); ++m)
-      ASSERT_TRUE(std::ranges::equal(pr.state().graph->neighbors(m), s.model->lattice.graph.neighbors(m))) << m;
+      ASSERT_TRUE(std::ranges::equal(pr.state().graph->neighbors(m), s.model->lattice.graph->neighbors(m))) << m;
   }
 }
 

@@ -99,7 +99,7 @@ class FarLinksOnOddSteps final : public World {
 
  private:
   static std::shared_ptr<const NeighborGraph> graph(const Model& model, int64_t step) {
-    const NeighborGraph& lattice = model.lattice.graph;
+    const NeighborGraph& lattice = *model.lattice.graph;
     const uint32_t m = lattice.module_count();
     std::vector<std::pair<ModuleId, ModuleId>> pairs;
     for (ModuleId a = 0; a < m; ++a)
