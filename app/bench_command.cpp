@@ -22,6 +22,7 @@
 #include "app/detector_flags.h"
 #include "app/integer_option.h"
 #include "app/output_files.h"
+#include "sim/rank_exchange.h"
 #include "sim/synthetic_trace.h"
 #include "watch/make_detector.h"
 
@@ -208,7 +209,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
                   "paper: Table II's baseline, random_vars alone (the default) or with aggregation_routing")
       ->check(CLI::IsMember({"random_vars", "aggregation_routing"}));
   cmd->add_option("--partition", args->partition, "mpi: how the ranks share the modules (run --partition)")
-      ->check(CLI::IsMember({"auto", "blocks", "metis"}));
+      ->check(CLI::IsMember(std::vector<std::string>(sim::kPartitionNames.begin(), sim::kPartitionNames.end())));
   cmd->add_option("--write-trace", args->write_trace, "Also write the synthetic trace (wptrace v1) to FILE");
   add_detector_flags(*cmd, args->detector, /*with_algorithm=*/false);
   cmd->callback([&run, args, cmd] {

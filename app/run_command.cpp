@@ -90,11 +90,8 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   if (record) recorder = std::make_unique<sim::TraceWriter>(*record, model.universe, scenario.events);
   const bool recording = !args.record_path.empty();  // on every rank: each gives its part of each frame
 
-  const sim::Partition partition = args.partition == "metis"    ? sim::Partition::Graph
-                                   : args.partition == "blocks" ? sim::Partition::Blocks
-                                                                : sim::Partition::Auto;
   sim::Session run(*scenario.model, *scenario.world,
-                   {threads, steps, history_mb << 20, scenario.events, ranks, partition});
+                   {threads, steps, history_mb << 20, scenario.events, ranks, sim::partition_named(args.partition)});
   ProgressBar progress("run " + scenario.name, steps, lead && !args.no_progress);
   const auto started = std::chrono::steady_clock::now();
   std::optional<sim::Pause> pause;
@@ -132,7 +129,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   if (present < occupied.size()) summary << ", " << occupied.size() - present << " cells left empty";
   summary << "), " << ran << (ran == 1 ? " step" : " steps") << " of " << steps << ", seed " << model.seed << ", "
           << threads << (threads == 1 ? " thread" : " threads");
-  const char* shared_by = run.partition() == sim::Partition::Graph ? "metis" : "blocks";
+  const std::string shared_by(sim::partition_name(run.partition()));
   if (ranks) summary << " on each of " << ranks->ranks() << " ranks (partition: " << shared_by << ")";
   summary << "\n  programs:";
   for (const auto& p : model.programs) summary << " " << p->name();
@@ -284,7 +281,7 @@ void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange
                   "Over several ranks (mpirun), share the modules in runs of blocks (slabs of a lattice), by a "
                   "METIS partition of their neighbour graph, or (auto) by blocks for a static lattice and by METIS "
                   "when bodies move")
-      ->check(CLI::IsMember({"auto", "blocks", "metis"}));
+      ->check(CLI::IsMember(std::vector<std::string>(sim::kPartitionNames.begin(), sim::kPartitionNames.end())));
   cmd->add_option("--record", args->record_path, "Write what the watchpoints saw as a wptrace v1 TRACE");
   cmd->add_option("--matches", args->matches_path,
                   "Write every match of log/pause watchpoints as JSON Lines (- for stdout)");

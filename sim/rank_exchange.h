@@ -5,10 +5,13 @@
 // knows no MPI.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string_view>
 #include <vector>
 
 namespace dw::sim {
@@ -84,6 +87,14 @@ enum class Partition {
   Blocks,  // runs of consecutive blocks, each rank's holding about as many modules: slabs of a lattice
   Graph,   // a k-way partition of the blocks' neighbour graph (METIS): for what ids do not lay out
 };
+// The names `--partition` takes, by Partition value.
+inline constexpr std::array<std::string_view, 3> kPartitionNames{"auto", "blocks", "metis"};
+inline std::string_view partition_name(Partition p) { return kPartitionNames[static_cast<size_t>(p)]; }
+// The Partition a name (one of kPartitionNames) stands for.
+inline Partition partition_named(std::string_view name) {
+  return static_cast<Partition>(std::find(kPartitionNames.begin(), kPartitionNames.end(), name) -
+                                kPartitionNames.begin());
+}
 
 // Whether `yes` holds on any rank: a decision every rank takes alike (a collective call); in one
 // process (no ranks), `yes`.

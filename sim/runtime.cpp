@@ -259,27 +259,23 @@ void Runtime::run_over_ranks(State& state) {
 // send (DistributedAgents::fill_and_spread). Worked out once per graph: a static lattice's once
 // for the run.
 void Runtime::split_own_blocks(const State& state) {
-  struct Graph {
-    std::shared_ptr<const void> owner;
-    const uint32_t* begin;
-    const uint32_t* ids;
-  };
-  std::vector<Graph> graphs{{state.graph, state.graph->begin.data(), state.graph->ids.data()}};
+  std::vector<std::pair<std::shared_ptr<const void>, watch::AgentHistory::StepGraph>> graphs{
+      {state.graph, {state.graph->begin.data(), state.graph->ids.data()}}};
   for (uint32_t w : agent_watches_) {
     const watch::AgentHistory& history = state.watches[w].agents->history();
     const int64_t f = state.step - model_.watches[w].watchpoint.program.extent_plus;
-    if (auto owner = history.graph_owner(f)) graphs.push_back({owner, history.graph(f).begin, history.graph(f).ids});
+    if (auto owner = history.graph_owner(f)) graphs.emplace_back(std::move(owner), history.graph(f));
   }
   const uint32_t me = static_cast<uint32_t>(ranks_->rank());
   std::vector<Border> kept;
-  for (const Graph& g : graphs) {
-    auto same = [&](const Border& b) { return b.graph == g.owner; };
+  for (const auto& [owner, g] : graphs) {
+    auto same = [&](const Border& b) { return b.graph == owner; };
     if (std::ranges::any_of(kept, same)) continue;
     if (auto known = std::ranges::find_if(borders_, same); known != borders_.end()) {
       kept.push_back(std::move(*known));
       continue;
     }
-    Border& b = kept.emplace_back(Border{g.owner, std::vector<uint8_t>(own_blocks_.size(), 0)});
+    Border& b = kept.emplace_back(Border{owner, std::vector<uint8_t>(own_blocks_.size(), 0)});
     for (size_t i = 0; i < own_blocks_.size(); ++i)
       for (uint32_t m = block_begin(own_blocks_[i]); m < block_begin(own_blocks_[i] + 1) && !b.crosses[i]; ++m)
         for (uint32_t e = g.begin[m]; e < g.begin[m + 1]; ++e)
@@ -304,7 +300,6 @@ void Runtime::split_own_blocks(const State& state) {
 std::vector<std::vector<std::byte>> Runtime::batches_for_ranks() {
   const uint32_t me = static_cast<uint32_t>(ranks_->rank());
   std::vector<std::vector<std::byte>> out(static_cast<size_t>(ranks_->ranks()));
-  std::vector<bool> carries(out.size(), false);
   auto put = [](std::vector<std::byte>& to, uint64_t value) {
     append_records(to, std::span<const uint64_t>(&value, 1));
   };
@@ -315,11 +310,7 @@ std::vector<std::vector<std::byte>> Runtime::batches_for_ranks() {
   for (const ThreadScratch& s : scratch_)
     for (const Message& m : s.outbox.messages)
       if (const uint32_t r = rank_of(m.to); r != me) append_records(out[r], std::span<const Message>(&m, 1));
-  for (size_t r = 0; r < out.size(); ++r) {
-    const uint64_t count = (out[r].size() - sizeof(uint64_t)) / sizeof(Message);
-    patch(out[r], 0, count);
-    carries[r] = count != 0;
-  }
+  for (std::vector<std::byte>& to : out) patch(to, 0, (to.size() - sizeof(uint64_t)) / sizeof(Message));
   for (uint32_t w : agent_watches_) {
     std::vector<size_t> head(out.size());
     for (size_t r = 0; r < out.size(); ++r) head[r] = out[r].size(), put(out[r], 0);
@@ -333,15 +324,12 @@ std::vector<std::vector<std::byte>> Runtime::batches_for_ranks() {
         to.insert(to.end(), lane.data(), lane.data() + lane.size());
         lane.clear();
       }
-    for (size_t r = 0; r < out.size(); ++r) {
-      const uint64_t bytes = out[r].size() - head[r] - sizeof(uint64_t);
-      patch(out[r], head[r], bytes);
-      carries[r] = carries[r] || bytes != 0;
-    }
+    for (size_t r = 0; r < out.size(); ++r) patch(out[r], head[r], out[r].size() - head[r] - sizeof(uint64_t));
   }
-  for (size_t r = 0; r < out.size(); ++r) {
-    if (!carries[r]) out[r].clear();
-    bytes_to_ranks_ += out[r].size();
+  const size_t headers = sizeof(uint64_t) * (1 + agent_watches_.size());  // all a batch of nothing holds
+  for (std::vector<std::byte>& to : out) {
+    if (to.size() == headers) to.clear();
+    bytes_to_ranks_ += to.size();
   }
   return out;
 }

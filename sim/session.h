@@ -40,9 +40,8 @@ struct SessionOptions {
   // go further may). 0: ahead only as far as each run is asked to go.
   int64_t end = 0;
   // Memory for keyframes (over ranks, for all of theirs); K doubles to stay within it (keyframe 0
-  // always stays). 0: no history,
-  // for measuring the runtime alone: the session can then neither seek back, branch from the
-  // past, nor evaluate a new watchpoint over the past.
+  // always stays). 0: no history, for measuring the runtime alone: the session can then neither
+  // seek back, branch from the past, nor evaluate a new watchpoint over the past.
   size_t history_bytes = size_t{256} << 20;
   std::vector<Intervention> events;  // scheduled interventions ([[event]]), any order
   // This process is one rank of a run over several (DESIGN §12): every rank makes the same calls
