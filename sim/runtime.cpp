@@ -268,8 +268,9 @@ void Runtime::split_own_blocks(const State& state) {
   }
   const uint32_t me = static_cast<uint32_t>(ranks_->rank());
   std::vector<Border> kept;
-  for (const auto& [owner, g] : graphs) {
-    auto same = [&](const Border& b) { return b.graph == owner; };
+  for (const auto& graph : graphs) {
+    const auto& [owner, g] = graph;
+    auto same = [&](const Border& b) { return b.graph == graph.first; };  // clang 14 captures no bindings
     if (std::ranges::any_of(kept, same)) continue;
     if (auto known = std::ranges::find_if(borders_, same); known != borders_.end()) {
       kept.push_back(std::move(*known));
