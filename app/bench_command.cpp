@@ -74,10 +74,11 @@ EngineRow engine_row(const sim::Trace& trace, const watch::Watchpoint& w, watch:
   for (int r = 0; r < repeat; ++r) {
     uint64_t matches = 0;
     auto detector =
-        watch::make_detector(a, w, reader.universe(), o, [&](int64_t step, std::span<const watch::ModuleId> ids) {
-          matches += ids.size() / slots;
-          if (on_match) (*on_match)(step, ids);
-        });
+        watch::make_detector(a, w, reader.universe(), o,
+                             [&](int64_t step, std::span<const watch::ModuleId> ids, std::span<const watch::Value>) {
+                               matches += ids.size() / slots;
+                               if (on_match) (*on_match)(step, ids);
+                             });
     const auto start = std::chrono::steady_clock::now();
     for (const watch::Frame& f : frames) detector->observe(f);
     detector->finish();

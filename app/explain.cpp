@@ -1,5 +1,7 @@
 #include "app/explain.h"
 
+#include <cstdlib>
+
 #include "watch/detector.h"
 
 namespace dw::app {
@@ -49,17 +51,50 @@ void explain_watchpoint(const watch::Watchpoint& w, std::ostream& out) {
     if (n.x < n.y) out << "culls candidates for " << y << " to N(" << x << "); " << x << " carries its neighbour set\n";
     else out << "decided by " << x << " from its own neighbour set (no culling)\n";
   }
-  // DESIGN §4a: what each reading finds and how long it takes to decide a watch step.
+  out << "  aggregates" << (a.aggregates.empty() ? "     none" : "") << "\n";
+  for (const watch::AggregateUse& g : a.aggregates) {
+    const watch::Node& n = w.ast.nodes[static_cast<size_t>(g.node)];
+    out << "    " << watch::to_string(w.ast, g.node) << "\n      over N(" << p.slot_names[g.slot] << ", now"
+        << (g.offset ? (g.offset > 0 ? " + " : " - ") + std::to_string(std::abs(g.offset)) : "") << ")";
+    if (!g.neighbor_reads.empty()) {
+      out << "; reads of each neighbour " << n.name << ":";
+      for (const watch::SlotRead& r : g.neighbor_reads)
+        out << " " << a.variables[r.variable].name
+            << (r.offset ? "@" + std::string(r.offset > 0 ? "+" : "") + std::to_string(r.offset) : "");
+    }
+    if (!g.neighbor_sets.empty()) out << "; its neighbours' own neighbour sets";
+    if (!g.slots.empty()) {
+      out << "; slots read inside:";
+      for (int s : g.slots) out << " " << p.slot_names[s];
+    }
+    out << "\n      distributed: "
+        << (g.needs_messages() ? "the neighbours' values come by message, one hop: +1 to the distributed lags"
+                               : "decided from the module's own neighbour set, no message")
+        << "\n";
+  }
+  // DESIGN §4a, §7: what each reading finds and how long it takes to decide a watch step.
   const int k = p.slot_count();
-  const int64_t e = a.extent_plus;
+  const int64_t e = a.extent_plus, h = a.aggregate_hops;
   using watch::GroupShape;
+  const std::string hop = h ? " + 1 (an aggregate's hop)" : "";
   out << "  readings       (a watch step t is decided at step t + lag)\n";
   out << "    centralized: chain, ordered (default) or any groups, simultaneous states; lag E+ = " << e << "\n";
-  out << "    distributed, consistent states (the paper's): chain groups only; lag E+ + k - 1 = " << e + k - 1 << "\n";
+  out << "    distributed, consistent states (the paper's): chain groups only; lag E+ + k - 1" << hop << " = "
+      << e + k - 1 + h << "\n";
   out << "    distributed, simultaneous states: latency L = k - 1 = " << watch::hop_latency(GroupShape::Chain, k)
       << " hops for chain, k(k - 1)/2 = " << watch::hop_latency(GroupShape::Any, k)
-      << " for ordered and any; lag E+ + L = " << e + watch::hop_latency(GroupShape::Chain, k) << " / "
-      << e + watch::hop_latency(GroupShape::Any, k) << "\n";
+      << " for ordered and any; lag E+ + L" << hop << " = " << e + h + watch::hop_latency(GroupShape::Chain, k) << " / "
+      << e + h + watch::hop_latency(GroupShape::Any, k) << "\n";
+  if (!w.ast.actions.empty()) {
+    out << "  actions        (a match at t acts at the start of step t + lag + 1, with the match's reading)\n";
+    for (const watch::Action& act : w.ast.actions) {
+      out << "    "
+          << (act.kind == watch::Action::Kind::Remove
+                  ? "remove " + p.slot_names[act.slot]
+                  : "set " + p.slot_names[act.slot] + "." + act.variable + " = " + watch::to_string(w.ast, act.value))
+          << "\n";
+    }
+  }
   out << "  PatternMatcher " << p.leaves.size() << " leaves, " << p.cells.size() << " carried value(s), "
       << p.sets.size() << " carried neighbour set(s)\n";
 }

@@ -102,13 +102,15 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
         if (recorder) recorder->write(sim::make_frame(model, out.step, values, out.present, out.graph));
       }
       for (size_t w = 0; w < out.watches.size(); ++w)
-        if (!out.watches[w].slots.empty()) sinks[w](out.watches[w].t, out.watches[w].slots);
+        if (!out.watches[w].slots.empty() && model.watches[w].action != sim::MatchAction::Count)
+          sinks[w](out.watches[w].t, out.watches[w].slots, out.watches[w].actions);
       log.release(out.step - max_lag);
       progress.update(out.step + 1);
     });
     // Simultaneous-state watchpoints decide the run's last steps by draining (DESIGN §4a).
     if (!pause && run.latest() + 1 == steps)
-      run.drain([&](uint32_t w, int64_t t, std::span<const watch::ModuleId> ids) { sinks[w](t, ids); });
+      run.drain([&](uint32_t w, int64_t t, std::span<const watch::ModuleId> ids,
+                    std::span<const watch::Value> actions) { sinks[w](t, ids, actions); });
   } catch (const sim::ProgramError& e) {
     progress.finish();
     errors << "dwatch: " << args.scenario << ": error: " << e.what() << "\n";

@@ -37,24 +37,37 @@ std::vector<watch::ModuleId> MatchLog::sorted_groups(std::span<const watch::Modu
       for (size_t s = 0; s < k; ++s) out.push_back(static_cast<watch::ModuleId>((key >> (bits * (k - 1 - s))) & mask));
     return out;
   }
-  std::vector<size_t> order(n);
+  for (size_t i : group_order(ids, k)) out.insert(out.end(), ids.begin() + i * k, ids.begin() + (i + 1) * k);
+  return out;
+}
+
+// The groups of k ids in `ids` in sorted order, as their indices.
+std::vector<size_t> MatchLog::group_order(std::span<const watch::ModuleId> ids, size_t k) {
+  std::vector<size_t> order(ids.size() / k);
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
     return std::lexicographical_compare(ids.begin() + a * k, ids.begin() + (a + 1) * k, ids.begin() + b * k,
                                         ids.begin() + (b + 1) * k);
   });
-  for (size_t i : order) out.insert(out.end(), ids.begin() + i * k, ids.begin() + (i + 1) * k);
-  return out;
+  return order;
 }
 
 watch::MatchSink MatchLog::sink(size_t index) {
-  return [this, index](int64_t t, std::span<const watch::ModuleId> ids) {
+  return [this, index](int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value> actions) {
     Watch& w = watches_[index];
     const size_t k = w.info.slots.size();
     const size_t n = ids.size() / k;
     w.count += n;
     if (out_ == nullptr && w.kept.size() >= keep_) return;
-    Batch batch{t, index, sorted_groups(ids, k)};
+    Batch batch{t, index, {}, {}};
+    if (const size_t a = w.info.actions.size(); a > 0 && actions.size() == n * a) {
+      for (size_t i : group_order(ids, k)) {
+        batch.ids.insert(batch.ids.end(), ids.begin() + i * k, ids.begin() + (i + 1) * k);
+        batch.actions.insert(batch.actions.end(), actions.begin() + i * a, actions.begin() + (i + 1) * a);
+      }
+    } else {
+      batch.ids = sorted_groups(ids, k);
+    }
     for (size_t i = 0; i < n && w.kept.size() < keep_; ++i)
       w.kept.push_back({t, std::vector<watch::ModuleId>(batch.ids.begin() + i * k, batch.ids.begin() + (i + 1) * k)});
     if (out_ == nullptr) return;
@@ -89,7 +102,27 @@ void MatchLog::write(const Batch& b) {
       block += w.slot_keys[s];
       block.append(number, std::to_chars(number, number + sizeof number, b.ids[i + s]).ptr);
     }
-    block += "}}\n";
+    block += '}';
+    if (!b.actions.empty()) {
+      const size_t a = w.info.actions.size(), match = i / k;
+      block += ",\"then\":[";
+      for (size_t j = 0; j < a; ++j) {
+        const auto& [slot, variable] = w.info.actions[j];
+        const watch::ModuleId module = b.ids[i + static_cast<size_t>(slot)];
+        const std::string on =
+            nlohmann::json(w.info.slots[static_cast<size_t>(slot)] + (variable.empty() ? "" : "." + variable)).dump();
+        block += j ? ",{" : "{";
+        block += variable.empty() ? "\"remove\":" : "\"set\":";
+        block += on + ",\"module\":" + std::to_string(module);
+        if (!variable.empty()) {
+          const watch::Value v = b.actions[match * a + j];
+          block += ",\"value\":" + (v.known ? std::to_string(v.value) : std::string("null"));
+        }
+        block += '}';
+      }
+      block += ']';
+    }
+    block += "}\n";
     if (block.size() >= (1 << 20) - 256) {
       out_->write(block.data(), static_cast<std::streamsize>(block.size()));
       block.clear();

@@ -1,6 +1,8 @@
 // Collects the matches of several detectors and writes them as JSON Lines (DESIGN §5), sorted by
 // t, then by watch (in the order given), then by slot ids in slot order:
 //   {"watch":"leaders","t":12,"slots":{"a":4,"b":5,"c":9}}
+// A watchpoint with actions (DESIGN §4b) adds what each asks, its value null when unknown:
+//   {"watch":"gradient","t":3,"slots":{"a":4,"b":5},"then":[{"set":"a.dist","module":4,"value":2}]}
 // Detectors finish watch steps at different lags; a step is written once every watch is past it.
 #pragma once
 
@@ -19,6 +21,8 @@ class MatchLog {
   struct WatchInfo {
     std::string name;
     std::vector<std::string> slots;
+    // Per action: the slot it acts on and, for a set, the variable ("" for a remove).
+    std::vector<std::pair<int, std::string>> actions = {};
   };
 
   // `out` may be null: then matches are only counted. The first `keep` matches of each watch, in
@@ -42,7 +46,8 @@ class MatchLog {
   struct Batch {
     int64_t t;
     size_t watch;
-    std::vector<watch::ModuleId> ids;  // sorted matches, slot_count each
+    std::vector<watch::ModuleId> ids;   // sorted matches, slot_count each
+    std::vector<watch::Value> actions;  // in step with ids, action_count each
   };
   struct Watch {
     WatchInfo info;
@@ -53,6 +58,7 @@ class MatchLog {
   };
   void write(const Batch& b);
   static std::vector<watch::ModuleId> sorted_groups(std::span<const watch::ModuleId> ids, size_t k);
+  static std::vector<size_t> group_order(std::span<const watch::ModuleId> ids, size_t k);
 
   std::vector<Watch> watches_;
   std::ostream* out_;

@@ -41,6 +41,11 @@ watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_
 
 std::string why_not_over_ranks(const Model& model) {
   for (const HostedWatchpoint& w : model.watches)
+    if (w.watchpoint.program.aggregate_hops > 0)
+      return "watchpoint '" + w.watchpoint.name +
+             "' aggregates its neighbours' values, which its agents would need from modules on other ranks: "
+             "not yet exchanged between ranks; run it in one process";
+  for (const HostedWatchpoint& w : model.watches)
     if (!w.runs_on_agents())
       return "watchpoint '" + w.watchpoint.name + "' is " +
              (w.algorithm == watch::Algorithm::Centralized ? "centralized" : "read over simultaneous states") +
@@ -207,7 +212,7 @@ void Runtime::run_agents(unsigned thread, uint32_t block, uint32_t w, State& sta
   const uint32_t begin = block_begin(block), end = block_begin(block + 1);
   const watch::Frame frame = make_frame(model_, state.step, next_values_, state.present, state.graph, first_);
   ws.agents->record(frame, begin, end, program, columns_[w]);
-  const int64_t f = state.step - program.extent_plus;
+  const int64_t f = state.step - program.agent_delay();
   if (f < 0) return;
   Lanes out;
   out.row = sending_[w].data() + size_t{thread} * blocks_;
@@ -224,7 +229,7 @@ void Runtime::start_thread(unsigned thread, const State& state) {
   s.outbox.actuations.clear();
   s.outbox.error.clear();  // a failed step may be tried again (a script reloaded, a seek back)
   for (uint32_t w : agent_watches_)
-    watch::start_agent_step(s.agents[w], state.step - model_.watches[w].watchpoint.program.extent_plus);
+    watch::start_agent_step(s.agents[w], state.step - model_.watches[w].watchpoint.program.agent_delay());
 }
 
 // The thread's share of `blocks`: the t-th of equal runs.
@@ -263,7 +268,7 @@ void Runtime::split_own_blocks(const State& state) {
       {state.graph, {state.graph->begin.data(), state.graph->ids.data()}}};
   for (uint32_t w : agent_watches_) {
     const watch::AgentHistory& history = state.watches[w].agents->history();
-    const int64_t f = state.step - model_.watches[w].watchpoint.program.extent_plus;
+    const int64_t f = state.step - model_.watches[w].watchpoint.program.agent_delay();
     if (auto owner = history.graph_owner(f)) graphs.emplace_back(std::move(owner), history.graph(f));
   }
   const uint32_t me = static_cast<uint32_t>(ranks_->rank());
@@ -367,7 +372,7 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
   const watch::Program& program = hosted.watchpoint.program;
   WatchState& ws = state.watches[w];
   const uint32_t k = program.slot_count();
-  const int64_t f = state.step - program.extent_plus;
+  const int64_t f = state.step - program.agent_delay();
   for (size_t lane = 0; lane < ws.in_flight.size(); ++lane) {
     std::swap(ws.in_flight[lane], sending_[w][lane]);
     sending_[w][lane].clear();
@@ -397,15 +402,24 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
     out.t = t0;
     for (ThreadScratch& s : scratch_) out.matches += s.agents[w].match_values / k;
     if (ranks_) ranks_->sum({&out.matches, 1});
-    if (hosted.action != MatchAction::Count && out.matches) {
-      for (ThreadScratch& s : scratch_)
-        out.slots.insert(out.slots.end(), s.agents[w].matches.begin(),
-                         s.agents[w].matches.begin() + static_cast<ptrdiff_t>(s.agents[w].match_values));
-      if (ranks_) {  // every rank's, on every rank: each decides alike where to pause
+    if ((hosted.action != MatchAction::Count || !program.actions.empty()) && out.matches) {
+      for (ThreadScratch& s : scratch_) {
+        const watch::AgentContext& ctx = s.agents[w];
+        out.slots.insert(out.slots.end(), ctx.matches.begin(),
+                         ctx.matches.begin() + static_cast<ptrdiff_t>(ctx.match_values));
+        out.actions.insert(out.actions.end(), ctx.action_values.begin(), ctx.action_values.end());
+      }
+      if (ranks_) {  // every rank's, on every rank: each decides alike where to pause, and acts alike
         std::vector<ModuleId> all;
         for (const auto& part : ranks_->all_gather(std::as_bytes(std::span(out.slots))))
           all.insert(all.end(), records_of<ModuleId>(part).begin(), records_of<ModuleId>(part).end());
         out.slots = std::move(all);
+        if (!program.actions.empty()) {
+          std::vector<watch::Value> values;
+          for (const auto& part : ranks_->all_gather(std::as_bytes(std::span(out.actions))))
+            values.insert(values.end(), records_of<watch::Value>(part).begin(), records_of<watch::Value>(part).end());
+          out.actions = std::move(values);
+        }
       }
     }
   }
@@ -413,13 +427,17 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
 
 void Runtime::observe_detector(uint32_t w, State& state, WatchStepOutput& out) {
   WatchState& ws = state.watches[w];
-  const bool keep = model_.watches[w].action != MatchAction::Count;
-  const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
-  ws.detector->set_sink([&out, keep, k](int64_t t, std::span<const watch::ModuleId> ids) {
-    out.t = t;
-    out.matches += ids.size() / k;
-    if (keep) out.slots.assign(ids.begin(), ids.end());
-  });
+  const watch::Program& program = model_.watches[w].watchpoint.program;
+  const bool keep = model_.watches[w].action != MatchAction::Count || !program.actions.empty();
+  const uint32_t k = program.slot_count();
+  ws.detector->set_sink(
+      [&out, keep, k](int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value> actions) {
+        out.t = t;
+        out.matches += ids.size() / k;
+        if (!keep) return;
+        out.slots.assign(ids.begin(), ids.end());
+        out.actions.assign(actions.begin(), actions.end());
+      });
   const watch::Frame frame = make_frame(model_, state.step, state.values, state.present, state.graph);
   const uint64_t before = ws.detector->stats().observed_steps;
   ws.detector->observe(frame);
@@ -621,6 +639,8 @@ uint64_t Runtime::hash(const State& state) {
   for (size_t w = 0; w < digests.size(); ++w) digests[w] = {sums[2 * w], sums[2 * w + 1]};
   for (size_t w = 0; w < state.watches.size(); ++w) {
     whole.watches[w].matches = state.watches[w].matches;
+    whole.watches[w].actions_done = state.watches[w].actions_done;
+    whole.watches[w].actions_skipped = state.watches[w].actions_skipped;
     whole.watches[w].stopped = state.watches[w].stopped;
   }
   return hash_state(whole, digests, rows);
@@ -649,18 +669,68 @@ void Runtime::intervene(State& state, std::span<const Intervention> intervention
   }
 }
 
+// The actions due at the start of this step (queue_actions), in the order queued. An action whose
+// value is unknown, whose module is absent by now or lacks the variable does nothing, and counts
+// as skipped (DESIGN §4b).
+void Runtime::act(State& state) {
+  const uint32_t v = model_.variable_count();
+  for (const PendingAction& a : state.actions) {
+    WatchState& ws = state.watches[a.watch];
+    const bool can =
+        a.module < model_.module_count() && state.present[a.module] && (a.remove || (a.known && a.column >= 0));
+    if (!can) {
+      ++ws.actions_skipped;
+      continue;
+    }
+    ++ws.actions_done;
+    if (a.remove) world_.remove_module(model_, state, a.module);
+    else if (!ranks_ || rank_of(a.module) == static_cast<uint32_t>(ranks_->rank()))  // its rank's alone
+      state.values[size_t{a.module - first_} * v + size_t(a.column)] = a.value;
+  }
+  state.actions.clear();
+}
+
+// The actions of the matches decided this step, due at the start of the next (t + λ + 1): in
+// watchpoint order, then match order (by slot ids; one step's matches share t), then action order.
+void Runtime::queue_actions(State& state, const StepOutput& out) {
+  for (uint32_t w = 0; w < model_.watches.size(); ++w) {
+    const watch::Program& p = model_.watches[w].watchpoint.program;
+    const WatchStepOutput& o = out.watches[w];
+    if (p.actions.empty() || o.slots.empty()) continue;
+    const size_t k = static_cast<size_t>(p.slot_count()), a = p.actions.size();
+    for (size_t i = 0; i * k < o.slots.size(); ++i)
+      for (size_t j = 0; j < a; ++j) {
+        const watch::ActionCode& code = p.actions[j];
+        const watch::Value value = o.actions[i * a + j];
+        PendingAction act;
+        act.watch = w;
+        act.module = o.slots[i * k + static_cast<size_t>(code.slot)];
+        act.remove = code.kind == watch::Action::Kind::Remove;
+        act.column = act.remove ? -1 : model_.column(code.variable);
+        act.known = value.known;
+        act.value = value.value;
+        state.actions.push_back(act);
+      }
+  }
+}
+
+bool Runtime::observes(uint32_t w, std::span<const uint8_t> watching) const {
+  return watching.empty() || watching[w] || !model_.watches[w].watchpoint.program.actions.empty();
+}
+
 void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> interventions,
                    std::span<const uint8_t> watching) {
   out.step = state.step;
   out.watches.assign(model_.watches.size(), WatchStepOutput{});
   // Pushes made from outside go to the world first, then the programs' own requests.
   actuations_.clear();
+  act(state);
   intervene(state, interventions);
   // The watchpoints whose agents run this step make room for it before the threads record it.
   agent_watches_.clear();
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
     if (!model_.watches[w].runs_on_agents() || state.watches[w].stopped) continue;
-    if (!watching.empty() && !watching[w]) continue;
+    if (!observes(w, watching)) continue;
     agent_watches_.push_back(w);
     for (watch::RecordBuffer& lane : sending_[w]) lane.clear();  // a step that failed may have filled some
     state.watches[w].agents->begin_record(
@@ -678,7 +748,7 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
 
   std::swap(state.values, next_values_);  // assign: the variables now hold step t's values
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
-    if (state.watches[w].stopped || (!watching.empty() && !watching[w])) continue;
+    if (state.watches[w].stopped || !observes(w, watching)) continue;
     if (model_.watches[w].runs_on_agents()) finish_distributed(w, state, out.watches[w]);
     else observe_detector(w, state, out.watches[w]);
     WatchStepOutput& o = out.watches[w];
@@ -696,8 +766,15 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
       sorted.reserve(o.slots.size());
       for (uint32_t i : order) sorted.insert(sorted.end(), o.slots.begin() + i * k, o.slots.begin() + i * k + k);
       o.slots = std::move(sorted);
+      if (const size_t a = model_.watches[w].watchpoint.program.actions.size(); a > 0) {
+        std::vector<watch::Value> values;
+        values.reserve(o.actions.size());
+        for (uint32_t i : order) values.insert(values.end(), o.actions.begin() + i * a, o.actions.begin() + i * a + a);
+        o.actions = std::move(values);
+      }
     }
   }
+  queue_actions(state, out);
   out.present = state.present;
   out.graph = state.graph;
   const uint64_t sent_before = state.program_messages;

@@ -29,8 +29,10 @@ namespace dw::sim {
 struct WatchStepOutput {
   int64_t t = -1;  // the watch step whose matches were decided now; -1 when none was
   uint64_t matches = 0;
-  std::vector<ModuleId> slots;  // slot ids per match, matches in ascending order; not for `count`
-  bool observed = false;        // stats holds this step's statistics
+  std::vector<ModuleId> slots;        // slot ids per match, matches in ascending order; not for `count`
+                                      // unless it has actions
+  std::vector<watch::Value> actions;  // per match, its actions' values (DESIGN §4b)
+  bool observed = false;              // stats holds this step's statistics
   watch::StepStats stats;
 };
 
@@ -72,9 +74,11 @@ class Runtime {
   // A fresh detector state for watchpoint w, as before step 0.
   WatchState initial_watch_state(uint32_t w) const;
   // Runs step state.step and leaves the state ready for the next one. `interventions` are those
-  // of this step, carried out first in their order (a bad one throws ProgramError). Only the
-  // watchpoints `watching` marks (all when empty) observe the step; the others' states are left
-  // as they were, so a session can re-simulate for one watchpoint, or for none.
+  // of this step, carried out first in their order (a bad one throws ProgramError), after the
+  // watchpoints' actions due then (DESIGN §4b). Only the watchpoints `watching` marks (all when
+  // empty) observe the step, and those with actions, which are part of the simulation; the
+  // others' states are left as they were, so a session can re-simulate for one watchpoint, or
+  // for none.
   void step(State& state, StepOutput& out, std::span<const Intervention> interventions = {},
             std::span<const uint8_t> watching = {});
 
@@ -112,6 +116,9 @@ class Runtime {
   };
 
   void intervene(State& state, std::span<const Intervention> interventions);
+  void act(State& state);
+  bool observes(uint32_t w, std::span<const uint8_t> watching) const;
+  void queue_actions(State& state, const StepOutput& out);
   void start_thread(unsigned thread, const State& state);
   void run_blocks(unsigned thread, std::span<const uint32_t> blocks, State& state);
   void run_over_ranks(State& state);

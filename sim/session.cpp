@@ -156,7 +156,7 @@ void Session::record_output(const State& state, const StepOutput& out, uint32_t 
       stats_[w].add(o.stats);
       stats_step_[w].push_back(out.step);
     }
-    if (!o.slots.empty()) {
+    if (!o.slots.empty() && model_.watches[w].action != MatchAction::Count) {
       const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
       MatchList& list = matches_[w];
       list.slots.insert(list.slots.end(), o.slots.begin(), o.slots.end());
@@ -173,14 +173,14 @@ void Session::drain(const DrainSink& sink) {
     const HostedWatchpoint& h = model_.watches[w];
     const uint32_t k = h.watchpoint.program.slot_count();
     MatchList& list = matches_[w];
-    ws.detector->set_sink([&](int64_t t, std::span<const ModuleId> ids) {
+    ws.detector->set_sink([&](int64_t t, std::span<const ModuleId> ids, std::span<const watch::Value> actions) {
       ws.matches += ids.size() / k;
       if (h.action != MatchAction::Count) {
         list.slots.insert(list.slots.end(), ids.begin(), ids.end());
         list.t.insert(list.t.end(), ids.size() / k, t);
         list.detected.insert(list.detected.end(), ids.size() / k, latest_);
       }
-      if (sink) sink(w, t, ids);
+      if (sink) sink(w, t, ids, actions);
     });
     const watch::DetectorStats before = ws.detector->stats();
     ws.detector->finish();

@@ -110,7 +110,8 @@ class Session {
   // simultaneous-state mode, drain their PatternMatchers over the last step's links. What they
   // find joins the history as detected at the latest step (a `pause` one does not pause) and goes
   // to `sink`. The session simulates no further step afterwards.
-  using DrainSink = std::function<void(uint32_t watch, int64_t t, std::span<const ModuleId> slots)>;
+  using DrainSink = std::function<void(uint32_t watch, int64_t t, std::span<const ModuleId> slots,
+                                       std::span<const watch::Value> actions)>;
   void drain(const DrainSink& sink = {});
   // Makes step t current (-1 ≤ t ≤ latest). False when cancelled (nothing changed then).
   bool seek(int64_t t, const Control& control = {});

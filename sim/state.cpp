@@ -60,6 +60,8 @@ WatchState& WatchState::operator=(const WatchState& other) {
   agents = other.agents;
   in_flight = other.in_flight;
   matches = other.matches;
+  actions_done = other.actions_done;
+  actions_skipped = other.actions_skipped;
   stopped = other.stopped;
   stop_reason = other.stop_reason;
   return *this;
@@ -80,6 +82,7 @@ State simulation_part(const State& s, std::vector<int64_t> values) {
   c.bodies = s.bodies;
   c.inbox = s.inbox;
   c.program_messages = s.program_messages;
+  c.actions = s.actions;
   c.watches.resize(s.watches.size());
   return c;
 }
@@ -147,8 +150,19 @@ uint64_t hash_state(const State& s, std::span<const InFlightDigest> in_flight,
     for (int64_t w : m.payload()) h.word(static_cast<uint64_t>(w));
   }
   h.word(s.program_messages);
+  // Watchpoints' actions (DESIGN §4b), when there are any: a run without them hashes as it did.
+  if (!s.actions.empty()) h.word(s.actions.size());
+  for (const PendingAction& a : s.actions) {
+    h.word((uint64_t{a.watch} << 32) | a.module);
+    h.word((static_cast<uint64_t>(static_cast<uint32_t>(a.column)) << 2) | (uint64_t{a.remove} << 1) | a.known);
+    h.word(static_cast<uint64_t>(a.value));
+  }
   for (size_t w = 0; w < s.watches.size(); ++w) {
     h.word(s.watches[w].matches);
+    if (s.watches[w].actions_done || s.watches[w].actions_skipped) {
+      h.word(s.watches[w].actions_done);
+      h.word(s.watches[w].actions_skipped);
+    }
     h.word(s.watches[w].stopped);
     h.word(in_flight[w].sum);
     h.word(in_flight[w].count);
@@ -171,7 +185,7 @@ size_t state_bytes(const State& s) {
              vector_bytes(b.velocities) + vector_bytes(b.local) + vector_bytes(b.cluster_of) +
              vector_bytes(b.clusters) + vector_bytes(b.members) + vector_bytes(b.bonds) + vector_bytes(b.movers) +
              vector_bytes(b.prop_poses) + vector_bytes(b.prop_velocities) + vector_bytes(s.inbox.begin) +
-             vector_bytes(s.inbox.messages) + 16 * kBlock;
+             vector_bytes(s.inbox.messages) + vector_bytes(s.actions) + 16 * kBlock;
   for (const WatchState& w : s.watches) {
     n += sizeof(WatchState) + vector_bytes(w.in_flight);
     if (w.agents) n += w.agents->bytes();

@@ -17,6 +17,18 @@
 
 namespace dw::sim {
 
+// What a watchpoint's match does at the start of step t + λ + 1 (DESIGN §4b): set a module's
+// variable, or take the module out.
+struct PendingAction {
+  uint32_t watch = 0;
+  ModuleId module = 0;
+  int32_t column = -1;  // set: the variable's column; -1 when the model has no such variable
+  bool remove = false;
+  bool known = false;  // set: the value is known
+  int64_t value = 0;
+  bool operator==(const PendingAction&) const = default;
+};
+
 // A hosted watchpoint's detector state.
 struct WatchState {
   // Centralized: the detector, observing the whole ensemble once per step.
@@ -26,7 +38,8 @@ struct WatchState {
   std::optional<watch::DistributedAgents> agents;
   std::vector<watch::RecordBuffer> in_flight;
   uint64_t matches = 0;
-  bool stopped = false;  // past the live budget: the watchpoint observes no more
+  uint64_t actions_done = 0, actions_skipped = 0;  // its matches' actions, carried out or not (DESIGN §4b)
+  bool stopped = false;                            // past the live budget: the watchpoint observes no more
   std::string stop_reason;
 
   WatchState() = default;
@@ -43,6 +56,7 @@ struct State {
   std::shared_ptr<const NeighborGraph> graph;  // N(m, step): what the next step's programs see
   Bodies bodies;                               // poses, velocities, bonds (a physical world only)
   Mailbox inbox;                               // program messages to be read at `step`
+  std::vector<PendingAction> actions;          // watchpoints' actions due at the start of `step`
   std::vector<WatchState> watches;
   uint64_t program_messages = 0;  // sent since step 0
 };

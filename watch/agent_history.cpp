@@ -9,9 +9,9 @@ void AgentHistory::configure(const Program& p, bool temporal_spans, uint32_t fir
   modules_ = modules;
   values_.assign(p.variables.size(), {});
   for (size_t v = 0; v < values_.size(); ++v)
-    values_[v].configure(temporal_spans ? p.extent_plus - p.variable_min_offset[v] + 1 : 0);
+    values_[v].configure(temporal_spans ? p.agent_delay() - p.variable_min_offset[v] + 1 : 0);
   // Neighbour sets (and presence) are read at the fill step, to spread, and at neighbor() offsets.
-  topology_.configure(temporal_spans ? p.extent_plus - p.min_neighbor_offset + 1 : 0);
+  topology_.configure(temporal_spans ? p.agent_delay() - p.min_neighbor_offset + 1 : 0);
 }
 
 void AgentHistory::begin_record(const Frame& frame) {

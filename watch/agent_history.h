@@ -74,7 +74,9 @@ class AgentHistory {
     const Topology* t = topology_.find(step);
     if (t == nullptr || !t->present[m - first_]) return nullptr;
     count = t->begin[m + 1] - t->begin[m];
-    return t->ids.data() + t->begin[m];
+    // Never null for a present module, even in a graph without a link (whose ids have no storage).
+    static constexpr uint32_t kNoLink[1] = {0};
+    return t->ids.empty() ? kNoLink : t->ids.data() + t->begin[m];
   }
 
   bool present(uint32_t m, int64_t step) const {

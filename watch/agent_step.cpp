@@ -21,6 +21,7 @@ void start_agent_step(AgentContext& ctx, int64_t f) {
   ctx.step.step = f;
   ctx.step.live_by_filled.assign(static_cast<size_t>(ctx.program.slot_count()) + 1, 0);
   ctx.match_values = 0;
+  ctx.action_values.clear();
   // A budget stop belongs to the step that hit it: a run rolled back to before that step and
   // resumed must start clean, as the straight run did (the stop itself is the host's state).
   ctx.over_budget = false;

@@ -3,6 +3,24 @@
 #include <algorithm>
 
 namespace dw::watch {
+namespace {
+
+template <class T, class Less, class Equal>
+void sort_unique(std::vector<T>& v, Less less, Equal equal) {
+  std::sort(v.begin(), v.end(), less);
+  v.erase(std::unique(v.begin(), v.end(), equal), v.end());
+}
+
+void sort_unique_reads(std::vector<SlotRead>& reads) {
+  sort_unique(
+      reads,
+      [](const SlotRead& l, const SlotRead& r) {
+        return l.variable != r.variable ? l.variable < r.variable : l.offset < r.offset;
+      },
+      [](const SlotRead& l, const SlotRead& r) { return l.variable == r.variable && l.offset == r.offset; });
+}
+
+}  // namespace
 
 int Analysis::variable_index(const std::string& name) const {
   for (size_t i = 0; i < variables.size(); ++i)
@@ -13,44 +31,66 @@ int Analysis::variable_index(const std::string& name) const {
 Analysis analyze(const Ast& ast) {
   Analysis a;
   a.slot_reads.resize(ast.slots.size());
-  auto use = [&](const Operand& o) {
-    if (o.is_constant) return;
-    int v = a.variable_index(o.variable);
+  auto offset_seen = [&](int offset) {
+    a.extent_plus = std::max(a.extent_plus, offset);
+    a.min_offset = std::min(a.min_offset, offset);
+  };
+  auto graph_read = [&](int offset) {
+    offset_seen(offset);
+    a.min_neighbor_offset = std::min(a.min_neighbor_offset, offset);
+  };
+  auto variable = [&](const std::string& name, int offset) {
+    int v = a.variable_index(name);
     if (v < 0) {
       v = static_cast<int>(a.variables.size());
-      a.variables.push_back({o.variable, {}});
+      a.variables.push_back({name, {}});
     }
-    a.variables[v].offsets.push_back(o.module.offset);
-    a.slot_reads[o.module.slot].push_back({v, o.module.offset});
-    a.extent_plus = std::max(a.extent_plus, o.module.offset);
-    a.min_offset = std::min(a.min_offset, o.module.offset);
+    a.variables[v].offsets.push_back(offset);
+    offset_seen(offset);
+    return v;
   };
-  // Nodes are stored children-first, so a plain scan visits every term without recursion.
-  for (NodeIndex i = 0; i < static_cast<NodeIndex>(ast.nodes.size()); ++i) {
-    const Node& n = ast.nodes[i];
-    if (n.kind == NodeKind::Compare) {
-      use(n.left);
-      use(n.right);
-    } else if (n.kind == NodeKind::Neighbor) {
-      a.neighbors.push_back({n.x.slot, n.y.slot, n.x.offset, i});
-      a.extent_plus = std::max(a.extent_plus, n.x.offset);
-      a.min_offset = std::min(a.min_offset, n.x.offset);
-      a.min_neighbor_offset = std::min(a.min_neighbor_offset, n.x.offset);
+  std::vector<int> aggregate_of(ast.nodes.size(), -1);  // node -> index into a.aggregates
+  auto visit = [&](NodeIndex i, NodeIndex in) {
+    const Node& n = ast.nodes[static_cast<size_t>(i)];
+    AggregateUse* agg = in == kNoNode ? nullptr : &a.aggregates[static_cast<size_t>(aggregate_of[in])];
+    // A bound name's offset counts from the aggregate's step: its module's offset.
+    auto absolute = [&](const ModuleRef& m) { return m.bound ? agg->offset + m.offset : m.offset; };
+    auto mentions = [&](const ModuleRef& m) {
+      if (agg != nullptr && !m.bound && m.slot != agg->slot) agg->slots.push_back(m.slot);
+    };
+    switch (n.kind) {
+      case NodeKind::Aggregate:
+        aggregate_of[i] = static_cast<int>(a.aggregates.size());
+        a.aggregates.push_back({i, n.x.slot, n.x.offset, {}, {}, {}});
+        graph_read(n.x.offset);
+        break;
+      case NodeKind::Variable: {
+        const int v = variable(n.name, absolute(n.x));
+        if (n.x.bound) agg->neighbor_reads.push_back({v, n.x.offset});
+        else a.slot_reads[n.x.slot].push_back({v, n.x.offset});
+        mentions(n.x);
+        break;
+      }
+      case NodeKind::Neighbor:
+        graph_read(absolute(n.x));
+        if (n.x.bound) agg->neighbor_sets.push_back(n.x.offset);
+        mentions(n.x);
+        mentions(n.y);
+        if (agg == nullptr) a.neighbors.push_back({n.x.slot, n.y.slot, n.x.offset, i});
+        break;
+      default: break;
     }
-  }
-  for (VariableUse& v : a.variables) {
-    std::sort(v.offsets.begin(), v.offsets.end());
-    v.offsets.erase(std::unique(v.offsets.begin(), v.offsets.end()), v.offsets.end());
-  }
-  for (auto& reads : a.slot_reads) {
-    std::sort(reads.begin(), reads.end(), [](const SlotRead& l, const SlotRead& r) {
-      return l.variable != r.variable ? l.variable < r.variable : l.offset < r.offset;
-    });
-    reads.erase(std::unique(reads.begin(), reads.end(),
-                            [](const SlotRead& l, const SlotRead& r) {
-                              return l.variable == r.variable && l.offset == r.offset;
-                            }),
-                reads.end());
+  };
+  if (ast.root != kNoNode) visit_tree(ast, ast.root, visit);
+  for (const Action& act : ast.actions)
+    if (act.kind == Action::Kind::Set) visit_tree(ast, act.value, visit);
+  for (VariableUse& v : a.variables) sort_unique(v.offsets, std::less<int>{}, std::equal_to<int>{});
+  for (auto& reads : a.slot_reads) sort_unique_reads(reads);
+  for (AggregateUse& g : a.aggregates) {
+    sort_unique_reads(g.neighbor_reads);
+    sort_unique(g.neighbor_sets, std::less<int>{}, std::equal_to<int>{});
+    sort_unique(g.slots, std::less<int>{}, std::equal_to<int>{});
+    if (g.needs_messages()) a.aggregate_hops = 1;
   }
   return a;
 }

@@ -14,85 +14,187 @@ const char* spelling(CompareOp op) {
   return "?";
 }
 
-std::string to_string(const Ast& ast, const ModuleRef& m) {
-  std::string out = m.slot >= 0 ? ast.slots[m.slot].name : "?";
+const char* aggregate_name(AggregateKind k) {
+  switch (k) {
+    case AggregateKind::Count: return "count";
+    case AggregateKind::Sum: return "sum";
+    case AggregateKind::Min: return "min";
+    case AggregateKind::Max: return "max";
+  }
+  return "?";
+}
+
+bool is_arithmetic(NodeKind k) { return k >= NodeKind::Integer; }
+
+std::string to_string(const Ast& ast, const ModuleRef& m, std::string_view bound) {
+  std::string out = m.bound ? std::string(bound) : m.slot >= 0 ? ast.slots[m.slot].name : "?";
   for (int i = 0; i < m.offset; ++i) out += ".next";
   for (int i = 0; i > m.offset; --i) out += ".last";
   return out;
 }
 
-std::string to_string(const Ast& ast, const Operand& o) {
-  if (o.is_constant) return std::to_string(o.constant);
-  return to_string(ast, o.module) + "." + o.variable;
-}
-
 namespace {
 
-void print(const Ast& ast, NodeIndex i, std::string& out) {
-  const Node& n = ast.nodes[i];
-  // A child of an and/or is grouped when it is the other one of the two, so that precedence never
-  // has to be remembered by the reader.
-  auto child = [&](NodeIndex c) {
-    const NodeKind k = ast.nodes[c].kind;
-    const bool group = (k == NodeKind::And || k == NodeKind::Or) && k != n.kind;
-    if (group) out += '(';
-    print(ast, c, out);
-    if (group) out += ')';
-  };
-  switch (n.kind) {
-    case NodeKind::Not: {
-      out += "not ";
-      const NodeKind k = ast.nodes[n.lhs].kind;
-      const bool group = k == NodeKind::And || k == NodeKind::Or;
-      if (group) out += '(';
-      print(ast, n.lhs, out);
-      if (group) out += ')';
-      return;
-    }
-    case NodeKind::And:
-    case NodeKind::Or:
-      child(n.lhs);
-      out += n.kind == NodeKind::And ? " and " : " or ";
-      child(n.rhs);
-      return;
-    case NodeKind::Neighbor:
-      out += "neighbor(";
-      out += to_string(ast, n.x);
-      out += ' ';
-      out += to_string(ast, n.y);
-      out += ')';
-      return;
-    case NodeKind::Compare:
-      out += '(';
-      out += to_string(ast, n.left);
-      out += ' ';
-      out += spelling(n.op);
-      out += ' ';
-      out += to_string(ast, n.right);
-      out += ')';
-      return;
-    case NodeKind::Error: out += "<error>"; return;
+// Binding strength of an arithmetic node: what decides whether a child needs parentheses.
+int precedence(NodeKind k) {
+  switch (k) {
+    case NodeKind::Add:
+    case NodeKind::Subtract: return 1;
+    case NodeKind::Multiply:
+    case NodeKind::Divide:
+    case NodeKind::Remainder: return 2;
+    case NodeKind::Negate: return 3;
+    default: return 4;  // atoms
   }
 }
 
+const char* operator_spelling(NodeKind k) {
+  switch (k) {
+    case NodeKind::Add: return " + ";
+    case NodeKind::Subtract: return " - ";
+    case NodeKind::Multiply: return " * ";
+    case NodeKind::Divide: return " / ";
+    case NodeKind::Remainder: return " % ";
+    default: return " ? ";
+  }
+}
+
+class Printer {
+ public:
+  Printer(const Ast& ast, std::string& out) : ast_(ast), out_(out) {}
+
+  void print(NodeIndex i) {
+    const Node& n = ast_.nodes[i];
+    switch (n.kind) {
+      case NodeKind::Not: {
+        out_ += "not ";
+        const NodeKind k = ast_.nodes[n.lhs].kind;
+        grouped(n.lhs, k == NodeKind::And || k == NodeKind::Or);
+        return;
+      }
+      case NodeKind::And:
+      case NodeKind::Or: {
+        // A child of an and/or is grouped when it is the other one of the two, so that precedence
+        // never has to be remembered by the reader.
+        auto child = [&](NodeIndex c) {
+          const NodeKind k = ast_.nodes[c].kind;
+          grouped(c, (k == NodeKind::And || k == NodeKind::Or) && k != n.kind);
+        };
+        child(n.lhs);
+        out_ += n.kind == NodeKind::And ? " and " : " or ";
+        child(n.rhs);
+        return;
+      }
+      case NodeKind::Neighbor:
+        out_ += "neighbor(" + to_string(ast_, n.x, bound_) + ' ' + to_string(ast_, n.y, bound_) + ')';
+        return;
+      case NodeKind::Compare:
+        out_ += '(';
+        print(n.lhs);
+        out_ += ' ';
+        out_ += spelling(n.op);
+        out_ += ' ';
+        print(n.rhs);
+        out_ += ')';
+        return;
+      case NodeKind::Error: out_ += "<error>"; return;
+      case NodeKind::Integer: out_ += std::to_string(n.value); return;
+      case NodeKind::Variable: out_ += to_string(ast_, n.x, bound_) + '.' + n.name; return;
+      case NodeKind::Negate: {
+        out_ += '-';
+        // `-(x)` of a literal stays grouped, or it would read back as a negative literal; so does
+        // `- -x`, which reads back as the same but prints more plainly this way.
+        const NodeKind k = ast_.nodes[n.lhs].kind;
+        grouped(n.lhs, precedence(k) < 3 || k == NodeKind::Integer || k == NodeKind::Negate);
+        return;
+      }
+      case NodeKind::Add:
+      case NodeKind::Subtract:
+      case NodeKind::Multiply:
+      case NodeKind::Divide:
+      case NodeKind::Remainder: {
+        const int p = precedence(n.kind);
+        // Left-associative: the left child is grouped when it binds less, the right when it binds
+        // no more. A negative literal on the right is grouped too, so `a - (-1)` stays readable.
+        grouped(n.lhs, precedence(ast_.nodes[n.lhs].kind) < p);
+        out_ += operator_spelling(n.kind);
+        const Node& r = ast_.nodes[n.rhs];
+        grouped(n.rhs, precedence(r.kind) <= p || (r.kind == NodeKind::Integer && r.value < 0));
+        return;
+      }
+      case NodeKind::Abs:
+        out_ += "abs(";
+        print(n.lhs);
+        out_ += ')';
+        return;
+      case NodeKind::Min:
+      case NodeKind::Max:
+        out_ += n.kind == NodeKind::Min ? "min(" : "max(";
+        print(n.lhs);
+        out_ += ", ";
+        print(n.rhs);
+        out_ += ')';
+        return;
+      case NodeKind::Aggregate: {
+        const std::string saved = bound_;
+        bound_ = n.name;
+        out_ += std::string(aggregate_name(n.aggregate)) + '(' + n.name + " in neighbors(" + to_string(ast_, n.x) + ')';
+        if (n.lhs != kNoNode) {
+          out_ += ": ";
+          print(n.lhs);
+        }
+        out_ += ')';
+        bound_ = saved;
+        return;
+      }
+    }
+  }
+
+ private:
+  void grouped(NodeIndex c, bool group) {
+    if (group) out_ += '(';
+    print(c);
+    if (group) out_ += ')';
+  }
+
+  const Ast& ast_;
+  std::string& out_;
+  std::string bound_ = "n";
+};
+
 }  // namespace
+
+std::string to_string(const Ast& ast, NodeIndex node) {
+  std::string out;
+  Printer(ast, out).print(node);
+  return out;
+}
 
 std::string to_string(const Ast& ast) {
   std::string out = "modules(";
   for (size_t i = 0; i < ast.slots.size(); ++i) out += (i ? " " : "") + ast.slots[i].name;
   out += "); ";
-  if (ast.root != kNoNode) print(ast, ast.root, out);
+  Printer printer(ast, out);
+  if (ast.root != kNoNode) printer.print(ast.root);
+  for (size_t i = 0; i < ast.actions.size(); ++i) {
+    const Action& a = ast.actions[i];
+    out += i == 0 ? " then " : ", ";
+    const std::string slot = a.slot >= 0 ? ast.slots[a.slot].name : "?";
+    if (a.kind == Action::Kind::Remove) {
+      out += "remove " + slot;
+      continue;
+    }
+    out += "set " + slot + '.' + a.variable + " = ";
+    printer.print(a.value);
+  }
   return out;
 }
 
 Span first_use(const Ast& ast, std::string_view variable) {
   Span first{};
-  for (const Node& n : ast.nodes) {
-    if (n.kind != NodeKind::Compare) continue;
-    for (const Operand* o : {&n.left, &n.right})
-      if (!o->is_constant && o->variable == variable && (first.length() == 0 || o->span.begin < first.begin))
-        first = o->span;
-  }
+  for (const Node& n : ast.nodes)
+    if (n.kind == NodeKind::Variable && n.name == variable && (first.length() == 0 || n.span.begin < first.begin))
+      first = n.span;
   return first;
 }
 

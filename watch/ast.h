@@ -1,5 +1,6 @@
-// The syntax tree of one watchpoint (paper Fig. 1, DESIGN §3). Nodes live in one vector and refer
-// to each other by index, so a tree of any shape is freed without recursion.
+// The syntax tree of one watchpoint (paper Fig. 1, DESIGN §3 and §4b). Nodes live in one vector and
+// refer to each other by index, so a tree of any shape is freed without recursion. Children are
+// always stored before their parents.
 #pragma once
 
 #include <cstdint>
@@ -24,9 +25,11 @@ struct SlotDecl {
   Span span;
 };
 
-// `a.last.next`: slot `a` seen at a temporal offset (+1 per `next`, -1 per `last`).
+// `a.last.next`: slot `a` seen at a temporal offset (+1 per `next`, -1 per `last`), or, inside an
+// aggregate, its bound name `n` (an offset from the aggregate's step).
 struct ModuleRef {
-  int32_t slot = -1;  // -1 when the name was not declared (already diagnosed)
+  int32_t slot = -1;   // -1 when the name was not declared (already diagnosed) or is the bound name
+  bool bound = false;  // the enclosing aggregate's bound name
   int32_t offset = 0;
   Span span;
 };
@@ -34,39 +37,91 @@ struct ModuleRef {
 enum class CompareOp : uint8_t { Less, Greater, Equal, NotEqual, GreaterEqual, LessEqual };
 const char* spelling(CompareOp op);
 
-// One side of a comparison: a state variable `module.name`, or (right-hand side only) a constant.
-struct Operand {
-  bool is_constant = false;
-  ModuleRef module;      // state variable
-  std::string variable;  // state variable
-  int64_t constant = 0;
-  Span span;
+enum class NodeKind : uint8_t {
+  // conditions
+  Not,
+  And,
+  Or,
+  Neighbor,
+  Compare,
+  Error,
+  // integer expressions (DESIGN §4b)
+  Integer,
+  Variable,
+  Negate,
+  Add,
+  Subtract,
+  Multiply,
+  Divide,
+  Remainder,
+  Abs,
+  Min,  // of two
+  Max,  // of two
+  Aggregate,
 };
 
-enum class NodeKind : uint8_t { Not, And, Or, Neighbor, Compare, Error };
+enum class AggregateKind : uint8_t { Count, Sum, Min, Max };
+const char* aggregate_name(AggregateKind k);
 
 struct Node {
   NodeKind kind = NodeKind::Error;
   Span span;
-  NodeIndex lhs = kNoNode;  // Not: operand; And/Or: left
-  NodeIndex rhs = kNoNode;  // And/Or: right
-  ModuleRef x, y;           // Neighbor(x y)
-  CompareOp op = CompareOp::Equal;
-  Operand left, right;  // Compare
+  // Not, Negate, Abs: the operand (lhs). And, Or, Compare, the arithmetic operators, Min, Max:
+  // left and right. Aggregate: its condition (Count, or kNoNode) or its value (Sum, Min, Max).
+  NodeIndex lhs = kNoNode;
+  NodeIndex rhs = kNoNode;
+  ModuleRef x, y;                   // Neighbor(x y); Variable: x; Aggregate: x, the module it ranges over
+  CompareOp op = CompareOp::Equal;  // Compare
+  int64_t value = 0;                // Integer
+  AggregateKind aggregate = AggregateKind::Count;
+  std::string name;  // Variable: the variable; Aggregate: the bound name
+};
+
+// `then set a.v = expr` or `then remove a` (DESIGN §4b).
+struct Action {
+  enum class Kind : uint8_t { Set, Remove };
+  Kind kind = Kind::Set;
+  int32_t slot = -1;
+  std::string variable;       // Set
+  NodeIndex value = kNoNode;  // Set: an integer expression
+  Span span;
 };
 
 struct Ast {
   std::vector<SlotDecl> slots;
   std::vector<Node> nodes;
   NodeIndex root = kNoNode;
+  std::vector<Action> actions;
 };
 
+bool is_arithmetic(NodeKind k);
+
 // The watchpoint in normal form: every comparison in parentheses, and/or chains flattened, mixed
-// and/or grouped explicitly. Printing is idempotent: parsing the result and printing it again
-// gives the same text.
+// and/or grouped explicitly, arithmetic grouped only where precedence needs it. Printing is
+// idempotent: parsing the result and printing it again gives the same text.
 std::string to_string(const Ast& ast);
-std::string to_string(const Ast& ast, const ModuleRef& m);
-std::string to_string(const Ast& ast, const Operand& o);
+std::string to_string(const Ast& ast, const ModuleRef& m, std::string_view bound = "n");
+// One node (a condition or an expression) in normal form.
+std::string to_string(const Ast& ast, NodeIndex node);
+
+// Calls visit(node, aggregate) for `root` and every node under it, parents before children, with
+// the aggregate the node lies in (kNoNode outside any). Iterative: trees may be thousands deep.
+template <class Visit>
+void visit_tree(const Ast& ast, NodeIndex root, Visit&& visit) {
+  struct Item {
+    NodeIndex node, aggregate;
+  };
+  std::vector<Item> work{{root, kNoNode}};
+  while (!work.empty()) {
+    const Item it = work.back();
+    work.pop_back();
+    visit(it.node, it.aggregate);
+    const Node& n = ast.nodes[static_cast<size_t>(it.node)];
+    const NodeIndex inner = n.kind == NodeKind::Aggregate ? it.node : it.aggregate;
+    if (n.rhs != kNoNode) work.push_back({n.rhs, inner});
+    if (n.lhs != kNoNode) work.push_back({n.lhs, inner});
+  }
+}
 
 // Where `variable` is first read (`a.last.x`), in source order; an empty span when it is not.
 Span first_use(const Ast& ast, std::string_view variable);

@@ -7,6 +7,15 @@
 
 namespace dw::watch {
 
+void action_values(const StepView& view, const Program& p, std::span<const uint32_t> ids, std::vector<Value>& out) {
+  out.clear();
+  if (p.actions.empty()) return;
+  const size_t k = static_cast<size_t>(p.slot_count());
+  for (size_t at = 0; at + k <= ids.size(); at += k)
+    for (const ActionCode& a : p.actions)
+      out.push_back(a.value == kNoCode ? known_value(0) : view.value(a.value, ids.data() + at));
+}
+
 BindingSearch::BindingSearch(const Program& p, const Optimizations& o, uint64_t budget, uint32_t modules)
     : program_(p), optimizations_(o), live_budget_(budget), modules_(modules) {
   const size_t k = static_cast<size_t>(p.slot_count());

@@ -34,6 +34,11 @@ struct MatchBuffer {
   void grow() { ids.resize(2 * ids.size() + 4096); }
 };
 
+// The values of the actions (DESIGN §4b) of every match in `ids` (slot_count ids each), read
+// through the view the matches were found in, into `out` (cleared first).
+void action_values(const StepView& view, const Program& program, std::span<const uint32_t> ids,
+                   std::vector<Value>& out);
+
 class BindingSearch {
  public:
   BindingSearch(const Program& program, const Optimizations& optimizations, uint64_t live_budget, uint32_t modules);

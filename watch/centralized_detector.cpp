@@ -40,7 +40,8 @@ void CentralizedDetector::observe(const Frame& frame) {
   step_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   stats_.add(step_);
   stats_.history_values = history_.held_values();
-  emit(t, {matches_.ids.data(), matches_.values});
+  action_values(view_, *program_, {matches_.ids.data(), matches_.values}, actions_);
+  emit(t, {matches_.ids.data(), matches_.values}, actions_);
 }
 
 void CentralizedDetector::run_step(int64_t t) {

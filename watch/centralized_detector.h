@@ -40,6 +40,7 @@ class CentralizedDetector final : public Detector {
   std::vector<uint32_t> first_;    // slot 0's candidates: the modules present at t
   std::vector<uint8_t> eligible_;  // any: modules that may fill some slot
   MatchBuffer matches_;
+  std::vector<Value> actions_;  // per match, its actions' values
   StepStats step_;
 };
 

@@ -9,8 +9,8 @@ namespace dw::watch {
 int64_t lag(const Program& program, Algorithm algorithm, const DetectorOptions& options) {
   if (algorithm == Algorithm::Centralized) return program.extent_plus;
   if (simultaneous(algorithm, options))
-    return program.extent_plus + hop_latency(group_shape(algorithm, options), program.slot_count());
-  return program.extent_plus + program.slot_count() - 1;
+    return program.agent_delay() + hop_latency(group_shape(algorithm, options), program.slot_count());
+  return program.agent_delay() + program.slot_count() - 1;
 }
 
 const char* shape_name(GroupShape s) {
@@ -78,12 +78,12 @@ Detector::Detector(const Universe& universe, MatchSink sink) : universe_(univers
   for (uint32_t m = 0; m < universe.module_count(); ++m) dense_ids_are_ids_ &= universe.module_ids[m] == m;
 }
 
-void Detector::emit(int64_t t, std::span<const uint32_t> dense) {
+void Detector::emit(int64_t t, std::span<const uint32_t> dense, std::span<const Value> actions) {
   if (dense.empty()) return;
-  if (dense_ids_are_ids_) return sink_(t, dense);
+  if (dense_ids_are_ids_) return sink_(t, dense, actions);
   ids_.resize(dense.size());
   for (size_t i = 0; i < ids_.size(); ++i) ids_[i] = universe_.module_ids[dense[i]];
-  sink_(t, ids_);
+  sink_(t, ids_, actions);
 }
 
 const char* algorithm_name(Algorithm a) { return a == Algorithm::Centralized ? "centralized" : "distributed"; }

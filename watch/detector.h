@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "watch/frame.h"
+#include "watch/value.h"
 
 namespace dw::watch {
 
@@ -98,8 +99,10 @@ struct DetectorStats {
 };
 
 // Receives the matches of one watch step `t`: `slots` holds count * slot_count module ids,
-// each match's ids in slot order. Called at most once per t, in increasing t.
-using MatchSink = std::function<void(int64_t t, std::span<const ModuleId> slots)>;
+// each match's ids in slot order; `actions`, of a watchpoint with actions (DESIGN §4b), count *
+// action_count values, each match's in action order (a `remove`'s is 0), and is empty otherwise.
+// Called at most once per t, in increasing t.
+using MatchSink = std::function<void(int64_t t, std::span<const ModuleId> slots, std::span<const Value> actions)>;
 
 // For each program variable, the frame column that carries it, or -1 when frames never do.
 class Program;
@@ -128,8 +131,9 @@ class Detector {
   bool stopped() const { return stats_.stopped; }
 
  protected:
-  // Hands the matches of watch step t, in dense module indices, to the sink as module ids.
-  void emit(int64_t t, std::span<const uint32_t> dense);
+  // Hands the matches of watch step t, in dense module indices, to the sink as module ids, with
+  // their actions' values.
+  void emit(int64_t t, std::span<const uint32_t> dense, std::span<const Value> actions = {});
 
   const Universe& universe_;
   DetectorStats stats_;

@@ -30,12 +30,131 @@ bool admit(AgentContext& ctx, uint32_t filled) {
 
 }  // namespace
 
+// Reads what module m knows as it fills `slot` at detector step f, for value code (DESIGN §4b):
+// its own history; its neighbours' values and neighbour sets, which their messages brought it
+// (the hop in Program::agent_delay); and what the PatternMatcher carries of the slots filled
+// before (cells, sets, tables). Without a PatternMatcher, only the module's own.
+class DistributedAgents::Reader {
+ public:
+  Reader(const DistributedAgents& agents, uint32_t m, uint32_t slot, int64_t f, const PatternMatcherRef* pm,
+         std::vector<uint32_t>& neighbors, std::vector<uint32_t>& rows)
+      : h_(agents.history_), m_(m), slot_(slot), f_(f), pm_(pm), neighbors_(neighbors), rows_(rows) {}
+
+  Value term(const ValueInstr& in) const {
+    int64_t v = 0;
+    if (in.cell >= 0) return pm_->cell(static_cast<uint32_t>(in.cell), v) ? known_value(v) : Value{};
+    return h_.value(m_, in.variable, f_ + in.offset, v) ? known_value(v) : Value{};
+  }
+
+  int open(const AggregateCode& a) {
+    aggregate_ = &a;
+    table_ = a.table >= 0;
+    if (table_) {
+      at_ = pm_->record(static_cast<uint32_t>(a.table));
+      const uint32_t count = pm_->word(at_);
+      if (count == kUnknownSet) return -1;
+      rows_.clear();
+      uint32_t w = at_ + 8;
+      for (uint32_t i = 0; i < count; ++i) {
+        rows_.push_back(w);
+        w += 4 + 12 * static_cast<uint32_t>(a.neighbor_reads.size());
+        for (size_t s = 0; s < a.neighbor_sets.size(); ++s) {
+          const uint32_t n = pm_->word(w);
+          w += 4 + (n == kUnknownSet ? 0 : 4 * n);
+        }
+      }
+      return static_cast<int>(count);
+    }
+    step_ = f_ + a.offset;
+    return gather_neighbors(h_, m_, step_, neighbors_);
+  }
+
+  Value bound(int i, const ValueInstr& in) const {
+    if (!table_) {
+      int64_t v = 0;
+      return h_.value(bound_id(i), in.variable, step_ + in.offset, v) ? known_value(v) : Value{};
+    }
+    const auto& reads = aggregate_->neighbor_reads;
+    uint32_t r = 0;
+    while (reads[r].variable != in.variable || reads[r].offset != in.offset) ++r;
+    const uint32_t at = rows_[static_cast<size_t>(i)] + 4 + 12 * r;
+    if (pm_->word(at + 8) == 0) return {};
+    const uint64_t bits = uint64_t{pm_->word(at)} | uint64_t{pm_->word(at + 4)} << 32;
+    return known_value(static_cast<int64_t>(bits));
+  }
+
+  uint32_t bound_id(int i) const {
+    return table_ ? pm_->word(rows_[static_cast<size_t>(i)]) : neighbors_[static_cast<size_t>(i)];
+  }
+
+  Truth bound_adjacent(int i, int offset, uint32_t y) const {
+    if (!table_) {
+      uint32_t count = 0;
+      const uint32_t* ns = h_.neighbors(bound_id(i), step_ + offset, count);
+      if (ns == nullptr) return kUnknown;
+      return truth_of(std::find(ns, ns + count, y) != ns + count);
+    }
+    uint32_t at = rows_[static_cast<size_t>(i)] + 4 + 12 * static_cast<uint32_t>(aggregate_->neighbor_reads.size());
+    for (int16_t o : aggregate_->neighbor_sets) {
+      const uint32_t n = pm_->word(at);
+      if (o == offset) {
+        if (n == kUnknownSet) return kUnknown;
+        for (uint32_t j = 0; j < n; ++j)
+          if (pm_->word(at + 4 + 4 * j) == y) return kTrue;
+        return kFalse;
+      }
+      at += 4 + (n == kUnknownSet ? 0 : 4 * n);
+    }
+    return kUnknown;
+  }
+
+  uint32_t slot_module(int slot) const { return static_cast<uint32_t>(slot) == slot_ ? m_ : pm_->id(slot); }
+
+  Truth slot_adjacent(const ConditionTest& t, uint32_t y) const {
+    if (t.set >= 0) {
+      uint32_t count;
+      const uint32_t* ids = pm_->set(static_cast<uint32_t>(t.set), count);
+      return membership(ids, count, y);
+    }
+    uint32_t count = 0;
+    const uint32_t* ns = h_.neighbors(m_, f_ + t.offset, count);
+    if (ns == nullptr) return kUnknown;
+    return truth_of(std::find(ns, ns + count, y) != ns + count);
+  }
+
+  // N(m, step) as a set of the neighbours present then (DESIGN §4b), or -1 when m was absent.
+  static int gather_neighbors(const AgentHistory& h, uint32_t m, int64_t step, std::vector<uint32_t>& out) {
+    uint32_t count = 0;
+    const uint32_t* ns = h.neighbors(m, step, count);
+    if (ns == nullptr) return -1;
+    out.clear();
+    for (uint32_t i = 0; i < count; ++i)
+      if (h.present(ns[i], step)) out.push_back(ns[i]);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return static_cast<int>(out.size());
+  }
+
+ private:
+  const AgentHistory& h_;
+  uint32_t m_, slot_;
+  int64_t f_;
+  const PatternMatcherRef* pm_;
+  std::vector<uint32_t>& neighbors_;
+  std::vector<uint32_t>& rows_;  // table: each row's byte offset in the record
+  const AggregateCode* aggregate_ = nullptr;
+  bool table_ = false;
+  uint32_t at_ = 0;
+  int64_t step_ = 0;
+};
+
 AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t budget)
     : program(p),
       layout(p),
       optimizations(o),
       slot_count(static_cast<uint32_t>(p.slot_count())),
-      live_limit(budget ? budget : UINT64_MAX) {
+      live_limit(budget ? budget : UINT64_MAX),
+      evaluation(p) {
   stack.resize(static_cast<size_t>(p.max_stack));
   trial.resize(p.leaves.size());
   scratch.resize(layout.sets + kScratchSlack);
@@ -52,14 +171,21 @@ DistributedAgents::DistributedAgents(const Program& p, bool temporal_spans, uint
 void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end, const Program& p,
                                std::span<const int> columns) {
   history_.record(frame, begin, end, columns);
-  const int64_t f = frame.step - p.extent_plus;
-  if (f < 0) return;
+  const int64_t f = frame.step - p.agent_delay();
+  if (f >= 0) prepare(p, f, begin, end);
+}
+
+void DistributedAgents::prepare(const Program& p, int64_t f, uint32_t begin, uint32_t end) {
   // Every truth starts true and has its leaves and-ed in: a conjunction's truth per slot all the
   // slot's own leaves, any other shape's truth per leaf just that leaf.
   const bool conjunction = p.shape == Program::Shape::Conjunction;
   std::fill(own_.data() + size_t{begin - first_} * stride_, own_.data() + size_t{end - first_} * stride_, kTrue);
   for (uint32_t slot = 0; slot < p.slots.size(); ++slot)
-    for (uint16_t l : p.slots[slot].own_leaves) decide_own(p.leaves[l], f, begin, end, conjunction ? slot : l);
+    for (uint16_t l : p.slots[slot].own_leaves) {
+      const uint32_t at = conjunction ? slot : l;
+      if (p.leaves[l].kind == LeafKind::Expression) decide_own_expression(p, p.leaves[l], f, begin, end, at);
+      else decide_own(p.leaves[l], f, begin, end, at);
+    }
   // The PatternMatchers arriving next read the modules' neighbour lists in no order a prefetcher
   // could follow; fetched now, in order, they are in cache by then.
   if (const AgentHistory::StepGraph g = history_.graph(f); g.ids != nullptr)
@@ -102,6 +228,69 @@ void DistributedAgents::decide_own(const Leaf& leaf, int64_t f, uint32_t begin, 
   }
 }
 
+// decide_own for a leaf of value code (DESIGN §4b), one module at a time.
+void DistributedAgents::decide_own_expression(const Program& p, const Leaf& leaf, int64_t f, uint32_t begin,
+                                              uint32_t end, uint32_t at) {
+  EvaluatorScratch scratch(p);  // per call, not per agents: several threads record blocks at once
+  std::vector<uint32_t> neighbors, rows;
+  for (uint32_t m = begin; m < end; ++m) {
+    Reader r(*this, m, static_cast<uint32_t>(leaf.decide_slot), f, nullptr, neighbors, rows);
+    Truth& own = own_[size_t{m - first_} * stride_ + at];
+    own = kleene_and(own, Evaluator(p, r, scratch).leaf(leaf));
+  }
+}
+
+// Writes, for the PatternMatcher module m fills at f, the table of aggregate `a` over m's
+// neighbours (pattern_matcher.h), so that a later slot can decide it. False past the size limit.
+bool DistributedAgents::write_table(uint32_t m, int64_t f, const AggregateCode& a, AgentContext& ctx,
+                                    PatternMatcherRef& pm) const {
+  std::vector<uint32_t>& words = ctx.rows;
+  words.assign(2, 0);
+  const int64_t step = f + a.offset;
+  const int count = Reader::gather_neighbors(history_, m, step, ctx.neighbors);
+  words[0] = count < 0 ? kUnknownSet : static_cast<uint32_t>(count);
+  for (int i = 0; i < count; ++i) {
+    const uint32_t n = ctx.neighbors[static_cast<size_t>(i)];
+    words.push_back(n);
+    for (const TermRef& r : a.neighbor_reads) {
+      int64_t v = 0;
+      const bool known = history_.value(n, r.variable, step + r.offset, v);
+      const uint64_t bits = static_cast<uint64_t>(v);
+      words.insert(words.end(), {static_cast<uint32_t>(bits), static_cast<uint32_t>(bits >> 32), known});
+    }
+    for (int16_t o : a.neighbor_sets) {
+      uint32_t c = 0;
+      const uint32_t* ns = history_.neighbors(n, step + o, c);
+      words.push_back(ns == nullptr ? kUnknownSet : c);
+      if (ns != nullptr) words.insert(words.end(), ns, ns + c);
+    }
+  }
+  words[1] = static_cast<uint32_t>(words.size() - 2);
+  const uint32_t at = pm.bytes();
+  const uint64_t size = uint64_t{at} + 4 * uint64_t{words.size()};
+  if (size > kMaxPatternMatcherBytes) {
+    ctx.over_budget = true;
+    ctx.stop_reason = "a PatternMatcher would carry more than 16 MiB of neighbour sets";
+    return false;
+  }
+  if (ctx.scratch.size() < size + kScratchSlack) {
+    ctx.scratch.resize(size * 2 + kScratchSlack);
+    pm = PatternMatcherRef(ctx.scratch.data(), ctx.layout);
+  }
+  std::memcpy(ctx.scratch.data() + at, words.data(), 4 * words.size());
+  pm.set_bytes(static_cast<uint32_t>(size));
+  return true;
+}
+
+// The values of a match's actions (DESIGN §4b), read as the match's reading reads them.
+void DistributedAgents::act(uint32_t m, int64_t f, const PatternMatcherRef& pm, AgentContext& ctx) const {
+  const Program& p = ctx.program;
+  Reader r(*this, m, pm.filled(), f, &pm, ctx.neighbors, ctx.rows);
+  Evaluator e(p, r, ctx.evaluation);
+  for (const ActionCode& a : p.actions)
+    ctx.action_values.push_back(a.value == kNoCode ? known_value(0) : e.value(a.value, 0, -1));
+}
+
 // Decides every leaf that filling `slot` decides into `leaves` (the PatternMatcher's, or a copy)
 // and returns the expression's truth so far.
 [[gnu::always_inline]] inline Truth DistributedAgents::decide_leaves(const SlotProgram& sp, uint32_t slot, uint32_t m,
@@ -115,12 +304,12 @@ void DistributedAgents::decide_own(const Leaf& leaf, int64_t f, uint32_t begin, 
   if (p.shape == Program::Shape::Conjunction) {
     Truth partial = kleene_and(leaves[0], own[slot]);
     for (const uint16_t* l = carried; l != carried_end; ++l)
-      partial = kleene_and(partial, decide(p.leaves[*l], m, f, pm));
+      partial = kleene_and(partial, decide(p.leaves[*l], m, f, pm, ctx));
     leaves[0] = partial;
     return partial;  // and-ed with the pending leaves' U this is F exactly when partial is F
   }
   for (uint16_t l : sp.own_leaves) leaves[l] = own[l];
-  for (const uint16_t* l = carried; l != carried_end; ++l) leaves[*l] = decide(p.leaves[*l], m, f, pm);
+  for (const uint16_t* l = carried; l != carried_end; ++l) leaves[*l] = decide(p.leaves[*l], m, f, pm, ctx);
   return p.evaluate(leaves, ctx.stack.data());
 }
 
@@ -142,6 +331,7 @@ void DistributedAgents::decide_own(const Leaf& leaf, int64_t f, uint32_t begin, 
   copy_ids(match, reinterpret_cast<const uint32_t*>(pm.data() + ctx.layout.ids), slot);
   match[slot] = m;
   ctx.match_values += slot + 1;
+  if (!ctx.program.actions.empty()) act(m, f, pm, ctx);
 }
 
 // Fills a slot that is not the last (in the context's scratch record) and spreads the
@@ -161,6 +351,10 @@ void DistributedAgents::fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef
     pm.set_cell(c, v, known);
   }
   for (uint16_t s : sp.sets) {
+    if (p.sets[s].aggregate >= 0) {
+      if (!write_table(m, f, p.aggregates[static_cast<size_t>(p.sets[s].aggregate)], ctx, pm)) return;
+      continue;
+    }
     uint32_t count = 0;
     const uint32_t* n = history_.neighbors(m, f + p.sets[s].offset, count);
     if (n == nullptr) count = kUnknownSet;
@@ -266,7 +460,7 @@ void DistributedAgents::finish_all(std::span<const uint32_t> to, int64_t f, cons
   const uint32_t slot = pm.filled();
   const SlotProgram& sp = ctx.program.slots[slot];
   StepStats& st = ctx.step;
-  if (ctx.program.shape != Program::Shape::Conjunction || !sp.carried_leaves.empty()) {
+  if (ctx.program.shape != Program::Shape::Conjunction || !sp.carried_leaves.empty() || !ctx.program.actions.empty()) {
     for (uint32_t m : to) {
       if (!present[m - first_]) continue;
       if (!admit(ctx, slot + 1)) return;
@@ -303,7 +497,12 @@ void DistributedAgents::finish_all(std::span<const uint32_t> to, int64_t f, cons
 }
 
 // A carried leaf (SlotProgram::carried_leaves), read against the PatternMatcher being filled.
-Truth DistributedAgents::decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef& pm) const {
+Truth DistributedAgents::decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef& pm,
+                                AgentContext& ctx) const {
+  if (leaf.kind == LeafKind::Expression) {
+    Reader r(*this, m, pm.filled(), f, &pm, ctx.neighbors, ctx.rows);
+    return Evaluator(ctx.program, r, ctx.evaluation).leaf(leaf);
+  }
   if (leaf.kind == LeafKind::Neighbor) {
     if (leaf.set >= 0) {  // x filled earlier and carried N(x): am I in it?
       uint32_t count;

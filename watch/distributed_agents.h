@@ -18,6 +18,7 @@
 #include "watch/agent_history.h"
 #include "watch/chunked_copy.h"
 #include "watch/detector.h"
+#include "watch/evaluator.h"
 #include "watch/frame.h"
 #include "watch/pattern_matcher.h"
 #include "watch/program.h"
@@ -51,7 +52,11 @@ struct AgentContext {
   uint32_t slot_count;  // of the program
   uint64_t live_limit;  // the live budget; no budget is the largest number
 
-  std::vector<std::byte> scratch;  // the PatternMatcher being filled
+  // Per match, the values of the program's actions (DESIGN §4b), in step with `matches`.
+  std::vector<Value> action_values;
+  std::vector<std::byte> scratch;         // the PatternMatcher being filled
+  EvaluatorScratch evaluation;            // value code's stacks
+  std::vector<uint32_t> neighbors, rows;  // an aggregate's neighbours, or its table's rows
   std::vector<Truth> stack;
   std::vector<Truth> trial;
   std::vector<uint32_t> targets;
@@ -74,6 +79,9 @@ class DistributedAgents {
   // own leaves while its history is in cache.
   void record(const Frame& frame, uint32_t begin, uint32_t end, const Program& program, std::span<const int> columns);
 
+  // What record does once the history holds detector step f: decides the own leaves of modules
+  // [begin, end) at f. For a host that runs a step without a new frame (a drain at the end).
+  void prepare(const Program& program, int64_t f, uint32_t begin, uint32_t end);
   // Fetches what a PatternMatcher arriving at m will read, ahead of time.
   void prefetch(uint32_t m) const { __builtin_prefetch(own_.data() + size_t{m - first_} * stride_); }
   // Detector step f: a fresh PatternMatcher with module m in its first slot.
@@ -92,10 +100,14 @@ class DistributedAgents {
   }
   void fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef pm, AgentContext& ctx, PatternMatcherOutbox& out);
   void finish(uint32_t m, int64_t f, PatternMatcherRef pm, AgentContext& ctx) const;
+  void act(uint32_t m, int64_t f, const PatternMatcherRef& pm, AgentContext& ctx) const;
   void finish_all(std::span<const uint32_t> to, int64_t f, const uint8_t* present, PatternMatcherRef pm,
                   AgentContext& ctx) const;
+  class Reader;
   void decide_own(const Leaf& leaf, int64_t f, uint32_t begin, uint32_t end, uint32_t at);
-  Truth decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef& pm) const;
+  void decide_own_expression(const Program& p, const Leaf& leaf, int64_t f, uint32_t begin, uint32_t end, uint32_t at);
+  bool write_table(uint32_t m, int64_t f, const AggregateCode& a, AgentContext& ctx, PatternMatcherRef& pm) const;
+  Truth decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef& pm, AgentContext& ctx) const;
   Truth decide_leaves(const SlotProgram& sp, uint32_t slot, uint32_t m, int64_t f, PatternMatcherRef& pm, Truth* leaves,
                       AgentContext& ctx) const;
   bool culled(uint32_t candidate, const PatternMatcherRef& pm, AgentContext& ctx) const;

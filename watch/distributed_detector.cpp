@@ -19,16 +19,27 @@ size_t DistributedDetector::bytes() const { return sizeof(DistributedAgents) + a
 
 void DistributedDetector::observe(const Frame& frame) {
   if (stats_.stopped) return;
-  const auto started = std::chrono::steady_clock::now();
-  const uint32_t m = agents_.size();
   agents_.begin_record(frame);
-  agents_.record(frame, 0, m, program_, columns_);
-  const int64_t f = frame.step - program_.extent_plus;
-  if (f < 0) return;
+  agents_.record(frame, 0, agents_.size(), program_, columns_);
+  newest_ = frame.step;
+  const int64_t f = frame.step - program_.agent_delay();
+  if (f >= 0) run_step(f);
+}
+
+void DistributedDetector::finish() {
+  while (!stats_.stopped && next_f_ <= newest_ - program_.extent_plus) {
+    agents_.prepare(program_, next_f_, 0, agents_.size());
+    run_step(next_f_);
+  }
+}
+
+void DistributedDetector::run_step(int64_t f) {
+  const auto started = std::chrono::steady_clock::now();
+  next_f_ = f + 1;
   start_agent_step(ctx_, f);
   transport_.deliver();
   RecordBuffer* arriving[] = {&transport_.delivered()};
-  step_agents(agents_, 0, m, f, arriving, ctx_, transport_);
+  step_agents(agents_, 0, agents_.size(), f, arriving, ctx_, transport_);
   AgentContext* contexts[] = {&ctx_};
   AgentStepOutcome outcome = finish_agent_step(contexts, f, options_.live_budget);
   outcome.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -40,7 +51,7 @@ void DistributedDetector::observe(const Frame& frame) {
   stats_.add(outcome.stats);
   // Everything that matched now was started at t0 = f - (k - 1).
   const int64_t t0 = f - (program_.slot_count() - 1);
-  if (t0 >= 0) emit(t0, {ctx_.matches.data(), ctx_.match_values});
+  if (t0 >= 0) emit(t0, {ctx_.matches.data(), ctx_.match_values}, ctx_.action_values);
   stats_.history_values = agents_.history().held();
 }
 

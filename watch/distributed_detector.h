@@ -18,6 +18,9 @@ class DistributedDetector final : public Detector {
   DistributedDetector(const Watchpoint& watchpoint, const Universe& universe, DetectorOptions options, MatchSink sink);
 
   void observe(const Frame& frame) override;
+  // Agents that wait for their neighbours' values (an aggregate's hop) decide the last steps of
+  // the input from the history they hold.
+  void finish() override;
   int64_t lag() const override { return watch::lag(program_, Algorithm::Distributed, options_); }
   std::unique_ptr<Detector> clone() const override { return std::make_unique<DistributedDetector>(*this); }
   Algorithm algorithm() const override { return Algorithm::Distributed; }
@@ -30,6 +33,10 @@ class DistributedDetector final : public Detector {
   DistributedAgents agents_;
   InProcessTransport transport_;
   AgentContext ctx_;
+  int64_t newest_ = -1;  // the newest frame's step
+  int64_t next_f_ = 0;   // the next detector step to run
+
+  void run_step(int64_t f);
 };
 
 }  // namespace dw::watch

@@ -17,6 +17,16 @@ TokenKind keyword_or_name(std::string_view word) {
   if (word == "neighbor") return TokenKind::Neighbor;
   if (word == "last") return TokenKind::Last;
   if (word == "next") return TokenKind::Next;
+  if (word == "in") return TokenKind::In;
+  if (word == "neighbors") return TokenKind::Neighbors;
+  if (word == "count") return TokenKind::Count;
+  if (word == "sum") return TokenKind::Sum;
+  if (word == "min") return TokenKind::Min;
+  if (word == "max") return TokenKind::Max;
+  if (word == "abs") return TokenKind::Abs;
+  if (word == "then") return TokenKind::Then;
+  if (word == "set") return TokenKind::Set;
+  if (word == "remove") return TokenKind::Remove;
   return TokenKind::Name;
 }
 
@@ -58,11 +68,9 @@ class Lexer {
     return t;
   }
 
-  // INT := '-'? digit+ ; a fraction or exponent makes it a NonInteger token.
+  // INT := digit+ ; a fraction or exponent makes it a NonInteger token. A sign is never part of
+  // the number: `a.x -1` is a subtraction, and the parser folds a unary minus into a literal.
   Token number(size_t begin) {
-    const bool negative = text_[pos_] == '-';
-    if (negative) ++pos_;
-    const size_t digits = pos_;
     while (pos_ < text_.size() && is_digit(text_[pos_])) ++pos_;
     bool fractional = false;
     if (pos_ + 1 < text_.size() && text_[pos_] == '.' && is_digit(text_[pos_ + 1])) {
@@ -84,21 +92,17 @@ class Lexer {
       return invalid(begin, "malformed number '" + std::string(text_.substr(begin, pos_ - begin)) + "'");
     }
     if (fractional) return make(TokenKind::NonInteger, begin);
-
-    // Accumulate as a negative number so that INT64_MIN is representable.
+    // The magnitude, up to 2^63: -9223372036854775808 is a literal 2^63 under a unary minus.
+    constexpr uint64_t kLimit = uint64_t{1} << 63;
     Token t = make(TokenKind::Integer, begin);
-    int64_t acc = 0;
-    for (size_t i = digits; i < pos_; ++i) {
-      const int d = text_[i] - '0';
-      if (acc < (INT64_MIN + d) / 10) {
+    uint64_t acc = 0;
+    for (size_t i = begin; i < pos_; ++i) {
+      const uint64_t d = static_cast<uint64_t>(text_[i] - '0');
+      if (acc > (kLimit - d) / 10) {
         t.overflow = true;
         break;
       }
-      acc = acc * 10 - d;
-    }
-    if (!t.overflow && !negative) {
-      if (acc == INT64_MIN) t.overflow = true;
-      else acc = -acc;
+      acc = acc * 10 + d;
     }
     t.value = acc;
     return t;
@@ -112,7 +116,7 @@ class Lexer {
       while (pos_ < text_.size() && is_name_char(text_[pos_])) ++pos_;
       return make(keyword_or_name(text_.substr(begin, pos_ - begin)), begin);
     }
-    if (is_digit(c) || (c == '-' && pos_ + 1 < text_.size() && is_digit(text_[pos_ + 1]))) return number(begin);
+    if (is_digit(c)) return number(begin);
     ++pos_;
     auto peek_is = [&](char want) {
       if (pos_ < text_.size() && text_[pos_] == want) {
@@ -127,6 +131,12 @@ class Lexer {
       case ';': return make(TokenKind::Semicolon, begin);
       case '.': return make(TokenKind::Dot, begin);
       case ',': return make(TokenKind::Comma, begin);
+      case ':': return make(TokenKind::Colon, begin);
+      case '+': return make(TokenKind::Plus, begin);
+      case '-': return make(TokenKind::Minus, begin);
+      case '*': return make(TokenKind::Star, begin);
+      case '/': return make(TokenKind::Slash, begin);
+      case '%': return make(TokenKind::Percent, begin);
       case '<':
         if (peek_is('>')) return invalid(begin, "'<>' is not an operator; inequality is '!='");
         return make(peek_is('=') ? TokenKind::LessEqual : TokenKind::Less, begin);
@@ -152,7 +162,9 @@ class Lexer {
   size_t pos_ = 0;
 };
 
-bool is_keyword(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Next; }
+bool is_keyword(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Remove; }
+
+bool is_reserved(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Next; }
 
 bool is_comparison(TokenKind k) { return k >= TokenKind::Less && k <= TokenKind::LessEqual; }
 
@@ -168,11 +180,27 @@ std::string describe(TokenKind k) {
     case TokenKind::Neighbor: return "'neighbor'";
     case TokenKind::Last: return "'last'";
     case TokenKind::Next: return "'next'";
+    case TokenKind::In: return "'in'";
+    case TokenKind::Neighbors: return "'neighbors'";
+    case TokenKind::Count: return "'count'";
+    case TokenKind::Sum: return "'sum'";
+    case TokenKind::Min: return "'min'";
+    case TokenKind::Max: return "'max'";
+    case TokenKind::Abs: return "'abs'";
+    case TokenKind::Then: return "'then'";
+    case TokenKind::Set: return "'set'";
+    case TokenKind::Remove: return "'remove'";
     case TokenKind::LParen: return "'('";
     case TokenKind::RParen: return "')'";
     case TokenKind::Semicolon: return "';'";
     case TokenKind::Dot: return "'.'";
     case TokenKind::Comma: return "','";
+    case TokenKind::Colon: return "':'";
+    case TokenKind::Plus: return "'+'";
+    case TokenKind::Minus: return "'-'";
+    case TokenKind::Star: return "'*'";
+    case TokenKind::Slash: return "'/'";
+    case TokenKind::Percent: return "'%'";
     case TokenKind::Less: return "'<'";
     case TokenKind::Greater: return "'>'";
     case TokenKind::Equal: return "'='";

@@ -4,6 +4,10 @@
 //   uint32 header (filled: low 8 bits, bytes: high 24) | uint32 ids[k] | int64 cells[C] |
 //   Truth leaves[L] | uint8 cell_known[C] | pad to 4 | sets: (uint32 count, uint32 ids[count])*
 //
+// where a record of the sets may instead be a table of an aggregate's neighbours (DESIGN §4b):
+// uint32 count | uint32 words | rows, each uint32 id | (int64 value, uint32 known) per read |
+// (uint32 count, uint32 ids[count]) per neighbour set read; `words` counts the rows' words.
+//
 // For a plain conjunction (Program::Shape::Conjunction) `leaves` is a single Truth: the and of
 // every leaf decided so far, which is all the expression needs (and with U never undoes an F).
 // `ids` are the modules in the filled slots; `leaves` the truth of every leaf decided so far
@@ -15,6 +19,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <vector>
 
 #include "watch/kleene.h"
 #include "watch/program.h"
@@ -31,6 +36,7 @@ struct PatternMatcherLayout {
         leaf_count(p.shape == Program::Shape::Conjunction ? 1 : static_cast<uint32_t>(p.leaves.size())),
         cell_count(static_cast<uint32_t>(p.cells.size())),
         conjunction(p.shape == Program::Shape::Conjunction) {
+    for (const CarriedSet& s : p.sets) table.push_back(s.aggregate >= 0);
     ids = 4;
     cells = ids + 4 * slots;
     leaves = cells + 8 * cell_count;
@@ -40,6 +46,7 @@ struct PatternMatcherLayout {
 
   uint32_t slots, leaf_count, cell_count;  // leaf_count: Truth bytes in the record
   bool conjunction;
+  std::vector<uint8_t> table;                // per carried record: a table rather than a set
   uint32_t cells, ids, leaves, known, sets;  // byte offsets; `sets` is also the size with no sets
 };
 
@@ -78,12 +85,19 @@ class PatternMatcherRef {
   // The carried neighbour set number `index` (in Program::sets order); count kUnknownSet when the
   // module was absent at that step.
   const uint32_t* set(uint32_t index, uint32_t& count) const {
+    const uint32_t at = record(index);
+    count = load32(at);
+    return reinterpret_cast<const uint32_t*>(d_ + at + 4);
+  }
+  // Where carried record `index` (a set or a table) starts.
+  uint32_t record(uint32_t index) const {
     uint32_t at = l_->sets;
-    for (uint32_t i = 0;; ++i) {
-      count = load32(at);
-      if (i == index) return reinterpret_cast<const uint32_t*>(d_ + at + 4);
-      at += 4 + (count == kUnknownSet ? 0 : 4 * count);
+    for (uint32_t i = 0; i < index; ++i) {
+      const uint32_t count = load32(at);
+      if (l_->table[i]) at += 8 + 4 * load32(at + 4);
+      else at += 4 + (count == kUnknownSet ? 0 : 4 * count);
     }
+    return at;
   }
 
   // Starts an empty record: nothing filled, every leaf Unknown.
@@ -96,6 +110,8 @@ class PatternMatcherRef {
   }
 
   std::byte* data() { return d_; }
+  const std::byte* data() const { return d_; }
+  uint32_t word(uint32_t at) const { return load32(at); }
 
  private:
   uint32_t load32(uint32_t at) const {

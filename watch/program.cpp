@@ -6,6 +6,30 @@ namespace dw::watch {
 
 namespace {
 
+CompareOp mirrored(CompareOp op) {
+  switch (op) {
+    case CompareOp::Less: return CompareOp::Greater;
+    case CompareOp::Greater: return CompareOp::Less;
+    case CompareOp::GreaterEqual: return CompareOp::LessEqual;
+    case CompareOp::LessEqual: return CompareOp::GreaterEqual;
+    default: return op;
+  }
+}
+
+ValueOp value_op(NodeKind k) {
+  switch (k) {
+    case NodeKind::Negate: return ValueOp::Negate;
+    case NodeKind::Add: return ValueOp::Add;
+    case NodeKind::Subtract: return ValueOp::Subtract;
+    case NodeKind::Multiply: return ValueOp::Multiply;
+    case NodeKind::Divide: return ValueOp::Divide;
+    case NodeKind::Remainder: return ValueOp::Remainder;
+    case NodeKind::Abs: return ValueOp::Abs;
+    case NodeKind::Min: return ValueOp::Min;
+    default: return ValueOp::Max;
+  }
+}
+
 class Compiler {
  public:
   Compiler(const Ast& ast, const Analysis& analysis, Program& p) : ast_(ast), analysis_(analysis), p_(p) {}
@@ -17,6 +41,7 @@ class Compiler {
       p_.variable_min_offset.push_back(v.min_offset());
     }
     p_.extent_plus = analysis_.extent_plus;
+    p_.aggregate_hops = analysis_.aggregate_hops;
     p_.min_offset = analysis_.min_offset;
     p_.min_neighbor_offset = analysis_.min_neighbor_offset;
     p_.slots.resize(ast_.slots.size());
@@ -26,7 +51,22 @@ class Compiler {
       return op.kind == ExprOp::PushLeaf || op.kind == ExprOp::And;
     });
     p_.shape = conjunction ? Program::Shape::Conjunction : Program::Shape::General;
-    // Carried sets must be ordered by slot, because a PatternMatcher appends them as it fills.
+    // Actions are decided with the match, at the last slot (DESIGN §4b).
+    for (const Action& a : ast_.actions) {
+      ActionCode code{a.kind, static_cast<int16_t>(a.slot), a.variable, kNoCode};
+      if (a.kind == Action::Kind::Set) {
+        decide_ = static_cast<int16_t>(p_.slot_count() - 1);
+        code.value = compile_value(a.value);
+      }
+      p_.actions.push_back(std::move(code));
+    }
+    order_sets();
+  }
+
+ private:
+  // Carried sets and tables must be ordered by slot, because a PatternMatcher appends them as it
+  // fills; what refers to them is renumbered.
+  void order_sets() {
     std::vector<uint16_t> order(p_.sets.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint16_t>(i);
     std::stable_sort(order.begin(), order.end(),
@@ -40,10 +80,13 @@ class Compiler {
     p_.sets = std::move(sorted);
     for (Leaf& l : p_.leaves)
       if (l.set >= 0) l.set = renumber[l.set];
+    for (ConditionTest& t : p_.tests)
+      if (t.set >= 0) t.set = renumber[t.set];
+    for (AggregateCode& a : p_.aggregates)
+      if (a.table >= 0) a.table = renumber[a.table];
     for (size_t i = 0; i < p_.sets.size(); ++i) p_.slots[p_.sets[i].slot].sets.push_back(static_cast<uint16_t>(i));
   }
 
- private:
   // Postfix code in an explicit stack walk: the tree may be thousands of nodes deep.
   void emit_postfix() {
     struct Item {
@@ -76,17 +119,18 @@ class Compiler {
     }
   }
 
-  TermRef term(const Operand& o) {
+  TermRef term(const Node& v) {
     TermRef t;
-    t.slot = static_cast<int16_t>(o.module.slot);
-    t.variable = static_cast<int16_t>(analysis_.variable_index(o.variable));
-    t.offset = static_cast<int16_t>(o.module.offset);
+    t.slot = static_cast<int16_t>(v.x.slot);
+    t.variable = static_cast<int16_t>(analysis_.variable_index(v.name));
+    t.offset = static_cast<int16_t>(v.x.offset);
     return t;
   }
 
   // A term read before the leaf's decide slot is carried in a cell (shared between leaves).
   void carry(TermRef& t, int decide_slot) {
     if (t.slot == decide_slot) return;
+    carries_ = true;
     for (size_t i = 0; i < p_.cells.size(); ++i) {
       const CarriedCell& c = p_.cells[i];
       if (c.slot == t.slot && c.variable == t.variable && c.offset == t.offset) {
@@ -99,52 +143,227 @@ class Compiler {
     p_.slots[t.slot].cells.push_back(static_cast<uint16_t>(t.cell));
   }
 
+  // N(slot, now + offset), carried by the slot's module when it fills before the decide slot.
+  int16_t carried_set(int16_t slot, int16_t offset) {
+    carries_ = true;
+    for (size_t s = 0; s < p_.sets.size(); ++s)
+      if (p_.sets[s].slot == slot && p_.sets[s].offset == offset && p_.sets[s].aggregate < 0)
+        return static_cast<int16_t>(s);
+    p_.sets.push_back({slot, offset, -1});
+    return static_cast<int16_t>(p_.sets.size() - 1);
+  }
+
+  // The slot every term of `node` reads that fills last (0 when it reads none).
+  int16_t last_slot(NodeIndex node) const {
+    int16_t last = 0;
+    visit_tree(ast_, node, [&](NodeIndex i, NodeIndex) {
+      const Node& n = ast_.nodes[i];
+      if (n.kind == NodeKind::Variable || n.kind == NodeKind::Aggregate || n.kind == NodeKind::Neighbor)
+        for (const ModuleRef* m : {&n.x, &n.y})
+          if (!m->bound && m->slot >= 0 && (n.kind == NodeKind::Neighbor || m == &n.x))
+            last = std::max(last, static_cast<int16_t>(m->slot));
+    });
+    return last;
+  }
+
   uint32_t compile_leaf(NodeIndex i) {
     const Node& n = ast_.nodes[i];
     Leaf l;
     l.node = i;
-    if (n.kind == NodeKind::Compare) {
-      l.kind = LeafKind::Compare;
-      l.op = n.op;
-      l.lhs = term(n.left);
-      l.decide_slot = l.lhs.slot;
-      if (n.right.is_constant) {
-        l.rhs_is_constant = true;
-        l.constant = n.right.constant;
-      } else {
-        l.rhs = term(n.right);
-        l.decide_slot = std::max(l.decide_slot, l.rhs.slot);
-      }
-      carry(l.lhs, l.decide_slot);
-      if (!l.rhs_is_constant) carry(l.rhs, l.decide_slot);
-    } else {
+    carries_ = false;
+    if (n.kind == NodeKind::Neighbor) {
       l.kind = LeafKind::Neighbor;
       l.x = static_cast<int16_t>(n.x.slot);
       l.y = static_cast<int16_t>(n.y.slot);
       l.offset = static_cast<int16_t>(n.x.offset);
       l.decide_slot = std::max(l.x, l.y);
-      if (l.x < l.y) {
-        for (size_t s = 0; s < p_.sets.size(); ++s)
-          if (p_.sets[s].slot == l.x && p_.sets[s].offset == l.offset) l.set = static_cast<int16_t>(s);
-        if (l.set < 0) {
-          l.set = static_cast<int16_t>(p_.sets.size());
-          p_.sets.push_back({l.x, l.offset});
+      if (l.x < l.y) l.set = carried_set(l.x, l.offset);
+    } else {
+      const Node* left = &ast_.nodes[n.lhs];
+      const Node* right = &ast_.nodes[n.rhs];
+      l.op = n.op;
+      auto plain = [](const Node* o) {
+        return o->kind == NodeKind::Integer || (o->kind == NodeKind::Variable && !o->x.bound);
+      };
+      if (left->kind == NodeKind::Integer && right->kind == NodeKind::Variable) {
+        std::swap(left, right);  // `1 < a.x` is `a.x > 1`
+        l.op = mirrored(l.op);
+      }
+      if (left->kind == NodeKind::Variable && plain(left) && plain(right)) {
+        l.kind = LeafKind::Compare;
+        l.lhs = term(*left);
+        l.decide_slot = l.lhs.slot;
+        if (right->kind == NodeKind::Integer) {
+          l.rhs_is_constant = true;
+          l.constant = right->value;
+        } else {
+          l.rhs = term(*right);
+          l.decide_slot = std::max(l.decide_slot, l.rhs.slot);
         }
+        carry(l.lhs, l.decide_slot);
+        if (!l.rhs_is_constant) carry(l.rhs, l.decide_slot);
+      } else {
+        l.kind = LeafKind::Expression;
+        l.decide_slot = std::max(last_slot(n.lhs), last_slot(n.rhs));
+        decide_ = l.decide_slot;
+        l.lhs_code = compile_value(n.lhs);
+        l.rhs_code = compile_value(n.rhs);
       }
     }
     const uint32_t index = static_cast<uint32_t>(p_.leaves.size());
     SlotProgram& decider = p_.slots[l.decide_slot];
     decider.leaves.push_back(static_cast<uint16_t>(index));
-    const bool own = l.kind == LeafKind::Compare && l.lhs.cell < 0 && (l.rhs_is_constant || l.rhs.cell < 0);
+    const bool own = l.kind != LeafKind::Neighbor && !carries_;
     (own ? decider.own_leaves : decider.carried_leaves).push_back(static_cast<uint16_t>(index));
     if (l.kind == LeafKind::Neighbor && l.x < l.y) p_.slots[l.y].cull_leaves.push_back(static_cast<uint16_t>(index));
     p_.leaves.push_back(l);
     return index;
   }
 
+  // An integer expression as postfix value code, its terms carried as decide_ requires.
+  uint32_t compile_value(NodeIndex root) {
+    std::vector<ValueInstr> code;
+    struct Item {
+      NodeIndex node;
+      bool expanded;
+    };
+    std::vector<Item> work{{root, false}};
+    int depth = 0, deepest = 0;
+    while (!work.empty()) {
+      const Item it = work.back();
+      work.pop_back();
+      const Node& n = ast_.nodes[it.node];
+      ValueInstr in;
+      if (n.kind == NodeKind::Integer || n.kind == NodeKind::Variable || n.kind == NodeKind::Aggregate) {
+        if (n.kind == NodeKind::Integer) {
+          in.op = ValueOp::Constant;
+          in.constant = n.value;
+        } else if (n.kind == NodeKind::Aggregate) {
+          in.op = ValueOp::Aggregate;
+          in.index = compile_aggregate(it.node);
+        } else if (n.x.bound) {
+          TermRef t = term(n);
+          in.op = ValueOp::Bound;
+          in.variable = t.variable;
+          in.offset = t.offset;
+          AggregateCode& a = p_.aggregates[aggregate_];
+          if (std::none_of(a.neighbor_reads.begin(), a.neighbor_reads.end(),
+                           [&](const TermRef& r) { return r.variable == t.variable && r.offset == t.offset; }))
+            a.neighbor_reads.push_back(t);
+        } else {
+          TermRef t = term(n);
+          carry(t, decide_);
+          in.op = ValueOp::Term;
+          in.slot = t.slot;
+          in.variable = t.variable;
+          in.offset = t.offset;
+          in.cell = t.cell;
+        }
+        code.push_back(in);
+        deepest = std::max(deepest, ++depth);
+        continue;
+      }
+      const bool unary = n.kind == NodeKind::Negate || n.kind == NodeKind::Abs;
+      if (it.expanded) {
+        in.op = value_op(n.kind);
+        code.push_back(in);
+        if (!unary) --depth;
+        continue;
+      }
+      work.push_back({it.node, true});
+      if (!unary) work.push_back({n.rhs, false});
+      work.push_back({n.lhs, false});
+    }
+    p_.max_value_stack += deepest;
+    p_.codes.push_back(std::move(code));
+    return static_cast<uint32_t>(p_.codes.size() - 1);
+  }
+
+  uint32_t compile_aggregate(NodeIndex i) {
+    const Node& n = ast_.nodes[i];
+    const uint32_t index = static_cast<uint32_t>(p_.aggregates.size());
+    AggregateCode a;
+    a.kind = n.aggregate;
+    a.slot = static_cast<int16_t>(n.x.slot);
+    a.offset = static_cast<int16_t>(n.x.offset);
+    p_.aggregates.push_back(a);
+    const uint32_t outer = aggregate_;
+    aggregate_ = index;
+    if (n.lhs != kNoNode) {
+      if (n.aggregate == AggregateKind::Count) compile_condition(n.lhs, index);
+      else {
+        const uint32_t value = compile_value(n.lhs);
+        p_.aggregates[index].value = value;
+      }
+    }
+    aggregate_ = outer;
+    if (a.slot != decide_) {
+      carries_ = true;
+      p_.sets.push_back({a.slot, a.offset, static_cast<int32_t>(index)});
+      p_.aggregates[index].table = static_cast<int16_t>(p_.sets.size() - 1);
+    }
+    return index;
+  }
+
+  void compile_condition(NodeIndex root, uint32_t aggregate) {
+    std::vector<ConditionOp> ops;
+    struct Item {
+      NodeIndex node;
+      bool expanded;
+    };
+    std::vector<Item> work{{root, false}};
+    int depth = 0, deepest = 0;
+    while (!work.empty()) {
+      const Item it = work.back();
+      work.pop_back();
+      const Node& n = ast_.nodes[it.node];
+      if (n.kind == NodeKind::Compare || n.kind == NodeKind::Neighbor) {
+        ConditionTest t;
+        if (n.kind == NodeKind::Compare) {
+          t.kind = ConditionTest::Kind::Compare;
+          t.op = n.op;
+          t.lhs = compile_value(n.lhs);
+          t.rhs = compile_value(n.rhs);
+        } else {
+          t.kind = ConditionTest::Kind::Neighbor;
+          t.x = n.x.bound ? kBound : static_cast<int16_t>(n.x.slot);
+          t.y = n.y.bound ? kBound : static_cast<int16_t>(n.y.slot);
+          t.offset = static_cast<int16_t>(n.x.offset);
+          if (n.x.bound) {
+            std::vector<int16_t>& sets = p_.aggregates[aggregate].neighbor_sets;
+            if (std::find(sets.begin(), sets.end(), t.offset) == sets.end()) sets.push_back(t.offset);
+          } else if (t.x != decide_) {
+            t.set = carried_set(t.x, t.offset);
+          }
+        }
+        p_.tests.push_back(t);
+        ops.push_back({ConditionOp::Test, static_cast<uint32_t>(p_.tests.size() - 1)});
+        deepest = std::max(deepest, ++depth);
+        continue;
+      }
+      if (it.expanded) {
+        if (n.kind == NodeKind::Not) {
+          ops.push_back({ConditionOp::Not, 0});
+        } else {
+          ops.push_back({n.kind == NodeKind::And ? ConditionOp::And : ConditionOp::Or, 0});
+          --depth;
+        }
+        continue;
+      }
+      work.push_back({it.node, true});
+      if (n.kind != NodeKind::Not) work.push_back({n.rhs, false});
+      work.push_back({n.lhs, false});
+    }
+    p_.max_condition_stack = std::max(p_.max_condition_stack, deepest);
+    p_.aggregates[aggregate].condition = std::move(ops);
+  }
+
   const Ast& ast_;
   const Analysis& analysis_;
   Program& p_;
+  int16_t decide_ = 0;      // the decide slot of what is being compiled
+  uint32_t aggregate_ = 0;  // the aggregate whose body is being compiled
+  bool carries_ = false;    // the leaf being compiled reads a cell, a set or a table
 };
 
 }  // namespace

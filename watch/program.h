@@ -4,9 +4,14 @@
 // they mention is filled: its `decide_slot`. Until then a leaf is Unknown. The expression itself
 // is a postfix program over leaf truth values, evaluated in Kleene logic.
 //
+// A comparison of two plain operands (a variable, a constant) is decided inline; any other (DESIGN
+// §4b: arithmetic, aggregates over neighbours) compiles its two sides to postfix value code, run
+// by watch/evaluator.h over whatever reads the detector's state.
+//
 // For the distributed detector, where a PatternMatcher travels and each module contributes only
-// its own state, a term whose slot fills before the leaf's decide slot is carried in a *cell*, and
-// the neighbour set N(x) of a neighbor(x y) term with x filled before y is carried as a *set*.
+// its own state, a term whose slot fills before the leaf's decide slot is carried in a *cell*, the
+// neighbour set N(x) of a neighbor(x y) term with x filled before y is carried as a *set*, and an
+// aggregate over a slot filled before is carried as a *table* of that module's neighbours.
 #pragma once
 
 #include <cstdint>
@@ -40,15 +45,82 @@ inline bool holds(CompareOp op, int64_t a, int64_t b) {
   return false;
 }
 
-enum class LeafKind : uint8_t { Compare, Neighbor };
+// ---- value code (DESIGN §4b) ------------------------------------------------------------------
+
+enum class ValueOp : uint8_t {
+  Constant,   // push `constant`
+  Term,       // push slot.variable at offset (carried in `cell` when >= 0)
+  Bound,      // push the aggregate's current neighbour's variable, `offset` from the aggregate's step
+  Aggregate,  // push aggregate `index`
+  Negate,
+  Add,
+  Subtract,
+  Multiply,
+  Divide,
+  Remainder,
+  Abs,
+  Min,
+  Max,
+};
+
+struct ValueInstr {
+  ValueOp op = ValueOp::Constant;
+  int16_t slot = 0, variable = 0, offset = 0;
+  int16_t cell = -1;
+  uint32_t index = 0;  // Aggregate
+  int64_t constant = 0;
+};
+
+constexpr uint32_t kNoCode = UINT32_MAX;
+
+// A test inside an aggregate's condition: a comparison of two value codes, or neighbor(x y) where
+// x and y are slots or the bound name (its offset counts from the aggregate's step; a slot's from
+// its own "now").
+struct ConditionTest {
+  enum class Kind : uint8_t { Compare, Neighbor };
+  Kind kind = Kind::Compare;
+  CompareOp op = CompareOp::Equal;
+  uint32_t lhs = kNoCode, rhs = kNoCode;  // Compare: value codes
+  int16_t x = 0, y = 0;                   // Neighbor: slots, or kBound
+  int16_t offset = 0;
+  int16_t set = -1;  // x a slot filled before the decide slot: N(x) is carried in this set
+};
+constexpr int16_t kBound = -1;
+
+struct ConditionOp {
+  enum Kind : uint8_t { Test, Not, And, Or };
+  Kind kind = Test;
+  uint32_t test = 0;
+};
+
+// `count(n in neighbors(a.last): cond)`, `sum/min/max(n in neighbors(a): expr)`.
+struct AggregateCode {
+  AggregateKind kind = AggregateKind::Count;
+  int16_t slot = 0, offset = 0;        // ranges over N(slot's module, now + offset), present neighbours
+  uint32_t value = kNoCode;            // sum, min, max: the value of each neighbour
+  std::vector<ConditionOp> condition;  // count: empty for none
+  // Distributed: >= 0 when its slot fills before the decide slot, and so the slot's module carries
+  // its neighbours (ids, what the body reads of them) in this table.
+  int16_t table = -1;
+  // What the body reads of each neighbour: (variable, offset) values and neighbour sets at offsets.
+  std::vector<TermRef> neighbor_reads;
+  std::vector<int16_t> neighbor_sets;
+};
+
+// ---- leaves -----------------------------------------------------------------------------------
+
+enum class LeafKind : uint8_t { Compare, Neighbor, Expression };
 
 struct Leaf {
   LeafKind kind = LeafKind::Compare;
   CompareOp op = CompareOp::Equal;
+  // Compare: a variable against a variable or a constant
   TermRef lhs;
   bool rhs_is_constant = false;
   TermRef rhs;
   int64_t constant = 0;
+  // Expression: lhs_code op rhs_code
+  uint32_t lhs_code = kNoCode, rhs_code = kNoCode;
   // neighbor(x y) at offset: y in N(x, now_x + offset)
   int16_t x = 0, y = 0, offset = 0;
   int16_t set = -1;  // >= 0: N(x) is carried in this set (x fills before y)
@@ -66,18 +138,29 @@ struct CarriedCell {
   int16_t slot = 0, variable = 0, offset = 0;
 };
 
+// What a PatternMatcher carries as a variable-length record, appended as the slot that owns it
+// fills: N(slot, now + offset) (a set), or a table of an aggregate over the slot's neighbours.
 struct CarriedSet {
   int16_t slot = 0, offset = 0;
+  int32_t aggregate = -1;  // >= 0: the table of this aggregate
+};
+
+// `then set a.v = expr` / `then remove a`, its value decided at the last slot.
+struct ActionCode {
+  Action::Kind kind = Action::Kind::Set;
+  int16_t slot = 0;
+  std::string variable;  // Set
+  uint32_t value = kNoCode;
 };
 
 // What filling one slot involves.
 struct SlotProgram {
   std::vector<uint16_t> cells;   // cells this slot's module writes
-  std::vector<uint16_t> sets;    // neighbour sets this slot's module writes
+  std::vector<uint16_t> sets;    // neighbour sets and tables this slot's module writes
   std::vector<uint16_t> leaves;  // leaves decided when this slot fills
-  // Of those, the ones the filling module decides from its own state alone (comparisons of its
-  // own variables with each other or with constants): the same for every PatternMatcher it fills
-  // at a step, so an agent decides them once per step.
+  // Of those, the ones the filling module decides from its own state alone (its own variables,
+  // neighbours and constants): the same for every PatternMatcher it fills at a step, so an agent
+  // decides them once per step.
   std::vector<uint16_t> own_leaves;
   std::vector<uint16_t> carried_leaves;  // the rest: they read cells, sets or earlier slots' ids
   std::vector<uint16_t> cull_leaves;     // neighbor(x this) leaves with x filled earlier: cull candidates
@@ -88,6 +171,9 @@ class Program {
   Program(const Ast& ast, const Analysis& analysis);
 
   int slot_count() const { return static_cast<int>(slot_names.size()); }
+  // Steps a distributed reading waits behind a frame before it decides a step: E+, and the hop an
+  // aggregate takes to learn its neighbours' values (DESIGN §7).
+  int agent_delay() const { return extent_plus + aggregate_hops; }
 
   // Evaluates the expression over leaf truth values; `stack` holds at least max_stack entries.
   Truth evaluate(const Truth* leaf_values, Truth* stack) const {
@@ -123,6 +209,7 @@ class Program {
   std::vector<std::string> variables;
   std::vector<int> variable_min_offset;  // per variable
   int extent_plus = 0;                   // E+
+  int aggregate_hops = 0;                // 0 or 1 (Analysis::aggregate_hops)
   int min_offset = 0;                    // <= 0
   int min_neighbor_offset = 0;           // <= 0; neighbour sets are read at [this, E+]
   std::vector<Leaf> leaves;
@@ -135,6 +222,14 @@ class Program {
   std::vector<CarriedCell> cells;
   std::vector<CarriedSet> sets;  // ordered by slot: a PatternMatcher appends them as it fills
   std::vector<SlotProgram> slots;
+  // Value code: each a postfix program over ValueInstr. Evaluating one needs at most
+  // max_value_stack values and max_condition_stack truths of scratch.
+  std::vector<std::vector<ValueInstr>> codes;
+  std::vector<ConditionTest> tests;
+  std::vector<AggregateCode> aggregates;
+  int max_value_stack = 0;
+  int max_condition_stack = 0;
+  std::vector<ActionCode> actions;
 };
 
 }  // namespace dw::watch

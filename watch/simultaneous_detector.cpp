@@ -24,7 +24,7 @@ SimultaneousDetector::SimultaneousDetector(const Watchpoint& w, const Universe& 
       latency_(hop_latency(shape_, w.program.slot_count())),
       leaf_words_(static_cast<uint32_t>((w.program.leaves.size() + 3) / 4)),
       fixed_words_(2 * k_ + leaf_words_),
-      history_(*program_, u, options.optimizations.temporal_spans, latency_),
+      history_(*program_, u, options.optimizations.temporal_spans, latency_ + w.program.aggregate_hops),
       starts_(static_cast<size_t>(latency_) + 1, StartStep{StepView(*program_, u.module_count()), {}, {}, true}),
       search_(*program_, options.optimizations, 0, u.module_count()),
       mark_(u.module_count(), 0),
@@ -50,14 +50,16 @@ void SimultaneousDetector::observe(const Frame& frame) {
   if (stats_.stopped) return;
   history_.record(frame);
   newest_ = frame.step;
-  const int64_t f = frame.step - program_->extent_plus;
+  const int64_t f = frame.step - program_->agent_delay();
   if (f >= 0) step(f, true);
 }
 
 // The input has ended: PatternMatchers in flight go on over the last step's links until every
 // start step that the frames decide is reported.
 void SimultaneousDetector::finish() {
+  // Start steps an aggregate's hop held back start now; then every PatternMatcher drains.
   const int64_t last_t0 = newest_ - program_->extent_plus;
+  while (!stats_.stopped && next_f_ <= last_t0) step(next_f_, true);
   while (!stats_.stopped && next_f_ > 0 && next_f_ - latency_ <= last_t0) step(next_f_, false);
 }
 
@@ -101,7 +103,8 @@ void SimultaneousDetector::step(int64_t f, bool start_new) {
 
 void SimultaneousDetector::report(int64_t t0) {
   const MatchBuffer& m = at(t0).found;
-  emit(t0, {m.ids.data(), m.values});
+  action_values(at(t0).view, *program_, {m.ids.data(), m.values}, actions_);
+  emit(t0, {m.ids.data(), m.values}, actions_);
 }
 
 void SimultaneousDetector::arrive(const Walker& w, uint32_t* words) {

@@ -99,6 +99,7 @@ class SimultaneousDetector final : public Detector {
   std::vector<Truth> stack_, trial_;
   uint32_t generation_ = 0;
   StepStats step_;
+  std::vector<Value> actions_;  // the matches reported's actions' values
   std::string stop_reason_;
 };
 

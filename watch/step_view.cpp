@@ -47,9 +47,55 @@ uint64_t StepHistory::held_values() const {
   return held;
 }
 
+// Reads a binding's state at watch step t for value code: every slot's "now" is t (DESIGN §4).
+class StepView::Reader {
+ public:
+  Reader(const StepView& v, const uint32_t* binding) : v_(v), h_(*v.history_), binding_(binding) {}
+
+  Value term(const ValueInstr& in) const { return read(in.variable, v_.t_ + in.offset, binding_[in.slot]); }
+  int open(const AggregateCode& a) {
+    step_ = v_.t_ + a.offset;
+    const StepHistory::Graph* g = h_.graph(step_);
+    const uint32_t m = binding_[a.slot];
+    if (g == nullptr || !g->present[m]) return -1;
+    // N(m, s) is a set of the neighbours present at s (DESIGN §4b).
+    std::vector<uint32_t>& n = v_.neighbors_;
+    n.clear();
+    for (uint32_t u : g->neighbors(m))
+      if (g->present[u]) n.push_back(u);
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+    return static_cast<int>(n.size());
+  }
+  Value bound(int i, const ValueInstr& in) const { return read(in.variable, step_ + in.offset, bound_id(i)); }
+  uint32_t bound_id(int i) const { return v_.neighbors_[static_cast<size_t>(i)]; }
+  Truth bound_adjacent(int i, int offset, uint32_t y) const {
+    const StepHistory::Graph* g = h_.graph(step_ + offset);
+    const uint32_t n = bound_id(i);
+    if (g == nullptr || !g->present[n]) return kUnknown;
+    const auto ns = g->neighbors(n);
+    return truth_of(std::find(ns.begin(), ns.end(), y) != ns.end());
+  }
+  uint32_t slot_module(int slot) const { return binding_[slot]; }
+  Truth slot_adjacent(const ConditionTest& t, uint32_t y) const { return v_.neighbor(binding_[t.x], t.offset, y); }
+
+ private:
+  Value read(int variable, int64_t step, uint32_t m) const {
+    const StepHistory::Column* c = h_.column(variable, step);
+    if (c == nullptr || !c->known[m]) return {};
+    return known_value(c->value[m]);
+  }
+
+  const StepView& v_;
+  const StepHistory& h_;
+  const uint32_t* binding_;
+  int64_t step_ = 0;  // the open aggregate's
+};
+
 StepView::StepView(const Program& p, uint32_t modules)
     : program_(&p),
       modules_(modules),
+      scratch_(p),
       lhs_(p.leaves.size()),
       rhs_(p.leaves.size()),
       graph_at_offset_(static_cast<size_t>(p.extent_plus - p.min_neighbor_offset) + 1),
@@ -58,6 +104,7 @@ StepView::StepView(const Program& p, uint32_t modules)
 void StepView::resolve(const StepHistory& history, int64_t t, bool slots) {
   const Program& p = *program_;
   t_ = t;
+  history_ = &history;
   now_ = history.graph(t);
   // Resolve every term's step once, so that the inner loops only index arrays.
   auto resolve_term = [&](const TermRef& term) {
@@ -78,9 +125,18 @@ void StepView::resolve(const StepHistory& history, int64_t t, bool slots) {
     graph_at_offset_[o] = history.graph(t + p.min_neighbor_offset + static_cast<int64_t>(o));
   // A leaf that reads one slot only has the same truth for every binding that puts module m in
   // that slot: decide it once per module.
+  uint32_t same[kMaxSlots];
   for (const SlotProgram& sp : p.slots)
-    for (uint16_t l : sp.own_leaves)
-      for (uint32_t m = 0; m < modules_; ++m) own_truth_[l * modules_ + m] = compare(p.leaves[l], l, m, m);
+    for (uint16_t l : sp.own_leaves) {
+      if (p.leaves[l].kind == LeafKind::Compare) {
+        for (uint32_t m = 0; m < modules_; ++m) own_truth_[l * modules_ + m] = compare(p.leaves[l], l, m, m);
+        continue;
+      }
+      for (uint32_t m = 0; m < modules_; ++m) {
+        std::fill(same, same + p.slot_count(), m);
+        own_truth_[l * modules_ + m] = decide(l, same);
+      }
+    }
   if (p.shape == Program::Shape::Conjunction) {
     own_slot_truth_.assign(p.slots.size() * modules_, kTrue);
     for (uint32_t s = 0; s < p.slots.size(); ++s)
@@ -133,10 +189,23 @@ Truth StepView::compare(const Leaf& leaf, uint32_t i, uint32_t lm, uint32_t rm) 
 
 Truth StepView::decide(uint32_t i, const uint32_t* binding) const {
   const Leaf& leaf = program_->leaves[i];
+  if (leaf.kind == LeafKind::Expression) {
+    Reader r(*this, binding);
+    return Evaluator(*program_, r, scratch_).leaf(leaf);
+  }
   if (leaf.kind == LeafKind::Neighbor)
     return neighbor(binding[static_cast<size_t>(leaf.x)], leaf.offset, binding[static_cast<size_t>(leaf.y)]);
   const uint32_t rm = leaf.rhs_is_constant ? 0 : binding[static_cast<size_t>(leaf.rhs.slot)];
   return compare(leaf, i, binding[static_cast<size_t>(leaf.lhs.slot)], rm);
+}
+
+}  // namespace dw::watch
+
+namespace dw::watch {
+
+Value StepView::value(uint32_t code, const uint32_t* binding) const {
+  Reader r(*this, binding);
+  return Evaluator(*program_, r, scratch_).value(code, 0, -1);
 }
 
 }  // namespace dw::watch

@@ -6,9 +6,11 @@
 
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <span>
 #include <vector>
 
+#include "watch/evaluator.h"
 #include "watch/frame.h"
 #include "watch/kleene.h"
 #include "watch/program.h"
@@ -68,6 +70,8 @@ class StepView {
   Truth neighbor(uint32_t x, int offset, uint32_t y) const;
   // A leaf for a binding (module per slot) that fills every slot the leaf reads.
   Truth decide(uint32_t leaf_index, const uint32_t* binding) const;
+  // Value code for a binding (an action's value).
+  Value value(uint32_t code, const uint32_t* binding) const;
   Truth own(uint32_t leaf_index, uint32_t module) const { return own_truth_[leaf_index * modules_ + module]; }
   const Truth* own_truth() const { return own_truth_.data(); }
   // A conjunction's own leaves of `slot`, and-ed, for every module ([module]): what filling the
@@ -81,12 +85,17 @@ class StepView {
   size_t bytes() const { return own_truth_.capacity() + own_slot_truth_.capacity() + sizeof(*this); }
 
  private:
+  class Reader;
   struct ResolvedTerm {
     const int64_t* value = nullptr;
     const uint8_t* known = nullptr;
   };
   const Program* program_ = nullptr;
+  const StepHistory* history_ = nullptr;
   uint32_t modules_ = 0;
+  // Scratch for value code (DESIGN §4b): an aggregate's neighbours, the evaluator's stacks.
+  mutable std::vector<uint32_t> neighbors_;
+  mutable EvaluatorScratch scratch_;
   int64_t t_ = -1;
   const StepHistory::Graph* now_ = nullptr;
   std::vector<ResolvedTerm> lhs_, rhs_;                     // per leaf

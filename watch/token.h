@@ -10,7 +10,7 @@ namespace dw::watch {
 
 enum class TokenKind : uint8_t {
   Name,
-  Integer,     // fits in int64 (value), or overflowed (overflow = true)
+  Integer,     // a magnitude up to 2^63 (value), or past it (overflow = true); never signed
   NonInteger,  // 1.5, 2e3: lexed so that the parser can say "non-integer constant"
   // keywords
   Modules,
@@ -20,12 +20,31 @@ enum class TokenKind : uint8_t {
   Neighbor,
   Last,
   Next,
+  // keywords of expressions and actions (DESIGN §4b): reserved for slot and bound names, but a
+  // variable may be named by one after '.' (`a.count`)
+  In,
+  Neighbors,
+  Count,
+  Sum,
+  Min,
+  Max,
+  Abs,
+  Then,
+  Set,
+  Remove,
   // punctuation
   LParen,
   RParen,
   Semicolon,
   Dot,
   Comma,
+  Colon,
+  // arithmetic
+  Plus,
+  Minus,
+  Star,
+  Slash,
+  Percent,
   // comparison operators
   Less,
   Greater,
@@ -40,12 +59,15 @@ enum class TokenKind : uint8_t {
 struct Token {
   TokenKind kind = TokenKind::End;
   Span span;
-  int64_t value = 0;      // Integer
-  bool overflow = false;  // Integer out of int64 range
+  uint64_t value = 0;     // Integer: its magnitude; a '-' before it is a token of its own
+  bool overflow = false;  // Integer past 2^63 (2^63 itself is -9223372036854775808's magnitude)
   std::string message;    // Invalid
 };
 
+// Any keyword: none names a slot or a bound name.
 bool is_keyword(TokenKind k);
+// The paper's keywords (DESIGN §3), reserved everywhere, variable names included.
+bool is_reserved(TokenKind k);
 bool is_comparison(TokenKind k);
 // How a token kind is spelled in messages: "'and'", "')'", "a name", "end of input".
 std::string describe(TokenKind k);

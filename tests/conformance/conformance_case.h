@@ -73,15 +73,16 @@ inline std::set<CaseMatch> replay_case(const LoadedCase& c, watch::Algorithm alg
   auto reader =
       std::get<sim::FrameReader>(sim::FrameReader::make(c.trace, w.program.variables, sim::default_frame_budget()));
   std::set<CaseMatch> got;
-  auto d =
-      watch::make_detector(algorithm, w, reader.universe(), o, [&](int64_t t, std::span<const watch::ModuleId> ids) {
-        const size_t k = w.program.slot_names.size();
-        for (size_t i = 0; i < ids.size(); i += k) {
-          CaseMatch m{t, {}};
-          for (size_t s = 0; s < k; ++s) m.second.emplace_back(w.program.slot_names[s], ids[i + s]);
-          EXPECT_TRUE(got.insert(std::move(m)).second) << "a match reported twice";
-        }
-      });
+  auto d = watch::make_detector(algorithm, w, reader.universe(), o,
+                                [&](int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value>) {
+                                  const size_t k = w.program.slot_names.size();
+                                  for (size_t i = 0; i < ids.size(); i += k) {
+                                    CaseMatch m{t, {}};
+                                    for (size_t s = 0; s < k; ++s)
+                                      m.second.emplace_back(w.program.slot_names[s], ids[i + s]);
+                                    EXPECT_TRUE(got.insert(std::move(m)).second) << "a match reported twice";
+                                  }
+                                });
   for (int64_t s = 0; s < c.trace.step_count(); ++s) d->observe(reader.frame(s));
   d->finish();
   if (stats) *stats = d->stats();

@@ -30,7 +30,9 @@ TEST(RandomVars, LiveRunMatchesTheSyntheticTableITrace) {
     uint64_t replayed = 0;
     auto detector =
         watch::make_detector(s.model->watches[0].algorithm, s.model->watches[0].watchpoint, frames.universe(), {},
-                             [&](int64_t, std::span<const watch::ModuleId> ids) { replayed += ids.size() / 4; });
+                             [&](int64_t, std::span<const watch::ModuleId> ids, std::span<const watch::Value>) {
+                               replayed += ids.size() / 4;
+                             });
     for (int64_t t = 0; t < trace.step_count(); ++t) detector->observe(frames.frame(t));
     EXPECT_GT(replayed, 0u);
     EXPECT_EQ(run.match_count(0), replayed);

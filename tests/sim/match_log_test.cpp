@@ -12,9 +12,9 @@ TEST(MatchLog, SortsByStepThenWatchThenSlotIds) {
   MatchLog log({{"late", {"a", "b"}}, {"early", {"x"}}}, &out);
   auto late = log.sink(0), early = log.sink(1);
   const std::vector<watch::ModuleId> l0 = {5, 1, 2, 9, 2, 3};
-  late(0, l0);
-  early(0, std::vector<watch::ModuleId>{7});
-  early(1, std::vector<watch::ModuleId>{4, 3});
+  late(0, l0, {});
+  early(0, std::vector<watch::ModuleId>{7}, {});
+  early(1, std::vector<watch::ModuleId>{4, 3}, {});
   log.release(0);
   EXPECT_EQ(out.str(),
             "{\"watch\":\"late\",\"t\":0,\"slots\":{\"a\":2,\"b\":3}}\n"
@@ -35,7 +35,7 @@ TEST(MatchLog, SortsGroupsTooWideToPack) {
   std::ostringstream out;
   MatchLog log({{"w", {"a", "b", "c"}}}, &out);
   const std::vector<watch::ModuleId> ids = {4000000000u, 1, 2, 7, 4000000000u, 3, 7, 9, 1};
-  log.sink(0)(0, ids);
+  log.sink(0)(0, ids, {});
   log.finish();
   EXPECT_EQ(out.str(),
             "{\"watch\":\"w\",\"t\":0,\"slots\":{\"a\":7,\"b\":9,\"c\":1}}\n"
@@ -46,14 +46,14 @@ TEST(MatchLog, SortsGroupsTooWideToPack) {
 TEST(MatchLog, EscapesNamesAsJson) {
   std::ostringstream out;
   MatchLog log({{"a \"quoted\" name", {"s"}}}, &out);
-  log.sink(0)(3, std::vector<watch::ModuleId>{1});
+  log.sink(0)(3, std::vector<watch::ModuleId>{1}, {});
   log.finish();
   EXPECT_EQ(out.str(), "{\"watch\":\"a \\\"quoted\\\" name\",\"t\":3,\"slots\":{\"s\":1}}\n");
 }
 
 TEST(MatchLog, KeepsTheFirstMatchesForSummariesWithoutWriting) {
   MatchLog log({{"w", {"a"}}}, nullptr, 2);
-  log.sink(0)(4, std::vector<watch::ModuleId>{9, 3, 5});
+  log.sink(0)(4, std::vector<watch::ModuleId>{9, 3, 5}, {});
   log.finish();
   ASSERT_EQ(log.kept(0).size(), 2u);
   EXPECT_EQ(log.kept(0)[0].ids, (std::vector<watch::ModuleId>{3}));

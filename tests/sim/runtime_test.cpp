@@ -137,11 +137,12 @@ TEST(Runtime, RecordedFramesReplayToTheLiveMatches) {
     const Trace& trace = std::get<Trace>(read);
     auto frames = std::get<FrameReader>(FrameReader::make(trace, std::nullopt, default_frame_budget()));
     std::vector<std::vector<uint32_t>> replayed;
-    auto detector = watch::make_detector(algorithm, model->watches[0].watchpoint, frames.universe(), {},
-                                         [&](int64_t t, std::span<const watch::ModuleId> ids) {
-                                           for (size_t i = 0; i < ids.size(); i += 3)
-                                             replayed.push_back({uint32_t(t), ids[i], ids[i + 1], ids[i + 2]});
-                                         });
+    auto detector =
+        watch::make_detector(algorithm, model->watches[0].watchpoint, frames.universe(), {},
+                             [&](int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value>) {
+                               for (size_t i = 0; i < ids.size(); i += 3)
+                                 replayed.push_back({uint32_t(t), ids[i], ids[i + 1], ids[i + 2]});
+                             });
     for (int64_t t = 0; t < trace.step_count(); ++t) detector->observe(frames.frame(t));
     std::sort(live.begin(), live.end());
     std::sort(replayed.begin(), replayed.end());

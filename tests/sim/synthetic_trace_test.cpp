@@ -19,13 +19,15 @@ uint64_t count_matches(const Trace& trace, watch::Algorithm a, const watch::Watc
                        std::vector<uint64_t>* per_t) {
   uint64_t total = 0;
   const test::TraceFrames frames(trace);
-  auto d = watch::make_detector(a, w, frames.universe(), {}, [&](int64_t t, std::span<const watch::ModuleId> ids) {
-    total += ids.size() / 4;
-    if (per_t) {
-      if (per_t->size() <= static_cast<size_t>(t)) per_t->resize(static_cast<size_t>(t) + 1);
-      (*per_t)[static_cast<size_t>(t)] += ids.size() / 4;
-    }
-  });
+  auto d = watch::make_detector(a, w, frames.universe(), {},
+                                [&](int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value>) {
+                                  total += ids.size() / 4;
+                                  if (per_t) {
+                                    if (per_t->size() <= static_cast<size_t>(t))
+                                      per_t->resize(static_cast<size_t>(t) + 1);
+                                    (*per_t)[static_cast<size_t>(t)] += ids.size() / 4;
+                                  }
+                                });
   for (const watch::Frame& f : frames.all()) d->observe(f);
   return total;
 }

@@ -28,29 +28,43 @@ TEST(Lexer, AllComparisonOperators) {
   EXPECT_EQ(t[5].kind, TokenKind::LessEqual);
 }
 
-TEST(Lexer, IntegersIncludingExtremes) {
-  auto t = tokens("0 42 -7 9223372036854775807 -9223372036854775808");
-  EXPECT_EQ(t[0].value, 0);
-  EXPECT_EQ(t[1].value, 42);
-  EXPECT_EQ(t[2].value, -7);
-  EXPECT_EQ(t[3].value, INT64_MAX);
-  EXPECT_FALSE(t[3].overflow);
-  EXPECT_EQ(t[4].value, INT64_MIN);
+TEST(Lexer, IntegersAreMagnitudesAndMinusIsAnOperator) {
+  auto t = tokens("0 42 -7 9223372036854775807 9223372036854775808");
+  EXPECT_EQ(t[0].value, 0u);
+  EXPECT_EQ(t[1].value, 42u);
+  EXPECT_EQ(t[2].kind, TokenKind::Minus);
+  EXPECT_EQ(t[3].value, 7u);
+  EXPECT_EQ(t[4].value, static_cast<uint64_t>(INT64_MAX));
   EXPECT_FALSE(t[4].overflow);
+  EXPECT_EQ(t[5].value, uint64_t{1} << 63);  // -9223372036854775808's magnitude
+  EXPECT_FALSE(t[5].overflow);
 }
 
 TEST(Lexer, IntegerOverflowIsFlagged) {
-  auto t = tokens("9223372036854775808 -9223372036854775809 123456789012345678901234567890");
+  auto t = tokens("9223372036854775809 123456789012345678901234567890");
   EXPECT_TRUE(t[0].overflow);
   EXPECT_TRUE(t[1].overflow);
-  EXPECT_TRUE(t[2].overflow);
 }
 
 TEST(Lexer, NonIntegersAreTheirOwnKind) {
   auto t = tokens("1.5 2e3 -0.25");
   EXPECT_EQ(t[0].kind, TokenKind::NonInteger);
   EXPECT_EQ(t[1].kind, TokenKind::NonInteger);
-  EXPECT_EQ(t[2].kind, TokenKind::NonInteger);
+  EXPECT_EQ(t[2].kind, TokenKind::Minus);
+  EXPECT_EQ(t[3].kind, TokenKind::NonInteger);
+}
+
+TEST(Lexer, ArithmeticAndTheKeywordsOfExpressions) {
+  auto t = tokens("+ - * / % : in neighbors count sum min max abs then set remove");
+  const std::vector<TokenKind> want = {
+      TokenKind::Plus, TokenKind::Minus,     TokenKind::Star,  TokenKind::Slash,  TokenKind::Percent, TokenKind::Colon,
+      TokenKind::In,   TokenKind::Neighbors, TokenKind::Count, TokenKind::Sum,    TokenKind::Min,     TokenKind::Max,
+      TokenKind::Abs,  TokenKind::Then,      TokenKind::Set,   TokenKind::Remove, TokenKind::End};
+  ASSERT_EQ(t.size(), want.size());
+  for (size_t i = 0; i < want.size(); ++i) EXPECT_EQ(t[i].kind, want[i]) << i;
+  EXPECT_TRUE(is_keyword(TokenKind::Count));
+  EXPECT_FALSE(is_reserved(TokenKind::Count));  // `a.count` names a variable
+  EXPECT_TRUE(is_reserved(TokenKind::Neighbor));
 }
 
 TEST(Lexer, CommentsRunToEndOfLine) {
@@ -80,11 +94,6 @@ TEST(Lexer, InvalidCharactersExplainThemselves) {
   EXPECT_NE(t[1].message.find("'$'"), std::string::npos);
   EXPECT_EQ(t[2].kind, TokenKind::Invalid);
   EXPECT_NE(t[2].message.find("malformed number"), std::string::npos);
-}
-
-TEST(Lexer, MinusWithoutDigitIsInvalid) {
-  auto t = tokens("a - 1");
-  EXPECT_EQ(t[1].kind, TokenKind::Invalid);
 }
 
 }  // namespace

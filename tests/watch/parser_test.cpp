@@ -16,10 +16,13 @@ TEST(Parser, Figure2) {
   ASSERT_EQ(root.kind, NodeKind::And);
   const Node& right = r.ast.nodes[root.rhs];
   ASSERT_EQ(right.kind, NodeKind::Compare);
-  EXPECT_EQ(right.left.module.slot, 2);
-  EXPECT_EQ(right.left.variable, "isLeader");
-  EXPECT_TRUE(right.right.is_constant);
-  EXPECT_EQ(right.right.constant, 1);
+  const Node& var = r.ast.nodes[right.lhs];
+  ASSERT_EQ(var.kind, NodeKind::Variable);
+  EXPECT_EQ(var.x.slot, 2);
+  EXPECT_EQ(var.name, "isLeader");
+  const Node& one = r.ast.nodes[right.rhs];
+  ASSERT_EQ(one.kind, NodeKind::Integer);
+  EXPECT_EQ(one.value, 1);
 }
 
 TEST(Parser, AndBindsTighterThanOr) {
@@ -50,9 +53,9 @@ TEST(Parser, OffsetsCountNextAsPlusAndLastAsMinus) {
   auto r = p("modules(a b); (a.last.next.last.v = b.next.next.w) and neighbor(a.last b.last)");
   ASSERT_TRUE(r.ok());
   const Node& cmp = r.ast.nodes[r.ast.nodes[r.ast.root].lhs];
-  EXPECT_EQ(cmp.left.module.offset, -1);
-  EXPECT_EQ(cmp.left.variable, "v");
-  EXPECT_EQ(cmp.right.module.offset, 2);
+  EXPECT_EQ(r.ast.nodes[cmp.lhs].x.offset, -1);
+  EXPECT_EQ(r.ast.nodes[cmp.lhs].name, "v");
+  EXPECT_EQ(r.ast.nodes[cmp.rhs].x.offset, 2);
   const Node& nb = r.ast.nodes[r.ast.nodes[r.ast.root].rhs];
   EXPECT_EQ(nb.kind, NodeKind::Neighbor);
   EXPECT_EQ(nb.x.offset, -1);
@@ -73,9 +76,9 @@ TEST(Parser, EverySpanCoversItsSource) {
   const Node& root = r.ast.nodes[r.ast.root];
   EXPECT_EQ(src.slice(root.span), "( a.x = b.last.y ) or neighbor(a b)");
   const Node& cmp = r.ast.nodes[root.lhs];
-  EXPECT_EQ(src.slice(cmp.left.span), "a.x");
-  EXPECT_EQ(src.slice(cmp.right.span), "b.last.y");
-  EXPECT_EQ(src.slice(cmp.right.module.span), "b.last");
+  EXPECT_EQ(src.slice(r.ast.nodes[cmp.lhs].span), "a.x");
+  EXPECT_EQ(src.slice(r.ast.nodes[cmp.rhs].span), "b.last.y");
+  EXPECT_EQ(src.slice(r.ast.nodes[cmp.rhs].x.span), "b.last");
   EXPECT_EQ(src.slice(r.ast.nodes[root.rhs].span), "neighbor(a b)");
 }
 

@@ -5,14 +5,19 @@
 #include <optional>
 #include <random>
 
+#include "brute_force.h"
 #include "test_ensemble.h"
 #include "watch/parser.h"
 
 namespace dw::watch {
 namespace {
 
+using testing::adjacent;
 using testing::compile_or_die;
+using testing::evaluate;
+using testing::K;
 using testing::Match;
+using testing::permutations;
 using testing::TestEnsemble;
 
 // ---- random inputs ------------------------------------------------------------------------------
@@ -31,7 +36,9 @@ class Generator {
 
   // `frozen`: every step equal and the graph undirected; otherwise anything goes (directed edges,
   // edges to absent modules, modules leaving and lacking variables).
-  TestEnsemble ensemble(bool frozen) {
+  // `wide`: values reach int64's ends now and then, so that arithmetic overflows.
+  TestEnsemble ensemble(bool frozen, bool wide = false) {
+    wide_ = wide;
     const uint32_t m_count = static_cast<uint32_t>(pick(2, 7));
     const int steps = pick(frozen ? 5 : 2, 7);
     TestEnsemble e(m_count, {"x", "y"});
@@ -44,7 +51,7 @@ class Generator {
             fixed_nbrs[a].push_back(b);
             fixed_nbrs[b].push_back(a);
           }
-      for (auto& v : fixed_vars) v = {{"x", pick(0, 2)}, {"y", pick(0, 2)}};
+      for (auto& v : fixed_vars) v = {{"x", number(0, 2)}, {"y", number(0, 2)}};
     }
     for (int t = 0; t < steps; ++t) {
       e.grow(t);
@@ -55,8 +62,8 @@ class Generator {
         }
         if (!chance(0.85)) continue;
         std::map<std::string, int64_t> vars;
-        if (chance(0.9)) vars["x"] = pick(0, 2);
-        if (chance(0.9)) vars["y"] = pick(-1, 2);
+        if (chance(0.9)) vars["x"] = number(0, 2);
+        if (chance(0.9)) vars["y"] = number(-1, 2);
         std::vector<uint32_t> nbrs;
         for (uint32_t n = 0; n < m_count; ++n)
           if (n != m && chance(0.5)) nbrs.push_back(n);
@@ -67,9 +74,11 @@ class Generator {
     return e;
   }
 
-  std::string watch(int slots, bool offsets) {
+  // `expressions`: comparisons of DESIGN §4b's expressions, with aggregates over neighbours.
+  std::string watch(int slots, bool offsets, bool expressions = false) {
     slots_ = slots;
     offsets_ = offsets;
+    expressions_ = expressions;
     std::string text = "modules(";
     for (int s = 0; s < slots; ++s) text += std::string(s ? " " : "") + name(s);
     return text + "); " + expr(3);
@@ -99,6 +108,7 @@ class Generator {
           const int d = offset();
           return "neighbor(" + module(x, d) + " " + module(y, d) + ")";
         }
+        if (expressions_) return "(" + arith(2, false) + " " + ops[pick(0, 5)] + " " + arith(2, false) + ")";
         const std::string rhs = chance(0.5) ? std::to_string(pick(-1, 2)) : statevar();
         return "(" + statevar() + " " + ops[pick(0, 5)] + " " + rhs + ")";
       }
@@ -109,84 +119,73 @@ class Generator {
     }
   }
 
+  int64_t number(int lo, int hi) {
+    if (wide_ && chance(0.15)) {
+      static const int64_t ends[] = {INT64_MAX, INT64_MIN, INT64_MAX / 2 + 1, INT64_MIN + 1, -4611686018427387904};
+      return ends[pick(0, 4)];
+    }
+    return pick(lo, hi);
+  }
+
+  std::string constant() {
+    if (chance(0.1)) {
+      static const char* ends[] = {"9223372036854775807", "-9223372036854775808", "4611686018427387904", "-1"};
+      return ends[pick(0, 3)];
+    }
+    return std::to_string(pick(-2, 3));
+  }
+
+  // An integer expression; `bound` inside an aggregate, where n is the neighbour.
+  std::string arith(int depth, bool bound) {
+    const int choice = depth == 0 ? pick(0, 2) : pick(0, 10);
+    auto var = [&] {
+      if (bound && chance(0.6)) return std::string("n") + (chance(0.2) ? ".last" : "") + (chance(0.5) ? ".x" : ".y");
+      return statevar();
+    };
+    switch (choice) {
+      case 0: return constant();
+      case 1:
+      case 2: return var();
+      case 3: return "-" + arith(depth - 1, bound);
+      case 4: return "(" + arith(depth - 1, bound) + " + " + arith(depth - 1, bound) + ")";
+      case 5: return "(" + arith(depth - 1, bound) + " - " + arith(depth - 1, bound) + ")";
+      case 6: return arith(depth - 1, bound) + " * " + arith(depth - 1, bound);
+      case 7: return "(" + arith(depth - 1, bound) + (chance(0.5) ? " / " : " % ") + arith(depth - 1, bound) + ")";
+      case 8: {
+        const char* fn[] = {"abs(", "min(", "max("};
+        const int f = pick(0, 2);
+        if (f == 0) return std::string(fn[0]) + arith(depth - 1, bound) + ")";
+        return std::string(fn[f]) + arith(depth - 1, bound) + ", " + arith(depth - 1, bound) + ")";
+      }
+      default: return bound ? var() : aggregate();
+    }
+  }
+
+  std::string aggregate() {
+    const std::string over = "neighbors(" + module(pick(0, slots_ - 1), offset()) + ")";
+    static const char* ops[] = {"<", ">", "=", "!=", ">=", "<="};
+    switch (pick(0, 4)) {
+      case 0: return "count(n in " + over + ")";
+      case 1: {
+        std::string cond = "n.x " + std::string(ops[pick(0, 5)]) + " " + arith(1, true);
+        if (chance(0.3)) cond = "neighbor(n " + name(pick(0, slots_ - 1)) + ") or " + cond;
+        if (chance(0.2)) cond = "not (" + cond + ")";
+        return "count(n in " + over + ": " + cond + ")";
+      }
+      case 2: return "sum(n in " + over + ": " + arith(1, true) + ")";
+      case 3: return "min(n in " + over + ": " + arith(1, true) + ")";
+      default: return "max(n in " + over + ": " + arith(1, true) + ")";
+    }
+  }
+
   std::mt19937 rng_;
   int slots_ = 1;
   bool offsets_ = true;
+  bool expressions_ = false;
+  bool wide_ = false;
 };
 
-// ---- brute force ------------------------------------------------------------------------------
-
-enum class K { T, F, U };
-K k_not(K a) { return a == K::U ? K::U : (a == K::T ? K::F : K::T); }
-K k_and(K a, K b) {
-  if (a == K::F || b == K::F) return K::F;
-  return a == K::T && b == K::T ? K::T : K::U;
-}
-K k_or(K a, K b) {
-  if (a == K::T || b == K::T) return K::T;
-  return a == K::F && b == K::F ? K::F : K::U;
-}
-
-// Evaluates the AST with slot s's "now" at now[s], straight from the definitions.
-K evaluate(const Ast& ast, NodeIndex i, const TestEnsemble& e, const std::vector<uint32_t>& binding,
-           const std::vector<int64_t>& now) {
-  const Node& n = ast.nodes[i];
-  switch (n.kind) {
-    case NodeKind::Not: return k_not(evaluate(ast, n.lhs, e, binding, now));
-    case NodeKind::And: return k_and(evaluate(ast, n.lhs, e, binding, now), evaluate(ast, n.rhs, e, binding, now));
-    case NodeKind::Or: return k_or(evaluate(ast, n.lhs, e, binding, now), evaluate(ast, n.rhs, e, binding, now));
-    case NodeKind::Neighbor: {
-      const int64_t step = now[n.x.slot] + n.x.offset;
-      const uint32_t x = binding[n.x.slot], y = binding[n.y.slot];
-      if (!e.present(step, x)) return K::U;
-      const auto& nb = e.nbrs(step, x);
-      return std::find(nb.begin(), nb.end(), y) != nb.end() ? K::T : K::F;
-    }
-    case NodeKind::Compare: {
-      auto read = [&](const Operand& o) -> std::optional<int64_t> {
-        if (o.is_constant) return o.constant;
-        return e.value(now[o.module.slot] + o.module.offset, binding[o.module.slot], o.variable);
-      };
-      const auto a = read(n.left), b = read(n.right);
-      if (!a || !b) return K::U;
-      bool r = false;
-      switch (n.op) {
-        case CompareOp::Less: r = *a < *b; break;
-        case CompareOp::Greater: r = *a > *b; break;
-        case CompareOp::Equal: r = *a == *b; break;
-        case CompareOp::NotEqual: r = *a != *b; break;
-        case CompareOp::GreaterEqual: r = *a >= *b; break;
-        case CompareOp::LessEqual: r = *a <= *b; break;
-      }
-      return r ? K::T : K::F;
-    }
-    case NodeKind::Error: break;
-  }
-  return K::U;
-}
-
-bool adjacent(const TestEnsemble& e, int64_t t, uint32_t from, uint32_t to) {
-  const auto& nb = e.nbrs(t, from);
-  return std::find(nb.begin(), nb.end(), to) != nb.end();
-}
-
-// Every k-permutation of the modules, passed to fn.
-template <class Fn>
-void permutations(uint32_t modules, size_t k, Fn&& fn) {
-  std::vector<uint32_t> b(k);
-  std::vector<bool> used(modules);
-  auto rec = [&](auto&& self, size_t i) -> void {
-    if (i == k) return fn(b);
-    for (uint32_t m = 0; m < modules; ++m) {
-      if (used[m]) continue;
-      used[m] = true;
-      b[i] = m;
-      self(self, i + 1);
-      used[m] = false;
-    }
-  };
-  rec(rec, 0);
-}
+// ---- brute force (tests/watch/brute_force.h holds the reading) --------------------------------
 
 std::set<Match> brute_centralized(const TestEnsemble& e, const Watchpoint& w) {
   std::set<Match> out;
@@ -429,6 +428,66 @@ TEST(Property, NormalFormReparsesToTheSameMatches) {
     const Watchpoint again = compile_or_die(to_string(w.ast));
     EXPECT_EQ(to_string(again.ast), to_string(w.ast));
     EXPECT_EQ(e.run(Algorithm::Centralized, again), e.run(Algorithm::Centralized, w));
+  }
+}
+
+// ---- expressions, aggregates (DESIGN §4b) ------------------------------------------------------
+
+TEST(ExpressionProperty, CentralizedEqualsBruteForceUnderEveryOptimizationCombination) {
+  Generator g(8086);
+  size_t nonempty = 0;
+  for (int c = 0; c < kCases; ++c) {
+    const TestEnsemble e = g.ensemble(false, true);
+    const Watchpoint w = compile_or_die(g.watch(g.pick(1, 3), true, true));
+    const auto expected = brute_centralized(e, w);
+    nonempty += !expected.empty();
+    for (const Optimizations& o : testing::all_optimization_combinations())
+      ASSERT_EQ(e.run(Algorithm::Centralized, w, {o, 0}), expected) << to_string(w.ast) << " case " << c;
+  }
+  EXPECT_GT(nonempty, kCases / 5u);
+}
+
+TEST(ExpressionProperty, DistributedEqualsBruteForceUnderEveryOptimizationCombination) {
+  Generator g(6502);
+  size_t nonempty = 0;
+  for (int c = 0; c < kCases; ++c) {
+    const TestEnsemble e = g.ensemble(false, true);
+    const Watchpoint w = compile_or_die(g.watch(g.pick(1, 3), true, true));
+    const auto expected = brute_distributed(e, w);
+    nonempty += !expected.empty();
+    for (const Optimizations& o : testing::all_optimization_combinations())
+      ASSERT_EQ(e.run(Algorithm::Distributed, w, {o, 0}), expected) << to_string(w.ast) << " case " << c;
+  }
+  EXPECT_GT(nonempty, kCases / 5u);
+}
+
+TEST(ExpressionProperty, ShapesEqualBruteForceAndSimultaneousEqualsCentralizedWhenFrozen) {
+  Generator g(1977);
+  size_t nonempty = 0;
+  for (int c = 0; c < kCases / 2; ++c) {
+    const TestEnsemble e = g.ensemble(true, true);
+    const Watchpoint w = compile_or_die(g.watch(g.pick(1, 3), true, true));
+    for (GroupShape shape : kShapes) {
+      const auto expected = brute_shape(e, w, shape);
+      nonempty += !expected.empty();
+      ASSERT_EQ(e.run(Algorithm::Centralized, w, with_shape(shape)), expected)
+          << to_string(w.ast) << " shape " << shape_name(shape) << " case " << c;
+      for (const Optimizations& o : testing::all_optimization_combinations())
+        ASSERT_EQ(e.run(Algorithm::Distributed, w, with_shape(shape, o, true)), expected)
+            << to_string(w.ast) << " simultaneous, shape " << shape_name(shape) << " case " << c;
+    }
+  }
+  EXPECT_GT(nonempty, kCases / 4u);
+}
+
+TEST(ExpressionProperty, NormalFormReparsesToItselfAndTheSameMatches) {
+  Generator g(11);
+  for (int c = 0; c < 150; ++c) {
+    const TestEnsemble e = g.ensemble(false, true);
+    const Watchpoint w = compile_or_die(g.watch(g.pick(1, 3), true, true));
+    const Watchpoint again = compile_or_die(to_string(w.ast));
+    EXPECT_EQ(to_string(again.ast), to_string(w.ast));
+    EXPECT_EQ(e.run(Algorithm::Centralized, again), e.run(Algorithm::Centralized, w)) << to_string(w.ast);
   }
 }
 

@@ -33,8 +33,9 @@ TEST(SimultaneousDetector, FindsTheCentralizedCountsOnTheTableICube) {
     for (const auto& [algorithm, options] :
          {std::pair{Algorithm::Centralized, central}, std::pair{Algorithm::Distributed, simultaneous(shape)}}) {
       size_t found = 0;
-      auto d = make_detector(algorithm, w, e.universe(), options,
-                             [&](int64_t, std::span<const ModuleId> ids) { found += ids.size() / 4; });
+      auto d = make_detector(
+          algorithm, w, e.universe(), options,
+          [&](int64_t, std::span<const ModuleId> ids, std::span<const Value>) { found += ids.size() / 4; });
       d->observe(frame);
       d->finish();
       EXPECT_EQ(found, count) << algorithm_name(algorithm) << " " << shape_name(shape);
@@ -117,10 +118,10 @@ TEST(SimultaneousDetector, ACloneMidRunGoesOnAsTheRunItWasCopiedFrom) {
     using Reported = std::pair<int64_t, std::vector<ModuleId>>;
     std::vector<Reported> straight, cloned;
     auto d = make_detector(Algorithm::Distributed, w, e.universe(), simultaneous(shape),
-                           [&](int64_t t, std::span<const ModuleId> ids) {
+                           [&](int64_t t, std::span<const ModuleId> ids, std::span<const Value>) {
                              straight.emplace_back(t, std::vector<ModuleId>(ids.begin(), ids.end()));
                            });
-    auto copy = e.feed_and_clone(*d, 2, [&](int64_t t, std::span<const ModuleId> ids) {
+    auto copy = e.feed_and_clone(*d, 2, [&](int64_t t, std::span<const ModuleId> ids, std::span<const Value>) {
       cloned.emplace_back(t, std::vector<ModuleId>(ids.begin(), ids.end()));
     });
     ASSERT_FALSE(cloned.empty());

@@ -118,15 +118,16 @@ class TestEnsemble {
     std::set<Match> out;
     const size_t k = static_cast<size_t>(w.program.slot_count());
     int64_t last_t = -1;
-    auto detector = make_detector(algorithm, w, universe_, options, [&](int64_t t, std::span<const ModuleId> ids) {
-      EXPECT_GT(t, last_t) << "each watch step is reported once, in order";
-      last_t = t;
-      EXPECT_EQ(ids.size() % k, 0u);
-      for (size_t i = 0; i < ids.size(); i += k) {
-        const bool fresh = out.insert({t, std::vector<ModuleId>(ids.begin() + i, ids.begin() + i + k)}).second;
-        EXPECT_TRUE(fresh) << "a binding is reported once per step";
-      }
-    });
+    auto detector = make_detector(
+        algorithm, w, universe_, options, [&](int64_t t, std::span<const ModuleId> ids, std::span<const Value>) {
+          EXPECT_GT(t, last_t) << "each watch step is reported once, in order";
+          last_t = t;
+          EXPECT_EQ(ids.size() % k, 0u);
+          for (size_t i = 0; i < ids.size(); i += k) {
+            const bool fresh = out.insert({t, std::vector<ModuleId>(ids.begin() + i, ids.begin() + i + k)}).second;
+            EXPECT_TRUE(fresh) << "a binding is reported once per step";
+          }
+        });
     FrameData data;
     for (int64_t t = 0; t < steps(); ++t) detector->observe(frame(t, data));
     detector->finish();

@@ -17,12 +17,12 @@ int main(int argc, char** argv) {
   const auto& watchpoint = std::get<dw::watch::Watchpoint>(compiled);
   dw::watch::Universe universe{{0, 1, 2}, {"isLeader"}};
   int matches = 0;
-  auto detector = dw::watch::make_detector(dw::watch::Algorithm::Centralized, watchpoint, universe, {},
-                                           [&](int64_t t, std::span<const dw::watch::ModuleId> ids) {
-                                             for (size_t i = 0; i < ids.size(); i += 3, ++matches)
-                                               std::cout << t << " " << ids[i] << " " << ids[i + 1] << " " << ids[i + 2]
-                                                         << "\n";
-                                           });
+  auto detector = dw::watch::make_detector(
+      dw::watch::Algorithm::Centralized, watchpoint, universe, {},
+      [&](int64_t t, std::span<const dw::watch::ModuleId> ids, std::span<const dw::watch::Value>) {
+        for (size_t i = 0; i < ids.size(); i += 3, ++matches)
+          std::cout << t << " " << ids[i] << " " << ids[i + 1] << " " << ids[i + 2] << "\n";
+      });
   const std::vector<uint8_t> present{1, 1, 1}, has{1, 1, 1};
   const std::vector<uint32_t> begin{0, 1, 3, 4}, nbrs{1, 0, 2, 1};
   const std::vector<std::vector<int64_t>> leaders{{1, 0, 0}, {1, 0, 1}};

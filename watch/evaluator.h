@@ -1,0 +1,184 @@
+// Runs a Program's value code (DESIGN §4b) over whatever holds the state a reading compares:
+// exact int64 arithmetic in three values, where an unknown operand, a division or remainder by
+// zero, and any result outside int64 are Unknown (never a wrap, never a trap).
+//
+// A Reader gives what the code reads, as the detector at hand knows it:
+//   Value term(const ValueInstr&)            slot.variable at its offset (a cell, or own history)
+//   int open(const AggregateCode&)           the aggregate's neighbours: their count, -1 when unknown
+//   Value bound(int i, const ValueInstr&)    neighbour i's variable, offset from the aggregate's step
+//   Truth bound_adjacent(int i, int off, uint32_t y)   y in N(neighbour i, step + off)
+//   uint32_t bound_id(int i)                 neighbour i's module
+//   uint32_t slot_module(int slot)           the module filling a slot
+//   Truth slot_adjacent(const ConditionTest&, uint32_t y)   y in N(slot x's module, now_x + off)
+// Aggregates do not nest, so a reader has at most one open at a time.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "watch/kleene.h"
+#include "watch/program.h"
+#include "watch/value.h"
+
+namespace dw::watch {
+
+// One arithmetic operation, checked (DESIGN §4b): truncating division, the dividend's sign for
+// the remainder, INT64_MIN / -1 unknown and INT64_MIN % -1 zero.
+inline Value apply(ValueOp op, Value a, Value b) {
+  if (!a.known || ((op != ValueOp::Negate && op != ValueOp::Abs) && !b.known)) return {};
+  int64_t r = 0;
+  switch (op) {
+    case ValueOp::Negate:
+      if (a.value == INT64_MIN) return {};
+      return known_value(-a.value);
+    case ValueOp::Abs:
+      if (a.value == INT64_MIN) return {};
+      return known_value(a.value < 0 ? -a.value : a.value);
+    case ValueOp::Add:
+      if (__builtin_add_overflow(a.value, b.value, &r)) return {};
+      return known_value(r);
+    case ValueOp::Subtract:
+      if (__builtin_sub_overflow(a.value, b.value, &r)) return {};
+      return known_value(r);
+    case ValueOp::Multiply:
+      if (__builtin_mul_overflow(a.value, b.value, &r)) return {};
+      return known_value(r);
+    case ValueOp::Divide:
+      if (b.value == 0 || (a.value == INT64_MIN && b.value == -1)) return {};
+      return known_value(a.value / b.value);
+    case ValueOp::Remainder:
+      if (b.value == 0) return {};
+      if (b.value == -1) return known_value(0);
+      return known_value(a.value % b.value);
+    case ValueOp::Min: return known_value(a.value < b.value ? a.value : b.value);
+    case ValueOp::Max: return known_value(a.value > b.value ? a.value : b.value);
+    default: return {};
+  }
+}
+
+inline Truth compare_values(CompareOp op, Value a, Value b) {
+  if (!a.known || !b.known) return kUnknown;
+  return truth_of(holds(op, a.value, b.value));
+}
+
+// Scratch for evaluation: sized once per Program, reused for every evaluation.
+struct EvaluatorScratch {
+  EvaluatorScratch() = default;
+  explicit EvaluatorScratch(const Program& p)
+      : values(static_cast<size_t>(p.max_value_stack) + p.aggregates.size() + 1),
+        truths(static_cast<size_t>(p.max_condition_stack) + 1) {}
+  std::vector<Value> values;
+  std::vector<Truth> truths;
+};
+
+template <class Reader>
+class Evaluator {
+ public:
+  Evaluator(const Program& p, Reader& r, EvaluatorScratch& s) : p_(p), r_(r), s_(s) {}
+
+  // A leaf of kind Expression.
+  Truth leaf(const Leaf& l) { return compare_values(l.op, value(l.lhs_code, 0, -1), value(l.rhs_code, 0, -1)); }
+
+  // Value code `code`, its stack from `base`; `neighbor` is the aggregate's current one (-1 outside).
+  Value value(uint32_t code, size_t base, int neighbor) {
+    Value* stack = s_.values.data() + base;
+    size_t sp = 0;
+    for (const ValueInstr& in : p_.codes[code]) {
+      switch (in.op) {
+        case ValueOp::Constant: stack[sp++] = known_value(in.constant); break;
+        case ValueOp::Term: stack[sp++] = r_.term(in); break;
+        case ValueOp::Bound: stack[sp++] = r_.bound(neighbor, in); break;
+        case ValueOp::Aggregate:
+          stack[sp] = aggregate(p_.aggregates[in.index], base + sp + 1);
+          ++sp;
+          break;
+        case ValueOp::Negate:
+        case ValueOp::Abs: stack[sp - 1] = apply(in.op, stack[sp - 1], {}); break;
+        default:
+          --sp;
+          stack[sp - 1] = apply(in.op, stack[sp - 1], stack[sp]);
+          break;
+      }
+    }
+    return stack[0];
+  }
+
+ private:
+  Value aggregate(const AggregateCode& a, size_t base) {
+    const int count = r_.open(a);
+    if (count < 0) return {};
+    switch (a.kind) {
+      case AggregateKind::Count: {
+        if (a.condition.empty()) return known_value(count);
+        int64_t n = 0;
+        for (int i = 0; i < count; ++i) {
+          const Truth t = condition(a, base, i);
+          if (t == kUnknown) return {};
+          n += t == kTrue;
+        }
+        return known_value(n);
+      }
+      case AggregateKind::Sum: {
+        // The exact total: Unknown only when it lies outside int64, whatever the order.
+        __int128 total = 0;
+        for (int i = 0; i < count; ++i) {
+          const Value v = value(a.value, base, i);
+          if (!v.known) return {};
+          total += v.value;
+        }
+        if (total < std::numeric_limits<int64_t>::min() || total > std::numeric_limits<int64_t>::max()) return {};
+        return known_value(static_cast<int64_t>(total));
+      }
+      case AggregateKind::Min:
+      case AggregateKind::Max: {
+        if (count == 0) return {};
+        Value best;
+        for (int i = 0; i < count; ++i) {
+          const Value v = value(a.value, base, i);
+          if (!v.known) return {};
+          if (i == 0 || (a.kind == AggregateKind::Min ? v.value < best.value : v.value > best.value)) best = v;
+        }
+        return best;
+      }
+    }
+    return {};
+  }
+
+  Truth condition(const AggregateCode& a, size_t base, int neighbor) {
+    Truth* stack = s_.truths.data();
+    size_t sp = 0;
+    for (const ConditionOp& op : a.condition) {
+      switch (op.kind) {
+        case ConditionOp::Test: stack[sp++] = test(p_.tests[op.test], base, neighbor); break;
+        case ConditionOp::Not: stack[sp - 1] = kleene_not(stack[sp - 1]); break;
+        case ConditionOp::And:
+          --sp;
+          stack[sp - 1] = kleene_and(stack[sp - 1], stack[sp]);
+          break;
+        case ConditionOp::Or:
+          --sp;
+          stack[sp - 1] = kleene_or(stack[sp - 1], stack[sp]);
+          break;
+      }
+    }
+    return stack[0];
+  }
+
+  Truth test(const ConditionTest& t, size_t base, int neighbor) {
+    if (t.kind == ConditionTest::Kind::Compare)
+      return compare_values(t.op, value(t.lhs, base, neighbor), value(t.rhs, base, neighbor));
+    const uint32_t y = t.y == kBound ? r_.bound_id(neighbor) : r_.slot_module(t.y);
+    if (t.x == kBound) return r_.bound_adjacent(neighbor, t.offset, y);
+    return r_.slot_adjacent(t, y);
+  }
+
+  const Program& p_;
+  Reader& r_;
+  EvaluatorScratch& s_;
+};
+
+template <class Reader>
+Evaluator(const Program&, Reader&, EvaluatorScratch&) -> Evaluator<Reader>;
+
+}  // namespace dw::watch

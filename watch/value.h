@@ -1,0 +1,17 @@
+// An integer of the watchpoint language (DESIGN §4b): an int64, or Unknown.
+#pragma once
+
+#include <cstdint>
+
+namespace dw::watch {
+
+struct Value {
+  int64_t value = 0;
+  bool known = false;
+  bool operator==(const Value&) const = default;
+};
+
+inline Value unknown_value() { return {}; }
+inline Value known_value(int64_t v) { return {v, true}; }
+
+}  // namespace dw::watch
