@@ -248,7 +248,10 @@ class Parser {
         a.value = parse_expr(1);
         if (panic_) return;
       } else {
-        error_expected(std::string("an action ('set' or 'remove') after ") + (ast_.actions.empty() ? "'then'" : "','"));
+        const std::string what =
+            std::string("an action ('set' or 'remove') after ") + (ast_.actions.empty() ? "'then'" : "','");
+        if (check(TokenKind::End)) error_at({previous().span.end, previous().span.end}, "expected " + what);
+        else error_expected(what);
         return;
       }
       a.span = Span::cover(start, previous().span);
@@ -307,6 +310,7 @@ class Parser {
     if (match(TokenKind::Neighbor)) return parse_neighbor(start);
     if (check(TokenKind::LParen) && opens_condition(depth)) {
       advance();
+      const size_t diagnostics = diagnostics_.size();
       const NodeIndex inner = parse_or(depth + 1);
       if (bail_) return inner;
       if (!match(TokenKind::RParen)) {
@@ -318,6 +322,13 @@ class Parser {
         match(TokenKind::RParen);
       }
       ast_.nodes[inner].span = Span::cover(start, previous().span);
+      // A mistake inside may have been what made this a condition: what follows the group as an
+      // operand would then only cascade from it.
+      if (diagnostics_.size() > diagnostics && !check(TokenKind::And) && !check(TokenKind::Or) &&
+          !check(TokenKind::RParen) && !check(TokenKind::Then) && !check(TokenKind::End)) {
+        panic_ = true;
+        synchronize();
+      }
       return inner;
     }
     if (starts_expression(peek().kind)) return parse_compare(depth);
@@ -594,8 +605,11 @@ class Parser {
       report(peek().span,
              "an aggregate ranges over a module's neighbours; '" + n.name + "' is its own bound name, not a module");
       bad_name = true;
+      quiet_ = n.name;  // said once: not "undeclared" as well
     }
-    if (!parse_module_in_neighbor(n.x) || !expect(TokenKind::RParen, "')' after the module of neighbors()")) {
+    const bool parsed = parse_module_in_neighbor(n.x);
+    quiet_.clear();
+    if (!parsed || !expect(TokenKind::RParen, "')' after the module of neighbors()")) {
       skip_group(start);
       return skip_group(start);
     }
@@ -669,6 +683,7 @@ class Parser {
     for (size_t i = 0; i < ast_.slots.size(); ++i)
       if (ast_.slots[i].name == name) out.slot = static_cast<int32_t>(i);
     if (out.slot >= 0) return true;
+    if (name == quiet_) return true;
     for (const std::string& b : bound_names_)
       if (b == name) {
         report(t.span, "'" + name + "' is a bound name, known only inside its aggregate");
@@ -738,6 +753,7 @@ class Parser {
   std::vector<Diagnostic> diagnostics_;
   std::unordered_map<size_t, bool> verdicts_;  // by a '(' token's index: whether it opens a condition
   std::string bound_;                          // the bound name in scope, inside an aggregate
+  std::string quiet_;                          // a name already diagnosed where it stands
   std::vector<std::string> bound_names_;       // every bound name so far, for a helpful message
   uint32_t syntax_error_at_ = kNone;           // where the first syntax error was, since the last save
   bool panic_ = false;                         // recovering from a syntax error: further syntax errors are cascades
