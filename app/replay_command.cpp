@@ -87,7 +87,13 @@ int replay(const ReplayArgs& args) {
   }
   sim::FrameReader& frames = std::get<sim::FrameReader>(made);
   std::vector<sim::MatchLog::WatchInfo> infos;
-  for (const watch::Watchpoint& w : watches) infos.push_back({w.name, w.program.slot_names});
+  for (const watch::Watchpoint& w : watches) {
+    infos.push_back(sim::MatchLog::info(w));
+    // DESIGN §4b: a trace cannot change, and already holds what the run's actions did.
+    if (!w.program.actions.empty())
+      std::cerr << "dwatch: watchpoint '" << w.name
+                << "' has actions: replay reports its matches and what they would do, and performs none\n";
+  }
   sim::MatchLog log(std::move(infos), out, std::max<size_t>(args.print, 1));
 
   std::vector<std::unique_ptr<watch::Detector>> detectors;

@@ -80,7 +80,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   std::vector<sim::MatchLog::WatchInfo> infos;
   int64_t max_lag = 0;
   for (const sim::HostedWatchpoint& h : model.watches) {
-    infos.push_back({h.watchpoint.name, h.watchpoint.program.slot_names});
+    infos.push_back(sim::MatchLog::info(h.watchpoint));
     max_lag = std::max(max_lag, h.lag());
   }
   sim::MatchLog log(std::move(infos), matches, 1);

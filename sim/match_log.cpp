@@ -52,6 +52,12 @@ std::vector<size_t> MatchLog::group_order(std::span<const watch::ModuleId> ids, 
   return order;
 }
 
+MatchLog::WatchInfo MatchLog::info(const watch::Watchpoint& w) {
+  WatchInfo info{w.name, w.program.slot_names};
+  for (const watch::ActionCode& a : w.program.actions) info.actions.push_back({a.slot, a.variable});
+  return info;
+}
+
 watch::MatchSink MatchLog::sink(size_t index) {
   return [this, index](int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value> actions) {
     Watch& w = watches_[index];

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "watch/detector.h"
+#include "watch/watchpoint.h"
 
 namespace dw::sim {
 
@@ -24,6 +25,9 @@ class MatchLog {
     // Per action: the slot it acts on and, for a set, the variable ("" for a remove).
     std::vector<std::pair<int, std::string>> actions = {};
   };
+
+  // What the log needs of a watchpoint: its name, slots and actions.
+  static WatchInfo info(const watch::Watchpoint& w);
 
   // `out` may be null: then matches are only counted. The first `keep` matches of each watch, in
   // written order, are kept for summaries.
