@@ -387,6 +387,21 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
   if (!has_history()) return std::nullopt;
   const int replaces = watch_index(watch.watchpoint.name);
   const uint32_t w = static_cast<uint32_t>(model_.watches.size());
+  if (!watch.watchpoint.program.actions.empty() ||
+      (replaces >= 0 && !model_.watches[static_cast<size_t>(replaces)].watchpoint.program.actions.empty())) {
+    // Its actions change the states themselves (DESIGN §4b): the history is simulated again.
+    if (replaces >= 0) {
+      model_.watches[static_cast<size_t>(replaces)] = std::move(watch);
+    } else {
+      model_.watches.push_back(std::move(watch));
+      matches_.emplace_back();
+      stats_.emplace_back();
+      stats_step_.emplace_back();
+    }
+    rebuild_runtime();
+    resimulate();
+    return replaces >= 0 ? static_cast<uint32_t>(replaces) : w;
+  }
   model_.watches.push_back(std::move(watch));
   rebuild_runtime();
   matches_.emplace_back();
@@ -475,6 +490,7 @@ bool Session::remove_watch(std::string_view name) {
   const int found = watch_index(name);
   if (found < 0) return false;
   const auto w = static_cast<ptrdiff_t>(found);
+  const bool acted = !model_.watches[static_cast<size_t>(w)].watchpoint.program.actions.empty();
   model_.watches.erase(model_.watches.begin() + w);
   matches_.erase(matches_.begin() + w);
   stats_.erase(stats_.begin() + w);
@@ -484,7 +500,33 @@ bool Session::remove_watch(std::string_view name) {
   view_valid_ = false;
   rebuild_runtime();
   recount_history();
+  if (acted) resimulate();
   return true;
+}
+
+// Watchpoints' actions are part of the simulation (DESIGN §4b): when the watchpoints with actions
+// change, every state from step 0 may change, so the history is simulated again from the initial
+// state, each intervention and program replacement at its step, as far as it went, and the cursor
+// goes back where it was.
+void Session::resimulate() {
+  const int64_t latest = latest_, current = current_;
+  head_ = runtime_->initial_state();
+  world_on_ = &head_;
+  keyframes_.clear();
+  interval_ = 1;
+  history_bytes_ = 0;
+  for (uint32_t w = 0; w < model_.watches.size(); ++w) {
+    matches_[w] = {};
+    stats_[w] = {};
+    stats_step_[w].clear();
+  }
+  latest_ = current_ = -1;
+  view_valid_ = false;
+  failure_.reset();
+  take_keyframe();
+  while (latest_ < latest) step_head({});
+  current_ = latest_;
+  seek(current);
 }
 
 std::vector<uint64_t> Session::match_counts(uint32_t w, int64_t from, int64_t to) const {

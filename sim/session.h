@@ -203,6 +203,7 @@ class Session {
   bool materialize(int64_t t, const Control& control);
   void rebuild_runtime();
   void branch_here();  // the current step becomes the head: the future is dropped
+  void resimulate();
   void drop_changes_after(int64_t at);
   int64_t max_lag() const;
 
