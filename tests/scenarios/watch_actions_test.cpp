@@ -1,0 +1,101 @@
+// Watchpoints' actions (DESIGN §4b) as a run carries them out: LDP's one-line gradient
+// (scenarios/gradient_ldp.toml) ends at the BFS distances; the same states on any thread count;
+// and an action takes effect at the start of step t + λ + 1, whichever reading found the match.
+#include <gtest/gtest.h>
+
+#include <deque>
+
+#include "scenarios/scenario.h"
+#include "sim/session.h"
+#include "sim/state.h"
+
+namespace dw::scenarios {
+namespace {
+
+Scenario load(const std::string& path, ScenarioOverrides overrides = {}) {
+  auto loaded = load_scenario(path, overrides);
+  if (auto* e = std::get_if<std::string>(&loaded)) ADD_FAILURE() << *e;
+  return std::move(std::get<Scenario>(loaded));
+}
+
+std::vector<int64_t> bfs(const sim::NeighborGraph& g, uint32_t root) {
+  std::vector<int64_t> d(g.module_count(), -1);
+  std::deque<uint32_t> queue{root};
+  d[root] = 0;
+  while (!queue.empty()) {
+    const uint32_t m = queue.front();
+    queue.pop_front();
+    for (uint32_t n : g.neighbors(m))
+      if (d[n] < 0) {
+        d[n] = d[m] + 1;
+        queue.push_back(n);
+      }
+  }
+  return d;
+}
+
+TEST(WatchActions, TheLdpGradientEndsAtTheBreadthFirstDistances) {
+  for (auto algorithm : {watch::Algorithm::Centralized, watch::Algorithm::Distributed}) {
+    ScenarioOverrides o;
+    o.algorithm = algorithm;
+    Scenario s = load(DWATCH_SCENARIOS_DIR "/gradient_ldp.toml", o);
+    sim::Session session(*s.model, *s.world, {.threads = 2, .end = s.steps});
+    session.run_until(s.steps);
+    const int column = s.model->column("dist");
+    const std::vector<int64_t> want = bfs(*s.model->lattice.graph, 65);
+    const sim::State& state = session.state();
+    const size_t v = s.model->variable_count();
+    for (uint32_t m = 0; m < s.model->module_count(); ++m)
+      ASSERT_EQ(state.values[m * v + static_cast<size_t>(column)], want[m])
+          << "module " << m << ", " << watch::algorithm_name(algorithm);
+    EXPECT_GT(state.watches[0].actions_done, 0u);
+    EXPECT_EQ(state.watches[0].actions_skipped, 0u);
+  }
+}
+
+TEST(WatchActions, SameStatesOnOneAndTwoThreadsAndAfterASeekBackAndForth) {
+  std::vector<uint64_t> hashes[2];
+  for (unsigned threads : {1u, 2u}) {
+    Scenario s = load(DWATCH_SCENARIOS_DIR "/gradient_ldp.toml");
+    sim::Session session(*s.model, *s.world, {.threads = threads, .end = s.steps});
+    session.run_until(s.steps, [&](const sim::State& st, const sim::StepOutput&) {
+      hashes[threads - 1].push_back(sim::hash_state(st));
+    });
+    if (threads == 2) {
+      ASSERT_TRUE(session.seek(3));
+      ASSERT_TRUE(session.seek(s.steps - 1));
+      EXPECT_EQ(session.hash(), hashes[1].back());
+    }
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
+}
+
+// A module sets its own variable one step after it matched: the action step is t + λ + 1 in every
+// reading, λ its lag (a two-slot distributed reading decides a step one step later).
+TEST(WatchActions, AnActionActsAtTheStartOfStepTPlusLagPlusOne) {
+  for (auto [algorithm, text] :
+       {std::pair{watch::Algorithm::Centralized, "modules(a); a.dist = 0 then set a.dist = 7"},
+        std::pair{watch::Algorithm::Distributed, "modules(a b); a.dist = 0 then set a.dist = 7"}}) {
+    ScenarioOverrides o;
+    o.algorithm = algorithm;
+    Scenario s = load(DWATCH_SCENARIOS_DIR "/gradient_ldp.toml", o);
+    auto compiled = watch::compile_watchpoint("root", watch::SourceText("t", text));
+    ASSERT_TRUE(std::holds_alternative<watch::Watchpoint>(compiled));
+    sim::HostedWatchpoint h{std::get<watch::Watchpoint>(std::move(compiled)), algorithm, sim::MatchAction::Count, {}};
+    s.model->watches = {std::move(h)};
+    const int64_t lag = s.model->watches[0].lag();
+    sim::Session session(*s.model, *s.world, {.threads = 1, .end = 10});
+    const int column = s.model->column("dist");
+    const size_t v = s.model->variable_count();
+    std::vector<int64_t> root_dist;
+    session.run_until(10, [&](const sim::State& st, const sim::StepOutput&) {
+      root_dist.push_back(st.values[65 * v + static_cast<size_t>(column)]);
+    });
+    // Matched at t = 0 (and on until it acts), decided at step λ, acting at the start of λ + 1.
+    for (int64_t t = 0; t <= lag; ++t) EXPECT_EQ(root_dist[static_cast<size_t>(t)], 0) << "step " << t;
+    EXPECT_EQ(root_dist[static_cast<size_t>(lag + 1)], 7) << watch::algorithm_name(algorithm);
+  }
+}
+
+}  // namespace
+}  // namespace dw::scenarios
