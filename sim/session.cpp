@@ -416,6 +416,9 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
   };
 
   State s = simulation_part(keyframes_[0], keyframes_[0].values);
+  // Watchpoints with actions are part of the simulation (Runtime::step): they step along.
+  for (uint32_t i = 0; i < w; ++i)
+    if (!model_.watches[i].watchpoint.program.actions.empty()) s.watches[i] = keyframes_[0].watches[i];
   s.watches.push_back(runtime_->initial_watch_state(w));
   std::vector<WatchState> at_keyframe{s.watches[w]};  // its state at keyframes_[i]
   size_t added = state_bytes(State{.watches = {at_keyframe[0]}});

@@ -97,5 +97,21 @@ TEST(WatchActions, AnActionActsAtTheStartOfStepTPlusLagPlusOne) {
   }
 }
 
+// Fault injection (scenarios/token_ring_fault.toml): `drop` takes the token at module 5 the step
+// it gets there; `lost` sees it gone two steps later, at module 5, and nowhere before.
+TEST(WatchActions, AnInjectedFaultIsCaughtWhereAndWhenItHappens) {
+  Scenario s = load(DWATCH_SCENARIOS_DIR "/token_ring_fault.toml");
+  sim::Session session(*s.model, *s.world, {.threads = 1, .end = s.steps});
+  const std::optional<sim::Pause> pause = session.run_until(s.steps);
+  ASSERT_TRUE(pause.has_value());
+  const sim::MatchList& drops = session.matches(0);
+  ASSERT_GE(drops.size(), 1u);
+  EXPECT_EQ(drops.slots[0], 5u);
+  EXPECT_EQ(s.model->watches[pause->watch].watchpoint.name, "lost");
+  EXPECT_EQ(pause->t, drops.t[0] + 2);
+  EXPECT_EQ(pause->group[1], 5u);  // x, the module that held it
+  EXPECT_EQ(session.state().watches[0].actions_done, 1u);
+}
+
 }  // namespace
 }  // namespace dw::scenarios
