@@ -1,10 +1,15 @@
 // libFuzzer target for the watchpoint parser: any input must give a tree or diagnostics, never a
-// crash, a hang or a sanitizer report. Build with -DDWATCH_FUZZ=ON and clang (see README).
+// crash, a hang or a sanitizer report. A valid watchpoint is also evaluated, by both detectors,
+// over three steps of a small ensemble whose values reach int64's ends (DESIGN §4b: never a wrap,
+// never a trap). Build with -DDWATCH_FUZZ=ON and clang (see README).
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
+#include <vector>
+
 #include "watch/ast.h"
+#include "watch/make_detector.h"
 #include "watch/parser.h"
 #include "watch/watchpoint.h"
 
@@ -16,6 +21,35 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string normal = dw::watch::to_string(w->ast);
     auto again = dw::watch::parse(dw::watch::SourceText("normal", normal));
     if (!again.ok() || dw::watch::to_string(again.ast) != normal) __builtin_trap();
+    // Four modules on a path 0-1-2-3 (module 3 absent at step 1), every variable given a value
+    // from the input's bytes or one of int64's ends.
+    namespace watch = dw::watch;
+    if (w->program.slot_count() > 4) return 0;
+    watch::Universe u{{0, 1, 2, 3}, w->program.variables};
+    const uint32_t vc = static_cast<uint32_t>(u.variables.size());
+    const int64_t ends[] = {INT64_MIN, INT64_MAX, -1, 0, 1, 2, INT64_MIN + 1, 3};
+    std::vector<int64_t> values(4 * vc);
+    for (size_t i = 0; i < values.size(); ++i) values[i] = ends[(i < size ? data[i] : i) % 8];
+    std::vector<uint8_t> has(values.size(), 1);
+    const std::vector<uint32_t> begin = {0, 1, 3, 5, 6}, nbrs = {1, 0, 2, 1, 3, 2};
+    for (auto a : {watch::Algorithm::Centralized, watch::Algorithm::Distributed}) {
+      watch::DetectorOptions o;
+      o.live_budget = 100000;
+      auto d = watch::make_detector(a, *w, u, o, [](int64_t, auto, auto) {});
+      for (int64_t t = 0; t < 3; ++t) {
+        const std::vector<uint8_t> present = {1, 1, 1, static_cast<uint8_t>(t != 1)};
+        watch::Frame f;
+        f.step = t;
+        f.present = present;
+        f.values = values;
+        f.has_value = has;
+        f.nbr_begin = begin;
+        f.nbrs = nbrs;
+        f.variable_count = vc;
+        d->observe(f);
+      }
+      d->finish();
+    }
   } else {
     (void)std::get<dw::watch::CompileError>(r).format();
   }
