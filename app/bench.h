@@ -1,5 +1,6 @@
 // `dwatch bench NAME`: reproductions of the paper's measurements.
 //   engine    Table I on the watch engine alone, over a synthetic trace (bench_command.cpp)
+//   expressions  DESIGN §4b's arithmetic and aggregates beside plain Fig. 6 (bench_expressions.cpp)
 //   shapes    every group shape and state mode (DESIGN §4a) on the engine: time, messages per match
 //             (bench_shapes.cpp)
 //   table1    Table I through the runtime: the host program running, the watchpoint live
@@ -116,6 +117,7 @@ bool run_runtime_row(const std::string& toml, const BenchArgs& args, int repeat,
 int bench_engine(const BenchArgs& args);
 int bench_paper(const BenchArgs& args);
 int bench_shapes(const BenchArgs& args, bool tuples_given);
+int bench_expressions(const BenchArgs& args, bool tuples_given);
 int bench_runtime(const BenchArgs& args);  // table1, overhead, million, physics
 int bench_mpi(const BenchArgs& args);      // bench_mpi.cpp
 // The million-module ensemble at edge `size` (bench million, bench mpi): random_vars [8:4:2:1] and

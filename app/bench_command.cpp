@@ -184,15 +184,15 @@ bool open_csv(const BenchArgs& args, const std::string& name, const std::string&
 }
 
 void add_bench_command(CLI::App& app, std::function<int()>& run) {
-  auto* cmd = app.add_subcommand(
-      "bench",
-      "Reproduce the paper's measurements: paper (all of §V, with plots), engine, table1, overhead, million; shapes, "
-      "mpi, physics, render, session, view, lua");
+  auto* cmd = app.add_subcommand("bench",
+                                 "Reproduce the paper's measurements: paper (all of §V, with plots), engine, table1, "
+                                 "overhead, million; expressions, shapes, "
+                                 "mpi, physics, render, session, view, lua");
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("name", args->name, "Benchmark to run")
       ->required()
-      ->check(CLI::IsMember({"engine", "shapes", "table1", "overhead", "million", "mpi", "physics", "paper", "render",
-                             "session", "view", "lua"}));
+      ->check(CLI::IsMember({"engine", "expressions", "shapes", "table1", "overhead", "million", "mpi", "physics",
+                             "paper", "render", "session", "view", "lua"}));
   cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
       ->check(CLI::IsMember({"centralized", "distributed", "both"}));
@@ -218,6 +218,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
     run = [args, tuples_given] {
       if (args->name == "engine") return bench_engine(*args);
       if (args->name == "shapes") return bench_shapes(*args, tuples_given);
+      if (args->name == "expressions") return bench_expressions(*args, tuples_given);
       if (args->name == "paper") return bench_paper(*args);
       if (args->name == "render") return bench_render(*args);
       if (args->name == "session") return bench_session(*args);
