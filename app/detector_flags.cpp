@@ -46,6 +46,7 @@ void print_detector_stats(std::ostream& out, const watch::DetectorStats& st) {
   out << "    PatternMatchers: " << st.created << " created, peak " << st.peak_live << " live in a step";
   if (st.messages) out << ", " << st.messages << " sent (" << st.bytes << " bytes)";
   if (st.lost) out << ", " << st.lost << " lost to links gone";
+  if (st.value_messages) out << "; " << st.value_messages << " messages of neighbours' values for aggregates";
   if (st.created_by_filled.size() > 1) {  // nothing when no step was observed
     out << "; by slots filled:";
     for (size_t i = 1; i < st.created_by_filled.size(); ++i) out << " " << i << ":" << st.created_by_filled[i];
@@ -64,6 +65,7 @@ nlohmann::ordered_json stats_json(const watch::Watchpoint& w, const watch::Detec
   j["peak_live"] = st.peak_live;
   j["created_by_filled"] = st.created_by_filled;
   j["lost"] = st.lost;
+  if (st.value_messages) j["value_messages"] = st.value_messages;
   j["history_values"] = st.history_values;
   j["seconds"] = st.seconds;
   j["stopped"] = st.stopped;

@@ -161,6 +161,9 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
         summary << "    ... " << (list.size() - args.print) << " more (--matches FILE writes them all)\n";
     }
     print_detector_stats(summary, run.stats(w));
+    if (!h.watchpoint.program.actions.empty())
+      summary << "    actions: " << run.head().watches[w].actions_done << " done, "
+              << run.head().watches[w].actions_skipped << " skipped (value unknown, module gone or no such variable)\n";
     if (run.stats(w).stopped) {
       stopped = true;
       errors << "dwatch: " << h.watchpoint.name << ": stopped: " << run.stats(w).stop_reason
@@ -245,6 +248,10 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
       if (h.algorithm == watch::Algorithm::Distributed)
         entry["states"] = watch::states_name(h.options.states.value_or(watch::States::Consistent));
       entry["action"] = sim::action_name(model.watches[w].action);
+      if (!h.watchpoint.program.actions.empty()) {  // DESIGN §4b: what its matches' actions did
+        entry["actions_done"] = run.head().watches[w].actions_done;
+        entry["actions_skipped"] = run.head().watches[w].actions_skipped;
+      }
       j["watches"].push_back(std::move(entry));
     }
     j["matches"] = total;

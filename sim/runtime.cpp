@@ -503,12 +503,14 @@ void Runtime::deliver_program_messages(State& state) {
 void Runtime::add_up_over_ranks(watch::AgentStepOutcome& outcome) {
   watch::StepStats& st = outcome.stats;
   std::vector<uint64_t> sums = st.live_by_filled;
-  sums.insert(sums.end(), {st.live, st.created, st.messages, st.bytes, st.matches, outcome.over_budget});
+  sums.insert(sums.end(),
+              {st.live, st.created, st.messages, st.bytes, st.matches, outcome.over_budget, st.value_messages});
   ranks_->sum(sums);
   const size_t n = st.live_by_filled.size();
   std::copy(sums.begin(), sums.begin() + static_cast<ptrdiff_t>(n), st.live_by_filled.begin());
   st.live = sums[n], st.created = sums[n + 1], st.messages = sums[n + 2], st.bytes = sums[n + 3];
   st.matches = sums[n + 4];
+  st.value_messages = sums[n + 6];
   if (sums[n + 5] == 0) return;
   outcome.over_budget = true;
   for (const std::span<const std::byte> why : ranks_->all_gather(std::as_bytes(std::span(outcome.stop_reason))))

@@ -195,6 +195,7 @@ void Session::drain(const DrainSink& sink) {
     drained.messages = after.messages - before.messages;
     drained.bytes = after.bytes - before.bytes;
     drained.lost = after.lost - before.lost;
+    drained.value_messages = after.value_messages - before.value_messages;
     drained.matches = after.matches - before.matches;
     drained.seconds = after.seconds - before.seconds;
     if (drained.created || drained.messages || drained.matches || drained.lost) {

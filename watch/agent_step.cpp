@@ -12,6 +12,11 @@ void step_agents(DistributedAgents& agents, uint32_t begin, uint32_t end, int64_
         [&](uint32_t next) { agents.prefetch(next); });
   const uint8_t* present = agents.history().presence(f);  // from the history's first module on
   const uint32_t first = agents.history().first();
+  if (ctx.program.aggregate_hops > 0)  // each brought its neighbours' values, one message each
+    for (uint32_t m = begin; m < end; ++m) {
+      uint32_t degree = 0;
+      if (present[m - first] && agents.history().neighbors(m, f, degree) != nullptr) ctx.step.value_messages += degree;
+    }
   for (uint32_t m = begin; m < end && !ctx.over_budget; ++m)
     if (present[m - first]) agents.start(m, f, ctx, out);
 }
@@ -48,6 +53,7 @@ AgentStepOutcome sum_agent_step(std::span<AgentContext* const> contexts, int64_t
     o.stats.messages += st.messages;
     o.stats.bytes += st.bytes;
     o.stats.matches += st.matches;
+    o.stats.value_messages += st.value_messages;
     if (ctx->over_budget && !o.over_budget) {
       o.over_budget = true;
       o.stop_reason = ctx->stop_reason;

@@ -94,6 +94,7 @@ void DetectorStats::add(const StepStats& s) {
   created += s.created;
   messages += s.messages;
   lost += s.lost;
+  value_messages += s.value_messages;
   ++observed_steps;
   bytes += s.bytes;
   matches += s.matches;

@@ -75,6 +75,9 @@ struct StepStats {
   uint64_t messages = 0;  // distributed: PatternMatchers sent to a neighbour
   uint64_t bytes = 0;     // distributed: their size
   uint64_t lost = 0;      // simultaneous states: PatternMatchers dropped by a link gone before their hop
+  // Distributed: the messages that bring each module its neighbours' values for an aggregate
+  // (DESIGN §7's hop), one per present module and neighbour a step.
+  uint64_t value_messages = 0;
   uint64_t matches = 0;
   double seconds = 0;
 };
@@ -87,7 +90,7 @@ struct DetectorStats {
   StepStats last;  // the most recent step
   bool steps_truncated = false;
   std::vector<uint64_t> created_by_filled;  // over the run
-  uint64_t created = 0, messages = 0, bytes = 0, matches = 0, lost = 0;
+  uint64_t created = 0, messages = 0, bytes = 0, matches = 0, lost = 0, value_messages = 0;
   uint64_t observed_steps = 0;  // detector steps run (added)
   uint64_t peak_live = 0;
   uint64_t history_values = 0;  // values held in history at the end (all modules)

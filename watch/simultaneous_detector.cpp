@@ -72,6 +72,9 @@ void SimultaneousDetector::step(int64_t f, bool start_new) {
     StartStep& s = at(f);
     s.view.resolve(history_, f, shape_ == GroupShape::Any);
     s.found.values = 0;
+    if (program_->aggregate_hops > 0 && s.view.now() != nullptr)  // neighbours' values, one message each
+      for (uint32_t m = 0; m < universe_.module_count(); ++m)
+        if (s.view.present(m)) step_.value_messages += s.view.now()->neighbors(m).size();
     if (shape_ == GroupShape::Any && s.view.now() != nullptr)
       s.symmetric = s.groups.build(*s.view.now(), s.view.now()->present);
   }
