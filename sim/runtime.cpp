@@ -41,10 +41,10 @@ watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_
 
 std::string why_not_over_ranks(const Model& model) {
   for (const HostedWatchpoint& w : model.watches)
-    if (w.watchpoint.program.aggregate_hops > 0)
+    if (!w.watchpoint.program.aggregates.empty())
       return "watchpoint '" + w.watchpoint.name +
-             "' aggregates its neighbours' values, which its agents would need from modules on other ranks: "
-             "not yet exchanged between ranks; run it in one process";
+             "' aggregates over neighbours, whose presence and values its agents would need from modules on "
+             "other ranks: not exchanged between ranks yet; run it in one process";
   for (const HostedWatchpoint& w : model.watches)
     if (!w.runs_on_agents())
       return "watchpoint '" + w.watchpoint.name + "' is " +

@@ -124,6 +124,29 @@ TEST_F(MpiRun, SlidingModulesInTheBulletWorldEqualOneProcessTraceIncluded) {
   EXPECT_GT(results(dir_ / "one.json")["matches"].get<int>(), 0);
 }
 
+TEST_F(MpiRun, WatchpointActionsEqualOneProcess) {
+  // LDP's gradient read by the agents (DESIGN §4b): the actions' values are gathered with the
+  // matches, and each rank sets its own modules' variables, at the same step as one process.
+  std::string text = slurp(scenarios_ + "/gradient_ldp.toml");
+  const std::string script = "script = \"lua/";
+  text.replace(text.find(script), script.size(), "script = \"" + scenarios_ + "/lua/");
+  text.replace(text.find("action = \"count\""), 16, "action = \"log\"");
+  const fs::path scenario = write("gradient.toml", text);
+  expect_same_over_ranks(scenario.string() + " --algorithm distributed");
+  EXPECT_GT(results(dir_ / "one.json")["watches"][0]["actions_done"].get<int>(), 100);
+}
+
+TEST_F(MpiRun, AnAggregateWatchpointIsRefusedWithTheReason) {
+  const fs::path scenario =
+      write("aggregate.toml",
+            "steps = 5\n[lattice]\nkind = \"cubic\"\nsize = [4, 4, 4]\n"
+            "[[program]]\nname = \"random_vars\"\ntuple = [2, 2, 2, 2]\n[[watch]]\nname = \"agg\"\n"
+            "text = \"modules(a); count(n in neighbors(a): n.x1 = 0) >= 3\"\n");
+  const Result r = mpirun(2, "run " + scenario.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("watchpoint 'agg' aggregates over neighbours"), std::string::npos) << r.err;
+}
+
 TEST_F(MpiRun, ACentralizedWatchpointIsRefusedWithTheReason) {
   const Result r = mpirun(2, "run " + scenarios_ + "/token_ring.toml --matches " + (dir_ / "m.jsonl").string());
   EXPECT_EQ(r.code, 2);
