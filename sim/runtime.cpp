@@ -367,12 +367,39 @@ void Runtime::open_batches() {
 }
 
 // Gathers the threads' matches and statistics; the PatternMatchers sent become those in flight.
-void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out) {
+void Runtime::drain_agents(State& state, uint32_t w, int64_t f, WatchStepOutput& out) {
+  if (ranks_) throw std::logic_error("agents drain in one process only");
+  const watch::Program& program = model_.watches[w].watchpoint.program;
+  WatchState& ws = state.watches[w];
+  if (ws.stopped) return;
+  out = WatchStepOutput{};
+  for (watch::RecordBuffer& lane : sending_[w]) lane.clear();
+  pool_.run([&](unsigned thread) {
+    watch::AgentContext& ctx = scratch_[thread].agents[w];
+    watch::start_agent_step(ctx, f);
+    const size_t n = own_blocks_.size();
+    for (size_t i = thread * n / pool_.size(); i < (thread + 1) * n / pool_.size(); ++i) {
+      const uint32_t block = own_blocks_[i], begin = block_begin(block), end = block_begin(block + 1);
+      ws.agents->prepare(program, f, begin, end);
+      Lanes lanes;
+      lanes.row = sending_[w].data() + size_t{thread} * blocks_;
+      lanes.block_shift = block_shift_;
+      arriving_[thread].clear();
+      for (unsigned from = 0; from < pool_.size(); ++from)
+        arriving_[thread].push_back(&ws.in_flight[size_t{from} * blocks_ + block]);
+      watch::step_agents(*ws.agents, begin, end, f, arriving_[thread], ctx, lanes);
+    }
+  });
+  finish_distributed(w, state, out, f);
+  ws.matches += out.matches;
+  sort_matches(w, out);
+}
+
+void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out, int64_t f) {
   const HostedWatchpoint& hosted = model_.watches[w];
   const watch::Program& program = hosted.watchpoint.program;
   WatchState& ws = state.watches[w];
   const uint32_t k = program.slot_count();
-  const int64_t f = state.step - program.agent_delay();
   for (size_t lane = 0; lane < ws.in_flight.size(); ++lane) {
     std::swap(ws.in_flight[lane], sending_[w][lane]);
     sending_[w][lane].clear();
@@ -397,7 +424,7 @@ void Runtime::finish_distributed(uint32_t w, State& state, WatchStepOutput& out)
   out.observed = true;
   out.stats = std::move(outcome.stats);
   // Everything that matched now was started at t0 = f - (k - 1).
-  const int64_t t0 = state.step - hosted.lag();
+  const int64_t t0 = f - (k - 1);
   if (t0 >= 0) {
     out.t = t0;
     for (ThreadScratch& s : scratch_) out.matches += s.agents[w].match_values / k;
@@ -716,6 +743,28 @@ void Runtime::queue_actions(State& state, const StepOutput& out) {
   }
 }
 
+// Matches in a fixed order whatever the thread count: by slot ids, their actions' values along.
+void Runtime::sort_matches(uint32_t w, WatchStepOutput& o) const {
+  if (o.slots.empty()) return;
+  const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
+  std::vector<uint32_t> order(o.slots.size() / k);
+  for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return std::lexicographical_compare(o.slots.begin() + a * k, o.slots.begin() + a * k + k, o.slots.begin() + b * k,
+                                        o.slots.begin() + b * k + k);
+  });
+  std::vector<ModuleId> sorted;
+  sorted.reserve(o.slots.size());
+  for (uint32_t i : order) sorted.insert(sorted.end(), o.slots.begin() + i * k, o.slots.begin() + i * k + k);
+  o.slots = std::move(sorted);
+  if (const size_t a = model_.watches[w].watchpoint.program.actions.size(); a > 0) {
+    std::vector<watch::Value> values;
+    values.reserve(o.actions.size());
+    for (uint32_t i : order) values.insert(values.end(), o.actions.begin() + i * a, o.actions.begin() + i * a + a);
+    o.actions = std::move(values);
+  }
+}
+
 bool Runtime::observes(uint32_t w, std::span<const uint8_t> watching) const {
   return watching.empty() || watching[w] || !model_.watches[w].watchpoint.program.actions.empty();
 }
@@ -751,30 +800,12 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
   std::swap(state.values, next_values_);  // assign: the variables now hold step t's values
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
     if (state.watches[w].stopped || !observes(w, watching)) continue;
-    if (model_.watches[w].runs_on_agents()) finish_distributed(w, state, out.watches[w]);
+    if (model_.watches[w].runs_on_agents())
+      finish_distributed(w, state, out.watches[w], state.step - model_.watches[w].watchpoint.program.agent_delay());
     else observe_detector(w, state, out.watches[w]);
     WatchStepOutput& o = out.watches[w];
     state.watches[w].matches += o.matches;
-    // Matches in a fixed order whatever the thread count: by slot ids.
-    if (!o.slots.empty()) {
-      const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
-      std::vector<uint32_t> order(o.slots.size() / k);
-      for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-      std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-        return std::lexicographical_compare(o.slots.begin() + a * k, o.slots.begin() + a * k + k,
-                                            o.slots.begin() + b * k, o.slots.begin() + b * k + k);
-      });
-      std::vector<ModuleId> sorted;
-      sorted.reserve(o.slots.size());
-      for (uint32_t i : order) sorted.insert(sorted.end(), o.slots.begin() + i * k, o.slots.begin() + i * k + k);
-      o.slots = std::move(sorted);
-      if (const size_t a = model_.watches[w].watchpoint.program.actions.size(); a > 0) {
-        std::vector<watch::Value> values;
-        values.reserve(o.actions.size());
-        for (uint32_t i : order) values.insert(values.end(), o.actions.begin() + i * a, o.actions.begin() + i * a + a);
-        o.actions = std::move(values);
-      }
-    }
+    sort_matches(w, o);
   }
   queue_actions(state, out);
   out.present = state.present;

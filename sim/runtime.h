@@ -82,6 +82,11 @@ class Runtime {
   void step(State& state, StepOutput& out, std::span<const Intervention> interventions = {},
             std::span<const uint8_t> watching = {});
 
+  // The run is over: the agents of watchpoint w, which wait a hop for their neighbours' values
+  // (an aggregate's, watch::Program::agent_delay), decide the detector steps the last frames
+  // allow from the history they hold, one call per detector step f (DESIGN §7). One process only.
+  void drain_agents(State& state, uint32_t w, int64_t f, WatchStepOutput& out);
+
   // Runs `program` as program p from the next step on (a script reloaded, Session::replace_programs;
   // it keeps p's variables), each thread with a fresh scratch for it.
   void use_program(uint32_t p, const HostProgram& program);
@@ -118,6 +123,7 @@ class Runtime {
   void intervene(State& state, std::span<const Intervention> interventions);
   void act(State& state);
   bool observes(uint32_t w, std::span<const uint8_t> watching) const;
+  void sort_matches(uint32_t w, WatchStepOutput& out) const;
   void queue_actions(State& state, const StepOutput& out);
   void start_thread(unsigned thread, const State& state);
   void run_blocks(unsigned thread, std::span<const uint32_t> blocks, State& state);
@@ -127,7 +133,7 @@ class Runtime {
   void open_batches();
   void run_programs(unsigned thread, uint32_t begin, uint32_t end, const State& state);
   void run_agents(unsigned thread, uint32_t block, uint32_t watch, State& state);
-  void finish_distributed(uint32_t watch, State& state, WatchStepOutput& out);
+  void finish_distributed(uint32_t watch, State& state, WatchStepOutput& out, int64_t f);
   void observe_detector(uint32_t watch, State& state, WatchStepOutput& out);
   void deliver_program_messages(State& state);
   void take_arrived_lanes(uint32_t watch, WatchState& ws);

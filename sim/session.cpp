@@ -167,6 +167,7 @@ void Session::record_output(const State& state, const StepOutput& out, uint32_t 
 }
 
 void Session::drain(const DrainSink& sink) {
+  drain_agents(sink);
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
     WatchState& ws = head_.watches[w];
     if (!ws.detector || ws.stopped) continue;
@@ -204,6 +205,37 @@ void Session::drain(const DrainSink& sink) {
     }
   }
   drained_ = true;
+}
+
+// Agents that wait a hop for their neighbours' values decide the run's last steps too, as replay
+// of the run's trace does (watch::DistributedDetector::finish).
+void Session::drain_agents(const DrainSink& sink) {
+  if (options_.ranks) return;  // no such agents over ranks (why_not_over_ranks)
+  for (uint32_t w = 0; w < model_.watches.size(); ++w) {
+    const HostedWatchpoint& h = model_.watches[w];
+    const watch::Program& p = h.watchpoint.program;
+    if (!h.runs_on_agents() || p.aggregate_hops == 0) continue;
+    for (int64_t f = head_.step - p.agent_delay(); f <= head_.step - 1 - p.extent_plus; ++f) {
+      if (f < 0 || head_.watches[w].stopped) continue;
+      WatchStepOutput out;
+      runtime_->drain_agents(head_, w, f, out);
+      if (out.observed) {
+        stats_[w].add(out.stats);
+        stats_step_[w].push_back(latest_);
+      }
+      stats_[w].stopped = head_.watches[w].stopped;
+      stats_[w].stop_reason = head_.watches[w].stop_reason;
+      if (out.slots.empty()) continue;
+      if (h.action != MatchAction::Count) {
+        const uint32_t k = p.slot_count();
+        MatchList& list = matches_[w];
+        list.slots.insert(list.slots.end(), out.slots.begin(), out.slots.end());
+        list.t.insert(list.t.end(), out.slots.size() / k, out.t);
+        list.detected.insert(list.detected.end(), out.slots.size() / k, latest_);
+      }
+      if (sink) sink(w, out.t, out.slots, out.actions);
+    }
+  }
 }
 
 // Forgets what was found after step `through` (matches detected later, statistics of later steps).

@@ -204,6 +204,7 @@ class Session {
   void rebuild_runtime();
   void branch_here();  // the current step becomes the head: the future is dropped
   void resimulate();
+  void drain_agents(const DrainSink& sink);
   void drop_changes_after(int64_t at);
   int64_t max_lag() const;
 

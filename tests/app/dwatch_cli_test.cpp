@@ -177,6 +177,33 @@ TEST_F(Cli, RecordedRunReplaysToTheSameMatches) {
   }
 }
 
+// DESIGN §4b: an aggregate over neighbours' values and an action; replay of the run's trace finds
+// the run's matches, those of the last steps included (the agents' hop drained at the end), and
+// performs no action, saying so.
+TEST_F(Cli, RecordedRunWithAggregatesAndActionsReplaysToTheSameMatches) {
+  std::string toml = slurp(kScenarios / "leader_election.toml");
+  toml.replace(toml.find("action = \"pause\""), 16, "action = \"log\"");
+  const std::string text = "modules(a b); count(n in neighbors(a): n.isLeader = 1) >= 1 and b.isLeader = 0";
+  const std::string fig2 = "modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)";
+  toml.replace(toml.find(fig2), fig2.size(), text + " then set b._priority = 0");
+  const fs::path scenario = write("agg.toml", toml);
+  for (const char* algorithm : {"distributed", "centralized"}) {
+    const fs::path trace = dir_ / "t.jsonl", live = dir_ / "live.jsonl", replayed = dir_ / "replayed.jsonl";
+    const Result r = run("run " + scenario.string() + " --steps 12 --threads 2 --algorithm " + algorithm +
+                         " --record " + trace.string() + " --matches " + live.string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Result p = run("replay " + trace.string() + " --watch 'two_leaders=" + text + " then set b._priority = 0'" +
+                         " --algorithm " + algorithm + " --matches " + replayed.string());
+    ASSERT_EQ(p.code, 0) << p.err;
+    EXPECT_NE(p.err.find("performs none"), std::string::npos) << p.err;
+    EXPECT_GT(slurp(live).size(), 100u);
+    EXPECT_EQ(slurp(live), slurp(replayed)) << algorithm;
+    // The last step each reading decides: 11, or 10 for a chain of two filled a step apart.
+    const std::string last = std::string("\"t\":") + (algorithm == std::string("distributed") ? "10" : "11");
+    EXPECT_NE(slurp(live).find(last), std::string::npos) << "the last step decided: " << algorithm;
+  }
+}
+
 TEST_F(Cli, RunGivesTheSameStateHashOnAnyThreadCount) {
   const std::string scenario = (kScenarios / "aggregation_routing.toml").string();
   const std::string one = line_with(run("run " + scenario + " --steps 40 --threads 1").out, "state hash");
