@@ -41,11 +41,6 @@ watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_
 
 std::string why_not_over_ranks(const Model& model) {
   for (const HostedWatchpoint& w : model.watches)
-    if (!w.watchpoint.program.aggregates.empty())
-      return "watchpoint '" + w.watchpoint.name +
-             "' aggregates over neighbours, whose presence and values its agents would need from modules on "
-             "other ranks: not exchanged between ranks yet; run it in one process";
-  for (const HostedWatchpoint& w : model.watches)
     if (!w.runs_on_agents())
       return "watchpoint '" + w.watchpoint.name + "' is " +
              (w.algorithm == watch::Algorithm::Centralized ? "centralized" : "read over simultaneous states") +
@@ -177,7 +172,11 @@ WatchState Runtime::initial_watch_state(uint32_t w) const {
     ws.detector = watch::make_detector(h.algorithm, h.watchpoint, model_.universe, h.options, nullptr);
     ws.detector->stats().max_steps = 0;  // the run keeps its own series
   } else {
-    ws.agents.emplace(h.watchpoint.program, h.options.optimizations.temporal_spans, first_, window_);
+    // An aggregate reads neighbours, which may be another rank's: its agents keep every module's
+    // history, the others' filled as the step ends (share_neighbor_values).
+    const bool whole = ranks_ && !h.watchpoint.program.aggregates.empty();
+    ws.agents.emplace(h.watchpoint.program, h.options.optimizations.temporal_spans, whole ? 0 : first_,
+                      whole ? model_.module_count() : window_);
     ws.in_flight.resize(size_t{pool_.size()} * blocks_);
   }
   return ws;
@@ -368,12 +367,13 @@ void Runtime::open_batches() {
 
 // Gathers the threads' matches and statistics; the PatternMatchers sent become those in flight.
 void Runtime::drain_agents(State& state, uint32_t w, int64_t f, WatchStepOutput& out) {
-  if (ranks_) throw std::logic_error("agents drain in one process only");
   const watch::Program& program = model_.watches[w].watchpoint.program;
   WatchState& ws = state.watches[w];
   if (ws.stopped) return;
   out = WatchStepOutput{};
   for (watch::RecordBuffer& lane : sending_[w]) lane.clear();
+  agent_watches_ = {w};  // what a batch between ranks carries: this watch's PatternMatchers alone
+  for (ThreadScratch& s : scratch_) s.outbox.messages.clear();
   pool_.run([&](unsigned thread) {
     watch::AgentContext& ctx = scratch_[thread].agents[w];
     watch::start_agent_step(ctx, f);
@@ -390,6 +390,11 @@ void Runtime::drain_agents(State& state, uint32_t w, int64_t f, WatchStepOutput&
       watch::step_agents(*ws.agents, begin, end, f, arriving_[thread], ctx, lanes);
     }
   });
+  if (ranks_) {
+    ranks_->start_exchange(batches_for_ranks());
+    arrived_ = ranks_->finish_exchange();
+    open_batches();
+  }
   finish_distributed(w, state, out, f);
   ws.matches += out.matches;
   sort_matches(w, out);
@@ -765,6 +770,32 @@ void Runtime::sort_matches(uint32_t w, WatchStepOutput& o) const {
   }
 }
 
+// Over ranks, the agents of a watchpoint with an aggregate read their neighbours' values, which
+// may be another rank's modules': every rank's values of the step are gathered and written into
+// those agents' history, where the hop (watch::Program::agent_delay) reads them from the next step
+// on. A whole gather, not only the border's: simple, and right whatever moves.
+void Runtime::share_neighbor_values(State& state) {
+  std::vector<uint32_t> acting;
+  for (uint32_t w : agent_watches_)
+    if (!model_.watches[w].watchpoint.program.aggregates.empty() && state.watches[w].agents) acting.push_back(w);
+  if (!any_rank(ranks_, !acting.empty())) return;
+  Gathered parts;
+  const std::vector<std::span<const int64_t>> rows = gather_values(state, parts);
+  const uint32_t v = model_.variable_count(), me = static_cast<uint32_t>(ranks_->rank());
+  for (uint32_t w : acting) {
+    watch::AgentHistory& history = state.watches[w].agents->history();
+    for (uint32_t b = 0; b < blocks_; ++b) {
+      if (block_rank_[b] == me) continue;
+      for (uint32_t m = block_begin(b); m < block_begin(b + 1); ++m)
+        for (size_t c = 0; c < columns_[w].size(); ++c) {
+          if (columns_[w][c] < 0) continue;
+          const int64_t value = rows[b][size_t{m - block_begin(b)} * v + static_cast<size_t>(columns_[w][c])];
+          history.set_value(m, static_cast<int>(c), state.step, value, state.present[m] != 0);
+        }
+    }
+  }
+}
+
 bool Runtime::observes(uint32_t w, std::span<const uint8_t> watching) const {
   return watching.empty() || watching[w] || !model_.watches[w].watchpoint.program.actions.empty();
 }
@@ -808,6 +839,7 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
     sort_matches(w, o);
   }
   queue_actions(state, out);
+  if (ranks_) share_neighbor_values(state);
   out.present = state.present;
   out.graph = state.graph;
   const uint64_t sent_before = state.program_messages;

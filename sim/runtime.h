@@ -84,7 +84,8 @@ class Runtime {
 
   // The run is over: the agents of watchpoint w, which wait a hop for their neighbours' values
   // (an aggregate's, watch::Program::agent_delay), decide the detector steps the last frames
-  // allow from the history they hold, one call per detector step f (DESIGN §7). One process only.
+  // allow from the history they hold, one call per detector step f (DESIGN §7). Over ranks, a
+  // collective call.
   void drain_agents(State& state, uint32_t w, int64_t f, WatchStepOutput& out);
 
   // Runs `program` as program p from the next step on (a script reloaded, Session::replace_programs;
@@ -124,6 +125,7 @@ class Runtime {
   void act(State& state);
   bool observes(uint32_t w, std::span<const uint8_t> watching) const;
   void sort_matches(uint32_t w, WatchStepOutput& out) const;
+  void share_neighbor_values(State& state);
   void queue_actions(State& state, const StepOutput& out);
   void start_thread(unsigned thread, const State& state);
   void run_blocks(unsigned thread, std::span<const uint32_t> blocks, State& state);

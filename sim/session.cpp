@@ -210,7 +210,6 @@ void Session::drain(const DrainSink& sink) {
 // Agents that wait a hop for their neighbours' values decide the run's last steps too, as replay
 // of the run's trace does (watch::DistributedDetector::finish).
 void Session::drain_agents(const DrainSink& sink) {
-  if (options_.ranks) return;  // no such agents over ranks (why_not_over_ranks)
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
     const HostedWatchpoint& h = model_.watches[w];
     const watch::Program& p = h.watchpoint.program;

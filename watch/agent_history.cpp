@@ -25,7 +25,9 @@ void AgentHistory::begin_record(const Frame& frame) {
   Topology last;
   if (const Topology* t = topology_.find(frame.step - 1); t != nullptr && !frame.topology && !t->shared) last = *t;
   Topology& t = topology_.write(frame.step);
-  t.present.resize(modules_);
+  // Presence is whole in every frame: kept for every module this history holds, its host's own
+  // or not (a rank's agents whose aggregates read other ranks' modules).
+  t.present.assign(frame.present.begin() + first_, frame.present.begin() + first_ + modules_);
   if (frame.topology) {
     t.owner = frame.topology;
     t.begin = frame.nbr_begin;

@@ -41,6 +41,15 @@ class AgentHistory {
     return true;
   }
 
+  // Writes module m's value of a program variable at `step` (recorded already): a host's own
+  // modules are recorded from frames; a neighbour another rank steps is written here.
+  void set_value(uint32_t m, int variable, int64_t step, int64_t value, bool known) {
+    Values* row = values_[static_cast<size_t>(variable)].find(step);
+    if (row == nullptr) return;
+    row->values[m - first_] = known ? value : 0;
+    row->known[m - first_] = known;
+  }
+
   // Every kept module's value of a program variable at `step` ([m - first()], meaningful where
   // known), or false when the step is unknown (before 0, not recorded yet, or forgotten).
   bool column(int variable, int64_t step, const int64_t*& values, const uint8_t*& known) const {

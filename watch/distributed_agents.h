@@ -69,6 +69,7 @@ class DistributedAgents {
 
   uint32_t size() const { return history_.modules(); }
   const AgentHistory& history() const { return history_; }
+  AgentHistory& history() { return history_; }
   // Heap bytes held.
   size_t bytes() const { return history_.bytes() + own_.capacity(); }
 
