@@ -212,14 +212,20 @@ void Runtime::run_agents(unsigned thread, uint32_t block, uint32_t w, State& sta
   const watch::Frame frame = make_frame(model_, state.step, next_values_, state.present, state.graph, first_);
   ws.agents->record(frame, begin, end, program, columns_[w]);
   const int64_t f = state.step - program.agent_delay();
-  if (f < 0) return;
+  if (f >= 0) step_block_agents(thread, block, w, ws, f);
+}
+
+// Detector step f of one block's agents: the PatternMatchers sent to the block arrive, then each
+// present agent starts its own; what they send goes into this thread's lanes.
+void Runtime::step_block_agents(unsigned thread, uint32_t block, uint32_t w, WatchState& ws, int64_t f) {
   Lanes out;
   out.row = sending_[w].data() + size_t{thread} * blocks_;
   out.block_shift = block_shift_;
   arriving_[thread].clear();
   for (unsigned from = 0; from < pool_.size(); ++from)
     arriving_[thread].push_back(&ws.in_flight[size_t{from} * blocks_ + block]);
-  watch::step_agents(*ws.agents, begin, end, f, arriving_[thread], scratch_[thread].agents[w], out);
+  watch::step_agents(*ws.agents, block_begin(block), block_begin(block + 1), f, arriving_[thread],
+                     scratch_[thread].agents[w], out);
 }
 
 void Runtime::start_thread(unsigned thread, const State& state) {
@@ -379,15 +385,9 @@ void Runtime::drain_agents(State& state, uint32_t w, int64_t f, WatchStepOutput&
     watch::start_agent_step(ctx, f);
     const size_t n = own_blocks_.size();
     for (size_t i = thread * n / pool_.size(); i < (thread + 1) * n / pool_.size(); ++i) {
-      const uint32_t block = own_blocks_[i], begin = block_begin(block), end = block_begin(block + 1);
-      ws.agents->prepare(program, f, begin, end);
-      Lanes lanes;
-      lanes.row = sending_[w].data() + size_t{thread} * blocks_;
-      lanes.block_shift = block_shift_;
-      arriving_[thread].clear();
-      for (unsigned from = 0; from < pool_.size(); ++from)
-        arriving_[thread].push_back(&ws.in_flight[size_t{from} * blocks_ + block]);
-      watch::step_agents(*ws.agents, begin, end, f, arriving_[thread], ctx, lanes);
+      const uint32_t block = own_blocks_[i];
+      ws.agents->prepare(program, f, block_begin(block), block_begin(block + 1));
+      step_block_agents(thread, block, w, ws, f);
     }
   });
   if (ranks_) {

@@ -135,6 +135,7 @@ class Runtime {
   void open_batches();
   void run_programs(unsigned thread, uint32_t begin, uint32_t end, const State& state);
   void run_agents(unsigned thread, uint32_t block, uint32_t watch, State& state);
+  void step_block_agents(unsigned thread, uint32_t block, uint32_t watch, WatchState& ws, int64_t f);
   void finish_distributed(uint32_t watch, State& state, WatchStepOutput& out, int64_t f);
   void observe_detector(uint32_t watch, State& state, WatchStepOutput& out);
   void deliver_program_messages(State& state);

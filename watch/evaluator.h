@@ -148,15 +148,15 @@ class Evaluator {
   Truth condition(const AggregateCode& a, size_t base, int neighbor) {
     Truth* stack = s_.truths.data();
     size_t sp = 0;
-    for (const ConditionOp& op : a.condition) {
+    for (const ExprOp& op : a.condition) {
       switch (op.kind) {
-        case ConditionOp::Test: stack[sp++] = test(p_.tests[op.test], base, neighbor); break;
-        case ConditionOp::Not: stack[sp - 1] = kleene_not(stack[sp - 1]); break;
-        case ConditionOp::And:
+        case ExprOp::PushLeaf: stack[sp++] = test(p_.tests[op.leaf], base, neighbor); break;
+        case ExprOp::Not: stack[sp - 1] = kleene_not(stack[sp - 1]); break;
+        case ExprOp::And:
           --sp;
           stack[sp - 1] = kleene_and(stack[sp - 1], stack[sp]);
           break;
-        case ConditionOp::Or:
+        case ExprOp::Or:
           --sp;
           stack[sp - 1] = kleene_or(stack[sp - 1], stack[sp]);
           break;

@@ -445,13 +445,15 @@ class Parser {
 
   // ---- grammar: integer expressions (DESIGN §4b) --------------------------------------------
 
-  // An expression where one must follow `context` ("after '='"): says what was expected if none.
-  NodeIndex parse_operand(int depth, const std::string& context) {
+  // An expression where one must follow `context` ("after '='"), by `parse` (a whole expression,
+  // or the operand of an operator): says what was expected if none starts here.
+  NodeIndex parse_operand(int depth, const std::string& context,
+                          NodeIndex (Parser::*parse)(int) = &Parser::parse_expr) {
     if (!starts_expression(peek().kind)) {
       error_expected("a number, a state variable or an expression " + context);
       return error_node(peek().span);
     }
-    return parse_expr(depth);
+    return (this->*parse)(depth);
   }
 
   // expr := mul (('+' | '-') mul)*
@@ -459,9 +461,7 @@ class Parser {
     NodeIndex left = parse_mul(depth);
     while (!panic_ && !bail_ && (check(TokenKind::Plus) || check(TokenKind::Minus))) {
       const TokenKind op = advance().kind;
-      if (!starts_expression(peek().kind))
-        error_expected("a number, a state variable or an expression after " + describe(op));
-      const NodeIndex right = panic_ ? error_node(peek().span) : parse_mul(depth);
+      const NodeIndex right = parse_operand(depth, "after " + describe(op), &Parser::parse_mul);
       left = binary(op == TokenKind::Plus ? NodeKind::Add : NodeKind::Subtract, left, right);
     }
     return left;
@@ -472,7 +472,7 @@ class Parser {
     NodeIndex left = parse_unary(depth);
     while (!panic_ && !bail_ && (check(TokenKind::Star) || check(TokenKind::Slash) || check(TokenKind::Percent))) {
       const TokenKind op = advance().kind;
-      const NodeIndex right = parse_operand_unary(depth, "after " + describe(op));
+      const NodeIndex right = parse_operand(depth, "after " + describe(op), &Parser::parse_unary);
       left = binary(op == TokenKind::Star    ? NodeKind::Multiply
                     : op == TokenKind::Slash ? NodeKind::Divide
                                              : NodeKind::Remainder,
@@ -481,21 +481,13 @@ class Parser {
     return left;
   }
 
-  NodeIndex parse_operand_unary(int depth, const std::string& context) {
-    if (!starts_expression(peek().kind)) {
-      error_expected("a number, a state variable or an expression " + context);
-      return error_node(peek().span);
-    }
-    return parse_unary(depth);
-  }
-
   // unary := '-' unary | atom        -- '-' INT folds into one constant: -9223372036854775808
   NodeIndex parse_unary(int depth) {
     if (!enter(depth)) return error_node(peek().span);
     if (!check(TokenKind::Minus)) return parse_atom(depth);
     const Span minus = advance().span;
     if (check(TokenKind::Integer)) return integer(true, minus);
-    const NodeIndex operand = parse_operand_unary(depth + 1, "after '-'");
+    const NodeIndex operand = parse_operand(depth + 1, "after '-'", &Parser::parse_unary);
     return node(NodeKind::Negate, Span::cover(minus, ast_.nodes[operand].span), operand);
   }
 

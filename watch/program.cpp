@@ -30,6 +30,43 @@ ValueOp value_op(NodeKind k) {
   }
 }
 
+// Walks the tree under `root` in postfix order without recursion (trees may be thousands deep):
+// leaf(node) where is_leaf(node), op(node) for an operator once its operands are done (one operand
+// for not, negation and abs; two for the others). Returns the deepest operand stack the order needs.
+template <class IsLeaf, class Leaf, class Op>
+int postfix(const Ast& ast, NodeIndex root, IsLeaf&& is_leaf, Leaf&& leaf, Op&& op) {
+  struct Item {
+    NodeIndex node;
+    bool expanded;
+  };
+  std::vector<Item> work{{root, false}};
+  int depth = 0, deepest = 0;
+  while (!work.empty()) {
+    const Item it = work.back();
+    work.pop_back();
+    const Node& n = ast.nodes[static_cast<size_t>(it.node)];
+    const bool unary = n.kind == NodeKind::Not || n.kind == NodeKind::Negate || n.kind == NodeKind::Abs;
+    if (is_leaf(n)) {
+      leaf(it.node);
+      deepest = std::max(deepest, ++depth);
+    } else if (it.expanded) {
+      op(n);
+      if (!unary) --depth;
+    } else {
+      work.push_back({it.node, true});
+      if (!unary) work.push_back({n.rhs, false});
+      work.push_back({n.lhs, false});
+    }
+  }
+  return deepest;
+}
+
+bool is_test(const Node& n) { return n.kind == NodeKind::Compare || n.kind == NodeKind::Neighbor; }
+
+ExprOp::Kind logic_op(NodeKind k) {
+  return k == NodeKind::Not ? ExprOp::Not : k == NodeKind::And ? ExprOp::And : ExprOp::Or;
+}
+
 class Compiler {
  public:
   Compiler(const Ast& ast, const Analysis& analysis, Program& p) : ast_(ast), analysis_(analysis), p_(p) {}
@@ -87,36 +124,16 @@ class Compiler {
     for (size_t i = 0; i < p_.sets.size(); ++i) p_.slots[p_.sets[i].slot].sets.push_back(static_cast<uint16_t>(i));
   }
 
-  // Postfix code in an explicit stack walk: the tree may be thousands of nodes deep.
+  // The expression as postfix code over its leaves.
   void emit_postfix() {
-    struct Item {
-      NodeIndex node;
-      bool expanded;
-    };
-    std::vector<Item> work{{ast_.root, false}};
-    int depth = 0;
-    while (!work.empty()) {
-      Item it = work.back();
-      work.pop_back();
-      const Node& n = ast_.nodes[it.node];
-      if (n.kind == NodeKind::Compare || n.kind == NodeKind::Neighbor) {
-        p_.expr.push_back({ExprOp::PushLeaf, compile_leaf(it.node)});
-        p_.max_stack = std::max(p_.max_stack, ++depth);
-        continue;
-      }
-      if (it.expanded) {
-        if (n.kind == NodeKind::Not) {
-          p_.expr.push_back({ExprOp::Not, 0});
-        } else {
-          p_.expr.push_back({n.kind == NodeKind::And ? ExprOp::And : ExprOp::Or, 0});
-          --depth;
-        }
-        continue;
-      }
-      work.push_back({it.node, true});
-      if (n.kind != NodeKind::Not) work.push_back({n.rhs, false});
-      work.push_back({n.lhs, false});
-    }
+    p_.max_stack = std::max(1, postfix(
+                                   ast_, ast_.root, is_test,
+                                   [&](NodeIndex i) {
+                                     p_.expr.push_back({ExprOp::PushLeaf, compile_leaf(i)});
+                                   },
+                                   [&](const Node& n) {
+                                     p_.expr.push_back({logic_op(n.kind), 0});
+                                   }));
   }
 
   TermRef term(const Node& v) {
@@ -223,58 +240,44 @@ class Compiler {
   // An integer expression as postfix value code, its terms carried as decide_ requires.
   uint32_t compile_value(NodeIndex root) {
     std::vector<ValueInstr> code;
-    struct Item {
-      NodeIndex node;
-      bool expanded;
+    auto is_operand = [](const Node& n) {
+      return n.kind == NodeKind::Integer || n.kind == NodeKind::Variable || n.kind == NodeKind::Aggregate;
     };
-    std::vector<Item> work{{root, false}};
-    int depth = 0, deepest = 0;
-    while (!work.empty()) {
-      const Item it = work.back();
-      work.pop_back();
-      const Node& n = ast_.nodes[it.node];
+    auto operand = [&](NodeIndex i) {
+      const Node& n = ast_.nodes[i];
       ValueInstr in;
-      if (n.kind == NodeKind::Integer || n.kind == NodeKind::Variable || n.kind == NodeKind::Aggregate) {
-        if (n.kind == NodeKind::Integer) {
-          in.op = ValueOp::Constant;
-          in.constant = n.value;
-        } else if (n.kind == NodeKind::Aggregate) {
-          in.op = ValueOp::Aggregate;
-          in.index = compile_aggregate(it.node);
-        } else if (n.x.bound) {
-          TermRef t = term(n);
-          in.op = ValueOp::Bound;
-          in.variable = t.variable;
-          in.offset = t.offset;
-          AggregateCode& a = p_.aggregates[aggregate_];
-          if (std::none_of(a.neighbor_reads.begin(), a.neighbor_reads.end(),
-                           [&](const TermRef& r) { return r.variable == t.variable && r.offset == t.offset; }))
-            a.neighbor_reads.push_back(t);
-        } else {
-          TermRef t = term(n);
-          carry(t, decide_);
-          in.op = ValueOp::Term;
-          in.slot = t.slot;
-          in.variable = t.variable;
-          in.offset = t.offset;
-          in.cell = t.cell;
-        }
-        code.push_back(in);
-        deepest = std::max(deepest, ++depth);
-        continue;
+      if (n.kind == NodeKind::Integer) {
+        in.op = ValueOp::Constant;
+        in.constant = n.value;
+      } else if (n.kind == NodeKind::Aggregate) {
+        in.op = ValueOp::Aggregate;
+        in.index = compile_aggregate(i);
+      } else if (n.x.bound) {
+        const TermRef t = term(n);
+        in.op = ValueOp::Bound;
+        in.variable = t.variable;
+        in.offset = t.offset;
+        std::vector<TermRef>& reads = p_.aggregates[aggregate_].neighbor_reads;
+        if (std::none_of(reads.begin(), reads.end(),
+                         [&](const TermRef& r) { return r.variable == t.variable && r.offset == t.offset; }))
+          reads.push_back(t);
+      } else {
+        TermRef t = term(n);
+        carry(t, decide_);
+        in.op = ValueOp::Term;
+        in.slot = t.slot;
+        in.variable = t.variable;
+        in.offset = t.offset;
+        in.cell = t.cell;
       }
-      const bool unary = n.kind == NodeKind::Negate || n.kind == NodeKind::Abs;
-      if (it.expanded) {
-        in.op = value_op(n.kind);
-        code.push_back(in);
-        if (!unary) --depth;
-        continue;
-      }
-      work.push_back({it.node, true});
-      if (!unary) work.push_back({n.rhs, false});
-      work.push_back({n.lhs, false});
-    }
-    p_.max_value_stack += deepest;
+      code.push_back(in);
+    };
+    auto op = [&](const Node& n) {
+      ValueInstr in;
+      in.op = value_op(n.kind);
+      code.push_back(in);
+    };
+    p_.max_value_stack += postfix(ast_, root, is_operand, operand, op);
     p_.codes.push_back(std::move(code));
     return static_cast<uint32_t>(p_.codes.size() - 1);
   }
@@ -306,55 +309,32 @@ class Compiler {
   }
 
   void compile_condition(NodeIndex root, uint32_t aggregate) {
-    std::vector<ConditionOp> ops;
-    struct Item {
-      NodeIndex node;
-      bool expanded;
+    std::vector<ExprOp> ops;
+    auto test = [&](NodeIndex i) {
+      const Node& n = ast_.nodes[i];
+      ConditionTest t;
+      if (n.kind == NodeKind::Compare) {
+        t.kind = ConditionTest::Kind::Compare;
+        t.op = n.op;
+        t.lhs = compile_value(n.lhs);
+        t.rhs = compile_value(n.rhs);
+      } else {
+        t.kind = ConditionTest::Kind::Neighbor;
+        t.x = n.x.bound ? kBound : static_cast<int16_t>(n.x.slot);
+        t.y = n.y.bound ? kBound : static_cast<int16_t>(n.y.slot);
+        t.offset = static_cast<int16_t>(n.x.offset);
+        if (n.x.bound) {
+          std::vector<int16_t>& sets = p_.aggregates[aggregate].neighbor_sets;
+          if (std::find(sets.begin(), sets.end(), t.offset) == sets.end()) sets.push_back(t.offset);
+        } else if (t.x != decide_) {
+          t.set = carried_set(t.x, t.offset);
+        }
+      }
+      p_.tests.push_back(t);
+      ops.push_back({ExprOp::PushLeaf, static_cast<uint32_t>(p_.tests.size() - 1)});
     };
-    std::vector<Item> work{{root, false}};
-    int depth = 0, deepest = 0;
-    while (!work.empty()) {
-      const Item it = work.back();
-      work.pop_back();
-      const Node& n = ast_.nodes[it.node];
-      if (n.kind == NodeKind::Compare || n.kind == NodeKind::Neighbor) {
-        ConditionTest t;
-        if (n.kind == NodeKind::Compare) {
-          t.kind = ConditionTest::Kind::Compare;
-          t.op = n.op;
-          t.lhs = compile_value(n.lhs);
-          t.rhs = compile_value(n.rhs);
-        } else {
-          t.kind = ConditionTest::Kind::Neighbor;
-          t.x = n.x.bound ? kBound : static_cast<int16_t>(n.x.slot);
-          t.y = n.y.bound ? kBound : static_cast<int16_t>(n.y.slot);
-          t.offset = static_cast<int16_t>(n.x.offset);
-          if (n.x.bound) {
-            std::vector<int16_t>& sets = p_.aggregates[aggregate].neighbor_sets;
-            if (std::find(sets.begin(), sets.end(), t.offset) == sets.end()) sets.push_back(t.offset);
-          } else if (t.x != decide_) {
-            t.set = carried_set(t.x, t.offset);
-          }
-        }
-        p_.tests.push_back(t);
-        ops.push_back({ConditionOp::Test, static_cast<uint32_t>(p_.tests.size() - 1)});
-        deepest = std::max(deepest, ++depth);
-        continue;
-      }
-      if (it.expanded) {
-        if (n.kind == NodeKind::Not) {
-          ops.push_back({ConditionOp::Not, 0});
-        } else {
-          ops.push_back({n.kind == NodeKind::And ? ConditionOp::And : ConditionOp::Or, 0});
-          --depth;
-        }
-        continue;
-      }
-      work.push_back({it.node, true});
-      if (n.kind != NodeKind::Not) work.push_back({n.rhs, false});
-      work.push_back({n.lhs, false});
-    }
-    p_.max_condition_stack = std::max(p_.max_condition_stack, deepest);
+    auto op = [&](const Node& n) { ops.push_back({logic_op(n.kind), 0}); };
+    p_.max_condition_stack = std::max(p_.max_condition_stack, postfix(ast_, root, is_test, test, op));
     p_.aggregates[aggregate].condition = std::move(ops);
   }
 

@@ -87,18 +87,20 @@ struct ConditionTest {
 };
 constexpr int16_t kBound = -1;
 
-struct ConditionOp {
-  enum Kind : uint8_t { Test, Not, And, Or };
-  Kind kind = Test;
-  uint32_t test = 0;
+// Postfix Kleene logic over numbered tests: the watchpoint's expression over its leaves, and an
+// aggregate's condition over its tests.
+struct ExprOp {
+  enum Kind : uint8_t { PushLeaf, Not, And, Or };
+  Kind kind = PushLeaf;
+  uint32_t leaf = 0;  // the leaf, or the test, to push
 };
 
 // `count(n in neighbors(a.last): cond)`, `sum/min/max(n in neighbors(a): expr)`.
 struct AggregateCode {
   AggregateKind kind = AggregateKind::Count;
-  int16_t slot = 0, offset = 0;        // ranges over N(slot's module, now + offset), present neighbours
-  uint32_t value = kNoCode;            // sum, min, max: the value of each neighbour
-  std::vector<ConditionOp> condition;  // count: empty for none
+  int16_t slot = 0, offset = 0;   // ranges over N(slot's module, now + offset), present neighbours
+  uint32_t value = kNoCode;       // sum, min, max: the value of each neighbour
+  std::vector<ExprOp> condition;  // count: over Program::tests, empty for none
   // Distributed: >= 0 when its slot fills before the decide slot, and so the slot's module carries
   // its neighbours (ids, what the body reads of them) in this table.
   int16_t table = -1;
@@ -126,12 +128,6 @@ struct Leaf {
   int16_t set = -1;  // >= 0: N(x) is carried in this set (x fills before y)
   int16_t decide_slot = 0;
   NodeIndex node = kNoNode;
-};
-
-struct ExprOp {
-  enum Kind : uint8_t { PushLeaf, Not, And, Or };
-  Kind kind = PushLeaf;
-  uint32_t leaf = 0;
 };
 
 struct CarriedCell {
