@@ -146,23 +146,7 @@ class Evaluator {
   }
 
   Truth condition(const AggregateCode& a, size_t base, int neighbor) {
-    Truth* stack = s_.truths.data();
-    size_t sp = 0;
-    for (const ExprOp& op : a.condition) {
-      switch (op.kind) {
-        case ExprOp::PushLeaf: stack[sp++] = test(p_.tests[op.leaf], base, neighbor); break;
-        case ExprOp::Not: stack[sp - 1] = kleene_not(stack[sp - 1]); break;
-        case ExprOp::And:
-          --sp;
-          stack[sp - 1] = kleene_and(stack[sp - 1], stack[sp]);
-          break;
-        case ExprOp::Or:
-          --sp;
-          stack[sp - 1] = kleene_or(stack[sp - 1], stack[sp]);
-          break;
-      }
-    }
-    return stack[0];
+    return run_logic(a.condition, s_.truths.data(), [&](uint32_t t) { return test(p_.tests[t], base, neighbor); });
   }
 
   Truth test(const ConditionTest& t, size_t base, int neighbor) {

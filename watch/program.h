@@ -95,6 +95,27 @@ struct ExprOp {
   uint32_t leaf = 0;  // the leaf, or the test, to push
 };
 
+// Runs postfix logic: truth(i) gives what PushLeaf i pushes; `stack` holds the deepest it needs.
+template <class TruthOf>
+Truth run_logic(const std::vector<ExprOp>& ops, Truth* stack, TruthOf&& truth) {
+  int sp = 0;
+  for (const ExprOp& op : ops) {
+    switch (op.kind) {
+      case ExprOp::PushLeaf: stack[sp++] = truth(op.leaf); break;
+      case ExprOp::Not: stack[sp - 1] = kleene_not(stack[sp - 1]); break;
+      case ExprOp::And:
+        --sp;
+        stack[sp - 1] = kleene_and(stack[sp - 1], stack[sp]);
+        break;
+      case ExprOp::Or:
+        --sp;
+        stack[sp - 1] = kleene_or(stack[sp - 1], stack[sp]);
+        break;
+    }
+  }
+  return stack[0];
+}
+
 // `count(n in neighbors(a.last): cond)`, `sum/min/max(n in neighbors(a): expr)`.
 struct AggregateCode {
   AggregateKind kind = AggregateKind::Count;
@@ -183,22 +204,7 @@ class Program {
       }
       return static_cast<Truth>((all & 1) | (any & 2));
     }
-    int sp = 0;
-    for (const ExprOp& op : expr) {
-      switch (op.kind) {
-        case ExprOp::PushLeaf: stack[sp++] = leaf_values[op.leaf]; break;
-        case ExprOp::Not: stack[sp - 1] = kleene_not(stack[sp - 1]); break;
-        case ExprOp::And:
-          --sp;
-          stack[sp - 1] = kleene_and(stack[sp - 1], stack[sp]);
-          break;
-        case ExprOp::Or:
-          --sp;
-          stack[sp - 1] = kleene_or(stack[sp - 1], stack[sp]);
-          break;
-      }
-    }
-    return stack[0];
+    return run_logic(expr, stack, [&](uint32_t leaf) { return leaf_values[leaf]; });
   }
 
   std::vector<std::string> slot_names;
