@@ -10,6 +10,7 @@
 #include "app/output_files.h"
 #include "app/view_image.h"
 #include "scenarios/limits.h"
+#include "sim/match_log.h"
 #include "sim/state.h"
 
 namespace dw::app {
@@ -331,6 +332,11 @@ nlohmann::ordered_json SessionShell::match_json(uint32_t w, size_t i) const {
   for (size_t s = 0; s < k; ++s)
     slots[h.watchpoint.program.slot_names[s]] = session_.model().universe.module_ids[list.slots[i * k + s]];
   j["slots"] = std::move(slots);
+  if (const size_t a = h.watchpoint.program.actions.size(); a > 0 && list.actions.size() >= (i + 1) * a) {
+    std::vector<watch::ModuleId> ids;
+    for (size_t s = 0; s < k; ++s) ids.push_back(session_.model().universe.module_ids[list.slots[i * k + s]]);
+    j["then"] = sim::MatchLog::then_json(sim::MatchLog::info(h.watchpoint), ids, {list.actions.data() + i * a, a});
+  }
   j["detected"] = list.detected[i];
   return j;
 }

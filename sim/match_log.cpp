@@ -58,6 +58,26 @@ MatchLog::WatchInfo MatchLog::info(const watch::Watchpoint& w) {
   return info;
 }
 
+nlohmann::ordered_json MatchLog::then_json(const WatchInfo& w, std::span<const watch::ModuleId> ids,
+                                           std::span<const watch::Value> values) {
+  nlohmann::ordered_json then = nlohmann::ordered_json::array();
+  for (size_t j = 0; j < w.actions.size(); ++j) {
+    const auto& [slot, variable] = w.actions[j];
+    const std::string& name = w.slots[static_cast<size_t>(slot)];
+    nlohmann::ordered_json act;
+    if (variable.empty()) {
+      act["remove"] = name;
+      act["module"] = ids[static_cast<size_t>(slot)];
+    } else {
+      act["set"] = name + "." + variable;
+      act["module"] = ids[static_cast<size_t>(slot)];
+      act["value"] = values[j].known ? nlohmann::ordered_json(values[j].value) : nlohmann::ordered_json(nullptr);
+    }
+    then.push_back(std::move(act));
+  }
+  return then;
+}
+
 watch::MatchSink MatchLog::sink(size_t index) {
   return [this, index](int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value> actions) {
     Watch& w = watches_[index];
@@ -110,23 +130,9 @@ void MatchLog::write(const Batch& b) {
     }
     block += '}';
     if (!b.actions.empty()) {
-      const size_t a = w.info.actions.size(), match = i / k;
-      block += ",\"then\":[";
-      for (size_t j = 0; j < a; ++j) {
-        const auto& [slot, variable] = w.info.actions[j];
-        const watch::ModuleId module = b.ids[i + static_cast<size_t>(slot)];
-        const std::string on =
-            nlohmann::json(w.info.slots[static_cast<size_t>(slot)] + (variable.empty() ? "" : "." + variable)).dump();
-        block += j ? ",{" : "{";
-        block += variable.empty() ? "\"remove\":" : "\"set\":";
-        block += on + ",\"module\":" + std::to_string(module);
-        if (!variable.empty()) {
-          const watch::Value v = b.actions[match * a + j];
-          block += ",\"value\":" + (v.known ? std::to_string(v.value) : std::string("null"));
-        }
-        block += '}';
-      }
-      block += ']';
+      const size_t a = w.info.actions.size();
+      block += ",\"then\":";
+      block += then_json(w.info, {b.ids.data() + i, k}, {b.actions.data() + i / k * a, a}).dump();
     }
     block += "}\n";
     if (block.size() >= (1 << 20) - 256) {

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "watch/detector.h"
 #include "watch/watchpoint.h"
 
@@ -28,6 +30,10 @@ class MatchLog {
 
   // What the log needs of a watchpoint: its name, slots and actions.
   static WatchInfo info(const watch::Watchpoint& w);
+  // The `then` of one match of a watchpoint with actions: its slots' module ids and its actions'
+  // values, as [{"set":"a.dist","module":4,"value":2},{"remove":"b","module":5}].
+  static nlohmann::ordered_json then_json(const WatchInfo& w, std::span<const watch::ModuleId> ids,
+                                          std::span<const watch::Value> values);
 
   // `out` may be null: then matches are only counted. The first `keep` matches of each watch, in
   // written order, are kept for summaries.

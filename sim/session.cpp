@@ -160,6 +160,7 @@ void Session::record_output(const State& state, const StepOutput& out, uint32_t 
       const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
       MatchList& list = matches_[w];
       list.slots.insert(list.slots.end(), o.slots.begin(), o.slots.end());
+      list.actions.insert(list.actions.end(), o.actions.begin(), o.actions.end());
       list.t.insert(list.t.end(), o.slots.size() / k, o.t);
       list.detected.insert(list.detected.end(), o.slots.size() / k, out.step);
     }
@@ -178,6 +179,7 @@ void Session::drain(const DrainSink& sink) {
       ws.matches += ids.size() / k;
       if (h.action != MatchAction::Count) {
         list.slots.insert(list.slots.end(), ids.begin(), ids.end());
+        list.actions.insert(list.actions.end(), actions.begin(), actions.end());
         list.t.insert(list.t.end(), ids.size() / k, t);
         list.detected.insert(list.detected.end(), ids.size() / k, latest_);
       }
@@ -229,6 +231,7 @@ void Session::drain_agents(const DrainSink& sink) {
         const uint32_t k = p.slot_count();
         MatchList& list = matches_[w];
         list.slots.insert(list.slots.end(), out.slots.begin(), out.slots.end());
+        list.actions.insert(list.actions.end(), out.actions.begin(), out.actions.end());
         list.t.insert(list.t.end(), out.slots.size() / k, out.t);
         list.detected.insert(list.detected.end(), out.slots.size() / k, latest_);
       }
@@ -247,6 +250,7 @@ void Session::truncate_history(int64_t through) {
     list.t.resize(keep);
     list.detected.resize(keep);
     list.slots.resize(keep * k);
+    list.actions.resize(keep * model_.watches[w].watchpoint.program.actions.size());
     std::vector<int64_t>& at = stats_step_[w];
     const size_t entries = static_cast<size_t>(std::upper_bound(at.begin(), at.end(), through) - at.begin());
     std::vector<watch::StepStats> series(

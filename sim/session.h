@@ -61,9 +61,10 @@ struct Control {
 
 // The matches of one watchpoint, in the order found (by t, then by slot ids).
 struct MatchList {
-  std::vector<int64_t> t;         // the match's watch step
-  std::vector<int64_t> detected;  // the step during which it was found (t + the watchpoint's lag)
-  std::vector<ModuleId> slots;    // slot_count ids per match
+  std::vector<int64_t> t;             // the match's watch step
+  std::vector<int64_t> detected;      // the step during which it was found (t + the watchpoint's lag)
+  std::vector<ModuleId> slots;        // slot_count ids per match
+  std::vector<watch::Value> actions;  // a watchpoint with actions: their values, action_count per match
   size_t size() const { return t.size(); }
   // The matches of step t: [first, last) indices (t is sorted, so this is a binary search).
   std::pair<size_t, size_t> at(int64_t step) const;
