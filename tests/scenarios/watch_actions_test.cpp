@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <deque>
+#include <optional>
+#include <set>
 
 #include "scenarios/scenario.h"
 #include "sim/session.h"
@@ -70,20 +72,30 @@ TEST(WatchActions, SameStatesOnOneAndTwoThreadsAndAfterASeekBackAndForth) {
   EXPECT_EQ(hashes[0], hashes[1]);
 }
 
-// A module sets its own variable one step after it matched: the action step is t + λ + 1 in every
-// reading, λ its lag (a two-slot distributed reading decides a step one step later).
-TEST(WatchActions, AnActionActsAtTheStartOfStepTPlusLagPlusOne) {
-  for (auto [algorithm, text] :
-       {std::pair{watch::Algorithm::Centralized, "modules(a); a.dist = 0 then set a.dist = 7"},
-        std::pair{watch::Algorithm::Distributed, "modules(a b); a.dist = 0 then set a.dist = 7"}}) {
-    ScenarioOverrides o;
-    o.algorithm = algorithm;
-    Scenario s = load(DWATCH_SCENARIOS_DIR "/gradient_ldp.toml", o);
-    auto compiled = watch::compile_watchpoint("root", watch::SourceText("t", text));
+// A module sets its own variable one step after its match is decided: the action step is
+// t + λ + 1 in every reading, λ its lag (a two-slot chain read by the agents decides a step one
+// step later; read over simultaneous states, after its latency).
+TEST(WatchActions, AnActionActsAtTheStartOfStepTPlusLagPlusOneInEveryReading) {
+  struct Reading {
+    watch::Algorithm algorithm;
+    std::optional<watch::States> states;
+    const char* text;
+  };
+  const Reading readings[] = {
+      {watch::Algorithm::Centralized, std::nullopt, "modules(a); a.dist = 0 then set a.dist = 7"},
+      {watch::Algorithm::Distributed, std::nullopt, "modules(a b); a.dist = 0 then set a.dist = 7"},
+      {watch::Algorithm::Distributed, watch::States::Simultaneous, "modules(a b c); a.dist = 0 then set a.dist = 7"},
+  };
+  std::set<int64_t> lags;
+  for (const Reading& r : readings) {
+    Scenario s = load(DWATCH_SCENARIOS_DIR "/gradient_ldp.toml");
+    auto compiled = watch::compile_watchpoint("root", watch::SourceText("t", r.text));
     ASSERT_TRUE(std::holds_alternative<watch::Watchpoint>(compiled));
-    sim::HostedWatchpoint h{std::get<watch::Watchpoint>(std::move(compiled)), algorithm, sim::MatchAction::Count, {}};
+    sim::HostedWatchpoint h{std::get<watch::Watchpoint>(std::move(compiled)), r.algorithm, sim::MatchAction::Count, {}};
+    h.options.states = r.states;
     s.model->watches = {std::move(h)};
     const int64_t lag = s.model->watches[0].lag();
+    lags.insert(lag);
     sim::Session session(*s.model, *s.world, {.threads = 1, .end = 10});
     const int column = s.model->column("dist");
     const size_t v = s.model->variable_count();
@@ -93,8 +105,9 @@ TEST(WatchActions, AnActionActsAtTheStartOfStepTPlusLagPlusOne) {
     });
     // Matched at t = 0 (and on until it acts), decided at step λ, acting at the start of λ + 1.
     for (int64_t t = 0; t <= lag; ++t) EXPECT_EQ(root_dist[static_cast<size_t>(t)], 0) << "step " << t;
-    EXPECT_EQ(root_dist[static_cast<size_t>(lag + 1)], 7) << watch::algorithm_name(algorithm);
+    EXPECT_EQ(root_dist[static_cast<size_t>(lag + 1)], 7) << r.text;
   }
+  EXPECT_EQ(lags.size(), 3u) << "three readings, three lags";
 }
 
 // Fault injection (scenarios/token_ring_fault.toml): `drop` takes the token at module 5 the step
