@@ -24,8 +24,6 @@ const char* aggregate_name(AggregateKind k) {
   return "?";
 }
 
-bool is_arithmetic(NodeKind k) { return k >= NodeKind::Integer; }
-
 std::string to_string(const Ast& ast, const ModuleRef& m, std::string_view bound) {
   std::string out = m.bound ? std::string(bound) : m.slot >= 0 ? ast.slots[m.slot].name : "?";
   for (int i = 0; i < m.offset; ++i) out += ".next";

@@ -94,8 +94,6 @@ struct Ast {
   std::vector<Action> actions;
 };
 
-bool is_arithmetic(NodeKind k);
-
 // The watchpoint in normal form: every comparison in parentheses, and/or chains flattened, mixed
 // and/or grouped explicitly, arithmetic grouped only where precedence needs it. Printing is
 // idempotent: parsing the result and printing it again gives the same text.

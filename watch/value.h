@@ -11,7 +11,6 @@ struct Value {
   bool operator==(const Value&) const = default;
 };
 
-inline Value unknown_value() { return {}; }
 inline Value known_value(int64_t v) { return {v, true}; }
 
 }  // namespace dw::watch
