@@ -1,6 +1,6 @@
 #include "scenarios/lua_program.h"
 
-#include "scenarios/lua_watchdog.h"
+#include "scenarios/lua_sandbox.h"
 
 #include <lua.hpp>
 
@@ -18,11 +18,13 @@ namespace {
 // them or from a function's upvalues (emptied, their contents behind a read-only metatable), and
 // lists the upvalues to check after each call, as {function, index, name, value} quadruples.
 // Locals of the script (`local n = 0` outside step) are upvalues: writing one keeps state outside
-// the module's variables, which a rollback could not restore.
+// the module's variables, which a rollback could not restore. The sandbox's guards keep nothing
+// and are skipped.
 constexpr const char* kFreeze = R"lua(
-local G, debug = ...
+local G, debug, guards = ...
 local next, type, tostring, error, setmetatable, getmetatable = next, type, tostring, error, setmetatable, getmetatable
 local frozen, seen, checks = {}, {}, {}
+for _, f in next, guards do seen[f] = true end
 local function deny(_, k)
   error("writes '" .. tostring(k) .. "' outside the module's variables (a script keeps its state with m:set)", 2)
 end
@@ -72,24 +74,16 @@ struct Declared {
 class LuaState final : public sim::ProgramScratch {
  public:
   LuaState(const std::string& display, const std::string& text, const LuaLimits& limits)
-      : limits_(limits), display_(display) {
-    L_ = lua_newstate(&LuaState::allocate, this);
+      : sandbox_(display, limits), L_(sandbox_.state()), display_(display) {
     if (!L_) {
       error_ = display + ": no memory for a Lua state";
       return;
     }
     *static_cast<LuaState**>(lua_getextraspace(L_)) = this;
-    // A step's tables live for that step only: the young generation is where they die.
-    lua_gc(L_, LUA_GCGEN, 0, 0);
-    lua_sethook(L_, &LuaState::count_hook, LUA_MASKCOUNT, kHookEvery);
-    open_sandbox();
     if (luaL_loadbufferx(L_, text.data(), text.size(), ("@" + display).c_str(), "t") != LUA_OK || !call(0, 0)) {
       error_ = pop_message();
       return;
     }
-  }
-  ~LuaState() override {
-    if (L_) lua_close(L_);
   }
   LuaState(const LuaState&) = delete;
   LuaState& operator=(const LuaState&) = delete;
@@ -212,7 +206,8 @@ class LuaState final : public sim::ProgramScratch {
     if (luaL_loadbufferx(L_, kFreeze, std::strlen(kFreeze), "=dwatch", "t") != LUA_OK) return failed();
     lua_pushglobaltable(L_);
     lua_pushvalue(L_, debug);
-    if (!call(2, 1)) return failed();
+    sandbox_.push_guards();
+    if (!call(3, 1)) return failed();
     // What every call needs stays on the stack: the module table, the keys of its fields, and
     // for each upvalue to check its function and its value (kFreeze's quadruples).
     lua_remove(L_, debug);
@@ -232,8 +227,6 @@ class LuaState final : public sim::ProgramScratch {
     }
     lua_remove(L_, checks);
     saved_.resize(d.vars.size());
-    // Loading counted every instruction; the calls are counted only when the watchdog says so.
-    if (limits_.patience.count() > 0) lua_sethook(L_, nullptr, 0, 0);
     return true;
   }
 
@@ -243,22 +236,23 @@ class LuaState final : public sim::ProgramScratch {
     module_context_ = &m;
     after_init_ = after_init;
     const int function = initializing ? init_ : step_;
-    bool ok = false;
-    if (limits_.patience.count() == 0) {
-      ok = attempt(function, true);
+    using Outcome = LuaSandbox::Outcome;
+    Outcome outcome = Outcome::kOk;
+    if (sandbox_.limits().patience.count() == 0) {
+      outcome = attempt(function, true);
     } else {
       // What the call does goes into the module's variables and its outbox: kept, to take back
       // if the watchdog interrupts it and it runs again, counted.
       const sim::ModuleContext::Sent sent = m.sent();
       for (size_t v = 0; v < saved_.size(); ++v) saved_[v] = m.assigned(uint32_t(v));
-      ok = attempt(function, false);
-      if (!ok && LuaWatchdog::is_interruption(L_, -1)) {
-        lua_pop(L_, 1);
+      outcome = attempt(function, false);
+      if (outcome == Outcome::kInterrupted) {
         for (size_t v = 0; v < saved_.size(); ++v) m.set(uint32_t(v), saved_[v]);
         m.take_back(sent);
-        ok = attempt(function, true);
+        outcome = attempt(function, true);
       }
     }
+    const bool ok = outcome == Outcome::kOk;
     std::string message;
     if (!ok) {
       message = pop_message();
@@ -271,7 +265,6 @@ class LuaState final : public sim::ProgramScratch {
   }
 
  private:
-  static constexpr int kHookEvery = 1000;
   // Stack slots of the state's own thread, between calls (prepare pushes them).
   static constexpr int kModuleSlot = 1, kIdKey = 2, kStepKey = 3, kFirstCheck = 4;
 
@@ -282,68 +275,9 @@ class LuaState final : public sim::ProgramScratch {
     return *s.module_context_;
   }
 
-  static void* allocate(void* self_ptr, void* ptr, size_t old_size, size_t new_size) {
-    auto& self = *static_cast<LuaState*>(self_ptr);
-    const size_t old = ptr ? old_size : 0;
-    if (new_size == 0) {
-      std::free(ptr);
-      self.bytes_ -= old;
-      return nullptr;
-    }
-    if (new_size > old && self.bytes_ + (new_size - old) > self.limits_.memory_bytes) return nullptr;
-    void* p = std::realloc(ptr, new_size);
-    if (p) self.bytes_ = self.bytes_ - old + new_size;
-    return p;
-  }
-
-  static void count_hook(lua_State* L, lua_Debug*) {
-    LuaState& s = of(L);
-    s.executed_ += kHookEvery;
-    if (s.executed_ <= s.limits_.instructions) return;
-    // The hook runs inside the function it interrupted: level 0 is the script's line. (Nothing
-    // with a destructor may be alive here: lua_error jumps over C++ frames.)
-    lua_Debug at;
-    if (lua_getstack(L, 0, &at) && lua_getinfo(L, "Sl", &at) && at.currentline > 0)
-      lua_pushfstring(L, "%s:%d: ", at.short_src, at.currentline);
-    else lua_pushliteral(L, "");
-    lua_pushfstring(L, "ran more than %I instructions in one call (an endless loop?)",
-                    lua_Integer(s.limits_.instructions));
-    lua_concat(L, 2);
-    lua_error(L);
-  }
-
-  void open_sandbox() {
-    static constexpr luaL_Reg kLibraries[] = {{LUA_GNAME, luaopen_base},
-                                              {LUA_STRLIBNAME, luaopen_string},
-                                              {LUA_TABLIBNAME, luaopen_table},
-                                              {LUA_MATHLIBNAME, luaopen_math},
-                                              {LUA_UTF8LIBNAME, luaopen_utf8}};
-    for (const luaL_Reg& lib : kLibraries) {
-      luaL_requiref(L_, lib.name, lib.func, 1);
-      lua_pop(L_, 1);
-    }
-    // What reads files or runs code from text, prints, or reaches under the sandbox.
-    for (const char* name : {"dofile", "loadfile", "load", "print", "collectgarbage", "rawset", "require"}) {
-      lua_pushnil(L_);
-      lua_setglobal(L_, name);
-    }
-    // Strings' metatable is shared by every string: hidden, so that nothing can be kept in it.
-    lua_pushliteral(L_, "");
-    lua_getmetatable(L_, -1);
-    lua_pushboolean(L_, 0);
-    lua_setfield(L_, -2, "__metatable");
-    lua_pop(L_, 2);
-    lua_getglobal(L_, LUA_MATHLIBNAME);  // m:random is the module's generator; math's is not
-    for (const char* name : {"random", "randomseed"}) {
-      lua_pushnil(L_);
-      lua_setfield(L_, -2, name);
-    }
-    lua_pop(L_, 1);
-  }
-
   // One try of a call of init or step (the registry's `function`) on the module, with every
-  // instruction counted or under the watchdog; the error stays on the stack when false.
-  bool attempt(int function, bool counted) {
+  // instruction counted or under the watchdog; the error stays on the stack when it fails.
+  LuaSandbox::Outcome attempt(int function, bool counted) {
     // Everything a try may have changed starts afresh (a script may write m.id or m.step).
     draws_ = 0;
     for (Pool& pool : pools_) pool.handed_out = 0;
@@ -355,24 +289,11 @@ class LuaState final : public sim::ProgramScratch {
     lua_rawset(L_, kModuleSlot);
     lua_rawgeti(L_, LUA_REGISTRYINDEX, function);
     lua_pushvalue(L_, kModuleSlot);
-    if (counted) {
-      if (limits_.patience.count() > 0) lua_sethook(L_, &LuaState::count_hook, LUA_MASKCOUNT, kHookEvery);
-      const bool ok = call(1, 0);
-      if (limits_.patience.count() > 0) lua_sethook(L_, nullptr, 0, 0);
-      return ok;
-    }
-    if (!watchdog_) watchdog_ = std::make_unique<LuaWatchdog>(L_, limits_.patience);
-    watchdog_->begin();
-    const bool ok = lua_pcall(L_, 1, 0, 0) == LUA_OK;
-    watchdog_->end();
-    return ok;
+    return sandbox_.call(1, 0, counted);
   }
 
-  // pcall with the instruction budget reset; the error message stays on the stack when false.
-  bool call(int args, int results) {
-    executed_ = 0;
-    return lua_pcall(L_, args, results, 0) == LUA_OK;
-  }
+  // A counted pcall; the error message stays on the stack when false.
+  bool call(int args, int results) { return sandbox_.call(args, results, true) == LuaSandbox::Outcome::kOk; }
   std::string pop_message() {
     std::string message = lua_type(L_, -1) == LUA_TSTRING ? lua_tostring(L_, -1) : "an error that is not a string";
     lua_pop(L_, 1);
@@ -597,11 +518,9 @@ class LuaState final : public sim::ProgramScratch {
     return 1;
   }
 
+  LuaSandbox sandbox_;
   lua_State* L_ = nullptr;
-  LuaLimits limits_;
   std::string display_, error_;
-  size_t bytes_ = 0;
-  int64_t executed_ = 0;
   int step_ = LUA_NOREF, init_ = LUA_NOREF, module_ = LUA_NOREF, read_only_ = LUA_NOREF;
   struct Check {
     int index;  // of the upvalue in its function
@@ -612,7 +531,6 @@ class LuaState final : public sim::ProgramScratch {
   std::array<std::vector<const char*>, 2> names_;  // of the variables and the parameters (see lookup)
   std::vector<int64_t> param_values_;
   std::vector<int64_t> saved_;             // the variables before a call, to take back
-  std::unique_ptr<LuaWatchdog> watchdog_;  // made at the first call
   sim::ModuleContext* module_context_ = nullptr;
   bool after_init_ = false;  // step 0 of a script with init: m:get reads what init set
   uint32_t draws_ = 0;

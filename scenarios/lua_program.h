@@ -4,9 +4,9 @@
 // (sim/host_program.h): m.id, m.step, m:get, m:set, m:neighbors, m:inbox, m:send, m:broadcast,
 // m:random, m:param.
 //
-// Sandboxed: only the base functions that touch nothing outside the script, and the string, table,
-// math (without its random numbers) and utf8 libraries; an instruction budget per call and a
-// memory cap per Lua state. A module's state lives only in its variables: once loaded, a script
+// Sandboxed (scenarios/lua_sandbox.h): libraries bounded in time, an instruction budget per call,
+// a memory cap per Lua state and a deadline, none of which a script can catch. A module's state
+// lives only in its variables: once loaded, a script
 // may not write a global, a table reached from one, or a local declared outside the function
 // running. One Lua state per thread that steps modules, never per module.
 #pragma once
@@ -17,18 +17,10 @@
 #include <utility>
 #include <vector>
 
+#include "scenarios/lua_sandbox.h"
 #include "scenarios/programs.h"
 
 namespace dw::scenarios {
-
-// Limits of one Lua state.
-struct LuaLimits {
-  int64_t instructions = 10'000'000;  // VM instructions per init/step call
-  size_t memory_bytes = 64u << 20;    // per Lua state (one per stepping thread)
-  // Calls run uncounted, at full speed; one still running after this long is run again with
-  // every instruction counted (scenarios/lua_watchdog.h). Zero: every call counted.
-  std::chrono::milliseconds patience{10};
-};
 
 // Parameter values a scenario gives a script, by name.
 using ParamValues = std::vector<std::pair<std::string, int64_t>>;

@@ -32,7 +32,7 @@ void install_handler(void (*handler)(int, siginfo_t*, void*)) {
 
 }  // namespace
 
-LuaWatchdog::LuaWatchdog(lua_State* L, std::chrono::milliseconds patience) : L_(L), patience_(patience) {
+LuaWatchdog::LuaWatchdog(lua_State* L, std::chrono::milliseconds tick) : L_(L), tick_(tick) {
   install_handler(&LuaWatchdog::on_signal);
   watcher_ = std::thread([this] { watch(); });
 }
@@ -46,9 +46,14 @@ LuaWatchdog::~LuaWatchdog() {
   watcher_.join();
 }
 
-void LuaWatchdog::begin() {
+void LuaWatchdog::begin(uint32_t ticks) {
   // A hook left by a signal that came after the last call ended would interrupt this one at once.
   if (lua_gethook(L_) == &LuaWatchdog::interrupt) lua_sethook(L_, nullptr, 0, 0);
+  hook_ = lua_gethook(L_);
+  hook_mask_ = lua_gethookmask(L_);
+  hook_count_ = lua_gethookcount(L_);
+  interrupted_ = false;
+  ticks_.store(ticks, std::memory_order_relaxed);
   caller_.store(pthread_self(), std::memory_order_relaxed);
   t_running = this;
   calls_.store(calls_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
@@ -69,18 +74,29 @@ void LuaWatchdog::on_signal(int, siginfo_t* info, void*) {
 }
 
 void LuaWatchdog::interrupt(lua_State* L, lua_Debug*) {
+  LuaWatchdog* w = t_running;
+  if (!w) return;
+  if (w->signaled_.load(std::memory_order_acquire) != w->calls_.load(std::memory_order_relaxed)) {
+    // The signal was meant for the call before this one: this one goes on as it was.
+    lua_sethook(L, w->hook_, w->hook_mask_, w->hook_count_);
+    return;
+  }
   // Stays installed: a script that catches the error with pcall meets it again at its next
   // instruction, until it reaches the caller.
+  w->interrupted_ = true;
   lua_pushlightuserdata(L, const_cast<char*>(&kInterruption));
   lua_error(L);
 }
 
 void LuaWatchdog::watch() {
   uint64_t seen = 0;
+  uint32_t ticks = 0;  // that the call `seen` has been running
   std::unique_lock<std::mutex> lock(mutex_);
-  while (!wake_.wait_for(lock, patience_, [this] { return stopping_; })) {
+  while (!wake_.wait_for(lock, tick_, [this] { return stopping_; })) {
     const uint64_t now = calls_.load(std::memory_order_acquire);
-    if ((now & 1) != 0 && now == seen) {  // the same call as a patience ago
+    ticks = now == seen ? ticks + 1 : 0;
+    if ((now & 1) != 0 && ticks >= ticks_.load(std::memory_order_relaxed)) {
+      signaled_.store(now, std::memory_order_release);
       sigval value{};
       value.sival_ptr = this;
       pthread_sigqueue(caller_.load(std::memory_order_relaxed), kSignal, value);

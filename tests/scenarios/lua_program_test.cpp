@@ -296,6 +296,18 @@ TEST_F(LuaScript, AnEndlessLoopStopsAtTheInstructionBudget) {
   EXPECT_NE(e.find("on module 0 at step 0"), std::string::npos) << e;
 }
 
+TEST_F(LuaScript, NoScriptCatchesItsLimitsOrLeavesAFinalizerBehind) {
+  // (scenarios/lua_sandbox_test.cpp tries every way round the limits; this is the run's side.)
+  const std::string e = run_error(kHeader + "function step(m)\n  while true do pcall(function() while true do end end) end\nend\n");
+  EXPECT_NE(e.find("ran more than 10000000 instructions in one call"), std::string::npos) << e;
+  EXPECT_NE(e.find("on module 0 at step 0"), std::string::npos) << e;
+  // A finalizer would run at exit, after every step went through: refused at load.
+  const std::string gc = run_error(kHeader + "keep = setmetatable({}, { __gc = function() while true do end end })\n" +
+                                   "function step(m) end\n");
+  EXPECT_NE(gc.find("load: "), std::string::npos) << gc;
+  EXPECT_NE(gc.find("x.lua:2: setmetatable: finalizers (__gc) are not allowed"), std::string::npos) << gc;
+}
+
 TEST_F(LuaScript, MemoryBeyondTheCapIsAnError) {
   const std::string e =
       run_error(kHeader + "function step(m)\n  local s = string.rep(\"x\", 1 << 27)\nend\n");  // 128 MiB

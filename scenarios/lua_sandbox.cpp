@@ -1,0 +1,457 @@
+#include "scenarios/lua_sandbox.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+namespace dw::scenarios {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr int kHookEvery = 1000;
+constexpr const char* kGuardsChunk = "=[dwatch sandbox]";
+// Library work is charged one instruction per this many bytes it reads or writes.
+constexpr double kBytesPerInstruction = 16;
+
+// The error value of a stop: its address, which no script can make.
+constexpr char kStopped = 0;
+
+// The guards (see lua_sandbox.h), run once over the libraries' copies the script sees. Each guard
+// calls the library's function through pcall and `finish`, so that the function's errors name
+// the script's line (not the guard's) and the function (Lua finds its name in the original
+// tables, which the script never sees).
+constexpr const char* kGuards = R"lua(
+local G, S, T, U, charge, charge_text, check_pattern = ...
+local type, error, rawget, tonumber, tointeger, ipairs, select, pcall = type, error, rawget, tonumber, math.tointeger, ipairs, select, pcall
+local find = S.find
+local guards = {}
+local function finish(ok, ...)
+  if ok then return ... end
+  local e = ...
+  -- A library function's own message has no place in it: it gets the script's line.
+  if type(e) == "string" and not find(e, "^[^\n]-:%d+: ") then error(e, 2) end
+  error(e, 0)
+end
+local function guard(lib, name, make)
+  local f = make(lib[name])
+  lib[name] = f
+  guards[#guards + 1] = f
+end
+local function integer(v)  -- as the library reads an optional integer argument, or nil
+  local n = tonumber(v)
+  return n and tointeger(n)
+end
+local function length(t)  -- #t for a table (its __len included), else 0
+  if type(t) ~= "table" then return 0 end
+  return integer(#t) or 0
+end
+local function text(f) return function(...) charge_text(...) return finish(pcall(f, ...)) end end
+for _, name in ipairs { "byte", "char", "format", "lower", "upper", "reverse", "sub", "pack", "packsize", "unpack", "dump" } do
+  guard(S, name, text)
+end
+for _, name in ipairs { "char", "codepoint", "len", "offset", "codes" } do guard(U, name, text) end
+guard(G, "tonumber", text)
+guard(S, "find", function(f) return function(s, p, init, plain) check_pattern("find", s, p, plain) return finish(pcall(f, s, p, init, plain)) end end)
+guard(S, "match", function(f) return function(s, p, init) check_pattern("match", s, p) return finish(pcall(f, s, p, init)) end end)
+guard(S, "gmatch", function(f) return function(s, p, init) check_pattern("gmatch", s, p) return finish(pcall(f, s, p, init)) end end)
+guard(S, "gsub", function(f) return function(s, p, r, n) check_pattern("gsub", s, p) return finish(pcall(f, s, p, r, n)) end end)
+guard(S, "rep", function(f) return function(s, n, sep)
+  local times = tonumber(n)
+  if times and times > 0 then
+    charge(((type(s) == "string" and #s or 24) + (type(sep) == "string" and #sep or 0)) * times / 16)
+  end
+  return finish(pcall(f, s, n, sep))
+end end)
+local function range(i, j)  -- the elements from i to j, as a float (no wrap-around)
+  i, j = integer(i), integer(j)
+  if i and j and j >= i then return (j + 0.0) - i + 1 end
+  return 0
+end
+guard(T, "concat", function(f) return function(t, sep, i, j)
+  charge(range(i or 1, j or length(t)))
+  return finish(pcall(f, t, sep, i, j))
+end end)
+guard(T, "insert", function(f) return function(t, ...) charge(length(t)) return finish(pcall(f, t, ...)) end end)
+guard(T, "remove", function(f) return function(t, ...) charge(length(t)) return finish(pcall(f, t, ...)) end end)
+guard(T, "move", function(f) return function(a, b, e, t, a2) charge(range(b, e)) return finish(pcall(f, a, b, e, t, a2)) end end)
+guard(T, "unpack", function(f) return function(t, i, j) charge(range(i or 1, j or length(t))) return finish(pcall(f, t, i, j)) end end)
+guard(T, "pack", text)
+guard(G, "setmetatable", function(f) return function(t, mt)
+  if type(mt) == "table" then
+    if rawget(mt, "__gc") ~= nil then
+      error("setmetatable: finalizers (__gc) are not allowed: they run when the collector decides, which differs from run to run", 2)
+    end
+    if rawget(mt, "__mode") ~= nil then
+      error("setmetatable: weak tables (__mode) are not allowed: they lose entries when the collector decides, which differs from run to run", 2)
+    end
+  end
+  return finish(pcall(f, t, mt))
+end end)
+
+-- xpcall on pcall: Lua calls a message handler while it raises the error, and an error raised by
+-- a hook (the limits) would run the handler with hooks off, out of the limits' reach. The handler
+-- runs here after the stack unwound, which a script without the debug library cannot tell.
+local pcall, pack, unpack = pcall, table.pack, table.unpack
+local xpcall = function(f, handler, ...)
+  if type(handler) ~= "function" then
+    error("bad argument #2 to 'xpcall' (function expected, got " .. type(handler) .. ")", 2)
+  end
+  local results = pack(pcall(f, ...))
+  if results[1] then return unpack(results, 1, results.n) end
+  return false, (select(2, pcall(handler, results[2])))
+end
+G.xpcall = xpcall
+guards[#guards + 1] = xpcall
+
+-- table.sort: a stable bottom-up merge sort, its comparisons counted as the script's code.
+local function less(a, b)
+  local ta, tb = type(a), type(b)
+  if ta == tb and (ta == "number" or ta == "string" or ta == "table") then return a < b end
+  error("attempt to compare " .. ta .. " with " .. tb .. " in table.sort", 3)
+end
+local function sort(t, lt)
+  if type(t) ~= "table" then error("bad argument #1 to 'sort' (table expected, got " .. type(t) .. ")", 2) end
+  if lt ~= nil and type(lt) ~= "function" then
+    error("bad argument #2 to 'sort' (function expected, got " .. type(lt) .. ")", 2)
+  end
+  lt = lt or less
+  local n = #t
+  if type(n) ~= "number" then error("object length is not an integer", 2) end
+  if n < 2 then return end
+  local a, b = {}, {}
+  for i = 1, n do a[i] = t[i] end
+  local width = 1
+  while width < n do
+    local lo = 1
+    while lo <= n do
+      local mid, hi = lo + width, lo + 2 * width
+      if mid > n + 1 then mid = n + 1 end
+      if hi > n + 1 then hi = n + 1 end
+      local l, r, k = lo, mid, lo
+      while l < mid and r < hi do
+        if lt(a[r], a[l]) then b[k] = a[r]; r = r + 1 else b[k] = a[l]; l = l + 1 end
+        k = k + 1
+      end
+      while l < mid do b[k] = a[l]; l = l + 1; k = k + 1 end
+      while r < hi do b[k] = a[r]; r = r + 1; k = k + 1 end
+      lo = hi
+    end
+    a, b = b, a
+    width = width * 2
+  end
+  for i = 1, n do t[i] = a[i] end
+end
+T.sort = sort
+guards[#guards + 1] = sort
+guards[#guards + 1] = less
+guards[#guards + 1] = integer
+guards[#guards + 1] = length
+guards[#guards + 1] = range
+guards[#guards + 1] = text
+return guards
+)lua";
+
+// "source:LINE: " of the first frame from `level` up that is the script's own (not the library
+// nor the guards), or "".
+std::string location(lua_State* L, int level) {
+  lua_Debug at;
+  for (; lua_getstack(L, level, &at); ++level) {
+    if (!lua_getinfo(L, "Sl", &at) || at.currentline <= 0) continue;
+    if (std::strcmp(at.source, kGuardsChunk) == 0) continue;
+    return std::string(at.short_src) + ":" + std::to_string(at.currentline) + ": ";
+  }
+  return "";
+}
+
+// The index just past the single-character class of a Lua pattern at `i` (a character, %x or a
+// [set]), or `m` when the pattern ends inside it (the library reports that).
+size_t class_end(const char* p, size_t i, size_t m) {
+  if (p[i] == '%') return std::min(i + 2, m);
+  if (p[i] != '[') return i + 1;
+  size_t j = i + 1;
+  if (j < m && p[j] == '^') ++j;
+  do {  // the first character of a set is never its end, as in lstrlib's classEnd
+    if (j >= m) return m;
+    if (p[j++] == '%' && j < m) ++j;
+  } while (j < m && p[j] != ']');
+  return std::min(j + 1, m);
+}
+
+// An upper bound on the steps of lstrlib's backtracking matcher for a search of the pattern over
+// `n` bytes: every start position, times every way each repeated item (*, +, -, ?), balance (%b)
+// and back reference can go, times the pattern's length.
+double pattern_steps(size_t n, const char* p, size_t m) {
+  const double positions = double(n) + 1;
+  double steps = positions * double(m + 1);
+  size_t i = 0;
+  if (m > 0 && p[0] == '^') {
+    steps /= positions;
+    i = 1;
+  }
+  while (i < m) {
+    const char c = p[i];
+    if (c == '(' || c == ')' || (c == '$' && i + 1 == m)) {
+      ++i;
+      continue;
+    }
+    if (c == '%' && i + 1 < m) {
+      const char d = p[i + 1];
+      if (d == 'b') {
+        steps *= positions;
+        i += 4;
+        continue;
+      }
+      if (d == 'f') {
+        i = i + 2 < m ? class_end(p, i + 2, m) : m;
+        continue;
+      }
+      if (d >= '0' && d <= '9') {
+        steps *= positions;
+        i += 2;
+        continue;
+      }
+    }
+    const size_t end = class_end(p, i, m);
+    if (end < m && (p[end] == '*' || p[end] == '+' || p[end] == '-')) {
+      steps *= positions;
+      i = end + 1;
+    } else if (end < m && p[end] == '?') {
+      steps *= 2;
+      i = end + 1;
+    } else {
+      i = end;
+    }
+  }
+  return steps;
+}
+
+std::string mebibytes(size_t bytes) {
+  const double mib = double(bytes) / double(1u << 20);
+  char text[32];
+  std::snprintf(text, sizeof text, mib == std::floor(mib) ? "%.0f MiB" : "%.2f MiB", mib);
+  return text;
+}
+
+}  // namespace
+
+LuaSandbox::LuaSandbox(const std::string& display, const LuaLimits& limits) : limits_(limits), display_(display) {
+  L_ = lua_newstate(&LuaSandbox::allocate, this);
+  if (!L_) return;
+  // A step's tables live for that step only: the young generation is where they die.
+  lua_gc(L_, LUA_GCGEN, 0, 0);
+  lua_sethook(L_, &LuaSandbox::count_hook, LUA_MASKCOUNT, kHookEvery);
+  open_libraries();
+}
+
+LuaSandbox::~LuaSandbox() {
+  watchdog_.reset();
+  if (L_) lua_close(L_);
+}
+
+LuaSandbox& LuaSandbox::of(lua_State* L) {
+  void* self = nullptr;
+  lua_getallocf(L, &self);
+  return *static_cast<LuaSandbox*>(self);
+}
+
+void LuaSandbox::push_guards() const { lua_rawgeti(L_, LUA_REGISTRYINDEX, guards_); }
+
+void* LuaSandbox::allocate(void* self_ptr, void* ptr, size_t old_size, size_t new_size) {
+  auto& self = *static_cast<LuaSandbox*>(self_ptr);
+  const size_t old = ptr ? old_size : 0;
+  if (new_size == 0) {
+    std::free(ptr);
+    self.bytes_ -= old;
+    return nullptr;
+  }
+  if (new_size > old && self.bytes_ + (new_size - old) > self.limits_.memory_bytes) {
+    // Lua collects everything it can and asks again: refused twice, the memory is full of what
+    // the script holds, and the call stops.
+    const bool full = new_size > self.limits_.memory_bytes ||
+                      (ptr == self.refused_ptr_ && new_size == self.refused_size_);
+    self.refused_ptr_ = ptr;
+    self.refused_size_ = new_size;
+    if (full && self.L_) {
+      if (self.stop_ == Stop::kNone) {
+        self.stop_ = Stop::kMemory;
+        self.where_ = location(self.L_, 0);
+      }
+      lua_sethook(self.L_, &LuaSandbox::stop_hook, LUA_MASKCOUNT, 1);
+    }
+    return nullptr;
+  }
+  void* p = std::realloc(ptr, new_size);
+  if (p) {
+    self.bytes_ = self.bytes_ - old + new_size;
+    self.refused_size_ = 0;
+  }
+  return p;
+}
+
+void LuaSandbox::count_hook(lua_State* L, lua_Debug*) {
+  LuaSandbox& s = of(L);
+  s.executed_ += kHookEvery;
+  if (s.executed_ > s.limits_.instructions) stop(L, Stop::kInstructions, 0);
+}
+
+void LuaSandbox::stop_hook(lua_State* L, lua_Debug*) { stop(L, of(L).stop_, 0); }
+
+void LuaSandbox::stop(lua_State* L, Stop why, int level) {
+  LuaSandbox& s = of(L);
+  if (s.stop_ == Stop::kNone) {
+    s.stop_ = why;
+    s.where_ = location(L, level);
+  }
+  // Before every instruction from now on, until the call returns to dwatch. (Nothing with a
+  // destructor may be alive here: lua_error jumps over C++ frames.)
+  lua_sethook(L, &LuaSandbox::stop_hook, LUA_MASKCOUNT, 1);
+  lua_pushlightuserdata(L, const_cast<char*>(&kStopped));
+  lua_error(L);
+  std::abort();  // lua_error does not return
+}
+
+// charge(units): library work about to be done, in instructions.
+int LuaSandbox::charge(lua_State* L) {
+  LuaSandbox& s = of(L);
+  const double units = lua_tonumber(L, 1);
+  if (units > 0) s.executed_ += units >= 1e18 ? int64_t(1e18) : int64_t(units);
+  if (s.executed_ > s.limits_.instructions) stop(L, Stop::kInstructions, 1);
+  return 0;
+}
+
+// charge_text(...): one instruction per argument, and the strings' bytes.
+int LuaSandbox::charge_text(lua_State* L) {
+  double units = lua_gettop(L);
+  for (int i = 1; i <= lua_gettop(L); ++i)
+    if (lua_type(L, i) == LUA_TSTRING) units += double(lua_rawlen(L, i)) / kBytesPerInstruction;
+  lua_settop(L, 0);
+  lua_pushnumber(L, units);
+  return charge(L);
+}
+
+// check_pattern(name, s, p [, plain]): refuses a search whose worst case is over the limit;
+// charges its bytes.
+int LuaSandbox::check_pattern(lua_State* L) {
+  LuaSandbox& s = of(L);
+  const int ts = lua_type(L, 2), tp = lua_type(L, 3);
+  if ((ts != LUA_TSTRING && ts != LUA_TNUMBER) || (tp != LUA_TSTRING && tp != LUA_TNUMBER)) return 0;
+  size_t n = 0, m = 0;
+  lua_tolstring(L, 2, &n);
+  const char* p = lua_tolstring(L, 3, &m);
+  const bool plain = lua_toboolean(L, 4) || std::none_of(p, p + m, [](char c) {
+                       return std::strchr("^$*+?.([%-", c) != nullptr && c != '\0';
+                     });
+  // A plain search compares with memchr and memcmp: a byte is a fraction of an instruction.
+  const double steps = plain ? double(n) * double(m) / kBytesPerInstruction : pattern_steps(n, p, m);
+  if (steps > s.limits_.pattern_steps) {
+    {  // (no C++ object may be alive at lua_error)
+      char text[256];
+      std::snprintf(text, sizeof text,
+                    "string.%s: this pattern over %zu bytes may take up to %.3g steps of backtracking (at most "
+                    "%.3g): use fewer repetitions (*, +, -) or a shorter string",
+                    lua_tostring(L, 1), n, steps, s.limits_.pattern_steps);
+      lua_pushstring(L, (location(L, 1) + text).c_str());
+    }
+    return lua_error(L);
+  }
+  lua_settop(L, 3);
+  return charge_text(L);
+}
+
+void LuaSandbox::open_libraries() {
+  static constexpr luaL_Reg kLibraries[] = {{LUA_GNAME, luaopen_base},
+                                            {LUA_STRLIBNAME, luaopen_string},
+                                            {LUA_TABLIBNAME, luaopen_table},
+                                            {LUA_MATHLIBNAME, luaopen_math},
+                                            {LUA_UTF8LIBNAME, luaopen_utf8}};
+  for (const luaL_Reg& lib : kLibraries) {
+    luaL_requiref(L_, lib.name, lib.func, 1);
+    lua_pop(L_, 1);
+  }
+  // What reads files or runs code from text, prints, or reaches under the sandbox.
+  for (const char* name : {"dofile", "loadfile", "load", "print", "collectgarbage", "rawset", "require", "warn"}) {
+    lua_pushnil(L_);
+    lua_setglobal(L_, name);
+  }
+  lua_getglobal(L_, LUA_MATHLIBNAME);  // m:random is the module's generator; math's is not
+  for (const char* name : {"random", "randomseed"}) {
+    lua_pushnil(L_);
+    lua_setfield(L_, -2, name);
+  }
+  lua_pop(L_, 1);
+  // The script sees copies of string, table and utf8 with guards in them; the originals stay in
+  // the registry, where Lua looks up a library function's name for its error messages.
+  for (const char* name : {LUA_STRLIBNAME, LUA_TABLIBNAME, LUA_UTF8LIBNAME}) {
+    lua_newtable(L_);
+    lua_getglobal(L_, name);
+    for (lua_pushnil(L_); lua_next(L_, -2);) {  // new, original, key, value
+      lua_pushvalue(L_, -2);
+      lua_insert(L_, -2);
+      lua_rawset(L_, -5);  // leaves the key for lua_next
+    }
+    lua_pop(L_, 1);
+    lua_setglobal(L_, name);
+  }
+  // Strings' metatable is shared by every string: its methods are the guarded copy, and it is
+  // hidden, so that nothing can be kept in it.
+  lua_pushliteral(L_, "");
+  lua_getmetatable(L_, -1);
+  lua_getglobal(L_, LUA_STRLIBNAME);
+  lua_setfield(L_, -2, "__index");
+  lua_pushboolean(L_, 0);
+  lua_setfield(L_, -2, "__metatable");
+  lua_pop(L_, 2);
+
+  if (luaL_loadbufferx(L_, kGuards, std::strlen(kGuards), kGuardsChunk, "t") != LUA_OK) std::abort();
+  lua_pushglobaltable(L_);
+  for (const char* name : {LUA_STRLIBNAME, LUA_TABLIBNAME, LUA_UTF8LIBNAME}) lua_getglobal(L_, name);
+  lua_pushcfunction(L_, &LuaSandbox::charge);
+  lua_pushcfunction(L_, &LuaSandbox::charge_text);
+  lua_pushcfunction(L_, &LuaSandbox::check_pattern);
+  if (lua_pcall(L_, 7, 1, 0) != LUA_OK) std::abort();  // the guards are dwatch's own code
+  guards_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+}
+
+LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
+  executed_ = 0;
+  stop_ = Stop::kNone;
+  where_.clear();
+  refused_size_ = 0;
+  if (counted) lua_sethook(L_, &LuaSandbox::count_hook, LUA_MASKCOUNT, kHookEvery);
+  else lua_sethook(L_, nullptr, 0, 0);
+  const std::chrono::milliseconds tick = limits_.patience.count() > 0 ? limits_.patience : 10ms;
+  if (!watchdog_) watchdog_ = std::make_unique<LuaWatchdog>(L_, tick);
+  watchdog_->begin(counted ? uint32_t(std::max<int64_t>(1, limits_.deadline / tick)) : 1);
+  const int status = lua_pcall(L_, args, results, 0);
+  watchdog_->end();
+  lua_sethook(L_, nullptr, 0, 0);
+  if (status == LUA_OK) return Outcome::kOk;
+  // Uncounted, a stop says only that the call went far: the counted run decides, so that what a
+  // call does never depends on the machine's speed.
+  if (!counted && (stop_ != Stop::kNone || watchdog_->interrupted())) {
+    lua_pop(L_, 1);
+    return Outcome::kInterrupted;
+  }
+  if (stop_ != Stop::kNone) {
+    lua_pop(L_, 1);
+    push_stop_message(stop_);
+  } else if (watchdog_->interrupted()) {
+    lua_pop(L_, 1);
+    const std::string message = display_ + ": ran for more than " + std::to_string(limits_.deadline.count()) +
+                                " ms of wall-clock time in one call (work the instruction budget does not see)";
+    lua_pushstring(L_, message.c_str());
+  }
+  return Outcome::kFailed;
+}
+
+void LuaSandbox::push_stop_message(Stop why) {
+  const std::string what =
+      why == Stop::kMemory
+          ? "not enough memory: a script's Lua state may hold at most " + mebibytes(limits_.memory_bytes)
+          : "ran more than " + std::to_string(limits_.instructions) + " instructions in one call (an endless loop?)";
+  lua_pushstring(L_, (where_ + what).c_str());
+}
+
+}  // namespace dw::scenarios

@@ -1,0 +1,98 @@
+// A Lua state a script from someone else can run in without hanging or exhausting the machine.
+//
+// What a script may call: the base functions that touch nothing outside the script, and the
+// string, table, math (without its random numbers) and utf8 libraries, behind guards that make
+// every one of them bounded in time: work that grows with the size of the arguments is charged to
+// the instruction budget before it is done, and a pattern whose backtracking could take more than
+// the pattern limit is refused (string.find and friends). table.sort is a stable merge sort in
+// Lua, counted like the script's own code and the same on every machine (Lua's own picks pivots
+// from the clock). Finalizers (__gc) and weak tables (__mode) are refused: they run or forget at
+// the collector's whim.
+//
+// Three limits stop a call, and none can be caught: once one is reached, every further
+// instruction raises the stop again (a pcall, an xpcall's handler, a __close all meet it), until
+// the call returns to dwatch.
+//   - the instruction budget, counted only when a call is run counted (see LuaWatchdog);
+//   - the memory cap of the state, reached when an allocation does not fit even after a full
+//     collection;
+//   - the deadline: a counted call still running after it is stopped, for work the count cannot
+//     see (comparing two long strings is one instruction).
+#pragma once
+
+#include <lua.hpp>
+
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "scenarios/lua_watchdog.h"
+
+namespace dw::scenarios {
+
+// Limits of one Lua state.
+struct LuaLimits {
+  int64_t instructions = 10'000'000;  // VM instructions per init/step call, library work included
+  size_t memory_bytes = 64u << 20;    // per Lua state (one per stepping thread)
+  // Calls run uncounted, at full speed; one still running after this long is run again with
+  // every instruction counted (scenarios/lua_watchdog.h). Zero: every call counted.
+  std::chrono::milliseconds patience{10};
+  // Wall-clock time a counted call may take.
+  std::chrono::milliseconds deadline{10'000};
+  // Steps a pattern's backtracking may take at worst in one call of string.find, match, gmatch
+  // or gsub.
+  double pattern_steps = 1e8;
+};
+
+class LuaSandbox {
+ public:
+  // `display` names the script in messages.
+  LuaSandbox(const std::string& display, const LuaLimits& limits);
+  ~LuaSandbox();
+  LuaSandbox(const LuaSandbox&) = delete;
+  LuaSandbox& operator=(const LuaSandbox&) = delete;
+
+  lua_State* state() const { return L_; }  // nullptr when there was no memory for it
+  const LuaLimits& limits() const { return limits_; }
+  static LuaSandbox& of(lua_State* L);
+
+  // The functions the guards are made of, as a table on the stack: a freeze of the script's
+  // reachable state skips them (they keep nothing).
+  void push_guards() const;
+
+  enum class Outcome {
+    kOk,
+    kFailed,       // the error message is on the stack
+    kInterrupted,  // an uncounted call ran past its patience: take back what it did, run it counted
+  };
+  // lua_pcall of the function under `args` arguments, counted or uncounted.
+  Outcome call(int args, int results, bool counted);
+
+ private:
+  enum class Stop { kNone, kInstructions, kMemory };
+  static void* allocate(void* self, void* ptr, size_t old_size, size_t new_size);
+  static void count_hook(lua_State* L, lua_Debug*);
+  static void stop_hook(lua_State* L, lua_Debug*);
+  [[noreturn]] static void stop(lua_State* L, Stop why, int level);
+  static int charge(lua_State* L);
+  static int charge_text(lua_State* L);
+  static int check_pattern(lua_State* L);
+  void open_libraries();
+  void push_stop_message(Stop why);
+
+  LuaLimits limits_;
+  std::string display_;
+  lua_State* L_ = nullptr;
+  size_t bytes_ = 0;
+  int64_t executed_ = 0;
+  bool counting_ = true;  // whether charges and instructions count (loading counts)
+  Stop stop_ = Stop::kNone;
+  std::string where_;  // "script.lua:LINE: " of the stop
+  // The last allocation refused: the same one asked again (after Lua's emergency collection)
+  // means the memory is truly full.
+  const void* refused_ptr_ = nullptr;
+  size_t refused_size_ = 0;
+  int guards_ = LUA_NOREF;
+  std::unique_ptr<LuaWatchdog> watchdog_;  // made at the first call
+};
+
+}  // namespace dw::scenarios
