@@ -17,7 +17,7 @@ namespace {
 
 struct RenderArgs {
   std::string scenario, out, color_by, highlight = "first";
-  std::vector<float> camera_eye, camera_target;  // x, y, z: as the window's camera was
+  std::vector<double> camera_eye, camera_target;  // x, y, z: as the window's camera was
   std::optional<int64_t> step;
   int width = 1280, height = 720;
 };
@@ -37,6 +37,14 @@ int render_scenario(const RenderArgs& args) {
   if (args.out == "-") {
     std::cerr << "dwatch: error: --out needs a file name\n";
     return 2;
+  }
+  {
+    const std::vector<double> eye(args.camera_eye.begin(), args.camera_eye.end()),
+        target(args.camera_target.begin(), args.camera_target.end());
+    if (std::string problem = scenarios::camera_problem(eye, target); !problem.empty()) {
+      std::cerr << "dwatch: error: --camera-eye/--camera-target: " << problem << "\n";
+      return 2;
+    }
   }
   const NamedFile out_file{"--out", args.out};
   std::unique_ptr<sim::OutputFile> out;  // opened now: a bad path costs no run
@@ -60,7 +68,7 @@ int render_scenario(const RenderArgs& args) {
                                                          : Highlight::First;
   const std::vector<render::SceneGroup> groups = groups_at(session, step, highlight);
   render::SceneSettings settings = scene_settings(scenario, args.color_by);
-  auto vec = [](const std::vector<float>& v) { return sim::Vec3{v[0], v[1], v[2]}; };
+  auto vec = [](const std::vector<double>& v) { return sim::Vec3{float(v[0]), float(v[1]), float(v[2])}; };
   if (!args.camera_eye.empty()) settings.camera_eye = vec(args.camera_eye);
   if (!args.camera_target.empty()) settings.camera_target = vec(args.camera_target);
   settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(step);

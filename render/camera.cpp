@@ -53,8 +53,15 @@ Camera make_camera(const Scene& scene, int width, int height, const Region& regi
     } else {
       c.target = b.center();
     }
-    fit_depth(c, b);
-    return c;
+    // An eye on the target looks nowhere (the inputs refuse one; an eye at the ensemble's
+    // centre can still meet it): the fitted camera below is drawn instead.
+    const glm::vec3 view = c.target - c.eye;
+    if (glm::length(view) > 1e-4f * std::max(1.0f, glm::length(c.eye))) {
+      // Straight down (or up), z cannot be the picture's up: y is, as on a 2-D lattice's plan.
+      if (glm::length(glm::cross(glm::normalize(view), c.up)) < 1e-3f) c.up = {0, 1, 0};
+      fit_depth(c, b);
+      return c;
+    }
   }
 
   // From the front-right, above; a flat ensemble from higher up.

@@ -14,7 +14,6 @@ namespace dw::scenarios {
 namespace {
 
 // Positions (props, the camera) in module sizes: far beyond any lattice, and finite.
-constexpr double kMaxCoordinate = 1e6;
 
 // The watchpoint text's own characters in the file, everything else blanked (newlines kept):
 // compiled as if it were the whole file, its diagnostics point into the scenario file itself.
@@ -482,6 +481,9 @@ struct Loader {
         s.view.camera_eye = std::array<double, 3>{(*eye)[0], (*eye)[1], (*eye)[2]};
       if (auto target = r.numbers("camera_target", 3, -kMaxCoordinate, kMaxCoordinate))
         s.view.camera_target = std::array<double, 3>{(*target)[0], (*target)[1], (*target)[2]};
+      if (s.view.camera_eye && s.view.camera_target)
+        if (std::string problem = camera_problem(*s.view.camera_eye, *s.view.camera_target); !problem.empty())
+          r.error("camera_target", problem);
       r.finish();
     }
     root.finish();
@@ -581,6 +583,16 @@ std::variant<std::vector<std::string>, std::string> reload_scripts(const Scenari
   }
   if (std::string why = session.replace_programs(std::move(loaded)); !why.empty()) return why;
   return names;
+}
+
+std::string camera_problem(std::span<const double> eye, std::span<const double> target) {
+  for (std::span<const double> v : {eye, target})
+    for (double c : v)
+      if (!std::isfinite(c) || std::abs(c) > kMaxCoordinate)
+        return "a camera coordinate must be a finite number from -1e6 to 1e6, not " + std::to_string(c);
+  if (eye.size() == 3 && target.size() == 3 && eye[0] == target[0] && eye[1] == target[1] && eye[2] == target[2])
+    return "the camera's eye is on its target, so it looks nowhere: move one of them";
+  return "";
 }
 
 }  // namespace dw::scenarios

@@ -117,6 +117,12 @@ struct ScenarioOverrides {
 
 // The scenario, or the rendered diagnostics.
 std::variant<Scenario, std::string> load_scenario(const std::string& path, const ScenarioOverrides& overrides = {});
+
+// Coordinates a scenario or the command line may give (positions, the camera), in module sizes.
+inline constexpr double kMaxCoordinate = 1e6;
+// What is wrong with a camera a user typed (a coordinate not finite or out of range, an eye on
+// its target), or "" when it can be drawn.
+std::string camera_problem(std::span<const double> eye, std::span<const double> target);
 std::variant<Scenario, std::string> load_scenario_text(const std::string& path, std::string text,
                                                        const ScenarioOverrides& overrides = {});
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "tests/render/test_scenes.h"
 
 #include "render/annotations.h"
@@ -64,6 +66,46 @@ TEST(Camera, TheScenarioCameraWins) {
   // Without a target it looks at the middle of the ensemble.
   s.camera_target.reset();
   EXPECT_EQ(make_camera(s, 800, 600, {}).target, glm::vec3(1, 1, 1));
+}
+
+// Every module's centre projects inside the picture through a finite matrix.
+void expect_in_view(const Scene& s) {
+  const Camera c = make_camera(s, 640, 480, {});
+  const glm::mat4 vp = view_projection(c, 640, 480, {});
+  for (const SceneModule& m : s.modules) {
+    const auto at = project(vp, glm::vec3(m.pose.position[0], m.pose.position[1], m.pose.position[2]), 640, 480);
+    ASSERT_TRUE(at.has_value());
+    EXPECT_TRUE(std::isfinite(at->x) && std::isfinite(at->y));
+    EXPECT_GE(at->x, 0);
+    EXPECT_LE(at->x, 640);
+    EXPECT_GE(at->y, 0);
+    EXPECT_LE(at->y, 480);
+  }
+}
+
+TEST(Camera, StraightDownSeesAFlatLatticeWithYUp) {
+  // The natural view of a 2-D lattice: z cannot be the picture's up then.
+  Scene s = test::block(12, 8, 1);
+  s.camera_eye = sim::Vec3{5.5f, 3.5f, 30};
+  s.camera_target = sim::Vec3{5.5f, 3.5f, 0};
+  expect_in_view(s);
+  const Camera c = make_camera(s, 640, 480, {});
+  const glm::mat4 vp = view_projection(c, 640, 480, {});
+  // x grows to the right and y upwards, as on the lattice's plan.
+  const auto origin = project(vp, glm::vec3(0, 0, 0), 640, 480), x = project(vp, glm::vec3(1, 0, 0), 640, 480),
+             y = project(vp, glm::vec3(0, 1, 0), 640, 480);
+  EXPECT_GT(x->x, origin->x);
+  EXPECT_LT(y->y, origin->y);  // picture rows grow downwards
+  // And straight up from below.
+  s.camera_eye = sim::Vec3{5.5f, 3.5f, -30};
+  expect_in_view(s);
+}
+
+TEST(Camera, AnEyeOnItsTargetFallsBackToTheFittedView) {
+  Scene s = test::block(3, 3, 3);
+  s.camera_eye = sim::Vec3{1, 1, 1};  // the ensemble's centre, which is the default target
+  expect_in_view(s);
+  EXPECT_NE(make_camera(s, 640, 480, {}).eye, glm::vec3(1, 1, 1));
 }
 
 }  // namespace
