@@ -82,18 +82,16 @@ int session_main(const SessionArgs& args) {
   if (!loaded) return 2;
   const scenarios::Scenario& scenario = *loaded;
   std::optional<watch::SourceText> script;
-  if (!args.script.empty()) {
+  // A script from a file, or piped in (`--script -`, or no terminal).
+  const bool piped = args.script == "-" || (args.script.empty() && !isatty(STDIN_FILENO));
+  if (!args.script.empty() || piped) {
     std::string error;
-    auto text = args.script == "-"
-                    ? std::optional<std::string>(std::string(std::istreambuf_iterator<char>(std::cin), {}))
-                    : sim::read_file(args.script, &error);
+    auto text = piped ? sim::read_stream(STDIN_FILENO, "standard input", &error) : sim::read_file(args.script, &error);
     if (!text) {
-      std::cerr << args.script << ": error: " << error << " (the script)\n";
+      std::cerr << (piped ? "<stdin>" : args.script) << ": error: " << error << " (the script)\n";
       return 2;
     }
-    script.emplace(args.script == "-" ? "<stdin>" : args.script, std::move(*text));
-  } else if (!isatty(STDIN_FILENO)) {
-    script.emplace("<stdin>", std::string(std::istreambuf_iterator<char>(std::cin), {}));
+    script.emplace(piped ? "<stdin>" : args.script, std::move(*text));
   }
   sim::Session session(*scenario.model, *scenario.world, session_options(scenario, args.source));
   SessionShell shell(scenario, session);

@@ -4,15 +4,79 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
+#include <fstream>
 
 namespace dw::sim {
 namespace {
 
 std::string reason(const std::string& path, int code) { return "cannot read " + path + ": " + std::strerror(code); }
 
+// Reads `fd` to its end; nothing with `error` set when it fails, holds more than `max_bytes` or
+// (for text) a NUL byte.
+std::optional<std::string> read_all(int fd, const std::string& name, std::string* error, size_t max_bytes, bool text,
+                                    size_t expected) {
+  const auto fail = [&](const std::string& why) {
+    if (error) *error = "cannot read " + name + ": " + why;
+    return std::nullopt;
+  };
+  std::string bytes;
+  bytes.reserve(std::min(expected, max_bytes));
+  char buffer[1 << 16];
+  size_t line = 1, line_start = 0;
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n == 0) break;
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return fail(std::strerror(errno));
+    }
+    if (text)
+      if (const void* nul = std::memchr(buffer, 0, size_t(n))) {
+        const size_t at = bytes.size() + size_t(static_cast<const char*>(nul) - buffer);
+        for (size_t i = bytes.size(); i < at; ++i)
+          if (buffer[i - bytes.size()] == '\n') {
+            ++line;
+            line_start = i + 1;
+          }
+        return fail("a NUL byte at line " + std::to_string(line) + ", column " + std::to_string(at - line_start + 1) +
+                    ": it is not a text file");
+      }
+    if (bytes.size() + size_t(n) > max_bytes)
+      return fail("more than the " + size_text(max_bytes) + " an input of this kind may hold");
+    for (ssize_t i = 0; i < n; ++i)
+      if (buffer[i] == '\n') {
+        ++line;
+        line_start = bytes.size() + size_t(i) + 1;
+      }
+    bytes.append(buffer, size_t(n));
+  }
+  return bytes;
+}
+
 }  // namespace
+
+std::string size_text(size_t bytes) {
+  char text[32];
+  if (bytes >= (size_t(1) << 30)) std::snprintf(text, sizeof text, "%.1f GiB", double(bytes) / double(1u << 30));
+  else if (bytes >= (size_t(1) << 20) && bytes % (size_t(1) << 20) == 0) std::snprintf(text, sizeof text, "%zu MiB", bytes >> 20);
+  else if (bytes >= (size_t(1) << 20)) std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / double(1u << 20));
+  else std::snprintf(text, sizeof text, "%zu bytes", bytes);
+  return text;
+}
+
+size_t available_memory() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  size_t kib = 0;
+  std::string unit;
+  while (in >> key >> kib >> unit)
+    if (key == "MemAvailable:") return kib << 10;
+  return 0;
+}
 
 std::string check_readable(const std::string& path) {
   struct stat st {};
@@ -22,7 +86,12 @@ std::string check_readable(const std::string& path) {
   return {};
 }
 
-std::optional<std::string> read_file(const std::string& path, std::string* error) {
+std::optional<std::string> read_stream(int fd, const std::string& name, std::string* error, size_t max_bytes,
+                                       bool text) {
+  return read_all(fd, name, error, max_bytes, text, 0);
+}
+
+std::optional<std::string> read_file(const std::string& path, std::string* error, size_t max_bytes, bool text) {
   const auto fail = [&](int code) {
     if (error) *error = reason(path, code);
     return std::nullopt;
@@ -35,22 +104,18 @@ std::optional<std::string> read_file(const std::string& path, std::string* error
     ::close(fd);
     return fail(code);
   }
-  std::string text;
-  if (S_ISREG(st.st_mode)) text.reserve(static_cast<size_t>(st.st_size));
-  char buffer[1 << 16];
-  for (;;) {
-    const ssize_t n = ::read(fd, buffer, sizeof buffer);
-    if (n == 0) break;
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const int code = errno;
-      ::close(fd);
-      return fail(code);
-    }
-    text.append(buffer, static_cast<size_t>(n));
+  // A file's size is known before reading it; a pipe's or a device's is not, and the limit
+  // stops the reading.
+  if (S_ISREG(st.st_mode) && size_t(st.st_size) > max_bytes) {
+    ::close(fd);
+    if (error)
+      *error = "cannot read " + path + ": it holds " + size_text(size_t(st.st_size)) + ", more than the " +
+               size_text(max_bytes) + " an input of this kind may hold";
+    return std::nullopt;
   }
+  auto bytes = read_all(fd, path, error, max_bytes, text, S_ISREG(st.st_mode) ? size_t(st.st_size) : 0);
   ::close(fd);
-  return text;
+  return bytes;
 }
 
 }  // namespace dw::sim

@@ -1,15 +1,33 @@
-// Reading an input file whole, with the reason when it cannot be read ("Is a directory" included:
-// on Linux a folder opens as a file and reads as empty, which would be reported as a parse error).
+// Reading an input whole, with the reason when it cannot be read ("Is a directory" included: on
+// Linux a folder opens as a file and reads as empty, which would be reported as a parse error).
+//
+// Every input has a size limit, checked against a file's size before reading it, and kept while
+// reading a pipe or a device (which has no size): `dwatch run /dev/zero` is an error, not a
+// process growing without end. Text inputs hold no NUL byte: a binary file is refused at its
+// first one, without being read whole.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 
 namespace dw::sim {
 
+// A scenario, a session script, a watchpoint file, a Lua script (README, "What bad input gets").
+inline constexpr size_t kMaxTextInput = size_t(8) << 20;
+
 // The file's bytes, or nothing with `error` set to "cannot read PATH: REASON".
-std::optional<std::string> read_file(const std::string& path, std::string* error);
+std::optional<std::string> read_file(const std::string& path, std::string* error,
+                                     size_t max_bytes = kMaxTextInput, bool text = true);
+// The same for an open stream (standard input), named `name` in the reason.
+std::optional<std::string> read_stream(int fd, const std::string& name, std::string* error,
+                                       size_t max_bytes = kMaxTextInput, bool text = true);
 // Empty when `path` names a readable file that is not a directory, else "cannot read PATH: REASON".
 std::string check_readable(const std::string& path);
+
+// "8 MiB", "3.0 GiB": a size for messages.
+std::string size_text(size_t bytes);
+// What the machine's memory can still hold (MemAvailable), or 0 when unknown.
+size_t available_memory();
 
 }  // namespace dw::sim

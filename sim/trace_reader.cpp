@@ -201,12 +201,19 @@ std::variant<Trace, std::vector<TraceError>> read_trace_text(const std::string& 
   return TraceReader(name, padded).run();
 }
 
+size_t trace_limit() {
+  // The text, its padded copy and what is read from it must fit in what the machine has free.
+  const size_t available = available_memory();
+  return available > 0 ? available / 3 : size_t(4) << 30;
+}
+
 std::variant<Trace, std::vector<TraceError>> read_trace(const std::string& path) {
-  simdjson::padded_string text;
-  if (std::string error = check_readable(path); !error.empty()) return std::vector<TraceError>{{path, 0, 0, error}};
-  if (auto err = simdjson::padded_string::load(path).get(text))
-    return std::vector<TraceError>{{path, 0, 0, std::string("cannot read the trace: ") + simdjson::error_message(err)}};
-  return TraceReader(path, text).run();
+  std::string error;
+  std::optional<std::string> text = read_file(path, &error, trace_limit());
+  if (!text) return std::vector<TraceError>{{path, 0, 0, error}};
+  const simdjson::padded_string padded(*text);
+  text.reset();
+  return TraceReader(path, padded).run();
 }
 
 }  // namespace dw::sim

@@ -307,6 +307,23 @@ TEST_F(Cli, RunRenderDrawsThePausedStepAsRenderDoes) {
   EXPECT_NE(last.out.find("view of step 29 written to"), std::string::npos) << last.out;
 }
 
+TEST_F(Cli, InputsWithoutEndAreRefusedAtTheirLimit) {
+  // Each would grow to gigabytes if read whole.
+  const std::string scenario = (dir_ / "z.toml").string();
+  std::ofstream(scenario) << "[lattice]\nkind = \"line\"\nsize = [3]\n[[program]]\nscript = \"/dev/zero\"\n";
+  for (const std::string& command : std::vector<std::string>{"check @/dev/zero", "run /dev/zero", "run " + scenario,
+                                    "session " + (kScenarios / "token_ring.toml").string() + " --script /dev/zero",
+                                    "replay /dev/zero --watch 'modules(a);a.token=1'"}) {
+    const Result r = run(command);
+    EXPECT_EQ(r.code, 2) << command;
+    EXPECT_NE(r.err.find("a NUL byte at line 1, column 1: it is not a text file"), std::string::npos)
+        << command << ": " << r.err;
+  }
+  const Result endless = run("session " + (kScenarios / "token_ring.toml").string() + " --script - < /dev/urandom");
+  EXPECT_EQ(endless.code, 2);
+  EXPECT_NE(endless.err.find("cannot read standard input: "), std::string::npos) << endless.err;
+}
+
 TEST_F(Cli, RenderMistakesAreBadInput) {
   const std::string scenario = (kScenarios / "token_ring.toml").string();
   const Result var = run("render " + scenario + " --color-by nope --out " + (dir_ / "x.png").string());

@@ -1,0 +1,80 @@
+// Reading inputs (sim/read_file.cpp): whatever a path names, a limit, and no binary text.
+#include "sim/read_file.h"
+
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+namespace dw::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ReadFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("dwatch_read_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(ReadFile, ReadsATextFileWhole) {
+  std::ofstream(dir_ / "a.txt") << "one\ntwo\n";
+  std::string error;
+  EXPECT_EQ(read_file((dir_ / "a.txt").string(), &error), "one\ntwo\n");
+  EXPECT_FALSE(read_file(dir_.string(), &error));
+  EXPECT_NE(error.find("Is a directory"), std::string::npos) << error;
+}
+
+TEST_F(ReadFile, AFileOverTheLimitIsRefusedByItsSizeWithoutReadingIt) {
+  const fs::path big = dir_ / "big";
+  { std::ofstream(big) << "x"; }
+  fs::resize_file(big, size_t(3) << 30);  // 3 GiB of NUL bytes, sparse: nothing to read in time
+  std::string error;
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_FALSE(read_file(big.string(), &error));
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+  EXPECT_NE(error.find("it holds 3.0 GiB, more than the 8 MiB an input of this kind may hold"), std::string::npos)
+      << error;
+  // Within a larger limit (a trace's), it is refused at its first NUL byte, not read whole.
+  EXPECT_FALSE(read_file(big.string(), &error, size_t(4) << 30));
+  EXPECT_NE(error.find("a NUL byte at line 1, column 2: it is not a text file"), std::string::npos) << error;
+}
+
+TEST_F(ReadFile, ADeviceOrAPipeIsReadWithTheLimit) {
+  std::string error;
+  EXPECT_FALSE(read_file("/dev/zero", &error));
+  EXPECT_NE(error.find("a NUL byte at line 1, column 1"), std::string::npos) << error;
+  // An endless pipe of text: read up to the limit, then refused.
+  const fs::path fifo = dir_ / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::thread writer([&] {
+    std::signal(SIGPIPE, SIG_IGN);
+    std::ofstream out(fifo);
+    const std::string line(4096, 'a');
+    for (int i = 0; i < 10000 && out; ++i) out << line;  // 40 MiB, unless the reader stops first
+  });
+  EXPECT_FALSE(read_file(fifo.string(), &error, size_t(1) << 20));
+  EXPECT_NE(error.find("more than the 1 MiB an input of this kind may hold"), std::string::npos) << error;
+  writer.join();
+}
+
+TEST_F(ReadFile, ANulByteIsPlacedAtItsLineAndColumn) {
+  std::ofstream(dir_ / "nul.toml", std::ios::binary) << std::string("a = 1\nbc\0d", 10);
+  std::string error;
+  EXPECT_FALSE(read_file((dir_ / "nul.toml").string(), &error));
+  EXPECT_NE(error.find("a NUL byte at line 2, column 3"), std::string::npos) << error;
+  // Binary is fine where it is asked for.
+  EXPECT_TRUE(read_file((dir_ / "nul.toml").string(), &error, kMaxTextInput, false));
+}
+
+}  // namespace
+}  // namespace dw::sim
