@@ -110,13 +110,23 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
     // Simultaneous-state watchpoints decide the run's last steps by draining (DESIGN §4a).
     if (!pause && run.latest() + 1 == steps)
       run.drain([&](uint32_t w, int64_t t, std::span<const watch::ModuleId> ids,
-                    std::span<const watch::Value> actions) { sinks[w](t, ids, actions); });
+                    std::span<const watch::Value> actions) {
+        if (model.watches[w].action != sim::MatchAction::Count) sinks[w](t, ids, actions);
+      });
   } catch (const sim::ProgramError& e) {
     progress.finish();
     errors << "dwatch: " << args.scenario << ": error: " << e.what() << "\n";
     return 1;
   }
   log.finish();
+  // A `count` watchpoint keeps no match, only their number: the match log's one line for it.
+  if (matches)
+    for (uint32_t w = 0; w < model.watches.size(); ++w)
+      if (model.watches[w].action == sim::MatchAction::Count)
+        *matches << nlohmann::ordered_json{{"watch", model.watches[w].watchpoint.name},
+                                           {"counted", run.match_count(w)}}
+                        .dump()
+                 << "\n";
   progress.finish();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const int64_t ran = run.latest() + 1;

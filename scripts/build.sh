@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Configures and builds dwatch into a build directory.
-#   scripts/build.sh [release|asan|fuzz]     (default: release)
+#   scripts/build.sh [release|asan|fuzz] [TARGET...]     (default: release, every target)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 kind="${1:-release}"
+shift || true
+targets=("$@")
 case "$kind" in
   release) dir=build; flags=(-DCMAKE_BUILD_TYPE=Release) ;;
   # -O1 -g1: line tables for the sanitizers' reports, at a fraction of -O2 -g's compile time.
@@ -14,8 +16,9 @@ case "$kind" in
   *) echo "usage: scripts/build.sh [release|asan|fuzz]" >&2; exit 2 ;;
 esac
 cmake -S . -B "$dir" -G Ninja -DDWATCH_WERROR=ON "${flags[@]}" >/dev/null
-if [ "$kind" = fuzz ]; then
-  cmake --build "$dir" --parallel "$(nproc)" --target parser_fuzz scenario_fuzz trace_fuzz
+if [ "$kind" = fuzz ] && [ ${#targets[@]} -eq 0 ]; then targets=(parser_fuzz scenario_fuzz trace_fuzz); fi
+if [ ${#targets[@]} -gt 0 ]; then
+  cmake --build "$dir" --parallel "$(nproc)" --target "${targets[@]}"
 else
   cmake --build "$dir" --parallel "$(nproc)"
 fi

@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
-scripts/build.sh release
+scripts/build.sh release dwatch  # only what the demo runs: the test suite is scripts/test.sh's
 echo
 echo "\$ dwatch run scenarios/leader_election.toml --print 10 --render leader_election.png"
 build/app/dwatch run scenarios/leader_election.toml --print 10 --render leader_election.png

@@ -438,6 +438,10 @@ TEST_F(Cli, SummariesSayWhatIsThere) {
   const Result render = run("render " + counted.string() + " --step 3 --out " + (dir_ / "c.png").string());
   EXPECT_EQ(render.code, 0) << render.err;
   EXPECT_NE(render.out.find("tokens only counts its matches (action = \"count\")"), std::string::npos) << render.out;
+  // What a count watchpoint counted is in the match log, never a 0: one token per step, 20 steps.
+  const Result ran = run("run " + counted.string() + " --no-progress --steps 20 --matches " + (dir_ / "c.jsonl").string());
+  EXPECT_NE(ran.out.find("tokens [distributed, count]: 20 matches"), std::string::npos) << ran.out;
+  EXPECT_EQ(slurp(dir_ / "c.jsonl"), "{\"watch\":\"tokens\",\"counted\":20}\n");
   const fs::path trace = write("t.jsonl", "{\"t\":0,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[1,2]}\n");
   const Result replay = run("replay " + trace.string() + " -w 'modules(a); (a.x = 1)'");
   EXPECT_NE(replay.out.find("1 lines, 1 steps, 1 modules (and 2 named only as neighbours)"), std::string::npos)
