@@ -506,7 +506,12 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         std::unique_ptr<sim::OutputFile> out;
         if (!check_distinct_files(scenario_.inputs, {file}) || !open_output(file, out))
           return failed("cannot write " + cmd.name);
-        if (std::string error = session_.record(out->stream(), control); !error.empty()) return failed(error);
+        if (std::string error = session_.record(out->stream(), control); !error.empty()) {
+          if (error == "cancelled") return failed(error);  // the temporary goes with `out`
+          // The file knows why its writing failed (a full disk): its reason, rather than the stream's.
+          const std::string reason = out->commit();
+          return failed(reason.empty() ? error : reason);
+        }
         if (std::string error = out->commit(); !error.empty()) return failed(error);
         answer["record"] = cmd.name;
         answer["steps"] = session_.latest() + 1;

@@ -1,6 +1,7 @@
 #include "scenarios/lua_program.h"
 
 #include "scenarios/lua_sandbox.h"
+#include "watch/lexer.h"
 
 #include <lua.hpp>
 
@@ -102,6 +103,9 @@ class LuaState final : public sim::ProgramScratch {
     if (lua_getfield(L_, -1, "vars") != LUA_TTABLE) return fail("`program.vars` must be a list of variable names");
     for (lua_Integer i = 1; lua_rawgeti(L_, -1, i) != LUA_TNIL; ++i) {
       if (lua_type(L_, -1) != LUA_TSTRING) return fail("`program.vars` must list names (strings)");
+      if (!watch::is_name(lua_tostring(L_, -1)))
+        return fail("`program.vars` lists \"" + std::string(lua_tostring(L_, -1)) +
+                    "\", which a watchpoint cannot name: letters, digits and _, not starting with a digit");
       d.vars.emplace_back(lua_tostring(L_, -1));
       lua_pop(L_, 1);
     }

@@ -107,6 +107,14 @@ struct Loader {
       auto from = e.integers("from", 0, 1'000'000, 3, 3), to = e.integers("to", 0, 1'000'000, 3, 3);
       if (!from && !e.has("from")) e.missing("from");
       if (!to && !e.has("to")) e.missing("to");
+      if (from && to)
+        for (size_t i = 0; i < 3; ++i)
+          if ((*from)[i] > (*to)[i]) {
+            e.error("to", "each coordinate of 'to' must be at least the one of 'from' (the box is from..to, inclusive), "
+                          "not " + std::to_string((*to)[i]) + " < " + std::to_string((*from)[i]));
+            from.reset();
+            break;
+          }
       e.finish();
       if (from && to) empty.push_back({*from, *to});
       else ok = false;
@@ -135,6 +143,10 @@ struct Loader {
     for (const auto& [from, to] : empty)
       sim::leave_empty(l, {uint32_t(from[0]), uint32_t(from[1]), uint32_t(from[2])},
                        {uint32_t(to[0]), uint32_t(to[1]), uint32_t(to[2])});
+    if (std::none_of(l.occupied.begin(), l.occupied.end(), [](uint8_t o) { return o != 0; })) {
+      r.error("empty", "these boxes leave every cell of the lattice empty: there is no module to run");
+      return std::nullopt;
+    }
     return l;
   }
 

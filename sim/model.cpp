@@ -33,6 +33,11 @@ std::variant<std::unique_ptr<Model>, std::string> build_model(Lattice lattice,
     model->program_base.push_back(model->variable_count());
     for (VariableSpec& v : program->variables()) {
       const int existing = model->column(v.name);
+      if (existing >= 0 && size_t(existing) >= model->program_base.back())
+        return "program " + std::string(program->name()) + " declares the variable '" + v.name + "' twice";
+      if (existing >= 0 && owner[size_t(existing)] == program->name())
+        return "two [[program]] tables run " + std::string(program->name()) + ", and both declare the variable '" +
+               v.name + "'";
       if (existing >= 0)
         return "programs " + std::string(owner[size_t(existing)]) + " and " + std::string(program->name()) +
                " both declare the variable '" + v.name + "'";

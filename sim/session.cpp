@@ -364,6 +364,15 @@ std::string Session::intervene(Intervention i) {
     return "no program has that variable";
   if (i.kind == Intervention::Kind::Push && head_.bodies.empty())
     return "push needs bodies, and this scenario has no physics";
+  if (i.kind == Intervention::Kind::Remove) {
+    const State& now = state();
+    const bool queued = std::any_of(interventions_.begin(), interventions_.end(), [&](const Intervention& o) {
+      return o.at == i.at && o.kind == Intervention::Kind::Remove && o.module == i.module;
+    });
+    if (queued || (i.module < now.present.size() && !now.present[i.module]))
+      return "module " + std::to_string(i.module) + " is already gone at step " + std::to_string(i.at) +
+             ": there is nothing to remove";
+  }
   if (current_ < latest_ && !has_history()) return "the session keeps no history to branch from";
   if (current_ < latest_) branch_here();
   drop_changes_after(i.at);

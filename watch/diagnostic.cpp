@@ -3,6 +3,33 @@
 #include <algorithm>
 
 namespace dw::watch {
+namespace {
+
+// The line as a terminal may show it: control characters and bytes that are not UTF-8 become
+// '?', one for one (so that the caret stays under its column), never raw bytes that a terminal
+// would act on.
+std::string printable(std::string_view line) {
+  std::string out(line);
+  for (size_t i = 0; i < out.size();) {
+    const auto c = uint8_t(out[i]);
+    if (c < 0x80) {
+      if ((c < 0x20 && c != '\t') || c == 0x7F) out[i] = '?';
+      ++i;
+      continue;
+    }
+    const size_t length = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 ? 3 : c >= 0xC2 && c <= 0xDF ? 2 : 0;
+    bool valid = length > 0 && c < 0xF5 && i + length <= out.size();
+    for (size_t k = 1; valid && k < length; ++k) valid = (uint8_t(out[i + k]) & 0xC0) == 0x80;
+    if (!valid) {
+      out[i++] = '?';
+      continue;
+    }
+    i += length;
+  }
+  return out;
+}
+
+}  // namespace
 
 std::string format_diagnostic(const SourceText& source, const Diagnostic& d, std::string_view kind) {
   const Location loc = source.locate(d.span.begin);
@@ -25,11 +52,13 @@ std::string format_diagnostic(const SourceText& source, const Diagnostic& d, std
     line = line.substr(start, end - start);
     col0 = static_cast<uint32_t>(col0 - start + before.size());
   }
-  const std::string shown = std::string(before).append(line).append(after);
+  const std::string shown = std::string(before).append(printable(line)).append(after);
   out += shown;
   out += '\n';
   // Copy tabs from the source line so that the caret lines up in any tab width.
-  for (uint32_t i = 0; i < col0 && i < shown.size(); ++i) out += shown[i] == '\t' ? '\t' : ' ';
+  // One space per character, not per byte: a UTF-8 character's continuation bytes take none.
+  for (uint32_t i = 0; i < col0 && i < shown.size(); ++i)
+    if ((uint8_t(shown[i]) & 0xC0) != 0x80) out += shown[i] == '\t' ? '\t' : ' ';
   out += '^';
   const uint32_t width = static_cast<uint32_t>(before.size() + line.size());
   const uint32_t visible = width > col0 ? width - col0 : 0;

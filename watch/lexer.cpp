@@ -32,6 +32,13 @@ TokenKind keyword_or_name(std::string_view word) {
 
 }  // namespace
 
+bool is_name(std::string_view word) {
+  if (word.empty() || !is_name_start(word[0])) return false;
+  for (char c : word)
+    if (!is_name_char(c)) return false;
+  return true;
+}
+
 class Lexer {
  public:
   explicit Lexer(const SourceText& source) : text_(source.text()) {}

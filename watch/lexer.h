@@ -29,4 +29,8 @@ class TokenStream {
 // Returns every token of `source`, ending with one End token.
 std::vector<Token> lex(const SourceText& source);
 
+// Whether `word` lexes as one name (letters, digits and _, not starting with a digit): what a
+// program's variable must be called for a watchpoint to read it.
+bool is_name(std::string_view word);
+
 }  // namespace dw::watch

@@ -561,6 +561,10 @@ nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& 
     }
     char* end = nullptr;
     const long long v = std::strtoll(words[i].c_str(), &end, 10);
+    if (hi < lo) {  // nothing to choose from
+      error = std::string("there is no ") + what + " to choose: the list is empty";
+      return std::nullopt;
+    }
     if (*end || words[i].empty() || v < lo || v > hi) {
       error = std::string(what) + " must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
       return std::nullopt;

@@ -308,6 +308,16 @@ TEST_F(LuaScript, NoScriptCatchesItsLimitsOrLeavesAFinalizerBehind) {
   EXPECT_NE(gc.find("x.lua:2: setmetatable: finalizers (__gc) are not allowed"), std::string::npos) << gc;
 }
 
+TEST_F(LuaScript, VariablesAreNamesAWatchpointCanReadDeclaredOnce) {
+  for (const std::string bad : {"\"\"", "\"a b\"", "\"1x\"", "\"x.y\""}) {
+    const std::string e = run_error("program = { vars = { " + bad + " } }\nfunction step(m) end\n");
+    EXPECT_NE(e.find("`program.vars` lists " + bad + ", which a watchpoint cannot name"), std::string::npos)
+        << bad << ": " << e;
+  }
+  const std::string twice = run_error("program = { vars = { \"x\", \"y\", \"x\" } }\nfunction step(m) end\n");
+  EXPECT_NE(twice.find("program x.lua declares the variable 'x' twice"), std::string::npos) << twice;
+}
+
 TEST_F(LuaScript, MemoryBeyondTheCapIsAnError) {
   const std::string e =
       run_error(kHeader + "function step(m)\n  local s = string.rep(\"x\", 1 << 27)\nend\n");  // 128 MiB

@@ -22,6 +22,15 @@ TEST(Diagnostic, TabsAreKeptSoTheCaretLinesUp) {
   EXPECT_EQ(format_diagnostic(src, {{1, 2}, "m"}), "w:1:2: error: m\n\tx\n\t^\n");
 }
 
+TEST(Diagnostic, BytesATerminalWouldActOnAreShownAsQuestionMarks) {
+  // An escape sequence, a bell and bytes that are not UTF-8 (a binary file given as a scenario):
+  // one '?' each, so that the caret stays under its column; valid UTF-8 stays.
+  SourceText src("w", std::string("a\x1b[2J\x07\xff\xfe \xc3\xa9 x"));
+  const uint32_t at = static_cast<uint32_t>(src.text().find(" x") + 1);
+  EXPECT_EQ(format_diagnostic(src, {{at, at + 1}, "m"}),
+            "w:1:" + std::to_string(at + 1) + ": error: m\na?[2J??? \xc3\xa9 x\n           ^\n");
+}
+
 TEST(Diagnostic, AtEndOfInputPointsPastTheLastCharacter) {
   SourceText src("w", "modules(a");
   EXPECT_EQ(format_diagnostic(src, {{9, 9}, "expected ')'"}), "w:1:10: error: expected ')'\nmodules(a\n         ^\n");
