@@ -109,10 +109,10 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
     });
     // Simultaneous-state watchpoints decide the run's last steps by draining (DESIGN §4a).
     if (!pause && run.latest() + 1 == steps)
-      run.drain([&](uint32_t w, int64_t t, std::span<const watch::ModuleId> ids,
-                    std::span<const watch::Value> actions) {
-        if (model.watches[w].action != sim::MatchAction::Count) sinks[w](t, ids, actions);
-      });
+      run.drain(
+          [&](uint32_t w, int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value> actions) {
+            if (model.watches[w].action != sim::MatchAction::Count) sinks[w](t, ids, actions);
+          });
   } catch (const sim::ProgramError& e) {
     progress.finish();
     errors << "dwatch: " << args.scenario << ": error: " << e.what() << "\n";
@@ -123,8 +123,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   if (matches)
     for (uint32_t w = 0; w < model.watches.size(); ++w)
       if (model.watches[w].action == sim::MatchAction::Count)
-        *matches << nlohmann::ordered_json{{"watch", model.watches[w].watchpoint.name},
-                                           {"counted", run.match_count(w)}}
+        *matches << nlohmann::ordered_json{{"watch", model.watches[w].watchpoint.name}, {"counted", run.match_count(w)}}
                         .dump()
                  << "\n";
   progress.finish();

@@ -534,7 +534,7 @@ class LuaState final : public sim::ProgramScratch {
   std::array<Pool, 3> pools_;
   std::array<std::vector<const char*>, 2> names_;  // of the variables and the parameters (see lookup)
   std::vector<int64_t> param_values_;
-  std::vector<int64_t> saved_;             // the variables before a call, to take back
+  std::vector<int64_t> saved_;  // the variables before a call, to take back
   sim::ModuleContext* module_context_ = nullptr;
   bool after_init_ = false;  // step 0 of a script with init: m:get reads what init set
   uint32_t draws_ = 0;

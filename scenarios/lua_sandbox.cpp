@@ -269,8 +269,8 @@ void* LuaSandbox::allocate(void* self_ptr, void* ptr, size_t old_size, size_t ne
   if (new_size > old && self.bytes_ + (new_size - old) > self.limits_.memory_bytes) {
     // Lua collects everything it can and asks again: refused twice, the memory is full of what
     // the script holds, and the call stops.
-    const bool full = new_size > self.limits_.memory_bytes ||
-                      (ptr == self.refused_ptr_ && new_size == self.refused_size_);
+    const bool full =
+        new_size > self.limits_.memory_bytes || (ptr == self.refused_ptr_ && new_size == self.refused_size_);
     self.refused_ptr_ = ptr;
     self.refused_size_ = new_size;
     if (full && self.L_) {

@@ -110,8 +110,10 @@ struct Loader {
       if (from && to)
         for (size_t i = 0; i < 3; ++i)
           if ((*from)[i] > (*to)[i]) {
-            e.error("to", "each coordinate of 'to' must be at least the one of 'from' (the box is from..to, inclusive), "
-                          "not " + std::to_string((*to)[i]) + " < " + std::to_string((*from)[i]));
+            e.error("to",
+                    "each coordinate of 'to' must be at least the one of 'from' (the box is from..to, inclusive), "
+                    "not " +
+                        std::to_string((*to)[i]) + " < " + std::to_string((*from)[i]));
             from.reset();
             break;
           }

@@ -62,7 +62,8 @@ std::optional<std::string> read_all(int fd, const std::string& name, std::string
 std::string size_text(size_t bytes) {
   char text[32];
   if (bytes >= (size_t(1) << 30)) std::snprintf(text, sizeof text, "%.1f GiB", double(bytes) / double(1u << 30));
-  else if (bytes >= (size_t(1) << 20) && bytes % (size_t(1) << 20) == 0) std::snprintf(text, sizeof text, "%zu MiB", bytes >> 20);
+  else if (bytes >= (size_t(1) << 20) && bytes % (size_t(1) << 20) == 0)
+    std::snprintf(text, sizeof text, "%zu MiB", bytes >> 20);
   else if (bytes >= (size_t(1) << 20)) std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / double(1u << 20));
   else std::snprintf(text, sizeof text, "%zu bytes", bytes);
   return text;

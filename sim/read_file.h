@@ -17,8 +17,8 @@ namespace dw::sim {
 inline constexpr size_t kMaxTextInput = size_t(8) << 20;
 
 // The file's bytes, or nothing with `error` set to "cannot read PATH: REASON".
-std::optional<std::string> read_file(const std::string& path, std::string* error,
-                                     size_t max_bytes = kMaxTextInput, bool text = true);
+std::optional<std::string> read_file(const std::string& path, std::string* error, size_t max_bytes = kMaxTextInput,
+                                     bool text = true);
 // The same for an open stream (standard input), named `name` in the reason.
 std::optional<std::string> read_stream(int fd, const std::string& name, std::string* error,
                                        size_t max_bytes = kMaxTextInput, bool text = true);

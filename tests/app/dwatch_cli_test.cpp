@@ -311,9 +311,10 @@ TEST_F(Cli, InputsWithoutEndAreRefusedAtTheirLimit) {
   // Each would grow to gigabytes if read whole.
   const std::string scenario = (dir_ / "z.toml").string();
   std::ofstream(scenario) << "[lattice]\nkind = \"line\"\nsize = [3]\n[[program]]\nscript = \"/dev/zero\"\n";
-  for (const std::string& command : std::vector<std::string>{"check @/dev/zero", "run /dev/zero", "run " + scenario,
-                                    "session " + (kScenarios / "token_ring.toml").string() + " --script /dev/zero",
-                                    "replay /dev/zero --watch 'modules(a);a.token=1'"}) {
+  for (const std::string& command :
+       std::vector<std::string>{"check @/dev/zero", "run /dev/zero", "run " + scenario,
+                                "session " + (kScenarios / "token_ring.toml").string() + " --script /dev/zero",
+                                "replay /dev/zero --watch 'modules(a);a.token=1'"}) {
     const Result r = run(command);
     EXPECT_EQ(r.code, 2) << command;
     EXPECT_NE(r.err.find("a NUL byte at line 1, column 1: it is not a text file"), std::string::npos)
@@ -439,7 +440,8 @@ TEST_F(Cli, SummariesSayWhatIsThere) {
   EXPECT_EQ(render.code, 0) << render.err;
   EXPECT_NE(render.out.find("tokens only counts its matches (action = \"count\")"), std::string::npos) << render.out;
   // What a count watchpoint counted is in the match log, never a 0: one token per step, 20 steps.
-  const Result ran = run("run " + counted.string() + " --no-progress --steps 20 --matches " + (dir_ / "c.jsonl").string());
+  const Result ran =
+      run("run " + counted.string() + " --no-progress --steps 20 --matches " + (dir_ / "c.jsonl").string());
   EXPECT_NE(ran.out.find("tokens [distributed, count]: 20 matches"), std::string::npos) << ran.out;
   EXPECT_EQ(slurp(dir_ / "c.jsonl"), "{\"watch\":\"tokens\",\"counted\":20}\n");
   const fs::path trace = write("t.jsonl", "{\"t\":0,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[1,2]}\n");

@@ -298,7 +298,8 @@ TEST_F(LuaScript, AnEndlessLoopStopsAtTheInstructionBudget) {
 
 TEST_F(LuaScript, NoScriptCatchesItsLimitsOrLeavesAFinalizerBehind) {
   // (scenarios/lua_sandbox_test.cpp tries every way round the limits; this is the run's side.)
-  const std::string e = run_error(kHeader + "function step(m)\n  while true do pcall(function() while true do end end) end\nend\n");
+  const std::string e =
+      run_error(kHeader + "function step(m)\n  while true do pcall(function() while true do end end) end\nend\n");
   EXPECT_NE(e.find("ran more than 10000000 instructions in one call"), std::string::npos) << e;
   EXPECT_NE(e.find("on module 0 at step 0"), std::string::npos) << e;
   // A finalizer would run at exit, after every step went through: refused at load.

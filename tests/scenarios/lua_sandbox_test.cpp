@@ -55,15 +55,15 @@ TEST(LuaSandbox, NoPcallCatchesTheInstructionBudget) {
   expect_stopped("while true do pcall(function() while true do end end) end", kBudget);
   expect_stopped("while true do xpcall(function() while true do end end, function() while true do end end) end",
                  kBudget);
-  expect_stopped("while true do pcall(error, setmetatable({}, {__tostring = function() return 'x' end})) end",
-                 kBudget);
+  expect_stopped("while true do pcall(error, setmetatable({}, {__tostring = function() return 'x' end})) end", kBudget);
   expect_stopped("local function f() return pcall(f) end\nwhile true do f() end", kBudget);
 }
 
 TEST(LuaSandbox, NoPcallCatchesTheMemoryCap) {
-  expect_stopped("local t = {}\n"
-                 "while true do pcall(function() for i = 1, 1e9 do t[#t + 1] = string.rep('x', 1 << 20) end end) end",
-                 "x.lua:2: not enough memory: a script's Lua state may hold at most 64 MiB");
+  expect_stopped(
+      "local t = {}\n"
+      "while true do pcall(function() for i = 1, 1e9 do t[#t + 1] = string.rep('x', 1 << 20) end end) end",
+      "x.lua:2: not enough memory: a script's Lua state may hold at most 64 MiB");
   expect_stopped("while true do pcall(string.rep, 'x', 1 << 27) end", "not enough memory");
   // Garbage is not a reason to stop: the collector takes it back.
   const Result garbage = run("for i = 1, 100 do local s = string.rep('x', 1 << 20) end return 'ok'");
@@ -74,9 +74,10 @@ TEST(LuaSandbox, TheDeadlineStopsWorkTheCountCannotSee) {
   // Comparing two 8 MiB strings is one instruction; 10^7 of them would take hours.
   LuaLimits limits;
   limits.deadline = 300ms;
-  expect_stopped("local a, b = string.rep('a', 1 << 23), string.rep('a', 1 << 23)\n"
-                 "while true do pcall(function() while true do local _ = a == b end end) end",
-                 "x.lua: ran for more than 300 ms of wall-clock time", 5s, limits);
+  expect_stopped(
+      "local a, b = string.rep('a', 1 << 23), string.rep('a', 1 << 23)\n"
+      "while true do pcall(function() while true do local _ = a == b end end) end",
+      "x.lua: ran for more than 300 ms of wall-clock time", 5s, limits);
 }
 
 TEST(LuaSandbox, BacktrackingPatternsAreRefusedBeforeTheyRun) {
@@ -91,14 +92,12 @@ TEST(LuaSandbox, BacktrackingPatternsAreRefusedBeforeTheyRun) {
   // Ordinary patterns still work, as methods too.
   EXPECT_EQ(run("local k, v = ('key=val'):match('(%w+)=(%w+)') return k .. v").returned, "keyval");
   EXPECT_EQ(run("return (string.gsub('a,b,,c', ',', ';'))").returned, "a;b;;c");
-  EXPECT_EQ(run("local n = 0 for w in string.gmatch('one two three', '%a+') do n = n + 1 end return n").returned,
-            "3");
+  EXPECT_EQ(run("local n = 0 for w in string.gmatch('one two three', '%a+') do n = n + 1 end return n").returned, "3");
   EXPECT_EQ(run("return string.find('x.y', '.', 1, true)").returned, "2");
 }
 
 TEST(LuaSandbox, LibraryWorkIsChargedToTheBudget) {
-  expect_stopped("return table.concat(setmetatable({}, {__index = function() return '' end}), '', 1, 1e15)",
-                 kBudget);
+  expect_stopped("return table.concat(setmetatable({}, {__index = function() return '' end}), '', 1, 1e15)", kBudget);
   expect_stopped("table.move({}, 1, 1e18, 1, {})", kBudget);
   expect_stopped("table.move({}, math.mininteger, math.maxinteger - 1, 1, {})", kBudget);
   expect_stopped("table.insert(setmetatable({}, {__len = function() return 1 << 62 end}), 1, 0)", kBudget);
@@ -118,16 +117,18 @@ TEST(LuaSandbox, TableSortIsAStableMergeSortWhateverTheComparator) {
       "local t = {}\nfor i = 1, 500 do t[i] = { key = (i * 7919) % 10, id = i } end\n"
       "table.sort(t, function(a, b) return a.key < b.key end)\n"
       "for i = 2, #t do\n"
-      "  if t[i - 1].key > t[i].key or (t[i - 1].key == t[i].key and t[i - 1].id > t[i].id) then return 'bad ' .. i end\n"
+      "  if t[i - 1].key > t[i].key or (t[i - 1].key == t[i].key and t[i - 1].id > t[i].id) then return 'bad ' .. i "
+      "end\n"
       "end\nreturn 'sorted'";
   EXPECT_EQ(run(pairs).returned, "sorted");
   EXPECT_EQ(run("local t = {5, 3, 9, 1, 1, -4}\ntable.sort(t)\nreturn table.concat(t, ',')").returned, "-4,1,1,3,5,9");
-  EXPECT_EQ(run("local t = {'b', 'c', 'a'}\ntable.sort(t, function(a, b) return a > b end)\nreturn table.concat(t)")
-                .returned,
-            "cba");
+  EXPECT_EQ(
+      run("local t = {'b', 'c', 'a'}\ntable.sort(t, function(a, b) return a > b end)\nreturn table.concat(t)").returned,
+      "cba");
   // A comparator that lies ends, the same way every time.
-  const std::string lies = "local t = {}\nfor i = 1, 300 do t[i] = i end\n"
-                           "table.sort(t, function() return true end)\nreturn table.concat(t, ',')";
+  const std::string lies =
+      "local t = {}\nfor i = 1, 300 do t[i] = i end\n"
+      "table.sort(t, function() return true end)\nreturn table.concat(t, ',')";
   const Result once = run(lies), again = run(lies);
   EXPECT_EQ(once.outcome, Outcome::kOk);
   EXPECT_EQ(once.returned, again.returned);
@@ -141,7 +142,8 @@ TEST(LuaSandbox, FinalizersAndWeakTablesAreRefusedAndCloseMeetsTheBudget) {
   expect_stopped("setmetatable({}, {__gc = function() while true do end end})", "x.lua:1: setmetatable: finalizers");
   expect_stopped("setmetatable({}, {__mode = 'k'})", "x.lua:1: setmetatable: weak tables");
   expect_stopped("do local x <close> = setmetatable({}, {__close = function() while true do end end}) end", kBudget);
-  expect_stopped("local t = setmetatable({}, {__index = function(t, k) return t[k] end})\nreturn t.x", "stack overflow");
+  expect_stopped("local t = setmetatable({}, {__index = function(t, k) return t[k] end})\nreturn t.x",
+                 "stack overflow");
 }
 
 TEST(LuaSandbox, TheLimitsStayForTheNextCall) {
