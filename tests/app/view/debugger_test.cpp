@@ -180,7 +180,9 @@ TEST_F(Window, ScriptMistakesAreBadInputAndFailuresStopTheScript) {
   const Outcome failed = dwatch("view " + kLeader, "step\nclick match 5000\nstep\n", true);
   EXPECT_EQ(failed.exit_code, 1) << failed.err;
   EXPECT_EQ(failed.answers.size(), 1u);
-  EXPECT_NE(failed.err.find("script:2: error: ROW must be an integer"), std::string::npos) << failed.err;
+  // (No match yet at step 0: the list is empty, which it says rather than "from 0 to -1".)
+  EXPECT_NE(failed.err.find("script:2: error: there is no ROW to choose: the list is empty"), std::string::npos)
+      << failed.err;
 }
 
 // A Lua script's error in the window: the run stands at the last step that went through and the
