@@ -24,7 +24,8 @@ std::optional<std::string> read_all(int fd, const std::string& name, std::string
     return std::nullopt;
   };
   std::string bytes;
-  bytes.reserve(std::min(expected, max_bytes));
+  // Reserved up to 64 MiB only: a large file refused at its first bytes (a NUL) costs nothing.
+  bytes.reserve(std::min({expected, max_bytes, size_t(64) << 20}));
   char buffer[1 << 16];
   size_t line = 1, line_start = 0;
   for (;;) {
