@@ -84,7 +84,6 @@ class LuaSandbox {
   lua_State* L_ = nullptr;
   size_t bytes_ = 0;
   int64_t executed_ = 0;
-  bool counting_ = true;  // whether charges and instructions count (loading counts)
   Stop stop_ = Stop::kNone;
   std::string where_;  // "script.lua:LINE: " of the stop
   // The last allocation refused: the same one asked again (after Lua's emergency collection)
