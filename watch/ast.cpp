@@ -100,10 +100,12 @@ class Printer {
       case NodeKind::Variable: out_ += to_string(ast_, n.x, bound_) + '.' + n.name; return;
       case NodeKind::Negate: {
         out_ += '-';
-        // `-(x)` of a literal stays grouped, or it would read back as a negative literal; so does
-        // `- -x`, which reads back as the same but prints more plainly this way.
+        // `-(x)` of a literal stays grouped, or it would read back as a negative literal. `- -x`
+        // is not grouped: parentheses would double the nesting the parser allows (a chain of 200
+        // minus signs would print past its limit and not read back).
         const NodeKind k = ast_.nodes[n.lhs].kind;
-        grouped(n.lhs, precedence(k) < 3 || k == NodeKind::Integer || k == NodeKind::Negate);
+        if (k == NodeKind::Negate) out_ += ' ';
+        grouped(n.lhs, precedence(k) < 3 || k == NodeKind::Integer);
         return;
       }
       case NodeKind::Add:
