@@ -15,6 +15,7 @@
 #include "sim/match_log.h"
 #include "sim/trace.h"
 #include "watch/make_detector.h"
+#include "watch/watchpoint.h"
 
 namespace dw::app {
 namespace {
@@ -33,19 +34,60 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+// A watchpoint to replay and how it reads.
+struct Replayed {
+  watch::Watchpoint watchpoint;
+  watch::Algorithm algorithm;
+  watch::DetectorOptions options;
+  bool count_only = false;  // its run's action was `count`: the number of its matches, as the run kept
+};
+
+// The watchpoints the trace's header lists, each with the reading the recording run gave it (the
+// command line's optimization switches and budget apply); nothing, with the errors printed, when
+// one does not compile.
+std::optional<std::vector<Replayed>> header_watches(const sim::Trace& trace, const std::string& path,
+                                                    const DetectorFlags& flags) {
+  std::vector<Replayed> out;
+  for (const sim::TraceWatch& w : trace.watches()) {
+    auto compiled = watch::compile_watchpoint(w.name, watch::SourceText(path + " (watch " + w.name + ")", w.text));
+    if (auto* e = std::get_if<watch::CompileError>(&compiled)) {
+      std::cerr << e->format();
+      return std::nullopt;
+    }
+    Replayed r{std::move(std::get<watch::Watchpoint>(compiled)),
+               w.algorithm == "centralized" ? watch::Algorithm::Centralized : watch::Algorithm::Distributed,
+               flags.options(), w.action == "count"};
+    r.options.shape = watch::parse_shape(w.shape);
+    r.options.states = r.algorithm == watch::Algorithm::Distributed ? watch::parse_states(w.states) : std::nullopt;
+    if (const std::string why = watch::unsupported(r.algorithm, r.options); !why.empty()) {
+      std::cerr << path << ": error: watchpoint '" << w.name << "' of the header: " << why << "\n";
+      return std::nullopt;
+    }
+    out.push_back(std::move(r));
+  }
+  if (out.empty())
+    std::cerr << path << ": error: the trace's header lists no watchpoints (a trace recorded by dwatch run lists "
+              << "its scenario's): give them with --watch\n";
+  return out.empty() ? std::nullopt : std::optional(std::move(out));
+}
+
 int replay(const ReplayArgs& args) {
   std::vector<std::string> inputs{args.trace};
-  auto loaded = load_watchpoints(args.watches, &inputs);
-  if (auto* errors = std::get_if<std::string>(&loaded)) {
-    std::cerr << *errors;
-    return 2;
-  }
-  const auto& watches = std::get<std::vector<watch::Watchpoint>>(loaded);
-  const watch::Algorithm algorithm = args.detector.algorithm();
-  const watch::DetectorOptions options = args.detector.options();
-  if (const std::string why = watch::unsupported(algorithm, options); !why.empty()) {
-    std::cerr << "dwatch: error: " << why << "\n";
-    return 2;
+  std::vector<Replayed> replayed;
+  if (!args.watches.empty()) {
+    auto loaded = load_watchpoints(args.watches, &inputs);
+    if (auto* errors = std::get_if<std::string>(&loaded)) {
+      std::cerr << *errors;
+      return 2;
+    }
+    const watch::Algorithm algorithm = args.detector.algorithm();
+    const watch::DetectorOptions options = args.detector.options();
+    if (const std::string why = watch::unsupported(algorithm, options); !why.empty()) {
+      std::cerr << "dwatch: error: " << why << "\n";
+      return 2;
+    }
+    for (watch::Watchpoint& w : std::get<std::vector<watch::Watchpoint>>(loaded))
+      replayed.push_back({std::move(w), algorithm, options});
   }
 
   // Output files are opened before the trace is read, so that a bad path costs nothing.
@@ -64,6 +106,20 @@ int replay(const ReplayArgs& args) {
   }
   const sim::Trace& trace = std::get<sim::Trace>(read);
   const double parse_seconds = seconds_since(parse_start);
+  if (args.watches.empty()) {
+    auto from_header = header_watches(trace, args.trace, args.detector);
+    if (!from_header) return 2;
+    replayed = std::move(*from_header);
+  }
+  std::vector<watch::Watchpoint> watches;
+  for (const Replayed& r : replayed) watches.push_back(r.watchpoint);
+  const watch::Algorithm algorithm = replayed.front().algorithm;
+  const watch::DetectorOptions options = replayed.front().options;
+  const bool one_reading = std::all_of(replayed.begin(), replayed.end(), [&](const Replayed& r) {
+    return r.algorithm == algorithm &&
+           watch::group_shape(r.algorithm, r.options) == watch::group_shape(algorithm, options) &&
+           watch::simultaneous(r.algorithm, r.options) == watch::simultaneous(algorithm, options);
+  });
 
   // Frames hold only what the watchpoints read. A variable no line has would read as unknown
   // everywhere, so its watchpoint can never match: said where it is read, and the replay goes on.
@@ -97,9 +153,18 @@ int replay(const ReplayArgs& args) {
   sim::MatchLog log(std::move(infos), out, std::max<size_t>(args.print, 1));
 
   std::vector<std::unique_ptr<watch::Detector>> detectors;
+  std::vector<uint64_t> counted(watches.size(), 0);  // of count-only watchpoints
+  const auto matches_of = [&](size_t i) { return replayed[i].count_only ? counted[i] : log.count(i); };
   int64_t max_lag = 0;
   for (size_t i = 0; i < watches.size(); ++i) {
-    detectors.push_back(watch::make_detector(algorithm, watches[i], frames.universe(), options, log.sink(i)));
+    const uint32_t k = watches[i].program.slot_count();
+    watch::MatchSink sink = log.sink(i);
+    if (replayed[i].count_only)
+      sink = [&counted, i, k](int64_t, std::span<const watch::ModuleId> ids, std::span<const watch::Value>) {
+        counted[i] += ids.size() / k;
+      };
+    detectors.push_back(
+        watch::make_detector(replayed[i].algorithm, watches[i], frames.universe(), replayed[i].options, sink));
     max_lag = std::max(max_lag, detectors.back()->lag());
   }
 
@@ -111,6 +176,11 @@ int replay(const ReplayArgs& args) {
   }
   for (auto& d : detectors) d->finish();  // a simultaneous-state detector drains
   log.finish();
+  // As `run --matches` ends for a count watchpoint (README, "action").
+  if (out)
+    for (size_t i = 0; i < watches.size(); ++i)
+      if (replayed[i].count_only)
+        *out << nlohmann::ordered_json{{"watch", watches[i].name}, {"counted", counted[i]}}.dump() << "\n";
   const double detect_seconds = seconds_since(detect_start);
 
   // The summary goes to stdout unless the matches do.
@@ -119,14 +189,19 @@ int replay(const ReplayArgs& args) {
           << trace.modules_with_lines() << " modules";
   if (const uint32_t only_named = trace.universe().module_count() - trace.modules_with_lines())
     summary << " (and " << only_named << " named only as neighbours)";
-  summary << "; " << reading_text(algorithm, options, watches.empty() ? 1 : watches.front().program.slot_count())
-          << " detector\n";
+  if (one_reading)
+    summary << "; " << reading_text(algorithm, options, watches.front().program.slot_count()) << " detector\n";
+  else summary << "; each watchpoint read as the run that recorded the trace read it\n";
   bool stopped = false;
   uint64_t total = 0;
   for (size_t i = 0; i < watches.size(); ++i) {
     const watch::DetectorStats& st = detectors[i]->stats();
-    total += log.count(i);
-    summary << "  " << watches[i].name << ": " << log.count(i) << " match" << (log.count(i) == 1 ? "" : "es") << "\n";
+    total += matches_of(i);
+    summary << "  " << watches[i].name;
+    if (!one_reading)
+      summary << " [" << reading_text(replayed[i].algorithm, replayed[i].options, watches[i].program.slot_count())
+              << "]";
+    summary << ": " << matches_of(i) << " match" << (matches_of(i) == 1 ? "" : "es") << "\n";
     print_detector_stats(summary, st);
     if (out == nullptr) {
       const auto& slots = watches[i].program.slot_names;
@@ -163,7 +238,7 @@ int replay(const ReplayArgs& args) {
     j["seconds"] = {{"reading", parse_seconds}, {"detecting", detect_seconds}};
     j["watches"] = nlohmann::json::array();
     for (size_t i = 0; i < watches.size(); ++i)
-      j["watches"].push_back(stats_json(watches[i], detectors[i]->stats(), log.count(i)));
+      j["watches"].push_back(stats_json(watches[i], detectors[i]->stats(), matches_of(i)));
     stats_out->stream() << j.dump(1) << "\n";
   }
   if (!commit_outputs({matches_out.get(), stats_out.get()})) return 1;
@@ -176,8 +251,9 @@ void add_replay_command(CLI::App& app, std::function<int()>& run) {
   auto* cmd = app.add_subcommand("replay", "Run watchpoints over a recorded trace (wptrace v1)");
   auto args = std::make_shared<ReplayArgs>();
   cmd->add_option("trace", args->trace, "Trace file (JSON Lines, wptrace v1)")->required();
-  cmd->add_option("--watch,-w", args->watches, "Watchpoint text, @FILE, NAME=TEXT or NAME=@FILE (repeatable)")
-      ->required();
+  cmd->add_option("--watch,-w", args->watches,
+                  "Watchpoint text, @FILE, NAME=TEXT or NAME=@FILE (repeatable; default: the watchpoints the "
+                  "trace's header lists, each with its run's reading)");
   cmd->add_option("--matches", args->matches_path, "Write every match as JSON Lines to FILE (- for stdout)");
   cmd->add_option("--stats", args->stats_path, "Write run statistics as JSON to FILE");
   add_integer_option(*cmd, "--print", args->print, {"print", 0, 1'000'000},

@@ -87,7 +87,9 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   std::vector<watch::MatchSink> sinks;
   for (size_t w = 0; w < model.watches.size(); ++w) sinks.push_back(log.sink(w));
   std::unique_ptr<sim::TraceWriter> recorder;
-  if (record) recorder = std::make_unique<sim::TraceWriter>(*record, model.universe, scenario.events);
+  if (record)
+    recorder =
+        std::make_unique<sim::TraceWriter>(*record, model.universe, scenario.events, sim::trace_watches(model.watches));
   const bool recording = !args.record_path.empty();  // on every rank: each gives its part of each frame
 
   sim::Session run(*scenario.model, *scenario.world,

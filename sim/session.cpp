@@ -622,7 +622,7 @@ std::string Session::record(std::ostream& out, const Control& control) {
   State s = simulation_part(keyframes_[0], keyframes_[0].values);
   const std::vector<uint8_t> none(model_.watches.size() + 1, 0);
   StepOutput step_out;
-  TraceWriter writer(out, model_.universe, interventions_);
+  TraceWriter writer(out, model_.universe, interventions_, trace_watches(model_.watches));
   while (s.step <= latest_) {
     if (control.stopped()) return "cancelled";
     step(s, step_out, none);

@@ -1,6 +1,9 @@
 // Traces in wptrace v1 (DESIGN §5): JSON Lines, one line per present module per step,
 //   {"t":3,"m":17,"vars":{"x1":0,"isLeader":1},"nbrs":[16,18,27]}
-// after an optional header {"wptrace":1}. A module with no line at a step is absent then.
+// after an optional header {"wptrace":1}. A module with no line at a step is absent then. A
+// recorded run's header also lists its interventions and its watchpoints, with their readings:
+//   {"wptrace":1,"watches":[{"name":"w","text":"modules(a); ...","algorithm":"distributed",
+//                            "shape":"chain","states":"consistent","action":"log"}]}
 #pragma once
 
 #include <cstdint>
@@ -15,6 +18,13 @@
 #include "watch/frame.h"
 
 namespace dw::sim {
+
+// A watchpoint the recording run watched, as the trace's header lists it: what `replay` with no
+// --watch replays, with the same reading.
+struct TraceWatch {
+  std::string name, text, algorithm, shape, states, action;
+  bool operator==(const TraceWatch&) const = default;
+};
 
 // The whole trace in memory, as its lines were: sorted by (step, module), each with its variables
 // and neighbours, in flat arrays. Memory is in proportion to what the lines hold, however many
@@ -38,6 +48,10 @@ class Trace {
   };
   static Trace build(std::vector<Entry> entries, std::vector<std::string> variable_names);
 
+  // The watchpoints of the run that recorded it (its header's "watches").
+  const std::vector<TraceWatch>& watches() const { return watches_; }
+  void set_watches(std::vector<TraceWatch> watches) { watches_ = std::move(watches); }
+
  private:
   friend class FrameReader;
   watch::Universe universe_;
@@ -51,6 +65,7 @@ class Trace {
   std::vector<int64_t> value_;
   std::vector<uint64_t> nbr_begin_;  // [lines + 1] into nbrs_
   std::vector<uint32_t> nbrs_;       // dense module indices
+  std::vector<TraceWatch> watches_;
 };
 
 // The storage of one dense frame.
@@ -104,7 +119,8 @@ std::variant<Trace, std::vector<TraceError>> read_trace_text(const std::string& 
 // The header lists the interventions the run was made with (its provenance; readers skip them).
 class TraceWriter {
  public:
-  TraceWriter(std::ostream& out, const watch::Universe& universe, std::span<const Intervention> interventions = {});
+  TraceWriter(std::ostream& out, const watch::Universe& universe, std::span<const Intervention> interventions = {},
+              std::span<const TraceWatch> watches = {});
   void write(const watch::Frame& frame);
 
  private:
@@ -113,6 +129,10 @@ class TraceWriter {
   std::vector<std::string> keys_;  // "name":
   std::string line_;
 };
+
+struct HostedWatchpoint;
+// The watchpoints as a recorded trace's header lists them: each in normal form, with its reading.
+std::vector<TraceWatch> trace_watches(std::span<const HostedWatchpoint> watches);
 
 // Writes a trace as wptrace v1, header first, one line per present module per step, through an
 // OutputFile. Empty, or the error.

@@ -40,7 +40,9 @@ class TraceReader {
     if (errors_.size() >= kMaxErrors && at < size)
       errors_.push_back({name_, line, 1, "too many errors; stopping here"});
     if (!errors_.empty()) return errors_;
-    return Trace::build(std::move(entries_), std::move(names_));
+    Trace trace = Trace::build(std::move(entries_), std::move(names_));
+    trace.set_watches(std::move(watches_));
+    return trace;
   }
 
  private:
@@ -72,6 +74,38 @@ class TraceReader {
     }
   }
 
+  // The header's "watches": objects of the six strings of a TraceWatch.
+  bool read_watches(simdjson::dom::element v, const Where& at) {
+    simdjson::dom::array list;
+    if (v.get_array().get(list)) {
+      error(at, "\"watches\" must be an array of watchpoints");
+      return false;
+    }
+    for (simdjson::dom::element item : list) {
+      simdjson::dom::object o;
+      if (item.get_object().get(o)) {
+        error(at, "each of \"watches\" must be an object");
+        return false;
+      }
+      TraceWatch w;
+      for (auto [field, target] : {std::pair{"name", &w.name},
+                                   {"text", &w.text},
+                                   {"algorithm", &w.algorithm},
+                                   {"shape", &w.shape},
+                                   {"states", &w.states},
+                                   {"action", &w.action}}) {
+        std::string_view value;
+        if (o[field].get_string().get(value)) {
+          error(at, std::string("each of \"watches\" needs the string \"") + field + "\"");
+          return false;
+        }
+        *target = std::string(value);
+      }
+      watches_.push_back(std::move(w));
+    }
+    return true;
+  }
+
   // Parses one line in place; the text after it in the padded buffer is simdjson's padding.
   void parse_line(std::string_view text, bool first) {
     simdjson::dom::element doc;
@@ -95,6 +129,10 @@ class TraceReader {
         // Provenance (DESIGN §7): how the run was made. The frames already carry its effects.
         if (!first) return error(at, "\"interventions\" belongs to the header, the first line");
         if (!v.is_array()) return error(at, "\"interventions\" must be an array");
+        header = true;
+      } else if (key == "watches") {
+        if (!first) return error(at, "\"watches\" belongs to the header, the first line");
+        if (!read_watches(v, at)) return;
         header = true;
       } else if (key == "t") {
         if (has_t) return error(at, "duplicate field \"t\"");
@@ -142,7 +180,7 @@ class TraceReader {
     }
     if (header) {
       if (has_t || has_m || has_vars || has_nbrs)
-        return error(Where{text, {}, 0}, "the header line holds only \"wptrace\"");
+        return error(Where{text, {}, 0}, "the header line holds only \"wptrace\", \"interventions\" and \"watches\"");
       return;
     }
     std::string missing;
@@ -181,6 +219,7 @@ class TraceReader {
   const simdjson::padded_string& text_;
   simdjson::dom::parser parser_;
   std::vector<Trace::Entry> entries_;
+  std::vector<TraceWatch> watches_;
   std::unordered_map<uint64_t, uint64_t> first_line_;
   std::vector<TraceError> errors_;
   std::vector<std::string> names_;

@@ -1,12 +1,25 @@
 #include <nlohmann/json.hpp>
 
+#include "sim/model.h"
+
 #include "sim/output_file.h"
 #include "sim/trace.h"
 
 namespace dw::sim {
 
+std::vector<TraceWatch> trace_watches(std::span<const HostedWatchpoint> watches) {
+  std::vector<TraceWatch> out;
+  for (const HostedWatchpoint& h : watches)
+    out.push_back({h.watchpoint.name, watch::to_string(h.watchpoint.ast),
+                   std::string(watch::algorithm_name(h.algorithm)),
+                   std::string(watch::shape_name(watch::group_shape(h.algorithm, h.options))),
+                   std::string(watch::states_name(h.options.states.value_or(watch::States::Consistent))),
+                   std::string(action_name(h.action))});
+  return out;
+}
+
 TraceWriter::TraceWriter(std::ostream& out, const watch::Universe& universe,
-                         std::span<const Intervention> interventions)
+                         std::span<const Intervention> interventions, std::span<const TraceWatch> watches)
     : out_(out), universe_(universe) {
   // Variable names are escaped once by nlohmann; the numbers are written per line.
   for (const std::string& v : universe.variables) keys_.push_back(nlohmann::json(v).dump() + ":");
@@ -16,6 +29,17 @@ TraceWriter::TraceWriter(std::ostream& out, const watch::Universe& universe,
     for (size_t i = 0; i < interventions.size(); ++i)
       out_ << (i ? "," : "") << intervention_json(interventions[i], universe);
     out_ << "]";
+  }
+  if (!watches.empty()) {
+    nlohmann::ordered_json list = nlohmann::ordered_json::array();
+    for (const TraceWatch& w : watches)
+      list.push_back({{"name", w.name},
+                      {"text", w.text},
+                      {"algorithm", w.algorithm},
+                      {"shape", w.shape},
+                      {"states", w.states},
+                      {"action", w.action}});
+    out_ << ",\"watches\":" << list.dump();
   }
   out_ << "}\n";
 }
