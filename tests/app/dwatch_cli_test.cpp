@@ -204,6 +204,38 @@ TEST_F(Cli, RecordedRunWithAggregatesAndActionsReplaysToTheSameMatches) {
   }
 }
 
+// A trace recorded by run lists its watchpoints with their readings and actions: replay with no
+// --watch finds exactly the run's matches, whatever each reading (centralized, distributed,
+// simultaneous, count, actions), and says when the header lists none.
+TEST_F(Cli, ReplayOfARecordedRunWithoutWatchFindsTheRunsMatches) {
+  std::string toml = slurp(kScenarios / "leader_election.toml");
+  toml.replace(toml.find("action = \"pause\""), 16, "action = \"log\"");
+  toml +=
+      "[[watch]]\nname = \"close\"\ntext = \"modules(a b); (a.isLeader = 1) and (b.isLeader = 0)\"\n"
+      "algorithm = \"centralized\"\nshape = \"any\"\n"
+      "[[watch]]\nname = \"simultaneous\"\ntext = \"modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)\"\n"
+      "states = \"simultaneous\"\nshape = \"ordered\"\n"
+      "[[watch]]\nname = \"counted\"\ntext = \"modules(a); a.isLeader = 0\"\naction = \"count\"\n";
+  const fs::path scenario = write("mixed.toml", toml);
+  const fs::path trace = dir_ / "t.jsonl", live = dir_ / "live.jsonl", replayed = dir_ / "replayed.jsonl";
+  const Result r = run("run " + scenario.string() + " --no-progress --steps 15 --record " + trace.string() +
+                       " --matches " + live.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Result p = run("replay " + trace.string() + " --matches " + replayed.string());
+  ASSERT_EQ(p.code, 0) << p.err;
+  EXPECT_NE(p.out.find("each watchpoint read as the run that recorded the trace read it"), std::string::npos) << p.out;
+  EXPECT_NE(p.out.find("close [centralized, any groups]"), std::string::npos) << p.out;
+  EXPECT_GT(slurp(live).size(), 1000u);
+  EXPECT_NE(slurp(live).find("\"watch\":\"simultaneous\""), std::string::npos);
+  EXPECT_NE(slurp(live).find("{\"watch\":\"counted\",\"counted\":"), std::string::npos);
+  EXPECT_EQ(slurp(live), slurp(replayed));
+  // A trace that lists no watchpoint needs --watch.
+  const fs::path bare = write("bare.jsonl", "{\"t\":0,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[]}\n");
+  const Result none = run("replay " + bare.string());
+  EXPECT_EQ(none.code, 2);
+  EXPECT_NE(none.err.find("the trace's header lists no watchpoints"), std::string::npos) << none.err;
+}
+
 TEST_F(Cli, RunGivesTheSameStateHashOnAnyThreadCount) {
   const std::string scenario = (kScenarios / "aggregation_routing.toml").string();
   const std::string one = line_with(run("run " + scenario + " --steps 40 --threads 1").out, "state hash");

@@ -49,6 +49,25 @@ TEST(TraceReader, HeaderIsOptional) {
   EXPECT_TRUE(std::holds_alternative<Trace>(r));
 }
 
+TEST(TraceReader, TheHeaderListsTheRunsWatchpointsWithTheirReadings) {
+  auto r = read_trace_text(
+      "t",
+      R"j({"wptrace":1,"watches":[{"name":"w","text":"modules(a); (a.x = 1)","algorithm":"centralized","shape":"any","states":"consistent","action":"count"}]}
+{"t":0,"m":0,"vars":{"x":1},"nbrs":[]})j");
+  ASSERT_TRUE(std::holds_alternative<Trace>(r)) << std::get<std::vector<TraceError>>(r)[0].format();
+  const std::vector<TraceWatch> expected{{"w", "modules(a); (a.x = 1)", "centralized", "any", "consistent", "count"}};
+  EXPECT_EQ(std::get<Trace>(r).watches(), expected);
+  for (const char* bad : {R"({"wptrace":1,"watches":{}})", R"({"wptrace":1,"watches":[1]})",
+                          R"({"wptrace":1,"watches":[{"name":"w"}]})"}) {
+    const auto errors = read_trace_text("t", bad);
+    ASSERT_TRUE(std::holds_alternative<std::vector<TraceError>>(errors)) << bad;
+    EXPECT_NE(std::get<std::vector<TraceError>>(errors)[0].message.find("\"watches\""), std::string::npos) << bad;
+  }
+  const auto late = read_trace_text("t", "{\"t\":0,\"m\":0,\"vars\":{},\"nbrs\":[]}\n{\"watches\":[]}\n");
+  ASSERT_TRUE(std::holds_alternative<std::vector<TraceError>>(late));
+  EXPECT_NE(std::get<std::vector<TraceError>>(late)[0].message.find("belongs to the header"), std::string::npos);
+}
+
 TEST(TraceReader, NeighbourWithoutALineIsAnAbsentModule) {
   auto r = read_trace_text("t", R"({"t":0,"m":0,"vars":{},"nbrs":[9]})");
   ASSERT_TRUE(std::holds_alternative<Trace>(r));
