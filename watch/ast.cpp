@@ -103,9 +103,14 @@ class Printer {
         // `-(x)` of a literal stays grouped, or it would read back as a negative literal. `- -x`
         // is not grouped: parentheses would double the nesting the parser allows (a chain of 200
         // minus signs would print past its limit and not read back).
-        const NodeKind k = ast_.nodes[n.lhs].kind;
-        if (k == NodeKind::Negate) out_ += ' ';
-        grouped(n.lhs, precedence(k) < 3 || k == NodeKind::Integer);
+        const Node& operand = ast_.nodes[n.lhs];
+        // Of a literal 0 or below, `- -5` reads back as this same tree, with no group.
+        if (operand.kind == NodeKind::Negate || (operand.kind == NodeKind::Integer && operand.value <= 0)) {
+          out_ += operand.kind == NodeKind::Integer && operand.value == 0 ? " -0" : " ";
+          if (!(operand.kind == NodeKind::Integer && operand.value == 0)) print(n.lhs);
+          return;
+        }
+        grouped(n.lhs, precedence(operand.kind) < 3 || operand.kind == NodeKind::Integer);
         return;
       }
       case NodeKind::Add:

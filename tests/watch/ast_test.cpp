@@ -37,6 +37,7 @@ TEST(NormalForm, ManyMinusSignsPrintWithinTheNestingTheyParsedIn) {
   // Found by the parser fuzzer: `-(-(-x))` doubled the nesting of 200 minus signs past the
   // parser's limit, so the normal form did not read back.
   EXPECT_EQ(normal("modules(a); - -(-a.x) = 1"), "modules(a); (- - -a.x = 1)");
+  EXPECT_EQ(normal("modules(a); a.x = - -0 + - -5 + -(5)"), "modules(a); (a.x = - -0 + - -5 + -(5))");
   const std::string chain = "modules(a); a.x = " + std::string(200, '-') + "1";
   const std::string once = normal(chain);
   EXPECT_EQ(normal(once), once);
