@@ -1,7 +1,7 @@
 // `dwatch bench NAME`: reproductions of the paper's measurements.
 //   engine    Table I on the watch engine alone, over a synthetic trace (bench_command.cpp)
-//   expressions  DESIGN §4b's arithmetic and aggregates beside plain Fig. 6 (bench_expressions.cpp)
-//   shapes    every group shape and state mode (DESIGN §4a) on the engine: time, messages per match
+//   expressions  docs/design.md §4b's arithmetic and aggregates beside plain Fig. 6 (bench_expressions.cpp)
+//   shapes    every group shape and state mode (docs/design.md §4a) on the engine: time, messages per match
 //             (bench_shapes.cpp)
 //   table1    Table I through the runtime: the host program running, the watchpoint live
 //   overhead  the watchpoint's overhead over a medium-intensity workload (paper §V-B)

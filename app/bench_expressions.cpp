@@ -1,4 +1,4 @@
-// `dwatch bench expressions`: what DESIGN §4b's expressions cost the engine, beside the plain
+// `dwatch bench expressions`: what docs/design.md §4b's expressions cost the engine, beside the plain
 // Fig. 6 row on the same Table I ensemble (default [2:2:2:2]), both algorithms:
 //   plain       Fig. 6 as the paper writes it
 //   arithmetic  Fig. 6 written with arithmetic, each term still an own leaf of its slot

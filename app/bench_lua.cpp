@@ -1,4 +1,4 @@
-// `dwatch bench lua`: the Lua ports of scenarios/lua/ beside their C++ twins (DESIGN §11). Each row
+// `dwatch bench lua`: the Lua ports of scenarios/lua/ beside their C++ twins (docs/design.md §11). Each row
 // runs the same scenario with the program named (C++) or read from its script (Lua), without a
 // watchpoint and without history, in a child process (its peak memory its own):
 //   - token_ring on a ring of 1,000 for 1,000 steps;

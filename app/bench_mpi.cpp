@@ -1,7 +1,7 @@
 // `dwatch bench mpi`: the million-module ensemble (bench million) run by `dwatch run` over ranks
 // as a user runs it, `mpirun -np R dwatch run SCENARIO -j T --stats FILE`, beside the same run in
 // one process: its time, the bytes between ranks per step, memory per rank, and whether every
-// layout gave the same matches and state hash (DESIGN §12).
+// layout gave the same matches and state hash (docs/design.md §12).
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -67,7 +67,7 @@ nlohmann::json run_once(const Layout& l, const fs::path& scenario, const std::st
 
 int bench_mpi(const BenchArgs& args) {
   const uint32_t size = args.size == 10 ? 100 : args.size;
-  // Open MPI refuses to start as root unless told that it may (DESIGN §12).
+  // Open MPI refuses to start as root unless told that it may (docs/design.md §12).
   if (geteuid() == 0) {
     ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 0);
     ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 0);

@@ -1,4 +1,4 @@
-// `dwatch bench session`: what the session's history costs and buys (DESIGN §7). Each row runs in
+// `dwatch bench session`: what the session's history costs and buys (docs/design.md §7). Each row runs in
 // a child process (its peak memory its own):
 //   - the Table I ensemble (10^3 cube, random_vars [2:2:2:2], Fig. 6 distributed), 2,000 steps:
 //     the live run with the history on against off, keyframe sizes (estimated by the session and

@@ -1,4 +1,4 @@
-// `dwatch bench shapes`: every group shape and state mode (DESIGN §4a) on the watch engine, over
+// `dwatch bench shapes`: every group shape and state mode (docs/design.md §4a) on the watch engine, over
 // the Table I ensemble (a 10x10x10 cube, 100 steps, the Fig. 6 watchpoint, default [2:2:2:2]):
 // time, and messages per match, which is the price of exactness beside the paper's algorithm.
 #include <iomanip>

@@ -1,4 +1,4 @@
-// The `dwatch` subcommands (DESIGN §6). Each returns the process exit code:
+// The `dwatch` subcommands (docs/design.md §6). Each returns the process exit code:
 // 0 ok, 1 runtime failure, 2 bad input (with a diagnostic on stderr).
 #pragma once
 
@@ -12,7 +12,7 @@ namespace dw::app {
 // Registers a subcommand on `app`; `run` is set to the function that carries it out once parsed.
 void add_check_command(CLI::App& app, std::function<int()>& run);
 void add_replay_command(CLI::App& app, std::function<int()>& run);
-// `ranks`: this process is one rank of a run over several (mpirun, DESIGN §12), or null.
+// `ranks`: this process is one rank of a run over several (mpirun, docs/design.md §12), or null.
 void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks = nullptr);
 void add_bench_command(CLI::App& app, std::function<int()>& run);
 void add_render_command(CLI::App& app, std::function<int()>& run);

@@ -31,7 +31,7 @@ void add_detector_flags(CLI::App& cmd, DetectorFlags& flags, bool with_algorithm
                  "Groups to find: chain, ordered or any (default: ordered centralized, chain distributed)")
       ->check(CLI::IsMember({"chain", "ordered", "any"}));
   cmd.add_option("--states", flags.states_name,
-                 "Distributed: consistent (the paper's) or simultaneous (exact, any shape; DESIGN §4a)")
+                 "Distributed: consistent (the paper's) or simultaneous (exact, any shape; docs/design.md §4a)")
       ->check(CLI::IsMember({"consistent", "simultaneous"}));
   cmd.add_flag("--no-early-termination", flags.no_early_termination, "Keep PatternMatchers that can no longer match");
   cmd.add_flag("--no-neighbor-culling", flags.no_neighbor_culling,

@@ -26,7 +26,7 @@ struct DetectorFlags {
 };
 
 // --algorithm (unless the command picks algorithms its own way), --shape and --states
-// (DESIGN §4a), the optimization switches and the --max-live budget.
+// (docs/design.md §4a), the optimization switches and the --max-live budget.
 void add_detector_flags(CLI::App& cmd, DetectorFlags& flags, bool with_algorithm = true);
 void print_detector_stats(std::ostream& out, const watch::DetectorStats& st);
 nlohmann::ordered_json stats_json(const watch::Watchpoint& w, const watch::DetectorStats& st, uint64_t matches);

@@ -72,7 +72,7 @@ void explain_watchpoint(const watch::Watchpoint& w, std::ostream& out) {
                                : "decided from the module's own neighbour set, no message")
         << "\n";
   }
-  // DESIGN §4a, §7: what each reading finds and how long it takes to decide a watch step.
+  // docs/design.md §4a, §7: what each reading finds and how long it takes to decide a watch step.
   const int k = p.slot_count();
   const int64_t e = a.extent_plus, h = a.aggregate_hops;
   using watch::GroupShape;

@@ -9,7 +9,7 @@
 #endif
 
 int main(int argc, char** argv) {
-  // Started by mpirun as one of several ranks (DESIGN §12): only `run` runs over ranks.
+  // Started by mpirun as one of several ranks (docs/design.md §12): only `run` runs over ranks.
   const char* world_size = std::getenv("OMPI_COMM_WORLD_SIZE");
   const bool several = world_size != nullptr && std::atoi(world_size) > 1;
 #ifdef DWATCH_MPI

@@ -289,7 +289,7 @@ std::string out_dir(const BenchArgs& args) { return args.out_dir.empty() ? "pape
 const char* plot_script() { return DWATCH_PLOT_SCRIPT; }
 
 std::string plot_command(const std::string& dir, const std::string& script) {
-  // Debian's matplotlib is only importable by Debian's interpreter (DESIGN §9).
+  // Debian's matplotlib is only importable by Debian's interpreter (docs/design.md §9).
   return "/usr/bin/python3 '" + script + "' '" + dir + "'";
 }
 
@@ -374,10 +374,11 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
           "assignment of its modules matches, so for [2:1:1:1] about 15/16 of the groups (one of four modules "
           "with x1 = 0) rather than half. Counting each connected group once with one assignment of slots fixed "
           "before the values are known gives the paper's numbers in every row; an enumeration that reaches each "
-          "set of modules once, in one order (as ESU does, DESIGN §4a), counts that way. Alg. 2's chains cannot "
+          "set of modules once, in one order (as ESU does, docs/design.md §4a), counts that way. Alg. 2's chains "
+          "cannot "
           "form the star-shaped groups (one module beside the three others) at all. dwatch keeps the paper's stated "
           "semantics for its "
-          "matches (DESIGN §4); `shape = \"any\"` finds every connected group.\n";
+          "matches (docs/design.md §4); `shape = \"any\"` finds every connected group.\n";
   md << "\n## Fig. 7: PatternMatchers created by slots filled (" << grouped(double(modules(run))) << " modules, "
      << a.steps << " steps)\n\n![Fig. 7](fig7.png)\n\n"
      << "The paper prints Fig. 7 as a plot without values, so there is nothing to set these beside; its text "

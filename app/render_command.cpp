@@ -1,5 +1,5 @@
 // `dwatch render SCENARIO --step N --out PNG`: the 3D view of a scenario at one step, headless
-// (DESIGN §6, §9), with the groups its watchpoints matched at that step highlighted.
+// (docs/design.md §6, §9), with the groups its watchpoints matched at that step highlighted.
 #include <fstream>
 #include <iostream>
 #include <memory>

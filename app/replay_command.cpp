@@ -145,7 +145,7 @@ int replay(const ReplayArgs& args) {
   std::vector<sim::MatchLog::WatchInfo> infos;
   for (const watch::Watchpoint& w : watches) {
     infos.push_back(sim::MatchLog::info(w));
-    // DESIGN §4b: a trace cannot change, and already holds what the run's actions did.
+    // docs/design.md §4b: a trace cannot change, and already holds what the run's actions did.
     if (!w.program.actions.empty())
       std::cerr << "dwatch: watchpoint '" << w.name
                 << "' has actions: replay reports its matches and what they would do, and performs none\n";

@@ -1,4 +1,4 @@
-// `dwatch run SCENARIO`: run a scenario headless with its watchpoints live (DESIGN §6).
+// `dwatch run SCENARIO`: run a scenario headless with its watchpoints live (docs/design.md §6).
 #include <sys/resource.h>
 #include <algorithm>
 #include <chrono>
@@ -109,7 +109,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
       log.release(out.step - max_lag);
       progress.update(out.step + 1);
     });
-    // Simultaneous-state watchpoints decide the run's last steps by draining (DESIGN §4a).
+    // Simultaneous-state watchpoints decide the run's last steps by draining (docs/design.md §4a).
     if (!pause && run.latest() + 1 == steps)
       run.drain(
           [&](uint32_t w, int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value> actions) {
@@ -259,7 +259,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
       if (h.algorithm == watch::Algorithm::Distributed)
         entry["states"] = watch::states_name(h.options.states.value_or(watch::States::Consistent));
       entry["action"] = sim::action_name(model.watches[w].action);
-      if (!h.watchpoint.program.actions.empty()) {  // DESIGN §4b: what its matches' actions did
+      if (!h.watchpoint.program.actions.empty()) {  // docs/design.md §4b: what its matches' actions did
         entry["actions_done"] = run.head().watches[w].actions_done;
         entry["actions_skipped"] = run.head().watches[w].actions_skipped;
       }

@@ -1,4 +1,4 @@
-// `dwatch session SCENARIO [--script FILE|-]`: the debugger without a window (DESIGN §7a). A
+// `dwatch session SCENARIO [--script FILE|-]`: the debugger without a window (docs/design.md §7a). A
 // script is checked whole before anything runs (a mistake is bad input, exit 2); then each
 // command is carried out and answered with one JSON object a line, and a command that fails
 // stops the script (exit 1, naming its line). On a terminal, without a script, it is a prompt.

@@ -1,4 +1,4 @@
-// The session command language (DESIGN §7a): one command a line, `#` comments, each answered
+// The session command language (docs/design.md §7a): one command a line, `#` comments, each answered
 // with one JSON object a line. `dwatch session` reads it from a script or a prompt; the window
 // sends the same commands. This file only parses and formats: every decision (where a run stops,
 // what an intervention drops, what a view of a step shows) is the session's (sim/session.h).
@@ -81,7 +81,7 @@ class SessionShell {
   std::variant<nlohmann::ordered_json, std::string> execute(const SessionCommand& command,
                                                             const sim::Control& control = {});
 
-  // Match i of watchpoint w as a line of the match log (DESIGN §5).
+  // Match i of watchpoint w as a line of the match log (docs/design.md §5).
   nlohmann::ordered_json match_json(uint32_t w, size_t i) const;
 
  private:

@@ -1,4 +1,4 @@
-// The headless 3D view of a scenario (DESIGN §9), shared by `dwatch render` and
+// The headless 3D view of a scenario (docs/design.md §9), shared by `dwatch render` and
 // `dwatch run --render`: a Scene from the run's state and matches, drawn through OSMesa to PNG.
 #pragma once
 

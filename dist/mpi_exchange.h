@@ -1,4 +1,4 @@
-// The ranks of a run over Open MPI (DESIGN §12): the process's MPI lifetime, and the collective
+// The ranks of a run over Open MPI (docs/design.md §12): the process's MPI lifetime, and the collective
 // calls of sim::RankExchange over MPI_COMM_WORLD.
 #pragma once
 

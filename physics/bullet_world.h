@@ -1,4 +1,4 @@
-// The physical World (DESIGN §8): every module a Bullet rigid body on a ground, latched to the
+// The physical World (docs/design.md §8): every module a Bullet rigid body on a ground, latched to the
 // modules it touches; the neighbour graph read from contacts after every step; programs push
 // their modules, make lattice moves, and release or make bonds.
 //

@@ -29,7 +29,7 @@ struct ContactGraph::Impl {
         shape(make_module_shape(kind)),
         threshold(threshold) {
     // The default box-box detector reports nothing across a gap, and the sphere-sphere one
-    // nothing beyond touching: GJK measures the gap for every module shape (DESIGN §8).
+    // nothing beyond touching: GJK measures the gap for every module shape (docs/design.md §8).
     const int type = shape->getShapeType();
     dispatcher.registerCollisionCreateFunc(
         type, type, config.getCollisionAlgorithmCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE));

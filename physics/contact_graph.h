@@ -1,4 +1,4 @@
-// The neighbour graph from contacts (DESIGN §8): one collision object per module in a
+// The neighbour graph from contacts (docs/design.md §8): one collision object per module in a
 // collision-only Bullet world (the GJK detector for every pair, so that a gap is measured), the
 // contact points of each pair's manifolds merged, a pair adjacent when some point lies within the
 // threshold; module ids ride on setUserIndex.

@@ -122,7 +122,7 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     info.m_friction = settings_.friction;
     info.m_restitution = settings_.restitution;
     auto& body = bodies.emplace_back(std::make_unique<btRigidBody>(info));
-    body->setActivationState(DISABLE_DEACTIVATION);  // sleeping changes contacts (DESIGN §8)
+    body->setActivationState(DISABLE_DEACTIVATION);  // sleeping changes contacts (docs/design.md §8)
     body->setUserIndex(tag);
     world.addRigidBody(body.get());
     return body.get();

@@ -1,4 +1,4 @@
-// One physics step of what can move (DESIGN §7, §8): clusters that are not anchored, modules
+// One physics step of what can move (docs/design.md §7, §8): clusters that are not anchored, modules
 // making a lattice move (kinematic), and props.
 //
 // The Bullet world is built from the state for each step and dropped after it, so nothing of

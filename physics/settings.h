@@ -1,4 +1,4 @@
-// What a scenario fixes about the physics (DESIGN §8): const for the run, beside the Model.
+// What a scenario fixes about the physics (docs/design.md §8): const for the run, beside the Model.
 // Units: module sizes (1 m), kilograms, seconds; z is up and the ground lies under the lowest
 // modules.
 #pragma once
@@ -31,7 +31,7 @@ struct PhysicsSettings {
   sim::Vec3 gravity{0, 0, -9.81f};
   std::optional<ModuleShape> shape;  // default_shape(lattice kind) when unset
   float module_mass = 1;
-  // Two modules are neighbours when their shapes are at most this far apart (DESIGN §8). At most
+  // Two modules are neighbours when their shapes are at most this far apart (docs/design.md §8). At most
   // kMaxContactThreshold, below which Bullet keeps contact points.
   float contact_threshold = 0.01f;
   static constexpr float kMaxContactThreshold = 0.015f;

@@ -1,5 +1,5 @@
 // The OpenGL 3.3 core functions the renderer calls, as a table of pointers loaded through the
-// context's own proc-address function (DESIGN §9).
+// context's own proc-address function (docs/design.md §9).
 //
 // Why a table and not a loader library: the same code must draw into an OSMesa context and into a
 // GLFW window, and both libOSMesa and libGL export the `gl*` symbols, so calling them directly

@@ -1,4 +1,4 @@
-// Where the renderer draws (DESIGN §9): a GL 3.3 core context and the functions loaded from it.
+// Where the renderer draws (docs/design.md §9): a GL 3.3 core context and the functions loaded from it.
 // An OSMesa context draws headless (render/osmesa_context.h); the debugger's GLFW window is
 // another implementation. The renderer sees only this interface.
 #pragma once

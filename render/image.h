@@ -1,5 +1,5 @@
 // Images the renderer reads back, as PNG files, and how two of them differ (the golden-image
-// tests, DESIGN §9).
+// tests, docs/design.md §9).
 #pragma once
 
 #include <cstdint>

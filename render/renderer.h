@@ -1,4 +1,4 @@
-// The 3D view (DESIGN §9): draws a Scene with GL 3.3 core into whatever context is current,
+// The 3D view (docs/design.md §9): draws a Scene with GL 3.3 core into whatever context is current,
 // headless (OSMesa) or in a window. Modules are instanced meshes under simple lighting over a
 // ground grid, coloured by a variable with a legend. When groups are highlighted, their modules
 // stay solid and outlined while the others fade to translucent, so a group inside a cube shows

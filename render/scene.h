@@ -1,4 +1,4 @@
-// What the view shows (DESIGN §9): a plain Scene, built by a free function from the Model, a
+// What the view shows (docs/design.md §9): a plain Scene, built by a free function from the Model, a
 // State and the matched groups to highlight. The renderer draws a Scene and nothing else: it
 // never touches the simulation.
 #pragma once

@@ -92,7 +92,7 @@ class LuaState final : public sim::ProgramScratch {
   const std::string& error() const { return error_; }
 
   // Reads `program`, `step` and `init` as the script defined them; false with error() set when
-  // they are not as DESIGN §11 says.
+  // they are not as docs/design.md §11 says.
   bool declare(Declared& d) {
     auto fail = [&](const std::string& why) {
       error_ = display_ + ": " + why;
@@ -479,7 +479,7 @@ class LuaState final : public sim::ProgramScratch {
     lua_pushinteger(L, n == 0 ? static_cast<lua_Integer>(m.random(stream)) : m.uniform(n, stream));
     return 1;
   }
-  // The body (DESIGN §11, mirroring sim::ModuleContext's sensing and actuation): only in a world
+  // The body (docs/design.md §11, mirroring sim::ModuleContext's sensing and actuation): only in a world
   // with bodies, which the scenario's [physics] makes.
   static sim::ModuleContext& body(lua_State* L, const char* method) {
     sim::ModuleContext& m = module(L);

@@ -1,4 +1,4 @@
-// Host programs written by users in Lua 5.4 (DESIGN §11): `[[program]] script = "x.lua"` plus the
+// Host programs written by users in Lua 5.4 (docs/design.md §11): `[[program]] script = "x.lua"` plus the
 // script's parameters. The script declares `program = { vars = {...}, params = {...} }` and
 // defines `step(m)` (and optionally `init(m)`); `m` is the module's side of the host-program API
 // (sim/host_program.h): m.id, m.step, m:get, m:set, m:neighbors, m:inbox, m:send, m:broadcast,

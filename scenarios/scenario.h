@@ -1,4 +1,4 @@
-// Scenario files (DESIGN §5): a TOML description of an ensemble, its programs, its watchpoints and
+// Scenario files (docs/design.md §5): a TOML description of an ensemble, its programs, its watchpoints and
 // how to run and show it, loaded into a Model and a World. Every mistake in the file is reported
 // as `file:line:col: error: message` with the line and a caret; nothing is thrown.
 //
@@ -17,7 +17,7 @@
 //   name = "two_leaders"
 //   text = "modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)"   # or file = "x.watch"
 //   algorithm = "distributed"          # or centralized (default distributed)
-//   shape = "chain"                    # chain | ordered | any (DESIGN §4a; default: ordered
+//   shape = "chain"                    # chain | ordered | any (docs/design.md §4a; default: ordered
 //                                      # centralized, chain distributed)
 //   states = "simultaneous"            # distributed: consistent (the paper's) | simultaneous
 //   action = "pause"                   # pause | log | count (default log)
@@ -28,7 +28,7 @@
 //   [[lattice.empty]]                  # cells left empty (inclusive lattice coordinates)
 //   from = [x, y, z]
 //   to = [x, y, z]
-//   [physics]                          # a Bullet world (DESIGN §8); off: the static lattice
+//   [physics]                          # a Bullet world (docs/design.md §8); off: the static lattice
 //   enabled = false
 //   dt = 0.0166667                     # seconds per step
 //   gravity = [0, 0, -9.81]
@@ -48,7 +48,7 @@
 //   mass = 40                          # 0: fixed in place
 //   position = [x, y, z]
 //   velocity = [x, y, z]
-//   [[event]]                          # interventions scheduled at the start of step `at` (DESIGN §7)
+//   [[event]]                          # interventions scheduled at the start of step `at` (docs/design.md §7)
 //   at = 40
 //   module = 7
 //   set = { token = 1 }                # or remove = true, or push = [x, y, z] (physics: N s)

@@ -22,7 +22,7 @@ packages=(
   clang-format                                 # scripts/check-format.sh (CI)
   time                                         # peak-memory figures for benchmarks (/usr/bin/time -v)
   python3-matplotlib                           # bench paper's plots (scripts/plot_paper.py, /usr/bin/python3)
-  libopenmpi-dev openmpi-bin                   # runs over several processes (mpirun -np N dwatch run, DESIGN §12)
+  libopenmpi-dev openmpi-bin                   # runs over several processes (mpirun -np N dwatch run, docs/design.md §12)
   libmetis-dev                                 # their --partition metis
 )
 

@@ -4,7 +4,7 @@
 Usage: /usr/bin/python3 scripts/plot_paper.py DIR
 
 Run it with Debian's /usr/bin/python3: Debian's python3-matplotlib is importable only there
-(DESIGN §9). The CSV files are the interface; the paper's published numbers come in their
+(docs/design.md §9). The CSV files are the interface; the paper's published numbers come in their
 paper_* columns, so nothing here knows a measurement.
 """
 import csv

@@ -1,4 +1,4 @@
-// What a host program asks of its module's body (DESIGN §2, §8): a push, a lattice move, bonds
+// What a host program asks of its module's body (docs/design.md §2, §8): a push, a lattice move, bonds
 // released or made. Requests made during step t are carried out by the World when it moves on to
 // t + 1, in module order; a World without bodies refuses them (a program error).
 #pragma once

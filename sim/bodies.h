@@ -1,4 +1,4 @@
-// The physical part of State (DESIGN §2, §8): where each module is, how it moves, which modules
+// The physical part of State (docs/design.md §2, §8): where each module is, how it moves, which modules
 // are latched together. Plain data, written by a physical World (physics/) and read by programs,
 // the renderer and the state hash; a static lattice leaves it empty.
 //

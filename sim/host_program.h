@@ -1,4 +1,4 @@
-// The host-program API (DESIGN §2): what a module's program sees and may do in one step.
+// The host-program API (docs/design.md §2): what a module's program sees and may do in one step.
 // A program is a const object fixed for the run (its parameters live in it); everything that
 // changes lives in the module's variables, so a snapshot of the variables is a snapshot of the
 // program. Names starting with '_' are hidden variables: state, not meant for display.

@@ -1,4 +1,4 @@
-// Interventions (DESIGN §7, "branches"): a change made to the ensemble from outside its programs,
+// Interventions (docs/design.md §7, "branches"): a change made to the ensemble from outside its programs,
 // at the start of a step, before the programs run. A session makes them interactively; a scenario
 // schedules them as [[event]] entries. Either way they are part of the history: the same
 // interventions at the same steps give the same run.

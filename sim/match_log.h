@@ -1,7 +1,7 @@
-// Collects the matches of several detectors and writes them as JSON Lines (DESIGN §5), sorted by
+// Collects the matches of several detectors and writes them as JSON Lines (docs/design.md §5), sorted by
 // t, then by watch (in the order given), then by slot ids in slot order:
 //   {"watch":"leaders","t":12,"slots":{"a":4,"b":5,"c":9}}
-// A watchpoint with actions (DESIGN §4b) adds what each asks, its value null when unknown:
+// A watchpoint with actions (docs/design.md §4b) adds what each asks, its value null when unknown:
 //   {"watch":"gradient","t":3,"slots":{"a":4,"b":5},"then":[{"set":"a.dist","module":4,"value":2}]}
 // Detectors finish watch steps at different lags; a step is written once every watch is past it.
 #pragma once

@@ -1,4 +1,4 @@
-// What a scenario fixes for a run (DESIGN §2): the modules and their lattice, the host programs
+// What a scenario fixes for a run (docs/design.md §2): the modules and their lattice, the host programs
 // with their parameters, the variable table, the compiled watchpoints. Const while a run goes on;
 // everything that changes is in State.
 #pragma once

@@ -1,4 +1,4 @@
-// Counter-based randomness (DESIGN §2): a number is a pure function of (seed, module, step,
+// Counter-based randomness (docs/design.md §2): a number is a pure function of (seed, module, step,
 // stream), so neither the order in which modules run nor the thread count can change it.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The seam to the other processes (ranks) of one run (DESIGN §12). Each rank runs the whole
+// The seam to the other processes (ranks) of one run (docs/design.md §12). Each rank runs the whole
 // session and steps its own part of the modules; what crosses between the parts (program
 // messages, PatternMatchers, matches, statistics, a failure) goes through these few collective
 // calls, which every rank makes in the same order. `dist/` implements them with Open MPI; `sim/`
@@ -81,7 +81,7 @@ class RankExchange {
   }
 };
 
-// How the modules are shared among ranks, in blocks of consecutive ids (DESIGN §12).
+// How the modules are shared among ranks, in blocks of consecutive ids (docs/design.md §12).
 enum class Partition {
   Auto,    // Blocks for a static lattice, Graph for a world whose links move (World::moves)
   Blocks,  // runs of consecutive blocks, each rank's holding about as many modules: slabs of a lattice

@@ -248,7 +248,7 @@ void Runtime::run_blocks(unsigned thread, std::span<const uint32_t> blocks, Stat
 }
 
 // Over ranks, the blocks that may send to another rank run first; their batches then travel while
-// the interior blocks run, and what the other ranks sent is taken in at the end (DESIGN §12).
+// the interior blocks run, and what the other ranks sent is taken in at the end (docs/design.md §12).
 void Runtime::run_over_ranks(State& state) {
   split_own_blocks(state);
   pool_.run([&](unsigned thread) {
@@ -553,7 +553,7 @@ void Runtime::add_up_over_ranks(watch::AgentStepOutcome& outcome) {
 }
 
 // The PatternMatchers other ranks sent to this rank's blocks (batches_for_ranks), appended to each
-// block's first lane. Their order in the lanes matters to nothing (DESIGN §4: a multiset), as with
+// block's first lane. Their order in the lanes matters to nothing (docs/design.md §4: a multiset), as with
 // threads.
 void Runtime::take_arrived_lanes(uint32_t w, WatchState& ws) {
   const uint32_t me = static_cast<uint32_t>(ranks_->rank());
@@ -705,7 +705,7 @@ void Runtime::intervene(State& state, std::span<const Intervention> intervention
 
 // The actions due at the start of this step (queue_actions), in the order queued. An action whose
 // value is unknown, whose module is absent by now or lacks the variable does nothing, and counts
-// as skipped (DESIGN §4b).
+// as skipped (docs/design.md §4b).
 void Runtime::act(State& state) {
   const uint32_t v = model_.variable_count();
   for (const PendingAction& a : state.actions) {

@@ -1,4 +1,4 @@
-// The step loop (DESIGN §2): `step` runs one step of the whole ensemble, shaped
+// The step loop (docs/design.md §2): `step` runs one step of the whole ensemble, shaped
 // step(const Model&, State&) with the world and the worker threads beside it.
 //
 // Modules are split into blocks of consecutive ids (at most 4096), and each thread takes a run of
@@ -31,7 +31,7 @@ struct WatchStepOutput {
   uint64_t matches = 0;
   std::vector<ModuleId> slots;        // slot ids per match, matches in ascending order; not for `count`
                                       // unless it has actions
-  std::vector<watch::Value> actions;  // per match, its actions' values (DESIGN §4b)
+  std::vector<watch::Value> actions;  // per match, its actions' values (docs/design.md §4b)
   bool observed = false;              // stats holds this step's statistics
   watch::StepStats stats;
 };
@@ -56,14 +56,14 @@ inline watch::Frame observed_frame(const Model& model, const State& state, const
   return make_frame(model, out.step, state.values, out.present, out.graph);
 }
 
-// Why `model` cannot run over several ranks, or empty when it can (DESIGN §12): a centralized or
+// Why `model` cannot run over several ranks, or empty when it can (docs/design.md §12): a centralized or
 // simultaneous-state detector observes the whole ensemble in one place, which no rank holds.
 std::string why_not_over_ranks(const Model& model);
 
 class Runtime {
  public:
   // `model` and `world` must outlive the runtime, and `ranks` too when given: then this process is
-  // one rank of a run over several (DESIGN §12). It steps the modules of the blocks `partition`
+  // one rank of a run over several (docs/design.md §12). It steps the modules of the blocks `partition`
   // gives its rank; every rank keeps the world (its bodies and N(m, t)) whole, with the actuations
   // of all, and the rest of the state for its own modules only.
   Runtime(const Model& model, World& world, unsigned threads, RankExchange* ranks = nullptr,
@@ -75,7 +75,7 @@ class Runtime {
   WatchState initial_watch_state(uint32_t w) const;
   // Runs step state.step and leaves the state ready for the next one. `interventions` are those
   // of this step, carried out first in their order (a bad one throws ProgramError), after the
-  // watchpoints' actions due then (DESIGN §4b). Only the watchpoints `watching` marks (all when
+  // watchpoints' actions due then (docs/design.md §4b). Only the watchpoints `watching` marks (all when
   // empty) observe the step, and those with actions, which are part of the simulation; the
   // others' states are left as they were, so a session can re-simulate for one watchpoint, or
   // for none.
@@ -84,7 +84,7 @@ class Runtime {
 
   // The run is over: the agents of watchpoint w, which wait a hop for their neighbours' values
   // (an aggregate's, watch::Program::agent_delay), decide the detector steps the last frames
-  // allow from the history they hold, one call per detector step f (DESIGN §7). Over ranks, a
+  // allow from the history they hold, one call per detector step f (docs/design.md §7). Over ranks, a
   // collective call.
   void drain_agents(State& state, uint32_t w, int64_t f, WatchStepOutput& out);
 
@@ -97,7 +97,7 @@ class Runtime {
   unsigned threads() const { return pool_.size(); }
 
   // The modules whose variables, inboxes and agents this process's states hold: [first, first +
-  // count), all of them in one process; over ranks, from its first block to its last (DESIGN §12).
+  // count), all of them in one process; over ranks, from its first block to its last (docs/design.md §12).
   uint32_t first_module() const { return first_; }
   uint32_t module_window() const { return window_; }
 

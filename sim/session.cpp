@@ -434,7 +434,7 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
   const uint32_t w = static_cast<uint32_t>(model_.watches.size());
   if (!watch.watchpoint.program.actions.empty() ||
       (replaces >= 0 && !model_.watches[static_cast<size_t>(replaces)].watchpoint.program.actions.empty())) {
-    // Its actions change the states themselves (DESIGN §4b): the history is simulated again.
+    // Its actions change the states themselves (docs/design.md §4b): the history is simulated again.
     if (replaces >= 0) {
       model_.watches[static_cast<size_t>(replaces)] = std::move(watch);
     } else {
@@ -552,7 +552,7 @@ bool Session::remove_watch(std::string_view name) {
   return true;
 }
 
-// Watchpoints' actions are part of the simulation (DESIGN §4b): when the watchpoints with actions
+// Watchpoints' actions are part of the simulation (docs/design.md §4b): when the watchpoints with actions
 // change, every state from step 0 may change, so the history is simulated again from the initial
 // state, each intervention and program replacement at its step, as far as it went, and the cursor
 // goes back where it was.

@@ -1,4 +1,4 @@
-// The debugging session (DESIGN §7): one object that the command line, the window, scripts and
+// The debugging session (docs/design.md §7): one object that the command line, the window, scripts and
 // tests all drive. It owns the run's whole history, step 0 to the latest, and a cursor on it:
 //
 //   - keyframes (full states) every K steps, K doubling whenever they outgrow their memory budget;
@@ -44,7 +44,7 @@ struct SessionOptions {
   // seek back, branch from the past, nor evaluate a new watchpoint over the past.
   size_t history_bytes = size_t{256} << 20;
   std::vector<Intervention> events;  // scheduled interventions ([[event]]), any order
-  // This process is one rank of a run over several (DESIGN §12): every rank makes the same calls
+  // This process is one rank of a run over several (docs/design.md §12): every rank makes the same calls
   // on its session, which steps the rank's modules and takes every decision alike on all ranks.
   RankExchange* ranks = nullptr;
   Partition partition = Partition::Auto;  // how the modules are shared among the ranks
@@ -107,7 +107,7 @@ class Session {
   // a `pause` match's step (returned) or when cancelled. Steps already simulated are revisited,
   // new ones simulated. Throws ProgramError when a program fails.
   std::optional<Pause> run_until(int64_t end, const StepObserver& observer = {}, const Control& control = {});
-  // The run is over (`dwatch run`'s last call, DESIGN §4a): the detectors that decide late, in
+  // The run is over (`dwatch run`'s last call, docs/design.md §4a): the detectors that decide late, in
   // simultaneous-state mode, drain their PatternMatchers over the last step's links. What they
   // find joins the history as detected at the latest step (a `pause` one does not pause) and goes
   // to `sink`. The session simulates no further step afterwards.

@@ -150,7 +150,7 @@ uint64_t hash_state(const State& s, std::span<const InFlightDigest> in_flight,
     for (int64_t w : m.payload()) h.word(static_cast<uint64_t>(w));
   }
   h.word(s.program_messages);
-  // Watchpoints' actions (DESIGN §4b), when there are any: a run without them hashes as it did.
+  // Watchpoints' actions (docs/design.md §4b), when there are any: a run without them hashes as it did.
   if (!s.actions.empty()) h.word(s.actions.size());
   for (const PendingAction& a : s.actions) {
     h.word((uint64_t{a.watch} << 32) | a.module);

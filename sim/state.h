@@ -1,4 +1,4 @@
-// Everything that changes during a run (DESIGN §2): a snapshot is a copy of a State.
+// Everything that changes during a run (docs/design.md §2): a snapshot is a copy of a State.
 #pragma once
 
 #include <cstdint>
@@ -17,7 +17,7 @@
 
 namespace dw::sim {
 
-// What a watchpoint's match does at the start of step t + λ + 1 (DESIGN §4b): set a module's
+// What a watchpoint's match does at the start of step t + λ + 1 (docs/design.md §4b): set a module's
 // variable, or take the module out.
 struct PendingAction {
   uint32_t watch = 0;
@@ -38,7 +38,7 @@ struct WatchState {
   std::optional<watch::DistributedAgents> agents;
   std::vector<watch::RecordBuffer> in_flight;
   uint64_t matches = 0;
-  uint64_t actions_done = 0, actions_skipped = 0;  // its matches' actions, carried out or not (DESIGN §4b)
+  uint64_t actions_done = 0, actions_skipped = 0;  // its matches' actions, carried out or not (docs/design.md §4b)
   bool stopped = false;                            // past the live budget: the watchpoint observes no more
   std::string stop_reason;
 
@@ -71,14 +71,14 @@ State simulation_part(const State& state, std::vector<int64_t> values);
 // in the lanes depends on the thread count and nothing else does.
 uint64_t hash_state(const State& state);
 // What hash_state takes of one watchpoint's PatternMatchers in flight: a sum of their hashes and
-// their count, which add up over parts of the state (the ranks of a run, DESIGN §12).
+// their count, which add up over parts of the state (the ranks of a run, docs/design.md §12).
 struct InFlightDigest {
   uint64_t sum = 0, count = 0;
 };
 InFlightDigest in_flight_digest(const WatchState& watch);
 // hash_state with each watchpoint's in-flight digest given rather than read from its lanes, and
 // the variables given as parts, one after another in module order, in place of state.values: a
-// whole put together from the ranks' parts without copying them into one (DESIGN §12).
+// whole put together from the ranks' parts without copying them into one (docs/design.md §12).
 uint64_t hash_state(const State& state, std::span<const InFlightDigest> in_flight,
                     std::span<const std::span<const int64_t>> values);
 // A state hash as the outputs print it: 0x and 16 hex digits.

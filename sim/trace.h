@@ -1,4 +1,4 @@
-// Traces in wptrace v1 (DESIGN §5): JSON Lines, one line per present module per step,
+// Traces in wptrace v1 (docs/design.md §5): JSON Lines, one line per present module per step,
 //   {"t":3,"m":17,"vars":{"x1":0,"isLeader":1},"nbrs":[16,18,27]}
 // after an optional header {"wptrace":1}. A module with no line at a step is absent then. A
 // recorded run's header also lists its interventions and its watchpoints, with their readings:

@@ -126,7 +126,7 @@ class TraceReader {
           return error(at, "unsupported trace version " + std::to_string(version) + " (this reader reads wptrace 1)");
         header = true;
       } else if (key == "interventions") {
-        // Provenance (DESIGN §7): how the run was made. The frames already carry its effects.
+        // Provenance (docs/design.md §7): how the run was made. The frames already carry its effects.
         if (!first) return error(at, "\"interventions\" belongs to the header, the first line");
         if (!v.is_array()) return error(at, "\"interventions\" must be an array");
         header = true;

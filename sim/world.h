@@ -1,4 +1,4 @@
-// Where modules are and who touches whom (DESIGN §2, §8). The runtime asks the world for the
+// Where modules are and who touches whom (docs/design.md §2, §8). The runtime asks the world for the
 // neighbour graph; a static lattice answers with its own, the Bullet world with its contacts.
 // A world may hold state of its own (a physics engine's), which is why it is not in Model; it
 // must be able to make that state agree with any State after a rollback.
@@ -24,7 +24,7 @@ class World {
   // N(m, state.step) that the next step's programs see. A request the world cannot carry out
   // throws ProgramError.
   virtual void advance(const Model& model, State& state, std::span<const Actuation> actuations) = 0;
-  // An intervention (DESIGN §7) before step state.step runs: module m leaves the ensemble. It is
+  // An intervention (docs/design.md §7) before step state.step runs: module m leaves the ensemble. It is
   // absent from now on and out of N(·, state.step); a physical world also lets go of its body.
   virtual void remove_module(const Model& model, State& state, ModuleId m);
   // Whether N(m, t) changes as the run goes (bodies moving), beyond interventions: then the ids'

@@ -22,7 +22,7 @@ namespace dw::watch {
 class AgentHistory {
  public:
   // Keeps the past of modules [first, first + modules) (all of them in one process; a rank's
-  // own, DESIGN §12). Modules are named by their ids throughout; rows hold only these.
+  // own, docs/design.md §12). Modules are named by their ids throughout; rows hold only these.
   void configure(const Program& program, bool temporal_spans, uint32_t first, uint32_t modules);
 
   // Makes room for the frame's step and takes its neighbour graph. Once per step, before the

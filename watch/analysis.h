@@ -1,4 +1,4 @@
-// Static analysis of a parsed watchpoint (paper §IV-A, DESIGN §3 and §4b): the temporal offset of
+// Static analysis of a parsed watchpoint (paper §IV-A, docs/design.md §3 and §4b): the temporal offset of
 // every term, each variable's temporal span, the temporal extent E+, what each slot reads, what
 // each neighbour aggregate reads, and the neighbor() constraints that can cull candidates.
 #pragma once
@@ -43,7 +43,7 @@ struct AggregateUse {
   std::vector<SlotRead> neighbor_reads;  // n.v at an offset, sorted, distinct
   std::vector<int> neighbor_sets;        // offsets at which neighbor(n ...) reads N(n), sorted, distinct
   std::vector<int> slots;                // the slots its body reads, besides its own, sorted
-  // Whether an agent needs its neighbours' messages to know it (DESIGN §7): it reads their
+  // Whether an agent needs its neighbours' messages to know it (docs/design.md §7): it reads their
   // variables or their neighbour sets, not only its own neighbour set.
   bool needs_messages() const { return !neighbor_reads.empty() || !neighbor_sets.empty(); }
 };
@@ -56,7 +56,7 @@ struct Analysis {
   int extent_plus = 0;                   // E+ = max(0, largest offset): how far the watchpoint looks ahead
   int min_offset = 0;                    // min(0, smallest offset): how far it looks back
   int min_neighbor_offset = 0;           // min(0, smallest offset at which a neighbour set is read)
-  // Steps a distributed agent waits for its neighbours' values (DESIGN §7): 1 when an aggregate
+  // Steps a distributed agent waits for its neighbours' values (docs/design.md §7): 1 when an aggregate
   // reads them, else 0. Part of the distributed readings' lag.
   int aggregate_hops = 0;
 

@@ -1,4 +1,4 @@
-// The syntax tree of one watchpoint (paper Fig. 1, DESIGN §3 and §4b). Nodes live in one vector and
+// The syntax tree of one watchpoint (paper Fig. 1, docs/design.md §3 and §4b). Nodes live in one vector and
 // refer to each other by index, so a tree of any shape is freed without recursion. Children are
 // always stored before their parents.
 #pragma once
@@ -45,7 +45,7 @@ enum class NodeKind : uint8_t {
   Neighbor,
   Compare,
   Error,
-  // integer expressions (DESIGN §4b)
+  // integer expressions (docs/design.md §4b)
   Integer,
   Variable,
   Negate,
@@ -77,7 +77,7 @@ struct Node {
   std::string name;  // Variable: the variable; Aggregate: the bound name
 };
 
-// `then set a.v = expr` or `then remove a` (DESIGN §4b).
+// `then set a.v = expr` or `then remove a` (docs/design.md §4b).
 struct Action {
   enum class Kind : uint8_t { Set, Remove };
   Kind kind = Kind::Set;

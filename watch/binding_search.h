@@ -1,4 +1,4 @@
-// The search at the heart of the centralized reading (paper Alg. 1, DESIGN §4 and §4a): every
+// The search at the heart of the centralized reading (paper Alg. 1, docs/design.md §4 and §4a): every
 // binding of one watch step whose slots form the group shape and make the expression true. Depth
 // first over the slots in order, so memory stays bounded by the watchpoint's size, with the
 // paper's early termination and neighbour culling. The centralized detector runs it over the
@@ -34,7 +34,7 @@ struct MatchBuffer {
   void grow() { ids.resize(2 * ids.size() + 4096); }
 };
 
-// The values of the actions (DESIGN §4b) of every match in `ids` (slot_count ids each), read
+// The values of the actions (docs/design.md §4b) of every match in `ids` (slot_count ids each), read
 // through the view the matches were found in, into `out` (cleared first).
 void action_values(const StepView& view, const Program& program, std::span<const uint32_t> ids,
                    std::vector<Value>& out);

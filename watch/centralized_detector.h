@@ -1,4 +1,4 @@
-// The centralized detector (paper Alg. 1, DESIGN §4 and §4a): at every watch step t, every binding
+// The centralized detector (paper Alg. 1, docs/design.md §4 and §4a): at every watch step t, every binding
 // of the slots to distinct modules present at t that forms the group shape (a chain, the paper's
 // prefix-connected order, or any connected group in any slot assignment) and makes the expression
 // true over simultaneous states.

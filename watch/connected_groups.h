@@ -1,4 +1,4 @@
-// Every connected group of k modules, each exactly once (DESIGN §4a, shape `any`): the ESU
+// Every connected group of k modules, each exactly once (docs/design.md §4a, shape `any`): the ESU
 // algorithm (Wernicke, "Efficient detection of network motifs", 2006). A group grows from its
 // smallest module v only by modules greater than v that are *exclusive* neighbours of the module
 // just added (adjacent to no module already in the group or beside it), so that no set of modules

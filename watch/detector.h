@@ -15,7 +15,7 @@
 
 namespace dw::watch {
 
-// The paper's §IV optimizations. Each can be switched off; results never change (DESIGN §4).
+// The paper's §IV optimizations. Each can be switched off; results never change (docs/design.md §4).
 struct Optimizations {
   bool early_termination = true;  // drop a PatternMatcher whose expression is already false
   bool neighbor_culling = true;   // spread only to modules that can satisfy neighbor() terms
@@ -25,14 +25,14 @@ struct Optimizations {
 enum class Algorithm { Centralized, Distributed };
 const char* algorithm_name(Algorithm a);
 
-// Which connected groups match (DESIGN §4a), over the neighbour graph at the match's step:
+// Which connected groups match (docs/design.md §4a), over the neighbour graph at the match's step:
 // Chain, a path in slot order; Ordered, each slot a neighbour of an earlier one (the paper's
 // Alg. 1); Any, every connected group in every slot assignment.
 enum class GroupShape : uint8_t { Chain, Ordered, Any };
 const char* shape_name(GroupShape s);
 std::optional<GroupShape> parse_shape(std::string_view name);
 
-// Which states the distributed algorithm compares (DESIGN §4a): Consistent, each slot at its own
+// Which states the distributed algorithm compares (docs/design.md §4a): Consistent, each slot at its own
 // fill step (the paper's Alg. 2); Simultaneous, every slot at the PatternMatcher's start step.
 enum class States : uint8_t { Consistent, Simultaneous };
 const char* states_name(States s);
@@ -54,13 +54,13 @@ bool simultaneous(Algorithm algorithm, const DetectorOptions& options);
 std::string unsupported(Algorithm algorithm, const DetectorOptions& options);
 
 // Hops a simultaneous-state PatternMatcher of k slots takes at most before it is decided (L in
-// DESIGN §4a): k - 1 for chains, where each slot is one hop from the one before; k(k - 1)/2 for
+// docs/design.md §4a): k - 1 for chains, where each slot is one hop from the one before; k(k - 1)/2 for
 // ordered and any groups, where reaching slot i + 1 may mean walking back through the i slots
 // filled so far (at most i - 1 hops over their tree) and one hop on.
 int64_t hop_latency(GroupShape shape, int slots);
 
 class Program;
-// Steps between a frame and the watch step it completes (DESIGN §7, "decided steps"): E+ for the
+// Steps between a frame and the watch step it completes (docs/design.md §7, "decided steps"): E+ for the
 // centralized detector, E+ + k - 1 for the distributed one, whose PatternMatchers take a step
 // per slot, E+ + L in simultaneous-state mode. The one definition every detector, the runtime
 // and the session use.
@@ -76,7 +76,7 @@ struct StepStats {
   uint64_t bytes = 0;     // distributed: their size
   uint64_t lost = 0;      // simultaneous states: PatternMatchers dropped by a link gone before their hop
   // Distributed: the messages that bring each module its neighbours' values for an aggregate
-  // (DESIGN §7's hop), one per present module and neighbour a step.
+  // (docs/design.md §7's hop), one per present module and neighbour a step.
   uint64_t value_messages = 0;
   uint64_t matches = 0;
   double seconds = 0;
@@ -102,7 +102,7 @@ struct DetectorStats {
 };
 
 // Receives the matches of one watch step `t`: `slots` holds count * slot_count module ids,
-// each match's ids in slot order; `actions`, of a watchpoint with actions (DESIGN §4b), count *
+// each match's ids in slot order; `actions`, of a watchpoint with actions (docs/design.md §4b), count *
 // action_count values, each match's in action order (a `remove`'s is 0), and is empty otherwise.
 // Called at most once per t, in increasing t.
 using MatchSink = std::function<void(int64_t t, std::span<const ModuleId> slots, std::span<const Value> actions)>;

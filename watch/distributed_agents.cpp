@@ -30,7 +30,7 @@ bool admit(AgentContext& ctx, uint32_t filled) {
 
 }  // namespace
 
-// Reads what module m knows as it fills `slot` at detector step f, for value code (DESIGN §4b):
+// Reads what module m knows as it fills `slot` at detector step f, for value code (docs/design.md §4b):
 // its own history; its neighbours' values and neighbour sets, which their messages brought it
 // (the hop in Program::agent_delay); and what the PatternMatcher carries of the slots filled
 // before (cells, sets, tables). Without a PatternMatcher, only the module's own.
@@ -122,7 +122,7 @@ class DistributedAgents::Reader {
     return truth_of(std::find(ns, ns + count, y) != ns + count);
   }
 
-  // N(m, step) as a set of the neighbours present then (DESIGN §4b), or -1 when m was absent.
+  // N(m, step) as a set of the neighbours present then (docs/design.md §4b), or -1 when m was absent.
   static int gather_neighbors(const AgentHistory& h, uint32_t m, int64_t step, std::vector<uint32_t>& out) {
     uint32_t count = 0;
     const uint32_t* ns = h.neighbors(m, step, count);
@@ -228,7 +228,7 @@ void DistributedAgents::decide_own(const Leaf& leaf, int64_t f, uint32_t begin, 
   }
 }
 
-// decide_own for a leaf of value code (DESIGN §4b), one module at a time.
+// decide_own for a leaf of value code (docs/design.md §4b), one module at a time.
 void DistributedAgents::decide_own_expression(const Program& p, const Leaf& leaf, int64_t f, uint32_t begin,
                                               uint32_t end, uint32_t at) {
   EvaluatorScratch scratch(p);  // per call, not per agents: several threads record blocks at once
@@ -282,7 +282,7 @@ bool DistributedAgents::write_table(uint32_t m, int64_t f, const AggregateCode& 
   return true;
 }
 
-// The values of a match's actions (DESIGN §4b), read as the match's reading reads them.
+// The values of a match's actions (docs/design.md §4b), read as the match's reading reads them.
 void DistributedAgents::act(uint32_t m, int64_t f, const PatternMatcherRef& pm, AgentContext& ctx) const {
   const Program& p = ctx.program;
   Reader r(*this, m, pm.filled(), f, &pm, ctx.neighbors, ctx.rows);

@@ -52,7 +52,7 @@ struct AgentContext {
   uint32_t slot_count;  // of the program
   uint64_t live_limit;  // the live budget; no budget is the largest number
 
-  // Per match, the values of the program's actions (DESIGN §4b), in step with `matches`.
+  // Per match, the values of the program's actions (docs/design.md §4b), in step with `matches`.
   std::vector<Value> action_values;
   std::vector<std::byte> scratch;         // the PatternMatcher being filled
   EvaluatorScratch evaluation;            // value code's stacks
@@ -64,7 +64,7 @@ struct AgentContext {
 
 class DistributedAgents {
  public:
-  // The agents of modules [first, first + modules): all of them, or a rank's own (DESIGN §12).
+  // The agents of modules [first, first + modules): all of them, or a rank's own (docs/design.md §12).
   DistributedAgents(const Program& program, bool temporal_spans, uint32_t first, uint32_t modules);
 
   uint32_t size() const { return history_.modules(); }

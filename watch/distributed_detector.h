@@ -1,4 +1,4 @@
-// The distributed detector (paper Alg. 2, DESIGN §4): one distributed agent per module, the
+// The distributed detector (paper Alg. 2, docs/design.md §4): one distributed agent per module, the
 // PatternMatchers they exchange carried by an in-process transport. Consistent states, linear
 // chains: slot i is filled at step t0 + i - 1 by a neighbour of the module that filled slot i - 1.
 #pragma once

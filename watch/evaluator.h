@@ -1,4 +1,4 @@
-// Runs a Program's value code (DESIGN §4b) over whatever holds the state a reading compares:
+// Runs a Program's value code (docs/design.md §4b) over whatever holds the state a reading compares:
 // exact int64 arithmetic in three values, where an unknown operand, a division or remainder by
 // zero, and any result outside int64 are Unknown (never a wrap, never a trap).
 //
@@ -23,7 +23,7 @@
 
 namespace dw::watch {
 
-// One arithmetic operation, checked (DESIGN §4b): truncating division, the dividend's sign for
+// One arithmetic operation, checked (docs/design.md §4b): truncating division, the dividend's sign for
 // the remainder, INT64_MIN / -1 unknown and INT64_MIN % -1 zero.
 inline Value apply(ValueOp op, Value a, Value b) {
   if (!a.known || ((op != ValueOp::Negate && op != ValueOp::Abs) && !b.known)) return {};

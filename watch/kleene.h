@@ -1,4 +1,4 @@
-// Three-valued (Kleene) logic (DESIGN §4). A truth value is two bits: "may be true" and "may be
+// Three-valued (Kleene) logic (docs/design.md §4). A truth value is two bits: "may be true" and "may be
 // false", so and/or/not are branch-free bit operations and "not yet known" is simply Unknown.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The watchpoint grammar's integer expressions (DESIGN §4b), modules and state variables; the
+// The watchpoint grammar's integer expressions (docs/design.md §4b), modules and state variables; the
 // parser's state is watch/parser_impl.h, the conditions watch/parser.cpp.
 #include <cstdlib>
 #include <string>

@@ -167,7 +167,7 @@ NodeIndex Parser::parse_not(int depth) {
 // primary := 'neighbor' '(' module ','? module ')' | '(' or ')' | compare
 // The paper's `'(' compare ')'` is the case of `'(' or ')'` whose inside is one comparison; a
 // bare comparison where a primary is expected is an accepted extension. A '(' that does not open
-// a condition opens the first operand of a comparison (DESIGN §4b).
+// a condition opens the first operand of a comparison (docs/design.md §4b).
 NodeIndex Parser::parse_primary(int depth) {
   const Span start = peek().span;
   if (match(TokenKind::Neighbor)) return parse_neighbor(start);

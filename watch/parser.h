@@ -1,4 +1,4 @@
-// Recursive-descent parser for the watchpoint language (DESIGN §3) with panic-mode recovery:
+// Recursive-descent parser for the watchpoint language (docs/design.md §3) with panic-mode recovery:
 // one mistake gives one diagnostic, and parsing goes on to find independent ones.
 #pragma once
 

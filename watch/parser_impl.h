@@ -151,7 +151,7 @@ class Parser {
   }
 
   // The grammar: parser.cpp has the watchpoint, its actions and conditions; parse_expression.cpp
-  // the integer expressions (DESIGN §4b), modules and variables.
+  // the integer expressions (docs/design.md §4b), modules and variables.
   void parse_watchpoint();
   void parse_module_decl();
   void parse_actions();
@@ -191,7 +191,7 @@ class Parser {
 
   NodeIndex parse_compare(int depth);
 
-  // ---- grammar: integer expressions (DESIGN §4b) --------------------------------------------
+  // ---- grammar: integer expressions (docs/design.md §4b) --------------------------------------------
 
   // An expression where one must follow `context` ("after '='"), by `parse` (a whole expression,
   // or the operand of an operator): says what was expected if none starts here.

@@ -4,7 +4,7 @@
 //   uint32 header (filled: low 8 bits, bytes: high 24) | uint32 ids[k] | int64 cells[C] |
 //   Truth leaves[L] | uint8 cell_known[C] | pad to 4 | sets: (uint32 count, uint32 ids[count])*
 //
-// where a record of the sets may instead be a table of an aggregate's neighbours (DESIGN §4b):
+// where a record of the sets may instead be a table of an aggregate's neighbours (docs/design.md §4b):
 // uint32 count | uint32 words | rows, each uint32 id | (int64 value, uint32 known) per read |
 // (uint32 count, uint32 ids[count]) per neighbour set read; `words` counts the rows' words.
 //

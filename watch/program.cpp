@@ -88,7 +88,7 @@ class Compiler {
       return op.kind == ExprOp::PushLeaf || op.kind == ExprOp::And;
     });
     p_.shape = conjunction ? Program::Shape::Conjunction : Program::Shape::General;
-    // Actions are decided with the match, at the last slot (DESIGN §4b).
+    // Actions are decided with the match, at the last slot (docs/design.md §4b).
     for (const Action& a : ast_.actions) {
       ActionCode code{a.kind, static_cast<int16_t>(a.slot), a.variable, kNoCode};
       if (a.kind == Action::Kind::Set) {

@@ -4,7 +4,7 @@
 // they mention is filled: its `decide_slot`. Until then a leaf is Unknown. The expression itself
 // is a postfix program over leaf truth values, evaluated in Kleene logic.
 //
-// A comparison of two plain operands (a variable, a constant) is decided inline; any other (DESIGN
+// A comparison of two plain operands (a variable, a constant) is decided inline; any other (docs/design.md
 // §4b: arithmetic, aggregates over neighbours) compiles its two sides to postfix value code, run
 // by watch/evaluator.h over whatever reads the detector's state.
 //
@@ -45,7 +45,7 @@ inline bool holds(CompareOp op, int64_t a, int64_t b) {
   return false;
 }
 
-// ---- value code (DESIGN §4b) ------------------------------------------------------------------
+// ---- value code (docs/design.md §4b) ------------------------------------------------------------------
 
 enum class ValueOp : uint8_t {
   Constant,   // push `constant`
@@ -189,7 +189,7 @@ class Program {
 
   int slot_count() const { return static_cast<int>(slot_names.size()); }
   // Steps a distributed reading waits behind a frame before it decides a step: E+, and the hop an
-  // aggregate takes to learn its neighbours' values (DESIGN §7).
+  // aggregate takes to learn its neighbours' values (docs/design.md §7).
   int agent_delay() const { return extent_plus + aggregate_hops; }
 
   // Evaluates the expression over leaf truth values; `stack` holds at least max_stack entries.

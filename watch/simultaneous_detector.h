@@ -1,4 +1,4 @@
-// The distributed algorithm in simultaneous-state mode (DESIGN §4a). Every module starts one
+// The distributed algorithm in simultaneous-state mode (docs/design.md §4a). Every module starts one
 // PatternMatcher per step t0; PatternMatchers travel only between neighbours, one hop per step,
 // and every slot reads its module's state and neighbour set at t0 (modules keep that history), so
 // the groups found are the centralized ones of the same shape: exactly those while the topology

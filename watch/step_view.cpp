@@ -47,7 +47,7 @@ uint64_t StepHistory::held_values() const {
   return held;
 }
 
-// Reads a binding's state at watch step t for value code: every slot's "now" is t (DESIGN §4).
+// Reads a binding's state at watch step t for value code: every slot's "now" is t (docs/design.md §4).
 class StepView::Reader {
  public:
   Reader(const StepView& v, const uint32_t* binding) : v_(v), h_(*v.history_), binding_(binding) {}
@@ -58,7 +58,7 @@ class StepView::Reader {
     const StepHistory::Graph* g = h_.graph(step_);
     const uint32_t m = binding_[a.slot];
     if (g == nullptr || !g->present[m]) return -1;
-    // N(m, s) is a set of the neighbours present at s (DESIGN §4b).
+    // N(m, s) is a set of the neighbours present at s (docs/design.md §4b).
     std::vector<uint32_t>& n = v_.neighbors_;
     n.clear();
     for (uint32_t u : g->neighbors(m))

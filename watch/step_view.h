@@ -1,4 +1,4 @@
-// The ensemble's recent steps as a whole-ensemble reading needs them (DESIGN §4), and one watch
+// The ensemble's recent steps as a whole-ensemble reading needs them (docs/design.md §4), and one watch
 // step t read through them with every slot's "now" at t (simultaneous states). The centralized
 // detector reads one step at a time; the simultaneous-state distributed detector holds a view per
 // start step in flight.
@@ -93,7 +93,7 @@ class StepView {
   const Program* program_ = nullptr;
   const StepHistory* history_ = nullptr;
   uint32_t modules_ = 0;
-  // Scratch for value code (DESIGN §4b): an aggregate's neighbours, the evaluator's stacks.
+  // Scratch for value code (docs/design.md §4b): an aggregate's neighbours, the evaluator's stacks.
   mutable std::vector<uint32_t> neighbors_;
   mutable EvaluatorScratch scratch_;
   int64_t t_ = -1;

@@ -1,4 +1,4 @@
-// Tokens of the watchpoint language (DESIGN §3).
+// Tokens of the watchpoint language (docs/design.md §3).
 #pragma once
 
 #include <cstdint>
@@ -20,7 +20,7 @@ enum class TokenKind : uint8_t {
   Neighbor,
   Last,
   Next,
-  // keywords of expressions and actions (DESIGN §4b): reserved for slot and bound names, but a
+  // keywords of expressions and actions (docs/design.md §4b): reserved for slot and bound names, but a
   // variable may be named by one after '.' (`a.count`)
   In,
   Neighbors,
@@ -66,7 +66,7 @@ struct Token {
 
 // Any keyword: none names a slot or a bound name.
 bool is_keyword(TokenKind k);
-// The paper's keywords (DESIGN §3), reserved everywhere, variable names included.
+// The paper's keywords (docs/design.md §3), reserved everywhere, variable names included.
 bool is_reserved(TokenKind k);
 bool is_comparison(TokenKind k);
 // How a token kind is spelled in messages: "'and'", "')'", "a name", "end of input".

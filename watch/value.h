@@ -1,4 +1,4 @@
-// An integer of the watchpoint language (DESIGN §4b): an int64, or Unknown.
+// An integer of the watchpoint language (docs/design.md §4b): an int64, or Unknown.
 #pragma once
 
 #include <cstdint>

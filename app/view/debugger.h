@@ -1,7 +1,7 @@
 // `dwatch view`: the debugger window (GLFW + Dear ImGui) over one session. The 3D view (the same
 // renderer and scene as `dwatch render`), the transport bar and a timeline of every watchpoint's
 // matches, and panels for the watchpoints, the matches, the selected module, interventions and
-// statistics. Every widget sends a line of the session language (DESIGN §7a) through the same
+// statistics. Every widget sends a line of the session language (docs/design.md §7a) through the same
 // SessionShell as `dwatch session`, run by a worker thread so that the window keeps drawing; what
 // the panels show is a Frame read between jobs. A script drives the same window: the session's
 // commands, plus `click`, `key`, `wait`, `screenshot` and `panel`.

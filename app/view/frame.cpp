@@ -89,7 +89,7 @@ Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, con
     WatchRow row;
     row.name = h.watchpoint.name;
     row.algorithm = watch::algorithm_name(h.algorithm);
-    // The groups it finds and the states it compares (DESIGN §4a).
+    // The groups it finds and the states it compares (docs/design.md §4a).
     row.shape = watch::shape_name(watch::group_shape(h.algorithm, h.options));
     if (h.algorithm == watch::Algorithm::Distributed)
       row.states = watch::states_name(h.options.states.value_or(watch::States::Consistent));

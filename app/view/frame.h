@@ -21,7 +21,7 @@ namespace dw::view {
 struct WatchRow {
   std::string name, algorithm, shape, action, text;
   std::string states;  // distributed: "consistent" or "simultaneous"; empty for centralized
-  // The session's `watch` words that give this reading and action (DESIGN §7a, §4a).
+  // The session's `watch` words that give this reading and action (docs/design.md §7a, §4a).
   std::string words() const { return algorithm + " " + shape + (states.empty() ? "" : " " + states) + " " + action; }
   int64_t lag = 0;
   uint64_t matches = 0;

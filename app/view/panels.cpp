@@ -348,7 +348,7 @@ void Debugger::matches_panel() {
   ImGui::InputText("##matches_path", matches_path_, sizeof matches_path_);
   ImGui::SameLine();
   if (ImGui::SmallButton("save the matches")) {
-    // Every match of every watchpoint, as the match log writes them (DESIGN §5).
+    // Every match of every watchpoint, as the match log writes them (docs/design.md §5).
     std::string lines;
     size_t written = 0;
     const bool read = worker_->try_read([&](sim::Session& s) {

@@ -1,4 +1,4 @@
-// `dwatch view SCENARIO [--script FILE]`: the debugger window (DESIGN §6, §7a). Without a script
+// `dwatch view SCENARIO [--script FILE]`: the debugger window (docs/design.md §6, §7a). Without a script
 // it is the interactive window until closed; with one, the script drives the real window and
 // each line is answered with one JSON line, as `dwatch session` answers.
 #include <iostream>

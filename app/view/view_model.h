@@ -3,7 +3,7 @@
 // selection, the timeline's mapping of pixels to steps, the matches table's filter and order, and
 // what each key does. The window (debugger.cpp) only draws this state and forwards input; the
 // session (sim/session.h) decides everything about time. Commands are lines of the session
-// language (DESIGN §7a), so a widget, a key and a script line take the same path.
+// language (docs/design.md §7a), so a widget, a key and a script line take the same path.
 #pragma once
 
 #include <cstdint>
@@ -93,7 +93,7 @@ struct ScriptWord {
   std::string text;
   watch::Span span;
 };
-// The commands only the window has (DESIGN §7a): click M | click match ROW | click timeline T,
+// The commands only the window has (docs/design.md §7a): click M | click match ROW | click timeline T,
 // key NAME, wait N, screenshot FILE, panel NAME.
 bool is_window_command(std::string_view word);
 // A mistake in one (its words, the span just past the line's end), or nothing.

@@ -177,7 +177,7 @@ TEST_F(Cli, RecordedRunReplaysToTheSameMatches) {
   }
 }
 
-// DESIGN §4b: an aggregate over neighbours' values and an action; replay of the run's trace finds
+// docs/design.md §4b: an aggregate over neighbours' values and an action; replay of the run's trace finds
 // the run's matches, those of the last steps included (the agents' hop drained at the end), and
 // performs no action, saying so.
 TEST_F(Cli, RecordedRunWithAggregatesAndActionsReplaysToTheSameMatches) {

@@ -1,5 +1,5 @@
 // Every expression case of the independent reference (tests/conformance_expr/, copied from
-// shared/conformance_expr/, DESIGN §4b: arithmetic, neighbour aggregates), every reading it has
+// shared/conformance_expr/, docs/design.md §4b: arithmetic, neighbour aggregates), every reading it has
 // expected matches for, every combination of the optimizations: the same set of (t, slots).
 //   centralized (ordered)        expected.centralized.jsonl
 //   distributed, consistent      expected.distributed.jsonl

@@ -1,5 +1,5 @@
 // Every group-shape case of the independent reference (tests/conformance_shapes/, copied from
-// shared/conformance_shapes/, DESIGN §4a), every shape, every combination of the optimizations:
+// shared/conformance_shapes/, docs/design.md §4a), every shape, every combination of the optimizations:
 // the centralized detector finds exactly the expected matches; the distributed one in
 // simultaneous-state mode finds exactly them on a fixed topology and a subset, never a match
 // outside them, on a moving one.

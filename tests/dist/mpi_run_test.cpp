@@ -1,4 +1,4 @@
-// `mpirun -np N dwatch run` (dist/, DESIGN §12) as a user runs it: every output file and the state
+// `mpirun -np N dwatch run` (dist/, docs/design.md §12) as a user runs it: every output file and the state
 // hash equal those of the same run in one process, for 2, 3 and 4 ranks, on static lattices and
 // on a lattice that moves (the Bullet world, kept whole on every rank).
 #include <nlohmann/json.hpp>
@@ -12,7 +12,7 @@ class MpiRun : public Cli {
  protected:
   void SetUp() override {
     Cli::SetUp();
-    // Open MPI refuses root without these (DESIGN §12); the tests may run as root in CI.
+    // Open MPI refuses root without these (docs/design.md §12); the tests may run as root in CI.
     ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
     ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
     // Under the sanitizers (scripts/test.sh --asan): Open MPI's plugins stay loaded to the end and
@@ -125,7 +125,7 @@ TEST_F(MpiRun, SlidingModulesInTheBulletWorldEqualOneProcessTraceIncluded) {
 }
 
 TEST_F(MpiRun, WatchpointActionsEqualOneProcess) {
-  // LDP's gradient read by the agents (DESIGN §4b): the actions' values are gathered with the
+  // LDP's gradient read by the agents (docs/design.md §4b): the actions' values are gathered with the
   // matches, and each rank sets its own modules' variables, at the same step as one process.
   std::string text = slurp(scenarios_ + "/gradient_ldp.toml");
   const std::string script = "script = \"lua/";

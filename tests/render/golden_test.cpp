@@ -1,4 +1,4 @@
-// Golden images (DESIGN §9): the views a person looks at, drawn by `dwatch render` and compared
+// Golden images (docs/design.md §9): the views a person looks at, drawn by `dwatch render` and compared
 // with tests/golden/*.png. A pixel differs when a channel is off by more than kTolerance; an image
 // fails when more than kMaxShare of its pixels differ. A failing test writes the actual image and
 // a diff (differing pixels red) under DWATCH_GOLDEN_OUT and names them.

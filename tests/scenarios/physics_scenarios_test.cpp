@@ -1,5 +1,5 @@
 // The scenarios with a Bullet world (scenarios/*.toml with [physics]): determinism and rollback
-// with physics (DESIGN §7), the wall that breaks, the §I watchpoint on sliding modules, and the
+// with physics (docs/design.md §7), the wall that breaks, the §I watchpoint on sliding modules, and the
 // physics variants of leader election and token ring matching their static lattices exactly.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Retroactive watchpoints over every shipped scenario (DESIGN §7): each scenario's watchpoints,
+// Retroactive watchpoints over every shipped scenario (docs/design.md §7): each scenario's watchpoints,
 // with either algorithm, taken out before step 0 and added back partway through a session, find
 // exactly what a run that had them from step 0 finds, and the session's states hash the same.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// A soak test of time travel (DESIGN §7): 2,000 steps of a shipped scenario with 50 rollbacks to
+// A soak test of time travel (docs/design.md §7): 2,000 steps of a shipped scenario with 50 rollbacks to
 // random depths in the snapshot ring, each followed by a resume. The state hash equals the straight
 // run's at every step, after every rollback and at the end, and so do the matches, on 1 and 2
 // threads: table1 with a second watchpoint that stops at its live budget part way (the stop is

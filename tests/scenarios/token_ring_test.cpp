@@ -11,7 +11,7 @@ const char* kFig3 =
     "modules(a x b); neighbor(x b) and (x.token = 1) and (((a.last.token = 1) and (b.last.token = 1)) or "
     "((a.last.token = 0) and (b.last.token = 0)))";
 
-// The Fig. 3 watchpoint read centrally, or by the modules over simultaneous states (DESIGN §4a),
+// The Fig. 3 watchpoint read centrally, or by the modules over simultaneous states (docs/design.md §4a),
 // or by the paper's distributed algorithm over consistent states.
 const char* kCentralized = "algorithm = \"centralized\"";
 const char* kSimultaneous = "algorithm = \"distributed\"\nstates = \"simultaneous\"";

@@ -1,4 +1,4 @@
-// Watchpoints' actions (DESIGN §4b) as a run carries them out: LDP's one-line gradient
+// Watchpoints' actions (docs/design.md §4b) as a run carries them out: LDP's one-line gradient
 // (scenarios/gradient_ldp.toml) ends at the BFS distances; the same states on any thread count;
 // and an action takes effect at the start of step t + λ + 1, whichever reading found the match.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The runtime over several ranks (sim/runtime.cpp with a RankExchange, DESIGN §12), without MPI:
+// The runtime over several ranks (sim/runtime.cpp with a RankExchange, docs/design.md §12), without MPI:
 // the ranks are threads of this test, exchanging through memory. After every step, the state hash
 // of the whole (Runtime::hash), the statistics and the matches equal those of one runtime.
 #include <gtest/gtest.h>

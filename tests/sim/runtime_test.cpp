@@ -1,4 +1,4 @@
-// The machine model of DESIGN §2 as the runtime implements it: reads see the previous step,
+// The machine model of docs/design.md §2 as the runtime implements it: reads see the previous step,
 // messages arrive one step later in sender order, only neighbours can be sent to, randomness is a
 // function of (seed, module, step, stream), and the recorded frames are what the watchpoints saw.
 #include "sim/runtime.h"

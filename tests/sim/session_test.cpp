@@ -1,4 +1,4 @@
-// The session (DESIGN §7): the whole history, seek, branches, retroactive watchpoints, decided
+// The session (docs/design.md §7): the whole history, seek, branches, retroactive watchpoints, decided
 // steps and cancelling. Every claim is checked against a straight run: state hashes at every
 // step and the matches, on 1 and 2 (or more) threads.
 #include "sim/session.h"

@@ -80,7 +80,7 @@ TEST(AgentHistory, KeepsExactlyTheStepsTheSpansNeed) {
 
 TEST(AgentHistory, ARanksHistoryKeepsItsOwnModulesByTheirIds) {
   // Modules 1 and 2 of the three, from frames that carry the variables of those two only (a
-  // rank's, DESIGN §12): what they read is what the whole history reads of them.
+  // rank's, docs/design.md §12): what they read is what the whole history reads of them.
   const Watchpoint w = compile_or_die("modules(a b); (a.last.x = b.x)");
   const AgentHistory whole = six_steps("modules(a b); (a.last.x = b.x)", true);
   AgentHistory part;

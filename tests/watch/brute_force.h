@@ -1,4 +1,4 @@
-// A brute-force reading of a watchpoint, written here straight from DESIGN §4 and §4b and
+// A brute-force reading of a watchpoint, written here straight from docs/design.md §4 and §4b and
 // independent of watch/program and watch/evaluator: the tree is walked for each binding, values
 // are exact (__int128), and every rule of the semantics is spelled out where it applies.
 #pragma once

@@ -1,5 +1,5 @@
-// Property tests (DESIGN §10): random traces and random watchpoints, checked against brute-force
-// enumerators written here from the definitions in DESIGN §4, independently of watch/program.
+// Property tests (docs/design.md §10): random traces and random watchpoints, checked against brute-force
+// enumerators written here from the definitions in docs/design.md §4, independently of watch/program.
 #include <gtest/gtest.h>
 
 #include <optional>
@@ -74,7 +74,7 @@ class Generator {
     return e;
   }
 
-  // `expressions`: comparisons of DESIGN §4b's expressions, with aggregates over neighbours.
+  // `expressions`: comparisons of docs/design.md §4b's expressions, with aggregates over neighbours.
   std::string watch(int slots, bool offsets, bool expressions = false) {
     slots_ = slots;
     offsets_ = offsets;
@@ -222,7 +222,7 @@ std::set<Match> brute_distributed(const TestEnsemble& e, const Watchpoint& w) {
   return out;
 }
 
-// Whether binding b, every module present at t, forms the group shape over N(t) (DESIGN §4a).
+// Whether binding b, every module present at t, forms the group shape over N(t) (docs/design.md §4a).
 bool forms(const TestEnsemble& e, int64_t t, const std::vector<uint32_t>& b, GroupShape shape) {
   for (uint32_t m : b)
     if (!e.present(t, m)) return false;
@@ -431,7 +431,7 @@ TEST(Property, NormalFormReparsesToTheSameMatches) {
   }
 }
 
-// ---- expressions, aggregates (DESIGN §4b) ------------------------------------------------------
+// ---- expressions, aggregates (docs/design.md §4b) ------------------------------------------------------
 
 TEST(ExpressionProperty, CentralizedEqualsBruteForceUnderEveryOptimizationCombination) {
   Generator g(8086);
