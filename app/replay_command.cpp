@@ -34,37 +34,22 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-// A watchpoint to replay and how it reads.
-struct Replayed {
-  watch::Watchpoint watchpoint;
-  watch::Algorithm algorithm;
-  watch::DetectorOptions options;
-  bool count_only = false;  // its run's action was `count`: the number of its matches, as the run kept
-};
-
-// The watchpoints the trace's header lists, each with the reading the recording run gave it (the
-// command line's optimization switches and budget apply); nothing, with the errors printed, when
-// one does not compile.
-std::optional<std::vector<Replayed>> header_watches(const sim::Trace& trace, const std::string& path,
-                                                    const DetectorFlags& flags) {
-  std::vector<Replayed> out;
-  for (const sim::TraceWatch& w : trace.watches()) {
-    auto compiled = watch::compile_watchpoint(w.name, watch::SourceText(path + " (watch " + w.name + ")", w.text));
-    if (auto* e = std::get_if<watch::CompileError>(&compiled)) {
-      std::cerr << e->format();
-      return std::nullopt;
-    }
-    Replayed r{std::move(std::get<watch::Watchpoint>(compiled)),
-               w.algorithm == "centralized" ? watch::Algorithm::Centralized : watch::Algorithm::Distributed,
-               flags.options(), w.action == "count"};
-    r.options.shape = watch::parse_shape(w.shape);
-    r.options.states = r.algorithm == watch::Algorithm::Distributed ? watch::parse_states(w.states) : std::nullopt;
-    if (const std::string why = watch::unsupported(r.algorithm, r.options); !why.empty()) {
-      std::cerr << path << ": error: watchpoint '" << w.name << "' of the header: " << why << "\n";
-      return std::nullopt;
-    }
-    out.push_back(std::move(r));
+// The watchpoints the trace's header lists, each with the reading and action the recording run
+// gave it (the command line's optimization switches and budget apply); nothing, with the errors
+// printed, when one does not compile or cannot run, or there is none.
+std::optional<std::vector<sim::HostedWatchpoint>> header_watches(const sim::Trace& trace, const std::string& path,
+                                                                 const DetectorFlags& flags) {
+  auto hosted = sim::hosted_watches(trace.watches(), path, flags.options());
+  if (auto* errors = std::get_if<std::string>(&hosted)) {
+    std::cerr << *errors;
+    return std::nullopt;
   }
+  auto& out = std::get<std::vector<sim::HostedWatchpoint>>(hosted);
+  for (const sim::HostedWatchpoint& h : out)
+    if (const std::string why = watch::unsupported(h.algorithm, h.options); !why.empty()) {
+      std::cerr << path << ": error: watchpoint '" << h.watchpoint.name << "' of the header: " << why << "\n";
+      return std::nullopt;
+    }
   if (out.empty())
     std::cerr << path << ": error: the trace's header lists no watchpoints (a trace recorded by dwatch run lists "
               << "its scenario's): give them with --watch\n";
@@ -73,7 +58,7 @@ std::optional<std::vector<Replayed>> header_watches(const sim::Trace& trace, con
 
 int replay(const ReplayArgs& args) {
   std::vector<std::string> inputs{args.trace};
-  std::vector<Replayed> replayed;
+  std::vector<sim::HostedWatchpoint> replayed;
   if (!args.watches.empty()) {
     auto loaded = load_watchpoints(args.watches, &inputs);
     if (auto* errors = std::get_if<std::string>(&loaded)) {
@@ -87,7 +72,7 @@ int replay(const ReplayArgs& args) {
       return 2;
     }
     for (watch::Watchpoint& w : std::get<std::vector<watch::Watchpoint>>(loaded))
-      replayed.push_back({std::move(w), algorithm, options});
+      replayed.push_back({std::move(w), algorithm, sim::MatchAction::Log, options});
   }
 
   // Output files are opened before the trace is read, so that a bad path costs nothing.
@@ -112,10 +97,10 @@ int replay(const ReplayArgs& args) {
     replayed = std::move(*from_header);
   }
   std::vector<watch::Watchpoint> watches;
-  for (const Replayed& r : replayed) watches.push_back(r.watchpoint);
+  for (const sim::HostedWatchpoint& r : replayed) watches.push_back(r.watchpoint);
   const watch::Algorithm algorithm = replayed.front().algorithm;
   const watch::DetectorOptions options = replayed.front().options;
-  const bool one_reading = std::all_of(replayed.begin(), replayed.end(), [&](const Replayed& r) {
+  const bool one_reading = std::all_of(replayed.begin(), replayed.end(), [&](const sim::HostedWatchpoint& r) {
     return r.algorithm == algorithm &&
            watch::group_shape(r.algorithm, r.options) == watch::group_shape(algorithm, options) &&
            watch::simultaneous(r.algorithm, r.options) == watch::simultaneous(algorithm, options);
@@ -154,12 +139,14 @@ int replay(const ReplayArgs& args) {
 
   std::vector<std::unique_ptr<watch::Detector>> detectors;
   std::vector<uint64_t> counted(watches.size(), 0);  // of count-only watchpoints
-  const auto matches_of = [&](size_t i) { return replayed[i].count_only ? counted[i] : log.count(i); };
+  const auto matches_of = [&](size_t i) {
+    return replayed[i].action == sim::MatchAction::Count ? counted[i] : log.count(i);
+  };
   int64_t max_lag = 0;
   for (size_t i = 0; i < watches.size(); ++i) {
     const uint32_t k = watches[i].program.slot_count();
     watch::MatchSink sink = log.sink(i);
-    if (replayed[i].count_only)
+    if (replayed[i].action == sim::MatchAction::Count)
       sink = [&counted, i, k](int64_t, std::span<const watch::ModuleId> ids, std::span<const watch::Value>) {
         counted[i] += ids.size() / k;
       };
@@ -176,11 +163,8 @@ int replay(const ReplayArgs& args) {
   }
   for (auto& d : detectors) d->finish();  // a simultaneous-state detector drains
   log.finish();
-  // As `run --matches` ends for a count watchpoint (README, "action").
-  if (out)
-    for (size_t i = 0; i < watches.size(); ++i)
-      if (replayed[i].count_only)
-        *out << nlohmann::ordered_json{{"watch", watches[i].name}, {"counted", counted[i]}}.dump() << "\n";
+  for (size_t i = 0; i < watches.size(); ++i)
+    if (replayed[i].action == sim::MatchAction::Count) log.write_counted(watches[i].name, counted[i]);  // as run
   const double detect_seconds = seconds_since(detect_start);
 
   // The summary goes to stdout unless the matches do.

@@ -121,13 +121,9 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
     return 1;
   }
   log.finish();
-  // A `count` watchpoint keeps no match, only their number: the match log's one line for it.
-  if (matches)
-    for (uint32_t w = 0; w < model.watches.size(); ++w)
-      if (model.watches[w].action == sim::MatchAction::Count)
-        *matches << nlohmann::ordered_json{{"watch", model.watches[w].watchpoint.name}, {"counted", run.match_count(w)}}
-                        .dump()
-                 << "\n";
+  for (uint32_t w = 0; w < model.watches.size(); ++w)
+    if (model.watches[w].action == sim::MatchAction::Count)
+      log.write_counted(model.watches[w].watchpoint.name, run.match_count(w));
   progress.finish();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const int64_t ran = run.latest() + 1;

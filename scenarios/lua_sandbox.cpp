@@ -1,7 +1,8 @@
 #include "scenarios/lua_sandbox.h"
 
+#include "sim/read_file.h"
+
 #include <algorithm>
-#include <cmath>
 #include <cstdlib>
 #include <cstring>
 
@@ -227,13 +228,6 @@ double pattern_steps(size_t n, const char* p, size_t m) {
   return steps;
 }
 
-std::string mebibytes(size_t bytes) {
-  const double mib = double(bytes) / double(1u << 20);
-  char text[32];
-  std::snprintf(text, sizeof text, mib == std::floor(mib) ? "%.0f MiB" : "%.2f MiB", mib);
-  return text;
-}
-
 }  // namespace
 
 LuaSandbox::LuaSandbox(const std::string& display, const LuaLimits& limits) : limits_(limits), display_(display) {
@@ -449,7 +443,7 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
 void LuaSandbox::push_stop_message(Stop why) {
   const std::string what =
       why == Stop::kMemory
-          ? "not enough memory: a script's Lua state may hold at most " + mebibytes(limits_.memory_bytes)
+          ? "not enough memory: a script's Lua state may hold at most " + sim::size_text(limits_.memory_bytes)
           : "ran more than " + std::to_string(limits_.instructions) + " instructions in one call (an endless loop?)";
   lua_pushstring(L_, (where_ + what).c_str());
 }

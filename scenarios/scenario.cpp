@@ -49,8 +49,7 @@ struct Loader {
   std::optional<watch::Algorithm> algorithm(TableReader& r) {
     const auto s = r.string("algorithm");
     if (!s) return std::nullopt;
-    if (*s == "centralized") return watch::Algorithm::Centralized;
-    if (*s == "distributed") return watch::Algorithm::Distributed;
+    if (auto a = watch::parse_algorithm(*s)) return a;
     r.error("algorithm", "'algorithm' must be \"centralized\" or \"distributed\", not \"" + *s + "\"");
     return std::nullopt;
   }
@@ -74,9 +73,7 @@ struct Loader {
   std::optional<sim::MatchAction> action(TableReader& r) {
     const auto s = r.string("action");
     if (!s) return std::nullopt;
-    if (*s == "pause") return sim::MatchAction::Pause;
-    if (*s == "log") return sim::MatchAction::Log;
-    if (*s == "count") return sim::MatchAction::Count;
+    if (auto a = sim::parse_action(*s)) return a;
     r.error("action", "'action' must be \"pause\", \"log\" or \"count\", not \"" + *s + "\"");
     return std::nullopt;
   }

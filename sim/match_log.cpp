@@ -143,4 +143,8 @@ void MatchLog::write(const Batch& b) {
   out_->write(block.data(), static_cast<std::streamsize>(block.size()));
 }
 
+void MatchLog::write_counted(std::string_view watch, uint64_t matches) {
+  if (out_) *out_ << nlohmann::ordered_json{{"watch", watch}, {"counted", matches}}.dump() << "\n";
+}
+
 }  // namespace dw::sim

@@ -43,6 +43,8 @@ class MatchLog {
   watch::MatchSink sink(size_t index);
   // Every watch step up to and including `t` is final for every watch: write those.
   void release(int64_t t);
+  // The one line of a `count` watchpoint, which keeps no match: {"watch":"w","counted":N}.
+  void write_counted(std::string_view watch, uint64_t matches);
   void finish() { release(INT64_MAX); }
 
   uint64_t count(size_t index) const { return watches_[index].count; }

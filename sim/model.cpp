@@ -13,6 +13,12 @@ std::string_view action_name(MatchAction a) {
   return "?";
 }
 
+std::optional<MatchAction> parse_action(std::string_view name) {
+  for (MatchAction a : {MatchAction::Pause, MatchAction::Log, MatchAction::Count})
+    if (name == action_name(a)) return a;
+  return std::nullopt;
+}
+
 int Model::column(std::string_view name) const {
   const auto& v = universe.variables;
   const auto it = std::find(v.begin(), v.end(), name);

@@ -25,6 +25,7 @@ enum class MatchAction {
   Count,  // only counted
 };
 std::string_view action_name(MatchAction a);
+std::optional<MatchAction> parse_action(std::string_view name);
 
 struct HostedWatchpoint {
   watch::Watchpoint watchpoint;

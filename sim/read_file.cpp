@@ -27,7 +27,6 @@ std::optional<std::string> read_all(int fd, const std::string& name, std::string
   // Reserved up to 64 MiB only: a large file refused at its first bytes (a NUL) costs nothing.
   bytes.reserve(std::min({expected, max_bytes, size_t(64) << 20}));
   char buffer[1 << 16];
-  size_t line = 1, line_start = 0;
   for (;;) {
     const ssize_t n = ::read(fd, buffer, sizeof buffer);
     if (n == 0) break;
@@ -36,23 +35,16 @@ std::optional<std::string> read_all(int fd, const std::string& name, std::string
       return fail(std::strerror(errno));
     }
     if (text)
-      if (const void* nul = std::memchr(buffer, 0, size_t(n))) {
-        const size_t at = bytes.size() + size_t(static_cast<const char*>(nul) - buffer);
-        for (size_t i = bytes.size(); i < at; ++i)
-          if (buffer[i - bytes.size()] == '\n') {
-            ++line;
-            line_start = i + 1;
-          }
-        return fail("a NUL byte at line " + std::to_string(line) + ", column " + std::to_string(at - line_start + 1) +
+      if (const void* at = std::memchr(buffer, 0, size_t(n))) {
+        // Lines are counted only to place a NUL byte, once one is found.
+        bytes.append(buffer, size_t(static_cast<const char*>(at) - buffer));
+        const size_t nul = bytes.size(), line_start = bytes.rfind('\n') + 1;  // npos + 1 is 0
+        const auto line = 1 + std::count(bytes.begin(), bytes.end(), '\n');
+        return fail("a NUL byte at line " + std::to_string(line) + ", column " + std::to_string(nul - line_start + 1) +
                     ": it is not a text file");
       }
     if (bytes.size() + size_t(n) > max_bytes)
       return fail("more than the " + size_text(max_bytes) + " an input of this kind may hold");
-    for (ssize_t i = 0; i < n; ++i)
-      if (buffer[i] == '\n') {
-        ++line;
-        line_start = bytes.size() + size_t(i) + 1;
-      }
     bytes.append(buffer, size_t(n));
   }
   return bytes;

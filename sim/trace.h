@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "sim/intervention.h"
+#include "sim/model.h"
 #include "watch/frame.h"
 
 namespace dw::sim {
@@ -130,9 +131,13 @@ class TraceWriter {
   std::string line_;
 };
 
-struct HostedWatchpoint;
 // The watchpoints as a recorded trace's header lists them: each in normal form, with its reading.
 std::vector<TraceWatch> trace_watches(std::span<const HostedWatchpoint> watches);
+// And back: each compiled (its diagnostics name `trace_path`), with its reading over `base` (the
+// caller's optimizations and budget) and its action; or the first one's compile errors.
+std::variant<std::vector<HostedWatchpoint>, std::string> hosted_watches(std::span<const TraceWatch> watches,
+                                                                        const std::string& trace_path,
+                                                                        const watch::DetectorOptions& base);
 
 // Writes a trace as wptrace v1, header first, one line per present module per step, through an
 // OutputFile. Empty, or the error.

@@ -1,11 +1,28 @@
 #include <nlohmann/json.hpp>
 
-#include "sim/model.h"
-
 #include "sim/output_file.h"
 #include "sim/trace.h"
 
 namespace dw::sim {
+
+std::variant<std::vector<HostedWatchpoint>, std::string> hosted_watches(std::span<const TraceWatch> watches,
+                                                                        const std::string& trace_path,
+                                                                        const watch::DetectorOptions& base) {
+  std::vector<HostedWatchpoint> out;
+  for (const TraceWatch& w : watches) {
+    auto compiled =
+        watch::compile_watchpoint(w.name, watch::SourceText(trace_path + " (watch " + w.name + ")", w.text));
+    if (auto* e = std::get_if<watch::CompileError>(&compiled)) return e->format();
+    HostedWatchpoint h{std::move(std::get<watch::Watchpoint>(compiled)),
+                       watch::parse_algorithm(w.algorithm).value_or(watch::Algorithm::Distributed),
+                       parse_action(w.action).value_or(MatchAction::Log), base};
+    h.options.shape = watch::parse_shape(w.shape);
+    h.options.states =
+        h.algorithm == watch::Algorithm::Distributed ? watch::parse_states(w.states) : std::optional<watch::States>();
+    out.push_back(std::move(h));
+  }
+  return out;
+}
 
 std::vector<TraceWatch> trace_watches(std::span<const HostedWatchpoint> watches) {
   std::vector<TraceWatch> out;

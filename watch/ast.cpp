@@ -105,9 +105,13 @@ class Printer {
         // minus signs would print past its limit and not read back).
         const Node& operand = ast_.nodes[n.lhs];
         // Of a literal 0 or below, `- -5` reads back as this same tree, with no group.
-        if (operand.kind == NodeKind::Negate || (operand.kind == NodeKind::Integer && operand.value <= 0)) {
-          out_ += operand.kind == NodeKind::Integer && operand.value == 0 ? " -0" : " ";
-          if (!(operand.kind == NodeKind::Integer && operand.value == 0)) print(n.lhs);
+        if (operand.kind == NodeKind::Integer && operand.value == 0) {
+          out_ += " -0";
+          return;
+        }
+        if (operand.kind == NodeKind::Negate || (operand.kind == NodeKind::Integer && operand.value < 0)) {
+          out_ += ' ';
+          print(n.lhs);
           return;
         }
         grouped(n.lhs, precedence(operand.kind) < 3 || operand.kind == NodeKind::Integer);

@@ -88,6 +88,12 @@ void Detector::emit(int64_t t, std::span<const uint32_t> dense, std::span<const 
 
 const char* algorithm_name(Algorithm a) { return a == Algorithm::Centralized ? "centralized" : "distributed"; }
 
+std::optional<Algorithm> parse_algorithm(std::string_view name) {
+  for (Algorithm a : {Algorithm::Centralized, Algorithm::Distributed})
+    if (name == algorithm_name(a)) return a;
+  return std::nullopt;
+}
+
 void DetectorStats::add(const StepStats& s) {
   if (created_by_filled.size() < s.live_by_filled.size()) created_by_filled.resize(s.live_by_filled.size());
   for (size_t i = 0; i < s.live_by_filled.size(); ++i) created_by_filled[i] += s.live_by_filled[i];

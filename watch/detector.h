@@ -24,6 +24,7 @@ struct Optimizations {
 
 enum class Algorithm { Centralized, Distributed };
 const char* algorithm_name(Algorithm a);
+std::optional<Algorithm> parse_algorithm(std::string_view name);
 
 // Which connected groups match (docs/design.md §4a), over the neighbour graph at the match's step:
 // Chain, a path in slot order; Ordered, each slot a neighbour of an earlier one (the paper's
