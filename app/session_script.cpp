@@ -37,7 +37,7 @@ const CommandSpec kCommands[] = {
     {"unwatch", Kind::Unwatch, "unwatch NAME", "remove a watchpoint"},
     {"matches", Kind::Matches, "matches [NAME] [T]", "the matches (as in the match log), of one watch / at step T"},
     {"state", Kind::State, "state M", "module M at the current step: variables, neighbours, pose"},
-    {"hash", Kind::Hash, "hash", "the state hash at the current step"},
+    {"hash", Kind::Hash, "hash", "the state hash at the current step, and its simulation and watchpoints parts"},
     {"render", Kind::Render, "render FILE [W H]", "the 3D view of the current step (PNG)"},
     {"record", Kind::Record, "record FILE", "the trace of steps 0..latest, its header listing the interventions"},
     {"interventions", Kind::Interventions, "interventions", "the interventions of this branch, with their steps"},
@@ -478,10 +478,14 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         }
         break;
       }
-      case Kind::Hash:
+      case Kind::Hash: {
+        const sim::StateHash hash = session_.hash();
         answer["t"] = session_.current();
-        answer["hash"] = sim::hash_text(session_.hash());
+        answer["hash"] = sim::hash_text(hash.whole());
+        answer["simulation"] = sim::hash_text(hash.simulation);
+        answer["watchpoints"] = sim::hash_text(hash.watches);
         break;
+      }
       case Kind::Render: {
         const NamedFile file{"render", cmd.name};
         std::unique_ptr<sim::OutputFile> out;

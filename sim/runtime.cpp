@@ -648,7 +648,7 @@ std::vector<int64_t> Runtime::whole_values(const State& state) {
   return values;
 }
 
-uint64_t Runtime::hash(const State& state) {
+StateHash Runtime::hash(const State& state) {
   if (!ranks_) return hash_state(state);
   std::vector<InFlightDigest> digests;
   for (const WatchState& w : state.watches) digests.push_back(in_flight_digest(w));

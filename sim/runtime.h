@@ -103,7 +103,7 @@ class Runtime {
 
   // The state hash (hash_state) of the whole ensemble: over several ranks, of the parts every rank
   // holds, on every rank (a collective call).
-  uint64_t hash(const State& state);
+  StateHash hash(const State& state);
   // The variables of every module in `state` (model order): over several ranks, gathered from the
   // rank of each (a collective call); otherwise state.values.
   std::vector<int64_t> whole_values(const State& state);

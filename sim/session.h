@@ -156,7 +156,7 @@ class Session {
   const State& state();
   const State& head() const { return head_; }
   // The current step's state hash (over ranks, a collective call).
-  uint64_t hash() { return runtime_->hash(state()); }
+  StateHash hash() { return runtime_->hash(state()); }
   // The variables of every module in `state` (one of this session's): over ranks, gathered from
   // the rank of each (a collective call).
   std::vector<int64_t> whole_values(const State& state) { return runtime_->whole_values(state); }

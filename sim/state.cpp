@@ -100,15 +100,22 @@ InFlightDigest in_flight_digest(const WatchState& w) {
   return d;
 }
 
-uint64_t hash_state(const State& s) {
+uint64_t StateHash::whole() const { return mix(simulation ^ mix(watches + 0x9E3779B97F4A7C15ull)); }
+
+std::string hash_text(const StateHash& hash) {
+  return hash_text(hash.whole()) + " (simulation " + hash_text(hash.simulation) + ", watchpoints " +
+         hash_text(hash.watches) + ")";
+}
+
+StateHash hash_state(const State& s) {
   std::vector<InFlightDigest> digests;
   for (const WatchState& w : s.watches) digests.push_back(in_flight_digest(w));
   const std::span<const int64_t> values[] = {s.values};
   return hash_state(s, digests, values);
 }
 
-uint64_t hash_state(const State& s, std::span<const InFlightDigest> in_flight,
-                    std::span<const std::span<const int64_t>> values) {
+StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight,
+                     std::span<const std::span<const int64_t>> values) {
   Hasher h;
   h.word(static_cast<uint64_t>(s.step));
   size_t count = 0;  // as h.words(values put together)
@@ -153,11 +160,14 @@ uint64_t hash_state(const State& s, std::span<const InFlightDigest> in_flight,
   // Watchpoints' actions (docs/design.md §4b), when there are any: a run without them hashes as it did.
   if (!s.actions.empty()) h.word(s.actions.size());
   for (const PendingAction& a : s.actions) {
-    h.word((uint64_t{a.watch} << 32) | a.module);
+    h.word(a.module);  // not the watchpoint's index: the simulation is the same under other watchpoints
     h.word((static_cast<uint64_t>(static_cast<uint32_t>(a.column)) << 2) | (uint64_t{a.remove} << 1) | a.known);
     h.word(static_cast<uint64_t>(a.value));
   }
+  Hasher watches;
+  watches.word(s.watches.size());
   for (size_t w = 0; w < s.watches.size(); ++w) {
+    Hasher& h = watches;
     h.word(s.watches[w].matches);
     if (s.watches[w].actions_done || s.watches[w].actions_skipped) {
       h.word(s.watches[w].actions_done);
@@ -167,7 +177,7 @@ uint64_t hash_state(const State& s, std::span<const InFlightDigest> in_flight,
     h.word(in_flight[w].sum);
     h.word(in_flight[w].count);
   }
-  return mix(h.h);
+  return {mix(h.h), mix(watches.h)};
 }
 
 template <class T>

@@ -66,10 +66,19 @@ struct State {
 // values) or for putting a whole together from parts (with the values of all).
 State simulation_part(const State& state, std::vector<int64_t> values);
 
-// A hash of the whole state: step, variables, presence, topology, bodies, messages, detector state in
-// flight and match counts. PatternMatchers in flight are hashed as a multiset, since their order
-// in the lanes depends on the thread count and nothing else does.
-uint64_t hash_state(const State& state);
+// A state's hash, in two parts (docs/design.md §7): `simulation`, what the modules' programs and
+// the world hold (step, variables, presence, topology, bodies, messages, actions due), and
+// `watches`, what the watchpoints hold (detector state in flight, match and action counts). Two
+// runs of one simulation under different watchpoints share `simulation`; `whole` covers both.
+// PatternMatchers in flight are hashed as a multiset, since their order in the lanes depends on
+// the thread count and nothing else does.
+struct StateHash {
+  uint64_t simulation = 0;
+  uint64_t watches = 0;
+  uint64_t whole() const;
+  bool operator==(const StateHash&) const = default;
+};
+StateHash hash_state(const State& state);
 // What hash_state takes of one watchpoint's PatternMatchers in flight: a sum of their hashes and
 // their count, which add up over parts of the state (the ranks of a run, docs/design.md §12).
 struct InFlightDigest {
@@ -79,10 +88,12 @@ InFlightDigest in_flight_digest(const WatchState& watch);
 // hash_state with each watchpoint's in-flight digest given rather than read from its lanes, and
 // the variables given as parts, one after another in module order, in place of state.values: a
 // whole put together from the ranks' parts without copying them into one (docs/design.md §12).
-uint64_t hash_state(const State& state, std::span<const InFlightDigest> in_flight,
-                    std::span<const std::span<const int64_t>> values);
+StateHash hash_state(const State& state, std::span<const InFlightDigest> in_flight,
+                     std::span<const std::span<const int64_t>> values);
 // A state hash as the outputs print it: 0x and 16 hex digits.
 std::string hash_text(uint64_t hash);
+// All three as the outputs print them: "0xWHOLE (simulation 0x..., watchpoints 0x...)".
+std::string hash_text(const StateHash& hash);
 
 // The heap bytes a copy of the state holds, estimated from its sizes (the neighbour graph apart:
 // states often share one).

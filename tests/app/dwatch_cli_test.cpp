@@ -247,6 +247,38 @@ TEST_F(Cli, RunGivesTheSameStateHashOnAnyThreadCount) {
   EXPECT_NE(one, line_with(run("run " + scenario + " --steps 41").out, "state hash"));
 }
 
+// docs/design.md §7: one simulation watched two ways shares the simulation hash; the state hash
+// and the watchpoints hash tell the two apart.
+TEST_F(Cli, TheSimulationHashIsTheSameUnderOtherWatchpoints) {
+  const std::string head =
+      "name = \"le\"\nsteps = 30\nseed = 1\n[lattice]\nkind = \"hex2d\"\nsize = [12, 10]\n"
+      "[[program]]\nname = \"leader_election\"\nbug = true\n";
+  const auto watched = [&](const std::string& name, const std::string& text, const std::string& algorithm) {
+    return write(name, head + "[[watch]]\nname = \"w\"\ntext = \"" + text + "\"\nalgorithm = \"" + algorithm +
+                           "\"\naction = \"log\"\n");
+  };
+  const auto part = [](const std::string& line, const std::string& name) {
+    const size_t at = line.find(name + " 0x");
+    return at == std::string::npos ? std::string() : line.substr(at + name.size() + 1, 18);
+  };
+  const auto hash_line = [&](const fs::path& scenario) {
+    return line_with(run("run " + scenario.string()).out, "state hash");
+  };
+  const std::string two =
+      hash_line(watched("two.toml", "modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)", "distributed"));
+  const std::string one = hash_line(watched("one.toml", "modules(a); a.isLeader = 1", "centralized"));
+  const std::string none = hash_line(write("none.toml", head));
+  ASSERT_EQ(part(two, "simulation").size(), 18u) << two;
+  EXPECT_EQ(part(two, "simulation"), part(one, "simulation"));
+  EXPECT_EQ(part(two, "simulation"), part(none, "simulation"));
+  EXPECT_NE(part(two, "watchpoints"), part(one, "watchpoints"));
+  EXPECT_NE(part(two, "hash:"), part(one, "hash:"));
+  EXPECT_NE(part(one, "hash:"), part(none, "hash:"));
+  // A different simulation has a different simulation hash.
+  const std::string seed2 = line_with(run("run " + (dir_ / "none.toml").string() + " --seed 2").out, "state hash");
+  EXPECT_NE(part(none, "simulation"), part(seed2, "simulation"));
+}
+
 TEST_F(Cli, RunOfABadScenarioIsBadInputWithFileLineColumn) {
   const fs::path f = write(
       "bad.toml", "[lattice]\nkind = \"hex2d\"\nsize = [4, 4]\n[[program]]\nname = \"leader_election\"\nbugs = 1\n");

@@ -61,12 +61,12 @@ TEST(WatchActions, SameStatesOnOneAndTwoThreadsAndAfterASeekBackAndForth) {
     Scenario s = load(DWATCH_SCENARIOS_DIR "/gradient_ldp.toml");
     sim::Session session(*s.model, *s.world, {.threads = threads, .end = s.steps});
     session.run_until(s.steps, [&](const sim::State& st, const sim::StepOutput&) {
-      hashes[threads - 1].push_back(sim::hash_state(st));
+      hashes[threads - 1].push_back(sim::hash_state(st).whole());
     });
     if (threads == 2) {
       ASSERT_TRUE(session.seek(3));
       ASSERT_TRUE(session.seek(s.steps - 1));
-      EXPECT_EQ(session.hash(), hashes[1].back());
+      EXPECT_EQ(session.hash().whole(), hashes[1].back());
     }
   }
   EXPECT_EQ(hashes[0], hashes[1]);

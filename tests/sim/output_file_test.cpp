@@ -2,6 +2,7 @@
 // a device is written in place and never removed, and a complete write lands whole.
 #include "sim/output_file.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -37,6 +38,14 @@ class OutputFileTest : public ::testing::Test {
   size_t entries() const {
     return static_cast<size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
   }
+  // Whether this file system has unnamed temporaries (O_TMPFILE): then a write under way shows
+  // no file at all.
+  bool unnamed_temporaries() const {
+    const int fd = ::open(dir_.c_str(), O_TMPFILE | O_WRONLY, 0600);
+    if (fd < 0) return false;
+    ::close(fd);
+    return true;
+  }
   fs::path dir_;
 };
 
@@ -48,7 +57,7 @@ TEST_F(OutputFileTest, NothingReachesTheTargetBeforeCommit) {
   ASSERT_TRUE(out) << error;
   out->stream() << "new contents";
   EXPECT_EQ(slurp(p), "old") << "the old file stays until the new one is complete";
-  EXPECT_EQ(entries(), 2u) << "the temporary sits beside it";
+  EXPECT_EQ(entries(), unnamed_temporaries() ? 1u : 2u) << "a named temporary sits beside it, an unnamed one nowhere";
   EXPECT_EQ(out->commit(), "");
   EXPECT_EQ(slurp(p), "new contents");
   EXPECT_EQ(entries(), 1u) << "no temporary left behind";
@@ -89,6 +98,25 @@ TEST_F(OutputFileTest, AFailedWriteLeavesTheOldFileAndSaysWhy) {
   EXPECT_EQ(WEXITSTATUS(status), 0) << "the error did not name the path and the reason";
   EXPECT_EQ(slurp(p), "old");
   EXPECT_EQ(entries(), 1u) << "no temporary left behind";
+}
+
+TEST_F(OutputFileTest, AWriterKilledMidWriteLeavesTheOldFileAndNothingElse) {
+  if (!unnamed_temporaries()) GTEST_SKIP() << "no O_TMPFILE on this file system: a named temporary would stay";
+  const fs::path p = dir_ / "out.txt";
+  std::ofstream(p) << "old";
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    auto out = OutputFile::open(p.string(), nullptr);
+    if (out) out->stream() << std::string(1 << 20, 'x') << std::flush;
+    ::raise(SIGKILL);  // no destructor, no handler: only the kernel cleans up
+    ::_exit(1);
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  EXPECT_EQ(slurp(p), "old");
+  EXPECT_EQ(entries(), 1u) << "a killed writer left its temporary behind";
 }
 
 TEST_F(OutputFileTest, ADeviceIsWrittenInPlaceAndNeverRemoved) {

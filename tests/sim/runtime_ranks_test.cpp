@@ -120,7 +120,7 @@ Seen run(const Model& model, int steps, unsigned threads, RankExchange* ranks,
   Seen seen;
   for (int t = 0; t < steps; ++t) {
     rt.step(s, out);
-    seen.hashes.push_back(rt.hash(s));
+    seen.hashes.push_back(rt.hash(s).whole());
     seen.slots.push_back(out.watches[0].slots);
     seen.created.push_back(out.watches[0].stats.created);
     seen.messages.push_back(out.watches[0].stats.messages);
