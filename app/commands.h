@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 
+#include "app/interrupts.h"
 #include "sim/rank_exchange.h"
 
 namespace dw::app {
@@ -13,10 +14,12 @@ namespace dw::app {
 void add_check_command(CLI::App& app, std::function<int()>& run);
 void add_replay_command(CLI::App& app, std::function<int()>& run);
 // `ranks`: this process is one rank of a run over several (mpirun, docs/design.md §12), or null.
-void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks = nullptr);
+// `interrupts`: the process's signal watcher, which a long command lets stop it cleanly, or null.
+void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks = nullptr,
+                     Interrupts* interrupts = nullptr);
 void add_bench_command(CLI::App& app, std::function<int()>& run);
 void add_render_command(CLI::App& app, std::function<int()>& run);
-void add_session_command(CLI::App& app, std::function<int()>& run);
+void add_session_command(CLI::App& app, std::function<int()>& run, Interrupts* interrupts = nullptr);
 void add_view_command(CLI::App& app, std::function<int()>& run);  // app/view/view_command.cpp
 
 }  // namespace dw::app

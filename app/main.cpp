@@ -2,6 +2,8 @@
 #include <cstdlib>
 #include <exception>
 #include <iostream>
+#include <optional>
+#include <string>
 
 #include "app/commands.h"
 #ifdef DWATCH_MPI
@@ -9,6 +11,12 @@
 #endif
 
 int main(int argc, char** argv) {
+  // Before any thread starts (Open MPI's included): signals are taken by one thread of its own.
+  // `bench` starts child processes, which would inherit the blocked signals: it keeps the
+  // default, ending at once, and writes nothing a signal could leave half done.
+  std::optional<dw::app::Interrupts> interrupts;
+  if (argc < 2 || std::string(argv[1]) != "bench") interrupts.emplace();
+  dw::app::Interrupts* watcher = interrupts ? &*interrupts : nullptr;
   // Started by mpirun as one of several ranks (docs/design.md §12): only `run` runs over ranks.
   const char* world_size = std::getenv("OMPI_COMM_WORLD_SIZE");
   const bool several = world_size != nullptr && std::atoi(world_size) > 1;
@@ -32,11 +40,11 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "dwatch " DWATCH_VERSION);
   std::function<int()> run;
-  dw::app::add_run_command(app, run, ranks);
+  dw::app::add_run_command(app, run, ranks, watcher);
   dw::app::add_check_command(app, run);
   dw::app::add_replay_command(app, run);
   dw::app::add_render_command(app, run);
-  dw::app::add_session_command(app, run);
+  dw::app::add_session_command(app, run, watcher);
   dw::app::add_view_command(app, run);
   dw::app::add_bench_command(app, run);
   // A word where a command belongs that is none of them: say so, and name the real ones.

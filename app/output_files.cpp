@@ -4,6 +4,7 @@
 #include <sys/sysmacros.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <iostream>
 
 namespace dw::app {
@@ -39,7 +40,7 @@ std::string spelled(const NamedFile& f) { return f.what + " " + (f.path == "-" ?
 
 }  // namespace
 
-bool check_distinct_files(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs) {
+std::string file_clash(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs) {
   std::vector<std::pair<const std::string*, Identity>> in;
   std::vector<std::pair<const NamedFile*, Identity>> out;
   for (const std::string& path : inputs)
@@ -54,8 +55,21 @@ bool check_distinct_files(const std::vector<std::string>& inputs, const std::vec
       if (out[i].second == out[j].second && !out[i].second.null_device)
         clash = spelled(*out[j].first) + " and " + spelled(*out[i].first) + " name one file; give each output its own";
   }
+  return clash;
+}
+
+bool check_distinct_files(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs) {
+  const std::string clash = file_clash(inputs, outputs);
   if (!clash.empty()) std::cerr << "dwatch: error: " << clash << "\n";
   return clash.empty();
+}
+
+std::string file_name_part(std::string_view name) {
+  std::string part;
+  for (const char c : name.substr(0, 100))
+    part += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ? c : '_';
+  if (part.empty() || part[0] == '.') part.insert(part.begin(), '_');
+  return part;
 }
 
 bool open_output(const NamedFile& file, std::unique_ptr<sim::OutputFile>& out) {

@@ -8,6 +8,7 @@
 #include <memory>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sim/output_file.h"
@@ -20,9 +21,16 @@ struct NamedFile {
   std::string path;  // "-" is standard output; empty: not given
 };
 
-// False, with a message on stderr naming the two, when two outputs name one file or an output
-// names one of the inputs (files read: the scenario, a trace, watchpoint files).
+// What is wrong, naming the two, when two outputs name one file or an output names one of the
+// inputs (files read: the scenario, a script, a trace, watchpoint files); empty when nothing is.
+std::string file_clash(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs);
+// False, with file_clash's message on stderr, when there is one.
 bool check_distinct_files(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs);
+
+// `name` (a scenario's, from its file) made fit to be part of a file name in the working
+// directory: every character but letters, digits, '-', '_' and '.' becomes '_', and it never
+// starts with '.', so that it names no other directory and no hidden file.
+std::string file_name_part(std::string_view name);
 
 // Opens `file` for writing unless its path is empty. False, with the error on stderr, when it
 // cannot be written.

@@ -31,7 +31,9 @@ struct RunArgs {
   bool no_progress = false;
 };
 
-int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
+int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* interrupts) {
+  // The time reported covers the set-up too: loading, the world, the first state.
+  const auto started = std::chrono::steady_clock::now();
   // Over several ranks, rank 0 speaks and writes the outputs; every rank runs its part.
   const bool lead = ranks == nullptr || ranks->rank() == 0;
   std::ostream quiet(nullptr);
@@ -95,20 +97,42 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   sim::Session run(*scenario.model, *scenario.world,
                    {threads, steps, history_mb << 20, scenario.events, ranks, sim::partition_named(args.partition)});
   ProgressBar progress("run " + scenario.name, steps, lead && !args.no_progress);
-  const auto started = std::chrono::steady_clock::now();
+  // A signal stops the run between steps, the outputs left uncommitted. Over ranks every rank
+  // would have to stop at the same step: a signal ends each at once instead.
+  const auto stepping = std::chrono::steady_clock::now();
+  std::optional<Interrupts::Stoppable> stoppable;
+  sim::Control control;
+  if (interrupts && !ranks) {
+    stoppable.emplace(*interrupts);
+    control.stop = stoppable->token();
+  }
   std::optional<sim::Pause> pause;
   try {
-    pause = run.run_until(steps, [&](const sim::State& state, const sim::StepOutput& out) {
-      if (recording) {
-        std::vector<int64_t> values = run.whole_values(state);
-        if (recorder) recorder->write(sim::make_frame(model, out.step, values, out.present, out.graph));
-      }
-      for (size_t w = 0; w < out.watches.size(); ++w)
-        if (!out.watches[w].slots.empty() && model.watches[w].action != sim::MatchAction::Count)
-          sinks[w](out.watches[w].t, out.watches[w].slots, out.watches[w].actions);
-      log.release(out.step - max_lag);
-      progress.update(out.step + 1);
-    });
+    pause = run.run_until(
+        steps,
+        [&](const sim::State& state, const sim::StepOutput& out) {
+          if (recording) {
+            std::vector<int64_t> values = run.whole_values(state);
+            if (recorder) recorder->write(sim::make_frame(model, out.step, values, out.present, out.graph));
+          }
+          for (size_t w = 0; w < out.watches.size(); ++w)
+            if (!out.watches[w].slots.empty() && model.watches[w].action != sim::MatchAction::Count)
+              sinks[w](out.watches[w].t, out.watches[w].slots, out.watches[w].actions);
+          log.release(out.step - max_lag);
+          progress.update(out.step + 1);
+        },
+        control);
+    if (const std::optional<int> signal = stoppable ? stoppable->signal() : std::nullopt) {
+      progress.finish();
+      errors << "dwatch: run " << args.scenario << " interrupted (" << Interrupts::name(*signal) << ") after "
+             << run.latest() + 1 << " of " << steps << " steps: nothing written";
+      std::string kept;
+      for (const NamedFile& f : {record_file, matches_file, stats_file, render_file})
+        if (!f.path.empty() && f.path != "-") kept += (kept.empty() ? "" : ", ") + f.what + " " + f.path;
+      if (!kept.empty()) errors << " (" << kept << ": as they were before the run)";
+      errors << "\n";
+      return Interrupts::exit_code(*signal);
+    }
     // Simultaneous-state watchpoints decide the run's last steps by draining (docs/design.md §4a).
     if (!pause && run.latest() + 1 == steps)
       run.drain(
@@ -125,7 +149,9 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
     if (model.watches[w].action == sim::MatchAction::Count)
       log.write_counted(model.watches[w].watchpoint.name, run.match_count(w));
   progress.finish();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const auto now = std::chrono::steady_clock::now();
+  const double seconds = std::chrono::duration<double>(now - started).count();
+  const double setup_seconds = std::chrono::duration<double>(stepping - started).count();
   const int64_t ran = run.latest() + 1;
 
   std::ostream& summary = !lead ? quiet : to_stdout ? std::cerr : std::cout;
@@ -187,7 +213,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
   }
   const bool rolled_back = pause && run.current() < run.latest();
   if (rolled_back) summary << "  rolled back to step " << pause->t << ", the paused match's step\n";
-  const uint64_t hash = run.hash();
+  const sim::StateHash hash = run.hash();
   uint64_t between_ranks = run.bytes_to_ranks();
   if (ranks) ranks->sum({&between_ranks, 1});
   // Peak memory: this process's, and over ranks the largest rank's and all ranks' together.
@@ -199,10 +225,13 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
     for (const auto& part : ranks->all_gather(std::as_bytes(std::span(&peak_kib, 1))))
       peak_kib = std::max(peak_kib, sim::records_of<uint64_t>(part)[0]);
   }
-  summary << std::fixed << std::setprecision(3) << "  time: " << seconds << " s";
+  const double step_seconds = seconds - setup_seconds;
+  summary << std::fixed << std::setprecision(3) << "  time: " << seconds << " s (set-up " << setup_seconds
+          << " s, steps " << step_seconds << " s";
   if (ran > 0 && model.module_count() > 0)
-    summary << std::setprecision(2) << " (" << seconds * 1e9 / double(ran) / model.module_count()
-            << " ns per module-step)";
+    summary << std::setprecision(2) << ", " << step_seconds * 1e9 / double(ran) / model.module_count()
+            << " ns per module-step";
+  summary << ")";
   summary << "\n  state hash: " << sim::hash_text(hash) << "\n";
   if (ranks && ran > 0)
     summary << "  between ranks: " << between_ranks << " bytes, " << between_ranks / uint64_t(ran)
@@ -242,8 +271,11 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
     j["peak_mib"] = double(peak_kib) / 1024;  // of the largest rank
     j["peak_mib_all_ranks"] = double(peak_kib_all) / 1024;
     j["seconds"] = seconds;
+    j["setup_seconds"] = setup_seconds;
     j["program_messages"] = run.head().program_messages;
-    j["state_hash"] = sim::hash_text(hash);
+    j["state_hash"] = sim::hash_text(hash.whole());
+    j["simulation_hash"] = sim::hash_text(hash.simulation);
+    j["watchpoints_hash"] = sim::hash_text(hash.watches);
     uint64_t total = 0;
     j["watches"] = nlohmann::json::array();
     for (uint32_t w = 0; w < model.watches.size(); ++w) {
@@ -276,7 +308,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks) {
 
 }  // namespace
 
-void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks) {
+void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks, Interrupts* interrupts) {
   auto* cmd = app.add_subcommand("run", "Run a scenario headless, watchpoints live");
   auto args = std::make_shared<RunArgs>();
   cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
@@ -308,7 +340,9 @@ void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange
                      "Matches to print per watchpoint when --matches is not given")
       ->default_val(5);
   cmd->add_flag("--no-progress", args->no_progress, "No progress bar, even on a terminal");
-  cmd->callback([&run, args, ranks] { run = [args, ranks] { return run_scenario(*args, ranks); }; });
+  cmd->callback([&run, args, ranks, interrupts] {
+    run = [args, ranks, interrupts] { return run_scenario(*args, ranks, interrupts); };
+  });
 }
 
 }  // namespace dw::app

@@ -24,8 +24,20 @@ struct SessionArgs {
   std::string script;
 };
 
-// Every line checked first; then carried out in order.
-int run_script(SessionShell& shell, const watch::SourceText& source) {
+// Carries one command out; a signal meanwhile stops it between steps (Interrupts), which the
+// second of the pair says.
+std::pair<std::variant<nlohmann::ordered_json, std::string>, std::optional<int>> execute(SessionShell& shell,
+                                                                                         const SessionCommand& command,
+                                                                                         Interrupts* interrupts) {
+  if (!interrupts) return {shell.execute(command), std::nullopt};
+  Interrupts::Stoppable stoppable(*interrupts);
+  auto answer = shell.execute(command, {.stop = stoppable.token()});
+  return {std::move(answer), stoppable.signal()};
+}
+
+// Every line checked first; then carried out in order. A signal stops the script at the command
+// under way.
+int run_script(SessionShell& shell, const watch::SourceText& source, Interrupts* interrupts) {
   std::vector<SessionCommand> commands;
   std::string mistakes;
   const std::string& text = source.text();
@@ -43,7 +55,13 @@ int run_script(SessionShell& shell, const watch::SourceText& source) {
     return 2;
   }
   for (const SessionCommand& c : commands) {
-    auto answer = shell.execute(c);
+    auto [answer, signal] = execute(shell, c, interrupts);
+    if (signal) {
+      std::cout.flush();
+      std::cerr << source.name() << ":" << c.line << ": interrupted (" << Interrupts::name(*signal)
+                << "): the command stopped where it had got to and the script stops here\n";
+      return Interrupts::exit_code(*signal);
+    }
     if (auto* error = std::get_if<std::string>(&answer)) {
       std::cout.flush();
       std::cerr << source.name() << ":" << c.line << ": error: " << *error << " (the script stops here)\n";
@@ -55,9 +73,9 @@ int run_script(SessionShell& shell, const watch::SourceText& source) {
 }
 
 // A prompt with line editing and history (libedit); mistakes and failures are reported and the
-// prompt goes on.
-int run_prompt(SessionShell& shell) {
-  std::cerr << "dwatch session: 'help' lists the commands, Ctrl-D leaves\n";
+// prompt goes on. Ctrl-C stops the command under way; at the prompt it ends the session.
+int run_prompt(SessionShell& shell, Interrupts* interrupts) {
+  std::cerr << "dwatch session: 'help' lists the commands, Ctrl-C stops one, Ctrl-D leaves\n";
   while (char* raw = readline("dwatch> ")) {
     const std::string line(raw);
     std::free(raw);
@@ -70,17 +88,19 @@ int run_prompt(SessionShell& shell) {
     }
     const auto& command = std::get<std::optional<SessionCommand>>(parsed);
     if (!command) continue;
-    auto answer = shell.execute(*command);
-    if (auto* error = std::get_if<std::string>(&answer)) std::cerr << "error: " << *error << "\n";
+    auto [answer, signal] = execute(shell, *command, interrupts);
+    if (signal)
+      std::cerr << "interrupted (" << Interrupts::name(*signal) << "): the command stopped where it had got to\n";
+    else if (auto* error = std::get_if<std::string>(&answer)) std::cerr << "error: " << *error << "\n";
     else std::cout << std::get<nlohmann::ordered_json>(answer).dump() << "\n" << std::flush;
   }
   return 0;
 }
 
-int session_main(const SessionArgs& args) {
+int session_main(const SessionArgs& args, Interrupts* interrupts) {
   std::optional<scenarios::Scenario> loaded = load_session_scenario(args.source);
   if (!loaded) return 2;
-  const scenarios::Scenario& scenario = *loaded;
+  scenarios::Scenario& scenario = *loaded;
   std::optional<watch::SourceText> script;
   // A script from a file, or piped in (`--script -`, or no terminal).
   const bool piped = args.script == "-" || (args.script.empty() && !isatty(STDIN_FILENO));
@@ -92,15 +112,16 @@ int session_main(const SessionArgs& args) {
       return 2;
     }
     script.emplace(piped ? "<stdin>" : args.script, std::move(*text));
+    if (!piped) scenario.inputs.push_back(args.script);  // what `record` or `render` must not overwrite
   }
   sim::Session session(*scenario.model, *scenario.world, session_options(scenario, args.source));
   SessionShell shell(scenario, session);
-  return script ? run_script(shell, *script) : run_prompt(shell);
+  return script ? run_script(shell, *script, interrupts) : run_prompt(shell, interrupts);
 }
 
 }  // namespace
 
-void add_session_command(CLI::App& app, std::function<int()>& run) {
+void add_session_command(CLI::App& app, std::function<int()>& run, Interrupts* interrupts) {
   auto* cmd = app.add_subcommand("session", "The debugger without a window: commands from a script or a prompt");
   auto args = std::make_shared<SessionArgs>();
   add_session_source(*cmd, args->source);
@@ -110,7 +131,7 @@ void add_session_command(CLI::App& app, std::function<int()>& run) {
     for (const std::string& line : session_command_help()) all += (all.empty() ? "" : "\n  ") + line;
     return all;
   }());
-  cmd->callback([&run, args] { run = [args] { return session_main(*args); }; });
+  cmd->callback([&run, args, interrupts] { run = [args, interrupts] { return session_main(*args, interrupts); }; });
 }
 
 }  // namespace dw::app

@@ -21,6 +21,12 @@ class OutputFile::FdBuffer final : public std::streambuf {
   }
   ~FdBuffer() override { close(); }
 
+  // Writes out what is buffered; the first error seen, or 0.
+  int flush() {
+    drain();
+    return error_;
+  }
+  int fd() const { return fd_; }
   // Flushes and closes; the first error seen, or 0.
   int close() {
     drain();
@@ -118,6 +124,20 @@ std::unique_ptr<OutputFile> OutputFile::open(const std::string& path, std::strin
   }
   const std::filesystem::path at(target);
   const std::filesystem::path dir = at.has_parent_path() ? at.parent_path() : std::filesystem::path(".");
+  // An unnamed temporary when the file system has them and /proc can name it at commit.
+  if (::access("/proc/self/fd", X_OK) == 0) {
+    const int fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, mode);
+    if (fd >= 0) {
+      ::fchmod(fd, mode);
+      auto out = std::unique_ptr<OutputFile>(new OutputFile(path, "", fd, true));
+      out->unnamed_ = true;
+      out->target_ = target;
+      return out;
+    }
+    // EOPNOTSUPP (no O_TMPFILE here), EISDIR (a kernel without it): a named temporary below;
+    // anything else (no permission, no such directory) is the answer.
+    if (errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL) return fail(errno);
+  }
   std::string temporary = (dir / ("." + at.filename().string() + ".dwatch-XXXXXX")).string();
   const int fd = ::mkstemp(temporary.data());
   if (fd < 0) return fail(errno);
@@ -128,9 +148,35 @@ std::unique_ptr<OutputFile> OutputFile::open(const std::string& path, std::strin
   return out;
 }
 
+// Gives the unnamed temporary a name beside the target (linkat through /proc, which needs no
+// privilege, unlike AT_EMPTY_PATH): the caller renames it over the target. Empty, or the errno.
+std::string OutputFile::link_unnamed(const std::string& directory) {
+  const std::string from = "/proc/self/fd/" + std::to_string(buffer_->fd());
+  const std::string base =
+      (std::filesystem::path(directory) /
+       ("." + std::filesystem::path(target_).filename().string() + ".dwatch-" + std::to_string(::getpid()) + "-"))
+          .string();
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::string name = base + std::to_string(attempt);
+    if (::linkat(AT_FDCWD, from.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0) {
+      temporary_ = std::move(name);
+      return {};
+    }
+    if (errno != EEXIST) break;
+  }
+  return std::strerror(errno);
+}
+
 std::string OutputFile::commit() {
   if (committed_) return {};
   stream_.flush();
+  if (unnamed_) {
+    if (const int code = buffer_->flush(); code != 0) return "writing " + path_ + " failed: " + std::strerror(code);
+    const std::filesystem::path at(target_);
+    if (std::string error = link_unnamed(at.has_parent_path() ? at.parent_path().string() : "."); !error.empty())
+      return "writing " + path_ + " failed: " + error;
+    unnamed_ = false;
+  }
   const int code = buffer_->close();
   if (code != 0) return "writing " + path_ + " failed: " + std::strerror(code);
   if (!temporary_.empty() && ::rename(temporary_.c_str(), target_.c_str()) != 0)

@@ -1,6 +1,9 @@
 // Output files that never destroy anything. A regular file (or a new one) is written to a
 // temporary file beside it and renamed into place only when complete, so a failed write leaves
-// the old file as it was and no temporary behind. Anything else -- a device, a FIFO,
+// the old file as it was and no temporary behind. The temporary has no name until then (Linux's
+// O_TMPFILE, linked in at commit), so that a process killed mid-write -- a signal, the OOM
+// killer -- leaves nothing either; on a file system without O_TMPFILE it is a named
+// `.NAME.dwatch-XXXXXX`, removed by the destructor. Anything else -- a device, a FIFO,
 // /dev/stdout, "-" for standard output -- is written in place and never removed or truncated
 // away on failure. Errors name the path and the operating system's reason.
 #pragma once
@@ -30,9 +33,11 @@ class OutputFile {
  private:
   class FdBuffer;
   OutputFile(std::string path, std::string temporary, int fd, bool owns_fd);
+  std::string link_unnamed(const std::string& directory);
 
   std::string path_;       // as the user named it
-  std::string temporary_;  // the file being written, renamed over target_ at commit; empty: in place
+  std::string temporary_;  // a named temporary, renamed over target_ at commit; empty: unnamed or in place
+  bool unnamed_ = false;   // an O_TMPFILE temporary, given a name at commit
   std::string target_;     // where the temporary goes (a symlink's target, resolved)
   std::unique_ptr<FdBuffer> buffer_;
   std::ostream stream_;

@@ -11,6 +11,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/output_files.h"
 #include "render/annotations.h"
 #include "render/picking.h"
 
@@ -221,8 +222,8 @@ void Debugger::press(Key key) {
   apply(model_.on_key(key, frame_.at, steps));
   if (model_.screenshot_requested) {
     model_.screenshot_requested = false;
-    const std::string path =
-        "dwatch-" + scenario_.name + "-step-" + std::to_string(std::max<int64_t>(0, frame_.at.current)) + ".png";
+    const std::string path = "dwatch-" + app::file_name_part(scenario_.name) + "-step-" +
+                             std::to_string(std::max<int64_t>(0, frame_.at.current)) + ".png";
     const std::string error = screenshot_view(path);
     status(error.empty() ? "screenshot of the 3D view -> " + path : error);
   }
@@ -417,6 +418,7 @@ void Debugger::view_input(float x, float y, bool hovered) {
 }
 
 std::string Debugger::screenshot_view(const std::string& path) {
+  if (std::string clash = app::file_clash(scenario_.inputs, {{"screenshot", path}}); !clash.empty()) return clash;
   window_.make_current();
   try {
     const render::Image image = renderer_->render(camera_scene(), view_.width, view_.height);
@@ -629,6 +631,10 @@ nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& 
   } else if (words[0] == "screenshot") {
     if (words.size() != 2) {
       error = "screenshot FILE";
+      return answer;
+    }
+    if (std::string clash = app::file_clash(scenario_.inputs, {{"screenshot", words[1]}}); !clash.empty()) {
+      error = clash;
       return answer;
     }
     window_shot_ = words[1];

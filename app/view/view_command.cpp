@@ -22,7 +22,7 @@ struct ViewArgs {
 int view_main(const ViewArgs& args) {
   std::optional<scenarios::Scenario> loaded = load_session_scenario(args.source);
   if (!loaded) return 2;
-  const scenarios::Scenario& scenario = *loaded;
+  scenarios::Scenario& scenario = *loaded;
   std::optional<watch::SourceText> script;
   if (!args.script.empty()) {
     std::string error;
@@ -32,6 +32,7 @@ int view_main(const ViewArgs& args) {
       return 2;
     }
     script.emplace(args.script, std::move(*text));
+    scenario.inputs.push_back(args.script);  // what `record`, `render` or `screenshot` must not overwrite
   }
   auto window = view::GlfwWindow::create(args.width, args.height, "dwatch view  " + scenario.name);
   if (auto* error = std::get_if<std::string>(&window)) {

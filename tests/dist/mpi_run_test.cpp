@@ -36,8 +36,8 @@ class MpiRun : public Cli {
   // The run's statistics but for what depends on how it ran (time, threads, ranks).
   static nlohmann::json results(const fs::path& stats) {
     nlohmann::json j = nlohmann::json::parse(slurp(stats));
-    for (const char* key :
-         {"seconds", "threads", "ranks", "partition", "bytes_between_ranks", "peak_mib", "peak_mib_all_ranks"})
+    for (const char* key : {"seconds", "setup_seconds", "threads", "ranks", "partition", "bytes_between_ranks",
+                            "peak_mib", "peak_mib_all_ranks"})
       j.erase(key);
     return j;
   }
