@@ -80,6 +80,14 @@ bool open_output(const NamedFile& file, std::unique_ptr<sim::OutputFile>& out) {
   return out != nullptr;
 }
 
+std::string open_output_apart(const std::vector<std::string>& inputs, const NamedFile& file,
+                              std::unique_ptr<sim::OutputFile>& out) {
+  if (std::string clash = file_clash(inputs, {file}); !clash.empty()) return clash;
+  std::string error;
+  out = sim::OutputFile::open(file.path, &error);
+  return error;
+}
+
 bool commit_outputs(const std::vector<sim::OutputFile*>& outputs) {
   bool ok = true;
   for (sim::OutputFile* out : outputs) {

@@ -37,6 +37,10 @@ std::string file_name_part(std::string_view name);
 bool open_output(const NamedFile& file, std::unique_ptr<sim::OutputFile>& out);
 // The stream of an open output, or nullptr.
 inline std::ostream* stream_of(const std::unique_ptr<sim::OutputFile>& out) { return out ? &out->stream() : nullptr; }
+// Opens `file` for writing, once it names none of `inputs`: empty, or what is wrong (for a
+// session's command, which answers with it rather than printing it).
+std::string open_output_apart(const std::vector<std::string>& inputs, const NamedFile& file,
+                              std::unique_ptr<sim::OutputFile>& out);
 // Commits every open output; false, with the error on stderr, when one failed.
 bool commit_outputs(const std::vector<sim::OutputFile*>& outputs);
 

@@ -490,8 +490,7 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         const NamedFile file{"render", cmd.name};
         std::unique_ptr<sim::OutputFile> out;
         if (cmd.name == "-") return failed("render needs a file name");
-        if (!check_distinct_files(scenario_.inputs, {file}) || !open_output(file, out))
-          return failed("cannot write " + cmd.name);
+        if (std::string error = open_output_apart(scenario_.inputs, file, out); !error.empty()) return failed(error);
         const int64_t t = std::max<int64_t>(0, session_.current());
         const std::vector<render::SceneGroup> groups = groups_at(session_, t, Highlight::First);
         render::SceneSettings settings = scene_settings(scenario_, "");
@@ -508,8 +507,7 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
       case Kind::Record: {
         const NamedFile file{"record", cmd.name};
         std::unique_ptr<sim::OutputFile> out;
-        if (!check_distinct_files(scenario_.inputs, {file}) || !open_output(file, out))
-          return failed("cannot write " + cmd.name);
+        if (std::string error = open_output_apart(scenario_.inputs, file, out); !error.empty()) return failed(error);
         if (std::string error = session_.record(out->stream(), control); !error.empty()) {
           if (error == "cancelled") return failed(error);  // the temporary goes with `out`
           // The file knows why its writing failed (a full disk): its reason, rather than the stream's.
