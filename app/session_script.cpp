@@ -1,5 +1,7 @@
 #include "app/session_script.h"
 
+#include <sys/stat.h>
+
 #include <charconv>
 #include <cmath>
 #include <iomanip>
@@ -10,6 +12,7 @@
 #include "app/output_files.h"
 #include "app/view_image.h"
 #include "scenarios/limits.h"
+#include "scenarios/saved_scenario.h"
 #include "sim/match_log.h"
 #include "sim/state.h"
 
@@ -40,6 +43,9 @@ const CommandSpec kCommands[] = {
     {"hash", Kind::Hash, "hash", "the state hash at the current step, and its simulation and watchpoints parts"},
     {"render", Kind::Render, "render FILE [W H]", "the 3D view of the current step (PNG)"},
     {"record", Kind::Record, "record FILE", "the trace of steps 0..latest, its header listing the interventions"},
+    {"save", Kind::Save, "save FILE [overwrite]",
+     "this session as a scenario file: its watchpoints, the branch's interventions, paths that work from FILE's "
+     "folder; an existing FILE only with 'overwrite'"},
     {"interventions", Kind::Interventions, "interventions", "the interventions of this branch, with their steps"},
     {"reload", Kind::Reload, "reload",
      "load the scenario's Lua scripts again: the changed program runs from the next step, a new branch"},
@@ -301,6 +307,14 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       if (!want(1, 1)) return mistakes;
       cmd.name = tokens[1].text;
       break;
+    case Kind::Save:
+      if (!want(1, 2)) return mistakes;
+      cmd.name = tokens[1].text;
+      if (tokens.size() == 3) {
+        if (tokens[2].text != "overwrite") return usage(tokens[2].span);
+        cmd.overwrite = true;
+      }
+      break;
     case Kind::Hash:
     case Kind::Interventions:
     case Kind::Reload:
@@ -517,6 +531,24 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         if (std::string error = out->commit(); !error.empty()) return failed(error);
         answer["record"] = cmd.name;
         answer["steps"] = session_.latest() + 1;
+        answer["interventions"] = session_.interventions().size();
+        break;
+      }
+      case Kind::Save: {
+        if (cmd.name == "-") return failed("save needs a file name");
+        struct stat st {};
+        if (!cmd.overwrite && ::lstat(cmd.name.c_str(), &st) == 0)
+          return failed(cmd.name + " exists; 'save " + cmd.name + " overwrite' replaces it");
+        std::string why;
+        const std::optional<std::string> text = scenarios::saved_scenario(scenario_, session_, cmd.name, &why);
+        if (!text) return failed(why);
+        std::unique_ptr<sim::OutputFile> out;
+        if (std::string error = open_output_apart(scenario_.inputs, {"save", cmd.name}, out); !error.empty())
+          return failed(error);
+        out->stream() << *text;
+        if (std::string error = out->commit(); !error.empty()) return failed(error);
+        answer["save"] = cmd.name;
+        answer["watches"] = session_.model().watches.size();
         answer["interventions"] = session_.interventions().size();
         break;
       }

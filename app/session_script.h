@@ -33,6 +33,7 @@ struct SessionCommand {
     Hash,
     Render,
     Record,
+    Save,
     Interventions,
     Reload,
     Status,
@@ -41,7 +42,8 @@ struct SessionCommand {
   Kind kind = Kind::Help;
   uint32_t line = 0;               // in the script
   std::optional<int64_t> number;   // step N, run T, seek T, matches T
-  std::string name;                // watch/unwatch/matches NAME, render/record FILE
+  std::string name;                // watch/unwatch/matches NAME, render/record/save FILE
+  bool overwrite = false;          // save FILE overwrite
   int width = 1280, height = 720;  // render
   std::optional<sim::Intervention> intervention;
   std::optional<sim::HostedWatchpoint> watch;

@@ -461,6 +461,7 @@ struct Loader {
     TableReader root(doc, diagnostics, "the scenario");
     Scenario s;
     s.path = path;
+    s.text = source.text();
     s.inputs.push_back(path);
     s.name = root.string("name").value_or(std::filesystem::path(path).stem().string());
     root.string("description");
@@ -557,27 +558,6 @@ std::variant<Scenario, std::string> load_scenario(const std::string& path, const
   auto text = sim::read_file(path, &error);
   if (!text) return path + ": error: " + error + " (the scenario file)\n";
   return load_scenario_text(path, std::move(*text), overrides);
-}
-
-std::string events_toml(std::span<const sim::Intervention> interventions, const sim::Model& model) {
-  std::ostringstream out;
-  out.imbue(std::locale::classic());
-  out.precision(9);
-  for (const sim::Intervention& i : interventions) {
-    if (i.scheduled) continue;
-    out << "\n[[event]]\nat = " << i.at << "\nmodule = " << model.universe.module_ids[i.module] << "\n";
-    switch (i.kind) {
-      case sim::Intervention::Kind::Set:
-        out << "set = { " << model.universe.variables[size_t(i.column)] << " = " << i.value << " }\n";
-        break;
-      case sim::Intervention::Kind::Remove: out << "remove = true\n"; break;
-      case sim::Intervention::Kind::Push:
-        out << "push = [" << std::showpoint << i.impulse[0] << ", " << i.impulse[1] << ", " << i.impulse[2] << "]\n"
-            << std::noshowpoint;
-        break;
-    }
-  }
-  return out.str();
 }
 
 std::variant<std::vector<std::string>, std::string> reload_scripts(const Scenario& scenario, sim::Session& session) {

@@ -88,6 +88,7 @@ struct ScriptSource {
 
 struct Scenario {
   std::string path;
+  std::string text;                 // the file as it was read (for saving a session as a scenario)
   std::vector<std::string> inputs;  // every file it was read from: the scenario, watchpoint files
   std::string name;
   std::unique_ptr<sim::Model> model;
@@ -125,9 +126,5 @@ inline constexpr double kMaxCoordinate = 1e6;
 std::string camera_problem(std::span<const double> eye, std::span<const double> target);
 std::variant<Scenario, std::string> load_scenario_text(const std::string& path, std::string text,
                                                        const ScenarioOverrides& overrides = {});
-
-// The interventions a session made (not the scheduled ones) as [[event]] tables, to append to
-// the scenario's own text: loaded again, the scenario schedules the same branch.
-std::string events_toml(std::span<const sim::Intervention> interventions, const sim::Model& model);
 
 }  // namespace dw::scenarios

@@ -61,6 +61,8 @@ Debugger::Debugger(const scenarios::Scenario& scenario, sim::Session& session, G
   ImGui_ImplOpenGL3_Init("#version 330 core");
   model_.color_by = scenario_.view.color_by;
   edit_name_ = "w" + std::to_string(session_.model().watches.size() + 1);
+  const std::string save_path = app::file_name_part(scenario_.name) + "-branch.toml";
+  save_path.copy(save_path_, sizeof save_path_ - 1);
   last_request_ = std::chrono::steady_clock::now();
 }
 
@@ -122,6 +124,9 @@ void Debugger::refresh_frame() {
       if (!a.error.empty()) {
         status(a.line + ": " + a.error);
         model_.playing = false;
+        // A save that would overwrite a file: the panel asks before sending it again.
+        if (a.line.rfind("save ", 0) == 0 && a.error.find(" exists; ") != std::string::npos)
+          save_refused_ = a.line.substr(5);
         continue;
       }
       if (a.json.contains("paused") && !a.json["paused"].is_null()) {

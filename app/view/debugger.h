@@ -173,6 +173,8 @@ class Debugger {
   std::vector<DisabledWatch> disabled_;
   int set_column_ = 0;
   char record_path_[256] = "trace.jsonl", matches_path_[256] = "matches.jsonl";
+  char save_path_[256] = "";  // "Save as scenario": where (`save FILE`)
+  std::string save_refused_;  // the file a `save` would have overwritten, asking to confirm
   int64_t set_value_ = 0;
   float push_[3] = {0, 0, 5};
   int goto_step_ = 0;

@@ -495,16 +495,21 @@ void Debugger::inspector_panel() {
   }
   ImGui::Text("%zu interventions on this branch", frame_.interventions.size());
   ImGui::SameLine();
+  // The session's `save`: its watchpoints and this branch's interventions, through the same
+  // checks as every output; an existing file is replaced only once confirmed.
+  ImGui::SetNextItemWidth(160);
+  if (ImGui::InputText("##save", save_path_, sizeof save_path_)) save_refused_.clear();
+  ImGui::SameLine();
   if (ImGui::SmallButton("save as scenario")) {
-    const std::string path = scenario_.name + "-branch.toml";
-    std::string events;
-    worker_->try_read([&](sim::Session& s) { events = scenarios::events_toml(s.interventions(), s.model()); });
-    std::ifstream in_file(scenario_.path);
-    std::ostringstream text;
-    text << in_file.rdbuf();
-    std::ofstream out(path);
-    out << text.str() << "\n# The branch made in dwatch view:" << events;
-    status(out ? "saved the scenario with this branch's interventions -> " + path : "cannot write " + path);
+    save_refused_.clear();
+    apply({std::string("save ") + save_path_});
+  }
+  if (!save_refused_.empty() && save_refused_ == save_path_) {
+    ImGui::SameLine();
+    if (ImGui::SmallButton("overwrite it")) {
+      apply({"save " + save_refused_ + " overwrite"});
+      save_refused_.clear();
+    }
   }
   ImGui::SetNextItemWidth(160);
   ImGui::InputText("##record", record_path_, sizeof record_path_);

@@ -104,40 +104,6 @@ algorithm = "distributed"
   EXPECT_EQ(s.steps, 100);
 }
 
-// A session's interventions written as [[event]]s and appended to the scenario schedule the same
-// branch when it is loaded again; the scenario's own events are not written twice.
-TEST(Scenario, EventsTomlReloadsAsTheSameInterventions) {
-  const std::string text = R"toml([lattice]
-kind = "line"
-size = [4]
-[[program]]
-name = "random_vars"
-tuple = [2, 3]
-[physics]
-enabled = true
-[[event]]
-at = 2
-module = 1
-remove = true
-)toml";
-  auto loaded = load_scenario_text("x.toml", text);
-  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
-  const Scenario& s = std::get<Scenario>(loaded);
-  std::vector<sim::Intervention> made = s.events;
-  sim::Intervention set{sim::Intervention::Kind::Set, 7, 3, s.model->column("x2"), -41};
-  sim::Intervention push{sim::Intervention::Kind::Push, 9, 0};
-  push.impulse = {0.25f, -1.5f, 3};
-  made.push_back(set);
-  made.push_back(push);
-  const std::string events = events_toml(made, *s.model);
-  EXPECT_EQ(events.find("remove"), std::string::npos) << "the scheduled event is the scenario's own";
-  auto again = load_scenario_text("x.toml", text + events);
-  ASSERT_TRUE(std::holds_alternative<Scenario>(again)) << std::get<std::string>(again) << events;
-  std::vector<sim::Intervention> expected = made;
-  for (sim::Intervention& i : expected) i.scheduled = true;
-  EXPECT_EQ(std::get<Scenario>(again).events, expected);
-}
-
 // Every scenario shipped in scenarios/ loads.
 TEST(Scenario, ShippedScenariosLoad) {
   int count = 0;

@@ -1,0 +1,97 @@
+#include "scenarios/saved_scenario.h"
+
+#include <toml++/toml.h>
+#include <filesystem>
+#include <sstream>
+
+#include "watch/ast.h"
+
+namespace dw::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+// `path` as the scenario at `from` names it (beside the scenario), named from `to_dir` instead.
+std::string path_from(const std::string& path, const std::string& from, const fs::path& to_dir) {
+  const fs::path p(path);
+  if (p.is_absolute()) return path;
+  const fs::path at = fs::absolute(fs::path(from).parent_path() / p).lexically_normal();
+  // Relative while it stays under the saved file's folder (the two move together); otherwise
+  // absolute, which runs from anywhere.
+  const fs::path relative = at.lexically_relative(to_dir);
+  return relative.empty() || *relative.begin() == ".." ? at.string() : relative.string();
+}
+
+toml::table watch_table(const sim::HostedWatchpoint& h) {
+  toml::table t;
+  t.insert("name", h.watchpoint.name);
+  t.insert("text", watch::to_string(h.watchpoint.ast));
+  t.insert("algorithm", std::string(watch::algorithm_name(h.algorithm)));
+  t.insert("shape", std::string(watch::shape_name(watch::group_shape(h.algorithm, h.options))));
+  if (h.algorithm == watch::Algorithm::Distributed)
+    t.insert("states", std::string(watch::states_name(h.options.states.value_or(watch::States::Consistent))));
+  t.insert("action", std::string(sim::action_name(h.action)));
+  t.insert("max_live", static_cast<int64_t>(h.options.live_budget));
+  t.insert("early_termination", h.options.optimizations.early_termination);
+  t.insert("neighbor_culling", h.options.optimizations.neighbor_culling);
+  t.insert("temporal_spans", h.options.optimizations.temporal_spans);
+  return t;
+}
+
+toml::table event_table(const sim::Intervention& i, const sim::Model& model) {
+  toml::table t;
+  t.insert("at", i.at);
+  t.insert("module", static_cast<int64_t>(model.universe.module_ids[i.module]));
+  switch (i.kind) {
+    case sim::Intervention::Kind::Set: {
+      toml::table set;
+      set.insert(model.universe.variables[size_t(i.column)], i.value);
+      set.is_inline(true);
+      t.insert("set", std::move(set));
+      break;
+    }
+    case sim::Intervention::Kind::Remove: t.insert("remove", true); break;
+    case sim::Intervention::Kind::Push:
+      t.insert("push", toml::array{double(i.impulse[0]), double(i.impulse[1]), double(i.impulse[2])});
+      break;
+  }
+  return t;
+}
+
+}  // namespace
+
+std::optional<std::string> saved_scenario(const Scenario& scenario, const sim::Session& session,
+                                          const std::string& destination, std::string* error) {
+  toml::table doc;
+  try {
+    doc = toml::parse(std::string_view(scenario.text), std::string_view(scenario.path));
+  } catch (const toml::parse_error& e) {  // it was parsed when loaded: only a changed loader could
+    if (error) *error = "the scenario's text no longer parses: " + std::string(e.description());
+    return std::nullopt;
+  }
+  const sim::Model& model = session.model();
+  const fs::path to_dir = fs::absolute(fs::path(destination)).parent_path();
+  if (toml::array* programs = doc["program"].as_array())
+    for (toml::node& p : *programs)
+      if (toml::table* t = p.as_table())
+        if (const auto script = (*t)["script"].value<std::string>())
+          t->insert_or_assign("script", path_from(*script, scenario.path, to_dir));
+
+  doc.insert_or_assign("seed", static_cast<int64_t>(model.seed));
+  doc.erase("watch");
+  toml::array watches;
+  for (const sim::HostedWatchpoint& h : model.watches) watches.push_back(watch_table(h));
+  if (!watches.empty()) doc.insert("watch", std::move(watches));
+  doc.erase("event");
+  toml::array events;
+  for (const sim::Intervention& i : session.interventions()) events.push_back(event_table(i, model));
+  if (!events.empty()) doc.insert("event", std::move(events));
+
+  std::ostringstream out;
+  out << "# Saved by dwatch from " << scenario.path << " at step " << session.current() << ": its watchpoints and\n"
+      << "# the " << session.interventions().size() << " interventions of its branch.\n"
+      << toml::toml_formatter(doc) << "\n";
+  return out.str();
+}
+
+}  // namespace dw::scenarios

@@ -1,0 +1,115 @@
+// A session saved as a scenario (scenarios/saved_scenario.cpp) is the session's branch: loaded
+// again from another folder, it has the session's watchpoints with their readings and options,
+// every intervention of the branch, the seed, a script that still resolves, and it runs to the
+// same states and matches.
+#include "scenarios/saved_scenario.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "sim/state.h"
+#include "watch/ast.h"
+
+namespace dw::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+Scenario load(const fs::path& path, const ScenarioOverrides& overrides = {}) {
+  auto loaded = load_scenario(path.string(), overrides);
+  if (auto* e = std::get_if<std::string>(&loaded)) ADD_FAILURE() << *e;
+  return std::move(std::get<Scenario>(loaded));
+}
+
+void run_through(sim::Session& session, int64_t steps) {
+  while (session.current() < steps - 1) session.run_until(steps);
+}
+
+class SavedScenario : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("dwatch_saved_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "elsewhere" / "deeper");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  // Writes `text` where `saved_scenario` was asked to put it, as the session's `save` does.
+  static void write(const fs::path& at, const std::string& text) { std::ofstream(at) << text; }
+  fs::path dir_;
+};
+
+TEST_F(SavedScenario, LoadedFromAnotherFolderItRunsTheSessionsBranch) {
+  // A Lua program (a path relative to the scenario), a watchpoint of the file, the seed overridden.
+  ScenarioOverrides seed;
+  seed.seed = 7;
+  Scenario scenario = load(fs::path(DWATCH_SCENARIOS_DIR) / "lua" / "token_ring.toml", seed);
+  sim::Session session(*scenario.model, *scenario.world, {.end = 60, .history_bytes = 64 << 20});
+  run_through(session, 20);
+  // A watchpoint added in the session, with a budget and an optimization off, and an intervention.
+  auto compiled =
+      watch::compile_watchpoint("holders", watch::SourceText("t", "modules(a b); (a.token = 1) and (b.token = 0)"));
+  ASSERT_TRUE(std::holds_alternative<watch::Watchpoint>(compiled));
+  sim::HostedWatchpoint added{
+      std::get<watch::Watchpoint>(std::move(compiled)), watch::Algorithm::Distributed, sim::MatchAction::Log, {}};
+  added.options.live_budget = 123456;
+  added.options.optimizations.temporal_spans = false;
+  ASSERT_TRUE(session.set_watch(added));
+  const int token = scenario.model->column("token");
+  ASSERT_EQ(session.intervene({.kind = sim::Intervention::Kind::Set, .module = 3, .column = token, .value = 1}), "");
+
+  const fs::path destination = dir_ / "elsewhere" / "deeper" / "saved.toml";
+  std::string error;
+  const auto text = saved_scenario(scenario, session, destination.string(), &error);
+  ASSERT_TRUE(text) << error;
+  write(destination, *text);
+  Scenario saved = load(destination);
+
+  EXPECT_EQ(saved.model->seed, 7u);
+  EXPECT_EQ(saved.events.size(), session.interventions().size());
+  for (size_t i = 0; i < saved.events.size() && i < session.interventions().size(); ++i) {
+    sim::Intervention expected = session.interventions()[i];
+    expected.scheduled = true;
+    EXPECT_EQ(saved.events[i], expected) << "event " << i;
+  }
+  ASSERT_EQ(saved.model->watches.size(), scenario.model->watches.size());
+  for (size_t w = 0; w < saved.model->watches.size(); ++w) {
+    const sim::HostedWatchpoint &a = saved.model->watches[w], &b = scenario.model->watches[w];
+    EXPECT_EQ(a.watchpoint.name, b.watchpoint.name);
+    EXPECT_EQ(watch::to_string(a.watchpoint.ast), watch::to_string(b.watchpoint.ast));
+    EXPECT_EQ(a.algorithm, b.algorithm);
+    EXPECT_EQ(a.action, b.action);
+    EXPECT_EQ(a.options.live_budget, b.options.live_budget);
+    EXPECT_EQ(a.options.optimizations.temporal_spans, b.options.optimizations.temporal_spans);
+    EXPECT_EQ(watch::group_shape(a.algorithm, a.options), watch::group_shape(b.algorithm, b.options));
+  }
+  ASSERT_EQ(saved.scripts.size(), 1u);
+  EXPECT_TRUE(fs::equivalent(saved.scripts[0].file, fs::path(DWATCH_SCENARIOS_DIR) / "lua" / "token_ring.lua"));
+
+  // The same states and matches, step for step.
+  sim::Session again(*saved.model, *saved.world, {.end = 60, .history_bytes = 64 << 20});
+  run_through(session, 50);
+  run_through(again, 50);
+  EXPECT_EQ(sim::hash_state(again.state()), sim::hash_state(session.state()));
+  for (uint32_t w = 0; w < saved.model->watches.size(); ++w) {
+    EXPECT_EQ(again.matches(w).t, session.matches(w).t) << saved.model->watches[w].watchpoint.name;
+    EXPECT_EQ(again.matches(w).slots, session.matches(w).slots) << saved.model->watches[w].watchpoint.name;
+  }
+}
+
+TEST_F(SavedScenario, AWatchpointRemovedInTheSessionIsNotSaved) {
+  Scenario scenario = load(fs::path(DWATCH_SCENARIOS_DIR) / "token_ring.toml");
+  sim::Session session(*scenario.model, *scenario.world, {.end = 60});
+  ASSERT_TRUE(session.remove_watch(scenario.model->watches.at(0).watchpoint.name));
+  const fs::path destination = dir_ / "saved.toml";
+  std::string error;
+  const auto text = saved_scenario(scenario, session, destination.string(), &error);
+  ASSERT_TRUE(text) << error;
+  write(destination, *text);
+  EXPECT_TRUE(load(destination).model->watches.empty()) << *text;
+}
+
+}  // namespace
+}  // namespace dw::scenarios
