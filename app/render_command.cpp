@@ -8,6 +8,7 @@
 #include "app/detector_flags.h"
 #include "app/integer_option.h"
 #include "app/output_files.h"
+#include "app/session_script.h"
 #include "app/view_image.h"
 #include "render/scene.h"
 #include "sim/session.h"
@@ -20,10 +21,13 @@ struct RenderArgs {
   std::vector<double> camera_eye, camera_target;  // x, y, z: as the window's camera was
   std::optional<int64_t> step;
   int width = 1280, height = 720;
+  bool no_memory_check = false;
 };
 
 int render_scenario(const RenderArgs& args) {
-  auto loaded = scenarios::load_scenario(args.scenario);
+  scenarios::ScenarioOverrides overrides;
+  overrides.memory_limit = memory_limit_unless(args.no_memory_check);
+  auto loaded = scenarios::load_scenario(args.scenario, overrides);
   if (auto* errors = std::get_if<std::string>(&loaded)) {
     std::cerr << *errors;
     return 2;
@@ -115,6 +119,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
                   "Where the camera looks: X,Y,Z (default: the ensemble's centre)")
       ->delimiter(',')
       ->expected(3);
+  add_memory_check_flag(*cmd, args->no_memory_check);
   cmd->callback([&run, args] { run = [args] { return render_scenario(*args); }; });
 }
 

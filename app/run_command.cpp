@@ -13,6 +13,7 @@
 #include "app/integer_option.h"
 #include "app/output_files.h"
 #include "app/progress.h"
+#include "app/session_script.h"
 #include "app/view_image.h"
 #include "scenarios/scenario.h"
 #include "sim/match_log.h"
@@ -29,6 +30,7 @@ struct RunArgs {
   std::string record_path, matches_path, stats_path, render_path;
   size_t print = 5;
   bool no_progress = false;
+  bool no_memory_check = false;
 };
 
 int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* interrupts) {
@@ -45,6 +47,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
         args.algorithm == "centralized" ? watch::Algorithm::Centralized : watch::Algorithm::Distributed;
   if (!args.shape.empty()) overrides.shape = watch::parse_shape(args.shape);
   if (!args.states.empty()) overrides.states = watch::parse_states(args.states);
+  overrides.memory_limit = memory_limit_unless(args.no_memory_check);
   auto loaded = scenarios::load_scenario(args.scenario, overrides);
   if (auto* message = std::get_if<std::string>(&loaded)) {
     errors << *message;
@@ -340,6 +343,7 @@ void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange
                      "Matches to print per watchpoint when --matches is not given")
       ->default_val(5);
   cmd->add_flag("--no-progress", args->no_progress, "No progress bar, even on a terminal");
+  add_memory_check_flag(*cmd, args->no_memory_check);
   cmd->callback([&run, args, ranks, interrupts] {
     run = [args, ranks, interrupts] { return run_scenario(*args, ranks, interrupts); };
   });

@@ -12,6 +12,7 @@
 #include "app/output_files.h"
 #include "app/view_image.h"
 #include "scenarios/limits.h"
+#include "scenarios/memory_estimate.h"
 #include "scenarios/saved_scenario.h"
 #include "sim/match_log.h"
 #include "sim/state.h"
@@ -81,11 +82,20 @@ void add_session_source(CLI::App& cmd, SessionSource& source) {
                      "Threads stepping modules (results never depend on it)");
   add_integer_option(cmd, "--history-mb", source.history_mb, scenarios::kHistoryRange,
                      "Memory for the history's keyframes, in MiB (default: the scenario's)");
+  add_memory_check_flag(cmd, source.no_memory_check);
 }
+
+void add_memory_check_flag(CLI::App& cmd, bool& off) {
+  cmd.add_flag("--no-memory-check", off,
+               "Load the scenario even when its memory estimate is above what this machine has available");
+}
+
+uint64_t memory_limit_unless(bool off) { return off ? 0 : scenarios::memory_limit(); }
 
 std::optional<scenarios::Scenario> load_session_scenario(const SessionSource& source) {
   scenarios::ScenarioOverrides overrides;
   if (source.seed) overrides.seed = static_cast<uint64_t>(*source.seed);
+  overrides.memory_limit = memory_limit_unless(source.no_memory_check);
   auto loaded = scenarios::load_scenario(source.scenario, overrides);
   if (auto* errors = std::get_if<std::string>(&loaded)) {
     std::cerr << *errors;

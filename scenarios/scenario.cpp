@@ -5,6 +5,7 @@
 
 #include "physics/bullet_world.h"
 #include "scenarios/lua_program.h"
+#include "scenarios/memory_estimate.h"
 #include "scenarios/programs.h"
 #include "scenarios/table_reader.h"
 #include "sim/lattice.h"
@@ -78,7 +79,11 @@ struct Loader {
     return std::nullopt;
   }
 
-  std::optional<sim::Lattice> lattice(TableReader& root, uint64_t max_modules) {
+  // The lattice, once its size is known to fit: within `overrides.max_modules`, and (when a limit
+  // is given) its memory estimate within the limit, checked before anything is allocated.
+  std::optional<sim::Lattice> lattice(TableReader& root, const ScenarioOverrides& overrides, bool physics,
+                                      uint64_t history_mb) {
+    const uint64_t max_modules = overrides.max_modules;
     const toml::table* t = root.table("lattice");
     if (!t) {
       if (!root.has("lattice")) root.missing("lattice");
@@ -131,6 +136,10 @@ struct Loader {
     if (spec.module_count() > max_modules) {
       r.error("size", "that is " + std::to_string(spec.module_count()) + " modules; the most is " +
                           std::to_string(max_modules));
+      ok = false;
+    } else if (overrides.memory_limit > 0 &&
+               memory_estimate(spec.module_count(), physics, history_mb) > overrides.memory_limit) {
+      r.error("size", memory_refusal(spec.module_count(), physics, history_mb, overrides.memory_limit));
       ok = false;
     }
     if (*kind == sim::LatticeKind::Ring && spec.size[0] < 3) {
@@ -473,7 +482,9 @@ struct Loader {
     s.history_mb = static_cast<size_t>(history.value_or(256));
     s.threads = static_cast<unsigned>(threads.value_or(1));
 
-    auto built_lattice = lattice(root, overrides.max_modules);
+    // Whether bodies come with the modules, for the memory estimate ([physics] is read below).
+    const bool physics_on = doc["physics"]["enabled"].value_or(false);
+    auto built_lattice = lattice(root, overrides, physics_on, s.history_mb);
     std::optional<std::vector<std::unique_ptr<const sim::HostProgram>>> progs;
     if (built_lattice) {
       const ProgramSetup setup{built_lattice->spec, static_cast<uint32_t>(built_lattice->spec.module_count()),

@@ -114,6 +114,9 @@ struct ScenarioOverrides {
   std::optional<watch::GroupShape> shape;
   std::optional<watch::States> states;
   uint64_t max_modules = 100'000'000;  // the largest lattice accepted (a fuzzer asks for less)
+  // Refuse a scenario whose memory estimate (scenarios/memory_estimate.h) is above this many
+  // bytes, before allocating it; 0: no check. The command line gives the machine's memory_limit().
+  uint64_t memory_limit = 0;
 };
 
 // The scenario, or the rendered diagnostics.

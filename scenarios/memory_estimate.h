@@ -1,0 +1,32 @@
+// What a scenario will take of the machine's memory, estimated from its size before anything is
+// allocated, so that a scenario asking for more than the machine has is refused at once (with the
+// estimate and the limit) rather than after minutes of swapping (docs/design.md §5, "Limits").
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace dw::scenarios {
+
+// Bytes per module, measured with /usr/bin/time on `dwatch run` of a cubic leader election (two
+// sizes, the difference divided by the modules between them, so that the libraries' fixed part
+// drops out): 50^3 and 100^3 without physics, 20^3 and 30^3 with it. The static part is the
+// states, the neighbour graph and the detectors; the physics part is Bullet's bodies, shapes and
+// contact manifolds. Scenarios with more variables or watchpoints take somewhat more: the
+// estimate is for refusing what cannot fit, not a promise.
+inline constexpr uint64_t kStaticBytesPerModule = 1600;
+inline constexpr uint64_t kPhysicsBytesPerModule = 17 * 1024;
+inline constexpr uint64_t kFixedBytes = 64ull << 20;  // the libraries, the process
+
+// The estimate for `modules` modules, with or without physics, and `history_mb` MiB of keyframes.
+uint64_t memory_estimate(uint64_t modules, bool physics, uint64_t history_mb);
+
+// What the machine can give this process: MemAvailable, or less under a cgroup's memory.max;
+// 0 when unknown.
+uint64_t memory_limit();
+
+// "that is N modules, which need about X (B per module[, physics included], and H MiB of
+// history); this machine has Y available": the refusal's words.
+std::string memory_refusal(uint64_t modules, bool physics, uint64_t history_mb, uint64_t limit);
+
+}  // namespace dw::scenarios
