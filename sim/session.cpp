@@ -48,6 +48,13 @@ int64_t Session::decided() const { return latest_ - max_lag(); }
 
 // Every step of every state goes through here: the interventions of the step are applied, and
 // the world is told when the state it steps is not the one it stepped last.
+State Session::acting_part(const State& keyframe) const {
+  State s = simulation_part(keyframe, keyframe.values);
+  for (uint32_t w = 0; w < model_.watches.size(); ++w)
+    if (!model_.watches[w].watchpoint.program.actions.empty()) s.watches[w] = keyframe.watches[w];
+  return s;
+}
+
 void Session::step(State& state, StepOutput& out, std::span<const uint8_t> watching) {
   // The programs of this step's time: the model's, or the last replacement made before it.
   for (uint32_t p = 0; p < model_.program_count(); ++p) {
@@ -460,10 +467,7 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
     rebuild_runtime();
   };
 
-  State s = simulation_part(keyframes_[0], keyframes_[0].values);
-  // Watchpoints with actions are part of the simulation (Runtime::step): they step along.
-  for (uint32_t i = 0; i < w; ++i)
-    if (!model_.watches[i].watchpoint.program.actions.empty()) s.watches[i] = keyframes_[0].watches[i];
+  State s = acting_part(keyframes_[0]);
   s.watches.push_back(runtime_->initial_watch_state(w));
   std::vector<WatchState> at_keyframe{s.watches[w]};  // its state at keyframes_[i]
   size_t added = state_bytes(State{.watches = {at_keyframe[0]}});
@@ -599,9 +603,9 @@ std::optional<std::vector<int64_t>> Session::module_series(ModuleId m, int64_t f
                                                            const Control& control) {
   std::vector<int64_t> values;
   if (from > to || !has_history()) return values;
-  // The values do not depend on the watchpoints: the simulation alone is stepped.
+  // The values depend on the watchpoints with actions alone: the others are not stepped.
   const size_t index = std::min(static_cast<size_t>(std::max<int64_t>(0, from) / interval_), keyframes_.size() - 1);
-  State s = simulation_part(keyframes_[index], keyframes_[index].values);
+  State s = acting_part(keyframes_[index]);
   const std::vector<uint8_t> none(model_.watches.size() + 1, 0);
   StepOutput out;
   const size_t v = model_.variable_count();
@@ -619,7 +623,7 @@ std::optional<std::vector<int64_t>> Session::module_series(ModuleId m, int64_t f
 
 std::string Session::record(std::ostream& out, const Control& control) {
   if (!has_history()) return "the session keeps no history to record";
-  State s = simulation_part(keyframes_[0], keyframes_[0].values);
+  State s = acting_part(keyframes_[0]);
   const std::vector<uint8_t> none(model_.watches.size() + 1, 0);
   StepOutput step_out;
   TraceWriter writer(out, model_.universe, interventions_, trace_watches(model_.watches));

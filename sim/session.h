@@ -193,6 +193,9 @@ class Session {
 
  private:
   void step(State& state, StepOutput& out, std::span<const uint8_t> watching = {});
+  // What re-simulating the values from `keyframe` needs: its simulation part, and the states of
+  // the watchpoints with actions, which act on the simulation (Runtime::step always steps them).
+  State acting_part(const State& keyframe) const;
   void step_head(const StepObserver& observer);
   void look_ahead(const StepObserver& observer);
   void take_keyframe();

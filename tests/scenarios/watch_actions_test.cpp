@@ -6,6 +6,7 @@
 #include <deque>
 #include <optional>
 #include <set>
+#include <sstream>
 
 #include "scenarios/scenario.h"
 #include "sim/session.h"
@@ -124,6 +125,47 @@ TEST(WatchActions, AnInjectedFaultIsCaughtWhereAndWhenItHappens) {
   EXPECT_EQ(pause->t, drops.t[0] + 2);
   EXPECT_EQ(pause->group[1], 5u);  // x, the module that held it
   EXPECT_EQ(session.state().watches[0].actions_done, 1u);
+}
+
+}  // namespace
+}  // namespace dw::scenarios
+
+namespace dw::scenarios {
+namespace {
+
+// A variable's history and a recorded trace are re-simulated from keyframes: the watchpoints
+// with actions must act there too, or the values would be those of a run without them (and the
+// re-simulation once crashed on their missing states).
+TEST(WatchActions, ASessionsSeriesAndRecordGiveTheValuesTheRunHad) {
+  for (auto algorithm : {watch::Algorithm::Centralized, watch::Algorithm::Distributed}) {
+    ScenarioOverrides o;
+    o.algorithm = algorithm;
+    Scenario s = load(DWATCH_SCENARIOS_DIR "/gradient_ldp.toml", o);
+    sim::Session session(*s.model, *s.world, {.end = 20});
+    session.run_until(20);
+    const int column = s.model->column("dist");
+    const size_t v = s.model->variable_count();
+    for (const sim::ModuleId m : {sim::ModuleId{0}, sim::ModuleId{100}}) {
+      const auto series = session.series(m, column, 0, 19);
+      ASSERT_TRUE(series);
+      ASSERT_EQ(series->size(), 20u);
+      for (int64_t t = 0; t < 20; ++t) {
+        ASSERT_TRUE(session.seek(t));
+        EXPECT_EQ((*series)[size_t(t)], session.state().values[m * v + size_t(column)])
+            << "module " << m << " at step " << t << ", " << watch::algorithm_name(algorithm);
+      }
+    }
+    std::ostringstream trace;
+    ASSERT_EQ(session.record(trace), "");
+    // The last frame's line of module 0 holds its distance at step 19, as the run had it.
+    const std::string text = trace.str();
+    const size_t last = text.rfind("{\"t\":19,\"m\":0,");
+    ASSERT_NE(last, std::string::npos);
+    ASSERT_TRUE(session.seek(19));
+    const std::string dist = "\"dist\":" + std::to_string(session.state().values[size_t(column)]);
+    EXPECT_EQ(text.substr(last, text.find('\n', last) - last).find(dist) != std::string::npos, true)
+        << text.substr(last, 200);
+  }
 }
 
 }  // namespace

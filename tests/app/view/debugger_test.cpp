@@ -168,6 +168,30 @@ TEST_F(Window, KeysStepSeekAndFindTheNextMatch) {
   EXPECT_EQ(view.answers[5]["current"], session.answers[0]["paused"]["t"]);
 }
 
+// A watchpoint with actions, added as the editor's Add sends it, acts in the window as in a
+// session (the same state hash); the window saves the session as a scenario that runs the same
+// branch; and its screenshot may not overwrite an input, the script included.
+TEST_F(Window, AnActionWatchpointAndASaveAreTheSessionsAndTheScriptIsAnInput) {
+  const std::string commands =
+      "watch demote centralized log modules(a b); (a.isLeader = 1) and (b.isLeader = 1) then set a.isLeader = 0\n"
+      "run 12\nhash\nsave saved.toml\n";
+  const Outcome session = dwatch("session " + kLeader, commands, false);
+  ASSERT_EQ(session.exit_code, 0) << session.err;
+  fs::remove(dir_ / "saved.toml");  // the window's save makes it anew
+  const Outcome view = dwatch("view " + kLeader, commands + "panel watchpoints\nscreenshot script\n", true);
+  EXPECT_EQ(view.exit_code, 1) << view.err;
+  ASSERT_EQ(view.answers.size(), 5u) << view.err;
+  EXPECT_EQ(view.answers[2]["hash"], session.answers[2]["hash"]);
+  EXPECT_EQ(view.answers[3]["save"], "saved.toml");
+  EXPECT_EQ(view.answers[4]["rows"][1]["name"], "demote");
+  EXPECT_NE(view.err.find("screenshot script would overwrite the input script"), std::string::npos) << view.err;
+  EXPECT_NE(slurp(dir_ / "script").find("screenshot script"), std::string::npos) << "the script was overwritten";
+  // The saved scenario runs the branch: its simulation at step 11 is the session's.
+  const Outcome again = dwatch("session saved.toml", "run 12\nhash\n", false);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(again.answers[1]["hash"], session.answers[2]["hash"]);
+}
+
 TEST_F(Window, ScriptMistakesAreBadInputAndFailuresStopTheScript) {
   // Every line is checked before the window does anything: the window's own commands too.
   const Outcome bad = dwatch("view " + kLeader, "step\nkey\nseek x\nwait 1 2\n", true);
