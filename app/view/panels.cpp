@@ -448,7 +448,11 @@ void Debugger::inspector_panel() {
   if (!in.plot.empty()) {
     const std::string label = m.universe.variables[size_t(in.plot_column)] + ", steps " + std::to_string(in.plot_from) +
                               " to " + std::to_string(in.plot_from + int64_t(in.plot.size()) - 1);
-    ImGui::PlotLines("##plot", in.plot.data(), int(in.plot.size()), 0, label.c_str(), FLT_MAX, FLT_MAX, ImVec2(-1, 60));
+    // The plot's width from the item width, -FLT_MIN being "to the right edge": ImGui 1.86's
+    // plots take a frame width of 0 as "the item width" but a negative one literally, which drew
+    // them one pixel wide.
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    ImGui::PlotLines("##plot", in.plot.data(), int(in.plot.size()), 0, label.c_str(), FLT_MAX, FLT_MAX, ImVec2(0, 60));
   }
   ImGui::TextUnformatted("neighbours:");
   for (sim::ModuleId n : in.neighbors) {
@@ -460,7 +464,9 @@ void Debugger::inspector_panel() {
   }
   ImGui::Text("in %zu matches", in.matches_total);
   for (size_t i = 0; i < in.matches.size() && i < 8; ++i) {
-    const auto& [r, t] = in.matches[i];
+    // Named apart, not a structured binding: clang 14 cannot capture one in the lambda below.
+    const auto& r = in.matches[i].first;
+    const auto t = in.matches[i].second;
     if (r.watch >= frame_.watches.size()) continue;
     ImGui::SameLine();
     const std::string label = frame_.watches[r.watch].name + "@" + std::to_string(t) + "##" + std::to_string(i);
@@ -547,9 +553,10 @@ void Debugger::statistics_panel() {
         ImGui::TableNextColumn();
         ImGui::TextUnformatted(what);
         const std::string id = std::string("##") + what;
+        ImGui::SetNextItemWidth(-FLT_MIN);  // the cell's width (see the Module panel's plot)
         if (histogram)
-          ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-1, 40));
-        else ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(-1, 40));
+          ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 40));
+        else ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 40));
       };
       plot("live", live);
       plot("created", created);
