@@ -70,7 +70,7 @@ void Interrupts::watch() {
       continue;
     }
     say(std::string("dwatch: ") + (first_ != 0 ? "interrupted again" : "interrupted") + " (" + name(signal) +
-        "): stopping at once; nothing written, earlier files untouched\n");
+        "): stopping at once; files still being written are dropped, earlier ones untouched\n");
     std::_Exit(exit_code(first_ != 0 ? first_ : signal));
   }
 }
@@ -82,6 +82,11 @@ Interrupts::Stoppable::Stoppable(Interrupts& interrupts) : interrupts_(interrupt
 
 Interrupts::Stoppable::~Stoppable() {
   std::lock_guard lock(interrupts_.mutex_);
+  if (interrupts_.first_ != 0 && !answered_) {
+    say(std::string("dwatch: interrupted (") + name(interrupts_.first_) +
+        "): stopping at once; files still being written are dropped, earlier ones untouched\n");
+    std::_Exit(exit_code(interrupts_.first_));
+  }
   interrupts_.open_ = nullptr;
   // A signal that stopped this stretch has been answered; the next stretch starts afresh, and
   // a signal between the two ends the process.
@@ -90,7 +95,10 @@ Interrupts::Stoppable::~Stoppable() {
 
 std::optional<int> Interrupts::Stoppable::signal() const {
   std::lock_guard lock(interrupts_.mutex_);
-  if (interrupts_.open_ == this && interrupts_.first_ != 0) return interrupts_.first_;
+  if (interrupts_.open_ == this && interrupts_.first_ != 0) {
+    answered_ = true;
+    return interrupts_.first_;
+  }
   return std::nullopt;
 }
 

@@ -29,7 +29,9 @@ class Interrupts {
   Interrupts& operator=(const Interrupts&) = delete;
 
   // A stretch of a command that stops cleanly when asked; the first signal during it requests
-  // stop on its token. One at a time.
+  // stop on its token. One at a time. The command asks signal() once the stretch is over; a
+  // signal it never heard of (one that came after it last asked) ends the process when the
+  // stretch closes, so that none is lost between the asking and the closing.
   class Stoppable {
    public:
     explicit Stoppable(Interrupts& interrupts);
@@ -44,6 +46,7 @@ class Interrupts {
     friend class Interrupts;
     Interrupts& interrupts_;
     std::stop_source source_;
+    mutable bool answered_ = false;  // signal() has reported the signal
   };
 
   // "SIGINT", "SIGTERM", "SIGHUP".

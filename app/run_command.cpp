@@ -125,7 +125,11 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
           progress.update(out.step + 1);
         },
         control);
-    if (const std::optional<int> signal = stoppable ? stoppable->signal() : std::nullopt) {
+    // From here on the outputs are written: a signal now ends the process at once, which leaves
+    // them uncommitted (their temporaries unnamed) and the earlier files as they were.
+    const std::optional<int> signal = stoppable ? stoppable->signal() : std::nullopt;
+    stoppable.reset();
+    if (signal) {
       progress.finish();
       errors << "dwatch: run " << args.scenario << " interrupted (" << Interrupts::name(*signal) << ") after "
              << run.latest() + 1 << " of " << steps << " steps: nothing written";
