@@ -17,6 +17,8 @@ constexpr glm::vec3 kBackground{0.965f, 0.969f, 0.976f};
 constexpr glm::vec3 kGround{0.905f, 0.914f, 0.929f};
 constexpr glm::vec3 kGridLine{0.78f, 0.80f, 0.83f};
 constexpr glm::vec4 kOutline{0.84f, 0.11f, 0.16f, 1};  // as the slot links
+// The selected module's rim: a green no colour scale uses, apart from the group's red.
+constexpr glm::vec4 kSelectedOutline{0.10f, 0.78f, 0.22f, 1};
 constexpr Color kPropColor{0.50f, 0.46f, 0.43f};
 // Modules are drawn a little smaller than their cell, so that each one shows in a lattice.
 constexpr float kModuleScale = 0.9f;
@@ -377,15 +379,18 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
 
   draw_ground(scene, view_projection);
 
-  // Solid: every module, or with groups highlighted only theirs; translucent: the others, near to
-  // far (see below).
+  // Solid: every module, or with groups highlighted only theirs and the selected one;
+  // translucent: the others, near to far (see below). The group's modules and the selected one
+  // get a rim.
   const bool highlighting = !scene.groups.empty();
   std::vector<Instance> solid, faded, outline, props;
   std::vector<std::pair<float, size_t>> depth;
   for (const SceneModule& m : scene.modules) {
-    if (!highlighting || m.highlighted) {
+    if (!highlighting || m.highlighted || m.selected) {
       solid.push_back({transform(m.pose, glm::vec3(kModuleScale)), {m.color.r, m.color.g, m.color.b, 1}});
-      if (highlighting) outline.push_back({transform(m.pose, glm::vec3(kOutlineScale)), kOutline});
+      // A selected module of the group keeps the group's rim: the group reads whole.
+      if (highlighting && m.highlighted) outline.push_back({transform(m.pose, glm::vec3(kOutlineScale)), kOutline});
+      else if (m.selected) outline.push_back({transform(m.pose, glm::vec3(kOutlineScale)), kSelectedOutline});
     } else {
       const auto& p = m.pose.position;
       depth.push_back({glm::length(glm::vec3(p[0], p[1], p[2]) - camera.eye), faded.size()});
@@ -410,7 +415,7 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
     props.assign(1, {transform(prop.pose, 2.0f * half_extent(prop)), {kPropColor.r, kPropColor.g, kPropColor.b, 1}});
     draw_instances(*meshes_.at(prop.shape), props);
   }
-  if (!highlighting) {
+  if (outline.empty()) {
     draw_instances(module_mesh, solid);
     return;
   }

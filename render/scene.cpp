@@ -54,6 +54,7 @@ Scene build_scene(const sim::Model& model, const sim::State& state, std::span<co
     }
     sm.color = column >= 0 ? scale.color(value(m)) : kNeutralModule;
     sm.highlighted = highlighted[m] != 0;
+    sm.selected = settings.selected == m;
     scene.modules.push_back(sm);
   }
 

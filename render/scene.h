@@ -28,6 +28,8 @@ struct SceneModule {
   sim::Pose pose;
   Color color;
   bool highlighted = false;  // a slot of a highlighted group
+  bool selected = false;     // the module the user selected (the window): drawn solid, with a rim of
+                             // its own unless the group's
 };
 
 // A body that is not a module (a projectile, an obstacle).
@@ -77,6 +79,7 @@ struct SceneSettings {
   std::optional<float> ground_z;  // unset: half a module below the lowest lattice cell
   std::string color_by;           // a variable; empty: one colour for every module
   std::optional<sim::Vec3> camera_eye, camera_target;
+  std::optional<sim::ModuleId> selected;  // the window's selected module
 };
 
 // Poses come from State::bodies in a physical world and from the lattice otherwise; colours from

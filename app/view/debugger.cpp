@@ -657,7 +657,12 @@ nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& 
     answer["color_by"] = model_.color_by;
   } else if (words[0] == "panel") {
     if (words.size() != 2) {
-      error = "panel NAME: position, matches, watchpoints or inspector";
+      error = "panel NAME: position, matches, watchpoints, inspector or plots";
+      return answer;
+    }
+    if (words[1] == "plots") {  // where the last frame drew its plots, for tests that look at them
+      answer["plot_rects"] = nlohmann::ordered_json::array();
+      for (const auto& r : plot_rects_) answer["plot_rects"].push_back(r);
       return answer;
     }
     answer = frame_.panel(words[1], m);

@@ -7,6 +7,7 @@
 // commands, plus `click`, `key`, `wait`, `screenshot` and `panel`.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <memory>
@@ -173,8 +174,9 @@ class Debugger {
   std::vector<DisabledWatch> disabled_;
   int set_column_ = 0;
   char record_path_[256] = "trace.jsonl", matches_path_[256] = "matches.jsonl";
-  char save_path_[256] = "";  // "Save as scenario": where (`save FILE`)
-  std::string save_refused_;  // the file a `save` would have overwritten, asking to confirm
+  std::vector<std::array<float, 4>> plot_rects_;  // the last frame's plots: x0, y0, x1, y1
+  char save_path_[256] = "";                      // "Save as scenario": where (`save FILE`)
+  std::string save_refused_;                      // the file a `save` would have overwritten, asking to confirm
   int64_t set_value_ = 0;
   float push_[3] = {0, 0, 5};
   int goto_step_ = 0;

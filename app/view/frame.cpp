@@ -134,6 +134,7 @@ Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, con
     groups = {{wp.name, t, wp.program.slot_names, group_of(session, *chosen)}};
   }
   render::SceneSettings settings = app::scene_settings(scenario, view.color_by);
+  settings.selected = view.selected;
   settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(t);
   f.scene = render::build_scene(model, session.state(), groups, settings);
   if (const int c = settings.color_by.empty() ? -1 : model.column(settings.color_by); c >= 0) {

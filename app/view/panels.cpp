@@ -34,6 +34,7 @@ void place_in_column(float top, float bottom) {
 }  // namespace
 
 void Debugger::draw_panels() {
+  plot_rects_.clear();
   transport_panel();
   watchpoints_panel();
   matches_panel();
@@ -453,6 +454,8 @@ void Debugger::inspector_panel() {
     // them one pixel wide.
     ImGui::SetNextItemWidth(-FLT_MIN);
     ImGui::PlotLines("##plot", in.plot.data(), int(in.plot.size()), 0, label.c_str(), FLT_MAX, FLT_MAX, ImVec2(0, 60));
+    plot_rects_.push_back(
+        {ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y, ImGui::GetItemRectMax().x, ImGui::GetItemRectMax().y});
   }
   ImGui::TextUnformatted("neighbours:");
   for (sim::ModuleId n : in.neighbors) {
@@ -549,7 +552,7 @@ void Debugger::statistics_panel() {
     ImGui::PushID(int(w));
     // Five small plots over the steps up to the current one, side by side.
     if (ImGui::BeginTable("plots", 5, ImGuiTableFlags_SizingStretchSame)) {
-      auto plot = [](const char* what, const std::vector<float>& values, bool histogram = false) {
+      auto plot = [this](const char* what, const std::vector<float>& values, bool histogram = false) {
         ImGui::TableNextColumn();
         ImGui::TextUnformatted(what);
         const std::string id = std::string("##") + what;
@@ -557,6 +560,8 @@ void Debugger::statistics_panel() {
         if (histogram)
           ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 40));
         else ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 40));
+        plot_rects_.push_back({ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y, ImGui::GetItemRectMax().x,
+                               ImGui::GetItemRectMax().y});
       };
       plot("live", live);
       plot("created", created);

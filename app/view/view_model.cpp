@@ -192,9 +192,9 @@ std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord
   } else if (name == "screenshot") {
     if (words.size() < 2) d = mistake(1, "screenshot FILE: the PNG to write");
   } else if (name == "panel") {
-    static const char* kPanels[] = {"position", "matches", "watchpoints", "inspector"};
+    static const char* kPanels[] = {"position", "matches", "watchpoints", "inspector", "plots"};
     if (words.size() < 2 || std::find(std::begin(kPanels), std::end(kPanels), words[1].text) == std::end(kPanels))
-      d = mistake(1, "panel NAME: position, matches, watchpoints or inspector");
+      d = mistake(1, "panel NAME: position, matches, watchpoints, inspector or plots");
   }
   if (!d && words.size() > want)
     d = mistake(want, "'" + name + "' takes " + std::to_string(want - 1) + " more word" + (want == 2 ? "" : "s"));

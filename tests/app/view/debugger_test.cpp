@@ -150,6 +150,62 @@ TEST_F(Window, PausedOnTwoLeadersSeekBackSelectTheGroupAndScreenshot) {
   EXPECT_GT(window->width, w + 200);
 }
 
+// The selected module shows in 3D beside a highlighted group: a module outside the group, faded
+// before the click, is drawn solid with a green rim after it (seen by the screenshot's pixels).
+TEST_F(Window, TheSelectedModuleIsVisibleBesideTheGroup) {
+  const Outcome view = dwatch("view " + kLeader, "run\nscreenshot before.png\nclick 30\nscreenshot after.png\n", true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 4u) << view.err;
+  ASSERT_EQ(view.answers[2]["selected"], 30);
+  const auto group = view.answers[0]["paused"]["group"];
+  for (const auto& [slot, module] : group.items()) ASSERT_NE(module, 30) << "module 30 must lie outside the group";
+  std::string error;
+  const auto before = dw::render::read_png((dir_ / "before.png").string(), &error);
+  const auto after = dw::render::read_png((dir_ / "after.png").string(), &error);
+  ASSERT_TRUE(before && after) << error;
+  // Green rim pixels (the renderer's kSelectedOutline, shaded) within 40 pixels of the click.
+  const int cx = int(view.answers[2]["pixel"][0].get<double>()), cy = int(view.answers[2]["pixel"][1].get<double>());
+  auto green = [&](const dw::render::Image& image) {
+    int count = 0;
+    for (int y = std::max(0, cy - 40); y < std::min(image.height, cy + 40); ++y)
+      for (int x = std::max(0, cx - 40); x < std::min(image.width, cx + 40); ++x) {
+        const uint8_t* p = image.pixel(x, y);
+        if (p[1] > 150 && p[0] < 90 && p[2] < 110) ++count;
+      }
+    return count;
+  };
+  EXPECT_LT(green(*before), 10) << "green around module 30 before it was selected";
+  EXPECT_GT(green(*after), 150) << "the selected module has no visible rim";
+}
+
+// The Module panel's plot and the Statistics plots have a real width and draw their lines
+// (ImGui 1.86 drew them one pixel wide when given a width of -1).
+TEST_F(Window, ThePlotsAreDrawnAcrossTheirPanels) {
+  const Outcome view = dwatch("view " + kLeader, "run 30\nclick 7\nwait 3\npanel plots\nscreenshot w.png\n", true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 5u) << view.err;
+  const json& rects = view.answers[3]["plot_rects"];
+  ASSERT_EQ(rects.size(), 6u) << view.answers[3];  // the Module panel's, and five per watchpoint
+  std::string error;
+  const auto shot = dw::render::read_png((dir_ / "w.png").string(), &error);
+  ASSERT_TRUE(shot) << error;
+  for (const json& r : rects) {
+    const int x0 = int(r[0].get<double>()), y0 = int(r[1].get<double>()), x1 = int(r[2].get<double>()),
+              y1 = int(r[3].get<double>());
+    EXPECT_GE(x1 - x0, 60) << r << ": a plot a sliver wide";
+    ASSERT_LE(x1, shot->width);
+    ASSERT_LE(y1, shot->height);
+    // ImGui's plot colours (lines grey, histogram yellow) against the frame's dark blue.
+    int drawn = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const uint8_t* p = shot->pixel(x, y);
+        if ((p[0] > 120 && p[1] > 120) || (p[0] > 180 && p[1] > 120 && p[2] < 80)) ++drawn;
+      }
+    EXPECT_GE(drawn, 40) << r << ": nothing drawn in the plot";
+  }
+}
+
 TEST_F(Window, KeysStepSeekAndFindTheNextMatch) {
   const Outcome view =
       dwatch("view " + kLeader,
