@@ -244,7 +244,9 @@ TEST(RuntimeRanks, AProgramFailingOnOneRankStopsEveryRankWithItsError) {
   // ranks each is another rank's). On a line of 4 blocks of 4096 over 2 ranks, rank 0 holds
   // blocks 0 and 1: 5000 is in block 1, on the border, which runs first; 100 is inside.
   const std::pair<uint32_t, std::vector<ModuleId>> cases[] = {{8, {5}}, {8, {3, 1}}, {4 * 4096, {5000, 100}}};
-  for (const auto& [length, modules] : cases) {
+  for (const auto& c : cases) {
+    const uint32_t length = c.first;  // named apart: clang 14 captures no structured binding
+    const std::vector<ModuleId>& modules = c.second;
     const std::string one = failure(length, modules, nullptr);
     ASSERT_NE(one.find("module " + std::to_string(std::ranges::min(modules)) + ":"), std::string::npos) << one;
     for (int n : {2, 4})
