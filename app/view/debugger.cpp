@@ -133,9 +133,9 @@ void Debugger::refresh_frame() {
         model_.playing = false;
         const auto& p = a.json["paused"];
         paused.emplace(p.value("watch", ""), p.value("t", int64_t{0}));
-        status("paused: " + p.dump());
+        status(answer_words(a.json));
       } else if (!model_.playing) {
-        status(a.json.dump());
+        status(answer_words(a.json));
       }
     }
   }

@@ -37,6 +37,14 @@ std::vector<sim::ModuleId> group_of(const sim::Session& session, MatchRef r) {
   return {list.slots.begin() + std::ptrdiff_t(r.index * k), list.slots.begin() + std::ptrdiff_t((r.index + 1) * k)};
 }
 
+// A match as a row of the matches table (and of the Module panel's list).
+MatchRowText match_row(const sim::Session& session, MatchRef r) {
+  const sim::Model& model = session.model();
+  const sim::MatchList& list = session.matches(r.watch);
+  return {r, model.watches[r.watch].watchpoint.name, list.t[r.index], list.detected[r.index],
+          slots_text(model, r.watch, group_of(session, r))};
+}
+
 Inspector inspect(sim::Session& session, const ViewModel& view, const ModuleWindow* window, const FrameLimits& limits) {
   const sim::Model& model = session.model();
   const sim::ModuleId m = *view.selected;
@@ -58,7 +66,7 @@ Inspector inspect(sim::Session& session, const ViewModel& view, const ModuleWind
   MatchFilter only_m;
   only_m.module = m;
   MatchRows rows = filter_matches(session, only_m, limits.module_matches);
-  for (const MatchRef& r : rows.rows) in.matches.push_back({r, session.matches(r.watch).t[r.index]});
+  for (const MatchRef& r : rows.rows) in.matches.push_back(match_row(session, r));
   in.matches_total = rows.total;
   in.plot_column = view.plot_variable.empty() ? 0 : std::max(0, model.column(view.plot_variable));
   if (have_window) {
@@ -153,11 +161,7 @@ Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, con
   }
   MatchRows rows = filter_matches(session, view.filter, limits.match_rows);
   f.match_total = rows.total;
-  for (const MatchRef& r : rows.rows) {
-    const sim::MatchList& list = session.matches(r.watch);
-    f.match_rows.push_back({r, model.watches[r.watch].watchpoint.name, list.t[r.index], list.detected[r.index],
-                            slots_text(model, r.watch, group_of(session, r))});
-  }
+  for (const MatchRef& r : rows.rows) f.match_rows.push_back(match_row(session, r));
   return f;
 }
 

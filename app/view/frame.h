@@ -37,13 +37,22 @@ struct VariableRow {
   bool changed() const { return before && *before != value; }
 };
 
+struct MatchRowText {
+  MatchRef ref;
+  std::string watch;
+  int64_t t = 0, detected = 0;
+  std::string slots;  // "a=3 b=7 c=8"
+};
+
 struct Inspector {
   sim::ModuleId module = 0;
   bool present = false;
   std::vector<VariableRow> variables;
   std::vector<sim::ModuleId> neighbors;
   std::optional<sim::Pose> pose;
-  std::vector<std::pair<MatchRef, int64_t>> matches;  // the matches holding the module, with their steps (a few)
+  // The matches holding the module (a few), each as the matches table shows it: which, its step,
+  // its slots -- so that two matches of one step read apart.
+  std::vector<MatchRowText> matches;
   size_t matches_total = 0;
   // The plotted variable (ViewModel::plot_variable) over steps [plot_from, plot_from + plot.size()).
   int plot_column = 0;
@@ -56,13 +65,6 @@ struct StatsRow {  // one watchpoint's detector at one step
   uint64_t live = 0, created = 0, messages = 0, matches = 0;
   double seconds = 0;
   std::vector<uint64_t> live_by_filled;
-};
-
-struct MatchRowText {
-  MatchRef ref;
-  std::string watch;
-  int64_t t = 0, detected = 0;
-  std::string slots;  // "a=3 b=7 c=8"
 };
 
 struct Frame {

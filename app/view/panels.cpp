@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cinttypes>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "app/explain.h"
@@ -29,6 +30,21 @@ void place_in_column(float top, float bottom) {
   const ImGuiViewport* vp = ImGui::GetMainViewport();
   place(ImVec2(vp->WorkPos.x + vp->WorkSize.x - Debugger::kPanelWidth, vp->WorkPos.y + vp->WorkSize.y * top),
         ImVec2(Debugger::kPanelWidth, vp->WorkSize.y * (bottom - top)));
+}
+
+// A value in a table cell: whole when it fits, else cut at the right with "..." and whole in a
+// tooltip, so that a cut number never reads as another number (ImGui clips a cell's text
+// silently: 8280827919719202833 showed as 828082791971920283).
+void cell_text(const std::string& text, std::optional<ImVec4> color = std::nullopt) {
+  const float room = ImGui::GetContentRegionAvail().x;
+  std::string shown = text;
+  if (ImGui::CalcTextSize(text.c_str()).x > room) {
+    while (shown.size() > 1 && ImGui::CalcTextSize((shown + "...").c_str()).x > room) shown.pop_back();
+    shown += "...";
+  }
+  if (color) ImGui::TextColored(*color, "%s", shown.c_str());
+  else ImGui::TextUnformatted(shown.c_str());
+  if (shown != text && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text.c_str());
 }
 
 }  // namespace
@@ -438,10 +454,10 @@ void Debugger::inspector_panel() {
                             v.name == model_.plot_variable || (model_.plot_variable.empty() && &v == &in.variables[0])))
         model_.plot_variable = v.name, frame_stale_ = true;
       ImGui::TableNextColumn();
-      if (v.changed()) ImGui::TextColored(ImVec4(1, 0.8f, 0.2f, 1), "%lld  (changed)", static_cast<long long>(v.value));
-      else ImGui::Text("%lld", static_cast<long long>(v.value));
+      if (v.changed()) cell_text(std::to_string(v.value) + "  (changed)", ImVec4(1, 0.8f, 0.2f, 1));
+      else cell_text(std::to_string(v.value));
       ImGui::TableNextColumn();
-      if (v.before) ImGui::Text("%lld", static_cast<long long>(*v.before));
+      if (v.before) cell_text(std::to_string(*v.before));
       else ImGui::TextDisabled("-");
     }
     ImGui::EndTable();
@@ -465,15 +481,14 @@ void Debugger::inspector_panel() {
       frame_stale_ = true;
     }
   }
-  ImGui::Text("in %zu matches", in.matches_total);
+  // The module's matches, one row each (which, its step, its slots), so that two of one step read
+  // apart; a click goes to the match as a row of the matches table does.
+  ImGui::Text("in %zu matches%s", in.matches_total, in.matches_total > in.matches.size() ? " (the first below)" : "");
   for (size_t i = 0; i < in.matches.size() && i < 8; ++i) {
-    // Named apart, not a structured binding: clang 14 cannot capture one in the lambda below.
-    const auto& r = in.matches[i].first;
-    const auto t = in.matches[i].second;
-    if (r.watch >= frame_.watches.size()) continue;
-    ImGui::SameLine();
-    const std::string label = frame_.watches[r.watch].name + "@" + std::to_string(t) + "##" + std::to_string(i);
-    if (ImGui::SmallButton(label.c_str())) {
+    const MatchRef r = in.matches[i].ref;
+    const std::string label = in.matches[i].watch + "  t=" + std::to_string(in.matches[i].t) + "  " +
+                              in.matches[i].slots + "##match" + std::to_string(i);
+    if (ImGui::Selectable(label.c_str(), model_.selected_match && *model_.selected_match == r)) {
       std::vector<std::string> commands;
       worker_->try_read([&](sim::Session& s) { commands = model_.on_match_click(s, r); });
       apply(commands);

@@ -221,6 +221,46 @@ const std::vector<KeyHelp>& key_help() {
   return help;
 }
 
+std::string answer_words(const nlohmann::ordered_json& a) {
+  const std::string cmd = a.value("cmd", "");
+  const std::string verb = cmd.substr(0, cmd.find(' '));
+  auto number = [&](const char* key) { return std::to_string(a.value(key, int64_t{0})); };
+  if (a.contains("paused") && a["paused"].is_object()) {
+    const auto& p = a["paused"];
+    std::string group;
+    if (p.contains("group"))
+      for (const auto& [slot, module] : p["group"].items())
+        group += (group.empty() ? "" : " ") + slot + "=" + module.dump();
+    std::string words =
+        "paused at step " + std::to_string(p.value("t", int64_t{0})) + " on " + p.value("watch", "") + ": " + group;
+    if (p.value("detected", int64_t{0}) != p.value("t", int64_t{0}))
+      words += " (found at step " + std::to_string(p.value("detected", int64_t{0})) + ")";
+    if (const int64_t n = p.value("matches", int64_t{1}); n > 1)
+      words += ", " + std::to_string(n) + " matches at that step";
+    return words;
+  }
+  std::string words;
+  if (a.contains("watch") && a.contains("index"))
+    words = "watchpoint " + a.value("watch", "") + " (" + a.value("algorithm", "") + ", " + a.value("action", "") +
+            "): " + number("matches") + " matches so far";
+  else if (a.contains("save"))
+    words = "saved the session as " + a.value("save", "") + " (" + number("watches") + " watchpoints, " +
+            number("interventions") + " interventions)";
+  else if (a.contains("record"))
+    words = "recorded steps 0 to " + std::to_string(a.value("steps", int64_t{0}) - 1) + " to " + a.value("record", "");
+  else if (a.contains("render")) words = "drew step " + number("t") + " to " + a.value("render", "");
+  else if (a.contains("intervention"))
+    words = "intervention at step " + std::to_string(a["intervention"].value("at", int64_t{0})) +
+            (a.value("dropped_steps", int64_t{0}) > 0 ? ", " + number("dropped_steps") + " later steps dropped" : "");
+  else if (a.contains("reloaded")) words = "scripts reloaded";
+  else words = verb.empty() ? "done" : verb + ": done";
+  if (a.contains("current"))
+    words += (words.empty() ? "" : "; ") + std::string("at step ") + number("current") + " of " +
+             std::to_string(a.value("latest", int64_t{0}) + 1) + " simulated";
+  if (a.value("cancelled", false)) words += " (cancelled)";
+  return words;
+}
+
 namespace command {
 std::string step(int64_t n) { return "step " + std::to_string(n); }
 std::string run() { return "run"; }

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
 #include <string>
@@ -99,6 +100,10 @@ bool is_window_command(std::string_view word);
 // A mistake in one (its words, the span just past the line's end), or nothing.
 std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord> words, uint32_t module_count,
                                                       watch::Span end_of_line);
+
+// A session command's answer said in words for the status line ("paused at step 1 on
+// two_leaders: a=7 b=6 c=17, 91 matches at that step"), rather than its JSON.
+std::string answer_words(const nlohmann::ordered_json& answer);
 
 // Where the session is, as the window last read it.
 struct Position {

@@ -266,3 +266,23 @@ TEST(ProgramFailure, IsShownAtItsStepUntilTheRunMovesOn) {
 
 }  // namespace
 }  // namespace dw::view
+
+namespace dw::view {
+namespace {
+
+// The status line says what a command did in words, never as the answer's JSON.
+TEST(AnswerWords, APauseASeekAndASaveReadAsSentences) {
+  const auto paused = nlohmann::ordered_json::parse(
+      R"({"cmd":"run","current":1,"latest":3,"decided":1,"paused":{"watch":"two_leaders","t":1,"detected":3,"group":{"a":7,"b":6,"c":17},"matches":91}})");
+  EXPECT_EQ(answer_words(paused),
+            "paused at step 1 on two_leaders: a=7 b=6 c=17 (found at step 3), 91 matches at that step");
+  const auto seek = nlohmann::ordered_json::parse(R"({"cmd":"seek 2","current":2,"latest":3,"decided":3})");
+  EXPECT_EQ(answer_words(seek), "seek: done; at step 2 of 4 simulated");
+  const auto save =
+      nlohmann::ordered_json::parse(R"({"cmd":"save x.toml","save":"x.toml","watches":2,"interventions":1})");
+  EXPECT_EQ(answer_words(save), "saved the session as x.toml (2 watchpoints, 1 interventions)");
+  for (const auto* a : {&paused, &seek, &save}) EXPECT_EQ(answer_words(*a).find('{'), std::string::npos);
+}
+
+}  // namespace
+}  // namespace dw::view
