@@ -17,7 +17,7 @@ case "$kind" in
   *) echo "usage: scripts/build.sh [release|asan|fuzz]" >&2; exit 2 ;;
 esac
 cmake -S . -B "$dir" -G Ninja -DDWATCH_WERROR=ON "${flags[@]}" >/dev/null
-if [ "$kind" = fuzz ] && [ ${#targets[@]} -eq 0 ]; then targets=(parser_fuzz scenario_fuzz trace_fuzz); fi
+if [ "$kind" = fuzz ] && [ ${#targets[@]} -eq 0 ]; then targets=(parser_fuzz scenario_fuzz trace_fuzz session_fuzz lua_fuzz); fi
 if [ ${#targets[@]} -gt 0 ]; then
   cmake --build "$dir" --parallel "$(nproc)" --target "${targets[@]}"
 else

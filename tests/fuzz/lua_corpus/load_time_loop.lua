@@ -1,0 +1,3 @@
+while true do end
+program = { vars = { "v" } }
+function step(m) end
