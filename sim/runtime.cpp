@@ -188,7 +188,9 @@ void Runtime::run_programs(unsigned thread, uint32_t begin, uint32_t end, const 
   for (uint32_t m = begin; m < end; ++m) {
     const int64_t* before = state.values.data() + size_t{m - first_} * v;
     int64_t* after = next_values_.data() + size_t{m - first_} * v;
-    std::memcpy(after, before, sizeof(int64_t) * v);  // a variable nobody assigns keeps its value
+    // A variable nobody assigns keeps its value. (A model without variables has no rows: their
+    // pointers may be null, which memcpy may not be given even for no bytes.)
+    if (v > 0) std::memcpy(after, before, sizeof(int64_t) * v);
     if (!state.present[m]) continue;
     const auto neighbors = state.graph->neighbors(m);
     for (uint32_t p = 0; p < programs; ++p) {

@@ -111,6 +111,33 @@ TEST(Runtime, TwoProgramsDeclaringOneVariableIsAnError) {
   EXPECT_NE(std::get<std::string>(built).find("'v'"), std::string::npos);
 }
 
+// A program may declare no variable at all (a Lua script with `vars = {}`): the modules step,
+// with no row of values to carry over (the Lua fuzzer found the runtime copying the empty rows
+// from a null pointer, which the sanitizer suite stops at).
+class Silent final : public HostProgram {
+ public:
+  std::string_view name() const override { return "silent"; }
+  std::vector<VariableSpec> variables() const override { return {}; }
+  void step(ModuleContext& m) const override { m.broadcast({static_cast<int64_t>(m.id())}); }
+};
+
+TEST(Runtime, AModelWithoutVariablesSteps) {
+  std::vector<std::unique_ptr<const HostProgram>> programs;
+  programs.push_back(std::make_unique<Silent>());
+  auto model = std::get<std::unique_ptr<Model>>(
+      build_model(make_lattice({LatticeKind::Line, {3, 1, 1}}), std::move(programs), {}, 1));
+  ASSERT_EQ(model->variable_count(), 0u);
+  StaticLatticeWorld world;
+  Runtime rt(*model, world, 1);
+  State s = rt.initial_state();
+  StepOutput out;
+  rt.step(s, out);
+  rt.step(s, out);
+  EXPECT_EQ(s.step, 2);
+  EXPECT_TRUE(s.values.empty());
+  EXPECT_EQ(out.program_messages, 4u);  // 0 -> 1, 1 -> 0, 1 -> 2, 2 -> 1
+}
+
 // What a run records is what its watchpoints saw: replaying the recording with a detector of
 // either algorithm finds exactly the live matches.
 TEST(Runtime, RecordedFramesReplayToTheLiveMatches) {
