@@ -329,6 +329,9 @@ class Compiler {
         } else if (t.x != decide_) {
           t.set = carried_set(t.x, t.offset);
         }
+        // `neighbor(n a)` reads which module fills slot a: for any other slot than the decide
+        // slot's, the leaf is no own leaf (it is not the same for every binding of its module).
+        if (t.y != kBound && t.y != decide_) carries_ = true;
       }
       p_.tests.push_back(t);
       ops.push_back({ExprOp::PushLeaf, static_cast<uint32_t>(p_.tests.size() - 1)});
