@@ -29,7 +29,8 @@ Trail straight(const std::string& name, unsigned threads, int64_t steps, Scenari
   Scenario s = load_file(name, overrides);
   sim::Session run(*s.model, *s.world, {.threads = threads});
   Trail t;
-  run.run_until(steps, [&](const sim::State& st, const sim::StepOutput&) { t.hashes.push_back(sim::hash_state(st).whole()); });
+  run.run_until(steps,
+                [&](const sim::State& st, const sim::StepOutput&) { t.hashes.push_back(sim::hash_state(st).whole()); });
   t.matches = matches_of(run);
   return t;
 }
@@ -229,8 +230,9 @@ TEST(PhysicsSession, RandomWalksEqualTheStraightRunWithTheSameEvents) {
       sim::Session straight(*again.model, *again.world, {.threads = threads, .events = run.interventions()});
       std::vector<uint64_t> hashes;
       while (straight.current() < kSteps - 1)
-        straight.run_until(
-            kSteps, [&](const sim::State& st, const sim::StepOutput&) { hashes.push_back(sim::hash_state(st).whole()); });
+        straight.run_until(kSteps, [&](const sim::State& st, const sim::StepOutput&) {
+          hashes.push_back(sim::hash_state(st).whole());
+        });
       EXPECT_EQ(matches_of(run), matches_of(straight));
       interventions += run.interventions().size();
       ASSERT_EQ(run.latest() + 1, kSteps);

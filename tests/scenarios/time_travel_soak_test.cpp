@@ -39,8 +39,8 @@ watch::DetectorStats soak(const std::string& toml, unsigned threads, uint32_t se
   Scenario s = load(toml);
   sim::Session straight(*s.model, *s.world, {.threads = threads});
   std::vector<uint64_t> expected;
-  straight.run_until(kSteps,
-                     [&](const sim::State& st, const sim::StepOutput&) { expected.push_back(sim::hash_state(st).whole()); });
+  straight.run_until(
+      kSteps, [&](const sim::State& st, const sim::StepOutput&) { expected.push_back(sim::hash_state(st).whole()); });
   EXPECT_EQ(expected.size(), size_t(kSteps));
 
   Scenario again = load(toml);
