@@ -157,6 +157,14 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
   if (tokens.empty()) return std::optional<SessionCommand>{};
 
   std::vector<watch::Diagnostic> mistakes;
+  // Names, files and watchpoints are UTF-8 text: a byte that is not would reach the answers,
+  // which are JSON, and the file system, where it names nothing a user can type.
+  for (const Token& t : tokens)
+    if (const auto at = watch::first_non_utf8(t.text)) {
+      const uint32_t begin = t.span.begin + static_cast<uint32_t>(*at);
+      return std::vector<watch::Diagnostic>{
+          {{begin, begin + 1}, "a byte that is not UTF-8 text: names, files and watchpoints are read as UTF-8"}};
+    }
   auto fail = [&](watch::Span at, std::string message) {
     mistakes.push_back({at, std::move(message)});
     return mistakes;

@@ -5,6 +5,18 @@
 namespace dw::watch {
 namespace {
 
+// The bytes of the UTF-8 character at text[i], or 0 when none starts there (a stray
+// continuation byte, an overlong or out-of-range lead, a character cut short).
+size_t utf8_length(std::string_view text, size_t i) {
+  const auto c = uint8_t(text[i]);
+  if (c < 0x80) return 1;
+  const size_t length = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xC2 && c <= 0xDF ? 2 : 0;
+  if (length == 0 || i + length > text.size()) return 0;
+  for (size_t k = 1; k < length; ++k)
+    if ((uint8_t(text[i + k]) & 0xC0) != 0x80) return 0;
+  return length;
+}
+
 // The line as a terminal may show it: control characters and bytes that are not UTF-8 become
 // '?', one for one (so that the caret stays under its column), never raw bytes that a terminal
 // would act on.
@@ -17,10 +29,8 @@ std::string printable(std::string_view line) {
       ++i;
       continue;
     }
-    const size_t length = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 ? 3 : c >= 0xC2 && c <= 0xDF ? 2 : 0;
-    bool valid = length > 0 && c < 0xF5 && i + length <= out.size();
-    for (size_t k = 1; valid && k < length; ++k) valid = (uint8_t(out[i + k]) & 0xC0) == 0x80;
-    if (!valid) {
+    const size_t length = utf8_length(out, i);
+    if (length == 0) {
       out[i++] = '?';
       continue;
     }
@@ -30,6 +40,15 @@ std::string printable(std::string_view line) {
 }
 
 }  // namespace
+
+std::optional<size_t> first_non_utf8(std::string_view text) {
+  for (size_t i = 0; i < text.size();) {
+    const size_t length = utf8_length(text, i);
+    if (length == 0) return i;
+    i += length;
+  }
+  return std::nullopt;
+}
 
 std::string format_diagnostic(const SourceText& source, const Diagnostic& d, std::string_view kind) {
   const Location loc = source.locate(d.span.begin);

@@ -2,6 +2,7 @@
 // caret under the span. Errors are collected, never thrown.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,8 @@ struct Diagnostic {
 
 // Columns of a long source line shown around the caret (the rest elided with "...").
 constexpr size_t kShownColumns = 160;
+// Where `text` stops being UTF-8 (the first byte no character starts at), or nothing when it all is.
+std::optional<size_t> first_non_utf8(std::string_view text);
 // Renders one diagnostic: the location line, the source line, and `^~~~` under the span.
 // `kind` is "error", or "warning" for what does not stop anything.
 std::string format_diagnostic(const SourceText& source, const Diagnostic& d, std::string_view kind = "error");

@@ -161,6 +161,10 @@ std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord
                                                       watch::Span end_of_line) {
   auto at = [&](size_t i) { return i < words.size() ? words[i].span : end_of_line; };
   auto mistake = [&](size_t i, std::string message) { return watch::Diagnostic{at(i), std::move(message)}; };
+  // As the session's commands: a file or name goes into JSON answers and to the file system.
+  for (size_t i = 0; i < words.size(); ++i)
+    if (watch::first_non_utf8(words[i].text))
+      return mistake(i, "a byte that is not UTF-8 text: names and files are read as UTF-8");
   auto integer = [&](size_t i, int64_t lo, int64_t hi, const char* what) -> std::optional<watch::Diagnostic> {
     if (i >= words.size()) return mistake(i, std::string(what) + " is missing");
     const std::string& w = words[i].text;

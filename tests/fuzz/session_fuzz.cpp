@@ -23,9 +23,8 @@
 // kMaxLag (others are skipped), and at most kMaxCommands commands (kMaxWatches of them `watch`)
 // run per input.
 // `render` is skipped (the view's own tests draw); `record` and `save` write into a temporary
-// folder whatever FILE the script names, so that no input writes into the source tree. A finding
-// whose fix is still to come is stepped around where marked "Known finding", its reproducer in
-// tests/fuzz/session_corpus/finding_*.
+// folder whatever FILE the script names, so that no input writes into the source tree. Findings'
+// reproducers stay in tests/fuzz/session_corpus/finding_*.
 #include <unistd.h>
 
 #include <cstddef>
@@ -236,15 +235,6 @@ bool has_actions(const dw::sim::Model& model) {
   return false;
 }
 
-bool is_utf8(const std::string& text) {
-  try {
-    (void)nlohmann::json(text).dump();
-    return true;
-  } catch (const nlohmann::json::type_error&) {
-    return false;
-  }
-}
-
 // Brings the command within the budgets above: a step or run that would go past kLastStep stops
 // there instead; false for a command that cannot run within them (skipped).
 bool fit_budget(SessionCommand& c, const dw::sim::Session& session, size_t watches_run) {
@@ -259,9 +249,6 @@ bool fit_budget(SessionCommand& c, const dw::sim::Session& session, size_t watch
       return watches_run < kMaxWatches && c.watch->lag() <= kMaxLag &&
              c.watch->watchpoint.program.slot_count() <= kMaxSlots;
     case Kind::Render: return false;
-    // Known finding, in sim/session.cpp (tests/fuzz/session_corpus/finding_record_with_action_watch.session):
-    // record steps a watchpoint with actions along without its detector. Skipped until it is fixed.
-    case Kind::Record: return !has_actions(session.model());
     default: return true;
   }
 }
@@ -331,9 +318,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       SessionCommand& c = *command;
       if (c.line != line) fail("a command names another line");
       if (!fit_budget(c, session, watches_run)) continue;
-      // Known finding, in app/session_script.cpp (tests/fuzz/session_corpus/finding_name_not_utf8.session):
-      // a NAME or FILE that is not UTF-8 is taken, and its answer cannot be written. Skipped until it is fixed.
-      if (!is_utf8(c.name)) continue;
       // record FILE, save FILE: FILE goes to the output folder ("-" is refused by save itself).
       const bool writes = !c.name.empty() && c.kind != Kind::Watch && c.kind != Kind::Unwatch &&
                           c.kind != Kind::Matches && (c.kind == Kind::Record || c.name != "-");

@@ -79,3 +79,19 @@ TEST(Diagnostic, TheWindowNeverSplitsAUtf8Character) {
 
 }  // namespace
 }  // namespace dw::watch
+
+namespace dw::watch {
+namespace {
+
+TEST(FirstNonUtf8, FindsTheFirstByteNoCharacterStartsAt) {
+  EXPECT_EQ(first_non_utf8("plain ascii"), std::nullopt);
+  EXPECT_EQ(first_non_utf8("caf\xC3\xA9 \xE2\x80\xA6 \xF0\x9F\x98\x80"), std::nullopt);  // é … 😀
+  EXPECT_EQ(first_non_utf8("ab\xFF"), 2u);
+  EXPECT_EQ(first_non_utf8("a\xC3"), 1u);         // cut short
+  EXPECT_EQ(first_non_utf8("\x80x"), 0u);         // a stray continuation byte
+  EXPECT_EQ(first_non_utf8("x\xC0\xAF"), 1u);     // an overlong lead
+  EXPECT_EQ(first_non_utf8("\xE2\x28\xA1"), 0u);  // a lead whose next byte is no continuation
+}
+
+}  // namespace
+}  // namespace dw::watch
