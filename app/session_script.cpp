@@ -31,14 +31,21 @@ struct CommandSpec {
 
 const CommandSpec kCommands[] = {
     {"step", Kind::Step, "step [N]", "run N steps (default 1); stops at a pause"},
-    {"run", Kind::Run, "run [T]", "run until a pause fires, step T, or the scenario's end"},
+    {"run", Kind::Run, "run [T] [--to-match NAME]",
+     "run until a pause fires (or NAME's next match), step T, or the scenario's end"},
+    {"continue", Kind::Continue, "continue",
+     "run on past the pause that stopped the cursor: to the next one, or the end"},
     {"seek", Kind::Seek, "seek T", "make step T current (0 <= T <= latest); nothing is lost"},
     {"set", Kind::Set, "set M VAR VALUE", "intervention at the current step: a new branch"},
     {"remove", Kind::Remove, "remove M", "intervention: module M leaves the ensemble"},
     {"push", Kind::Push, "push M X Y Z", "intervention (physics): an impulse (N s) on M's body"},
-    {"watch", Kind::Watch, "watch NAME [centralized|distributed] [log|pause|count] TEXT",
-     "add or replace a watchpoint; answers its matches count over the history"},
+    {"watch", Kind::Watch,
+     "watch NAME [centralized|distributed] [chain|ordered|any] [consistent|simultaneous] [log|pause|count] TEXT",
+     "add or replace a watchpoint (its shape and states as in docs/design.md section 3); answers its matches count "
+     "over the history"},
     {"unwatch", Kind::Unwatch, "unwatch NAME", "remove a watchpoint"},
+    {"action", Kind::Action, "action NAME log|pause|count",
+     "what watchpoint NAME does with its matches from now on (nothing is evaluated again)"},
     {"matches", Kind::Matches, "matches [NAME] [T]", "the matches (as in the match log), of one watch / at step T"},
     {"state", Kind::State, "state M", "module M at the current step: variables, neighbours, pose"},
     {"hash", Kind::Hash, "hash", "the state hash at the current step, and its simulation and watchpoints parts"},
@@ -204,9 +211,28 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       cmd.number = tokens.size() > 1 ? number(1, 1, kMaxStep, "N") : 1;
       break;
     case Kind::Run:
-      if (!want(0, 1)) return mistakes;
-      if (tokens.size() > 1) cmd.number = number(1, 0, kMaxStep, "T");
+      // run [T] [--to-match NAME], in either order
+      for (size_t i = 1; i < tokens.size(); ++i) {
+        if (tokens[i].text == "--to-match" && cmd.name.empty()) {
+          if (i + 1 == tokens.size()) return fail(after_last, "--to-match needs a watchpoint's name");
+          cmd.name = tokens[++i].text;
+        } else if (!cmd.number && integer(tokens[i].text)) {
+          cmd.number = number(i, 0, kMaxStep, "T");
+          if (!cmd.number) return mistakes;
+        } else {
+          return usage(tokens[i].span);
+        }
+      }
       break;
+    case Kind::Action: {
+      if (!want(2, 2)) return mistakes;
+      cmd.name = tokens[1].text;
+      const auto action = sim::parse_action(tokens[2].text);
+      if (!action)
+        return fail(tokens[2].span, "an action is log, pause or count, not '" + std::string(tokens[2].text) + "'");
+      cmd.action = *action;
+      break;
+    }
     case Kind::Seek:
       if (!want(1, 1)) return mistakes;
       cmd.number = number(1, 0, kMaxStep, "T");
@@ -333,6 +359,7 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
         cmd.overwrite = true;
       }
       break;
+    case Kind::Continue:
     case Kind::Hash:
     case Kind::Interventions:
     case Kind::Reload:
@@ -390,26 +417,48 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
   try {
     switch (cmd.kind) {
       case Kind::Step:
-      case Kind::Run: {
+      case Kind::Run:
+      case Kind::Continue: {
+        std::optional<uint32_t> to_match;
+        if (cmd.kind == Kind::Run && !cmd.name.empty()) {
+          const int w = session_.watch_index(cmd.name);
+          if (w < 0) return failed("no watchpoint is named '" + cmd.name + "'");
+          if (model.watches[static_cast<size_t>(w)].action == sim::MatchAction::Count)
+            return failed("'" + cmd.name + "' counts its matches and keeps none to stop at ('action " + cmd.name +
+                          " log' keeps them from now on)");
+          to_match = static_cast<uint32_t>(w);
+        }
         const int64_t target = cmd.kind == Kind::Step ? session_.current() + *cmd.number
                                : cmd.number           ? *cmd.number
                                                       : std::max(session_.end() - 1, session_.current());
-        const auto pause = session_.run_until(target + 1, {}, control);
+        const auto pause = session_.run_until(target + 1, {}, control, to_match);
         merge(position());
+        nlohmann::ordered_json stop = nullptr;
         if (pause) {
           const sim::HostedWatchpoint& h = model.watches[pause->watch];
           nlohmann::ordered_json group = nlohmann::ordered_json::object();
           for (size_t s = 0; s < pause->group.size(); ++s)
             group[h.watchpoint.program.slot_names[s]] = model.universe.module_ids[pause->group[s]];
-          answer["paused"] = {{"watch", h.watchpoint.name},
-                              {"t", pause->t},
-                              {"detected", pause->detected},
-                              {"group", group},
-                              {"matches", pause->matches}};
-        } else {
-          answer["paused"] = nullptr;
+          stop = {{"watch", h.watchpoint.name},
+                  {"t", pause->t},
+                  {"detected", pause->detected},
+                  {"group", group},
+                  {"matches", pause->matches}};
         }
+        // A run to a match stopped by that match says so apart from a pause action's stop.
+        const bool asked = pause && pause->asked;
+        answer["paused"] = asked ? nullptr : stop;
+        if (to_match) answer["matched"] = asked ? stop : nullptr;
         if (control.stopped()) answer["cancelled"] = true;
+        break;
+      }
+      case Kind::Action: {
+        const int w = session_.watch_index(cmd.name);
+        if (w < 0) return failed("no watchpoint is named '" + cmd.name + "'");
+        answer["watch"] = cmd.name;
+        answer["was"] = std::string(sim::action_name(model.watches[static_cast<size_t>(w)].action));
+        session_.set_action(static_cast<uint32_t>(w), cmd.action);
+        answer["action"] = std::string(sim::action_name(cmd.action));
         break;
       }
       case Kind::Seek:

@@ -22,12 +22,14 @@ struct SessionCommand {
   enum class Kind {
     Step,
     Run,
+    Continue,
     Seek,
     Set,
     Remove,
     Push,
     Watch,
     Unwatch,
+    Action,
     Matches,
     State,
     Hash,
@@ -40,11 +42,12 @@ struct SessionCommand {
     Help,
   };
   Kind kind = Kind::Help;
-  uint32_t line = 0;               // in the script
-  std::optional<int64_t> number;   // step N, run T, seek T, matches T
-  std::string name;                // watch/unwatch/matches NAME, render/record/save FILE
-  bool overwrite = false;          // save FILE overwrite
-  int width = 1280, height = 720;  // render
+  uint32_t line = 0;              // in the script
+  std::optional<int64_t> number;  // step N, run T, seek T, matches T
+  std::string name;               // watch/unwatch/action/matches NAME, run --to-match NAME, render/record/save FILE
+  sim::MatchAction action = sim::MatchAction::Log;  // action NAME ACTION
+  bool overwrite = false;                           // save FILE overwrite
+  int width = 1280, height = 720;                   // render
   std::optional<sim::Intervention> intervention;
   std::optional<sim::HostedWatchpoint> watch;
 };

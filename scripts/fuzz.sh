@@ -1,14 +1,21 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang, every library they reach instrumented, and fuzzes each
-# for SECONDS (default 30), starting from its seed corpus; new inputs go to build-fuzz/corpus/NAME.
-#   scripts/fuzz.sh [SECONDS] [TARGET...]      targets: parser scenario trace session lua (default: all)
+# for SECONDS (default 30), or for N executions with --runs N, starting from its seed corpus and
+# what earlier runs kept; new inputs go to build-fuzz/corpus/NAME.
+#   scripts/fuzz.sh [SECONDS | --runs N] [TARGET...]   targets: parser scenario trace session lua (default: all)
 # Prints, per target, the runs, the edges (cov) and features (ft) reached. Any crash, leak,
 # undefined behaviour, input over FUZZ_TIMEOUT seconds (default 1) or allocation over 2 GB fails
 # the script and leaves the input in build-fuzz/. On a loaded machine ASan's quarantine recycling
 # alone can pause an input past a second (seen here, with inputs that run in 1 ms): CI allows 2.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds="${1:-30}"
+limit=(-max_total_time="${1:-30}")
+until="${1:-30}s"
+if [ "${1:-}" = --runs ]; then
+  limit=(-runs="$2")
+  until="$2 runs"
+  shift
+fi
 export ASAN_OPTIONS="${ASAN_OPTIONS:-quarantine_size_mb=64}"
 # UndefinedBehaviorSanitizer reports and carries on unless told to stop: its report is a finding.
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
@@ -45,7 +52,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$corpus"
   log=build-fuzz/$t.log
   seeds=$(seed_dir "$t")
-  if ! (cd build-fuzz && ./tests/${t}_fuzz -max_total_time="$seconds" -max_len="$(max_len "$t")" "$(schedule "$t")" -timeout="${FUZZ_TIMEOUT:-1}" \
+  if ! (cd build-fuzz && ./tests/${t}_fuzz "${limit[@]}" -max_len="$(max_len "$t")" "$(schedule "$t")" -timeout="${FUZZ_TIMEOUT:-1}" \
           -rss_limit_mb=2048 -malloc_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$t-" \
           "../$corpus" "../$seeds") >"$log" 2>&1; then
     tail -40 "$log"
@@ -56,7 +63,7 @@ for t in "${targets[@]}"; do
   last=$(grep -E '^#[0-9]+' "$log" | tail -1)
   cov=$(echo "$last" | grep -o 'cov: [0-9]*' | grep -o '[0-9]*' || echo "?")
   ft=$(echo "$last" | grep -o 'ft: [0-9]*' | grep -o '[0-9]*' || echo "?")
-  summary+=("$(printf '%-9s %12s runs %7s edges %8s features in %ss' "$t" "$runs" "$cov" "$ft" "$seconds")")
+  summary+=("$(printf '%-9s %12s runs %7s edges %8s features (%s)' "$t" "$runs" "$cov" "$ft" "$until")")
 done
 echo "fuzz summary:"
 printf '  %s\n' "${summary[@]}"

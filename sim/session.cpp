@@ -271,14 +271,16 @@ void Session::truncate_history(int64_t through) {
   }
 }
 
-std::optional<Pause> Session::pause_at(int64_t t) const {
+std::optional<Pause> Session::pause_at(int64_t t, std::optional<uint32_t> to_match) const {
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
-    if (model_.watches[w].action != MatchAction::Pause) continue;
+    const bool asked = to_match == w;
+    if (model_.watches[w].action != MatchAction::Pause && !asked) continue;
     const MatchList& list = matches_[w];
     const auto [first, last] = list.at(t);
     if (first == last) continue;
     const size_t k = model_.watches[w].watchpoint.program.slot_count();
     return Pause{w,
+                 asked,
                  t,
                  list.detected[first],
                  {list.slots.begin() + static_cast<ptrdiff_t>(first * k),
@@ -288,7 +290,8 @@ std::optional<Pause> Session::pause_at(int64_t t) const {
   return std::nullopt;
 }
 
-std::optional<Pause> Session::run_until(int64_t end, const StepObserver& observer, const Control& control) {
+std::optional<Pause> Session::run_until(int64_t end, const StepObserver& observer, const Control& control,
+                                        std::optional<uint32_t> to_match) {
   const int64_t target = end - 1;
   const int64_t limit = std::max(options_.end, end);  // steps simulated ahead stay below it
   const int64_t lag = max_lag();
@@ -303,7 +306,7 @@ std::optional<Pause> Session::run_until(int64_t end, const StepObserver& observe
     }
     current_ = t;
     if (control.progress) control.progress(current_ - from, target - from);
-    if (auto pause = pause_at(t)) return pause;
+    if (auto pause = pause_at(t, to_match)) return pause;
     if (control.stopped()) return std::nullopt;
   }
   return std::nullopt;

@@ -77,9 +77,11 @@ struct ProgramFailure {
   std::string message;
 };
 
-// A `pause` watchpoint matched at the current step.
+// A `pause` watchpoint matched at the current step, or the watchpoint a run was asked to stop at
+// the next match of (`run --to-match W`).
 struct Pause {
   uint32_t watch = 0;
+  bool asked = false;           // the match of the run's `to_match`, not a pause action
   int64_t t = 0;                // the match's step
   int64_t detected = 0;         // the step during which it was found
   std::vector<ModuleId> group;  // the first match of that step, in slot order
@@ -105,8 +107,10 @@ class Session {
 
   // Moves the current step on until `end` steps have run (current = end - 1), stopping early at
   // a `pause` match's step (returned) or when cancelled. Steps already simulated are revisited,
-  // new ones simulated. Throws ProgramError when a program fails.
-  std::optional<Pause> run_until(int64_t end, const StepObserver& observer = {}, const Control& control = {});
+  // new ones simulated. With `to_match`, it stops at that watchpoint's next match too (a `count`
+  // watchpoint keeps no matches to stop at). Throws ProgramError when a program fails.
+  std::optional<Pause> run_until(int64_t end, const StepObserver& observer = {}, const Control& control = {},
+                                 std::optional<uint32_t> to_match = std::nullopt);
   // The run is over (`dwatch run`'s last call, docs/design.md §4a): the detectors that decide late, in
   // simultaneous-state mode, drain their PatternMatchers over the last step's links. What they
   // find joins the history as detected at the latest step (a `pause` one does not pause) and goes
@@ -147,6 +151,10 @@ class Session {
   // Adds a watchpoint, or replaces the one with its name, and evaluates it over the whole history.
   // Returns its index, or nothing when cancelled or without history (nothing changed then).
   std::optional<uint32_t> set_watch(HostedWatchpoint watch, const Control& control = {});
+  // What watchpoint w does with its matches from now on (`action W log|pause|count`): nothing is
+  // evaluated again, the matches found stay as they are (a `count` watchpoint keeps none, so one
+  // switched from `count` lists only those found after), and a pause looks at the new action.
+  void set_action(uint32_t w, MatchAction action) { model_.watches[w].action = action; }
   // Removes the watchpoint with this name; false when there is none.
   bool remove_watch(std::string_view name);
   // The index of the watchpoint with this name, or -1.
@@ -203,7 +211,7 @@ class Session {
   void recount_history();
   void record_output(const State& state, const StepOutput& out, uint32_t first_watch, uint32_t watch_count);
   void truncate_history(int64_t through);
-  std::optional<Pause> pause_at(int64_t t) const;
+  std::optional<Pause> pause_at(int64_t t, std::optional<uint32_t> to_match) const;
   bool materialize(int64_t t, const Control& control);
   void rebuild_runtime();
   void branch_here();  // the current step becomes the head: the future is dropped

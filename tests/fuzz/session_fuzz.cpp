@@ -243,6 +243,7 @@ bool fit_budget(SessionCommand& c, const dw::sim::Session& session, size_t watch
       if (session.current() + *c.number > kLastStep) c.number = kLastStep - session.current();
       return *c.number >= 1;
     case Kind::Run:
+    case Kind::Continue:
       if (c.number && *c.number > kLastStep) c.number = kLastStep;
       return c.number || std::max(session.end() - 1, session.current()) <= kLastStep;
     case Kind::Watch:
@@ -319,8 +320,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (c.line != line) fail("a command names another line");
       if (!fit_budget(c, session, watches_run)) continue;
       // record FILE, save FILE: FILE goes to the output folder ("-" is refused by save itself).
-      const bool writes = !c.name.empty() && c.kind != Kind::Watch && c.kind != Kind::Unwatch &&
-                          c.kind != Kind::Matches && (c.kind == Kind::Record || c.name != "-");
+      const bool writes = (c.kind == Kind::Record || c.kind == Kind::Save) && (c.kind == Kind::Record || c.name != "-");
       if (writes) {
         auto [it, added] = files.try_emplace(c.name, "");
         if (added) it->second = (outputs.path() / ("output" + std::to_string(files.size()))).string();
@@ -330,6 +330,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       const int64_t before = session.current(), latest_before = session.latest();
       const bool actions_before = has_actions(session.model());
       const bool named_watch_exists = !c.name.empty() && session.watch_index(c.name) >= 0;
+      const bool named_watch_counts =
+          named_watch_exists &&
+          session.model().watches[static_cast<size_t>(session.watch_index(c.name))].action == sim::MatchAction::Count;
       std::variant<nlohmann::ordered_json, std::string> result;
       try {
         result = shell.execute(c);
@@ -343,7 +346,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         bool may_fail = false;
         switch (c.kind) {
           case Kind::Step:
-          case Kind::Run: may_fail = session.failure().has_value(); break;
+          case Kind::Continue: may_fail = session.failure().has_value(); break;
+          case Kind::Run:
+            may_fail =
+                session.failure().has_value() || (!c.name.empty() && (!named_watch_exists || named_watch_counts));
+            break;
+          case Kind::Action: may_fail = !named_watch_exists; break;
           case Kind::Seek: may_fail = *c.number > latest_before; break;
           case Kind::Unwatch: may_fail = !named_watch_exists; break;
           case Kind::Matches: may_fail = !c.name.empty() && !named_watch_exists; break;
@@ -376,18 +384,29 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (session.current() != *c.number) fail("seek T did not make T current");
             break;
           case Kind::Step:
-          case Kind::Run: {
+          case Kind::Run:
+          case Kind::Continue: {
             const int64_t target = c.kind == Kind::Step ? before + *c.number
                                    : c.number           ? *c.number
                                                         : std::max(session.end() - 1, before);
-            if (answer["paused"].is_null()) {
+            const bool matched = answer.contains("matched") && !answer["matched"].is_null();
+            const nlohmann::ordered_json& stop = matched ? answer["matched"] : answer["paused"];
+            if (stop.is_null()) {
               if (session.current() != std::max(before, target)) fail("a run did not reach its target");
-            } else if (answer["paused"]["t"] != session.current() || session.current() <= before ||
-                       session.current() > target) {
+            } else if (stop["t"] != session.current() || session.current() <= before || session.current() > target) {
               fail("a run paused off the pause's step");
+            }
+            if (matched) {
+              const auto w = static_cast<uint32_t>(session.watch_index(c.name));
+              const auto [first, last] = session.matches(w).at(session.current());
+              if (first == last) fail("a run to a match stopped on a step without one");
             }
             break;
           }
+          case Kind::Action:
+            if (session.model().watches[static_cast<size_t>(session.watch_index(c.name))].action != c.action)
+              fail("action W A did not change what W does");
+            break;
           case Kind::Set:
           case Kind::Remove:
           case Kind::Push:

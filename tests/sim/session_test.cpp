@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
 #include <sstream>
 
 #include "sim/state.h"
@@ -173,6 +174,87 @@ TEST(Session, PauseStopsTheCursorAtTheMatchStep) {
   ASSERT_TRUE(next);
   EXPECT_GT(next->t, pause->t);
   EXPECT_EQ(run.current(), next->t);
+}
+
+// `run --to-match W`: each run stops at the next step with a match of W, then of a pause watchpoint
+// too; together they visit exactly the steps with matches that a straight run found.
+TEST(Session, RunToMatchStopsAtEveryStepWithAMatchOfThatWatchpoint) {
+  const std::vector<std::pair<std::string, watch::Algorithm>> watches{
+      {"modules(a b); (a.v = 1) and (b.v = 1)", watch::Algorithm::Distributed},
+      {"modules(a b c); (a.v = 2) and (b.v = 2) and (c.v = 2)", watch::Algorithm::Centralized}};
+  auto straight_model = gossip_model({LatticeKind::Square2d, {5, 5, 1}}, watches);
+  StaticLatticeWorld straight_world;
+  Session straight(*straight_model, straight_world, {.threads = 1});
+  straight.run_until(60);
+  auto steps_of = [](const MatchList& list) {
+    std::set<int64_t> steps(list.t.begin(), list.t.end());
+    return steps;
+  };
+  const std::set<int64_t> matched = steps_of(straight.matches(1)), paused = steps_of(straight.matches(0));
+  ASSERT_GE(matched.size(), 2u) << "the case must have several steps to stop at";
+
+  for (const bool with_pause : {false, true}) {
+    auto model = gossip_model({LatticeKind::Square2d, {5, 5, 1}}, watches);
+    if (with_pause) model->watches[0].action = MatchAction::Pause;
+    StaticLatticeWorld world;
+    Session run(*model, world, {.threads = 2});
+    std::set<int64_t> expected = matched;
+    if (with_pause) expected.insert(paused.begin(), paused.end());
+    std::vector<int64_t> stops;
+    while (const auto stop = run.run_until(60, {}, {}, 1u)) {
+      EXPECT_EQ(run.current(), stop->t);
+      EXPECT_EQ(stop->asked, stop->watch == 1u);
+      EXPECT_EQ(stop->asked, !with_pause || !paused.count(stop->t)) << "a pause of an earlier watchpoint comes first";
+      stops.push_back(stop->t);
+    }
+    EXPECT_EQ(run.current(), 59);
+    EXPECT_EQ(stops, std::vector<int64_t>(expected.begin(), expected.end())) << "with_pause " << with_pause;
+  }
+}
+
+// `action W ...` changes what W does from now on: no pause after a pause watchpoint becomes a
+// log one, its matches kept; one that counts keeps the number of every match, not the list.
+TEST(Session, ChangingAWatchpointsActionReevaluatesNothing) {
+  const std::vector<std::pair<std::string, watch::Algorithm>> watches{
+      {"modules(a b); (a.v = 1) and (b.v = 1)", watch::Algorithm::Distributed}};
+  auto straight_model = gossip_model({LatticeKind::Square2d, {5, 5, 1}}, watches);
+  StaticLatticeWorld straight_world;
+  Session straight(*straight_model, straight_world, {.threads = 1});
+  straight.run_until(60);
+  const MatchList& all = straight.matches(0);
+  ASSERT_GE(std::set<int64_t>(all.t.begin(), all.t.end()).size(), 3u);
+
+  auto model = gossip_model({LatticeKind::Square2d, {5, 5, 1}}, watches);
+  model->watches[0].action = MatchAction::Pause;
+  StaticLatticeWorld world;
+  Session run(*model, world, {.threads = 1});
+  const auto pause = run.run_until(60);
+  ASSERT_TRUE(pause);
+  EXPECT_EQ(pause->t, all.t.front());
+  const uint64_t matches_then = run.match_count(0);
+  run.set_action(0, MatchAction::Log);
+  EXPECT_FALSE(run.run_until(60)) << "a log watchpoint does not pause";
+  EXPECT_EQ(run.current(), 59);
+  EXPECT_EQ(run.matches(0).t, all.t) << "every match kept, none found twice";
+  ASSERT_TRUE(run.seek(pause->t - 1));
+  EXPECT_FALSE(run.run_until(60)) << "nor on steps revisited";
+  run.set_action(0, MatchAction::Pause);
+  ASSERT_TRUE(run.seek(pause->t - 1));
+  const auto again = run.run_until(60);
+  ASSERT_TRUE(again) << "pausing again on the steps already simulated";
+  EXPECT_EQ(again->t, pause->t);
+  EXPECT_GT(matches_then, 0u);
+
+  // Switched to count before the rest is simulated: counted, not listed.
+  auto counted_model = gossip_model({LatticeKind::Square2d, {5, 5, 1}}, watches);
+  StaticLatticeWorld counted_world;
+  Session counted(*counted_model, counted_world, {.threads = 1});
+  counted.run_until(pause->t + 1);
+  const size_t listed = counted.matches(0).size();
+  counted.set_action(0, MatchAction::Count);
+  counted.run_until(60);
+  EXPECT_EQ(counted.matches(0).size(), listed);
+  EXPECT_EQ(counted.match_count(0), all.size());
 }
 
 // An intervention cuts the future: the branch equals a straight run with the same intervention
