@@ -129,13 +129,19 @@ void Debugger::refresh_frame() {
           save_refused_ = a.line.substr(5);
         continue;
       }
-      if (a.json.contains("paused") && !a.json["paused"].is_null()) {
+      // A pause, or the match a run was asked to stop at: the group is shown the same way.
+      const char* stop = a.json.contains("paused") && !a.json["paused"].is_null()     ? "paused"
+                         : a.json.contains("matched") && !a.json["matched"].is_null() ? "matched"
+                                                                                      : nullptr;
+      if (stop) {
         model_.playing = false;
-        const auto& p = a.json["paused"];
+        const auto& p = a.json[stop];
         paused.emplace(p.value("watch", ""), p.value("t", int64_t{0}));
+        paused_on_ = stop == std::string_view("paused") ? p.value("watch", "") : "";
         status(answer_words(a.json));
-      } else if (!model_.playing) {
-        status(answer_words(a.json));
+      } else {
+        if (a.json.contains("current")) paused_on_.clear();
+        if (!model_.playing) status(answer_words(a.json));
       }
     }
   }
@@ -224,7 +230,7 @@ void Debugger::press(Key key) {
   const std::span<const int64_t> steps = w < frame_.watches.size()
                                              ? std::span<const int64_t>(frame_.watches[w].nearest_steps)
                                              : std::span<const int64_t>();
-  apply(model_.on_key(key, frame_.at, steps));
+  apply(model_.on_key(key, frame_.at, steps, w < frame_.watches.size() ? frame_.watches[w].name : std::string()));
   if (model_.screenshot_requested) {
     model_.screenshot_requested = false;
     const std::string path = "dwatch-" + app::file_name_part(scenario_.name) + "-step-" +

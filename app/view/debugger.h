@@ -124,6 +124,7 @@ class Debugger {
   std::vector<Answer> answers_;  // from the worker, in order
   size_t answers_seen_ = 0;      // by the status line
   std::string status_;           // the last answer or mistake, in the transport bar
+  std::string paused_on_;        // the pause watchpoint that stopped the cursor, while it stands there
 
   // The 3D view: a texture the renderer draws into, redrawn when what it shows changes.
   ViewArea view_;

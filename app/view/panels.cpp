@@ -93,6 +93,8 @@ void Debugger::transport_panel() {
   if (ImGui::Button("< Prev match (P)")) press(Key::P);
   ImGui::SameLine();
   if (ImGui::Button("Next match (N) >")) press(Key::N);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("The chosen watchpoint's next match: simulated on to it when none is known yet");
   ImGui::SameLine();
   ImGui::SetNextItemWidth(140);
   const char* chosen = size_t(model_.chosen_watch) < frame_.watches.size()
@@ -126,6 +128,17 @@ void Debugger::transport_panel() {
     ImGui::PopStyleColor();
   } else {
     ImGui::TextWrapped("%s", status_.c_str());
+  }
+  // A pause watchpoint that matches at every step would stop each Run a step further: the ways on.
+  if (!paused_on_.empty()) {
+    if (ImGui::Button("Continue")) apply({command::continue_run()});
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Run on past this pause, to the next one or the end");
+    ImGui::SameLine();
+    if (ImGui::Button(("Stop pausing on " + paused_on_).c_str()))
+      apply({command::action(paused_on_, sim::MatchAction::Log), command::continue_run()});
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("%s logs its matches from now on (nothing is evaluated again), and the run goes on",
+                        paused_on_.c_str());
   }
   timeline(ImGui::GetContentRegionAvail().x);
   ImGui::End();

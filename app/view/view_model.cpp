@@ -229,14 +229,17 @@ std::string answer_words(const nlohmann::ordered_json& a) {
   const std::string cmd = a.value("cmd", "");
   const std::string verb = cmd.substr(0, cmd.find(' '));
   auto number = [&](const char* key) { return std::to_string(a.value(key, int64_t{0})); };
-  if (a.contains("paused") && a["paused"].is_object()) {
-    const auto& p = a["paused"];
+  // A run stopped by a pause, or by the match it was asked to run to.
+  for (const char* key : {"paused", "matched"}) {
+    if (!a.contains(key) || !a[key].is_object()) continue;
+    const auto& p = a[key];
     std::string group;
     if (p.contains("group"))
       for (const auto& [slot, module] : p["group"].items())
         group += (group.empty() ? "" : " ") + slot + "=" + module.dump();
-    std::string words =
-        "paused at step " + std::to_string(p.value("t", int64_t{0})) + " on " + p.value("watch", "") + ": " + group;
+    std::string words = std::string(key == std::string_view("paused") ? "paused" : "stopped") + " at step " +
+                        std::to_string(p.value("t", int64_t{0})) + " on " +
+                        (key == std::string_view("paused") ? "" : "a match of ") + p.value("watch", "") + ": " + group;
     if (p.value("detected", int64_t{0}) != p.value("t", int64_t{0}))
       words += " (found at step " + std::to_string(p.value("detected", int64_t{0})) + ")";
     if (const int64_t n = p.value("matches", int64_t{1}); n > 1)
@@ -244,7 +247,15 @@ std::string answer_words(const nlohmann::ordered_json& a) {
     return words;
   }
   std::string words;
-  if (a.contains("watch") && a.contains("index"))
+  if (verb == "action") {
+    const auto does = [](const std::string& action, bool before) -> std::string {
+      if (action == "pause") return before ? "paused on them" : "pauses on";
+      if (action == "log") return before ? "logged them" : "logs";
+      return before ? "counted them" : "counts";
+    };
+    words = a.value("watch", "") + " " + does(a.value("action", ""), false) + " its matches from now on (it " +
+            does(a.value("was", ""), true) + " before)";
+  } else if (a.contains("watch") && a.contains("index"))
     words = "watchpoint " + a.value("watch", "") + " (" + a.value("algorithm", "") + ", " + a.value("action", "") +
             "): " + number("matches") + " matches so far";
   else if (a.contains("save"))
@@ -268,6 +279,11 @@ std::string answer_words(const nlohmann::ordered_json& a) {
 namespace command {
 std::string step(int64_t n) { return "step " + std::to_string(n); }
 std::string run() { return "run"; }
+std::string continue_run() { return "continue"; }
+std::string run_to_match(std::string_view watch) { return "run --to-match " + std::string(watch); }
+std::string action(std::string_view watch, sim::MatchAction action) {
+  return "action " + std::string(watch) + " " + std::string(sim::action_name(action));
+}
 std::string reload() { return "reload"; }
 std::string run_to(int64_t t) { return "run " + std::to_string(t); }
 std::string seek(int64_t t) { return "seek " + std::to_string(t); }
@@ -294,7 +310,8 @@ std::string watch(std::string_view name, std::string_view options, std::string_v
 std::string unwatch(std::string_view name) { return "unwatch " + std::string(name); }
 }  // namespace command
 
-std::vector<std::string> ViewModel::on_key(Key key, const Position& at, std::span<const int64_t> chosen_steps) {
+std::vector<std::string> ViewModel::on_key(Key key, const Position& at, std::span<const int64_t> chosen_steps,
+                                           std::string_view chosen_watch) {
   switch (key) {
     case Key::Space: playing = !playing; return {};
     case Key::Right: playing = false; return {command::step(1)};
@@ -308,6 +325,7 @@ std::vector<std::string> ViewModel::on_key(Key key, const Position& at, std::spa
     case Key::P: {
       playing = false;
       const auto t = key == Key::N ? next_match(chosen_steps, at.current) : previous_match(chosen_steps, at.current);
+      if (!t && key == Key::N && !chosen_watch.empty()) return {command::run_to_match(chosen_watch)};
       if (!t) return {};
       // A match ahead of the latest step cannot be known yet; one behind is a seek.
       return {*t <= at.latest ? command::seek(*t) : command::run_to(*t)};

@@ -114,7 +114,10 @@ struct Position {
 namespace command {
 std::string step(int64_t n);
 std::string run();
-std::string run_to(int64_t t);  // runs until step t is current (or a pause)
+std::string run_to(int64_t t);                     // runs until step t is current (or a pause)
+std::string continue_run();                        // on past the pause that stopped the cursor
+std::string run_to_match(std::string_view watch);  // on to the watchpoint's next match (or a pause)
+std::string action(std::string_view watch, sim::MatchAction action);
 std::string seek(int64_t t);
 std::string set(sim::ModuleId m, std::string_view variable, int64_t value);
 std::string remove(sim::ModuleId m);
@@ -141,8 +144,10 @@ class ViewModel {
   bool show_help = false;
 
   // What a key does: the commands to send (in order) and what changes here. `chosen_steps` are
-  // the chosen watchpoint's match steps (for N and P).
-  std::vector<std::string> on_key(Key key, const Position& at, std::span<const int64_t> chosen_steps);
+  // the chosen watchpoint's match steps (for N and P); with no match known after the current step,
+  // N runs on to the next match of `chosen_watch` (named).
+  std::vector<std::string> on_key(Key key, const Position& at, std::span<const int64_t> chosen_steps,
+                                  std::string_view chosen_watch = {});
   // A click on the timeline at pixel x.
   std::vector<std::string> on_timeline_click(const Timeline& timeline, float x, const Position& at);
   // A click on a row of the matches table: go to its step, select the group and its first slot.

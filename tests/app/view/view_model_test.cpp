@@ -92,6 +92,10 @@ TEST(ViewModel, KeysSendTheSessionCommands) {
   // A match past the latest step: the session runs there.
   EXPECT_EQ(m.on_key(Key::N, {12, 40, 200}, steps), std::vector<std::string>{"run 90"});
   EXPECT_EQ(m.on_key(Key::End, at, steps), std::vector<std::string>{"seek 40"});
+  // No match known after the current step: N runs on to the chosen watchpoint's next one.
+  EXPECT_TRUE(m.on_key(Key::N, {90, 120, 200}, steps).empty());
+  EXPECT_EQ(m.on_key(Key::N, {90, 120, 200}, steps, "two_leaders"),
+            std::vector<std::string>{"run --to-match two_leaders"});
   EXPECT_FALSE(m.playing);
   m.on_key(Key::Space, at, steps);
   EXPECT_TRUE(m.playing);
@@ -281,7 +285,14 @@ TEST(AnswerWords, APauseASeekAndASaveReadAsSentences) {
   const auto save =
       nlohmann::ordered_json::parse(R"({"cmd":"save x.toml","save":"x.toml","watches":2,"interventions":1})");
   EXPECT_EQ(answer_words(save), "saved the session as x.toml (2 watchpoints, 1 interventions)");
-  for (const auto* a : {&paused, &seek, &save}) EXPECT_EQ(answer_words(*a).find('{'), std::string::npos);
+  const auto matched = nlohmann::ordered_json::parse(
+      R"({"cmd":"run","current":12,"latest":99,"decided":99,"paused":null,"matched":{"watch":"one","t":12,"detected":12,"group":{"a":12},"matches":1}})");
+  EXPECT_EQ(answer_words(matched), "stopped at step 12 on a match of one: a=12");
+  const auto action =
+      nlohmann::ordered_json::parse(R"({"cmd":"action","watch":"two_leaders","was":"pause","action":"log"})");
+  EXPECT_EQ(answer_words(action), "two_leaders logs its matches from now on (it paused on them before)");
+  for (const auto* a : {&paused, &seek, &save, &matched, &action})
+    EXPECT_EQ(answer_words(*a).find('{'), std::string::npos);
 }
 
 }  // namespace
