@@ -608,6 +608,22 @@ nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& 
     settle();
     answer["x"] = x;
     answer["current"] = frame_.at.current;
+  } else if (words[0] == "timeline") {
+    // timeline fit | timeline FIRST LAST: what the wheel and a right drag do.
+    if (words.size() == 2 && words[1] == "fit") {
+      model_.timeline_range.fit();
+    } else {
+      const int64_t end = std::max({frame_.at.end - 1, frame_.at.latest, int64_t{0}});
+      const auto first = number(1, 0, end, "FIRST"), last = first ? number(2, *first, end, "LAST") : std::nullopt;
+      if (!last) {
+        error = "timeline fit | timeline FIRST LAST: " + error;
+        return answer;
+      }
+      model_.timeline_range.show(*first, *last, frame_.at);
+    }
+    frame();
+    answer["first"] = timeline_.first;
+    answer["last"] = timeline_.last;
   } else if (words[0] == "click" && words.size() >= 2 && words[1] == "match") {
     const auto row = number(2, 0, int64_t(frame_.match_rows.size()) - 1, "ROW");
     if (!row) return answer;
@@ -663,12 +679,22 @@ nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& 
     answer["color_by"] = model_.color_by;
   } else if (words[0] == "panel") {
     if (words.size() != 2) {
-      error = "panel NAME: position, matches, watchpoints, inspector or plots";
+      error = "panel NAME: position, matches, watchpoints, inspector, plots or timeline";
       return answer;
     }
     if (words[1] == "plots") {  // where the last frame drew its plots, for tests that look at them
       answer["plot_rects"] = nlohmann::ordered_json::array();
       for (const auto& r : plot_rects_) answer["plot_rects"].push_back(r);
+      return answer;
+    }
+    if (words[1] == "timeline") {  // the steps it shows, and where
+      answer["first"] = timeline_.first;
+      answer["last"] = timeline_.last;
+      answer["fitted"] = model_.timeline_range.fitted;
+      answer["x0"] = timeline_.x0;
+      answer["width"] = timeline_.width;
+      answer["y0"] = timeline_y_;
+      answer["height"] = timeline_height_;
       return answer;
     }
     answer = frame_.panel(words[1], m);

@@ -150,6 +150,7 @@ class Debugger {
   bool dragging_ = false;
   std::string window_shot_, window_shot_error_;  // a script's `screenshot`, taken after the next frame
   Timeline timeline_;                            // as last drawn
+  float timeline_y_ = 0, timeline_height_ = 0;   // its lanes' top and height in the window
 
   // Playing.
   std::chrono::steady_clock::time_point last_request_;

@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <cinttypes>
+#include <cmath>
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <tuple>
 
 #include "app/explain.h"
 #include "app/view/debugger.h"
@@ -149,24 +151,35 @@ void Debugger::timeline(float width) {
   const float lane = 14, label = 110;
   const size_t lanes = frame_.watches.size() + 1;
   const ImVec2 origin = ImGui::GetCursorScreenPos();
-  const float height = lane * float(lanes) + 4;
-  timeline_.first = 0;
-  timeline_.last = std::max({frame_.at.latest, frame_.at.end - 1, int64_t{0}});
+  const float lanes_height = lane * float(lanes) + 4;
+  std::tie(timeline_.first, timeline_.last) = model_.timeline_range.shown(frame_.at);
+  timeline_y_ = origin.y;
+  timeline_height_ = lanes_height;
   timeline_.x0 = origin.x + label;
   timeline_.width = std::max(10.0f, width - label - 4);
   ImDrawList* draw = ImGui::GetWindowDrawList();
   const int columns = int(timeline_.width);
-  const float simulated = timeline_.x_of(frame_.at.latest) - timeline_.x0;
-  draw->AddRectFilled(ImVec2(timeline_.x0, origin.y), ImVec2(timeline_.x0 + timeline_.width, origin.y + height),
+  const float simulated = std::clamp(
+      timeline_.x_of(frame_.at.latest) + 0.5f * timeline_.width / float(timeline_.last - timeline_.first + 1),
+      timeline_.x0, timeline_.x0 + timeline_.width);
+  draw->AddRectFilled(ImVec2(timeline_.x0, origin.y), ImVec2(timeline_.x0 + timeline_.width, origin.y + lanes_height),
                       IM_COL32(45, 45, 50, 255));
-  draw->AddRectFilled(ImVec2(timeline_.x0, origin.y),
-                      ImVec2(timeline_.x0 + std::max(0.0f, simulated), origin.y + height), IM_COL32(60, 62, 70, 255));
+  if (frame_.at.latest >= timeline_.first)
+    draw->AddRectFilled(ImVec2(timeline_.x0, origin.y), ImVec2(simulated, origin.y + lanes_height),
+                        IM_COL32(60, 62, 70, 255));
+  // The range's first and last steps under it, and "fit" when zoomed.
+  const float scale_y = origin.y + lanes_height;
+  const std::string first_label = std::to_string(timeline_.first), last_label = std::to_string(timeline_.last);
+  draw->AddText(ImVec2(timeline_.x0, scale_y), IM_COL32(200, 200, 200, 255), first_label.c_str());
+  draw->AddText(ImVec2(timeline_.x0 + timeline_.width - ImGui::CalcTextSize(last_label.c_str()).x, scale_y),
+                IM_COL32(200, 200, 200, 255), last_label.c_str());
   // The lanes were counted with the session for the timeline as drawn last; a new width or length
   // asks for a fresh Frame.
   timeline_columns_ = columns;
   if (frame_.columns != columns || frame_.timeline.last != timeline_.last || frame_.timeline.width != timeline_.width)
     frame_stale_ = true;
   const std::vector<uint32_t> interventions_lane = lane_density(frame_.intervention_steps, timeline_, columns);
+  const float mark = std::max(1.0f, std::floor(timeline_.width / float(timeline_.last - timeline_.first + 1)) - 2);
   for (size_t w = 0; w < lanes; ++w) {
     const float y = origin.y + lane * float(w) + 2;
     const bool interventions = w == frame_.watches.size();
@@ -180,22 +193,47 @@ void Debugger::timeline(float width) {
       // Density: a column's height grows with the log of its matches, so one match still shows.
       const float share =
           most <= 1 ? 1.0f : 0.35f + 0.65f * std::log1p(float(density[size_t(c)])) / std::log1p(float(most));
-      const float x = timeline_.x0 + float(c);
-      draw->AddRectFilled(ImVec2(x, y + lane - 2 - (lane - 3) * share), ImVec2(x + 1, y + lane - 2), color);
+      // As wide as its step when zoomed in (less a gap), so that the cursor line never hides it.
+      const float x = timeline_.x0 + float(c) + 0.5f;
+      draw->AddRectFilled(ImVec2(x - mark / 2, y + lane - 2 - (lane - 3) * share), ImVec2(x + mark / 2, y + lane - 2),
+                          color);
     }
   }
-  const float cx = timeline_.x_of(std::max<int64_t>(0, frame_.at.current));
-  draw->AddLine(ImVec2(cx, origin.y), ImVec2(cx, origin.y + height), IM_COL32(255, 255, 255, 255), 2);
+  const int64_t current = std::max<int64_t>(0, frame_.at.current);
+  if (current >= timeline_.first && current <= timeline_.last) {
+    const float cx = timeline_.x_of(current);
+    draw->AddLine(ImVec2(cx, origin.y), ImVec2(cx, origin.y + lanes_height), IM_COL32(255, 255, 255, 255), 2);
+  }
 
   ImGui::SetCursorScreenPos(ImVec2(timeline_.x0, origin.y));
-  ImGui::InvisibleButton("timeline", ImVec2(timeline_.width, height));
-  const float mouse_x = ImGui::GetIO().MousePos.x;
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("step %" PRId64 " (click or drag to go there)", timeline_.step_at(mouse_x));
+  ImGui::InvisibleButton("timeline", ImVec2(timeline_.width, lanes_height));
+  const ImGuiIO& io = ImGui::GetIO();
+  const float mouse_x = io.MousePos.x;
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip("step %" PRId64 " (click or drag to go there; wheel: zoom, right drag: pan)",
+                      timeline_.step_at(mouse_x));
+    if (io.MouseWheel != 0)
+      model_.timeline_range.zoom(std::pow(0.8, double(io.MouseWheel)), timeline_.step_at(mouse_x), frame_.at);
+    if (ImGui::IsMouseDragging(ImGuiMouseButton_Right)) {
+      const float steps_per_pixel = float(timeline_.last - timeline_.first + 1) / timeline_.width;
+      const auto steps = int64_t(-ImGui::GetMouseDragDelta(ImGuiMouseButton_Right).x * steps_per_pixel);
+      if (steps != 0) {
+        model_.timeline_range.pan(steps, frame_.at);
+        ImGui::ResetMouseDragDelta(ImGuiMouseButton_Right);
+      }
+    }
+  }
   // A click seeks; a drag seeks as it goes, once the session is free (never queueing a backlog).
   if (ImGui::IsItemActive() &&
       (ImGui::IsItemClicked() || (worker_->idle() && timeline_.step_at(mouse_x) != frame_.at.current)))
     apply(model_.on_timeline_click(timeline_, mouse_x, frame_.at));
+  ImGui::SetCursorScreenPos(ImVec2(origin.x, scale_y));
+  if (model_.timeline_range.fitted) {
+    ImGui::Dummy(ImVec2(1, ImGui::GetTextLineHeight()));
+  } else {
+    if (ImGui::SmallButton("fit")) model_.timeline_range.fit();
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Show step 0 to the latest again, following the run");
+  }
 }
 
 void Debugger::watchpoints_panel() {

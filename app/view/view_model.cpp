@@ -59,6 +59,40 @@ float Timeline::x_of(int64_t t) const {
   return x0 + float((double(t - first) + 0.5) / steps * width);
 }
 
+namespace {
+// The last step the timeline can show: the scenario's end, or the latest when simulated past it.
+int64_t timeline_end(const Position& at) { return std::max({at.end - 1, at.latest, int64_t{0}}); }
+}  // namespace
+
+std::pair<int64_t, int64_t> TimelineRange::shown(const Position& at) const {
+  const int64_t end = timeline_end(at);
+  if (!fitted) return {first, std::min(last, end)};
+  const int64_t latest = std::max<int64_t>(at.latest, 0);
+  return {0, std::min(end, latest + std::max(kMinSpan, latest / 8))};
+}
+
+void TimelineRange::show(int64_t from, int64_t to, const Position& at) {
+  const int64_t end = timeline_end(at);
+  int64_t span = std::clamp(to - from, std::min(kMinSpan, end), end);
+  from = std::clamp(from, int64_t{0}, end - span);
+  first = from;
+  last = from + span;
+  fitted = false;
+}
+
+void TimelineRange::zoom(double factor, int64_t about, const Position& at) {
+  const auto [from, to] = shown(at);
+  const double span = double(to - from), share = span > 0 ? double(about - from) / span : 0.5;
+  const auto next = int64_t(std::llround(span * factor));
+  const int64_t begin = about - int64_t(std::llround(share * double(next)));
+  show(begin, begin + next, at);
+}
+
+void TimelineRange::pan(int64_t steps, const Position& at) {
+  const auto [from, to] = shown(at);
+  show(from + steps, to + steps, at);
+}
+
 std::vector<uint32_t> lane_density(std::span<const int64_t> steps, const Timeline& timeline, int columns) {
   std::vector<uint32_t> counts(size_t(std::max(0, columns)), 0);
   if (columns <= 0) return counts;
@@ -154,7 +188,8 @@ std::optional<Key> key_named(std::string_view name) {
 }
 
 bool is_window_command(std::string_view word) {
-  return word == "click" || word == "key" || word == "wait" || word == "screenshot" || word == "panel";
+  return word == "click" || word == "key" || word == "wait" || word == "screenshot" || word == "panel" ||
+         word == "timeline";
 }
 
 std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord> words, uint32_t module_count,
@@ -196,9 +231,18 @@ std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord
   } else if (name == "screenshot") {
     if (words.size() < 2) d = mistake(1, "screenshot FILE: the PNG to write");
   } else if (name == "panel") {
-    static const char* kPanels[] = {"position", "matches", "watchpoints", "inspector", "plots"};
+    static const char* kPanels[] = {"position", "matches", "watchpoints", "inspector", "plots", "timeline"};
     if (words.size() < 2 || std::find(std::begin(kPanels), std::end(kPanels), words[1].text) == std::end(kPanels))
-      d = mistake(1, "panel NAME: position, matches, watchpoints, inspector or plots");
+      d = mistake(1, "panel NAME: position, matches, watchpoints, inspector, plots or timeline");
+  } else if (name == "timeline") {
+    if (words.size() == 2 && words[1].text == "fit") {
+    } else if (words.size() < 2 || words[1].text == "fit") {
+      d = mistake(1, "timeline fit | timeline FIRST LAST: the steps the timeline shows");
+    } else {
+      want = 3;
+      d = integer(1, 0, int64_t{1} << 40, "FIRST");
+      if (!d) d = integer(2, 0, int64_t{1} << 40, "LAST");
+    }
   }
   if (!d && words.size() > want)
     d = mistake(want, "'" + name + "' takes " + std::to_string(want - 1) + " more word" + (want == 2 ? "" : "s"));
@@ -219,7 +263,7 @@ const std::vector<KeyHelp>& key_help() {
       {"Escape", "cancel the work in progress; close the help"},
       {"Left drag", "orbit"},
       {"Right or middle drag", "pan"},
-      {"Wheel", "zoom"},
+      {"Wheel", "zoom (over the timeline: zoom its steps; right drag there: pan them)"},
       {"Click", "select a module (click empty space to clear)"},
   };
   return help;

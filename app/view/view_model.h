@@ -110,6 +110,25 @@ struct Position {
   int64_t current = -1, latest = -1, end = 0;
 };
 
+// The steps the timeline shows. Fitted, it follows what exists: step 0 to a little past the latest
+// (never the scenario's whole length while a few steps are simulated: the marks would crowd into
+// a few pixels). The wheel zooms about the step under the mouse, a drag with the right button pans,
+// and "fit" goes back; the range stays within step 0 and the scenario's end (or the latest, past it).
+struct TimelineRange {
+  static constexpr int64_t kMinSpan = 8;  // steps shown at the deepest zoom
+  bool fitted = true;
+  int64_t first = 0, last = 0;  // when not fitted
+  // [first, last] to draw at this position.
+  std::pair<int64_t, int64_t> shown(const Position& at) const;
+  // Zooms by `factor` (< 1 in, > 1 out) keeping step `about` under the same pixel.
+  void zoom(double factor, int64_t about, const Position& at);
+  // Moves the range by `steps` (negative: towards step 0).
+  void pan(int64_t steps, const Position& at);
+  // Shows [first, last] (clamped, at least kMinSpan steps when there are as many).
+  void show(int64_t first, int64_t last, const Position& at);
+  void fit() { fitted = true; }
+};
+
 // Lines of the session language that the widgets send.
 namespace command {
 std::string step(int64_t n);
@@ -138,6 +157,7 @@ class ViewModel {
   bool playing = false;
   int speed = 10;  // steps per second while playing; 0: as fast as the session steps
   int chosen_watch = 0;
+  TimelineRange timeline_range;
   MatchFilter filter;
   std::string color_by;
   std::string plot_variable;  // the inspector's plot; empty: the first variable

@@ -206,6 +206,49 @@ TEST_F(Window, ThePlotsAreDrawnAcrossTheirPanels) {
   }
 }
 
+// The timeline shows what is simulated, not the scenario's 200 steps: the simulated band covers
+// the share of the timeline the panel says, in the screenshot's pixels; it zooms to a range, a
+// click there lands on its step, and it fits again.
+TEST_F(Window, TheTimelineCoversTheSimulatedStepsAndZooms) {
+  const Outcome view =
+      dwatch("view " + kLeader,
+             "run\npanel timeline\nscreenshot t.png\naction two_leaders log\ncontinue\ntimeline 100 119\n"
+             "click timeline 110\npanel timeline\ntimeline fit\npanel timeline\n",
+             true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 10u) << view.err;
+  const int64_t latest = view.answers[0]["latest"];
+  const json& fitted = view.answers[1];
+  EXPECT_EQ(fitted["first"], 0);
+  EXPECT_GE(fitted["last"], latest);
+  EXPECT_LE(fitted["last"], latest + 8) << "a few steps simulated must not be drawn across 200";
+  std::string error;
+  const auto shot = dw::render::read_png((dir_ / "t.png").string(), &error);
+  ASSERT_TRUE(shot) << error;
+  const int x0 = int(fitted["x0"].get<double>()), width = int(fitted["width"].get<double>());
+  const int y = int(fitted["y0"].get<double>()) + 1;  // above the lanes' marks
+  int band = 0;
+  for (int x = x0; x < x0 + width; ++x) {
+    const uint8_t* p = shot->pixel(x, y);
+    if (std::abs(p[0] - 60) <= 3 && std::abs(p[1] - 62) <= 3 && std::abs(p[2] - 70) <= 3) ++band;
+  }
+  const double share = double(latest + 1) / double(fitted["last"].get<int64_t>() + 1);
+  EXPECT_NEAR(band, share * width, 4.0) << "the simulated steps' band in the screenshot";
+  EXPECT_GT(band, width / 4);
+
+  // two_leaders matches at every step: made a log watchpoint, the run goes on to the end.
+  EXPECT_EQ(view.answers[4]["paused"], nullptr);
+  EXPECT_EQ(view.answers[4]["current"], 199);
+  EXPECT_EQ(view.answers[5]["first"], 100);
+  EXPECT_EQ(view.answers[5]["last"], 119);
+  EXPECT_EQ(view.answers[6]["current"], 110) << "a click on the zoomed timeline";
+  EXPECT_EQ(view.answers[7]["fitted"], false);
+  EXPECT_EQ(view.answers[7]["first"], 100);
+  EXPECT_EQ(view.answers[9]["fitted"], true);
+  EXPECT_EQ(view.answers[9]["first"], 0);
+  EXPECT_EQ(view.answers[9]["last"], 199);
+}
+
 TEST_F(Window, KeysStepSeekAndFindTheNextMatch) {
   const Outcome view =
       dwatch("view " + kLeader,

@@ -80,6 +80,35 @@ TEST(Matches, NextAndPreviousSkipTheCurrentStep) {
   EXPECT_EQ(previous_match(steps, 3), std::nullopt);
 }
 
+// The timeline starts fitted to what exists and follows it; zoom and pan stay within the steps.
+TEST(TimelineRange, FittedToTheSimulatedStepsZoomedAboutTheMouseAndPannedWithinTheRun) {
+  TimelineRange r;
+  EXPECT_EQ(r.shown({2, 3, 200}), std::make_pair(int64_t{0}, int64_t{3 + TimelineRange::kMinSpan}))
+      << "3 of 200 steps simulated: not the scenario's 200";
+  EXPECT_EQ(r.shown({150, 160, 200}), std::make_pair(int64_t{0}, int64_t{180}));
+  EXPECT_EQ(r.shown({150, 199, 200}), std::make_pair(int64_t{0}, int64_t{199}));
+  EXPECT_EQ(r.shown({150, 300, 200}).second, 300) << "past the end: up to the latest";
+  const Position at{100, 199, 200};
+  r.zoom(0.5, 50, at);  // about step 50, at a quarter of 0..199
+  EXPECT_FALSE(r.fitted);
+  auto [first, last] = r.shown(at);
+  EXPECT_NEAR(double(last - first), 99.5, 1.0);
+  EXPECT_NEAR(double(50 - first) / double(last - first), 50.0 / 199.0, 0.02) << "step 50 stays under the mouse";
+  r.pan(-1000, at);
+  EXPECT_EQ(r.shown(at).first, 0) << "not before step 0";
+  EXPECT_NEAR(double(r.shown(at).second), 99.5, 1.0) << "the span is kept";
+  r.pan(1000, at);
+  EXPECT_EQ(r.shown(at).second, 199) << "not past the end";
+  for (int i = 0; i < 40; ++i) r.zoom(0.5, 150, at);
+  EXPECT_EQ(r.shown(at).second - r.shown(at).first, TimelineRange::kMinSpan) << "the deepest zoom";
+  for (int i = 0; i < 40; ++i) r.zoom(2.0, 150, at);
+  EXPECT_EQ(r.shown(at), std::make_pair(int64_t{0}, int64_t{199})) << "zoomed out: the whole run, no further";
+  r.show(20, 10, at);
+  EXPECT_EQ(r.shown(at).second - r.shown(at).first, TimelineRange::kMinSpan) << "a reversed range: the smallest";
+  r.fit();
+  EXPECT_EQ(r.shown({2, 3, 200}).second, 3 + TimelineRange::kMinSpan);
+}
+
 TEST(ViewModel, KeysSendTheSessionCommands) {
   ViewModel m;
   const Position at{10, 40, 200};
@@ -159,8 +188,13 @@ TEST(WindowCommands, AreCheckedWithTheirColumn) {
   EXPECT_EQ(check("wait -1"), "5: N must be an integer from 0 to 100000");
   EXPECT_EQ(check("screenshot"), "10: screenshot FILE: the PNG to write");
   EXPECT_EQ(check("panel inspector"), "ok");
-  EXPECT_EQ(check("panel stats"), "6: panel NAME: position, matches, watchpoints, inspector or plots");
+  EXPECT_EQ(check("panel stats"), "6: panel NAME: position, matches, watchpoints, inspector, plots or timeline");
   EXPECT_EQ(check("panel matches x"), "14: 'panel' takes 1 more word");
+  EXPECT_EQ(check("timeline fit"), "ok");
+  EXPECT_EQ(check("timeline 10 20"), "ok");
+  EXPECT_EQ(check("timeline 10"), "11: LAST is missing");
+  EXPECT_EQ(check("timeline"), "8: timeline fit | timeline FIRST LAST: the steps the timeline shows");
+  EXPECT_EQ(check("timeline 1 2 3"), "13: 'timeline' takes 2 more words");
   EXPECT_TRUE(is_window_command("click"));
   EXPECT_FALSE(is_window_command("seek"));
 }
