@@ -15,6 +15,7 @@ packages=(
   liblua5.4-dev                                # host programs written by users in Lua 5.4
   libosmesa6-dev libglm-dev libpng-dev         # the 3D view: headless GL, matrices, PNG files
   libstb-dev                                   # stb_truetype: the view's text
+  libavcodec-dev libavformat-dev libswscale-dev libavutil-dev  # videos: H.264 (x264) in MP4, VP9 (libvpx) in WebM
   libimgui-dev libglfw3-dev libgl-dev          # the debugger window: Dear ImGui 1.86, GLFW 3.3, OpenGL
   xvfb xauth libgl1-mesa-dri libglx-mesa0      # the window's tests: a real window under Xvfb (llvmpipe)
   fonts-dejavu-core                            # the view's labels and legend
