@@ -21,6 +21,8 @@ namespace {
 // Steps a request asks for when playing as fast as possible adapt so that one takes about this.
 constexpr double kFastRequestSeconds = 0.02;
 
+}  // namespace
+
 std::string vec_text(glm::vec3 v) {
   std::ostringstream s;
   s.imbue(std::locale::classic());
@@ -28,8 +30,6 @@ std::string vec_text(glm::vec3 v) {
   s << v.x << "," << v.y << "," << v.z;
   return s.str();
 }
-
-}  // namespace
 
 std::string layout_file() {
   std::filesystem::path dir;
@@ -109,9 +109,10 @@ void Debugger::apply(const std::vector<std::string>& commands) {
   for (const std::string& c : commands) send(c);
 }
 
-void Debugger::status(std::string message) {
+void Debugger::status(std::string message, bool failed) {
   while (!message.empty() && message.back() == '\n') message.pop_back();
   status_ = std::move(message);
+  status_failed_ = failed;
 }
 
 void Debugger::refresh_frame() {
@@ -122,7 +123,7 @@ void Debugger::refresh_frame() {
     for (; answers_seen_ < answers_.size(); ++answers_seen_) {
       const Answer& a = answers_[answers_seen_];
       if (!a.error.empty()) {
-        status(a.line + ": " + a.error);
+        status(a.line + ": " + a.error, true);
         model_.playing = false;
         // A save that would overwrite a file: the panel asks before sending it again.
         if (a.line.rfind("save ", 0) == 0 && a.error.find(" exists; ") != std::string::npos)
@@ -236,7 +237,7 @@ void Debugger::press(Key key) {
     const std::string path = "dwatch-" + app::file_name_part(scenario_.name) + "-step-" +
                              std::to_string(std::max<int64_t>(0, frame_.at.current)) + ".png";
     const std::string error = screenshot_view(path);
-    status(error.empty() ? "screenshot of the 3D view -> " + path : error);
+    status(error.empty() ? "screenshot of the 3D view -> " + path : error, !error.empty());
   }
   if (key == Key::F) drawn_key_.clear();
 }
@@ -334,10 +335,7 @@ void Debugger::render_view_texture(bool moving) {
 }
 
 void Debugger::draw_view() {
-  const ImGuiViewport* vp = ImGui::GetMainViewport();
-  ImGui::SetNextWindowPos(vp->WorkPos, ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(vp->WorkSize.x - kPanelWidth, vp->WorkSize.y - kTransportHeight),
-                           ImGuiCond_FirstUseEver);
+  place(panels_.view);
   ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
   ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0);  // a border would cover the picture's edge
   // No background: the picture is copied into the window's framebuffer before ImGui draws (see
@@ -357,11 +355,11 @@ void Debugger::draw_view() {
     ImGui::EndCombo();
   }
   ImGui::SameLine();
-  if (ImGui::Button("Fit (F)")) press(Key::F);
+  if (button("Fit (F)")) press(Key::F);
   ImGui::SameLine();
-  if (ImGui::Button("Centre (Z)")) press(Key::Z);
+  if (button("Centre (Z)")) press(Key::Z);
   ImGui::SameLine();
-  if (ImGui::Button("Screenshot (F12)")) press(Key::F12);
+  if (button("Screenshot (F12)")) press(Key::F12);
 
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const ImVec2 origin = ImGui::GetCursorScreenPos();
@@ -452,9 +450,17 @@ void Debugger::frame() {
   ImGui::NewFrame();
   handle_keys();
   play();
+  drawing_widgets_.clear();
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  panels_ = panel_layout(vp->WorkPos.x, vp->WorkPos.y, vp->WorkSize.x, vp->WorkSize.y);
+  const bool resized = vp->WorkSize.x != panels_width_ || vp->WorkSize.y != panels_height_;
+  panels_cond_ = resized && panels_width_ > 0 ? ImGuiCond_Always : ImGuiCond_FirstUseEver;
+  panels_width_ = vp->WorkSize.x;
+  panels_height_ = vp->WorkSize.y;
   draw_view();
   draw_panels();
   if (model_.show_help) help_window();
+  widgets_.swap(drawing_widgets_);
   ImGui::Render();
 
   int width = 0, height = 0;
@@ -560,227 +566,6 @@ void Debugger::settle() {
 
 int Debugger::run_interactive() {
   while (!glfwWindowShouldClose(window_.handle())) frame();
-  return 0;
-}
-
-nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& words, std::string& error) {
-  nlohmann::ordered_json answer;
-  answer["cmd"] = words[0];
-  const sim::Model& m = session_.model();
-  auto number = [&](size_t i, int64_t lo, int64_t hi, const char* what) -> std::optional<int64_t> {
-    if (i >= words.size()) {
-      error = std::string(what) + " is missing";
-      return std::nullopt;
-    }
-    char* end = nullptr;
-    const long long v = std::strtoll(words[i].c_str(), &end, 10);
-    if (hi < lo) {  // nothing to choose from
-      error = std::string("there is no ") + what + " to choose: the list is empty";
-      return std::nullopt;
-    }
-    if (*end || words[i].empty() || v < lo || v > hi) {
-      error = std::string(what) + " must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
-      return std::nullopt;
-    }
-    return v;
-  };
-  settle();
-  if (words[0] == "wait") {
-    const auto n = number(1, 0, 100000, "N");
-    if (!n) return answer;
-    for (int64_t i = 0; i < *n; ++i) frame();
-    answer["frames"] = *n;
-  } else if (words[0] == "key") {
-    const auto key = words.size() == 2 ? key_named(words[1]) : std::nullopt;
-    if (!key) {
-      error = "key NAME: one of space, right, left, n, p, f, z, home, end, f1, f12, escape";
-      return answer;
-    }
-    press(*key);
-    settle();
-    answer["key"] = words[1];
-    answer["current"] = frame_.at.current;
-  } else if (words[0] == "click" && words.size() >= 2 && words[1] == "timeline") {
-    const auto t = number(2, 0, std::max<int64_t>(timeline_.last, 0), "T");
-    if (!t) return answer;
-    const float x = timeline_.x_of(*t);
-    apply(model_.on_timeline_click(timeline_, x, frame_.at));
-    settle();
-    answer["x"] = x;
-    answer["current"] = frame_.at.current;
-  } else if (words[0] == "timeline") {
-    // timeline fit | timeline FIRST LAST: what the wheel and a right drag do.
-    if (words.size() == 2 && words[1] == "fit") {
-      model_.timeline_range.fit();
-    } else {
-      const int64_t end = std::max({frame_.at.end - 1, frame_.at.latest, int64_t{0}});
-      const auto first = number(1, 0, end, "FIRST"), last = first ? number(2, *first, end, "LAST") : std::nullopt;
-      if (!last) {
-        error = "timeline fit | timeline FIRST LAST: " + error;
-        return answer;
-      }
-      model_.timeline_range.show(*first, *last, frame_.at);
-    }
-    frame();
-    answer["first"] = timeline_.first;
-    answer["last"] = timeline_.last;
-  } else if (words[0] == "click" && words.size() >= 2 && words[1] == "match") {
-    const auto row = number(2, 0, int64_t(frame_.match_rows.size()) - 1, "ROW");
-    if (!row) return answer;
-    const MatchRef ref = frame_.match_rows[size_t(*row)].ref;
-    std::vector<std::string> commands;
-    worker_->read([&](sim::Session& s) { commands = model_.on_match_click(s, ref); });
-    apply(commands);
-    frame_stale_ = true;
-    settle();
-    frame();  // the camera centres on the group at the next frame
-    answer["current"] = frame_.at.current;
-    answer["selected"] = model_.selected ? nlohmann::ordered_json(m.universe.module_ids[*model_.selected]) : nullptr;
-  } else if (words[0] == "click") {
-    const auto module = number(1, 0, int64_t(m.module_count()) - 1, "M");
-    if (!module) return answer;
-    // Where module M shows, clicked through the same picking as the mouse.
-    const glm::mat4 vp = renderer_->view_projection(camera_scene(), view_.width, view_.height);
-    std::optional<glm::vec2> pixel;
-    for (const render::SceneModule& s : frame_.scene.modules)
-      if (s.id == sim::ModuleId(*module))
-        pixel = render::project(vp, {s.pose.position[0], s.pose.position[1], s.pose.position[2]}, view_.width,
-                                view_.height);
-    if (!pixel) {
-      error = "module " + std::to_string(*module) + " is not in the 3D view at this step";
-      return answer;
-    }
-    model_.on_module_click(module_at(pixel->x, pixel->y));
-    frame_stale_ = true;
-    settle();
-    answer["pixel"] = {pixel->x, pixel->y};
-    answer["selected"] = model_.selected ? nlohmann::ordered_json(m.universe.module_ids[*model_.selected]) : nullptr;
-  } else if (words[0] == "screenshot") {
-    if (words.size() != 2) {
-      error = "screenshot FILE";
-      return answer;
-    }
-    if (std::string clash = app::file_clash(scenario_.inputs, {{"screenshot", words[1]}}); !clash.empty()) {
-      error = clash;
-      return answer;
-    }
-    window_shot_ = words[1];
-    frame();
-    if (!window_shot_error_.empty()) {
-      error = window_shot_error_;
-      return answer;
-    }
-    const render::Camera c = model_.camera.camera();
-    answer["screenshot"] = words[1];
-    answer["t"] = std::max<int64_t>(0, frame_.at.current);
-    answer["view"] = {{"x", view_.x}, {"y", view_.y}, {"width", view_.width}, {"height", view_.height}};
-    answer["camera_eye"] = vec_text(c.eye);
-    answer["camera_target"] = vec_text(c.target);
-    answer["color_by"] = model_.color_by;
-  } else if (words[0] == "panel") {
-    if (words.size() != 2) {
-      error = "panel NAME: position, matches, watchpoints, inspector, plots or timeline";
-      return answer;
-    }
-    if (words[1] == "plots") {  // where the last frame drew its plots, for tests that look at them
-      answer["plot_rects"] = nlohmann::ordered_json::array();
-      for (const auto& r : plot_rects_) answer["plot_rects"].push_back(r);
-      return answer;
-    }
-    if (words[1] == "timeline") {  // the steps it shows, and where
-      answer["first"] = timeline_.first;
-      answer["last"] = timeline_.last;
-      answer["fitted"] = model_.timeline_range.fitted;
-      answer["x0"] = timeline_.x0;
-      answer["width"] = timeline_.width;
-      answer["y0"] = timeline_y_;
-      answer["height"] = timeline_height_;
-      return answer;
-    }
-    answer = frame_.panel(words[1], m);
-    if (answer.contains("error")) error = answer["error"];
-  }
-  return answer;
-}
-
-int Debugger::run_script(const watch::SourceText& script) {
-  // Checked whole first, as `dwatch session` checks a script.
-  struct Line {
-    uint32_t number;
-    std::vector<std::string> window_words;  // a window command
-    std::string session_line;               // or a line of the session language
-  };
-  std::vector<Line> lines;
-  std::string mistakes;
-  const std::string& text = script.text();
-  uint32_t number = 1;
-  for (size_t begin = 0; begin < text.size(); ++number) {
-    const size_t newline = text.find('\n', begin);
-    const size_t stop = newline == std::string::npos ? text.size() : newline;
-    std::vector<ScriptWord> words;
-    for (size_t i = begin; i < stop;) {
-      if (text[i] == ' ' || text[i] == '\t' || text[i] == '\r') {
-        ++i;
-        continue;
-      }
-      if (text[i] == '#') break;
-      const size_t from = i;
-      while (i < stop && text[i] != ' ' && text[i] != '\t' && text[i] != '\r') ++i;
-      words.push_back({text.substr(from, i - from), {uint32_t(from), uint32_t(i)}});
-    }
-    if (!words.empty() && is_window_command(words[0].text)) {
-      const watch::Span end{uint32_t(stop), uint32_t(stop + 1)};
-      if (auto d = check_window_command(words, session_.model().module_count(), end)) {
-        mistakes += watch::format_diagnostics(script, {*d});
-      } else {
-        std::vector<std::string> plain;
-        for (const ScriptWord& w : words) plain.push_back(w.text);
-        lines.push_back({number, std::move(plain), {}});
-      }
-    } else {
-      auto parsed = shell_.parse(script, uint32_t(begin), number);
-      if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed))
-        mistakes += watch::format_diagnostics(script, *ds);
-      else if (std::get<std::optional<app::SessionCommand>>(parsed))
-        lines.push_back({number, {}, text.substr(begin, stop - begin)});
-    }
-    begin = newline == std::string::npos ? text.size() : newline + 1;
-  }
-  if (!mistakes.empty()) {
-    std::cerr << mistakes;
-    return 2;
-  }
-  // The pointer rests in the window's corner, over no panel, so that no tooltip covers the view.
-  int width = 0, height = 0;
-  glfwGetWindowSize(window_.handle(), &width, &height);
-  glfwSetCursorPos(window_.handle(), width - 2, height - 2);
-  settle();
-  for (const Line& line : lines) {
-    std::string error;
-    nlohmann::ordered_json answer;
-    if (!line.window_words.empty()) {
-      answer = window_command(line.window_words, error);
-    } else {
-      size_t first;
-      {
-        std::lock_guard lock(answers_mutex_);
-        first = answers_.size();
-      }
-      send(line.session_line);
-      settle();
-      std::lock_guard lock(answers_mutex_);
-      if (error.empty() && answers_.size() > first) {
-        error = answers_[first].error;
-        answer = answers_[first].json;
-      }
-    }
-    if (!error.empty()) {
-      std::cout.flush();
-      std::cerr << script.name() << ":" << line.number << ": error: " << error << " (the script stops here)\n";
-      return 1;
-    }
-    std::cout << answer.dump() << "\n" << std::flush;
-  }
   return 0;
 }
 

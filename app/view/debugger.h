@@ -10,6 +10,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -30,6 +31,17 @@ namespace dw::view {
 // repository; empty when neither is set.
 std::string layout_file();
 
+// A vector as X,Y,Z text, as --camera-eye takes it.
+std::string vec_text(glm::vec3 v);
+
+// Where a widget a script may press or type into was drawn in the last frame (window pixels).
+struct WidgetPlace {
+  float x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool cut = false;           // wider than its panel or cell shows, or its text wider than it
+  bool out_of_sight = false;  // above or below its panel's visible area: scrolled away
+  bool disabled = false;      // drawn greyed out: a press does nothing
+};
+
 class Debugger {
  public:
   // `layout`: where ImGui keeps the panels' places between runs; empty: not kept.
@@ -48,10 +60,6 @@ class Debugger {
   void frame();
   // Frames until the worker has nothing left to do and the Frame is current.
   void settle();
-
-  // Where the panels go the first time (afterwards the layout file says): a column on the right,
-  // the transport bar under the 3D view.
-  static constexpr float kPanelWidth = 520, kTransportHeight = 190;
 
   ViewModel& model() { return model_; }
   const Frame& shown() const { return frame_; }
@@ -88,11 +96,26 @@ class Debugger {
   // when nothing did (the window keeps what it shows).
   bool compose(int width, int height);
   std::string screenshot_view(const std::string& path);
-  nlohmann::ordered_json window_command(const std::vector<std::string>& words, std::string& error);
   void apply(const std::vector<std::string>& commands);
-  void status(std::string message);
+  void status(std::string message, bool failed = false);  // `failed`: shown in red
+
+  // window_script.cpp
+  nlohmann::ordered_json window_command(const std::vector<std::string>& words, std::string& error);
+  // A press of the left button at window pixel (x, y), and its release, through GLFW's callbacks as
+  // the platform delivers them: what ImGui draws there reacts as to a person's click. False when
+  // the pointer cannot get there (off the screen).
+  bool click_at(float x, float y);
+  // Keys and characters typed into the active text field, through the same path.
+  void type_text(const std::string& text);
 
   // panels.cpp
+  // The next window goes where layout_ puts `rect` (see panels_cond_).
+  void place(const PanelRect& rect) const;
+  // Notes the last widget under `name` (its label before any "##") for `press` and `type`;
+  // `text_width`: the width of what it shows, when that may be wider than the widget (a combo's
+  // choice), so that a cut label is found.
+  void note_widget(const std::string& name, float text_width = 0);
+  bool button(const std::string& label, bool small = false);  // ImGui::Button, noted
   void draw_panels();
   void transport_panel();
   void timeline(float width);
@@ -124,6 +147,7 @@ class Debugger {
   std::vector<Answer> answers_;  // from the worker, in order
   size_t answers_seen_ = 0;      // by the status line
   std::string status_;           // the last answer or mistake, in the transport bar
+  bool status_failed_ = false;   // a mistake: in red
   std::string paused_on_;        // the pause watchpoint that stopped the cursor, while it stands there
 
   // The 3D view: a texture the renderer draws into, redrawn when what it shows changes.
@@ -149,8 +173,13 @@ class Debugger {
   std::optional<sim::ModuleId> hovered_;
   bool dragging_ = false;
   std::string window_shot_, window_shot_error_;  // a script's `screenshot`, taken after the next frame
-  Timeline timeline_;                            // as last drawn
-  float timeline_y_ = 0, timeline_height_ = 0;   // its lanes' top and height in the window
+  // Where the panels go (view_model.h): the first time from the layout file if there is one, and
+  // again, for every panel, whenever the window's size changes.
+  PanelLayout panels_;
+  int panels_cond_ = 0;  // ImGuiCond_Always after a resize, else ImGuiCond_FirstUseEver
+  float panels_width_ = 0, panels_height_ = 0;
+  Timeline timeline_;                           // as last drawn
+  float timeline_y_ = 0, timeline_height_ = 0;  // its lanes' top and height in the window
 
   // Playing.
   std::chrono::steady_clock::time_point last_request_;
@@ -176,9 +205,12 @@ class Debugger {
   std::vector<DisabledWatch> disabled_;
   int set_column_ = 0;
   char record_path_[256] = "trace.jsonl", matches_path_[256] = "matches.jsonl";
-  std::vector<std::array<float, 4>> plot_rects_;  // the last frame's plots: x0, y0, x1, y1
-  char save_path_[256] = "";                      // "Save as scenario": where (`save FILE`)
-  std::string save_refused_;                      // the file a `save` would have overwritten, asking to confirm
+  std::vector<std::array<float, 4>> plot_rects_;        // the last frame's plots: x0, y0, x1, y1
+  std::map<std::string, WidgetPlace> widgets_;          // the last frame's buttons and fields, by name
+  std::map<std::string, WidgetPlace> drawing_widgets_;  // this frame's, as they are drawn
+  std::string scroll_to_;     // a widget out of sight that `press` scrolls its panel to, as a person would
+  char save_path_[256] = "";  // "Save as scenario": where (`save FILE`)
+  std::string save_refused_;  // the file a `save` would have overwritten, asking to confirm
   int64_t set_value_ = 0;
   float push_[3] = {0, 0, 5};
   int goto_step_ = 0;

@@ -2,6 +2,7 @@
 // matches table, the module inspector with interventions, statistics, help. Each draws from the
 // Frame and sends session commands; none reads the session while a job may run.
 #include <imgui.h>
+#include <imgui_internal.h>  // the last item's flags: a disabled button cannot be pressed
 #include <imgui_stdlib.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <tuple>
 
 #include "app/explain.h"
+#include "app/output_files.h"
 #include "app/view/debugger.h"
 #include "watch/watchpoint.h"
 
@@ -21,18 +23,6 @@ namespace {
 
 const ImU32 kLaneColors[] = {IM_COL32(230, 85, 60, 255), IM_COL32(70, 150, 230, 255), IM_COL32(90, 190, 90, 255),
                              IM_COL32(220, 170, 40, 255), IM_COL32(170, 100, 220, 255)};
-
-void place(ImVec2 pos, ImVec2 size) {
-  ImGui::SetNextWindowPos(pos, ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(size, ImGuiCond_FirstUseEver);
-}
-
-// A panel of the right-hand column, from `top` to `bottom` (fractions of the window's height).
-void place_in_column(float top, float bottom) {
-  const ImGuiViewport* vp = ImGui::GetMainViewport();
-  place(ImVec2(vp->WorkPos.x + vp->WorkSize.x - Debugger::kPanelWidth, vp->WorkPos.y + vp->WorkSize.y * top),
-        ImVec2(Debugger::kPanelWidth, vp->WorkSize.y * (bottom - top)));
-}
 
 // A value in a table cell: whole when it fits, else cut at the right with "..." and whole in a
 // tooltip, so that a cut number never reads as another number (ImGui clips a cell's text
@@ -51,6 +41,48 @@ void cell_text(const std::string& text, std::optional<ImVec4> color = std::nullo
 
 }  // namespace
 
+void Debugger::place(const PanelRect& r) const {
+  ImGui::SetNextWindowPos(ImVec2(r.x, r.y), panels_cond_);
+  ImGui::SetNextWindowSize(ImVec2(r.width, r.height), panels_cond_);
+}
+
+void Debugger::note_widget(const std::string& name, float text_width) {
+  const ImVec2 min = ImGui::GetItemRectMin(), max = ImGui::GetItemRectMax();
+  // Where it may show: its panel's visible area, or its table cell's.
+  const ImVec2 clip_min = ImGui::GetWindowDrawList()->GetClipRectMin(),
+               clip_max = ImGui::GetWindowDrawList()->GetClipRectMax();
+  WidgetPlace place{min.x, min.y, max.x, max.y};
+  place.cut = min.x < clip_min.x - 0.5f || max.x > clip_max.x + 0.5f || text_width > max.x - min.x + 0.5f;
+  place.out_of_sight = min.y < clip_min.y - 0.5f || max.y > clip_max.y + 0.5f;
+  if (name == scroll_to_) {
+    ImGui::SetScrollHereY(0.5f);
+    scroll_to_.clear();
+  }
+  place.disabled = (GImGui->LastItemData.InFlags & ImGuiItemFlags_Disabled) != 0;
+  drawing_widgets_.try_emplace(name, place);
+}
+
+bool Debugger::button(const std::string& label, bool small) {
+  const bool pressed = small ? ImGui::SmallButton(label.c_str()) : ImGui::Button(label.c_str());
+  // "edit##w1" is noted as "edit w1": the label shown, and the row it belongs to.
+  const size_t id = label.find("##");
+  note_widget(id == std::string::npos ? label : label.substr(0, id) + " " + label.substr(id + 2));
+  return pressed;
+}
+
+// The width a combo needs to show `text` whole: its arrow and padding besides.
+// The width left on the line for a field followed by small buttons with these labels.
+static float width_beside(std::initializer_list<const char*> buttons) {
+  const ImGuiStyle& style = ImGui::GetStyle();
+  float width = ImGui::GetContentRegionAvail().x;
+  for (const char* b : buttons) width -= ImGui::CalcTextSize(b).x + 2 * style.FramePadding.x + style.ItemSpacing.x;
+  return std::max(60.0f, width);
+}
+
+static float combo_width(const char* text) {
+  return ImGui::CalcTextSize(text).x + ImGui::GetFrameHeight() + 2 * ImGui::GetStyle().FramePadding.x;
+}
+
 void Debugger::draw_panels() {
   plot_rects_.clear();
   transport_panel();
@@ -61,21 +93,25 @@ void Debugger::draw_panels() {
 }
 
 void Debugger::transport_panel() {
-  const ImGuiViewport* vp = ImGui::GetMainViewport();
-  place(ImVec2(vp->WorkPos.x, vp->WorkPos.y + vp->WorkSize.y - kTransportHeight),
-        ImVec2(vp->WorkSize.x - kPanelWidth, kTransportHeight));
+  place(panels_.transport);
   ImGui::Begin("Transport and timeline", nullptr, ImGuiWindowFlags_NoCollapse);
+  if (panels_.too_small) {
+    const ImGuiViewport* vp = ImGui::GetMainViewport();
+    ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f),
+                       "The window is %.0fx%.0f: the panels need %.0fx%.0f or more to show whole. Enlarge it.",
+                       vp->WorkSize.x, vp->WorkSize.y, PanelLayout::kMinWidth, PanelLayout::kMinHeight);
+  }
   const Position& at = frame_.at;
-  if (ImGui::Button(model_.playing ? "Pause (Space)" : "Play (Space)")) press(Key::Space);
+  if (button(model_.playing ? "Pause (Space)" : "Play (Space)")) press(Key::Space);
   ImGui::SameLine();
-  if (ImGui::Button("< Back")) press(Key::Left);
+  if (button("< Back")) press(Key::Left);
   ImGui::SameLine();
-  if (ImGui::Button("Step >")) press(Key::Right);
+  if (button("Step >")) press(Key::Right);
   ImGui::SameLine();
-  if (ImGui::Button("Run")) apply({command::run()});
+  if (button("Run")) apply({command::run()});
   ImGui::SameLine();
   if (!scenario_.scripts.empty()) {
-    if (ImGui::Button("Reload scripts")) apply({command::reload()});
+    if (button("Reload scripts")) apply({command::reload()});
     if (ImGui::IsItemHovered())
       ImGui::SetTooltip("Load the scenario's Lua scripts again: they run from the step after this one, a new branch");
     ImGui::SameLine();
@@ -85,16 +121,17 @@ void Debugger::transport_panel() {
   ImGui::SameLine();
   ImGui::SetNextItemWidth(110);
   ImGui::InputInt("##goto", &goto_step_);
+  note_widget("goto");
   ImGui::SameLine();
-  if (ImGui::Button("Go to step")) {
+  if (button("Go to step")) {
     model_.playing = false;
     const int64_t t = std::max(0, goto_step_);
     apply({t <= at.latest ? command::seek(t) : command::run_to(t)});
   }
   ImGui::SameLine();
-  if (ImGui::Button("< Prev match (P)")) press(Key::P);
+  if (button("< Prev match (P)")) press(Key::P);
   ImGui::SameLine();
-  if (ImGui::Button("Next match (N) >")) press(Key::N);
+  if (button("Next match (N) >")) press(Key::N);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("The chosen watchpoint's next match: simulated on to it when none is known yet");
   ImGui::SameLine();
@@ -109,16 +146,19 @@ void Debugger::transport_panel() {
     ImGui::EndCombo();
   }
 
-  ImGui::Text("step %" PRId64 " of %" PRId64 " simulated (decided through %" PRId64 "; the scenario runs %" PRId64
-              ")   history: %zu keyframes every %" PRId64 " steps, %.1f MiB",
-              at.current, at.latest, frame_.decided, at.end, frame_.keyframes, frame_.keyframe_interval,
-              double(frame_.history_bytes) / (1 << 20));
+  if (at.latest < 0)  // nothing simulated yet: no step to speak of
+    ImGui::Text("no step simulated yet (the scenario runs %" PRId64 ")", at.end);
+  else
+    ImGui::Text("step %" PRId64 " of %" PRId64 " simulated (decided through %" PRId64 "; the scenario runs %" PRId64
+                ")   history: %zu keyframes every %" PRId64 " steps, %.1f MiB",
+                at.current, at.latest, frame_.decided, at.end, frame_.keyframes, frame_.keyframe_interval,
+                double(frame_.history_bytes) / (1 << 20));
   if (!worker_->idle()) {
     const auto [done, total] = worker_->progress();
     ImGui::ProgressBar(total > 0 ? float(done) / float(total) : 0.0f, ImVec2(300, 0),
                        total > 0 ? (std::to_string(done) + " / " + std::to_string(total)).c_str() : "working");
     ImGui::SameLine();
-    if (ImGui::Button("Cancel (Esc)")) worker_->cancel();
+    if (button("Cancel (Esc)")) worker_->cancel();
     ImGui::SameLine();
   }
   if (frame_.failure) {
@@ -128,15 +168,19 @@ void Debugger::transport_panel() {
                        frame_.failure->step, int64_t(scenario_.model->universe.module_ids[frame_.failure->module]),
                        at.latest, frame_.failure->message.c_str());
     ImGui::PopStyleColor();
+  } else if (status_failed_) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.35f, 0.3f, 1.0f));
+    ImGui::TextWrapped("%s", status_.c_str());
+    ImGui::PopStyleColor();
   } else {
     ImGui::TextWrapped("%s", status_.c_str());
   }
   // A pause watchpoint that matches at every step would stop each Run a step further: the ways on.
   if (!paused_on_.empty()) {
-    if (ImGui::Button("Continue")) apply({command::continue_run()});
+    if (button("Continue")) apply({command::continue_run()});
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Run on past this pause, to the next one or the end");
     ImGui::SameLine();
-    if (ImGui::Button(("Stop pausing on " + paused_on_).c_str()))
+    if (button("Stop pausing on " + paused_on_))
       apply({command::action(paused_on_, sim::MatchAction::Log), command::continue_run()});
     if (ImGui::IsItemHovered())
       ImGui::SetTooltip("%s logs its matches from now on (nothing is evaluated again), and the run goes on",
@@ -231,13 +275,13 @@ void Debugger::timeline(float width) {
   if (model_.timeline_range.fitted) {
     ImGui::Dummy(ImVec2(1, ImGui::GetTextLineHeight()));
   } else {
-    if (ImGui::SmallButton("fit")) model_.timeline_range.fit();
+    if (button("fit", true)) model_.timeline_range.fit();
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Show step 0 to the latest again, following the run");
   }
 }
 
 void Debugger::watchpoints_panel() {
-  place_in_column(0.0f, 0.26f);
+  place(panels_.watchpoints);
   ImGui::Begin("Watchpoints");
   if (ImGui::BeginTable("watches", 7,
                         ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
@@ -265,7 +309,7 @@ void Debugger::watchpoints_panel() {
       ImGui::TableNextColumn();
       ImGui::Text("%" PRIu64, row.matches);
       ImGui::TableNextColumn();
-      if (ImGui::SmallButton("edit")) {
+      if (button("edit##" + row.name, true)) {
         edit_name_ = row.name;
         edit_text_ = row.text;
         edit_algorithm_ = row.algorithm == "centralized" ? 0 : 1;
@@ -275,7 +319,7 @@ void Debugger::watchpoints_panel() {
         edit_checked_.clear();
       }
       ImGui::SameLine();
-      if (ImGui::SmallButton("remove")) apply({command::unwatch(row.name)});
+      if (button("remove##" + row.name, true)) apply({command::unwatch(row.name)});
       ImGui::PopID();
     }
     for (size_t d = 0; d < disabled_.size(); ++d) {
@@ -303,24 +347,34 @@ void Debugger::watchpoints_panel() {
 
 void Debugger::editor() {
   ImGui::Separator();
-  ImGui::TextUnformatted("Editor: compiled as you type; Add / Replace evaluates it over the whole history");
+  ImGui::TextWrapped("Editor: compiled as you type; Add / Replace evaluates it over the whole history");
+  static const char* kAlgorithms[] = {"centralized", "distributed"};
+  static const char* kShapes[] = {"chain", "ordered", "any"};
+  static const char* kStates[] = {"consistent", "simultaneous"};
+  static const char* kActions[] = {"log", "pause", "count"};
   ImGui::SetNextItemWidth(120);
   ImGui::InputText("name", &edit_name_);
-  ImGui::SameLine();
-  ImGui::SetNextItemWidth(110);
+  note_widget("name");
+  // Each choice as wide as its widest word, so that none is cut ("lo" for log).
+  ImGui::SetNextItemWidth(combo_width("distributed"));
   ImGui::Combo("##algorithm", &edit_algorithm_, "centralized\0distributed\0");
+  note_widget("algorithm", combo_width(kAlgorithms[edit_algorithm_]));
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(80);
+  ImGui::SetNextItemWidth(combo_width("ordered"));
   ImGui::Combo("##shape", &edit_shape_, "chain\0ordered\0any\0");
+  note_widget("shape", combo_width(kShapes[edit_shape_]));
   if (edit_algorithm_ == 1) {
     ImGui::SameLine();
-    ImGui::SetNextItemWidth(110);
+    ImGui::SetNextItemWidth(combo_width("simultaneous"));
     ImGui::Combo("##states", &edit_states_, "consistent\0simultaneous\0");
+    note_widget("states", combo_width(kStates[edit_states_]));
   }
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(80);
+  ImGui::SetNextItemWidth(combo_width("pause"));
   ImGui::Combo("##action", &edit_action_, "log\0pause\0count\0");
+  note_widget("action", combo_width(kActions[edit_action_]));
   ImGui::InputTextMultiline("##text", &edit_text_, ImVec2(-1, ImGui::GetTextLineHeight() * 4));
+  note_widget("text");
 
   // Compiled whenever the text changes, with the diagnostics the command line prints.
   const std::string key = edit_name_ + "\n" + edit_text_;
@@ -349,9 +403,6 @@ void Debugger::editor() {
   }
   // A reading that cannot find the shape (the paper's distributed one finds chains only) is said,
   // not sent.
-  static const char* kAlgorithms[] = {"centralized", "distributed"};
-  static const char* kShapes[] = {"chain", "ordered", "any"};
-  static const char* kStates[] = {"consistent", "simultaneous"};
   watch::DetectorOptions reading;
   reading.shape = watch::parse_shape(kShapes[edit_shape_]);
   if (edit_algorithm_ == 1) reading.states = watch::parse_states(kStates[edit_states_]);
@@ -360,8 +411,7 @@ void Debugger::editor() {
   ImGui::BeginDisabled(!edit_ok_ || edit_name_.empty() || !unsupported.empty());
   const bool exists = std::any_of(frame_.watches.begin(), frame_.watches.end(),
                                   [&](const WatchRow& w) { return w.name == edit_name_; });
-  if (ImGui::Button(exists ? "Replace" : "Add")) {
-    static const char* kActions[] = {"log", "pause", "count"};
+  if (button(exists ? "Replace" : "Add")) {
     std::string words = std::string(kAlgorithms[edit_algorithm_]) + " " + kShapes[edit_shape_];
     if (edit_algorithm_ == 1) words += std::string(" ") + kStates[edit_states_];
     apply({command::watch(edit_name_, words + " " + kActions[edit_action_], edit_text_)});
@@ -381,7 +431,7 @@ void Debugger::editor() {
 }
 
 void Debugger::matches_panel() {
-  place_in_column(0.26f, 0.48f);
+  place(panels_.matches);
   ImGui::Begin("Matches");
   MatchFilter& filter = model_.filter;
   ImGui::SetNextItemWidth(120);
@@ -403,7 +453,7 @@ void Debugger::matches_panel() {
     frame_stale_ = true;
   }
   ImGui::SameLine();
-  if (ImGui::SmallButton("copy JSON lines")) {
+  if (button("copy JSON lines", true)) {
     std::string lines;
     worker_->try_read([&](sim::Session&) {
       for (const MatchRowText& r : frame_.match_rows)
@@ -412,10 +462,11 @@ void Debugger::matches_panel() {
     ImGui::SetClipboardText(lines.c_str());
     status("copied " + std::to_string(frame_.match_rows.size()) + " matches as JSON lines");
   }
-  ImGui::SetNextItemWidth(180);
+  ImGui::SetNextItemWidth(width_beside({"save the matches"}));
   ImGui::InputText("##matches_path", matches_path_, sizeof matches_path_);
+  note_widget("matches-file");
   ImGui::SameLine();
-  if (ImGui::SmallButton("save the matches")) {
+  if (button("save the matches", true)) {
     // Every match of every watchpoint, as the match log writes them (docs/design.md §5).
     std::string lines;
     size_t written = 0;
@@ -423,11 +474,16 @@ void Debugger::matches_panel() {
       for (uint32_t w = 0; w < s.model().watches.size(); ++w)
         for (size_t i = 0; i < s.matches(w).size(); ++i, ++written) lines += shell_.match_json(w, i).dump() + "\n";
     });
-    std::ofstream out;
-    if (read) out.open(matches_path_), out << lines;
-    status(!read ? std::string("the session is busy: save again when it is done")
-           : out ? "saved " + std::to_string(written) + " matches -> " + matches_path_
-                 : std::string("cannot write ") + matches_path_);
+    // As every output of dwatch: never over an input, and whole or not at all.
+    std::unique_ptr<sim::OutputFile> out;
+    std::string error = read ? app::open_output_apart(scenario_.inputs, {"the matches' file", matches_path_}, out)
+                             : "the session is busy: save again when it is done";
+    if (error.empty()) {
+      out->stream() << lines;
+      error = out->commit();
+    }
+    if (error.empty()) status("saved " + std::to_string(written) + " matches -> " + matches_path_);
+    else status(error, true);
   }
   ImGui::Text("%zu matches%s", frame_.match_total,
               frame_.match_total > frame_.match_rows.size() ? " (the first shown: filter to narrow)" : "");
@@ -477,7 +533,7 @@ void Debugger::matches_panel() {
 }
 
 void Debugger::inspector_panel() {
-  place_in_column(0.48f, 0.76f);
+  place(panels_.module);
   ImGui::Begin("Module");
   const sim::Model& m = session_.model();
   if (!frame_.inspector) {
@@ -558,43 +614,45 @@ void Debugger::inspector_panel() {
   ImGui::SameLine();
   ImGui::SetNextItemWidth(120);
   ImGui::InputScalar("##value", ImGuiDataType_S64, &set_value_);
+  note_widget("value");
   ImGui::SameLine();
-  if (ImGui::Button("Set")) apply({command::set(in.module, m.universe.variables[size_t(set_column_)], set_value_)});
-  if (ImGui::Button("Remove module")) apply({command::remove(in.module)});
+  if (button("Set")) apply({command::set(in.module, m.universe.variables[size_t(set_column_)], set_value_)});
+  if (button("Remove module")) apply({command::remove(in.module)});
   if (in.pose) {  // a physical world
     ImGui::SameLine();
     ImGui::SetNextItemWidth(160);
     ImGui::InputFloat3("impulse", push_);
     ImGui::SameLine();
-    if (ImGui::Button("Push")) apply({command::push(in.module, {push_[0], push_[1], push_[2]})});
+    if (button("Push")) apply({command::push(in.module, {push_[0], push_[1], push_[2]})});
   }
   ImGui::Text("%zu interventions on this branch", frame_.interventions.size());
-  ImGui::SameLine();
   // The session's `save`: its watchpoints and this branch's interventions, through the same
   // checks as every output; an existing file is replaced only once confirmed.
-  ImGui::SetNextItemWidth(160);
+  ImGui::SetNextItemWidth(width_beside({"save as scenario", "overwrite it"}));
   if (ImGui::InputText("##save", save_path_, sizeof save_path_)) save_refused_.clear();
+  note_widget("scenario-file");
   ImGui::SameLine();
-  if (ImGui::SmallButton("save as scenario")) {
+  if (button("save as scenario", true)) {
     save_refused_.clear();
     apply({std::string("save ") + save_path_});
   }
   if (!save_refused_.empty() && save_refused_ == save_path_) {
     ImGui::SameLine();
-    if (ImGui::SmallButton("overwrite it")) {
+    if (button("overwrite it", true)) {
       apply({"save " + save_refused_ + " overwrite"});
       save_refused_.clear();
     }
   }
-  ImGui::SetNextItemWidth(160);
+  ImGui::SetNextItemWidth(width_beside({"record trace"}));
   ImGui::InputText("##record", record_path_, sizeof record_path_);
+  note_widget("trace-file");
   ImGui::SameLine();
-  if (ImGui::SmallButton("record trace")) apply({std::string("record ") + record_path_});
+  if (button("record trace", true)) apply({std::string("record ") + record_path_});
   ImGui::End();
 }
 
 void Debugger::statistics_panel() {
-  place_in_column(0.76f, 1.0f);
+  place(panels_.statistics);
   ImGui::Begin("Statistics");
   ImGui::Text("frame %.1f ms", shown_frame_ms_);
   for (size_t w = 0; w < frame_.stats.size(); ++w) {
@@ -605,9 +663,9 @@ void Debugger::statistics_panel() {
       continue;
     }
     const StatsRow& last = rows.back();
-    ImGui::Text("step %" PRId64 ": %" PRIu64 " PatternMatchers live, %" PRIu64 " created, %" PRIu64
-                " messages, %.3f ms",
-                last.step, last.live, last.created, last.messages, last.seconds * 1000);
+    ImGui::TextWrapped("step %" PRId64 ": %" PRIu64 " PatternMatchers live, %" PRIu64 " created, %" PRIu64
+                       " messages, %.3f ms",
+                       last.step, last.live, last.created, last.messages, last.seconds * 1000);
     std::vector<float> live, created, messages, ms;
     for (const StatsRow& r : rows) {
       live.push_back(float(r.live));

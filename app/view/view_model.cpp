@@ -93,6 +93,26 @@ void TimelineRange::pan(int64_t steps, const Position& at) {
   show(from + steps, to + steps, at);
 }
 
+PanelLayout panel_layout(float x, float y, float width, float height) {
+  PanelLayout l;
+  l.too_small = width < PanelLayout::kMinWidth || height < PanelLayout::kMinHeight;
+  // The column: wide enough for the editor's choices and the matches' slots on one line.
+  const float column = std::clamp(width * 0.33f, 400.0f, 560.0f), left = std::max(0.0f, width - column);
+  const float transport = 190;
+  l.view = {x, y, left, std::max(0.0f, height - transport)};
+  l.transport = {x, y + l.view.height, left, height - l.view.height};
+  // Watchpoints and the editor, Matches, Module, Statistics, top to bottom.
+  const float shares[] = {0.31f, 0.24f, 0.25f, 0.20f};
+  PanelRect* column_panels[] = {&l.watchpoints, &l.matches, &l.module, &l.statistics};
+  float top = y;
+  for (size_t i = 0; i < std::size(shares); ++i) {
+    const float h = i + 1 == std::size(shares) ? y + height - top : std::round(height * shares[i]);
+    *column_panels[i] = {x + left, top, width - left, h};
+    top += h;
+  }
+  return l;
+}
+
 std::vector<uint32_t> lane_density(std::span<const int64_t> steps, const Timeline& timeline, int columns) {
   std::vector<uint32_t> counts(size_t(std::max(0, columns)), 0);
   if (columns <= 0) return counts;
@@ -189,7 +209,7 @@ std::optional<Key> key_named(std::string_view name) {
 
 bool is_window_command(std::string_view word) {
   return word == "click" || word == "key" || word == "wait" || word == "screenshot" || word == "panel" ||
-         word == "timeline";
+         word == "timeline" || word == "press" || word == "type";
 }
 
 std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord> words, uint32_t module_count,
@@ -231,9 +251,15 @@ std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord
   } else if (name == "screenshot") {
     if (words.size() < 2) d = mistake(1, "screenshot FILE: the PNG to write");
   } else if (name == "panel") {
-    static const char* kPanels[] = {"position", "matches", "watchpoints", "inspector", "plots", "timeline"};
+    static const char* kPanels[] = {"position", "matches", "watchpoints", "inspector", "plots", "timeline", "widgets"};
     if (words.size() < 2 || std::find(std::begin(kPanels), std::end(kPanels), words[1].text) == std::end(kPanels))
-      d = mistake(1, "panel NAME: position, matches, watchpoints, inspector, plots or timeline");
+      d = mistake(1, "panel NAME: position, matches, watchpoints, inspector, plots, timeline or widgets");
+  } else if (name == "press") {
+    want = words.size();  // the button's label: the rest of the line
+    if (words.size() < 2) d = mistake(1, "press BUTTON: the label of the button to press");
+  } else if (name == "type") {
+    want = std::max<size_t>(3, words.size());  // the text: the rest of the line
+    if (words.size() < 2) d = mistake(1, "type FIELD TEXT: the field to type into, and the text");
   } else if (name == "timeline") {
     if (words.size() == 2 && words[1].text == "fit") {
     } else if (words.size() < 2 || words[1].text == "fit") {

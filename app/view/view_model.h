@@ -129,6 +129,21 @@ struct TimelineRange {
   void fit() { fitted = true; }
 };
 
+// Where the window's panels go: the 3D view at the top left, the transport bar and timeline under
+// it, and a column on the right of Watchpoints (with the editor), Matches, Module and Statistics.
+// The column and the bar keep the sizes their contents need; the 3D view takes what is left. Laid
+// out again whenever the window's size changes; below kMinWidth x kMinHeight the panels no longer
+// hold their contents, which the window says.
+struct PanelRect {
+  float x = 0, y = 0, width = 0, height = 0;
+};
+struct PanelLayout {
+  static constexpr float kMinWidth = 1024, kMinHeight = 640;
+  PanelRect view, transport, watchpoints, matches, module, statistics;
+  bool too_small = false;
+};
+PanelLayout panel_layout(float x, float y, float width, float height);
+
 // Lines of the session language that the widgets send.
 namespace command {
 std::string step(int64_t n);
