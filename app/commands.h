@@ -18,7 +18,7 @@ void add_replay_command(CLI::App& app, std::function<int()>& run);
 void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks = nullptr,
                      Interrupts* interrupts = nullptr);
 void add_bench_command(CLI::App& app, std::function<int()>& run);
-void add_render_command(CLI::App& app, std::function<int()>& run);
+void add_render_command(CLI::App& app, std::function<int()>& run, Interrupts* interrupts = nullptr);
 void add_session_command(CLI::App& app, std::function<int()>& run, Interrupts* interrupts = nullptr);
 void add_view_command(CLI::App& app, std::function<int()>& run);  // app/view/view_command.cpp
 

@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
   dw::app::add_run_command(app, run, ranks, watcher);
   dw::app::add_check_command(app, run);
   dw::app::add_replay_command(app, run);
-  dw::app::add_render_command(app, run);
+  dw::app::add_render_command(app, run, watcher);
   dw::app::add_session_command(app, run, watcher);
   dw::app::add_view_command(app, run);
   dw::app::add_bench_command(app, run);

@@ -297,6 +297,10 @@ Camera Renderer::fitted_camera(const Scene& scene, int width, int height) {
   return make_camera(unset, width, height, view_region(unset, font(text_size(height)).atlas, width, height));
 }
 
+Camera Renderer::camera(const Scene& scene, int width, int height) {
+  return make_camera(scene, width, height, view_region(scene, font(text_size(height)).atlas, width, height));
+}
+
 void Renderer::draw(const Scene& scene, int width, int height, unsigned target) {
   resize(width, height);
   FontTexture& text = font(text_size(height));

@@ -45,6 +45,9 @@ class Renderer {
   glm::mat4 view_projection(const Scene& scene, int width, int height);
   // The camera `draw` would fit to the scene at this size if the scene set none.
   Camera fitted_camera(const Scene& scene, int width, int height);
+  // The camera `draw` uses for this scene at this size: the scene's, or fitted where it sets none
+  // (a video keeps its first frame's for every frame, so that the view does not jump).
+  Camera camera(const Scene& scene, int width, int height);
 
   // The largest image side the context takes.
   int max_size() const { return max_size_; }

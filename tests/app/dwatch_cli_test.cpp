@@ -9,7 +9,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "render/image.h"
 #include "tests/app/cli.h"
+#include "tests/render/decoded_video.h"
 
 namespace {
 
@@ -407,6 +409,106 @@ TEST_F(Cli, RenderMistakesAreBadInput) {
     EXPECT_NE(r.err.find("error: "), std::string::npos) << camera << ": " << r.err;
   }
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+// --- dwatch render --video ----------------------------------------------------------------------
+
+// The camera a video was drawn with, from its summary, as render's options.
+std::string video_camera(const std::string& out) {
+  const size_t at = out.find("  camera: ");
+  if (at == std::string::npos) return "";
+  return out.substr(at + 10, out.find('\n', at) - at - 10);
+}
+
+// Each frame is the step as `render --step T` draws it with the video's camera, which is fitted
+// to the first frame; a step with a matched group shows its red outline and links.
+TEST_F(Cli, RenderVideoDrawsEachStepAsRenderDoes) {
+  namespace video = dw::render::test;
+  const std::string scenario = (kScenarios / "token_ring.toml").string();
+  const std::string size = " --width 640 --height 360";
+  const fs::path first = dir_ / "39.png";
+  ASSERT_EQ(run("render " + scenario + " --step 39 --out " + first.string() + size).code, 0);
+  for (const auto& [name, codec] : {std::pair{"ring.mp4", "h264"}, {"ring.webm", "vp9"}}) {
+    SCOPED_TRACE(name);
+    const fs::path file = dir_ / name;
+    const Result r = run("render " + scenario + " --video " + file.string() + " --from 39 --to 43" + size);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("steps 39..43, 5 frames at 10 frames/s"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("1 step with a group highlighted"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("first: token_from_nowhere t=41: a=7 x=8 b=9"), std::string::npos) << r.out;
+    const video::DecodedVideo v = video::decode_video(file.string());
+    ASSERT_EQ(v.error, "");
+    EXPECT_EQ(v.codec, codec);
+    EXPECT_EQ(v.width, 640);
+    EXPECT_EQ(v.height, 360);
+    EXPECT_NEAR(v.fps, 10, 0.01);
+    ASSERT_EQ(v.frames.size(), 5u);
+    // The first frame: step 39 with the fitted camera, as `render --step 39` draws it.
+    const auto png = dw::render::read_png(first.string());
+    ASSERT_TRUE(png);
+    EXPECT_LT(video::mean_absolute_difference(v.frames[0], *png), 4.0);  // another step: 18
+    // Step 41 (frame 2), drawn by `render --step 41` with the video's camera.
+    const std::string camera = video_camera(r.out);
+    ASSERT_NE(camera.find("--camera-eye "), std::string::npos) << r.out;
+    const fs::path step41 = dir_ / "41.png";
+    ASSERT_EQ(run("render " + scenario + " --step 41 --out " + step41.string() + size + " " + camera).code, 0);
+    const auto highlighted = dw::render::read_png(step41.string());
+    ASSERT_TRUE(highlighted);
+    EXPECT_LT(video::mean_absolute_difference(v.frames[2], *highlighted), 4.0);
+    EXPECT_GT(video::mean_absolute_difference(v.frames[1], *highlighted), 10.0) << "frame 1 is another step";
+    const int64_t red = video::count_pixels(*highlighted, video::group_red);
+    ASSERT_GT(red, 1000);
+    EXPECT_GT(video::count_pixels(v.frames[2], video::group_red), red * 3 / 4);
+    for (const size_t plain : {0u, 1u, 3u, 4u})
+      EXPECT_LT(video::count_pixels(v.frames[plain], video::group_red), red / 20);
+  }
+  // --fps, and the whole scenario by default.
+  const Result all =
+      run("render " + scenario + " --video " + (dir_ / "all.mp4").string() + " --fps 25 --width 160 --height 96");
+  ASSERT_EQ(all.code, 0) << all.err;
+  const video::DecodedVideo whole = video::decode_video((dir_ / "all.mp4").string());
+  EXPECT_EQ(whole.frames.size(), 100u) << "token_ring has 100 steps";
+  EXPECT_NEAR(whole.fps, 25, 0.01);
+}
+
+TEST_F(Cli, RenderVideoMistakesAreBadInputAndWriteNothing) {
+  const std::string scenario = (kScenarios / "token_ring.toml").string();
+  const std::string video = " --video " + (dir_ / "v.mp4").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {video + " --out " + (dir_ / "x.png").string(), "error: --out and --video are exclusive"},
+      {"", "error: render needs --out PNG (one step) or --video FILE.mp4|FILE.webm"},
+      {" --video " + (dir_ / "v.avi").string(), "error: --video: " + (dir_ / "v.avi").string() +
+                                                    ": a video's name ends in .mp4 (H.264) or .webm (VP9), not '.avi'"},
+      {" --video /nonexistent/dir/v.mp4",
+       "error: --video: cannot write /nonexistent/dir/v.mp4: No such file or directory"},
+      {video + " --width 321", "error: --width 321: a video's width and height must be even"},
+      {video + " --height 199", "error: --height 199: a video's width and height must be even"},
+      {video + " --step 3", "error: --step is for --out"},
+      {video + " --from 9 --to 3", "error: --from 9 is after --to 3"},
+      {video + " --from 150", "error: --from 150 is after the last step, 99 (--to)"},
+      {" --out " + (dir_ / "x.png").string() + " --from 3", "error: --from, --to and --fps are for --video"},
+      {video + " --fps 0", "'fps' must be between 1 and 240, not 0"},
+      {" --video - ", "error: --video needs a file name"},
+      {" --video " + scenario, "would overwrite the input"},
+  };
+  for (const auto& [options, message] : cases) {
+    const Result r = run("render " + scenario + options);
+    EXPECT_EQ(r.code, 2) << options;
+    EXPECT_NE(r.err.find(message), std::string::npos) << options << ": " << r.err;
+  }
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 2) << "only stdout and stderr";
+}
+
+// A write that fails is exit 1 naming the path and the reason, and leaves no file.
+TEST_F(Cli, RenderVideoThatCannotBeWrittenNamesTheReason) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  fs::create_symlink("/dev/full", dir_ / "full.webm");
+  const Result r = run("render " + (kScenarios / "token_ring.toml").string() + " --video " +
+                       (dir_ / "full.webm").string() + " --to 3 --width 64 --height 48");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("writing " + (dir_ / "full.webm").string() + " failed: No space left on device"),
+            std::string::npos)
+      << r.err;
 }
 
 namespace {

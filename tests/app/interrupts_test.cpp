@@ -93,6 +93,36 @@ TEST_F(Interrupted, ARunStopsBetweenStepsSaysWhereAndLeavesEveryFileAsItWas) {
   }
 }
 
+TEST_F(Interrupted, AVideoStopsBetweenFramesAndLeavesTheOldFile) {
+  write("old.mp4", "an earlier video\n");
+  const pid_t pid = start({"render", (kScenarios / "token_ring.toml").string(), "--video", (dir_ / "old.mp4").string(),
+                           "--to", "999999", "--width", "64", "--height", "48"});
+  // The video is open once the process holds a file in the test's directory (its unnamed
+  // temporary); then it draws frames.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  bool open = false;
+  while (!open && std::chrono::steady_clock::now() < deadline) {
+    std::error_code ec;
+    for (const auto& fd : fs::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ec)) {
+      const std::string target = fs::read_symlink(fd.path(), ec).string();
+      open = open || (target.rfind(dir_.string() + "/#", 0) == 0 || target.find("(deleted)") != std::string::npos);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(open) << "the video was never opened";
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  ::kill(pid, SIGINT);
+  EXPECT_EQ(exit_code(pid), 130);
+  const std::string err = slurp(dir_ / "stderr");
+  EXPECT_NE(err.find("interrupted (SIGINT) after "), std::string::npos) << err;
+  EXPECT_NE(
+      err.find(" of 1000000 frames: nothing written (--video " + (dir_ / "old.mp4").string() + ": as it was before)"),
+      std::string::npos)
+      << err;
+  EXPECT_EQ(slurp(dir_ / "old.mp4"), "an earlier video\n");
+  EXPECT_EQ(files(), (std::set<std::string>{"old.mp4", "stderr", "stdout"})) << "a temporary stayed";
+}
+
 TEST_F(Interrupted, ASessionScriptStopsAtTheCommandUnderWay) {
   const fs::path script = write("long.session", "step 1\nrecord " + (dir_ / "early.jsonl").string() +
                                                     "\nrun 1000000\nrecord " + (dir_ / "late.jsonl").string() + "\n");

@@ -99,6 +99,30 @@ TEST_F(RendererTest, TheSameSceneGivesTheSamePixels) {
   EXPECT_NE(b.width, a.width);
 }
 
+// camera() is the camera draw() uses: set on the scene, it draws the same picture, whether the
+// scene set none (fitted), a target only, or both.
+TEST_F(RendererTest, TheCameraItUsesDrawsTheSamePictureWhenSetOnTheScene) {
+  Scene s = test::block(4, 3, 2, {0.9f, 0.5f, 0.1f});
+  s.title = "camera";
+  s.modules[0].highlighted = s.modules[1].highlighted = true;
+  s.groups.push_back({"w", 0, {"a", "b"}, {0, 1}});
+  for (const std::optional<sim::Vec3> target : {std::optional<sim::Vec3>{}, std::optional<sim::Vec3>{{0, 0, 0}}}) {
+    s.camera_eye.reset();
+    s.camera_target = target;
+    const Image as_set = renderer_->render(s, 320, 200);
+    const Camera c = renderer_->camera(s, 320, 200);
+    s.camera_eye = sim::Vec3{c.eye.x, c.eye.y, c.eye.z};
+    s.camera_target = sim::Vec3{c.target.x, c.target.y, c.target.z};
+    EXPECT_EQ(renderer_->render(s, 320, 200).rgba, as_set.rgba);
+  }
+  // An eye and a target set are the camera's, as given.
+  s.camera_eye = sim::Vec3{9, -7, 6};
+  s.camera_target = sim::Vec3{1, 1, 0};
+  const Camera given = renderer_->camera(s, 320, 200);
+  EXPECT_EQ(given.eye, glm::vec3(9, -7, 6));
+  EXPECT_EQ(given.target, glm::vec3(1, 1, 0));
+}
+
 TEST_F(RendererTest, ImagesOutOfRangeAreRefused) {
   EXPECT_THROW(renderer_->render(test::block(1, 1, 1, {}), 0, 100), RenderError);
   EXPECT_THROW(renderer_->render(test::block(1, 1, 1, {}), renderer_->max_size() + 1, 100), RenderError);
