@@ -11,7 +11,8 @@
 //             overhead over a 1,000-module physics run of leader election
 //   paper     the paper's whole §V: Table I, Fig. 7, Fig. 8, Table II beside its published numbers,
 //             as CSV, plots and paper.md (bench_paper.cpp, paper_report.cpp, scripts/plot_paper.py)
-//   render    frames of the headless 3D view at 1280x720, 1,000 and 10,000 modules (bench_render.cpp)
+//   render    frames of the headless 3D view at 1280x720, 1,000 and 10,000 modules, and a video of 200
+//             (bench_render.cpp)
 //   session   the session's history: live cost, keyframes, seek, retroactive watchpoints (bench_session.cpp)
 //   lua       the Lua ports of scenarios/lua/ beside their C++ twins: speed and memory (bench_lua.cpp)
 //   view      the debugger window: frames/s, and how fast a click shows its step (app/view/bench_view.cpp)
