@@ -451,6 +451,7 @@ void Debugger::frame() {
   handle_keys();
   play();
   drawing_widgets_.clear();
+  drawing_cut_labels_.clear();
   const ImGuiViewport* vp = ImGui::GetMainViewport();
   panels_ = panel_layout(vp->WorkPos.x, vp->WorkPos.y, vp->WorkSize.x, vp->WorkSize.y);
   const bool resized = vp->WorkSize.x != panels_width_ || vp->WorkSize.y != panels_height_;
@@ -461,6 +462,7 @@ void Debugger::frame() {
   draw_panels();
   if (model_.show_help) help_window();
   widgets_.swap(drawing_widgets_);
+  cut_labels_.swap(drawing_cut_labels_);
   ImGui::Render();
 
   int width = 0, height = 0;

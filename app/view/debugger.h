@@ -17,7 +17,9 @@
 #include <string>
 #include <vector>
 
+#include <imgui.h>
 #include "app/session_script.h"
+
 #include "app/view/frame.h"
 #include "app/view/glfw_window.h"
 #include "app/view/session_worker.h"
@@ -116,6 +118,9 @@ class Debugger {
   // choice), so that a cut label is found.
   void note_widget(const std::string& name, float text_width = 0);
   bool button(const std::string& label, bool small = false);  // ImGui::Button, noted
+  // A name in a table cell (a watchpoint's): whole, or cut with "..." (whole in a tooltip) and
+  // noted, for the tests that look for cut labels.
+  void label_cell(const std::string& text, std::optional<ImVec4> color = std::nullopt);
   void draw_panels();
   void transport_panel();
   void timeline(float width);
@@ -205,9 +210,10 @@ class Debugger {
   std::vector<DisabledWatch> disabled_;
   int set_column_ = 0;
   char record_path_[256] = "trace.jsonl", matches_path_[256] = "matches.jsonl";
-  std::vector<std::array<float, 4>> plot_rects_;        // the last frame's plots: x0, y0, x1, y1
-  std::map<std::string, WidgetPlace> widgets_;          // the last frame's buttons and fields, by name
-  std::map<std::string, WidgetPlace> drawing_widgets_;  // this frame's, as they are drawn
+  std::vector<std::array<float, 4>> plot_rects_;              // the last frame's plots: x0, y0, x1, y1
+  std::map<std::string, WidgetPlace> widgets_;                // the last frame's buttons and fields, by name
+  std::map<std::string, WidgetPlace> drawing_widgets_;        // this frame's, as they are drawn
+  std::vector<std::string> cut_labels_, drawing_cut_labels_;  // the last frame's / this frame's
   std::string scroll_to_;     // a widget out of sight that `press` scrolls its panel to, as a person would
   char save_path_[256] = "";  // "Save as scenario": where (`save FILE`)
   std::string save_refused_;  // the file a `save` would have overwritten, asking to confirm

@@ -27,16 +27,55 @@ const ImU32 kLaneColors[] = {IM_COL32(230, 85, 60, 255), IM_COL32(70, 150, 230, 
 // A value in a table cell: whole when it fits, else cut at the right with "..." and whole in a
 // tooltip, so that a cut number never reads as another number (ImGui clips a cell's text
 // silently: 8280827919719202833 showed as 828082791971920283).
-void cell_text(const std::string& text, std::optional<ImVec4> color = std::nullopt) {
-  const float room = ImGui::GetContentRegionAvail().x;
+// `text` as it fits in `room` pixels: whole, or cut with "...".
+std::string fitted_text(const std::string& text, float room) {
   std::string shown = text;
   if (ImGui::CalcTextSize(text.c_str()).x > room) {
     while (shown.size() > 1 && ImGui::CalcTextSize((shown + "...").c_str()).x > room) shown.pop_back();
     shown += "...";
   }
+  return shown;
+}
+
+// True when it had to be cut.
+bool cell_text(const std::string& text, std::optional<ImVec4> color = std::nullopt) {
+  const std::string shown = fitted_text(text, ImGui::GetContentRegionAvail().x);
   if (color) ImGui::TextColored(*color, "%s", shown.c_str());
   else ImGui::TextUnformatted(shown.c_str());
   if (shown != text && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text.c_str());
+  return shown != text;
+}
+
+// The width of a table column that shows each of `names` whole (within `most` pixels).
+float names_width(const std::vector<std::string>& names, float least, float most) {
+  float width = least;
+  for (const std::string& n : names) width = std::max(width, ImGui::CalcTextSize(n.c_str()).x);
+  return std::min(width + 2 * ImGui::GetStyle().CellPadding.x, most);
+}
+
+// A button's width for its label.
+float button_width(const std::string& label) {
+  return ImGui::CalcTextSize(label.c_str(), nullptr, true).x + 2 * ImGui::GetStyle().FramePadding.x;
+}
+
+// Puts the next widget, `width` wide, on the line of the last one when it fits there, else on the
+// next line: rows of buttons wrap in a narrow window instead of running off its edge.
+void flow(float width) {
+  const float right = ImGui::GetItemRectMax().x + ImGui::GetStyle().ItemSpacing.x + width;
+  if (right <= ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x) ImGui::SameLine();
+}
+
+// The width left on the line for a field followed by small buttons with these labels.
+float width_beside(std::initializer_list<const char*> buttons) {
+  const ImGuiStyle& style = ImGui::GetStyle();
+  float width = ImGui::GetContentRegionAvail().x;
+  for (const char* b : buttons) width -= ImGui::CalcTextSize(b).x + 2 * style.FramePadding.x + style.ItemSpacing.x;
+  return std::max(60.0f, width);
+}
+
+// The width a combo needs to show `text` whole: its arrow and padding besides.
+float combo_width(const char* text) {
+  return ImGui::CalcTextSize(text).x + ImGui::GetFrameHeight() + 2 * ImGui::GetStyle().FramePadding.x;
 }
 
 }  // namespace
@@ -44,6 +83,10 @@ void cell_text(const std::string& text, std::optional<ImVec4> color = std::nullo
 void Debugger::place(const PanelRect& r) const {
   ImGui::SetNextWindowPos(ImVec2(r.x, r.y), panels_cond_);
   ImGui::SetNextWindowSize(ImVec2(r.width, r.height), panels_cond_);
+}
+
+void Debugger::label_cell(const std::string& text, std::optional<ImVec4> color) {
+  if (cell_text(text, color)) drawing_cut_labels_.push_back(text);
 }
 
 void Debugger::note_widget(const std::string& name, float text_width) {
@@ -70,19 +113,6 @@ bool Debugger::button(const std::string& label, bool small) {
   return pressed;
 }
 
-// The width a combo needs to show `text` whole: its arrow and padding besides.
-// The width left on the line for a field followed by small buttons with these labels.
-static float width_beside(std::initializer_list<const char*> buttons) {
-  const ImGuiStyle& style = ImGui::GetStyle();
-  float width = ImGui::GetContentRegionAvail().x;
-  for (const char* b : buttons) width -= ImGui::CalcTextSize(b).x + 2 * style.FramePadding.x + style.ItemSpacing.x;
-  return std::max(60.0f, width);
-}
-
-static float combo_width(const char* text) {
-  return ImGui::CalcTextSize(text).x + ImGui::GetFrameHeight() + 2 * ImGui::GetStyle().FramePadding.x;
-}
-
 void Debugger::draw_panels() {
   plot_rects_.clear();
   transport_panel();
@@ -103,22 +133,22 @@ void Debugger::transport_panel() {
   }
   const Position& at = frame_.at;
   if (button(model_.playing ? "Pause (Space)" : "Play (Space)")) press(Key::Space);
-  ImGui::SameLine();
-  if (button("< Back")) press(Key::Left);
-  ImGui::SameLine();
-  if (button("Step >")) press(Key::Right);
-  ImGui::SameLine();
-  if (button("Run")) apply({command::run()});
-  ImGui::SameLine();
+  for (const char* label : {"< Back", "Step >", "Run"}) {
+    flow(button_width(label));
+    if (button(label))
+      label[0] == '<' ? press(Key::Left) : label[0] == 'S' ? press(Key::Right) : apply({command::run()});
+  }
   if (!scenario_.scripts.empty()) {
+    flow(button_width("Reload scripts"));
     if (button("Reload scripts")) apply({command::reload()});
     if (ImGui::IsItemHovered())
       ImGui::SetTooltip("Load the scenario's Lua scripts again: they run from the step after this one, a new branch");
-    ImGui::SameLine();
   }
+  const float slider = 150 + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize("steps/s").x;
+  flow(slider);
   ImGui::SetNextItemWidth(150);
   ImGui::SliderInt("steps/s", &model_.speed, 0, 240, model_.speed == 0 ? "fastest" : "%d");
-  ImGui::SameLine();
+  flow(110 + ImGui::GetStyle().ItemSpacing.x + button_width("Go to step"));
   ImGui::SetNextItemWidth(110);
   ImGui::InputInt("##goto", &goto_step_);
   note_widget("goto");
@@ -128,13 +158,13 @@ void Debugger::transport_panel() {
     const int64_t t = std::max(0, goto_step_);
     apply({t <= at.latest ? command::seek(t) : command::run_to(t)});
   }
-  ImGui::SameLine();
+  flow(button_width("< Prev match (P)"));
   if (button("< Prev match (P)")) press(Key::P);
-  ImGui::SameLine();
+  flow(button_width("Next match (N) >"));
   if (button("Next match (N) >")) press(Key::N);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("The chosen watchpoint's next match: simulated on to it when none is known yet");
-  ImGui::SameLine();
+  flow(140);
   ImGui::SetNextItemWidth(140);
   const char* chosen = size_t(model_.chosen_watch) < frame_.watches.size()
                            ? frame_.watches[size_t(model_.chosen_watch)].name.c_str()
@@ -149,10 +179,10 @@ void Debugger::transport_panel() {
   if (at.latest < 0)  // nothing simulated yet: no step to speak of
     ImGui::Text("no step simulated yet (the scenario runs %" PRId64 ")", at.end);
   else
-    ImGui::Text("step %" PRId64 " of %" PRId64 " simulated (decided through %" PRId64 "; the scenario runs %" PRId64
-                ")   history: %zu keyframes every %" PRId64 " steps, %.1f MiB",
-                at.current, at.latest, frame_.decided, at.end, frame_.keyframes, frame_.keyframe_interval,
-                double(frame_.history_bytes) / (1 << 20));
+    ImGui::TextWrapped("step %" PRId64 " of %" PRId64 " simulated (decided through %" PRId64
+                       "; the scenario runs %" PRId64 ")   history: %zu keyframes every %" PRId64 " steps, %.1f MiB",
+                       at.current, at.latest, frame_.decided, at.end, frame_.keyframes, frame_.keyframe_interval,
+                       double(frame_.history_bytes) / (1 << 20));
   if (!worker_->idle()) {
     const auto [done, total] = worker_->progress();
     ImGui::ProgressBar(total > 0 ? float(done) / float(total) : 0.0f, ImVec2(300, 0),
@@ -192,7 +222,10 @@ void Debugger::transport_panel() {
 
 void Debugger::timeline(float width) {
   // One lane a watchpoint, then the interventions' lane; the cursor across all.
-  const float lane = 14, label = 110;
+  // The lanes' names whole, up to 30% of the width (cut with "..." beyond).
+  std::vector<std::string> names{"interventions"};
+  for (const WatchRow& row : frame_.watches) names.push_back(row.name);
+  const float lane = 14, label = names_width(names, 100, std::max(100.0f, width * 0.3f));
   const size_t lanes = frame_.watches.size() + 1;
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   const float lanes_height = lane * float(lanes) + 4;
@@ -228,7 +261,10 @@ void Debugger::timeline(float width) {
     const float y = origin.y + lane * float(w) + 2;
     const bool interventions = w == frame_.watches.size();
     const ImU32 color = interventions ? IM_COL32(240, 240, 240, 255) : kLaneColors[w % std::size(kLaneColors)];
-    draw->AddText(ImVec2(origin.x, y - 2), color, interventions ? "interventions" : frame_.watches[w].name.c_str());
+    const std::string& name = interventions ? names.front() : frame_.watches[w].name;
+    const std::string shown = fitted_text(name, label - 6);
+    if (shown != name) drawing_cut_labels_.push_back(name);
+    draw->AddText(ImVec2(origin.x, y - 2), color, shown.c_str());
     const std::vector<uint32_t>& density = interventions ? interventions_lane : frame_.watches[w].lane;
     if (density.size() != size_t(columns)) continue;  // counted for another width: the next Frame's
     const uint32_t most = density.empty() ? 0 : *std::max_element(density.begin(), density.end());
@@ -283,9 +319,21 @@ void Debugger::timeline(float width) {
 void Debugger::watchpoints_panel() {
   place(panels_.watchpoints);
   ImGui::Begin("Watchpoints");
-  if (ImGui::BeginTable("watches", 7,
+  if (ImGui::BeginTable("watches", 6,
                         ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
-    for (const char* h : {"on", "name", "algorithm", "shape", "action", "matches", ""}) ImGui::TableSetupColumn(h);
+    // The names and the buttons whole; the reading and the count take what is left, cut visibly.
+    std::vector<std::string> names{"name"};
+    for (const WatchRow& row : frame_.watches) names.push_back(row.name);
+    for (const DisabledWatch& d : disabled_) names.push_back(d.name);
+    const float buttons = ImGui::CalcTextSize("edit").x + ImGui::CalcTextSize("remove").x +
+                          4 * ImGui::GetStyle().FramePadding.x + ImGui::GetStyle().ItemSpacing.x;
+    ImGui::TableSetupColumn("on", ImGuiTableColumnFlags_WidthFixed, ImGui::GetFrameHeight());
+    ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthFixed,
+                            names_width(names, 40, ImGui::GetContentRegionAvail().x * 0.45f));
+    ImGui::TableSetupColumn("reading", 0, 3);
+    ImGui::TableSetupColumn("action", 0, 1);
+    ImGui::TableSetupColumn("matches", 0, 1);
+    ImGui::TableSetupColumn("", ImGuiTableColumnFlags_WidthFixed, buttons);
     ImGui::TableHeadersRow();
     for (size_t w = 0; w < frame_.watches.size(); ++w) {
       const WatchRow& row = frame_.watches[w];
@@ -298,16 +346,14 @@ void Debugger::watchpoints_panel() {
         apply({command::unwatch(row.name)});
       }
       ImGui::TableNextColumn();
-      ImGui::TextColored(ImColor(kLaneColors[w % std::size(kLaneColors)]), "%s", row.name.c_str());
+      label_cell(row.name, ImColor(kLaneColors[w % std::size(kLaneColors)]));
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\nlag %" PRId64 " steps", row.text.c_str(), row.lag);
       ImGui::TableNextColumn();
-      ImGui::TextUnformatted(row.states == "simultaneous" ? "distributed, simultaneous" : row.algorithm.c_str());
+      cell_text(row.algorithm + " " + row.shape + (row.states == "simultaneous" ? " simultaneous" : ""));
       ImGui::TableNextColumn();
-      ImGui::TextUnformatted(row.shape.c_str());
+      cell_text(row.action);
       ImGui::TableNextColumn();
-      ImGui::TextUnformatted(row.action.c_str());
-      ImGui::TableNextColumn();
-      ImGui::Text("%" PRIu64, row.matches);
+      cell_text(std::to_string(row.matches));
       ImGui::TableNextColumn();
       if (button("edit##" + row.name, true)) {
         edit_name_ = row.name;
@@ -359,17 +405,17 @@ void Debugger::editor() {
   ImGui::SetNextItemWidth(combo_width("distributed"));
   ImGui::Combo("##algorithm", &edit_algorithm_, "centralized\0distributed\0");
   note_widget("algorithm", combo_width(kAlgorithms[edit_algorithm_]));
-  ImGui::SameLine();
+  flow(combo_width("ordered"));
   ImGui::SetNextItemWidth(combo_width("ordered"));
   ImGui::Combo("##shape", &edit_shape_, "chain\0ordered\0any\0");
   note_widget("shape", combo_width(kShapes[edit_shape_]));
   if (edit_algorithm_ == 1) {
-    ImGui::SameLine();
+    flow(combo_width("simultaneous"));
     ImGui::SetNextItemWidth(combo_width("simultaneous"));
     ImGui::Combo("##states", &edit_states_, "consistent\0simultaneous\0");
     note_widget("states", combo_width(kStates[edit_states_]));
   }
-  ImGui::SameLine();
+  flow(combo_width("pause"));
   ImGui::SetNextItemWidth(combo_width("pause"));
   ImGui::Combo("##action", &edit_action_, "log\0pause\0count\0");
   note_widget("action", combo_width(kActions[edit_action_]));
@@ -445,14 +491,14 @@ void Debugger::matches_panel() {
         filter.watch = int(w), frame_stale_ = true;
     ImGui::EndCombo();
   }
-  ImGui::SameLine();
+  flow(100 + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize("module (-1: any)").x);
   ImGui::SetNextItemWidth(100);
   if (ImGui::InputInt("module (-1: any)", &filter_module_)) {
     filter_module_ = std::max(-1, filter_module_);
     filter.module = filter_module_ >= 0 ? std::optional<sim::ModuleId>(sim::ModuleId(filter_module_)) : std::nullopt;
     frame_stale_ = true;
   }
-  ImGui::SameLine();
+  flow(button_width("copy JSON lines"));
   if (button("copy JSON lines", true)) {
     std::string lines;
     worker_->try_read([&](sim::Session&) {
@@ -491,7 +537,9 @@ void Debugger::matches_panel() {
                                 ImGuiTableFlags_Sortable | ImGuiTableFlags_SizingStretchProp;
   if (ImGui::BeginTable("matches", 4, flags)) {
     ImGui::TableSetupScrollFreeze(0, 1);
-    ImGui::TableSetupColumn("watch", 0, 1, 1);
+    std::vector<std::string> names{"watch"};
+    for (const WatchRow& row : frame_.watches) names.push_back(row.name);
+    ImGui::TableSetupColumn("watch", ImGuiTableColumnFlags_WidthFixed, names_width(names, 40, 200), 1);
     ImGui::TableSetupColumn("t", ImGuiTableColumnFlags_DefaultSort, 1, 0);
     ImGui::TableSetupColumn("detected", 0, 1, 2);
     ImGui::TableSetupColumn("slots", ImGuiTableColumnFlags_NoSort, 4, 3);
@@ -513,13 +561,15 @@ void Debugger::matches_panel() {
         ImGui::TableNextRow();
         ImGui::TableNextColumn();
         const bool chosen = model_.selected_match == r.ref;
-        if (ImGui::Selectable((r.watch + "##" + std::to_string(i)).c_str(), chosen,
-                              ImGuiSelectableFlags_SpanAllColumns)) {
+        // The row is the selectable; its watch name is drawn over it, whole or visibly cut.
+        if (ImGui::Selectable(("##match" + std::to_string(i)).c_str(), chosen, ImGuiSelectableFlags_SpanAllColumns)) {
           std::vector<std::string> commands;
           worker_->try_read([&](sim::Session& s) { commands = model_.on_match_click(s, r.ref); });
           apply(commands);
           frame_stale_ = true;
         }
+        ImGui::SameLine(0, 0);
+        label_cell(r.watch);
         ImGui::TableNextColumn();
         ImGui::Text("%" PRId64, r.t);
         ImGui::TableNextColumn();

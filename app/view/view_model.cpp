@@ -98,15 +98,19 @@ PanelLayout panel_layout(float x, float y, float width, float height) {
   l.too_small = width < PanelLayout::kMinWidth || height < PanelLayout::kMinHeight;
   // The column: wide enough for the editor's choices and the matches' slots on one line.
   const float column = std::clamp(width * 0.33f, 400.0f, 560.0f), left = std::max(0.0f, width - column);
-  const float transport = 190;
+  // Under a narrow view the transport's buttons wrap onto more rows: the bar grows so that the
+  // timeline still shows whole.
+  const float transport = left >= 1000 ? 190 : 250;
   l.view = {x, y, left, std::max(0.0f, height - transport)};
   l.transport = {x, y + l.view.height, left, height - l.view.height};
   // Watchpoints and the editor, Matches, Module, Statistics, top to bottom.
-  const float shares[] = {0.31f, 0.24f, 0.25f, 0.20f};
+  // In a low window the matches keep room for a few rows; the statistics give it up.
+  const float tall[] = {0.31f, 0.24f, 0.25f, 0.20f}, low[] = {0.30f, 0.30f, 0.25f, 0.15f};
+  const float* shares = height >= 800 ? tall : low;
   PanelRect* column_panels[] = {&l.watchpoints, &l.matches, &l.module, &l.statistics};
   float top = y;
-  for (size_t i = 0; i < std::size(shares); ++i) {
-    const float h = i + 1 == std::size(shares) ? y + height - top : std::round(height * shares[i]);
+  for (size_t i = 0; i < std::size(column_panels); ++i) {
+    const float h = i + 1 == std::size(column_panels) ? y + height - top : std::round(height * shares[i]);
     *column_panels[i] = {x + left, top, width - left, h};
     top += h;
   }

@@ -177,6 +177,9 @@ nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& 
                                    {"cut", place.cut},
                                    {"out_of_sight", place.out_of_sight},
                                    {"disabled", place.disabled}});
+    answer["cut_labels"] = cut_labels_;
+    const ImGuiViewport* vp = ImGui::GetMainViewport();
+    answer["window"] = {{"width", vp->WorkSize.x}, {"height", vp->WorkSize.y}, {"too_small", panels_.too_small}};
   } else if (words[0] == "panel") {
     if (words.size() != 2) {
       error = "panel NAME: position, matches, watchpoints, inspector, plots, timeline or widgets";
@@ -297,8 +300,9 @@ int Debugger::run_script(const watch::SourceText& script) {
     if (line.expect_failure) {
       if (error.empty()) {
         std::cout.flush();
-        std::cerr << script.name() << ":" << line.number << ": error: expected to fail, but it went through: "
-                  << answer.dump() << " (the script stops here)\n";
+        std::cerr << script.name() << ":" << line.number
+                  << ": error: expected to fail, but it went through: " << answer.dump()
+                  << " (the script stops here)\n";
         return 1;
       }
       // The failure as the window shows it (the status line), and on.

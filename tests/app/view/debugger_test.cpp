@@ -331,3 +331,103 @@ TEST_F(Window, AScriptErrorIsShownAndTheFixedScriptReloaded) {
 }
 
 }  // namespace
+
+namespace {
+
+// Counts the pixels of a region that are the status line's red (failures).
+int red_pixels(const dw::render::Image& image, int x0, int y0, int x1, int y1) {
+  int count = 0;
+  for (int y = std::max(0, y0); y < std::min(image.height, y1); ++y)
+    for (int x = std::max(0, x0); x < std::min(image.width, x1); ++x) {
+      const uint8_t* p = image.pixel(x, y);
+      if (p[0] > 200 && p[1] < 130 && p[2] < 120) ++count;
+    }
+  return count;
+}
+
+const std::string kBothLeaders = "modules(a b); a.isLeader = 1 and b.isLeader = 1";
+
+// What a user clicks and types, a script reaches through the same input path: the editor's Add,
+// the matches' and the session's files, and a failure shown in red while the script goes on.
+TEST_F(Window, ScriptsPressButtonsAndTypeIntoFieldsAsAPersonDoes) {
+  const Outcome view = dwatch("view " + kLeader,
+                              "run 3\n"
+                              "type name both\n"
+                              "type text " +
+                                  kBothLeaders +
+                                  "\n"
+                                  "press Add\n"
+                                  "panel watchpoints\n"
+                                  "type matches-file m.jsonl\n"
+                                  "press save the matches\n"
+                                  "type scenario-file saved.toml\n"
+                                  "press save as scenario\n"
+                                  "expect-failure seek 500\n"
+                                  "screenshot fail.png\n"
+                                  "expect-failure press Launch\n",
+                              true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 12u) << view.err;
+  EXPECT_EQ(view.answers[3]["button"], "Add");
+  // The watchpoint typed and added is the session's own: the same matches as `watch` there.
+  const Outcome session =
+      dwatch("session " + kLeader, "run 3\nwatch both distributed log " + kBothLeaders + "\nmatches\n", false);
+  ASSERT_EQ(session.exit_code, 0) << session.err;
+  const json& rows = view.answers[4]["rows"];
+  ASSERT_EQ(rows.size(), 2u) << view.answers[4];
+  EXPECT_EQ(rows[1]["name"], "both");
+  EXPECT_EQ(rows[1]["matches"], session.answers[1]["matches"]);
+  // Every match, as the match log writes them, in the file typed.
+  std::ifstream saved(dir_ / "m.jsonl");
+  std::vector<json> lines;
+  for (std::string line; std::getline(saved, line);) lines.push_back(json::parse(line));
+  EXPECT_EQ(lines.size(), session.answers[2]["count"].get<size_t>());
+  EXPECT_EQ(view.answers[6]["status"], "saved " + std::to_string(lines.size()) + " matches -> m.jsonl");
+  // The scenario saved from the window has both watchpoints.
+  const Outcome reloaded = dwatch("session saved.toml", "status\n", false);
+  ASSERT_EQ(reloaded.exit_code, 0) << reloaded.err;
+  ASSERT_EQ(reloaded.answers[0]["watches"].size(), 2u);
+  EXPECT_EQ(reloaded.answers[0]["watches"][1]["name"], "both");
+  // The failure the script expected: its words, in the status line, in red on the screenshot.
+  EXPECT_NE(view.answers[9]["failed"].get<std::string>().find("has not been simulated"), std::string::npos);
+  EXPECT_NE(view.answers[9]["status"].get<std::string>().find("has not been simulated"), std::string::npos);
+  std::string error;
+  const auto shot = dw::render::read_png((dir_ / "fail.png").string(), &error);
+  ASSERT_TRUE(shot) << error;
+  const json& v = view.answers[10]["view"];
+  const int below = int(v["y"].get<double>()) + int(v["height"]);
+  EXPECT_GT(red_pixels(*shot, 0, below, int(v["width"]), shot->height), 300) << "no red failure line";
+  // A button the window does not have: the failure lists those it has.
+  EXPECT_NE(view.answers[11]["failed"].get<std::string>().find("no button 'Launch' is in the window now (there are: "),
+            std::string::npos);
+
+  // A command expected to fail that goes through stops the script.
+  const Outcome wrong = dwatch("view " + kLeader, "expect-failure step 1\nhash\n", true);
+  EXPECT_EQ(wrong.exit_code, 1);
+  EXPECT_NE(wrong.err.find("script:1: error: expected to fail, but it went through"), std::string::npos) << wrong.err;
+  EXPECT_EQ(wrong.answers.size(), 0u);
+}
+
+// Every button and field shows whole, and so does every watchpoint's name, at the default size and
+// at 1024x640 (with a watchpoint named long, the module panel filled); below that, the window says
+// it is too small.
+TEST_F(Window, NothingIsCutAtTheDefaultSizeNorAt1024x640) {
+  for (const std::string size : {"", " --width 1024 --height 640"}) {
+    const Outcome view = dwatch("view " + kLeader + size,
+                                "run 5\nclick 7\ntype name leaders_side_by_side\ntype text " + kBothLeaders +
+                                    "\npress Add\nwait 2\npanel widgets\n",
+                                true);
+    ASSERT_EQ(view.exit_code, 0) << size << view.err;
+    ASSERT_EQ(view.answers.size(), 7u) << view.err;
+    const json& panel = view.answers[6];
+    EXPECT_EQ(panel["window"]["too_small"], false) << size;
+    EXPECT_EQ(panel["cut_labels"], json::array()) << size;
+    ASSERT_GT(panel["widgets"].size(), 20u);
+    for (const json& w : panel["widgets"]) EXPECT_FALSE(w["cut"].get<bool>()) << size << ": " << w;
+  }
+  const Outcome small = dwatch("view " + kLeader + " --width 900 --height 600", "panel widgets\n", true);
+  ASSERT_EQ(small.exit_code, 0) << small.err;
+  EXPECT_EQ(small.answers[0]["window"]["too_small"], true);
+}
+
+}  // namespace

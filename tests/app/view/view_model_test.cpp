@@ -109,6 +109,30 @@ TEST(TimelineRange, FittedToTheSimulatedStepsZoomedAboutTheMouseAndPannedWithinT
   EXPECT_EQ(r.shown({2, 3, 200}).second, 3 + TimelineRange::kMinSpan);
 }
 
+// The panels tile the window, leave the 3D view most of it, and know when it is too small.
+TEST(PanelLayout, TilesTheWindowAtEverySize) {
+  for (const auto& [w, h] : {std::pair{1600.0f, 1000.0f}, {1024.0f, 640.0f}, {2560.0f, 1440.0f}, {900.0f, 600.0f}}) {
+    const PanelLayout l = panel_layout(0, 20, w, h);
+    const PanelRect rects[] = {l.view, l.transport, l.watchpoints, l.matches, l.module, l.statistics};
+    float area = 0;
+    for (const PanelRect& r : rects) {
+      EXPECT_GE(r.x, 0) << w;
+      EXPECT_GE(r.y, 20) << w;
+      EXPECT_LE(r.x + r.width, w + 0.01f) << w;
+      EXPECT_LE(r.y + r.height, 20 + h + 0.01f) << w;
+      EXPECT_GT(r.height, 60) << w << "x" << h;
+      area += r.width * r.height;
+    }
+    EXPECT_NEAR(area, w * h, 1.0f) << "the panels cover the window once: " << w << "x" << h;
+    EXPECT_EQ(l.view.width, l.transport.width);
+    EXPECT_GE(l.view.width, w * 0.55f);
+    EXPECT_EQ(l.too_small, w < 1024 || h < 640);
+    if (!l.too_small) {
+      EXPECT_GE(l.view.height, 380) << w << "x" << h;
+    }
+  }
+}
+
 TEST(ViewModel, KeysSendTheSessionCommands) {
   ViewModel m;
   const Position at{10, 40, 200};
