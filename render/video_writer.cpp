@@ -339,6 +339,8 @@ std::string VideoWriter::add_frame(const Image& frame) {
 std::string VideoWriter::finish() {
   if (!error_.empty()) return error_;
   if (finished_) return {};
+  // Neither container holds a video without frames (a player reads it as a broken file).
+  if (frames_ == 0) return fail("the video " + path_ + " has no frames: nothing written");
   Encoder& e = *encoder_;
   if (std::string error = e.encode(nullptr); !error.empty()) return fail(std::move(error));
   if (int r = av_write_trailer(e.muxer.get()); r < 0) return fail(e.write_error(r));

@@ -40,7 +40,8 @@ class VideoWriter {
   // the error; after an error the writer is spent: every later call returns that error.
   std::string add_frame(const Image& frame);
   // Encodes what the encoder still holds, completes the container and puts the file in place.
-  // Empty, or the error ("writing PATH failed: REASON" for a failed write).
+  // Empty, or the error ("writing PATH failed: REASON" for a failed write; a video without
+  // frames is an error too, and writes nothing).
   std::string finish();
 
   int64_t frames() const { return frames_; }  // frames added so far

@@ -202,6 +202,15 @@ TEST_F(VideoWriterTest, AVideoDroppedBeforeFinishLeavesTheOldFile) {
   expect_moving_squares(dir_ / "old.mp4", "mp4", "h264", 4);
 }
 
+TEST_F(VideoWriterTest, AVideoWithoutFramesIsAnErrorAndWritesNothing) {
+  for (const char* name : {"none.mp4", "none.webm"}) {
+    auto video = open(dir_ / name, {320, 240, 10});
+    ASSERT_TRUE(video);
+    EXPECT_EQ(video->finish(), "the video " + (dir_ / name).string() + " has no frames: nothing written");
+    EXPECT_FALSE(fs::exists(dir_ / name));
+  }
+}
+
 TEST_F(VideoWriterTest, AFailedWriteNamesThePathAndTheReason) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   EXPECT_NE(open_error("/dev/full", {320, 240, 10}).find("not nothing"), std::string::npos);
