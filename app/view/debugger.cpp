@@ -5,7 +5,9 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <cinttypes>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -67,7 +69,8 @@ Debugger::Debugger(const scenarios::Scenario& scenario, sim::Session& session, G
 }
 
 Debugger::~Debugger() {
-  worker_.reset();  // cancels and joins before anything it uses goes
+  stop_recording();  // a window closed while recording keeps its video
+  worker_.reset();   // cancels and joins before anything it uses goes
   window_.make_current();
   const render::Gl& gl = window_.gl();
   if (view_fbo_) gl.DeleteFramebuffers(1, &view_fbo_);
@@ -360,6 +363,25 @@ void Debugger::draw_view() {
   if (button("Centre (Z)")) press(Key::Z);
   ImGui::SameLine();
   if (button("Screenshot (F12)")) press(Key::F12);
+  // Record: a video of the steps as they show (.mp4 or .webm).
+  if (!video_) {
+    if (!video_path_[0])
+      std::snprintf(video_path_, sizeof video_path_, "dwatch-%s.mp4", app::file_name_part(scenario_.name).c_str());
+    flow(160 + ImGui::GetStyle().ItemSpacing.x + button_width("Record"));
+    ImGui::SetNextItemWidth(160);
+    ImGui::InputText("##video", video_path_, sizeof video_path_);
+    note_widget("video-file");
+    ImGui::SameLine();
+    if (button("Record")) start_recording(video_path_);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("A video of the 3D view, a frame per step as the steps show (.mp4: H.264, .webm: VP9)");
+  } else {
+    const int64_t frames = video_->frames();
+    flow(button_width("Stop recording"));
+    if (button("Stop recording")) stop_recording();
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "REC %" PRId64 " frames", frames);
+  }
 
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const ImVec2 origin = ImGui::GetCursorScreenPos();
@@ -459,6 +481,7 @@ void Debugger::frame() {
   panels_width_ = vp->WorkSize.x;
   panels_height_ = vp->WorkSize.y;
   draw_view();
+  record_frame();
   draw_panels();
   if (model_.show_help) help_window();
   widgets_.swap(drawing_widgets_);

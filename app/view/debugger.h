@@ -26,6 +26,7 @@
 #include "app/view/view_model.h"
 #include "render/image.h"
 #include "render/renderer.h"
+#include "render/video_writer.h"
 
 namespace dw::view {
 
@@ -35,6 +36,12 @@ std::string layout_file();
 
 // A vector as X,Y,Z text, as --camera-eye takes it.
 std::string vec_text(glm::vec3 v);
+
+// A button's width for its label.
+float button_width(const std::string& label);
+// Puts the next widget, `width` wide, on the line of the last one when it fits there, else on the
+// next line: rows of buttons wrap in a narrow window instead of running off its edge.
+void flow(float width);
 
 // Where a widget a script may press or type into was drawn in the last frame (window pixels).
 struct WidgetPlace {
@@ -109,6 +116,11 @@ class Debugger {
   bool click_at(float x, float y);
   // Keys and characters typed into the active text field, through the same path.
   void type_text(const std::string& text);
+
+  // recording.cpp
+  void start_recording(const std::string& path);
+  void record_frame();  // when a new step shows
+  void stop_recording();
 
   // panels.cpp
   // The next window goes where layout_ puts `rect` (see panels_cond_).
@@ -221,6 +233,12 @@ class Debugger {
   float push_[3] = {0, 0, 5};
   int goto_step_ = 0;
   int filter_module_ = -1;
+
+  // The Record button's video, while it records.
+  std::unique_ptr<render::VideoWriter> video_;
+  render::VideoSettings video_settings_;
+  int64_t video_step_ = -1;  // the step last recorded
+  char video_path_[256] = "";
 
   double frame_seconds_ = 0;  // the last frame's time
   // What the statistics panel shows of it, updated twice a second (a number changing every frame

@@ -53,18 +53,6 @@ float names_width(const std::vector<std::string>& names, float least, float most
   return std::min(width + 2 * ImGui::GetStyle().CellPadding.x, most);
 }
 
-// A button's width for its label.
-float button_width(const std::string& label) {
-  return ImGui::CalcTextSize(label.c_str(), nullptr, true).x + 2 * ImGui::GetStyle().FramePadding.x;
-}
-
-// Puts the next widget, `width` wide, on the line of the last one when it fits there, else on the
-// next line: rows of buttons wrap in a narrow window instead of running off its edge.
-void flow(float width) {
-  const float right = ImGui::GetItemRectMax().x + ImGui::GetStyle().ItemSpacing.x + width;
-  if (right <= ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x) ImGui::SameLine();
-}
-
 // The width left on the line for a field followed by small buttons with these labels.
 float width_beside(std::initializer_list<const char*> buttons) {
   const ImGuiStyle& style = ImGui::GetStyle();
@@ -79,6 +67,15 @@ float combo_width(const char* text) {
 }
 
 }  // namespace
+
+float button_width(const std::string& label) {
+  return ImGui::CalcTextSize(label.c_str(), nullptr, true).x + 2 * ImGui::GetStyle().FramePadding.x;
+}
+
+void flow(float width) {
+  const float right = ImGui::GetItemRectMax().x + ImGui::GetStyle().ItemSpacing.x + width;
+  if (right <= ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x) ImGui::SameLine();
+}
 
 void Debugger::place(const PanelRect& r) const {
   ImGui::SetNextWindowPos(ImVec2(r.x, r.y), panels_cond_);

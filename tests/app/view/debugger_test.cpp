@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "render/image.h"
+#include "tests/render/decoded_video.h"
 
 namespace {
 
@@ -428,6 +429,41 @@ TEST_F(Window, NothingIsCutAtTheDefaultSizeNorAt1024x640) {
   const Outcome small = dwatch("view " + kLeader + " --width 900 --height 600", "panel widgets\n", true);
   ASSERT_EQ(small.exit_code, 0) << small.err;
   EXPECT_EQ(small.answers[0]["window"]["too_small"], true);
+}
+
+// Record: a video of the steps as they show, one frame each, the first drawn as `dwatch render`
+// draws that step with the same camera (within the codec's loss), the group in red.
+TEST_F(Window, RecordWritesAFramePerStepShown) {
+  const Outcome view = dwatch("view " + kLeader,
+                              "run 3\nscreenshot first.png\ntype video-file v.mp4\npress Record\nstep 1\nstep 1\n"
+                              "press Stop recording\n",
+                              true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 7u) << view.err;
+  EXPECT_EQ(view.answers[6]["status"], "recorded 3 frames (H.264) -> v.mp4");
+  const auto video = dw::render::test::decode_video((dir_ / "v.mp4").string());
+  ASSERT_EQ(video.error, "");
+  EXPECT_EQ(video.codec, "h264");
+  ASSERT_EQ(video.frames.size(), 3u);
+  const json& shot = view.answers[1];
+  const int w = int(shot["view"]["width"]) & ~1, h = int(shot["view"]["height"]) & ~1;
+  EXPECT_EQ(video.width, w);
+  EXPECT_EQ(video.height, h);
+  const std::string render = "cd " + dir_.string() + " && " + DWATCH_EXE + " render " + kLeader + " --step 1 --width " +
+                             std::to_string(w) + " --height " + std::to_string(h) + " --camera-eye " +
+                             shot["camera_eye"].get<std::string>() + " --camera-target " +
+                             shot["camera_target"].get<std::string>() + " --out render.png >/dev/null";
+  ASSERT_EQ(std::system(render.c_str()), 0);
+  std::string error;
+  const auto expected = dw::render::read_png((dir_ / "render.png").string(), &error);
+  ASSERT_TRUE(expected) << error;
+  const dw::render::Image& first = video.frames[0];
+  double difference = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) difference += std::abs(int(first.pixel(x, y)[c]) - int(expected->pixel(x, y)[c]));
+  EXPECT_LT(difference / (double(w) * h * 3), 4.0) << "the first frame is not the step as render draws it";
+  EXPECT_GT(red_pixels(first, 0, 0, w, h), 200) << "the paused group's red highlight";
 }
 
 }  // namespace
