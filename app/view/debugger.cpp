@@ -160,7 +160,7 @@ void Debugger::refresh_frame() {
           model_.selected_match = MatchRef{uint32_t(w), first};
           const size_t k = size_t(s.model().watches[size_t(w)].watchpoint.program.slot_count());
           model_.selected = s.matches(uint32_t(w)).slots[first * k];
-          model_.focus_selection = true;
+          model_.reveal_group = true;
         }
       }
     }
@@ -299,6 +299,27 @@ void Debugger::focus_on_selection() {
     }
 }
 
+int Debugger::modules_in_view(std::span<const sim::ModuleId> modules) {
+  window_.make_current();
+  const glm::mat4 vp = renderer_->view_projection(camera_scene(), view_.width, view_.height);
+  int inside = 0;
+  for (const render::SceneModule& m : frame_.scene.modules) {
+    if (!modules.empty() && std::find(modules.begin(), modules.end(), m.id) == modules.end()) continue;
+    const auto p =
+        render::project(vp, {m.pose.position[0], m.pose.position[1], m.pose.position[2]}, view_.width, view_.height);
+    inside += p && p->x >= 0 && p->y >= 0 && p->x < float(view_.width) && p->y < float(view_.height);
+  }
+  return inside;
+}
+
+void Debugger::reveal_group() {
+  model_.reveal_group = false;
+  std::vector<sim::ModuleId> group;
+  for (const render::SceneGroup& g : frame_.scene.groups) group.insert(group.end(), g.modules.begin(), g.modules.end());
+  if (group.empty() && model_.selected) group.push_back(*model_.selected);
+  if (modules_in_view(group) < int(group.size())) place_camera();  // the whole ensemble, the group in it
+}
+
 void Debugger::render_view_texture(bool moving) {
   const render::Gl& gl = window_.gl();
   if (!view_fbo_) {
@@ -390,6 +411,7 @@ void Debugger::draw_view() {
            std::max(16, int(avail.y * scale.y))};
   if (!model_.camera_placed) place_camera();
   if (model_.focus_selection) focus_on_selection();
+  if (model_.reveal_group && worker_->idle() && !frame_stale_) reveal_group();
   const glm::vec3 eye = model_.camera.eye();
   // Moving: playing, the camera turning, or the step just changed (a click on the timeline or a
   // match shows the step at once, drawn smaller, and in full at the next frame).

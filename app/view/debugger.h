@@ -14,6 +14,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -100,6 +101,9 @@ class Debugger {
   render::Scene& camera_scene();  // the Frame's scene, seen through the user's camera
   void place_camera();
   void focus_on_selection();
+  void reveal_group();
+  // How many of `modules` (every module when empty) show inside the 3D view.
+  int modules_in_view(std::span<const sim::ModuleId> modules);
   void render_view_texture(bool moving);
   // Puts the 3D view and the panels together in composed_fbo_, redrawing only what changed; false
   // when nothing did (the window keeps what it shows).

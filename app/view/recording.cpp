@@ -43,8 +43,7 @@ void Debugger::stop_recording() {
   const std::string error = video_->finish();
   if (error.empty())
     status("recorded " + std::to_string(video_->frames()) + " frames (" + video_->codec() + ") -> " + video_->path());
-  else
-    status(error, true);
+  else status(error, true);
   video_.reset();
 }
 

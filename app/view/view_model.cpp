@@ -428,7 +428,7 @@ std::vector<std::string> ViewModel::on_match_click(const sim::Session& session, 
   const sim::MatchList& list = session.matches(match.watch);
   const size_t k = size_t(session.model().watches[match.watch].watchpoint.program.slot_count());
   selected = list.slots[match.index * k];
-  focus_selection = true;
+  reveal_group = true;
   return {command::seek(list.t[match.index])};
 }
 

@@ -194,7 +194,11 @@ class ViewModel {
 
   // Set by `F1` and `F12` for the window to act on (it owns the file and the help window).
   bool screenshot_requested = false;
-  bool focus_selection = false;  // `Z`, or a match chosen: the window centres the camera
+  bool focus_selection = false;  // `Z`: the window centres the camera on the selection
+  // A pause, or a match chosen: the window makes sure its group shows, moving the camera only when
+  // some of it is out of view, and then to the whole ensemble (centring on a group at the edge of
+  // the lattice cut the rest of it off).
+  bool reveal_group = false;
 };
 
 }  // namespace dw::view

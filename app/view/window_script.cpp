@@ -131,6 +131,14 @@ nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& 
     answer["camera_eye"] = vec_text(c.eye);
     answer["camera_target"] = vec_text(c.target);
     answer["color_by"] = model_.color_by;
+    // What of the ensemble the 3D view shows: every module's centre inside it, and the groups'.
+    std::vector<sim::ModuleId> group;
+    for (const render::SceneGroup& g : frame_.scene.groups)
+      group.insert(group.end(), g.modules.begin(), g.modules.end());
+    answer["in_view"] = {{"modules", modules_in_view({})},
+                         {"of", frame_.scene.modules.size()},
+                         {"group", group.empty() ? 0 : modules_in_view(group)},
+                         {"group_of", group.size()}};
   } else if (words[0] == "press" || words[0] == "type") {
     // press NAME... | type FIELD TEXT: found where the last frame drew it, then clicked there.
     std::string name;

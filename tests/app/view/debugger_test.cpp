@@ -431,6 +431,26 @@ TEST_F(Window, NothingIsCutAtTheDefaultSizeNorAt1024x640) {
   EXPECT_EQ(small.answers[0]["window"]["too_small"], true);
 }
 
+// A pause and a chosen match show their group without cutting off the rest of the ensemble (the
+// camera used to centre on the group, and a group at the lattice's edge pushed half of it out).
+TEST_F(Window, APauseShowsTheGroupAndTheWholeEnsemble) {
+  // Row 188: a=15 b=3 c=2 at step 3, a group on the lattice's bottom edge (centred on, the view
+  // lost two modules on the far side).
+  const Outcome view = dwatch("view " + kLeader,
+                              "run\nscreenshot a.png\naction two_leaders log\nrun 5\nclick match 188\n"
+                              "screenshot b.png\n",
+                              true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 6u) << view.err;
+  ASSERT_EQ(view.answers[4]["selected"], 15) << "the case's group moved: pick another row at the edge";
+  for (const json* shot : {&view.answers[1], &view.answers[5]}) {
+    const json& in = (*shot)["in_view"];
+    EXPECT_EQ(in["modules"], in["of"]) << *shot;
+    EXPECT_GT(in["group_of"], 0) << *shot;
+    EXPECT_EQ(in["group"], in["group_of"]) << *shot;
+  }
+}
+
 // Record: a video of the steps as they show, one frame each, the first drawn as `dwatch render`
 // draws that step with the same camera (within the codec's loss), the group in red.
 TEST_F(Window, RecordWritesAFramePerStepShown) {

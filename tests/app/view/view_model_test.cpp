@@ -270,7 +270,8 @@ TEST_F(Leader, AMatchClickSeeksToItsStepAndSelectsItsGroup) {
   ASSERT_LT(first, last);
   EXPECT_EQ(view.on_match_click(*session, {0, first}), std::vector<std::string>{"seek " + std::to_string(pause->t)});
   EXPECT_EQ(view.selected, pause->group[0]);
-  EXPECT_TRUE(view.focus_selection);
+  EXPECT_TRUE(view.reveal_group);
+  EXPECT_FALSE(view.focus_selection) << "a match chosen does not re-centre the camera";
 
   // The Frame highlights that group, and the inspector shows the module's values.
   const auto window = read_module_window(*session, *view.selected, 100);
