@@ -4,10 +4,14 @@
 //   - frames/s while the camera turns every frame, so that the 3D view is redrawn each time;
 //   - frames/s while playing as fast as the session steps;
 //   - the time from a click on a match row, and on the timeline, until the window shows that step.
+// Each figure is given as the median of the runs beside the best one: on a shared machine the best
+// alone hides how a frame usually goes.
 #include <algorithm>
 #include <chrono>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
+#include <vector>
 
 #include "app/bench.h"
 #include "app/view/debugger.h"
@@ -27,6 +31,33 @@ std::string scenario_text(int side_x, int side_y, int side_z) {
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
+// A figure measured once per run: its median and its best (the largest rate, the shortest time).
+struct Runs {
+  bool higher_is_better;
+  std::vector<double> values;
+
+  double median() const {
+    if (values.empty()) return 0;
+    std::vector<double> v = values;
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+  }
+  double best() const {
+    if (values.empty()) return 0;
+    return higher_is_better ? *std::max_element(values.begin(), values.end())
+                            : *std::min_element(values.begin(), values.end());
+  }
+};
+
+// "median (best B)" in the unit's scale.
+std::string median_and_best(const Runs& runs, double scale) {
+  if (runs.values.empty()) return "n/a";
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(1) << runs.median() * scale << " (best " << runs.best() * scale << ")";
+  return text.str();
+}
+
 }  // namespace
 
 int bench_view(const BenchArgs& args) {
@@ -35,7 +66,8 @@ int bench_view(const BenchArgs& args) {
     std::cerr << "dwatch bench view: error: " << *error << "\n";
     return 1;
   }
-  std::cout << "bench view: 1600x1000 window, every panel open; best of " << args.repeat << " runs\n";
+  std::cout << "bench view: 1600x1000 window, every panel open; the median of " << args.repeat
+            << " runs (the best in brackets)\n";
   std::cout << std::fixed << std::setprecision(1);
   struct Size {
     int x, y, z;
@@ -57,7 +89,8 @@ int bench_view(const BenchArgs& args) {
     model.filter = {};
     debugger.settle();
 
-    double orbit_fps = 0, play_fps = 0, play_steps = 0, match_click = 1e9, timeline_click = 1e9;
+    Runs orbit_fps{true, {}}, play_fps{true, {}}, play_steps{true, {}}, match_click{false, {}},
+        timeline_click{false, {}};
     for (int r = 0; r < args.repeat; ++r) {
       const int frames = 60;
       auto start = Clock::now();
@@ -65,7 +98,7 @@ int bench_view(const BenchArgs& args) {
         model.camera.orbit(5, 0);
         debugger.frame();
       }
-      orbit_fps = std::max(orbit_fps, frames / seconds_since(start));
+      orbit_fps.values.push_back(frames / seconds_since(start));
 
       // Playing from step 150 as fast as possible: frames drawn while the worker steps.
       debugger.send("seek 150");
@@ -80,9 +113,9 @@ int bench_view(const BenchArgs& args) {
       }
       model.playing = false;
       const double played_seconds = seconds_since(start);
-      play_fps = std::max(play_fps, played / played_seconds);
+      play_fps.values.push_back(played / played_seconds);
       debugger.settle();
-      play_steps = std::max(play_steps, double(debugger.shown().at.current - 150) / played_seconds);
+      play_steps.values.push_back(double(debugger.shown().at.current - 150) / played_seconds);
 
       // A click on a match row (the last one, far from the current step) until the step shows.
       const view::Frame& shown = debugger.shown();
@@ -94,7 +127,7 @@ int bench_view(const BenchArgs& args) {
         start = Clock::now();
         for (const std::string& c : commands) debugger.send(c);
         while (debugger.shown().at.current != want) debugger.frame();
-        match_click = std::min(match_click, seconds_since(start));
+        match_click.values.push_back(seconds_since(start));
       }
       // A click on the timeline at step 37.
       view::Timeline timeline{0, std::max<int64_t>(debugger.shown().at.latest, 0), 0, 1000};
@@ -102,14 +135,14 @@ int bench_view(const BenchArgs& args) {
       for (const std::string& c : model.on_timeline_click(timeline, timeline.x_of(37), debugger.shown().at))
         debugger.send(c);
       while (debugger.shown().at.current != 37) debugger.frame();
-      timeline_click = std::min(timeline_click, seconds_since(start));
+      timeline_click.values.push_back(seconds_since(start));
     }
     const uint32_t modules = scenario.model->module_count();
-    std::cout << "  " << std::setw(6) << modules << " modules: " << std::setw(6) << orbit_fps
-              << " frames/s turning the camera, " << std::setw(6) << play_fps << " frames/s playing at full speed ("
-              << play_steps << " steps/s), "
-              << "a match click shows its step in " << match_click * 1000 << " ms, a timeline click in "
-              << timeline_click * 1000 << " ms\n";
+    std::cout << "  " << std::setw(6) << modules << " modules: " << median_and_best(orbit_fps, 1)
+              << " frames/s turning the camera, " << median_and_best(play_fps, 1) << " frames/s playing at full speed ("
+              << median_and_best(play_steps, 1) << " steps/s), a match click shows its step in "
+              << median_and_best(match_click, 1000) << " ms, a timeline click in "
+              << median_and_best(timeline_click, 1000) << " ms\n";
   }
   return 0;
 }

@@ -132,8 +132,10 @@ class Debugger {
   // Notes the last widget under `name` (its label before any "##") for `press` and `type`;
   // `text_width`: the width of what it shows, when that may be wider than the widget (a combo's
   // choice), so that a cut label is found.
-  void note_widget(const std::string& name, float text_width = 0);
+  void note_widget(const std::string& name, float text_width = 0, bool selectable = false);
   bool button(const std::string& label, bool small = false);  // ImGui::Button, noted
+  // A combo of `items`, noted as `name`, its open list's items as "NAME: ITEM".
+  void choice(const std::string& name, int& chosen, std::span<const char* const> items);
   // A name in a table cell (a watchpoint's): whole, or cut with "..." (whole in a tooltip) and
   // noted, for the tests that look for cut labels.
   void label_cell(const std::string& text, std::optional<ImVec4> color = std::nullopt);

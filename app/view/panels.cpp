@@ -66,6 +66,13 @@ float combo_width(const char* text) {
   return ImGui::CalcTextSize(text).x + ImGui::GetFrameHeight() + 2 * ImGui::GetStyle().FramePadding.x;
 }
 
+// A combo as wide as its widest item.
+float combo_width_of(std::span<const char* const> items) {
+  float width = 0;
+  for (const char* item : items) width = std::max(width, combo_width(item));
+  return width;
+}
+
 }  // namespace
 
 float button_width(const std::string& label) {
@@ -86,8 +93,26 @@ void Debugger::label_cell(const std::string& text, std::optional<ImVec4> color) 
   if (cell_text(text, color)) drawing_cut_labels_.push_back(text);
 }
 
-void Debugger::note_widget(const std::string& name, float text_width) {
-  const ImVec2 min = ImGui::GetItemRectMin(), max = ImGui::GetItemRectMax();
+void Debugger::choice(const std::string& name, int& chosen, std::span<const char* const> items) {
+  ImGui::SetNextItemWidth(combo_width_of(items));
+  const bool open = ImGui::BeginCombo(("##" + name).c_str(), items[size_t(chosen)]);
+  note_widget(name, combo_width(items[size_t(chosen)]));
+  if (!open) return;
+  // Each item under "NAME: ITEM", for `press` once the list is open.
+  for (size_t i = 0; i < items.size(); ++i) {
+    if (ImGui::Selectable(items[i], int(i) == chosen)) chosen = int(i);
+    note_widget(name + ": " + items[i], 0, true);
+  }
+  ImGui::EndCombo();
+}
+
+void Debugger::note_widget(const std::string& name, float text_width, bool selectable) {
+  ImVec2 min = ImGui::GetItemRectMin(), max = ImGui::GetItemRectMax();
+  if (selectable) {  // ImGui spreads a selectable's frame half the item spacing past its text
+    const ImVec2 spread{ImGui::GetStyle().ItemSpacing.x * 0.5f, ImGui::GetStyle().ItemSpacing.y * 0.5f};
+    min = ImVec2(min.x + spread.x, min.y + spread.y);
+    max = ImVec2(max.x - spread.x, max.y - spread.y);
+  }
   // Where it may show: its panel's visible area, or its table cell's.
   const ImVec2 clip_min = ImGui::GetWindowDrawList()->GetClipRectMin(),
                clip_max = ImGui::GetWindowDrawList()->GetClipRectMax();
@@ -399,23 +424,15 @@ void Debugger::editor() {
   ImGui::InputText("name", &edit_name_);
   note_widget("name");
   // Each choice as wide as its widest word, so that none is cut ("lo" for log).
-  ImGui::SetNextItemWidth(combo_width("distributed"));
-  ImGui::Combo("##algorithm", &edit_algorithm_, "centralized\0distributed\0");
-  note_widget("algorithm", combo_width(kAlgorithms[edit_algorithm_]));
-  flow(combo_width("ordered"));
-  ImGui::SetNextItemWidth(combo_width("ordered"));
-  ImGui::Combo("##shape", &edit_shape_, "chain\0ordered\0any\0");
-  note_widget("shape", combo_width(kShapes[edit_shape_]));
+  choice("algorithm", edit_algorithm_, kAlgorithms);
+  flow(combo_width_of(kShapes));
+  choice("shape", edit_shape_, kShapes);
   if (edit_algorithm_ == 1) {
-    flow(combo_width("simultaneous"));
-    ImGui::SetNextItemWidth(combo_width("simultaneous"));
-    ImGui::Combo("##states", &edit_states_, "consistent\0simultaneous\0");
-    note_widget("states", combo_width(kStates[edit_states_]));
+    flow(combo_width_of(kStates));
+    choice("states", edit_states_, kStates);
   }
-  flow(combo_width("pause"));
-  ImGui::SetNextItemWidth(combo_width("pause"));
-  ImGui::Combo("##action", &edit_action_, "log\0pause\0count\0");
-  note_widget("action", combo_width(kActions[edit_action_]));
+  flow(combo_width_of(kActions));
+  choice("action", edit_action_, kActions);
   ImGui::InputTextMultiline("##text", &edit_text_, ImVec2(-1, ImGui::GetTextLineHeight() * 4));
   note_widget("text");
 
@@ -651,13 +668,10 @@ void Debugger::inspector_panel() {
   }
   ImGui::Separator();
   ImGui::TextUnformatted("Interventions at this step (each starts a branch):");
-  ImGui::SetNextItemWidth(120);
   set_column_ = std::clamp(set_column_, 0, int(m.variable_count()) - 1);
-  if (ImGui::BeginCombo("##setvar", m.universe.variables[size_t(set_column_)].c_str())) {
-    for (size_t v = 0; v < m.variable_count(); ++v)
-      if (ImGui::Selectable(m.universe.variables[v].c_str(), int(v) == set_column_)) set_column_ = int(v);
-    ImGui::EndCombo();
-  }
+  std::vector<const char*> variables;
+  for (const std::string& v : m.universe.variables) variables.push_back(v.c_str());
+  choice("variable", set_column_, variables);
   ImGui::SameLine();
   ImGui::SetNextItemWidth(120);
   ImGui::InputScalar("##value", ImGuiDataType_S64, &set_value_);

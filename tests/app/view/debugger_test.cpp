@@ -451,6 +451,69 @@ TEST_F(Window, APauseShowsTheGroupAndTheWholeEnsemble) {
   }
 }
 
+// The README's walkthrough of the window, every step of it, through the buttons, keys, clicks and
+// fields it names; what it claims is checked against `dwatch session`, and its figures against
+// what the window shows.
+TEST_F(Window, TheReadmeWalkthroughRunsAsWritten) {
+  const std::string leaders = "modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)";
+  const Outcome view = dwatch("view " + kLeader,
+                              "press Run\n"                                            // 1. Run: paused, the group lit
+                              "key left\nkey home\nclick timeline 1\n"                 // 2. scrub back and forth
+                              "click 7\npanel inspector\nclick 17\npanel inspector\n"  // modules a and c
+                              "type name leaders_ordered\ntype text " +
+                                  leaders +
+                                  "\n"  // 3. the editor
+                                  "press algorithm\npress algorithm: centralized\npress Add\npanel watchpoints\n"
+                                  "click 7\ntype value 0\npress Set\n"  // 4. a fix in place
+                                  "type scenario-file leader_election-branch.toml\npress save as scenario\n",
+                              true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 19u) << view.err;
+  const Outcome session =
+      dwatch("session " + kLeader, "run\nwatch leaders_ordered centralized log " + leaders + "\n", false);
+  ASSERT_EQ(session.exit_code, 0) << session.err;
+  const json& paused = session.answers[0]["paused"];
+  const int64_t t = paused["t"];
+  // 1. The run stops at the first match's step, its group selected.
+  EXPECT_EQ(view.answers[0]["current"], t);
+  EXPECT_EQ(view.answers[0]["status"].get<std::string>().rfind("paused at step " + std::to_string(t), 0), 0u);
+  // 2. Left is a seek back, Home step 0, the timeline click its step.
+  EXPECT_EQ(view.answers[1]["current"], t - 1);
+  EXPECT_EQ(view.answers[2]["current"], 0);
+  EXPECT_EQ(view.answers[3]["current"], 1);
+  ASSERT_EQ(t, 1) << "the walkthrough's clicks assume the pause at step 1";
+  // a and c both became leaders at this step (each compared priorities with its 1-hop neighbours).
+  for (const size_t i : {5u, 7u}) {
+    const json& inspector = view.answers[i];
+    EXPECT_EQ(inspector["module"], i == 5 ? paused["group"]["a"] : paused["group"]["c"]);
+    EXPECT_EQ(inspector["vars"][0]["name"], "isLeader");
+    EXPECT_EQ(inspector["vars"][0]["value"], 1);
+    EXPECT_EQ(inspector["vars"][0]["before"], 0);
+  }
+  // 3. The centralized reading added from the editor: the session's matches, and the README's figures.
+  const json& rows = view.answers[13]["rows"];
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1]["algorithm"], "centralized");
+  EXPECT_EQ(rows[1]["matches"], session.answers[1]["matches"]);
+  std::string readme;  // its words, one space between each
+  for (const char c : slurp(fs::path(DWATCH_SCENARIOS_DIR) / ".." / "README.md"))
+    if (!std::isspace(static_cast<unsigned char>(c))) readme += c;
+    else if (!readme.empty() && readme.back() != ' ') readme += ' ';
+  const std::string figures = "(" + std::to_string(rows[1]["matches"].get<int64_t>()) + " by step " +
+                              std::to_string(session.answers[1]["decided"].get<int64_t>()) +
+                              ", against the distributed one's " + std::to_string(rows[0]["matches"].get<int64_t>()) +
+                              ")";
+  EXPECT_NE(readme.find(figures), std::string::npos) << "README's figures are not the window's: " << figures;
+  // 4. Set: a branch from the next step; saved as a scenario that replays it headless.
+  EXPECT_EQ(view.answers[16]["status"].get<std::string>().rfind("intervention at step 2", 0), 0u);
+  EXPECT_EQ(view.answers[18]["status"],
+            "saved the session as leader_election-branch.toml (2 watchpoints, 1 interventions)");
+  const std::string saved = slurp(dir_ / "leader_election-branch.toml");
+  EXPECT_NE(saved.find("[[event]]\nat = 2\nmodule = 7\nset = { isLeader = 0 }"), std::string::npos) << saved;
+  const std::string run = "cd " + dir_.string() + " && " + DWATCH_EXE + " run leader_election-branch.toml >/dev/null";
+  EXPECT_EQ(std::system(run.c_str()), 0);
+}
+
 // Record: a video of the steps as they show, one frame each, the first drawn as `dwatch render`
 // draws that step with the same camera (within the codec's loss), the group in red.
 TEST_F(Window, RecordWritesAFramePerStepShown) {
