@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "app/output_files.h"
+#include "app/view/widgets.h"
 #include "render/annotations.h"
 #include "render/picking.h"
 

@@ -38,12 +38,6 @@ std::string layout_file();
 // A vector as X,Y,Z text, as --camera-eye takes it.
 std::string vec_text(glm::vec3 v);
 
-// A button's width for its label.
-float button_width(const std::string& label);
-// Puts the next widget, `width` wide, on the line of the last one when it fits there, else on the
-// next line: rows of buttons wrap in a narrow window instead of running off its edge.
-void flow(float width);
-
 // Where a widget a script may press or type into was drawn in the last frame (window pixels).
 struct WidgetPlace {
   float x0 = 0, y0 = 0, x1 = 0, y1 = 0;
@@ -126,12 +120,12 @@ class Debugger {
   void record_frame();  // when a new step shows
   void stop_recording();
 
-  // panels.cpp
-  // The next window goes where layout_ puts `rect` (see panels_cond_).
+  // widgets.cpp
+  // The next window goes where panels_ puts `rect` (see panels_cond_).
   void place(const PanelRect& rect) const;
   // Notes the last widget under `name` (its label before any "##") for `press` and `type`;
   // `text_width`: the width of what it shows, when that may be wider than the widget (a combo's
-  // choice), so that a cut label is found.
+  // choice), so that a cut label is found; `selectable`: an item of a list.
   void note_widget(const std::string& name, float text_width = 0, bool selectable = false);
   bool button(const std::string& label, bool small = false);  // ImGui::Button, noted
   // A combo of `items`, noted as `name`, its open list's items as "NAME: ITEM".
@@ -139,12 +133,14 @@ class Debugger {
   // A name in a table cell (a watchpoint's): whole, or cut with "..." (whole in a tooltip) and
   // noted, for the tests that look for cut labels.
   void label_cell(const std::string& text, std::optional<ImVec4> color = std::nullopt);
+  // panels.cpp
   void draw_panels();
   void transport_panel();
   void timeline(float width);
   void watchpoints_panel();
   void editor();
   void matches_panel();
+  // module_panels.cpp
   void inspector_panel();
   void statistics_panel();
   void help_window();

@@ -1,14 +1,12 @@
 // The debugger's panels (Dear ImGui): transport and timeline, watchpoints and the editor, the
-// matches table, the module inspector with interventions, statistics, help. Each draws from the
-// Frame and sends session commands; none reads the session while a job may run.
+// matches table (the Module, Statistics and help panels are in module_panels.cpp). Each draws from
+// the Frame and sends session commands; none reads the session while a job may run.
 #include <imgui.h>
-#include <imgui_internal.h>  // the last item's flags: a disabled button cannot be pressed
 #include <imgui_stdlib.h>
 
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <tuple>
@@ -16,124 +14,10 @@
 #include "app/explain.h"
 #include "app/output_files.h"
 #include "app/view/debugger.h"
+#include "app/view/widgets.h"
 #include "watch/watchpoint.h"
 
 namespace dw::view {
-namespace {
-
-const ImU32 kLaneColors[] = {IM_COL32(230, 85, 60, 255), IM_COL32(70, 150, 230, 255), IM_COL32(90, 190, 90, 255),
-                             IM_COL32(220, 170, 40, 255), IM_COL32(170, 100, 220, 255)};
-
-// A value in a table cell: whole when it fits, else cut at the right with "..." and whole in a
-// tooltip, so that a cut number never reads as another number (ImGui clips a cell's text
-// silently: 8280827919719202833 showed as 828082791971920283).
-// `text` as it fits in `room` pixels: whole, or cut with "...".
-std::string fitted_text(const std::string& text, float room) {
-  std::string shown = text;
-  if (ImGui::CalcTextSize(text.c_str()).x > room) {
-    while (shown.size() > 1 && ImGui::CalcTextSize((shown + "...").c_str()).x > room) shown.pop_back();
-    shown += "...";
-  }
-  return shown;
-}
-
-// True when it had to be cut.
-bool cell_text(const std::string& text, std::optional<ImVec4> color = std::nullopt) {
-  const std::string shown = fitted_text(text, ImGui::GetContentRegionAvail().x);
-  if (color) ImGui::TextColored(*color, "%s", shown.c_str());
-  else ImGui::TextUnformatted(shown.c_str());
-  if (shown != text && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text.c_str());
-  return shown != text;
-}
-
-// The width of a table column that shows each of `names` whole (within `most` pixels).
-float names_width(const std::vector<std::string>& names, float least, float most) {
-  float width = least;
-  for (const std::string& n : names) width = std::max(width, ImGui::CalcTextSize(n.c_str()).x);
-  return std::min(width + 2 * ImGui::GetStyle().CellPadding.x, most);
-}
-
-// The width left on the line for a field followed by small buttons with these labels.
-float width_beside(std::initializer_list<const char*> buttons) {
-  const ImGuiStyle& style = ImGui::GetStyle();
-  float width = ImGui::GetContentRegionAvail().x;
-  for (const char* b : buttons) width -= ImGui::CalcTextSize(b).x + 2 * style.FramePadding.x + style.ItemSpacing.x;
-  return std::max(60.0f, width);
-}
-
-// The width a combo needs to show `text` whole: its arrow and padding besides.
-float combo_width(const char* text) {
-  return ImGui::CalcTextSize(text).x + ImGui::GetFrameHeight() + 2 * ImGui::GetStyle().FramePadding.x;
-}
-
-// A combo as wide as its widest item.
-float combo_width_of(std::span<const char* const> items) {
-  float width = 0;
-  for (const char* item : items) width = std::max(width, combo_width(item));
-  return width;
-}
-
-}  // namespace
-
-float button_width(const std::string& label) {
-  return ImGui::CalcTextSize(label.c_str(), nullptr, true).x + 2 * ImGui::GetStyle().FramePadding.x;
-}
-
-void flow(float width) {
-  const float right = ImGui::GetItemRectMax().x + ImGui::GetStyle().ItemSpacing.x + width;
-  if (right <= ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x) ImGui::SameLine();
-}
-
-void Debugger::place(const PanelRect& r) const {
-  ImGui::SetNextWindowPos(ImVec2(r.x, r.y), panels_cond_);
-  ImGui::SetNextWindowSize(ImVec2(r.width, r.height), panels_cond_);
-}
-
-void Debugger::label_cell(const std::string& text, std::optional<ImVec4> color) {
-  if (cell_text(text, color)) drawing_cut_labels_.push_back(text);
-}
-
-void Debugger::choice(const std::string& name, int& chosen, std::span<const char* const> items) {
-  ImGui::SetNextItemWidth(combo_width_of(items));
-  const bool open = ImGui::BeginCombo(("##" + name).c_str(), items[size_t(chosen)]);
-  note_widget(name, combo_width(items[size_t(chosen)]));
-  if (!open) return;
-  // Each item under "NAME: ITEM", for `press` once the list is open.
-  for (size_t i = 0; i < items.size(); ++i) {
-    if (ImGui::Selectable(items[i], int(i) == chosen)) chosen = int(i);
-    note_widget(name + ": " + items[i], 0, true);
-  }
-  ImGui::EndCombo();
-}
-
-void Debugger::note_widget(const std::string& name, float text_width, bool selectable) {
-  ImVec2 min = ImGui::GetItemRectMin(), max = ImGui::GetItemRectMax();
-  if (selectable) {  // ImGui spreads a selectable's frame half the item spacing past its text
-    const ImVec2 spread{ImGui::GetStyle().ItemSpacing.x * 0.5f, ImGui::GetStyle().ItemSpacing.y * 0.5f};
-    min = ImVec2(min.x + spread.x, min.y + spread.y);
-    max = ImVec2(max.x - spread.x, max.y - spread.y);
-  }
-  // Where it may show: its panel's visible area, or its table cell's.
-  const ImVec2 clip_min = ImGui::GetWindowDrawList()->GetClipRectMin(),
-               clip_max = ImGui::GetWindowDrawList()->GetClipRectMax();
-  WidgetPlace place{min.x, min.y, max.x, max.y};
-  place.cut = min.x < clip_min.x - 0.5f || max.x > clip_max.x + 0.5f || text_width > max.x - min.x + 0.5f;
-  place.out_of_sight = min.y < clip_min.y - 0.5f || max.y > clip_max.y + 0.5f;
-  if (name == scroll_to_) {
-    ImGui::SetScrollHereY(0.5f);
-    scroll_to_.clear();
-  }
-  place.disabled = (GImGui->LastItemData.InFlags & ImGuiItemFlags_Disabled) != 0;
-  drawing_widgets_.try_emplace(name, place);
-}
-
-bool Debugger::button(const std::string& label, bool small) {
-  const bool pressed = small ? ImGui::SmallButton(label.c_str()) : ImGui::Button(label.c_str());
-  // "edit##w1" is noted as "edit w1": the label shown, and the row it belongs to.
-  const size_t id = label.find("##");
-  note_widget(id == std::string::npos ? label : label.substr(0, id) + " " + label.substr(id + 2));
-  return pressed;
-}
 
 void Debugger::draw_panels() {
   plot_rects_.clear();
@@ -282,7 +166,7 @@ void Debugger::timeline(float width) {
   for (size_t w = 0; w < lanes; ++w) {
     const float y = origin.y + lane * float(w) + 2;
     const bool interventions = w == frame_.watches.size();
-    const ImU32 color = interventions ? IM_COL32(240, 240, 240, 255) : kLaneColors[w % std::size(kLaneColors)];
+    const ImU32 color = interventions ? IM_COL32(240, 240, 240, 255) : lane_color(w);
     const std::string& name = interventions ? names.front() : frame_.watches[w].name;
     const std::string shown = fitted_text(name, label - 6);
     if (shown != name) drawing_cut_labels_.push_back(name);
@@ -368,7 +252,7 @@ void Debugger::watchpoints_panel() {
         apply({command::unwatch(row.name)});
       }
       ImGui::TableNextColumn();
-      label_cell(row.name, ImColor(kLaneColors[w % std::size(kLaneColors)]));
+      label_cell(row.name, ImColor(lane_color(w)));
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\nlag %" PRId64 " steps", row.text.c_str(), row.lag);
       ImGui::TableNextColumn();
       cell_text(row.algorithm + " " + row.shape + (row.states == "simultaneous" ? " simultaneous" : ""));
@@ -593,188 +477,6 @@ void Debugger::matches_panel() {
       }
     ImGui::EndTable();
   }
-  ImGui::End();
-}
-
-void Debugger::inspector_panel() {
-  place(panels_.module);
-  ImGui::Begin("Module");
-  const sim::Model& m = session_.model();
-  if (!frame_.inspector) {
-    ImGui::TextDisabled("click a module in the 3D view, a match or a neighbour");
-    ImGui::End();
-    return;
-  }
-  const Inspector& in = *frame_.inspector;
-  ImGui::Text("module %u at step %" PRId64 "%s", m.universe.module_ids[in.module], frame_.at.current,
-              in.present ? "" : "  (absent)");
-  if (in.pose) {
-    const auto& p = in.pose->position;
-    ImGui::SameLine();
-    ImGui::TextDisabled("  at (%.2f, %.2f, %.2f)", p[0], p[1], p[2]);
-  }
-  if (ImGui::BeginTable("vars", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
-    ImGui::TableSetupColumn("variable");
-    ImGui::TableSetupColumn("value");
-    ImGui::TableSetupColumn("step before");
-    ImGui::TableHeadersRow();
-    for (const VariableRow& v : in.variables) {
-      ImGui::TableNextRow();
-      ImGui::TableNextColumn();
-      if (ImGui::Selectable(v.name.c_str(),
-                            v.name == model_.plot_variable || (model_.plot_variable.empty() && &v == &in.variables[0])))
-        model_.plot_variable = v.name, frame_stale_ = true;
-      ImGui::TableNextColumn();
-      if (v.changed()) cell_text(std::to_string(v.value) + "  (changed)", ImVec4(1, 0.8f, 0.2f, 1));
-      else cell_text(std::to_string(v.value));
-      ImGui::TableNextColumn();
-      if (v.before) cell_text(std::to_string(*v.before));
-      else ImGui::TextDisabled("-");
-    }
-    ImGui::EndTable();
-  }
-  if (!in.plot.empty()) {
-    const std::string label = m.universe.variables[size_t(in.plot_column)] + ", steps " + std::to_string(in.plot_from) +
-                              " to " + std::to_string(in.plot_from + int64_t(in.plot.size()) - 1);
-    // The plot's width from the item width, -FLT_MIN being "to the right edge": ImGui 1.86's
-    // plots take a frame width of 0 as "the item width" but a negative one literally, which drew
-    // them one pixel wide.
-    ImGui::SetNextItemWidth(-FLT_MIN);
-    ImGui::PlotLines("##plot", in.plot.data(), int(in.plot.size()), 0, label.c_str(), FLT_MAX, FLT_MAX, ImVec2(0, 60));
-    plot_rects_.push_back(
-        {ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y, ImGui::GetItemRectMax().x, ImGui::GetItemRectMax().y});
-  }
-  ImGui::TextUnformatted("neighbours:");
-  for (sim::ModuleId n : in.neighbors) {
-    ImGui::SameLine();
-    if (ImGui::SmallButton(std::to_string(m.universe.module_ids[n]).c_str())) {
-      model_.on_module_click(n);
-      frame_stale_ = true;
-    }
-  }
-  // The module's matches, one row each (which, its step, its slots), so that two of one step read
-  // apart; a click goes to the match as a row of the matches table does.
-  ImGui::Text("in %zu matches%s", in.matches_total, in.matches_total > in.matches.size() ? " (the first below)" : "");
-  for (size_t i = 0; i < in.matches.size() && i < 8; ++i) {
-    const MatchRef r = in.matches[i].ref;
-    const std::string label = in.matches[i].watch + "  t=" + std::to_string(in.matches[i].t) + "  " +
-                              in.matches[i].slots + "##match" + std::to_string(i);
-    if (ImGui::Selectable(label.c_str(), model_.selected_match && *model_.selected_match == r)) {
-      std::vector<std::string> commands;
-      worker_->try_read([&](sim::Session& s) { commands = model_.on_match_click(s, r); });
-      apply(commands);
-      frame_stale_ = true;
-    }
-  }
-  ImGui::Separator();
-  ImGui::TextUnformatted("Interventions at this step (each starts a branch):");
-  set_column_ = std::clamp(set_column_, 0, int(m.variable_count()) - 1);
-  std::vector<const char*> variables;
-  for (const std::string& v : m.universe.variables) variables.push_back(v.c_str());
-  choice("variable", set_column_, variables);
-  ImGui::SameLine();
-  ImGui::SetNextItemWidth(120);
-  ImGui::InputScalar("##value", ImGuiDataType_S64, &set_value_);
-  note_widget("value");
-  ImGui::SameLine();
-  if (button("Set")) apply({command::set(in.module, m.universe.variables[size_t(set_column_)], set_value_)});
-  if (button("Remove module")) apply({command::remove(in.module)});
-  if (in.pose) {  // a physical world
-    ImGui::SameLine();
-    ImGui::SetNextItemWidth(160);
-    ImGui::InputFloat3("impulse", push_);
-    ImGui::SameLine();
-    if (button("Push")) apply({command::push(in.module, {push_[0], push_[1], push_[2]})});
-  }
-  ImGui::Text("%zu interventions on this branch", frame_.interventions.size());
-  // The session's `save`: its watchpoints and this branch's interventions, through the same
-  // checks as every output; an existing file is replaced only once confirmed.
-  ImGui::SetNextItemWidth(width_beside({"save as scenario", "overwrite it"}));
-  if (ImGui::InputText("##save", save_path_, sizeof save_path_)) save_refused_.clear();
-  note_widget("scenario-file");
-  ImGui::SameLine();
-  if (button("save as scenario", true)) {
-    save_refused_.clear();
-    apply({std::string("save ") + save_path_});
-  }
-  if (!save_refused_.empty() && save_refused_ == save_path_) {
-    ImGui::SameLine();
-    if (button("overwrite it", true)) {
-      apply({"save " + save_refused_ + " overwrite"});
-      save_refused_.clear();
-    }
-  }
-  ImGui::SetNextItemWidth(width_beside({"record trace"}));
-  ImGui::InputText("##record", record_path_, sizeof record_path_);
-  note_widget("trace-file");
-  ImGui::SameLine();
-  if (button("record trace", true)) apply({std::string("record ") + record_path_});
-  ImGui::End();
-}
-
-void Debugger::statistics_panel() {
-  place(panels_.statistics);
-  ImGui::Begin("Statistics");
-  ImGui::Text("frame %.1f ms", shown_frame_ms_);
-  for (size_t w = 0; w < frame_.stats.size(); ++w) {
-    const std::vector<StatsRow>& rows = frame_.stats[w];
-    if (!ImGui::CollapsingHeader(frame_.watches[w].name.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) continue;
-    if (rows.empty()) {
-      ImGui::TextDisabled("no steps yet");
-      continue;
-    }
-    const StatsRow& last = rows.back();
-    ImGui::TextWrapped("step %" PRId64 ": %" PRIu64 " PatternMatchers live, %" PRIu64 " created, %" PRIu64
-                       " messages, %.3f ms",
-                       last.step, last.live, last.created, last.messages, last.seconds * 1000);
-    std::vector<float> live, created, messages, ms;
-    for (const StatsRow& r : rows) {
-      live.push_back(float(r.live));
-      created.push_back(float(r.created));
-      messages.push_back(float(r.messages));
-      ms.push_back(float(r.seconds * 1000));
-    }
-    ImGui::PushID(int(w));
-    // Five small plots over the steps up to the current one, side by side.
-    if (ImGui::BeginTable("plots", 5, ImGuiTableFlags_SizingStretchSame)) {
-      auto plot = [this](const char* what, const std::vector<float>& values, bool histogram = false) {
-        ImGui::TableNextColumn();
-        ImGui::TextUnformatted(what);
-        const std::string id = std::string("##") + what;
-        ImGui::SetNextItemWidth(-FLT_MIN);  // the cell's width (see the Module panel's plot)
-        if (histogram)
-          ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 40));
-        else ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 40));
-        plot_rects_.push_back({ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y, ImGui::GetItemRectMax().x,
-                               ImGui::GetItemRectMax().y});
-      };
-      plot("live", live);
-      plot("created", created);
-      plot("messages", messages);
-      plot("step ms", ms);
-      // The paper's Fig. 7: PatternMatchers by slots filled (0..k), at this step.
-      plot("by filled", std::vector<float>(last.live_by_filled.begin(), last.live_by_filled.end()), true);
-      ImGui::EndTable();
-    }
-    ImGui::PopID();
-  }
-  ImGui::End();
-}
-
-void Debugger::help_window() {
-  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-  ImGui::Begin("Help (F1)", &model_.show_help, ImGuiWindowFlags_AlwaysAutoResize);
-  if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg)) {
-    for (const KeyHelp& k : key_help()) {
-      ImGui::TableNextRow();
-      ImGui::TableNextColumn();
-      ImGui::TextUnformatted(k.keys.data(), k.keys.data() + k.keys.size());
-      ImGui::TableNextColumn();
-      ImGui::TextUnformatted(k.what.data(), k.what.data() + k.what.size());
-    }
-    ImGui::EndTable();
-  }
-  ImGui::TextDisabled("A timeline lane per watchpoint shows where it matched; the bottom lane, interventions.");
   ImGui::End();
 }
 

@@ -1,0 +1,196 @@
+// The debugger's Module panel (the selected module: its variables now and a step before, a plot,
+// its neighbours and matches, the interventions and the session's files), the Statistics panel
+// (per watchpoint, the paper's Fig. 7 live) and the help window.
+#include <imgui.h>
+
+#include <algorithm>
+#include <cinttypes>
+
+#include "app/view/debugger.h"
+#include "app/view/widgets.h"
+
+namespace dw::view {
+
+void Debugger::inspector_panel() {
+  place(panels_.module);
+  ImGui::Begin("Module");
+  const sim::Model& m = session_.model();
+  if (!frame_.inspector) {
+    ImGui::TextDisabled("click a module in the 3D view, a match or a neighbour");
+    ImGui::End();
+    return;
+  }
+  const Inspector& in = *frame_.inspector;
+  ImGui::Text("module %u at step %" PRId64 "%s", m.universe.module_ids[in.module], frame_.at.current,
+              in.present ? "" : "  (absent)");
+  if (in.pose) {
+    const auto& p = in.pose->position;
+    ImGui::SameLine();
+    ImGui::TextDisabled("  at (%.2f, %.2f, %.2f)", p[0], p[1], p[2]);
+  }
+  if (ImGui::BeginTable("vars", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
+    ImGui::TableSetupColumn("variable");
+    ImGui::TableSetupColumn("value");
+    ImGui::TableSetupColumn("step before");
+    ImGui::TableHeadersRow();
+    for (const VariableRow& v : in.variables) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      if (ImGui::Selectable(v.name.c_str(),
+                            v.name == model_.plot_variable || (model_.plot_variable.empty() && &v == &in.variables[0])))
+        model_.plot_variable = v.name, frame_stale_ = true;
+      ImGui::TableNextColumn();
+      if (v.changed()) cell_text(std::to_string(v.value) + "  (changed)", ImVec4(1, 0.8f, 0.2f, 1));
+      else cell_text(std::to_string(v.value));
+      ImGui::TableNextColumn();
+      if (v.before) cell_text(std::to_string(*v.before));
+      else ImGui::TextDisabled("-");
+    }
+    ImGui::EndTable();
+  }
+  if (!in.plot.empty()) {
+    const std::string label = m.universe.variables[size_t(in.plot_column)] + ", steps " + std::to_string(in.plot_from) +
+                              " to " + std::to_string(in.plot_from + int64_t(in.plot.size()) - 1);
+    // The plot's width from the item width, -FLT_MIN being "to the right edge": ImGui 1.86's
+    // plots take a frame width of 0 as "the item width" but a negative one literally, which drew
+    // them one pixel wide.
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    ImGui::PlotLines("##plot", in.plot.data(), int(in.plot.size()), 0, label.c_str(), FLT_MAX, FLT_MAX, ImVec2(0, 60));
+    plot_rects_.push_back(
+        {ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y, ImGui::GetItemRectMax().x, ImGui::GetItemRectMax().y});
+  }
+  ImGui::TextUnformatted("neighbours:");
+  for (sim::ModuleId n : in.neighbors) {
+    ImGui::SameLine();
+    if (ImGui::SmallButton(std::to_string(m.universe.module_ids[n]).c_str())) {
+      model_.on_module_click(n);
+      frame_stale_ = true;
+    }
+  }
+  // The module's matches, one row each (which, its step, its slots), so that two of one step read
+  // apart; a click goes to the match as a row of the matches table does.
+  ImGui::Text("in %zu matches%s", in.matches_total, in.matches_total > in.matches.size() ? " (the first below)" : "");
+  for (size_t i = 0; i < in.matches.size() && i < 8; ++i) {
+    const MatchRef r = in.matches[i].ref;
+    const std::string label = in.matches[i].watch + "  t=" + std::to_string(in.matches[i].t) + "  " +
+                              in.matches[i].slots + "##match" + std::to_string(i);
+    if (ImGui::Selectable(label.c_str(), model_.selected_match && *model_.selected_match == r)) {
+      std::vector<std::string> commands;
+      worker_->try_read([&](sim::Session& s) { commands = model_.on_match_click(s, r); });
+      apply(commands);
+      frame_stale_ = true;
+    }
+  }
+  ImGui::Separator();
+  ImGui::TextUnformatted("Interventions at this step (each starts a branch):");
+  set_column_ = std::clamp(set_column_, 0, int(m.variable_count()) - 1);
+  std::vector<const char*> variables;
+  for (const std::string& v : m.universe.variables) variables.push_back(v.c_str());
+  choice("variable", set_column_, variables);
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(120);
+  ImGui::InputScalar("##value", ImGuiDataType_S64, &set_value_);
+  note_widget("value");
+  ImGui::SameLine();
+  if (button("Set")) apply({command::set(in.module, m.universe.variables[size_t(set_column_)], set_value_)});
+  if (button("Remove module")) apply({command::remove(in.module)});
+  if (in.pose) {  // a physical world
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(160);
+    ImGui::InputFloat3("impulse", push_);
+    ImGui::SameLine();
+    if (button("Push")) apply({command::push(in.module, {push_[0], push_[1], push_[2]})});
+  }
+  ImGui::Text("%zu interventions on this branch", frame_.interventions.size());
+  // The session's `save`: its watchpoints and this branch's interventions, through the same
+  // checks as every output; an existing file is replaced only once confirmed.
+  ImGui::SetNextItemWidth(width_beside({"save as scenario", "overwrite it"}));
+  if (ImGui::InputText("##save", save_path_, sizeof save_path_)) save_refused_.clear();
+  note_widget("scenario-file");
+  ImGui::SameLine();
+  if (button("save as scenario", true)) {
+    save_refused_.clear();
+    apply({std::string("save ") + save_path_});
+  }
+  if (!save_refused_.empty() && save_refused_ == save_path_) {
+    ImGui::SameLine();
+    if (button("overwrite it", true)) {
+      apply({"save " + save_refused_ + " overwrite"});
+      save_refused_.clear();
+    }
+  }
+  ImGui::SetNextItemWidth(width_beside({"record trace"}));
+  ImGui::InputText("##record", record_path_, sizeof record_path_);
+  note_widget("trace-file");
+  ImGui::SameLine();
+  if (button("record trace", true)) apply({std::string("record ") + record_path_});
+  ImGui::End();
+}
+
+void Debugger::statistics_panel() {
+  place(panels_.statistics);
+  ImGui::Begin("Statistics");
+  ImGui::Text("frame %.1f ms", shown_frame_ms_);
+  for (size_t w = 0; w < frame_.stats.size(); ++w) {
+    const std::vector<StatsRow>& rows = frame_.stats[w];
+    if (!ImGui::CollapsingHeader(frame_.watches[w].name.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) continue;
+    if (rows.empty()) {
+      ImGui::TextDisabled("no steps yet");
+      continue;
+    }
+    const StatsRow& last = rows.back();
+    ImGui::TextWrapped("step %" PRId64 ": %" PRIu64 " PatternMatchers live, %" PRIu64 " created, %" PRIu64
+                       " messages, %.3f ms",
+                       last.step, last.live, last.created, last.messages, last.seconds * 1000);
+    std::vector<float> live, created, messages, ms;
+    for (const StatsRow& r : rows) {
+      live.push_back(float(r.live));
+      created.push_back(float(r.created));
+      messages.push_back(float(r.messages));
+      ms.push_back(float(r.seconds * 1000));
+    }
+    ImGui::PushID(int(w));
+    // Five small plots over the steps up to the current one, side by side.
+    if (ImGui::BeginTable("plots", 5, ImGuiTableFlags_SizingStretchSame)) {
+      auto plot = [this](const char* what, const std::vector<float>& values, bool histogram = false) {
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(what);
+        const std::string id = std::string("##") + what;
+        ImGui::SetNextItemWidth(-FLT_MIN);  // the cell's width (see the Module panel's plot)
+        if (histogram)
+          ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 40));
+        else ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 40));
+        plot_rects_.push_back({ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y, ImGui::GetItemRectMax().x,
+                               ImGui::GetItemRectMax().y});
+      };
+      plot("live", live);
+      plot("created", created);
+      plot("messages", messages);
+      plot("step ms", ms);
+      // The paper's Fig. 7: PatternMatchers by slots filled (0..k), at this step.
+      plot("by filled", std::vector<float>(last.live_by_filled.begin(), last.live_by_filled.end()), true);
+      ImGui::EndTable();
+    }
+    ImGui::PopID();
+  }
+  ImGui::End();
+}
+
+void Debugger::help_window() {
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+  ImGui::Begin("Help (F1)", &model_.show_help, ImGuiWindowFlags_AlwaysAutoResize);
+  if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg)) {
+    for (const KeyHelp& k : key_help()) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(k.keys.data(), k.keys.data() + k.keys.size());
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(k.what.data(), k.what.data() + k.what.size());
+    }
+    ImGui::EndTable();
+  }
+  ImGui::TextDisabled("A timeline lane per watchpoint shows where it matched; the bottom lane, interventions.");
+  ImGui::End();
+}
+
+}  // namespace dw::view
