@@ -1,4 +1,4 @@
-// `dwatch session SCENARIO [--script FILE|-]`: the debugger without a window (docs/design.md §7a). A
+// `dwatch session SCENARIO [--script FILE|-|--protocol]`: the debugger without a window (docs/design.md §7a). A
 // script is checked whole before anything runs (a mistake is bad input, exit 2); then each
 // command is carried out and answered with one JSON object a line, and a command that fails
 // stops the script (exit 1, naming its line). On a terminal, without a script, it is a prompt.
@@ -13,6 +13,7 @@
 
 #include "app/commands.h"
 #include "app/integer_option.h"
+#include "app/session_protocol.h"
 #include "app/session_script.h"
 #include "sim/read_file.h"
 
@@ -22,6 +23,7 @@ namespace {
 struct SessionArgs {
   SessionSource source;
   std::string script;
+  bool protocol = false;
 };
 
 // Carries one command out; a signal meanwhile stops it between steps (Interrupts), which the
@@ -102,8 +104,8 @@ int session_main(const SessionArgs& args, Interrupts* interrupts) {
   if (!loaded) return 2;
   scenarios::Scenario& scenario = *loaded;
   std::optional<watch::SourceText> script;
-  // A script from a file, or piped in (`--script -`, or no terminal).
-  const bool piped = args.script == "-" || (args.script.empty() && !isatty(STDIN_FILENO));
+  // A script from a file, or piped in (`--script -`, or no terminal), unless it is the protocol.
+  const bool piped = !args.protocol && (args.script == "-" || (args.script.empty() && !isatty(STDIN_FILENO)));
   if (!args.script.empty() || piped) {
     std::string error;
     auto text = piped ? sim::read_stream(STDIN_FILENO, "standard input", &error) : sim::read_file(args.script, &error);
@@ -116,6 +118,7 @@ int session_main(const SessionArgs& args, Interrupts* interrupts) {
   }
   sim::Session session(*scenario.model, *scenario.world, session_options(scenario, args.source));
   SessionShell shell(scenario, session);
+  if (args.protocol) return run_protocol(shell, STDIN_FILENO, std::cout, interrupts);
   return script ? run_script(shell, *script, interrupts) : run_prompt(shell, interrupts);
 }
 
@@ -125,7 +128,11 @@ void add_session_command(CLI::App& app, std::function<int()>& run, Interrupts* i
   auto* cmd = app.add_subcommand("session", "The debugger without a window: commands from a script or a prompt");
   auto args = std::make_shared<SessionArgs>();
   add_session_source(*cmd, args->source);
-  cmd->add_option("--script", args->script, "Commands to carry out, one a line (- for standard input)");
+  auto* script = cmd->add_option("--script", args->script, "Commands to carry out, one a line (- for standard input)");
+  cmd->add_flag("--protocol", args->protocol,
+                "Read requests as they come on standard input and answer each at once, one JSON line each, "
+                "with ids, progress and 'cancel' (README: the session protocol)")
+      ->excludes(script);
   cmd->footer("Commands:\n  " + [] {
     std::string all;
     for (const std::string& line : session_command_help()) all += (all.empty() ? "" : "\n  ") + line;

@@ -1,0 +1,190 @@
+#include "app/session_protocol.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <iostream>
+#include <mutex>
+#include <optional>
+#include <stop_token>
+#include <thread>
+
+#include "watch/diagnostic.h"
+
+namespace dw::app {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// One request as read: its id (null when none was given) and its command line, or why it could
+// not be read.
+struct Request {
+  Json id;  // null: none given
+  std::string line;
+  std::string unreadable;  // a line too long, JSON that is not a request
+  bool end = false;        // the input ended
+};
+
+// Answers go out whole and in one piece from the reader (cancel) and the runner alike.
+class AnswerWriter {
+ public:
+  explicit AnswerWriter(std::ostream& out) : out_(out) {}
+  void write(const Json& id, Json body) {
+    Json line;
+    if (!id.is_null()) line["id"] = id;  // only when the request gave one
+    for (auto it = body.begin(); it != body.end(); ++it) line[it.key()] = std::move(it.value());
+    std::lock_guard lock(mutex_);
+    out_ << line.dump() << "\n" << std::flush;
+  }
+
+ private:
+  std::ostream& out_;
+  std::mutex mutex_;
+};
+
+Request parse_request(std::string line) {
+  Request r;
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  const size_t first = line.find_first_not_of(" \t");
+  if (first == std::string::npos || line[first] != '{') {
+    r.line = std::move(line);
+    return r;
+  }
+  const Json j = Json::parse(line, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("cmd") || !j["cmd"].is_string()) {
+    r.unreadable = "a request is a command line, or a JSON object {\"id\": ..., \"cmd\": \"COMMAND LINE\"}";
+    if (j.is_object() && j.contains("id")) r.id = j["id"];
+    return r;
+  }
+  if (j.contains("id")) r.id = j["id"];
+  r.line = j["cmd"].get<std::string>();
+  if (r.line.find('\n') != std::string::npos) r.unreadable = "a request's command is one line";
+  return r;
+}
+
+bool is_cancel(const std::string& line) {
+  const size_t b = line.find_first_not_of(" \t"), e = line.find_last_not_of(" \t\r");
+  return b != std::string::npos && line.substr(b, e - b + 1) == "cancel";
+}
+
+}  // namespace
+
+int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* interrupts) {
+  AnswerWriter answers(out);
+  std::mutex mutex;
+  std::condition_variable ready;
+  std::deque<Request> queue;
+  std::optional<std::stop_source> running;  // the command under way's, for `cancel`
+
+  // The reader: lines as they come (the runner may be busy), `cancel` acted on at once.
+  std::jthread reader([&] {
+    std::string line;
+    bool too_long = false;
+    char buffer[65536];
+    auto take = [&](Request r) {
+      if (r.unreadable.empty() && is_cancel(r.line)) {
+        std::lock_guard lock(mutex);
+        const bool stopped = running && running->request_stop();
+        answers.write(r.id, {{"cmd", "cancel"}, {"cancelled", stopped}});
+        return;
+      }
+      std::lock_guard lock(mutex);
+      queue.push_back(std::move(r));
+      ready.notify_one();
+    };
+    for (;;) {
+      const ssize_t n = ::read(in_fd, buffer, sizeof buffer);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      for (ssize_t i = 0; i < n; ++i) {
+        if (buffer[i] != '\n') {
+          if (line.size() < kMaxRequestBytes) line += buffer[i];
+          else too_long = true;
+          continue;
+        }
+        Request r = too_long ? Request{} : parse_request(std::move(line));
+        if (too_long) r.unreadable = "a request longer than " + std::to_string(kMaxRequestBytes) + " bytes";
+        take(std::move(r));
+        line.clear();
+        too_long = false;
+      }
+    }
+    if (!line.empty() || too_long) take(parse_request(std::move(line)));
+    std::lock_guard lock(mutex);
+    queue.push_back(Request{.end = true});
+    ready.notify_one();
+  });
+
+  uint32_t number = 0;
+  for (;;) {
+    Request r;
+    {
+      std::unique_lock lock(mutex);
+      ready.wait(lock, [&] { return !queue.empty(); });
+      r = std::move(queue.front());
+      queue.pop_front();
+    }
+    if (r.end) break;
+    ++number;
+    if (!r.unreadable.empty()) {
+      answers.write(r.id, {{"error", {{"line", number}, {"col", 1}, {"message", r.unreadable}}}});
+      continue;
+    }
+    const watch::SourceText source("request " + std::to_string(number), r.line);
+    auto parsed = shell.parse(source, 0, number);
+    if (auto* mistakes = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) {
+      const watch::Diagnostic& d = mistakes->front();  // one mistake, one message: the first
+      answers.write(r.id, {{"error",
+                            {{"line", number},
+                             {"col", d.span.begin + 1},
+                             {"message", d.message},
+                             {"text", watch::format_diagnostics(source, {d})}}}});
+      continue;
+    }
+    const std::optional<SessionCommand>& command = std::get<std::optional<SessionCommand>>(parsed);
+    if (!command) continue;  // a blank or comment line: nothing to answer
+
+    std::stop_source stop;
+    {
+      std::lock_guard lock(mutex);
+      running = stop;
+    }
+    std::optional<Interrupts::Stoppable> stoppable;
+    std::optional<std::stop_callback<std::function<void()>>> on_signal;
+    if (interrupts) {
+      stoppable.emplace(*interrupts);
+      on_signal.emplace(stoppable->token(), std::function<void()>([&stop] { stop.request_stop(); }));
+    }
+    auto last = std::chrono::steady_clock::now();
+    const sim::Control control{
+        .stop = stop.get_token(), .progress = [&](int64_t done, int64_t total) {
+          const auto now = std::chrono::steady_clock::now();
+          if (now - last < std::chrono::milliseconds(100)) return;
+          last = now;
+          answers.write(r.id, {{"progress", {{"done", done}, {"total", total}}}});
+        }};
+    auto answer = shell.execute(*command, control);
+    {
+      std::lock_guard lock(mutex);
+      running.reset();
+    }
+    if (auto* error = std::get_if<std::string>(&answer))
+      answers.write(r.id, {{"error", {{"line", number}, {"col", 1}, {"message", *error}}}});
+    else
+      answers.write(r.id, std::move(std::get<Json>(answer)));
+    on_signal.reset();
+    if (stoppable) {
+      if (const auto signal = stoppable->signal()) {
+        std::cerr << "dwatch session: " << Interrupts::name(*signal) << ": the session ends\n";
+        reader.detach();  // blocked reading the input, which nothing else will read
+        return Interrupts::exit_code(*signal);
+      }
+    }
+  }
+  return 0;
+}
+
+}  // namespace dw::app

@@ -1,0 +1,28 @@
+// `dwatch session SCENARIO --protocol`: the session as a machine interface for other programs
+// (docs/design.md §7a, README "The session protocol"), as a debugger's MI is for an IDE. One
+// request a line on standard input, each answered by one JSON line on standard output, flushed:
+//
+//   request  := COMMAND_LINE | {"id": ID, "cmd": COMMAND_LINE}
+//   answer   := {"id": ID, ...the command's answer...}
+//             | {"id": ID, "error": {"line": N, "col": C, "message": M, "text": CARET_TEXT}}
+//             | {"id": ID, "progress": {"done": D, "total": T}}     (long commands, 10 a second at most)
+//
+// Requests run one at a time, in order; `cancel` (or {"cmd": "cancel"}) is read while one runs and
+// stops it between steps (its answer then says "cancelled": true). A mistake or a failure is an
+// answer, never the end of the session; the end of the input ends it (exit 0), as does a signal
+// (exit 128 + its number, once the command under way has stopped and answered).
+#pragma once
+
+#include <ostream>
+
+#include "app/interrupts.h"
+#include "app/session_script.h"
+
+namespace dw::app {
+
+// A request line longer than this is answered with an error and skipped.
+inline constexpr size_t kMaxRequestBytes = size_t{1} << 20;
+
+int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* interrupts);
+
+}  // namespace dw::app

@@ -1,0 +1,170 @@
+// `dwatch session --protocol` driven as another program drives it: a request written, its answer
+// read before the next is sent (a controller decides as it goes), over two pipes to the real
+// process. Answers carry ids, mistakes are answers, a long run reports progress and stops on
+// `cancel`, and the end of the input ends the session.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "tests/app/cli.h"
+
+namespace dw::cli_test {
+namespace {
+
+using json = nlohmann::json;
+
+constexpr size_t kTooLong = (size_t{1} << 20) + 10;  // past the protocol's request limit
+
+// dwatch session SCENARIO --protocol, its standard input and output as pipes.
+class Protocol {
+ public:
+  explicit Protocol(const std::string& scenario) {
+    int in[2], out[2];
+    if (::pipe(in) != 0 || ::pipe(out) != 0) throw std::runtime_error("pipe");
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      ::dup2(in[0], STDIN_FILENO);
+      ::dup2(out[1], STDOUT_FILENO);
+      ::close(in[1]);
+      ::close(out[0]);
+      ::execl(DWATCH_EXE, DWATCH_EXE, "session", scenario.c_str(), "--protocol", static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    ::close(in[0]);
+    ::close(out[1]);
+    to_ = in[1];
+    from_ = out[0];
+  }
+  ~Protocol() {
+    if (to_ >= 0) ::close(to_);
+    if (pid_ > 0 && !waited_) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+    ::close(from_);
+  }
+
+  void send(const std::string& line) {
+    const std::string text = line + "\n";
+    ASSERT_EQ(::write(to_, text.data(), text.size()), ssize_t(text.size()));
+  }
+  // The next answer line, waiting at most 20 s for it (nothing when none came).
+  std::optional<json> next() {
+    for (;;) {
+      if (const size_t nl = buffer_.find('\n'); nl != std::string::npos) {
+        const std::string line = buffer_.substr(0, nl);
+        buffer_.erase(0, nl + 1);
+        return json::parse(line);
+      }
+      pollfd p{from_, POLLIN, 0};
+      if (::poll(&p, 1, 20000) <= 0) return std::nullopt;
+      char chunk[4096];
+      const ssize_t n = ::read(from_, chunk, sizeof chunk);
+      if (n <= 0) return std::nullopt;
+      buffer_.append(chunk, size_t(n));
+    }
+  }
+  // Closes the input; the exit code.
+  int finish() {
+    ::close(to_);
+    to_ = -1;
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    waited_ = true;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int to_ = -1, from_ = -1;
+  bool waited_ = false;
+  std::string buffer_;
+};
+
+using SessionProtocol = Cli;
+
+TEST_F(SessionProtocol, EachRequestIsAnsweredBeforeTheNextIsSent) {
+  Protocol p(std::string(DWATCH_SCENARIOS_DIR) + "/token_ring.toml");
+  p.send(R"({"id": 1, "cmd": "run 10"})");
+  const auto ran = p.next();
+  ASSERT_TRUE(ran) << "no answer while the input stays open";
+  EXPECT_EQ((*ran)["id"], 1);
+  EXPECT_EQ((*ran)["current"], 10);
+  // A plain command line: answered without an id. Its hash is a script's at the same step.
+  p.send("hash");
+  const auto hash = p.next();
+  ASSERT_TRUE(hash);
+  EXPECT_FALSE(hash->contains("id"));
+  const Result script = run("session " + std::string(DWATCH_SCENARIOS_DIR) + "/token_ring.toml --script " +
+                            write("s.session", "run 10\nhash\n").string());
+  ASSERT_EQ(script.code, 0) << script.err;
+  EXPECT_EQ((*hash)["hash"], json::parse(script.out.substr(script.out.find('\n') + 1))["hash"]);
+  // Mistakes and failures are answers with where and what; the session goes on.
+  p.send(R"({"id": "s", "cmd": "seek x"})");
+  const auto mistake = p.next();
+  ASSERT_TRUE(mistake);
+  EXPECT_EQ((*mistake)["id"], "s");
+  EXPECT_EQ((*mistake)["error"]["col"], 6);
+  EXPECT_EQ((*mistake)["error"]["message"], "T must be an integer between 0 and 10000000, not 'x'");
+  EXPECT_NE((*mistake)["error"]["text"].get<std::string>().find("seek x\n     ^"), std::string::npos);
+  p.send("seek 500");
+  const auto failure = p.next();
+  ASSERT_TRUE(failure);
+  EXPECT_NE((*failure)["error"]["message"].get<std::string>().find("has not been simulated"), std::string::npos);
+  p.send("{\"id\": 3, \"cmd\": ");
+  const auto broken = p.next();
+  ASSERT_TRUE(broken);
+  EXPECT_TRUE(broken->contains("error"));
+  p.send(std::string(kTooLong, 'x'));
+  const auto too_long = p.next();
+  ASSERT_TRUE(too_long);
+  EXPECT_NE((*too_long)["error"]["message"].get<std::string>().find("longer than"), std::string::npos);
+  p.send(R"({"id": [2], "cmd": "step"})");
+  const auto stepped = p.next();
+  ASSERT_TRUE(stepped);
+  EXPECT_EQ((*stepped)["id"], json::array({2}));
+  EXPECT_EQ((*stepped)["current"], 11);
+  EXPECT_EQ(p.finish(), 0) << "the end of the input ends the session";
+}
+
+TEST_F(SessionProtocol, ALongRunReportsProgressAndStopsOnCancel) {
+  Protocol p(std::string(DWATCH_SCENARIOS_DIR) + "/token_ring_correct.toml");
+  p.send(R"({"id": "long", "cmd": "run 10000000"})");
+  const auto progress = p.next();
+  ASSERT_TRUE(progress);
+  ASSERT_TRUE(progress->contains("progress")) << *progress;
+  EXPECT_EQ((*progress)["id"], "long");
+  EXPECT_GT((*progress)["progress"]["done"], 0);
+  EXPECT_EQ((*progress)["progress"]["total"], 10000001);
+  p.send(R"({"id": "c", "cmd": "cancel"})");
+  std::optional<json> cancel, run;
+  while (!cancel || !run) {
+    auto a = p.next();
+    ASSERT_TRUE(a) << "no answer to the run or the cancel";
+    if ((*a)["id"] == "c") cancel = a;
+    else if (!a->contains("progress")) run = a;
+  }
+  EXPECT_EQ((*cancel)["cancelled"], true);
+  EXPECT_EQ((*run)["id"], "long");
+  EXPECT_EQ((*run)["cancelled"], true);
+  EXPECT_LT((*run)["current"], 10000000);
+  // The session stands where the run got to, and goes on from there.
+  p.send("step");
+  const auto stepped = p.next();
+  ASSERT_TRUE(stepped);
+  EXPECT_EQ((*stepped)["current"], (*run)["current"].get<int64_t>() + 1);
+  p.send("cancel");
+  const auto idle = p.next();
+  ASSERT_TRUE(idle);
+  EXPECT_EQ((*idle)["cancelled"], false) << "nothing was running";
+  EXPECT_EQ(p.finish(), 0);
+}
+
+}  // namespace
+}  // namespace dw::cli_test
