@@ -5,14 +5,19 @@
 //     measured on the heap), and seeks to random steps;
 //   - a 1,000-module physics scenario (leader election on a 40x25 hex sheet, latched), the same;
 //   - a Fig. 6 watchpoint added after 1,000 steps of the Table I ensemble, evaluated over them;
+//   - `session --protocol`'s round trip: `hash` written, its answer read, over pipes to a child;
 //   - 100,000 steps of the Table I ensemble ([8:4:2:1]): the history's memory.
 #include <malloc.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <iomanip>
 #include <iostream>
 #include <random>
+#include <string_view>
 
 #include "app/bench.h"
 #include "app/bench_child.h"
@@ -155,6 +160,59 @@ void print_history(const std::string& label, const HistoryRow& r, long peak_kib,
 
 }  // namespace
 
+// `dwatch session --protocol` as a controller drives it, over pipes to a child dwatch: after 10
+// steps of the Table I ensemble, `hash` at the current step written and its answer read back,
+// `rounds` times; the milliseconds of each round trip, sorted. Empty when it failed.
+std::vector<double> protocol_round_trips(const std::string& scenario_text, int rounds) {
+  char path[] = "/tmp/dwatch-bench-protocol-XXXXXX";
+  const int fd = ::mkstemp(path);
+  if (fd < 0) return {};
+  const bool written = ::write(fd, scenario_text.data(), scenario_text.size()) == ssize_t(scenario_text.size());
+  ::close(fd);
+  std::vector<double> ms;
+  int to[2], from[2];
+  if (written && ::pipe(to) == 0 && ::pipe(from) == 0) {
+    const pid_t child = ::fork();
+    if (child == 0) {
+      ::dup2(to[0], STDIN_FILENO);
+      ::dup2(from[1], STDOUT_FILENO);
+      ::close(to[1]);
+      ::close(from[0]);
+      ::execl("/proc/self/exe", "dwatch", "session", path, "--protocol", static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    ::close(to[0]);
+    ::close(from[1]);
+    FILE* answers = ::fdopen(from[0], "r");
+    auto round_trip = [&](const std::string& request) {
+      const std::string line = request + "\n";
+      if (::write(to[1], line.data(), line.size()) != ssize_t(line.size())) return false;
+      char* answer = nullptr;
+      size_t size = 0;
+      const bool read = ::getline(&answer, &size, answers) > 0 &&
+                        std::string_view(answer).find("\"error\"") == std::string_view::npos;
+      std::free(answer);
+      return read;
+    };
+    if (child > 0 && answers && round_trip("run 10")) {
+      for (int i = 0; i < rounds; ++i) {
+        const auto start = Clock::now();
+        if (!round_trip("hash")) {
+          ms.clear();
+          break;
+        }
+        ms.push_back(since(start) * 1e3);
+      }
+    }
+    ::close(to[1]);
+    if (answers) std::fclose(answers);
+    if (child > 0) ::waitpid(child, nullptr, 0);
+  }
+  ::unlink(path);
+  std::sort(ms.begin(), ms.end());
+  return ms;
+}
+
 int bench_session(const BenchArgs& args) {
   std::unique_ptr<sim::OutputFile> csv;
   if (!open_csv(args, "session",
@@ -185,6 +243,16 @@ int bench_session(const BenchArgs& args) {
             << " matches (a run with it from step 0: " << r.fresh_matches << ")"
             << (r.matches == r.fresh_matches ? "" : "  MISMATCH") << "\n";
   if (r.matches != r.fresh_matches) return 1;
+
+  // The protocol's round trip (issue target: 1 ms median).
+  const std::vector<double> trips = protocol_round_trips(table1_text("2:2:2:2", &args.detector), 1000);
+  if (trips.empty()) {
+    std::cerr << "bench session: the protocol's child failed\n";
+    return 1;
+  }
+  std::cout << "session --protocol, 'hash' at the current step of the Table I ensemble (10^3), 1,000 round trips: "
+            << std::setprecision(3) << "median " << trips[trips.size() / 2] << " ms, 99th percentile "
+            << trips[trips.size() * 99 / 100] << " ms, max " << trips.back() << " ms (target: median <= 1 ms)\n";
 
   const int64_t long_run = std::max<int64_t>(args.steps, 100'000);
   // One run, with the history (its memory is the figure).

@@ -159,13 +159,12 @@ int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* 
       on_signal.emplace(stoppable->token(), std::function<void()>([&stop] { stop.request_stop(); }));
     }
     auto last = std::chrono::steady_clock::now();
-    const sim::Control control{
-        .stop = stop.get_token(), .progress = [&](int64_t done, int64_t total) {
-          const auto now = std::chrono::steady_clock::now();
-          if (now - last < std::chrono::milliseconds(100)) return;
-          last = now;
-          answers.write(r.id, {{"progress", {{"done", done}, {"total", total}}}});
-        }};
+    const sim::Control control{.stop = stop.get_token(), .progress = [&](int64_t done, int64_t total) {
+                                 const auto now = std::chrono::steady_clock::now();
+                                 if (now - last < std::chrono::milliseconds(100)) return;
+                                 last = now;
+                                 answers.write(r.id, {{"progress", {{"done", done}, {"total", total}}}});
+                               }};
     auto answer = shell.execute(*command, control);
     {
       std::lock_guard lock(mutex);
@@ -173,8 +172,7 @@ int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* 
     }
     if (auto* error = std::get_if<std::string>(&answer))
       answers.write(r.id, {{"error", {{"line", number}, {"col", 1}, {"message", *error}}}});
-    else
-      answers.write(r.id, std::move(std::get<Json>(answer)));
+    else answers.write(r.id, std::move(std::get<Json>(answer)));
     on_signal.reset();
     if (stoppable) {
       if (const auto signal = stoppable->signal()) {

@@ -56,7 +56,6 @@ float combo_width_of(std::span<const char* const> items) {
   return width;
 }
 
-
 float button_width(const std::string& label) {
   return ImGui::CalcTextSize(label.c_str(), nullptr, true).x + 2 * ImGui::GetStyle().FramePadding.x;
 }
