@@ -33,6 +33,8 @@ struct Outcome {
   std::string err;
 };
 
+const std::string kLeader = std::string(DWATCH_SCENARIOS_DIR) + "/leader_election.toml";
+
 class Window : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -62,10 +64,20 @@ class Window : public ::testing::Test {
     return r;
   }
 
+  // `dwatch render` of step t at w x h through the camera a window screenshot answered with.
+  std::optional<dw::render::Image> render_as_shot(const json& shot, int64_t t, int w, int h) {
+    const std::string cmd = "cd " + dir_.string() + " && " + DWATCH_EXE + " render " + kLeader + " --step " +
+                            std::to_string(t) + " --width " + std::to_string(w) + " --height " + std::to_string(h) +
+                            " --camera-eye " + shot["camera_eye"].get<std::string>() + " --camera-target " +
+                            shot["camera_target"].get<std::string>() + " --out render.png >/dev/null";
+    if (std::system(cmd.c_str()) != 0) return std::nullopt;
+    std::string error;
+    return dw::render::read_png((dir_ / "render.png").string(), &error);
+  }
+
   fs::path dir_;
 };
 
-const std::string kLeader = std::string(DWATCH_SCENARIOS_DIR) + "/leader_election.toml";
 
 TEST_F(Window, PausedOnTwoLeadersSeekBackSelectTheGroupAndScreenshot) {
   const Outcome view = dwatch("view " + kLeader,
@@ -129,16 +141,11 @@ TEST_F(Window, PausedOnTwoLeadersSeekBackSelectTheGroupAndScreenshot) {
   const json& shot = view.answers[9];
   const int x = int(shot["view"]["x"].get<double>()), y = int(shot["view"]["y"].get<double>());
   const int w = shot["view"]["width"], h = shot["view"]["height"];
-  const std::string render = "cd " + dir_.string() + " && " + DWATCH_EXE + " render " + kLeader + " --step " +
-                             std::to_string(t) + " --width " + std::to_string(w) + " --height " + std::to_string(h) +
-                             " --camera-eye " + shot["camera_eye"].get<std::string>() + " --camera-target " +
-                             shot["camera_target"].get<std::string>() + " --out render.png >/dev/null";
-  ASSERT_EQ(std::system(render.c_str()), 0);
+  const auto expected = render_as_shot(shot, t, w, h);
+  ASSERT_TRUE(expected);
   std::string error;
   const auto window = dw::render::read_png((dir_ / "window.png").string(), &error);
   ASSERT_TRUE(window) << error;
-  const auto expected = dw::render::read_png((dir_ / "render.png").string(), &error);
-  ASSERT_TRUE(expected) << error;
   ASSERT_LE(x + w, window->width);
   ASSERT_LE(y + h, window->height);
   dw::render::Image crop(w, h);
@@ -532,14 +539,8 @@ TEST_F(Window, RecordWritesAFramePerStepShown) {
   const int w = int(shot["view"]["width"]) & ~1, h = int(shot["view"]["height"]) & ~1;
   EXPECT_EQ(video.width, w);
   EXPECT_EQ(video.height, h);
-  const std::string render = "cd " + dir_.string() + " && " + DWATCH_EXE + " render " + kLeader + " --step 1 --width " +
-                             std::to_string(w) + " --height " + std::to_string(h) + " --camera-eye " +
-                             shot["camera_eye"].get<std::string>() + " --camera-target " +
-                             shot["camera_target"].get<std::string>() + " --out render.png >/dev/null";
-  ASSERT_EQ(std::system(render.c_str()), 0);
-  std::string error;
-  const auto expected = dw::render::read_png((dir_ / "render.png").string(), &error);
-  ASSERT_TRUE(expected) << error;
+  const auto expected = render_as_shot(shot, 1, w, h);
+  ASSERT_TRUE(expected);
   const dw::render::Image& first = video.frames[0];
   double difference = 0;
   for (int y = 0; y < h; ++y)
