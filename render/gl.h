@@ -69,6 +69,7 @@ namespace dw::render {
   X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)               \
   X(PFNGLDRAWARRAYSPROC, DrawArrays)                           \
   X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)         \
+  X(PFNGLDRAWELEMENTSINSTANCEDPROC, DrawElementsInstanced)     \
   X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                 \
   X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)           \
   X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                 \

@@ -1,6 +1,9 @@
 #include "render/meshes.h"
 
+#include <array>
+#include <bit>
 #include <cmath>
+#include <map>
 #include <numbers>
 
 namespace dw::render {
@@ -90,6 +93,21 @@ std::vector<MeshVertex> make_mesh(Shape shape) {
     case Shape::Sphere: return sphere();
   }
   return {};
+}
+
+IndexedMesh make_indexed_mesh(Shape shape) {
+  IndexedMesh mesh;
+  // Vertices are the same when their bits are: merged, they draw exactly the triangles they did.
+  std::map<std::array<uint32_t, 6>, uint32_t> index_of;
+  for (const MeshVertex& v : make_mesh(shape)) {
+    const std::array<uint32_t, 6> bits{std::bit_cast<uint32_t>(v.position[0]), std::bit_cast<uint32_t>(v.position[1]),
+                                       std::bit_cast<uint32_t>(v.position[2]), std::bit_cast<uint32_t>(v.normal[0]),
+                                       std::bit_cast<uint32_t>(v.normal[1]),   std::bit_cast<uint32_t>(v.normal[2])};
+    const auto [at, added] = index_of.try_emplace(bits, uint32_t(mesh.vertices.size()));
+    if (added) mesh.vertices.push_back(v);
+    mesh.indices.push_back(at->second);
+  }
+  return mesh;
 }
 
 }  // namespace dw::render

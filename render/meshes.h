@@ -2,6 +2,7 @@
 // triangle lists with a normal per vertex (flat faces, smooth round sides).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "render/scene.h"
@@ -16,5 +17,14 @@ struct MeshVertex {
 // A box from -0.5 to 0.5; an upright cylinder (axis z) of diameter 1 and height 1 with caps; a
 // sphere of diameter 1.
 std::vector<MeshVertex> make_mesh(Shape shape);
+
+// The same triangles, in the same order, with each distinct vertex stored once and the triangles
+// as indices into them: a software rasteriser (llvmpipe) shades a corner shared by several
+// triangles once per instance instead of once per triangle (a box: 24 vertices, not 36).
+struct IndexedMesh {
+  std::vector<MeshVertex> vertices;
+  std::vector<uint32_t> indices;
+};
+IndexedMesh make_indexed_mesh(Shape shape);
 
 }  // namespace dw::render

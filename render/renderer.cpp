@@ -1,9 +1,13 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <optional>
+#include <unordered_set>
 
 #include "render/annotations.h"
 #include "render/meshes.h"
@@ -30,6 +34,52 @@ glm::mat4 transform(const sim::Pose& pose, glm::vec3 scale) {
   const auto& q = pose.orientation;  // x, y, z, w
   return glm::translate(glm::mat4(1), glm::vec3(p[0], p[1], p[2])) * glm::mat4_cast(glm::quat(q[3], q[0], q[1], q[2])) *
          glm::scale(glm::mat4(1), scale);
+}
+
+// Per module: whether it sits on the unit lattice, upright, with a module on each of its six sides
+// in the same way, so that from outside it shows at most as slivers through the gaps between
+// modules (what a moving frame may leave out).
+std::vector<bool> enclosed_modules(const Scene& scene) {
+  std::vector<bool> enclosed(scene.modules.size(), false);
+  auto cell_of = [](const sim::Pose& pose) -> std::optional<std::array<int32_t, 3>> {
+    const auto& q = pose.orientation;
+    if (q[0] != 0 || q[1] != 0 || q[2] != 0) return std::nullopt;
+    std::array<int32_t, 3> cell{};
+    for (int d = 0; d < 3; ++d) {
+      const float p = pose.position[size_t(d)];
+      if (!(std::abs(p) < 1e6f) || p != std::nearbyint(p)) return std::nullopt;
+      cell[size_t(d)] = int32_t(p);
+    }
+    return cell;
+  };
+  // 21 bits a coordinate: lattices are far smaller.
+  auto key = [](const std::array<int32_t, 3>& c) {
+    return (uint64_t(uint32_t(c[0]) & 0x1fffff) << 42) | (uint64_t(uint32_t(c[1]) & 0x1fffff) << 21) |
+           uint64_t(uint32_t(c[2]) & 0x1fffff);
+  };
+  std::unordered_set<uint64_t> occupied;
+  occupied.reserve(scene.modules.size());
+  std::vector<std::optional<std::array<int32_t, 3>>> cells;
+  cells.reserve(scene.modules.size());
+  for (const SceneModule& m : scene.modules) {
+    cells.push_back(cell_of(m.pose));
+    if (cells.back()) occupied.insert(key(*cells.back()));
+  }
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (!cells[i]) continue;
+    bool all = true;
+    for (int d = 0; d < 3 && all; ++d)
+      for (int side : {-1, 1}) {
+        std::array<int32_t, 3> next = *cells[i];
+        next[size_t(d)] += side;
+        if (!occupied.count(key(next))) {
+          all = false;
+          break;
+        }
+      }
+    enclosed[i] = all;
+  }
+  return enclosed;
 }
 
 // A colour faded towards a pale grey: the modules around a highlighted group.
@@ -88,9 +138,11 @@ struct Renderer::Program {
   GLint at(const char* uniform) const { return gl.GetUniformLocation(id, uniform); }
 };
 
+// An indexed mesh (make_indexed_mesh): its vertex array holds the vertices, the indices and the
+// instance attributes.
 struct Renderer::Mesh {
-  GLuint vao = 0, vertices = 0;
-  GLsizei count = 0;
+  GLuint vao = 0, vertices = 0, indices = 0;
+  GLsizei count = 0;  // indices
 };
 
 // Per instance: where the mesh goes and its colour (alpha < 1: translucent).
@@ -116,14 +168,19 @@ Renderer::Renderer(const Gl& gl, std::string font_path) : gl_(gl), font_path_(st
 
   gl_.GenBuffers(1, &instance_buffer_);
   for (Shape shape : {Shape::Box, Shape::Cylinder, Shape::Sphere}) {
-    const std::vector<MeshVertex> vertices = make_mesh(shape);
+    const IndexedMesh shape_mesh = make_indexed_mesh(shape);
+    const std::vector<MeshVertex>& vertices = shape_mesh.vertices;
     auto mesh = std::make_unique<Mesh>();
-    mesh->count = GLsizei(vertices.size());
+    mesh->count = GLsizei(shape_mesh.indices.size());
     gl_.GenVertexArrays(1, &mesh->vao);
     gl_.BindVertexArray(mesh->vao);
     gl_.GenBuffers(1, &mesh->vertices);
     gl_.BindBuffer(GL_ARRAY_BUFFER, mesh->vertices);
     gl_.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(MeshVertex)), vertices.data(), GL_STATIC_DRAW);
+    gl_.GenBuffers(1, &mesh->indices);  // the element buffer binding is part of the vertex array
+    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh->indices);
+    gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(shape_mesh.indices.size() * sizeof(uint32_t)),
+                   shape_mesh.indices.data(), GL_STATIC_DRAW);
     gl_.EnableVertexAttribArray(0);
     gl_.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex),
                             reinterpret_cast<void*>(offsetof(MeshVertex, position)));
@@ -175,6 +232,7 @@ Renderer::~Renderer() {
   for (auto& [shape, mesh] : meshes_) {
     gl_.DeleteVertexArrays(1, &mesh->vao);
     gl_.DeleteBuffers(1, &mesh->vertices);
+    gl_.DeleteBuffers(1, &mesh->indices);
   }
   for (auto& [size, font] : fonts_) gl_.DeleteTextures(1, &font->texture);
   const GLuint vaos[] = {quad_vao_, overlay_vao_, empty_vao_};
@@ -251,7 +309,7 @@ void Renderer::draw_instances(const Mesh& mesh, const std::vector<Instance>& ins
   gl_.BindBuffer(GL_ARRAY_BUFFER, instance_buffer_);
   gl_.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(instances.size() * sizeof(Instance)), instances.data(), GL_STREAM_DRAW);
   gl_.BindVertexArray(mesh.vao);
-  gl_.DrawArraysInstanced(GL_TRIANGLES, 0, mesh.count, GLsizei(instances.size()));
+  gl_.DrawElementsInstanced(GL_TRIANGLES, mesh.count, GL_UNSIGNED_INT, nullptr, GLsizei(instances.size()));
 }
 
 void Renderer::draw_ground(const Scene& scene, const glm::mat4& view_projection) {
@@ -301,7 +359,7 @@ Camera Renderer::camera(const Scene& scene, int width, int height) {
   return make_camera(scene, width, height, view_region(scene, font(text_size(height)).atlas, width, height));
 }
 
-void Renderer::draw(const Scene& scene, int width, int height, unsigned target) {
+void Renderer::draw(const Scene& scene, int width, int height, unsigned target, RenderQuality quality) {
   resize(width, height);
   FontTexture& text = font(text_size(height));
   const Region region = view_region(scene, text.atlas, width, height);
@@ -310,7 +368,7 @@ void Renderer::draw(const Scene& scene, int width, int height, unsigned target) 
 
   gl_.BindFramebuffer(GL_FRAMEBUFFER, scene_fbo_);
   gl_.Viewport(0, 0, width, height);
-  draw_bodies(scene, camera, view_projection);
+  draw_bodies(scene, camera, view_projection, quality);
   gl_.Disable(GL_DEPTH_TEST);
   gl_.Disable(GL_CULL_FACE);
   gl_.Disable(GL_BLEND);
@@ -320,7 +378,7 @@ void Renderer::draw(const Scene& scene, int width, int height, unsigned target) 
   gl_.BlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   gl_.BindFramebuffer(GL_FRAMEBUFFER, target);
   gl_.Viewport(0, 0, width, height);
-  smooth_edges(scene, view_projection);
+  if (quality == RenderQuality::Full) smooth_edges(scene, view_projection);
 
   // The flat layer goes over the smoothed picture: text stays sharp, and its shapes carry their
   // own feathered edges.
@@ -372,7 +430,8 @@ void Renderer::smooth_edges(const Scene& scene, const glm::mat4& view_projection
   gl_.Disable(GL_SCISSOR_TEST);
 }
 
-void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::mat4& view_projection) {
+void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::mat4& view_projection,
+                           RenderQuality quality) {
   gl_.ClearColor(kBackground.r, kBackground.g, kBackground.b, 1);
   gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
   gl_.Enable(GL_DEPTH_TEST);
@@ -387,14 +446,24 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
   // translucent: the others, near to far (see below). The group's modules and the selected one
   // get a rim.
   const bool highlighting = !scene.groups.empty();
+  const bool moving = quality == RenderQuality::Moving;
+  const std::vector<bool> hidden = moving ? enclosed_modules(scene) : std::vector<bool>();
   std::vector<Instance> solid, faded, outline, props;
   std::vector<std::pair<float, size_t>> depth;
-  for (const SceneModule& m : scene.modules) {
+  for (size_t i = 0; i < scene.modules.size(); ++i) {
+    const SceneModule& m = scene.modules[i];
     if (!highlighting || m.highlighted || m.selected) {
+      if (moving && !(highlighting && m.highlighted) && !m.selected && hidden[i]) continue;
       solid.push_back({transform(m.pose, glm::vec3(kModuleScale)), {m.color.r, m.color.g, m.color.b, 1}});
       // A selected module of the group keeps the group's rim: the group reads whole.
       if (highlighting && m.highlighted) outline.push_back({transform(m.pose, glm::vec3(kOutlineScale)), kOutline});
       else if (m.selected) outline.push_back({transform(m.pose, glm::vec3(kOutlineScale)), kSelectedOutline});
+    } else if (moving) {
+      if (hidden[i]) continue;
+      // Opaque, as pale as it looks translucent over the background.
+      const glm::vec4 translucent = dimmed(m.color);
+      const glm::vec3 seen = glm::mix(kBackground, glm::vec3(translucent), translucent.a);
+      faded.push_back({transform(m.pose, glm::vec3(kModuleScale)), glm::vec4(seen, 1)});
     } else {
       const auto& p = m.pose.position;
       depth.push_back({glm::length(glm::vec3(p[0], p[1], p[2]) - camera.eye), faded.size()});
@@ -405,6 +474,7 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
   std::vector<Instance> near_to_far;
   near_to_far.reserve(faded.size());
   for (const auto& [d, i] : depth) near_to_far.push_back(faded[i]);
+  if (moving) near_to_far = std::move(faded);  // opaque: any order
 
   const Program& p = *mesh_program_;
   gl_.UseProgram(p.id);
@@ -441,16 +511,16 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
   // layer: the ensemble reads as a pale shell, and a frame costs one layer, not ten.
   gl_.StencilFunc(GL_NOTEQUAL, 1, 0xff);
   gl_.StencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-  gl_.Enable(GL_BLEND);
+  if (!moving) gl_.Enable(GL_BLEND);
   gl_.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   draw_instances(module_mesh, near_to_far);
   gl_.Disable(GL_BLEND);
   gl_.Disable(GL_STENCIL_TEST);
 }
 
-Image Renderer::render(const Scene& scene, int width, int height) {
+Image Renderer::render(const Scene& scene, int width, int height, RenderQuality quality) {
   resize(width, height);  // makes the output framebuffer
-  draw(scene, width, height, output_fbo_);
+  draw(scene, width, height, output_fbo_, quality);
   Image image = read_framebuffer(gl_, output_fbo_, width, height);
   if (GLenum error = gl_.GetError(); error != GL_NO_ERROR)
     throw RenderError("OpenGL error " + std::to_string(error) + " while drawing");

@@ -25,6 +25,14 @@ struct RenderError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// How finely a frame is drawn. Full is the picture `dwatch render` writes and the window shows
+// when still. Moving is for frames that show only while the camera moves or play runs, and must
+// come fast on a software rasteriser: no edge smoothing; the modules around a highlighted group
+// opaque in their faded colours (not sorted, not blended; the group still shows through them);
+// and a module of a lattice hidden on all six sides by its neighbours not drawn (through the gaps
+// between modules it could show as a sliver). The still frame after is drawn Full again.
+enum class RenderQuality { Full, Moving };
+
 class Renderer {
  public:
   // Compiles the shaders and uploads the meshes in the context whose functions `gl` holds (which
@@ -36,9 +44,9 @@ class Renderer {
 
   // Draws the scene at width x height into framebuffer `target` (0: the context's default one),
   // which must be at least as large.
-  void draw(const Scene& scene, int width, int height, unsigned target);
+  void draw(const Scene& scene, int width, int height, unsigned target, RenderQuality quality = RenderQuality::Full);
   // Draws the scene and reads it back, top row first.
-  Image render(const Scene& scene, int width, int height);
+  Image render(const Scene& scene, int width, int height, RenderQuality quality = RenderQuality::Full);
 
   // The world-to-clip transform `draw` uses for this scene at this size (the camera placed in the
   // part of the image the title and legend leave): what picking needs.
@@ -59,7 +67,7 @@ class Renderer {
   struct FontTexture;
 
   void resize(int width, int height);
-  void draw_bodies(const Scene& scene, const Camera& camera, const glm::mat4& view_projection);
+  void draw_bodies(const Scene& scene, const Camera& camera, const glm::mat4& view_projection, RenderQuality quality);
   void smooth_edges(const Scene& scene, const glm::mat4& view_projection);
   FontTexture& font(int pixel_height);
   void draw_instances(const Mesh& mesh, const std::vector<Instance>& instances);

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <glm/glm.hpp>
 
 namespace dw::render {
@@ -41,6 +43,23 @@ TEST(Meshes, BoxIsClosedAndOutward) {
 }
 TEST(Meshes, CylinderIsClosedAndOutward) { expect_closed_outward(Shape::Cylinder); }
 TEST(Meshes, SphereIsClosedAndOutward) { expect_closed_outward(Shape::Sphere); }
+
+// The indexed form draws the very triangles of the list, in its order, bit for bit, with each
+// distinct vertex stored once.
+TEST(Meshes, TheIndexedFormHoldsTheSameTrianglesWithFewerVertices) {
+  for (Shape shape : {Shape::Box, Shape::Cylinder, Shape::Sphere}) {
+    const std::vector<MeshVertex> list = make_mesh(shape);
+    const IndexedMesh indexed = make_indexed_mesh(shape);
+    ASSERT_EQ(indexed.indices.size(), list.size());
+    for (size_t i = 0; i < list.size(); ++i) {
+      ASSERT_LT(indexed.indices[i], indexed.vertices.size());
+      const MeshVertex& v = indexed.vertices[indexed.indices[i]];
+      EXPECT_EQ(std::memcmp(&v, &list[i], sizeof v), 0) << "vertex " << i;
+    }
+    EXPECT_LE(indexed.vertices.size() * 3, list.size() * 2) << "at most two thirds of the vertices";
+  }
+  EXPECT_EQ(make_indexed_mesh(Shape::Box).vertices.size(), 24u);
+}
 
 }  // namespace
 }  // namespace dw::render

@@ -123,6 +123,45 @@ TEST_F(RendererTest, TheCameraItUsesDrawsTheSamePictureWhenSetOnTheScene) {
   EXPECT_EQ(given.target, glm::vec3(1, 1, 0));
 }
 
+// A moving frame (the window while the camera turns or play runs) skips the edge smoothing and
+// draws the modules around a group opaque, unsorted, leaving out those enclosed on six sides: the
+// group must still show through, outlined, and the rest look as the still frame does.
+TEST_F(RendererTest, AMovingFrameStillShowsTheGroupThroughTheOthers) {
+  Scene s = test::block(5, 5, 5, {0.55f, 0.63f, 0.72f});
+  const sim::ModuleId middle = 2 + 5 * (2 + 5 * 2);
+  s.modules[middle].color = {0.1f, 0.8f, 0.2f};
+  const Image plain = renderer_->render(s, 400, 300, RenderQuality::Moving);
+  EXPECT_EQ(count(plain, 0, 0, 400, 300, greenish), 0);  // enclosed, left out or not: unseen
+
+  s.modules[middle].highlighted = true;
+  s.groups.push_back({"w", 0, {"a"}, {middle}});
+  const Image moving = renderer_->render(s, 400, 300, RenderQuality::Moving);
+  EXPECT_GT(count(moving, 0, 0, 400, 300, greenish), 100);
+  EXPECT_GT(count(moving, 0, 0, 400, 300, link_red), 100);
+}
+
+TEST_F(RendererTest, AMovingFrameLooksLikeTheStillOne) {
+  Scene s = test::block(6, 5, 4, {0.9f, 0.5f, 0.1f});
+  const Image still = renderer_->render(s, 400, 300);
+  const Image moving = renderer_->render(s, 400, 300, RenderQuality::Moving);
+  const ImageDifference d = compare_images(still, moving, 48);
+  EXPECT_TRUE(d.same_size);
+  EXPECT_GT(d.differing, 0) << "the edges are not smoothed";
+  EXPECT_LT(d.share, 0.02) << d.differing << " pixels differ by more than 48";
+}
+
+// Drawing a moving frame leaves nothing behind: the still frame after is the one before.
+TEST_F(RendererTest, TheStillFrameAfterAMovingOneIsTheSame) {
+  Scene s = test::block(4, 4, 3, {0.2f, 0.4f, 0.9f});
+  s.groups.push_back({"w", 0, {"a", "b"}, {5, 6}});
+  s.modules[5].highlighted = s.modules[6].highlighted = true;
+  const Image before = renderer_->render(s, 320, 200);
+  const Image moving = renderer_->render(s, 320, 200, RenderQuality::Moving);
+  const Image after = renderer_->render(s, 320, 200);
+  EXPECT_EQ(before.rgba, after.rgba);
+  EXPECT_NE(moving.rgba, before.rgba);
+}
+
 TEST_F(RendererTest, ImagesOutOfRangeAreRefused) {
   EXPECT_THROW(renderer_->render(test::block(1, 1, 1, {}), 0, 100), RenderError);
   EXPECT_THROW(renderer_->render(test::block(1, 1, 1, {}), renderer_->max_size() + 1, 100), RenderError);
