@@ -440,8 +440,6 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
   gl_.Enable(GL_CULL_FACE);
   gl_.CullFace(GL_BACK);
 
-  draw_ground(scene, view_projection);
-
   // Solid: every module, or with groups highlighted only theirs and the selected one;
   // translucent: the others, near to far (see below). The group's modules and the selected one
   // get a rim.
@@ -476,6 +474,11 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
   for (const auto& [d, i] : depth) near_to_far.push_back(faded[i]);
   if (moving) near_to_far = std::move(faded);  // opaque: any order
 
+  // Translucent modules blend over the ground, so it goes first; with nothing translucent it goes
+  // last, after the solids near to far, and the depth test skips the pixels they hide before
+  // shading them (the picture is the same: each pixel keeps its nearest surface).
+  const bool translucent = !outline.empty();
+  if (translucent) draw_ground(scene, view_projection);
   const Program& p = *mesh_program_;
   gl_.UseProgram(p.id);
   gl_.UniformMatrix4fv(p.at("u_view_projection"), 1, GL_FALSE, glm::value_ptr(view_projection));
@@ -489,8 +492,17 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
     props.assign(1, {transform(prop.pose, 2.0f * half_extent(prop)), {kPropColor.r, kPropColor.g, kPropColor.b, 1}});
     draw_instances(*meshes_.at(prop.shape), props);
   }
-  if (outline.empty()) {
-    draw_instances(module_mesh, solid);
+  if (!translucent) {
+    const auto distance = [&](const Instance& i) { return glm::length(glm::vec3(i.model[3]) - camera.eye); };
+    std::vector<std::pair<float, size_t>> solid_depth;
+    solid_depth.reserve(solid.size());
+    for (size_t i = 0; i < solid.size(); ++i) solid_depth.push_back({distance(solid[i]), i});
+    std::sort(solid_depth.begin(), solid_depth.end());
+    std::vector<Instance> solid_near_to_far;
+    solid_near_to_far.reserve(solid.size());
+    for (const auto& [d, i] : solid_depth) solid_near_to_far.push_back(solid[i]);
+    draw_instances(module_mesh, solid_near_to_far);
+    draw_ground(scene, view_projection);
     return;
   }
 
