@@ -345,7 +345,9 @@ void Debugger::render_view_texture(bool moving) {
   const std::string key = std::to_string(frame_.version) + "|" + vec_text(model_.camera.eye()) + "|" +
                           vec_text(model_.camera.target) + "|" + std::to_string(width) + "x" + std::to_string(height);
   if (key == drawn_key_) return;
-  renderer_->draw(camera_scene(), width, height, view_fbo_);
+  // While it moves, the renderer's interactive path (no edge smoothing, opaque); still, in full.
+  renderer_->draw(camera_scene(), width, height, view_fbo_,
+                  moving ? render::RenderQuality::Moving : render::RenderQuality::Full);
   // Blending leaves alpha below 1 where translucent things were drawn, and ImGui blends the image
   // over the window: the picture is opaque, as `dwatch render` writes it.
   gl.BindFramebuffer(GL_FRAMEBUFFER, view_fbo_);
