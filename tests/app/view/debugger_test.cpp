@@ -78,7 +78,6 @@ class Window : public ::testing::Test {
   fs::path dir_;
 };
 
-
 TEST_F(Window, PausedOnTwoLeadersSeekBackSelectTheGroupAndScreenshot) {
   const Outcome view = dwatch("view " + kLeader,
                               "run\n"
