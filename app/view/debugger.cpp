@@ -500,8 +500,14 @@ void Debugger::frame() {
   drawing_widgets_.clear();
   drawing_cut_labels_.clear();
   const ImGuiViewport* vp = ImGui::GetMainViewport();
-  panels_ = panel_layout(vp->WorkPos.x, vp->WorkPos.y, vp->WorkSize.x, vp->WorkSize.y);
-  const bool resized = vp->WorkSize.x != panels_width_ || vp->WorkSize.y != panels_height_;
+  const int lanes = int(frame_.watches.size()) + 1;
+  panels_ = panel_layout(vp->WorkPos.x, vp->WorkPos.y, vp->WorkSize.x, vp->WorkSize.y, lanes);
+  // Laid out again when the window's size changes, or the timeline's lanes do (once a Frame was
+  // read: before, there are none to count, and the layout file's places stand).
+  const bool read = frame_.at.end > 0;
+  const bool lanes_changed = read && panels_lanes_ > 0 && lanes != panels_lanes_;
+  if (read) panels_lanes_ = lanes;
+  const bool resized = vp->WorkSize.x != panels_width_ || vp->WorkSize.y != panels_height_ || lanes_changed;
   panels_cond_ = resized && panels_width_ > 0 ? ImGuiCond_Always : ImGuiCond_FirstUseEver;
   panels_width_ = vp->WorkSize.x;
   panels_height_ = vp->WorkSize.y;

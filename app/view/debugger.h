@@ -197,6 +197,7 @@ class Debugger {
   PanelLayout panels_;
   int panels_cond_ = 0;  // ImGuiCond_Always after a resize, else ImGuiCond_FirstUseEver
   float panels_width_ = 0, panels_height_ = 0;
+  int panels_lanes_ = 0;
   Timeline timeline_;                           // as last drawn
   float timeline_y_ = 0, timeline_height_ = 0;  // its lanes' top and height in the window
 

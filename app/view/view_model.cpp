@@ -93,14 +93,15 @@ void TimelineRange::pan(int64_t steps, const Position& at) {
   show(from + steps, to + steps, at);
 }
 
-PanelLayout panel_layout(float x, float y, float width, float height) {
+PanelLayout panel_layout(float x, float y, float width, float height, int lanes) {
   PanelLayout l;
   l.too_small = width < PanelLayout::kMinWidth || height < PanelLayout::kMinHeight;
   // The column: wide enough for the editor's choices and the matches' slots on one line.
   const float column = std::clamp(width * 0.33f, 400.0f, 560.0f), left = std::max(0.0f, width - column);
   // Under a narrow view the transport's buttons wrap onto more rows: the bar grows so that the
   // timeline still shows whole.
-  const float transport = left >= 1000 ? 190 : 250;
+  // A lane is 14 pixels; at most 8 are given room (more scroll).
+  const float transport = (left >= 1000 ? 178 : 225) + 14.0f * float(std::clamp(lanes, 2, 8));
   l.view = {x, y, left, std::max(0.0f, height - transport)};
   l.transport = {x, y + l.view.height, left, height - l.view.height};
   // Watchpoints and the editor, Matches, Module, Statistics, top to bottom.

@@ -142,7 +142,8 @@ struct PanelLayout {
   PanelRect view, transport, watchpoints, matches, module, statistics;
   bool too_small = false;
 };
-PanelLayout panel_layout(float x, float y, float width, float height);
+// `lanes`: the timeline's (one a watchpoint, and the interventions'), which the transport bar holds.
+PanelLayout panel_layout(float x, float y, float width, float height, int lanes = 2);
 
 // Lines of the session language that the widgets send.
 namespace command {
