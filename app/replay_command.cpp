@@ -13,8 +13,8 @@
 #include "app/output_files.h"
 #include "app/watch_args.h"
 #include "sim/match_log.h"
+#include "sim/replay.h"
 #include "sim/trace.h"
-#include "watch/make_detector.h"
 #include "watch/watchpoint.h"
 
 namespace dw::app {
@@ -108,10 +108,9 @@ int replay(const ReplayArgs& args) {
 
   // Frames hold only what the watchpoints read. A variable no line has would read as unknown
   // everywhere, so its watchpoint can never match: said where it is read, and the replay goes on.
-  std::vector<std::string> read_vars;
+  const std::vector<std::string> read_vars = sim::read_variables(replayed);
   for (const watch::Watchpoint& w : watches)
     for (const std::string& v : w.program.variables) {
-      if (std::find(read_vars.begin(), read_vars.end(), v) == read_vars.end()) read_vars.push_back(v);
       const auto& known = trace.universe().variables;
       if (std::find(known.begin(), known.end(), v) == known.end())
         std::cerr << watch::format_diagnostic(
@@ -137,32 +136,21 @@ int replay(const ReplayArgs& args) {
   }
   sim::MatchLog log(std::move(infos), out, std::max<size_t>(args.print, 1));
 
-  std::vector<std::unique_ptr<watch::Detector>> detectors;
   std::vector<uint64_t> counted(watches.size(), 0);  // of count-only watchpoints
   const auto matches_of = [&](size_t i) {
     return replayed[i].action == sim::MatchAction::Count ? counted[i] : log.count(i);
   };
-  int64_t max_lag = 0;
-  for (size_t i = 0; i < watches.size(); ++i) {
-    const uint32_t k = watches[i].program.slot_count();
-    watch::MatchSink sink = log.sink(i);
-    if (replayed[i].action == sim::MatchAction::Count)
-      sink = [&counted, i, k](int64_t, std::span<const watch::ModuleId> ids, std::span<const watch::Value>) {
-        counted[i] += ids.size() / k;
-      };
-    detectors.push_back(
-        watch::make_detector(replayed[i].algorithm, watches[i], frames.universe(), replayed[i].options, sink));
-    max_lag = std::max(max_lag, detectors.back()->lag());
-  }
+  std::vector<watch::MatchSink> logged;
+  for (size_t i = 0; i < watches.size(); ++i) logged.push_back(log.sink(i));
 
   const auto detect_start = std::chrono::steady_clock::now();
-  for (int64_t s = 0; s < trace.step_count(); ++s) {
-    const watch::Frame frame = frames.frame(s);
-    for (auto& d : detectors) d->observe(frame);
-    log.release(s - max_lag);
-  }
-  for (auto& d : detectors) d->finish();  // a simultaneous-state detector drains
-  log.finish();
+  const std::vector<watch::DetectorStats> stats = sim::replay(
+      frames, trace.step_count(), replayed,
+      [&](size_t i, int64_t, int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value> actions) {
+        if (replayed[i].action == sim::MatchAction::Count) counted[i] += ids.size() / watches[i].program.slot_count();
+        else logged[i](t, ids, actions);
+      },
+      [&](int64_t t) { log.release(t); });
   for (size_t i = 0; i < watches.size(); ++i)
     if (replayed[i].action == sim::MatchAction::Count) log.write_counted(watches[i].name, counted[i]);  // as run
   const double detect_seconds = seconds_since(detect_start);
@@ -179,7 +167,7 @@ int replay(const ReplayArgs& args) {
   bool stopped = false;
   uint64_t total = 0;
   for (size_t i = 0; i < watches.size(); ++i) {
-    const watch::DetectorStats& st = detectors[i]->stats();
+    const watch::DetectorStats& st = stats[i];
     total += matches_of(i);
     summary << "  " << watches[i].name;
     if (!one_reading)
@@ -221,8 +209,7 @@ int replay(const ReplayArgs& args) {
                   {"modules_named_only_as_neighbours", trace.universe().module_count() - trace.modules_with_lines()}};
     j["seconds"] = {{"reading", parse_seconds}, {"detecting", detect_seconds}};
     j["watches"] = nlohmann::json::array();
-    for (size_t i = 0; i < watches.size(); ++i)
-      j["watches"].push_back(stats_json(watches[i], detectors[i]->stats(), matches_of(i)));
+    for (size_t i = 0; i < watches.size(); ++i) j["watches"].push_back(stats_json(watches[i], stats[i], matches_of(i)));
     stats_out->stream() << j.dump(1) << "\n";
   }
   if (!commit_outputs({matches_out.get(), stats_out.get()})) return 1;

@@ -8,10 +8,45 @@
 
 namespace dw::sim {
 
+namespace {
+
+// Dense indices for module ids: every id that `each_id` visits (calling back for each), ascending,
+// in `ids`. A table when the ids are compact, a hash map otherwise.
+class DenseIds {
+ public:
+  template <class EachId>
+  DenseIds(watch::ModuleId largest, size_t lines, EachId&& each_id, std::vector<watch::ModuleId>& ids)
+      : compact_(largest < 4 * lines + 1024) {
+    if (compact_) {
+      constexpr uint32_t kUnseen = UINT32_MAX;
+      table_.assign(static_cast<size_t>(largest) + 1, kUnseen);
+      each_id([&](watch::ModuleId m) { table_[m] = 0; });
+      for (size_t m = 0; m < table_.size(); ++m)
+        if (table_[m] != kUnseen) {
+          table_[m] = static_cast<uint32_t>(ids.size());
+          ids.push_back(static_cast<watch::ModuleId>(m));
+        }
+    } else {
+      each_id([&](watch::ModuleId m) { ids.push_back(m); });
+      std::sort(ids.begin(), ids.end());
+      ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+      map_.reserve(ids.size());
+      for (uint32_t i = 0; i < ids.size(); ++i) map_.emplace(ids[i], i);
+    }
+  }
+  uint32_t operator()(watch::ModuleId m) const { return compact_ ? table_[m] : map_.at(m); }
+
+ private:
+  bool compact_;
+  std::vector<uint32_t> table_;  // id -> dense index, when ids are compact
+  std::unordered_map<watch::ModuleId, uint32_t> map_;
+};
+
+}  // namespace
+
 Trace Trace::build(std::vector<Entry> entries, std::vector<std::string> variable_names) {
   Trace trace;
   trace.universe_.variables = std::move(variable_names);
-  std::vector<watch::ModuleId>& ids = trace.universe_.module_ids;
   int64_t last_step = -1;
   watch::ModuleId largest = 0;
   for (const Entry& e : entries) {
@@ -19,41 +54,22 @@ Trace Trace::build(std::vector<Entry> entries, std::vector<std::string> variable
     for (watch::ModuleId n : e.nbrs) largest = std::max(largest, n);
     last_step = std::max(last_step, e.t);
   }
-  // Every module that has a line or is someone's neighbour (it may never have a line of its own),
-  // in id order: marked in a table when ids are compact, sorted otherwise.
-  auto each_id = [&](auto&& fn) {
-    for (const Entry& e : entries) {
-      fn(e.m);
-      for (watch::ModuleId n : e.nbrs) fn(n);
-    }
-  };
-  const bool compact = largest < 4 * entries.size() + 1024;
-  std::vector<uint32_t> dense_table;  // id -> dense index, when ids are compact
-  std::unordered_map<watch::ModuleId, uint32_t> dense_map;
-  if (compact) {
-    constexpr uint32_t kUnseen = UINT32_MAX;
-    dense_table.assign(static_cast<size_t>(largest) + 1, kUnseen);
-    each_id([&](watch::ModuleId m) { dense_table[m] = 0; });
-    for (size_t m = 0; m < dense_table.size(); ++m)
-      if (dense_table[m] != kUnseen) {
-        dense_table[m] = static_cast<uint32_t>(ids.size());
-        ids.push_back(static_cast<watch::ModuleId>(m));
-      }
-  } else {
-    each_id([&](watch::ModuleId m) { ids.push_back(m); });
-    std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-    dense_map.reserve(ids.size());
-    for (uint32_t i = 0; i < ids.size(); ++i) dense_map.emplace(ids[i], i);
-  }
-  auto dense = [&](watch::ModuleId m) { return compact ? dense_table[m] : dense_map.at(m); };
-
+  // Every module that has a line or is someone's neighbour (it may never have a line of its own).
+  const DenseIds dense(
+      largest, entries.size(),
+      [&](auto&& fn) {
+        for (const Entry& e : entries) {
+          fn(e.m);
+          for (watch::ModuleId n : e.nbrs) fn(n);
+        }
+      },
+      trace.universe_.module_ids);
   // Lines sorted by (step, module): each step's lines then come out in module order.
   std::sort(entries.begin(), entries.end(),
             [](const Entry& a, const Entry& b) { return a.t != b.t ? a.t < b.t : a.m < b.m; });
   // Only the steps with lines are indexed: a trace whose one line is at step 9,999,999 is small.
   trace.step_count_ = last_step + 1;
-  std::vector<uint8_t> has_line(ids.size(), 0);
+  std::vector<uint8_t> has_line(trace.universe_.module_ids.size(), 0);
   size_t values = 0, nbrs = 0;
   for (size_t i = 0; i < entries.size(); ++i) {
     if (i == 0 || entries[i].t != entries[i - 1].t) {
@@ -85,6 +101,110 @@ Trace Trace::build(std::vector<Entry> entries, std::vector<std::string> variable
   }
   trace.value_begin_.push_back(trace.value_.size());
   trace.nbr_begin_.push_back(trace.nbrs_.size());
+  trace.modules_with_lines_ = static_cast<uint32_t>(std::count(has_line.begin(), has_line.end(), 1));
+  return trace;
+}
+
+std::variant<Trace, std::string> Trace::from_columns(const Columns& c) {
+  const size_t lines = c.t.size();
+  const auto count = [](size_t n) { return std::to_string(n); };
+  if (c.m.size() != lines) return "\"m\" has " + count(c.m.size()) + " entries and \"t\" " + count(lines);
+  if (c.nbr_begin.size() != lines + 1)
+    return "the neighbour offsets have " + count(c.nbr_begin.size()) + " entries: one more than the lines (" +
+           count(lines + 1) + ") are needed";
+  if ((!c.nbr_begin.empty() && c.nbr_begin.front() != 0) ||
+      (!c.nbr_begin.empty() && c.nbr_begin.back() != static_cast<int64_t>(c.nbrs.size())))
+    return "the neighbour offsets must start at 0 and end at the number of neighbours (" + count(c.nbrs.size()) + ")";
+  for (size_t v = 0; v < c.variables.size(); ++v) {
+    if (c.values[v].size() != lines)
+      return "variable '" + c.variables[v] + "' has " + count(c.values[v].size()) + " values for " + count(lines) +
+             " lines";
+    if (std::find(c.variables.begin(), c.variables.begin() + static_cast<ptrdiff_t>(v), c.variables[v]) !=
+        c.variables.begin() + static_cast<ptrdiff_t>(v))
+      return "variable '" + c.variables[v] + "' appears twice";
+  }
+
+  // Each line checked as the file reader checks one; the order noted on the way.
+  const auto line = [&](size_t i) {
+    return "line " + count(i) + " (t=" + std::to_string(c.t[i]) + ", m=" + std::to_string(c.m[i]) + "): ";
+  };
+  int64_t last_step = -1;
+  watch::ModuleId largest = 0;
+  bool sorted = true;
+  std::vector<int64_t> scratch;
+  for (size_t i = 0; i < lines; ++i) {
+    if (c.t[i] < 0) return line(i) + "step \"t\" must be 0 or more";
+    if (c.t[i] > kMaxStep) return line(i) + "step \"t\" is beyond " + std::to_string(kMaxStep);
+    if (c.m[i] < 0 || c.m[i] > UINT32_MAX) return line(i) + "module id \"m\" must be in 0..4294967295";
+    const int64_t begin = c.nbr_begin[i], end = c.nbr_begin[i + 1];
+    if (end < begin || end > static_cast<int64_t>(c.nbrs.size()))
+      return line(i) + "its neighbour offsets " + std::to_string(begin) + ".." + std::to_string(end) +
+             " are not a range of the neighbours";
+    scratch.assign(c.nbrs.begin() + begin, c.nbrs.begin() + end);
+    for (int64_t n : scratch) {
+      if (n < 0 || n > UINT32_MAX) return line(i) + "neighbour id must be in 0..4294967295";
+      if (n == c.m[i]) return line(i) + "module " + std::to_string(n) + " lists itself as a neighbour";
+      largest = std::max(largest, static_cast<watch::ModuleId>(n));
+    }
+    std::sort(scratch.begin(), scratch.end());
+    if (std::adjacent_find(scratch.begin(), scratch.end()) != scratch.end())
+      return line(i) + "a neighbour appears twice in \"nbrs\"";
+    largest = std::max(largest, static_cast<watch::ModuleId>(c.m[i]));
+    last_step = std::max(last_step, c.t[i]);
+    if (i > 0 && !(c.t[i - 1] < c.t[i] || (c.t[i - 1] == c.t[i] && c.m[i - 1] < c.m[i]))) sorted = false;
+  }
+  // Lines in (step, module) order; sorted already, a duplicate cannot hide.
+  std::vector<size_t> order(lines);
+  for (size_t i = 0; i < lines; ++i) order[i] = i;
+  if (!sorted) {
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return c.t[a] != c.t[b] ? c.t[a] < c.t[b] : c.m[a] < c.m[b]; });
+    for (size_t k = 1; k < lines; ++k)
+      if (c.t[order[k]] == c.t[order[k - 1]] && c.m[order[k]] == c.m[order[k - 1]])
+        return line(order[k]) + "duplicate line for module " + std::to_string(c.m[order[k]]) + " at step " +
+               std::to_string(c.t[order[k]]) + " (first at line " + count(order[k - 1]) + ")";
+  }
+
+  Trace trace;
+  trace.universe_.variables = c.variables;
+  const DenseIds dense(
+      largest, lines,
+      [&](auto&& fn) {
+        for (size_t i = 0; i < lines; ++i) fn(static_cast<watch::ModuleId>(c.m[i]));
+        for (int64_t n : c.nbrs) fn(static_cast<watch::ModuleId>(n));
+      },
+      trace.universe_.module_ids);
+  trace.step_count_ = last_step + 1;
+  const size_t variables = c.variables.size();
+  trace.line_module_.resize(lines);
+  trace.value_begin_.resize(lines + 1);
+  trace.value_var_.resize(lines * variables);
+  trace.value_.resize(lines * variables);
+  trace.nbr_begin_.resize(lines + 1);
+  trace.nbrs_.resize(c.nbrs.size());
+  std::vector<uint8_t> has_line(trace.universe_.module_ids.size(), 0);
+  uint64_t nbr_at = 0;
+  for (size_t k = 0; k < lines; ++k) {
+    const size_t i = order[k];
+    if (k == 0 || c.t[i] != c.t[order[k - 1]]) {
+      trace.busy_steps_.push_back(c.t[i]);
+      trace.busy_begin_.push_back(k);
+    }
+    const uint32_t m = dense(static_cast<watch::ModuleId>(c.m[i]));
+    has_line[m] = 1;
+    trace.line_module_[k] = m;
+    trace.value_begin_[k] = k * variables;
+    for (size_t v = 0; v < variables; ++v) {
+      trace.value_var_[k * variables + v] = static_cast<uint32_t>(v);
+      trace.value_[k * variables + v] = c.values[v][i];
+    }
+    trace.nbr_begin_[k] = nbr_at;
+    for (int64_t j = c.nbr_begin[i]; j < c.nbr_begin[i + 1]; ++j)
+      trace.nbrs_[nbr_at++] = dense(static_cast<watch::ModuleId>(c.nbrs[static_cast<size_t>(j)]));
+  }
+  trace.busy_begin_.push_back(lines);
+  trace.value_begin_[lines] = lines * variables;
+  trace.nbr_begin_[lines] = nbr_at;
   trace.modules_with_lines_ = static_cast<uint32_t>(std::count(has_line.begin(), has_line.end(), 1));
   return trace;
 }

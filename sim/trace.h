@@ -49,6 +49,21 @@ class Trace {
   };
   static Trace build(std::vector<Entry> entries, std::vector<std::string> variable_names);
 
+  // Lines as columns, as a caller's arrays hold them (the Python package's numpy columns): line i
+  // is module m[i] at step t[i], with neighbours nbrs[nbr_begin[i] .. nbr_begin[i + 1]) and the
+  // value values[v][i] of each variable v. Lines in any order. The trace, or what is wrong with
+  // the first bad line ("line 7 (t=3, m=17): ...", lines counted from 0) in the words of the
+  // file reader.
+  struct Columns {
+    std::span<const int64_t> t, m, nbr_begin, nbrs;
+    std::vector<std::string> variables;
+    std::vector<std::span<const int64_t>> values;
+  };
+  static std::variant<Trace, std::string> from_columns(const Columns& columns);
+
+  // Ten million steps (eleven days at 10 Hz); every step up to the largest is part of the run.
+  static constexpr int64_t kMaxStep = 10'000'000;
+
   // The watchpoints of the run that recorded it (its header's "watches").
   const std::vector<TraceWatch>& watches() const { return watches_; }
   void set_watches(std::vector<TraceWatch> watches) { watches_ = std::move(watches); }

@@ -212,8 +212,7 @@ class TraceReader {
     return it->second;
   }
 
-  // Ten million steps (eleven days at 10 Hz); every step up to the largest is part of the run.
-  static constexpr int64_t kMaxStep = 10'000'000;
+  static constexpr int64_t kMaxStep = Trace::kMaxStep;
 
   std::string name_;
   const simdjson::padded_string& text_;

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <numeric>
+#include <random>
 
 #include "sim/synthetic_trace.h"
 #include "tests/sim/trace_frames.h"
@@ -128,6 +131,93 @@ TEST(Trace, OneLineWithManyVariablesReadsInLinearTime) {
   ASSERT_TRUE(std::holds_alternative<std::vector<TraceError>>(twice));
   EXPECT_EQ(std::get<std::vector<TraceError>>(twice)[0].format(),
             "twice.jsonl:1:22: error: variable 'a' appears twice");
+}
+
+// The same lines as JSON text and as columns in another order: the same trace.
+TEST(Trace, ColumnsInAnyOrderGiveTheTraceTheirLinesWouldBe) {
+  std::mt19937_64 random(7);
+  std::string text;
+  std::vector<int64_t> t, m, nbr_begin{0}, nbrs, x, y;
+  std::vector<size_t> order;
+  for (int64_t step = 0; step < 4; ++step)
+    for (int64_t id = 0; id < 6; ++id) {
+      if (random() % 5 == 0) continue;  // absent at this step
+      const int64_t a = int64_t(random() % 9) - 4, b = int64_t(random() % 3);
+      std::vector<int64_t> ns;
+      for (int64_t n = 0; n < 7; ++n)  // 6 is named only as a neighbour
+        if (n != id && random() % 3 == 0) ns.push_back(n);
+      text += "{\"t\":" + std::to_string(step) + ",\"m\":" + std::to_string(id) +
+              ",\"vars\":{\"x\":" + std::to_string(a) + ",\"y\":" + std::to_string(b) + "},\"nbrs\":[";
+      for (size_t k = 0; k < ns.size(); ++k) text += (k ? "," : "") + std::to_string(ns[k]);
+      text += "]}\n";
+      t.push_back(step);
+      m.push_back(id);
+      x.push_back(a);
+      y.push_back(b);
+      nbrs.insert(nbrs.end(), ns.begin(), ns.end());
+      nbr_begin.push_back(int64_t(nbrs.size()));
+    }
+  // Shuffled: line i of the columns is line perm[i] of the text.
+  std::vector<size_t> perm(t.size());
+  std::iota(perm.begin(), perm.end(), 0);
+  std::shuffle(perm.begin(), perm.end(), random);
+  Trace::Columns c;
+  std::vector<int64_t> ct, cm, cb{0}, cn, cx, cy;
+  for (size_t i : perm) {
+    ct.push_back(t[i]);
+    cm.push_back(m[i]);
+    cx.push_back(x[i]);
+    cy.push_back(y[i]);
+    cn.insert(cn.end(), nbrs.begin() + nbr_begin[i], nbrs.begin() + nbr_begin[i + 1]);
+    cb.push_back(int64_t(cn.size()));
+  }
+  c.t = ct, c.m = cm, c.nbr_begin = cb, c.nbrs = cn;
+  c.variables = {"x", "y"};
+  c.values = {cx, cy};
+  auto from_columns = Trace::from_columns(c);
+  auto from_text = read_trace_text("t", text);
+  ASSERT_TRUE(std::holds_alternative<Trace>(from_columns)) << std::get<std::string>(from_columns);
+  ASSERT_TRUE(std::holds_alternative<Trace>(from_text));
+  EXPECT_EQ(std::get<Trace>(from_columns).line_count(), t.size());
+  expect_same_frames(std::get<Trace>(from_text), std::get<Trace>(from_columns));
+}
+
+TEST(Trace, ColumnsAreRefusedForWhatALineIsRefusedFor) {
+  const std::vector<int64_t> t{0, 1, 1}, m{3, 3, 4}, begin{0, 1, 2, 2}, nbrs{4, 4}, x{1, 2, 3};
+  Trace::Columns good{t, m, begin, nbrs, {"x"}, {x}};
+  ASSERT_TRUE(std::holds_alternative<Trace>(Trace::from_columns(good)));
+  const auto error = [](Trace::Columns c) {
+    auto r = Trace::from_columns(c);
+    return std::holds_alternative<std::string>(r) ? std::get<std::string>(r) : "(accepted)";
+  };
+  const std::vector<int64_t> twice{1, 1, 1}, self{4, 3}, negative{0, -1, 1}, loop{0, 2, 1, 2}, repeated{4, 4, 4},
+      first_twice{0, 2, 2, 2};
+  Trace::Columns c = good;
+  c.t = twice;
+  EXPECT_EQ(error(c), "line 1 (t=1, m=3): duplicate line for module 3 at step 1 (first at line 0)");
+  c = good;
+  c.nbrs = self;
+  EXPECT_EQ(error(c), "line 1 (t=1, m=3): module 3 lists itself as a neighbour");
+  c = good;
+  c.t = negative;
+  EXPECT_EQ(error(c), "line 1 (t=-1, m=3): step \"t\" must be 0 or more");
+  c = good;
+  c.nbr_begin = loop;
+  c.nbrs = repeated;
+  EXPECT_EQ(error(c), "the neighbour offsets must start at 0 and end at the number of neighbours (3)");
+  c = good;
+  c.nbr_begin = first_twice;
+  EXPECT_EQ(error(c), "line 0 (t=0, m=3): a neighbour appears twice in \"nbrs\"");
+  c = good;
+  c.values = {std::span<const int64_t>(x).first(2)};
+  EXPECT_EQ(error(c), "variable 'x' has 2 values for 3 lines");
+  c = good;
+  c.variables = {"x", "x"};
+  c.values = {x, x};
+  EXPECT_EQ(error(c), "variable 'x' appears twice");
+  c = good;
+  c.m = std::span<const int64_t>(m).first(2);
+  EXPECT_EQ(error(c), "\"m\" has 2 entries and \"t\" 3");
 }
 
 }  // namespace
