@@ -372,6 +372,13 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
   return std::optional<SessionCommand>(std::move(cmd));
 }
 
+render::Scene SessionShell::scene() {
+  const int64_t t = std::max<int64_t>(0, session_.current());
+  render::SceneSettings settings = scene_settings(scenario_, "");
+  settings.title = scenario_.name + "  \xC2\xB7  step " + std::to_string(t);
+  return render::build_scene(session_.model(), session_.state(), groups_at(session_, t, Highlight::First), settings);
+}
+
 nlohmann::ordered_json SessionShell::position() {
   nlohmann::ordered_json j;
   j["current"] = session_.current();
@@ -572,17 +579,13 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         std::unique_ptr<sim::OutputFile> out;
         if (cmd.name == "-") return failed("render needs a file name");
         if (std::string error = open_output_apart(scenario_.inputs, file, out); !error.empty()) return failed(error);
-        const int64_t t = std::max<int64_t>(0, session_.current());
-        const std::vector<render::SceneGroup> groups = groups_at(session_, t, Highlight::First);
-        render::SceneSettings settings = scene_settings(scenario_, "");
-        settings.title = scenario_.name + "  \xC2\xB7  step " + std::to_string(t);
-        const render::Scene scene = render::build_scene(model, session_.state(), groups, settings);
-        if (std::string error = write_view(scene, *out, cmd.width, cmd.height); !error.empty()) return failed(error);
+        const render::Scene view = scene();
+        if (std::string error = write_view(view, *out, cmd.width, cmd.height); !error.empty()) return failed(error);
         answer["render"] = cmd.name;
-        answer["t"] = t;
+        answer["t"] = std::max<int64_t>(0, session_.current());
         answer["width"] = cmd.width;
         answer["height"] = cmd.height;
-        answer["groups"] = groups.size();
+        answer["groups"] = view.groups.size();
         break;
       }
       case Kind::Record: {

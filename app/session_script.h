@@ -12,6 +12,7 @@
 #include <variant>
 #include <vector>
 
+#include "render/scene.h"
 #include "scenarios/scenario.h"
 #include "sim/session.h"
 #include "watch/diagnostic.h"
@@ -91,6 +92,10 @@ class SessionShell {
   // Carries a command out: its answer, or why it failed.
   std::variant<nlohmann::ordered_json, std::string> execute(const SessionCommand& command,
                                                             const sim::Control& control = {});
+
+  // The 3D view of the current step (step 0 before any), its first match of each watchpoint
+  // highlighted: what `render` draws.
+  render::Scene scene();
 
   // Match i of watchpoint w as a line of the match log (docs/design.md §5).
   nlohmann::ordered_json match_json(uint32_t w, size_t i) const;

@@ -59,21 +59,25 @@ std::string check_color_by(const sim::Model& model, const std::string& color_by)
   return "--color-by: no program has a variable named \"" + color_by + "\" (there are: " + names + ")";
 }
 
-std::string write_view(const render::Scene& scene, sim::OutputFile& out, int width, int height) {
+std::variant<render::Image, std::string> render_view(const render::Scene& scene, int width, int height) {
   auto context = render::OsMesaContext::create();
   if (auto* error = std::get_if<std::string>(&context)) return *error;
   try {
     render::Renderer renderer(std::get<0>(context)->gl());
-    const render::Image image = renderer.render(scene, width, height);
-    std::string error;
-    const auto bytes = render::encode_png(image, &error);
-    if (!bytes) return error;
-    out.stream().write(reinterpret_cast<const char*>(bytes->data()), static_cast<std::streamsize>(bytes->size()));
-    return out.commit();
+    return renderer.render(scene, width, height);
   } catch (const render::RenderError& e) {
-    return e.what();
+    return std::string(e.what());
   }
-  return {};
+}
+
+std::string write_view(const render::Scene& scene, sim::OutputFile& out, int width, int height) {
+  auto image = render_view(scene, width, height);
+  if (auto* error = std::get_if<std::string>(&image)) return *error;
+  std::string error;
+  const auto bytes = render::encode_png(std::get<render::Image>(image), &error);
+  if (!bytes) return error;
+  out.stream().write(reinterpret_cast<const char*>(bytes->data()), static_cast<std::streamsize>(bytes->size()));
+  return out.commit();
 }
 
 }  // namespace dw::app

@@ -5,8 +5,10 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <variant>
 #include <vector>
 
+#include "render/image.h"
 #include "render/scene.h"
 #include "scenarios/scenario.h"
 #include "sim/output_file.h"
@@ -26,6 +28,9 @@ std::vector<render::SceneGroup> groups_at(const sim::Session& session, int64_t t
 
 // Checks a --color-by variable against the model; the error names the variables there are.
 std::string check_color_by(const sim::Model& model, const std::string& color_by);
+
+// Draws the scene headless (OSMesa): the picture, or why not.
+std::variant<render::Image, std::string> render_view(const render::Scene& scene, int width, int height);
 
 // Draws the scene headless and writes it as a PNG to `out`, committed; an error message, or empty.
 std::string write_view(const render::Scene& scene, sim::OutputFile& out, int width, int height);

@@ -23,6 +23,8 @@ packages=(
   clang-format                                 # scripts/check-format.sh (CI)
   time                                         # peak-memory figures for benchmarks (/usr/bin/time -v)
   python3-matplotlib                           # bench paper's plots (scripts/plot_paper.py, /usr/bin/python3)
+  pybind11-dev python3-dev python3-numpy       # the Python package (python/), for /usr/bin/python3
+  python3-pytest                               # its tests (python/tests/, run by ctest)
   libopenmpi-dev openmpi-bin                   # runs over several processes (mpirun -np N dwatch run, docs/design.md §12)
   libmetis-dev                                 # their --partition metis
 )

@@ -1,0 +1,118 @@
+"""Type stubs of dwatch._dwatch, the compiled part of the package (python/src/)."""
+
+import os
+from typing import Any, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class Error(Exception):
+    """What dwatch refuses or fails to do; its message is the command line's."""
+
+class WatchError(Error, ValueError):
+    """A watchpoint with mistakes: the first one's place and message, and the caret text of all."""
+
+    line: int
+    column: int
+    message: str
+    text: str
+
+class ScenarioError(Error, ValueError):
+    """A scenario file that cannot be loaded (file:line:col: error: ... lines)."""
+
+class TraceError(Error, ValueError):
+    """A trace file or trace columns with mistakes."""
+
+class CommandError(Error):
+    """A session command that is wrong or failed, in `dwatch session`'s words."""
+
+class Matches:
+    """One watchpoint's matches, in the match log's order (by t, then by slot ids)."""
+
+    watch: str
+    slot_names: list[str]
+    t: npt.NDArray[np.int64]
+    """Watch step of each match, shape (n,)."""
+    detected: npt.NDArray[np.int64]
+    """Step during which each match was found (t + lag), shape (n,)."""
+    slots: npt.NDArray[np.int64]
+    """Module filling each slot, shape (n, len(slot_names))."""
+    def __len__(self) -> int: ...
+
+Columns = Mapping[str, Any]
+"""Trace columns: "t", "m" (one entry per line), "nbr_begin" + "nbrs" (offsets and flat ids) or
+"nbrs" (a sequence per line), and "vars" (variable name -> one value per line)."""
+
+def check(text: str, name: str = "w") -> str:
+    """What `dwatch check` prints for the watchpoint; raises WatchError."""
+
+def replay(
+    trace: Union[str, os.PathLike[str], Columns],
+    watches: Union[None, str, Sequence[str], Mapping[str, str]] = None,
+    algorithm: str = "distributed",
+    shape: Optional[str] = None,
+    states: Optional[str] = None,
+    max_live: int = 20000000,
+) -> dict[str, Matches]:
+    """Watchpoints over a trace file or columns, as `dwatch replay` runs them."""
+
+Point = Tuple[float, float, float]
+
+class Session:
+    """A debugging session over a scenario file, as `dwatch session` runs it."""
+
+    def __init__(
+        self,
+        scenario: str,
+        threads: Optional[int] = None,
+        seed: Optional[int] = None,
+        history_mb: Optional[int] = None,
+    ) -> None: ...
+    def command(self, line: str) -> Optional[dict[str, Any]]:
+        """Any command of the session language; its answer."""
+    def step(self, n: int = 1) -> dict[str, Any]: ...
+    def run(self, t: Optional[int] = None, to_match: Optional[str] = None) -> dict[str, Any]: ...
+    def continue_(self) -> dict[str, Any]: ...
+    def seek(self, t: int) -> dict[str, Any]: ...
+    def set(self, module: int, variable: str, value: int) -> dict[str, Any]: ...
+    def remove(self, module: int) -> dict[str, Any]: ...
+    def push(self, module: int, x: float, y: float, z: float) -> dict[str, Any]: ...
+    def watch(
+        self,
+        name: str,
+        text: str,
+        algorithm: str = "distributed",
+        shape: Optional[str] = None,
+        states: Optional[str] = None,
+        action: str = "log",
+        max_live: int = 20000000,
+    ) -> dict[str, Any]: ...
+    def unwatch(self, name: str) -> dict[str, Any]: ...
+    def action(self, name: str, action: str) -> dict[str, Any]: ...
+    def matches(self, name: str) -> Matches: ...
+    def state(self, module: int) -> dict[str, Any]: ...
+    def values(self, variable: str) -> npt.NDArray[np.int64]:
+        """One variable of every module at the current step, shape (modules,)."""
+    def series(self, module: int, variable: str, first: int, last: int) -> npt.NDArray[np.int64]:
+        """One variable of one module over steps first..last, shape (last - first + 1,)."""
+    def hash(self) -> str: ...
+    def render(
+        self, width: int = 1280, height: int = 720, camera: Optional[Tuple[Point, Point]] = None
+    ) -> npt.NDArray[np.uint8]:
+        """The 3D view of the current step, shape (height, width, 3)."""
+    def save(self, path: str, overwrite: bool = False) -> dict[str, Any]: ...
+    def record(self, path: str) -> dict[str, Any]: ...
+    @property
+    def current(self) -> int: ...
+    @property
+    def latest(self) -> int: ...
+    @property
+    def end(self) -> int: ...
+    @property
+    def modules(self) -> int: ...
+    @property
+    def variables(self) -> list[str]: ...
+    @property
+    def watches(self) -> list[str]: ...

@@ -1,0 +1,41 @@
+// The Python package's module, dwatch._dwatch: each file adds one part of it.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "watch/detector.h"
+#include "watch/watchpoint.h"
+
+namespace dw::python {
+
+namespace py = pybind11;
+
+// dwatch.Error and its subclasses, made in the module (errors.cpp).
+void add_errors(py::module_& m);
+// Raises dwatch.<kind> (Error, ScenarioError, TraceError, CommandError) with `message`.
+[[noreturn]] void raise_error(const char* kind, const std::string& message);
+// Raises dwatch.WatchError for a watchpoint that does not compile: line, column and message of the
+// first mistake, and the caret text of all of them.
+[[noreturn]] void raise_watch_error(const watch::CompileError& error);
+// A watchpoint compiled from `text` named `name` (its source named "<watch NAME>"), or
+// dwatch.WatchError.
+watch::Watchpoint compile_or_raise(const std::string& name, const std::string& text);
+
+// The detectors' reading from the names `--algorithm`, `--shape` and `--states` take, with the
+// `--max-live` budget; dwatch.Error when a name is wrong or the reading cannot run.
+struct Reading {
+  watch::Algorithm algorithm = watch::Algorithm::Distributed;
+  watch::DetectorOptions options;
+};
+Reading reading(const std::string& algorithm, const std::optional<std::string>& shape,
+                const std::optional<std::string>& states, uint64_t max_live);
+
+void add_check(py::module_& m);    // dwatch.check
+void add_replay(py::module_& m);   // dwatch.replay and dwatch.Matches
+void add_session(py::module_& m);  // dwatch.Session
+
+}  // namespace dw::python

@@ -1,0 +1,77 @@
+#include <Python.h>
+
+#include <sstream>
+
+#include "app/explain.h"
+#include "python/src/bindings.h"
+
+namespace dw::python {
+namespace {
+
+py::object error_type(const char* kind) { return py::module_::import("dwatch._dwatch").attr(kind); }
+
+// A new exception class of the module, deriving from `bases`.
+void add_error(py::module_& m, const char* name, py::object bases, const char* doc) {
+  const std::string qualified = std::string("dwatch.") + name;
+  PyObject* type = PyErr_NewExceptionWithDoc(qualified.c_str(), doc, bases.ptr(), nullptr);
+  if (!type) throw py::error_already_set();
+  m.attr(name) = py::reinterpret_steal<py::object>(type);
+}
+
+}  // namespace
+
+void add_errors(py::module_& m) {
+  add_error(m, "Error", py::reinterpret_borrow<py::object>(PyExc_Exception),
+            "What dwatch refuses or fails to do; its message is the command line's.");
+  const py::object error = m.attr("Error");
+  const py::object value_error = py::reinterpret_borrow<py::object>(PyExc_ValueError);
+  add_error(m, "WatchError", py::make_tuple(error, value_error),
+            "A watchpoint with mistakes. line, column (1-based) and message: the first mistake; "
+            "text: every mistake with the source line and a caret under the spot, as `dwatch check` prints them.");
+  add_error(m, "ScenarioError", py::make_tuple(error, value_error),
+            "A scenario file that cannot be loaded; the message lists its mistakes as file:line:col: error: ...");
+  add_error(m, "TraceError", py::make_tuple(error, value_error),
+            "A trace (a file or columns) with mistakes; the message lists them as the command line does.");
+  add_error(m, "CommandError", error,
+            "A session command that is wrong or failed; the message is what `dwatch session` says.");
+}
+
+void raise_error(const char* kind, const std::string& message) {
+  PyErr_SetObject(error_type(kind).ptr(), py::str(message).ptr());
+  throw py::error_already_set();
+}
+
+void raise_watch_error(const watch::CompileError& error) {
+  const std::string text = error.format();
+  const watch::Diagnostic& first = error.diagnostics.front();
+  const watch::Location at = error.source->locate(first.span.begin);
+  py::object e = error_type("WatchError")(text);
+  e.attr("line") = at.line;
+  e.attr("column") = at.column;
+  e.attr("message") = first.message;
+  e.attr("text") = text;
+  PyErr_SetObject(error_type("WatchError").ptr(), e.ptr());
+  throw py::error_already_set();
+}
+
+watch::Watchpoint compile_or_raise(const std::string& name, const std::string& text) {
+  auto compiled = watch::compile_watchpoint(name, watch::SourceText("<watch " + name + ">", text));
+  if (auto* error = std::get_if<watch::CompileError>(&compiled)) raise_watch_error(*error);
+  return std::get<watch::Watchpoint>(std::move(compiled));
+}
+
+void add_check(py::module_& m) {
+  m.def(
+      "check",
+      [](const std::string& text, const std::string& name) {
+        const watch::Watchpoint w = compile_or_raise(name, text);
+        std::ostringstream out;
+        app::explain_watchpoint(w, out);
+        return out.str();
+      },
+      py::arg("text"), py::arg("name") = "w",
+      "Parses, checks and compiles a watchpoint; returns what `dwatch check` prints for it (normal form, slots, "
+      "E+, offsets, spans, the PatternMatcher's size), or raises WatchError.");
+}
+
+}  // namespace dw::python

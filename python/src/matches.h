@@ -1,0 +1,32 @@
+// dwatch.Matches: the matches of one watchpoint as numpy arrays, made by dwatch.replay and
+// Session.matches alike.
+#pragma once
+
+#include <pybind11/numpy.h>
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "python/src/bindings.h"
+#include "watch/value.h"
+
+namespace dw::python {
+
+struct Matches {
+  std::string watch;
+  std::vector<std::string> slot_names;
+  py::array_t<int64_t> t, detected, slots;  // n; n; n x slot count
+
+  // Collects matches as found; `finish` makes the arrays.
+  struct Builder {
+    std::vector<int64_t> t, detected, slots;
+    void add(int64_t detected_at, int64_t step, std::span<const watch::ModuleId> ids, size_t slot_count);
+  };
+  static Matches make(std::string watch, std::vector<std::string> slot_names, const Builder& built);
+};
+
+void add_matches(py::module_& m);
+
+}  // namespace dw::python

@@ -1,0 +1,309 @@
+// dwatch.Session: the debugging session (sim/session.h) from Python. Commands go through the
+// session language's shell (app/session_script.h), as `dwatch session` and the window send them,
+// so that their checks, answers and error words are the command line's; the arrays (matches,
+// values, series, pictures) are read from the session directly.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <stop_token>
+
+#include "app/session_script.h"
+#include "app/view_image.h"
+#include "python/src/bindings.h"
+#include "python/src/matches.h"
+#include "scenarios/limits.h"
+
+namespace dw::python {
+namespace {
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+class Session {
+ public:
+  Session(const std::string& path, std::optional<int64_t> threads, std::optional<int64_t> seed,
+          std::optional<int64_t> history_mb) {
+    const auto check = [](std::optional<int64_t> v, const scenarios::IntegerRange& range) {
+      if (v && (*v < range.min || *v > range.max))
+        raise_error("Error", std::string(range.key) + " must be an integer from " + std::to_string(range.min) +
+                                 " to " + std::to_string(range.max));
+    };
+    check(threads, scenarios::kThreadsRange);
+    check(seed, scenarios::kSeedRange);
+    check(history_mb, scenarios::kHistoryRange);
+    const app::SessionSource source{.scenario = path, .seed = seed, .threads = threads, .history_mb = history_mb};
+    scenarios::ScenarioOverrides overrides;
+    if (seed) overrides.seed = static_cast<uint64_t>(*seed);
+    overrides.memory_limit = app::memory_limit_unless(false);
+    std::variant<scenarios::Scenario, std::string> loaded;
+    {
+      py::gil_scoped_release released;
+      loaded = scenarios::load_scenario(path, overrides);
+    }
+    if (auto* errors = std::get_if<std::string>(&loaded)) {
+      std::string message = *errors;
+      while (!message.empty() && message.back() == '\n') message.pop_back();
+      raise_error("ScenarioError", message);
+    }
+    scenario_ = std::make_unique<scenarios::Scenario>(std::get<scenarios::Scenario>(std::move(loaded)));
+    session_ = std::make_unique<sim::Session>(*scenario_->model, *scenario_->world,
+                                              app::session_options(*scenario_, source));
+    shell_ = std::make_unique<app::SessionShell>(*scenario_, *session_);
+  }
+
+  // One line of the session language: its answer as a dict (None for a blank or comment line).
+  py::object command(const std::string& line) {
+    if (line.find('\n') != std::string::npos) raise_error("CommandError", "one command, on one line");
+    const watch::SourceText source("<command>", line);
+    auto parsed = shell_->parse(source, 0, 1);
+    if (auto* mistakes = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) {
+      std::string message = watch::format_diagnostics(source, *mistakes);
+      while (!message.empty() && message.back() == '\n') message.pop_back();
+      raise_error("CommandError", message);
+    }
+    const auto& command = std::get<std::optional<app::SessionCommand>>(parsed);
+    if (!command) return py::none();
+    return execute(*command);
+  }
+
+  py::object watch(const std::string& name, const std::string& text, const std::string& algorithm,
+                   const std::optional<std::string>& shape, const std::optional<std::string>& states,
+                   const std::string& action, uint64_t max_live) {
+    if (name.empty() || name.find_first_of(" \t\r\n") != std::string::npos)
+      raise_error("CommandError", "a watchpoint's name is one word, not " + quoted(name));
+    const Reading r = reading(algorithm, shape, states, max_live);
+    const auto what = sim::parse_action(action);
+    if (!what) raise_error("Error", "action must be 'log', 'pause' or 'count', not " + quoted(action));
+    watch::Watchpoint w = compile_or_raise(name, text);
+    if (auto unknown = app::unknown_variables(session_->model(), w); !unknown.empty())
+      raise_watch_error({w.source, std::move(unknown)});
+    app::SessionCommand command{.kind = app::SessionCommand::Kind::Watch, .name = name};
+    command.watch = sim::HostedWatchpoint{std::move(w), r.algorithm, *what, r.options};
+    return execute(command);
+  }
+
+  Matches matches(const std::string& name) const {
+    const int w = session_->watch_index(name);
+    if (w < 0) raise_error("CommandError", "no watchpoint is named " + quoted(name));
+    const sim::MatchList& list = session_->matches(static_cast<uint32_t>(w));
+    const auto& slot_names = session_->model().watches[static_cast<size_t>(w)].watchpoint.program.slot_names;
+    Matches::Builder built;
+    built.t = list.t;
+    built.detected = list.detected;
+    built.slots.assign(list.slots.begin(), list.slots.end());
+    return Matches::make(name, slot_names, built);
+  }
+
+  // One variable of every module at the current step.
+  py::array_t<int64_t> values(const std::string& variable) {
+    const int column = this->column(variable);
+    const sim::Model& model = session_->model();
+    std::vector<int64_t> all;
+    {
+      py::gil_scoped_release released;
+      all = session_->whole_values(session_->state());
+    }
+    py::array_t<int64_t> out(model.module_count());
+    for (uint32_t m = 0; m < model.module_count(); ++m)
+      out.mutable_at(m) = all[size_t{m} * model.variable_count() + static_cast<size_t>(column)];
+    return out;
+  }
+
+  py::array_t<int64_t> series(int64_t module, const std::string& variable, int64_t first, int64_t last) {
+    const int column = this->column(variable);
+    if (module < 0 || module >= session_->model().module_count())
+      raise_error("CommandError", "M must be an integer from 0 to " + std::to_string(session_->model().module_count() - 1));
+    if (first < 0 || last < first || last > session_->latest())
+      raise_error("CommandError", "the steps must satisfy 0 <= first <= last <= latest (" +
+                                      std::to_string(session_->latest()) + ")");
+    std::optional<std::vector<int64_t>> values;
+    run_cancellable([&](const sim::Control& control) {
+      values = session_->series(static_cast<sim::ModuleId>(module), column, first, last, control);
+    });
+    return py::array_t<int64_t>(static_cast<py::ssize_t>(values->size()), values->data());
+  }
+
+  py::array_t<uint8_t> render(int width, int height, const std::optional<py::tuple>& camera) {
+    if (width < 1 || height < 1 || width > 8192 || height > 8192)
+      raise_error("Error", "width and height must be from 1 to 8192 pixels");
+    render::Scene scene = shell_->scene();
+    if (camera) {
+      if (camera->size() != 2) raise_error("Error", "camera is (eye, target): two points (x, y, z)");
+      scene.camera_eye = (*camera)[0].cast<sim::Vec3>();
+      scene.camera_target = (*camera)[1].cast<sim::Vec3>();
+    }
+    std::variant<render::Image, std::string> drawn;
+    {
+      py::gil_scoped_release released;
+      drawn = app::render_view(scene, width, height);
+    }
+    if (auto* error = std::get_if<std::string>(&drawn)) raise_error("Error", *error);
+    const render::Image& image = std::get<render::Image>(drawn);
+    py::array_t<uint8_t> out({height, width, 3});
+    uint8_t* to = out.mutable_data();
+    for (size_t p = 0, n = size_t(width) * size_t(height); p < n; ++p)
+      for (size_t c = 0; c < 3; ++c) to[p * 3 + c] = image.rgba[p * 4 + c];
+    return out;
+  }
+
+  const sim::Session& session() const { return *session_; }
+
+ private:
+  int column(const std::string& variable) const {
+    const int c = session_->model().column(variable);
+    if (c < 0) raise_error("CommandError", quoted(variable) + " is no program's variable");
+    return c;
+  }
+
+  // Runs `work` without the GIL; Ctrl-C (any Python signal handler that raises) stops it between
+  // steps, and the exception is raised once the session is consistent again.
+  template <class Work>
+  void run_cancellable(Work&& work) {
+    std::stop_source stop;
+    bool interrupted = false;
+    const sim::Control control{stop.get_token(), [&](int64_t, int64_t) {
+                                 py::gil_scoped_acquire gil;
+                                 if (!interrupted && PyErr_CheckSignals() != 0) {
+                                   interrupted = true;
+                                   stop.request_stop();
+                                 }
+                               }};
+    {
+      py::gil_scoped_release released;
+      work(control);
+    }
+    if (interrupted) throw py::error_already_set();  // the signal handler's exception, still set
+  }
+
+  py::object execute(const app::SessionCommand& command) {
+    std::variant<nlohmann::ordered_json, std::string> answer;
+    run_cancellable([&](const sim::Control& control) {
+      try {
+        answer = shell_->execute(command, control);
+      } catch (const std::exception& e) {
+        answer = std::string(e.what());
+      }
+    });
+    if (auto* error = std::get_if<std::string>(&answer)) raise_error("CommandError", *error);
+    return py::module_::import("json").attr("loads")(std::get<nlohmann::ordered_json>(answer).dump());
+  }
+
+  std::unique_ptr<scenarios::Scenario> scenario_;
+  std::unique_ptr<sim::Session> session_;
+  std::unique_ptr<app::SessionShell> shell_;
+};
+
+std::string number(int64_t v) { return std::to_string(v); }
+
+}  // namespace
+
+void add_session(py::module_& m) {
+  py::class_<Session>(m, "Session", R"(A debugging session over a scenario file, as `dwatch session` runs it.
+
+The whole history stays: seek anywhere, intervene to start a branch, add watchpoints that are
+evaluated over the past. Commands answer dicts, the JSON objects `dwatch session` prints; a wrong
+or failed command raises CommandError with the command line's words. Stepping runs without the
+GIL; Ctrl-C stops a long command between steps (the session stays consistent) and raises
+KeyboardInterrupt.)")
+      .def(py::init<const std::string&, std::optional<int64_t>, std::optional<int64_t>, std::optional<int64_t>>(),
+           py::arg("scenario"), py::arg("threads") = py::none(), py::arg("seed") = py::none(),
+           py::arg("history_mb") = py::none(),
+           "Loads a scenario file (TOML); threads, seed and history_mb override the scenario's. Raises "
+           "ScenarioError.")
+      .def("command", &Session::command, py::arg("line"),
+           "Any command of the session language (`help` lists them); its answer as a dict.")
+      .def(
+          "step", [](Session& s, int64_t n) { return s.command("step " + number(n)); }, py::arg("n") = 1,
+          "Runs n steps (stops at a pause match).")
+      .def(
+          "run",
+          [](Session& s, std::optional<int64_t> t, std::optional<std::string> to_match) {
+            return s.command("run" + (t ? " " + number(*t) : "") + (to_match ? " --to-match " + *to_match : ""));
+          },
+          py::arg("t") = py::none(), py::arg("to_match") = py::none(),
+          "Runs until step t - 1 is current (default: the scenario's end), a pause match, or the next match of "
+          "watchpoint to_match.")
+      .def(
+          "continue_", [](Session& s) { return s.command("continue"); },
+          "Runs on past the pause that stopped the cursor (`continue`).")
+      .def(
+          "seek", [](Session& s, int64_t t) { return s.command("seek " + number(t)); }, py::arg("t"),
+          "Makes step t current; nothing is lost.")
+      .def(
+          "set",
+          [](Session& s, int64_t module, const std::string& variable, int64_t value) {
+            return s.command("set " + number(module) + " " + variable + " " + number(value));
+          },
+          py::arg("module"), py::arg("variable"), py::arg("value"),
+          "Intervention at the current step: a new branch where the module's variable has this value.")
+      .def(
+          "remove", [](Session& s, int64_t module) { return s.command("remove " + number(module)); },
+          py::arg("module"), "Intervention: the module leaves the ensemble.")
+      .def(
+          "push",
+          [](Session& s, int64_t module, double x, double y, double z) {
+            const auto real = [](double v) {
+              std::ostringstream out;
+              out.precision(17);
+              out << v;
+              return out.str();
+            };
+            return s.command("push " + number(module) + " " + real(x) + " " + real(y) + " " + real(z));
+          },
+          py::arg("module"), py::arg("x"), py::arg("y"), py::arg("z"),
+          "Intervention (physics): an impulse of (x, y, z) N s on the module's body.")
+      .def("watch", &Session::watch, py::arg("name"), py::arg("text"), py::arg("algorithm") = "distributed",
+           py::arg("shape") = py::none(), py::arg("states") = py::none(), py::arg("action") = "log",
+           py::arg("max_live") = 20'000'000,
+           "Adds or replaces a watchpoint, evaluated over the whole history. Raises WatchError.")
+      .def(
+          "unwatch", [](Session& s, const std::string& name) { return s.command("unwatch " + name); },
+          py::arg("name"), "Removes a watchpoint.")
+      .def(
+          "action",
+          [](Session& s, const std::string& name, const std::string& what) {
+            return s.command("action " + name + " " + what);
+          },
+          py::arg("name"), py::arg("action"), "What the watchpoint does with its matches from now on: log, pause, count.")
+      .def("matches", &Session::matches, py::arg("name"), "The watchpoint's matches over the history, as arrays.")
+      .def(
+          "state", [](Session& s, int64_t module) { return s.command("state " + number(module)); },
+          py::arg("module"), "The module at the current step: variables, neighbours, pose.")
+      .def("values", &Session::values, py::arg("variable"),
+           "One variable of every module at the current step: int64, shape (modules,).")
+      .def("series", &Session::series, py::arg("module"), py::arg("variable"), py::arg("first"), py::arg("last"),
+           "One variable of one module over steps first..last: int64, shape (last - first + 1,).")
+      .def(
+          "hash", [](Session& s) { return s.command("hash").attr("__getitem__")("hash"); },
+          "The state hash at the current step, as `dwatch session`'s `hash` answers it.")
+      .def("render", &Session::render, py::arg("width") = 1280, py::arg("height") = 720, py::arg("camera") = py::none(),
+           "The 3D view of the current step, its matches highlighted, as `render` draws it: uint8, shape (height, "
+           "width, 3). camera: (eye, target), two points; default: fitted.")
+      .def(
+          "save",
+          [](Session& s, const std::string& path, bool overwrite) {
+            return s.command("save " + path + (overwrite ? " overwrite" : ""));
+          },
+          py::arg("path"), py::arg("overwrite") = false, "This session as a scenario file.")
+      .def(
+          "record", [](Session& s, const std::string& path) { return s.command("record " + path); }, py::arg("path"),
+          "The trace of steps 0..latest (wptrace v1).")
+      .def_property_readonly("current", [](const Session& s) { return s.session().current(); },
+                             "The step shown (-1 before the first).")
+      .def_property_readonly("latest", [](const Session& s) { return s.session().latest(); },
+                             "The last step simulated on this branch.")
+      .def_property_readonly("end", [](const Session& s) { return s.session().end(); }, "The scenario's steps.")
+      .def_property_readonly("modules", [](const Session& s) { return s.session().model().module_count(); },
+                             "How many modules the ensemble has (ids 0 .. modules - 1).")
+      .def_property_readonly("variables", [](const Session& s) { return s.session().model().universe.variables; },
+                             "The programs' variables.")
+      .def_property_readonly(
+          "watches",
+          [](const Session& s) {
+            std::vector<std::string> names;
+            for (const sim::HostedWatchpoint& h : s.session().model().watches) names.push_back(h.watchpoint.name);
+            return names;
+          },
+          "The watchpoints' names.");
+}
+
+}  // namespace dw::python
