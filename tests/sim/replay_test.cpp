@@ -40,7 +40,8 @@ TEST(Replay, EachWatchpointFindsTheReferencesMatchesAtItsLag) {
   int64_t released = INT64_MIN;
   const std::vector<watch::DetectorStats> stats = replay(
       std::get<FrameReader>(made), trace.step_count(), watches,
-      [&](size_t w, int64_t detected, int64_t t, std::span<const watch::ModuleId> slots, std::span<const watch::Value>) {
+      [&](size_t w, int64_t detected, int64_t t, std::span<const watch::ModuleId> slots,
+          std::span<const watch::Value>) {
         EXPECT_EQ(detected - t, watches[w].lag()) << watches[w].watchpoint.name << " at t=" << t;
         EXPECT_GT(t, released) << "a match of a step already released";
         found[w] += slots.size() / 3;
