@@ -5,8 +5,7 @@
 
 namespace dw::python {
 
-void Matches::Builder::add(int64_t detected_at, int64_t step, std::span<const watch::ModuleId> ids,
-                           size_t slot_count) {
+void Matches::Builder::add(int64_t detected_at, int64_t step, std::span<const watch::ModuleId> ids, size_t slot_count) {
   // The groups of one watch step in the match log's order: by slot ids, in slot order.
   const size_t groups = slot_count ? ids.size() / slot_count : 0;
   std::vector<size_t> order(groups);

@@ -114,8 +114,8 @@ py::dict replay(const py::object& trace_arg, const py::object& watches, const st
     for (const std::string& v : h.watchpoint.program.variables)
       if (std::find(known.begin(), known.end(), v) == known.end())
         py::module_::import("warnings")
-            .attr("warn")("watchpoint \"" + h.watchpoint.name + "\" reads '" + v + "', which no line of " +
-                          trace_name + " has: it can never match");
+            .attr("warn")("watchpoint \"" + h.watchpoint.name + "\" reads '" + v + "', which no line of " + trace_name +
+                          " has: it can never match");
 
   auto made = sim::FrameReader::make(trace, sim::read_variables(watched), sim::default_frame_budget());
   if (auto* why = std::get_if<std::string>(&made)) raise_error("Error", trace_name + ": " + *why);
@@ -131,8 +131,8 @@ py::dict replay(const py::object& trace_arg, const py::object& watches, const st
   }
   for (size_t i = 0; i < watched.size(); ++i)
     if (stats[i].stopped)
-      raise_error("Error", watched[i].watchpoint.name + ": stopped: " + stats[i].stop_reason +
-                               " (max_live= sets the budget)");
+      raise_error("Error",
+                  watched[i].watchpoint.name + ": stopped: " + stats[i].stop_reason + " (max_live= sets the budget)");
   py::dict out;
   for (size_t i = 0; i < watched.size(); ++i) {
     const watch::Watchpoint& w = watched[i].watchpoint;
@@ -156,8 +156,7 @@ Reading reading(const std::string& algorithm, const std::optional<std::string>& 
   }
   if (states) {
     r.options.states = watch::parse_states(*states);
-    if (!r.options.states)
-      raise_error("Error", "states must be 'consistent' or 'simultaneous', not '" + *states + "'");
+    if (!r.options.states) raise_error("Error", "states must be 'consistent' or 'simultaneous', not '" + *states + "'");
   }
   if (const std::string why = watch::unsupported(r.algorithm, r.options); !why.empty()) raise_error("Error", why);
   return r;

@@ -24,8 +24,8 @@ class Session {
           std::optional<int64_t> history_mb) {
     const auto check = [](std::optional<int64_t> v, const scenarios::IntegerRange& range) {
       if (v && (*v < range.min || *v > range.max))
-        raise_error("Error", std::string(range.key) + " must be an integer from " + std::to_string(range.min) +
-                                 " to " + std::to_string(range.max));
+        raise_error("Error", std::string(range.key) + " must be an integer from " + std::to_string(range.min) + " to " +
+                                 std::to_string(range.max));
     };
     check(threads, scenarios::kThreadsRange);
     check(seed, scenarios::kSeedRange);
@@ -45,8 +45,8 @@ class Session {
       raise_error("ScenarioError", message);
     }
     scenario_ = std::make_unique<scenarios::Scenario>(std::get<scenarios::Scenario>(std::move(loaded)));
-    session_ = std::make_unique<sim::Session>(*scenario_->model, *scenario_->world,
-                                              app::session_options(*scenario_, source));
+    session_ =
+        std::make_unique<sim::Session>(*scenario_->model, *scenario_->world, app::session_options(*scenario_, source));
     shell_ = std::make_unique<app::SessionShell>(*scenario_, *session_);
   }
 
@@ -111,10 +111,11 @@ class Session {
   py::array_t<int64_t> series(int64_t module, const std::string& variable, int64_t first, int64_t last) {
     const int column = this->column(variable);
     if (module < 0 || module >= session_->model().module_count())
-      raise_error("CommandError", "M must be an integer from 0 to " + std::to_string(session_->model().module_count() - 1));
+      raise_error("CommandError",
+                  "M must be an integer from 0 to " + std::to_string(session_->model().module_count() - 1));
     if (first < 0 || last < first || last > session_->latest())
-      raise_error("CommandError", "the steps must satisfy 0 <= first <= last <= latest (" +
-                                      std::to_string(session_->latest()) + ")");
+      raise_error("CommandError",
+                  "the steps must satisfy 0 <= first <= last <= latest (" + std::to_string(session_->latest()) + ")");
     std::optional<std::vector<int64_t>> values;
     run_cancellable([&](const sim::Control& control) {
       values = session_->series(static_cast<sim::ModuleId>(module), column, first, last, control);
@@ -220,7 +221,7 @@ KeyboardInterrupt.)")
             return s.command("run" + (t ? " " + number(*t) : "") + (to_match ? " --to-match " + *to_match : ""));
           },
           py::arg("t") = py::none(), py::arg("to_match") = py::none(),
-          "Runs until step t - 1 is current (default: the scenario's end), a pause match, or the next match of "
+          "Runs until step t is current (default: the scenario's last step), a pause match, or the next match of "
           "watchpoint to_match.")
       .def(
           "continue_", [](Session& s) { return s.command("continue"); },
@@ -236,8 +237,8 @@ KeyboardInterrupt.)")
           py::arg("module"), py::arg("variable"), py::arg("value"),
           "Intervention at the current step: a new branch where the module's variable has this value.")
       .def(
-          "remove", [](Session& s, int64_t module) { return s.command("remove " + number(module)); },
-          py::arg("module"), "Intervention: the module leaves the ensemble.")
+          "remove", [](Session& s, int64_t module) { return s.command("remove " + number(module)); }, py::arg("module"),
+          "Intervention: the module leaves the ensemble.")
       .def(
           "push",
           [](Session& s, int64_t module, double x, double y, double z) {
@@ -256,18 +257,19 @@ KeyboardInterrupt.)")
            py::arg("max_live") = 20'000'000,
            "Adds or replaces a watchpoint, evaluated over the whole history. Raises WatchError.")
       .def(
-          "unwatch", [](Session& s, const std::string& name) { return s.command("unwatch " + name); },
-          py::arg("name"), "Removes a watchpoint.")
+          "unwatch", [](Session& s, const std::string& name) { return s.command("unwatch " + name); }, py::arg("name"),
+          "Removes a watchpoint.")
       .def(
           "action",
           [](Session& s, const std::string& name, const std::string& what) {
             return s.command("action " + name + " " + what);
           },
-          py::arg("name"), py::arg("action"), "What the watchpoint does with its matches from now on: log, pause, count.")
+          py::arg("name"), py::arg("action"),
+          "What the watchpoint does with its matches from now on: log, pause, count.")
       .def("matches", &Session::matches, py::arg("name"), "The watchpoint's matches over the history, as arrays.")
       .def(
-          "state", [](Session& s, int64_t module) { return s.command("state " + number(module)); },
-          py::arg("module"), "The module at the current step: variables, neighbours, pose.")
+          "state", [](Session& s, int64_t module) { return s.command("state " + number(module)); }, py::arg("module"),
+          "The module at the current step: variables, neighbours, pose.")
       .def("values", &Session::values, py::arg("variable"),
            "One variable of every module at the current step: int64, shape (modules,).")
       .def("series", &Session::series, py::arg("module"), py::arg("variable"), py::arg("first"), py::arg("last"),
@@ -287,15 +289,18 @@ KeyboardInterrupt.)")
       .def(
           "record", [](Session& s, const std::string& path) { return s.command("record " + path); }, py::arg("path"),
           "The trace of steps 0..latest (wptrace v1).")
-      .def_property_readonly("current", [](const Session& s) { return s.session().current(); },
-                             "The step shown (-1 before the first).")
-      .def_property_readonly("latest", [](const Session& s) { return s.session().latest(); },
-                             "The last step simulated on this branch.")
-      .def_property_readonly("end", [](const Session& s) { return s.session().end(); }, "The scenario's steps.")
-      .def_property_readonly("modules", [](const Session& s) { return s.session().model().module_count(); },
-                             "How many modules the ensemble has (ids 0 .. modules - 1).")
-      .def_property_readonly("variables", [](const Session& s) { return s.session().model().universe.variables; },
-                             "The programs' variables.")
+      .def_property_readonly(
+          "current", [](const Session& s) { return s.session().current(); }, "The step shown (-1 before the first).")
+      .def_property_readonly(
+          "latest", [](const Session& s) { return s.session().latest(); }, "The last step simulated on this branch.")
+      .def_property_readonly(
+          "end", [](const Session& s) { return s.session().end(); }, "The scenario's steps.")
+      .def_property_readonly(
+          "modules", [](const Session& s) { return s.session().model().module_count(); },
+          "How many modules the ensemble has (ids 0 .. modules - 1).")
+      .def_property_readonly(
+          "variables", [](const Session& s) { return s.session().model().universe.variables; },
+          "The programs' variables.")
       .def_property_readonly(
           "watches",
           [](const Session& s) {

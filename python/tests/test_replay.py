@@ -1,0 +1,124 @@
+"""dwatch.replay: python/src/replay_binding.cpp over sim/replay.h."""
+
+import numpy as np
+import pytest
+
+import dwatch
+from conftest import LEADERS, dwatch as cli, json_lines, read_columns
+
+CASES = ["02_leader_two_hop_hex", "01_fig6_2222_grid", "03_token_ring_last"]
+
+
+def case(source, name):
+    folder = source / "tests" / "conformance" / name
+    return folder / "trace.jsonl", (folder / "watch.txt").read_text().strip()
+
+
+def as_rows(matches: dwatch.Matches) -> list[tuple]:
+    return [(int(t), tuple(int(i) for i in slots)) for t, slots in zip(matches.t, matches.slots)]
+
+
+def cli_rows(trace, text, algorithm):
+    out = cli("replay", str(trace), "--watch", "w1=" + text, "--algorithm", algorithm, "--matches", "-").stdout
+    return [(row["t"], tuple(row["slots"].values())) for row in json_lines(out) if row["watch"] == "w1"]
+
+
+@pytest.mark.parametrize("name", CASES)
+@pytest.mark.parametrize("algorithm", ["distributed", "centralized"])
+def test_replay_of_a_file_finds_what_dwatch_replay_finds(source, name, algorithm):
+    trace, text = case(source, name)
+    found = dwatch.replay(str(trace), text, algorithm=algorithm)
+    assert list(found) == ["w1"]
+    rows = as_rows(found["w1"])
+    assert rows == cli_rows(trace, text, algorithm)
+    assert len(rows) > 0
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_columns_give_the_matches_of_the_file(source, name):
+    trace, text = case(source, name)
+    from_file = dwatch.replay(trace, {"x": text})["x"]
+    columns = read_columns(trace)
+    from_columns = dwatch.replay(columns, {"x": text})["x"]
+    assert as_rows(from_columns) == as_rows(from_file)
+    np.testing.assert_array_equal(from_columns.detected, from_file.detected)
+
+    # The same lines in another order, and the neighbours as one list per line.
+    order = np.random.default_rng(3).permutation(len(columns["t"]))
+    begin, flat = columns["nbr_begin"], columns["nbrs"]
+    shuffled = {
+        "t": columns["t"][order],
+        "m": columns["m"][order].astype(np.int32),  # converted to int64
+        "nbrs": [list(flat[begin[i] : begin[i + 1]]) for i in order],
+        "vars": {name: values[order] for name, values in columns["vars"].items()},
+    }
+    assert as_rows(dwatch.replay(shuffled, {"x": text})["x"]) == as_rows(from_file)
+
+
+def test_matches_are_int64_arrays_of_the_documented_shapes(source):
+    trace, text = case(source, "02_leader_two_hop_hex")
+    m = dwatch.replay(trace, [text, "modules(a); a.isLeader = 1"])
+    assert list(m) == ["w1", "w2"]
+    leaders, single = m["w1"], m["w2"]
+    assert leaders.slot_names == ["a", "b", "c"] and single.slot_names == ["a"]
+    for found, k in ((leaders, 3), (single, 1)):
+        n = len(found)
+        assert n > 0
+        assert found.t.dtype == found.detected.dtype == found.slots.dtype == np.int64
+        assert found.t.shape == found.detected.shape == (n,)
+        assert found.slots.shape == (n, k)
+        assert np.all(found.detected >= found.t)
+        assert np.all(np.diff(found.t) >= 0)
+        assert not found.t.flags.writeable
+    # Every module a single-slot match names is a leader there: read back from the trace's lines.
+    columns = read_columns(trace)
+    leader = {(t, m) for t, m, v in zip(columns["t"], columns["m"], columns["vars"]["isLeader"]) if v == 1}
+    assert {(int(t), int(s[0])) for t, s in zip(single.t, single.slots)} == leader
+
+
+def test_the_header_watchpoints_are_replayed_by_default(source, tmp_path):
+    trace = tmp_path / "run.jsonl"
+    cli("run", str(source / "scenarios" / "leader_election.toml"), "--record", str(trace), "--steps", "6")
+    found = dwatch.replay(trace)
+    assert list(found) == ["two_leaders"]
+    expected = cli("replay", str(trace), "--matches", "-").stdout
+    rows = [(r["t"], tuple(r["slots"].values())) for r in json_lines(expected) if r.get("watch") == "two_leaders"]
+    assert as_rows(found["two_leaders"]) == rows and rows
+
+
+def test_bad_traces_raise_trace_error_in_the_readers_words(source, tmp_path):
+    bad = tmp_path / "bad.jsonl"
+    bad.write_text('{"t":0,"m":1,"vars":{},"nbrs":[]}\n{"t":0,"m":1,"vars":{},"nbrs":[]}\n')
+    with pytest.raises(dwatch.TraceError) as raised:
+        dwatch.replay(bad, LEADERS)
+    assert str(raised.value) == f"{bad}:2:1: error: duplicate line for module 1 at step 0 (first at line 1)"
+    assert str(raised.value) in cli("replay", str(bad), "--watch", LEADERS, check=False).stderr
+
+    columns = {"t": [0, 0], "m": [1, 1], "nbrs": [[], []], "vars": {"isLeader": [0, 1]}}
+    with pytest.raises(dwatch.TraceError, match=r"line 1 \(t=0, m=1\): duplicate line for module 1 at step 0"):
+        dwatch.replay(columns, LEADERS)
+    with pytest.raises(dwatch.TraceError, match="lists itself as a neighbour"):
+        dwatch.replay({"t": [0], "m": [2], "nbrs": [[2]]}, LEADERS)
+    with pytest.raises(dwatch.TraceError, match='lack "m"'):
+        dwatch.replay({"t": [0], "nbrs": [[]]}, LEADERS)
+    with pytest.raises(dwatch.TraceError, match="cannot read"):
+        dwatch.replay(tmp_path / "missing.jsonl", LEADERS)
+
+
+def test_bad_readings_and_watchpoints_raise(source):
+    trace, text = case(source, "02_leader_two_hop_hex")
+    with pytest.raises(dwatch.Error, match="algorithm must be 'centralized' or 'distributed', not 'magic'"):
+        dwatch.replay(trace, text, algorithm="magic")
+    with pytest.raises(dwatch.Error, match="shape must be"):
+        dwatch.replay(trace, text, shape="blob")
+    with pytest.raises(dwatch.WatchError) as raised:
+        dwatch.replay(trace, {"bad": "modules(a); a.x ="})
+    assert raised.value.text.startswith("<watch bad>:1:")
+    with pytest.warns(UserWarning, match="reads 'nothere', which no line of .* has: it can never match"):
+        assert len(dwatch.replay(trace, "modules(a); a.nothere = 1")["w1"]) == 0
+
+
+def test_the_budget_stops_a_replay_with_an_error(source):
+    trace, text = case(source, "01_fig6_2222_grid")
+    with pytest.raises(dwatch.Error, match="stopped: .*max_live= sets the budget"):
+        dwatch.replay(trace, text, max_live=1)

@@ -1,0 +1,189 @@
+"""dwatch.Session: python/src/session_binding.cpp over the session shell (app/session_script.h)."""
+
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import dwatch
+from conftest import dwatch as cli, json_lines
+
+
+@pytest.fixture
+def leaders(source):
+    return str(source / "scenarios" / "leader_election.toml")
+
+
+def session_answers(scenario, *commands):
+    """What `dwatch session --script -` answers to the commands, one dict each."""
+    return json_lines(cli("session", scenario, "--script", "-", input="\n".join(commands) + "\n").stdout)
+
+
+def test_answers_and_hashes_equal_dwatch_session(leaders):
+    s = dwatch.Session(leaders, threads=2)
+    assert (s.current, s.latest, s.end, s.modules) == (-1, -1, 200, 120)
+    assert s.variables[0] == "isLeader" and s.watches == ["two_leaders"]
+    answers = [s.run(), s.seek(0), s.set(7, "isLeader", 0), s.step(3), s.command("hash")]
+    expected = session_answers(leaders, "run", "seek 0", "set 7 isLeader 0", "step 3", "hash")
+    assert answers == expected
+    assert s.hash() == expected[-1]["hash"]
+    # The same on one thread: the hash does not depend on the threads.
+    one = dwatch.Session(leaders, threads=1)
+    one.run()
+    one.seek(0)
+    one.set(7, "isLeader", 0)
+    one.step(3)
+    assert one.hash() == s.hash()
+
+
+def test_a_pause_stops_the_run_and_matches_are_arrays(leaders):
+    s = dwatch.Session(leaders)
+    answer = s.run()
+    paused = answer["paused"]
+    assert paused["watch"] == "two_leaders" and s.current == paused["t"]
+    found = s.matches("two_leaders")
+    assert found.t.dtype == found.detected.dtype == found.slots.dtype == np.int64
+    assert found.slots.shape == (len(found), 3) and len(found) == paused["matches"]
+    assert tuple(found.slots[0]) == tuple(paused["group"].values())
+    assert np.all(found.detected - found.t == 2)  # the distributed detector's lag for three slots
+    listed = s.command("matches two_leaders")["matches"]
+    assert [(m["t"], tuple(m["slots"].values())) for m in listed] == [
+        (int(t), tuple(int(i) for i in row)) for t, row in zip(found.t, found.slots)
+    ]
+    # The group's two ends are leaders at the match's step.
+    leader = s.values("isLeader")
+    assert leader.dtype == np.int64 and leader.shape == (120,)
+    assert leader[found.slots[0, 0]] == 1 and leader[found.slots[0, 2]] == 1
+
+
+def test_values_state_and_series_agree(leaders):
+    s = dwatch.Session(leaders)
+    s.action("two_leaders", "log")
+    s.run(39)
+    assert s.current == 39
+    priority = s.values("_priority")
+    for m in (0, 5, 119):
+        assert s.state(m)["vars"]["_priority"] == priority[m]
+    series = s.series(5, "isLeader", 0, 39)
+    assert series.dtype == np.int64 and series.shape == (40,)
+    for t in (0, 17, 39):
+        s.seek(t)
+        assert s.values("isLeader")[5] == series[t]
+
+
+def test_watchpoints_added_later_see_the_whole_history(leaders):
+    s = dwatch.Session(leaders)
+    s.action("two_leaders", "log")
+    s.run(30)
+    answer = s.watch("lone", "modules(a); a.isLeader = 1", algorithm="centralized")
+    assert answer["watch"] == "lone" and answer["algorithm"] == "centralized"
+    lone = s.matches("lone")
+    assert len(lone) == answer["matches"] > 0 and lone.slots.shape == (len(lone), 1)
+    for t, (m,) in zip(lone.t[:20], lone.slots[:20]):
+        s.seek(int(t))
+        assert s.values("isLeader")[m] == 1
+    s.unwatch("lone")
+    assert s.watches == ["two_leaders"]
+
+
+def test_errors_are_exceptions_in_the_command_lines_words(leaders, tmp_path):
+    s = dwatch.Session(leaders)
+    with pytest.raises(dwatch.CommandError) as raised:
+        s.set(99999, "isLeader", 1)
+    assert "M must be an integer between 0 and 119, not '99999'" in str(raised.value)
+    with pytest.raises(dwatch.CommandError, match="no watchpoint is named 'nobody'"):
+        s.matches("nobody")
+    with pytest.raises(dwatch.CommandError, match="'nope' is no program's variable"):
+        s.values("nope")
+    with pytest.raises(dwatch.WatchError) as raised:
+        s.watch("bad", "modules(a); a.nope = 1")
+    assert raised.value.message == "'nope' is no program's variable"
+    with pytest.raises(dwatch.CommandError, match="one command, on one line"):
+        s.command("step\nstep")
+    assert s.command("# a comment") is None
+    with pytest.raises(dwatch.ScenarioError, match="cannot read"):
+        dwatch.Session(str(tmp_path / "missing.toml"))
+    bad = tmp_path / "bad.toml"
+    bad.write_text("steps = -3\n")
+    with pytest.raises(dwatch.ScenarioError) as raised:
+        dwatch.Session(str(bad))
+    assert str(raised.value) in cli("run", str(bad), check=False).stderr
+    with pytest.raises(dwatch.Error, match="threads must be an integer from 1 to 256"):
+        dwatch.Session(leaders, threads=0)
+
+
+def test_render_draws_the_view_with_the_group_in_red(leaders):
+    s = dwatch.Session(leaders)
+    s.run()  # paused on a two-leader group
+    image = s.render(320, 200)
+    assert image.dtype == np.uint8 and image.shape == (200, 320, 3)
+    r, g, b = (image[..., c].astype(int) for c in range(3))
+    red = (r > 150) & (g < 90) & (b < 90)
+    assert red.sum() > 50, "the matched group is drawn in the outline's red"
+    s.seek(0)
+    s.unwatch("two_leaders")
+    plain = s.render(320, 200)
+    pr, pg, pb = (plain[..., c].astype(int) for c in range(3))
+    assert ((pr > 150) & (pg < 90) & (pb < 90)).sum() < red.sum() / 4
+    eye = s.render(320, 200, camera=((0, -40, 30), (5, 5, 0)))
+    assert eye.shape == (200, 320, 3) and not np.array_equal(eye, plain)
+
+
+def test_save_writes_a_scenario_the_session_loads_again(leaders, tmp_path):
+    s = dwatch.Session(leaders)
+    s.action("two_leaders", "log")
+    s.run(5)
+    s.set(3, "isLeader", 1)
+    saved = tmp_path / "branch.toml"
+    assert s.save(str(saved))["save"] == str(saved)
+    with pytest.raises(dwatch.CommandError, match="overwrite"):
+        s.save(str(saved))
+    s.run(12)
+    again = dwatch.Session(str(saved))
+    again.run(12)
+    assert again.hash() == s.hash()
+
+
+def test_stepping_releases_the_gil(leaders):
+    s = dwatch.Session(leaders)
+    s.action("two_leaders", "log")
+    ticks = 0
+    done = threading.Event()
+
+    def count():
+        nonlocal ticks
+        while not done.is_set():
+            ticks += 1
+            time.sleep(0.001)
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    started = time.monotonic()
+    s.run(20000)
+    took = time.monotonic() - started
+    done.set()
+    counter.join()
+    assert took > 0.2, "the run must be long enough to measure"
+    assert ticks > took * 100, f"{ticks} ticks in {took:.2f} s: the other thread was starved"
+
+
+def test_ctrl_c_stops_a_long_run_and_the_session_goes_on(leaders):
+    s = dwatch.Session(leaders)
+    s.action("two_leaders", "log")
+    timer = threading.Timer(0.3, signal.raise_signal, args=(signal.SIGINT,))
+    timer.start()
+    started = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        s.run(10_000_000)
+    assert time.monotonic() - started < 5
+    stopped_at = s.current
+    assert 0 < stopped_at < 10_000_000 - 1
+    # Where it stopped is a step like any other: the same state as a run that went there directly.
+    direct = dwatch.Session(leaders)
+    direct.action("two_leaders", "log")
+    direct.run(stopped_at)
+    assert direct.hash() == s.hash()
+    s.step()
+    assert s.current == stopped_at + 1
