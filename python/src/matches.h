@@ -20,12 +20,12 @@ struct Matches {
   std::vector<std::string> slot_names;
   py::array_t<int64_t> t, detected, slots;  // n; n; n x slot count
 
-  // Collects matches as found; `finish` makes the arrays.
+  // Collects matches as found; `make` turns them into the arrays, without a copy.
   struct Builder {
     std::vector<int64_t> t, detected, slots;
     void add(int64_t detected_at, int64_t step, std::span<const watch::ModuleId> ids, size_t slot_count);
   };
-  static Matches make(std::string watch, std::vector<std::string> slot_names, const Builder& built);
+  static Matches make(std::string watch, std::vector<std::string> slot_names, Builder&& built);
 };
 
 void add_matches(py::module_& m);

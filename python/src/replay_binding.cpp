@@ -136,7 +136,7 @@ py::dict replay(const py::object& trace_arg, const py::object& watches, const st
   py::dict out;
   for (size_t i = 0; i < watched.size(); ++i) {
     const watch::Watchpoint& w = watched[i].watchpoint;
-    out[py::str(w.name)] = Matches::make(w.name, w.program.slot_names, found[i]);
+    out[py::str(w.name)] = Matches::make(w.name, w.program.slot_names, std::move(found[i]));
   }
   return out;
 }

@@ -90,7 +90,7 @@ class Session {
     built.t = list.t;
     built.detected = list.detected;
     built.slots.assign(list.slots.begin(), list.slots.end());
-    return Matches::make(name, slot_names, built);
+    return Matches::make(name, slot_names, std::move(built));
   }
 
   // One variable of every module at the current step.
