@@ -9,40 +9,27 @@ void Matches::Builder::add(int64_t detected_at, int64_t step, std::span<const wa
   const size_t groups = slot_count ? ids.size() / slot_count : 0;
   const auto group = [&](size_t g) { return ids.subspan(g * slot_count, slot_count); };
   const auto before = [&](size_t a, size_t b) { return std::ranges::lexicographical_compare(group(a), group(b)); };
-  t.insert(t.end(), groups, step);
-  detected.insert(detected.end(), groups, detected_at);
+  t.append(groups, step);
+  detected.append(groups, detected_at);
   // The groups of one watch step in the match log's order: by slot ids, in slot order. Detectors
   // mostly give them so already; checked first, sorted only when not.
   bool sorted = true;
   for (size_t g = 1; g < groups && sorted; ++g) sorted = !before(g, g - 1);
   if (sorted) {
-    slots.insert(slots.end(), ids.begin(), ids.begin() + static_cast<ptrdiff_t>(groups * slot_count));
+    slots.append(ids.first(groups * slot_count));
     return;
   }
   std::vector<size_t> order(groups);
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), before);
-  for (size_t g : order) slots.insert(slots.end(), group(g).begin(), group(g).end());
+  for (size_t g : order) slots.append(group(g));
 }
-
-namespace {
-
-// A numpy array over the vector's storage, which it takes (no copy), read-only.
-py::array_t<int64_t> take(std::vector<int64_t>&& values, std::vector<py::ssize_t> shape) {
-  auto* held = new std::vector<int64_t>(std::move(values));
-  py::capsule owner(held, [](void* p) { delete static_cast<std::vector<int64_t>*>(p); });
-  py::array_t<int64_t> out(shape, held->data(), owner);
-  out.attr("flags").attr("writeable") = false;
-  return out;
-}
-
-}  // namespace
 
 Matches Matches::make(std::string watch, std::vector<std::string> slot_names, Builder&& built) {
   const auto n = static_cast<py::ssize_t>(built.t.size());
   const auto k = static_cast<py::ssize_t>(slot_names.size());
-  return {std::move(watch), std::move(slot_names), take(std::move(built.t), {n}), take(std::move(built.detected), {n}),
-          take(std::move(built.slots), {n, k})};
+  return {std::move(watch), std::move(slot_names), std::move(built.t).to_numpy({n}),
+          std::move(built.detected).to_numpy({n}), std::move(built.slots).to_numpy({n, k})};
 }
 
 void add_matches(py::module_& m) {

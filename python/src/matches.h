@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "python/src/bindings.h"
+#include "python/src/growing_array.h"
 #include "watch/value.h"
 
 namespace dw::python {
@@ -22,7 +23,7 @@ struct Matches {
 
   // Collects matches as found; `make` turns them into the arrays, without a copy.
   struct Builder {
-    std::vector<int64_t> t, detected, slots;
+    GrowingArray t, detected, slots;
     void add(int64_t detected_at, int64_t step, std::span<const watch::ModuleId> ids, size_t slot_count);
   };
   static Matches make(std::string watch, std::vector<std::string> slot_names, Builder&& built);

@@ -5,6 +5,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <sstream>
 #include <stop_token>
 
 #include "app/session_script.h"
@@ -87,9 +88,9 @@ class Session {
     const sim::MatchList& list = session_->matches(static_cast<uint32_t>(w));
     const auto& slot_names = session_->model().watches[static_cast<size_t>(w)].watchpoint.program.slot_names;
     Matches::Builder built;
-    built.t = list.t;
-    built.detected = list.detected;
-    built.slots.assign(list.slots.begin(), list.slots.end());
+    built.t.append(list.t);
+    built.detected.append(list.detected);
+    built.slots.append(std::span<const sim::ModuleId>(list.slots));
     return Matches::make(name, slot_names, std::move(built));
   }
 

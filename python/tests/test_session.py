@@ -187,3 +187,35 @@ def test_ctrl_c_stops_a_long_run_and_the_session_goes_on(leaders):
     assert direct.hash() == s.hash()
     s.step()
     assert s.current == stopped_at + 1
+
+
+def test_interventions_continue_and_record_match_the_command_line(leaders, source, tmp_path):
+    s = dwatch.Session(leaders)
+    first = s.run()
+    assert first["paused"] is not None
+    went_on = s.continue_()
+    assert went_on["current"] > first["current"]
+    s.seek(2)
+    removed = s.remove(4)
+    assert removed["intervention"]["module"] == 4 and s.latest == 2
+    s.step(2)
+    assert s.state(4)["present"] is False
+    with pytest.raises(dwatch.CommandError, match="push needs bodies: the scenario has no physics"):
+        s.push(3, 0, 0, 1)
+    trace = tmp_path / "branch.jsonl"
+    assert s.record(str(trace))["record"] == str(trace)
+    # The recorded branch replays to the session's own matches.
+    replayed = dwatch.replay(trace)["two_leaders"]
+    kept = s.matches("two_leaders")
+    decided = kept.t <= s.latest - 2
+    np.testing.assert_array_equal(replayed.t[replayed.t <= s.latest - 2], kept.t[decided])
+    expected = session_answers(leaders, "run", "continue", "seek 2", "remove 4", "step 2", "hash")
+    assert s.hash() == expected[-1]["hash"]
+
+
+def test_push_answers_and_hashes_as_the_command_line(source):
+    scenario = str(source / "scenarios" / "push_wall.toml")
+    s = dwatch.Session(scenario)
+    answers = [s.step(2), s.push(59, 0.0, -500.0, 0.25), s.step(5), s.command("hash")]
+    assert answers[1]["intervention"] == {"at": 2, "module": 59, "push": [0.0, -500.0, 0.25]}
+    assert answers == session_answers(scenario, "step 2", "push 59 0 -500 0.25", "step 5", "hash")
