@@ -35,6 +35,10 @@ class MatchLog {
   static nlohmann::ordered_json then_json(const WatchInfo& w, std::span<const watch::ModuleId> ids,
                                           std::span<const watch::Value> values);
 
+  // The groups of k ids in `ids` (one watch step's matches), sorted by their ids in slot order:
+  // the order the log writes them in.
+  static std::vector<watch::ModuleId> sorted_groups(std::span<const watch::ModuleId> ids, size_t k);
+
   // `out` may be null: then matches are only counted. The first `keep` matches of each watch, in
   // written order, are kept for summaries.
   MatchLog(std::vector<WatchInfo> watches, std::ostream* out, size_t keep = 1);
@@ -69,7 +73,6 @@ class MatchLog {
     std::vector<Kept> kept;
   };
   void write(const Batch& b);
-  static std::vector<watch::ModuleId> sorted_groups(std::span<const watch::ModuleId> ids, size_t k);
   static std::vector<size_t> group_order(std::span<const watch::ModuleId> ids, size_t k);
 
   std::vector<Watch> watches_;

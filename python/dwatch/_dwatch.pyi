@@ -39,6 +39,8 @@ class Matches:
     """Step during which each match was found (t + lag), shape (n,)."""
     slots: npt.NDArray[np.int64]
     """Module filling each slot, shape (n, len(slot_names))."""
+    count: int
+    """Every match, also when only counted (count_only=True, a `count` watchpoint): the arrays are then empty."""
     def __len__(self) -> int: ...
 
 Columns = Mapping[str, Any]
@@ -55,6 +57,7 @@ def replay(
     shape: Optional[str] = None,
     states: Optional[str] = None,
     max_live: int = 20000000,
+    count_only: bool = False,
 ) -> dict[str, Matches]:
     """Watchpoints over a trace file or columns, as `dwatch replay` runs them."""
 

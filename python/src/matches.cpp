@@ -1,50 +1,47 @@
 #include "python/src/matches.h"
 
-#include <algorithm>
-#include <numeric>
+#include "sim/match_log.h"
 
 namespace dw::python {
 
 void Matches::Builder::add(int64_t detected_at, int64_t step, std::span<const watch::ModuleId> ids, size_t slot_count) {
   const size_t groups = slot_count ? ids.size() / slot_count : 0;
-  const auto group = [&](size_t g) { return ids.subspan(g * slot_count, slot_count); };
-  const auto before = [&](size_t a, size_t b) { return std::ranges::lexicographical_compare(group(a), group(b)); };
+  count += groups;
+  if (!keep) return;
   t.append(groups, step);
   detected.append(groups, detected_at);
-  // The groups of one watch step in the match log's order: by slot ids, in slot order. Detectors
-  // mostly give them so already; checked first, sorted only when not.
-  bool sorted = true;
-  for (size_t g = 1; g < groups && sorted; ++g) sorted = !before(g, g - 1);
-  if (sorted) {
-    slots.append(ids.first(groups * slot_count));
-    return;
-  }
-  std::vector<size_t> order(groups);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), before);
-  for (size_t g : order) slots.append(group(g));
+  // In the match log's order.
+  slots.append(
+      std::span<const watch::ModuleId>(sim::MatchLog::sorted_groups(ids.first(groups * slot_count), slot_count)));
 }
 
 Matches Matches::make(std::string watch, std::vector<std::string> slot_names, Builder&& built) {
   const auto n = static_cast<py::ssize_t>(built.t.size());
   const auto k = static_cast<py::ssize_t>(slot_names.size());
-  return {std::move(watch), std::move(slot_names), std::move(built.t).to_numpy({n}),
-          std::move(built.detected).to_numpy({n}), std::move(built.slots).to_numpy({n, k})};
+  return {std::move(watch),
+          std::move(slot_names),
+          std::move(built.t).to_numpy({n}),
+          std::move(built.detected).to_numpy({n}),
+          std::move(built.slots).to_numpy({n, k}),
+          built.count};
 }
 
 void add_matches(py::module_& m) {
   py::class_<Matches>(m, "Matches",
                       "The matches of one watchpoint, in the match log's order (by t, then by the slots' module "
                       "ids): t[i] is match i's watch step, detected[i] the step during which it was found (t plus "
-                      "the detector's lag), slots[i] the module filling each slot (slot_names). All int64.")
+                      "the detector's lag), slots[i] the module filling each slot (slot_names). All int64. count: "
+                      "every match, also when they were only counted (the arrays then empty).")
       .def_readonly("watch", &Matches::watch, "The watchpoint's name.")
       .def_readonly("slot_names", &Matches::slot_names, "The slots, in the order of the columns of slots.")
       .def_readonly("t", &Matches::t, "Watch step of each match: int64, shape (n,).")
       .def_readonly("detected", &Matches::detected, "Step during which each match was found: int64, shape (n,).")
       .def_readonly("slots", &Matches::slots, "Module id filling each slot: int64, shape (n, len(slot_names)).")
+      .def_readonly("count", &Matches::count, "How many matches there are, kept or only counted.")
       .def("__len__", [](const Matches& self) { return self.t.size(); })
       .def("__repr__", [](const Matches& self) {
-        return "<dwatch.Matches of '" + self.watch + "': " + std::to_string(self.t.size()) + " matches>";
+        return "<dwatch.Matches of '" + self.watch + "': " + std::to_string(self.count) + " matches" +
+               (self.count != static_cast<uint64_t>(self.t.size()) ? ", counted only>" : ">");
       });
 }
 

@@ -101,7 +101,8 @@ std::vector<sim::HostedWatchpoint> hosted(const py::object& watches, const Readi
 }
 
 py::dict replay(const py::object& trace_arg, const py::object& watches, const std::string& algorithm,
-                const std::optional<std::string>& shape, const std::optional<std::string>& states, uint64_t max_live) {
+                const std::optional<std::string>& shape, const std::optional<std::string>& states, uint64_t max_live,
+                bool count_only) {
   const Reading r = reading(algorithm, shape, states, max_live);
   const bool columns = py::isinstance<py::dict>(trace_arg);
   const std::string trace_name = columns ? "<columns>" : py::str(trace_arg).cast<std::string>();
@@ -120,6 +121,7 @@ py::dict replay(const py::object& trace_arg, const py::object& watches, const st
   auto made = sim::FrameReader::make(trace, sim::read_variables(watched), sim::default_frame_budget());
   if (auto* why = std::get_if<std::string>(&made)) raise_error("Error", trace_name + ": " + *why);
   std::vector<Matches::Builder> found(watched.size());
+  for (Matches::Builder& b : found) b.keep = !count_only;
   std::vector<watch::DetectorStats> stats;
   {
     py::gil_scoped_release released;
@@ -166,6 +168,7 @@ void add_replay(py::module_& m) {
   add_matches(m);
   m.def("replay", &replay, py::arg("trace"), py::arg("watches") = py::none(), py::arg("algorithm") = "distributed",
         py::arg("shape") = py::none(), py::arg("states") = py::none(), py::arg("max_live") = 20'000'000,
+        py::arg("count_only") = false,
         R"(Runs watchpoints over a trace, as `dwatch replay` does; returns {name: Matches}.
 
 trace: a wptrace v1 file's path, or columns: a dict with "t" and "m" (one entry per line: the
@@ -175,6 +178,8 @@ trace: a wptrace v1 file's path, or columns: a dict with "t" and "m" (one entry 
 watches: a watchpoint's text, a sequence of texts (named w1, w2, ...), or {name: text}; None: the
   watchpoints the trace's header lists.
 algorithm, shape, states, max_live: as --algorithm, --shape, --states and --max-live.
+count_only: count the matches (Matches.count) and keep none, as `dwatch replay` without
+  --matches does: for traces with millions of matches.
 Raises WatchError, TraceError, or Error (a reading that cannot run, the budget exceeded).)");
 }
 

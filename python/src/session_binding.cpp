@@ -91,6 +91,7 @@ class Session {
     built.t.append(list.t);
     built.detected.append(list.detected);
     built.slots.append(std::span<const sim::ModuleId>(list.slots));
+    built.count = session_->match_count(static_cast<uint32_t>(w));  // a `count` watchpoint keeps none
     return Matches::make(name, slot_names, std::move(built));
   }
 

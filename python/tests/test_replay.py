@@ -86,6 +86,16 @@ def test_the_header_watchpoints_are_replayed_by_default(source, tmp_path):
     assert as_rows(found["two_leaders"]) == rows and rows
 
 
+def test_count_only_counts_every_match_and_keeps_none(source):
+    trace, text = case(source, "01_fig6_2222_grid")
+    kept = dwatch.replay(trace, text)["w1"]
+    counted = dwatch.replay(trace, text, count_only=True)["w1"]
+    assert kept.count == len(kept) > 0
+    assert counted.count == kept.count and len(counted) == 0
+    assert counted.slots.shape == (0, len(kept.slot_names)) and counted.t.dtype == np.int64
+    assert "counted only" in repr(counted)
+
+
 def test_bad_traces_raise_trace_error_in_the_readers_words(source, tmp_path):
     bad = tmp_path / "bad.jsonl"
     bad.write_text('{"t":0,"m":1,"vars":{},"nbrs":[]}\n{"t":0,"m":1,"vars":{},"nbrs":[]}\n')

@@ -84,7 +84,12 @@ def test_watchpoints_added_later_see_the_whole_history(leaders):
     for t, (m,) in zip(lone.t[:20], lone.slots[:20]):
         s.seek(int(t))
         assert s.values("isLeader")[m] == 1
+    assert lone.count == len(lone)
+    counted = s.watch("lone_count", "modules(a); a.isLeader = 1", algorithm="centralized", action="count")
+    only = s.matches("lone_count")
+    assert len(only) == 0 and only.count == counted["matches"] == len(lone)
     s.unwatch("lone")
+    s.unwatch("lone_count")
     assert s.watches == ["two_leaders"]
 
 
