@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <optional>
 
 #include "app/bench.h"
@@ -226,10 +227,22 @@ int run_rows(const BenchArgs& args, Table& table) {
                 << " ms per step (physics step, graph rebuild and programs)\n";
     };
     // Setting up a physics world is linear in the modules (physics/pair_cache.h says why it was not).
-    for (uint32_t n : {10u, 20u, 30u, 40u})
-      if (!row("set up and torn down, " + std::to_string(n) + "^3", cubic_toml(n, n, n) + sense + latched, args,
-               args.repeat, table, r, Timed::SetUp))
+    // What a module costs: the peaks of 40^3 and 10^3 apart, over the 63,000 modules between.
+    std::map<std::pair<uint32_t, bool>, long> peak_kib;
+    for (const auto& [n, anchored] :
+         {std::pair{10u, true}, {20u, true}, {30u, true}, {40u, true}, {10u, false}, {40u, false}}) {
+      const std::string label = "set up and torn down, " + std::to_string(n) + "^3" + (anchored ? "" : " free");
+      if (!row(label, cubic_toml(n, n, n) + sense + (anchored ? latched : free), args, args.repeat, table, r,
+               Timed::SetUp))
         return 1;
+      peak_kib[{n, anchored}] = r.peak_kib;
+    }
+    const auto per_module = [&](bool anchored) {
+      return double(peak_kib[{40u, anchored}] - peak_kib[{10u, anchored}]) / (64'000 - 1'000);
+    };
+    std::cout << std::fixed << std::setprecision(2)
+              << "    memory per module (40^3 peak - 10^3 peak, / 63,000): latched " << per_module(true)
+              << " KiB (target 2), free " << per_module(false) << " KiB (target 4)\n";
     for (uint32_t n : {10u, 20u}) {
       const std::string side = std::to_string(n) + "^3";
       if (!row("resting " + side + ", latched to the ground", cubic_toml(n, n, n) + sense + latched, args, args.repeat,

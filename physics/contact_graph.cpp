@@ -42,30 +42,40 @@ struct ContactGraph::Impl {
       if (o) world.removeCollisionObject(o.get());
   }
 
-  // Measures a pair again, from an empty manifold, when what it is measured at changed or the
-  // pair is new: members of one cluster at their local poses, others at their world poses.
+  // What a pair's measurement found, kept in the pair itself (btBroadphasePair's spare field,
+  // zero when the broadphase adds the pair): a cached pair costs its 32 bytes in the pair cache,
+  // not a collision algorithm and a manifold of four contact points (about 1 KB, 13 pairs a module
+  // in a lattice).
+  enum Measured : int { kUnmeasured = 0, kApart = 1, kTouching = 2 };
+
+  // Measures a pair again, with a fresh algorithm and manifold, when what it is measured at
+  // changed or the pair is new: members of one cluster at their local poses, others at their
+  // world poses. The algorithm goes once measured.
   static void near_callback(btBroadphasePair& pair, btCollisionDispatcher& d, const btDispatcherInfo& info) {
     Impl& self = static_cast<Dispatcher&>(d).owner;
     const auto* a = static_cast<const btCollisionObject*>(pair.m_pProxy0->m_clientObject);
     const auto* b = static_cast<const btCollisionObject*>(pair.m_pProxy1->m_clientObject);
     const auto ia = size_t(a->getUserIndex()), ib = size_t(b->getUserIndex());
     const bool same = self.cluster[ia] != sim::kNoCluster && self.cluster[ia] == self.cluster[ib];
+    const bool changed = self.regrouped[ia] || self.regrouped[ib] || (!same && (self.moved[ia] || self.moved[ib]));
+    if (pair.m_internalTmpValue != kUnmeasured && !changed) return;
     const btTransform ta = same ? to_bt(self.local[ia]) : a->getWorldTransform();
     const btTransform tb = same ? to_bt(self.local[ib]) : b->getWorldTransform();
     const btCollisionObjectWrapper wa(nullptr, a->getCollisionShape(), a, ta, -1, -1);
     const btCollisionObjectWrapper wb(nullptr, b->getCollisionShape(), b, tb, -1, -1);
-    bool fresh = false;
-    if (!pair.m_algorithm) {
-      pair.m_algorithm = d.findAlgorithm(&wa, &wb, nullptr, BT_CONTACT_POINT_ALGORITHMS);
-      fresh = true;
-    }
-    const bool changed = self.regrouped[ia] || self.regrouped[ib] || (!same && (self.moved[ia] || self.moved[ib]));
-    if (!fresh && !changed) return;
-    btManifoldArray manifolds;
-    pair.m_algorithm->getAllContactManifolds(manifolds);
-    for (int i = 0; i < manifolds.size(); ++i) manifolds[i]->clearManifold();
+    btCollisionAlgorithm* algorithm = d.findAlgorithm(&wa, &wb, nullptr, BT_CONTACT_POINT_ALGORITHMS);
     btManifoldResult result(&wa, &wb);
-    pair.m_algorithm->processCollision(&wa, &wb, info, &result);
+    algorithm->processCollision(&wa, &wb, info, &result);
+    // The pair touches when any point of any of its manifolds is within the threshold.
+    btManifoldArray manifolds;
+    algorithm->getAllContactManifolds(manifolds);
+    bool touching = false;
+    for (int i = 0; i < manifolds.size() && !touching; ++i)
+      for (int p = 0; p < manifolds[i]->getNumContacts() && !touching; ++p)
+        touching = manifolds[i]->getContactPoint(p).getDistance() <= self.threshold;
+    algorithm->~btCollisionAlgorithm();  // releases its manifold
+    d.freeCollisionAlgorithm(algorithm);
+    pair.m_internalTmpValue = touching ? kTouching : kApart;
     ++self.measured;
   }
 
@@ -150,16 +160,14 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
                                          &s.dispatcher);
   measured_ = s.measured;
 
-  // Every manifold of a pair counts: the pair touches when any point is within the threshold.
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;
-  for (int i = 0; i < s.dispatcher.getNumManifolds(); ++i) {
-    const btPersistentManifold* manifold = s.dispatcher.getManifoldByIndexInternal(i);
-    bool touching = false;
-    for (int p = 0; p < manifold->getNumContacts() && !touching; ++p)
-      touching = manifold->getContactPoint(p).getDistance() <= s.threshold;
-    if (!touching) continue;
-    const auto a = static_cast<sim::ModuleId>(manifold->getBody0()->getUserIndex());
-    const auto b = static_cast<sim::ModuleId>(manifold->getBody1()->getUserIndex());
+  const btBroadphasePairArray& overlapping = s.broadphase.getOverlappingPairCache()->getOverlappingPairArray();
+  for (int i = 0; i < overlapping.size(); ++i) {
+    if (overlapping[i].m_internalTmpValue != Impl::kTouching) continue;
+    const auto a = static_cast<sim::ModuleId>(
+        static_cast<const btCollisionObject*>(overlapping[i].m_pProxy0->m_clientObject)->getUserIndex());
+    const auto b = static_cast<sim::ModuleId>(
+        static_cast<const btCollisionObject*>(overlapping[i].m_pProxy1->m_clientObject)->getUserIndex());
     pairs.emplace_back(std::min(a, b), std::max(a, b));
   }
   std::sort(pairs.begin(), pairs.end());
