@@ -206,7 +206,7 @@ The whole history stays: seek anywhere, intervene to start a branch, add watchpo
 evaluated over the past. Commands answer dicts, the JSON objects `dwatch session` prints; a wrong
 or failed command raises CommandError with the command line's words. Stepping runs without the
 GIL; Ctrl-C stops a long command between steps (the session stays consistent) and raises
-KeyboardInterrupt.)")
+KeyboardInterrupt. Use a Session from one thread at a time (another thread may use another).)")
       .def(py::init<const std::string&, std::optional<int64_t>, std::optional<int64_t>, std::optional<int64_t>>(),
            py::arg("scenario"), py::arg("threads") = py::none(), py::arg("seed") = py::none(),
            py::arg("history_mb") = py::none(),
