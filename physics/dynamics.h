@@ -30,6 +30,10 @@ struct Push {
   sim::Vec3 impulse{};
 };
 
+// Per box (poses in one frame, lattice cells one module apart): 1 when boxes sit across all six
+// of its faces, so that nothing outside reaches it without passing through another first.
+std::vector<uint8_t> enclosed_boxes(const std::vector<sim::Pose>& boxes);
+
 class Dynamics {
  public:
   Dynamics(const PhysicsSettings& settings, ModuleShape shape, float ground_z);

@@ -1,0 +1,45 @@
+#include "physics/dynamics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+
+namespace dw::physics {
+namespace {
+
+// A 4x3x3 block of boxes, turned and moved as a cluster's frame may turn it.
+std::vector<sim::Pose> block(float turn) {
+  const float c = std::cos(turn / 2), s = std::sin(turn / 2);
+  std::vector<sim::Pose> out;
+  for (int z = 0; z < 3; ++z)
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 4; ++x) {
+        // Rotated about z by `turn`, around (1.5, 1, 1), then shifted off the grid.
+        const float px = float(x) - 1.5f, py = float(y) - 1.f;
+        sim::Pose p;
+        p.position = {px * std::cos(turn) - py * std::sin(turn) + 0.3f, px * std::sin(turn) + py * std::cos(turn) - 7.1f,
+                      float(z) - 1.f};
+        p.orientation = {0, 0, s, c};
+        out.push_back(p);
+      }
+  return out;
+}
+
+TEST(Dynamics, OnlyBoxesWithBoxesOnAllSixFacesAreEnclosed) {
+  for (float turn : {0.f, 0.4f, 1.2f}) {
+    const std::vector<uint8_t> inside = enclosed_boxes(block(turn));
+    // In a 4x3x3 block the boxes at (1..2, 1, 1) are the inner ones.
+    std::vector<uint8_t> expected(36, 0);
+    expected[1 + 4 * (1 + 3 * 1)] = expected[2 + 4 * (1 + 3 * 1)] = 1;
+    EXPECT_EQ(inside, expected) << "turned by " << turn;
+  }
+  // One face uncovered (its neighbour gone): on the surface again.
+  std::vector<sim::Pose> holed = block(0.4f);
+  holed.erase(holed.begin() + (1 + 4 * (0 + 3 * 1)));  // the box below (1, 1, 1) in y
+  const std::vector<uint8_t> inside = enclosed_boxes(holed);
+  EXPECT_EQ(std::accumulate(inside.begin(), inside.end(), 0), 1);
+}
+
+}  // namespace
+}  // namespace dw::physics
