@@ -34,7 +34,7 @@ struct Reading {
 Reading reading(const std::string& algorithm, const std::optional<std::string>& shape,
                 const std::optional<std::string>& states, uint64_t max_live);
 
-void add_check(py::module_& m);    // dwatch.check
+void add_check(py::module_& m);    // dwatch.check (module.cpp)
 void add_replay(py::module_& m);   // dwatch.replay and dwatch.Matches
 void add_session(py::module_& m);  // dwatch.Session
 

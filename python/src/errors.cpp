@@ -1,8 +1,5 @@
 #include <Python.h>
 
-#include <sstream>
-
-#include "app/explain.h"
 #include "python/src/bindings.h"
 
 namespace dw::python {
@@ -58,20 +55,6 @@ watch::Watchpoint compile_or_raise(const std::string& name, const std::string& t
   auto compiled = watch::compile_watchpoint(name, watch::SourceText("<watch " + name + ">", text));
   if (auto* error = std::get_if<watch::CompileError>(&compiled)) raise_watch_error(*error);
   return std::get<watch::Watchpoint>(std::move(compiled));
-}
-
-void add_check(py::module_& m) {
-  m.def(
-      "check",
-      [](const std::string& text, const std::string& name) {
-        const watch::Watchpoint w = compile_or_raise(name, text);
-        std::ostringstream out;
-        app::explain_watchpoint(w, out);
-        return out.str();
-      },
-      py::arg("text"), py::arg("name") = "w",
-      "Parses, checks and compiles a watchpoint; returns what `dwatch check` prints for it (normal form, slots, "
-      "E+, offsets, spans, the PatternMatcher's size), or raises WatchError.");
 }
 
 }  // namespace dw::python
