@@ -18,8 +18,8 @@ std::vector<sim::Pose> block(float turn) {
         // Rotated about z by `turn`, around (1.5, 1, 1), then shifted off the grid.
         const float px = float(x) - 1.5f, py = float(y) - 1.f;
         sim::Pose p;
-        p.position = {px * std::cos(turn) - py * std::sin(turn) + 0.3f, px * std::sin(turn) + py * std::cos(turn) - 7.1f,
-                      float(z) - 1.f};
+        p.position = {px * std::cos(turn) - py * std::sin(turn) + 0.3f,
+                      px * std::sin(turn) + py * std::cos(turn) - 7.1f, float(z) - 1.f};
         p.orientation = {0, 0, s, c};
         out.push_back(p);
       }
