@@ -12,7 +12,8 @@ ModuleShape default_shape(sim::LatticeKind kind) {
     case sim::LatticeKind::Square2d: return ModuleShape::Box;
     case sim::LatticeKind::Hex2d: return ModuleShape::Cylinder;
     case sim::LatticeKind::Ring:
-    case sim::LatticeKind::Line: return ModuleShape::Sphere;
+    case sim::LatticeKind::Line:
+    case sim::LatticeKind::Fcc: return ModuleShape::Sphere;  // Catoms 3D are round
   }
   return ModuleShape::Box;
 }

@@ -96,7 +96,8 @@ struct Loader {
     std::optional<sim::LatticeKind> kind;
     if (kind_name) {
       kind = sim::lattice_from_name(*kind_name);
-      if (!kind) r.error("kind", "unknown lattice kind \"" + *kind_name + "\" (cubic, square2d, hex2d, ring, line)");
+      if (!kind)
+        r.error("kind", "unknown lattice kind \"" + *kind_name + "\" (cubic, square2d, hex2d, ring, line, fcc)");
     } else if (!r.has("kind")) {
       r.missing("kind");
     }

@@ -9,7 +9,7 @@ namespace {
 
 constexpr std::pair<LatticeKind, std::string_view> kNames[] = {
     {LatticeKind::Cubic, "cubic"}, {LatticeKind::Square2d, "square2d"}, {LatticeKind::Hex2d, "hex2d"},
-    {LatticeKind::Ring, "ring"},   {LatticeKind::Line, "line"},
+    {LatticeKind::Ring, "ring"},   {LatticeKind::Line, "line"},         {LatticeKind::Fcc, "fcc"},
 };
 
 }  // namespace
@@ -28,7 +28,8 @@ std::optional<LatticeKind> lattice_from_name(std::string_view name) {
 
 int lattice_dimensions(LatticeKind kind) {
   switch (kind) {
-    case LatticeKind::Cubic: return 3;
+    case LatticeKind::Cubic:
+    case LatticeKind::Fcc: return 3;
     case LatticeKind::Square2d:
     case LatticeKind::Hex2d: return 2;
     case LatticeKind::Ring:
@@ -73,6 +74,27 @@ Lattice make_lattice(const LatticeSpec& spec) {
             if (other >= 0 && other < nx) pairs.emplace_back(id(x, y, 0), id(uint32_t(other), y + 1, 0));
           }
         }
+      break;
+    }
+    case LatticeKind::Fcc: {
+      const float layer = std::sqrt(2.0f) / 2;
+      for (uint32_t z = 0; z < nz; ++z)
+        for (uint32_t y = 0; y < ny; ++y)
+          for (uint32_t x = 0; x < nx; ++x) {
+            const float shift = (z & 1) ? 0.5f : 0.0f;
+            l.positions[id(x, y, z)] = {float(x) + shift, float(y) + shift, float(z) * layer};
+            if (x + 1 < nx) pairs.emplace_back(id(x, y, z), id(x + 1, y, z));
+            if (y + 1 < ny) pairs.emplace_back(id(x, y, z), id(x, y + 1, z));
+            if (z + 1 == nz) continue;
+            // The four cells of the layer above: x - 1 .. x from an even layer, x .. x + 1 from an odd one.
+            const int64_t from = (z & 1) ? 0 : -1;
+            for (int64_t dy = from; dy <= from + 1; ++dy)
+              for (int64_t dx = from; dx <= from + 1; ++dx) {
+                const int64_t ax = int64_t{x} + dx, ay = int64_t{y} + dy;
+                if (ax >= 0 && ax < nx && ay >= 0 && ay < ny)
+                  pairs.emplace_back(id(x, y, z), id(uint32_t(ax), uint32_t(ay), z + 1));
+              }
+          }
       break;
     }
     case LatticeKind::Ring: {

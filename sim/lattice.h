@@ -14,12 +14,12 @@
 
 namespace dw::sim {
 
-enum class LatticeKind { Cubic, Square2d, Hex2d, Ring, Line };
+enum class LatticeKind { Cubic, Square2d, Hex2d, Ring, Line, Fcc };
 
-// "cubic", "square2d", "hex2d", "ring", "line".
+// "cubic", "square2d", "hex2d", "ring", "line", "fcc".
 std::string_view lattice_name(LatticeKind kind);
 std::optional<LatticeKind> lattice_from_name(std::string_view name);
-// How many sizes a kind takes: 3 for cubic, 2 for the planar ones, 1 for ring and line.
+// How many sizes a kind takes: 3 for cubic and fcc, 2 for the planar ones, 1 for ring and line.
 int lattice_dimensions(LatticeKind kind);
 
 struct LatticeSpec {
@@ -36,6 +36,11 @@ struct Lattice {
   std::shared_ptr<const NeighborGraph> graph = std::make_shared<const NeighborGraph>();
 };
 
+// fcc (face-centred cubic, Catoms 3D): square layers one on another, each odd layer shifted by
+// half a module in x and y, layers sqrt(2)/2 apart, so that every module touches 12 others: 4
+// in its layer (x +-1, y +-1), 4 in the layer above and 4 below (from an even layer at (x, y) the
+// cells (x-1..x, y-1..y) of the odd layers; from an odd layer the cells (x..x+1, y..y+1)).
+//
 // Ring needs at least 3 modules; every size at least 1. The caller checks those (the scenario
 // loader reports them against the file).
 Lattice make_lattice(const LatticeSpec& spec);

@@ -114,6 +114,26 @@ TEST(BulletWorld, HexAndRingInteriorsHaveSixAndTwoNeighbours) {
   EXPECT_EQ(edges(*ring_run.state().graph), edges(*ring->lattice.graph));
 }
 
+// Catoms 3D: spheres on the FCC lattice touch exactly their 12 lattice neighbours, latched and
+// resting, and free on the ground after it settled.
+TEST(BulletWorld, FccSpheresTouchExactlyTheLatticesNeighbours) {
+  for (const bool anchored : {true, false}) {
+    PhysicsSettings s;
+    s.anchor = anchored;
+    const auto fcc = model_of(sim::make_lattice({sim::LatticeKind::Fcc, {5, 5, 4}}));
+    BulletWorld world(s, fcc->lattice);
+    EXPECT_EQ(world.shape(), ModuleShape::Sphere);
+    sim::Session run(*fcc, world, {.threads = 1});
+    EXPECT_EQ(edges(*run.state().graph), edges(*fcc->lattice.graph)) << "at the start, anchored " << anchored;
+    run.run_until(60);
+    const sim::NeighborGraph& g = *run.state().graph;
+    EXPECT_EQ(edges(g), edges(*fcc->lattice.graph)) << "after 60 steps, anchored " << anchored;
+    uint32_t twelve = 0;
+    for (sim::ModuleId m = 0; m < g.module_count(); ++m) twelve += g.neighbors(m).size() == 12;
+    EXPECT_EQ(twelve, 3u * 3u * 2u);  // x, y in 1..3 on the two inner layers
+  }
+}
+
 TEST(BulletWorld, ModulesPushedApartLoseTheirEdgeWhenTheGapPassesTheThreshold) {
   PhysicsSettings s;
   s.bonds = false;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace dw::sim {
@@ -22,6 +23,33 @@ TEST(Lattice, CubeHasItsFaceAdjacentPairsOnly) {
       const auto& b = l.positions[n];
       EXPECT_FLOAT_EQ(std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]), 1.0f);
     }
+}
+
+// Catoms 3D: every pair one module apart is a neighbour pair and no other pair is, checked over all
+// pairs; modules with every one of their cells inside the block have 12.
+TEST(Lattice, FccNeighboursAreExactlyThePairsOneModuleApart) {
+  constexpr uint32_t n = 5;
+  const Lattice l = make_lattice({LatticeKind::Fcc, {n, n, n}});
+  ASSERT_EQ(l.positions.size(), n * n * n);
+  uint32_t twelve = 0;
+  for (ModuleId a = 0; a < l.positions.size(); ++a) {
+    const auto nbrs = l.graph->neighbors(a);
+    twelve += nbrs.size() == 12;
+    EXPECT_LE(nbrs.size(), 12u);
+    for (ModuleId b = 0; b < l.positions.size(); ++b) {
+      if (a == b) continue;
+      const auto &p = l.positions[a], &q = l.positions[b];
+      const float d = std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+      const bool listed = std::find(nbrs.begin(), nbrs.end(), b) != nbrs.end();
+      EXPECT_EQ(listed, std::abs(d - 1) < 1e-5f) << a << " and " << b << " are " << d << " apart";
+      EXPECT_GT(d, 0.999f) << "two modules overlap";
+    }
+  }
+  // Interior: x and y from 1 to n - 2 in every layer but the first and the last.
+  EXPECT_EQ(twelve, (n - 2) * (n - 2) * (n - 2));
+  // The layers: an odd one shifted half a module in x and y, sqrt(2)/2 above the even one.
+  EXPECT_FLOAT_EQ(l.positions[n * n][0], 0.5f);
+  EXPECT_FLOAT_EQ(l.positions[n * n][2], std::sqrt(2.0f) / 2);
 }
 
 TEST(Lattice, HexInteriorModulesHaveSixNeighboursOneApart) {
@@ -57,8 +85,8 @@ TEST(Lattice, RingLineAndSquare) {
 }
 
 TEST(Lattice, NamesRoundTrip) {
-  for (LatticeKind k :
-       {LatticeKind::Cubic, LatticeKind::Square2d, LatticeKind::Hex2d, LatticeKind::Ring, LatticeKind::Line})
+  for (LatticeKind k : {LatticeKind::Cubic, LatticeKind::Square2d, LatticeKind::Hex2d, LatticeKind::Ring,
+                        LatticeKind::Line, LatticeKind::Fcc})
     EXPECT_EQ(lattice_from_name(lattice_name(k)), k);
   EXPECT_FALSE(lattice_from_name("hexagonal"));
 }
