@@ -166,6 +166,30 @@ TEST(PhysicsVariants, LeaderElectionMatchesExactlyTheStaticLattice) {
   expect_same_matches_as_static("leader_election_physics.toml", "leader_election.toml", 200);
 }
 
+TEST(PhysicsVariants, Catoms3dLeaderElectionMatchesExactlyTheStaticFccLattice) {
+  Scenario p = load_file("catoms3d_leader_election.toml");
+  std::ifstream in(std::string(DWATCH_SCENARIOS_DIR) + "/catoms3d_leader_election.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string without = text.str();
+  without.erase(without.find("[physics]\nenabled = true\n"), 26);
+  auto loaded = load_scenario_text("catoms3d_static.toml", without);
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  Scenario& s = std::get<Scenario>(loaded);
+  ASSERT_TRUE(s.model->lattice.spec.kind == sim::LatticeKind::Fcc);
+  sim::Session pr(*p.model, *p.world, {.threads = 2}), sr(*s.model, *s.world, {.threads = 2});
+  ASSERT_FALSE(pr.state().bodies.empty()) << "the physics one has bodies";
+  ASSERT_TRUE(sr.state().bodies.empty());
+  while (pr.run_until(100)) {
+  }
+  while (sr.run_until(100)) {
+  }
+  ASSERT_FALSE(matches_of(sr)[0].empty()) << "the bug shows on the fcc lattice";
+  EXPECT_EQ(matches_of(pr), matches_of(sr));
+  for (sim::ModuleId m = 0; m < p.model->module_count(); ++m)
+    ASSERT_TRUE(std::ranges::equal(pr.state().graph->neighbors(m), s.model->lattice.graph->neighbors(m))) << m;
+}
+
 TEST(PhysicsVariants, TokenRingMatchesExactlyTheStaticRing) {
   expect_same_matches_as_static("token_ring_physics.toml", "token_ring.toml", 100);
 }
