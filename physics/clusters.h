@@ -3,9 +3,9 @@
 
 #include <span>
 
-#include <BulletCollision/CollisionShapes/btCollisionShape.h>
-
 #include "sim/bodies.h"
+
+class btCollisionShape;
 
 namespace dw::physics {
 

@@ -36,6 +36,7 @@ sim::Pose glide(const sim::Mover& mover, int64_t step) {
 struct Dynamics::Compound {
   std::vector<sim::Pose> local;  // the key, compared in full: a hash alone could collide
   std::unique_ptr<btCompoundShape> shape;
+  std::vector<uint32_t> member_of_child;  // child i of `shape` is member member_of_child[i]
   btVector3 inertia;
   int64_t used = 0;
 };
@@ -139,7 +140,10 @@ const Dynamics::Compound& Dynamics::compound(const sim::Bodies& b, const sim::Cl
                                             : std::vector<uint8_t>(k.local.size(), 0);
     k.shape = std::make_unique<btCompoundShape>(true, static_cast<int>(c.count));
     for (uint32_t i = 0; i < c.count; ++i)
-      if (!inside[i]) k.shape->addChildShape(to_bt(k.local[i]), module_shape_);
+      if (!inside[i]) {
+        k.shape->addChildShape(to_bt(k.local[i]), module_shape_);
+        k.member_of_child.push_back(i);
+      }
     it = shapes_->compounds.emplace(key, std::move(k)).first;
   }
   it->second.used = step;
@@ -178,6 +182,7 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
   add(0, &shapes_->ground, btVector3(0, 0, 0), identity, -1);
 
   std::vector<btRigidBody*> cluster_body(b.clusters.size());
+  std::vector<const Compound*> cluster_compound(b.clusters.size(), nullptr);
   for (int i = 0; i < clusters; ++i) {
     const sim::Cluster& c = b.clusters[size_t(i)];
     btCollisionShape* shape = module_shape_;
@@ -185,6 +190,7 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     btVector3 inertia(0, 0, 0);
     if (c.count > 1) {
       const Compound& k = compound(b, c, to);
+      cluster_compound[size_t(i)] = &k;
       shape = k.shape.get();
       if (!c.anchored) inertia = k.inertia;
     } else if (!c.anchored) {
@@ -246,8 +252,10 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     if (tag >= clusters) return b.movers[size_t(tag - clusters)].module;
     const sim::Cluster& c = b.clusters[size_t(tag)];
     if (c.count == 1) return b.members[c.first];
-    if (child < 0 || uint32_t(child) >= c.count) return -1;
-    return b.members[c.first + uint32_t(child)];
+    // The compound holds only the surface members: its children are numbered among those.
+    const std::vector<uint32_t>& member_of_child = cluster_compound[size_t(tag)]->member_of_child;
+    if (child < 0 || size_t(child) >= member_of_child.size()) return -1;
+    return b.members[c.first + member_of_child[size_t(child)]];
   };
   for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
     const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(i);

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "physics/clusters.h"
+
 namespace dw::physics {
 namespace {
 
@@ -39,6 +41,50 @@ TEST(Dynamics, OnlyBoxesWithBoxesOnAllSixFacesAreEnclosed) {
   holed.erase(holed.begin() + (1 + 4 * (0 + 3 * 1)));  // the box below (1, 1, 1) in y
   const std::vector<uint8_t> inside = enclosed_boxes(holed);
   EXPECT_EQ(std::accumulate(inside.begin(), inside.end(), 0), 1);
+}
+
+// A ball dropped on the top corner of a 3x3x3 cube latched to the ground: the contact force goes
+// to that corner, module 26, although the cube's compound leaves out its enclosed centre (13), so
+// that the compound's child 25 is member 26.
+TEST(Dynamics, ContactForceGoesToTheMemberTouchedNotToTheChildsIndex) {
+  PhysicsSettings settings;
+  PropSpec ball;
+  ball.mass = 5;
+  ball.pose.position = {2, 2, 3.01f};
+  ball.velocity.linear = {0, 0, -1};
+  settings.props.push_back(ball);
+  Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
+
+  sim::Bodies b;
+  for (int z = 0; z < 3; ++z)
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 3; ++x) b.poses.push_back({.position = {float(x), float(y), float(z)}});
+  const auto n = static_cast<sim::ModuleId>(b.poses.size());
+  b.velocities.resize(n);
+  b.local.resize(n);
+  for (sim::ModuleId m = 0; m < n; ++m) {
+    for (sim::ModuleId o = m + 1; o < n; ++o) {
+      const auto& p = b.poses[m].position;
+      const auto& q = b.poses[o].position;
+      if (std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) == 1) b.bonds.push_back({m, o});
+    }
+    if (b.poses[m].position[2] == 0) b.bonds.push_back({m, sim::kGround});
+  }
+  std::sort(b.bonds.begin(), b.bonds.end());
+  b.prop_poses = {ball.pose};
+  b.prop_velocities = {ball.velocity};
+  const std::vector<uint8_t> present(n, 1);
+  form_clusters(b, present, dynamics.module_shape());
+  ASSERT_EQ(b.clusters.size(), 1u);
+  ASSERT_TRUE(b.clusters[0].anchored);
+
+  std::vector<float> force, total(n, 0.0f);
+  for (int64_t step = 1; step <= 30; ++step) {
+    dynamics.step(b, {}, step, force);
+    for (sim::ModuleId m = 0; m < n; ++m) total[m] += force[m];
+  }
+  EXPECT_GT(total[26], 0.0f);
+  for (sim::ModuleId m = 0; m < 26; ++m) EXPECT_EQ(total[m], 0.0f) << "module " << m;
 }
 
 }  // namespace
