@@ -39,7 +39,7 @@ bool BulletWorld::touches_ground(const sim::Pose& pose) const {
   return pose.position[2] - 0.5f - ground_z_ <= settings_.contact_threshold;
 }
 
-void BulletWorld::initialize(const sim::Model& model, sim::State& state) {
+void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::WorkerPool& workers) {
   const uint32_t n = model.module_count();
   state.present = model.lattice.occupied;
   sim::Bodies& b = state.bodies;
@@ -53,7 +53,7 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state) {
     b.prop_velocities.push_back(p.velocity);
   }
   contacts_.reset();
-  state.graph = contacts_.update(b, state.present);
+  state.graph = contacts_.update(b, state.present, workers);
   // Real modules latch to what they touch as they are put in place.
   if (settings_.bonds)
     for (sim::ModuleId m = 0; m < n; ++m)
@@ -64,6 +64,9 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state) {
       if (state.present[m] && touches_ground(b.poses[m])) b.bonds.push_back({m, sim::kGround});
   std::sort(b.bonds.begin(), b.bonds.end());
   form_clusters(b, state.present, dynamics_.module_shape());
+  // Members of a cluster are measured at their poses in it: the graph of step 0 is the one a
+  // restored world finds (and the first step does not pay for measuring every pair again).
+  state.graph = contacts_.update(b, state.present, workers);
 }
 
 void BulletWorld::restore(const sim::Model&, const sim::State&) {
@@ -112,9 +115,8 @@ bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vec
       sim::Pose to = b.poses[a.module];
       for (int i = 0; i < 3; ++i) to.position[i] += a.vector[i];
       // The cell must be free: no module there but one gliding out of it, none gliding into it.
-      for (sim::ModuleId m = 0; m < b.poses.size(); ++m)
-        if (m != a.module && state.present[m] && !b.moving(m) && distance(b.poses[m].position, to.position) < 0.5f)
-          return false;
+      for (sim::ModuleId m : contacts_.near(to.position, 0.5f))
+        if (m != a.module && !b.moving(m)) return false;
       for (const sim::Mover& mover : b.movers)
         if (distance(mover.to.position, to.position) < 0.5f) return false;
       sim::Mover mover{a.module, b.poses[a.module], to, asked, settings_.move_steps};
@@ -156,10 +158,15 @@ void BulletWorld::step_bodies(sim::State& state, std::span<const Push> pushes) {
   place_members(b);
 }
 
-void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const sim::Actuation> actuations) {
+void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const sim::Actuation> actuations,
+                          sim::WorkerPool& workers) {
   sim::Bodies& b = state.bodies;
   std::vector<Push> pushes;
   bool regroup = false;
+  // Moves look for modules in their cells in the grid of module centres; requests change no pose.
+  if (std::any_of(actuations.begin(), actuations.end(),
+                  [](const sim::Actuation& a) { return a.kind == sim::Actuation::Kind::Move; }))
+    contacts_.place(b, state.present);
   for (const sim::Actuation& a : actuations) regroup |= carry_out(a, state, pushes);
   if (regroup) form_clusters(b, state.present, dynamics_.module_shape());
 
@@ -180,7 +187,7 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
   }
   std::erase_if(b.movers, [&](const sim::Mover& m) { return state.step - m.start >= m.steps; });
 
-  state.graph = contacts_.update(b, state.present);
+  state.graph = contacts_.update(b, state.present, workers);
 
   if (!arrived.empty()) {
     for (sim::ModuleId m : arrived) {

@@ -22,9 +22,10 @@ class BulletWorld final : public sim::World {
   // The lattice fixes the module shape when the settings leave it open.
   BulletWorld(PhysicsSettings settings, const sim::Lattice& lattice);
 
-  void initialize(const sim::Model& model, sim::State& state) override;
+  void initialize(const sim::Model& model, sim::State& state, sim::WorkerPool& workers) override;
   void restore(const sim::Model& model, const sim::State& state) override;
-  void advance(const sim::Model& model, sim::State& state, std::span<const sim::Actuation> actuations) override;
+  void advance(const sim::Model& model, sim::State& state, std::span<const sim::Actuation> actuations,
+               sim::WorkerPool& workers) override;
   void remove_module(const sim::Model& model, sim::State& state, sim::ModuleId m) override;
   bool moves() const override { return true; }
 

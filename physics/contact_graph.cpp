@@ -1,117 +1,110 @@
 #include "physics/contact_graph.h"
-#include "physics/pair_cache.h"
 
 #include <algorithm>
+#include <cmath>
+#include <utility>
 
-#include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>
-#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
-#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
-#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
-#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
-#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
-#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/CollisionShapes/btConvexShape.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
+#include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
 
+#include "physics/cell_grid.h"
 #include "physics/convert.h"
 #include "physics/shapes.h"
 
 namespace dw::physics {
+namespace {
+
+// The smallest distance GJK reports between two shapes (negative: they overlap).
+struct ClosestDistance final : btDiscreteCollisionDetectorInterface::Result {
+  btScalar distance = BT_LARGE_FLOAT;
+  void setShapeIdentifiersA(int, int) override {}
+  void setShapeIdentifiersB(int, int) override {}
+  void addContactPoint(const btVector3&, const btVector3&, btScalar depth) override {
+    distance = std::min(distance, depth);
+  }
+};
+
+float squared_distance(const sim::Vec3& a, const sim::Vec3& b) {
+  const float x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
+  return x * x + y * y + z * z;
+}
+
+}  // namespace
 
 struct ContactGraph::Impl {
-  // Carries the graph to the near callback (a plain function pointer), so that nothing is global.
-  struct Dispatcher final : btCollisionDispatcher {
-    Dispatcher(btCollisionConfiguration* config, Impl& owner) : btCollisionDispatcher(config), owner(owner) {}
-    Impl& owner;
-  };
+  Impl(ModuleShape kind, float threshold)
+      : shape(make_module_shape(kind)),
+        convex(static_cast<btConvexShape*>(shape.get())),
+        threshold(threshold),
+        cutoff(reach(*shape, threshold)),
+        grid(cutoff) {}
 
-  explicit Impl(ModuleShape kind, float threshold)
-      : dispatcher(&config, *this),
-        world(&dispatcher, &broadphase, &config),
-        shape(make_module_shape(kind)),
-        threshold(threshold) {
-    // The default box-box detector reports nothing across a gap, and the sphere-sphere one
-    // nothing beyond touching: GJK measures the gap for every module shape (docs/design.md §8).
-    const int type = shape->getShapeType();
-    dispatcher.registerCollisionCreateFunc(
-        type, type, config.getCollisionAlgorithmCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE));
-    dispatcher.setNearCallback(&near_callback);
+  // Centres further apart than this cannot be within the threshold: twice the radius of the
+  // sphere around a module's shape, plus the threshold.
+  static float reach(btCollisionShape& shape, float threshold) {
+    btVector3 centre;
+    btScalar radius = 0;
+    shape.getBoundingSphere(centre, radius);
+    return 2 * (radius + centre.length()) + threshold;
   }
 
-  ~Impl() {
-    drop_all_pairs(*world.getPairCache(), dispatcher);
-    for (auto& o : objects)
-      if (o) world.removeCollisionObject(o.get());
+  // Two modules touch when GJK puts their shapes (margins included: shapes one size apart are at
+  // distance 0) at most the threshold apart. Members of one cluster are measured at their poses
+  // in the cluster's frame, others at their world poses.
+  bool touching(sim::ModuleId a, sim::ModuleId b, const sim::Bodies& bodies) const {
+    const bool same = cluster[a] != sim::kNoCluster && cluster[a] == cluster[b];
+    btGjkPairDetector::ClosestPointInput input;
+    input.m_transformA = to_bt(same ? local[a] : bodies.poses[a]);
+    input.m_transformB = to_bt(same ? local[b] : bodies.poses[b]);
+    // GJK stops early on a pair it finds further apart than this.
+    const btScalar reported = 2 * convex->getMargin() + threshold;
+    input.m_maximumDistanceSquared = reported * reported;
+    btVoronoiSimplexSolver simplex;
+    btGjkEpaPenetrationDepthSolver depth;
+    btGjkPairDetector gjk(convex, convex, &simplex, &depth);
+    ClosestDistance result;
+    gjk.getClosestPoints(input, result, nullptr);
+    return result.distance <= threshold;
   }
 
-  // What a pair's measurement found, kept in the pair itself (btBroadphasePair's spare field,
-  // zero when the broadphase adds the pair): a cached pair costs its 32 bytes in the pair cache,
-  // not a collision algorithm and a manifold of four contact points (about 1 KB, 13 pairs a module
-  // in a lattice).
-  enum Measured : int { kUnmeasured = 0, kApart = 1, kTouching = 2 };
-
-  // Measures a pair again, with a fresh algorithm and manifold, when what it is measured at
-  // changed or the pair is new: members of one cluster at their local poses, others at their
-  // world poses. The algorithm goes once measured.
-  static void near_callback(btBroadphasePair& pair, btCollisionDispatcher& d, const btDispatcherInfo& info) {
-    Impl& self = static_cast<Dispatcher&>(d).owner;
-    const auto* a = static_cast<const btCollisionObject*>(pair.m_pProxy0->m_clientObject);
-    const auto* b = static_cast<const btCollisionObject*>(pair.m_pProxy1->m_clientObject);
-    const auto ia = size_t(a->getUserIndex()), ib = size_t(b->getUserIndex());
-    const bool same = self.cluster[ia] != sim::kNoCluster && self.cluster[ia] == self.cluster[ib];
-    const bool changed = self.regrouped[ia] || self.regrouped[ib] || (!same && (self.moved[ia] || self.moved[ib]));
-    if (pair.m_internalTmpValue != kUnmeasured && !changed) return;
-    const btTransform ta = same ? to_bt(self.local[ia]) : a->getWorldTransform();
-    const btTransform tb = same ? to_bt(self.local[ib]) : b->getWorldTransform();
-    const btCollisionObjectWrapper wa(nullptr, a->getCollisionShape(), a, ta, -1, -1);
-    const btCollisionObjectWrapper wb(nullptr, b->getCollisionShape(), b, tb, -1, -1);
-    btCollisionAlgorithm* algorithm = d.findAlgorithm(&wa, &wb, nullptr, BT_CONTACT_POINT_ALGORITHMS);
-    btManifoldResult result(&wa, &wb);
-    algorithm->processCollision(&wa, &wb, info, &result);
-    // The pair touches when any point of any of its manifolds is within the threshold.
-    btManifoldArray manifolds;
-    algorithm->getAllContactManifolds(manifolds);
-    bool touching = false;
-    for (int i = 0; i < manifolds.size() && !touching; ++i)
-      for (int p = 0; p < manifolds[i]->getNumContacts() && !touching; ++p)
-        touching = manifolds[i]->getContactPoint(p).getDistance() <= self.threshold;
-    algorithm->~btCollisionAlgorithm();  // releases its manifold
-    d.freeCollisionAlgorithm(algorithm);
-    pair.m_internalTmpValue = touching ? kTouching : kApart;
-    ++self.measured;
-  }
-
-  btDefaultCollisionConfiguration config;
-  Dispatcher dispatcher;
-  btDbvtBroadphase broadphase;
-  btCollisionWorld world;
   std::unique_ptr<btCollisionShape> shape;
-  float threshold;
-  std::vector<std::unique_ptr<btCollisionObject>> objects;  // per module; null while absent
-  std::vector<sim::Pose> last;                              // the pose each object has
-  std::vector<uint32_t> cluster;                            // per module: its cluster, as last seen
-  std::vector<sim::Pose> local;                             // and its pose in that cluster
-  std::vector<uint8_t> moved, regrouped;
-  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;
+  btConvexShape* convex;
+  float threshold, cutoff;
+  CellGrid grid;                                               // every present module, at its position in `last`
+  std::vector<uint8_t> in_grid;                                // per module
+  std::vector<sim::Pose> last;                                 // the pose each module was measured at
+  std::vector<uint32_t> cluster;                               // per module: its cluster, as last seen
+  std::vector<sim::Pose> local;                                // and its pose in that cluster
+  std::vector<uint8_t> moved, regrouped;                       // since the last update
+  bool pending = false;                                        // some flag above is set
+  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;  // touching, sorted
   std::shared_ptr<const sim::NeighborGraph> graph;
-  uint64_t measured = 0;
 };
 
 ContactGraph::ContactGraph(ModuleShape shape, float threshold) : impl_(std::make_unique<Impl>(shape, threshold)) {}
 ContactGraph::~ContactGraph() = default;
 
-void ContactGraph::reset() { impl_->graph.reset(); }
+void ContactGraph::reset() {
+  impl_->graph.reset();
+  impl_->pending = false;
+  impl_->grid.clear();
+  impl_->in_grid.assign(impl_->in_grid.size(), 0);
+  impl_->pairs.clear();
+}
 
-std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies& bodies,
-                                                               std::span<const uint8_t> present) {
+bool ContactGraph::place(const sim::Bodies& bodies, std::span<const uint8_t> present) {
   Impl& s = *impl_;
   const std::span<const sim::Pose> poses = bodies.poses;
   const size_t n = poses.size();
   const bool forget = !s.graph;
-  s.objects.resize(n);
+  s.in_grid.resize(n, 0);
   s.last.resize(n);
   s.cluster.resize(n, sim::kNoCluster);
   s.local.resize(n);
-  s.moved.assign(n, 0);
-  s.regrouped.assign(n, 0);
+  s.moved.resize(n, 0);
+  s.regrouped.resize(n, 0);
   bool changed = forget;
   for (size_t m = 0; m < n; ++m) {
     const uint32_t c = bodies.cluster_of.empty() ? sim::kNoCluster : bodies.cluster_of[m];
@@ -124,24 +117,21 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
     }
   }
   for (size_t m = 0; m < n; ++m) {
-    auto& object = s.objects[m];
+    const auto id = static_cast<sim::ModuleId>(m);
     if (!present[m]) {
-      if (object) {
-        s.world.removeCollisionObject(object.get());
-        object.reset();
+      if (s.in_grid[m]) {
+        s.grid.erase(id, s.last[m].position);
+        s.in_grid[m] = 0;
+        s.moved[m] = 1;  // its pairs go
         changed = true;
       }
       continue;
     }
-    if (!object) {
-      object = std::make_unique<btCollisionObject>();
-      object->setCollisionShape(s.shape.get());
-      object->setUserIndex(static_cast<int>(m));
-      object->setWorldTransform(to_bt(poses[m]));
-      s.world.addCollisionObject(object.get());
+    if (!s.in_grid[m]) {
+      s.grid.insert(id, poses[m].position);
+      s.in_grid[m] = 1;
     } else if (forget || !(poses[m] == s.last[m])) {
-      object->setWorldTransform(to_bt(poses[m]));
-      s.world.updateSingleAabb(object.get());
+      s.grid.move(id, s.last[m].position, poses[m].position);
     } else {
       continue;
     }
@@ -149,29 +139,68 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
     s.moved[m] = 1;
     changed = true;
   }
-  s.measured = 0;
-  if (!changed) {
-    measured_ = 0;
-    return s.graph;
-  }
+  s.pending |= changed;
+  return changed;
+}
 
-  s.broadphase.calculateOverlappingPairs(&s.dispatcher);
-  s.dispatcher.dispatchAllCollisionPairs(s.broadphase.getOverlappingPairCache(), s.world.getDispatchInfo(),
-                                         &s.dispatcher);
-  measured_ = s.measured;
+std::vector<sim::ModuleId> ContactGraph::near(const sim::Vec3& at, float radius) const {
+  const Impl& s = *impl_;
+  std::vector<sim::ModuleId> found;
+  s.grid.around(at, [&](sim::ModuleId m) {
+    if (squared_distance(s.last[m].position, at) < radius * radius) found.push_back(m);
+  });
+  std::sort(found.begin(), found.end());
+  return found;
+}
 
+std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies& bodies,
+                                                               std::span<const uint8_t> present,
+                                                               sim::WorkerPool& workers) {
+  Impl& s = *impl_;
+  const std::span<const sim::Pose> poses = bodies.poses;
+  const size_t n = poses.size();
+  const bool forget = !s.graph;
+  place(bodies, present);
+  const bool changed = std::exchange(s.pending, false);
+  measured_ = 0;
+  if (!changed) return s.graph;
+
+  // A pair is measured again when what it is measured at changed: for members of one cluster,
+  // their places in it; for others, their world poses. Every other pair keeps its measurement.
+  const auto stale = [&](sim::ModuleId a, sim::ModuleId b) {
+    if (!present[a] || !present[b] || s.regrouped[a] || s.regrouped[b]) return true;
+    const bool same = s.cluster[a] != sim::kNoCluster && s.cluster[a] == s.cluster[b];
+    return !same && (s.moved[a] || s.moved[b]);
+  };
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;
-  const btBroadphasePairArray& overlapping = s.broadphase.getOverlappingPairCache()->getOverlappingPairArray();
-  for (int i = 0; i < overlapping.size(); ++i) {
-    if (overlapping[i].m_internalTmpValue != Impl::kTouching) continue;
-    const auto a = static_cast<sim::ModuleId>(
-        static_cast<const btCollisionObject*>(overlapping[i].m_pProxy0->m_clientObject)->getUserIndex());
-    const auto b = static_cast<sim::ModuleId>(
-        static_cast<const btCollisionObject*>(overlapping[i].m_pProxy1->m_clientObject)->getUserIndex());
-    pairs.emplace_back(std::min(a, b), std::max(a, b));
+  if (!forget)
+    for (const auto& [a, b] : s.pairs)
+      if (!stale(a, b)) pairs.emplace_back(a, b);
+  // Each worker measures the stale pairs of a run of modules; the runs are joined in order.
+  const float cutoff2 = s.cutoff * s.cutoff;
+  const unsigned runs = workers.size();
+  std::vector<std::vector<std::pair<sim::ModuleId, sim::ModuleId>>> found(runs);
+  std::vector<uint64_t> measured(runs, 0);
+  workers.run([&](unsigned run) {
+    for (size_t m = n * run / runs; m < n * (run + 1) / runs; ++m) {
+      if (!present[m] || !(s.moved[m] || s.regrouped[m])) continue;
+      const auto a = static_cast<sim::ModuleId>(m);
+      s.grid.around(poses[a].position, [&](sim::ModuleId b) {
+        if (b == a || !stale(a, b)) return;
+        if (b < a && (s.moved[b] || s.regrouped[b])) return;  // measured from b's side
+        if (squared_distance(poses[a].position, poses[b].position) > cutoff2) return;
+        ++measured[run];
+        if (s.touching(a, b, bodies)) found[run].emplace_back(std::min(a, b), std::max(a, b));
+      });
+    }
+  });
+  for (unsigned run = 0; run < runs; ++run) {
+    pairs.insert(pairs.end(), found[run].begin(), found[run].end());
+    measured_ += measured[run];
   }
   std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  s.moved.assign(n, 0);
+  s.regrouped.assign(n, 0);
   if (s.graph && pairs == s.pairs && s.graph->module_count() == n) return s.graph;
   s.pairs = std::move(pairs);
   s.graph =

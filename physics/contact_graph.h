@@ -1,14 +1,12 @@
-// The neighbour graph from contacts (docs/design.md §8): one collision object per module in a
-// collision-only Bullet world (the GJK detector for every pair, so that a gap is measured), the
-// contact points of each pair's manifolds merged, a pair adjacent when some point lies within the
-// threshold; module ids ride on setUserIndex.
+// The neighbour graph from contacts (docs/design.md §8): two modules are neighbours when Bullet's
+// GJK puts their shapes at most the threshold apart. Candidates come from a grid of module
+// centres (physics/cell_grid.h); no Bullet world, collision object or pair cache is kept.
 //
 // The graph is a pure function of the bodies: two modules of one rigid cluster are measured at
 // their poses in the cluster's frame (which do not change while the cluster lasts), any other
-// pair at its world poses. A pair is measured again, from an empty manifold, only when what it
-// is measured at changed, and keeps its last measurement otherwise. So a still lattice, or one
-// moving as a rigid whole, costs a walk over its pairs, and a restored world gives what the live
-// one gave.
+// pair at its world poses. A pair is measured again only when what it is measured at changed,
+// and keeps its last measurement otherwise. So a still lattice, or one moving as a rigid whole,
+// costs a walk over its modules, and a restored world gives what the live one gave.
 #pragma once
 
 #include <memory>
@@ -17,6 +15,7 @@
 
 #include "physics/settings.h"
 #include "sim/neighbor_graph.h"
+#include "sim/worker_pool.h"
 
 class btCollisionShape;
 
@@ -31,7 +30,16 @@ class ContactGraph {
 
   // N(m) for the given bodies; absent modules touch nobody. Returns the previous graph (the same
   // object) when no pair changed.
-  std::shared_ptr<const sim::NeighborGraph> update(const sim::Bodies& bodies, std::span<const uint8_t> present);
+  // Pairs are measured on `workers`, the modules split among them by id.
+  std::shared_ptr<const sim::NeighborGraph> update(const sim::Bodies& bodies, std::span<const uint8_t> present,
+                                                   sim::WorkerPool& workers);
+  // Brings the grid of module centres up to the bodies without measuring (update does it too):
+  // what near() reads. Returns whether anything moved, regrouped, came or went since the last
+  // update.
+  bool place(const sim::Bodies& bodies, std::span<const uint8_t> present);
+  // The present modules whose centres lie closer than `radius` (at most a module size) to `at`,
+  // ascending, as last placed.
+  std::vector<sim::ModuleId> near(const sim::Vec3& at, float radius) const;
   // Forgets every measurement (the next update measures every pair).
   void reset();
 

@@ -65,7 +65,8 @@ Dynamics::Dynamics(const PhysicsSettings& settings, ModuleShape shape, float gro
 Dynamics::~Dynamics() = default;
 
 bool Dynamics::idle(const sim::Bodies& b) const {
-  if (!b.movers.empty()) return false;
+  // A module making a lattice move is kinematic: Bullet moves nothing for it against what is
+  // anchored (the glide itself is the World's), so movers alone ask for no step.
   for (const sim::Cluster& c : b.clusters)
     if (!c.anchored) return false;
   for (const PropSpec& p : settings_.props)

@@ -42,7 +42,8 @@ class Dynamics {
   Dynamics& operator=(const Dynamics&) = delete;
 
   btCollisionShape& module_shape() { return *module_shape_; }
-  // Nothing can move: every cluster anchored, no lattice move, no prop that is not fixed.
+  // Nothing that Bullet moves: every cluster anchored, no prop that is not fixed (lattice moves
+  // glide on their own).
   bool idle(const sim::Bodies& bodies) const;
   // Moves the clusters, props and movers from step `to - 1` to step `to`; pushes are applied
   // first. Writes each module's contact force (N) over the step from other bodies (the ground's

@@ -160,7 +160,7 @@ State Runtime::initial_state() {
   s.values.resize(size_t{window_} * v);
   for (uint32_t i = 0; i < window_; ++i)
     std::copy(model_.initial_values.begin(), model_.initial_values.end(), s.values.begin() + size_t{i} * v);
-  world_.initialize(model_, s);
+  world_.initialize(model_, s, pool_);
   for (uint32_t w = 0; w < model_.watches.size(); ++w) s.watches.push_back(initial_watch_state(w));
   return s;
 }
@@ -848,7 +848,7 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
   deliver_program_messages(state);
   out.program_messages = state.program_messages - sent_before;
   ++state.step;
-  world_.advance(model_, state, actuations_);
+  world_.advance(model_, state, actuations_, pool_);
 }
 
 }  // namespace dw::sim

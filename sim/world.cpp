@@ -8,7 +8,7 @@ void World::remove_module(const Model&, State& state, ModuleId m) {
   state.graph = std::make_shared<const NeighborGraph>(state.graph->without(m));
 }
 
-void StaticLatticeWorld::initialize(const Model& model, State& state) {
+void StaticLatticeWorld::initialize(const Model& model, State& state, WorkerPool&) {
   state.present = model.lattice.occupied;
   state.graph = model.lattice.graph;
 }

@@ -9,21 +9,25 @@
 #include "sim/actuation.h"
 #include "sim/model.h"
 #include "sim/state.h"
+#include "sim/worker_pool.h"
 
 namespace dw::sim {
 
 class World {
  public:
   virtual ~World() = default;
-  // Sets presence and N(m, 0) (and, for a physical world, poses) in the initial state.
-  virtual void initialize(const Model& model, State& state) = 0;
+  // Sets presence and N(m, 0) (and, for a physical world, poses) in the initial state. `workers`
+  // are the runtime's threads, free while the world works; what the world computes with them must
+  // not depend on their number.
+  virtual void initialize(const Model& model, State& state, WorkerPool& workers) = 0;
   // Makes the world's own state agree with `state` (after a rollback).
   virtual void restore(const Model& model, const State& state) = 0;
   // Moves the world on by one step, after the programs of step state.step - 1 ran: carries out
   // what they asked of their bodies (in module order), then sets the presence, the bodies and
   // N(m, state.step) that the next step's programs see. A request the world cannot carry out
   // throws ProgramError.
-  virtual void advance(const Model& model, State& state, std::span<const Actuation> actuations) = 0;
+  virtual void advance(const Model& model, State& state, std::span<const Actuation> actuations,
+                       WorkerPool& workers) = 0;
   // An intervention (docs/design.md §7) before step state.step runs: module m leaves the ensemble. It is
   // absent from now on and out of N(·, state.step); a physical world also lets go of its body.
   virtual void remove_module(const Model& model, State& state, ModuleId m);
@@ -36,9 +40,9 @@ class World {
 // state shares one graph.
 class StaticLatticeWorld final : public World {
  public:
-  void initialize(const Model& model, State& state) override;
+  void initialize(const Model& model, State& state, WorkerPool& workers) override;
   void restore(const Model&, const State&) override {}
-  void advance(const Model&, State&, std::span<const Actuation>) override {}
+  void advance(const Model&, State&, std::span<const Actuation>, WorkerPool&) override {}
 };
 
 }  // namespace dw::sim

@@ -88,12 +88,12 @@ struct Seen {
 // which agents that run a step behind (`next`) send.
 class FarLinksOnOddSteps final : public World {
  public:
-  void initialize(const Model& model, State& state) override {
+  void initialize(const Model& model, State& state, WorkerPool&) override {
     state.present.assign(model.module_count(), 1);
     state.graph = graph(model, 0);
   }
   void restore(const Model&, const State&) override {}
-  void advance(const Model& model, State& state, std::span<const Actuation>) override {
+  void advance(const Model& model, State& state, std::span<const Actuation>, WorkerPool&) override {
     state.graph = graph(model, state.step);
   }
 
