@@ -103,6 +103,7 @@ inline constexpr const char* kAggregationToml = "[[program]]\nname = \"aggregati
 struct RuntimeRow {
   uint64_t matches = 0, created = 0, messages = 0;  // of the first watch, if any
   double seconds = 0, median_seconds = 0;           // the fastest run, and the median
+  double world_seconds = 0;                         // of the fastest run: in World::advance
   long peak_kib = 0;
   bool failed = false, stopped = false;  // stopped: the watch reached its --max-live budget
 };

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <map>
 #include <optional>
+#include <sstream>
 
 #include "app/bench.h"
 #include "app/bench_child.h"
@@ -79,6 +80,7 @@ double run_scenario_once(const std::string& text, const BenchArgs& args, Timed t
   const auto start = std::chrono::steady_clock::now();
   run.run_until(args.steps);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  row.world_seconds = run.world_seconds();
   if (!s->model->watches.empty()) {
     row.matches = run.match_count(0);
     row.created = run.stats(0).created;
@@ -96,19 +98,21 @@ RuntimeRow run_scenario_text(const std::string& toml, const BenchArgs& args, int
   const std::string text = "seed = " + std::to_string(args.seed) + "\n" + toml;
   RuntimeRow row;
   std::vector<double> times;
-  double total = 0;
+  double total = 0, best_world = 0;
   while (times.size() < size_t(repeat) || (total < min_seconds && times.size() < kMostRuns)) {
     const double seconds = run_scenario_once(text, args, timed, row);
     if (seconds < 0) {
       row.failed = true;
       return row;
     }
+    if (times.empty() || seconds < *std::min_element(times.begin(), times.end())) best_world = row.world_seconds;
     times.push_back(seconds);
     total += seconds;
   }
   std::sort(times.begin(), times.end());
   row.seconds = times.front();
   row.median_seconds = times[times.size() / 2];
+  row.world_seconds = best_world;
   return row;
 }
 
@@ -254,6 +258,27 @@ int run_rows(const BenchArgs& args, Table& table) {
         return 1;
       per_step(r);
     }
+    // A million modules: a 100^3 block latched to the ground, set up; resting; and with the holes
+    // of reconfigure_large.toml flowing through its top layer (1,000 modules set off at step 1,
+    // hundreds glide at once after), the physics part of a step apart.
+    const auto physics_part = [&](const RuntimeRow& x) {
+      std::cout << "    physics part: " << std::fixed << std::setprecision(1)
+                << 1000 * x.world_seconds / double(args.steps) << " ms a step (bodies, contacts, the graph)\n";
+    };
+    if (!row("set up and torn down, 100^3", cubic_toml(100, 100, 100) + sense + latched, args, 1, table, r,
+             Timed::SetUp))
+      return 1;
+    if (!row("resting 100^3, latched to the ground", cubic_toml(100, 100, 100) + sense + latched, args, 1, table, r))
+      return 1;
+    physics_part(r);
+    std::ifstream flow_file(std::string(DWATCH_SCENARIOS_DIR) + "/reconfigure_large.toml");
+    std::stringstream flow;
+    flow << flow_file.rdbuf();
+    std::string flow_toml = flow.str();
+    const size_t seed = flow_toml.find("\nseed = ");  // the bench gives the seed
+    flow_toml.erase(seed, flow_toml.find('\n', seed + 1) - seed);
+    if (!row("reconfigure_large 100^3 (surface flow)", flow_toml, args, 1, table, r)) return 1;
+    physics_part(r);
     // The watchpoint's overhead over a 1,000-module physics run of leader election (hex 40x25).
     const std::string election =
         "[lattice]\nkind = \"hex2d\"\nsize = [40, 25]\n[[program]]\nname = \"leader_election\"\n";

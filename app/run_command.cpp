@@ -239,6 +239,9 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
     summary << std::setprecision(2) << ", " << step_seconds * 1e9 / double(ran) / model.module_count()
             << " ns per module-step";
   summary << ")";
+  if (scenario.world->moves() && ran > 0)
+    summary << std::setprecision(2) << "\n  physics: " << run.world_seconds() << " s of the steps, "
+            << 1e3 * run.world_seconds() / double(ran) << " ms a step (bodies, contacts, the graph)";
   summary << "\n  state hash: " << sim::hash_text(hash) << "\n";
   if (ranks && ran > 0)
     summary << "  between ranks: " << between_ranks << " bytes, " << between_ranks / uint64_t(ran)

@@ -70,8 +70,8 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
 }
 
 void BulletWorld::restore(const sim::Model&, const sim::State&) {
-  // Nothing of Bullet's outlives a step (physics/dynamics.h); the contact graph measures again.
-  contacts_.reset();
+  // Nothing of Bullet's outlives a step (physics/dynamics.h), and the contact graph measures
+  // again whatever differs from what it measured last, whichever state that was.
 }
 
 void BulletWorld::remove_module(const sim::Model& model, sim::State& state, sim::ModuleId m) {
@@ -83,10 +83,12 @@ void BulletWorld::remove_module(const sim::Model& model, sim::State& state, sim:
   std::erase_if(b.movers, [&](const sim::Mover& x) { return x.module == m; });
   b.velocities[m] = {};
   form_clusters(b, state.present, dynamics_.module_shape());
+  graph_stale_ = true;  // the clusters it left may have new frames
 }
 
 // Carries out one request; returns whether the bonds changed.
-bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vector<Push>& pushes) {
+bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vector<Push>& pushes,
+                            std::vector<sim::ModuleId>& leaving) {
   sim::Bodies& b = state.bodies;
   const int64_t asked = state.step - 1;
   auto erase_bonds = [&](auto&& which) { return std::erase_if(b.bonds, which) > 0; };
@@ -124,7 +126,9 @@ bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vec
                                        [](const sim::Mover& x, const sim::Mover& y) { return x.module < y.module; }),
                       mover);
       b.velocities[a.module] = {};
-      erase_bonds([&](const sim::Bond& x) { return x.a == a.module || x.b == a.module; });
+      // Its bonds go after every request is carried out, in one pass over the bonds: a bond made
+      // to it meanwhile is refused (it is moving), so the result is the same.
+      leaving.push_back(a.module);
       return true;  // it leaves its cluster
     }
   }
@@ -167,8 +171,16 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
   if (std::any_of(actuations.begin(), actuations.end(),
                   [](const sim::Actuation& a) { return a.kind == sim::Actuation::Kind::Move; }))
     contacts_.place(b, state.present);
-  for (const sim::Actuation& a : actuations) regroup |= carry_out(a, state, pushes);
+  std::vector<sim::ModuleId> leaving;  // modules setting off on a lattice move
+  for (const sim::Actuation& a : actuations) regroup |= carry_out(a, state, pushes, leaving);
+  if (!leaving.empty()) {
+    std::sort(leaving.begin(), leaving.end());
+    const auto leaves = [&](sim::ModuleId m) { return std::binary_search(leaving.begin(), leaving.end(), m); };
+    std::erase_if(b.bonds, [&](const sim::Bond& x) { return leaves(x.a) || (x.b != sim::kGround && leaves(x.b)); });
+  }
   if (regroup) form_clusters(b, state.present, dynamics_.module_shape());
+  // Nothing moves and no frame changes: the graph stays (a resting lattice costs no physics).
+  const bool still = !regroup && !graph_stale_ && b.movers.empty() && dynamics_.idle(b);
 
   step_bodies(state, pushes);
 
@@ -187,16 +199,19 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
   }
   std::erase_if(b.movers, [&](const sim::Mover& m) { return state.step - m.start >= m.steps; });
 
-  state.graph = contacts_.update(b, state.present, workers);
+  if (!still) state.graph = contacts_.update(b, state.present, workers);
+  graph_stale_ = false;
 
   if (!arrived.empty()) {
+    const size_t kept = b.bonds.size();
     for (sim::ModuleId m : arrived) {
       if (settings_.bonds)
         for (sim::ModuleId o : state.graph->neighbors(m))
           if (!b.moving(o)) b.bonds.push_back({std::min(m, o), std::max(m, o)});
       if (settings_.anchor && touches_ground(b.poses[m])) b.bonds.push_back({m, sim::kGround});
     }
-    std::sort(b.bonds.begin(), b.bonds.end());
+    std::sort(b.bonds.begin() + ptrdiff_t(kept), b.bonds.end());
+    std::inplace_merge(b.bonds.begin(), b.bonds.begin() + ptrdiff_t(kept), b.bonds.end());
     b.bonds.erase(std::unique(b.bonds.begin(), b.bonds.end()), b.bonds.end());
     form_clusters(b, state.present, dynamics_.module_shape());
   }

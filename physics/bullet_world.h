@@ -34,7 +34,8 @@ class BulletWorld final : public sim::World {
   float ground_z() const { return ground_z_; }
 
  private:
-  bool carry_out(const sim::Actuation& a, sim::State& state, std::vector<Push>& pushes);
+  bool carry_out(const sim::Actuation& a, sim::State& state, std::vector<Push>& pushes,
+                 std::vector<sim::ModuleId>& leaving);
   void step_bodies(sim::State& state, std::span<const Push> pushes);
   bool touches_ground(const sim::Pose& pose) const;
 
@@ -44,6 +45,7 @@ class BulletWorld final : public sim::World {
   Dynamics dynamics_;
   ContactGraph contacts_;
   std::vector<float> force_;
+  bool graph_stale_ = false;  // state.graph is not yet measured from the bodies (a module removed)
 };
 
 }  // namespace dw::physics

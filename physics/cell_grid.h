@@ -25,6 +25,24 @@ class CellGrid {
   void erase(sim::ModuleId m, const sim::Vec3& at);
   void move(sim::ModuleId m, const sim::Vec3& from, const sim::Vec3& to);
 
+  // The number of cells a box [lo, hi] overlaps, and (within) calls visit(m) for every module
+  // in them: all of those whose centres lie in the box, and others.
+  uint64_t cells_in(const sim::Vec3& lo, const sim::Vec3& hi) const {
+    const Cell a = cell(lo), b = cell(hi);
+    return uint64_t(b.x - a.x + 1) * uint64_t(b.y - a.y + 1) * uint64_t(b.z - a.z + 1);
+  }
+  template <typename Visit>
+  void within(const sim::Vec3& lo, const sim::Vec3& hi, Visit&& visit) const {
+    const Cell a = cell(lo), b = cell(hi);
+    for (int64_t z = a.z; z <= b.z; ++z)
+      for (int64_t y = a.y; y <= b.y; ++y)
+        for (int64_t x = a.x; x <= b.x; ++x) {
+          const auto it = cells_.find(pack({x, y, z}));
+          if (it == cells_.end()) continue;
+          for (sim::ModuleId m : it->second) visit(m);
+        }
+  }
+
   // Calls visit(m) for every module in the 27 cells around `at`: all of those within side() of
   // it, and others (the caller measures).
   template <typename Visit>

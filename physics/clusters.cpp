@@ -59,8 +59,11 @@ void form_clusters(sim::Bodies& b, std::span<const uint8_t> present, btCollision
   for (sim::Cluster& c : clusters) {
     const std::span<const sim::ModuleId> mine(members.data() + c.first, c.count);
     const uint32_t old = b.cluster_of.empty() ? sim::kNoCluster : b.cluster_of[mine[0]];
+    // A cluster the ground lets go of needs its principal frame (a rigid body turns about its
+    // centre of mass); any other with the same members keeps its frame.
     if (old != sim::kNoCluster && b.clusters[old].count == c.count &&
-        std::equal(mine.begin(), mine.end(), b.members.begin() + b.clusters[old].first)) {
+        std::equal(mine.begin(), mine.end(), b.members.begin() + b.clusters[old].first) &&
+        !(b.clusters[old].anchored && !c.anchored)) {
       c.pose = b.clusters[old].pose;
       c.velocity = b.clusters[old].velocity;
       if (c.anchored && !b.clusters[old].anchored) {
@@ -72,6 +75,11 @@ void form_clusters(sim::Bodies& b, std::span<const uint8_t> present, btCollision
     if (c.count == 1) {
       c.pose = b.poses[mine[0]];
       b.local[mine[0]] = sim::Pose{};
+    } else if (c.anchored) {
+      // It never moves: the world's frame will do, and members keep their poses in it whatever
+      // joins or leaves (a block of a million that a module leaves is not recomputed).
+      c.pose = sim::Pose{};
+      for (sim::ModuleId m : mine) b.local[m] = b.poses[m];
     } else {
       btCompoundShape compound(false, static_cast<int>(c.count));
       for (sim::ModuleId m : mine) compound.addChildShape(to_bt(b.poses[m]), &module_shape);

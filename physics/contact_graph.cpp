@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 
 #include <BulletCollision/CollisionShapes/btConvexShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
@@ -51,13 +50,11 @@ struct ContactGraph::Impl {
   }
 
   // Two modules touch when GJK puts their shapes (margins included: shapes one size apart are at
-  // distance 0) at most the threshold apart. Members of one cluster are measured at their poses
-  // in the cluster's frame, others at their world poses.
-  bool touching(sim::ModuleId a, sim::ModuleId b, const sim::Bodies& bodies) const {
-    const bool same = cluster[a] != sim::kNoCluster && cluster[a] == cluster[b];
+  // distance 0) at most the threshold apart, measured at `ta` and `tb`.
+  bool touching(const sim::Pose& ta, const sim::Pose& tb) const {
     btGjkPairDetector::ClosestPointInput input;
-    input.m_transformA = to_bt(same ? local[a] : bodies.poses[a]);
-    input.m_transformB = to_bt(same ? local[b] : bodies.poses[b]);
+    input.m_transformA = to_bt(ta);
+    input.m_transformB = to_bt(tb);
     // GJK stops early on a pair it finds further apart than this.
     const btScalar reported = 2 * convex->getMargin() + threshold;
     input.m_maximumDistanceSquared = reported * reported;
@@ -69,16 +66,34 @@ struct ContactGraph::Impl {
     return result.distance <= threshold;
   }
 
+  // Where a module is, as far as its pairs are concerned: a member of a cluster that moves is
+  // measured against its fellow members at its pose in the cluster (fixed while the cluster
+  // lasts, however it moves), everything else at its world pose (an anchored cluster never moves).
+  struct Frame {
+    uint32_t cluster = sim::kNoCluster;  // a cluster that moves, or kNoCluster
+    sim::Pose local;                     // the pose in it
+    bool operator==(const Frame&) const = default;
+  };
+  static Frame frame_of(const sim::Bodies& b, size_t m) {
+    if (b.cluster_of.empty()) return {};
+    const uint32_t c = b.cluster_of[m];
+    if (c == sim::kNoCluster || b.clusters[c].anchored || b.clusters[c].count < 2) return {};
+    return {c, b.local[m]};
+  }
+  static bool together(const Frame& a, const Frame& b) {
+    return a.cluster != sim::kNoCluster && a.cluster == b.cluster;
+  }
+
   std::unique_ptr<btCollisionShape> shape;
   btConvexShape* convex;
   float threshold, cutoff;
-  CellGrid grid;                                               // every present module, at its position in `last`
-  std::vector<uint8_t> in_grid;                                // per module
-  std::vector<sim::Pose> last;                                 // the pose each module was measured at
-  std::vector<uint32_t> cluster;                               // per module: its cluster, as last seen
-  std::vector<sim::Pose> local;                                // and its pose in that cluster
-  std::vector<uint8_t> moved, regrouped;                       // since the last update
-  bool pending = false;                                        // some flag above is set
+  CellGrid grid;                 // every present module, at grid_at
+  std::vector<uint8_t> in_grid;  // per module
+  std::vector<sim::Vec3> grid_at;
+  // As of the last measurement, per module: present, its world pose and its frame.
+  std::vector<uint8_t> was_present;
+  std::vector<sim::Pose> world;
+  std::vector<Frame> frame;
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;  // touching, sorted
   std::shared_ptr<const sim::NeighborGraph> graph;
 };
@@ -88,66 +103,39 @@ ContactGraph::~ContactGraph() = default;
 
 void ContactGraph::reset() {
   impl_->graph.reset();
-  impl_->pending = false;
-  impl_->grid.clear();
-  impl_->in_grid.assign(impl_->in_grid.size(), 0);
   impl_->pairs.clear();
 }
 
-bool ContactGraph::place(const sim::Bodies& bodies, std::span<const uint8_t> present) {
+void ContactGraph::place(const sim::Bodies& bodies, std::span<const uint8_t> present) {
   Impl& s = *impl_;
-  const std::span<const sim::Pose> poses = bodies.poses;
-  const size_t n = poses.size();
-  const bool forget = !s.graph;
+  const size_t n = bodies.poses.size();
   s.in_grid.resize(n, 0);
-  s.last.resize(n);
-  s.cluster.resize(n, sim::kNoCluster);
-  s.local.resize(n);
-  s.moved.resize(n, 0);
-  s.regrouped.resize(n, 0);
-  bool changed = forget;
-  for (size_t m = 0; m < n; ++m) {
-    const uint32_t c = bodies.cluster_of.empty() ? sim::kNoCluster : bodies.cluster_of[m];
-    const sim::Pose local = c == sim::kNoCluster ? sim::Pose{} : bodies.local[m];
-    if (forget || c != s.cluster[m] || !(local == s.local[m])) {
-      s.cluster[m] = c;
-      s.local[m] = local;
-      s.regrouped[m] = 1;
-      changed = true;
-    }
-  }
+  s.grid_at.resize(n);
   for (size_t m = 0; m < n; ++m) {
     const auto id = static_cast<sim::ModuleId>(m);
+    const sim::Vec3& at = bodies.poses[m].position;
     if (!present[m]) {
-      if (s.in_grid[m]) {
-        s.grid.erase(id, s.last[m].position);
-        s.in_grid[m] = 0;
-        s.moved[m] = 1;  // its pairs go
-        changed = true;
-      }
+      if (s.in_grid[m]) s.grid.erase(id, s.grid_at[m]);
+      s.in_grid[m] = 0;
       continue;
     }
     if (!s.in_grid[m]) {
-      s.grid.insert(id, poses[m].position);
-      s.in_grid[m] = 1;
-    } else if (forget || !(poses[m] == s.last[m])) {
-      s.grid.move(id, s.last[m].position, poses[m].position);
+      s.grid.insert(id, at);
+    } else if (at != s.grid_at[m]) {
+      s.grid.move(id, s.grid_at[m], at);
     } else {
       continue;
     }
-    s.last[m] = poses[m];
-    s.moved[m] = 1;
-    changed = true;
+    s.in_grid[m] = 1;
+    s.grid_at[m] = at;
   }
-  s.pending |= changed;
-  return changed;
 }
 
 std::vector<sim::ModuleId> ContactGraph::near(const sim::Vec3& at, float radius) const {
   const Impl& s = *impl_;
   std::vector<sim::ModuleId> found;
   s.grid.around(at, [&](sim::ModuleId m) {
-    if (squared_distance(s.last[m].position, at) < radius * radius) found.push_back(m);
+    if (squared_distance(s.grid_at[m], at) < radius * radius) found.push_back(m);
   });
   std::sort(found.begin(), found.end());
   return found;
@@ -159,23 +147,67 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
   Impl& s = *impl_;
   const std::span<const sim::Pose> poses = bodies.poses;
   const size_t n = poses.size();
-  const bool forget = !s.graph;
+  const bool forget = !s.graph || s.world.size() != n;
   place(bodies, present);
-  const bool changed = std::exchange(s.pending, false);
+  s.was_present.resize(n, 0);
+  s.world.resize(n);
+  s.frame.resize(n);
+
+  // Per module, what changed since the last measurement: it came or went or its world pose
+  // changed (moved), or its frame did (reframed). Only those look for pairs to measure.
+  std::vector<Impl::Frame> frame(n);
+  std::vector<uint8_t> moved(n, 0), reframed(n, 0);
+  bool changed = forget;
+  for (size_t m = 0; m < n; ++m) {
+    frame[m] = Impl::frame_of(bodies, m);
+    moved[m] = forget || present[m] != s.was_present[m] || (present[m] && !(poses[m] == s.world[m]));
+    reframed[m] = forget || !(frame[m] == s.frame[m]);
+    changed = changed || moved[m] || reframed[m];
+  }
   measured_ = 0;
   if (!changed) return s.graph;
 
-  // A pair is measured again when what it is measured at changed: for members of one cluster,
-  // their places in it; for others, their world poses. Every other pair keeps its measurement.
+  // A pair is measured again when what it is measured at changed: both members of one cluster
+  // that moves at their poses in it, any other pair at its world poses. Every other pair keeps
+  // its measurement.
   const auto stale = [&](sim::ModuleId a, sim::ModuleId b) {
-    if (!present[a] || !present[b] || s.regrouped[a] || s.regrouped[b]) return true;
-    const bool same = s.cluster[a] != sim::kNoCluster && s.cluster[a] == s.cluster[b];
-    return !same && (s.moved[a] || s.moved[b]);
+    if (forget || !present[a] || !present[b]) return true;
+    const bool was = Impl::together(s.frame[a], s.frame[b]), is = Impl::together(frame[a], frame[b]);
+    if (was != is) return true;
+    return is ? !(frame[a].local == s.frame[a].local && frame[b].local == s.frame[b].local) : moved[a] || moved[b];
   };
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;
   if (!forget)
     for (const auto& [a, b] : s.pairs)
       if (!stale(a, b)) pairs.emplace_back(a, b);
+  // Who looks for pairs: what moved or was reframed, except the members of a cluster that moved
+  // as a whole with nothing else near it (a pile free on the ground): their pairs with each other
+  // keep their measurement, and nothing outside the cluster is within reach.
+  std::vector<uint8_t> search(n, 0);
+  for (size_t m = 0; m < n; ++m) search[m] = present[m] && (moved[m] || reframed[m]);
+  if (!forget && !bodies.cluster_of.empty())
+    for (uint32_t c = 0; c < bodies.clusters.size(); ++c) {
+      const sim::Cluster& cluster = bodies.clusters[c];
+      if (cluster.anchored || cluster.count < 2) continue;
+      const std::span<const sim::ModuleId> members(bodies.members.data() + cluster.first, cluster.count);
+      if (std::any_of(members.begin(), members.end(), [&](sim::ModuleId m) { return reframed[m] != 0; })) continue;
+      sim::Vec3 lo = poses[members[0]].position, hi = lo;
+      for (sim::ModuleId m : members)
+        for (int i = 0; i < 3; ++i) {
+          lo[i] = std::min(lo[i], poses[m].position[i] - s.cutoff);
+          hi[i] = std::max(hi[i], poses[m].position[i] + s.cutoff);
+        }
+      if (s.grid.cells_in(lo, hi) > 8 * uint64_t{cluster.count} + 64) continue;  // spread thin: ask each
+      bool alone = true;
+      s.grid.within(lo, hi, [&](sim::ModuleId o) {
+        const auto& p = poses[o].position;
+        alone = alone && (bodies.cluster_of[o] == c || p[0] < lo[0] || p[0] > hi[0] || p[1] < lo[1] || p[1] > hi[1] ||
+                          p[2] < lo[2] || p[2] > hi[2]);
+      });
+      if (alone)
+        for (sim::ModuleId m : members) search[m] = 0;
+    }
+
   // Each worker measures the stale pairs of a run of modules; the runs are joined in order.
   const float cutoff2 = s.cutoff * s.cutoff;
   const unsigned runs = workers.size();
@@ -183,24 +215,32 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
   std::vector<uint64_t> measured(runs, 0);
   workers.run([&](unsigned run) {
     for (size_t m = n * run / runs; m < n * (run + 1) / runs; ++m) {
-      if (!present[m] || !(s.moved[m] || s.regrouped[m])) continue;
+      if (!search[m]) continue;
       const auto a = static_cast<sim::ModuleId>(m);
       s.grid.around(poses[a].position, [&](sim::ModuleId b) {
         if (b == a || !stale(a, b)) return;
-        if (b < a && (s.moved[b] || s.regrouped[b])) return;  // measured from b's side
+        if (b < a && search[b]) return;  // measured from b's side
         if (squared_distance(poses[a].position, poses[b].position) > cutoff2) return;
         ++measured[run];
-        if (s.touching(a, b, bodies)) found[run].emplace_back(std::min(a, b), std::max(a, b));
+        const bool local = Impl::together(frame[a], frame[b]);
+        if (s.touching(local ? frame[a].local : poses[a], local ? frame[b].local : poses[b]))
+          found[run].emplace_back(std::min(a, b), std::max(a, b));
       });
     }
   });
+  // The kept pairs are sorted already: the new ones are sorted and merged in.
+  const size_t kept = pairs.size();
   for (unsigned run = 0; run < runs; ++run) {
     pairs.insert(pairs.end(), found[run].begin(), found[run].end());
     measured_ += measured[run];
   }
-  std::sort(pairs.begin(), pairs.end());
-  s.moved.assign(n, 0);
-  s.regrouped.assign(n, 0);
+  std::sort(pairs.begin() + ptrdiff_t(kept), pairs.end());
+  std::inplace_merge(pairs.begin(), pairs.begin() + ptrdiff_t(kept), pairs.end());
+  for (size_t m = 0; m < n; ++m) {
+    s.was_present[m] = present[m];
+    if (moved[m]) s.world[m] = poses[m];
+    if (reframed[m]) s.frame[m] = frame[m];
+  }
   if (s.graph && pairs == s.pairs && s.graph->module_count() == n) return s.graph;
   s.pairs = std::move(pairs);
   s.graph =

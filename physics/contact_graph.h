@@ -2,11 +2,13 @@
 // GJK puts their shapes at most the threshold apart. Candidates come from a grid of module
 // centres (physics/cell_grid.h); no Bullet world, collision object or pair cache is kept.
 //
-// The graph is a pure function of the bodies: two modules of one rigid cluster are measured at
-// their poses in the cluster's frame (which do not change while the cluster lasts), any other
-// pair at its world poses. A pair is measured again only when what it is measured at changed,
-// and keeps its last measurement otherwise. So a still lattice, or one moving as a rigid whole,
-// costs a walk over its modules, and a restored world gives what the live one gave.
+// The graph is a pure function of the bodies: two modules of one rigid cluster that moves are
+// measured at their poses in the cluster's frame (which do not change while the cluster lasts),
+// any other pair at its world poses (an anchored cluster never moves). A pair is measured again
+// only when what it is measured at changed since the last update, and keeps its measurement
+// otherwise, whatever state that update saw. So a still lattice, one moving as a rigid whole, or
+// a latched block that a few modules leave and join costs a walk over its modules, and a world
+// restored to any state gives what the live one gave.
 #pragma once
 
 #include <memory>
@@ -34,9 +36,8 @@ class ContactGraph {
   std::shared_ptr<const sim::NeighborGraph> update(const sim::Bodies& bodies, std::span<const uint8_t> present,
                                                    sim::WorkerPool& workers);
   // Brings the grid of module centres up to the bodies without measuring (update does it too):
-  // what near() reads. Returns whether anything moved, regrouped, came or went since the last
-  // update.
-  bool place(const sim::Bodies& bodies, std::span<const uint8_t> present);
+  // what near() reads.
+  void place(const sim::Bodies& bodies, std::span<const uint8_t> present);
   // The present modules whose centres lie closer than `radius` (at most a module size) to `at`,
   // ascending, as last placed.
   std::vector<sim::ModuleId> near(const sim::Vec3& at, float radius) const;

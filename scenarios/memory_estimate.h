@@ -11,13 +11,14 @@ namespace dw::scenarios {
 // Bytes per module, measured with /usr/bin/time on `dwatch run` of a cubic leader election (two
 // sizes, the difference divided by the modules between them, so that the libraries' fixed part
 // drops out): 50^3 and 100^3 without physics, 20^3 and 30^3 with it. The static part is the
-// states, the neighbour graph and the detectors; the physics part is Bullet's bodies and shapes,
-// the contact graph's pair cache and the bodies in the states (measured again once the contact
-// graph stopped keeping a manifold per pair: 13.5 KB with physics, 6.6 KB without, at 20 steps;
-// it was 17 KiB for physics alone before). Scenarios with more variables or watchpoints take somewhat more: the
-// estimate is for refusing what cannot fit, not a promise.
+// states, the neighbour graph and the detectors; the physics part is the bodies in the states,
+// the clusters and the contact graph's grid and pairs. Measured again when the contact graph
+// dropped Bullet's broadphase (100^3 with body_sense: 332 MiB static, 751 MiB latched, 1,040 MiB
+// free on the ground: 440 and 730 bytes a module for physics; it was 17 KiB, then 7 KiB).
+// Scenarios with more variables or watchpoints take somewhat more: the estimate is for refusing
+// what cannot fit, not a promise.
 inline constexpr uint64_t kStaticBytesPerModule = 1600;
-inline constexpr uint64_t kPhysicsBytesPerModule = 7 * 1024;
+inline constexpr uint64_t kPhysicsBytesPerModule = 1024;
 inline constexpr uint64_t kFixedBytes = 64ull << 20;  // the libraries, the process
 
 // The estimate for `modules` modules, with or without physics, and `history_mb` MiB of keyframes.

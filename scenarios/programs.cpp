@@ -13,6 +13,8 @@ constexpr ProgramInfo kPrograms[] = {
     {"body_sense", "what a module feels of its body: neighbour count, moving, speed, height (physics)",
      make_body_sense},
     {"slide", "modules sliding along the top of a row by lattice moves, like a train (paper §I; physics)", make_slide},
+    {"surface_flow", "holes flowing through the top layer of a block by lattice moves along +x and +y (physics)",
+     make_surface_flow},
 };
 
 }  // namespace

@@ -41,5 +41,6 @@ std::unique_ptr<const sim::HostProgram> make_token_ring(TableReader& params, con
 std::unique_ptr<const sim::HostProgram> make_aggregation_routing(TableReader& params, const ProgramSetup& setup);
 std::unique_ptr<const sim::HostProgram> make_body_sense(TableReader& params, const ProgramSetup& setup);
 std::unique_ptr<const sim::HostProgram> make_slide(TableReader& params, const ProgramSetup& setup);
+std::unique_ptr<const sim::HostProgram> make_surface_flow(TableReader& params, const ProgramSetup& setup);
 
 }  // namespace dw::scenarios

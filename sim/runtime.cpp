@@ -1,6 +1,7 @@
 #include "sim/runtime.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 
 #include "watch/agent_step.h"
@@ -848,7 +849,9 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
   deliver_program_messages(state);
   out.program_messages = state.program_messages - sent_before;
   ++state.step;
+  const auto moving_on = std::chrono::steady_clock::now();
   world_.advance(model_, state, actuations_, pool_);
+  world_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - moving_on).count();
 }
 
 }  // namespace dw::sim

@@ -110,6 +110,9 @@ class Runtime {
   // Bytes this rank has sent to the others since the runtime was made: program messages and
   // PatternMatchers (the per-step batches), not the gathers of matches and statistics.
   uint64_t bytes_to_ranks() const { return bytes_to_ranks_; }
+  // Wall-clock seconds the world took moving on (World::advance: physics, contacts, the graph),
+  // over every step this runtime ran.
+  double world_seconds() const { return world_seconds_; }
   // How the modules are shared among the ranks: Blocks or Graph (Auto decided).
   Partition partition() const { return partition_; }
 
@@ -158,6 +161,7 @@ class Runtime {
   std::vector<uint32_t> own_blocks_;  // this rank's, ascending; thread t takes the t-th of equal runs
   uint32_t first_ = 0, window_ = 0;   // the modules the state holds (module_window)
   uint64_t bytes_to_ranks_ = 0;
+  double world_seconds_ = 0;
   Partition partition_;
   // This step's own blocks that may send to another rank, which run first so that their batches
   // travel while the others (interior) run; and what they are worked out from, per graph sent

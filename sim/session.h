@@ -170,6 +170,7 @@ class Session {
   std::vector<int64_t> whole_values(const State& state) { return runtime_->whole_values(state); }
   // Bytes this rank sent to the other ranks (Runtime::bytes_to_ranks).
   uint64_t bytes_to_ranks() const { return runtime_->bytes_to_ranks(); }
+  double world_seconds() const { return runtime_->world_seconds(); }
   Partition partition() const { return runtime_->partition(); }
   // What the watchpoints saw at the current step besides the values: presence and N(m, t).
   std::span<const uint8_t> seen_present();

@@ -106,6 +106,116 @@ TEST(PushWall, SameSeedSameHashesOnAnyThreadCount) {
   EXPECT_EQ(two.matches, one.matches);
 }
 
+// reconfigure_large.toml on an n^3 block: the shipped file with its lattice (and, with
+// alternate, the program's coordination) rewritten.
+Scenario surface_flow(int n, bool alternate = false) {
+  std::ifstream in(std::string(DWATCH_SCENARIOS_DIR) + "/reconfigure_large.toml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  std::string lattice = "[lattice]\nkind = \"cubic\"\nsize = [" + std::to_string(n) + ", " + std::to_string(n) + ", " +
+                        std::to_string(n) + "]\n";
+  for (int y = 5; y < n; y += 10)
+    lattice += "[[lattice.empty]]\nfrom = [0, " + std::to_string(y) + ", " + std::to_string(n - 1) + "]\nto = [" +
+               std::to_string(n - 1) + ", " + std::to_string(y) + ", " + std::to_string(n - 1) + "]\n";
+  const size_t from = text.find("\n[lattice]") + 1, to = text.find("\n[[program]]") + 1;
+  text.replace(from, to - from, lattice + "\n");
+  const std::string program = "name = \"surface_flow\"\n";
+  if (alternate) text.replace(text.find(program), program.size(), program + "alternate = 1\n");
+  auto loaded = load_scenario_text("reconfigure_" + std::to_string(n) + ".toml", text);
+  if (auto* e = std::get_if<std::string>(&loaded)) ADD_FAILURE() << *e;
+  return std::move(std::get<Scenario>(loaded));
+}
+
+// Two modules of the top layer asking for one cell at one step are caught: the watchpoint's a and
+// c are diagonal to each other on the layer, ask for the same cell (the one at +x of one and +y
+// of the other), and b is the module behind that cell on the diagonal. With alternate = 1 no two
+// modules ever ask for one cell at once.
+TEST(SurfaceFlow, TwoModulesHeadingForOneCellAreCaughtWithTheModuleBehindIt) {
+  Scenario s = surface_flow(20);
+  sim::Session run(*s.model, *s.world, {.threads = 1, .history_bytes = 64 << 20});
+  run.run_until(100);
+  const sim::MatchList& found = run.matches(0);
+  ASSERT_GT(found.size(), 0u);
+  const uint32_t vars = s.model->variable_count();
+  const auto cell = [&](sim::ModuleId m) {
+    const auto& p = run.state().bodies.poses[m].position;
+    return std::array<long, 3>{std::lround(p[0]), std::lround(p[1]), std::lround(p[2])};
+  };
+  for (size_t i = 0; i < found.size(); ++i) {
+    ASSERT_TRUE(run.seek(found.t[i]));
+    const sim::ModuleId a = found.slots[3 * i], b = found.slots[3 * i + 1], c = found.slots[3 * i + 2];
+    const std::vector<int64_t> values = run.whole_values(run.state());
+    const int64_t target = values[size_t(a) * vars];
+    EXPECT_GE(target, 0);
+    EXPECT_EQ(values[size_t(c) * vars], target) << "match at t=" << found.t[i];
+    const auto ca = cell(a), cb = cell(b), cc = cell(c);
+    EXPECT_EQ(ca[2], 19);
+    EXPECT_EQ(cc[2], 19);
+    EXPECT_EQ(std::abs(ca[0] - cc[0]), 1);
+    EXPECT_EQ(ca[0] - cc[0], cc[1] - ca[1]) << "diagonal";
+    const std::array<long, 3> behind{std::min(ca[0], cc[0]), std::min(ca[1], cc[1]), 19};
+    EXPECT_EQ(cb, behind);
+    EXPECT_EQ(target, (behind[0] + 1) + 20 * (behind[1] + 1)) << "the cell ahead on the diagonal";
+  }
+
+  Scenario fixed = surface_flow(20, true);
+  sim::Session calm(*fixed.model, *fixed.world, {.threads = 1});
+  calm.run_until(100);
+  EXPECT_EQ(calm.matches(0).size(), 0u);
+  int moved = 0;  // and yet the holes flowed
+  for (sim::ModuleId m = 0; m < fixed.model->module_count(); ++m)
+    moved += calm.state().present[m] && calm.state().bodies.poses[m].position != fixed.model->lattice.positions[m];
+  EXPECT_GT(moved, 100);
+}
+
+// After many lattice moves, the contact graph among modules at rest is exactly the lattice's:
+// two of them touch if and only if their cells share a face.
+TEST(SurfaceFlow, ModulesAtRestTouchExactlyTheirFaceNeighboursAfterTheMoves) {
+  Scenario s = surface_flow(12);
+  sim::Session run(*s.model, *s.world, {.threads = 2});
+  run.run_until(60);
+  const sim::State& st = run.state();
+  const sim::Bodies& b = st.bodies;
+  uint64_t checked = 0;
+  for (sim::ModuleId m = 0; m < b.poses.size(); ++m)
+    for (sim::ModuleId o = m + 1; o < b.poses.size(); ++o) {
+      if (!st.present[m] || !st.present[o] || b.moving(m) || b.moving(o)) continue;
+      const auto& p = b.poses[m].position;
+      const auto& q = b.poses[o].position;
+      const float d = std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]);
+      const bool faces = std::abs(d - 1) < 1e-4f;
+      ASSERT_EQ(st.graph->adjacent(m, o), faces) << m << " and " << o;
+      checked += faces;
+    }
+  EXPECT_GT(checked, 3u * 12 * 12 * 11 - 200);
+}
+
+// Many modules setting off and arriving at once: the same hashes every step on 1 and 2 threads,
+// and through seeks back and forth.
+TEST(SurfaceFlow, SameHashesOnAnyThreadCountAndThroughSeeks) {
+  const auto trail = [](unsigned threads) {
+    Scenario s = surface_flow(12);
+    sim::Session run(*s.model, *s.world, {.threads = threads});
+    Trail t;
+    run.run_until(
+        80, [&](const sim::State& st, const sim::StepOutput&) { t.hashes.push_back(sim::hash_state(st).whole()); });
+    t.matches = matches_of(run);
+    return t;
+  };
+  const Trail one = trail(1);
+  EXPECT_EQ(trail(2).hashes, one.hashes);
+  Scenario s = surface_flow(12);
+  sim::Session run(*s.model, *s.world, {.threads = 2, .history_bytes = 8 << 20});
+  run.run_until(80);
+  for (int64_t t : {40, 79, 3, 61, 62, 0, 25}) {
+    ASSERT_TRUE(run.seek(t));
+    ASSERT_EQ(run.hash().whole(), one.hashes[size_t(t)]) << "step " << t;
+  }
+  run.run_until(80);
+  EXPECT_EQ(matches_of(run), one.matches);
+}
+
 TEST(Slide, ModulesSettingOffOneStepApartMatchTheSectionIWatchpoint) {
   Scenario s = load_file("slide.toml");
   sim::Session run(*s.model, *s.world, {.threads = 1});
