@@ -258,6 +258,20 @@ int run_rows(const BenchArgs& args, Table& table) {
         return 1;
       per_step(r);
     }
+    // Catoms 3D: an fcc block of 20x20x20 sites (8,000 spheres, 12 neighbours inside) beside the
+    // 20^3 cubic one (6 neighbours), latched and resting.
+    const std::string fcc = "[lattice]\nkind = \"fcc\"\nsize = [20, 20, 20]\n";
+    RuntimeRow cubic_setup, cubic_step, fcc_setup, fcc_step;
+    if (!row("set up and torn down, 20^3", cubic_toml(20, 20, 20) + sense + latched, args, args.repeat, table,
+             cubic_setup, Timed::SetUp) ||
+        !row("set up and torn down, fcc 20^3", fcc + sense + latched, args, args.repeat, table, fcc_setup,
+             Timed::SetUp) ||
+        !row("resting 20^3, latched", cubic_toml(20, 20, 20) + sense + latched, args, args.repeat, table, cubic_step) ||
+        !row("resting fcc 20^3, latched", fcc + sense + latched, args, args.repeat, table, fcc_step))
+      return 1;
+    std::cout << std::fixed << std::setprecision(2) << "    fcc against cubic: set-up "
+              << fcc_setup.seconds / cubic_setup.seconds << "x, steps " << fcc_step.seconds / cubic_step.seconds
+              << "x (target 1.5)\n";
     // A million modules: a 100^3 block latched to the ground, set up; resting; and with the holes
     // of reconfigure_large.toml flowing through its top layer (1,000 modules set off at step 1,
     // hundreds glide at once after), the physics part of a step apart.

@@ -19,7 +19,9 @@ uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
 
 void form_clusters(sim::Bodies& b, std::span<const uint8_t> present, btCollisionShape& module_shape) {
   const uint32_t n = static_cast<uint32_t>(b.poses.size());
-  auto in_cluster = [&](sim::ModuleId m) { return present[m] && !b.moving(m); };
+  std::vector<uint8_t> still(present.begin(), present.end());  // present and not gliding
+  for (const sim::Mover& mover : b.movers) still[mover.module] = 0;
+  auto in_cluster = [&](sim::ModuleId m) { return still[m] != 0; };
   std::vector<uint32_t> parent(n);
   std::iota(parent.begin(), parent.end(), 0u);
   std::vector<uint8_t> grounded(n, 0);

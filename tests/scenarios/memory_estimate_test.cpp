@@ -26,12 +26,12 @@ TEST(MemoryEstimate, GrowsWithModulesPhysicsAndHistory) {
 TEST(MemoryEstimate, AScenarioAboveTheLimitIsRefusedAtItsSize) {
   ScenarioOverrides limited;
   limited.memory_limit = uint64_t{512} << 20;  // 512 MiB
-  // 40^3 = 64,000 modules: 100 MiB or so without physics, over 1 GiB with it.
-  EXPECT_TRUE(std::holds_alternative<Scenario>(load_scenario_text("small.toml", cube(40, false), limited)));
-  const auto refused = load_scenario_text("big.toml", cube(40, true), limited);
+  // 45^3 = 91,125 modules and 256 MiB of history: about 460 MiB without physics, 550 with it.
+  EXPECT_TRUE(std::holds_alternative<Scenario>(load_scenario_text("small.toml", cube(45, false), limited)));
+  const auto refused = load_scenario_text("big.toml", cube(45, true), limited);
   ASSERT_TRUE(std::holds_alternative<std::string>(refused));
   const std::string& message = std::get<std::string>(refused);
-  EXPECT_EQ(message.rfind("big.toml:4:8: error: that is 64000 modules, which need about ", 0), 0u) << message;
+  EXPECT_EQ(message.rfind("big.toml:4:8: error: that is 91125 modules, which need about ", 0), 0u) << message;
   EXPECT_NE(message.find("physics included"), std::string::npos) << message;
   EXPECT_NE(message.find("this machine has 512 MiB available (--no-memory-check tries anyway)"), std::string::npos)
       << message;
