@@ -95,6 +95,10 @@ struct ContactGraph::Impl {
   std::vector<sim::Pose> world;
   std::vector<Frame> frame;
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;  // touching, sorted
+  // Scratch of an update, kept so that a million-module step does not fault in fresh pages.
+  std::vector<Frame> next_frame;
+  std::vector<uint8_t> moved, reframed, search;
+  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> next_pairs;
   std::shared_ptr<const sim::NeighborGraph> graph;
 };
 
@@ -155,8 +159,11 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
 
   // Per module, what changed since the last measurement: it came or went or its world pose
   // changed (moved), or its frame did (reframed). Only those look for pairs to measure.
-  std::vector<Impl::Frame> frame(n);
-  std::vector<uint8_t> moved(n, 0), reframed(n, 0);
+  std::vector<Impl::Frame>& frame = s.next_frame;
+  std::vector<uint8_t>&moved = s.moved, &reframed = s.reframed;
+  frame.resize(n);
+  moved.resize(n);
+  reframed.resize(n);
   bool changed = forget;
   for (size_t m = 0; m < n; ++m) {
     frame[m] = Impl::frame_of(bodies, m);
@@ -176,14 +183,16 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
     if (was != is) return true;
     return is ? !(frame[a].local == s.frame[a].local && frame[b].local == s.frame[b].local) : moved[a] || moved[b];
   };
-  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;
+  std::vector<std::pair<sim::ModuleId, sim::ModuleId>>& pairs = s.next_pairs;
+  pairs.clear();
   if (!forget)
     for (const auto& [a, b] : s.pairs)
       if (!stale(a, b)) pairs.emplace_back(a, b);
   // Who looks for pairs: what moved or was reframed, except the members of a cluster that moved
   // as a whole with nothing else near it (a pile free on the ground): their pairs with each other
   // keep their measurement, and nothing outside the cluster is within reach.
-  std::vector<uint8_t> search(n, 0);
+  std::vector<uint8_t>& search = s.search;
+  search.resize(n);
   for (size_t m = 0; m < n; ++m) search[m] = present[m] && (moved[m] || reframed[m]);
   if (!forget && !bodies.cluster_of.empty())
     for (uint32_t c = 0; c < bodies.clusters.size(); ++c) {
@@ -242,7 +251,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
     if (reframed[m]) s.frame[m] = frame[m];
   }
   if (s.graph && pairs == s.pairs && s.graph->module_count() == n) return s.graph;
-  s.pairs = std::move(pairs);
+  s.pairs.swap(pairs);
   s.graph =
       std::make_shared<const sim::NeighborGraph>(sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), s.pairs));
   return s.graph;
