@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <sstream>
 
 #include "physics/clusters.h"
+#include "physics/pivot.h"
 #include "sim/host_program.h"
 
 namespace dw::physics {
@@ -116,23 +119,82 @@ bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vec
       if (b.moving(a.module)) return false;
       sim::Pose to = b.poses[a.module];
       for (int i = 0; i < 3; ++i) to.position[i] += a.vector[i];
-      // The cell must be free: no module there but one gliding out of it, none gliding into it.
-      for (sim::ModuleId m : contacts_.near(to.position, 0.5f))
-        if (m != a.module && !b.moving(m)) return false;
-      for (const sim::Mover& mover : b.movers)
-        if (distance(mover.to.position, to.position) < 0.5f) return false;
-      sim::Mover mover{a.module, b.poses[a.module], to, asked, settings_.move_steps};
-      b.movers.insert(std::lower_bound(b.movers.begin(), b.movers.end(), mover,
-                                       [](const sim::Mover& x, const sim::Mover& y) { return x.module < y.module; }),
-                      mover);
-      b.velocities[a.module] = {};
-      // Its bonds go after every request is carried out, in one pass over the bonds: a bond made
-      // to it meanwhile is refused (it is moving), so the result is the same.
-      leaving.push_back(a.module);
+      if (taken_by(a.module, to.position, state)) return false;
+      set_off({a.module, b.poses[a.module], to, asked, settings_.move_steps}, state, leaving);
       return true;  // it leaves its cluster
+    }
+    case sim::Actuation::Kind::Pivot: {
+      if (b.moving(a.module)) return false;
+      const auto offset = [&] {
+        std::ostringstream text;
+        text << "(" << a.vector[0] << ", " << a.vector[1] << ", " << a.vector[2] << ")";
+        return text.str();
+      };
+      const auto refuse = [&](const std::string& why) {
+        throw sim::ProgramError("a pivot of " + who(a, asked) + " about module " + std::to_string(a.other) +
+                                " to the cell at " + offset() + " from it: " + why);
+      };
+      if (a.other >= b.poses.size() || !state.present[a.other]) refuse("there is no such module");
+      if (b.moving(a.other)) refuse("that module is moving");
+      const auto planned = pivot_arcs(shape_, b.poses[a.module].position, b.poses[a.other].position, a.vector);
+      if (const auto* why = std::get_if<std::string>(&planned)) refuse(*why);
+      sim::Vec3 cell = b.poses[a.module].position;
+      for (int i = 0; i < 3; ++i) cell[i] += a.vector[i];
+      if (const auto m = taken_by(a.module, cell, state)) refuse("the cell is taken by module " + std::to_string(*m));
+      // The sweep: the body at 16 points of its turn must not pass into another module (touching
+      // is fine: a rolling cube keeps the edge it turns about). The first clear arc is taken.
+      constexpr int kSamples = 16;
+      constexpr float kOverlap = 0.02f;
+      std::optional<sim::ModuleId> blocked;
+      for (const PivotArc& arc : std::get<std::vector<PivotArc>>(planned)) {
+        sim::Mover mover{a.module,  b.poses[a.module], {},        asked,   settings_.move_steps,
+                         arc.pivot, arc.axis,          arc.angle, arc.spin};
+        mover.to = turn(mover, 1);
+        mover.to.position = cell;  // exactly the cell
+        std::optional<sim::ModuleId> in_the_way;
+        for (int k = 1; k < kSamples && !in_the_way; ++k) {
+          const sim::Pose at = turn(mover, float(k) / kSamples);
+          for (sim::ModuleId o : contacts_.near(at.position, contacts_.reach()))
+            if (o != a.module && o != a.other && contacts_.distance(at, b.poses[o]) < -kOverlap) {
+              in_the_way = o;
+              break;
+            }
+        }
+        if (!in_the_way) {
+          set_off(mover, state, leaving);
+          return true;
+        }
+        if (!blocked) blocked = in_the_way;
+      }
+      refuse("its sweep passes through module " + std::to_string(*blocked));
+      return false;
     }
   }
   return false;
+}
+
+// The module other than `self` in the cell centred at `at`, but one gliding out of it, or one
+// gliding into it.
+std::optional<sim::ModuleId> BulletWorld::taken_by(sim::ModuleId self, const sim::Vec3& at,
+                                                   const sim::State& state) const {
+  const sim::Bodies& b = state.bodies;
+  for (sim::ModuleId m : contacts_.near(at, 0.5f))
+    if (m != self && !b.moving(m)) return m;
+  for (const sim::Mover& mover : b.movers)
+    if (distance(mover.to.position, at) < 0.5f) return mover.module;
+  return std::nullopt;
+}
+
+// A lattice move or a pivot sets off: the module leaves its cluster, and its bonds go after every
+// request is carried out, in one pass over the bonds (a bond made to it meanwhile is refused, as
+// it is moving, so the result is the same).
+void BulletWorld::set_off(const sim::Mover& mover, sim::State& state, std::vector<sim::ModuleId>& leaving) {
+  sim::Bodies& b = state.bodies;
+  b.movers.insert(std::lower_bound(b.movers.begin(), b.movers.end(), mover,
+                                   [](const sim::Mover& x, const sim::Mover& y) { return x.module < y.module; }),
+                  mover);
+  b.velocities[mover.module] = {};
+  leaving.push_back(mover.module);
 }
 
 // Steps the bodies; a module pushed harder than the break force loses its bonds, and the step is

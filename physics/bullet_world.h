@@ -9,6 +9,8 @@
 #pragma once
 
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include "physics/contact_graph.h"
 #include "physics/dynamics.h"
@@ -38,6 +40,8 @@ class BulletWorld final : public sim::World {
                  std::vector<sim::ModuleId>& leaving);
   void step_bodies(sim::State& state, std::span<const Push> pushes);
   bool touches_ground(const sim::Pose& pose) const;
+  std::optional<sim::ModuleId> taken_by(sim::ModuleId self, const sim::Vec3& at, const sim::State& state) const;
+  void set_off(const sim::Mover& mover, sim::State& state, std::vector<sim::ModuleId>& leaving);
 
   PhysicsSettings settings_;
   ModuleShape shape_;

@@ -51,7 +51,10 @@ struct ContactGraph::Impl {
 
   // Two modules touch when GJK puts their shapes (margins included: shapes one size apart are at
   // distance 0) at most the threshold apart, measured at `ta` and `tb`.
-  bool touching(const sim::Pose& ta, const sim::Pose& tb) const {
+  bool touching(const sim::Pose& ta, const sim::Pose& tb) const { return distance(ta, tb) <= threshold; }
+  // Bullet's GJK distance between two module shapes (negative: they overlap; very large: further
+  // apart than the threshold reaches).
+  btScalar distance(const sim::Pose& ta, const sim::Pose& tb) const {
     btGjkPairDetector::ClosestPointInput input;
     input.m_transformA = to_bt(ta);
     input.m_transformB = to_bt(tb);
@@ -63,7 +66,7 @@ struct ContactGraph::Impl {
     btGjkPairDetector gjk(convex, convex, &simplex, &depth);
     ClosestDistance result;
     gjk.getClosestPoints(input, result, nullptr);
-    return result.distance <= threshold;
+    return result.distance;
   }
 
   // Where a module is, as far as its pairs are concerned: a member of a cluster that moves is
@@ -134,6 +137,10 @@ void ContactGraph::place(const sim::Bodies& bodies, std::span<const uint8_t> pre
     s.grid_at[m] = at;
   }
 }
+
+float ContactGraph::distance(const sim::Pose& a, const sim::Pose& b) const { return impl_->distance(a, b); }
+
+float ContactGraph::reach() const { return impl_->cutoff; }
 
 std::vector<sim::ModuleId> ContactGraph::near(const sim::Vec3& at, float radius) const {
   const Impl& s = *impl_;

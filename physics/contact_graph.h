@@ -41,6 +41,10 @@ class ContactGraph {
   // The present modules whose centres lie closer than `radius` (at most a module size) to `at`,
   // ascending, as last placed.
   std::vector<sim::ModuleId> near(const sim::Vec3& at, float radius) const;
+  // The distance between two module shapes at these poses (negative: they overlap; huge: further
+  // apart than the threshold), and how far apart two centres may be and the shapes still touch.
+  float distance(const sim::Pose& a, const sim::Pose& b) const;
+  float reach() const;
   // Forgets every measurement (the next update measures every pair).
   void reset();
 

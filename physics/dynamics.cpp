@@ -27,9 +27,20 @@ sim::Pose glide(const sim::Mover& mover, int64_t step) {
   if (done == mover.steps) return mover.to;
   const float f = float(done) / float(mover.steps);
   sim::Pose p = mover.from;
-  for (int i = 0; i < 3; ++i)
-    p.position[i] = mover.from.position[i] + (mover.to.position[i] - mover.from.position[i]) * f;
-  return p;
+  if (mover.angle == 0) {
+    for (int i = 0; i < 3; ++i)
+      p.position[i] = mover.from.position[i] + (mover.to.position[i] - mover.from.position[i]) * f;
+    return p;
+  }
+  return turn(mover, f);
+}
+
+sim::Pose turn(const sim::Mover& pivot, float f) {
+  const btVector3 axis = to_bt(pivot.axis), centre = to_bt(pivot.pivot);
+  const btQuaternion arc(axis, pivot.angle * f), spin(axis, pivot.angle * pivot.spin * f);
+  const btTransform from = to_bt(pivot.from);
+  btTransform at(spin * from.getRotation(), centre + quatRotate(arc, from.getOrigin() - centre));
+  return from_bt(at);
 }
 
 // A cluster's shape: its members' shapes at their local poses, and its principal inertia.

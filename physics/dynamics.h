@@ -22,8 +22,10 @@ class btCollisionShape;
 
 namespace dw::physics {
 
-// Where a lattice move is at a step: from `from` at mover.start to `to` at start + steps.
+// Where a lattice move or a pivot is at a step: from `from` at mover.start to `to` at start + steps.
 sim::Pose glide(const sim::Mover& mover, int64_t step);
+// Where a pivot is after the fraction f (0..1) of its turn.
+sim::Pose turn(const sim::Mover& pivot, float f);
 
 struct Push {
   sim::ModuleId module = 0;

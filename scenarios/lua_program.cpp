@@ -191,10 +191,10 @@ class LuaState final : public sim::ProgramScratch {
     lua_pushliteral(L_, "data");
     lua_pushcclosure(L_, &LuaState::inbox, 5);
     lua_setfield(L_, -2, "inbox");
-    static constexpr luaL_Reg kMethods[] = {{"send", &LuaState::send},     {"broadcast", &LuaState::broadcast},
-                                            {"random", &LuaState::random}, {"position", &LuaState::position},
-                                            {"moving", &LuaState::moving}, {"move", &LuaState::move},
-                                            {"push", &LuaState::push},     {nullptr, nullptr}};
+    static constexpr luaL_Reg kMethods[] = {
+        {"send", &LuaState::send},         {"broadcast", &LuaState::broadcast}, {"random", &LuaState::random},
+        {"position", &LuaState::position}, {"moving", &LuaState::moving},       {"move", &LuaState::move},
+        {"pivot", &LuaState::pivot},       {"push", &LuaState::push},           {nullptr, nullptr}};
     luaL_setfuncs(L_, kMethods, 0);
     lua_setfield(L_, -2, "__index");
     lua_pushcfunction(L_, &LuaState::new_field);
@@ -508,6 +508,19 @@ class LuaState final : public sim::ProgramScratch {
   static int move(lua_State* L) {
     sim::ModuleContext& m = body(L, "move");
     m.move(vector(L));
+    return 0;
+  }
+  // m:pivot(about, dx, dy, dz): a pivot about the neighbour `about` into the cell at (dx, dy, dz)
+  // from this one (a cube about the edge they share, a sphere rolling over it); a taken cell or a
+  // blocked sweep is a program error.
+  static int pivot(lua_State* L) {
+    sim::ModuleContext& m = body(L, "pivot");
+    const int64_t about = integer(L, 2, "the module pivoted about");
+    sim::Vec3 offset;
+    for (int i = 0; i < 3; ++i) offset[size_t(i)] = float(luaL_checknumber(L, 3 + i));
+    if (about < 0 || about > int64_t(UINT32_MAX) || !m.is_neighbor(sim::ModuleId(about)))
+      luaL_error(L, "module %d pivots about %I, which is not its neighbour", int(m.id()), lua_Integer(about));
+    m.pivot(sim::ModuleId(about), offset);
     return 0;
   }
   // m:push(x, y, z): an impulse on the body, applied as the world steps on.

@@ -13,6 +13,7 @@ struct Actuation {
   enum class Kind : uint8_t {
     Push,        // an impulse (N s) at the module's centre, given to its cluster
     Move,        // a lattice move by `vector` (one module size) to a free cell
+    Pivot,       // a pivot about the neighbour `other` into the cell at `vector` from here
     Release,     // release the bond with `other` (kGround: with the ground)
     ReleaseAll,  // release every bond
     Bond,        // latch to `other`, which must be touching

@@ -57,12 +57,17 @@ struct Cluster {
   bool operator==(const Cluster&) const = default;
 };
 
-// A lattice move: the module glides from one cell to the adjacent one over `steps` steps.
+// A lattice move: the module glides from one cell to the adjacent one over `steps` steps; or a
+// pivot: it turns by `angle` about the line through `pivot` along `axis` (a cube about an edge it
+// shares with a neighbour, a sphere rolling over a neighbour), its own body turning `spin` times
+// as far (1 for a cube; 2 for a sphere rolling without slipping on one of its size).
 struct Mover {
   ModuleId module = 0;
   Pose from, to;
   int64_t start = 0;  // the first step of the glide
   int64_t steps = 1;
+  Vec3 pivot{}, axis{};  // a slide has no axis
+  float angle = 0, spin = 1;
   bool operator==(const Mover&) const = default;
 };
 

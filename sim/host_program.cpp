@@ -47,6 +47,15 @@ void ModuleContext::actuate(const Actuation& a) {
   outbox_.actuations.push_back(a);
 }
 
+void ModuleContext::pivot(ModuleId about, Vec3 offset) {
+  if (!is_neighbor(about)) {
+    fail("asked to pivot about module " + std::to_string(about) + " at step " + std::to_string(step_) +
+         ", which is not its neighbour");
+    return;
+  }
+  actuate({Actuation::Kind::Pivot, id_, about, offset});
+}
+
 void ModuleContext::bond(ModuleId other) {
   if (!is_neighbor(other)) {
     fail("asked to bond with module " + std::to_string(other) + " at step " + std::to_string(step_) +

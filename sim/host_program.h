@@ -146,6 +146,13 @@ class ModuleContext {
   // bonds, glides there, and latches to what it touches on arrival. Refused (nothing happens)
   // when the cell is taken or the module is already moving.
   void move(Vec3 offset) { actuate({Actuation::Kind::Move, id_, 0, offset}); }
+  // A pivot about the neighbour `about` into the free cell at `offset` from this one: a cube
+  // turns about the edge it shares with `about`, by 90 degrees to the next cell along the face
+  // it rests on (offset perpendicular to the way to `about`) or by 180 over that edge onto the
+  // next face of `about`; a sphere rolls over `about` into a cell touching both. Like a move it
+  // takes move_steps steps and releases the bonds. A cell that is taken, a sweep that would pass
+  // through another module, or an offset no pivot about `about` reaches is a program error.
+  void pivot(ModuleId about, Vec3 offset);
   void release(ModuleId other) { actuate({Actuation::Kind::Release, id_, other, {}}); }
   void release_all() { actuate({Actuation::Kind::ReleaseAll, id_, 0, {}}); }
   // Latches to a neighbour (it must be one now).

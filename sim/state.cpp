@@ -147,6 +147,10 @@ StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight,
     h.word(m.module);
     h.word(static_cast<uint64_t>(m.start));
     h.word(static_cast<uint64_t>(m.steps));
+    h.record(m.pivot);
+    h.record(m.axis);
+    h.record(m.angle);
+    h.record(m.spin);
   }
   h.records(b.prop_poses);
   h.records(b.prop_velocities);

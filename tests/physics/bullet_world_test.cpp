@@ -207,6 +207,153 @@ TEST(BulletWorld, MoveIntoATakenCellIsRefused) {
   EXPECT_EQ(run.state().bodies.poses[0].position, (sim::Vec3{0, 0, 0}));
 }
 
+// Pivots (physics/pivot.h). A cube on top of module 0 rolls about their shared edge into the
+// next cell along the row: lifted over the edge halfway, exactly in the cell at the end, turned a
+// quarter about y, latched to module 1 below it and no longer touching module 0.
+TEST(BulletWorld, CubeRollsAboutTheEdgeItSharesIntoTheNextCell) {
+  sim::Lattice lattice = sim::make_lattice({sim::LatticeKind::Cubic, {3, 1, 2}});
+  sim::leave_empty(lattice, {1, 0, 1}, {2, 0, 1});
+  PhysicsSettings s;
+  s.move_steps = 10;
+  const auto model = model_of(lattice, [](sim::ModuleContext& m) {
+    if (m.id() == 3 && m.step() == 2) m.pivot(0, {1, 0, 0});
+  });
+  BulletWorld world(s, model->lattice);
+  sim::Session run(*model, world, {.threads = 1});
+  run.run_until(7);  // asked at step 2: half way at step 7
+  EXPECT_TRUE(run.state().bodies.moving(3));
+  EXPECT_NEAR(run.state().bodies.poses[3].position[0], 0.5f, 1e-5f);
+  EXPECT_NEAR(run.state().bodies.poses[3].position[2], 0.5f + std::sqrt(0.5f), 1e-5f) << "over the edge";
+  run.run_until(13);
+  const sim::State& st = run.state();
+  EXPECT_FALSE(st.bodies.moving(3));
+  EXPECT_EQ(st.bodies.poses[3].position, (sim::Vec3{1, 0, 1}));
+  const auto& q = st.bodies.poses[3].orientation;
+  EXPECT_NEAR(q[1], std::sqrt(0.5f), 1e-5f);
+  EXPECT_NEAR(q[3], std::sqrt(0.5f), 1e-5f);
+  EXPECT_EQ(st.graph->neighbors(3).size(), 1u);
+  EXPECT_TRUE(st.graph->adjacent(3, 1));
+  EXPECT_TRUE(std::binary_search(st.bodies.bonds.begin(), st.bodies.bonds.end(), sim::Bond{1, 3}));
+}
+
+// A cube on top of a lone module goes over its edge, half a turn, onto the ground beside it.
+TEST(BulletWorld, CubeGoesOverTheEdgeOntoTheNextFace) {
+  sim::Lattice lattice = sim::make_lattice({sim::LatticeKind::Cubic, {2, 1, 2}});
+  sim::leave_empty(lattice, {1, 0, 0}, {1, 0, 1});
+  PhysicsSettings s;
+  s.move_steps = 12;
+  const auto model = model_of(lattice, [](sim::ModuleContext& m) {
+    if (m.id() == 2 && m.step() == 1) m.pivot(0, {1, 0, -1});
+  });
+  BulletWorld world(s, model->lattice);
+  sim::Session run(*model, world, {.threads = 1});
+  run.run_until(14);
+  const sim::State& st = run.state();
+  EXPECT_FALSE(st.bodies.moving(2));
+  EXPECT_EQ(st.bodies.poses[2].position, (sim::Vec3{1, 0, 0}));
+  EXPECT_TRUE(st.graph->adjacent(2, 0)) << "beside it now";
+  EXPECT_TRUE(std::binary_search(st.bodies.bonds.begin(), st.bodies.bonds.end(), sim::Bond{2, sim::kGround}));
+}
+
+std::string pivot_error(sim::Lattice lattice, sim::ModuleId mover, sim::ModuleId about, sim::Vec3 offset) {
+  const auto model = model_of(std::move(lattice), [=](sim::ModuleContext& m) {
+    if (m.id() == mover && m.step() == 1) m.pivot(about, offset);
+  });
+  BulletWorld world({}, model->lattice);
+  sim::Session run(*model, world, {.threads = 1});
+  try {
+    run.run_until(5);
+  } catch (const sim::ProgramError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A taken cell, a sweep through another module, a non-neighbour, or a cell no pivot about that
+// neighbour reaches: each a program error that says which.
+TEST(BulletWorld, APivotThatCannotHappenIsAProgramErrorSayingWhy) {
+  const auto has = [](const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+  };
+  // 2x1x2 full: the cell at (1, 0, 1) holds module 3.
+  std::string e = pivot_error(sim::make_lattice({sim::LatticeKind::Cubic, {2, 1, 2}}), 2, 0, {1, 0, 0});
+  EXPECT_TRUE(has(e,
+                  "a pivot of module 2 at step 1 about module 0 to the cell at (1, 0, 0) from it: the cell is "
+                  "taken by module 3"))
+      << e;
+  // A module on top of the roller: its corner would pass through it.
+  sim::Lattice stacked = sim::make_lattice({sim::LatticeKind::Cubic, {2, 1, 3}});
+  sim::leave_empty(stacked, {1, 0, 1}, {1, 0, 2});
+  e = pivot_error(stacked, 2, 0, {1, 0, 0});
+  EXPECT_TRUE(has(e, "its sweep passes through module 4")) << e;
+  // Module 0 of a 3-row is no neighbour of module 2.
+  e = pivot_error(sim::make_lattice({sim::LatticeKind::Cubic, {3, 1, 1}}), 2, 0, {0, 1, 0});
+  EXPECT_TRUE(has(e, "asked to pivot about module 0 at step 1, which is not its neighbour")) << e;
+  // Along the way to the neighbour: no pivot goes there.
+  e = pivot_error(sim::make_lattice({sim::LatticeKind::Cubic, {3, 1, 1}}), 2, 1, {-1, 0, 0});
+  EXPECT_TRUE(has(e, "a cube pivots about a neighbour by one cell along its face")) << e;
+}
+
+// A catom on the fcc lattice rolls over a neighbour into a cell touching both; it lands exactly
+// in the lattice's cell, touching the four catoms under that cell.
+TEST(BulletWorld, CatomRollsOverANeighbourIntoTheNextFccCell) {
+  sim::Lattice lattice = sim::make_lattice({sim::LatticeKind::Fcc, {3, 3, 2}});
+  sim::leave_empty(lattice, {1, 0, 1}, {2, 2, 1});
+  sim::leave_empty(lattice, {0, 1, 1}, {0, 2, 1});  // the top layer holds site (0, 0) only: module 9
+  PhysicsSettings s;
+  s.move_steps = 10;
+  const auto model = model_of(lattice, [](sim::ModuleContext& m) {
+    if (m.id() == 9 && m.step() == 1) m.pivot(1, {1, 0, 0});
+  });
+  BulletWorld world(s, model->lattice);
+  sim::Session run(*model, world, {.threads = 1});
+  EXPECT_EQ(run.state().graph->neighbors(9).size(), 4u);
+  run.run_until(6);
+  EXPECT_TRUE(run.state().graph->adjacent(9, 1)) << "rolling on module 1";
+  run.run_until(12);
+  const sim::State& st = run.state();
+  EXPECT_FALSE(st.bodies.moving(9));
+  EXPECT_EQ(st.bodies.poses[9].position, model->lattice.positions[10]);
+  const std::vector<sim::ModuleId> under{1, 2, 4, 5};
+  EXPECT_EQ(std::vector<sim::ModuleId>(st.graph->neighbors(9).begin(), st.graph->neighbors(9).end()), under);
+}
+
+// Pivots on 1 and 2 threads give the same hash every step, and a run seeked back and forth
+// through them equals the run that went straight.
+TEST(BulletWorld, PivotsAreDeterministicOnAnyThreadCountAndThroughSeeks) {
+  sim::Lattice lattice = sim::make_lattice({sim::LatticeKind::Cubic, {6, 2, 2}});
+  sim::leave_empty(lattice, {1, 0, 1}, {5, 1, 1});  // two rollers on top at x = 0: modules 12 and 18
+  PhysicsSettings s;
+  s.move_steps = 7;
+  const auto program = [](sim::ModuleContext& m) {
+    // Each top module rolls along +x every ten steps about the module under it (the bottom layer
+    // never moves: its ids are its cells').
+    const sim::Vec3& at = m.pose().position;
+    if (at[2] < 0.5f || m.moving() || m.step() % 10 != 1 || at[0] > 4.5f) return;
+    const auto below = static_cast<sim::ModuleId>(std::lround(at[0]) + 6 * std::lround(at[1]));
+    if (m.is_neighbor(below)) m.pivot(below, {1, 0, 0});
+  };
+  const auto hashes = [&](unsigned threads) {
+    const auto model = model_of(lattice, program);
+    BulletWorld world(s, model->lattice);
+    sim::Session run(*model, world, {.threads = threads});
+    std::vector<uint64_t> h;
+    run.run_until(60, [&](const sim::State& st, const sim::StepOutput&) { h.push_back(sim::hash_state(st).whole()); });
+    return h;
+  };
+  const std::vector<uint64_t> one = hashes(1);
+  EXPECT_EQ(hashes(2), one);
+  const auto model = model_of(lattice, program);
+  BulletWorld world(s, model->lattice);
+  sim::Session run(*model, world, {.threads = 2, .history_bytes = 4 << 20});
+  run.run_until(60);
+  EXPECT_NE(run.state().bodies.poses[12].position[0], 0.0f) << "the rollers moved";
+  for (int64_t t : {30, 59, 4, 15, 16, 0, 44}) {
+    ASSERT_TRUE(run.seek(t));
+    ASSERT_EQ(run.hash().whole(), one[size_t(t)]) << "step " << t;
+  }
+}
+
 TEST(BulletWorld, ReleasedModuleFallsFromTheTopOfAColumn) {
   // The top of a latched column of three releases its bonds and pushes itself sideways: it slides
   // off and falls to the ground, and the column stays where it was.

@@ -326,10 +326,43 @@ TEST_F(LuaScript, MemoryBeyondTheCapIsAnError) {
 }
 
 TEST_F(LuaScript, TheBodyIsOnlyThereWithPhysics) {
-  for (const char* call : {"m:position()", "m:moving()", "m:move(1, 0, 0)", "m:push(0, 0, 1)"}) {
+  for (const char* call : {"m:position()", "m:moving()", "m:move(1, 0, 0)", "m:push(0, 0, 1)", "m:pivot(1, 1, 0, 0)"}) {
     const std::string e = run_error(kHeader + "function step(m)\n  " + call + "\nend\n");
     EXPECT_NE(e.find(script_path() + ":3: m:"), std::string::npos) << call << ": " << e;
     EXPECT_NE(e.find("needs a body, and this world has none"), std::string::npos) << call << ": " << e;
+  }
+}
+
+// m:pivot rolls a sphere of a line over its neighbour into the cell beside both; about a module
+// that is not a neighbour it is an error naming both.
+TEST_F(LuaScript, PivotRollsOverANeighbourAndNamesAWrongOne) {
+  const std::string roll =
+      kHeader + "function step(m)\n  if m.id == 3 and m.step == 1 then m:pivot(2, -0.5, " + "0.8660254, 0) end\nend\n";
+  auto loaded = load(roll, "[physics]\nenabled = true\nmove_steps = 10\n");
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  Scenario& s = std::get<Scenario>(loaded);
+  sim::Session run(*s.model, *s.world, {.threads = 1});
+  run.run_until(5);
+  EXPECT_TRUE(run.state().bodies.moving(3));
+  run.run_until(13);
+  const auto& at = run.state().bodies.poses[3].position;
+  EXPECT_NEAR(at[0], 2.5f, 1e-5f);
+  EXPECT_NEAR(at[1], 0.8660254f, 1e-5f);
+  EXPECT_EQ(std::vector<sim::ModuleId>(run.state().graph->neighbors(3).begin(), run.state().graph->neighbors(3).end()),
+            std::vector<sim::ModuleId>{2});
+
+  std::ofstream(dir_ / "x.lua") << kHeader + "function step(m)\n  if m.id == 3 then m:pivot(0, 1, 0, 0) end\nend\n";
+  auto wrong = load_scenario_text((dir_ / "s.toml").string(),
+                                  "[lattice]\nkind = \"line\"\nsize = [4]\n[[program]]\nscript = \"x.lua\"\n"
+                                  "[physics]\nenabled = true\n");
+  ASSERT_TRUE(std::holds_alternative<Scenario>(wrong));
+  sim::Session bad(*std::get<Scenario>(wrong).model, *std::get<Scenario>(wrong).world, {.threads = 1});
+  try {
+    bad.run_until(3);
+    ADD_FAILURE() << "no error";
+  } catch (const sim::ProgramError& e) {
+    EXPECT_NE(std::string(e.what()).find("module 3 pivots about 0, which is not its neighbour"), std::string::npos)
+        << e.what();
   }
 }
 
