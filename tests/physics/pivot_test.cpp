@@ -24,7 +24,8 @@ sim::Mover mover_of(const PivotArc& arc, const sim::Vec3& from) {
 // A cube on top of another rolls about the edge on the side it goes to, a quarter turn; over the
 // edge onto the side face, half a turn about the same edge.
 TEST(PivotArcs, CubesTurnAboutTheSharedEdge) {
-  for (const auto& [offset, angle] : {std::pair{sim::Vec3{1, 0, 0}, float(M_PI / 2)}, {sim::Vec3{1, 0, -1}, float(M_PI)}}) {
+  for (const auto& [offset, angle] :
+       {std::pair{sim::Vec3{1, 0, 0}, float(M_PI / 2)}, {sim::Vec3{1, 0, -1}, float(M_PI)}}) {
     const auto planned = pivot_arcs(ModuleShape::Box, {0, 0, 1}, {0, 0, 0}, offset);
     ASSERT_TRUE(std::holds_alternative<std::vector<PivotArc>>(planned)) << std::get<std::string>(planned);
     const auto& arcs = std::get<std::vector<PivotArc>>(planned);

@@ -31,12 +31,16 @@ struct Golden {
 
 // The paper's Fig. 2 (two leaders two hops apart, at the first violation) and Fig. 3 (the token
 // ring at the duplicated token), a 1,000-module cube coloured by hop distance, and the wall hit
-// by a ball mid-motion with every moving pair highlighted.
+// by a ball mid-motion with every moving pair highlighted; the new bodies: Catoms 3D (spheres on
+// the fcc lattice) at the election's violation, Smart Blocks sliding on a plane at a same_cell
+// match.
 const Golden kGoldens[] = {
     {"leader_election", "leader_election.toml", "--step 1"},
     {"token_ring", "token_ring.toml", "--step 41"},
     {"cube_distance", "aggregation_routing.toml", "--step 30 --color-by dist"},
     {"push_wall", "push_wall.toml", "--step 80 --highlight all"},
+    {"catoms3d", "catoms3d_leader_election.toml", "--step 99"},
+    {"smart_blocks", "smart_blocks_flow.toml", "--step 30"},
 };
 
 // Names the case in gtest's messages.

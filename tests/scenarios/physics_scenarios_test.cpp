@@ -131,33 +131,40 @@ Scenario surface_flow(int n, bool alternate = false) {
 // c are diagonal to each other on the layer, ask for the same cell (the one at +x of one and +y
 // of the other), and b is the module behind that cell on the diagonal. With alternate = 1 no two
 // modules ever ask for one cell at once.
-TEST(SurfaceFlow, TwoModulesHeadingForOneCellAreCaughtWithTheModuleBehindIt) {
-  Scenario s = surface_flow(20);
-  sim::Session run(*s.model, *s.world, {.threads = 1, .history_bytes = 64 << 20});
-  run.run_until(100);
+// Every same_cell match of a surface_flow run on a layer at height `layer`, lattice `size_x` wide:
+// a and c ask for one cell at its step, sit diagonal to each other on the layer, and b is the
+// module behind that cell on the diagonal. Returns the matches checked.
+size_t expect_same_cell_matches(sim::Session& run, const sim::Model& model, long layer, long size_x) {
   const sim::MatchList& found = run.matches(0);
-  ASSERT_GT(found.size(), 0u);
-  const uint32_t vars = s.model->variable_count();
+  const uint32_t vars = model.variable_count();
   const auto cell = [&](sim::ModuleId m) {
     const auto& p = run.state().bodies.poses[m].position;
     return std::array<long, 3>{std::lround(p[0]), std::lround(p[1]), std::lround(p[2])};
   };
   for (size_t i = 0; i < found.size(); ++i) {
-    ASSERT_TRUE(run.seek(found.t[i]));
+    EXPECT_TRUE(run.seek(found.t[i]));
     const sim::ModuleId a = found.slots[3 * i], b = found.slots[3 * i + 1], c = found.slots[3 * i + 2];
     const std::vector<int64_t> values = run.whole_values(run.state());
     const int64_t target = values[size_t(a) * vars];
     EXPECT_GE(target, 0);
     EXPECT_EQ(values[size_t(c) * vars], target) << "match at t=" << found.t[i];
     const auto ca = cell(a), cb = cell(b), cc = cell(c);
-    EXPECT_EQ(ca[2], 19);
-    EXPECT_EQ(cc[2], 19);
+    EXPECT_EQ(ca[2], layer);
+    EXPECT_EQ(cc[2], layer);
     EXPECT_EQ(std::abs(ca[0] - cc[0]), 1);
     EXPECT_EQ(ca[0] - cc[0], cc[1] - ca[1]) << "diagonal";
-    const std::array<long, 3> behind{std::min(ca[0], cc[0]), std::min(ca[1], cc[1]), 19};
+    const std::array<long, 3> behind{std::min(ca[0], cc[0]), std::min(ca[1], cc[1]), layer};
     EXPECT_EQ(cb, behind);
-    EXPECT_EQ(target, (behind[0] + 1) + 20 * (behind[1] + 1)) << "the cell ahead on the diagonal";
+    EXPECT_EQ(target, (behind[0] + 1) + size_x * (behind[1] + 1)) << "the cell ahead on the diagonal";
   }
+  return found.size();
+}
+
+TEST(SurfaceFlow, TwoModulesHeadingForOneCellAreCaughtWithTheModuleBehindIt) {
+  Scenario s = surface_flow(20);
+  sim::Session run(*s.model, *s.world, {.threads = 1, .history_bytes = 64 << 20});
+  run.run_until(100);
+  EXPECT_GT(expect_same_cell_matches(run, *s.model, 19, 20), 0u);
 
   Scenario fixed = surface_flow(20, true);
   sim::Session calm(*fixed.model, *fixed.world, {.threads = 1});
@@ -214,6 +221,15 @@ TEST(SurfaceFlow, SameHashesOnAnyThreadCountAndThroughSeeks) {
   }
   run.run_until(80);
   EXPECT_EQ(matches_of(run), one.matches);
+}
+
+// Smart Blocks on a plane: the same bug caught on the square2d floor of smart_blocks_flow.toml.
+TEST(SmartBlocksFlow, TwoBlocksHeadingForOneCellAreCaught) {
+  Scenario s = load_file("smart_blocks_flow.toml");
+  EXPECT_EQ(s.world->moves(), true);
+  sim::Session run(*s.model, *s.world, {.threads = 2, .history_bytes = 16 << 20});
+  run.run_until(200);
+  EXPECT_GT(expect_same_cell_matches(run, *s.model, 0, 16), 0u);
 }
 
 TEST(Slide, ModulesSettingOffOneStepApartMatchTheSectionIWatchpoint) {
