@@ -25,11 +25,12 @@ std::variant<std::vector<PivotArc>, std::string> pivot_arcs(ModuleShape shape, c
     const btVector3 over = o + n;
     const bool flip = !roll && unit(over) && std::abs(over.dot(n)) < kSlack;
     if (!roll && !flip)
-      return std::string("a cube pivots about a neighbour by one cell along its face (offset perpendicular to the way "
-                         "to it) or over its edge (that offset, less the way to it)");
+      return std::string(
+          "a cube pivots about a neighbour by one cell along its face (offset perpendicular to the way "
+          "to it) or over its edge (that offset, less the way to it)");
     const btVector3 u = roll ? o : over;
     PivotArc arc;
-    arc.pivot = from_bt(c - n / 2 + u / 2);  // the edge the two cubes share on the side of u
+    arc.pivot = from_bt(c - n / 2 + u / 2);       // the edge the two cubes share on the side of u
     arc.axis = from_bt(n.cross(u).normalized());  // turning n towards u
     arc.angle = roll ? SIMD_HALF_PI : SIMD_PI;
     arc.spin = 1;
@@ -38,8 +39,9 @@ std::variant<std::vector<PivotArc>, std::string> pivot_arcs(ModuleShape shape, c
   // Round modules roll over the neighbour: both cells touch it and each other.
   const btVector3 m = d - p;
   if (!unit(n) || !unit(m) || !unit(o))
-    return std::string("a round module pivots about a touching neighbour into a cell next to its own that also touches "
-                       "the neighbour");
+    return std::string(
+        "a round module pivots about a touching neighbour into a cell next to its own that also touches "
+        "the neighbour");
   const btVector3 axis = n.cross(m);
   if (axis.length() < kSlack) return std::string("the cell is on the far side of the neighbour");
   std::vector<PivotArc> arcs;
