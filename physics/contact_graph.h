@@ -38,7 +38,7 @@ class ContactGraph {
   // Brings the grid of module centres up to the bodies without measuring (update does it too):
   // what near() reads.
   void place(const sim::Bodies& bodies, std::span<const uint8_t> present);
-  // The present modules whose centres lie closer than `radius` (at most a module size) to `at`,
+  // The present modules whose centres lie closer than `radius` (at most reach()) to `at`,
   // ascending, as last placed.
   std::vector<sim::ModuleId> near(const sim::Vec3& at, float radius) const;
   // The distance between two module shapes at these poses (negative: they overlap; huge: further

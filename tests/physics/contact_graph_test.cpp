@@ -1,0 +1,85 @@
+#include "physics/contact_graph.h"
+
+#include <gtest/gtest.h>
+
+#include "physics/clusters.h"
+#include "physics/dynamics.h"
+
+namespace dw::physics {
+namespace {
+
+// A 4x4x4 block of boxes latched into one cluster, anchored or not.
+sim::Bodies block(bool anchored, btCollisionShape& shape) {
+  sim::Bodies b;
+  for (int z = 0; z < 4; ++z)
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x) b.poses.push_back({.position = {float(x), float(y), float(z)}});
+  const auto n = static_cast<sim::ModuleId>(b.poses.size());
+  b.velocities.resize(n);
+  b.local.resize(n);
+  for (sim::ModuleId m = 0; m < n; ++m) {
+    for (sim::ModuleId o = m + 1; o < n; ++o) {
+      const auto& p = b.poses[m].position;
+      const auto& q = b.poses[o].position;
+      if (std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) == 1) b.bonds.push_back({m, o});
+    }
+    if (anchored && b.poses[m].position[2] == 0) b.bonds.push_back({m, sim::kGround});
+  }
+  std::sort(b.bonds.begin(), b.bonds.end());
+  form_clusters(b, std::vector<uint8_t>(n, 1), shape);
+  return b;
+}
+
+// 4x4x4: 144 face pairs; every module has up to 26 candidates, 13 a module counted once.
+TEST(ContactGraph, MeasuresEveryPairOnceThenOnlyWhatChanged) {
+  const PhysicsSettings settings;
+  Dynamics dynamics(settings, ModuleShape::Box, -0.5f);  // holds the box shape clusters are made of
+  btCollisionShape& shape = dynamics.module_shape();
+  sim::WorkerPool workers(2);
+  for (const bool anchored : {true, false}) {
+    sim::Bodies b = block(anchored, shape);
+    const std::vector<uint8_t> present(b.poses.size(), 1);
+    ContactGraph contacts(ModuleShape::Box, 0.01f);
+    const auto first = contacts.update(b, present, workers);
+    EXPECT_EQ(first->edge_count(), 2u * 144);
+    EXPECT_EQ(contacts.pairs_measured(), 3u * 48 + 6u * 36 + 4u * 27);  // face, edge and corner diagonals
+    // Nothing changed: nothing measured, the same graph.
+    EXPECT_EQ(contacts.update(b, present, workers), first);
+    EXPECT_EQ(contacts.pairs_measured(), 0u);
+    // The whole block moves rigidly (a free one): its pairs keep their measurement, and nothing
+    // else is near it.
+    if (!anchored) {
+      b.clusters[0].pose.position[0] += 0.25f;
+      place_members(b);
+      EXPECT_EQ(contacts.update(b, present, workers), first);
+      EXPECT_EQ(contacts.pairs_measured(), 0u);
+    }
+    // One corner module leaves its cluster and moves off: only its own candidates are measured.
+    b.cluster_of[63] = sim::kNoCluster;
+    for (float& x : b.poses[63].position) x += 0.5f;
+    const auto moved = contacts.update(b, present, workers);
+    EXPECT_LE(contacts.pairs_measured(), 7u);
+    EXPECT_GT(contacts.pairs_measured(), 0u);
+    EXPECT_EQ(moved->edge_count(), 2u * 141) << "its three faces came apart";
+    EXPECT_EQ(moved->neighbors(63).size(), 0u);
+  }
+}
+
+// The same graph on one worker as on two; near() finds the modules around a point.
+TEST(ContactGraph, WorkersDoNotChangeTheGraphAndNearFindsCentres) {
+  const PhysicsSettings settings;
+  Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
+  const sim::Bodies b = block(true, dynamics.module_shape());
+  const std::vector<uint8_t> present(b.poses.size(), 1);
+  sim::WorkerPool one(1), two(2);
+  ContactGraph a(ModuleShape::Box, 0.01f), c(ModuleShape::Box, 0.01f);
+  EXPECT_EQ(a.update(b, present, one)->ids, c.update(b, present, two)->ids);
+  EXPECT_EQ(a.near({1, 1, 1}, 0.5f), std::vector<sim::ModuleId>{21});
+  EXPECT_EQ(a.near({1.5f, 1, 1}, 0.6f), (std::vector<sim::ModuleId>{21, 22}));
+  EXPECT_TRUE(a.near({10, 10, 10}, 1.5f).empty());
+  EXPECT_LT(a.distance(b.poses[0], b.poses[1]), 0.001f);
+  EXPECT_GT(a.distance(b.poses[0], b.poses[5]), 0.01f) << "edge diagonals are apart (rounded edges)";
+}
+
+}  // namespace
+}  // namespace dw::physics
