@@ -229,9 +229,11 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
   sim::Bodies& b = state.bodies;
   std::vector<Push> pushes;
   bool regroup = false;
-  // Moves look for modules in their cells in the grid of module centres; requests change no pose.
-  if (std::any_of(actuations.begin(), actuations.end(),
-                  [](const sim::Actuation& a) { return a.kind == sim::Actuation::Kind::Move; }))
+  // Moves and pivots look for modules in the grid of module centres (which a restored state may
+  // not match yet); requests change no pose.
+  if (std::any_of(actuations.begin(), actuations.end(), [](const sim::Actuation& a) {
+        return a.kind == sim::Actuation::Kind::Move || a.kind == sim::Actuation::Kind::Pivot;
+      }))
     contacts_.place(b, state.present);
   std::vector<sim::ModuleId> leaving;  // modules setting off on a lattice move
   for (const sim::Actuation& a : actuations) regroup |= carry_out(a, state, pushes, leaving);
