@@ -238,6 +238,40 @@ TEST(SmartBlocksFlow, TwoBlocksHeadingForOneCellAreCaught) {
   EXPECT_GT(expect_same_cell_matches(run, *s.model, 0, 16), 0u);
 }
 
+// Catoms 3D rolling over an fcc block (pivots, in Lua) while the election runs: each of the three
+// top catoms ends five sites along, exactly on its lattice site, touching exactly the catoms one
+// site away from it (the two under it at the block's edge); the same hashes on 1 and 2 threads and through seeks; the
+// election's bug still caught.
+TEST(CatomsRoll, ThreeCatomsRollFiveSitesAndTouchWhatTheLatticeSays) {
+  const Trail one = straight("catoms3d_roll.toml", 1, 80);
+  EXPECT_EQ(straight("catoms3d_roll.toml", 2, 80).hashes, one.hashes);
+  EXPECT_GT(one.matches[0].size(), 0u) << "two_leaders";
+
+  Scenario s = load_file("catoms3d_roll.toml");
+  sim::Session run(*s.model, *s.world, {.threads = 2, .history_bytes = 16 << 20});
+  run.run_until(80);
+  const sim::State& st = run.state();
+  for (const sim::ModuleId roller : {108u, 120u, 132u}) {
+    const sim::ModuleId site = roller + 5;  // five sites along x on the top layer
+    const sim::Vec3& at = s.model->lattice.positions[site];
+    EXPECT_EQ(st.bodies.poses[roller].position, at) << roller;
+    std::vector<sim::ModuleId> expected;
+    for (sim::ModuleId o = 0; o < s.model->module_count(); ++o) {
+      const sim::Vec3& p = st.bodies.poses[o].position;
+      if (o != roller && st.present[o] && std::abs(std::hypot(p[0] - at[0], p[1] - at[1], p[2] - at[2]) - 1) < 1e-3f)
+        expected.push_back(o);
+    }
+    EXPECT_EQ(expected.size(), 2u) << "the two under it, at the block's edge";
+    EXPECT_EQ(std::vector<sim::ModuleId>(st.graph->neighbors(roller).begin(), st.graph->neighbors(roller).end()),
+              expected)
+        << roller;
+  }
+  for (int64_t t : {30, 79, 5, 41, 42, 0}) {
+    ASSERT_TRUE(run.seek(t));
+    ASSERT_EQ(run.hash().whole(), one.hashes[size_t(t)]) << "step " << t;
+  }
+}
+
 TEST(Slide, ModulesSettingOffOneStepApartMatchTheSectionIWatchpoint) {
   Scenario s = load_file("slide.toml");
   sim::Session run(*s.model, *s.world, {.threads = 1});
