@@ -318,6 +318,34 @@ TEST(BulletWorld, CatomRollsOverANeighbourIntoTheNextFccCell) {
   EXPECT_EQ(std::vector<sim::ModuleId>(st.graph->neighbors(9).begin(), st.graph->neighbors(9).end()), under);
 }
 
+// Catoms 2D: a cylinder of a hex layer rolls over a neighbour into the empty cell beside both
+// (the cell across from that neighbour left empty too, or the sweep would pass through it), and
+// touches exactly the modules one cell from its new place.
+TEST(BulletWorld, CylinderRollsOverANeighbourIntoTheHexCellBesideBoth) {
+  sim::Lattice lattice = sim::make_lattice({sim::LatticeKind::Hex2d, {5, 5, 1}});
+  sim::leave_empty(lattice, {2, 2, 0}, {2, 2, 0});  // the cell it rolls into
+  sim::leave_empty(lattice, {1, 3, 0}, {1, 3, 0});  // across from module 6, the one it rolls over
+  PhysicsSettings s;
+  s.move_steps = 10;
+  const auto model = model_of(lattice, [](sim::ModuleContext& m) {
+    if (m.id() == 11 && m.step() == 1) m.pivot(6, {1, 0, 0});  // (1, 2) over (1, 1) into (2, 2)
+  });
+  BulletWorld world(s, model->lattice);
+  EXPECT_EQ(world.shape(), ModuleShape::Cylinder);
+  sim::Session run(*model, world, {.threads = 1});
+  run.run_until(12);
+  const sim::State& st = run.state();
+  const sim::Vec3& at = model->lattice.positions[12];
+  EXPECT_LT(std::hypot(st.bodies.poses[11].position[0] - at[0], st.bodies.poses[11].position[1] - at[1]), 1e-5f);
+  std::vector<sim::ModuleId> expected;
+  for (sim::ModuleId o = 0; o < model->module_count(); ++o) {
+    const sim::Vec3& p = st.bodies.poses[o].position;
+    if (o != 11 && st.present[o] && std::abs(std::hypot(p[0] - at[0], p[1] - at[1]) - 1) < 1e-3f) expected.push_back(o);
+  }
+  EXPECT_EQ(expected, (std::vector<sim::ModuleId>{6, 7, 13, 17}));
+  EXPECT_EQ(std::vector<sim::ModuleId>(st.graph->neighbors(11).begin(), st.graph->neighbors(11).end()), expected);
+}
+
 // Pivots on 1 and 2 threads give the same hash every step, and a run seeked back and forth
 // through them equals the run that went straight.
 TEST(BulletWorld, PivotsAreDeterministicOnAnyThreadCountAndThroughSeeks) {
