@@ -4,31 +4,10 @@
 
 #include "physics/clusters.h"
 #include "physics/dynamics.h"
+#include "tests/physics/latched_block.h"
 
 namespace dw::physics {
 namespace {
-
-// A 4x4x4 block of boxes latched into one cluster, anchored or not.
-sim::Bodies block(bool anchored, btCollisionShape& shape) {
-  sim::Bodies b;
-  for (int z = 0; z < 4; ++z)
-    for (int y = 0; y < 4; ++y)
-      for (int x = 0; x < 4; ++x) b.poses.push_back({.position = {float(x), float(y), float(z)}});
-  const auto n = static_cast<sim::ModuleId>(b.poses.size());
-  b.velocities.resize(n);
-  b.local.resize(n);
-  for (sim::ModuleId m = 0; m < n; ++m) {
-    for (sim::ModuleId o = m + 1; o < n; ++o) {
-      const auto& p = b.poses[m].position;
-      const auto& q = b.poses[o].position;
-      if (std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) == 1) b.bonds.push_back({m, o});
-    }
-    if (anchored && b.poses[m].position[2] == 0) b.bonds.push_back({m, sim::kGround});
-  }
-  std::sort(b.bonds.begin(), b.bonds.end());
-  form_clusters(b, std::vector<uint8_t>(n, 1), shape);
-  return b;
-}
 
 // 4x4x4: 144 face pairs; every module has up to 26 candidates, 13 a module counted once.
 TEST(ContactGraph, MeasuresEveryPairOnceThenOnlyWhatChanged) {
@@ -37,7 +16,7 @@ TEST(ContactGraph, MeasuresEveryPairOnceThenOnlyWhatChanged) {
   btCollisionShape& shape = dynamics.module_shape();
   sim::WorkerPool workers(2);
   for (const bool anchored : {true, false}) {
-    sim::Bodies b = block(anchored, shape);
+    sim::Bodies b = test::latched_block(4, anchored, shape);
     const std::vector<uint8_t> present(b.poses.size(), 1);
     ContactGraph contacts(ModuleShape::Box, 0.01f);
     const auto first = contacts.update(b, present, workers);
@@ -69,7 +48,7 @@ TEST(ContactGraph, MeasuresEveryPairOnceThenOnlyWhatChanged) {
 TEST(ContactGraph, WorkersDoNotChangeTheGraphAndNearFindsCentres) {
   const PhysicsSettings settings;
   Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
-  const sim::Bodies b = block(true, dynamics.module_shape());
+  const sim::Bodies b = test::latched_block(4, true, dynamics.module_shape());
   const std::vector<uint8_t> present(b.poses.size(), 1);
   sim::WorkerPool one(1), two(2);
   ContactGraph a(ModuleShape::Box, 0.01f), c(ModuleShape::Box, 0.01f);

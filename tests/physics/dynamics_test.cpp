@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "physics/clusters.h"
+#include "tests/physics/latched_block.h"
 
 namespace dw::physics {
 namespace {
@@ -55,26 +55,10 @@ TEST(Dynamics, ContactForceGoesToTheMemberTouchedNotToTheChildsIndex) {
   settings.props.push_back(ball);
   Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
 
-  sim::Bodies b;
-  for (int z = 0; z < 3; ++z)
-    for (int y = 0; y < 3; ++y)
-      for (int x = 0; x < 3; ++x) b.poses.push_back({.position = {float(x), float(y), float(z)}});
+  sim::Bodies b = test::latched_block(3, true, dynamics.module_shape());
   const auto n = static_cast<sim::ModuleId>(b.poses.size());
-  b.velocities.resize(n);
-  b.local.resize(n);
-  for (sim::ModuleId m = 0; m < n; ++m) {
-    for (sim::ModuleId o = m + 1; o < n; ++o) {
-      const auto& p = b.poses[m].position;
-      const auto& q = b.poses[o].position;
-      if (std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) == 1) b.bonds.push_back({m, o});
-    }
-    if (b.poses[m].position[2] == 0) b.bonds.push_back({m, sim::kGround});
-  }
-  std::sort(b.bonds.begin(), b.bonds.end());
   b.prop_poses = {ball.pose};
   b.prop_velocities = {ball.velocity};
-  const std::vector<uint8_t> present(n, 1);
-  form_clusters(b, present, dynamics.module_shape());
   ASSERT_EQ(b.clusters.size(), 1u);
   ASSERT_TRUE(b.clusters[0].anchored);
 
