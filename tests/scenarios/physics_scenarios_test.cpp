@@ -236,6 +236,13 @@ TEST(SmartBlocksFlow, TwoBlocksHeadingForOneCellAreCaught) {
   // On the square floor, blocks at rest touch exactly their four (or fewer) face neighbours.
   EXPECT_GT(expect_rest_contacts_are_faces(run.state()), 2u * 15 * 16 - 100);
   EXPECT_GT(expect_same_cell_matches(run, *s.model, 0, 16), 0u);
+  // The same hashes on 1 and 2 threads, and through the seeks above and more.
+  const Trail one = straight("smart_blocks_flow.toml", 1, 200);
+  EXPECT_EQ(straight("smart_blocks_flow.toml", 2, 200).hashes, one.hashes);
+  for (int64_t t : {150, 7, 199, 61, 62}) {
+    ASSERT_TRUE(run.seek(t));
+    ASSERT_EQ(run.hash().whole(), one.hashes[size_t(t)]) << "step " << t;
+  }
 }
 
 // Catoms 3D rolling over an fcc block (pivots, in Lua) while the election runs: each of the three
