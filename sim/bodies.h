@@ -5,8 +5,8 @@
 // Modules latched by bonds form a rigid *cluster* that moves as one body: its frame (pose and
 // velocity) is the state, each member's pose within it is fixed while the cluster lasts, and a
 // member's world pose is derived from the two. A cluster latched to the ground is anchored: it
-// does not move at all, and its frame is the world's. A module making a lattice move belongs to no cluster while it
-// moves.
+// does not move at all, and its frame is the world's. A module making a lattice move or a pivot
+// belongs to no cluster while it moves.
 #pragma once
 
 #include <algorithm>
