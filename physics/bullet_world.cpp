@@ -66,7 +66,7 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
     for (sim::ModuleId m = 0; m < n; ++m)
       if (state.present[m] && touches_ground(b.poses[m])) b.bonds.push_back({m, sim::kGround});
   std::sort(b.bonds.begin(), b.bonds.end());
-  form_clusters(b, state.present, dynamics_.module_shape());
+  regroup_all(state);
   // Members of a cluster are measured at their poses in it: the graph of step 0 is the one a
   // restored world finds (and the first step does not pay for measuring every pair again).
   state.graph = contacts_.update(b, state.present, workers);
@@ -74,7 +74,26 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
 
 void BulletWorld::restore(const sim::Model&, const sim::State&) {
   // Nothing of Bullet's outlives a step (physics/dynamics.h), and the contact graph measures
-  // again whatever differs from what it measured last, whichever state that was.
+  // again whatever differs from what it measured last, whichever state that was. The bonds are
+  // indexed again when next needed.
+  bond_index_.invalidate();
+  changes_.clear();
+}
+
+// Forms the clusters from all the bonds (when what changed is not known, or rarely changes).
+void BulletWorld::regroup_all(sim::State& state) {
+  form_clusters(state.bodies, state.present, dynamics_.module_shape());
+  bond_index_.invalidate();
+  changes_.clear();
+}
+
+// Regroups the clusters after the changes since they were formed, looking only at those.
+void BulletWorld::regroup(sim::State& state) {
+  if (changes_.empty()) return;
+  changes_.normalize();
+  if (!bond_index_.valid()) bond_index_.rebuild(state.bodies.bonds);
+  regrouper_(state.bodies, state.present, changes_, bond_index_, dynamics_.module_shape());
+  changes_.clear();
 }
 
 void BulletWorld::remove_module(const sim::Model& model, sim::State& state, sim::ModuleId m) {
@@ -85,7 +104,7 @@ void BulletWorld::remove_module(const sim::Model& model, sim::State& state, sim:
   std::erase_if(b.bonds, [&](const sim::Bond& x) { return x.a == m || x.b == m; });
   std::erase_if(b.movers, [&](const sim::Mover& x) { return x.module == m; });
   b.velocities[m] = {};
-  form_clusters(b, state.present, dynamics_.module_shape());
+  regroup_all(state);
   graph_stale_ = true;  // the clusters it left may have new frames
 }
 
@@ -94,7 +113,13 @@ bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vec
                             std::vector<sim::ModuleId>& leaving) {
   sim::Bodies& b = state.bodies;
   const int64_t asked = state.step - 1;
-  auto erase_bonds = [&](auto&& which) { return std::erase_if(b.bonds, which) > 0; };
+  // Requests to release or make a bond are rare: the index of bonds is built again after them.
+  auto erase_bonds = [&](auto&& which) {
+    for (const sim::Bond& x : b.bonds)
+      if (which(x)) changes_.removed.push_back(x);
+    bond_index_.invalidate();
+    return std::erase_if(b.bonds, which) > 0;
+  };
   switch (a.kind) {
     case sim::Actuation::Kind::Push: pushes.push_back({a.module, a.vector}); return false;
     case sim::Actuation::Kind::Release:
@@ -109,6 +134,8 @@ bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vec
       const auto at = std::lower_bound(b.bonds.begin(), b.bonds.end(), bond);
       if (at != b.bonds.end() && *at == bond) return false;
       b.bonds.insert(at, bond);
+      changes_.added.push_back(bond);
+      bond_index_.invalidate();
       return true;
     }
     case sim::Actuation::Kind::Move: {
@@ -195,6 +222,55 @@ void BulletWorld::set_off(const sim::Mover& mover, sim::State& state, std::vecto
                   mover);
   b.velocities[mover.module] = {};
   leaving.push_back(mover.module);
+  changes_.stopped.push_back(mover.module);
+}
+
+// The bonds of the modules setting off go, found by the index of bonds, in one pass.
+void BulletWorld::let_go(std::span<const sim::ModuleId> leaving, sim::State& state) {
+  sim::Bodies& b = state.bodies;
+  if (leaving.empty()) return;
+  if (!bond_index_.valid()) bond_index_.rebuild(b.bonds);
+  std::vector<sim::Bond> gone;
+  for (sim::ModuleId m : leaving) {
+    for (auto at = std::lower_bound(b.bonds.begin(), b.bonds.end(), sim::Bond{m, 0}); at != b.bonds.end() && at->a == m;
+         ++at)
+      gone.push_back(*at);
+    bond_index_.partners(b.bonds, m, [&](sim::ModuleId o) {
+      if (o < m) gone.push_back({o, m});
+    });
+  }
+  std::sort(gone.begin(), gone.end());
+  gone.erase(std::unique(gone.begin(), gone.end()), gone.end());
+  if (gone.empty()) return;
+  auto kept = b.bonds.begin();
+  auto next = gone.begin();
+  for (const sim::Bond& x : b.bonds) {
+    while (next != gone.end() && *next < x) ++next;
+    if (next == gone.end() || !(*next == x)) *kept++ = x;
+  }
+  b.bonds.erase(kept, b.bonds.end());
+  bond_index_.apply(gone, {});
+  changes_.removed.insert(changes_.removed.end(), gone.begin(), gone.end());
+}
+
+// Modules ending a lattice move latch to what they touch (and the ground).
+void BulletWorld::latch(std::span<const sim::ModuleId> arrived, sim::State& state) {
+  sim::Bodies& b = state.bodies;
+  std::vector<sim::Bond> made;
+  for (sim::ModuleId m : arrived) {
+    if (settings_.bonds)
+      for (sim::ModuleId o : state.graph->neighbors(m))
+        if (!b.moving(o)) made.push_back({std::min(m, o), std::max(m, o)});
+    if (settings_.anchor && touches_ground(b.poses[m])) made.push_back({m, sim::kGround});
+  }
+  std::sort(made.begin(), made.end());
+  made.erase(std::unique(made.begin(), made.end()), made.end());
+  const size_t kept = b.bonds.size();
+  b.bonds.insert(b.bonds.end(), made.begin(), made.end());
+  std::inplace_merge(b.bonds.begin(), b.bonds.begin() + ptrdiff_t(kept), b.bonds.end());
+  if (bond_index_.valid()) bond_index_.apply({}, made);
+  changes_.added.insert(changes_.added.end(), made.begin(), made.end());
+  changes_.started.insert(changes_.started.end(), arrived.begin(), arrived.end());
 }
 
 // Steps the bodies; a module pushed harder than the break force loses its bonds, and the step is
@@ -218,7 +294,7 @@ void BulletWorld::step_bodies(sim::State& state, std::span<const Push> pushes) {
     b.clusters = clusters;
     b.prop_poses = prop_poses;
     b.prop_velocities = prop_velocities;
-    form_clusters(b, state.present, dynamics_.module_shape());
+    regroup_all(state);
     clusters = b.clusters;
   }
   place_members(b);
@@ -228,7 +304,7 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
                           sim::WorkerPool& workers) {
   sim::Bodies& b = state.bodies;
   std::vector<Push> pushes;
-  bool regroup = false;
+  bool changed = false;
   // Moves and pivots look for modules in the grid of module centres (which a restored state may
   // not match yet); requests change no pose.
   if (std::any_of(actuations.begin(), actuations.end(), [](const sim::Actuation& a) {
@@ -236,15 +312,11 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
       }))
     contacts_.place(b, state.present);
   std::vector<sim::ModuleId> leaving;  // modules setting off on a lattice move
-  for (const sim::Actuation& a : actuations) regroup |= carry_out(a, state, pushes, leaving);
-  if (!leaving.empty()) {
-    std::sort(leaving.begin(), leaving.end());
-    const auto leaves = [&](sim::ModuleId m) { return std::binary_search(leaving.begin(), leaving.end(), m); };
-    std::erase_if(b.bonds, [&](const sim::Bond& x) { return leaves(x.a) || (x.b != sim::kGround && leaves(x.b)); });
-  }
-  if (regroup) form_clusters(b, state.present, dynamics_.module_shape());
+  for (const sim::Actuation& a : actuations) changed |= carry_out(a, state, pushes, leaving);
+  let_go(leaving, state);
+  if (changed) regroup(state);
   // Nothing moves and no frame changes: the graph stays (a resting lattice costs no physics).
-  const bool still = !regroup && !graph_stale_ && b.movers.empty() && dynamics_.idle(b);
+  const bool still = !changed && !graph_stale_ && b.movers.empty() && dynamics_.idle(b);
 
   step_bodies(state, pushes);
 
@@ -267,17 +339,8 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
   graph_stale_ = false;
 
   if (!arrived.empty()) {
-    const size_t kept = b.bonds.size();
-    for (sim::ModuleId m : arrived) {
-      if (settings_.bonds)
-        for (sim::ModuleId o : state.graph->neighbors(m))
-          if (!b.moving(o)) b.bonds.push_back({std::min(m, o), std::max(m, o)});
-      if (settings_.anchor && touches_ground(b.poses[m])) b.bonds.push_back({m, sim::kGround});
-    }
-    std::sort(b.bonds.begin() + ptrdiff_t(kept), b.bonds.end());
-    std::inplace_merge(b.bonds.begin(), b.bonds.begin() + ptrdiff_t(kept), b.bonds.end());
-    b.bonds.erase(std::unique(b.bonds.begin(), b.bonds.end()), b.bonds.end());
-    form_clusters(b, state.present, dynamics_.module_shape());
+    latch(arrived, state);
+    regroup(state);
   }
 }
 

@@ -14,6 +14,7 @@
 
 #include "physics/contact_graph.h"
 #include "physics/dynamics.h"
+#include "physics/regroup.h"
 #include "physics/settings.h"
 #include "sim/world.h"
 
@@ -42,6 +43,10 @@ class BulletWorld final : public sim::World {
   bool touches_ground(const sim::Pose& pose) const;
   std::optional<sim::ModuleId> taken_by(sim::ModuleId self, const sim::Vec3& at, const sim::State& state) const;
   void set_off(const sim::Mover& mover, sim::State& state, std::vector<sim::ModuleId>& leaving);
+  void let_go(std::span<const sim::ModuleId> leaving, sim::State& state);
+  void latch(std::span<const sim::ModuleId> arrived, sim::State& state);
+  void regroup(sim::State& state);
+  void regroup_all(sim::State& state);
 
   PhysicsSettings settings_;
   ModuleShape shape_;
@@ -50,6 +55,11 @@ class BulletWorld final : public sim::World {
   ContactGraph contacts_;
   std::vector<float> force_;
   bool graph_stale_ = false;  // state.graph is not yet measured from the bodies (a module removed)
+  // The bonds as they are (invalidated when a request changes them: rare), and what changed
+  // since the clusters were formed.
+  BondIndex bond_index_;
+  BondChanges changes_;
+  Regrouper regrouper_;
 };
 
 }  // namespace dw::physics

@@ -17,6 +17,54 @@ uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
 
 }  // namespace
 
+void settle(sim::Bodies& b, sim::Cluster& c, std::span<const sim::ModuleId> mine, btCollisionShape& module_shape) {
+  const uint32_t old = b.cluster_of.empty() ? sim::kNoCluster : b.cluster_of[mine[0]];
+  // The same members held the same way: the frame stays (members keep their local poses).
+  if (old != sim::kNoCluster && b.clusters[old].count == c.count && b.clusters[old].anchored == c.anchored &&
+      std::equal(mine.begin(), mine.end(), b.members.begin() + b.clusters[old].first)) {
+    c.pose = b.clusters[old].pose;
+    c.velocity = b.clusters[old].velocity;
+    return;
+  }
+  c.velocity = {};
+  if (c.anchored) {
+    // It never moves: the world's frame will do, and members keep their poses in it whatever
+    // joins or leaves (a block of a million that a module leaves is not recomputed: a member of
+    // an anchored cluster has its pose as its local pose and no velocity already).
+    c.pose = sim::Pose{};
+    for (sim::ModuleId m : mine) {
+      const uint32_t was = b.cluster_of.empty() ? sim::kNoCluster : b.cluster_of[m];
+      if (was != sim::kNoCluster && b.clusters[was].anchored) continue;
+      b.local[m] = b.poses[m];
+      b.velocities[m] = {};
+    }
+    return;
+  }
+  if (c.count == 1) {
+    c.pose = b.poses[mine[0]];
+    b.local[mine[0]] = sim::Pose{};
+  } else {
+    // A cluster the ground lets go of gets its principal frame too: a rigid body turns about its
+    // centre of mass.
+    btCompoundShape compound(false, static_cast<int>(c.count));
+    for (sim::ModuleId m : mine) compound.addChildShape(to_bt(b.poses[m]), &module_shape);
+    std::vector<btScalar> masses(c.count, 1);
+    btTransform principal;
+    btVector3 inertia;
+    compound.calculatePrincipalAxisTransform(masses.data(), principal, inertia);
+    c.pose = from_bt(principal);
+    const btTransform frame = to_bt(c.pose), inverse = frame.inverse();
+    for (sim::ModuleId m : mine) b.local[m] = from_bt(inverse * to_bt(b.poses[m]));
+  }
+  // The members' mean velocity: momentum is kept when pieces join or split.
+  btVector3 linear(0, 0, 0), angular(0, 0, 0);
+  for (sim::ModuleId m : mine) {
+    linear += to_bt(b.velocities[m].linear);
+    angular += to_bt(b.velocities[m].angular);
+  }
+  c.velocity = {from_bt(linear / btScalar(c.count)), from_bt(angular / btScalar(c.count))};
+}
+
 void form_clusters(sim::Bodies& b, std::span<const uint8_t> present, btCollisionShape& module_shape) {
   const uint32_t n = static_cast<uint32_t>(b.poses.size());
   std::vector<uint8_t> still(present.begin(), present.end());  // present and not gliding
@@ -58,55 +106,7 @@ void form_clusters(sim::Bodies& b, std::span<const uint8_t> present, btCollision
       c.anchored = c.anchored || grounded[m];
     }
 
-  for (sim::Cluster& c : clusters) {
-    const std::span<const sim::ModuleId> mine(members.data() + c.first, c.count);
-    const uint32_t old = b.cluster_of.empty() ? sim::kNoCluster : b.cluster_of[mine[0]];
-    // A cluster the ground lets go of needs its principal frame (a rigid body turns about its
-    // centre of mass); any other with the same members keeps its frame.
-    if (old != sim::kNoCluster && b.clusters[old].count == c.count &&
-        std::equal(mine.begin(), mine.end(), b.members.begin() + b.clusters[old].first) &&
-        !(b.clusters[old].anchored && !c.anchored)) {
-      c.pose = b.clusters[old].pose;
-      c.velocity = b.clusters[old].velocity;
-      if (c.anchored && !b.clusters[old].anchored) {
-        c.velocity = {};
-        for (sim::ModuleId m : mine) b.velocities[m] = {};
-      }
-      continue;  // members keep their local poses
-    }
-    if (c.count == 1) {
-      c.pose = b.poses[mine[0]];
-      b.local[mine[0]] = sim::Pose{};
-    } else if (c.anchored) {
-      // It never moves: the world's frame will do, and members keep their poses in it whatever
-      // joins or leaves (a block of a million that a module leaves is not recomputed).
-      c.pose = sim::Pose{};
-      for (sim::ModuleId m : mine) b.local[m] = b.poses[m];
-    } else {
-      btCompoundShape compound(false, static_cast<int>(c.count));
-      for (sim::ModuleId m : mine) compound.addChildShape(to_bt(b.poses[m]), &module_shape);
-      std::vector<btScalar> masses(c.count, 1);
-      btTransform principal;
-      btVector3 inertia;
-      compound.calculatePrincipalAxisTransform(masses.data(), principal, inertia);
-      c.pose = from_bt(principal);
-      const btTransform frame = to_bt(c.pose), inverse = frame.inverse();
-      for (sim::ModuleId m : mine) b.local[m] = from_bt(inverse * to_bt(b.poses[m]));
-    }
-    c.velocity = {};
-    if (c.anchored) {
-      for (sim::ModuleId m : mine) b.velocities[m] = {};
-    } else {
-      // The members' mean velocity: momentum is kept when pieces join or split.
-      btVector3 linear(0, 0, 0), angular(0, 0, 0);
-      for (sim::ModuleId m : mine) {
-        linear += to_bt(b.velocities[m].linear);
-        angular += to_bt(b.velocities[m].angular);
-      }
-      c.velocity = {from_bt(linear / btScalar(c.count)), from_bt(angular / btScalar(c.count))};
-    }
-  }
-
+  for (sim::Cluster& c : clusters) settle(b, c, std::span(members.data() + c.first, c.count), module_shape);
   b.clusters = std::move(clusters);
   b.members = std::move(members);
   b.cluster_of = std::move(component);

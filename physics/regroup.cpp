@@ -1,0 +1,322 @@
+#include "physics/regroup.h"
+
+#include <limits>
+#include <numeric>
+
+#include "physics/clusters.h"
+
+namespace dw::physics {
+namespace {
+
+constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
+
+sim::Bond reversed(const sim::Bond& x) { return {x.b, x.a}; }
+
+// The module-module bonds of `bonds` (sorted), each as {b, a}, sorted.
+std::vector<sim::Bond> reversed_module_bonds(std::span<const sim::Bond> bonds) {
+  std::vector<sim::Bond> out;
+  for (const sim::Bond& x : bonds)
+    if (x.b != sim::kGround) out.push_back(reversed(x));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+bool grounded(std::span<const sim::Bond> bonds, sim::ModuleId m) {
+  return std::binary_search(bonds.begin(), bonds.end(), sim::Bond{m, sim::kGround});
+}
+
+uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+}  // namespace
+
+void BondIndex::rebuild(std::span<const sim::Bond> bonds) {
+  reversed_ = reversed_module_bonds(bonds);
+  valid_ = true;
+}
+
+void BondIndex::apply(std::span<const sim::Bond> removed, std::span<const sim::Bond> added) {
+  const std::vector<sim::Bond> gone = reversed_module_bonds(removed), made = reversed_module_bonds(added);
+  if (!gone.empty()) {
+    std::vector<sim::Bond> kept;
+    kept.reserve(reversed_.size());
+    std::set_difference(reversed_.begin(), reversed_.end(), gone.begin(), gone.end(), std::back_inserter(kept));
+    reversed_.swap(kept);
+  }
+  if (!made.empty()) {
+    const size_t before = reversed_.size();
+    reversed_.insert(reversed_.end(), made.begin(), made.end());
+    std::inplace_merge(reversed_.begin(), reversed_.begin() + ptrdiff_t(before), reversed_.end());
+  }
+}
+
+void BondChanges::clear() {
+  removed.clear();
+  added.clear();
+  stopped.clear();
+  started.clear();
+}
+
+void BondChanges::normalize() {
+  const auto sort_unique = [](auto& v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+  };
+  sort_unique(removed);
+  sort_unique(added);
+  sort_unique(stopped);
+  sort_unique(started);
+  std::vector<sim::Bond> both;
+  std::set_intersection(removed.begin(), removed.end(), added.begin(), added.end(), std::back_inserter(both));
+  if (both.empty()) return;
+  const auto drop = [&](std::vector<sim::Bond>& v) {
+    std::erase_if(v, [&](const sim::Bond& x) { return std::binary_search(both.begin(), both.end(), x); });
+  };
+  drop(removed);
+  drop(added);
+}
+
+// A part of the still modules found while regrouping: a piece cut off a cluster (found whole by a
+// search that ran out), the rest of a cluster (what no such search found), or a module that came
+// to rest. Pieces joined by bonds made form one cluster.
+struct Regrouper::Piece {
+  std::vector<sim::ModuleId> members;  // ascending; for a rest, filled when the clusters are put together
+  uint32_t cluster = kNone;            // the cluster it was part of, or none
+  bool rest = false;
+};
+
+struct Regrouper::Scratch {
+  std::vector<uint32_t> label;  // per module: its piece, or its search while searching, or none
+  std::vector<Piece> pieces;
+  // The searches of one cluster: what each found (in order: its queue), how far it went, the
+  // search it joined, and, for a search no other joined, the searches now its own.
+  std::vector<std::vector<sim::ModuleId>> found;
+  std::vector<size_t> next;
+  std::vector<uint32_t> parent;
+  std::vector<std::vector<uint32_t>> owns;
+  std::vector<size_t> cursor;
+  std::vector<uint8_t> done;
+  std::vector<uint8_t> still;  // per module: present and not making a lattice move
+  std::vector<sim::ModuleId> members;  // the next b.members
+};
+
+Regrouper::Regrouper() : s_(std::make_unique<Scratch>()) {}
+Regrouper::~Regrouper() = default;
+
+// Searches `cluster` from `seeds` (its still members that lost bonds, ascending), a module of
+// each search in turn, until one search is left: every search that ran out found a piece (added
+// to the pieces); searches that meet go on as one. The pieces do not depend on the order.
+void Regrouper::search(const sim::Bodies& b, const BondIndex& index, uint32_t cluster,
+                       std::span<const sim::ModuleId> seeds) {
+  Scratch& s = *s_;
+  const auto count = static_cast<uint32_t>(seeds.size());
+  s.found.assign(count, {});
+  s.next.assign(count, 0);
+  s.parent.resize(count);
+  std::iota(s.parent.begin(), s.parent.end(), 0u);
+  s.owns.assign(count, {});
+  s.cursor.assign(count, 0);
+  s.done.assign(count, 0);
+  std::vector<uint32_t> active(count);
+  for (uint32_t i = 0; i < count; ++i) {
+    s.found[i].push_back(seeds[i]);
+    s.label[seeds[i]] = i;
+    s.owns[i].push_back(i);
+    active[i] = i;
+  }
+  const auto inside = [&](sim::ModuleId o) { return b.cluster_of[o] == cluster && s.still[o]; };
+  uint32_t live = count;
+  while (live > 1) {
+    for (size_t i = 0; i < active.size() && live > 1; ++i) {
+      const uint32_t root = active[i];
+      if (s.parent[root] != root || s.done[root]) continue;
+      // Its next module, from the first of its searches with one queued (searches that joined it
+      // later are listed after: one before the cursor never queues again).
+      const std::vector<uint32_t>& own = s.owns[root];
+      size_t& cursor = s.cursor[root];
+      while (cursor < own.size() && s.next[own[cursor]] == s.found[own[cursor]].size()) ++cursor;
+      if (cursor == own.size()) {  // ran out: a piece
+        Piece piece{.cluster = cluster};
+        for (uint32_t k : own) piece.members.insert(piece.members.end(), s.found[k].begin(), s.found[k].end());
+        std::sort(piece.members.begin(), piece.members.end());
+        for (sim::ModuleId m : piece.members) s.label[m] = static_cast<uint32_t>(s.pieces.size());
+        s.pieces.push_back(std::move(piece));
+        s.done[root] = 1;
+        --live;
+        continue;
+      }
+      const uint32_t queue = own[cursor];
+      const sim::ModuleId m = s.found[queue][s.next[queue]++];
+      ++searched_;
+      index.partners(b.bonds, m, [&](sim::ModuleId o) {
+        if (!inside(o)) return;
+        if (s.label[o] == kNone) {
+          s.label[o] = queue;
+          s.found[queue].push_back(o);
+          return;
+        }
+        const uint32_t me = find(s.parent, queue), other = find(s.parent, s.label[o]);
+        if (me == other) return;
+        // The searches met: the one owning more searches takes the other's.
+        const bool keep_me = s.owns[me].size() >= s.owns[other].size();
+        const uint32_t into = keep_me ? me : other, from = keep_me ? other : me;
+        s.parent[from] = into;
+        s.owns[into].insert(s.owns[into].end(), s.owns[from].begin(), s.owns[from].end());
+        s.owns[from].clear();
+        --live;
+      });
+    }
+    std::erase_if(active, [&](uint32_t r) { return s.parent[r] != r || s.done[r]; });
+  }
+  // What the last search found is the rest's: unlabel it.
+  for (uint32_t root : active)
+    for (uint32_t k : s.owns[root])
+      for (sim::ModuleId m : s.found[k]) s.label[m] = kNone;
+}
+
+void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, const BondChanges& changes,
+                           const BondIndex& index, btCollisionShape& module_shape) {
+  Scratch& s = *s_;
+  const size_t n = b.poses.size();
+  s.label.resize(n, kNone);
+  s.pieces.clear();
+  searched_ = 0;
+  s.still.assign(present.begin(), present.end());
+  for (const sim::Mover& mover : b.movers) s.still[mover.module] = 0;
+  const auto still = [&](sim::ModuleId m) { return s.still[m] != 0; };
+  const auto old_of = [&](sim::ModuleId m) { return b.cluster_of[m]; };
+
+  // The clusters something changed in, and the members that lost bonds (where a split may start).
+  std::vector<uint32_t> dirty;
+  std::vector<std::pair<uint32_t, sim::ModuleId>> seeds;
+  const auto touch = [&](sim::ModuleId m, bool lost_bond) {
+    if (m == sim::kGround || old_of(m) == sim::kNoCluster) return;
+    dirty.push_back(old_of(m));
+    if (lost_bond && still(m)) seeds.emplace_back(old_of(m), m);
+  };
+  for (const sim::Bond& x : changes.removed) {
+    touch(x.a, x.b != sim::kGround);
+    touch(x.b, true);
+  }
+  for (const sim::Bond& x : changes.added) {
+    touch(x.a, false);
+    touch(x.b, false);
+  }
+  for (sim::ModuleId m : changes.stopped) touch(m, false);
+  std::sort(dirty.begin(), dirty.end());
+  dirty.erase(std::unique(dirty.begin(), dirty.end()), dirty.end());
+  std::sort(seeds.begin(), seeds.end());
+  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+
+  // Pieces cut off each changed cluster, then its rest; modules that came to rest alone.
+  std::vector<std::pair<uint32_t, uint32_t>> rest_of;  // (cluster, its rest piece)
+  for (size_t i = 0, j = 0; i < dirty.size(); ++i) {
+    std::vector<sim::ModuleId> mine;
+    for (; j < seeds.size() && seeds[j].first == dirty[i]; ++j) mine.push_back(seeds[j].second);
+    if (mine.size() > 1) search(b, index, dirty[i], mine);
+    rest_of.emplace_back(dirty[i], static_cast<uint32_t>(s.pieces.size()));
+    s.pieces.push_back({.cluster = dirty[i], .rest = true});
+  }
+  for (sim::ModuleId m : changes.started)
+    if (still(m) && s.label[m] == kNone && old_of(m) == sim::kNoCluster) {
+      s.label[m] = static_cast<uint32_t>(s.pieces.size());
+      s.pieces.push_back({.members = {m}});
+    }
+  const auto piece_of = [&](sim::ModuleId m) {
+    if (s.label[m] != kNone) return s.label[m];
+    return std::lower_bound(rest_of.begin(), rest_of.end(), std::pair{old_of(m), 0u})->second;
+  };
+
+  // The rests' members: the cluster's still members no search cut off.
+  for (Piece& p : s.pieces) {
+    if (!p.rest) continue;
+    const sim::Cluster& c = b.clusters[p.cluster];
+    for (uint32_t i = c.first; i < c.first + c.count; ++i) {
+      const sim::ModuleId m = b.members[i];
+      if (still(m) && s.label[m] == kNone) p.members.push_back(m);
+    }
+  }
+
+  // Pieces joined by bonds made are one cluster.
+  std::vector<uint32_t> parent(s.pieces.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (const sim::Bond& x : changes.added)
+    if (x.b != sim::kGround && still(x.a) && still(x.b)) {
+      const uint32_t p = find(parent, piece_of(x.a)), q = find(parent, piece_of(x.b));
+      parent[std::max(p, q)] = std::min(p, q);
+    }
+  std::vector<std::vector<uint32_t>> joined(s.pieces.size());
+  for (uint32_t p = 0; p < s.pieces.size(); ++p)
+    if (!s.pieces[p].members.empty()) joined[find(parent, p)].push_back(p);
+
+  // The new clusters and their members: the largest piece's, with the others merged in.
+  std::vector<std::pair<sim::Cluster, std::vector<sim::ModuleId>>> made;
+  for (const std::vector<uint32_t>& group : joined) {
+    if (group.empty()) continue;
+    const uint32_t largest = *std::max_element(group.begin(), group.end(), [&](uint32_t p, uint32_t q) {
+      return s.pieces[p].members.size() < s.pieces[q].members.size();
+    });
+    std::vector<sim::ModuleId> members = std::move(s.pieces[largest].members), others;
+    for (uint32_t p : group)
+      if (p != largest) others.insert(others.end(), s.pieces[p].members.begin(), s.pieces[p].members.end());
+    std::sort(others.begin(), others.end());
+    const size_t before = members.size();
+    members.insert(members.end(), others.begin(), others.end());
+    std::inplace_merge(members.begin(), members.begin() + ptrdiff_t(before), members.end());
+    sim::Cluster c;
+    c.count = static_cast<uint32_t>(members.size());
+    c.anchored = std::any_of(members.begin(), members.end(), [&](sim::ModuleId m) { return grounded(b.bonds, m); });
+    made.emplace_back(c, std::move(members));
+  }
+  for (auto& [c, members] : made) settle(b, c, members, module_shape);
+  std::sort(made.begin(), made.end(), [](const auto& x, const auto& y) { return x.second[0] < y.second[0]; });
+
+  // The clusters nothing changed in keep their place among the new ones, by smallest member.
+  std::vector<sim::Cluster> clusters;
+  clusters.reserve(b.clusters.size() + made.size());
+  s.members.clear();
+  s.members.reserve(b.members.size() + changes.started.size());
+  std::vector<std::pair<uint32_t, uint32_t>> renamed;  // (old index, new index) of kept clusters that moved
+  size_t next_made = 0;
+  const auto add = [&](sim::Cluster c, std::span<const sim::ModuleId> members) {
+    c.first = static_cast<uint32_t>(s.members.size());
+    s.members.insert(s.members.end(), members.begin(), members.end());
+    clusters.push_back(c);
+  };
+  const auto add_made_before = [&](sim::ModuleId smallest) {
+    for (; next_made < made.size() && made[next_made].second[0] < smallest; ++next_made) {
+      auto& [c, members] = made[next_made];
+      for (sim::ModuleId m : members) b.cluster_of[m] = static_cast<uint32_t>(clusters.size());
+      add(c, members);
+    }
+  };
+  for (uint32_t old = 0, d = 0; old < b.clusters.size(); ++old) {
+    if (d < dirty.size() && dirty[d] == old) {
+      ++d;
+      continue;
+    }
+    const sim::Cluster& c = b.clusters[old];
+    const std::span<const sim::ModuleId> members(b.members.data() + c.first, c.count);
+    add_made_before(members[0]);
+    if (clusters.size() != old) renamed.emplace_back(old, static_cast<uint32_t>(clusters.size()));
+    add(c, members);
+  }
+  add_made_before(sim::kGround);
+  for (const auto& [old, now] : renamed) {
+    const sim::Cluster& c = clusters[now];
+    for (uint32_t i = c.first; i < c.first + c.count; ++i) b.cluster_of[s.members[i]] = now;
+  }
+  for (sim::ModuleId m : changes.stopped)
+    if (!still(m)) b.cluster_of[m] = sim::kNoCluster;
+  b.clusters = std::move(clusters);
+  b.members.swap(s.members);
+
+  for (const Piece& p : s.pieces)
+    for (sim::ModuleId m : p.members) s.label[m] = kNone;
+  for (const auto& [c, members] : made)
+    for (sim::ModuleId m : members) s.label[m] = kNone;
+}
+
+}  // namespace dw::physics
