@@ -276,14 +276,14 @@ void BulletWorld::latch(std::span<const sim::ModuleId> arrived, sim::State& stat
 // Steps the bodies; a module pushed harder than the break force loses its bonds, and the step is
 // done again from the same start without them (bounded: each round breaks at least one bond). A
 // dynamics step changes only the clusters' frames and the props, so only those are kept to redo it.
-void BulletWorld::step_bodies(sim::State& state, std::span<const Push> pushes) {
+void BulletWorld::step_bodies(sim::State& state, std::span<const Push> pushes, sim::WorkerPool& workers) {
   sim::Bodies& b = state.bodies;
   if (dynamics_.idle(b)) return;
   std::vector<sim::Cluster> clusters = b.clusters;
   const std::vector<sim::Pose> prop_poses = b.prop_poses;
   const std::vector<sim::Velocity> prop_velocities = b.prop_velocities;
   for (int round = 0;; ++round) {
-    dynamics_.step(b, pushes, state.step, force_);
+    dynamics_.step(b, pushes, state.step, force_, workers);
     if (settings_.break_force <= 0 || round == 8) break;
     const size_t before = b.bonds.size();
     std::erase_if(b.bonds, [&](const sim::Bond& bond) {
@@ -318,7 +318,7 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
   // Nothing moves and no frame changes: the graph stays (a resting lattice costs no physics).
   const bool still = !changed && !graph_stale_ && b.movers.empty() && dynamics_.idle(b);
 
-  step_bodies(state, pushes);
+  step_bodies(state, pushes, workers);
 
   // Lattice moves go on; those that arrive latch to what they touch once the graph is read.
   std::vector<sim::ModuleId> arrived;

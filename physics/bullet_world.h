@@ -39,7 +39,7 @@ class BulletWorld final : public sim::World {
  private:
   bool carry_out(const sim::Actuation& a, sim::State& state, std::vector<Push>& pushes,
                  std::vector<sim::ModuleId>& leaving);
-  void step_bodies(sim::State& state, std::span<const Push> pushes);
+  void step_bodies(sim::State& state, std::span<const Push> pushes, sim::WorkerPool& workers);
   bool touches_ground(const sim::Pose& pose) const;
   std::optional<sim::ModuleId> taken_by(sim::ModuleId self, const sim::Vec3& at, const sim::State& state) const;
   void set_off(const sim::Mover& mover, sim::State& state, std::vector<sim::ModuleId>& leaving);

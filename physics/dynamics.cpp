@@ -18,6 +18,7 @@
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include "physics/convert.h"
+#include "physics/islands.h"
 #include "physics/shapes.h"
 
 namespace dw::physics {
@@ -53,19 +54,13 @@ struct Dynamics::Compound {
 };
 
 struct Dynamics::Shapes {
-  btDefaultCollisionConfiguration config;
+  std::vector<std::unique_ptr<btDefaultCollisionConfiguration>> configs;  // one per worker thread
   std::unique_ptr<btCollisionShape> module;
   btStaticPlaneShape ground;
   std::vector<std::unique_ptr<btCollisionShape>> props;
   std::unordered_map<uint64_t, Compound> compounds;  // by a hash of the local poses
 
-  Shapes(ModuleShape shape, float ground_z)
-      : config(), module(make_module_shape(shape)), ground(btVector3(0, 0, 1), ground_z) {
-    // One query must give a resting contact all its points: nothing is kept to build them up
-    // over several steps.
-    config.setPlaneConvexMultipointIterations();
-    config.setConvexConvexMultipointIterations();
-  }
+  Shapes(ModuleShape shape, float ground_z) : module(make_module_shape(shape)), ground(btVector3(0, 0, 1), ground_z) {}
 };
 
 Dynamics::Dynamics(const PhysicsSettings& settings, ModuleShape shape, float ground_z)
@@ -162,103 +157,139 @@ const Dynamics::Compound& Dynamics::compound(const sim::Bodies& b, const sim::Cl
   return it->second;
 }
 
-void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, std::vector<float>& force) {
+// One body of a step, in tag order: ground -1, then clusters, movers, props.
+struct Dynamics::Body {
+  int tag = 0;
+  float mass = 0;
+  btCollisionShape* shape = nullptr;
+  btVector3 inertia{0, 0, 0};
+  btTransform pose, before;  // before: a kinematic body's last pose (Bullet takes its velocity from the two)
+  sim::Velocity velocity;
+  bool kinematic = false;
+  ReachBox reach;  // where it can be over the step
+};
+
+// How far a body can get over the step: its box, grown by what its speed, any pushes, gravity and
+// turning can carry it (a turn moves no point further than the box's far corner from the
+// centre). Anything that could touch it is then within the box.
+ReachBox Dynamics::reach(const Body& body, float pushed, float turned) const {
+  btVector3 lo, hi;
+  body.shape->getAabb(body.pose, lo, hi);
+  const btVector3 o = body.pose.getOrigin();
+  const btScalar radius = std::max((lo - o).length(), (hi - o).length());
   const float dt = settings_.dt;
-  btDbvtBroadphase broadphase;
-  btCollisionDispatcher dispatcher(&shapes_->config);
-  btSequentialImpulseConstraintSolver solver;
-  std::vector<std::unique_ptr<btRigidBody>> bodies;  // outlive the world, which unlinks them when it goes
-  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &shapes_->config);
-  const PairsDroppedFirst<btDiscreteDynamicsWorld> teardown{world};
-  world.setGravity(to_bt(settings_.gravity));
-  world.getSolverInfo().m_numIterations = settings_.solver_iterations;
-  // Warm starting stays on: its cache is empty in a fresh world, and only with it does the solver
-  // write the applied impulses back to the contact points (read below for bond breaking).
-  world.getDispatchInfo().m_deterministicOverlappingPairs = true;
+  const float speed = to_bt(body.velocity.linear).length() + pushed;
+  const float spin = to_bt(body.velocity.angular).length() + turned;
+  // The slack covers Bullet's contact breaking threshold (0.02) and the contact threshold.
+  const float grow = speed * dt + to_bt(settings_.gravity).length() * dt * dt + spin * dt * radius + 0.1f +
+                     settings_.contact_threshold;
+  ReachBox box;
+  for (int i = 0; i < 3; ++i) {
+    box.lo[size_t(i)] = lo[i] - grow;
+    box.hi[size_t(i)] = hi[i] + grow;
+  }
+  return box;
+}
 
-  // A body's user index says what it is: ground -1, then clusters, movers, props.
+void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, std::vector<float>& force,
+                    sim::WorkerPool& workers) {
   const int clusters = static_cast<int>(b.clusters.size()), movers = static_cast<int>(b.movers.size());
-  auto add = [&](float mass, btCollisionShape* shape, const btVector3& inertia, const btTransform& pose, int tag) {
-    btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
-    info.m_startWorldTransform = pose;
-    info.m_friction = settings_.friction;
-    info.m_restitution = settings_.restitution;
-    auto& body = bodies.emplace_back(std::make_unique<btRigidBody>(info));
-    body->setActivationState(DISABLE_DEACTIVATION);  // sleeping changes contacts (docs/design.md §8)
-    body->setUserIndex(tag);
-    world.addRigidBody(body.get());
-    return body.get();
-  };
-  btTransform identity;
-  identity.setIdentity();
-  add(0, &shapes_->ground, btVector3(0, 0, 0), identity, -1);
 
-  std::vector<btRigidBody*> cluster_body(b.clusters.size());
+  // Every body of the step, in tag order; which of them move (clusters not anchored, props with
+  // mass), and what they can reach.
+  std::vector<Body> bodies;
   std::vector<const Compound*> cluster_compound(b.clusters.size(), nullptr);
   for (int i = 0; i < clusters; ++i) {
     const sim::Cluster& c = b.clusters[size_t(i)];
-    btCollisionShape* shape = module_shape_;
-    const float mass = c.anchored ? 0 : settings_.module_mass * float(c.count);
-    btVector3 inertia(0, 0, 0);
+    Body body{.tag = i, .mass = c.anchored ? 0 : settings_.module_mass * float(c.count), .shape = module_shape_};
     if (c.count > 1) {
       const Compound& k = compound(b, c, to);
       cluster_compound[size_t(i)] = &k;
-      shape = k.shape.get();
-      if (!c.anchored) inertia = k.inertia;
+      body.shape = k.shape.get();
+      if (!c.anchored) body.inertia = k.inertia;
     } else if (!c.anchored) {
-      shape->calculateLocalInertia(mass, inertia);
+      body.shape->calculateLocalInertia(body.mass, body.inertia);
     }
-    btRigidBody* body = cluster_body[size_t(i)] = add(mass, shape, inertia, to_bt(c.pose), i);
-    if (!c.anchored) {
-      body->setLinearVelocity(to_bt(c.velocity.linear));
-      body->setAngularVelocity(to_bt(c.velocity.angular));
-    }
+    body.pose = to_bt(c.pose);
+    body.velocity = c.anchored ? sim::Velocity{} : c.velocity;
+    bodies.push_back(body);
   }
   for (int i = 0; i < movers; ++i) {
     const sim::Mover& m = b.movers[size_t(i)];
-    btRigidBody* body = add(0, module_shape_, btVector3(0, 0, 0), to_bt(glide(m, to)), clusters + i);
-    body->setCollisionFlags(body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
-    // Bullet takes a kinematic body's velocity from its last and its new pose.
-    body->setInterpolationWorldTransform(to_bt(glide(m, to - 1)));
+    Body body{.tag = clusters + i, .shape = module_shape_, .kinematic = true};
+    body.pose = to_bt(glide(m, to));
+    body.before = to_bt(glide(m, to - 1));
+    bodies.push_back(body);
   }
-  std::vector<btRigidBody*> prop_body;
   for (size_t i = 0; i < settings_.props.size(); ++i) {
     const PropSpec& p = settings_.props[i];
-    btVector3 inertia(0, 0, 0);
-    if (p.mass > 0) shapes_->props[i]->calculateLocalInertia(p.mass, inertia);
-    btRigidBody* body =
-        add(p.mass, shapes_->props[i].get(), inertia, to_bt(b.prop_poses[i]), clusters + movers + int(i));
-    body->setLinearVelocity(to_bt(b.prop_velocities[i].linear));
-    body->setAngularVelocity(to_bt(b.prop_velocities[i].angular));
-    prop_body.push_back(body);
+    Body body{.tag = clusters + movers + int(i), .mass = std::max(p.mass, 0.0f), .shape = shapes_->props[i].get()};
+    if (p.mass > 0) body.shape->calculateLocalInertia(p.mass, body.inertia);
+    body.pose = to_bt(b.prop_poses[i]);
+    body.velocity = b.prop_velocities[i];
+    bodies.push_back(body);
   }
-
+  // Pushes speed a cluster up by at most |J| / m and turn it by at most |r| |J| / (least inertia).
+  std::vector<float> pushed(bodies.size(), 0), turned(bodies.size(), 0);
   for (const Push& p : pushes) {
     const uint32_t c = b.cluster_of[p.module];
-    if (c == sim::kNoCluster || b.clusters[c].anchored) continue;  // held by the ground, or gliding
-    btRigidBody* body = cluster_body[c];
-    body->applyImpulse(to_bt(p.impulse), to_bt(b.poses[p.module].position) - body->getWorldTransform().getOrigin());
+    if (c == sim::kNoCluster || b.clusters[c].anchored) continue;
+    const Body& body = bodies[c];
+    const float impulse = to_bt(p.impulse).length();
+    const float arm = (to_bt(b.poses[p.module].position) - body.pose.getOrigin()).length();
+    const float least = std::max(std::min({body.inertia.x(), body.inertia.y(), body.inertia.z()}), 1e-6f);
+    pushed[c] += impulse / body.mass;
+    turned[c] += arm * impulse / least;
+  }
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    bodies[i].reach = reach(bodies[i], pushed[i], turned[i]);
+    if (bodies[i].kinematic) {  // from where it was to where it goes
+      Body was = bodies[i];
+      was.pose = was.before;
+      bodies[i].reach.cover(reach(was, 0, 0));
+    }
   }
 
-  world.stepSimulation(dt, 0, dt);
-
-  for (int i = 0; i < clusters; ++i) {
-    sim::Cluster& c = b.clusters[size_t(i)];
-    if (c.anchored) continue;
-    const btRigidBody& body = *cluster_body[size_t(i)];
-    c.pose = from_bt(body.getWorldTransform());
-    c.velocity = {from_bt(body.getLinearVelocity()), from_bt(body.getAngularVelocity())};
+  // Islands among the bodies that move; each takes the fixed and kinematic bodies its box meets.
+  std::vector<uint32_t> moving;
+  std::vector<ReachBox> boxes;
+  for (uint32_t i = 0; i < bodies.size(); ++i)
+    if (bodies[i].mass > 0) {
+      moving.push_back(i);
+      boxes.push_back(bodies[i].reach);
+    }
+  uint32_t count = 0;
+  const std::vector<uint32_t> island_of = islands_of(boxes, count);
+  std::vector<std::vector<uint32_t>> islands(count);
+  std::vector<ReachBox> island_box(count);
+  std::vector<uint8_t> boxed(count, 0);
+  for (size_t k = 0; k < moving.size(); ++k) {
+    const uint32_t i = island_of[k];
+    islands[i].push_back(moving[k]);
+    if (!boxed[i]) island_box[i] = boxes[k];
+    island_box[i].cover(boxes[k]);
+    boxed[i] = 1;
   }
-  for (size_t i = 0; i < prop_body.size(); ++i) {
-    if (settings_.props[i].mass <= 0) continue;
-    b.prop_poses[i] = from_bt(prop_body[i]->getWorldTransform());
-    b.prop_velocities[i] = {from_bt(prop_body[i]->getLinearVelocity()), from_bt(prop_body[i]->getAngularVelocity())};
-  }
+  for (uint32_t j = 0; j < bodies.size(); ++j)
+    if (bodies[j].mass <= 0)
+      for (uint32_t i = 0; i < count; ++i)
+        if (island_box[i].overlaps(bodies[j].reach)) islands[i].push_back(j);
+  for (std::vector<uint32_t>& island : islands) std::sort(island.begin(), island.end());
+  islands_ = count;
 
-  // Contact forces per module from other bodies, from the impulses the solver applied. The ground
-  // only carries what rests on it: its contacts do not count.
-  force.assign(b.poses.size(), 0.0f);
-  auto module_of = [&](const btCollisionObject* o, int child) -> int64_t {
+  // Each worker steps a run of islands in worlds of its own (its own collision configuration:
+  // Bullet's pools are not shared); each island writes only its own clusters and props, and its
+  // contact forces into a list of its own, added up in island order after.
+  while (shapes_->configs.size() < workers.size()) {
+    auto config = std::make_unique<btDefaultCollisionConfiguration>();
+    // One query must give a resting contact all its points: nothing is kept to build them up
+    // over several steps.
+    config->setPlaneConvexMultipointIterations();
+    config->setConvexConvexMultipointIterations();
+    shapes_->configs.push_back(std::move(config));
+  }
+  std::vector<std::vector<std::pair<sim::ModuleId, float>>> forces(count);
+  const auto module_of = [&](const btCollisionObject* o, int child) -> int64_t {
     const int tag = o->getUserIndex();
     if (tag < 0 || tag >= clusters + movers) return -1;
     if (tag >= clusters) return b.movers[size_t(tag - clusters)].module;
@@ -269,16 +300,92 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     if (child < 0 || size_t(child) >= member_of_child.size()) return -1;
     return b.members[c.first + member_of_child[size_t(child)]];
   };
-  for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
-    const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(i);
-    for (int p = 0; p < manifold->getNumContacts(); ++p) {
-      const btManifoldPoint& point = manifold->getContactPoint(p);
-      const float f = point.getAppliedImpulse() / dt;
-      if (f <= 0 || manifold->getBody0()->getUserIndex() < 0 || manifold->getBody1()->getUserIndex() < 0) continue;
-      if (const int64_t m = module_of(manifold->getBody0(), point.m_index0); m >= 0) force[size_t(m)] += f;
-      if (const int64_t m = module_of(manifold->getBody1(), point.m_index1); m >= 0) force[size_t(m)] += f;
+  const auto step_island = [&](uint32_t island, btDefaultCollisionConfiguration& config) {
+    const float dt = settings_.dt;
+    btDbvtBroadphase broadphase;
+    btCollisionDispatcher dispatcher(&config);
+    btSequentialImpulseConstraintSolver solver;
+    std::vector<std::unique_ptr<btRigidBody>> rigid;  // outlive the world, which unlinks them when it goes
+    btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
+    const PairsDroppedFirst<btDiscreteDynamicsWorld> teardown{world};
+    world.setGravity(to_bt(settings_.gravity));
+    world.getSolverInfo().m_numIterations = settings_.solver_iterations;
+    // Warm starting stays on: its cache is empty in a fresh world, and only with it does the
+    // solver write the applied impulses back to the contact points (read below for bond breaking).
+    world.getDispatchInfo().m_deterministicOverlappingPairs = true;
+    const auto add = [&](float mass, btCollisionShape* shape, const btVector3& inertia, const btTransform& pose,
+                         int tag) {
+      btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
+      info.m_startWorldTransform = pose;
+      info.m_friction = settings_.friction;
+      info.m_restitution = settings_.restitution;
+      auto& body = rigid.emplace_back(std::make_unique<btRigidBody>(info));
+      body->setActivationState(DISABLE_DEACTIVATION);  // sleeping changes contacts (docs/design.md §8)
+      body->setUserIndex(tag);
+      world.addRigidBody(body.get());
+      return body.get();
+    };
+    btTransform identity;
+    identity.setIdentity();
+    add(0, &shapes_->ground, btVector3(0, 0, 0), identity, -1);
+    std::vector<std::pair<int, btRigidBody*>> mine;  // (tag, body) of the bodies that move
+    for (uint32_t i : islands[island]) {
+      const Body& body = bodies[i];
+      btRigidBody* r = add(body.mass, body.shape, body.inertia, body.pose, body.tag);
+      if (body.kinematic) {
+        r->setCollisionFlags(r->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+        r->setInterpolationWorldTransform(body.before);
+      } else if (body.mass > 0) {
+        r->setLinearVelocity(to_bt(body.velocity.linear));
+        r->setAngularVelocity(to_bt(body.velocity.angular));
+        mine.emplace_back(body.tag, r);
+      }
     }
-  }
+    for (const Push& p : pushes) {
+      const uint32_t c = b.cluster_of[p.module];
+      if (c == sim::kNoCluster || b.clusters[c].anchored) continue;  // held by the ground, or gliding
+      const auto at = std::find_if(mine.begin(), mine.end(), [&](const auto& x) { return x.first == int(c); });
+      if (at == mine.end()) continue;  // another island's
+      btRigidBody* body = at->second;
+      body->applyImpulse(to_bt(p.impulse), to_bt(b.poses[p.module].position) - body->getWorldTransform().getOrigin());
+    }
+
+    world.stepSimulation(dt, 0, dt);
+
+    for (const auto& [tag, body] : mine) {
+      const sim::Pose pose = from_bt(body->getWorldTransform());
+      const sim::Velocity velocity{from_bt(body->getLinearVelocity()), from_bt(body->getAngularVelocity())};
+      if (tag < clusters) {
+        b.clusters[size_t(tag)].pose = pose;
+        b.clusters[size_t(tag)].velocity = velocity;
+      } else {
+        b.prop_poses[size_t(tag - clusters - movers)] = pose;
+        b.prop_velocities[size_t(tag - clusters - movers)] = velocity;
+      }
+    }
+    // Contact forces per module from other bodies, from the impulses the solver applied. The
+    // ground only carries what rests on it: its contacts do not count.
+    for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
+      const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(i);
+      for (int p = 0; p < manifold->getNumContacts(); ++p) {
+        const btManifoldPoint& point = manifold->getContactPoint(p);
+        const float f = point.getAppliedImpulse() / dt;
+        if (f <= 0 || manifold->getBody0()->getUserIndex() < 0 || manifold->getBody1()->getUserIndex() < 0) continue;
+        if (const int64_t m = module_of(manifold->getBody0(), point.m_index0); m >= 0)
+          forces[island].emplace_back(sim::ModuleId(m), f);
+        if (const int64_t m = module_of(manifold->getBody1(), point.m_index1); m >= 0)
+          forces[island].emplace_back(sim::ModuleId(m), f);
+      }
+    }
+  };
+  const unsigned runs = workers.size();
+  workers.run([&](unsigned run) {
+    for (uint32_t i = count * run / runs; i < count * (run + 1) / runs; ++i) step_island(i, *shapes_->configs[run]);
+  });
+
+  force.assign(b.poses.size(), 0.0f);
+  for (const auto& list : forces)
+    for (const auto& [m, f] : list) force[m] += f;
 
   std::erase_if(shapes_->compounds, [&](const auto& entry) { return entry.second.used < to - 1; });
 }

@@ -15,8 +15,10 @@
 #include <span>
 #include <vector>
 
+#include "physics/islands.h"
 #include "physics/settings.h"
 #include "sim/bodies.h"
+#include "sim/worker_pool.h"
 
 class btCollisionShape;
 
@@ -50,16 +52,24 @@ class Dynamics {
   // Moves the clusters, props and movers from step `to - 1` to step `to`; pushes are applied
   // first. Writes each module's contact force (N) over the step from other bodies (the ground's
   // support is left out) into `force`.
-  void step(sim::Bodies& bodies, std::span<const Push> pushes, int64_t to, std::vector<float>& force);
+  // Islands of bodies that cannot touch within the step (physics/islands.h) are stepped apart, on
+  // `workers`; the result does not depend on their number.
+  void step(sim::Bodies& bodies, std::span<const Push> pushes, int64_t to, std::vector<float>& force,
+            sim::WorkerPool& workers);
+  // Islands in the last step.
+  uint32_t islands() const { return islands_; }
 
  private:
   struct Compound;
+  struct Body;
+  ReachBox reach(const Body& body, float pushed, float turned) const;
   const Compound& compound(const sim::Bodies& bodies, const sim::Cluster& cluster, int64_t step);
 
   const PhysicsSettings& settings_;
   struct Shapes;
   std::unique_ptr<Shapes> shapes_;
   btCollisionShape* module_shape_;
+  uint32_t islands_ = 0;
 };
 
 }  // namespace dw::physics

@@ -98,7 +98,7 @@ struct Regrouper::Scratch {
   std::vector<std::vector<uint32_t>> owns;
   std::vector<size_t> cursor;
   std::vector<uint8_t> done;
-  std::vector<uint8_t> still;  // per module: present and not making a lattice move
+  std::vector<uint8_t> still;          // per module: present and not making a lattice move
   std::vector<sim::ModuleId> members;  // the next b.members
 };
 

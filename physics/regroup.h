@@ -36,8 +36,7 @@ class BondIndex {
   // Calls f(o) for every module o bonded to m (not the ground).
   template <class F>
   void partners(std::span<const sim::Bond> bonds, sim::ModuleId m, F&& f) const {
-    for (auto at = std::lower_bound(bonds.begin(), bonds.end(), sim::Bond{m, 0}); at != bonds.end() && at->a == m;
-         ++at)
+    for (auto at = std::lower_bound(bonds.begin(), bonds.end(), sim::Bond{m, 0}); at != bonds.end() && at->a == m; ++at)
       if (at->b != sim::kGround) f(at->b);
     for (auto at = std::lower_bound(reversed_.begin(), reversed_.end(), sim::Bond{m, 0});
          at != reversed_.end() && at->a == m; ++at)
@@ -67,8 +66,8 @@ class Regrouper {
  public:
   Regrouper();
   ~Regrouper();
-  void operator()(sim::Bodies& b, std::span<const uint8_t> present, const BondChanges& changes,
-                  const BondIndex& index, btCollisionShape& module_shape);
+  void operator()(sim::Bodies& b, std::span<const uint8_t> present, const BondChanges& changes, const BondIndex& index,
+                  btCollisionShape& module_shape);
   // Modules the searches of the last call took from their queues.
   uint64_t searched() const { return searched_; }
 

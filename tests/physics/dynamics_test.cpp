@@ -63,8 +63,9 @@ TEST(Dynamics, ContactForceGoesToTheMemberTouchedNotToTheChildsIndex) {
   ASSERT_TRUE(b.clusters[0].anchored);
 
   std::vector<float> force, total(n, 0.0f);
+  sim::WorkerPool workers(1);
   for (int64_t step = 1; step <= 30; ++step) {
-    dynamics.step(b, {}, step, force);
+    dynamics.step(b, {}, step, force, workers);
     for (sim::ModuleId m = 0; m < n; ++m) total[m] += force[m];
   }
   EXPECT_GT(total[26], 0.0f);

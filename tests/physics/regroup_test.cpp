@@ -141,8 +141,7 @@ TEST(Regrouper, RandomChangesGiveFormClustersResult) {
           }
           case 3: {  // a bond made to a touching still module
             const sim::ModuleId o = random() % n;
-            if (o != m && !k.b.moving(m) && !k.b.moving(o) && k.touching(m, o))
-              k.add({std::min(m, o), std::max(m, o)});
+            if (o != m && !k.b.moving(m) && !k.b.moving(o) && k.touching(m, o)) k.add({std::min(m, o), std::max(m, o)});
             break;
           }
           case 4:

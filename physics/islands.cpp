@@ -1,0 +1,47 @@
+#include "physics/islands.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace dw::physics {
+namespace {
+
+uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+}  // namespace
+
+std::vector<uint32_t> islands_of(std::span<const ReachBox> boxes, uint32_t& count) {
+  const auto n = static_cast<uint32_t>(boxes.size());
+  std::vector<uint32_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0u);
+  // Sweep along x: each box against those that start before it and have not ended yet.
+  std::vector<uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return boxes[a].lo[0] < boxes[b].lo[0] || (boxes[a].lo[0] == boxes[b].lo[0] && a < b);
+  });
+  std::vector<uint32_t> open;
+  for (uint32_t i : order) {
+    std::erase_if(open, [&](uint32_t j) { return boxes[j].hi[0] < boxes[i].lo[0]; });
+    for (uint32_t j : open)
+      if (boxes[i].overlaps(boxes[j])) {
+        const uint32_t a = find(parent, i), b = find(parent, j);
+        parent[std::max(a, b)] = std::min(a, b);
+      }
+    open.push_back(i);
+  }
+  std::vector<uint32_t> island(n);
+  count = 0;
+  std::vector<uint32_t> number(n, UINT32_MAX);
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t r = find(parent, i);
+    if (number[r] == UINT32_MAX) number[r] = count++;
+    island[i] = number[r];
+  }
+  return island;
+}
+
+}  // namespace dw::physics
