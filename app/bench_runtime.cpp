@@ -258,6 +258,24 @@ int run_rows(const BenchArgs& args, Table& table) {
         return 1;
       per_step(r);
     }
+    // Islands in parallel: 64 free blocks of 4x4x3 resting on the ground a cell apart, each its
+    // own island, stepped on one thread and on two.
+    std::string blocks = cubic_toml(39, 39, 3);
+    for (int i = 4; i < 39; i += 5)
+      blocks += "[[lattice.empty]]\nfrom = [" + std::to_string(i) + ", 0, 0]\nto = [" + std::to_string(i) +
+                ", 38, 2]\n[[lattice.empty]]\nfrom = [0, " + std::to_string(i) + ", 0]\nto = [38, " +
+                std::to_string(i) + ", 2]\n";
+    RuntimeRow on_one, on_two;
+    BenchArgs two_threads = args;
+    two_threads.threads = 2;
+    BenchArgs one_thread = args;
+    one_thread.threads = 1;
+    if (!row("64 free blocks apart, 1 thread", blocks + sense + free, one_thread, args.repeat, table, on_one) ||
+        !row("64 free blocks apart, 2 threads", blocks + sense + free, two_threads, args.repeat, table, on_two))
+      return 1;
+    std::cout << std::fixed << std::setprecision(2) << "    physics part: " << 1000 * on_one.world_seconds / args.steps
+              << " ms a step on 1 thread, " << 1000 * on_two.world_seconds / args.steps << " ms on 2 ("
+              << on_one.world_seconds / on_two.world_seconds << "x)\n";
     // Catoms 3D: an fcc block of 20x20x20 sites (8,000 spheres, 12 neighbours inside) beside the
     // 20^3 cubic one (6 neighbours), latched and resting.
     const std::string fcc = "[lattice]\nkind = \"fcc\"\nsize = [20, 20, 20]\n";

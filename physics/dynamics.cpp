@@ -54,7 +54,19 @@ struct Dynamics::Compound {
 };
 
 struct Dynamics::Shapes {
-  std::vector<std::unique_ptr<btDefaultCollisionConfiguration>> configs;  // one per worker thread
+  // Per worker thread: Bullet's pools (not shared between threads), and a dispatcher, which a
+  // world leaves empty (its pairs dropped first) and which takes a while to build.
+  struct Worker {
+    btDefaultCollisionConfiguration config;
+    btCollisionDispatcher dispatcher{&config};
+    Worker() {
+      // One query must give a resting contact all its points: nothing is kept to build them up
+      // over several steps.
+      config.setPlaneConvexMultipointIterations();
+      config.setConvexConvexMultipointIterations();
+    }
+  };
+  std::vector<std::unique_ptr<Worker>> workers;
   std::unique_ptr<btCollisionShape> module;
   btStaticPlaneShape ground;
   std::vector<std::unique_ptr<btCollisionShape>> props;
@@ -280,14 +292,7 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
   // Each worker steps a run of islands in worlds of its own (its own collision configuration:
   // Bullet's pools are not shared); each island writes only its own clusters and props, and its
   // contact forces into a list of its own, added up in island order after.
-  while (shapes_->configs.size() < workers.size()) {
-    auto config = std::make_unique<btDefaultCollisionConfiguration>();
-    // One query must give a resting contact all its points: nothing is kept to build them up
-    // over several steps.
-    config->setPlaneConvexMultipointIterations();
-    config->setConvexConvexMultipointIterations();
-    shapes_->configs.push_back(std::move(config));
-  }
+  while (shapes_->workers.size() < workers.size()) shapes_->workers.push_back(std::make_unique<Shapes::Worker>());
   std::vector<std::vector<std::pair<sim::ModuleId, float>>> forces(count);
   const auto module_of = [&](const btCollisionObject* o, int child) -> int64_t {
     const int tag = o->getUserIndex();
@@ -300,10 +305,11 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     if (child < 0 || size_t(child) >= member_of_child.size()) return -1;
     return b.members[c.first + member_of_child[size_t(child)]];
   };
-  const auto step_island = [&](uint32_t island, btDefaultCollisionConfiguration& config) {
+  const auto step_island = [&](uint32_t island, Shapes::Worker& worker) {
     const float dt = settings_.dt;
     btDbvtBroadphase broadphase;
-    btCollisionDispatcher dispatcher(&config);
+    btCollisionDispatcher& dispatcher = worker.dispatcher;
+    btDefaultCollisionConfiguration& config = worker.config;
     btSequentialImpulseConstraintSolver solver;
     std::vector<std::unique_ptr<btRigidBody>> rigid;  // outlive the world, which unlinks them when it goes
     btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
@@ -380,7 +386,7 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
   };
   const unsigned runs = workers.size();
   workers.run([&](unsigned run) {
-    for (uint32_t i = count * run / runs; i < count * (run + 1) / runs; ++i) step_island(i, *shapes_->configs[run]);
+    for (uint32_t i = count * run / runs; i < count * (run + 1) / runs; ++i) step_island(i, *shapes_->workers[run]);
   });
 
   force.assign(b.poses.size(), 0.0f);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "physics/clusters.h"
 #include "tests/physics/latched_block.h"
 
 namespace dw::physics {
@@ -70,6 +71,80 @@ TEST(Dynamics, ContactForceGoesToTheMemberTouchedNotToTheChildsIndex) {
   }
   EXPECT_GT(total[26], 0.0f);
   for (sim::ModuleId m = 0; m < 26; ++m) EXPECT_EQ(total[m], 0.0f) << "module " << m;
+}
+
+// Blocks of 2x2x2 boxes, each latched into a free cluster, `apart` module sizes apart along x,
+// falling onto the ground from z = 3; block k moves along x at speed[k]. The first block is at
+// x = first.
+sim::Bodies falling_blocks(const std::vector<float>& speed, float apart, btCollisionShape& shape, float first = 0) {
+  sim::Bodies b;
+  for (size_t k = 0; k < speed.size(); ++k)
+    for (int z = 0; z < 2; ++z)
+      for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x) {
+          b.poses.push_back({.position = {first + float(k) * apart + float(x), float(y), 3.0f + float(z)}});
+          b.velocities.push_back({.linear = {speed[k], 0, 0}});
+        }
+  const auto n = static_cast<sim::ModuleId>(b.poses.size());
+  b.local.resize(n);
+  for (sim::ModuleId m = 0; m < n; ++m)
+    for (sim::ModuleId o = m + 1; o < n; ++o) {
+      const auto &p = b.poses[m].position, &q = b.poses[o].position;
+      if (std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) == 1) b.bonds.push_back({m, o});
+    }
+  form_clusters(b, std::vector<uint8_t>(n, 1), shape);
+  return b;
+}
+
+void run(Dynamics& dynamics, sim::Bodies& b, int steps, unsigned threads, std::vector<uint32_t>* islands = nullptr) {
+  sim::WorkerPool workers(threads);
+  std::vector<float> force;
+  for (int64_t step = 1; step <= steps; ++step) {
+    dynamics.step(b, {}, step, force, workers);
+    place_members(b);
+    if (islands) islands->push_back(dynamics.islands());
+  }
+}
+
+// Four blocks falling far apart are four islands: stepped on one thread or two, the same bits;
+// and each block falls exactly as it falls alone.
+TEST(Dynamics, IslandsSteppedApartGiveTheSameBitsOnAnyThreadAndAlone) {
+  PhysicsSettings settings;
+  settings.anchor = false;
+  Dynamics one(settings, ModuleShape::Box, -0.5f), two(settings, ModuleShape::Box, -0.5f);
+  const std::vector<float> speed = {0.5f, -0.3f, 0.2f, 0.0f};
+  sim::Bodies a = falling_blocks(speed, 6, one.module_shape()), b = a;
+  std::vector<uint32_t> islands;
+  run(one, a, 60, 1, &islands);
+  run(two, b, 60, 2);
+  EXPECT_TRUE(a == b);
+  EXPECT_EQ(islands.front(), 4u);
+  EXPECT_LT(a.poses[0].position[2], 2.5f);  // they fell
+  for (size_t k = 0; k < speed.size(); ++k) {
+    Dynamics alone_dynamics(settings, ModuleShape::Box, -0.5f);
+    sim::Bodies alone = falling_blocks({speed[k]}, 6, alone_dynamics.module_shape(), 6 * float(k));
+    run(alone_dynamics, alone, 60, 1);
+    for (int i = 0; i < 8; ++i) EXPECT_EQ(alone.poses[size_t(i)], a.poses[8 * k + size_t(i)]) << "block " << k;
+  }
+}
+
+// Two blocks heading for each other become one island before they can touch, and collide.
+TEST(Dynamics, BodiesThatCanMeetWithinAStepShareAnIsland) {
+  PhysicsSettings settings;
+  settings.anchor = false;
+  Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
+  sim::Bodies b = falling_blocks({2.0f, -2.0f}, 4, dynamics.module_shape());
+  std::vector<uint32_t> islands;
+  run(dynamics, b, 40, 2, &islands);
+  EXPECT_EQ(islands.front(), 2u);
+  EXPECT_EQ(islands.back(), 1u);
+  // They met: neither went on through the other (the left block's right face stays left of the
+  // right block's left face).
+  float left_max = -1e9f, right_min = 1e9f;
+  for (int i = 0; i < 8; ++i) left_max = std::max(left_max, b.poses[size_t(i)].position[0]);
+  for (int i = 8; i < 16; ++i) right_min = std::min(right_min, b.poses[size_t(i)].position[0]);
+  EXPECT_LT(left_max, right_min - 0.9f);
+  EXPECT_LT(b.clusters[0].velocity.linear[0], 1.0f);  // slowed by the hit
 }
 
 }  // namespace
