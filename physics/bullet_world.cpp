@@ -7,6 +7,7 @@
 
 #include "physics/clusters.h"
 #include "physics/pivot.h"
+#include "physics/sorted_vector.h"
 #include "sim/host_program.h"
 
 namespace dw::physics {
@@ -242,13 +243,7 @@ void BulletWorld::let_go(std::span<const sim::ModuleId> leaving, sim::State& sta
   std::sort(gone.begin(), gone.end());
   gone.erase(std::unique(gone.begin(), gone.end()), gone.end());
   if (gone.empty()) return;
-  auto kept = b.bonds.begin();
-  auto next = gone.begin();
-  for (const sim::Bond& x : b.bonds) {
-    while (next != gone.end() && *next < x) ++next;
-    if (next == gone.end() || !(*next == x)) *kept++ = x;
-  }
-  b.bonds.erase(kept, b.bonds.end());
+  erase_from<sim::Bond>(b.bonds, gone);
   bond_index_.apply(gone, {});
   changes_.removed.insert(changes_.removed.end(), gone.begin(), gone.end());
 }
@@ -265,9 +260,7 @@ void BulletWorld::latch(std::span<const sim::ModuleId> arrived, sim::State& stat
   }
   std::sort(made.begin(), made.end());
   made.erase(std::unique(made.begin(), made.end()), made.end());
-  const size_t kept = b.bonds.size();
-  b.bonds.insert(b.bonds.end(), made.begin(), made.end());
-  std::inplace_merge(b.bonds.begin(), b.bonds.begin() + ptrdiff_t(kept), b.bonds.end());
+  merge_into<sim::Bond>(b.bonds, made);
   if (bond_index_.valid()) bond_index_.apply({}, made);
   changes_.added.insert(changes_.added.end(), made.begin(), made.end());
   changes_.started.insert(changes_.started.end(), arrived.begin(), arrived.end());

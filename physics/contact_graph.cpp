@@ -11,6 +11,7 @@
 #include "physics/cell_grid.h"
 #include "physics/convert.h"
 #include "physics/shapes.h"
+#include "physics/sorted_vector.h"
 
 namespace dw::physics {
 namespace {
@@ -245,13 +246,13 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
     }
   });
   // The kept pairs are sorted already: the new ones are sorted and merged in.
-  const size_t kept = pairs.size();
+  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> fresh;
   for (unsigned run = 0; run < runs; ++run) {
-    pairs.insert(pairs.end(), found[run].begin(), found[run].end());
+    fresh.insert(fresh.end(), found[run].begin(), found[run].end());
     measured_ += measured[run];
   }
-  std::sort(pairs.begin() + ptrdiff_t(kept), pairs.end());
-  std::inplace_merge(pairs.begin(), pairs.begin() + ptrdiff_t(kept), pairs.end());
+  std::sort(fresh.begin(), fresh.end());
+  merge_into<std::pair<sim::ModuleId, sim::ModuleId>>(pairs, fresh);
   for (size_t m = 0; m < n; ++m) {
     s.was_present[m] = present[m];
     if (moved[m]) s.world[m] = poses[m];

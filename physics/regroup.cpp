@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "physics/clusters.h"
+#include "physics/sorted_vector.h"
 
 namespace dw::physics {
 namespace {
@@ -38,18 +39,8 @@ void BondIndex::rebuild(std::span<const sim::Bond> bonds) {
 }
 
 void BondIndex::apply(std::span<const sim::Bond> removed, std::span<const sim::Bond> added) {
-  const std::vector<sim::Bond> gone = reversed_module_bonds(removed), made = reversed_module_bonds(added);
-  if (!gone.empty()) {
-    std::vector<sim::Bond> kept;
-    kept.reserve(reversed_.size());
-    std::set_difference(reversed_.begin(), reversed_.end(), gone.begin(), gone.end(), std::back_inserter(kept));
-    reversed_.swap(kept);
-  }
-  if (!made.empty()) {
-    const size_t before = reversed_.size();
-    reversed_.insert(reversed_.end(), made.begin(), made.end());
-    std::inplace_merge(reversed_.begin(), reversed_.begin() + ptrdiff_t(before), reversed_.end());
-  }
+  erase_from<sim::Bond>(reversed_, reversed_module_bonds(removed));
+  merge_into<sim::Bond>(reversed_, reversed_module_bonds(added));
 }
 
 void BondChanges::clear() {

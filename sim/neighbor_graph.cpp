@@ -37,6 +37,13 @@ NeighborGraph NeighborGraph::from_pairs(uint32_t module_count, std::span<const s
     g.ids[fill[a]++] = b;
     g.ids[fill[b]++] = a;
   }
+  // Pairs sorted and each a < b (the contact graph's): every list came out sorted already, its
+  // smaller ids (from pairs ending in it) before its larger ones.
+  const auto in_order = [](const auto& x, const auto& y) { return x.first < x.second && x < y; };
+  if (std::adjacent_find(pairs.begin(), pairs.end(), [&](const auto& x, const auto& y) { return !in_order(x, y); }) ==
+          pairs.end() &&
+      (pairs.empty() || pairs.back().first < pairs.back().second))
+    return g;
   // Sort each list and drop duplicates, compacting in place.
   uint32_t out = 0;
   for (uint32_t m = 0; m < module_count; ++m) {

@@ -99,5 +99,23 @@ TEST(NeighborGraph, FromPairsSortsAndDeduplicates) {
   EXPECT_EQ(g.edge_count(), 6u);
 }
 
+// Sorted pairs, each a < b, skip the sorting: the graph is the one unsorted pairs give.
+TEST(NeighborGraph, SortedPairsGiveTheSameGraphAsShuffledOnes) {
+  std::vector<std::pair<ModuleId, ModuleId>> sorted;
+  for (ModuleId a = 0; a < 40; ++a)
+    for (ModuleId b = a + 1; b < 40; ++b)
+      if ((a * 7 + b * 3) % 5 == 0) sorted.emplace_back(a, b);
+  std::vector<std::pair<ModuleId, ModuleId>> shuffled;
+  for (size_t i = sorted.size(); i-- > 0;) {  // backwards, every other pair turned round
+    const auto& [a, b] = sorted[i];
+    shuffled.emplace_back(i % 2 ? a : b, i % 2 ? b : a);
+  }
+  shuffled.push_back(shuffled.front());
+  const NeighborGraph fast = NeighborGraph::from_pairs(40, sorted), slow = NeighborGraph::from_pairs(40, shuffled);
+  EXPECT_EQ(fast.begin, slow.begin);
+  EXPECT_EQ(fast.ids, slow.ids);
+  for (ModuleId m = 0; m < 40; ++m) EXPECT_TRUE(std::ranges::is_sorted(fast.neighbors(m)));
+}
+
 }  // namespace
 }  // namespace dw::sim
