@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 
 #include "physics/clusters.h"
 #include "physics/pivot.h"
@@ -71,6 +72,7 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
   // Members of a cluster are measured at their poses in it: the graph of step 0 is the one a
   // restored world finds (and the first step does not pay for measuring every pair again).
   state.graph = contacts_.update(b, state.present, workers);
+  contacts_known_ = true;
 }
 
 void BulletWorld::restore(const sim::Model&, const sim::State&) {
@@ -79,6 +81,7 @@ void BulletWorld::restore(const sim::Model&, const sim::State&) {
   // indexed again when next needed.
   bond_index_.invalidate();
   changes_.clear();
+  contacts_known_ = false;
 }
 
 // Forms the clusters from all the bonds (when what changed is not known, or rarely changes).
@@ -86,6 +89,7 @@ void BulletWorld::regroup_all(sim::State& state) {
   form_clusters(state.bodies, state.present, dynamics_.module_shape());
   bond_index_.invalidate();
   changes_.clear();
+  contacts_known_ = false;  // any frame may have changed
 }
 
 // Regroups the clusters after the changes since they were formed, looking only at those.
@@ -95,6 +99,7 @@ void BulletWorld::regroup(sim::State& state) {
   if (!bond_index_.valid()) bond_index_.rebuild(state.bodies.bonds);
   regrouper_(state.bodies, state.present, changes_, bond_index_, dynamics_.module_shape());
   changes_.clear();
+  changed_.insert(changed_.end(), regrouper_.reframed().begin(), regrouper_.reframed().end());
 }
 
 void BulletWorld::remove_module(const sim::Model& model, sim::State& state, sim::ModuleId m) {
@@ -300,7 +305,7 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
   bool changed = false;
   // Moves and pivots look for modules in the grid of module centres (which a restored state may
   // not match yet); requests change no pose.
-  if (std::any_of(actuations.begin(), actuations.end(), [](const sim::Actuation& a) {
+  if (!contacts_known_ && std::any_of(actuations.begin(), actuations.end(), [](const sim::Actuation& a) {
         return a.kind == sim::Actuation::Kind::Move || a.kind == sim::Actuation::Kind::Pivot;
       }))
     contacts_.place(b, state.present);
@@ -312,6 +317,11 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
   const bool still = !changed && !graph_stale_ && b.movers.empty() && dynamics_.idle(b);
 
   step_bodies(state, pushes, workers);
+  // What moved: the clusters Bullet moves and the modules gliding.
+  for (const sim::Cluster& c : b.clusters)
+    if (!c.anchored)
+      changed_.insert(changed_.end(), b.members.begin() + c.first, b.members.begin() + c.first + c.count);
+  for (const sim::Mover& m : b.movers) changed_.push_back(m.module);
 
   // Lattice moves go on; those that arrive latch to what they touch once the graph is read.
   std::vector<sim::ModuleId> arrived;
@@ -328,8 +338,19 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
   }
   std::erase_if(b.movers, [&](const sim::Mover& m) { return state.step - m.start >= m.steps; });
 
-  if (!still) state.graph = contacts_.update(b, state.present, workers);
+  // A restored state is compared in full once: the graph's memory is of another state.
+  if (!still) {
+    state.graph = contacts_.update(b, state.present, workers, contacts_known_ ? &changed_ : nullptr);
+    contacts_known_ = true;
+  }
+  if (check_) {
+    const auto full = check_->update(b, state.present, workers);
+    if (full->begin != state.graph->begin || full->ids != state.graph->ids)
+      throw std::logic_error("the contact graph read by what changed differs from the full one at step " +
+                             std::to_string(state.step));
+  }
   graph_stale_ = false;
+  changed_.clear();
 
   if (!arrived.empty()) {
     latch(arrived, state);

@@ -32,6 +32,11 @@ class BulletWorld final : public sim::World {
   void remove_module(const sim::Model& model, sim::State& state, sim::ModuleId m) override;
   bool moves() const override { return true; }
 
+  // Checks every contact graph read by what changed against one read by comparing every module
+  // (a second ContactGraph measuring alongside): a difference throws std::logic_error naming the
+  // step. For tests: what the world says changed must be all that changed.
+  void check_contacts() { check_ = std::make_unique<ContactGraph>(shape_, settings_.contact_threshold); }
+
   const PhysicsSettings& settings() const { return settings_; }
   ModuleShape shape() const { return shape_; }
   float ground_z() const { return ground_z_; }
@@ -60,6 +65,11 @@ class BulletWorld final : public sim::World {
   BondIndex bond_index_;
   BondChanges changes_;
   Regrouper regrouper_;
+  // Whether the contact graph was last updated for the state being stepped on (not restored,
+  // nothing regrouped from scratch since), and the modules whose pose or frame changed since.
+  bool contacts_known_ = false;
+  std::vector<sim::ModuleId> changed_;
+  std::unique_ptr<ContactGraph> check_;
 };
 
 }  // namespace dw::physics

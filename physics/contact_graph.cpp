@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include <BulletCollision/CollisionShapes/btConvexShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
@@ -88,6 +89,25 @@ struct ContactGraph::Impl {
     return a.cluster != sim::kNoCluster && a.cluster == b.cluster;
   }
 
+  // Brings module m's place in the grid up to the bodies.
+  void place(const sim::Bodies& bodies, std::span<const uint8_t> present, sim::ModuleId m) {
+    const sim::Vec3& at = bodies.poses[m].position;
+    if (!present[m]) {
+      if (in_grid[m]) grid.erase(m, grid_at[m]);
+      in_grid[m] = 0;
+      return;
+    }
+    if (!in_grid[m]) {
+      grid.insert(m, at);
+    } else if (at != grid_at[m]) {
+      grid.move(m, grid_at[m], at);
+    } else {
+      return;
+    }
+    in_grid[m] = 1;
+    grid_at[m] = at;
+  }
+
   std::unique_ptr<btCollisionShape> shape;
   btConvexShape* convex;
   float threshold, cutoff;
@@ -101,7 +121,8 @@ struct ContactGraph::Impl {
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;  // touching, sorted
   // Scratch of an update, kept so that a million-module step does not fault in fresh pages.
   std::vector<Frame> next_frame;
-  std::vector<uint8_t> moved, reframed, search;
+  std::vector<uint8_t> moved, reframed, flagged, search;  // all 0 between updates
+  std::vector<sim::ModuleId> looked, flagged_list;
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> next_pairs;
   std::shared_ptr<const sim::NeighborGraph> graph;
 };
@@ -119,24 +140,7 @@ void ContactGraph::place(const sim::Bodies& bodies, std::span<const uint8_t> pre
   const size_t n = bodies.poses.size();
   s.in_grid.resize(n, 0);
   s.grid_at.resize(n);
-  for (size_t m = 0; m < n; ++m) {
-    const auto id = static_cast<sim::ModuleId>(m);
-    const sim::Vec3& at = bodies.poses[m].position;
-    if (!present[m]) {
-      if (s.in_grid[m]) s.grid.erase(id, s.grid_at[m]);
-      s.in_grid[m] = 0;
-      continue;
-    }
-    if (!s.in_grid[m]) {
-      s.grid.insert(id, at);
-    } else if (at != s.grid_at[m]) {
-      s.grid.move(id, s.grid_at[m], at);
-    } else {
-      continue;
-    }
-    s.in_grid[m] = 1;
-    s.grid_at[m] = at;
-  }
+  for (size_t m = 0; m < n; ++m) s.place(bodies, present, static_cast<sim::ModuleId>(m));
 }
 
 float ContactGraph::distance(const sim::Pose& a, const sim::Pose& b) const { return impl_->distance(a, b); }
@@ -155,59 +159,84 @@ std::vector<sim::ModuleId> ContactGraph::near(const sim::Vec3& at, float radius)
 
 std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies& bodies,
                                                                std::span<const uint8_t> present,
-                                                               sim::WorkerPool& workers) {
+                                                               sim::WorkerPool& workers,
+                                                               const std::vector<sim::ModuleId>* changed) {
   Impl& s = *impl_;
   const std::span<const sim::Pose> poses = bodies.poses;
   const size_t n = poses.size();
   const bool forget = !s.graph || s.world.size() != n;
-  place(bodies, present);
+  if (forget) changed = nullptr;
+  s.in_grid.resize(n, 0);
+  s.grid_at.resize(n);
   s.was_present.resize(n, 0);
   s.world.resize(n);
   s.frame.resize(n);
+  s.next_frame.resize(n);
+  s.moved.resize(n, 0);
+  s.reframed.resize(n, 0);
+  s.flagged.resize(n, 0);
 
-  // Per module, what changed since the last measurement: it came or went or its world pose
-  // changed (moved), or its frame did (reframed). Only those look for pairs to measure.
-  std::vector<Impl::Frame>& frame = s.next_frame;
-  std::vector<uint8_t>&moved = s.moved, &reframed = s.reframed;
-  frame.resize(n);
-  moved.resize(n);
-  reframed.resize(n);
-  bool changed = forget;
-  for (size_t m = 0; m < n; ++m) {
-    frame[m] = Impl::frame_of(bodies, m);
-    moved[m] = forget || present[m] != s.was_present[m] || (present[m] && !(poses[m] == s.world[m]));
-    reframed[m] = forget || !(frame[m] == s.frame[m]);
-    changed = changed || moved[m] || reframed[m];
+  // The modules to look at: those the caller says may have changed, or all. Per module, what
+  // changed since the last measurement: it came or went or its world pose changed (moved), or its
+  // frame did (reframed); `flagged` either. Only those look for pairs to measure.
+  std::vector<sim::ModuleId>& looked = s.looked;
+  looked.clear();
+  if (changed) {
+    looked = *changed;
+    std::sort(looked.begin(), looked.end());
+    looked.erase(std::unique(looked.begin(), looked.end()), looked.end());
+  } else {
+    looked.resize(n);
+    std::iota(looked.begin(), looked.end(), 0u);
+  }
+  std::vector<sim::ModuleId>& flagged_list = s.flagged_list;
+  flagged_list.clear();
+  for (sim::ModuleId m : looked) {
+    s.place(bodies, present, m);
+    s.next_frame[m] = Impl::frame_of(bodies, m);
+    s.moved[m] = forget || present[m] != s.was_present[m] || (present[m] && !(poses[m] == s.world[m]));
+    s.reframed[m] = forget || !(s.next_frame[m] == s.frame[m]);
+    s.flagged[m] = s.moved[m] || s.reframed[m];
+    if (s.flagged[m]) flagged_list.push_back(m);
   }
   measured_ = 0;
-  if (!changed) return s.graph;
+  if (flagged_list.empty()) return s.graph;
+  const std::vector<Impl::Frame>& frame = s.next_frame;
+  const std::vector<uint8_t>&moved = s.moved, &reframed = s.reframed, &flagged = s.flagged;
+  // The frame a module is measured at now (next_frame holds it for the flagged ones).
+  const auto now = [&](sim::ModuleId m) -> const Impl::Frame& { return flagged[m] ? frame[m] : s.frame[m]; };
 
   // A pair is measured again when what it is measured at changed: both members of one cluster
   // that moves at their poses in it, any other pair at its world poses. Every other pair keeps
   // its measurement.
   const auto stale = [&](sim::ModuleId a, sim::ModuleId b) {
     if (forget || !present[a] || !present[b]) return true;
-    const bool was = Impl::together(s.frame[a], s.frame[b]), is = Impl::together(frame[a], frame[b]);
+    if (!flagged[a] && !flagged[b]) return false;
+    const bool was = Impl::together(s.frame[a], s.frame[b]), is = Impl::together(now(a), now(b));
     if (was != is) return true;
-    return is ? !(frame[a].local == s.frame[a].local && frame[b].local == s.frame[b].local) : moved[a] || moved[b];
+    return is ? !(now(a).local == s.frame[a].local && now(b).local == s.frame[b].local) : moved[a] || moved[b];
   };
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>>& pairs = s.next_pairs;
+  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> dropped;  // kept no longer (measured again)
   pairs.clear();
   if (!forget)
-    for (const auto& [a, b] : s.pairs)
+    for (const auto& [a, b] : s.pairs) {
       if (!stale(a, b)) pairs.emplace_back(a, b);
+      else dropped.emplace_back(a, b);
+    }
   // Who looks for pairs: what moved or was reframed, except the members of a cluster that moved
   // as a whole with nothing else near it (a pile free on the ground): their pairs with each other
   // keep their measurement, and nothing outside the cluster is within reach.
   std::vector<uint8_t>& search = s.search;
-  search.resize(n);
-  for (size_t m = 0; m < n; ++m) search[m] = present[m] && (moved[m] || reframed[m]);
+  search.resize(n, 0);
+  for (sim::ModuleId m : flagged_list) search[m] = present[m];
   if (!forget && !bodies.cluster_of.empty())
     for (uint32_t c = 0; c < bodies.clusters.size(); ++c) {
       const sim::Cluster& cluster = bodies.clusters[c];
       if (cluster.anchored || cluster.count < 2) continue;
       const std::span<const sim::ModuleId> members(bodies.members.data() + cluster.first, cluster.count);
-      if (std::any_of(members.begin(), members.end(), [&](sim::ModuleId m) { return reframed[m] != 0; })) continue;
+      if (std::any_of(members.begin(), members.end(), [&](sim::ModuleId m) { return reframed[m] && flagged[m]; }))
+        continue;
       sim::Vec3 lo = poses[members[0]].position, hi = lo;
       for (sim::ModuleId m : members)
         for (int i = 0; i < 3; ++i) {
@@ -225,22 +254,24 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
         for (sim::ModuleId m : members) search[m] = 0;
     }
 
-  // Each worker measures the stale pairs of a run of modules; the runs are joined in order.
+  // Each worker measures the stale pairs of a run of the flagged modules; the runs are joined in
+  // order.
   const float cutoff2 = s.cutoff * s.cutoff;
   const unsigned runs = workers.size();
+  const size_t count = flagged_list.size();
   std::vector<std::vector<std::pair<sim::ModuleId, sim::ModuleId>>> found(runs);
   std::vector<uint64_t> measured(runs, 0);
   workers.run([&](unsigned run) {
-    for (size_t m = n * run / runs; m < n * (run + 1) / runs; ++m) {
-      if (!search[m]) continue;
-      const auto a = static_cast<sim::ModuleId>(m);
+    for (size_t i = count * run / runs; i < count * (run + 1) / runs; ++i) {
+      const sim::ModuleId a = flagged_list[i];
+      if (!search[a]) continue;
       s.grid.around(poses[a].position, [&](sim::ModuleId b) {
         if (b == a || !stale(a, b)) return;
         if (b < a && search[b]) return;  // measured from b's side
         if (squared_distance(poses[a].position, poses[b].position) > cutoff2) return;
         ++measured[run];
-        const bool local = Impl::together(frame[a], frame[b]);
-        if (s.touching(local ? frame[a].local : poses[a], local ? frame[b].local : poses[b]))
+        const bool local = Impl::together(now(a), now(b));
+        if (s.touching(local ? now(a).local : poses[a], local ? now(b).local : poses[b]))
           found[run].emplace_back(std::min(a, b), std::max(a, b));
       });
     }
@@ -252,13 +283,17 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
     measured_ += measured[run];
   }
   std::sort(fresh.begin(), fresh.end());
-  merge_into<std::pair<sim::ModuleId, sim::ModuleId>>(pairs, fresh);
-  for (size_t m = 0; m < n; ++m) {
+  for (sim::ModuleId m : flagged_list) {
     s.was_present[m] = present[m];
     if (moved[m]) s.world[m] = poses[m];
     if (reframed[m]) s.frame[m] = frame[m];
+    s.moved[m] = s.reframed[m] = s.flagged[m] = 0;
+    search[m] = 0;
   }
-  if (s.graph && pairs == s.pairs && s.graph->module_count() == n) return s.graph;
+  for (sim::ModuleId m : looked) s.was_present[m] = present[m];
+  // The same pairs found again as were measured again: the graph stands.
+  if (s.graph && !forget && fresh == dropped && s.graph->module_count() == n) return s.graph;
+  merge_into<std::pair<sim::ModuleId, sim::ModuleId>>(pairs, fresh);
   s.pairs.swap(pairs);
   s.graph =
       std::make_shared<const sim::NeighborGraph>(sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), s.pairs));

@@ -31,10 +31,13 @@ class ContactGraph {
   ContactGraph& operator=(const ContactGraph&) = delete;
 
   // N(m) for the given bodies; absent modules touch nobody. Returns the previous graph (the same
-  // object) when no pair changed.
-  // Pairs are measured on `workers`, the modules split among them by id.
+  // object) when no pair changed. Pairs are measured on `workers`, the modules split among them.
+  // `changed`, when given, lists every module whose presence, world pose or frame may differ from
+  // the last update (the others are known not to, and are not compared: a million-module block
+  // with a thousand moving is not walked); without it every module is compared.
   std::shared_ptr<const sim::NeighborGraph> update(const sim::Bodies& bodies, std::span<const uint8_t> present,
-                                                   sim::WorkerPool& workers);
+                                                   sim::WorkerPool& workers,
+                                                   const std::vector<sim::ModuleId>* changed = nullptr);
   // Brings the grid of module centres up to the bodies without measuring (update does it too):
   // what near() reads.
   void place(const sim::Bodies& bodies, std::span<const uint8_t> present);

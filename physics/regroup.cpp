@@ -262,6 +262,12 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     made.emplace_back(c, std::move(members));
   }
   for (auto& [c, members] : made) settle(b, c, members, module_shape);
+  // A member of an anchored cluster that was in one is measured in the world's frame before and
+  // after; any other member of a new cluster may be reframed.
+  reframed_.assign(changes.stopped.begin(), changes.stopped.end());
+  for (const auto& [c, members] : made)
+    for (sim::ModuleId m : members)
+      if (!(c.anchored && old_of(m) != sim::kNoCluster && b.clusters[old_of(m)].anchored)) reframed_.push_back(m);
   std::sort(made.begin(), made.end(), [](const auto& x, const auto& y) { return x.second[0] < y.second[0]; });
 
   // The clusters nothing changed in keep their place among the new ones, by smallest member.
@@ -297,7 +303,11 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
   add_made_before(sim::kGround);
   for (const auto& [old, now] : renamed) {
     const sim::Cluster& c = clusters[now];
-    for (uint32_t i = c.first; i < c.first + c.count; ++i) b.cluster_of[s.members[i]] = now;
+    const bool moves = !c.anchored && c.count > 1;  // its members' frames name the cluster
+    for (uint32_t i = c.first; i < c.first + c.count; ++i) {
+      b.cluster_of[s.members[i]] = now;
+      if (moves) reframed_.push_back(s.members[i]);
+    }
   }
   for (sim::ModuleId m : changes.stopped)
     if (!still(m)) b.cluster_of[m] = sim::kNoCluster;

@@ -70,6 +70,9 @@ class Regrouper {
                   btCollisionShape& module_shape);
   // Modules the searches of the last call took from their queues.
   uint64_t searched() const { return searched_; }
+  // Modules whose frame (physics/contact_graph.h: their cluster, if it moves, and their pose in
+  // it) the last call may have changed; none other's changed.
+  const std::vector<sim::ModuleId>& reframed() const { return reframed_; }
 
  private:
   struct Piece;
@@ -78,6 +81,7 @@ class Regrouper {
 
   std::unique_ptr<Scratch> s_;
   uint64_t searched_ = 0;
+  std::vector<sim::ModuleId> reframed_;
 };
 
 }  // namespace dw::physics
