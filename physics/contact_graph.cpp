@@ -123,7 +123,6 @@ struct ContactGraph::Impl {
   std::vector<Frame> next_frame;
   std::vector<uint8_t> moved, reframed, flagged, search;  // all 0 between updates
   std::vector<sim::ModuleId> looked, flagged_list;
-  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> next_pairs;
   std::shared_ptr<const sim::NeighborGraph> graph;
 };
 
@@ -216,14 +215,18 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
     if (was != is) return true;
     return is ? !(now(a).local == s.frame[a].local && now(b).local == s.frame[b].local) : moved[a] || moved[b];
   };
-  std::vector<std::pair<sim::ModuleId, sim::ModuleId>>& pairs = s.next_pairs;
-  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> dropped;  // kept no longer (measured again)
-  pairs.clear();
-  if (!forget)
-    for (const auto& [a, b] : s.pairs) {
-      if (!stale(a, b)) pairs.emplace_back(a, b);
-      else dropped.emplace_back(a, b);
+  // The stale pairs leave s.pairs (in place: a million pairs are not copied for a few hundred).
+  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> dropped;
+  if (forget) {
+    s.pairs.clear();
+  } else {
+    auto kept = s.pairs.begin();
+    for (const auto& pair : s.pairs) {
+      if (!stale(pair.first, pair.second)) *kept++ = pair;
+      else dropped.push_back(pair);
     }
+    s.pairs.erase(kept, s.pairs.end());
+  }
   // Who looks for pairs: what moved or was reframed, except the members of a cluster that moved
   // as a whole with nothing else near it (a pile free on the ground): their pairs with each other
   // keep their measurement, and nothing outside the cluster is within reach.
@@ -291,12 +294,19 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
     search[m] = 0;
   }
   for (sim::ModuleId m : looked) s.was_present[m] = present[m];
+  merge_into<std::pair<sim::ModuleId, sim::ModuleId>>(s.pairs, fresh);
   // The same pairs found again as were measured again: the graph stands.
   if (s.graph && !forget && fresh == dropped && s.graph->module_count() == n) return s.graph;
-  merge_into<std::pair<sim::ModuleId, sim::ModuleId>>(pairs, fresh);
-  s.pairs.swap(pairs);
-  s.graph =
-      std::make_shared<const sim::NeighborGraph>(sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), s.pairs));
+  if (!s.graph || forget) {
+    s.graph =
+        std::make_shared<const sim::NeighborGraph>(sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), s.pairs));
+    return s.graph;
+  }
+  // What changed: the pairs dropped and not found again, and those found that were not there.
+  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> gone, made;
+  std::set_difference(dropped.begin(), dropped.end(), fresh.begin(), fresh.end(), std::back_inserter(gone));
+  std::set_difference(fresh.begin(), fresh.end(), dropped.begin(), dropped.end(), std::back_inserter(made));
+  s.graph = std::make_shared<const sim::NeighborGraph>(s.graph->changed(gone, made));
   return s.graph;
 }
 

@@ -59,4 +59,55 @@ NeighborGraph NeighborGraph::from_pairs(uint32_t module_count, std::span<const s
   return g;
 }
 
+NeighborGraph NeighborGraph::changed(std::span<const std::pair<ModuleId, ModuleId>> gone,
+                                     std::span<const std::pair<ModuleId, ModuleId>> made) const {
+  // Per module touched, its partners gone or made: (module, partner, made?), sorted by module.
+  struct Change {
+    ModuleId module, partner;
+    bool made;
+    bool operator<(const Change& o) const { return module < o.module || (module == o.module && partner < o.partner); }
+  };
+  std::vector<Change> changes;
+  for (const auto& [a, b] : gone) changes.insert(changes.end(), {{a, b, false}, {b, a, false}});
+  for (const auto& [a, b] : made) changes.insert(changes.end(), {{a, b, true}, {b, a, true}});
+  std::sort(changes.begin(), changes.end());
+
+  NeighborGraph g;
+  const uint32_t n = module_count();
+  g.begin.resize(begin.size());
+  g.ids.reserve(ids.size() + made.size() * 2);
+  uint32_t copied = 0;  // modules before this one are in g
+  for (size_t i = 0; i < changes.size();) {
+    const ModuleId m = changes[i].module;
+    // The untouched modules before m: their lists as they were, shifted.
+    const auto shift = static_cast<int64_t>(g.ids.size()) - begin[copied];
+    for (uint32_t k = copied; k < m; ++k) g.begin[k] = static_cast<uint32_t>(begin[k] + shift);
+    g.ids.insert(g.ids.end(), ids.begin() + begin[copied], ids.begin() + begin[m]);
+    // m's list: the old one without what went, merged with what came (both sorted).
+    g.begin[m] = static_cast<uint32_t>(g.ids.size());
+    size_t j = i;
+    while (j < changes.size() && changes[j].module == m) ++j;
+    const std::span<const ModuleId> old = neighbors(m);
+    auto next = changes.begin() + ptrdiff_t(i);
+    const auto end = changes.begin() + ptrdiff_t(j);
+    for (ModuleId o : old) {
+      for (; next != end && next->partner < o; ++next)
+        if (next->made) g.ids.push_back(next->partner);
+      if (next != end && next->partner == o) {  // gone
+        ++next;
+        continue;
+      }
+      g.ids.push_back(o);
+    }
+    for (; next != end; ++next)
+      if (next->made) g.ids.push_back(next->partner);
+    copied = m + 1;
+    i = j;
+  }
+  const auto shift = static_cast<int64_t>(g.ids.size()) - begin[copied];
+  for (uint32_t k = copied; k <= n; ++k) g.begin[k] = static_cast<uint32_t>(begin[k] + shift);
+  g.ids.insert(g.ids.end(), ids.begin() + begin[copied], ids.end());
+  return g;
+}
+
 }  // namespace dw::sim

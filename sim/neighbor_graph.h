@@ -25,6 +25,11 @@ struct NeighborGraph {
   static NeighborGraph from_pairs(uint32_t module_count, std::span<const std::pair<ModuleId, ModuleId>> pairs);
   // The same graph with module m cut out of it: no neighbours of its own, in nobody's list.
   NeighborGraph without(ModuleId m) const;
+  // The same graph with the pairs `gone` taken out and `made` put in (each sorted, a < b; every
+  // pair gone in it, none made): only the lists of their modules are rebuilt, the rest copied
+  // (a million modules of which a thousand moved are not sorted again).
+  NeighborGraph changed(std::span<const std::pair<ModuleId, ModuleId>> gone,
+                        std::span<const std::pair<ModuleId, ModuleId>> made) const;
 };
 
 }  // namespace dw::sim

@@ -117,5 +117,30 @@ TEST(NeighborGraph, SortedPairsGiveTheSameGraphAsShuffledOnes) {
   for (ModuleId m = 0; m < 40; ++m) EXPECT_TRUE(std::ranges::is_sorted(fast.neighbors(m)));
 }
 
+// A graph changed by pairs gone and made equals the graph built from the pairs after the change,
+// at the ends of the id range and in the middle, the lists of untouched modules moved along.
+TEST(NeighborGraph, ChangedByPairsGoneAndMadeEqualsTheGraphBuiltAfresh) {
+  std::vector<std::pair<ModuleId, ModuleId>> pairs, gone, made, after;
+  for (ModuleId a = 0; a < 30; ++a)
+    for (ModuleId b = a + 1; b < 30; ++b) {
+      const bool in = (a * 5 + b * 11) % 7 < 2;
+      const bool flip = (a == 0 || b == 29 || (a * 3 + b) % 13 == 0);
+      if (in && flip) gone.emplace_back(a, b);
+      if (!in && flip) made.emplace_back(a, b);
+      if (in) pairs.emplace_back(a, b);
+      if (in != flip) after.emplace_back(a, b);
+    }
+  ASSERT_FALSE(gone.empty());
+  ASSERT_FALSE(made.empty());
+  const NeighborGraph g = NeighborGraph::from_pairs(30, pairs).changed(gone, made);
+  const NeighborGraph fresh = NeighborGraph::from_pairs(30, after);
+  EXPECT_EQ(g.begin, fresh.begin);
+  EXPECT_EQ(g.ids, fresh.ids);
+  // Nothing changed: the same graph.
+  const NeighborGraph same = fresh.changed({}, {});
+  EXPECT_EQ(same.begin, fresh.begin);
+  EXPECT_EQ(same.ids, fresh.ids);
+}
+
 }  // namespace
 }  // namespace dw::sim
