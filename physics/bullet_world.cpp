@@ -96,7 +96,7 @@ void BulletWorld::regroup_all(sim::State& state) {
 void BulletWorld::regroup(sim::State& state) {
   if (changes_.empty()) return;
   changes_.normalize();
-  if (!bond_index_.valid()) bond_index_.rebuild(state.bodies.bonds);
+  if (!bond_index_.valid()) bond_index_.rebuild(state.bodies.bonds, state.bodies.poses.size());
   regrouper_(state.bodies, state.present, changes_, bond_index_, dynamics_.module_shape());
   changes_.clear();
   changed_.insert(changed_.end(), regrouper_.reframed().begin(), regrouper_.reframed().end());
@@ -235,7 +235,7 @@ void BulletWorld::set_off(const sim::Mover& mover, sim::State& state, std::vecto
 void BulletWorld::let_go(std::span<const sim::ModuleId> leaving, sim::State& state) {
   sim::Bodies& b = state.bodies;
   if (leaving.empty()) return;
-  if (!bond_index_.valid()) bond_index_.rebuild(b.bonds);
+  if (!bond_index_.valid()) bond_index_.rebuild(b.bonds, b.poses.size());
   std::vector<sim::Bond> gone;
   for (sim::ModuleId m : leaving) {
     for (auto at = std::lower_bound(b.bonds.begin(), b.bonds.end(), sim::Bond{m, 0}); at != b.bonds.end() && at->a == m;

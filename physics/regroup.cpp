@@ -33,14 +33,40 @@ uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
 
 }  // namespace
 
-void BondIndex::rebuild(std::span<const sim::Bond> bonds) {
+void BondIndex::Runs::build(std::span<const sim::Bond> sorted, size_t module_count) {
+  const size_t runs = module_count / kRun + 1;
+  start.assign(runs + 1, 0);
+  size_t at = 0;
+  for (size_t run = 0; run <= runs; ++run) {
+    while (at < sorted.size() && sorted[at].a < run * kRun) ++at;
+    start[run] = static_cast<uint32_t>(at);
+  }
+}
+
+// Each start moves by the bonds made before it less those gone before it.
+void BondIndex::Runs::shift(std::span<const sim::Bond> removed, std::span<const sim::Bond> added) {
+  size_t gone = 0, made = 0;
+  for (size_t run = 0; run < start.size(); ++run) {
+    const uint64_t first = uint64_t{run} * kRun;
+    while (gone < removed.size() && removed[gone].a < first) ++gone;
+    while (made < added.size() && added[made].a < first) ++made;
+    start[run] = static_cast<uint32_t>(start[run] + made - gone);
+  }
+}
+
+void BondIndex::rebuild(std::span<const sim::Bond> bonds, size_t module_count) {
   reversed_ = reversed_module_bonds(bonds);
+  forward_.build(bonds, module_count);
+  backward_.build(reversed_, module_count);
   valid_ = true;
 }
 
 void BondIndex::apply(std::span<const sim::Bond> removed, std::span<const sim::Bond> added) {
-  erase_from<sim::Bond>(reversed_, reversed_module_bonds(removed));
-  merge_into<sim::Bond>(reversed_, reversed_module_bonds(added));
+  const std::vector<sim::Bond> gone = reversed_module_bonds(removed), made = reversed_module_bonds(added);
+  erase_from<sim::Bond>(reversed_, gone);
+  merge_into<sim::Bond>(reversed_, made);
+  forward_.shift(removed, added);
+  backward_.shift(gone, made);
 }
 
 void BondChanges::clear() {

@@ -22,7 +22,7 @@ struct Block {
   Regrouper regroup;
 
   Block(int side, bool anchored) : b(test::latched_block(side, anchored, shape)), present(b.poses.size(), 1) {
-    index.rebuild(b.bonds);
+    index.rebuild(b.bonds, b.poses.size());
   }
   bool touching(sim::ModuleId m, sim::ModuleId o) const {
     const auto &p = b.poses[m].position, &q = b.poses[o].position;
