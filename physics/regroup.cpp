@@ -279,9 +279,7 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     for (uint32_t p : group)
       if (p != largest) others.insert(others.end(), s.pieces[p].members.begin(), s.pieces[p].members.end());
     std::sort(others.begin(), others.end());
-    const size_t before = members.size();
-    members.insert(members.end(), others.begin(), others.end());
-    std::inplace_merge(members.begin(), members.begin() + ptrdiff_t(before), members.end());
+    merge_into<sim::ModuleId>(members, others);
     sim::Cluster c;
     c.count = static_cast<uint32_t>(members.size());
     c.anchored = std::any_of(members.begin(), members.end(), [&](sim::ModuleId m) { return grounded(b.bonds, m); });
