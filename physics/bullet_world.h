@@ -70,6 +70,7 @@ class BulletWorld final : public sim::World {
   bool contacts_known_ = false;
   std::vector<sim::ModuleId> changed_;
   std::unique_ptr<ContactGraph> check_;
+  std::vector<std::pair<float, sim::ModuleId>> heading_;  // (x of the target, mover), sorted; in advance
 };
 
 }  // namespace dw::physics
