@@ -269,13 +269,18 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     if (!s.pieces[p].members.empty()) joined[find(parent, p)].push_back(p);
 
   // The new clusters and their members: the largest piece's, with the others merged in.
-  std::vector<std::pair<sim::Cluster, std::vector<sim::ModuleId>>> made;
-  for (const std::vector<uint32_t>& group : joined) {
+  struct Made {
+    sim::Cluster c;
+    std::vector<sim::ModuleId> members;
+    std::vector<uint32_t> pieces;
+  };
+  std::vector<Made> made;
+  for (std::vector<uint32_t>& group : joined) {
     if (group.empty()) continue;
     const uint32_t largest = *std::max_element(group.begin(), group.end(), [&](uint32_t p, uint32_t q) {
       return s.pieces[p].members.size() < s.pieces[q].members.size();
     });
-    std::vector<sim::ModuleId> members = std::move(s.pieces[largest].members), others;
+    std::vector<sim::ModuleId> members = s.pieces[largest].members, others;
     for (uint32_t p : group)
       if (p != largest) others.insert(others.end(), s.pieces[p].members.begin(), s.pieces[p].members.end());
     std::sort(others.begin(), others.end());
@@ -283,16 +288,37 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     sim::Cluster c;
     c.count = static_cast<uint32_t>(members.size());
     c.anchored = std::any_of(members.begin(), members.end(), [&](sim::ModuleId m) { return grounded(b.bonds, m); });
-    made.emplace_back(c, std::move(members));
+    made.push_back({c, std::move(members), std::move(group)});
   }
-  for (auto& [c, members] : made) settle(b, c, members, module_shape);
-  // A member of an anchored cluster that was in one is measured in the world's frame before and
-  // after; any other member of a new cluster may be reframed.
+  // Frames, as settle gives them. An anchored cluster's is the world's whatever its members, and
+  // a member that was in an anchored cluster already has its pose as its local pose and no
+  // velocity (and keeps its frame for the contact graph): only the others are looked at, so the
+  // rest of a latched block of a million is not walked. Any other member of a new cluster may be
+  // reframed.
   reframed_.assign(changes.stopped.begin(), changes.stopped.end());
-  for (const auto& [c, members] : made)
-    for (sim::ModuleId m : members)
-      if (!(c.anchored && old_of(m) != sim::kNoCluster && b.clusters[old_of(m)].anchored)) reframed_.push_back(m);
-  std::sort(made.begin(), made.end(), [](const auto& x, const auto& y) { return x.second[0] < y.second[0]; });
+  const auto was_anchored = [&](sim::ModuleId m) {
+    return old_of(m) != sim::kNoCluster && b.clusters[old_of(m)].anchored;
+  };
+  for (Made& k : made) {
+    if (!k.c.anchored) {
+      settle(b, k.c, k.members, module_shape);
+      reframed_.insert(reframed_.end(), k.members.begin(), k.members.end());
+      continue;
+    }
+    k.c.pose = sim::Pose{};
+    k.c.velocity = {};
+    for (uint32_t p : k.pieces) {
+      const Piece& piece = s.pieces[p];
+      if (piece.rest && b.clusters[piece.cluster].anchored) continue;
+      for (sim::ModuleId m : piece.members) {
+        if (was_anchored(m)) continue;
+        b.local[m] = b.poses[m];
+        b.velocities[m] = {};
+        reframed_.push_back(m);
+      }
+    }
+  }
+  std::sort(made.begin(), made.end(), [](const Made& x, const Made& y) { return x.members[0] < y.members[0]; });
 
   // The clusters nothing changed in keep their place among the new ones, by smallest member.
   std::vector<sim::Cluster> clusters;
@@ -307,10 +333,14 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     clusters.push_back(c);
   };
   const auto add_made_before = [&](sim::ModuleId smallest) {
-    for (; next_made < made.size() && made[next_made].second[0] < smallest; ++next_made) {
-      auto& [c, members] = made[next_made];
-      for (sim::ModuleId m : members) b.cluster_of[m] = static_cast<uint32_t>(clusters.size());
-      add(c, members);
+    for (; next_made < made.size() && made[next_made].members[0] < smallest; ++next_made) {
+      const Made& k = made[next_made];
+      const auto now = static_cast<uint32_t>(clusters.size());
+      // The rest of a cluster that keeps its index keeps its members' cluster_of.
+      for (uint32_t p : k.pieces)
+        if (!(s.pieces[p].rest && s.pieces[p].cluster == now))
+          for (sim::ModuleId m : s.pieces[p].members) b.cluster_of[m] = now;
+      add(k.c, k.members);
     }
   };
   for (uint32_t old = 0, d = 0; old < b.clusters.size(); ++old) {
@@ -339,9 +369,8 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
   b.members.swap(s.members);
 
   for (const Piece& p : s.pieces)
-    for (sim::ModuleId m : p.members) s.label[m] = kNone;
-  for (const auto& [c, members] : made)
-    for (sim::ModuleId m : members) s.label[m] = kNone;
+    if (!p.rest)  // a rest's members were never labelled
+      for (sim::ModuleId m : p.members) s.label[m] = kNone;
 }
 
 }  // namespace dw::physics
