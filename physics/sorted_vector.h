@@ -3,6 +3,7 @@
 // whole (std::inplace_merge and std::set_difference into a copy fault in fresh pages each step).
 #pragma once
 
+#include <algorithm>
 #include <span>
 #include <vector>
 
@@ -20,11 +21,12 @@ void merge_into(std::vector<T>& into, std::span<const T> more) {
 template <typename T>
 void erase_from(std::vector<T>& from, std::span<const T> gone) {
   if (gone.empty()) return;
+  // Nothing moves before the first entry gone.
+  auto kept = std::lower_bound(from.begin(), from.end(), gone.front());
   auto next = gone.begin();
-  auto kept = from.begin();
-  for (const T& x : from) {
-    while (next != gone.end() && *next < x) ++next;
-    if (next == gone.end() || !(*next == x)) *kept++ = x;
+  for (auto x = kept; x != from.end(); ++x) {
+    while (next != gone.end() && *next < *x) ++next;
+    if (next == gone.end() || !(*next == *x)) *kept++ = *x;
   }
   from.erase(kept, from.end());
 }
