@@ -6,16 +6,9 @@
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
 
 #include "physics/convert.h"
+#include "physics/union_find.h"
 
 namespace dw::physics {
-namespace {
-
-uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
-}
-
-}  // namespace
 
 void settle(sim::Bodies& b, sim::Cluster& c, std::span<const sim::ModuleId> mine, btCollisionShape& module_shape) {
   const uint32_t old = b.cluster_of.empty() ? sim::kNoCluster : b.cluster_of[mine[0]];
@@ -77,7 +70,7 @@ void form_clusters(sim::Bodies& b, std::span<const uint8_t> present, btCollision
     if (!in_cluster(bond.a)) continue;
     if (bond.b == sim::kGround) grounded[bond.a] = 1;
     else if (in_cluster(bond.b)) {
-      const uint32_t ra = find(parent, bond.a), rb = find(parent, bond.b);
+      const uint32_t ra = find_root(parent, bond.a), rb = find_root(parent, bond.b);
       parent[std::max(ra, rb)] = std::min(ra, rb);  // the root is the smallest member
     }
   }
@@ -87,7 +80,7 @@ void form_clusters(sim::Bodies& b, std::span<const uint8_t> present, btCollision
   uint32_t count = 0;
   for (sim::ModuleId m = 0; m < n; ++m) {
     if (!in_cluster(m)) continue;
-    const uint32_t r = find(parent, m);
+    const uint32_t r = find_root(parent, m);
     if (r == m) {
       component[m] = count++;
       sizes.push_back(0);

@@ -3,15 +3,9 @@
 #include <algorithm>
 #include <numeric>
 
+#include "physics/union_find.h"
+
 namespace dw::physics {
-namespace {
-
-uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
-}
-
-}  // namespace
 
 std::vector<uint32_t> islands_of(std::span<const ReachBox> boxes, uint32_t& count) {
   const auto n = static_cast<uint32_t>(boxes.size());
@@ -28,7 +22,7 @@ std::vector<uint32_t> islands_of(std::span<const ReachBox> boxes, uint32_t& coun
     std::erase_if(open, [&](uint32_t j) { return boxes[j].hi[0] < boxes[i].lo[0]; });
     for (uint32_t j : open)
       if (boxes[i].overlaps(boxes[j])) {
-        const uint32_t a = find(parent, i), b = find(parent, j);
+        const uint32_t a = find_root(parent, i), b = find_root(parent, j);
         parent[std::max(a, b)] = std::min(a, b);
       }
     open.push_back(i);
@@ -37,7 +31,7 @@ std::vector<uint32_t> islands_of(std::span<const ReachBox> boxes, uint32_t& coun
   count = 0;
   std::vector<uint32_t> number(n, UINT32_MAX);
   for (uint32_t i = 0; i < n; ++i) {
-    const uint32_t r = find(parent, i);
+    const uint32_t r = find_root(parent, i);
     if (number[r] == UINT32_MAX) number[r] = count++;
     island[i] = number[r];
   }

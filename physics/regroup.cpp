@@ -5,6 +5,7 @@
 
 #include "physics/clusters.h"
 #include "physics/sorted_vector.h"
+#include "physics/union_find.h"
 
 namespace dw::physics {
 namespace {
@@ -24,11 +25,6 @@ std::vector<sim::Bond> reversed_module_bonds(std::span<const sim::Bond> bonds) {
 
 bool grounded(std::span<const sim::Bond> bonds, sim::ModuleId m) {
   return std::binary_search(bonds.begin(), bonds.end(), sim::Bond{m, sim::kGround});
-}
-
-uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
 }
 
 }  // namespace
@@ -174,7 +170,7 @@ void Regrouper::search(const sim::Bodies& b, const BondIndex& index, uint32_t cl
           s.found[queue].push_back(o);
           return;
         }
-        const uint32_t me = find(s.parent, queue), other = find(s.parent, s.label[o]);
+        const uint32_t me = find_root(s.parent, queue), other = find_root(s.parent, s.label[o]);
         if (me == other) return;
         // The searches met: the one owning more searches takes the other's.
         const bool keep_me = s.owns[me].size() >= s.owns[other].size();
@@ -261,12 +257,12 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
   std::iota(parent.begin(), parent.end(), 0u);
   for (const sim::Bond& x : changes.added)
     if (x.b != sim::kGround && still(x.a) && still(x.b)) {
-      const uint32_t p = find(parent, piece_of(x.a)), q = find(parent, piece_of(x.b));
+      const uint32_t p = find_root(parent, piece_of(x.a)), q = find_root(parent, piece_of(x.b));
       parent[std::max(p, q)] = std::min(p, q);
     }
   std::vector<std::vector<uint32_t>> joined(s.pieces.size());
   for (uint32_t p = 0; p < s.pieces.size(); ++p)
-    if (!s.pieces[p].members.empty()) joined[find(parent, p)].push_back(p);
+    if (!s.pieces[p].members.empty()) joined[find_root(parent, p)].push_back(p);
 
   // The new clusters and their members: the largest piece's, with the others merged in.
   struct Made {
