@@ -119,12 +119,17 @@ bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vec
                             std::vector<sim::ModuleId>& leaving) {
   sim::Bodies& b = state.bodies;
   const int64_t asked = state.step - 1;
-  // Requests to release or make a bond are rare: the index of bonds is built again after them.
+  // Requests to release or make a bond change the bonds (and their index) at once: a later request
+  // of the same step sees them.
   auto erase_bonds = [&](auto&& which) {
+    std::vector<sim::Bond> gone;
     for (const sim::Bond& x : b.bonds)
-      if (which(x)) changes_.removed.push_back(x);
-    bond_index_.invalidate();
-    return std::erase_if(b.bonds, which) > 0;
+      if (which(x)) gone.push_back(x);
+    if (gone.empty()) return false;
+    erase_from<sim::Bond>(b.bonds, gone);
+    if (bond_index_.valid()) bond_index_.apply(gone, {});
+    changes_.removed.insert(changes_.removed.end(), gone.begin(), gone.end());
+    return true;
   };
   switch (a.kind) {
     case sim::Actuation::Kind::Push: pushes.push_back({a.module, a.vector}); return false;
@@ -140,8 +145,8 @@ bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vec
       const auto at = std::lower_bound(b.bonds.begin(), b.bonds.end(), bond);
       if (at != b.bonds.end() && *at == bond) return false;
       b.bonds.insert(at, bond);
+      if (bond_index_.valid()) bond_index_.apply({}, std::vector{bond});
       changes_.added.push_back(bond);
-      bond_index_.invalidate();
       return true;
     }
     case sim::Actuation::Kind::Move: {
