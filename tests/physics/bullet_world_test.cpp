@@ -9,6 +9,8 @@
 #include <cmath>
 #include <functional>
 
+#include "physics/clusters.h"
+#include "physics/dynamics.h"
 #include "sim/session.h"
 #include "sim/state.h"
 #include "watch/watchpoint.h"
@@ -405,6 +407,40 @@ TEST(BulletWorld, ReleasedModuleFallsFromTheTopOfAColumn) {
   EXPECT_GT(st.bodies.poses[2].position[0], 0.9f);
   EXPECT_FALSE(st.graph->adjacent(1, 2));
   EXPECT_EQ(st.bodies.poses[0].position, (sim::Vec3{0, 0, 0})) << "the anchored column did not move";
+}
+
+// Bonds released and made by requests (some undone within the step), a module setting off and
+// arriving, the block split and joined: every step the clusters regrouped by what changed are
+// those formed from all the bonds, and the contact graph read by what changed is the full one.
+TEST(BulletWorld, RequestsOnBondsRegroupAsFromAllTheBonds) {
+  PhysicsSettings s;
+  s.move_steps = 3;
+  // A 4x2x2 block latched to the ground; ids x + 4 (y + 2 z).
+  const auto model = model_of(sim::make_lattice({sim::LatticeKind::Cubic, {4, 2, 2}}), [](sim::ModuleContext& m) {
+    const int64_t t = m.step();
+    if (t == 1 && m.id() == 13) m.release_all();    // a top corner lets go: a piece of one
+    if (t == 2 && m.id() == 13) m.bond(12);         // and latches back
+    if (t == 3 && m.id() == 14) m.move({0, 0, 1});  // a top module climbs onto the block
+    if (t == 4 && (m.id() == 9 || m.id() == 13)) {  // the top layer's column x = 1 cut loose
+      m.release_all();
+    }
+    if (t == 4 && m.id() == 10) m.bond(9);  // and one bond of it made again at once
+    if (t == 8 && m.id() == 13) m.bond(12);
+  });
+  BulletWorld world(s, model->lattice);
+  world.check_contacts();
+  Dynamics shapes(s, ModuleShape::Box, world.ground_z());
+  sim::Session run(*model, world, {.threads = 2});
+  size_t most_clusters = 0;
+  EXPECT_NO_THROW(run.run_until(16, [&](const sim::State& st, const sim::StepOutput&) {
+    sim::Bodies whole = st.bodies;
+    form_clusters(whole, st.present, shapes.module_shape());
+    EXPECT_EQ(whole.clusters, st.bodies.clusters) << "step " << st.step;
+    EXPECT_EQ(whole.members, st.bodies.members) << "step " << st.step;
+    EXPECT_EQ(whole.cluster_of, st.bodies.cluster_of) << "step " << st.step;
+    most_clusters = std::max(most_clusters, st.bodies.clusters.size());
+  }));
+  EXPECT_GE(most_clusters, 2u) << "the block was split on the way";
 }
 
 TEST(BulletWorld, ActuationWithoutBodiesIsAProgramError) {
