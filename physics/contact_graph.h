@@ -48,6 +48,9 @@ class ContactGraph {
   // apart than the threshold), and how far apart two centres may be and the shapes still touch.
   float distance(const sim::Pose& a, const sim::Pose& b) const;
   float reach() const;
+  // Whether two modules at these poses are neighbours (GJK's distance within the threshold, in
+  // closed form for spheres and unturned boxes).
+  bool touching(const sim::Pose& a, const sim::Pose& b) const;
   // Forgets every measurement (the next update measures every pair).
   void reset();
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "physics/clusters.h"
 #include "physics/dynamics.h"
 #include "tests/physics/latched_block.h"
@@ -58,6 +60,35 @@ TEST(ContactGraph, WorkersDoNotChangeTheGraphAndNearFindsCentres) {
   EXPECT_TRUE(a.near({10, 10, 10}, 1.5f).empty());
   EXPECT_LT(a.distance(b.poses[0], b.poses[1]), 0.001f);
   EXPECT_GT(a.distance(b.poses[0], b.poses[5]), 0.01f) << "edge diagonals are apart (rounded edges)";
+}
+
+// The closed forms for spheres and unturned boxes say what GJK says, wherever GJK's distance is
+// not within rounding of the threshold: faces one size apart, edges and corners diagonal, small
+// gaps, overlaps, offsets along every axis; and turned boxes still go to GJK.
+TEST(ContactGraph, ClosedFormsAgreeWithGjk) {
+  for (const ModuleShape shape : {ModuleShape::Box, ModuleShape::Sphere, ModuleShape::Cylinder}) {
+    ContactGraph graph(shape, 0.01f);
+    int compared = 0, touching = 0;
+    const sim::Pose a{.position = {0.25f, -1.5f, 3.0f}};
+    for (float x : {0.0f, 0.5f, 0.9f, 0.995f, 1.0f, 1.004f, 1.02f, 1.2f, 1.5f})
+      for (float y : {0.0f, 0.3f, 0.98f, 1.0f, 1.005f, 1.03f})
+        for (float z : {0.0f, -0.7f, 1.0f, -1.0f, 1.008f}) {
+          for (const float turn : {0.0f, 0.3f}) {
+            sim::Pose b{.position = {a.position[0] + x, a.position[1] + y, a.position[2] + z}};
+            b.orientation = {0, 0, std::sin(turn / 2), std::cos(turn / 2)};
+            if (x == 0 && y == 0 && z == 0) continue;
+            const float d = graph.distance(a, b);
+            if (std::abs(d - 0.01f) < 1e-4f) continue;  // at the threshold itself
+            ++compared;
+            touching += d <= 0.01f;
+            EXPECT_EQ(graph.touching(a, b), d <= 0.01f) << "shape " << int(shape) << " offset " << x << ", " << y
+                                                        << ", " << z << " turn " << turn << ": GJK distance " << d;
+          }
+        }
+    EXPECT_GT(compared, 400);
+    EXPECT_GT(touching, 20);
+    EXPECT_LT(touching, compared - 50);
+  }
 }
 
 }  // namespace
