@@ -243,8 +243,10 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
   // that moves at their poses in it, any other pair at its world poses. Every other pair keeps
   // its measurement.
   const auto stale = [&](sim::ModuleId a, sim::ModuleId b) {
-    if (forget || !present[a] || !present[b]) return true;
+    if (forget) return true;
+    // A module that came or went is flagged (moved), so an unflagged pair is present as it was.
     if (!flagged[a] && !flagged[b]) return false;
+    if (!present[a] || !present[b]) return true;
     const bool was = Impl::together(s.frame[a], s.frame[b]), is = Impl::together(now(a), now(b));
     if (was != is) return true;
     return is ? !(now(a).local == s.frame[a].local && now(b).local == s.frame[b].local) : moved[a] || moved[b];
