@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 
@@ -443,26 +444,44 @@ TEST(PhysicsSession, RandomWalksEqualTheStraightRunWithTheSameEvents) {
   EXPECT_GE(interventions, 4u) << "the walks intervened";
 }
 
-// The contact graph is read by comparing only what the world says changed: in every physics
-// scenario that runs on (and a surface flow with hundreds gliding at once), every step's graph equals one read
-// by comparing every module, on 2 threads, through seeks back (a restored state is compared in
-// full once) and forth.
-TEST(ContactsReadByWhatChanged, EqualTheGraphReadInFullInEveryPhysicsScenario) {
-  const auto check = [](Scenario s, int64_t steps, const std::string& name) {
+// Every physics scenario that runs on (and a surface flow with hundreds gliding at once): the same
+// hash every step on 1 thread and on 2, through a seek back and on again; and every step's contact
+// graph, read by comparing only what the world says changed, equals one read by comparing every
+// module (a restored state is compared in full once).
+TEST(PhysicsScenarios, SameHashesOnOneAndTwoThreadsThroughSeeksAndContactsReadByWhatChanged) {
+  const auto check = [](const std::function<Scenario()>& load, int64_t steps, const std::string& name) {
+    std::vector<uint64_t> one;
+    {
+      Scenario s = load();
+      sim::Session run(*s.model, *s.world, {.threads = 1});
+      run.run_until(steps,
+                    [&](const sim::State& st, const sim::StepOutput&) { one.push_back(sim::hash_state(st).whole()); });
+    }
+    Scenario s = load();
     auto* world = dynamic_cast<physics::BulletWorld*>(s.world.get());
     ASSERT_NE(world, nullptr) << name;
     world->check_contacts();
     sim::Session run(*s.model, *s.world, {.threads = 2, .history_bytes = 16 << 20});
-    EXPECT_NO_THROW(run.run_until(steps)) << name;
+    size_t step = 0, differ = 0;
+    EXPECT_NO_THROW(run.run_until(steps, [&](const sim::State& st, const sim::StepOutput&) {
+      differ += step >= one.size() || sim::hash_state(st).whole() != one[step];
+      ++step;
+    })) << name;
+    EXPECT_EQ(differ, 0u) << name;
     const int64_t reached = run.state().step;
-    EXPECT_GT(reached, 20) << name;
-    EXPECT_TRUE(run.seek(reached / 3)) << name;
+    ASSERT_GT(reached, 20) << name;
+    ASSERT_EQ(size_t(reached), one.size()) << name;
+    for (const int64_t t : {reached / 3, reached - 1, int64_t{2}}) {
+      ASSERT_TRUE(run.seek(t)) << name;
+      EXPECT_EQ(run.hash().whole(), one[size_t(t)]) << name << " step " << t;
+    }
     EXPECT_NO_THROW(run.run_until(reached)) << name;
+    EXPECT_EQ(run.hash().whole(), one.back()) << name;
   };
   for (const char* name :
        {"push_wall.toml", "slide.toml", "smart_blocks_flow.toml", "catoms3d_roll.toml", "token_ring_physics.toml"})
-    check(load_file(name), 150, name);
-  check(surface_flow(20), 80, "surface_flow 20");
+    check([&] { return load_file(name); }, 150, name);
+  check([] { return surface_flow(20); }, 80, "surface_flow 20");
 }
 
 }  // namespace
