@@ -77,18 +77,23 @@ void BondChanges::normalize() {
     std::sort(v.begin(), v.end());
     v.erase(std::unique(v.begin(), v.end()), v.end());
   };
-  sort_unique(removed);
-  sort_unique(added);
   sort_unique(stopped);
   sort_unique(started);
-  std::vector<sim::Bond> both;
-  std::set_intersection(removed.begin(), removed.end(), added.begin(), added.end(), std::back_inserter(both));
-  if (both.empty()) return;
-  const auto drop = [&](std::vector<sim::Bond>& v) {
-    std::erase_if(v, [&](const sim::Bond& x) { return std::binary_search(both.begin(), both.end(), x); });
-  };
-  drop(removed);
-  drop(added);
+  // A bond's changes alternate (it cannot go twice without coming back between), so what it ends
+  // as is told by how many times it went and came: as many, no change.
+  std::sort(removed.begin(), removed.end());
+  std::sort(added.begin(), added.end());
+  std::vector<sim::Bond> gone, made;
+  for (size_t i = 0, j = 0; i < removed.size() || j < added.size();) {
+    const sim::Bond x = j == added.size() || (i < removed.size() && removed[i] < added[j]) ? removed[i] : added[j];
+    size_t went = 0, came = 0;
+    for (; i < removed.size() && removed[i] == x; ++i) ++went;
+    for (; j < added.size() && added[j] == x; ++j) ++came;
+    if (went > came) gone.push_back(x);
+    if (came > went) made.push_back(x);
+  }
+  removed.swap(gone);
+  added.swap(made);
 }
 
 // A part of the still modules found while regrouping: a piece cut off a cluster (found whole by a

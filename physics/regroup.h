@@ -76,7 +76,8 @@ struct BondChanges {
   std::vector<sim::ModuleId> stopped, started;
   bool empty() const { return removed.empty() && added.empty() && stopped.empty() && started.empty(); }
   void clear();
-  // Sorts each list and drops repeats; a bond both made and gone within the changes is neither.
+  // Sorts each list and drops repeats; a bond made and gone within the changes is in the list of
+  // what it ended as, or in neither.
   void normalize();
 };
 

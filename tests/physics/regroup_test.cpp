@@ -160,5 +160,19 @@ TEST(Regrouper, RandomChangesGiveFormClustersResult) {
   }
 }
 
+// Requests on one bond within one step: released, made again and released is released; made and
+// released is nothing; released and made again is nothing.
+TEST(BondChanges, ABondChangedSeveralTimesEndsAsItsLastChange) {
+  const sim::Bond x{1, 2}, y{3, 4}, z{5, 6};
+  BondChanges c;
+  c.removed = {x, y, x};
+  c.added = {x, y, z};
+  c.stopped = {7, 7};
+  c.normalize();
+  EXPECT_EQ(c.removed, (std::vector<sim::Bond>{x}));
+  EXPECT_EQ(c.added, (std::vector<sim::Bond>{z}));
+  EXPECT_EQ(c.stopped, (std::vector<sim::ModuleId>{7}));
+}
+
 }  // namespace
 }  // namespace dw::physics
