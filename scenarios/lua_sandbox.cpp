@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <string_view>
 
 namespace dw::scenarios {
 namespace {
@@ -422,6 +423,17 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
   watchdog_->end();
   lua_sethook(L_, nullptr, 0, 0);
   if (status == LUA_OK) return Outcome::kOk;
+  // Lua's own "not enough memory" (a request refused while it collects, when it does not ask
+  // again, caught and raised again by a guard) is the same stop as the memory found full: which
+  // of the two a script meets depends on when the collector runs, not on the script.
+  if (stop_ == Stop::kNone && lua_type(L_, -1) == LUA_TSTRING) {
+    constexpr std::string_view kOutOfMemory = "not enough memory";
+    const std::string_view text = lua_tostring(L_, -1);
+    if (text.ends_with(kOutOfMemory)) {
+      stop_ = Stop::kMemory;
+      where_ = std::string(text.substr(0, text.size() - kOutOfMemory.size()));
+    }
+  }
   // Uncounted, a stop says only that the call went far: the counted run decides, so that what a
   // call does never depends on the machine's speed.
   if (!counted && (stop_ != Stop::kNone || watchdog_->interrupted())) {
