@@ -294,7 +294,7 @@ void BulletWorld::step_bodies(sim::State& state, std::span<const Push> pushes, s
   const std::vector<sim::Pose> prop_poses = b.prop_poses;
   const std::vector<sim::Velocity> prop_velocities = b.prop_velocities;
   for (int round = 0;; ++round) {
-    dynamics_.step(b, pushes, state.step, force_, workers);
+    dynamics_.step(b, pushes, state.step, force_, workers, ranks_);
     if (settings_.break_force <= 0 || round == 8) break;
     const size_t before = b.bonds.size();
     std::erase_if(b.bonds, [&](const sim::Bond& bond) {

@@ -31,6 +31,8 @@ class BulletWorld final : public sim::World {
                sim::WorkerPool& workers) override;
   void remove_module(const sim::Model& model, sim::State& state, sim::ModuleId m) override;
   bool moves() const override { return true; }
+  // Over ranks, each steps a run of the islands (Dynamics::step).
+  void share_over(sim::RankExchange* ranks) override { ranks_ = ranks; }
 
   // Checks every contact graph read by what changed against one read by comparing every module
   // (a second ContactGraph measuring alongside): a difference throws std::logic_error naming the
@@ -70,6 +72,7 @@ class BulletWorld final : public sim::World {
   bool contacts_known_ = false;
   std::vector<sim::ModuleId> changed_;
   std::unique_ptr<ContactGraph> check_;
+  sim::RankExchange* ranks_ = nullptr;
   std::vector<std::pair<float, sim::ModuleId>> heading_;  // (x of the target, mover), sorted; in advance
 };
 

@@ -203,8 +203,22 @@ ReachBox Dynamics::reach(const Body& body, float pushed, float turned) const {
   return box;
 }
 
+namespace {
+// What an island wrote of one of its bodies that moves, and a contact force on a module: what
+// ranks send each other of the islands they stepped.
+struct IslandResult {
+  int32_t tag;
+  sim::Pose pose;
+  sim::Velocity velocity;
+};
+struct ContactForce {
+  sim::ModuleId module;
+  float value;
+};
+}  // namespace
+
 void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, std::vector<float>& force,
-                    sim::WorkerPool& workers) {
+                    sim::WorkerPool& workers, sim::RankExchange* ranks) {
   const int clusters = static_cast<int>(b.clusters.size()), movers = static_cast<int>(b.movers.size());
 
   // Every body of the step, in tag order; which of them move (clusters not anchored, props with
@@ -384,14 +398,69 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
       }
     }
   };
+  // Over ranks, this rank's run of the islands (weighed by the modules in them).
+  uint32_t first = 0, last = count;
+  if (ranks != nullptr) {
+    std::vector<uint64_t> weight(count, 0);
+    for (uint32_t i = 0; i < count; ++i)
+      for (uint32_t j : islands[i]) weight[i] += j < uint32_t(clusters) ? b.clusters[j].count : 1;
+    const std::vector<uint32_t> runs = rank_runs(weight, uint32_t(ranks->ranks()));
+    first = runs[size_t(ranks->rank())];
+    last = runs[size_t(ranks->rank()) + 1];
+  }
+  stepped_.clear();
+  for (uint32_t i = first; i < last; ++i)
+    for (uint32_t j : islands[i])
+      if (bodies[j].mass > 0 && j < uint32_t(clusters)) stepped_.push_back(j);
+  std::sort(stepped_.begin(), stepped_.end());
   const unsigned runs = workers.size();
   workers.run([&](unsigned run) {
-    for (uint32_t i = count * run / runs; i < count * (run + 1) / runs; ++i) step_island(i, *shapes_->workers[run]);
+    for (uint32_t i = first + (last - first) * run / runs; i < first + (last - first) * (run + 1) / runs; ++i)
+      step_island(i, *shapes_->workers[run]);
   });
 
   force.assign(b.poses.size(), 0.0f);
-  for (const auto& list : forces)
-    for (const auto& [m, f] : list) force[m] += f;
+  if (ranks == nullptr) {
+    for (const auto& list : forces)
+      for (const auto& [m, f] : list) force[m] += f;
+  } else {
+    // What this rank's islands wrote, to every rank; each part is laid down as its islands wrote
+    // it, and the forces added up in island order (the ranks' runs are in island order), so each
+    // rank has the bits of one process.
+    std::vector<IslandResult> moved;
+    std::vector<ContactForce> pushed_by;
+    for (uint32_t i = first; i < last; ++i) {
+      for (uint32_t j : islands[i])
+        if (bodies[j].mass > 0) {
+          const int tag = bodies[j].tag;
+          if (tag < clusters) moved.push_back({tag, b.clusters[size_t(tag)].pose, b.clusters[size_t(tag)].velocity});
+          else
+            moved.push_back({tag, b.prop_poses[size_t(tag - clusters - movers)],
+                             b.prop_velocities[size_t(tag - clusters - movers)]});
+        }
+      for (const auto& [m, f] : forces[i]) pushed_by.push_back({m, f});
+    }
+    std::vector<std::byte> mine;
+    const uint64_t sizes[2] = {moved.size(), pushed_by.size()};
+    sim::append_records<uint64_t>(mine, sizes);
+    sim::append_records<IslandResult>(mine, moved);
+    sim::append_records<ContactForce>(mine, pushed_by);
+    for (std::span<const std::byte> part : ranks->all_gather(mine)) {
+      const std::span<const uint64_t> size = sim::records_of<uint64_t>(part.first(sizeof sizes));
+      part = part.subspan(sizeof sizes);
+      for (const IslandResult& r : sim::records_of<IslandResult>(part.first(size[0] * sizeof(IslandResult)))) {
+        if (r.tag < clusters) {
+          b.clusters[size_t(r.tag)].pose = r.pose;
+          b.clusters[size_t(r.tag)].velocity = r.velocity;
+        } else {
+          b.prop_poses[size_t(r.tag - clusters - movers)] = r.pose;
+          b.prop_velocities[size_t(r.tag - clusters - movers)] = r.velocity;
+        }
+      }
+      for (const ContactForce& f : sim::records_of<ContactForce>(part.subspan(size[0] * sizeof(IslandResult))))
+        force[f.module] += f.value;
+    }
+  }
 
   std::erase_if(shapes_->compounds, [&](const auto& entry) { return entry.second.used < to - 1; });
 }

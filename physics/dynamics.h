@@ -18,6 +18,7 @@
 #include "physics/islands.h"
 #include "physics/settings.h"
 #include "sim/bodies.h"
+#include "sim/rank_exchange.h"
 #include "sim/worker_pool.h"
 
 class btCollisionShape;
@@ -53,11 +54,15 @@ class Dynamics {
   // first. Writes each module's contact force (N) over the step from other bodies (the ground's
   // support is left out) into `force`.
   // Islands of bodies that cannot touch within the step (physics/islands.h) are stepped apart, on
-  // `workers`; the result does not depend on their number.
+  // `workers`; the result does not depend on their number. Over `ranks` (a collective call, made
+  // alike on every rank with the same bodies), each rank steps a run of the islands and the ranks
+  // swap what their islands wrote: each ends with what one process computes, bit for bit.
   void step(sim::Bodies& bodies, std::span<const Push> pushes, int64_t to, std::vector<float>& force,
-            sim::WorkerPool& workers);
-  // Islands in the last step.
+            sim::WorkerPool& workers, sim::RankExchange* ranks = nullptr);
+  // Islands in the last step, and the clusters that moved in those this process stepped (over
+  // ranks, its run of them), ascending.
   uint32_t islands() const { return islands_; }
+  const std::vector<uint32_t>& stepped_clusters() const { return stepped_; }
 
  private:
   struct Compound;
@@ -70,6 +75,7 @@ class Dynamics {
   std::unique_ptr<Shapes> shapes_;
   btCollisionShape* module_shape_;
   uint32_t islands_ = 0;
+  std::vector<uint32_t> stepped_;
 };
 
 }  // namespace dw::physics

@@ -38,4 +38,19 @@ std::vector<uint32_t> islands_of(std::span<const ReachBox> boxes, uint32_t& coun
   return island;
 }
 
+std::vector<uint32_t> rank_runs(std::span<const uint64_t> weight, uint32_t ranks) {
+  // Each island goes to the rank its middle falls in, along the weights laid end to end.
+  const uint64_t total = std::accumulate(weight.begin(), weight.end(), uint64_t{0});
+  std::vector<uint32_t> first(ranks + 1, static_cast<uint32_t>(weight.size()));
+  first[0] = 0;
+  uint64_t before = 0;
+  uint32_t rank = 0;
+  for (uint32_t i = 0; i < weight.size(); ++i) {
+    const uint64_t owner = std::min<uint64_t>(ranks - 1, ranks * (2 * before + weight[i]) / (2 * total));
+    while (rank < owner) first[++rank] = i;
+    before += weight[i];
+  }
+  return first;
+}
+
 }  // namespace dw::physics

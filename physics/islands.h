@@ -32,4 +32,9 @@ struct ReachBox {
 // numbered in the order of their first box.
 std::vector<uint32_t> islands_of(std::span<const ReachBox> boxes, uint32_t& count);
 
+// The islands each of `ranks` ranks steps (docs/design.md §12): runs in island order, of about equal
+// total weight (an island's cost), rank r's from first[r] to first[r + 1]. A function of the
+// weights alone, so every rank divides alike.
+std::vector<uint32_t> rank_runs(std::span<const uint64_t> weight, uint32_t ranks);
+
 }  // namespace dw::physics

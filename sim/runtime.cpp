@@ -70,6 +70,7 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads, RankExchang
     while (block_shift_ < 12 && (2u << block_shift_) <= per_thread) ++block_shift_;
   blocks_ = (m >> block_shift_) + ((m & ((1u << block_shift_) - 1)) != 0);
   place_blocks(partition);
+  world_.share_over(ranks_);
   scratch_.resize(pool_.size());
   border_messages_.resize(pool_.size());
   arriving_.resize(pool_.size());

@@ -65,7 +65,8 @@ class Runtime {
   // `model` and `world` must outlive the runtime, and `ranks` too when given: then this process is
   // one rank of a run over several (docs/design.md §12). It steps the modules of the blocks `partition`
   // gives its rank; every rank keeps the world (its bodies and N(m, t)) whole, with the actuations
-  // of all, and the rest of the state for its own modules only.
+  // of all, and the rest of the state for its own modules only. The world may share its own work
+  // among the ranks (World::share_over).
   Runtime(const Model& model, World& world, unsigned threads, RankExchange* ranks = nullptr,
           Partition partition = Partition::Auto);
 

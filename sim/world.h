@@ -8,6 +8,7 @@
 
 #include "sim/actuation.h"
 #include "sim/model.h"
+#include "sim/rank_exchange.h"
 #include "sim/state.h"
 #include "sim/worker_pool.h"
 
@@ -31,6 +32,10 @@ class World {
   // An intervention (docs/design.md §7) before step state.step runs: module m leaves the ensemble. It is
   // absent from now on and out of N(·, state.step); a physical world also lets go of its body.
   virtual void remove_module(const Model& model, State& state, ModuleId m);
+  // This process is one rank of a run over several (docs/design.md §12): every rank calls
+  // advance alike, step by step, so a world may share its work among them through `ranks`
+  // (collective calls), as long as every rank ends each step with the same state.
+  virtual void share_over(RankExchange* ranks) { (void)ranks; }
   // Whether N(m, t) changes as the run goes (bodies moving), beyond interventions: then the ids'
   // order says less about who will touch whom, and ranks share the modules by their graph.
   virtual bool moves() const { return false; }

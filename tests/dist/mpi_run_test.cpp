@@ -1,6 +1,7 @@
 // `mpirun -np N dwatch run` (dist/, docs/design.md §12) as a user runs it: every output file and the state
 // hash equal those of the same run in one process, for 2, 3 and 4 ranks, on static lattices and
-// on a lattice that moves (the Bullet world, kept whole on every rank).
+// on a lattice that moves (the Bullet world, kept whole on every rank, its islands stepped in
+// runs by the ranks).
 #include <nlohmann/json.hpp>
 
 #include "tests/app/cli.h"
@@ -122,6 +123,20 @@ TEST_F(MpiRun, SlidingModulesInTheBulletWorldEqualOneProcessTraceIncluded) {
   expect_same_over_ranks(scenarios_ + "/slide.toml --algorithm distributed", 1, true, "--partition blocks");
   EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "r3.json"))["partition"], "blocks");
   EXPECT_GT(results(dir_ / "one.json")["matches"].get<int>(), 0);
+}
+
+TEST_F(MpiRun, AWallStruckAndTornEqualsOneProcessTraceIncluded) {
+  // The ball and the modules it tears off are islands that the ranks step in runs, each rank
+  // taking the others' results: a trace, matches and hash as in one process.
+  expect_same_over_ranks(scenarios_ + "/push_wall.toml --algorithm distributed", 1, true);
+  EXPECT_GT(results(dir_ / "one.json")["watches"][0]["matches"].get<int>(), 0) << "modules were torn off";
+}
+
+TEST_F(MpiRun, ManyBodiesMovingAtOnceEqualOneProcessTraceIncluded) {
+  // Four balls through sixteen towers: hundreds of bodies in islands that meet and part, each
+  // stepped by the rank whose run it falls in that step, spanning the ranks' modules.
+  expect_same_over_ranks(scenarios_ + "/demolition.toml --steps 250", 1, true);
+  EXPECT_GT(results(dir_ / "one.json")["watches"][0]["matches"].get<int>(), 50) << "towers were torn";
 }
 
 TEST_F(MpiRun, WatchpointActionsEqualOneProcess) {

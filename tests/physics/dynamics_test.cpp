@@ -7,6 +7,7 @@
 
 #include "physics/clusters.h"
 #include "tests/physics/latched_block.h"
+#include "tests/sim/thread_ranks.h"
 
 namespace dw::physics {
 namespace {
@@ -145,6 +146,70 @@ TEST(Dynamics, BodiesThatCanMeetWithinAStepShareAnIsland) {
   for (int i = 8; i < 16; ++i) right_min = std::min(right_min, b.poses[size_t(i)].position[0]);
   EXPECT_LT(left_max, right_min - 0.9f);
   EXPECT_LT(b.clusters[0].velocity.linear[0], 1.0f);  // slowed by the hit
+}
+
+// Over ranks each rank steps a run of the islands and the ranks swap what their islands wrote:
+// every rank ends every step with the bits of one process. Three blocks: the first two heading
+// for each other, the third falling on its own. On two ranks the second block is its own island,
+// stepped by rank 1, until the two blocks can meet; then it shares the first block's island and
+// rank 0 steps it: handed over mid-move, across the ranks' boundary.
+TEST(Dynamics, RanksSteppingRunsOfTheIslandsEndEveryStepWithTheBitsOfOneProcess) {
+  PhysicsSettings settings;
+  settings.anchor = false;
+  const std::vector<float> speed = {2.0f, -2.0f, 0.0f};
+  constexpr int kSteps = 40;
+  std::vector<sim::Bodies> expected;
+  std::vector<std::vector<float>> expected_force;
+  std::vector<uint32_t> islands;
+  {
+    Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
+    sim::Bodies b = falling_blocks(speed, 4, dynamics.module_shape());
+    sim::WorkerPool workers(1);
+    std::vector<float> force;
+    for (int64_t step = 1; step <= kSteps; ++step) {
+      dynamics.step(b, {}, step, force, workers);
+      place_members(b);
+      expected.push_back(b);
+      expected_force.push_back(force);
+      islands.push_back(dynamics.islands());
+    }
+  }
+  ASSERT_EQ(islands.front(), 3u);
+  ASSERT_EQ(islands.back(), 2u);  // the first two met
+  struct Seen {
+    int mismatch = -1;                           // the first step this rank's bodies differed
+    std::vector<std::vector<uint32_t>> stepped;  // per step: the clusters it stepped
+  };
+  for (int ranks : {2, 3}) {
+    SCOPED_TRACE(std::to_string(ranks) + " ranks");
+    const std::vector<Seen> seen = sim::on_ranks(ranks, [&](sim::RankExchange& rank) {
+      Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
+      sim::Bodies b = falling_blocks(speed, 4, dynamics.module_shape());
+      sim::WorkerPool workers(1);
+      std::vector<float> force;
+      Seen out;
+      for (int64_t step = 1; step <= kSteps; ++step) {
+        dynamics.step(b, {}, step, force, workers, &rank);
+        place_members(b);
+        if (out.mismatch < 0 && (!(b == expected[size_t(step - 1)]) || force != expected_force[size_t(step - 1)]))
+          out.mismatch = int(step);
+        out.stepped.push_back(dynamics.stepped_clusters());
+      }
+      return out;
+    });
+    for (int r = 0; r < ranks; ++r) EXPECT_EQ(seen[size_t(r)].mismatch, -1) << "rank " << r;
+    // Each cluster is stepped by exactly one rank, every step.
+    for (int t = 0; t < kSteps; ++t) {
+      std::vector<uint32_t> all;
+      for (const Seen& s : seen) all.insert(all.end(), s.stepped[size_t(t)].begin(), s.stepped[size_t(t)].end());
+      std::sort(all.begin(), all.end());
+      EXPECT_EQ(all, (std::vector<uint32_t>{0, 1, 2})) << "step " << t + 1;
+    }
+    if (ranks == 2) {  // the hand-over
+      EXPECT_EQ(seen[1].stepped.front(), (std::vector<uint32_t>{1, 2}));
+      EXPECT_EQ(seen[0].stepped.back(), (std::vector<uint32_t>{0, 1}));
+    }
+  }
 }
 
 }  // namespace

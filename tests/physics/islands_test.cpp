@@ -19,5 +19,19 @@ TEST(Islands, OverlapsJoinDirectlyAndThroughOthers) {
   EXPECT_EQ(count, 0u);
 }
 
+// Ranks take runs of the islands in order, each island where its middle falls along the weights.
+TEST(Islands, RanksTakeRunsOfAboutEqualWeightInIslandOrder) {
+  const std::vector<uint64_t> even = {8, 8, 8, 8};
+  EXPECT_EQ(rank_runs(even, 2), (std::vector<uint32_t>{0, 2, 4}));
+  EXPECT_EQ(rank_runs(even, 4), (std::vector<uint32_t>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(rank_runs(even, 1), (std::vector<uint32_t>{0, 4}));
+  // One heavy island is a rank's run alone; the light ones share the other.
+  EXPECT_EQ(rank_runs(std::vector<uint64_t>{1, 1, 100, 1}, 2), (std::vector<uint32_t>{0, 2, 4}));
+  EXPECT_EQ(rank_runs(std::vector<uint64_t>{100, 1, 1, 1}, 2), (std::vector<uint32_t>{0, 1, 4}));
+  // More ranks than islands: some ranks step none (one island goes to the rank at its middle).
+  EXPECT_EQ(rank_runs(std::vector<uint64_t>{5}, 3), (std::vector<uint32_t>{0, 0, 1, 1}));
+  EXPECT_EQ(rank_runs({}, 3), (std::vector<uint32_t>{0, 0, 0, 0}));
+}
+
 }  // namespace
 }  // namespace dw::physics

@@ -478,8 +478,8 @@ TEST(PhysicsScenarios, SameHashesOnOneAndTwoThreadsThroughSeeksAndContactsReadBy
     EXPECT_NO_THROW(run.run_until(reached)) << name;
     EXPECT_EQ(run.hash().whole(), one.back()) << name;
   };
-  for (const char* name :
-       {"push_wall.toml", "slide.toml", "smart_blocks_flow.toml", "catoms3d_roll.toml", "token_ring_physics.toml"})
+  for (const char* name : {"push_wall.toml", "slide.toml", "smart_blocks_flow.toml", "catoms3d_roll.toml",
+                           "token_ring_physics.toml", "demolition.toml"})
     check([&] { return load_file(name); }, 150, name);
   check([] { return surface_flow(20); }, 80, "surface_flow 20");
 }
