@@ -269,10 +269,7 @@ void* LuaSandbox::allocate(void* self_ptr, void* ptr, size_t old_size, size_t ne
     self.refused_ptr_ = ptr;
     self.refused_size_ = new_size;
     if (full && self.L_) {
-      if (self.stop_ == Stop::kNone) {
-        self.stop_ = Stop::kMemory;
-        self.where_ = location(self.L_, 0);
-      }
+      if (self.stop_ == Stop::kNone) self.stop_ = Stop::kMemory;
       lua_sethook(self.L_, &LuaSandbox::stop_hook, LUA_MASKCOUNT, 1);
     }
     return nullptr;
@@ -429,10 +426,7 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
   if (stop_ == Stop::kNone && lua_type(L_, -1) == LUA_TSTRING) {
     constexpr std::string_view kOutOfMemory = "not enough memory";
     const std::string_view text = lua_tostring(L_, -1);
-    if (text.ends_with(kOutOfMemory)) {
-      stop_ = Stop::kMemory;
-      where_ = std::string(text.substr(0, text.size() - kOutOfMemory.size()));
-    }
+    if (text.ends_with(kOutOfMemory)) stop_ = Stop::kMemory;
   }
   // Uncounted, a stop says only that the call went far: the counted run decides, so that what a
   // call does never depends on the machine's speed.
@@ -452,12 +446,15 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
   return Outcome::kFailed;
 }
 
+// A memory stop names the script but no line: the allocation that meets the cap depends on what
+// earlier calls left (the stack and call records Lua keeps grown), not on this call alone.
 void LuaSandbox::push_stop_message(Stop why) {
-  const std::string what =
-      why == Stop::kMemory
-          ? "not enough memory: a script's Lua state may hold at most " + sim::size_text(limits_.memory_bytes)
-          : "ran more than " + std::to_string(limits_.instructions) + " instructions in one call (an endless loop?)";
-  lua_pushstring(L_, (where_ + what).c_str());
+  const std::string message = why == Stop::kMemory
+                                  ? display_ + ": not enough memory: a script's Lua state may hold at most " +
+                                        sim::size_text(limits_.memory_bytes)
+                                  : where_ + "ran more than " + std::to_string(limits_.instructions) +
+                                        " instructions in one call (an endless loop?)";
+  lua_pushstring(L_, message.c_str());
 }
 
 }  // namespace dw::scenarios

@@ -85,7 +85,7 @@ class LuaSandbox {
   size_t bytes_ = 0;
   int64_t executed_ = 0;
   Stop stop_ = Stop::kNone;
-  std::string where_;  // "script.lua:LINE: " of the stop
+  std::string where_;  // "script.lua:LINE: " of an instruction-budget stop
   // The last allocation refused: the same one asked again (after Lua's emergency collection)
   // means the memory is truly full.
   const void* refused_ptr_ = nullptr;
