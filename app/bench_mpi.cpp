@@ -1,7 +1,8 @@
 // `dwatch bench mpi`: the million-module ensemble (bench million) run by `dwatch run` over ranks
 // as a user runs it, `mpirun -np R dwatch run SCENARIO -j T --stats FILE`, beside the same run in
 // one process: its time, the bytes between ranks per step, memory per rank, and whether every
-// layout gave the same matches and state hash (docs/design.md §12).
+// layout gave the same matches and state hash (docs/design.md §12); then the Bullet world over ranks:
+// many bodies moving at once, and a latched lattice, their physics time and memory per rank.
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -61,6 +62,67 @@ nlohmann::json run_once(const Layout& l, const fs::path& scenario, const std::st
   }
   std::ifstream in(stats);
   return nlohmann::json::parse(in, nullptr, false);
+}
+
+// demolition.toml grown to a k x k grid of towers (2 x 2 x 5 modules, four cells apart) with k
+// heavy balls rolling down its rows at once: bodies torn off and moving all over the ensemble, in
+// physics islands that meet and part.
+std::string demolition_toml(int k, int steps) {
+  const int side = 6 * k - 4;
+  std::ostringstream t;
+  t << "seed = 1\nsteps = " << steps << "\n[lattice]\nkind = \"cubic\"\nsize = [" << side << ", " << side << ", 5]\n";
+  for (int i = 0; i + 1 < k; ++i)
+    t << "[[lattice.empty]]\nfrom = [" << 6 * i + 2 << ", 0, 0]\nto = [" << 6 * i + 5 << ", " << side - 1
+      << ", 4]\n[[lattice.empty]]\nfrom = [0, " << 6 * i + 2 << ", 0]\nto = [" << side - 1 << ", " << 6 * i + 5
+      << ", 4]\n";
+  t << "[[program]]\nname = \"body_sense\"\nmoving_speed = 0.2\n"
+    << "[[watch]]\nname = \"torn_off\"\nalgorithm = \"distributed\"\naction = \"log\"\n"
+    << "text = \"modules(a); (a.peak_nbrs >= 3) and (a.nbrs = 0) and (a.last.nbrs > 0)\"\n"
+    << "[physics]\nenabled = true\nbreak_force = 3000\ncontact_threshold = 0.01\n";
+  for (int i = 0; i < k; ++i)
+    t << "[[physics.prop]]\nshape = \"sphere\"\ndiameter = 2.0\nmass = 200\nposition = [" << 6 * i << ".5, "
+      << (i % 2 ? -8 : -5) << ".0, 1.5]\nvelocity = [0, 14.0, 0.5]\n";
+  return t.str();
+}
+
+// The Bullet world over ranks (docs/design.md §12): many bodies moving at once, each layout's
+// physics part of a step (the slowest rank's) and its peak memory per rank, and a latched 40^3
+// lattice's peak per rank; the same matches and state hash on every layout, or it fails.
+bool bench_mpi_physics(const BenchArgs& args, const fs::path& dir) {
+  const fs::path scenario = dir / "demolition.toml", lattice = dir / "lattice.toml";
+  std::ofstream(scenario) << demolition_toml(8, 200);
+  std::ofstream(lattice) << "seed = 1\nsteps = 20\n[lattice]\nkind = \"cubic\"\nsize = [40, 40, 40]\n"
+                         << "[[program]]\nname = \"body_sense\"\n[physics]\nenabled = true\n";
+  std::cout << "\nphysics over ranks (each rank steps a run of the islands; contacts and clusters on every rank)\n"
+            << "  demolition 8x8: demolition.toml grown to 8 x 8 towers and 8 balls (1,280 modules), 200 steps\n"
+            << "  40^3 latched: a 40^3 lattice latched to the ground, resting, 20 steps\n"
+            << std::left << std::setw(44) << "scenario, layout" << std::right << std::setw(10) << "matches"
+            << std::setw(12) << "best s" << std::setw(18) << "physics ms/step" << std::setw(14) << "MiB per rank"
+            << "  state hash\n";
+  bool same = true;
+  for (const auto& [label, path] : {std::pair{"demolition 8x8", scenario}, std::pair{"40^3 latched", lattice}}) {
+    nlohmann::json first;
+    for (const Layout& l : {Layout{1, 1}, Layout{2, 1}, Layout{4, 1}}) {
+      double best = 1e300, physics = 1e300;
+      nlohmann::json stats;
+      for (int i = 0; i < args.repeat; ++i) {
+        stats = run_once(l, path, "auto", dir);
+        if (stats.is_discarded() || stats.is_null()) return false;
+        best = std::min(best, stats["seconds"].get<double>() - stats["setup_seconds"].get<double>());
+        physics = std::min(physics, stats["physics_seconds"].get<double>());
+      }
+      if (first.is_null()) first = stats;
+      const bool agrees = stats["matches"] == first["matches"] && stats["state_hash"] == first["state_hash"];
+      same &= agrees;
+      const double steps = std::max(1.0, stats["steps"].get<double>());
+      std::cout << std::left << std::setw(44) << (std::string(label) + ", " + l.label()) << std::right << std::setw(10)
+                << stats["matches"].get<uint64_t>() << std::fixed << std::setprecision(3) << std::setw(12) << best
+                << std::setprecision(2) << std::setw(18) << 1e3 * physics / steps << std::setprecision(0)
+                << std::setw(14) << stats["peak_mib"].get<double>() << "  " << stats["state_hash"].get<std::string>()
+                << (agrees ? "" : "  DIFFERS from one rank") << "\n";
+    }
+  }
+  return same;
 }
 
 }  // namespace
@@ -138,8 +200,9 @@ int bench_mpi(const BenchArgs& args) {
   std::cout << std::setprecision(0)
             << "memory: " << first["peak_mib_all_ranks"].get<double>() * 1048576 / double(modules)
             << " bytes per module in one process\n"
-            << (same ? "every layout gave the same matches and state hash\n"
-                     : "dwatch bench: error: the layouts disagree\n");
+            << (same ? "every layout gave the same matches and state hash\n" : "");
+  same &= bench_mpi_physics(args, dir);
+  if (!same) std::cerr << "dwatch bench: error: the layouts disagree\n";
   if (!commit_outputs({csv.get()})) return 1;
   return same ? 0 : 1;
 }
