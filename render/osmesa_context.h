@@ -1,6 +1,7 @@
 // A headless GL 3.3 core context: Mesa's OSMesa (llvmpipe, in software), made with
 // OSMesaCreateContextAttribs. The renderer draws into its own framebuffer objects, so the
-// context's own buffer is a single pixel.
+// context's own buffer is a single pixel. OSMesa is opened when a context is made, not linked
+// (osmesa_context.cpp says why).
 #pragma once
 
 #include <memory>
@@ -23,7 +24,9 @@ class OsMesaContext final : public GlContext {
   const Gl& gl() const override { return gl_; }
 
  private:
-  OsMesaContext() = default;
+  struct Library;
+  OsMesaContext();
+  std::unique_ptr<Library> library_;
   void* context_ = nullptr;  // OSMesaContext, kept opaque so <GL/osmesa.h> stays in the .cpp
   unsigned char pixel_[4] = {};
   Gl gl_;

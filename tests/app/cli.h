@@ -40,9 +40,12 @@ class Cli : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   // Runs dwatch with `args` (already shell-quoted as needed).
-  Result run(const std::string& args) {
+  Result run(const std::string& args) { return run_with_env("", args); }
+  // The same with environment variables set for it: "NAME=value ...".
+  Result run_with_env(const std::string& env, const std::string& args) {
     const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
-    const std::string cmd = std::string(DWATCH_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
+    const std::string cmd =
+        env + " " + std::string(DWATCH_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
     const int status = std::system(cmd.c_str());
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
   }
