@@ -139,6 +139,15 @@ TEST_F(MpiRun, ManyBodiesMovingAtOnceEqualOneProcessTraceIncluded) {
   EXPECT_GT(results(dir_ / "one.json")["watches"][0]["matches"].get<int>(), 50) << "towers were torn";
 }
 
+TEST_F(MpiRun, EveryOtherPhysicsScenarioEqualsOneProcess) {
+  // Read as ranks can read them: distributed, over consistent states.
+  for (const char* name : {"smart_blocks_flow.toml", "catoms3d_roll.toml", "token_ring_physics.toml",
+                           "leader_election_physics.toml", "catoms3d_leader_election.toml"}) {
+    SCOPED_TRACE(name);
+    expect_same_over_ranks(scenarios_ + "/" + name + " --algorithm distributed --states consistent");
+  }
+}
+
 TEST_F(MpiRun, WatchpointActionsEqualOneProcess) {
   // LDP's gradient read by the agents (docs/design.md §4b): the actions' values are gathered with the
   // matches, and each rank sets its own modules' variables, at the same step as one process.
