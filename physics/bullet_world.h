@@ -31,7 +31,8 @@ class BulletWorld final : public sim::World {
                sim::WorkerPool& workers) override;
   void remove_module(const sim::Model& model, sim::State& state, sim::ModuleId m) override;
   bool moves() const override { return true; }
-  // Over ranks, each steps a run of the islands (Dynamics::step).
+  // Over ranks, each steps a run of the islands (Dynamics::step) and measures a run of the
+  // modules whose contacts may have changed (ContactGraph::update).
   void share_over(sim::RankExchange* ranks) override { ranks_ = ranks; }
 
   // Checks every contact graph read by what changed against one read by comparing every module

@@ -193,7 +193,8 @@ std::vector<sim::ModuleId> ContactGraph::near(const sim::Vec3& at, float radius)
 std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies& bodies,
                                                                std::span<const uint8_t> present,
                                                                sim::WorkerPool& workers,
-                                                               const std::vector<sim::ModuleId>* changed) {
+                                                               const std::vector<sim::ModuleId>* changed,
+                                                               sim::RankExchange* ranks) {
   Impl& s = *impl_;
   const std::span<const sim::Pose> poses = bodies.poses;
   const size_t n = poses.size();
@@ -293,15 +294,20 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
         for (sim::ModuleId m : members) search[m] = 0;
     }
 
-  // Each worker measures the stale pairs of a run of the flagged modules; the runs are joined in
-  // order.
+  // Each worker measures the stale pairs of a run of the flagged modules (over ranks, of this
+  // rank's run of them); the runs are joined.
   const float cutoff2 = s.cutoff * s.cutoff;
   const unsigned runs = workers.size();
-  const size_t count = flagged_list.size();
+  size_t first = 0, count = flagged_list.size();
+  if (ranks != nullptr) {
+    const size_t all = count, rank = size_t(ranks->rank()), rank_count = size_t(ranks->ranks());
+    first = all * rank / rank_count;
+    count = all * (rank + 1) / rank_count - first;
+  }
   std::vector<std::vector<std::pair<sim::ModuleId, sim::ModuleId>>> found(runs);
   std::vector<uint64_t> measured(runs, 0);
   workers.run([&](unsigned run) {
-    for (size_t i = count * run / runs; i < count * (run + 1) / runs; ++i) {
+    for (size_t i = first + count * run / runs; i < first + count * (run + 1) / runs; ++i) {
       const sim::ModuleId a = flagged_list[i];
       if (!search[a]) continue;
       s.grid.around(poses[a].position, [&](sim::ModuleId b) {
@@ -320,6 +326,20 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
   for (unsigned run = 0; run < runs; ++run) {
     fresh.insert(fresh.end(), found[run].begin(), found[run].end());
     measured_ += measured[run];
+  }
+  if (ranks != nullptr) {  // every rank's pairs, as (a, b) words after the count measured
+    std::vector<uint32_t> mine;
+    for (const auto& [a, b] : fresh) mine.insert(mine.end(), {a, b});
+    std::vector<std::byte> bytes;
+    sim::append_records<uint64_t>(bytes, std::span(&measured_, 1));
+    sim::append_records<uint32_t>(bytes, mine);
+    fresh.clear();
+    measured_ = 0;
+    for (std::span<const std::byte> part : ranks->all_gather(bytes)) {
+      measured_ += sim::records_of<uint64_t>(part.first(sizeof(uint64_t)))[0];
+      const std::span<const uint32_t> pairs = sim::records_of<uint32_t>(part.subspan(sizeof(uint64_t)));
+      for (size_t i = 0; i + 1 < pairs.size(); i += 2) fresh.emplace_back(pairs[i], pairs[i + 1]);
+    }
   }
   std::sort(fresh.begin(), fresh.end());
   for (sim::ModuleId m : flagged_list) {

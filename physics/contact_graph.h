@@ -17,6 +17,7 @@
 
 #include "physics/settings.h"
 #include "sim/neighbor_graph.h"
+#include "sim/rank_exchange.h"
 #include "sim/worker_pool.h"
 
 class btCollisionShape;
@@ -34,10 +35,14 @@ class ContactGraph {
   // object) when no pair changed. Pairs are measured on `workers`, the modules split among them.
   // `changed`, when given, lists every module whose presence, world pose or frame may differ from
   // the last update (the others are known not to, and are not compared: a million-module block
-  // with a thousand moving is not walked); without it every module is compared.
+  // with a thousand moving is not walked); without it every module is compared. Over `ranks` (a
+  // collective call, made alike on every rank with the same bodies), each rank measures a run of
+  // the modules that changed and the ranks swap the pairs they found: every rank gets the graph
+  // one process gets.
   std::shared_ptr<const sim::NeighborGraph> update(const sim::Bodies& bodies, std::span<const uint8_t> present,
                                                    sim::WorkerPool& workers,
-                                                   const std::vector<sim::ModuleId>* changed = nullptr);
+                                                   const std::vector<sim::ModuleId>* changed = nullptr,
+                                                   sim::RankExchange* ranks = nullptr);
   // Brings the grid of module centres up to the bodies without measuring (update does it too):
   // what near() reads.
   void place(const sim::Bodies& bodies, std::span<const uint8_t> present);
@@ -54,7 +59,7 @@ class ContactGraph {
   // Forgets every measurement (the next update measures every pair).
   void reset();
 
-  // Pairs measured by the last update (the others kept their measurement).
+  // Pairs measured by the last update (the others kept their measurement), over ranks by all.
   uint64_t pairs_measured() const { return measured_; }
 
  private:

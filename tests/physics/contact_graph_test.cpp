@@ -7,6 +7,7 @@
 #include "physics/clusters.h"
 #include "physics/dynamics.h"
 #include "tests/physics/latched_block.h"
+#include "tests/sim/thread_ranks.h"
 
 namespace dw::physics {
 namespace {
@@ -60,6 +61,40 @@ TEST(ContactGraph, WorkersDoNotChangeTheGraphAndNearFindsCentres) {
   EXPECT_TRUE(a.near({10, 10, 10}, 1.5f).empty());
   EXPECT_LT(a.distance(b.poses[0], b.poses[1]), 0.001f);
   EXPECT_GT(a.distance(b.poses[0], b.poses[5]), 0.01f) << "edge diagonals are apart (rounded edges)";
+}
+
+// Over ranks each measures a run of the modules that changed and they swap what they found:
+// every rank gets one process's graph and count of pairs measured, whole or read by what changed.
+TEST(ContactGraph, RanksMeasuringRunsOfTheModulesGetTheGraphOfOneProcess) {
+  const PhysicsSettings settings;
+  Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
+  sim::Bodies start = test::latched_block(4, true, dynamics.module_shape());
+  const std::vector<uint8_t> present(start.poses.size(), 1);
+  // Three corner and edge modules leave the block and move off; then one comes back.
+  const std::vector<sim::ModuleId> leaving = {3, 12, 63};
+  const auto updates = [&](sim::RankExchange* ranks) {
+    sim::Bodies b = start;
+    sim::WorkerPool workers(1);
+    ContactGraph contacts(ModuleShape::Box, 0.01f);
+    std::vector<std::pair<std::vector<sim::ModuleId>, uint64_t>> seen;
+    seen.emplace_back(contacts.update(b, present, workers, nullptr, ranks)->ids, contacts.pairs_measured());
+    for (sim::ModuleId m : leaving) {
+      b.cluster_of[m] = sim::kNoCluster;
+      b.poses[m].position[2] += 0.6f;
+    }
+    seen.emplace_back(contacts.update(b, present, workers, &leaving, ranks)->ids, contacts.pairs_measured());
+    b.poses[63] = start.poses[63];
+    const std::vector<sim::ModuleId> back = {63};
+    seen.emplace_back(contacts.update(b, present, workers, &back, ranks)->ids, contacts.pairs_measured());
+    return seen;
+  };
+  const auto one = updates(nullptr);
+  ASSERT_NE(one[0].first, one[1].first);
+  ASSERT_GT(one[1].second, 0u);
+  for (int ranks : {2, 3}) {
+    const auto all = sim::on_ranks(ranks, [&](sim::RankExchange& rank) { return updates(&rank); });
+    for (int r = 0; r < ranks; ++r) EXPECT_EQ(all[size_t(r)], one) << ranks << " ranks, rank " << r;
+  }
 }
 
 // The closed forms for spheres and unturned boxes say what GJK says, wherever GJK's distance is
