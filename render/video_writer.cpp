@@ -7,16 +7,20 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include <dlfcn.h>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <string>
+#include <type_traits>
 #include <vector>
 
 #include "sim/output_file.h"
@@ -37,35 +41,100 @@ constexpr Format kFormats[] = {
     {".webm", "webm", "libvpx-vp9", "VP9", "libvpx"},
 };
 
-std::string av_error(int code) {
+// The libav* functions the writer calls, opened by soname when a video is first written rather
+// than linked: libavcodec and libavformat bring codecs and protocols (x265, dav1d, librsvg, GnuTLS
+// ...), some 22 MiB of every process that loads them, which only a video needs. RTLD_NODELETE
+// keeps them loaded once opened (libav's codecs are not made to be unloaded).
+// Each function the writer calls, by the library it is in (LibAv::handles_).
+// clang-format off
+#define DW_LIBAV_FUNCTIONS(X)                                                                                 \
+  X(0, av_dict_free) X(0, av_dict_set) X(0, av_frame_alloc) X(0, av_frame_free) X(0, av_frame_get_buffer)     \
+  X(0, av_frame_make_writable) X(0, av_free) X(0, av_freep) X(0, av_malloc) X(0, av_strerror)                 \
+  X(1, av_packet_alloc) X(1, av_packet_free) X(1, av_packet_rescale_ts) X(1, avcodec_alloc_context3)          \
+  X(1, avcodec_find_encoder_by_name) X(1, avcodec_free_context) X(1, avcodec_open2)                           \
+  X(1, avcodec_parameters_from_context) X(1, avcodec_receive_packet) X(1, avcodec_send_frame)                 \
+  X(2, av_interleaved_write_frame) X(2, av_write_trailer) X(2, avformat_alloc_output_context2)                \
+  X(2, avformat_free_context) X(2, avformat_new_stream) X(2, avformat_write_header) X(2, avio_alloc_context)  \
+  X(2, avio_context_free) X(2, avio_flush)                                                                    \
+  X(3, sws_freeContext) X(3, sws_getCoefficients) X(3, sws_getContext) X(3, sws_scale)                        \
+  X(3, sws_setColorspaceDetails)
+// clang-format on
+
+struct LibAv {
+#define DW_LIBAV_MEMBER(library, name) decltype(&::name) name = nullptr;
+  DW_LIBAV_FUNCTIONS(DW_LIBAV_MEMBER)
+#undef DW_LIBAV_MEMBER
+
+  // The functions, or why they could not be loaded.
+  static std::variant<std::unique_ptr<const LibAv>, std::string> open() {
+    auto av = std::make_unique<LibAv>();
+    const std::string libraries[] = {"libavutil.so." + std::to_string(LIBAVUTIL_VERSION_MAJOR),
+                                     "libavcodec.so." + std::to_string(LIBAVCODEC_VERSION_MAJOR),
+                                     "libavformat.so." + std::to_string(LIBAVFORMAT_VERSION_MAJOR),
+                                     "libswscale.so." + std::to_string(LIBSWSCALE_VERSION_MAJOR)};
+    for (size_t i = 0; i < av->handles_.size(); ++i) {
+      av->handles_[i] = ::dlopen(libraries[i].c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+      if (!av->handles_[i]) return "videos need " + libraries[i] + ", which could not be loaded: " + ::dlerror();
+    }
+    std::string missing;
+    const auto find = [&](auto& function, size_t library, const char* name) {
+      function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(::dlsym(av->handles_[library], name));
+      if (!function && missing.empty()) missing = libraries[library] + " lacks " + name;
+    };
+#define DW_LIBAV_FIND(library, name) find(av->name, library, #name);
+    DW_LIBAV_FUNCTIONS(DW_LIBAV_FIND)
+#undef DW_LIBAV_FIND
+    if (!missing.empty()) return "videos need " + missing;
+    return std::unique_ptr<const LibAv>(std::move(av));
+  }
+  ~LibAv() {
+    for (void* handle : handles_)
+      if (handle) ::dlclose(handle);
+  }
+
+ private:
+  std::array<void*, 4> handles_{};  // avutil, avcodec, avformat, swscale
+};
+
+#undef DW_LIBAV_FUNCTIONS
+
+std::string av_error(const LibAv& av, int code) {
   char text[AV_ERROR_MAX_STRING_SIZE] = {};
-  av_strerror(code, text, sizeof text);
+  av.av_strerror(code, text, sizeof text);
   return text;
 }
 
+// Deleters of libav's objects, through the loaded functions.
 struct CodecContextFree {
-  void operator()(AVCodecContext* c) const { avcodec_free_context(&c); }
+  const LibAv* av;
+  void operator()(AVCodecContext* c) const { av->avcodec_free_context(&c); }
 };
 struct FormatContextFree {
-  void operator()(AVFormatContext* c) const { avformat_free_context(c); }
+  const LibAv* av;
+  void operator()(AVFormatContext* c) const { av->avformat_free_context(c); }
 };
 struct IoContextFree {
+  const LibAv* av;
   void operator()(AVIOContext* io) const {
-    av_freep(&io->buffer);  // ours (avio_alloc_context's), possibly reallocated by libavformat
-    avio_context_free(&io);
+    av->av_freep(&io->buffer);  // ours (avio_alloc_context's), possibly reallocated by libavformat
+    av->avio_context_free(&io);
   }
 };
 struct FrameFree {
-  void operator()(AVFrame* f) const { av_frame_free(&f); }
+  const LibAv* av;
+  void operator()(AVFrame* f) const { av->av_frame_free(&f); }
 };
 struct PacketFree {
-  void operator()(AVPacket* p) const { av_packet_free(&p); }
+  const LibAv* av;
+  void operator()(AVPacket* p) const { av->av_packet_free(&p); }
 };
 struct ScalerFree {
-  void operator()(SwsContext* s) const { sws_freeContext(s); }
+  const LibAv* av;
+  void operator()(SwsContext* s) const { av->sws_freeContext(s); }
 };
 struct DictionaryFree {
-  void operator()(AVDictionary* d) const { av_dict_free(&d); }
+  const LibAv* av;
+  void operator()(AVDictionary* d) const { av->av_dict_free(&d); }
 };
 struct FdClose {
   void operator()(const int* fd) const {
@@ -167,10 +236,21 @@ std::string settings_problem(const VideoSettings& s) {
 }  // namespace
 
 struct VideoWriter::Encoder {
+  explicit Encoder(std::unique_ptr<const LibAv> functions)
+      : libav(std::move(functions)),
+        io(nullptr, {libav.get()}),
+        muxer(nullptr, {libav.get()}),
+        codec(nullptr, {libav.get()}),
+        frame(nullptr, {libav.get()}),
+        packet(nullptr, {libav.get()}),
+        scaler(nullptr, {libav.get()}) {}
+
+  // Freed in reverse: libav's functions after everything they free, the muxer before the I/O
+  // context it writes through.
+  std::unique_ptr<const LibAv> libav;
   const Format* format = nullptr;
   std::unique_ptr<sim::OutputFile> out;
   std::optional<ScratchFile> scratch;
-  // Freed in reverse: the muxer before the I/O context it writes through.
   std::unique_ptr<AVIOContext, IoContextFree> io;
   std::unique_ptr<AVFormatContext, FormatContextFree> muxer;
   AVStream* stream = nullptr;  // the muxer's
@@ -181,24 +261,26 @@ struct VideoWriter::Encoder {
 
   // What a failed write of the file says: the operating system's reason when there is one.
   std::string write_error(int code) const {
+    const LibAv& av = *libav;
     const int os = scratch ? scratch->error() : 0;
-    return "writing " + out->path() + " failed: " + (os != 0 ? std::strerror(os) : av_error(code));
+    return "writing " + out->path() + " failed: " + (os != 0 ? std::strerror(os) : av_error(av, code));
   }
 
   // Hands `picture` (nullptr: the end) to the encoder and muxes every packet it has ready.
   std::string encode(const AVFrame* picture) {
-    int result = avcodec_send_frame(codec.get(), picture);
-    if (result < 0) return std::string(format->codec) + " encoder: " + av_error(result);
+    const LibAv& av = *libav;
+    int result = av.avcodec_send_frame(codec.get(), picture);
+    if (result < 0) return std::string(format->codec) + " encoder: " + av_error(av, result);
     for (;;) {
-      result = avcodec_receive_packet(codec.get(), packet.get());
+      result = av.avcodec_receive_packet(codec.get(), packet.get());
       if (result == AVERROR(EAGAIN) || result == AVERROR_EOF) return {};
-      if (result < 0) return std::string(format->codec) + " encoder: " + av_error(result);
+      if (result < 0) return std::string(format->codec) + " encoder: " + av_error(av, result);
       // One frame long: x264 leaves the duration unset, and an MP4 whose last sample lasts no
       // time has it cut by players and decoders alike.
       if (packet->duration == 0) packet->duration = 1;
-      av_packet_rescale_ts(packet.get(), codec->time_base, stream->time_base);
+      av.av_packet_rescale_ts(packet.get(), codec->time_base, stream->time_base);
       packet->stream_index = stream->index;
-      result = av_interleaved_write_frame(muxer.get(), packet.get());  // takes the packet's data
+      result = av.av_interleaved_write_frame(muxer.get(), packet.get());  // takes the packet's data
       if (result < 0) return write_error(result);
     }
   }
@@ -214,11 +296,15 @@ const char* VideoWriter::codec() const { return encoder_->format->codec; }
 std::variant<std::unique_ptr<VideoWriter>, std::string> VideoWriter::open(const std::string& path,
                                                                           const VideoSettings& settings) {
   std::string error;
-  auto e = std::make_unique<Encoder>();
-  e->format = format_of(path, error);
-  if (!e->format) return error;
+  const Format* format = format_of(path, error);
+  if (!format) return error;
   if (error = settings_problem(settings); !error.empty()) return error;
-  const AVCodec* codec = avcodec_find_encoder_by_name(e->format->encoder);
+  auto loaded = LibAv::open();
+  if (auto* why = std::get_if<std::string>(&loaded)) return *why;
+  auto e = std::make_unique<Encoder>(std::move(std::get<std::unique_ptr<const LibAv>>(loaded)));
+  const LibAv& av = *e->libav;
+  e->format = format;
+  const AVCodec* codec = av.avcodec_find_encoder_by_name(e->format->encoder);
   if (!codec)
     return std::string("this libavcodec has no ") + e->format->encoder + " encoder, which " + e->format->extension +
            " (" + e->format->codec + ") needs: install Debian's libavcodec with " + e->format->package + ", or use " +
@@ -231,11 +317,11 @@ std::variant<std::unique_ptr<VideoWriter>, std::string> VideoWriter::open(const 
   e->scratch.emplace(std::move(std::get<ScratchFile>(scratch)));
 
   AVFormatContext* muxer = nullptr;
-  if (int r = avformat_alloc_output_context2(&muxer, nullptr, e->format->muxer, nullptr); r < 0 || !muxer)
-    return std::string("libavformat has no ") + e->format->muxer + " muxer: " + av_error(r);
+  if (int r = av.avformat_alloc_output_context2(&muxer, nullptr, e->format->muxer, nullptr); r < 0 || !muxer)
+    return std::string("libavformat has no ") + e->format->muxer + " muxer: " + av_error(av, r);
   e->muxer.reset(muxer);
 
-  e->codec.reset(avcodec_alloc_context3(codec));
+  e->codec.reset(av.avcodec_alloc_context3(codec));
   if (!e->codec) return "out of memory for the encoder";
   AVCodecContext& c = *e->codec;
   c.width = settings.width;
@@ -259,53 +345,54 @@ std::variant<std::unique_ptr<VideoWriter>, std::string> VideoWriter::open(const 
   if (e->format == &kFormats[0]) {
     // Rendered pictures are flat colours and thin lines: constant quality 20 keeps the text and the
     // highlight's outline sharp; veryfast keeps 720p well ahead of the renderer on two cores.
-    av_dict_set(&options, "preset", "veryfast", 0);
-    av_dict_set(&options, "crf", "20", 0);
+    av.av_dict_set(&options, "preset", "veryfast", 0);
+    av.av_dict_set(&options, "crf", "20", 0);
   } else {
     // libvpx's constant-quality mode (a crf with no bit-rate cap) at its real-time speed;
     // row-mt lets both cores work on one frame.
     c.bit_rate = 0;
-    av_dict_set(&options, "crf", "30", 0);
-    av_dict_set(&options, "deadline", "realtime", 0);
-    av_dict_set(&options, "cpu-used", "8", 0);
-    av_dict_set(&options, "row-mt", "1", 0);
+    av.av_dict_set(&options, "crf", "30", 0);
+    av.av_dict_set(&options, "deadline", "realtime", 0);
+    av.av_dict_set(&options, "cpu-used", "8", 0);
+    av.av_dict_set(&options, "row-mt", "1", 0);
   }
-  std::unique_ptr<AVDictionary, DictionaryFree> left_over;
-  const int opened = avcodec_open2(&c, codec, &options);
+  std::unique_ptr<AVDictionary, DictionaryFree> left_over(nullptr, {&av});
+  const int opened = av.avcodec_open2(&c, codec, &options);
   left_over.reset(options);
-  if (opened < 0) return std::string("cannot open the ") + e->format->encoder + " encoder: " + av_error(opened);
+  if (opened < 0) return std::string("cannot open the ") + e->format->encoder + " encoder: " + av_error(av, opened);
 
-  e->stream = avformat_new_stream(e->muxer.get(), nullptr);
+  e->stream = av.avformat_new_stream(e->muxer.get(), nullptr);
   if (!e->stream) return "out of memory for the video stream";
   e->stream->time_base = c.time_base;
-  if (int r = avcodec_parameters_from_context(e->stream->codecpar, &c); r < 0)
-    return "cannot describe the video stream: " + av_error(r);
+  if (int r = av.avcodec_parameters_from_context(e->stream->codecpar, &c); r < 0)
+    return "cannot describe the video stream: " + av_error(av, r);
 
   constexpr int kIoBuffer = 1 << 16;
-  auto* buffer = static_cast<unsigned char*>(av_malloc(kIoBuffer));
+  auto* buffer = static_cast<unsigned char*>(av.av_malloc(kIoBuffer));
   if (!buffer) return "out of memory for the video's buffer";
-  e->io.reset(avio_alloc_context(buffer, kIoBuffer, 1, &*e->scratch, nullptr, write_scratch, ScratchFile::seek));
+  e->io.reset(av.avio_alloc_context(buffer, kIoBuffer, 1, &*e->scratch, nullptr, write_scratch, ScratchFile::seek));
   if (!e->io) {
-    av_free(buffer);
+    av.av_free(buffer);
     return "out of memory for the video's buffer";
   }
   e->muxer->pb = e->io.get();
   e->muxer->flags |= AVFMT_FLAG_CUSTOM_IO;
-  if (int r = avformat_write_header(e->muxer.get(), nullptr); r < 0) return e->write_error(r);
+  if (int r = av.avformat_write_header(e->muxer.get(), nullptr); r < 0) return e->write_error(r);
 
-  e->frame.reset(av_frame_alloc());
-  e->packet.reset(av_packet_alloc());
+  e->frame.reset(av.av_frame_alloc());
+  e->packet.reset(av.av_packet_alloc());
   if (!e->frame || !e->packet) return "out of memory for a video frame";
   e->frame->format = c.pix_fmt;
   e->frame->width = c.width;
   e->frame->height = c.height;
-  if (int r = av_frame_get_buffer(e->frame.get(), 0); r < 0) return "no memory for a video frame: " + av_error(r);
+  if (int r = av.av_frame_get_buffer(e->frame.get(), 0); r < 0)
+    return "no memory for a video frame: " + av_error(av, r);
 
-  e->scaler.reset(sws_getContext(c.width, c.height, AV_PIX_FMT_RGBA, c.width, c.height, AV_PIX_FMT_YUV420P,
-                                 SWS_BILINEAR, nullptr, nullptr, nullptr));
+  e->scaler.reset(av.sws_getContext(c.width, c.height, AV_PIX_FMT_RGBA, c.width, c.height, AV_PIX_FMT_YUV420P,
+                                    SWS_BILINEAR, nullptr, nullptr, nullptr));
   if (!e->scaler) return "cannot convert RGBA to yuv420p (libswscale)";
-  const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
-  sws_setColorspaceDetails(e->scaler.get(), bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
+  const int* bt709 = av.sws_getCoefficients(SWS_CS_ITU709);
+  av.sws_setColorspaceDetails(e->scaler.get(), bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
 
   return std::unique_ptr<VideoWriter>(new VideoWriter(path, std::move(e)));
 }
@@ -319,6 +406,7 @@ std::string VideoWriter::add_frame(const Image& frame) {
   if (!error_.empty()) return error_;
   if (finished_) return "the video " + path_ + " is finished: it takes no more frames";
   Encoder& e = *encoder_;
+  const LibAv& av = *e.libav;
   if (frame.width != e.codec->width || frame.height != e.codec->height ||
       frame.rgba.size() != size_t(frame.width) * size_t(frame.height) * 4)
     return fail("frame " + std::to_string(frames_) + " is " + std::to_string(frame.width) + "x" +
@@ -326,10 +414,11 @@ std::string VideoWriter::add_frame(const Image& frame) {
                 std::to_string(e.codec->height));
   // The encoder may still hold the last picture (its look-ahead): make_writable gives this one a
   // buffer of its own when it does.
-  if (int r = av_frame_make_writable(e.frame.get()); r < 0) return fail("no memory for a video frame: " + av_error(r));
+  if (int r = av.av_frame_make_writable(e.frame.get()); r < 0)
+    return fail("no memory for a video frame: " + av_error(av, r));
   const uint8_t* rows[1] = {frame.rgba.data()};
   const int stride[1] = {frame.width * 4};
-  sws_scale(e.scaler.get(), rows, stride, 0, frame.height, e.frame->data, e.frame->linesize);
+  av.sws_scale(e.scaler.get(), rows, stride, 0, frame.height, e.frame->data, e.frame->linesize);
   e.frame->pts = frames_;
   if (std::string error = e.encode(e.frame.get()); !error.empty()) return fail(std::move(error));
   ++frames_;
@@ -342,9 +431,10 @@ std::string VideoWriter::finish() {
   // Neither container holds a video without frames (a player reads it as a broken file).
   if (frames_ == 0) return fail("the video " + path_ + " has no frames: nothing written");
   Encoder& e = *encoder_;
+  const LibAv& av = *e.libav;
   if (std::string error = e.encode(nullptr); !error.empty()) return fail(std::move(error));
-  if (int r = av_write_trailer(e.muxer.get()); r < 0) return fail(e.write_error(r));
-  avio_flush(e.io.get());
+  if (int r = av.av_write_trailer(e.muxer.get()); r < 0) return fail(e.write_error(r));
+  av.avio_flush(e.io.get());
   if (e.io->error < 0 || e.scratch->error() != 0) return fail(e.write_error(e.io->error));
 
   // The scratch file into the output, from its start.

@@ -9,7 +9,8 @@
 // Both store colour at half resolution (yuv420p), so width and height must be even. The file is
 // written as any other output (sim/output_file.h): nothing appears at its path until finish()
 // succeeds, and a writer dropped before that, or a process killed meanwhile, leaves the old file
-// as it was and no temporary behind. libav* stays inside video_writer.cpp.
+// as it was and no temporary behind. libav* stays inside video_writer.cpp, opened there when the
+// first video is written.
 #pragma once
 
 #include <cstdint>

@@ -350,19 +350,33 @@ TEST_F(Cli, RenderWritesTheViewAndNamesTheHighlightedGroup) {
   EXPECT_NE(r.out.find("token_from_nowhere t=41: a=7 x=8 b=9"), std::string::npos) << r.out;
 }
 
-// OSMesa (and LLVM with it, some 45 MiB) is opened only by what draws headless: a run that
-// writes no picture never loads it. What the dynamic loader reports (LD_DEBUG) tells.
-TEST_F(Cli, OnlyWhatDrawsHeadlessLoadsOsMesa) {
-  const auto loads = [&](const std::string& args) {
+// OSMesa (LLVM with it, some 45 MiB) is opened only by what draws headless, and libav* (some 22
+// MiB more) only by what writes a video: a run that writes neither loads neither. What the
+// dynamic loader reports (LD_DEBUG) tells.
+TEST_F(Cli, OnlyWhatDrawsLoadsOsMesaAndOnlyVideosLoadLibav) {
+  struct Loaded {
+    bool osmesa = false, libav = false;
+  };
+  const auto loaded = [&](const std::string& args) {
     const Result r = run_with_env("LD_DEBUG=files", args);
     EXPECT_EQ(r.code, 0) << args << "\n" << r.out;
-    return r.err.find("libOSMesa") != std::string::npos;
+    return Loaded{r.err.find("libOSMesa") != std::string::npos, r.err.find("libavcodec") != std::string::npos};
   };
   const std::string scenario = (kScenarios / "token_ring.toml").string();
-  EXPECT_FALSE(loads("run " + scenario + " --steps 5 --no-progress"));
-  EXPECT_FALSE(loads("check 'modules(a); (a.x = 1)'"));
-  EXPECT_TRUE(loads("render " + scenario + " --step 3 --width 64 --height 48 --out " + (dir_ / "r.png").string()));
+  const Loaded run = loaded("run " + scenario + " --steps 5 --no-progress");
+  EXPECT_FALSE(run.osmesa);
+  EXPECT_FALSE(run.libav);
+  EXPECT_FALSE(loaded("check 'modules(a); (a.x = 1)'").osmesa);
+  const Loaded picture =
+      loaded("render " + scenario + " --step 3 --width 64 --height 48 --out " + (dir_ / "r.png").string());
+  EXPECT_TRUE(picture.osmesa);
+  EXPECT_FALSE(picture.libav);
   EXPECT_EQ(png_size(dir_ / "r.png"), std::make_pair(64u, 48u));
+  const Loaded video =
+      loaded("render " + scenario + " --from 0 --to 3 --width 64 --height 48 --video " + (dir_ / "r.webm").string());
+  EXPECT_TRUE(video.osmesa);
+  EXPECT_TRUE(video.libav);
+  EXPECT_GT(fs::file_size(dir_ / "r.webm"), 0u);
 }
 
 TEST_F(Cli, RenderHighlightsTheFirstAllOrNoneOfTheGroupsAtTheStep) {
