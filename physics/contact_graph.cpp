@@ -253,16 +253,20 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
     return is ? !(now(a).local == s.frame[a].local && now(b).local == s.frame[b].local) : moved[a] || moved[b];
   };
   // The stale pairs leave s.pairs (in place: a million pairs are not copied for a few hundred).
+  // Only a pair with a flagged member can be stale, and a module's pairs are its neighbours in the
+  // graph last read (made from s.pairs): the flagged modules' lists are all that is read.
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> dropped;
   if (forget) {
     s.pairs.clear();
   } else {
-    auto kept = s.pairs.begin();
-    for (const auto& pair : s.pairs) {
-      if (!stale(pair.first, pair.second)) *kept++ = pair;
-      else dropped.push_back(pair);
-    }
-    s.pairs.erase(kept, s.pairs.end());
+    for (sim::ModuleId m : flagged_list)
+      for (sim::ModuleId o : s.graph->neighbors(m)) {
+        if (flagged[o] && o < m) continue;  // read from o's side
+        const auto pair = std::minmax(m, o);
+        if (stale(pair.first, pair.second)) dropped.emplace_back(pair);
+      }
+    std::sort(dropped.begin(), dropped.end());
+    erase_from<std::pair<sim::ModuleId, sim::ModuleId>>(s.pairs, dropped);
   }
   // Who looks for pairs: what moved or was reframed, except the members of a cluster that moved
   // as a whole with nothing else near it (a pile free on the ground): their pairs with each other
