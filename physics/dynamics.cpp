@@ -302,6 +302,16 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
         if (island_box[i].overlaps(bodies[j].reach)) islands[i].push_back(j);
   for (std::vector<uint32_t>& island : islands) std::sort(island.begin(), island.end());
   islands_ = count;
+  // Each island's pushes, in their order: those on its clusters that move (a cluster held by the
+  // ground, or a module gliding, takes none).
+  std::vector<uint32_t> island_of_body(bodies.size(), UINT32_MAX);
+  for (size_t k = 0; k < moving.size(); ++k) island_of_body[moving[k]] = island_of[k];
+  std::vector<std::vector<const Push*>> island_pushes(count);
+  for (const Push& p : pushes) {
+    const uint32_t c = b.cluster_of[p.module];
+    if (c != sim::kNoCluster && !b.clusters[c].anchored && island_of_body[c] != UINT32_MAX)
+      island_pushes[island_of_body[c]].push_back(&p);
+  }
 
   // Each worker steps a run of islands in worlds of its own (its own collision configuration:
   // Bullet's pools are not shared); each island writes only its own clusters and props, and its
@@ -361,13 +371,11 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
         mine.emplace_back(body.tag, r);
       }
     }
-    for (const Push& p : pushes) {
-      const uint32_t c = b.cluster_of[p.module];
-      if (c == sim::kNoCluster || b.clusters[c].anchored) continue;  // held by the ground, or gliding
-      const auto at = std::find_if(mine.begin(), mine.end(), [&](const auto& x) { return x.first == int(c); });
-      if (at == mine.end()) continue;  // another island's
-      btRigidBody* body = at->second;
-      body->applyImpulse(to_bt(p.impulse), to_bt(b.poses[p.module].position) - body->getWorldTransform().getOrigin());
+    for (const Push* p : island_pushes[island]) {  // `mine` is in tag order, a cluster's tag its index
+      const int c = int(b.cluster_of[p->module]);
+      btRigidBody* body =
+          std::lower_bound(mine.begin(), mine.end(), c, [](const auto& x, int tag) { return x.first < tag; })->second;
+      body->applyImpulse(to_bt(p->impulse), to_bt(b.poses[p->module].position) - body->getWorldTransform().getOrigin());
     }
 
     world.stepSimulation(dt, 0, dt);
