@@ -25,7 +25,7 @@ constexpr char kStopped = 0;
 // the script's line (not the guard's) and the function (Lua finds its name in the original
 // tables, which the script never sees).
 constexpr const char* kGuards = R"lua(
-local G, S, T, U, charge, charge_text, check_pattern = ...
+local G, S, T, U, charge, charge_text, check_pattern, buffered, plain_concat, plain_format, replaying = ...
 local type, error, rawget, tonumber, tointeger, ipairs, select, pcall = type, error, rawget, tonumber, math.tointeger, ipairs, select, pcall
 local find = S.find
 local guards = {}
@@ -50,21 +50,25 @@ local function length(t)  -- #t for a table (its __len included), else 0
   return integer(#t) or 0
 end
 local function text(f) return function(...) charge_text(...) return finish(pcall(f, ...)) end end
-for _, name in ipairs { "byte", "char", "format", "lower", "upper", "reverse", "sub", "pack", "packsize", "unpack", "dump" } do
-  guard(S, name, text)
-end
-for _, name in ipairs { "char", "codepoint", "len", "offset", "codes" } do guard(U, name, text) end
+-- What builds its result in lauxlib's buffer goes through `buffered` (lua_sandbox.cpp), `false`
+-- or the function that makes its arguments plain first.
+local function built(f) return function(...) charge_text(...) return finish(buffered(f, false, ...)) end end
+for _, name in ipairs { "byte", "sub", "packsize", "unpack" } do guard(S, name, text) end
+for _, name in ipairs { "char", "lower", "upper", "reverse", "pack", "dump" } do guard(S, name, built) end
+guard(S, "format", function(f) return function(...) charge_text(...) return finish(buffered(f, plain_format, ...)) end end)
+for _, name in ipairs { "codepoint", "len", "offset", "codes" } do guard(U, name, text) end
+guard(U, "char", built)
 guard(G, "tonumber", text)
 guard(S, "find", function(f) return function(s, p, init, plain) check_pattern("find", s, p, plain) return finish(pcall(f, s, p, init, plain)) end end)
 guard(S, "match", function(f) return function(s, p, init) check_pattern("match", s, p) return finish(pcall(f, s, p, init)) end end)
 guard(S, "gmatch", function(f) return function(s, p, init) check_pattern("gmatch", s, p) return finish(pcall(f, s, p, init)) end end)
-guard(S, "gsub", function(f) return function(s, p, r, n) check_pattern("gsub", s, p) return finish(pcall(f, s, p, r, n)) end end)
+guard(S, "gsub", function(f) return function(s, p, r, n) check_pattern("gsub", s, p) return finish(buffered(f, replaying, s, p, r, n)) end end)
 guard(S, "rep", function(f) return function(s, n, sep)
   local times = tonumber(n)
   if times and times > 0 then
     charge(((type(s) == "string" and #s or 24) + (type(sep) == "string" and #sep or 0)) * times / 16)
   end
-  return finish(pcall(f, s, n, sep))
+  return finish(buffered(f, false, s, n, sep))
 end end)
 local function range(i, j)  -- the elements from i to j, as a float (no wrap-around)
   i, j = integer(i), integer(j)
@@ -73,7 +77,7 @@ local function range(i, j)  -- the elements from i to j, as a float (no wrap-aro
 end
 guard(T, "concat", function(f) return function(t, sep, i, j)
   charge(range(i or 1, j or length(t)))
-  return finish(pcall(f, t, sep, i, j))
+  return finish(buffered(f, plain_concat, t, sep, i, j))
 end end)
 guard(T, "insert", function(f) return function(t, ...) charge(length(t)) return finish(pcall(f, t, ...)) end end)
 guard(T, "remove", function(f) return function(t, ...) charge(length(t)) return finish(pcall(f, t, ...)) end end)
@@ -152,6 +156,7 @@ guards[#guards + 1] = integer
 guards[#guards + 1] = length
 guards[#guards + 1] = range
 guards[#guards + 1] = text
+guards[#guards + 1] = built
 return guards
 )lua";
 
@@ -401,8 +406,10 @@ void LuaSandbox::open_libraries() {
   for (const char* name : {LUA_STRLIBNAME, LUA_TABLIBNAME, LUA_UTF8LIBNAME}) lua_getglobal(L_, name);
   lua_pushcfunction(L_, &LuaSandbox::charge);
   lua_pushcfunction(L_, &LuaSandbox::charge_text);
-  lua_pushcfunction(L_, &LuaSandbox::check_pattern);
-  if (lua_pcall(L_, 7, 1, 0) != LUA_OK) std::abort();  // the guards are dwatch's own code
+  for (lua_CFunction f : {&LuaSandbox::check_pattern, &LuaSandbox::buffered, &LuaSandbox::plain_concat,
+                          &LuaSandbox::plain_format, &LuaSandbox::replaying})
+    lua_pushcfunction(L_, f);
+  if (lua_pcall(L_, 11, 1, 0) != LUA_OK) std::abort();  // the guards are dwatch's own code
   guards_ = luaL_ref(L_, LUA_REGISTRYINDEX);
 }
 

@@ -14,7 +14,8 @@
 // the call returns to dwatch.
 //   - the instruction budget, counted only when a call is run counted (see LuaWatchdog);
 //   - the memory cap of the state, reached when an allocation does not fit even after a full
-//     collection;
+//     collection (a library function building its result in lauxlib's buffer, which asks the
+//     allocator without collecting first, is tried again after one);
 //   - the deadline: a counted call still running after it is stopped, for work the count cannot
 //     see (comparing two long strings is one instruction).
 #pragma once
@@ -76,6 +77,11 @@ class LuaSandbox {
   static int charge(lua_State* L);
   static int charge_text(lua_State* L);
   static int check_pattern(lua_State* L);
+  static int buffered(lua_State* L);
+  static int plain_concat(lua_State* L);
+  static int plain_format(lua_State* L);
+  static int replaying(lua_State* L);
+  static int replacement(lua_State* L);
   void open_libraries();
   void push_stop_message(Stop why);
 
