@@ -102,11 +102,26 @@ void Session::step_head(const StepObserver& observer) {
 // that has the shape already allocates nothing.
 void Session::take_keyframe() {
   if (!has_history()) return;
-  if (head_.step % interval_ != 0 || head_.step / interval_ != static_cast<int64_t>(keyframes_.size())) return;
+  const auto due = [&] {
+    return head_.step % interval_ == 0 && head_.step / interval_ == static_cast<int64_t>(keyframes_.size());
+  };
+  if (!due()) return;
+  // A keyframe that would not fit is not copied only to be dropped: the keyframes thin first (K
+  // doubles), after which this step may be no keyframe's. (At a million modules a copy is
+  // hundreds of MB, and a budget smaller than one keyframe keeps keyframe 0 alone.) The live
+  // state's own estimate counts the room its buffers grew to; a copy is the size of the others.
+  if (!keyframes_.empty()) {
+    const size_t bytes = history_bytes_ / keyframes_.size();
+    while (any_rank(options_.ranks, history_bytes_ + bytes > options_.history_bytes)) {
+      thin_keyframes();
+      if (!due()) return;
+    }
+  }
   const auto started = std::chrono::steady_clock::now();
   if (spare_.empty()) {
     keyframes_.push_back(head_);
   } else {
+    spare_bytes_ -= state_bytes(spare_.back());
     keyframes_.push_back(std::move(spare_.back()));
     spare_.pop_back();
     keyframes_.back() = head_;
@@ -135,15 +150,21 @@ void Session::take_keyframe() {
     thin_keyframes();
 }
 
+// Every other keyframe goes (keyframe 0 stays) and K doubles. A dropped one is kept as storage for
+// the next only while the keyframes and the spares together stay within the budget.
 void Session::thin_keyframes() {
-  std::vector<State> kept;
-  for (size_t i = 0; i < keyframes_.size(); ++i) {
-    if (i % 2 == 0) kept.push_back(std::move(keyframes_[i]));
-    else if (spare_.size() < kSpareKeyframes) spare_.push_back(std::move(keyframes_[i]));
-  }
+  std::vector<State> kept, dropped;
+  for (size_t i = 0; i < keyframes_.size(); ++i) (i % 2 == 0 ? kept : dropped).push_back(std::move(keyframes_[i]));
   keyframes_ = std::move(kept);
   interval_ *= 2;
   recount_history();
+  for (State& d : dropped) {
+    const size_t bytes = state_bytes(d);
+    if (spare_.size() >= kSpareKeyframes || history_bytes_ + spare_bytes_ + bytes > options_.history_bytes) break;
+    d.graph.reset();  // nor does it keep a graph of the past alive
+    spare_.push_back(std::move(d));
+    spare_bytes_ += bytes;
+  }
 }
 
 void Session::recount_history() {

@@ -194,11 +194,12 @@ class Session {
   // message, or empty; false-y when cancelled is reported as "cancelled".
   std::string record(std::ostream& out, const Control& control = {});
 
-  // The history's shape: keyframe interval K, keyframes held, and their estimated bytes.
+  // The history's shape: keyframe interval K, keyframes held, and the estimated bytes they and
+  // the dropped ones kept as storage for the next hold.
   bool has_history() const { return options_.history_bytes > 0; }
   int64_t keyframe_interval() const { return interval_; }
   size_t keyframes() const { return keyframes_.size(); }
-  size_t history_bytes() const { return history_bytes_; }
+  size_t history_bytes() const { return history_bytes_ + spare_bytes_; }
 
  private:
   void step(State& state, StepOutput& out, std::span<const uint8_t> watching = {});
@@ -245,7 +246,8 @@ class Session {
 
   std::vector<State> keyframes_;  // keyframes_[i]: the state before step i * interval_
   static constexpr size_t kSpareKeyframes = 4;
-  std::vector<State> spare_;                          // dropped keyframes, their storage for the next
+  std::vector<State> spare_;  // dropped keyframes, their storage for the next (within the budget)
+  size_t spare_bytes_ = 0;
   static constexpr double kKeyframeTimeShare = 0.08;  // of the live run's time, at most, for keyframes
   static constexpr double kSeekStepSeconds = 0.025;   // stepping from a keyframe takes at most about this
   double step_seconds_ = 0;                           // a live step's time, smoothed

@@ -91,6 +91,24 @@ TEST(Session, KeyframesThinToTheBudgetAndEveryStepIsStillReached) {
   }
 }
 
+// A budget smaller than one keyframe: keyframe 0 alone, no copy kept of any other (nor as storage
+// for the next), and every step still reached from it.
+TEST(Session, ABudgetBelowOneKeyframeHoldsKeyframeZeroAlone) {
+  const auto model = gossip_model({LatticeKind::Hex2d, {7, 6, 1}}, kWatches);
+  const Trail straight = straight_run(*model, 1, 100);
+  StaticLatticeWorld world;
+  const size_t keyframe_zero = Session(*model, world, {.threads = 1, .history_bytes = 1}).history_bytes();
+  Session run(*model, world, {.threads = 1, .history_bytes = 1});
+  run.run_until(100);
+  EXPECT_EQ(run.keyframes(), 1u);
+  EXPECT_EQ(run.history_bytes(), keyframe_zero);
+  EXPECT_GE(run.keyframe_interval(), 100);
+  for (int64_t t : {99, 57, 3}) {
+    ASSERT_TRUE(run.seek(t));
+    ASSERT_EQ(run.hash().whole(), straight.hashes[size_t(t)]) << "step " << t;
+  }
+}
+
 TEST(Session, WithoutHistoryOnlyTheLatestStepIsThere) {
   const auto model = gossip_model({LatticeKind::Ring, {10, 1, 1}}, {});
   StaticLatticeWorld world;
