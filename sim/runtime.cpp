@@ -652,36 +652,50 @@ std::vector<int64_t> Runtime::whole_values(const State& state) {
   return values;
 }
 
+// Passes the hash along the blocks in module order: the rank holding a run of blocks continues it
+// over that run (`run(h, first, end)`, modules of this rank's window), then gives it to all.
+uint64_t Runtime::pass_hash(uint64_t h, const std::function<uint64_t(uint64_t, uint32_t, uint32_t)>& run) {
+  const auto me = static_cast<uint32_t>(ranks_->rank());
+  for (uint32_t b = 0, e = 0; b < blocks_; b = e) {
+    for (e = b + 1; e < blocks_ && block_rank_[e] == block_rank_[b];) ++e;
+    const bool mine = block_rank_[b] == me;
+    if (mine) h = run(h, block_begin(b) - first_, block_begin(e) - first_);
+    const Gathered told = ranks_->all_gather(mine ? std::as_bytes(std::span(&h, 1)) : std::span<const std::byte>{});
+    h = records_of<uint64_t>(told[block_rank_[b]])[0];
+  }
+  return h;
+}
+
 StateHash Runtime::hash(const State& state) {
   if (!ranks_) return hash_state(state);
+  // The whole state as one process would hold it. The rest every rank holds; each rank's modules'
+  // variables and messages are hashed where they are, the hash passed from rank to rank in module
+  // order, never put together in one place (a million modules' inbox is hundreds of MB); the
+  // in-flight multisets are added up.
   std::vector<InFlightDigest> digests;
   for (const WatchState& w : state.watches) digests.push_back(in_flight_digest(w));
-  // The whole state as one process would hold it: each rank's modules' values and inboxes, put
-  // back in module order, and the in-flight multisets added up. The rest every rank holds.
-  // The variables are hashed where they were gathered, not copied into one more whole.
-  Gathered parts;
-  const std::vector<std::span<const int64_t>> rows = gather_values(state, parts);
-  State whole = simulation_part(state, {});
-  whole.inbox.messages.clear();
-  whole.inbox.begin.clear();  // this rank's receivers' groups: none of the whole's, and not hashed
-  for (const auto& part : ranks_->all_gather(std::as_bytes(std::span(state.inbox.messages))))
-    whole.inbox.messages.insert(whole.inbox.messages.end(), records_of<Message>(part).begin(),
-                                records_of<Message>(part).end());
-  // By receiver, as one inbox holds them (each receiver's messages come from one rank, in order).
-  std::stable_sort(whole.inbox.messages.begin(), whole.inbox.messages.end(), [](const Message& a, const Message& b) {
-    return std::pair(a.to, a.program) < std::pair(b.to, b.program);
-  });
   std::vector<uint64_t> sums;
   for (const InFlightDigest& d : digests) sums.insert(sums.end(), {d.sum, d.count});
+  uint64_t messages = state.inbox.messages.size();
+  sums.push_back(messages);
   ranks_->sum(sums);
   for (size_t w = 0; w < digests.size(); ++w) digests[w] = {sums[2 * w], sums[2 * w + 1]};
-  for (size_t w = 0; w < state.watches.size(); ++w) {
-    whole.watches[w].matches = state.watches[w].matches;
-    whole.watches[w].actions_done = state.watches[w].actions_done;
-    whole.watches[w].actions_skipped = state.watches[w].actions_skipped;
-    whole.watches[w].stopped = state.watches[w].stopped;
-  }
-  return hash_state(whole, digests, rows);
+  messages = sums.back();
+  const size_t v = model_.variable_count(), programs = model_.program_count();
+  const auto values = [&](uint64_t h) {
+    return pass_hash(h, [&](uint64_t h, uint32_t first, uint32_t end) {
+      return continue_hash(h, std::span(state.values).subspan(first * v, (end - first) * v));
+    });
+  };
+  const auto inbox = [&](uint64_t h) {
+    return pass_hash(h, [&](uint64_t h, uint32_t first, uint32_t end) {
+      const std::vector<uint32_t>& begin = state.inbox.begin;  // empty before the first delivery
+      if (begin.empty()) return h;
+      const uint32_t from = begin[first * programs], to = begin[end * programs];
+      return continue_hash(h, std::span(state.inbox.messages).subspan(from, to - from));
+    });
+  };
+  return hash_state(state, digests, uint64_t{model_.module_count()} * v, values, messages, inbox);
 }
 
 void Runtime::intervene(State& state, std::span<const Intervention> interventions) {

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "sim/intervention.h"
@@ -145,6 +146,7 @@ class Runtime {
   void deliver_program_messages(State& state);
   void take_arrived_lanes(uint32_t watch, WatchState& ws);
   std::vector<std::span<const int64_t>> gather_values(const State& state, Gathered& parts);
+  uint64_t pass_hash(uint64_t h, const std::function<uint64_t(uint64_t, uint32_t, uint32_t)>& run);
   void add_up_over_ranks(watch::AgentStepOutcome& outcome);
   void agree_on_failure_and_gather_actuations();
   uint32_t rank_of(ModuleId m) const;

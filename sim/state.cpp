@@ -110,19 +110,33 @@ std::string hash_text(const StateHash& hash) {
 StateHash hash_state(const State& s) {
   std::vector<InFlightDigest> digests;
   for (const WatchState& w : s.watches) digests.push_back(in_flight_digest(w));
-  const std::span<const int64_t> values[] = {s.values};
-  return hash_state(s, digests, values);
+  return hash_state(
+      s, digests, s.values.size(), [&](uint64_t h) { return continue_hash(h, s.values); }, s.inbox.messages.size(),
+      [&](uint64_t h) { return continue_hash(h, s.inbox.messages); });
 }
 
-StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight,
-                     std::span<const std::span<const int64_t>> values) {
+uint64_t continue_hash(uint64_t h, std::span<const int64_t> values) {
+  Hasher hasher{h};
+  for (int64_t x : values) hasher.word(static_cast<uint64_t>(x));
+  return hasher.h;
+}
+
+uint64_t continue_hash(uint64_t h, std::span<const Message> messages) {
+  Hasher hasher{h};
+  for (const Message& m : messages) {
+    hasher.word((uint64_t{m.from} << 32) | m.to);
+    hasher.word((uint64_t{m.program} << 16) | m.size);
+    for (int64_t w : m.payload()) hasher.word(static_cast<uint64_t>(w));
+  }
+  return hasher.h;
+}
+
+StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight, uint64_t value_count,
+                     const PiecewiseHash& values, uint64_t message_count, const PiecewiseHash& messages) {
   Hasher h;
   h.word(static_cast<uint64_t>(s.step));
-  size_t count = 0;  // as h.words(values put together)
-  for (const auto& part : values) count += part.size();
-  h.word(count);
-  for (const auto& part : values)
-    for (int64_t x : part) h.word(static_cast<uint64_t>(x));
+  h.word(value_count);
+  h.h = values(h.h);
   h.words(s.present);
   if (s.graph) {
     h.words(s.graph->begin);
@@ -154,12 +168,8 @@ StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight,
   }
   h.records(b.prop_poses);
   h.records(b.prop_velocities);
-  h.word(s.inbox.messages.size());
-  for (const Message& m : s.inbox.messages) {
-    h.word((uint64_t{m.from} << 32) | m.to);
-    h.word((uint64_t{m.program} << 16) | m.size);
-    for (int64_t w : m.payload()) h.word(static_cast<uint64_t>(w));
-  }
+  h.word(message_count);
+  h.h = messages(h.h);
   h.word(s.program_messages);
   // Watchpoints' actions (docs/design.md §4b), when there are any: a run without them hashes as it did.
   if (!s.actions.empty()) h.word(s.actions.size());

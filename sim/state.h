@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -85,11 +86,19 @@ struct InFlightDigest {
   uint64_t sum = 0, count = 0;
 };
 InFlightDigest in_flight_digest(const WatchState& watch);
+// The hash of a sequence the ranks hold in pieces (the variables, the inbox's messages), taken in
+// module order without putting it together (docs/design.md §12): given the hash so far, returns
+// it after the whole sequence, the same on every rank.
+using PiecewiseHash = std::function<uint64_t(uint64_t h)>;
+// What hash_state does with a run of either sequence: the hash `h` continued over it.
+uint64_t continue_hash(uint64_t h, std::span<const int64_t> values);
+uint64_t continue_hash(uint64_t h, std::span<const Message> messages);
 // hash_state with each watchpoint's in-flight digest given rather than read from its lanes, and
-// the variables given as parts, one after another in module order, in place of state.values: a
-// whole put together from the ranks' parts without copying them into one (docs/design.md §12).
-StateHash hash_state(const State& state, std::span<const InFlightDigest> in_flight,
-                     std::span<const std::span<const int64_t>> values);
+// the variables (`value_count` of them, in module order) and the inbox's messages
+// (`message_count`, in the order one inbox holds them) hashed by `values` and `messages` in place
+// of the state's own: a whole hashed from the ranks' parts.
+StateHash hash_state(const State& state, std::span<const InFlightDigest> in_flight, uint64_t value_count,
+                     const PiecewiseHash& values, uint64_t message_count, const PiecewiseHash& messages);
 // A state hash as the outputs print it: 0x and 16 hex digits.
 std::string hash_text(uint64_t hash);
 // All three as the outputs print them: "0xWHOLE (simulation 0x..., watchpoints 0x...)".
