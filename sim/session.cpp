@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "sim/body_slices.h"
 #include "sim/trace.h"
 
 namespace dw::sim {
@@ -118,6 +119,9 @@ void Session::take_keyframe() {
     }
   }
   const auto started = std::chrono::steady_clock::now();
+  // Over ranks the bodies, alike on every rank, are kept a slice per rank (sim/body_slices.h).
+  Bodies live;
+  if (slices_bodies()) live = std::move(head_.bodies);
   if (spare_.empty()) {
     keyframes_.push_back(head_);
   } else {
@@ -125,6 +129,11 @@ void Session::take_keyframe() {
     keyframes_.push_back(std::move(spare_.back()));
     spare_.pop_back();
     keyframes_.back() = head_;
+  }
+  if (slices_bodies()) {
+    head_.bodies = std::move(live);
+    body_slices_.push_back(body_slice(head_.bodies, options_.ranks->rank(), options_.ranks->ranks()));
+    history_bytes_ += body_slices_.back().size();
   }
   const double copy_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   history_bytes_ += state_bytes(keyframes_.back());
@@ -152,10 +161,21 @@ void Session::take_keyframe() {
 
 // Every other keyframe goes (keyframe 0 stays) and K doubles. A dropped one is kept as storage for
 // the next only while the keyframes and the spares together stay within the budget.
+bool Session::slices_bodies() const { return options_.ranks && options_.ranks->ranks() > 1; }
+
+// A copy of keyframe `index` gets its bodies back from the ranks' slices (a collective call, made
+// alike on every rank: every rank restores the same keyframes).
+void Session::restore_bodies(State& copy, size_t index) const {
+  if (slices_bodies()) copy.bodies = bodies_from_slices(body_slices_[index], *options_.ranks);
+}
+
 void Session::thin_keyframes() {
   std::vector<State> kept, dropped;
   for (size_t i = 0; i < keyframes_.size(); ++i) (i % 2 == 0 ? kept : dropped).push_back(std::move(keyframes_[i]));
   keyframes_ = std::move(kept);
+  std::vector<std::vector<std::byte>> kept_slices;
+  for (size_t i = 0; i < body_slices_.size(); i += 2) kept_slices.push_back(std::move(body_slices_[i]));
+  body_slices_ = std::move(kept_slices);
   interval_ *= 2;
   recount_history();
   for (State& d : dropped) {
@@ -170,7 +190,7 @@ void Session::thin_keyframes() {
 void Session::recount_history() {
   history_bytes_ = 0;
   for (size_t i = 0; i < keyframes_.size(); ++i) {
-    history_bytes_ += state_bytes(keyframes_[i]);
+    history_bytes_ += state_bytes(keyframes_[i]) + (i < body_slices_.size() ? body_slices_[i].size() : 0);
     if (i == 0 || keyframes_[i].graph != keyframes_[i - 1].graph) history_bytes_ += graph_bytes(*keyframes_[i].graph);
   }
 }
@@ -354,6 +374,7 @@ bool Session::materialize(int64_t t, const Control& control) {
   const int64_t keyframe_step = static_cast<int64_t>(index) * interval_;
   if (!(at < t && at >= keyframe_step)) {
     view_ = keyframes_[index];
+    restore_bodies(view_, index);
     view_out_ = StepOutput{};
     view_valid_ = true;
     if (world_on_ == &view_) world_on_ = nullptr;
@@ -423,6 +444,7 @@ void Session::branch_here() {
   const size_t keep = static_cast<size_t>((current_ + 1) / interval_) + 1;
   if (keyframes_.size() > keep) {
     keyframes_.resize(keep);
+    body_slices_.resize(std::min(body_slices_.size(), keep));
     recount_history();
   }
   truncate_history(current_);
@@ -492,6 +514,7 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
   };
 
   State s = acting_part(keyframes_[0]);
+  restore_bodies(s, 0);
   s.watches.push_back(runtime_->initial_watch_state(w));
   std::vector<WatchState> at_keyframe{s.watches[w]};  // its state at keyframes_[i]
   size_t added = state_bytes(State{.watches = {at_keyframe[0]}});
@@ -589,6 +612,7 @@ void Session::resimulate() {
   head_ = runtime_->initial_state();
   world_on_ = &head_;
   keyframes_.clear();
+  body_slices_.clear();
   interval_ = 1;
   history_bytes_ = 0;
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {
@@ -630,6 +654,7 @@ std::optional<std::vector<int64_t>> Session::module_series(ModuleId m, int64_t f
   // The values depend on the watchpoints with actions alone: the others are not stepped.
   const size_t index = std::min(static_cast<size_t>(std::max<int64_t>(0, from) / interval_), keyframes_.size() - 1);
   State s = acting_part(keyframes_[index]);
+  restore_bodies(s, index);
   const std::vector<uint8_t> none(model_.watches.size() + 1, 0);
   StepOutput out;
   const size_t v = model_.variable_count();
@@ -648,6 +673,7 @@ std::optional<std::vector<int64_t>> Session::module_series(ModuleId m, int64_t f
 std::string Session::record(std::ostream& out, const Control& control) {
   if (!has_history()) return "the session keeps no history to record";
   State s = acting_part(keyframes_[0]);
+  restore_bodies(s, 0);
   const std::vector<uint8_t> none(model_.watches.size() + 1, 0);
   StepOutput step_out;
   TraceWriter writer(out, model_.universe, interventions_, trace_watches(model_.watches));

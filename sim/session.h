@@ -245,6 +245,10 @@ class Session {
   const State* world_on_ = nullptr;  // the state the world last stepped (it must be told of a change)
 
   std::vector<State> keyframes_;  // keyframes_[i]: the state before step i * interval_
+  // Over ranks, keyframes_[i].bodies is empty and body_slices_[i] holds this rank's share of it.
+  std::vector<std::vector<std::byte>> body_slices_;
+  bool slices_bodies() const;
+  void restore_bodies(State& copy, size_t index) const;
   static constexpr size_t kSpareKeyframes = 4;
   std::vector<State> spare_;  // dropped keyframes, their storage for the next (within the budget)
   size_t spare_bytes_ = 0;
