@@ -226,17 +226,11 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
   // Peak memory: this process's, and over ranks the largest rank's and all ranks' together.
   rusage usage{};
   ::getrusage(RUSAGE_SELF, &usage);
-  uint64_t peak_kib = static_cast<uint64_t>(usage.ru_maxrss), peak_kib_all = peak_kib;
-  if (ranks) {
-    ranks->sum({&peak_kib_all, 1});
-    for (const auto& part : ranks->all_gather(std::as_bytes(std::span(&peak_kib, 1))))
-      peak_kib = std::max(peak_kib, sim::records_of<uint64_t>(part)[0]);
-  }
+  uint64_t peak_kib_all = static_cast<uint64_t>(usage.ru_maxrss);
+  const uint64_t peak_kib = sim::max_over_ranks(ranks, peak_kib_all);
+  if (ranks) ranks->sum({&peak_kib_all, 1});
   // The physics part of the steps: over ranks, the slowest rank's.
-  double physics_seconds = run.world_seconds();
-  if (ranks)
-    for (const auto& part : ranks->all_gather(std::as_bytes(std::span(&physics_seconds, 1))))
-      physics_seconds = std::max(physics_seconds, sim::records_of<double>(part)[0]);
+  const double physics_seconds = sim::max_over_ranks(ranks, run.world_seconds());
   const double step_seconds = seconds - setup_seconds;
   summary << std::fixed << std::setprecision(3) << "  time: " << seconds << " s (set-up " << setup_seconds
           << " s, steps " << step_seconds << " s";

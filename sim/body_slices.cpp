@@ -34,7 +34,8 @@ std::vector<std::byte> body_slice(const Bodies& bodies, int rank, int ranks) {
   uint64_t at = 0;  // where the piece being laid down starts in the whole
   const auto lay = [&](const void* piece, uint64_t bytes) {
     const uint64_t from = std::max(at, first), to = std::min(at + bytes, last);
-    if (from < to) std::memcpy(slice.data() + (from - first), static_cast<const std::byte*>(piece) + (from - at), to - from);
+    if (from < to)
+      std::memcpy(slice.data() + (from - first), static_cast<const std::byte*>(piece) + (from - at), to - from);
     at += bytes;
   };
   each_vector(bodies, [&](const auto& v) {
@@ -60,7 +61,8 @@ Bodies bodies_from_slices(std::span<const std::byte> mine, RankExchange& ranks) 
   each_vector(bodies, [&](auto& v) {
     uint64_t size = 0;
     take(&size, sizeof size);
-    if (size > (whole.size() - at) / sizeof(v[0])) throw std::logic_error("the ranks' slices of the bodies do not add up");
+    if (size > (whole.size() - at) / sizeof(v[0]))
+      throw std::logic_error("the ranks' slices of the bodies do not add up");
     v.resize(size);
     take(v.data(), size * sizeof(v[0]));
   });

@@ -116,4 +116,14 @@ std::span<const T> records_of(std::span<const std::byte> bytes) {
   return {reinterpret_cast<const T*>(bytes.data()), bytes.size() / sizeof(T)};
 }
 
+// The largest of every rank's `value` (a collective call); in one process, `value`.
+template <class T>
+T max_over_ranks(RankExchange* ranks, T value) {
+  if (ranks == nullptr) return value;
+  T largest = value;
+  for (const auto& part : ranks->all_gather(std::as_bytes(std::span(&value, 1))))
+    largest = std::max(largest, records_of<T>(part)[0]);
+  return largest;
+}
+
 }  // namespace dw::sim
