@@ -159,8 +159,6 @@ void Session::take_keyframe() {
     thin_keyframes();
 }
 
-// Every other keyframe goes (keyframe 0 stays) and K doubles. A dropped one is kept as storage for
-// the next only while the keyframes and the spares together stay within the budget.
 bool Session::slices_bodies() const { return options_.ranks && options_.ranks->ranks() > 1; }
 
 // A copy of keyframe `index` gets its bodies back from the ranks' slices (a collective call, made
@@ -169,6 +167,8 @@ void Session::restore_bodies(State& copy, size_t index) const {
   if (slices_bodies()) copy.bodies = bodies_from_slices(body_slices_[index], *options_.ranks);
 }
 
+// Every other keyframe goes (keyframe 0 stays) and K doubles. A dropped one is kept as storage for
+// the next only while the keyframes and the spares together stay within the budget.
 void Session::thin_keyframes() {
   std::vector<State> kept, dropped;
   for (size_t i = 0; i < keyframes_.size(); ++i) (i % 2 == 0 ? kept : dropped).push_back(std::move(keyframes_[i]));
