@@ -74,8 +74,10 @@ struct Declared {
 // One Lua state: the script loaded into it, sandboxed and frozen; a stepping thread's scratch.
 class LuaState final : public sim::ProgramScratch {
  public:
-  LuaState(const std::string& display, const std::string& text, const LuaLimits& limits)
-      : sandbox_(display, limits), L_(sandbox_.state()), display_(display) {
+  // `watchdog`: one of the same thread to lend the state (see run_counted).
+  LuaState(const std::string& display, const std::string& text, const LuaLimits& limits,
+           LuaWatchdog* watchdog = nullptr)
+      : sandbox_(display, limits, watchdog), L_(sandbox_.state()), display_(display), text_(text) {
     if (!L_) {
       error_ = display + ": no memory for a Lua state";
       return;
@@ -131,6 +133,7 @@ class LuaState final : public sim::ProgramScratch {
 
   // Binds the module API and freezes the script (see kFreeze); false with error() set.
   bool prepare(const Declared& d) {
+    declared_ = &d;
     auto index_table = [&](Names which, const std::vector<std::string>& names) {
       lua_newtable(L_);  // name -> index
       for (size_t i = 0; i < names.size(); ++i) {
@@ -236,36 +239,34 @@ class LuaState final : public sim::ProgramScratch {
 
   // Runs init (when `initializing`) or step for one module. When the script fails, the module's
   // error says where: the script's file:line, the module and the step.
+  //
+  // A call runs first uncounted in this state. One that finishes is kept; one that runs past its
+  // patience or meets a limit is taken back and run again counted, in a state of its own made for
+  // that call (`run_counted`). A long-lived state keeps what earlier calls grew (Lua's stack, its
+  // call records and string table, uncollected garbage), and where a call meets the memory cap
+  // moves with them, so the counted run, which alone decides whether a call stops and why, starts
+  // from the same state every time: the same script on the same variables stops at the same place,
+  // whatever ran before, on any machine and thread count.
   void run(sim::ModuleContext& m, bool initializing, bool after_init = false) {
-    module_context_ = &m;
-    after_init_ = after_init;
-    const int function = initializing ? init_ : step_;
-    using Outcome = LuaSandbox::Outcome;
-    Outcome outcome = Outcome::kOk;
+    std::string message;
     if (sandbox_.limits().patience.count() == 0) {
-      outcome = attempt(function, true);
+      message = run_counted(m, initializing, after_init);
     } else {
       // What the call does goes into the module's variables and its outbox: kept, to take back
       // if the watchdog interrupts it and it runs again, counted.
       const sim::ModuleContext::Sent sent = m.sent();
       for (size_t v = 0; v < saved_.size(); ++v) saved_[v] = m.assigned(uint32_t(v));
-      outcome = attempt(function, false);
-      if (outcome == Outcome::kInterrupted) {
+      std::optional<std::string> finished = run_here(m, initializing, after_init, false);
+      if (!finished) {
         for (size_t v = 0; v < saved_.size(); ++v) m.set(uint32_t(v), saved_[v]);
         m.take_back(sent);
-        outcome = attempt(function, true);
+        // What the interrupted try left is garbage: gone before a second state is made.
+        lua_gc(L_, LUA_GCCOLLECT);
+        finished = run_counted(m, initializing, after_init);
       }
-    }
-    const bool ok = outcome == Outcome::kOk;
-    std::string message;
-    if (!ok) {
-      message = pop_message();
-    } else if (const char* name = changed_upvalue()) {
-      message = display_ + ": " + (initializing ? "init" : "step") + " wrote the local '" + name +
-                "' declared outside it: a script keeps its state in its variables (m:set), which a rollback restores";
+      message = std::move(*finished);
     }
     if (!message.empty()) m.fail("at step " + std::to_string(m.step()) + ": " + message);
-    module_context_ = nullptr;
   }
 
  private:
@@ -277,6 +278,30 @@ class LuaState final : public sim::ProgramScratch {
     LuaState& s = of(L);
     if (!s.module_context_) luaL_error(L, "the module is only there while init or step runs");
     return *s.module_context_;
+  }
+
+  // The call run counted in a fresh state, made from the script as this one was (its own watchdog
+  // lent, so that no thread is started): the message of its failure, empty when it went through.
+  std::string run_counted(sim::ModuleContext& m, bool initializing, bool after_init) {
+    LuaState fresh(display_, text_, sandbox_.limits(), &sandbox_.watchdog());
+    if (fresh.error().empty()) fresh.prepare(*declared_);
+    if (!fresh.error().empty()) return fresh.error();
+    return *fresh.run_here(m, initializing, after_init, true);
+  }
+
+  // The call run in this state, counted or not: the message of its failure, empty when it went
+  // through, nothing when it was uncounted and interrupted.
+  std::optional<std::string> run_here(sim::ModuleContext& m, bool initializing, bool after_init, bool counted) {
+    module_context_ = &m;
+    after_init_ = after_init;
+    const LuaSandbox::Outcome outcome = attempt(initializing ? init_ : step_, counted);
+    module_context_ = nullptr;
+    if (outcome == LuaSandbox::Outcome::kInterrupted) return std::nullopt;
+    if (outcome == LuaSandbox::Outcome::kFailed) return pop_message();
+    if (const char* name = changed_upvalue())
+      return display_ + ": " + (initializing ? "init" : "step") + " wrote the local '" + name +
+             "' declared outside it: a script keeps its state in its variables (m:set), which a rollback restores";
+    return std::string();
   }
 
   // One try of a call of init or step (the registry's `function`) on the module, with every
@@ -538,6 +563,8 @@ class LuaState final : public sim::ProgramScratch {
   LuaSandbox sandbox_;
   lua_State* L_ = nullptr;
   std::string display_, error_;
+  const std::string& text_;             // the script's, kept by its program
+  const Declared* declared_ = nullptr;  // what prepare bound, kept by the program
   int step_ = LUA_NOREF, init_ = LUA_NOREF, module_ = LUA_NOREF, read_only_ = LUA_NOREF;
   struct Check {
     int index;  // of the upvalue in its function

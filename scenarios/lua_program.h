@@ -8,7 +8,8 @@
 // a memory cap per Lua state and a deadline, none of which a script can catch. A module's state
 // lives only in its variables: once loaded, a script
 // may not write a global, a table reached from one, or a local declared outside the function
-// running. One Lua state per thread that steps modules, never per module.
+// running. One Lua state per thread that steps modules, never per module, and a fresh one for each
+// call run again counted (see LuaState::run).
 #pragma once
 
 #include <chrono>

@@ -236,7 +236,8 @@ double pattern_steps(size_t n, const char* p, size_t m) {
 
 }  // namespace
 
-LuaSandbox::LuaSandbox(const std::string& display, const LuaLimits& limits) : limits_(limits), display_(display) {
+LuaSandbox::LuaSandbox(const std::string& display, const LuaLimits& limits, LuaWatchdog* watchdog)
+    : limits_(limits), display_(display), watchdog_(watchdog) {
   L_ = lua_newstate(&LuaSandbox::allocate, this);
   if (!L_) return;
   // A step's tables live for that step only: the young generation is where they die.
@@ -246,7 +247,7 @@ LuaSandbox::LuaSandbox(const std::string& display, const LuaLimits& limits) : li
 }
 
 LuaSandbox::~LuaSandbox() {
-  watchdog_.reset();
+  own_watchdog_.reset();
   if (L_) lua_close(L_);
 }
 
@@ -293,7 +294,13 @@ void LuaSandbox::count_hook(lua_State* L, lua_Debug*) {
   if (s.executed_ > s.limits_.instructions) stop(L, Stop::kInstructions, 0);
 }
 
-void LuaSandbox::stop_hook(lua_State* L, lua_Debug*) { stop(L, of(L).stop_, 0); }
+void LuaSandbox::stop_hook(lua_State* L, lua_Debug*) {
+  LuaSandbox& s = of(L);
+  // The memory stop is set by the allocator, which cannot tell where the script is: the first
+  // instruction after it can.
+  if (s.where_.empty()) s.where_ = location(L, 0);
+  stop(L, s.stop_, 0);
+}
 
 void LuaSandbox::stop(lua_State* L, Stop why, int level) {
   LuaSandbox& s = of(L);
@@ -413,6 +420,16 @@ void LuaSandbox::open_libraries() {
   guards_ = luaL_ref(L_, LUA_REGISTRYINDEX);
 }
 
+std::chrono::milliseconds LuaSandbox::tick() const { return limits_.patience.count() > 0 ? limits_.patience : 10ms; }
+
+LuaWatchdog& LuaSandbox::watchdog() {
+  if (!watchdog_) {
+    own_watchdog_ = std::make_unique<LuaWatchdog>(tick());
+    watchdog_ = own_watchdog_.get();
+  }
+  return *watchdog_;
+}
+
 LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
   executed_ = 0;
   stop_ = Stop::kNone;
@@ -420,11 +437,10 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
   refused_size_ = 0;
   if (counted) lua_sethook(L_, &LuaSandbox::count_hook, LUA_MASKCOUNT, kHookEvery);
   else lua_sethook(L_, nullptr, 0, 0);
-  const std::chrono::milliseconds tick = limits_.patience.count() > 0 ? limits_.patience : 10ms;
-  if (!watchdog_) watchdog_ = std::make_unique<LuaWatchdog>(L_, tick);
-  watchdog_->begin(counted ? uint32_t(std::max<int64_t>(1, limits_.deadline / tick)) : 1);
+  LuaWatchdog& watchdog = this->watchdog();
+  watchdog.begin(L_, counted ? uint32_t(std::max<int64_t>(1, limits_.deadline / tick())) : 1);
   const int status = lua_pcall(L_, args, results, 0);
-  watchdog_->end();
+  watchdog.end();
   lua_sethook(L_, nullptr, 0, 0);
   if (status == LUA_OK) return Outcome::kOk;
   // Lua's own "not enough memory" (a request refused while it collects, when it does not ask
@@ -437,14 +453,14 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
   }
   // Uncounted, a stop says only that the call went far: the counted run decides, so that what a
   // call does never depends on the machine's speed.
-  if (!counted && (stop_ != Stop::kNone || watchdog_->interrupted())) {
+  if (!counted && (stop_ != Stop::kNone || watchdog.interrupted())) {
     lua_pop(L_, 1);
     return Outcome::kInterrupted;
   }
   if (stop_ != Stop::kNone) {
     lua_pop(L_, 1);
     push_stop_message(stop_);
-  } else if (watchdog_->interrupted()) {
+  } else if (watchdog.interrupted()) {
     lua_pop(L_, 1);
     const std::string message = display_ + ": ran for more than " + std::to_string(limits_.deadline.count()) +
                                 " ms of wall-clock time in one call (work the instruction budget does not see)";
@@ -453,14 +469,15 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
   return Outcome::kFailed;
 }
 
-// A memory stop names the script but no line: the allocation that meets the cap depends on what
-// earlier calls left (the stack and call records Lua keeps grown), not on this call alone.
+// A stop names the script's line where it came (the memory stop, at the instruction after the
+// allocation refused), or the script alone when no line of it was running.
 void LuaSandbox::push_stop_message(Stop why) {
-  const std::string message = why == Stop::kMemory
-                                  ? display_ + ": not enough memory: a script's Lua state may hold at most " +
-                                        sim::size_text(limits_.memory_bytes)
-                                  : where_ + "ran more than " + std::to_string(limits_.instructions) +
-                                        " instructions in one call (an endless loop?)";
+  const std::string where = where_.empty() ? display_ + ": " : where_;
+  const std::string message =
+      why == Stop::kMemory
+          ? where + "not enough memory: a script's Lua state may hold at most " + sim::size_text(limits_.memory_bytes)
+          : where + "ran more than " + std::to_string(limits_.instructions) +
+                " instructions in one call (an endless loop?)";
   lua_pushstring(L_, message.c_str());
 }
 

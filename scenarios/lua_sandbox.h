@@ -46,13 +46,16 @@ struct LuaLimits {
 
 class LuaSandbox {
  public:
-  // `display` names the script in messages.
-  LuaSandbox(const std::string& display, const LuaLimits& limits);
+  // `display` names the script in messages. The state's calls are watched by `watchdog` when
+  // given (one of the same thread, with the same limits), else by one of its own, made at the
+  // first call.
+  LuaSandbox(const std::string& display, const LuaLimits& limits, LuaWatchdog* watchdog = nullptr);
   ~LuaSandbox();
   LuaSandbox(const LuaSandbox&) = delete;
   LuaSandbox& operator=(const LuaSandbox&) = delete;
 
   lua_State* state() const { return L_; }  // nullptr when there was no memory for it
+  LuaWatchdog& watchdog();
   const LuaLimits& limits() const { return limits_; }
   static LuaSandbox& of(lua_State* L);
 
@@ -84,6 +87,7 @@ class LuaSandbox {
   static int replacement(lua_State* L);
   void open_libraries();
   void push_stop_message(Stop why);
+  std::chrono::milliseconds tick() const;  // of the watchdog
 
   LuaLimits limits_;
   std::string display_;
@@ -97,7 +101,8 @@ class LuaSandbox {
   const void* refused_ptr_ = nullptr;
   size_t refused_size_ = 0;
   int guards_ = LUA_NOREF;
-  std::unique_ptr<LuaWatchdog> watchdog_;  // made at the first call
+  LuaWatchdog* watchdog_ = nullptr;
+  std::unique_ptr<LuaWatchdog> own_watchdog_;
 };
 
 }  // namespace dw::scenarios

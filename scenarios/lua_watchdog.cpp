@@ -32,7 +32,7 @@ void install_handler(void (*handler)(int, siginfo_t*, void*)) {
 
 }  // namespace
 
-LuaWatchdog::LuaWatchdog(lua_State* L, std::chrono::milliseconds tick) : L_(L), tick_(tick) {
+LuaWatchdog::LuaWatchdog(std::chrono::milliseconds tick) : tick_(tick) {
   install_handler(&LuaWatchdog::on_signal);
   watcher_ = std::thread([this] { watch(); });
 }
@@ -46,7 +46,8 @@ LuaWatchdog::~LuaWatchdog() {
   watcher_.join();
 }
 
-void LuaWatchdog::begin(uint32_t ticks) {
+void LuaWatchdog::begin(lua_State* L, uint32_t ticks) {
+  L_ = L;
   // A hook left by a signal that came after the last call ended would interrupt this one at once.
   if (lua_gethook(L_) == &LuaWatchdog::interrupt) lua_sethook(L_, nullptr, 0, 0);
   hook_ = lua_gethook(L_);

@@ -26,14 +26,15 @@ namespace dw::scenarios {
 
 class LuaWatchdog {
  public:
-  LuaWatchdog(lua_State* L, std::chrono::milliseconds tick);
+  explicit LuaWatchdog(std::chrono::milliseconds tick);
   ~LuaWatchdog();
   LuaWatchdog(const LuaWatchdog&) = delete;
   LuaWatchdog& operator=(const LuaWatchdog&) = delete;
 
-  // The calling thread starts a call into the state, to be interrupted when it is still running
-  // after `ticks` ticks (one tick: after one to two ticks), and ends it.
-  void begin(uint32_t ticks = 1);
+  // The calling thread starts a call into the state L, to be interrupted when it is still running
+  // after `ticks` ticks (one tick: after one to two ticks), and ends it. One watchdog serves the
+  // states of one thread in turn (a call run again counted runs in a state of its own).
+  void begin(lua_State* L, uint32_t ticks = 1);
   void end();
 
   // Whether the current (or last) call was interrupted.
@@ -46,7 +47,7 @@ class LuaWatchdog {
   static void interrupt(lua_State* L, lua_Debug*);
   void watch();
 
-  lua_State* L_;
+  lua_State* L_ = nullptr;  // of the running call: set and read on the calling thread only
   std::chrono::milliseconds tick_;
   std::atomic<uint64_t> calls_{0};     // odd while a call runs, one more at each begin and end
   std::atomic<uint64_t> signaled_{0};  // the call the watcher last interrupted

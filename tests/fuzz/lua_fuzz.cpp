@@ -14,8 +14,11 @@
 //     millisecond, what it did taken back, and run again counted.
 // Both give the same state hash after every step, or fail at the same step and module with the
 // same message, except where time decides by design: a call stopped by the wall-clock deadline in
-// either run, and a call over the instruction budget in the counted run that the other finished,
-// uncounted, within its patience. A script that is refused says why.
+// either run, and a call stopped by a limit (the instruction budget, the memory cap) in the
+// counted run that the other finished, uncounted, within its patience (uncounted, a call has no
+// budget, and its memory depends on what the state held before). A call run counted runs in a
+// state of its own, made for it, so a limit stops it at the same place in both runs. A script
+// that is refused says why.
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -80,7 +83,10 @@ bool reads_unordered(const std::string& text) {
   __builtin_trap();
 }
 bool past_deadline(const RunResult& r) { return r.failure && mentions(*r.failure, "of wall-clock time"); }
-bool over_budget(const RunResult& r) { return r.failure && mentions(*r.failure, "instructions in one call"); }
+// Stopped by the instruction budget or the memory cap.
+bool over_a_limit(const RunResult& r) {
+  return r.failure && (mentions(*r.failure, "instructions in one call") || mentions(*r.failure, "not enough memory"));
+}
 
 // Builds the script's program with `patience` and runs it; the reason when the script is refused
 // (or declares what no model can hold), which is never empty.
@@ -137,8 +143,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   if (past_deadline(*counted) || past_deadline(*watched)) return 0;
   const std::string a = counted->failure.value_or("(ran through)"), b = watched->failure.value_or("(ran through)");
-  // Ran through uncounted what the counted run stopped: the same up to the step it stopped in.
-  if (over_budget(*counted) && !over_budget(*watched)) {
+  // Ran through uncounted a call the counted run stopped by a limit: the same up to the step it
+  // stopped in. A call that stops in the watched run was run counted there too: it stops alike.
+  const bool same_call = watched->failure && watched->failed_step == counted->failed_step &&
+                         watched->failed_module == counted->failed_module;
+  if (over_a_limit(*counted) && !same_call) {
     for (size_t t = 0; t < counted->hashes.size(); ++t)
       if (t >= watched->hashes.size() || counted->hashes[t] != watched->hashes[t])
         differ("the watched run differs before the step the counted one stopped in", a, b);

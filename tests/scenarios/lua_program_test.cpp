@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "scenarios/table_reader.h"
 #include "tests/scenarios/scenario_helpers.h"
@@ -451,6 +452,59 @@ TEST_F(LuaScript, ACallRunAgainAfterTheWatchdogLeavesNoTrace) {
   EXPECT_EQ(v[3], 1 + 3);
   EXPECT_EQ(v[5], 2 + 4);
   EXPECT_EQ(v[7], 3);
+}
+
+// A call that meets a limit runs again counted in a state of its own: whether the budget or the
+// memory cap stops it, and where, does not depend on what earlier calls grew in the thread's state
+// (a deeper stack, more call records) nor on whether it ran uncounted first. Module 1 recurses
+// without end, holding a string at each level, near where both limits fall; module 0 first
+// recurses `warm` levels deep and returns, on some runs.
+TEST_F(LuaScript, ALimitStopsACallAlikeWhateverRanBeforeInItsState) {
+  auto script = [](int warm) {
+    return "program = { vars = { \"v\" } }\n"
+           "local function deep(n)\n"
+           "  if n == 0 then return 0 end\n"
+           "  local s = string.rep(\"a\", 750)\n"
+           "  return deep(n - 1) + #s\n"
+           "end\n"
+           "function step(m)\n"
+           "  if m.id == 0 then deep(" +
+           std::to_string(warm) +
+           ") end\n"
+           "  if m.id == 1 then deep(-1) end\n"
+           "end\n";
+  };
+  auto loaded = load(script(0));
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  const Scenario& s = std::get<Scenario>(loaded);
+  auto stop = [&](int warm, int64_t instructions, std::chrono::milliseconds patience) {
+    const auto model =
+        with_limits(s, script(warm), {.instructions = instructions, .memory_bytes = 1u << 20, .patience = patience});
+    sim::Session run(*model, *s.world, {.threads = 1});
+    try {
+      run.run_until(1);
+    } catch (const sim::ProgramError& e) {
+      return std::string(e.what());
+    }
+    return std::string("ran through");
+  };
+  // Budgets on both sides of where the memory cap falls (about 97,000 instructions into the call
+  // here), so that both limits are met. Before each counted run had a state of its own, budgets
+  // from 95,350 to 96,550 stopped the call by the budget when counted from its start and by the
+  // memory cap when it ran uncounted first: the try left Lua's stack grown.
+  std::set<std::string> kinds;
+  for (int64_t instructions = 91'000; instructions <= 101'000; instructions += 400) {
+    SCOPED_TRACE(instructions);
+    const std::string fresh = stop(0, instructions, std::chrono::milliseconds(0));
+    EXPECT_NE(fresh.find("x.lua on module 1 at step 0: x.lua:"), std::string::npos) << fresh;
+    kinds.insert(fresh.substr(fresh.find(": x.lua:")));
+    for (int warm : {50, 300})
+      EXPECT_EQ(stop(warm, instructions, std::chrono::milliseconds(0)), fresh) << "warm " << warm;
+    // Uncounted, the call meets the memory cap (it has no budget) before its patience: it runs
+    // again counted.
+    EXPECT_EQ(stop(150, instructions, std::chrono::seconds(10)), fresh);
+  }
+  EXPECT_GE(kinds.size(), 2u) << "the budgets should reach both limits";
 }
 
 // A script fixed while the session runs is loaded again: it runs from the step after the current

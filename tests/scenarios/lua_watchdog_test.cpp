@@ -20,7 +20,7 @@ struct State {
 // Runs `code` as one call under the watchdog; true when it was interrupted.
 bool interrupted(lua_State* L, LuaWatchdog& watchdog, const char* code) {
   EXPECT_EQ(luaL_loadstring(L, code), LUA_OK);
-  watchdog.begin();
+  watchdog.begin(L);
   const int status = lua_pcall(L, 0, 0, 0);
   watchdog.end();
   const bool was = status != LUA_OK && LuaWatchdog::is_interruption(L, -1);
@@ -30,7 +30,7 @@ bool interrupted(lua_State* L, LuaWatchdog& watchdog, const char* code) {
 
 TEST(LuaWatchdog, InterruptsAnEndlessLoopAfterItsPatience) {
   State s;
-  LuaWatchdog watchdog(s.L, 5ms);
+  LuaWatchdog watchdog(5ms);
   const auto start = std::chrono::steady_clock::now();
   EXPECT_TRUE(interrupted(s.L, watchdog, "while true do end"));
   const auto took = std::chrono::steady_clock::now() - start;
@@ -40,21 +40,32 @@ TEST(LuaWatchdog, InterruptsAnEndlessLoopAfterItsPatience) {
 
 TEST(LuaWatchdog, AScriptCatchingTheInterruptionMeetsItAgain) {
   State s;
-  LuaWatchdog watchdog(s.L, 5ms);
+  LuaWatchdog watchdog(5ms);
   EXPECT_TRUE(interrupted(s.L, watchdog, "while true do pcall(function() while true do end end) end"));
 }
 
 TEST(LuaWatchdog, LeavesShortCallsAloneAndTheNextCallUntouched) {
   State s;
-  LuaWatchdog watchdog(s.L, 200ms);
+  LuaWatchdog watchdog(200ms);
   for (int i = 0; i < 1000; ++i)
     ASSERT_FALSE(interrupted(s.L, watchdog, "local x = 0 for i = 1, 100 do x = x + i end"));
   // An error of the script's own is not an interruption.
   ASSERT_EQ(luaL_loadstring(s.L, "error('mine')"), LUA_OK);
-  watchdog.begin();
+  watchdog.begin(s.L);
   EXPECT_NE(lua_pcall(s.L, 0, 0, 0), LUA_OK);
   watchdog.end();
   EXPECT_FALSE(LuaWatchdog::is_interruption(s.L, -1));
+}
+
+// A call run again counted runs in a state of its own under the same watchdog: each call is
+// interrupted in the state it runs in, and the other state's calls go on untouched.
+TEST(LuaWatchdog, ServesTheStatesOfAThreadInTurn) {
+  State first, second;
+  LuaWatchdog watchdog(5ms);
+  EXPECT_FALSE(interrupted(first.L, watchdog, "local x = 0 for i = 1, 100 do x = x + i end"));
+  EXPECT_TRUE(interrupted(second.L, watchdog, "while true do end"));
+  EXPECT_TRUE(interrupted(first.L, watchdog, "while true do end"));
+  EXPECT_FALSE(interrupted(second.L, watchdog, "local x = 0 for i = 1, 100 do x = x + i end"));
 }
 
 }  // namespace
