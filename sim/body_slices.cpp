@@ -49,24 +49,34 @@ std::vector<std::byte> body_slice(const Bodies& bodies, int rank, int ranks) {
 
 Bodies bodies_from_slices(std::span<const std::byte> mine, RankExchange& ranks) {
   const Gathered parts = ranks.all_gather(mine);
-  std::vector<std::byte> whole;
-  for (size_t r = 0; r < parts.size(); ++r) whole.insert(whole.end(), parts[r].begin(), parts[r].end());
-  Bodies bodies;
-  size_t at = 0;
+  // The slices are read where the gather left them, one after the other: a vector may begin in
+  // one rank's slice and end in the next.
+  size_t part = 0, at = 0, left = 0;
+  for (const auto& p : parts) left += p.size();
   const auto take = [&](void* into, size_t bytes) {
-    if (whole.size() - at < bytes) throw std::logic_error("the ranks' slices of the bodies do not add up");
-    if (bytes) std::memcpy(into, whole.data() + at, bytes);
-    at += bytes;
+    if (left < bytes) throw std::logic_error("the ranks' slices of the bodies do not add up");
+    left -= bytes;
+    auto* out = static_cast<std::byte*>(into);
+    while (bytes > 0) {
+      if (at == parts[part].size()) {
+        ++part;
+        at = 0;
+        continue;
+      }
+      const size_t n = std::min(bytes, parts[part].size() - at);
+      std::memcpy(out, parts[part].data() + at, n);
+      out += n, at += n, bytes -= n;
+    }
   };
+  Bodies bodies;
   each_vector(bodies, [&](auto& v) {
     uint64_t size = 0;
     take(&size, sizeof size);
-    if (size > (whole.size() - at) / sizeof(v[0]))
-      throw std::logic_error("the ranks' slices of the bodies do not add up");
+    if (size > left / sizeof(v[0])) throw std::logic_error("the ranks' slices of the bodies do not add up");
     v.resize(size);
     take(v.data(), size * sizeof(v[0]));
   });
-  if (at != whole.size()) throw std::logic_error("the ranks' slices of the bodies do not add up");
+  if (left != 0) throw std::logic_error("the ranks' slices of the bodies do not add up");
   return bodies;
 }
 
