@@ -294,13 +294,7 @@ void LuaSandbox::count_hook(lua_State* L, lua_Debug*) {
   if (s.executed_ > s.limits_.instructions) stop(L, Stop::kInstructions, 0);
 }
 
-void LuaSandbox::stop_hook(lua_State* L, lua_Debug*) {
-  LuaSandbox& s = of(L);
-  // The memory stop is set by the allocator, which cannot tell where the script is: the first
-  // instruction after it can.
-  if (s.where_.empty()) s.where_ = location(L, 0);
-  stop(L, s.stop_, 0);
-}
+void LuaSandbox::stop_hook(lua_State* L, lua_Debug*) { stop(L, of(L).stop_, 0); }
 
 void LuaSandbox::stop(lua_State* L, Stop why, int level) {
   LuaSandbox& s = of(L);
@@ -469,15 +463,15 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
   return Outcome::kFailed;
 }
 
-// A stop names the script's line where it came (the memory stop, at the instruction after the
-// allocation refused), or the script alone when no line of it was running.
+// A memory stop names the script but no line. Even in a state made for the call (a call run
+// counted), which allocation meets the cap can move by a few: Lua draws a new seed for its string
+// hashes in every state, and when a table with string keys grows follows their collisions.
 void LuaSandbox::push_stop_message(Stop why) {
-  const std::string where = where_.empty() ? display_ + ": " : where_;
   const std::string message =
-      why == Stop::kMemory
-          ? where + "not enough memory: a script's Lua state may hold at most " + sim::size_text(limits_.memory_bytes)
-          : where + "ran more than " + std::to_string(limits_.instructions) +
-                " instructions in one call (an endless loop?)";
+      why == Stop::kMemory ? display_ + ": not enough memory: a script's Lua state may hold at most " +
+                                 sim::size_text(limits_.memory_bytes)
+                           : (where_.empty() ? display_ + ": " : where_) + "ran more than " +
+                                 std::to_string(limits_.instructions) + " instructions in one call (an endless loop?)";
   lua_pushstring(L_, message.c_str());
 }
 

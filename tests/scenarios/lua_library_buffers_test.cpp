@@ -60,7 +60,7 @@ TEST(LuaLibraryBuffers, GarbageNeverMakesALibraryFunctionMeetTheMemoryCap) {
       "2 200001");
   // What the state holds and does not fit is still a memory stop, however it is tried.
   EXPECT_EQ(after_old_garbage("keep = ('k'):rep(400000)\nreturn #('b'):rep(400000)"),
-            "failed: x.lua:3: not enough memory: a script's Lua state may hold at most 1 MiB");
+            "failed: x.lua: not enough memory: a script's Lua state may hold at most 1 MiB");
 }
 
 }  // namespace

@@ -63,7 +63,7 @@ TEST(LuaSandbox, NoPcallCatchesTheMemoryCap) {
   expect_stopped(
       "local t = {}\n"
       "while true do pcall(function() for i = 1, 1e9 do t[#t + 1] = string.rep('x', 1 << 20) end end) end",
-      "x.lua:2: not enough memory: a script's Lua state may hold at most 64 MiB");
+      "x.lua: not enough memory: a script's Lua state may hold at most 64 MiB");
   expect_stopped("while true do pcall(string.rep, 'x', 1 << 27) end", "not enough memory");
   // Garbage is not a reason to stop: the collector takes it back.
   const Result garbage = run("for i = 1, 100 do local s = string.rep('x', 1 << 20) end return 'ok'");
