@@ -70,7 +70,12 @@ bool LuaWatchdog::is_interruption(lua_State* L, int index) { return lua_touserda
 void LuaWatchdog::on_signal(int, siginfo_t* info, void*) {
   const int saved = errno;
   LuaWatchdog* w = t_running;
-  if (w && info->si_value.sival_ptr == w) lua_sethook(w->L_, &LuaWatchdog::interrupt, LUA_MASKCOUNT, 1);
+  // A signal meant for a call that has ended is let go here, before it touches the hook of the
+  // call running now: putting that hook back would restart its count (Lua keeps no countdown a
+  // hook can be read back with) and would drop a limit's stop hook. (calls_ is this thread's.)
+  if (w && info->si_value.sival_ptr == w &&
+      w->signaled_.load(std::memory_order_acquire) == w->calls_.load(std::memory_order_relaxed))
+    lua_sethook(w->L_, &LuaWatchdog::interrupt, LUA_MASKCOUNT, 1);
   errno = saved;
 }
 

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <csignal>
+#include <string>
 
 namespace dw::scenarios {
 namespace {
@@ -66,6 +68,46 @@ TEST(LuaWatchdog, ServesTheStatesOfAThreadInTurn) {
   EXPECT_TRUE(interrupted(second.L, watchdog, "while true do end"));
   EXPECT_TRUE(interrupted(first.L, watchdog, "while true do end"));
   EXPECT_FALSE(interrupted(second.L, watchdog, "local x = 0 for i = 1, 100 do x = x + i end"));
+}
+
+// A signal for a call that has ended (the watcher saw it running just before it returned) arrives
+// while the next call runs: it leaves that call's own count hook alone, its count going on where
+// it was, instead of restarting it.
+int hook_calls = 0;
+void count_calls(lua_State*, lua_Debug*) { ++hook_calls; }
+int late_signal(lua_State* L) {
+  sigval value{};
+  value.sival_ptr = lua_touserdata(L, lua_upvalueindex(1));
+  pthread_sigqueue(pthread_self(), SIGURG, value);  // handled before the call returns
+  return 0;
+}
+
+TEST(LuaWatchdog, ASignalForAnEndedCallLeavesTheNextCallsHookAlone) {
+  State s;
+  LuaWatchdog watchdog(50ms);                                    // the short calls below never meet it
+  ASSERT_TRUE(interrupted(s.L, watchdog, "while true do end"));  // the watcher signals that call
+  lua_pushlightuserdata(s.L, &watchdog);
+  lua_pushcclosure(s.L, &late_signal, 1);
+  lua_setglobal(s.L, "late_signal");
+  // Some 1,700 instructions before the signal and 8,500 after (two a loop turn), under a hook
+  // every 1,000.
+  auto fires = [&](const char* between) {
+    const std::string code =
+        std::string("local x = 0 for i = 1, 850 do x = x + i end ") + between + " for i = 1, 4250 do x = x + i end";
+    hook_calls = 0;
+    lua_sethook(s.L, &count_calls, LUA_MASKCOUNT, 1000);
+    EXPECT_EQ(luaL_loadstring(s.L, code.c_str()), LUA_OK);
+    watchdog.begin(s.L);
+    const int status = lua_pcall(s.L, 0, 0, 0);
+    watchdog.end();
+    EXPECT_EQ(status, LUA_OK) << lua_tostring(s.L, -1);
+    lua_settop(s.L, 0);
+    lua_sethook(s.L, nullptr, 0, 0);
+    return hook_calls;
+  };
+  const int plain = fires("tostring(1)");
+  EXPECT_GE(plain, 9);
+  EXPECT_EQ(fires("late_signal()"), plain);
 }
 
 }  // namespace
