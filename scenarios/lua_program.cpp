@@ -246,7 +246,8 @@ class LuaState final : public sim::ProgramScratch {
   // call records and string table, uncollected garbage), and where a call meets the memory cap
   // moves with them, so the counted run, which alone decides whether a call stops and why, starts
   // from the same state every time: the same script on the same variables stops at the same place,
-  // whatever ran before, on any machine and thread count.
+  // whatever ran before, on any machine and thread count (but for the memory cap's allocation or
+  // two that Lua's hash seed moves, lua_sandbox.cpp).
   void run(sim::ModuleContext& m, bool initializing, bool after_init = false) {
     std::string message;
     if (sandbox_.limits().patience.count() == 0) {
