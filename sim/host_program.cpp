@@ -80,12 +80,7 @@ void ModuleContext::broadcast(std::span<const int64_t> payload) {
 }
 
 void ModuleContext::post(ModuleId to, std::span<const int64_t> payload) {
-  Message& m = outbox_.messages.emplace_back();
-  m.from = id_;
-  m.to = to;
-  m.program = program_;
-  m.size = static_cast<uint16_t>(payload.size());
-  std::copy(payload.begin(), payload.end(), m.words.begin());
+  outbox_.messages.add(id_, to, program_, payload);
 }
 
 }  // namespace dw::sim

@@ -63,7 +63,7 @@ bool same_variables(const HostProgram& a, const HostProgram& b);
 
 // Where a step's sends go, per thread; the runtime checks and delivers them.
 struct Outbox {
-  std::vector<Message> messages;
+  MessageList messages;
   std::vector<Actuation> actuations;
   std::string error;          // the lowest module's first misuse of the API (sending to a non-neighbour, ...)
   ModuleId error_module = 0;  // whose it was, at which step
@@ -73,8 +73,8 @@ struct Outbox {
 class ModuleContext {
  public:
   ModuleContext(ModuleId id, int64_t step, uint64_t seed, uint16_t program, std::span<const ModuleId> neighbors,
-                std::span<const Message> inbox, const int64_t* before, int64_t* after, Outbox& outbox,
-                std::string_view program_name, const Bodies& bodies, ProgramScratch* scratch = nullptr)
+                Messages inbox, const int64_t* before, int64_t* after, Outbox& outbox, std::string_view program_name,
+                const Bodies& bodies, ProgramScratch* scratch = nullptr)
       : id_(id),
         step_(step),
         seed_(seed),
@@ -94,7 +94,7 @@ class ModuleContext {
   std::span<const ModuleId> neighbors() const { return neighbors_; }
   bool is_neighbor(ModuleId m) const;
   // This program's messages sent to this module at t - 1: by sender id, then in sending order.
-  std::span<const Message> inbox() const { return inbox_; }
+  Messages inbox() const { return inbox_; }
 
   // The variable's value at t - 1 (its initial value at step 0); assignments in this step do
   // not show until the next one.
@@ -115,7 +115,7 @@ class ModuleContext {
   };
   Sent sent() const { return {outbox_.messages.size(), outbox_.actuations.size()}; }
   void take_back(Sent s) {
-    outbox_.messages.resize(s.messages);
+    outbox_.messages.keep_first(s.messages);
     outbox_.actuations.resize(s.actuations);
   }
 
@@ -171,7 +171,7 @@ class ModuleContext {
   uint64_t seed_;
   uint16_t program_;
   std::span<const ModuleId> neighbors_;
-  std::span<const Message> inbox_;
+  Messages inbox_;
   const int64_t* before_;
   int64_t* after_;
   Outbox& outbox_;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <stdexcept>
+#include <utility>
 
 #include "watch/agent_step.h"
 #include "watch/make_detector.h"
@@ -321,11 +323,18 @@ std::vector<std::vector<std::byte>> Runtime::batches_for_ranks() {
   auto patch = [](std::vector<std::byte>& to, size_t at, uint64_t value) {
     std::memcpy(to.data() + at, &value, sizeof value);
   };
-  for (std::vector<std::byte>& to : out) put(to, 0);
+  // The messages: their count, their headers (each header's `first` counting in this batch's
+  // words), the count of the words and the words.
+  std::vector<MessageList> going(out.size());
   for (const ThreadScratch& s : scratch_)
-    for (const Message& m : s.outbox.messages)
-      if (const uint32_t r = rank_of(m.to); r != me) append_records(out[r], std::span<const Message>(&m, 1));
-  for (std::vector<std::byte>& to : out) patch(to, 0, (to.size() - sizeof(uint64_t)) / sizeof(Message));
+    for (const Message m : s.outbox.messages)
+      if (const uint32_t r = rank_of(m.to); r != me) going[r].add(m);
+  for (size_t r = 0; r < out.size(); ++r) {
+    put(out[r], going[r].size());
+    append_records(out[r], std::as_const(going[r]).headers());
+    put(out[r], going[r].words().size());
+    append_records(out[r], std::span<const int64_t>(going[r].words()));
+  }
   for (uint32_t w : agent_watches_) {
     std::vector<size_t> head(out.size());
     for (size_t r = 0; r < out.size(); ++r) head[r] = out[r].size(), put(out[r], 0);
@@ -341,7 +350,7 @@ std::vector<std::vector<std::byte>> Runtime::batches_for_ranks() {
       }
     for (size_t r = 0; r < out.size(); ++r) patch(out[r], head[r], out[r].size() - head[r] - sizeof(uint64_t));
   }
-  const size_t headers = sizeof(uint64_t) * (1 + agent_watches_.size());  // all a batch of nothing holds
+  const size_t headers = sizeof(uint64_t) * (2 + agent_watches_.size());  // all a batch of nothing holds
   for (std::vector<std::byte>& to : out) {
     if (to.size() == headers) to.clear();
     bytes_to_ranks_ += to.size();
@@ -365,8 +374,12 @@ void Runtime::open_batches() {
       return value;
     };
     const uint64_t count = take();
-    arrived_messages_[r] = records_of<Message>(part.subspan(at, count * sizeof(Message)));
-    at += count * sizeof(Message);
+    const std::span<const MessageHeader> headers =
+        records_of<MessageHeader>(part.subspan(at, count * sizeof(MessageHeader)));
+    at += count * sizeof(MessageHeader);
+    const uint64_t words = take();
+    arrived_messages_[r] = Messages(headers, records_of<int64_t>(part.subspan(at, words * sizeof(int64_t))).data());
+    at += words * sizeof(int64_t);
     for (uint32_t w : agent_watches_) {
       const uint64_t bytes = take();
       arrived_lanes_[w].push_back(part.subspan(at, bytes));
@@ -495,13 +508,13 @@ void Runtime::deliver_program_messages(State& state) {
   if (ranks_) {
     // Those to another rank's modules went in the border blocks' batches; those sent here came in.
     for (unsigned thread = 0; thread < pool_.size(); ++thread) {
-      const std::vector<Message>& sent = scratch_[thread].outbox.messages;
+      const MessageList& sent = scratch_[thread].outbox.messages;
       for (size_t i = 0; i < sent.size(); ++i)
         if (rank_of(sent[i].to) == me) ++total;
         else if (i >= border_messages_[thread])
           throw std::logic_error("a block taken for interior sent to another rank: its message would be lost");
     }
-    for (const std::span<const Message> part : arrived_messages_) total += part.size();
+    for (const Messages part : arrived_messages_) total += part.size();
   } else {
     for (const ThreadScratch& s : scratch_) total += s.outbox.messages.size();
   }
@@ -510,28 +523,42 @@ void Runtime::deliver_program_messages(State& state) {
   // order below.
   auto each = [&](auto&& fn) {
     for (const ThreadScratch& s : scratch_)
-      for (const Message& m : s.outbox.messages)
+      for (const Message m : s.outbox.messages)
         if (!ranks_ || rank_of(m.to) == me) fn(m);
-    for (const std::span<const Message> part : arrived_messages_)
-      for (const Message& m : part) fn(m);
+    for (const Messages part : arrived_messages_)
+      for (const Message m : part) fn(m);
   };
   Mailbox& box = state.inbox;
   box.begin.assign(groups + 1, 0);
-  box.messages.resize(total);
+  std::vector<MessageHeader>& headers = box.messages.headers();
+  std::vector<int64_t>& words = box.messages.words();
+  headers.resize(total);
+  words.clear();
   uint64_t sent = total;  // every message is received by exactly one rank
   if (ranks_) ranks_->sum({&sent, 1});
   state.program_messages += sent;
   if (total == 0) return;
-  // A stable counting sort by (receiver, program): senders stay in id order within a group.
-  each([&](const Message& m) { ++box.begin[size_t{m.to - first_} * programs + m.program + 1]; });
+  // A stable counting sort of the headers by (receiver, program): senders stay in id order within
+  // a group. The words go in the order the messages come.
+  size_t word_count = 0;
+  each([&](const Message& m) {
+    ++box.begin[size_t{m.to - first_} * programs + m.program + 1];
+    word_count += m.size;
+  });
+  if (word_count > UINT32_MAX) throw std::length_error("more message words in one step than a mailbox indexes");
+  words.reserve(word_count);
   for (size_t g = 0; g < groups; ++g) box.begin[g + 1] += box.begin[g];
   counts_.assign(box.begin.begin(), box.begin.end() - 1);
-  each([&](const Message& m) { box.messages[counts_[size_t{m.to - first_} * programs + m.program]++] = m; });
+  each([&](const Message& m) {
+    headers[counts_[size_t{m.to - first_} * programs + m.program]++] = {m.from, m.to, m.program, m.size,
+                                                                        static_cast<uint32_t>(words.size())};
+    words.insert(words.end(), m.words, m.words + m.size);
+  });
   if (ranks_)  // a sender's messages stay in the order sent; a group holds a few
     for (size_t g = 0; g < groups; ++g)
       if (box.begin[g + 1] - box.begin[g] > 1)
-        std::stable_sort(box.messages.begin() + box.begin[g], box.messages.begin() + box.begin[g + 1],
-                         [](const Message& a, const Message& b) { return a.from < b.from; });
+        std::stable_sort(headers.begin() + box.begin[g], headers.begin() + box.begin[g + 1],
+                         [](const MessageHeader& a, const MessageHeader& b) { return a.from < b.from; });
 }
 
 // The step's statistics are those of all ranks, and so is a stop: with the reason of the first
@@ -692,7 +719,7 @@ StateHash Runtime::hash(const State& state) {
       const std::vector<uint32_t>& begin = state.inbox.begin;  // empty before the first delivery
       if (begin.empty()) return h;
       const uint32_t from = begin[first * programs], to = begin[end * programs];
-      return continue_hash(h, std::span(state.inbox.messages).subspan(from, to - from));
+      return continue_hash(h, state.inbox.messages.all().subspan(from, to - from));
     });
   };
   return hash_state(state, digests, uint64_t{model_.module_count()} * v, values, messages, inbox);

@@ -176,10 +176,10 @@ class Runtime {
     std::vector<uint8_t> crosses;
   };
   std::vector<Border> borders_;
-  bool exchanging_ = false;                                 // thread 0 lets the exchange on between blocks
-  std::vector<size_t> border_messages_;                     // per thread: its outbox's messages from border blocks
-  std::vector<std::vector<std::byte>> arrived_;             // this step's batches from the other ranks
-  std::vector<std::span<const Message>> arrived_messages_;  // per rank
+  bool exchanging_ = false;                      // thread 0 lets the exchange on between blocks
+  std::vector<size_t> border_messages_;          // per thread: its outbox's messages from border blocks
+  std::vector<std::vector<std::byte>> arrived_;  // this step's batches from the other ranks
+  std::vector<Messages> arrived_messages_;       // per rank
   std::vector<std::vector<std::span<const std::byte>>> arrived_lanes_;  // per watch, per rank
   std::vector<ThreadScratch> scratch_;
   std::vector<const HostProgram*> programs_;  // in use, by index: the model's unless replaced

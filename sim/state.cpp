@@ -112,7 +112,7 @@ StateHash hash_state(const State& s) {
   for (const WatchState& w : s.watches) digests.push_back(in_flight_digest(w));
   return hash_state(
       s, digests, s.values.size(), [&](uint64_t h) { return continue_hash(h, s.values); }, s.inbox.messages.size(),
-      [&](uint64_t h) { return continue_hash(h, s.inbox.messages); });
+      [&](uint64_t h) { return continue_hash(h, s.inbox.messages.all()); });
 }
 
 uint64_t continue_hash(uint64_t h, std::span<const int64_t> values) {
@@ -121,7 +121,7 @@ uint64_t continue_hash(uint64_t h, std::span<const int64_t> values) {
   return hasher.h;
 }
 
-uint64_t continue_hash(uint64_t h, std::span<const Message> messages) {
+uint64_t continue_hash(uint64_t h, Messages messages) {
   Hasher hasher{h};
   for (const Message& m : messages) {
     hasher.word((uint64_t{m.from} << 32) | m.to);
@@ -209,7 +209,7 @@ size_t state_bytes(const State& s) {
              vector_bytes(b.velocities) + vector_bytes(b.local) + vector_bytes(b.cluster_of) +
              vector_bytes(b.clusters) + vector_bytes(b.members) + vector_bytes(b.bonds) + vector_bytes(b.movers) +
              vector_bytes(b.prop_poses) + vector_bytes(b.prop_velocities) + vector_bytes(s.inbox.begin) +
-             vector_bytes(s.inbox.messages) + vector_bytes(s.actions) + 16 * kBlock;
+             s.inbox.messages.bytes() + vector_bytes(s.actions) + 16 * kBlock;
   for (const WatchState& w : s.watches) {
     n += sizeof(WatchState) + vector_bytes(w.in_flight);
     if (w.agents) n += w.agents->bytes();

@@ -92,7 +92,7 @@ InFlightDigest in_flight_digest(const WatchState& watch);
 using PiecewiseHash = std::function<uint64_t(uint64_t h)>;
 // What hash_state does with a run of either sequence: the hash `h` continued over it.
 uint64_t continue_hash(uint64_t h, std::span<const int64_t> values);
-uint64_t continue_hash(uint64_t h, std::span<const Message> messages);
+uint64_t continue_hash(uint64_t h, Messages messages);
 // hash_state with each watchpoint's in-flight digest given rather than read from its lanes, and
 // the variables (`value_count` of them, in module order) and the inbox's messages
 // (`message_count`, in the order one inbox holds them) hashed by `values` and `messages` in place

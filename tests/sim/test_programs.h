@@ -12,20 +12,27 @@
 
 namespace dw::sim::test_programs {
 
-// Every module keeps a random value `v` and a running `mix`; each step it sends v to a random
-// neighbour and folds what it receives (in inbox order) into mix. `count` counts received messages.
+// Every module keeps a random value `v` and a running `mix`; each step it sends v, mix and up to
+// two more words (1 + v % 3 words in all, so that messages differ in size) to a random neighbour,
+// and folds every word it receives (in inbox order) into mix. `count` counts received messages.
 class Gossip final : public HostProgram {
  public:
   std::string_view name() const override { return "gossip"; }
   std::vector<VariableSpec> variables() const override { return {{"v", 0}, {"mix", 1}, {"count", 0}}; }
   void step(ModuleContext& m) const override {
     int64_t mix = m.get(1);
-    for (const Message& msg : m.inbox()) mix = (mix * 31 + msg[0] + msg.from) % 1000003;
+    for (const Message& msg : m.inbox()) {
+      mix = (mix * 31 + msg.from) % 1000003;
+      for (int64_t w : msg.payload()) mix = (mix * 31 + w) % 1000003;
+    }
     m.set(1, mix);
     m.set(2, m.get(2) + static_cast<int64_t>(m.inbox().size()));
     m.set(0, m.uniform(4, 0));
     const auto n = m.neighbors();
-    if (!n.empty()) m.send(n[static_cast<size_t>(m.uniform(static_cast<int64_t>(n.size()), 1))], {m.get(0), mix});
+    const int64_t words[] = {m.get(0), mix, m.id(), m.step()};
+    if (!n.empty())
+      m.send(n[static_cast<size_t>(m.uniform(static_cast<int64_t>(n.size()), 1))],
+             std::span(words, static_cast<size_t>(1 + m.get(0) % 3)));
   }
 };
 
