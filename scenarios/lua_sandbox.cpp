@@ -344,14 +344,17 @@ int LuaSandbox::check_pattern(lua_State* L) {
   // A plain search compares with memchr and memcmp: a byte is a fraction of an instruction.
   const double steps = plain ? double(n) * double(m) / kBytesPerInstruction : pattern_steps(n, p, m);
   if (steps > s.limits_.pattern_steps) {
-    {  // (no C++ object may be alive at lua_error)
-      char text[256];
+    // No C++ object may be alive at lua_pushstring, which raises when memory is full, nor at
+    // lua_error: the message is put together in a plain buffer first.
+    char text[512];
+    {
+      const std::string where = location(L, 1);
       std::snprintf(text, sizeof text,
-                    "string.%s: this pattern over %zu bytes may take up to %.3g steps of backtracking (at most "
+                    "%sstring.%s: this pattern over %zu bytes may take up to %.3g steps of backtracking (at most "
                     "%.3g): use fewer repetitions (*, +, -) or a shorter string",
-                    lua_tostring(L, 1), n, steps, s.limits_.pattern_steps);
-      lua_pushstring(L, (location(L, 1) + text).c_str());
+                    where.c_str(), lua_tostring(L, 1), n, steps, s.limits_.pattern_steps);
     }
+    lua_pushstring(L, text);
     return lua_error(L);
   }
   lua_settop(L, 3);
