@@ -25,7 +25,7 @@ constexpr char kStopped = 0;
 // the script's line (not the guard's) and the function (Lua finds its name in the original
 // tables, which the script never sees).
 constexpr const char* kGuards = R"lua(
-local G, S, T, U, charge, charge_text, check_pattern, buffered, plain_concat, plain_format, replaying = ...
+local G, S, T, U, charge, charge_text, check_pattern, buffered, plain_concat, plain_format, replaying, set_metatable = ...
 local type, error, rawget, tonumber, tointeger, ipairs, select, pcall = type, error, rawget, tonumber, math.tointeger, ipairs, select, pcall
 local find = S.find
 local guards = {}
@@ -66,7 +66,9 @@ guard(S, "gsub", function(f) return function(s, p, r, n) check_pattern("gsub", s
 guard(S, "rep", function(f) return function(s, n, sep)
   local times = tonumber(n)
   if times and times > 0 then
-    charge(((type(s) == "string" and #s or 24) + (type(sep) == "string" and #sep or 0)) * times / 16)
+    -- Each copy costs at least a byte: rep loops once a copy, even of nothing.
+    local bytes = (type(s) == "string" and #s or 24) + (type(sep) == "string" and #sep or 0)
+    charge((bytes > 0 and bytes or 1) * times / 16)
   end
   return finish(buffered(f, false, s, n, sep))
 end end)
@@ -93,7 +95,7 @@ guard(G, "setmetatable", function(f) return function(t, mt)
       error("setmetatable: weak tables (__mode) are not allowed: they lose entries when the collector decides, which differs from run to run", 2)
     end
   end
-  return finish(pcall(f, t, mt))
+  return finish(pcall(set_metatable, t, mt))
 end end)
 
 -- xpcall on pcall: Lua calls a message handler while it raises the error, and an error raised by
@@ -331,6 +333,107 @@ int LuaSandbox::charge_text(lua_State* L) {
 
 // check_pattern(name, s, p [, plain]): refuses a search whose worst case is over the limit;
 // charges its bytes.
+// A weak table or a finalizer set on a metatable after setmetatable (`mt.__mode = "k"`) would act
+// when the collector decides (Lua reads __mode at each collection). So a table that becomes a
+// metatable gets a guard: without a metatable of its own it gets one whose __newindex is
+// metatable_write (and hidden, like the frozen globals' own); with one that has no __newindex, that
+// one gains metatable_write as its __newindex. A script cannot write a table's absent keys but
+// through __newindex (rawset is gone), and set_metatable keeps the guard when the metatable-to-be
+// gets a metatable later.
+//
+// metatable_write(t, k, v): t[k] = v, but for __gc and __mode.
+int LuaSandbox::metatable_write(lua_State* L) {
+  if (lua_type(L, 2) == LUA_TSTRING) {
+    const std::string_view key = lua_tostring(L, 2);
+    if (key == "__gc" || key == "__mode") {
+      // The script's line that wrote it. (No C++ object may be alive where Lua may raise.)
+      char where[256];
+      {
+        const std::string line = location(L, 0);
+        std::snprintf(where, sizeof where, "%s", line.c_str());
+      }
+      lua_pushstring(L, where);
+      lua_pushfstring(L,
+                      "sets '%s' of a table used as a metatable: finalizers and weak tables are not allowed (they "
+                      "act when the collector decides, which differs from run to run)",
+                      lua_tostring(L, 2));
+      lua_concat(L, 2);
+      return lua_error(L);
+    }
+  }
+  lua_settop(L, 3);
+  lua_rawset(L, 1);
+  return 0;
+}
+
+namespace {
+
+// Whether the table at `index` is guarded (see metatable_write): its real metatable is the guard
+// (upvalue 1) or has metatable_write as its __newindex.
+bool guarded(lua_State* L, int index, lua_CFunction write) {
+  if (!lua_getmetatable(L, index)) return false;
+  bool is = lua_rawequal(L, -1, lua_upvalueindex(1));
+  if (!is) {
+    lua_pushliteral(L, "__newindex");
+    lua_rawget(L, -2);
+    is = lua_tocfunction(L, -1) == write;
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  return is;
+}
+
+// Gives the table at `index`, a metatable, `write` as its __newindex unless it has one.
+void ensure_newindex(lua_State* L, int index, lua_CFunction write) {
+  index = lua_absindex(L, index);
+  lua_pushliteral(L, "__newindex");
+  if (lua_rawget(L, index) == LUA_TNIL) {
+    lua_pushliteral(L, "__newindex");
+    lua_pushcfunction(L, write);
+    lua_rawset(L, index);
+  }
+  lua_pop(L, 1);
+}
+
+// Makes the table at `index` one whose absent keys a script writes only through `write` (or a
+// __newindex of its own metatable's).
+void guard_table(lua_State* L, int index, lua_CFunction write) {
+  index = lua_absindex(L, index);
+  if (!lua_getmetatable(L, index)) {
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_setmetatable(L, index);
+    return;
+  }
+  ensure_newindex(L, -1, write);
+  lua_pop(L, 1);
+}
+
+}  // namespace
+
+// set_metatable(t, mt): setmetatable, the metatable-to-be guarded (see metatable_write).
+int LuaSandbox::set_metatable(lua_State* L) {
+  luaL_checktype(L, 1, LUA_TTABLE);
+  const int type = lua_type(L, 2);
+  luaL_argexpected(L, type == LUA_TNIL || type == LUA_TTABLE, 2, "nil or table");
+  lua_settop(L, 2);
+  const bool was_guarded = guarded(L, 1, &metatable_write);
+  if (!was_guarded && luaL_getmetafield(L, 1, "__metatable") != LUA_TNIL)
+    return luaL_error(L, "cannot change a protected metatable");
+  lua_settop(L, 2);
+  if (was_guarded && type == LUA_TNIL) {
+    // t is some table's metatable: it keeps the guard in place of none.
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_replace(L, 2);
+  } else if (was_guarded) {
+    ensure_newindex(L, 2, &metatable_write);  // t's new metatable guards it in turn
+  }
+  lua_pushvalue(L, 2);
+  lua_setmetatable(L, 1);
+  if (type == LUA_TTABLE) guard_table(L, 2, &metatable_write);
+  lua_settop(L, 1);
+  return 1;
+}
+
 int LuaSandbox::check_pattern(lua_State* L) {
   LuaSandbox& s = of(L);
   const int ts = lua_type(L, 2), tp = lua_type(L, 3);
@@ -413,7 +516,14 @@ void LuaSandbox::open_libraries() {
   for (lua_CFunction f : {&LuaSandbox::check_pattern, &LuaSandbox::buffered, &LuaSandbox::plain_concat,
                           &LuaSandbox::plain_format, &LuaSandbox::replaying})
     lua_pushcfunction(L_, f);
-  if (lua_pcall(L_, 11, 1, 0) != LUA_OK) std::abort();  // the guards are dwatch's own code
+  // set_metatable's upvalue: the metatable a table gets when it becomes another's metatable.
+  lua_createtable(L_, 0, 2);
+  lua_pushcfunction(L_, &LuaSandbox::metatable_write);
+  lua_setfield(L_, -2, "__newindex");
+  lua_pushboolean(L_, 0);
+  lua_setfield(L_, -2, "__metatable");
+  lua_pushcclosure(L_, &LuaSandbox::set_metatable, 1);
+  if (lua_pcall(L_, 12, 1, 0) != LUA_OK) std::abort();  // the guards are dwatch's own code
   guards_ = luaL_ref(L_, LUA_REGISTRYINDEX);
 }
 

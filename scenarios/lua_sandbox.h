@@ -80,6 +80,8 @@ class LuaSandbox {
   static int charge(lua_State* L);
   static int charge_text(lua_State* L);
   static int check_pattern(lua_State* L);
+  static int metatable_write(lua_State* L);
+  static int set_metatable(lua_State* L);
   static int buffered(lua_State* L);
   static int plain_concat(lua_State* L);
   static int plain_format(lua_State* L);

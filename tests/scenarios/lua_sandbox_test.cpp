@@ -105,6 +105,9 @@ TEST(LuaSandbox, LibraryWorkIsChargedToTheBudget) {
   expect_stopped("local s = string.rep('\\xe4', 1 << 24)\nwhile true do utf8.len(s) end", kBudget);
   expect_stopped("local s = string.rep('a', 1 << 24)\nwhile true do pcall(string.upper, s) end", kBudget);
   expect_stopped("local s = string.rep('ab', 1e12)", "x.lua:1: ");
+  // Copies of nothing cost too: rep loops once a copy (this hung before).
+  expect_stopped("local s = string.rep('', 1e15, '')", kBudget);
+  expect_stopped("local s = string.rep('', 1 << 62)", kBudget);
   expect_stopped("return string.format('%99999d', 1)", "invalid conversion");
   // Library errors still name the script's line.
   expect_stopped("\nlocal s = string.rep()", "x.lua:2: bad argument #1 to 'string.rep'");
@@ -141,6 +144,26 @@ TEST(LuaSandbox, TableSortIsAStableMergeSortWhateverTheComparator) {
 TEST(LuaSandbox, FinalizersAndWeakTablesAreRefusedAndCloseMeetsTheBudget) {
   expect_stopped("setmetatable({}, {__gc = function() while true do end end})", "x.lua:1: setmetatable: finalizers");
   expect_stopped("setmetatable({}, {__mode = 'k'})", "x.lua:1: setmetatable: weak tables");
+  // Set on the metatable afterwards, however it is reached: Lua reads __mode at each collection.
+  const std::string refused = "of a table used as a metatable: finalizers and weak tables are not allowed";
+  expect_stopped("local mt = {}\nlocal w = setmetatable({}, mt)\nmt.__mode = 'k'", "x.lua:3: sets '__mode' " + refused);
+  expect_stopped("local mt = {}\nsetmetatable({}, mt)\nmt.__gc = print", "x.lua:3: sets '__gc' " + refused);
+  expect_stopped("local mt = {}\nsetmetatable({}, mt)\nsetmetatable(mt, nil)\nmt.__mode = 'v'",
+                 "x.lua:4: sets '__mode'");
+  expect_stopped("local mt = {}\nsetmetatable({}, mt)\nsetmetatable(mt, {})\nmt.__mode = 'v'",
+                 "x.lua:4: sets '__mode'");
+  expect_stopped("local mt = setmetatable({}, {__index = {}})\nsetmetatable({}, mt)\nmt.__mode = 'k'",
+                 "x.lua:3: sets '__mode'");
+  expect_stopped("local mt = {}\nsetmetatable({}, mt)\ngetmetatable(mt).__newindex = nil",
+                 "attempt to index a boolean");
+  // What metatables are for still works: classes, their instances, fields set after setmetatable.
+  const Result classes =
+      run("local Base = {}\nBase.__index = Base\nfunction Base.hello() return 'hi' end\n"
+          "local Derived = setmetatable({}, {__index = Base})\nDerived.__index = Derived\n"
+          "local o = setmetatable({}, Derived)\no.x = 7\nDerived.extra = 1\n"
+          "local mt = {}\nlocal t = setmetatable({}, mt)\nmt.__index = function() return 5 end\n"
+          "return o.hello() .. o.x .. o.extra .. t.anything .. tostring(getmetatable(o) == Derived)");
+  EXPECT_EQ(classes.returned, "hi715true") << classes.message;
   expect_stopped("do local x <close> = setmetatable({}, {__close = function() while true do end end}) end", kBudget);
   expect_stopped("local t = setmetatable({}, {__index = function(t, k) return t[k] end})\nreturn t.x",
                  "stack overflow");
