@@ -106,8 +106,9 @@ class LuaState final : public sim::ProgramScratch {
     for (lua_Integer i = 1; lua_rawgeti(L_, -1, i) != LUA_TNIL; ++i) {
       if (lua_type(L_, -1) != LUA_TSTRING) return fail("`program.vars` must list names (strings)");
       if (!watch::is_name(lua_tostring(L_, -1)))
-        return fail("`program.vars` lists \"" + std::string(lua_tostring(L_, -1)) +
-                    "\", which a watchpoint cannot name: letters, digits and _, not starting with a digit");
+        return fail("`program.vars` lists \"" + std::string(lua_tostring(L_, -1)).substr(0, 80) +
+                    "\", which a watchpoint cannot name: letters, digits and _, not starting with a digit, at most " +
+                    std::to_string(watch::kMaxNameLength) + " of them, and no keyword of watchpoints (and, last, ...)");
       d.vars.emplace_back(lua_tostring(L_, -1));
       lua_pop(L_, 1);
     }

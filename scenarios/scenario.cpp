@@ -147,11 +147,25 @@ struct Loader {
       r.error("size", "a ring needs at least 3 modules");
       ok = false;
     }
+    std::vector<sim::LatticeBox> boxes;
+    for (size_t b = 0; b < empty.size(); ++b) {
+      const auto& [from, to] = empty[b];
+      boxes.push_back({{{uint32_t(from[0]), uint32_t(from[1]), uint32_t(from[2])},
+                        {uint32_t(to[0]), uint32_t(to[1]), uint32_t(to[2])}}});
+      for (size_t i = 0; i < 3; ++i)
+        if (from[i] >= int64_t{spec.size[i]}) {
+          r.error("empty", "box " + std::to_string(b + 1) + " (from [" + std::to_string(from[0]) + ", " +
+                               std::to_string(from[1]) + ", " + std::to_string(from[2]) +
+                               "]) lies outside the lattice, whose cells go up to [" +
+                               std::to_string(spec.size[0] - 1) + ", " + std::to_string(spec.size[1] - 1) + ", " +
+                               std::to_string(spec.size[2] - 1) + "]: it would empty nothing");
+          ok = false;
+          break;
+        }
+    }
     if (!ok) return std::nullopt;
     sim::Lattice l = sim::make_lattice(spec);
-    for (const auto& [from, to] : empty)
-      sim::leave_empty(l, {uint32_t(from[0]), uint32_t(from[1]), uint32_t(from[2])},
-                       {uint32_t(to[0]), uint32_t(to[1]), uint32_t(to[2])});
+    sim::leave_empty(l, boxes);
     if (std::none_of(l.occupied.begin(), l.occupied.end(), [](uint8_t o) { return o != 0; })) {
       r.error("empty", "these boxes leave every cell of the lattice empty: there is no module to run");
       return std::nullopt;

@@ -119,11 +119,34 @@ Lattice make_lattice(const LatticeSpec& spec) {
   return l;
 }
 
-void leave_empty(Lattice& lattice, std::array<uint32_t, 3> from, std::array<uint32_t, 3> to) {
+void leave_empty(Lattice& lattice, std::span<const LatticeBox> boxes) {
   const auto& n = lattice.spec.size;
-  for (uint32_t z = from[2]; z <= std::min(to[2], n[2] - 1); ++z)
-    for (uint32_t y = from[1]; y <= std::min(to[1], n[1] - 1); ++y)
-      for (uint32_t x = from[0]; x <= std::min(to[0], n[0] - 1); ++x) lattice.occupied[x + n[0] * (y + n[1] * z)] = 0;
+  // Each box adds one to its cells through its eight corners in a difference array; sums along x,
+  // then y, then z count for every cell the boxes that hold it.
+  const size_t sx = size_t{n[0]} + 1, sy = size_t{n[1]} + 1, sz = size_t{n[2]} + 1;
+  std::vector<int32_t> d(sx * sy * sz, 0);
+  const auto at = [&](size_t x, size_t y, size_t z) -> int32_t& { return d[x + sx * (y + sy * z)]; };
+  for (const auto& [from, to] : boxes) {
+    if (from[0] >= n[0] || from[1] >= n[1] || from[2] >= n[2]) continue;
+    const size_t x0 = from[0], y0 = from[1], z0 = from[2];
+    const size_t x1 = size_t{std::min(to[0], n[0] - 1)} + 1, y1 = size_t{std::min(to[1], n[1] - 1)} + 1,
+                 z1 = size_t{std::min(to[2], n[2] - 1)} + 1;
+    ++at(x0, y0, z0), --at(x1, y0, z0), --at(x0, y1, z0), --at(x0, y0, z1);
+    ++at(x1, y1, z0), ++at(x1, y0, z1), ++at(x0, y1, z1), --at(x1, y1, z1);
+  }
+  for (size_t z = 0; z < sz; ++z)
+    for (size_t y = 0; y < sy; ++y)
+      for (size_t x = 1; x < sx; ++x) at(x, y, z) += at(x - 1, y, z);
+  for (size_t z = 0; z < sz; ++z)
+    for (size_t y = 1; y < sy; ++y)
+      for (size_t x = 0; x < sx; ++x) at(x, y, z) += at(x, y - 1, z);
+  for (size_t z = 1; z < sz; ++z)
+    for (size_t y = 0; y < sy; ++y)
+      for (size_t x = 0; x < sx; ++x) at(x, y, z) += at(x, y, z - 1);
+  for (uint32_t z = 0; z < n[2]; ++z)
+    for (uint32_t y = 0; y < n[1]; ++y)
+      for (uint32_t x = 0; x < n[0]; ++x)
+        if (at(x, y, z) > 0) lattice.occupied[x + n[0] * (y + n[1] * z)] = 0;
   std::vector<std::pair<ModuleId, ModuleId>> pairs;
   for (ModuleId m = 0; m < lattice.graph->module_count(); ++m)
     for (ModuleId o : lattice.graph->neighbors(m))

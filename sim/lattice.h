@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -44,8 +45,14 @@ struct Lattice {
 // Ring needs at least 3 modules; every size at least 1. The caller checks those (the scenario
 // loader reports them against the file).
 Lattice make_lattice(const LatticeSpec& spec);
-// Leaves the cells of a box (inclusive lattice coordinates, x y z) empty: their modules are
-// absent for the whole run and touch nobody.
-void leave_empty(Lattice& lattice, std::array<uint32_t, 3> from, std::array<uint32_t, 3> to);
+// Leaves the cells of boxes (inclusive lattice coordinates, x y z, from and to) empty: their
+// modules are absent for the whole run and touch nobody. Takes time in the boxes' number and the
+// lattice's cells, however large the boxes are and however many overlap.
+using LatticeBox = std::array<std::array<uint32_t, 3>, 2>;
+void leave_empty(Lattice& lattice, std::span<const LatticeBox> boxes);
+inline void leave_empty(Lattice& lattice, std::array<uint32_t, 3> from, std::array<uint32_t, 3> to) {
+  const LatticeBox box{from, to};
+  leave_empty(lattice, std::span(&box, 1));
+}
 
 }  // namespace dw::sim

@@ -33,10 +33,10 @@ TokenKind keyword_or_name(std::string_view word) {
 }  // namespace
 
 bool is_name(std::string_view word) {
-  if (word.empty() || !is_name_start(word[0])) return false;
+  if (word.empty() || word.size() > kMaxNameLength || !is_name_start(word[0])) return false;
   for (char c : word)
     if (!is_name_char(c)) return false;
-  return true;
+  return keyword_or_name(word) == TokenKind::Name;
 }
 
 class Lexer {

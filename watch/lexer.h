@@ -29,8 +29,10 @@ class TokenStream {
 // Returns every token of `source`, ending with one End token.
 std::vector<Token> lex(const SourceText& source);
 
-// Whether `word` lexes as one name (letters, digits and _, not starting with a digit): what a
-// program's variable must be called for a watchpoint to read it.
+// Whether `word` lexes as one name (letters, digits and _, not starting with a digit, no keyword
+// such as `and` or `last`, at most kMaxNameLength bytes): what a program's variable must be called
+// for a watchpoint to read it.
+inline constexpr size_t kMaxNameLength = 255;
 bool is_name(std::string_view word);
 
 }  // namespace dw::watch

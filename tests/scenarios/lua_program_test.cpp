@@ -311,9 +311,12 @@ TEST_F(LuaScript, NoScriptCatchesItsLimitsOrLeavesAFinalizerBehind) {
 }
 
 TEST_F(LuaScript, VariablesAreNamesAWatchpointCanReadDeclaredOnce) {
-  for (const std::string bad : {"\"\"", "\"a b\"", "\"1x\"", "\"x.y\""}) {
+  for (const std::string& bad : std::vector<std::string>{"\"\"", "\"a b\"", "\"1x\"", "\"x.y\"", "\"and\"", "\"last\"",
+                                                         "\"neighbor\"", "\"" + std::string(256, 'x') + "\""}) {
     const std::string e = run_error("program = { vars = { " + bad + " } }\nfunction step(m) end\n");
-    EXPECT_NE(e.find("`program.vars` lists " + bad + ", which a watchpoint cannot name"), std::string::npos)
+    EXPECT_NE(e.find("`program.vars` lists " + bad.substr(0, 81) + (bad.size() > 82 ? "\"" : "") +
+                     ", which a watchpoint cannot name"),
+              std::string::npos)
         << bad << ": " << e;
   }
   const std::string twice = run_error("program = { vars = { \"x\", \"y\", \"x\" } }\nfunction step(m) end\n");

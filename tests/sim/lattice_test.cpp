@@ -91,6 +91,32 @@ TEST(Lattice, NamesRoundTrip) {
   EXPECT_FALSE(lattice_from_name("hexagonal"));
 }
 
+// Boxes left empty, overlapping, reaching past the lattice's edge, one cell or many: the cells any
+// box holds are empty and no others, and no pair touches an empty cell.
+TEST(Lattice, BoxesLeftEmptyAreExactlyTheCellsAnyBoxHolds) {
+  const std::vector<LatticeBox> boxes = {{{{0, 0, 0}, {1, 1, 1}}},
+                                         {{{1, 1, 1}, {2, 3, 1}}},
+                                         {{{4, 0, 2}, {9, 9, 9}}},
+                                         {{{2, 2, 0}, {2, 2, 0}}},
+                                         {{{0, 4, 0}, {0, 4, 3}}}};
+  Lattice l = make_lattice({LatticeKind::Cubic, {5, 5, 4}});
+  leave_empty(l, boxes);
+  const auto inside = [](const LatticeBox& b, uint32_t x, uint32_t y, uint32_t z) {
+    return x >= b[0][0] && x <= b[1][0] && y >= b[0][1] && y <= b[1][1] && z >= b[0][2] && z <= b[1][2];
+  };
+  size_t empty = 0;
+  for (uint32_t z = 0; z < 4; ++z)
+    for (uint32_t y = 0; y < 5; ++y)
+      for (uint32_t x = 0; x < 5; ++x) {
+        const bool in_a_box = std::ranges::any_of(boxes, [&](const LatticeBox& b) { return inside(b, x, y, z); });
+        const ModuleId m = x + 5 * (y + 5 * z);
+        EXPECT_EQ(l.occupied[m] == 0, in_a_box) << x << " " << y << " " << z;
+        empty += in_a_box;
+        for (ModuleId o : l.graph->neighbors(m)) EXPECT_TRUE(l.occupied[m] && l.occupied[o]) << m << " " << o;
+      }
+  EXPECT_EQ(empty, 8u + (6u - 1u) + 10u + 1u + 4u);  // the boxes, the second less the cell it shares
+}
+
 TEST(NeighborGraph, FromPairsSortsAndDeduplicates) {
   const std::vector<std::pair<ModuleId, ModuleId>> pairs{{2, 0}, {0, 1}, {0, 2}, {3, 1}};
   const NeighborGraph g = NeighborGraph::from_pairs(4, pairs);
