@@ -25,7 +25,7 @@ namespace {
 
 struct RunArgs {
   std::string scenario;
-  std::optional<int64_t> steps, seed, threads, history_mb;
+  std::optional<int64_t> steps, seed, threads, history_mb, max_live;
   std::string algorithm, shape, states, partition = "auto";
   std::string record_path, matches_path, stats_path, render_path;
   size_t print = 5;
@@ -47,6 +47,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
         args.algorithm == "centralized" ? watch::Algorithm::Centralized : watch::Algorithm::Distributed;
   if (!args.shape.empty()) overrides.shape = watch::parse_shape(args.shape);
   if (!args.states.empty()) overrides.states = watch::parse_states(args.states);
+  if (args.max_live) overrides.max_live = static_cast<uint64_t>(*args.max_live);
   overrides.memory_limit = memory_limit_unless(args.no_memory_check);
   auto loaded = scenarios::load_scenario(args.scenario, overrides);
   if (auto* message = std::get_if<std::string>(&loaded)) {
@@ -336,6 +337,9 @@ void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange
   cmd->add_option("--states", args->states,
                   "Run every distributed watchpoint over consistent (the paper's) or simultaneous states")
       ->check(CLI::IsMember({"consistent", "simultaneous"}));
+  add_integer_option(*cmd, "--max-live", args->max_live, scenarios::kMaxLiveRange,
+                     "Budget of every watchpoint: most PatternMatchers alive in one step; past it the run stops "
+                     "(exit 1). 0: none (default: each watchpoint's max_live)");
   cmd->add_option("--partition", args->partition,
                   "Over several ranks (mpirun), share the modules in runs of blocks (slabs of a lattice), by a "
                   "METIS partition of their neighbour graph, or (auto) by blocks for a static lattice and by METIS "

@@ -464,7 +464,7 @@ struct Loader {
         ok = false;
         continue;
       }
-      options.live_budget = static_cast<uint64_t>(max_live.value_or(20'000'000));
+      options.live_budget = overrides.max_live.value_or(static_cast<uint64_t>(max_live.value_or(20'000'000)));
       options.optimizations.early_termination = early.value_or(true);
       options.optimizations.neighbor_culling = cull.value_or(true);
       options.optimizations.temporal_spans = spans.value_or(true);

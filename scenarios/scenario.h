@@ -113,6 +113,7 @@ struct ScenarioOverrides {
   std::optional<watch::Algorithm> algorithm;
   std::optional<watch::GroupShape> shape;
   std::optional<watch::States> states;
+  std::optional<uint64_t> max_live;    // every watchpoint's PatternMatcher budget
   uint64_t max_modules = 100'000'000;  // the largest lattice accepted (a fuzzer asks for less)
   // Refuse a scenario whose memory estimate (scenarios/memory_estimate.h) is above this many
   // bytes, before allocating it; 0: no check. The command line gives the machine's memory_limit().

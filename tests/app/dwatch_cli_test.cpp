@@ -102,6 +102,18 @@ TEST_F(Cli, BudgetStopsWithExitOneAndKeepsWhatWasFound) {
   EXPECT_EQ(m.find("\"t\":1"), std::string::npos) << "the step that went over reports nothing";
 }
 
+// run takes the budget too, for every watchpoint of the scenario; a missing value is named.
+TEST_F(Cli, RunTakesThePatternMatcherBudgetForEveryWatchpoint) {
+  const std::string scenario = (fs::path(DWATCH_SCENARIOS_DIR) / "token_ring.toml").string();
+  const Result r = run("run " + scenario + " --max-live 10");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("stopped: more than 10 PatternMatchers at watch step 0"), std::string::npos) << r.err;
+  EXPECT_EQ(run("run " + scenario).code, 0);
+  const Result missing = run("run " + scenario + " --max-live");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.err.find("--max-live: 1 required"), std::string::npos) << missing.err;
+}
+
 TEST_F(Cli, BadOptionsAreBadInput) {
   EXPECT_EQ(run("replay x.jsonl -w 'modules(a); (a.x=1)' --algorithm sideways").code, 2);
   EXPECT_EQ(run("replay " + (dir_ / "missing.jsonl").string() + " -w 'modules(a); (a.x=1)'").code, 2);
