@@ -1,11 +1,16 @@
 // `dwatch replay TRACE --watch ...`: run watchpoints over a recorded trace.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdlib>
 
 #include "app/commands.h"
 #include "app/detector_flags.h"
@@ -232,7 +237,14 @@ void add_replay_command(CLI::App& app, std::function<int()>& run) {
       ->default_val(20);
   cmd->add_option("--max-frame-memory", args->max_frame_gib,
                   "GiB one dense frame (modules x variables read) may take (default: a quarter of the memory)")
-      ->check(CLI::Range(0.001, 1e6));
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            // CLI::Range lets nan through (every comparison with it is false).
+            const double v = std::strtod(text.c_str(), nullptr);
+            return std::isfinite(v) && v >= 0.001 && v <= 1e6 ? std::string()
+                                                              : "must be a number of GiB from 0.001 to 1000000";
+          },
+          "GiB", "finite GiB"));
   add_detector_flags(*cmd, args->detector);
   cmd->callback([&run, args] { run = [args] { return replay(*args); }; });
 }

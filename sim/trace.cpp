@@ -1,5 +1,7 @@
 #include "sim/trace.h"
 
+#include "sim/read_file.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -231,12 +233,10 @@ std::variant<FrameReader, std::string> FrameReader::make(const Trace& trace,
   const double vars = static_cast<double>(reader.universe_.variables.size());
   const double frame_bytes = modules * (9.0 * vars + 5.0);
   if (frame_bytes > max_frame_bytes) {
-    char need[32], most[32];
-    std::snprintf(need, sizeof need, "%.2f", frame_bytes / (1u << 30));
-    std::snprintf(most, sizeof most, "%.2f", max_frame_bytes / (1u << 30));
-    return "one frame of the trace needs " + std::string(need) + " GiB (" + std::to_string(modules) + " modules x " +
-           std::to_string(reader.universe_.variables.size()) + " variables); at most " + most +
-           " GiB is allowed (--max-frame-memory)";
+    return "one frame of the trace needs " + size_text(static_cast<size_t>(frame_bytes)) + " (" +
+           std::to_string(reader.universe_.module_ids.size()) + " modules x " +
+           std::to_string(reader.universe_.variables.size()) + " variables); at most " +
+           size_text(static_cast<size_t>(max_frame_bytes)) + " is allowed (--max-frame-memory)";
   }
   return reader;
 }

@@ -574,6 +574,8 @@ TEST_F(Cli, CommandLineNumbersTakeTheRangesOfTheirKeys) {
     EXPECT_EQ(run("run " + scenario + " " + option).code, 2) << option;
   EXPECT_EQ(run("render " + scenario + " --out " + (dir_ / "x.png").string() + " --width -1").code, 2);
   EXPECT_EQ(run("replay x.jsonl -w 'modules(a); (a.x=1)' --max-live -1").code, 2);
+  for (const char* gib : {"nan", "inf", "-1", "0"})
+    EXPECT_EQ(run(std::string("replay x.jsonl -w 'modules(a); (a.x=1)' --max-frame-memory ") + gib).code, 2) << gib;
   EXPECT_EQ(run("bench engine --repeat 0").code, 2);
 }
 
