@@ -108,7 +108,8 @@ class LuaState final : public sim::ProgramScratch {
       if (!watch::is_name(lua_tostring(L_, -1)))
         return fail("`program.vars` lists \"" + std::string(lua_tostring(L_, -1)).substr(0, 80) +
                     "\", which a watchpoint cannot name: letters, digits and _, not starting with a digit, at most " +
-                    std::to_string(watch::kMaxNameLength) + " of them, and no keyword of watchpoints (and, last, ...)");
+                    std::to_string(watch::kMaxNameLength) +
+                    " of them, and none of and, or, not, modules, neighbor, last, next");
       d.vars.emplace_back(lua_tostring(L_, -1));
       lua_pop(L_, 1);
     }

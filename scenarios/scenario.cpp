@@ -16,10 +16,10 @@ namespace {
 
 // Positions (props, the camera) in module sizes: far beyond any lattice, and finite.
 
-// The watchpoint text's own characters in the file, everything else blanked (newlines kept):
-// compiled as if it were the whole file, its diagnostics point into the scenario file itself.
+// Where the watchpoint text's own characters start in the file: compiled with that base, its
+// spans and diagnostics point into the scenario file itself, and it keeps only its own text.
 // Nothing when the string was written with escapes, whose value differs from its spelling.
-std::optional<std::string> text_in_place(const FileDiagnostics& d, const toml::node& value, const std::string& text) {
+std::optional<uint32_t> text_in_place(const FileDiagnostics& d, const toml::node& value, const std::string& text) {
   const std::string& file = d.source().text();
   const uint32_t begin = d.offset(value.source().begin);
   for (std::string_view quote : {"'''", "\"\"\"", "'", "\""}) {
@@ -28,11 +28,7 @@ std::optional<std::string> text_in_place(const FileDiagnostics& d, const toml::n
     if (quote.size() == 3 && file.compare(start, 1, "\n") == 0) ++start;  // TOML trims it
     else if (quote.size() == 3 && file.compare(start, 2, "\r\n") == 0) start += 2;
     if (file.compare(start, text.size(), text) != 0) return std::nullopt;
-    std::string blank(file.size(), ' ');
-    for (size_t i = 0; i < file.size(); ++i)
-      if (file[i] == '\n') blank[i] = '\n';
-    blank.replace(start, text.size(), text);
-    return blank;
+    return static_cast<uint32_t>(start);
   }
   return std::nullopt;
 }
@@ -325,8 +321,8 @@ struct Loader {
     if (text) {
       const toml::node* value = r.node("text");
       // Compiled in place, so that its diagnostics name the scenario file's line and column.
-      if (auto in_place = text_in_place(diagnostics, *value, *text)) {
-        auto compiled = watch::compile_watchpoint(name, watch::SourceText(path, std::move(*in_place)));
+      if (const auto in_place = text_in_place(diagnostics, *value, *text)) {
+        auto compiled = watch::compile_watchpoint(name, watch::SourceText(path, *text, *in_place));
         if (auto* w = std::get_if<watch::Watchpoint>(&compiled)) return std::move(*w);
         for (watch::Diagnostic& d : std::get<watch::CompileError>(compiled).diagnostics) diagnostics.add(std::move(d));
         return std::nullopt;

@@ -36,12 +36,12 @@ bool is_name(std::string_view word) {
   if (word.empty() || word.size() > kMaxNameLength || !is_name_start(word[0])) return false;
   for (char c : word)
     if (!is_name_char(c)) return false;
-  return keyword_or_name(word) == TokenKind::Name;
+  return !is_reserved(keyword_or_name(word));  // what a watchpoint reads after '.' (a.count, not a.and)
 }
 
 class Lexer {
  public:
-  explicit Lexer(const SourceText& source) : text_(source.text()) {}
+  explicit Lexer(const SourceText& source) : text_(source.text()), base_(source.base()) {}
 
   Token token() {
     skip_space_and_comments();
@@ -65,7 +65,7 @@ class Lexer {
   Token make(TokenKind kind, size_t begin) {
     Token t;
     t.kind = kind;
-    t.span = {static_cast<uint32_t>(begin), static_cast<uint32_t>(pos_)};
+    t.span = {static_cast<uint32_t>(base_ + begin), static_cast<uint32_t>(base_ + pos_)};
     return t;
   }
 
@@ -167,6 +167,7 @@ class Lexer {
 
   std::string_view text_;
   size_t pos_ = 0;
+  size_t base_ = 0;  // where the text starts in the file its spans count in
 };
 
 bool is_keyword(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Remove; }

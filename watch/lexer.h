@@ -29,9 +29,10 @@ class TokenStream {
 // Returns every token of `source`, ending with one End token.
 std::vector<Token> lex(const SourceText& source);
 
-// Whether `word` lexes as one name (letters, digits and _, not starting with a digit, no keyword
-// such as `and` or `last`, at most kMaxNameLength bytes): what a program's variable must be called
-// for a watchpoint to read it.
+// Whether `word` lexes as one name (letters, digits and _, not starting with a digit, at most
+// kMaxNameLength bytes) that a watchpoint can read after '.': no reserved word such as `and` or
+// `last` (keywords of expressions, such as `count`, are names there): what a program's variable
+// must be called for a watchpoint to read it.
 inline constexpr size_t kMaxNameLength = 255;
 bool is_name(std::string_view word);
 

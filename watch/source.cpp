@@ -5,7 +5,7 @@
 namespace dw::watch {
 
 Location SourceText::locate(uint32_t offset) const {
-  offset = std::min<uint32_t>(offset, static_cast<uint32_t>(text_.size()));
+  offset = std::min<uint32_t>(offset - std::min(offset, base_), static_cast<uint32_t>(text_.size()));
   Location loc;
   for (uint32_t i = 0; i < offset; ++i) {
     if (text_[i] == '\n') {
@@ -19,7 +19,7 @@ Location SourceText::locate(uint32_t offset) const {
 }
 
 std::string_view SourceText::line_at(uint32_t offset) const {
-  offset = std::min<uint32_t>(offset, static_cast<uint32_t>(text_.size()));
+  offset = std::min<uint32_t>(offset - std::min(offset, base_), static_cast<uint32_t>(text_.size()));
   size_t begin = 0;
   if (offset > 0) {
     const size_t nl = text_.rfind('\n', offset - 1);

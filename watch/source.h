@@ -24,11 +24,15 @@ struct Location {
 // The text being parsed and the name it is reported under (a file path, or "<command line>").
 class SourceText {
  public:
-  SourceText(std::string name, std::string text) : name_(std::move(name)), text_(std::move(text)) {}
+  // `base`: where the text starts in a larger file its spans count in (a watchpoint written in a
+  // scenario file: its diagnostics point into that file, and it keeps only its own text).
+  SourceText(std::string name, std::string text, uint32_t base = 0)
+      : name_(std::move(name)), text_(std::move(text)), base_(base) {}
 
   const std::string& name() const { return name_; }
   const std::string& text() const { return text_; }
-  std::string_view slice(Span s) const { return std::string_view(text_).substr(s.begin, s.length()); }
+  uint32_t base() const { return base_; }
+  std::string_view slice(Span s) const { return std::string_view(text_).substr(s.begin - base_, s.length()); }
 
   Location locate(uint32_t offset) const;
   // The whole line holding `offset`, without its line break.
@@ -37,6 +41,7 @@ class SourceText {
  private:
   std::string name_;
   std::string text_;
+  uint32_t base_ = 0;
 };
 
 }  // namespace dw::watch
