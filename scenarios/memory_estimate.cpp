@@ -7,8 +7,9 @@
 
 namespace dw::scenarios {
 
-uint64_t memory_estimate(uint64_t modules, bool physics, uint64_t history_mb) {
-  const uint64_t per_module = kStaticBytesPerModule + (physics ? kPhysicsBytesPerModule : 0);
+uint64_t memory_estimate(uint64_t modules, bool physics, uint64_t history_mb, uint64_t variables) {
+  const uint64_t per_module =
+      kStaticBytesPerModule + (physics ? kPhysicsBytesPerModule : 0) + variables * kBytesPerVariable;
   return kFixedBytes + modules * per_module + (history_mb << 20);
 }
 
@@ -22,12 +23,15 @@ uint64_t memory_limit() {
   return limit;
 }
 
-std::string memory_refusal(uint64_t modules, bool physics, uint64_t history_mb, uint64_t limit) {
-  const uint64_t per_module = kStaticBytesPerModule + (physics ? kPhysicsBytesPerModule : 0);
+std::string memory_refusal(uint64_t modules, bool physics, uint64_t history_mb, uint64_t limit, uint64_t variables) {
+  const uint64_t per_module =
+      kStaticBytesPerModule + (physics ? kPhysicsBytesPerModule : 0) + variables * kBytesPerVariable;
   return "that is " + std::to_string(modules) + " modules, which need about " +
-         sim::size_text(memory_estimate(modules, physics, history_mb)) + " (" + std::to_string(per_module) +
-         " bytes per module" + (physics ? ", physics included" : "") + ", and " + std::to_string(history_mb) +
-         " MiB of history); this machine has " + sim::size_text(limit) + " available (--no-memory-check tries anyway)";
+         sim::size_text(memory_estimate(modules, physics, history_mb, variables)) + " (" + std::to_string(per_module) +
+         " bytes per module" + (physics ? ", physics included" : "") +
+         (variables > 0 ? ", " + std::to_string(variables) + " variables each" : "") + ", and " +
+         std::to_string(history_mb) + " MiB of history); this machine has " + sim::size_text(limit) +
+         " available (--no-memory-check tries anyway)";
 }
 
 }  // namespace dw::scenarios

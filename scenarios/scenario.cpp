@@ -524,6 +524,17 @@ struct Loader {
     if (!diagnostics.empty() || !extra.empty() || !built_lattice || !progs || !hosted)
       return diagnostics.format() + extra;
 
+    // Now that the programs have said how many variables a module holds (at most the sum of
+    // theirs), the estimate again, before the model is built.
+    uint64_t variables = 0;
+    for (const auto& p : *progs) variables += p->variables().size();
+    if (const uint64_t modules = built_lattice->spec.module_count();
+        overrides.memory_limit > 0 &&
+        memory_estimate(modules, physics_on, s.history_mb, variables) > overrides.memory_limit) {
+      diagnostics.add(doc.get("program")->source(),
+                      memory_refusal(modules, physics_on, s.history_mb, overrides.memory_limit, variables));
+      return diagnostics.format();
+    }
     auto built = sim::build_model(std::move(*built_lattice), std::move(*progs), std::move(*hosted),
                                   overrides.seed.value_or(static_cast<uint64_t>(seed.value_or(1))));
     if (auto* message = std::get_if<std::string>(&built)) {

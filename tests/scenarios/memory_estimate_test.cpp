@@ -39,6 +39,24 @@ TEST(MemoryEstimate, AScenarioAboveTheLimitIsRefusedAtItsSize) {
   EXPECT_TRUE(std::holds_alternative<Scenario>(load_scenario_text("big.toml", cube(12, true))));
 }
 
+// The programs' variables count too, once they are known: 16 variables a module on 91,125
+// modules add 35 MiB, over the limit that the lattice alone stays under.
+TEST(MemoryEstimate, AScenarioWhoseVariablesDoNotFitIsRefusedAtItsPrograms) {
+  EXPECT_EQ(memory_estimate(1000, false, 256, 3000) - memory_estimate(1000, false, 256), 1000u * 3000u * 24u);
+  const std::string many =
+      "steps = 2\n[lattice]\nkind = \"cubic\"\nsize = [45, 45, 45]\n[[program]]\n"
+      "name = \"random_vars\"\ntuple = [2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2]\n";
+  ScenarioOverrides limited;
+  limited.memory_limit = memory_estimate(45 * 45 * 45, false, 256) + (uint64_t{20} << 20);
+  const auto refused = load_scenario_text("vars.toml", many, limited);
+  ASSERT_TRUE(std::holds_alternative<std::string>(refused));
+  const std::string& message = std::get<std::string>(refused);
+  EXPECT_EQ(message.rfind("vars.toml:5:1: error: that is 91125 modules, which need about ", 0), 0u) << message;
+  EXPECT_NE(message.find("16 variables each"), std::string::npos) << message;
+  limited.memory_limit += uint64_t{20} << 20;
+  EXPECT_TRUE(std::holds_alternative<Scenario>(load_scenario_text("vars.toml", many, limited)));
+}
+
 TEST(MemoryEstimate, TheMachinesLimitIsKnownHere) {
   // /proc/meminfo is there on Linux: a limit of 0 would turn the check off without a word.
   EXPECT_GT(memory_limit(), uint64_t{16} << 20);
