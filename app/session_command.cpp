@@ -2,6 +2,7 @@
 // script is checked whole before anything runs (a mistake is bad input, exit 2); then each
 // command is carried out and answered with one JSON object a line, and a command that fails
 // stops the script (exit 1, naming its line). On a terminal, without a script, it is a prompt.
+#include <sys/stat.h>
 #include <unistd.h>
 // clang-format off: editline's header needs <cstdio> first
 #include <editline/readline.h>
@@ -114,7 +115,11 @@ int session_main(const SessionArgs& args, Interrupts* interrupts) {
       return 2;
     }
     script.emplace(piped ? "<stdin>" : args.script, std::move(*text));
-    if (!piped) scenario.inputs.push_back(args.script);  // what `record` or `render` must not overwrite
+    // What `record` or `render` must not overwrite: the script, also when it is a file piped in.
+    struct stat piped_file {};
+    if (!piped) scenario.inputs.push_back(args.script);
+    else if (fstat(STDIN_FILENO, &piped_file) == 0 && S_ISREG(piped_file.st_mode))
+      scenario.inputs.push_back("/dev/stdin");
   }
   sim::Session session(*scenario.model, *scenario.world, session_options(scenario, args.source));
   SessionShell shell(scenario, session);

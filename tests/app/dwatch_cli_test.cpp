@@ -114,6 +114,20 @@ TEST_F(Cli, RunTakesThePatternMatcherBudgetForEveryWatchpoint) {
   EXPECT_NE(missing.err.find("--max-live: 1 required"), std::string::npos) << missing.err;
 }
 
+// A session script piped in from a file is an input too: neither its name nor the standard input's
+// may be recorded over.
+TEST_F(Cli, ASessionScriptPipedInFromAFileIsNotOverwritten) {
+  for (const std::string target : {"piped.session", "/proc/self/fd/0"}) {
+    const fs::path script =
+        write("piped.session", "step 2\nrecord " + (target[0] == '/' ? target : (dir_ / target).string()) + "\n");
+    const std::string before = slurp(script);
+    const Result r = run("session " + (fs::path(DWATCH_SCENARIOS_DIR) / "token_ring.toml").string() + " --script - < " +
+                         script.string());
+    EXPECT_NE(r.err.find("would overwrite the input /dev/stdin"), std::string::npos) << target << ": " << r.err;
+    EXPECT_EQ(slurp(script), before) << target;
+  }
+}
+
 TEST_F(Cli, BadOptionsAreBadInput) {
   EXPECT_EQ(run("replay x.jsonl -w 'modules(a); (a.x=1)' --algorithm sideways").code, 2);
   EXPECT_EQ(run("replay " + (dir_ / "missing.jsonl").string() + " -w 'modules(a); (a.x=1)'").code, 2);
