@@ -242,14 +242,16 @@ class LuaState final : public sim::ProgramScratch {
   // Runs init (when `initializing`) or step for one module. When the script fails, the module's
   // error says where: the script's file:line, the module and the step.
   //
-  // A call runs first uncounted in this state. One that finishes is kept; one that runs past its
-  // patience or meets a limit is taken back and run again counted, in a state of its own made for
-  // that call (`run_counted`). A long-lived state keeps what earlier calls grew (Lua's stack, its
-  // call records and string table, uncollected garbage), and where a call meets the memory cap
-  // moves with them, so the counted run, which alone decides whether a call stops and why, starts
-  // from the same state every time: the same script on the same variables stops at the same place,
-  // whatever ran before, on any machine and thread count (but for the memory cap's allocation or
-  // two that Lua's hash seed moves, lua_sandbox.cpp).
+  // A call runs first uncounted in this state. One that goes through is kept; one that runs past
+  // its patience, meets a limit or fails is taken back and run again counted, in a state of its
+  // own made for that call (`run_counted`). A failure is run again because its message depends on
+  // the hook: Lua saves an instruction's position only when a hook runs or the instruction may
+  // call out, so an error raised inside the VM with no hook (an integer `n % 0`) names the line of
+  // the last saved instruction, which the counted run, saving each one, does not. A long-lived state keeps what earlier
+  // calls grew (Lua's stack, its call records and string table, uncollected garbage), and where a call meets the memory
+  // cap moves with them, so the counted run, which alone decides whether a call stops and why, starts from the same
+  // state every time: the same script on the same variables stops at the same place, whatever ran before, on any
+  // machine and thread count (but for the memory cap's allocation or two that Lua's hash seed moves, lua_sandbox.cpp).
   void run(sim::ModuleContext& m, bool initializing, bool after_init = false) {
     std::string message;
     if (sandbox_.limits().patience.count() == 0) {
@@ -260,7 +262,7 @@ class LuaState final : public sim::ProgramScratch {
       const sim::ModuleContext::Sent sent = m.sent();
       for (size_t v = 0; v < saved_.size(); ++v) saved_[v] = m.assigned(uint32_t(v));
       std::optional<std::string> finished = run_here(m, initializing, after_init, false);
-      if (!finished) {
+      if (!finished || !finished->empty()) {
         for (size_t v = 0; v < saved_.size(); ++v) m.set(uint32_t(v), saved_[v]);
         m.take_back(sent);
         // What the interrupted try left is garbage: gone before a second state is made.

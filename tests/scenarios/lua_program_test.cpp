@@ -457,6 +457,37 @@ TEST_F(LuaScript, ACallRunAgainAfterTheWatchdogLeavesNoTrace) {
   EXPECT_EQ(v[7], 3);
 }
 
+// An error names its line whether the call ran uncounted first or counted from the start. Lua
+// raises an integer `n % 0` inside its VM without saving the instruction's position unless a hook
+// runs, so uncounted it named the line of the last call out (line 3 here, not 5); a failed call
+// now runs again counted and that message is reported.
+TEST_F(LuaScript, AnErrorRaisedInsideTheVmNamesItsLineUncountedOrCounted) {
+  const std::string script =
+      "program = { vars = { \"v\" } }\n"
+      "function step(m)\n"
+      "  local z = m:get(\"v\")\n"
+      "  local s = 3\n"
+      "  s = s % z\n"
+      "  m:set(\"v\", s)\n"
+      "end\n";
+  auto loaded = load(script);
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  const Scenario& s = std::get<Scenario>(loaded);
+  auto failure = [&](std::chrono::milliseconds patience) {
+    const auto model = with_limits(s, script, {.patience = patience});
+    sim::Session run(*model, *s.world, {.threads = 1});
+    try {
+      run.run_until(1);
+    } catch (const sim::ProgramError& e) {
+      return std::string(e.what());
+    }
+    return std::string("ran through");
+  };
+  const std::string counted = failure(std::chrono::milliseconds(0));
+  EXPECT_NE(counted.find("x.lua:5: attempt to perform 'n%0'"), std::string::npos) << counted;
+  EXPECT_EQ(failure(std::chrono::seconds(10)), counted);
+}
+
 // A call that meets a limit runs again counted in a state of its own: whether the budget or the
 // memory cap stops it, and where, does not depend on what earlier calls grew in the thread's state
 // (a deeper stack, more call records) nor on whether it ran uncounted first. Module 1 recurses
