@@ -524,17 +524,18 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         int w = -1;
         if (!cmd.name.empty() && (w = session_.watch_index(cmd.name)) < 0)
           return failed("no watchpoint is named '" + cmd.name + "'");
-        // A `count` watchpoint keeps only the number of its matches so far, not one per step.
+        // A `count` watchpoint keeps only the number of its matches of each step, not the groups.
         nlohmann::ordered_json list = nlohmann::ordered_json::array(), only_counted = nlohmann::ordered_json::object();
         uint64_t counted = 0;
         for (uint32_t i = 0; i < model.watches.size(); ++i) {
           if (w >= 0 && i != static_cast<uint32_t>(w)) continue;
+          const sim::MatchList& m = session_.matches(i);
           if (model.watches[i].action == sim::MatchAction::Count) {
-            only_counted[model.watches[i].watchpoint.name] = session_.match_count(i);
-            if (!cmd.number) counted += session_.match_count(i);
+            const uint64_t n = cmd.number ? m.counted_at(*cmd.number) : session_.match_count(i);
+            only_counted[model.watches[i].watchpoint.name] = n;
+            counted += n;
             continue;
           }
-          const sim::MatchList& m = session_.matches(i);
           const auto [first, last] = cmd.number ? m.at(*cmd.number) : std::pair<size_t, size_t>{0, m.size()};
           for (size_t k = first; k < last; ++k) list.push_back(match_json(i, k));
         }

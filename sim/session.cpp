@@ -13,6 +13,12 @@ std::pair<size_t, size_t> MatchList::at(int64_t step) const {
   return {static_cast<size_t>(first - t.begin()), static_cast<size_t>(last - t.begin())};
 }
 
+uint64_t MatchList::counted_at(int64_t step) const {
+  uint64_t n = 0;
+  for (const Counted& c : counted) n += c.t == step ? c.matches : 0;
+  return n;
+}
+
 Session::Session(Model& model, World& world, SessionOptions options)
     : model_(model), world_(world), options_(std::move(options)) {
   interventions_ = std::move(options_.events);
@@ -204,7 +210,9 @@ void Session::record_output(const State& state, const StepOutput& out, uint32_t 
       stats_[w].add(o.stats);
       stats_step_[w].push_back(out.step);
     }
-    if (!o.slots.empty() && model_.watches[w].action != MatchAction::Count) {
+    if (model_.watches[w].action == MatchAction::Count) {
+      matches_[w].count(o.t, out.step, o.matches);
+    } else if (!o.slots.empty()) {
       const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
       MatchList& list = matches_[w];
       list.slots.insert(list.slots.end(), o.slots.begin(), o.slots.end());
@@ -225,7 +233,9 @@ void Session::drain(const DrainSink& sink) {
     MatchList& list = matches_[w];
     ws.detector->set_sink([&](int64_t t, std::span<const ModuleId> ids, std::span<const watch::Value> actions) {
       ws.matches += ids.size() / k;
-      if (h.action != MatchAction::Count) {
+      if (h.action == MatchAction::Count) {
+        list.count(t, latest_, ids.size() / k);
+      } else {
         list.slots.insert(list.slots.end(), ids.begin(), ids.end());
         list.actions.insert(list.actions.end(), actions.begin(), actions.end());
         list.t.insert(list.t.end(), ids.size() / k, t);
@@ -274,8 +284,12 @@ void Session::drain_agents(const DrainSink& sink) {
       }
       stats_[w].stopped = head_.watches[w].stopped;
       stats_[w].stop_reason = head_.watches[w].stop_reason;
-      if (out.slots.empty()) continue;
-      if (h.action != MatchAction::Count) {
+      if (h.action == MatchAction::Count) {
+        matches_[w].count(out.t, latest_, out.matches);
+        if (out.slots.empty()) continue;
+      } else if (out.slots.empty()) {
+        continue;
+      } else {
         const uint32_t k = p.slot_count();
         MatchList& list = matches_[w];
         list.slots.insert(list.slots.end(), out.slots.begin(), out.slots.end());
@@ -299,6 +313,7 @@ void Session::truncate_history(int64_t through) {
     list.detected.resize(keep);
     list.slots.resize(keep * k);
     list.actions.resize(keep * model_.watches[w].watchpoint.program.actions.size());
+    std::erase_if(list.counted, [through](const MatchList::Counted& c) { return c.detected > through; });
     std::vector<int64_t>& at = stats_step_[w];
     const size_t entries = static_cast<size_t>(std::upper_bound(at.begin(), at.end(), through) - at.begin());
     std::vector<watch::StepStats> series(
@@ -632,6 +647,8 @@ void Session::resimulate() {
 std::vector<uint64_t> Session::match_counts(uint32_t w, int64_t from, int64_t to) const {
   std::vector<uint64_t> counts(static_cast<size_t>(std::max<int64_t>(0, to - from + 1)), 0);
   const MatchList& list = matches_[w];
+  for (const MatchList::Counted& c : list.counted)
+    if (c.t >= from && c.t <= to) counts[static_cast<size_t>(c.t - from)] += c.matches;
   const size_t first = list.at(from).first;
   for (size_t i = first; i < list.size() && list.t[i] <= to; ++i) ++counts[static_cast<size_t>(list.t[i] - from)];
   return counts;

@@ -65,9 +65,21 @@ struct MatchList {
   std::vector<int64_t> detected;      // the step during which it was found (t + the watchpoint's lag)
   std::vector<ModuleId> slots;        // slot_count ids per match
   std::vector<watch::Value> actions;  // a watchpoint with actions: their values, action_count per match
+  // A `count` watchpoint keeps no match, only how many it found of each watch step (when found):
+  // a few words a step, whatever the number of matches.
+  struct Counted {
+    int64_t t = 0, detected = 0;
+    uint64_t matches = 0;
+  };
+  std::vector<Counted> counted;
   size_t size() const { return t.size(); }
   // The matches of step t: [first, last) indices (t is sorted, so this is a binary search).
   std::pair<size_t, size_t> at(int64_t step) const;
+  // How many matches of watch step t a `count` watchpoint found.
+  uint64_t counted_at(int64_t step) const;
+  void count(int64_t t, int64_t detected, uint64_t matches) {
+    if (matches) counted.push_back({t, detected, matches});
+  }
 };
 
 // A program's failure that stopped the run: the step it was running and the module.
@@ -176,7 +188,8 @@ class Session {
   std::span<const uint8_t> seen_present();
   const NeighborGraph& seen_graph();
 
-  // Matches of `log` and `pause` watchpoints over the history (a `count` one's list stays empty).
+  // Matches of `log` and `pause` watchpoints over the history (a `count` one's keeps only their
+  // number per step, MatchList::counted).
   const MatchList& matches(uint32_t w) const { return matches_[w]; }
   uint64_t match_count(uint32_t w) const { return head_.watches[w].matches; }
   // Matches per step of steps [from, to], for a timeline.

@@ -275,6 +275,39 @@ TEST(Session, ChangingAWatchpointsActionReevaluatesNothing) {
   EXPECT_EQ(counted.match_count(0), all.size());
 }
 
+// A `count` watchpoint keeps how many matches each step had, not the groups: step by step what a
+// `log` twin lists, through a branch that drops the future and the drain at the run's end.
+TEST(Session, ACountWatchpointKeepsTheNumberOfEachStep) {
+  const auto logged_model = gossip_model({LatticeKind::Cubic, {5, 4, 3}}, kWatches);
+  const auto counted_model = gossip_model({LatticeKind::Cubic, {5, 4, 3}}, kWatches);
+  for (HostedWatchpoint& h : counted_model->watches) h.action = MatchAction::Count;
+  StaticLatticeWorld logged_world, counted_world;
+  Session logged(*logged_model, logged_world, {.threads = 1}), counted(*counted_model, counted_world, {.threads = 2});
+  for (Session* run : {&logged, &counted}) {
+    run->run_until(45);
+    ASSERT_TRUE(run->seek(25));
+    const Intervention set{
+        .kind = Intervention::Kind::Set, .module = 7, .column = logged_model->column("count"), .value = 100};
+    ASSERT_EQ(run->intervene(set), "");
+    run->run_until(50);
+    run->drain();
+  }
+  for (uint32_t w = 0; w < kWatches.size(); ++w) {
+    SCOPED_TRACE(w);
+    const MatchList& list = logged.matches(w);
+    ASSERT_GT(list.size(), 0u);
+    EXPECT_EQ(counted.matches(w).size(), 0u) << "no group kept";
+    uint64_t total = 0;
+    for (int64_t t = 0; t < 50; ++t) {
+      const auto [first, last] = list.at(t);
+      EXPECT_EQ(counted.matches(w).counted_at(t), last - first) << "step " << t;
+      total += counted.matches(w).counted_at(t);
+    }
+    EXPECT_EQ(total, counted.match_count(w));
+    EXPECT_EQ(counted.match_counts(w, 0, 49), logged.match_counts(w, 0, 49));
+  }
+}
+
 // An intervention cuts the future: the branch equals a straight run with the same intervention
 // scheduled as an event, and earlier interventions of the dropped future are gone.
 TEST(Session, InterventionStartsABranchEqualToTheScheduledRun) {
