@@ -17,9 +17,10 @@ size_t utf8_length(std::string_view text, size_t i) {
   return length;
 }
 
-// The line as a terminal may show it: control characters and bytes that are not UTF-8 become
-// '?', one for one (so that the caret stays under its column), never raw bytes that a terminal
-// would act on.
+// The line as a terminal may show it: control characters (C0, DEL and C1, whose U+009B a
+// terminal takes for the start of an escape sequence) and bytes that are not UTF-8 become '?', one
+// for one byte (so that the caret stays under its column), never raw bytes that a terminal would
+// act on.
 std::string printable(std::string_view line) {
   std::string out(line);
   for (size_t i = 0; i < out.size();) {
@@ -34,6 +35,7 @@ std::string printable(std::string_view line) {
       out[i++] = '?';
       continue;
     }
+    if (c == 0xC2 && uint8_t(out[i + 1]) < 0xA0) out[i] = out[i + 1] = '?';  // U+0080 to U+009F
     i += length;
   }
   return out;

@@ -31,6 +31,16 @@ TEST(Diagnostic, BytesATerminalWouldActOnAreShownAsQuestionMarks) {
             "w:1:" + std::to_string(at + 1) + ": error: m\na?[2J??? \xc3\xa9 x\n           ^\n");
 }
 
+TEST(Diagnostic, C1ControlCharactersAreShownAsQuestionMarks) {
+  // U+009B is a terminal's one-character CSI (as ESC [): "\xc2\x9b" "2J" would clear the screen.
+  // Both its bytes become '?', so the caret keeps its column; U+00A0 (no control) stays.
+  SourceText src("w", std::string("\xc2\x9b"
+                                  "2J\xc2\x85\xc2\xa0 x"));
+  const uint32_t at = static_cast<uint32_t>(src.text().find(" x") + 1);
+  EXPECT_EQ(format_diagnostic(src, {{at, at + 1}, "m"}),
+            "w:1:" + std::to_string(at + 1) + ": error: m\n??2J??\xc2\xa0 x\n        ^\n");
+}
+
 TEST(Diagnostic, AtEndOfInputPointsPastTheLastCharacter) {
   SourceText src("w", "modules(a");
   EXPECT_EQ(format_diagnostic(src, {{9, 9}, "expected ')'"}), "w:1:10: error: expected ')'\nmodules(a\n         ^\n");
