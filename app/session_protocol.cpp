@@ -101,18 +101,24 @@ int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* 
       if (n <= 0) break;
       for (ssize_t i = 0; i < n; ++i) {
         if (buffer[i] != '\n') {
-          if (line.size() < kMaxRequestBytes) line += buffer[i];
-          else too_long = true;
+          if (too_long) continue;
+          if (line.size() < kMaxRequestBytes) {
+            line += buffer[i];
+            continue;
+          }
+          // Answered when it goes over, not at its newline, which an endless input (/dev/zero)
+          // never sends; the rest of it, to its newline, is skipped.
+          too_long = true;
+          line = std::string();
+          take(Request{.unreadable = "a request longer than " + std::to_string(kMaxRequestBytes) + " bytes"});
           continue;
         }
-        Request r = too_long ? Request{} : parse_request(std::move(line));
-        if (too_long) r.unreadable = "a request longer than " + std::to_string(kMaxRequestBytes) + " bytes";
-        take(std::move(r));
+        if (!too_long) take(parse_request(std::move(line)));
         line.clear();
         too_long = false;
       }
     }
-    if (!line.empty() || too_long) take(parse_request(std::move(line)));
+    if (!line.empty()) take(parse_request(std::move(line)));
     std::lock_guard lock(mutex);
     queue.push_back(Request{.end = true});
     ready.notify_one();

@@ -50,9 +50,13 @@ class Protocol {
     ::close(from_);
   }
 
-  void send(const std::string& line) {
-    const std::string text = line + "\n";
-    ASSERT_EQ(::write(to_, text.data(), text.size()), ssize_t(text.size()));
+  void send(const std::string& line) { write(line + "\n"); }
+  void write(const std::string& text) {
+    for (size_t done = 0; done < text.size();) {
+      const ssize_t n = ::write(to_, text.data() + done, text.size() - done);
+      ASSERT_GT(n, 0);
+      done += size_t(n);
+    }
   }
   // The next answer line, waiting at most 20 s for it (nothing when none came).
   std::optional<json> next() {
@@ -163,6 +167,24 @@ TEST_F(SessionProtocol, ALongRunReportsProgressAndStopsOnCancel) {
   const auto idle = p.next();
   ASSERT_TRUE(idle);
   EXPECT_EQ((*idle)["cancelled"], false) << "nothing was running";
+  EXPECT_EQ(p.finish(), 0);
+}
+
+// An endless line (`session --protocol < /dev/zero`) is answered when it goes over the limit, not
+// at a newline that never comes; the rest of it is skipped and the next request answered.
+TEST_F(SessionProtocol, ARequestGoingOverTheLimitIsAnsweredBeforeItsNewline) {
+  Protocol p(std::string(DWATCH_SCENARIOS_DIR) + "/token_ring.toml");
+  p.write(std::string(kTooLong, '\0'));
+  const auto too_long = p.next();
+  ASSERT_TRUE(too_long) << "no answer while the line goes on";
+  EXPECT_NE((*too_long)["error"]["message"].get<std::string>().find("longer than"), std::string::npos);
+  p.write(std::string(kTooLong, '\0'));  // still the same line: skipped, no second answer
+  p.send("");
+  p.send(R"({"id": 7, "cmd": "step"})");
+  const auto stepped = p.next();
+  ASSERT_TRUE(stepped);
+  EXPECT_EQ((*stepped)["id"], 7);
+  EXPECT_EQ((*stepped)["current"], 0);
   EXPECT_EQ(p.finish(), 0);
 }
 
