@@ -143,6 +143,10 @@ int render_video(const RenderArgs& args, scenarios::Scenario& scenario, render::
         // as `render --step` draws it.
         render::Scene framing = scene;
         framing.groups.clear();
+        if (camera_refused(framing, args.width, args.height)) {
+          progress.finish();
+          return 2;
+        }
         camera = renderer.camera(framing, args.width, args.height);
         settings.camera_eye = scene.camera_eye = sim::Vec3{camera.eye.x, camera.eye.y, camera.eye.z};
         settings.camera_target = scene.camera_target = sim::Vec3{camera.target.x, camera.target.y, camera.target.z};
@@ -245,6 +249,7 @@ int render_scenario(const RenderArgs& args, Interrupts* interrupts) {
   const Highlight highlight = highlight_named(args.highlight);
   std::vector<render::SceneGroup> groups;
   const render::Scene scene = scene_at(session, step, highlight, settings, scenario.name, groups);
+  if (camera_refused(scene, args.width, args.height)) return 2;
   if (std::string error = write_view(scene, *out, args.width, args.height); !error.empty()) {
     std::cerr << "dwatch: error: " << error << "\n";
     return 1;

@@ -1,6 +1,9 @@
 #include "app/view_image.h"
 
+#include <iostream>
+
 #include "physics/bullet_world.h"
+#include "render/camera.h"
 #include "render/image.h"
 #include "render/osmesa_context.h"
 #include "render/renderer.h"
@@ -59,7 +62,14 @@ std::string check_color_by(const sim::Model& model, const std::string& color_by)
   return "--color-by: no program has a variable named \"" + color_by + "\" (there are: " + names + ")";
 }
 
+bool camera_refused(const render::Scene& scene, int width, int height) {
+  const std::string why = render::camera_misses(scene, width, height);
+  if (!why.empty()) std::cerr << "dwatch: error: " << why << "\n";
+  return !why.empty();
+}
+
 std::variant<render::Image, std::string> render_view(const render::Scene& scene, int width, int height) {
+  if (std::string why = render::camera_misses(scene, width, height); !why.empty()) return why;
   auto context = render::OsMesaContext::create();
   if (auto* error = std::get_if<std::string>(&context)) return *error;
   try {

@@ -29,7 +29,11 @@ std::vector<render::SceneGroup> groups_at(const sim::Session& session, int64_t t
 // Checks a --color-by variable against the model; the error names the variables there are.
 std::string check_color_by(const sim::Model& model, const std::string& color_by);
 
-// Draws the scene headless (OSMesa): the picture, or why not.
+// A camera the user gave that draws none of the ensemble (render::camera_misses) is refused: its
+// message printed, true returned (exit 2), rather than a picture of nothing written.
+bool camera_refused(const render::Scene& scene, int width, int height);
+
+// Draws the scene headless (OSMesa): the picture, or why not (a camera that misses the ensemble).
 std::variant<render::Image, std::string> render_view(const render::Scene& scene, int width, int height);
 
 // Draws the scene headless and writes it as a PNG to `out`, committed; an error message, or empty.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <glm/gtc/matrix_transform.hpp>
 #include <vector>
 
@@ -123,6 +124,41 @@ Camera make_camera(const Scene& scene, int width, int height, const Region& regi
     fit_depth(c, b);
   }
   return c;
+}
+
+std::string camera_misses(const Scene& scene, int width, int height) {
+  if (!scene.camera_eye || scene.modules.empty()) return "";
+  const Region whole;
+  const Camera c = make_camera(scene, width, height, whole);
+  const glm::mat4 vp = view_projection(c, width, height, whole);
+  // A module's reach on screen: its bounding sphere's radius over its distance, in half-heights.
+  const float radius = std::sqrt(3.0f) * 0.5f, tan_y = std::tan(c.fov_y * 0.5f);
+  const float aspect = float(width) / float(height);
+  glm::vec2 lo(1e30f), hi(-1e30f);
+  for (const SceneModule& m : scene.modules) {
+    const glm::vec4 p = vp * glm::vec4(m.pose.position[0], m.pose.position[1], m.pose.position[2], 1);
+    if (p.w <= c.near_plane) continue;  // behind the eye, or at it
+    const glm::vec2 reach(radius / (p.w * tan_y * aspect), radius / (p.w * tan_y));
+    const glm::vec2 ndc = glm::vec2(p) / p.w;
+    if (std::abs(ndc.x) > 1 + reach.x || std::abs(ndc.y) > 1 + reach.y) continue;
+    lo = glm::min(lo, glm::max(ndc - reach, glm::vec2(-1)));
+    hi = glm::max(hi, glm::min(ndc + reach, glm::vec2(1)));
+  }
+  const Bounds b = scene_bounds(scene);
+  auto at = [](glm::vec3 v) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%g,%g,%g", double(v.x), double(v.y), double(v.z));
+    return std::string(text);
+  };
+  const std::string where = "the camera at " + at(c.eye) + " looking at " + at(c.target);
+  const std::string ensemble = "the ensemble lies in " + at(b.min) + " to " + at(b.max);
+  if (lo.x > hi.x)
+    return where + " sees none of the modules (" + ensemble + "): aim it at them, or give no camera to have it fitted";
+  const float pixels = std::max((hi.x - lo.x) * float(width), (hi.y - lo.y) * float(height)) * 0.5f;
+  if (pixels < 2)
+    return where + " sees the modules under 2 pixels across (" + ensemble +
+           "): move it closer, or give no camera to have it fitted";
+  return "";
 }
 
 glm::mat4 view_projection(const Camera& camera, int width, int height, const Region& region) {

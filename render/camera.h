@@ -3,6 +3,7 @@
 #pragma once
 
 #include <glm/glm.hpp>
+#include <string>
 
 #include "render/scene.h"
 
@@ -37,6 +38,11 @@ Bounds scene_bounds(const Scene& scene);
 // The scenario's camera if it set one, else one fitted to the scene for an image of
 // width x height whose ensemble goes into `region`.
 Camera make_camera(const Scene& scene, int width, int height, const Region& region);
+
+// Why a camera the user gave draws none of the ensemble in an image of width x height, or "" when
+// it draws some: every module behind it or outside its view, or all of them together under two
+// pixels across (an eye thousands of module sizes away). A fitted camera always sees them.
+std::string camera_misses(const Scene& scene, int width, int height);
 
 // World to clip space, the region's placement included.
 glm::mat4 view_projection(const Camera& camera, int width, int height, const Region& region);

@@ -108,5 +108,27 @@ TEST(Camera, AnEyeOnItsTargetFallsBackToTheFittedView) {
   EXPECT_NE(make_camera(s, 640, 480, {}).eye, glm::vec3(1, 1, 1));
 }
 
+// A camera the user gave that would draw a blank picture is told apart from one that sees the
+// ensemble: looking away, from behind, or from so far that it is under two pixels.
+TEST(Camera, ACameraThatMissesTheEnsembleSaysWhy) {
+  Scene s = test::block(12, 8, 1);
+  EXPECT_EQ(camera_misses(s, 640, 480), "") << "a fitted camera";
+  s.camera_eye = sim::Vec3{5.5f, 3.5f, 30};
+  s.camera_target = sim::Vec3{5.5f, 3.5f, 0};
+  EXPECT_EQ(camera_misses(s, 640, 480), "") << "straight down";
+  s.camera_target = sim::Vec3{5.5f, 3.5f, 100};  // straight up, from above the sheet
+  EXPECT_NE(camera_misses(s, 640, 480).find("sees none of the modules"), std::string::npos);
+  s.camera_target = sim::Vec3{200, 3.5f, 30};  // level, off to the side
+  EXPECT_NE(camera_misses(s, 640, 480).find("sees none of the modules"), std::string::npos);
+  s.camera_eye = sim::Vec3{5.5f, 3.5f, 9000};  // on the axis, but 9,000 module sizes up
+  s.camera_target = sim::Vec3{5.5f, 3.5f, 0};
+  EXPECT_NE(camera_misses(s, 640, 480).find("under 2 pixels"), std::string::npos);
+  s.camera_eye = sim::Vec3{5.5f, 3.5f, 900};  // 12 modules across from 900: about 17 pixels
+  EXPECT_EQ(camera_misses(s, 640, 480), "");
+  s.camera_eye = sim::Vec3{-3, 3.5f, 5};  // looking past the sheet's corner: part of it shows
+  s.camera_target = sim::Vec3{0, 12, 0};
+  EXPECT_EQ(camera_misses(s, 640, 480), "");
+}
+
 }  // namespace
 }  // namespace dw::render
