@@ -148,6 +148,9 @@ int replay(const ReplayArgs& args) {
   std::vector<watch::MatchSink> logged;
   for (size_t i = 0; i < watches.size(); ++i) logged.push_back(log.sink(i));
 
+  // The run's own watchpoints find what the run found: a run a pause stopped left its last steps
+  // undecided. Other watchpoints decide them, as at the end of any trace.
+  const bool drain = !args.watches.empty() || !trace.paused();
   const auto detect_start = std::chrono::steady_clock::now();
   const std::vector<watch::DetectorStats> stats = sim::replay(
       frames, trace.step_count(), replayed,
@@ -155,7 +158,7 @@ int replay(const ReplayArgs& args) {
         if (replayed[i].action == sim::MatchAction::Count) counted[i] += ids.size() / watches[i].program.slot_count();
         else logged[i](t, ids, actions);
       },
-      [&](int64_t t) { log.release(t); });
+      [&](int64_t t) { log.release(t); }, drain);
   for (size_t i = 0; i < watches.size(); ++i)
     if (replayed[i].action == sim::MatchAction::Count) log.write_counted(watches[i].name, counted[i]);  // as run
   const double detect_seconds = seconds_since(detect_start);
@@ -169,6 +172,9 @@ int replay(const ReplayArgs& args) {
   if (one_reading)
     summary << "; " << reading_text(algorithm, options, watches.front().program.slot_count()) << " detector\n";
   else summary << "; each watchpoint read as the run that recorded the trace read it\n";
+  if (!drain)
+    summary << "  the run stopped at " << trace.paused()->watch << "'s pause (step " << trace.paused()->t
+            << "): its last steps stay undecided, as the run left them\n";
   bool stopped = false;
   uint64_t total = 0;
   for (size_t i = 0; i < watches.size(); ++i) {

@@ -141,6 +141,9 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
       errors << "\n";
       return Interrupts::exit_code(*signal);
     }
+    // A run a pause stopped says so at its trace's end: replayed, its watchpoints find what it
+    // found, leaving its last steps undecided as it did.
+    if (pause && recorder) recorder->write_paused({model.watches[pause->watch].watchpoint.name, pause->t});
     // Simultaneous-state watchpoints decide the run's last steps by draining (docs/design.md §4a).
     if (!pause && run.latest() + 1 == steps)
       run.drain(
@@ -262,6 +265,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
     whole.values = run.whole_values(whole);
     if (!lead) return stopped ? 1 : 0;
     const render::Scene scene = render::build_scene(model, whole, groups, settings);
+    if (camera_refused(scene, 1280, 720)) return 2;
     if (std::string error = write_view(scene, *render_out, 1280, 720); !error.empty()) {
       std::cerr << "dwatch: error: " << error << "\n";
       return 1;

@@ -17,7 +17,7 @@ std::vector<std::string> read_variables(std::span<const HostedWatchpoint> watche
 
 std::vector<watch::DetectorStats> replay(FrameReader& frames, int64_t step_count,
                                          std::span<const HostedWatchpoint> watches, const ReplaySink& sink,
-                                         const std::function<void(int64_t t)>& release) {
+                                         const std::function<void(int64_t t)>& release, bool drain) {
   int64_t observing = 0;  // the step the detectors are given: what a match found now was detected at
   std::vector<std::unique_ptr<watch::Detector>> detectors;
   int64_t max_lag = 0;
@@ -36,7 +36,8 @@ std::vector<watch::DetectorStats> replay(FrameReader& frames, int64_t step_count
     if (release) release(observing - max_lag);
   }
   observing = std::max<int64_t>(step_count - 1, 0);
-  for (auto& d : detectors) d->finish();  // a simultaneous-state detector drains
+  if (drain)
+    for (auto& d : detectors) d->finish();  // a simultaneous-state detector drains
   if (release) release(INT64_MAX);
   std::vector<watch::DetectorStats> stats;
   for (auto& d : detectors) stats.push_back(d->stats());

@@ -25,9 +25,11 @@ using ReplaySink = std::function<void(size_t watch, int64_t detected, int64_t t,
 
 // Runs every watchpoint's detector over steps 0 .. step_count - 1 of `frames`; after each step,
 // `release(t)` says every watch step up to t is final for every watchpoint (INT64_MAX at the
-// end). Returns each detector's statistics.
+// end). At the end the detectors decide the last steps (drain), unless `drain` is false: a run
+// that a pause stopped did not (Trace::paused), and its watchpoints replayed find what it found.
+// Returns each detector's statistics.
 std::vector<watch::DetectorStats> replay(FrameReader& frames, int64_t step_count,
                                          std::span<const HostedWatchpoint> watches, const ReplaySink& sink,
-                                         const std::function<void(int64_t t)>& release = {});
+                                         const std::function<void(int64_t t)>& release = {}, bool drain = true);
 
 }  // namespace dw::sim

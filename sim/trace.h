@@ -4,6 +4,7 @@
 // recorded run's header also lists its interventions and its watchpoints, with their readings:
 //   {"wptrace":1,"watches":[{"name":"w","text":"modules(a); ...","algorithm":"distributed",
 //                            "shape":"chain","states":"consistent","action":"log"}]}
+// and, when a `pause` watchpoint stopped the run, a last line {"paused":{"watch":"w","t":41}}.
 #pragma once
 
 #include <cstdint>
@@ -25,6 +26,14 @@ namespace dw::sim {
 struct TraceWatch {
   std::string name, text, algorithm, shape, states, action;
   bool operator==(const TraceWatch&) const = default;
+};
+
+// The pause that stopped a recorded run (its trace's last line): the run ended there without
+// deciding its last steps, so a replay of its watchpoints does not decide them either (no drain).
+struct TracePause {
+  std::string watch;
+  int64_t t = 0;  // the match's step
+  bool operator==(const TracePause&) const = default;
 };
 
 // The whole trace in memory, as its lines were: sorted by (step, module), each with its variables
@@ -67,6 +76,9 @@ class Trace {
   // The watchpoints of the run that recorded it (its header's "watches").
   const std::vector<TraceWatch>& watches() const { return watches_; }
   void set_watches(std::vector<TraceWatch> watches) { watches_ = std::move(watches); }
+  // The pause that stopped the run that recorded it, if one did.
+  const std::optional<TracePause>& paused() const { return paused_; }
+  void set_paused(std::optional<TracePause> paused) { paused_ = std::move(paused); }
 
  private:
   friend class FrameReader;
@@ -82,6 +94,7 @@ class Trace {
   std::vector<uint64_t> nbr_begin_;  // [lines + 1] into nbrs_
   std::vector<uint32_t> nbrs_;       // dense module indices
   std::vector<TraceWatch> watches_;
+  std::optional<TracePause> paused_;
 };
 
 // The storage of one dense frame.
@@ -138,6 +151,8 @@ class TraceWriter {
   TraceWriter(std::ostream& out, const watch::Universe& universe, std::span<const Intervention> interventions = {},
               std::span<const TraceWatch> watches = {});
   void write(const watch::Frame& frame);
+  // The last line, when a pause stopped the run.
+  void write_paused(const TracePause& pause);
 
  private:
   std::ostream& out_;

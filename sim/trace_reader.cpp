@@ -32,7 +32,8 @@ class TraceReader {
       std::string_view text(base + at, len);
       if (text.find_first_not_of(" \t") != std::string_view::npos) {
         line_ = line;
-        parse_line(text, !seen_content);
+        if (paused_) errors_.push_back({name_, line, 1, "a line after the {\"paused\":...} line, which ends a trace"});
+        else parse_line(text, !seen_content);
         seen_content = true;
       }
       at = end + 1;
@@ -42,6 +43,7 @@ class TraceReader {
     if (!errors_.empty()) return errors_;
     Trace trace = Trace::build(std::move(entries_), std::move(names_));
     trace.set_watches(std::move(watches_));
+    trace.set_paused(std::move(paused_));
     return trace;
   }
 
@@ -72,6 +74,19 @@ class TraceReader {
         return false;
       default: error(at, what + " must be an integer"); return false;
     }
+  }
+
+  // The last line of a run a pause stopped: {"paused":{"watch":"w","t":41}}.
+  void read_paused(simdjson::dom::element v, const Where& at) {
+    TracePause pause;
+    std::string_view watch;
+    simdjson::dom::object o;
+    if (v.get_object().get(o) || o.size() != 2 || o["watch"].get_string().get(watch) || o["t"].get_int64().get(pause.t))
+      return error(at, "\"paused\" is {\"watch\": NAME, \"t\": STEP}");
+    if (pause.t < 0 || pause.t > kMaxStep)
+      return error(at, "\"paused\" has a step out of 0.." + std::to_string(kMaxStep));
+    pause.watch = std::string(watch);
+    paused_ = std::move(pause);
   }
 
   // The header's "watches": objects of the six strings of a TraceWatch.
@@ -118,6 +133,10 @@ class TraceReader {
     bool has_t = false, has_m = false, has_vars = false, has_nbrs = false, header = false;
     for (auto [key, v] : obj) {
       const Where at{text, key, 0};
+      if (key == "paused") {
+        if (obj.size() != 1) return error(at, "the {\"paused\":...} line holds nothing else");
+        return read_paused(v, at);
+      }
       if (key == "wptrace") {
         int64_t version;
         if (!first) return error(at, "the {\"wptrace\":1} header may only be the first line");
@@ -219,6 +238,7 @@ class TraceReader {
   simdjson::dom::parser parser_;
   std::vector<Trace::Entry> entries_;
   std::vector<TraceWatch> watches_;
+  std::optional<TracePause> paused_;
   std::unordered_map<uint64_t, uint64_t> first_line_;
   std::vector<TraceError> errors_;
   std::vector<std::string> names_;

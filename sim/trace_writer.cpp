@@ -84,6 +84,10 @@ void TraceWriter::write(const watch::Frame& f) {
   }
 }
 
+void TraceWriter::write_paused(const TracePause& pause) {
+  out_ << nlohmann::ordered_json{{"paused", {{"watch", pause.watch}, {"t", pause.t}}}}.dump() << "\n";
+}
+
 std::string write_trace(const Trace& trace, const std::string& path) {
   std::string error;
   auto out = OutputFile::open(path, &error);

@@ -125,11 +125,13 @@ py::dict replay(const py::object& trace_arg, const py::object& watches, const st
   std::vector<watch::DetectorStats> stats;
   {
     py::gil_scoped_release released;
-    stats = sim::replay(std::get<sim::FrameReader>(made), trace.step_count(), watched,
-                        [&](size_t w, int64_t detected, int64_t t, std::span<const watch::ModuleId> ids,
-                            std::span<const watch::Value>) {
-                          found[w].add(detected, t, ids, watched[w].watchpoint.program.slot_names.size());
-                        });
+    stats = sim::replay(
+        std::get<sim::FrameReader>(made), trace.step_count(), watched,
+        [&](size_t w, int64_t detected, int64_t t, std::span<const watch::ModuleId> ids,
+            std::span<const watch::Value>) {
+          found[w].add(detected, t, ids, watched[w].watchpoint.program.slot_names.size());
+        },
+        {}, !watches.is_none() || !trace.paused());
   }
   for (size_t i = 0; i < watched.size(); ++i)
     if (stats[i].stopped)

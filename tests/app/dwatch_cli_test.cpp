@@ -264,6 +264,39 @@ TEST_F(Cli, ReplayOfARecordedRunWithoutWatchFindsTheRunsMatches) {
   EXPECT_NE(none.err.find("the trace's header lists no watchpoints"), std::string::npos) << none.err;
 }
 
+// A run a pause stopped did not decide its last steps: its trace says so in its last line, and
+// replay of its own watchpoints finds exactly its matches; the same watchpoint given with --watch
+// decides them, as at the end of any trace, and finds more.
+TEST_F(Cli, ReplayOfARunAPauseStoppedFindsTheRunsMatches) {
+  std::string toml = slurp(kScenarios / "leader_election.toml");
+  toml += "[[watch]]\nname = \"near\"\ntext = \"modules(a b); (a.isLeader = 0) and (b.isLeader = 0)\"\n";
+  const fs::path scenario = write("paused.toml", toml);
+  const fs::path trace = dir_ / "t.jsonl", live = dir_ / "live.jsonl", replayed = dir_ / "replayed.jsonl",
+                 drained = dir_ / "drained.jsonl";
+  const Result r =
+      run("run " + scenario.string() + " --no-progress --record " + trace.string() + " --matches " + live.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_NE(r.out.find("PAUSED"), std::string::npos) << r.out;
+  const std::string text = slurp(trace);
+  EXPECT_EQ(text.substr(text.rfind('\n', text.size() - 2) + 1, 32), "{\"paused\":{\"watch\":\"two_leaders\"");
+  const Result p = run("replay " + trace.string() + " --matches " + replayed.string());
+  ASSERT_EQ(p.code, 0) << p.err;
+  EXPECT_NE(p.out.find("the run stopped at two_leaders's pause"), std::string::npos) << p.out;
+  EXPECT_GT(slurp(live).size(), 100u);
+  EXPECT_EQ(slurp(live), slurp(replayed));
+  const Result d = run("replay " + trace.string() + " --watch 'near=modules(a b); (a.isLeader = 0) and " +
+                       "(b.isLeader = 0)' --matches " + drained.string());
+  ASSERT_EQ(d.code, 0) << d.err;
+  const auto lines = [](const std::string& s) { return std::count(s.begin(), s.end(), '\n'); };
+  const std::string near_live = [&] {
+    std::string out, all = slurp(live);
+    for (size_t at = 0, end; (end = all.find('\n', at)) != std::string::npos; at = end + 1)
+      if (all.compare(at, 16, "{\"watch\":\"near\"") == 0) out += all.substr(at, end - at + 1);
+    return out;
+  }();
+  EXPECT_GT(lines(slurp(drained)), lines(near_live)) << "drained, the last steps are decided";
+}
+
 TEST_F(Cli, RunGivesTheSameStateHashOnAnyThreadCount) {
   const std::string scenario = (kScenarios / "aggregation_routing.toml").string();
   const std::string one = line_with(run("run " + scenario + " --steps 40 --threads 1").out, "state hash");
@@ -462,6 +495,13 @@ TEST_F(Cli, RenderMistakesAreBadInput) {
     const Result r = run("render " + scenario + " --out " + (dir_ / "x.png").string() + " " + camera);
     EXPECT_EQ(r.code, 2) << camera;
     EXPECT_NE(r.err.find("error: "), std::string::npos) << camera << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+  // So is one that sees none of the ensemble once it is run: looking away, or from too far.
+  for (const std::string camera : {"--camera-eye 6,4,30 --camera-target 6,4,100", "--camera-eye 0,0,900000"}) {
+    const Result r = run("render " + scenario + " --out " + (dir_ / "x.png").string() + " " + camera);
+    EXPECT_EQ(r.code, 2) << camera;
+    EXPECT_NE(r.err.find("error: the camera at "), std::string::npos) << camera << ": " << r.err;
   }
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
 }

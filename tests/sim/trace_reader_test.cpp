@@ -68,6 +68,26 @@ TEST(TraceReader, TheHeaderListsTheRunsWatchpointsWithTheirReadings) {
   EXPECT_NE(std::get<std::vector<TraceError>>(late)[0].message.find("belongs to the header"), std::string::npos);
 }
 
+// A run a pause stopped ends its trace with {"paused":...}; nothing may follow it, and it holds a
+// watchpoint's name and a step, nothing else.
+TEST(TraceReader, APausedLineEndsTheTrace) {
+  const std::string frame = "{\"t\":0,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[]}\n";
+  auto r = read_trace_text("t", frame + "{\"paused\":{\"watch\":\"w\",\"t\":0}}\n\n");
+  ASSERT_TRUE(std::holds_alternative<Trace>(r)) << std::get<std::vector<TraceError>>(r)[0].format();
+  EXPECT_EQ(std::get<Trace>(r).paused(), (TracePause{"w", 0}));
+  EXPECT_FALSE(std::get<Trace>(read_trace_text("t", frame)).paused());
+  EXPECT_EQ(first_error(frame + "{\"paused\":{\"watch\":\"w\",\"t\":0}}\n" + frame),
+            "t.jsonl:3:1: error: a line after the {\"paused\":...} line, which ends a trace");
+  for (const char* bad : {R"({"paused":{"watch":"w"}})", R"({"paused":{"watch":1,"t":0}})", R"({"paused":"w"})",
+                          R"({"paused":{"watch":"w","t":0,"x":1}})", R"({"paused":{"watch":"w","t":-1}})",
+                          R"({"paused":{"watch":"w","t":0},"t":0})"}) {
+    const auto errors = errors_of(frame + bad + "\n");
+    ASSERT_EQ(errors.size(), 1u) << bad;
+    EXPECT_EQ(errors[0].line, 2u) << bad;
+    EXPECT_NE(errors[0].message.find("\"paused\""), std::string::npos) << bad << ": " << errors[0].message;
+  }
+}
+
 TEST(TraceReader, NeighbourWithoutALineIsAnAbsentModule) {
   auto r = read_trace_text("t", R"({"t":0,"m":0,"vars":{},"nbrs":[9]})");
   ASSERT_TRUE(std::holds_alternative<Trace>(r));
