@@ -1,6 +1,7 @@
 #include "sim/model.h"
 
 #include <algorithm>
+#include <unordered_map>
 
 namespace dw::sim {
 
@@ -35,10 +36,14 @@ std::variant<std::unique_ptr<Model>, std::string> build_model(Lattice lattice,
   model->universe.module_ids.resize(modules);
   for (uint32_t m = 0; m < modules; ++m) model->universe.module_ids[m] = m;
   std::vector<std::string_view> owner;
+  // Columns by name: a script may declare hundreds of thousands of variables (Model::column
+  // searches the list, which made this loop quadratic).
+  std::unordered_map<std::string, int> columns;
   for (const auto& program : programs) {
     model->program_base.push_back(model->variable_count());
     for (VariableSpec& v : program->variables()) {
-      const int existing = model->column(v.name);
+      const auto [it, added] = columns.try_emplace(v.name, int(model->variable_count()));
+      const int existing = added ? -1 : it->second;
       if (existing >= 0 && size_t(existing) >= model->program_base.back())
         return "program " + std::string(program->name()) + " declares the variable '" + v.name + "' twice";
       if (existing >= 0 && owner[size_t(existing)] == program->name())
