@@ -96,12 +96,18 @@ void LuaWatchdog::interrupt(lua_State* L, lua_Debug*) {
 
 void LuaWatchdog::watch() {
   uint64_t seen = 0;
-  uint32_t ticks = 0;  // that the call `seen` has been running
+  // When the call `seen` was first seen. A call's ticks are measured on the clock, not counted as
+  // the watcher's wake-ups: on a loaded machine a wake-up comes late, and a 10 s deadline of 1,000
+  // counted ticks fired after 30 s.
+  auto first_seen = std::chrono::steady_clock::now();
   std::unique_lock<std::mutex> lock(mutex_);
   while (!wake_.wait_for(lock, tick_, [this] { return stopping_; })) {
     const uint64_t now = calls_.load(std::memory_order_acquire);
-    ticks = now == seen ? ticks + 1 : 0;
-    if ((now & 1) != 0 && ticks >= ticks_.load(std::memory_order_relaxed)) {
+    const auto at = std::chrono::steady_clock::now();
+    if (now != seen) first_seen = at;
+    // Seen running at two looks, a tick apart at least, and for its ticks less the one it may
+    // have run before it was first seen.
+    if ((now & 1) != 0 && now == seen && at - first_seen >= tick_ * (ticks_.load(std::memory_order_relaxed) - 1)) {
       signaled_.store(now, std::memory_order_release);
       sigval value{};
       value.sival_ptr = this;
