@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <vector>
 
 namespace dw::sim {
 namespace {
@@ -17,35 +18,64 @@ std::string reason(const std::string& path, int code) { return "cannot read " + 
 
 // Reads `fd` to its end; nothing with `error` set when it fails, holds more than `max_bytes` or
 // (for text) a NUL byte.
-std::optional<std::string> read_all(int fd, const std::string& name, std::string* error, size_t max_bytes, bool text,
-                                    size_t expected) {
+//
+// The bytes go into blocks of 64 MiB, joined at the end into a string of the exact size, each
+// block let go once copied: a string grown by doubling holds up to twice what it read and, while it
+// grows, its old and new buffers together (a trace from a pipe took 10.5 GB before its 7.3 GiB
+// limit refused it). Reading takes the limit and one block; joining, the total and one block.
+std::optional<ReadBlocks> read_all(int fd, const std::string& name, std::string* error, size_t max_bytes, bool text,
+                                   size_t expected) {
   const auto fail = [&](const std::string& why) {
     if (error) *error = "cannot read " + name + ": " + why;
     return std::nullopt;
   };
-  std::string bytes;
-  // Reserved up to 64 MiB only: a large file refused at its first bytes (a NUL) costs nothing.
-  bytes.reserve(std::min({expected, max_bytes, size_t(64) << 20}));
-  char buffer[1 << 16];
+  constexpr size_t kBlock = size_t(64) << 20;
+  std::vector<std::string> blocks;
+  size_t total = 0;
   for (;;) {
-    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (blocks.empty() || blocks.back().size() == kBlock) {
+      blocks.emplace_back();
+      // A first block as large as the file (a large file refused at its first bytes, a NUL,
+      // costs nothing more).
+      blocks.back().reserve(
+          std::min({blocks.size() == 1 ? std::max<size_t>(expected, 1 << 16) : kBlock, kBlock, max_bytes - total + 1}));
+    }
+    std::string& block = blocks.back();
+    const size_t room = std::min(kBlock - block.size(), size_t(1) << 16);
+    const size_t old_size = block.size();
+    block.resize(old_size + room);
+    const ssize_t n = ::read(fd, block.data() + old_size, room);
+    block.resize(old_size + size_t(std::max<ssize_t>(n, 0)));
     if (n == 0) break;
     if (n < 0) {
       if (errno == EINTR) continue;
       return fail(std::strerror(errno));
     }
     if (text)
-      if (const void* at = std::memchr(buffer, 0, size_t(n))) {
+      if (const void* at = std::memchr(block.data() + old_size, 0, size_t(n))) {
         // Lines are counted only to place a NUL byte, once one is found.
-        bytes.append(buffer, size_t(static_cast<const char*>(at) - buffer));
-        const size_t nul = bytes.size(), line_start = bytes.rfind('\n') + 1;  // npos + 1 is 0
-        const auto line = 1 + std::count(bytes.begin(), bytes.end(), '\n');
-        return fail("a NUL byte at line " + std::to_string(line) + ", column " + std::to_string(nul - line_start + 1) +
+        const size_t nul = total + size_t(static_cast<const char*>(at) - (block.data() + old_size));
+        size_t lines = 1, line_start = 0, seen = 0;
+        for (const std::string& b : blocks)
+          for (size_t i = 0; i < b.size() && seen < nul; ++i, ++seen)
+            if (b[i] == '\n') ++lines, line_start = seen + 1;
+        return fail("a NUL byte at line " + std::to_string(lines) + ", column " + std::to_string(nul - line_start + 1) +
                     ": it is not a text file");
       }
-    if (bytes.size() + size_t(n) > max_bytes)
-      return fail("more than the " + size_text(max_bytes) + " an input of this kind may hold");
-    bytes.append(buffer, size_t(n));
+    total += size_t(n);
+    if (total > max_bytes) return fail("more than the " + size_text(max_bytes) + " an input of this kind may hold");
+  }
+  return ReadBlocks{std::move(blocks), total};
+}
+
+std::optional<std::string> joined(std::optional<ReadBlocks> read) {
+  if (!read) return std::nullopt;
+  if (read->blocks.size() == 1) return std::move(read->blocks[0]);
+  std::string bytes;
+  bytes.reserve(read->size);
+  for (std::string& b : read->blocks) {
+    bytes += b;
+    std::string().swap(b);
   }
   return bytes;
 }
@@ -82,10 +112,14 @@ std::string check_readable(const std::string& path) {
 
 std::optional<std::string> read_stream(int fd, const std::string& name, std::string* error, size_t max_bytes,
                                        bool text) {
-  return read_all(fd, name, error, max_bytes, text, 0);
+  return joined(read_all(fd, name, error, max_bytes, text, 0));
 }
 
 std::optional<std::string> read_file(const std::string& path, std::string* error, size_t max_bytes, bool text) {
+  return joined(read_file_blocks(path, error, max_bytes, text));
+}
+
+std::optional<ReadBlocks> read_file_blocks(const std::string& path, std::string* error, size_t max_bytes, bool text) {
   const auto fail = [&](int code) {
     if (error) *error = reason(path, code);
     return std::nullopt;

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace dw::sim {
 
@@ -22,6 +23,14 @@ std::optional<std::string> read_file(const std::string& path, std::string* error
 // The same for an open stream (standard input), named `name` in the reason.
 std::optional<std::string> read_stream(int fd, const std::string& name, std::string* error,
                                        size_t max_bytes = kMaxTextInput, bool text = true);
+// The same bytes as read, in blocks of at most 64 MiB, for a caller that joins them into a buffer
+// of its own (a trace's padded text): a large input is then held once, not twice.
+struct ReadBlocks {
+  std::vector<std::string> blocks;
+  size_t size = 0;
+};
+std::optional<ReadBlocks> read_file_blocks(const std::string& path, std::string* error, size_t max_bytes,
+                                           bool text = true);
 // Empty when `path` names a readable file that is not a directory, else "cannot read PATH: REASON".
 std::string check_readable(const std::string& path);
 

@@ -55,6 +55,7 @@ class Trace {
     watch::ModuleId m = 0;
     std::vector<std::pair<uint32_t, int64_t>> vars;  // (index into the variable names, value)
     std::vector<watch::ModuleId> nbrs;
+    uint64_t line = 0;  // in the file it was read from, for messages
   };
   static Trace build(std::vector<Entry> entries, std::vector<std::string> variable_names);
 

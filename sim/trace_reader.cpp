@@ -1,6 +1,7 @@
 #include <simdjson.h>
 
 #include <algorithm>
+#include <cstring>
 #include <unordered_map>
 
 #include "sim/read_file.h"
@@ -10,8 +11,6 @@ namespace dw::sim {
 namespace {
 
 constexpr size_t kMaxErrors = 20;
-
-uint64_t hash_key(int64_t t, uint32_t m) { return (static_cast<uint64_t>(t) << 32) ^ m; }
 
 class TraceReader {
  public:
@@ -38,8 +37,15 @@ class TraceReader {
       }
       at = end + 1;
     }
-    if (errors_.size() >= kMaxErrors && at < size)
+    const bool stopped = errors_.size() >= kMaxErrors && at < size;
+    report_duplicates();
+    if (errors_.size() > kMaxErrors) {
+      const uint64_t next = errors_[kMaxErrors].line;
+      errors_.resize(kMaxErrors);
+      errors_.push_back({name_, next, 1, "too many errors; stopping here"});
+    } else if (stopped) {
       errors_.push_back({name_, line, 1, "too many errors; stopping here"});
+    }
     if (!errors_.empty()) return errors_;
     Trace trace = Trace::build(std::move(entries_), std::move(names_));
     trace.set_watches(std::move(watches_));
@@ -213,11 +219,30 @@ class TraceReader {
     std::sort(sorted.begin(), sorted.end());
     if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
       return error(Where{text, {}, 0}, "a neighbour appears twice in \"nbrs\"");
-    auto [it, inserted] = first_line_.emplace(hash_key(e.t, e.m), line_);
-    if (!inserted)
-      return error(Where{text, {}, 0}, "duplicate line for module " + std::to_string(e.m) + " at step " +
-                                           std::to_string(e.t) + " (first at line " + std::to_string(it->second) + ")");
+    e.line = line_;
     entries_.push_back(std::move(e));
+  }
+
+  // Two lines for one module at one step, found once the lines are sorted by (step, module, line):
+  // a table of every (step, module) seen took more memory than the lines' text.
+  void report_duplicates() {
+    std::sort(entries_.begin(), entries_.end(), [](const Trace::Entry& a, const Trace::Entry& b) {
+      return a.t != b.t ? a.t < b.t : a.m != b.m ? a.m < b.m : a.line < b.line;
+    });
+    const size_t before = errors_.size();
+    for (size_t i = 1; i < entries_.size(); ++i) {
+      const Trace::Entry &first = entries_[i - 1], &e = entries_[i];
+      if (e.t != first.t || e.m != first.m) continue;
+      size_t k = i - 1;
+      while (k > 0 && entries_[k - 1].t == e.t && entries_[k - 1].m == e.m) --k;  // the first of them
+      errors_.push_back({name_, e.line, 1,
+                         "duplicate line for module " + std::to_string(e.m) + " at step " + std::to_string(e.t) +
+                             " (first at line " + std::to_string(entries_[k].line) + ")"});
+    }
+    std::sort(errors_.begin() + ptrdiff_t(before), errors_.end(),
+              [](const TraceError& a, const TraceError& b) { return a.line < b.line; });
+    std::inplace_merge(errors_.begin(), errors_.begin() + ptrdiff_t(before), errors_.end(),
+                       [](const TraceError& a, const TraceError& b) { return a.line < b.line; });
   }
 
   // The variable's index, in order of first appearance: a hash lookup, so that a line or a trace
@@ -239,7 +264,6 @@ class TraceReader {
   std::vector<Trace::Entry> entries_;
   std::vector<TraceWatch> watches_;
   std::optional<TracePause> paused_;
-  std::unordered_map<uint64_t, uint64_t> first_line_;
   std::vector<TraceError> errors_;
   std::vector<std::string> names_;
   std::unordered_map<std::string, uint32_t> index_;  // name -> index into names_
@@ -260,17 +284,25 @@ std::variant<Trace, std::vector<TraceError>> read_trace_text(const std::string& 
 }
 
 size_t trace_limit() {
-  // The text, its padded copy and what is read from it must fit in what the machine has free.
+  // The text (held once, in its padded buffer) and what is read from it must fit in what the
+  // machine has free: reading a trace of short lines peaks at about four times its size (a
+  // 1.8 GB trace of 40 million lines: 7.1 GB).
   const size_t available = available_memory();
-  return available > 0 ? available / 3 : size_t(4) << 30;
+  return available > 0 ? available / 5 : size_t(2) << 30;
 }
 
 std::variant<Trace, std::vector<TraceError>> read_trace(const std::string& path) {
   std::string error;
-  std::optional<std::string> text = read_file(path, &error, trace_limit());
-  if (!text) return std::vector<TraceError>{{path, 0, 0, error}};
-  const simdjson::padded_string padded(*text);
-  text.reset();
+  std::optional<ReadBlocks> read = read_file_blocks(path, &error, trace_limit());
+  if (!read) return std::vector<TraceError>{{path, 0, 0, error}};
+  // Joined straight into simdjson's padded buffer, each block let go once copied.
+  simdjson::padded_string padded(read->size);
+  size_t at = 0;
+  for (std::string& block : read->blocks) {
+    std::memcpy(padded.data() + at, block.data(), block.size());
+    at += block.size();
+    std::string().swap(block);
+  }
   return TraceReader(path, padded).run();
 }
 

@@ -112,6 +112,22 @@ TEST(TraceReader, DuplicateStepAndModuleNamesBothLines) {
   EXPECT_EQ(first_error("{\"t\":0,\"m\":3,\"vars\":{},\"nbrs\":[]}\n{\"t\":1,\"m\":3,\"vars\":{},\"nbrs\":[]}\n"
                         "{\"t\":0,\"m\":3,\"vars\":{},\"nbrs\":[]}"),
             "t.jsonl:3:1: error: duplicate line for module 3 at step 0 (first at line 1)");
+  // Found once the lines are read, duplicates are reported in line order among the other errors,
+  // each naming the first line of its module and step; past 20, the reader says it stopped.
+  const std::string line = "{\"t\":0,\"m\":3,\"vars\":{},\"nbrs\":[]}\n";
+  const auto errors = errors_of(line + "{\"t\":0}\n" + line + "x\n" + line);
+  ASSERT_EQ(errors.size(), 4u);
+  std::vector<uint64_t> lines;
+  for (const TraceError& e : errors) lines.push_back(e.line);
+  EXPECT_EQ(lines, (std::vector<uint64_t>{2, 3, 4, 5}));
+  EXPECT_EQ(errors[3].message, "duplicate line for module 3 at step 0 (first at line 1)");
+  std::string many;
+  for (int i = 0; i < 30; ++i) many += line;
+  const auto capped = errors_of(many);
+  ASSERT_EQ(capped.size(), 21u);
+  EXPECT_EQ(capped[19].line, 21u);  // lines 2 to 21 repeat line 1
+  EXPECT_EQ(capped[20].message, "too many errors; stopping here");
+  EXPECT_EQ(capped[20].line, 22u);
 }
 
 TEST(TraceReader, NegativeStepPointsAtTheField) {
