@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 
@@ -31,7 +32,8 @@ struct ReplayArgs {
   std::string matches_path;
   std::string stats_path;
   size_t print = 20;
-  double max_frame_gib = 0;  // 0: a quarter of the machine's memory
+  double max_frame_gib = 0;      // 0: a quarter of the machine's memory
+  int64_t max_module_steps = 0;  // 0: sim::replay_work_problem's default
   DetectorFlags detector;
 };
 
@@ -96,6 +98,10 @@ int replay(const ReplayArgs& args) {
   }
   const sim::Trace& trace = std::get<sim::Trace>(read);
   const double parse_seconds = seconds_since(parse_start);
+  if (std::string why = sim::replay_work_problem(trace, uint64_t(args.max_module_steps)); !why.empty()) {
+    std::cerr << args.trace << ": error: " << why << " (--max-module-steps sets the limit)\n";
+    return 2;
+  }
   if (args.watches.empty()) {
     auto from_header = header_watches(trace, args.trace, args.detector);
     if (!from_header) return 2;
@@ -251,6 +257,9 @@ void add_replay_command(CLI::App& app, std::function<int()>& run) {
                                                               : "must be a number of GiB from 0.001 to 1000000";
           },
           "GiB", "finite GiB"));
+  add_integer_option(*cmd, "--max-module-steps", args->max_module_steps,
+                     {"max-module-steps", 1, std::numeric_limits<int64_t>::max()},
+                     "Steps x modules the detection may go over (default: 1,000 per line of the trace, at least 10^9)");
   add_detector_flags(*cmd, args->detector);
   cmd->callback([&run, args] { run = [args] { return replay(*args); }; });
 }

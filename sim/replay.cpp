@@ -1,6 +1,7 @@
 #include "sim/replay.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <memory>
 
 #include "watch/make_detector.h"
@@ -13,6 +14,23 @@ std::vector<std::string> read_variables(std::span<const HostedWatchpoint> watche
     for (const std::string& v : h.watchpoint.program.variables)
       if (std::find(out.begin(), out.end(), v) == out.end()) out.push_back(v);
   return out;
+}
+
+std::string replay_work_problem(const Trace& trace, uint64_t max_module_steps) {
+  const uint64_t modules = trace.universe().module_count(), steps = static_cast<uint64_t>(trace.step_count());
+  const uint64_t allowed =
+      max_module_steps > 0 ? max_module_steps : std::max(kMinModuleSteps, kModuleStepsPerLine * trace.line_count());
+  if (modules == 0 || steps <= allowed / modules) return "";
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "its %llu steps of %llu modules are %.3g module-steps to detect over (about 10 ns each), more than "
+                "the %.3g allowed%s",
+                static_cast<unsigned long long>(steps), static_cast<unsigned long long>(modules),
+                double(steps) * double(modules), double(allowed),
+                max_module_steps > 0
+                    ? ""
+                    : " for a trace of this many lines (1,000 a line, at least 10^9): its steps are mostly empty");
+  return text;
 }
 
 std::vector<watch::DetectorStats> replay(FrameReader& frames, int64_t step_count,

@@ -23,6 +23,13 @@ std::vector<std::string> read_variables(std::span<const HostedWatchpoint> watche
 using ReplaySink = std::function<void(size_t watch, int64_t detected, int64_t t, std::span<const watch::ModuleId> slots,
                                       std::span<const watch::Value> actions)>;
 
+// Replay's work is every step of the trace times every module it names, whatever its lines hold: a
+// trace of two lines a million steps apart names a million steps. Past `max_module_steps` (0: the
+// default, the larger of kMinModuleSteps and kModuleStepsPerLine per line) it is refused: why, or
+// "". A trace that could be read holds its lines, so a real one is far below the default.
+inline constexpr uint64_t kModuleStepsPerLine = 1000, kMinModuleSteps = 1'000'000'000;
+std::string replay_work_problem(const Trace& trace, uint64_t max_module_steps = 0);
+
 // Runs every watchpoint's detector over steps 0 .. step_count - 1 of `frames`; after each step,
 // `release(t)` says every watch step up to t is final for every watchpoint (INT64_MAX at the
 // end). At the end the detectors decide the last steps (drain), unless `drain` is false: a run

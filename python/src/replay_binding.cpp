@@ -108,6 +108,8 @@ py::dict replay(const py::object& trace_arg, const py::object& watches, const st
   const std::string trace_name = columns ? "<columns>" : py::str(trace_arg).cast<std::string>();
   const sim::Trace trace = columns ? trace_from_columns(trace_arg.cast<py::dict>()) : trace_from_file(trace_name);
   const std::vector<sim::HostedWatchpoint> watched = hosted(watches, r, trace, trace_name);
+  if (std::string why = sim::replay_work_problem(trace); !why.empty())
+    raise_error("TraceError", trace_name + ": " + why);
 
   // A variable no line has reads as unknown everywhere: said, as the command line says it.
   const auto& known = trace.universe().variables;

@@ -631,6 +631,19 @@ TEST_F(Cli, CommandLineNumbersTakeTheRangesOfTheirKeys) {
   for (const char* gib : {"nan", "inf", "-1", "0"})
     EXPECT_EQ(run(std::string("replay x.jsonl -w 'modules(a); (a.x=1)' --max-frame-memory ") + gib).code, 2) << gib;
   EXPECT_EQ(run("bench engine --repeat 0").code, 2);
+  EXPECT_EQ(run("replay x.jsonl -w 'modules(a); (a.x=1)' --max-module-steps 0").code, 2);
+  // Two lines ten million steps apart: refused at once with the budget, not detected for minutes.
+  const fs::path gap = write("gap.jsonl",
+                             "{\"t\":0,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[1,2,3,4,5,6,7,8,9,10,"
+                             "11,12,13,14,15,16,17,18,19,20,21,22,23,24,25,26,27,28,29,30,31,32,33,34,35,36,"
+                             "37,38,39,40,41,42,43,44,45,46,47,48,49,50,51,52,53,54,55,56,57,58,59,60,61,62,"
+                             "63,64,65,66,67,68,69,70,71,72,73,74,75,76,77,78,79,80,81,82,83,84,85,86,87,88,"
+                             "89,90,91,92,93,94,95,96,97,98,99,100]}\n"
+                             "{\"t\":9999999,\"m\":0,\"vars\":{},\"nbrs\":[]}\n");
+  const Result refused = run("replay " + gap.string() + " -w 'modules(a); (a.x=1)'");
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_NE(refused.err.find("its 10000000 steps of 101 modules"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("--max-module-steps sets the limit"), std::string::npos) << refused.err;
 }
 
 // Two outputs on one file, or an output on an input, in any spelling: bad input before any run.

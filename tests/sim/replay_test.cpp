@@ -25,6 +25,29 @@ HostedWatchpoint hosted(const std::string& name, const std::string& text, watch:
 
 // Two watchpoints with different lags over a conformance trace: each one's matches are those of
 // the independent reference, each found `lag` steps after its watch step, and released in order.
+// A trace of a few lines far apart names millions of empty steps, each costing every module it
+// names: refused past its budget, which a trace whose steps hold its lines stays far below.
+TEST(Replay, MostlyEmptyStepsOverTheBudgetAreRefused) {
+  auto trace = [](int64_t last_step, int modules) {
+    std::string text = "{\"t\":0,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[";
+    for (int m = 1; m < modules; ++m) text += (m > 1 ? "," : "") + std::to_string(m);
+    text += "]}\n{\"t\":" + std::to_string(last_step) + ",\"m\":0,\"vars\":{},\"nbrs\":[]}\n";
+    return std::get<Trace>(read_trace_text("t", text));
+  };
+  EXPECT_EQ(replay_work_problem(trace(999'999, 1000)), "") << "10^9 module-steps: the floor";
+  const std::string why = replay_work_problem(trace(1'000'000, 1000));
+  EXPECT_NE(why.find("its 1000001 steps of 1000 modules"), std::string::npos) << why;
+  EXPECT_NE(why.find("mostly empty"), std::string::npos) << why;
+  EXPECT_EQ(replay_work_problem(trace(1'000'000, 1000), 2'000'000'000), "") << "a limit given";
+  EXPECT_NE(replay_work_problem(trace(10, 1000), 5000), "");
+  // 1,000 module-steps a line: a trace with every module at every step is far below.
+  std::string dense;
+  for (int t = 0; t < 50; ++t)
+    for (int m = 0; m < 40; ++m)
+      dense += "{\"t\":" + std::to_string(t) + ",\"m\":" + std::to_string(m) + ",\"vars\":{},\"nbrs\":[]}\n";
+  EXPECT_EQ(replay_work_problem(std::get<Trace>(read_trace_text("t", dense)), 2000), "");
+}
+
 TEST(Replay, EachWatchpointFindsTheReferencesMatchesAtItsLag) {
   const std::string dir = std::string(DWATCH_CONFORMANCE_DIR) + "/02_leader_two_hop_hex";
   auto read = read_trace(dir + "/trace.jsonl");
