@@ -86,6 +86,18 @@ def test_the_header_watchpoints_are_replayed_by_default(source, tmp_path):
     assert as_rows(found["two_leaders"]) == rows and rows
 
 
+def test_a_run_a_pause_stopped_replays_to_its_own_matches(source, tmp_path):
+    # leader_election.toml pauses on two_leaders: the trace ends with {"paused":...}, and the
+    # header's watchpoints leave the last steps undecided as the run did; given, they decide them.
+    trace, live = tmp_path / "run.jsonl", tmp_path / "live.jsonl"
+    cli("run", str(source / "scenarios" / "leader_election.toml"), "--record", str(trace), "--matches", str(live))
+    assert '"paused"' in trace.read_text().splitlines()[-1]
+    rows = [(r["t"], tuple(r["slots"].values())) for r in json_lines(live.read_text())]
+    assert as_rows(dwatch.replay(trace)["two_leaders"]) == rows and rows
+    text = "modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)"
+    assert len(dwatch.replay(trace, {"two_leaders": text})["two_leaders"]) >= len(rows)
+
+
 def test_count_only_counts_every_match_and_keeps_none(source):
     trace, text = case(source, "01_fig6_2222_grid")
     kept = dwatch.replay(trace, text)["w1"]
