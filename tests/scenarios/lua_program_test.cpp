@@ -423,6 +423,17 @@ std::unique_ptr<sim::Model> with_limits(const Scenario& s, const std::string& sc
   return std::move(std::get<std::unique_ptr<sim::Model>>(model));
 }
 
+// Why step 0 of `model` fails on one thread, or "ran through".
+std::string first_step_failure(sim::Model& model, sim::World& world) {
+  sim::Session run(model, world, {.threads = 1});
+  try {
+    run.run_until(1);
+  } catch (const sim::ProgramError& e) {
+    return e.what();
+  }
+  return "ran through";
+}
+
 // A call the watchdog interrupts runs again counted: what the interrupted try set and sent is
 // taken back, so the run equals one where every call was counted from the start.
 TEST_F(LuaScript, ACallRunAgainAfterTheWatchdogLeavesNoTrace) {
@@ -474,14 +485,7 @@ TEST_F(LuaScript, AnErrorRaisedInsideTheVmNamesItsLineUncountedOrCounted) {
   ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
   const Scenario& s = std::get<Scenario>(loaded);
   auto failure = [&](std::chrono::milliseconds patience) {
-    const auto model = with_limits(s, script, {.patience = patience});
-    sim::Session run(*model, *s.world, {.threads = 1});
-    try {
-      run.run_until(1);
-    } catch (const sim::ProgramError& e) {
-      return std::string(e.what());
-    }
-    return std::string("ran through");
+    return first_step_failure(*with_limits(s, script, {.patience = patience}), *s.world);
   };
   const std::string counted = failure(std::chrono::milliseconds(0));
   EXPECT_NE(counted.find("x.lua:5: attempt to perform 'n%0'"), std::string::npos) << counted;
@@ -512,15 +516,9 @@ TEST_F(LuaScript, ALimitStopsACallAlikeWhateverRanBeforeInItsState) {
   ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
   const Scenario& s = std::get<Scenario>(loaded);
   auto stop = [&](int warm, int64_t instructions, std::chrono::milliseconds patience) {
-    const auto model =
-        with_limits(s, script(warm), {.instructions = instructions, .memory_bytes = 1u << 20, .patience = patience});
-    sim::Session run(*model, *s.world, {.threads = 1});
-    try {
-      run.run_until(1);
-    } catch (const sim::ProgramError& e) {
-      return std::string(e.what());
-    }
-    return std::string("ran through");
+    return first_step_failure(
+        *with_limits(s, script(warm), {.instructions = instructions, .memory_bytes = 1u << 20, .patience = patience}),
+        *s.world);
   };
   // Budgets on both sides of where the memory cap falls (about 97,000 instructions into the call
   // here), so that both limits are met. Before each counted run had a state of its own, budgets
