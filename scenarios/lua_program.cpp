@@ -247,11 +247,14 @@ class LuaState final : public sim::ProgramScratch {
   // own made for that call (`run_counted`). A failure is run again because its message depends on
   // the hook: Lua saves an instruction's position only when a hook runs or the instruction may
   // call out, so an error raised inside the VM with no hook (an integer `n % 0`) names the line of
-  // the last saved instruction, which the counted run, saving each one, does not. A long-lived state keeps what earlier
-  // calls grew (Lua's stack, its call records and string table, uncollected garbage), and where a call meets the memory
-  // cap moves with them, so the counted run, which alone decides whether a call stops and why, starts from the same
-  // state every time: the same script on the same variables stops at the same place, whatever ran before, on any
-  // machine and thread count (but for the memory cap's allocation or two that Lua's hash seed moves, lua_sandbox.cpp).
+  // the last saved instruction, which the counted run, saving each one, does not.
+  //
+  // A long-lived state keeps what earlier calls grew (Lua's stack, its call records and string
+  // table, uncollected garbage), and where a call meets the memory cap moves with them, so the
+  // counted run, which alone decides whether a call stops and why, starts from the same state
+  // every time: the same script on the same variables stops at the same place, whatever ran
+  // before, on any machine and thread count (but for the memory cap's allocation or two that
+  // Lua's hash seed moves, lua_sandbox.cpp).
   void run(sim::ModuleContext& m, bool initializing, bool after_init = false) {
     std::string message;
     if (sandbox_.limits().patience.count() == 0) {
