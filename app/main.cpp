@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/terminal_filter.h"
 #ifdef DWATCH_MPI
 #include "dist/mpi_exchange.h"
 #endif
@@ -14,6 +15,7 @@ int main(int argc, char** argv) {
   // Before any thread starts (Open MPI's included): signals are taken by one thread of its own.
   // `bench` starts child processes, which would inherit the blocked signals: it keeps the
   // default, ending at once, and writes nothing a signal could leave half done.
+  const dw::app::TerminalOutput terminal;  // no control byte from an input reaches a terminal raw
   std::optional<dw::app::Interrupts> interrupts;
   if (argc < 2 || std::string(argv[1]) != "bench") interrupts.emplace();
   dw::app::Interrupts* watcher = interrupts ? &*interrupts : nullptr;

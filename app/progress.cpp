@@ -10,7 +10,12 @@ ProgressBar::ProgressBar(std::string label, int64_t total, bool enabled)
       total_(total),
       enabled_(enabled && isatty(STDERR_FILENO)),
       start_(std::chrono::steady_clock::now()),
-      last_(start_) {}
+      last_(start_) {
+  // Written with stdio, beside the filtered streams (app/terminal_filter.h): the label, a
+  // scenario's name, is shown without its control characters here.
+  for (char& c : label_)
+    if ((static_cast<unsigned char>(c) < 0x20) || c == 0x7F) c = '?';
+}
 
 void ProgressBar::update(int64_t done) {
   if (!enabled_ || total_ <= 0) return;
