@@ -54,10 +54,11 @@ Camera make_camera(const Scene& scene, int width, int height, const Region& regi
     } else {
       c.target = b.center();
     }
-    // An eye on the target looks nowhere (the inputs refuse one; an eye at the ensemble's
-    // centre can still meet it): the fitted camera below is drawn instead.
+    // An eye on the target looks nowhere (the inputs refuse one within a millionth of its
+    // distance, scenarios::camera_problem; an eye at the ensemble's centre can still meet it): the
+    // fitted camera below is drawn instead.
     const glm::vec3 view = c.target - c.eye;
-    if (glm::length(view) > 1e-4f * std::max(1.0f, glm::length(c.eye))) {
+    if (glm::length(view) > 1e-7f * std::max(1.0f, glm::length(c.eye))) {
       // Straight down (or up), z cannot be the picture's up: y is, as on a 2-D lattice's plan.
       if (glm::length(glm::cross(glm::normalize(view), c.up)) < 1e-3f) c.up = {0, 1, 0};
       fit_depth(c, b);

@@ -1,5 +1,8 @@
 #include "scenarios/scenario.h"
 
+#include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 
@@ -12,7 +15,35 @@
 #include "sim/read_file.h"
 
 namespace dw::scenarios {
+
 namespace {
+
+// toml++ nests a table per part of a dotted key (`a.b.c = 1`, `[a.b.c]`) by recursion, and its
+// depth limit counts only brackets and braces: 40,000 parts crashed it. The offset of the dot that
+// makes a key longer than this, or nothing. Floats (1.5) and strings hold dots that are no key's:
+// a run of parts ends at any character a key cannot hold.
+constexpr size_t kMaxKeyParts = 256;
+std::optional<size_t> over_deep_dotted_key(std::string_view text) {
+  size_t dots = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '"' || c == '\'') {  // a string, or a quoted part: skipped whole
+      const bool triple = text.substr(i, 3) == std::string_view(c == '"' ? "\"\"\"" : "\'\'\'");
+      const std::string_view end = triple ? text.substr(i, 3) : text.substr(i, 1);
+      size_t j = i + end.size();
+      while (j < text.size() && text.substr(j, end.size()) != end) j += (c == '"' && text[j] == '\\') ? 2 : 1;
+      i = j + end.size() - 1;
+    } else if (c == '#') {
+      while (i < text.size() && text[i] != '\n') ++i;
+      dots = 0;
+    } else if (c == '.') {
+      if (++dots >= kMaxKeyParts) return i;
+    } else if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == ' ' || c == '\t')) {
+      dots = 0;
+    }
+  }
+  return std::nullopt;
+}
 
 // Positions (props, the camera) in module sizes: far beyond any lattice, and finite.
 
@@ -471,6 +502,12 @@ struct Loader {
   }
 
   std::variant<Scenario, std::string> load(const ScenarioOverrides& overrides) {
+    if (const auto at = over_deep_dotted_key(source.text())) {
+      diagnostics.add(watch::Diagnostic{{uint32_t(*at), uint32_t(*at + 1)},
+                                        "a dotted key of more than " + std::to_string(kMaxKeyParts) +
+                                            " parts: tables do not nest that deep in a scenario"});
+      return diagnostics.format();
+    }
     toml::table doc;
     try {
       doc = toml::parse(std::string_view(source.text()), std::string_view(path));
@@ -614,7 +651,11 @@ std::string camera_problem(std::span<const double> eye, std::span<const double> 
     for (double c : v)
       if (!std::isfinite(c) || std::abs(c) > kMaxCoordinate)
         return "a camera coordinate must be a finite number from -1e6 to 1e6, not " + std::to_string(c);
-  if (eye.size() == 3 && target.size() == 3 && eye[0] == target[0] && eye[1] == target[1] && eye[2] == target[2])
+  // On its target, or so near that no direction can be told (the renderer would draw the fitted
+  // view instead, render::make_camera): a millionth of the eye's distance from the origin.
+  if (eye.size() == 3 && target.size() == 3 &&
+      std::hypot(eye[0] - target[0], eye[1] - target[1], eye[2] - target[2]) <=
+          1e-6 * std::max(1.0, std::hypot(eye[0], eye[1], eye[2])))
     return "the camera's eye is on its target, so it looks nowhere: move one of them";
   return "";
 }

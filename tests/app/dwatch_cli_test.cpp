@@ -490,8 +490,9 @@ TEST_F(Cli, RenderMistakesAreBadInput) {
   EXPECT_EQ(run("render " + (dir_ / "missing.toml").string() + " --out " + (dir_ / "x.png").string()).code, 2);
   EXPECT_EQ(run("run " + scenario + " --render /nonexistent/dir/x.png").code, 2);
   // A camera that could only draw a blank picture is refused.
-  for (const std::string camera : {"--camera-eye 1,2,3 --camera-target 1,2,3", "--camera-eye nan,0,5",
-                                   "--camera-eye 0,inf,5", "--camera-eye 1e300,0,0", "--camera-target 0,0,-1e7"}) {
+  for (const std::string camera :
+       {"--camera-eye 1,2,3 --camera-target 1,2,3", "--camera-eye 5,5,0 --camera-target 5,5.000001,0",
+        "--camera-eye nan,0,5", "--camera-eye 0,inf,5", "--camera-eye 1e300,0,0", "--camera-target 0,0,-1e7"}) {
     const Result r = run("render " + scenario + " --out " + (dir_ / "x.png").string() + " " + camera);
     EXPECT_EQ(r.code, 2) << camera;
     EXPECT_NE(r.err.find("error: "), std::string::npos) << camera << ": " << r.err;

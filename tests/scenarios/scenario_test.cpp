@@ -82,6 +82,28 @@ TEST(Scenario, AMissingFileIsAnError) {
   EXPECT_NE(std::get<std::string>(loaded).find("cannot read"), std::string::npos);
 }
 
+// A dotted key nests a table per part, by recursion in toml++: 40,000 parts crashed it. Past 256
+// parts, as a key, a table header or an array of tables, it is an error at the dot; dots in
+// floats, strings and comments are no key's.
+TEST(Scenario, ADottedKeyTooDeepIsAnErrorNotACrash) {
+  std::string parts;
+  for (int i = 0; i < 40'000; ++i) parts += "a.";
+  const std::string line = "[lattice]\nkind = \"ring\"\nsize = [4]\n[[program]]\nname = \"token_ring\"\n";
+  for (const std::string& bad :
+       {parts + "a = 1\n", "[" + parts + "a]\n", "[[" + parts + "a]]\n", "x = { " + parts + "a = 1 }\n"}) {
+    auto loaded = load_scenario_text("deep.toml", line + bad);
+    ASSERT_TRUE(std::holds_alternative<std::string>(loaded)) << bad.substr(0, 10);
+    EXPECT_NE(std::get<std::string>(loaded).find("deep.toml:6:"), std::string::npos) << std::get<std::string>(loaded);
+    EXPECT_NE(std::get<std::string>(loaded).find("a dotted key of more than 256 parts"), std::string::npos);
+  }
+  std::string floats = "[view]\ncamera_eye = [1.5, 2.5, 3.5]\n# " + parts + "\ndescription = \"" + parts + "\"\n";
+  std::string many = "x = [";
+  for (int i = 0; i < 400; ++i) many += "1.5, ";
+  auto loaded = load_scenario_text("ok.toml", line + "[extra]\n" + many + "2.5]\n" + floats);
+  ASSERT_TRUE(std::holds_alternative<std::string>(loaded));  // [extra] is an unknown table
+  EXPECT_EQ(std::get<std::string>(loaded).find("dotted key"), std::string::npos) << std::get<std::string>(loaded);
+}
+
 TEST(Scenario, OverridesWinOverTheFile) {
   auto loaded = load_scenario_text("x.toml", R"toml(seed = 3
 [lattice]
