@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <condition_variable>
@@ -45,12 +46,38 @@ class AnswerWriter {
   std::mutex mutex_;
 };
 
+// nlohmann reads and writes nested arrays by recursion: an id 100,000 arrays deep, echoed back,
+// overflowed the stack. A request is refused past this depth, counted before it is parsed.
+constexpr size_t kMaxRequestDepth = 64;
+size_t json_depth(std::string_view text) {
+  size_t depth = 0, deepest = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
 Request parse_request(std::string line) {
   Request r;
   if (!line.empty() && line.back() == '\r') line.pop_back();
   const size_t first = line.find_first_not_of(" \t");
   if (first == std::string::npos || line[first] != '{') {
     r.line = std::move(line);
+    return r;
+  }
+  if (json_depth(line) > kMaxRequestDepth) {
+    r.unreadable = "a request nests arrays and objects more than " + std::to_string(kMaxRequestDepth) + " deep";
     return r;
   }
   const Json j = Json::parse(line, nullptr, /*allow_exceptions=*/false);

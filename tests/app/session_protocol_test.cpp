@@ -125,6 +125,10 @@ TEST_F(SessionProtocol, EachRequestIsAnsweredBeforeTheNextIsSent) {
   const auto broken = p.next();
   ASSERT_TRUE(broken);
   EXPECT_TRUE(broken->contains("error"));
+  p.send("{\"id\": " + std::string(100'000, '[') + std::string(100'000, ']') + ", \"cmd\": \"status\"}");
+  const auto deep = p.next();
+  ASSERT_TRUE(deep) << "a deep id is refused, not echoed until the stack overflows";
+  EXPECT_NE((*deep)["error"]["message"].get<std::string>().find("more than 64 deep"), std::string::npos);
   p.send(std::string(kTooLong, 'x'));
   const auto too_long = p.next();
   ASSERT_TRUE(too_long);
