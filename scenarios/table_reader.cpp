@@ -35,7 +35,13 @@ std::string FileDiagnostics::format() const {
   std::vector<watch::Diagnostic> sorted = list_;
   std::stable_sort(sorted.begin(), sorted.end(),
                    [](const watch::Diagnostic& a, const watch::Diagnostic& b) { return a.span.begin < b.span.begin; });
-  return watch::format_diagnostics(source_, sorted);
+  // The first ones only, as a compiler stops at its error limit: 100,000 mistakes made 20 MB of
+  // messages, and placing each one (a scan of the text) took minutes.
+  if (sorted.size() <= kMaxShown) return watch::format_diagnostics(source_, sorted);
+  const size_t more = sorted.size() - kMaxShown;
+  sorted.resize(kMaxShown);
+  return watch::format_diagnostics(source_, sorted) + source_.name() + ": " + std::to_string(more) + " more error" +
+         (more == 1 ? "" : "s") + " not shown (the first " + std::to_string(kMaxShown) + " are above)\n";
 }
 
 TableReader::TableReader(const toml::table& table, FileDiagnostics& diagnostics, std::string what)

@@ -27,7 +27,8 @@ class FileDiagnostics {
   watch::Span span(const toml::source_region& at) const;
   uint32_t offset(const toml::source_position& p) const;
   bool empty() const { return list_.empty(); }
-  // All of them, in file order.
+  // The diagnostics in file order, at most kMaxShown of them, then how many more there are.
+  static constexpr size_t kMaxShown = 20;
   std::string format() const;
 
  private:

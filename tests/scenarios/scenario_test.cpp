@@ -104,6 +104,20 @@ TEST(Scenario, ADottedKeyTooDeepIsAnErrorNotACrash) {
   EXPECT_EQ(std::get<std::string>(loaded).find("dotted key"), std::string::npos) << std::get<std::string>(loaded);
 }
 
+// Every mistake is found, the first 20 shown: 100,000 bad events took minutes to place and made
+// 20 MB of messages.
+TEST(Scenario, TheFirstTwentyMistakesAreShownAndTheRestCounted) {
+  std::string text = "steps = 5\n[lattice]\nkind = \"ring\"\nsize = [4]\n[[program]]\nname = \"token_ring\"\n";
+  for (int i = 0; i < 30'000; ++i) text += "[[event]]\nat = 1\nmodule = 99\nremove = true\n";
+  auto loaded = load_scenario_text("bad.toml", text);
+  ASSERT_TRUE(std::holds_alternative<std::string>(loaded));
+  const std::string& errors = std::get<std::string>(loaded);
+  EXPECT_EQ(std::count(errors.begin(), errors.end(), '^'), 20);
+  EXPECT_NE(errors.find("bad.toml:9:"), std::string::npos) << errors.substr(0, 300);
+  EXPECT_NE(errors.find("bad.toml: 29980 more errors not shown (the first 20 are above)"), std::string::npos)
+      << errors.substr(errors.size() - 300);
+}
+
 TEST(Scenario, OverridesWinOverTheFile) {
   auto loaded = load_scenario_text("x.toml", R"toml(seed = 3
 [lattice]
