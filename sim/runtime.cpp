@@ -198,6 +198,10 @@ void Runtime::run_programs(unsigned thread, uint32_t begin, uint32_t end, const 
     if (!state.present[m]) continue;
     const auto neighbors = state.graph->neighbors(m);
     for (uint32_t p = 0; p < programs; ++p) {
+      // Once a module has failed, the step fails with the lowest failing module's message: the
+      // calls of higher modules on this thread cannot change it and are not made (a script looping
+      // to its budget on every module took minutes to report module 0's failure).
+      if (!scratch.outbox.error.empty() && scratch.outbox.error_module <= m) break;
       const uint32_t base = model_.program_base[p];
       const HostProgram& program = *programs_[p];
       ModuleContext ctx(m, state.step, model_.seed, static_cast<uint16_t>(p), neighbors,

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <sstream>
 
 #include "sim/random.h"
@@ -99,6 +100,54 @@ TEST(Runtime, SendingToAModuleThatIsNotANeighbourStopsTheRun) {
     EXPECT_NE(std::string(e.what()).find("module 5 sent to module 7 at step 2, which is not its neighbour"),
               std::string::npos)
         << e.what();
+  }
+}
+
+// Fails on every module from `first`, counting the calls made.
+class FailsFrom final : public HostProgram {
+ public:
+  FailsFrom(ModuleId first, std::string variable, std::atomic<int>& calls)
+      : first_(first), variable_(std::move(variable)), calls_(calls) {}
+  std::string_view name() const override { return "fails_from"; }
+  std::vector<VariableSpec> variables() const override { return {{variable_, 0}}; }
+  void step(ModuleContext& m) const override {
+    ++calls_;
+    if (m.id() >= first_) m.fail("failed");
+  }
+
+ private:
+  ModuleId first_;
+  std::string variable_;
+  std::atomic<int>& calls_;
+};
+
+// Once a module of a thread fails, that thread's higher modules are not called: their calls
+// cannot change which failure is reported (the lowest module's), and a script looping to its
+// budget on every module made the report wait for all of them. The report is the same on any
+// thread count.
+TEST(Runtime, AFailureSkipsTheHigherModulesCallsAndReportsTheLowest) {
+  for (unsigned threads : {1u, 2u, 4u}) {
+    SCOPED_TRACE(threads);
+    std::atomic<int> calls{0};
+    std::vector<std::unique_ptr<const HostProgram>> programs;
+    programs.push_back(std::make_unique<FailsFrom>(3, "x", calls));
+    programs.push_back(std::make_unique<FailsFrom>(0, "y", calls));  // never reached past module 2's first
+    const auto model = std::get<std::unique_ptr<Model>>(
+        build_model(make_lattice({LatticeKind::Line, {400, 1, 1}}), std::move(programs), {}, 1));
+    StaticLatticeWorld world;
+    Runtime rt(*model, world, threads);
+    State s = rt.initial_state();
+    StepOutput out;
+    try {
+      rt.step(s, out);
+      FAIL() << "expected a ProgramError";
+    } catch (const ProgramError& e) {
+      ASSERT_TRUE(e.module);
+      EXPECT_EQ(*e.module, 0u);
+      EXPECT_NE(std::string(e.what()).find("fails_from on module 0 failed"), std::string::npos) << e.what();
+    }
+    // Each thread stops at its first failing module: its first program's call and no more.
+    EXPECT_LE(calls.load(), int(threads) * 2) << "not one call a module";
   }
 }
 
