@@ -20,7 +20,8 @@ std::string filtered(std::initializer_list<std::string> writes) {
 TEST(TerminalFilter, ControlCharactersBecomeQuestionMarksAndTextStays) {
   // ESC [2J (clear the screen), a bell, DEL and U+009B (CSI in one character) are shown one '?'
   // a byte; tab, newline, carriage return and other UTF-8 (U+00A9, U+00E9, U+2026) are kept.
-  EXPECT_EQ(filtered({"a\x1b[2J\x07\x7f\xc2\x9b" "1m\xc2\xa9\xc3\xa9\xe2\x80\xa6\t\r\n"}),
+  EXPECT_EQ(filtered({"a\x1b[2J\x07\x7f\xc2\x9b"
+                      "1m\xc2\xa9\xc3\xa9\xe2\x80\xa6\t\r\n"}),
             "a?[2J????1m\xc2\xa9\xc3\xa9\xe2\x80\xa6\t\r\n");
 }
 
