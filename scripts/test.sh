@@ -6,11 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 kind=release
 dir=build
-retry=()
-# Under ASan, a test that fails is run once more: LeakSanitizer's tracer, stopping the world at
-# exit, can crash on a loaded machine while OSMesa's render threads unwind ("Tracer caught signal
-# 11", seen once in two render tests while MPI tests ran beside). A real failure fails twice.
-if [ "${1:-}" = "--asan" ]; then kind=asan; dir=build-asan; retry=(--repeat until-pass:2); fi
+if [ "${1:-}" = "--asan" ]; then kind=asan; dir=build-asan; fi
 scripts/install-deps.sh
 scripts/build.sh "$kind"
 # intercept_tls_get_addr=0: ASan's tracking of dynamic TLS misreads that of a library opened with
@@ -18,4 +14,4 @@ scripts/build.sh "$kind"
 # caught signal 11", a DTLS range of 0x1c84-0x1800002d86) in most render tests' processes.
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:intercept_tls_get_addr=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0
-ctest --test-dir "$dir" --output-on-failure --parallel "$(nproc)" "${retry[@]}"
+ctest --test-dir "$dir" --output-on-failure --parallel "$(nproc)"
