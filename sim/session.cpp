@@ -210,17 +210,25 @@ void Session::record_output(const State& state, const StepOutput& out, uint32_t 
       stats_[w].add(o.stats);
       stats_step_[w].push_back(out.step);
     }
-    if (model_.watches[w].action == MatchAction::Count) {
-      matches_[w].count(o.t, out.step, o.matches);
-    } else if (!o.slots.empty()) {
-      const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
-      MatchList& list = matches_[w];
-      list.slots.insert(list.slots.end(), o.slots.begin(), o.slots.end());
-      list.actions.insert(list.actions.end(), o.actions.begin(), o.actions.end());
-      list.t.insert(list.t.end(), o.slots.size() / k, o.t);
-      list.detected.insert(list.detected.end(), o.slots.size() / k, out.step);
-    }
+    keep_matches(w, o.t, out.step, o.matches, o.slots, o.actions);
   }
+}
+
+// What a watchpoint keeps of the `matches` it found of watch step t during step `detected`: a
+// `count` one their number, the others each group (`slots`, slot_count ids a match) and its
+// actions' values.
+void Session::keep_matches(uint32_t w, int64_t t, int64_t detected, uint64_t matches, std::span<const ModuleId> slots,
+                           std::span<const watch::Value> actions) {
+  MatchList& list = matches_[w];
+  if (model_.watches[w].action == MatchAction::Count) {
+    list.count(t, detected, matches);
+    return;
+  }
+  const uint32_t k = model_.watches[w].watchpoint.program.slot_count();
+  list.slots.insert(list.slots.end(), slots.begin(), slots.end());
+  list.actions.insert(list.actions.end(), actions.begin(), actions.end());
+  list.t.insert(list.t.end(), slots.size() / k, t);
+  list.detected.insert(list.detected.end(), slots.size() / k, detected);
 }
 
 void Session::drain(const DrainSink& sink) {
@@ -230,17 +238,9 @@ void Session::drain(const DrainSink& sink) {
     if (!ws.detector || ws.stopped) continue;
     const HostedWatchpoint& h = model_.watches[w];
     const uint32_t k = h.watchpoint.program.slot_count();
-    MatchList& list = matches_[w];
     ws.detector->set_sink([&](int64_t t, std::span<const ModuleId> ids, std::span<const watch::Value> actions) {
       ws.matches += ids.size() / k;
-      if (h.action == MatchAction::Count) {
-        list.count(t, latest_, ids.size() / k);
-      } else {
-        list.slots.insert(list.slots.end(), ids.begin(), ids.end());
-        list.actions.insert(list.actions.end(), actions.begin(), actions.end());
-        list.t.insert(list.t.end(), ids.size() / k, t);
-        list.detected.insert(list.detected.end(), ids.size() / k, latest_);
-      }
+      keep_matches(w, t, latest_, ids.size() / k, ids, actions);
       if (sink) sink(w, t, ids, actions);
     });
     const watch::DetectorStats before = ws.detector->stats();
@@ -284,20 +284,8 @@ void Session::drain_agents(const DrainSink& sink) {
       }
       stats_[w].stopped = head_.watches[w].stopped;
       stats_[w].stop_reason = head_.watches[w].stop_reason;
-      if (h.action == MatchAction::Count) {
-        matches_[w].count(out.t, latest_, out.matches);
-        if (out.slots.empty()) continue;
-      } else if (out.slots.empty()) {
-        continue;
-      } else {
-        const uint32_t k = p.slot_count();
-        MatchList& list = matches_[w];
-        list.slots.insert(list.slots.end(), out.slots.begin(), out.slots.end());
-        list.actions.insert(list.actions.end(), out.actions.begin(), out.actions.end());
-        list.t.insert(list.t.end(), out.slots.size() / k, out.t);
-        list.detected.insert(list.detected.end(), out.slots.size() / k, latest_);
-      }
-      if (sink) sink(w, out.t, out.slots, out.actions);
+      keep_matches(w, out.t, latest_, out.matches, out.slots, out.actions);
+      if (!out.slots.empty() && sink) sink(w, out.t, out.slots, out.actions);
     }
   }
 }

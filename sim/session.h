@@ -232,6 +232,8 @@ class Session {
   void branch_here();  // the current step becomes the head: the future is dropped
   void resimulate();
   void drain_agents(const DrainSink& sink);
+  void keep_matches(uint32_t w, int64_t t, int64_t detected, uint64_t matches, std::span<const ModuleId> slots,
+                    std::span<const watch::Value> actions);
   void drop_changes_after(int64_t at);
   int64_t max_lag() const;
 
