@@ -30,6 +30,13 @@ void say(const std::string& text) {
   }
 }
 
+// What an exit at once leaves. An output is committed whole or not at all (sim/output_file.h),
+// and the process may end before, during or after the commits: each output is either complete
+// or absent, never cut short.
+constexpr const char* kStoppingAtOnce =
+    "stopping at once; an output not yet complete is not written (a file it would replace is left as it "
+    "was), outputs already complete are kept\n";
+
 }  // namespace
 
 Interrupts::Interrupts() {
@@ -70,7 +77,7 @@ void Interrupts::watch() {
       continue;
     }
     say(std::string("dwatch: ") + (first_ != 0 ? "interrupted again" : "interrupted") + " (" + name(signal) +
-        "): stopping at once; files still being written are dropped, earlier ones untouched\n");
+        "): " + kStoppingAtOnce);
     std::_Exit(exit_code(first_ != 0 ? first_ : signal));
   }
 }
@@ -83,8 +90,7 @@ Interrupts::Stoppable::Stoppable(Interrupts& interrupts) : interrupts_(interrupt
 Interrupts::Stoppable::~Stoppable() {
   std::lock_guard lock(interrupts_.mutex_);
   if (interrupts_.first_ != 0 && !answered_) {
-    say(std::string("dwatch: interrupted (") + name(interrupts_.first_) +
-        "): stopping at once; files still being written are dropped, earlier ones untouched\n");
+    say(std::string("dwatch: interrupted (") + name(interrupts_.first_) + "): " + kStoppingAtOnce);
     std::_Exit(exit_code(interrupts_.first_));
   }
   interrupts_.open_ = nullptr;

@@ -3,6 +3,7 @@
 #include "sim/read_file.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string_view>
@@ -546,7 +547,12 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
   else lua_sethook(L_, nullptr, 0, 0);
   LuaWatchdog& watchdog = this->watchdog();
   watchdog.begin(L_, counted ? uint32_t(std::max<int64_t>(1, limits_.deadline / tick())) : 1);
-  const int status = lua_pcall(L_, args, results, 0);
+  // The message handler goes under the function and its arguments, and is taken away after.
+  const int handler = lua_gettop(L_) - args;
+  lua_pushcfunction(L_, &LuaSandbox::describe_error);
+  lua_insert(L_, handler);
+  const int status = lua_pcall(L_, args, results, handler);
+  lua_remove(L_, handler);
   watchdog.end();
   lua_sethook(L_, nullptr, 0, 0);
   if (status == LUA_OK) return Outcome::kOk;
@@ -574,6 +580,23 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
     lua_pushstring(L_, message.c_str());
   }
   return Outcome::kFailed;
+}
+
+// The message handler of a call: an error value that is not a string (`error(nil)`, `error({})`)
+// carries no position, so it is described with the line it was raised at, found while that line
+// is still on the stack. A string (which has its position when it needs one) and the limits' stop
+// pass unchanged. No __tostring is called: that would be the script's code running in the handler.
+int LuaSandbox::describe_error(lua_State* L) {
+  if (lua_type(L, 1) == LUA_TSTRING || lua_touserdata(L, 1) == &kStopped) return 1;
+  char text[LUA_IDSIZE + 96];
+  {
+    // Destroyed before Lua may raise (a memory error jumps over C++ frames).
+    const std::string where = location(L, 1);
+    std::snprintf(text, sizeof text, "%san error that is not a string (a %s value)", where.c_str(),
+                  luaL_typename(L, 1));
+  }
+  lua_pushstring(L, text);
+  return 1;
 }
 
 // A memory stop names the script but no line. Even in a state made for the call (a call run

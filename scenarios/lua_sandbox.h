@@ -87,6 +87,7 @@ class LuaSandbox {
   static int plain_format(lua_State* L);
   static int replaying(lua_State* L);
   static int replacement(lua_State* L);
+  static int describe_error(lua_State* L);
   void open_libraries();
   void push_stop_message(Stop why);
   std::chrono::milliseconds tick() const;  // of the watchdog

@@ -91,6 +91,10 @@ class TraceReader {
       return error(at, "\"paused\" is {\"watch\": NAME, \"t\": STEP}");
     if (pause.t < 0 || pause.t > kMaxStep)
       return error(at, "\"paused\" has a step out of 0.." + std::to_string(kMaxStep));
+    // It names the watchpoint that paused the run: one of the header's, which precede it.
+    if (std::none_of(watches_.begin(), watches_.end(), [&](const TraceWatch& w) { return w.name == watch; }))
+      return error(at, "\"paused\" names the watchpoint '" + std::string(watch) +
+                           "', which the header's \"watches\" does not hold");
     pause.watch = std::string(watch);
     paused_ = std::move(pause);
   }

@@ -169,6 +169,27 @@ TEST(LuaSandbox, FinalizersAndWeakTablesAreRefusedAndCloseMeetsTheBudget) {
                  "stack overflow");
 }
 
+// An error value that is not a string has no position of its own: the message names the line it
+// was raised at, and its type. Inside the script, pcall still hands back the value itself.
+TEST(LuaSandbox, AnErrorThatIsNotAStringNamesItsLine) {
+  expect_stopped("local x = 1\nerror(nil)", "x.lua:2: an error that is not a string (a nil value)");
+  expect_stopped("local function f()\n  local t = {}\n  error(t)\nend\nf()",
+                 "x.lua:3: an error that is not a string (a table value)");
+  expect_stopped("error(setmetatable({}, {__tostring = function() while true do end end}))",
+                 "x.lua:1: an error that is not a string (a table value)");
+  const Result caught =
+      run("local ok, e = pcall(error, nil)\nlocal ok2, e2 = pcall(error, {})\n"
+          "return tostring(ok) .. tostring(e) .. type(e2)");
+  EXPECT_EQ(caught.returned,
+            "falsenil"
+            "table")
+      << caught.message;
+  // A string keeps its message; a limit stays the limit's.
+  expect_stopped("error('mine', 0)", "mine");
+  expect_stopped("local t = {}\nwhile true do error(t) end", "an error that is not a string");
+  expect_stopped("while true do pcall(error, nil) end", kBudget);
+}
+
 TEST(LuaSandbox, TheLimitsStayForTheNextCall) {
   // A call that hit a limit leaves nothing behind: the next one has its whole budget.
   LuaSandbox box("x.lua", {});

@@ -69,21 +69,30 @@ TEST(TraceReader, TheHeaderListsTheRunsWatchpointsWithTheirReadings) {
 }
 
 // A run a pause stopped ends its trace with {"paused":...}; nothing may follow it, and it holds a
-// watchpoint's name and a step, nothing else.
+// watchpoint's name and a step, nothing else. The watchpoint is one of the header's.
 TEST(TraceReader, APausedLineEndsTheTrace) {
+  const std::string header =
+      R"({"wptrace":1,"watches":[{"name":"w","text":"modules(a); a.x = 1","algorithm":"distributed",)"
+      R"("shape":"chain","states":"consistent","action":"log"}]})"
+      "\n";
   const std::string frame = "{\"t\":0,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[]}\n";
-  auto r = read_trace_text("t", frame + "{\"paused\":{\"watch\":\"w\",\"t\":0}}\n\n");
+  auto r = read_trace_text("t", header + frame + "{\"paused\":{\"watch\":\"w\",\"t\":0}}\n\n");
   ASSERT_TRUE(std::holds_alternative<Trace>(r)) << std::get<std::vector<TraceError>>(r)[0].format();
   EXPECT_EQ(std::get<Trace>(r).paused(), (TracePause{"w", 0}));
-  EXPECT_FALSE(std::get<Trace>(read_trace_text("t", frame)).paused());
-  EXPECT_EQ(first_error(frame + "{\"paused\":{\"watch\":\"w\",\"t\":0}}\n" + frame),
-            "t.jsonl:3:1: error: a line after the {\"paused\":...} line, which ends a trace");
+  EXPECT_FALSE(std::get<Trace>(read_trace_text("t", header + frame)).paused());
+  EXPECT_EQ(first_error(header + frame + "{\"paused\":{\"watch\":\"w\",\"t\":0}}\n" + frame),
+            "t.jsonl:4:1: error: a line after the {\"paused\":...} line, which ends a trace");
+  // A watchpoint the header does not hold, or a trace with no header watchpoints at all.
+  EXPECT_EQ(first_error(header + frame + "{\"paused\":{\"watch\":\"v\",\"t\":0}}\n"),
+            "t.jsonl:3:2: error: \"paused\" names the watchpoint 'v', which the header's \"watches\" does not hold");
+  EXPECT_EQ(first_error(frame + "{\"paused\":{\"watch\":\"w\",\"t\":0}}\n"),
+            "t.jsonl:2:2: error: \"paused\" names the watchpoint 'w', which the header's \"watches\" does not hold");
   for (const char* bad : {R"({"paused":{"watch":"w"}})", R"({"paused":{"watch":1,"t":0}})", R"({"paused":"w"})",
                           R"({"paused":{"watch":"w","t":0,"x":1}})", R"({"paused":{"watch":"w","t":-1}})",
                           R"({"paused":{"watch":"w","t":0},"t":0})"}) {
-    const auto errors = errors_of(frame + bad + "\n");
+    const auto errors = errors_of(header + frame + bad + "\n");
     ASSERT_EQ(errors.size(), 1u) << bad;
-    EXPECT_EQ(errors[0].line, 2u) << bad;
+    EXPECT_EQ(errors[0].line, 3u) << bad;
     EXPECT_NE(errors[0].message.find("\"paused\""), std::string::npos) << bad << ": " << errors[0].message;
   }
 }
