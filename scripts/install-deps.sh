@@ -22,6 +22,7 @@ packages=(
   clang libclang-rt-14-dev                     # the fuzz targets and sanitizer builds
   clang-format                                 # scripts/check-format.sh (CI)
   time                                         # peak-memory figures for benchmarks (/usr/bin/time -v)
+  file                                         # cpack -G DEB: its dependencies' search (dpkg-shlibdeps) runs it
   python3-matplotlib                           # bench paper's plots (scripts/plot_paper.py, /usr/bin/python3)
   pybind11-dev python3-dev python3-numpy       # the Python package (python/), for /usr/bin/python3
   python3-pytest                               # its tests (python/tests/, run by ctest)
