@@ -3,6 +3,8 @@
 # for SECONDS (default 30), or for N executions with --runs N, starting from its seed corpus and
 # what earlier runs kept; new inputs go to build-fuzz/corpus/NAME.
 #   scripts/fuzz.sh [SECONDS | --runs N] [TARGET...]   targets: parser scenario trace session lua (default: all)
+# FUZZ_BUILD=asan uses the sanitizer test build's tree (build-asan, -O1, which builds the fuzz
+# targets too) instead of build-fuzz (-O2, for long campaigns): CI then builds the libraries once.
 # Prints, per target, the runs, the edges (cov) and features (ft) reached. Any crash, leak,
 # undefined behaviour, input over FUZZ_TIMEOUT seconds (default 1) or allocation over 2 GB fails
 # the script and leaves the input in build-fuzz/. On a loaded machine ASan's quarantine recycling
@@ -22,14 +24,17 @@ export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
 shift || true
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(parser scenario trace session lua)
+kind="${FUZZ_BUILD:-fuzz}"
+case "$kind" in fuzz | asan) ;; *) echo "fuzz: FUZZ_BUILD must be fuzz or asan" >&2; exit 2 ;; esac
+build=build-$kind
 scripts/install-deps.sh
-scripts/build.sh fuzz
+scripts/build.sh "$kind" "${targets[@]/%/_fuzz}"
 
 # Seeds, copied into build-fuzz/seeds/NAME: the parser's corpus and language cases; every
 # scenario and scenario case file; every conformance trace; the session cases and the session
 # corpus; every shipped Lua script and the Lua corpus (hostile snippets, findings).
 seed_dir() {
-  local dir=build-fuzz/seeds/$1
+  local dir=$build/seeds/$1
   rm -rf "$dir" && mkdir -p "$dir"
   case "$1" in
     parser) cp tests/fuzz/parser_corpus/* tests/watch/cases/*.watch "$dir" ;;
@@ -48,15 +53,15 @@ schedule() { case "$1" in session) echo -entropic=0 ;; *) echo -entropic=1 ;; es
 
 summary=()
 for t in "${targets[@]}"; do
-  corpus=build-fuzz/corpus/$t
+  corpus=$build/corpus/$t
   mkdir -p "$corpus"
-  log=build-fuzz/$t.log
+  log=$build/$t.log
   seeds=$(seed_dir "$t")
-  if ! (cd build-fuzz && ./tests/${t}_fuzz "${limit[@]}" -max_len="$(max_len "$t")" "$(schedule "$t")" -timeout="${FUZZ_TIMEOUT:-1}" \
+  if ! (cd "$build" && ./tests/${t}_fuzz "${limit[@]}" -max_len="$(max_len "$t")" "$(schedule "$t")" -timeout="${FUZZ_TIMEOUT:-1}" \
           -rss_limit_mb=2048 -malloc_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$t-" \
           "../$corpus" "../$seeds") >"$log" 2>&1; then
     tail -40 "$log"
-    echo "fuzz: $t FAILED; the input is in build-fuzz/$t-*" >&2
+    echo "fuzz: $t FAILED; the input is in $build/$t-*" >&2
     exit 1
   fi
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
