@@ -84,9 +84,9 @@ int LuaSandbox::plain_concat(lua_State* L) {
   return 4;
 }
 
-// plain_format(fmt, ...): string.format's arguments, with a table that has a metatable, where the
-// format reads it as a string (%s), turned into its string here (its __tostring or __name), up to
-// the first item format refuses.
+// plain_format(fmt, ...): string.format's arguments, with a table or other object the format
+// reads as a string (%s) turned into its string here as tostring shows it (its __tostring, else no
+// address: lua_fixed_order.cpp), up to the first item format refuses. %p, an address, is refused.
 int LuaSandbox::plain_format(lua_State* L) {
   const int top = lua_gettop(L);
   size_t length = 0;
@@ -97,9 +97,10 @@ int LuaSandbox::plain_format(lua_State* L) {
     if (++i < length && format[i] == '%') continue;
     while (i < length && format[i] != '\0' && std::strchr("-+ #0123456789.", format[i])) ++i;
     if (i >= length || ++arg > top || format[i] == '\0' || !std::strchr("cdiuoxXaAfFeEgGpqs", format[i])) break;
-    if (format[i] == 's' && lua_type(L, arg) == LUA_TTABLE && lua_getmetatable(L, arg)) {
-      lua_pop(L, 1);
-      luaL_tolstring(L, arg, nullptr);
+    if (format[i] == 'p') return luaL_error(L, "string.format: %%p shows an address, which differs from run to run");
+    const int type = lua_type(L, arg);
+    if (format[i] == 's' && type != LUA_TSTRING && type != LUA_TNUMBER) {
+      push_plain_string(L, arg);
       lua_replace(L, arg);
     }
   }

@@ -16,29 +16,61 @@ namespace dw::scenarios {
 namespace {
 
 // Run once in every Lua state after the script: freezes the globals and every table reached from
-// them or from a function's upvalues (emptied, their contents behind a read-only metatable), and
-// lists the upvalues to check after each call, as {function, index, name, value} quadruples.
-// Locals of the script (`local n = 0` outside step) are upvalues: writing one keeps state outside
-// the module's variables, which a rollback could not restore. The sandbox's guards keep nothing
-// and are skipped.
+// them, from a function's upvalues or from a table's metatable, and lists what to check after
+// each call as {holder, key, name, value} quadruples: a function's upvalue (holder a function, key
+// its index) or a metamethod of a frozen table (holder the table, key its name). Locals of the
+// script (`local n = 0` outside step) are upvalues: writing one keeps state outside the module's
+// variables, which a rollback could not restore. The sandbox's guards keep nothing and are
+// skipped.
+//
+// A frozen table is emptied and its contents moved behind a read-only metatable (__index reads
+// them, __newindex refuses, __len and __pairs list them). Its metamethods (keys "__...") stay in
+// it, since Lua looks them up raw when the table is another's metatable (a class: `C.__index = C`);
+// writing one is found by the checks. A metatable the table had keeps its metamethods: they are
+// copied into the new one, and its __index is asked for what the contents lack.
+//
+// The chunk's _ENV is the sandbox's library as it was before the script ran (push_library): a
+// script that replaced `next` or `type` cannot change how it is frozen.
 constexpr const char* kFreeze = R"lua(
 local G, debug, guards = ...
-local next, type, tostring, error, setmetatable, getmetatable = next, type, tostring, error, setmetatable, getmetatable
+local getmetatable, setmetatable = debug.getmetatable, debug.setmetatable
 local frozen, seen, checks = {}, {}, {}
 for _, f in next, guards do seen[f] = true end
 local function deny(_, k)
   error("writes '" .. tostring(k) .. "' outside the module's variables (a script keeps its state with m:set)", 2)
 end
+local function check(holder, key, name, value)
+  checks[#checks + 1] = holder
+  checks[#checks + 1] = key
+  checks[#checks + 1] = name
+  checks[#checks + 1] = value
+end
 local freeze_value
 local function freeze(t)
-  if frozen[t] or getmetatable(t) ~= nil then return end
+  if frozen[t] then return end
   frozen[t] = true
-  local hidden = {}
-  for k, v in next, t do hidden[k] = v end
+  local own = getmetatable(t)
+  local hidden, kept = {}, {}
+  for k, v in next, t do
+    if type(k) == "string" and sub(k, 1, 2) == "__" then kept[k] = v else hidden[k] = v end
+  end
   for k in next, hidden do t[k] = nil end
-  setmetatable(t, { __index = hidden, __newindex = deny, __len = function() return #hidden end,
-                    __pairs = function() return next, hidden, nil end, __metatable = false })
+  local mt = {}
+  if own ~= nil then
+    for k, v in next, own do mt[k] = v end
+    if rawget(own, "__index") ~= nil then setmetatable(hidden, { __index = rawget(own, "__index") }) end
+  end
+  mt.__index, mt.__newindex = hidden, deny
+  if rawget(mt, "__len") == nil then mt.__len = function() return #hidden end end
+  if rawget(mt, "__pairs") == nil then mt.__pairs = function() return pairs(hidden) end end
+  if rawget(mt, "__metatable") == nil then mt.__metatable = false end
+  setmetatable(t, mt)
   for _, v in next, hidden do freeze_value(v) end
+  for k, v in next, kept do
+    freeze_value(v)
+    check(t, k, k, v)
+  end
+  if own ~= nil then freeze_value(own) end
 end
 function freeze_value(v)
   if type(v) == "table" then
@@ -51,10 +83,7 @@ function freeze_value(v)
       if name == nil then break end
       if name ~= "_ENV" then
         freeze_value(value)
-        checks[#checks + 1] = v
-        checks[#checks + 1] = i
-        checks[#checks + 1] = name
-        checks[#checks + 1] = value
+        check(v, i, name, value)
       end
       i = i + 1
     end
@@ -94,42 +123,15 @@ class LuaState final : public sim::ProgramScratch {
   const std::string& error() const { return error_; }
 
   // Reads `program`, `step` and `init` as the script defined them; false with error() set when
-  // they are not as docs/design.md §11 says.
+  // they are not as docs/design.md §11 says. Read raw, under a pcall: a script may have given its
+  // globals or `program` a metatable, whose code must not run outside the limits.
   bool declare(Declared& d) {
-    auto fail = [&](const std::string& why) {
-      error_ = display_ + ": " + why;
-      lua_settop(L_, 0);
-      return false;
-    };
-    if (lua_getglobal(L_, "program") != LUA_TTABLE) return fail("the script must set `program = { vars = {...} }`");
-    if (lua_getfield(L_, -1, "vars") != LUA_TTABLE) return fail("`program.vars` must be a list of variable names");
-    for (lua_Integer i = 1; lua_rawgeti(L_, -1, i) != LUA_TNIL; ++i) {
-      if (lua_type(L_, -1) != LUA_TSTRING) return fail("`program.vars` must list names (strings)");
-      if (!watch::is_name(lua_tostring(L_, -1)))
-        return fail("`program.vars` lists \"" + std::string(lua_tostring(L_, -1)).substr(0, 80) +
-                    "\", which a watchpoint cannot name: letters, digits and _, not starting with a digit, at most " +
-                    std::to_string(watch::kMaxNameLength) +
-                    " of them, and none of and, or, not, modules, neighbor, last, next");
-      d.vars.emplace_back(lua_tostring(L_, -1));
-      lua_pop(L_, 1);
-    }
-    lua_pop(L_, 2);
-    if (lua_getfield(L_, -1, "params") != LUA_TNIL) {
-      if (!lua_istable(L_, -1)) return fail("`program.params` must be a table of names and default integers");
-      for (lua_pushnil(L_); lua_next(L_, -2); lua_pop(L_, 1)) {
-        int ok = 0;
-        const lua_Integer v = lua_tointegerx(L_, -1, &ok);
-        if (lua_type(L_, -2) != LUA_TSTRING || !ok || lua_type(L_, -1) != LUA_TNUMBER)
-          return fail("`program.params` must map names to integers");
-        d.params.emplace_back(lua_tostring(L_, -2), v);
-      }
-    }
-    lua_pop(L_, 2);
-    if (lua_getglobal(L_, "step") != LUA_TFUNCTION) return fail("the script must define `function step(m)`");
-    const int init = lua_getglobal(L_, "init");
-    if (init != LUA_TNIL && init != LUA_TFUNCTION) return fail("`init` must be a function (init(m)) or absent");
-    d.has_init = init == LUA_TFUNCTION;
-    lua_pop(L_, 2);
+    lua_pushcfunction(L_, &LuaState::read_declaration);
+    lua_pushlightuserdata(L_, &d);
+    if (!call(1, 0)) return failed();
+    // The parameters in name order: Lua's next visits string keys in an order that differs
+    // from run to run.
+    std::sort(d.params.begin(), d.params.end());
     return true;
   }
 
@@ -157,10 +159,14 @@ class LuaState final : public sim::ProgramScratch {
     }
     const int params = index_table(kParameters, param_names);
     const int vars = index_table(kVariables, d.vars);
-    lua_getglobal(L_, "step");
+    lua_pushglobaltable(L_);  // read raw, as declare read them
+    lua_pushliteral(L_, "step");
+    lua_rawget(L_, -2);
     step_ = luaL_ref(L_, LUA_REGISTRYINDEX);
-    lua_getglobal(L_, "init");
+    lua_pushliteral(L_, "init");
+    lua_rawget(L_, -2);
     init_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+    lua_pop(L_, 1);
 
     // The module: one table, pointed at each module in turn. Its only own fields are id and step,
     // rewritten before every call, so nothing a script writes there outlives the call; the
@@ -213,6 +219,8 @@ class LuaState final : public sim::ProgramScratch {
     luaL_requiref(L_, LUA_DBLIBNAME, luaopen_debug, 0);  // for kFreeze only: never a global
     const int debug = lua_gettop(L_);
     if (luaL_loadbufferx(L_, kFreeze, std::strlen(kFreeze), "=dwatch", "t") != LUA_OK) return failed();
+    sandbox_.push_library();
+    lua_setupvalue(L_, -2, 1);  // the chunk's _ENV
     lua_pushglobaltable(L_);
     lua_pushvalue(L_, debug);
     sandbox_.push_guards();
@@ -226,15 +234,21 @@ class LuaState final : public sim::ProgramScratch {
     lua_rawgeti(L_, LUA_REGISTRYINDEX, module_);
     lua_pushliteral(L_, "id");
     lua_pushliteral(L_, "step");
+    // Per check: its holder, then (a metamethod's) its key, then the value it had.
     for (lua_Integer i = 1; i + 3 <= quadruples; i += 4) {
-      lua_rawgeti(L_, checks, i + 1);
-      lua_rawgeti(L_, checks, i + 2);
-      checks_.push_back({int(lua_tointeger(L_, -2)), lua_tostring(L_, -1)});
-      lua_pop(L_, 2);
       lua_rawgeti(L_, checks, i);
+      Check check{lua_type(L_, -1) == LUA_TTABLE, 0, {}, lua_gettop(L_)};
+      lua_rawgeti(L_, checks, i + 1);
+      if (check.field) check.name = lua_tostring(L_, -1);
+      else check.index = int(lua_tointeger(L_, -1)), lua_pop(L_, 1);
+      lua_rawgeti(L_, checks, i + 2);
+      if (!check.field) check.name = lua_tostring(L_, -1);
+      lua_pop(L_, 1);
       lua_rawgeti(L_, checks, i + 3);
+      checks_.push_back(std::move(check));
     }
     lua_remove(L_, checks);
+    for (Check& check : checks_) --check.slot;  // the table of checks below them is gone
     saved_.resize(d.vars.size());
     return true;
   }
@@ -280,6 +294,13 @@ class LuaState final : public sim::ProgramScratch {
  private:
   // Stack slots of the state's own thread, between calls (prepare pushes them).
   static constexpr int kModuleSlot = 1, kIdKey = 2, kStepKey = 3, kFirstCheck = 4;
+  // What a call must leave as it was (see kFreeze).
+  struct Check {
+    bool field;  // a frozen table's metamethod, else a function's upvalue
+    int index;   // of the upvalue in its function
+    std::string name;
+    int slot;  // on the stack: the function or table, (a metamethod's) key, the value
+  };
 
   static LuaState& of(lua_State* L) { return **static_cast<LuaState**>(lua_getextraspace(L)); }
   static sim::ModuleContext& module(lua_State* L) {
@@ -306,9 +327,11 @@ class LuaState final : public sim::ProgramScratch {
     module_context_ = nullptr;
     if (outcome == LuaSandbox::Outcome::kInterrupted) return std::nullopt;
     if (outcome == LuaSandbox::Outcome::kFailed) return pop_message();
-    if (const char* name = changed_upvalue())
-      return display_ + ": " + (initializing ? "init" : "step") + " wrote the local '" + name +
-             "' declared outside it: a script keeps its state in its variables (m:set), which a rollback restores";
+    if (const Check* changed = changed_check())
+      return display_ + ": " + (initializing ? "init" : "step") + " wrote " +
+             (changed->field ? "'" + changed->name + "' of a table made when the script loaded"
+                             : "the local '" + changed->name + "' declared outside it") +
+             ": a script keeps its state in its variables (m:set), which a rollback restores";
     return std::string();
   }
 
@@ -317,6 +340,7 @@ class LuaState final : public sim::ProgramScratch {
   LuaSandbox::Outcome attempt(int function, bool counted) {
     // Everything a try may have changed starts afresh (a script may write m.id or m.step).
     draws_ = 0;
+    messages_ = 0;
     for (Pool& pool : pools_) pool.handed_out = 0;
     lua_pushvalue(L_, kIdKey);
     lua_pushinteger(L_, module_context_->id());
@@ -341,16 +365,73 @@ class LuaState final : public sim::ProgramScratch {
     return false;
   }
 
-  // The name of an upvalue a call changed, or nullptr.
-  const char* changed_upvalue() {
-    for (size_t k = 0; k < checks_.size(); ++k) {
-      const int function = kFirstCheck + 2 * int(k);
-      lua_getupvalue(L_, function, checks_[k].index);
-      const bool same = lua_rawequal(L_, -1, function + 1);
+  // The check (an upvalue, a frozen table's metamethod) whose value a call changed, or nullptr.
+  const Check* changed_check() {
+    for (const Check& check : checks_) {
+      if (check.field) {
+        lua_pushvalue(L_, check.slot + 1);
+        lua_rawget(L_, check.slot);
+      } else {
+        lua_getupvalue(L_, check.slot, check.index);
+      }
+      const bool same = lua_rawequal(L_, -1, check.slot + (check.field ? 2 : 1));
       lua_pop(L_, 1);
-      if (!same) return checks_[k].name.c_str();
+      if (!same) return &check;
     }
     return nullptr;
+  }
+
+  // read_declaration(declared): declare's reads, each raw. An error is the message to report.
+  static int read_declaration(lua_State* L) {
+    Declared& d = *static_cast<Declared*>(lua_touserdata(L, 1));
+    const char* display = of(L).display_.c_str();
+    auto fail = [&](const char* why) -> int {
+      lua_pushfstring(L, "%s: %s", display, why);
+      return lua_error(L);
+    };
+    lua_pushglobaltable(L);  // 2
+    lua_pushliteral(L, "program");
+    if (lua_rawget(L, 2) != LUA_TTABLE) return fail("the script must set `program = { vars = {...} }`");  // 3
+    lua_pushliteral(L, "vars");
+    if (lua_rawget(L, 3) != LUA_TTABLE) return fail("`program.vars` must be a list of variable names");  // 4
+    for (lua_Integer i = 1; lua_rawgeti(L, 4, i) != LUA_TNIL; ++i) {
+      if (lua_type(L, -1) != LUA_TSTRING) return fail("`program.vars` must list names (strings)");
+      size_t length = 0;
+      const char* name = lua_tolstring(L, -1, &length);
+      if (!watch::is_name(std::string_view(name, length))) {
+        lua_pushfstring(L, "%s: `program.vars` lists \"", display);
+        lua_pushlstring(L, name, std::min<size_t>(length, 80));
+        lua_pushfstring(L,
+                        "\", which a watchpoint cannot name: letters, digits and _, not starting with a digit, at "
+                        "most %d of them, and none of and, or, not, modules, neighbor, last, next",
+                        int(watch::kMaxNameLength));
+        lua_concat(L, 3);
+        return lua_error(L);
+      }
+      d.vars.emplace_back(name, length);
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 2);  // nil, vars
+    lua_pushliteral(L, "params");
+    if (lua_rawget(L, 3) != LUA_TNIL) {  // 4
+      if (!lua_istable(L, 4)) return fail("`program.params` must be a table of names and default integers");
+      for (lua_pushnil(L); lua_next(L, 4); lua_pop(L, 1)) {
+        int ok = 0;
+        const lua_Integer v = lua_tointegerx(L, -1, &ok);
+        if (lua_type(L, -2) != LUA_TSTRING || !ok || lua_type(L, -1) != LUA_TNUMBER)
+          return fail("`program.params` must map names to integers");
+        size_t length = 0;
+        const char* name = lua_tolstring(L, -2, &length);
+        d.params.emplace_back(std::string(name, length), v);
+      }
+    }
+    lua_pushliteral(L, "step");
+    if (lua_rawget(L, 2) != LUA_TFUNCTION) return fail("the script must define `function step(m)`");
+    lua_pushliteral(L, "init");
+    const int init = lua_rawget(L, 2);
+    if (init != LUA_TNIL && init != LUA_TFUNCTION) return fail("`init` must be a function (init(m)) or absent");
+    d.has_init = init == LUA_TFUNCTION;
+    return 0;
   }
 
   static int new_field(lua_State* L) {
@@ -494,13 +575,25 @@ class LuaState final : public sim::ProgramScratch {
     if (to < 0 || to > int64_t(UINT32_MAX) || !m.is_neighbor(sim::ModuleId(to)))
       luaL_error(L, "module %d sent to %I, which is not its neighbour", int(m.id()), lua_Integer(to));
     const Payload words = payload(L, 3);
+    count_messages(L, "send", 1);
     m.send(sim::ModuleId(to), words.span());
     return 0;
   }
   static int broadcast(lua_State* L) {
     const Payload words = payload(L, 2);
-    module(L).broadcast(words.span());
+    sim::ModuleContext& m = module(L);
+    count_messages(L, "broadcast", m.neighbors().size());
+    m.broadcast(words.span());
     return 0;
+  }
+  // Counts `n` more messages of this call against the limit, or raises the error.
+  static void count_messages(lua_State* L, const char* method, size_t n) {
+    LuaState& s = of(L);
+    const uint32_t limit = s.sandbox_.limits().messages;
+    if (n > limit - std::min(s.messages_, limit))
+      luaL_error(L, "m:%s: this call would send more than %d messages, the limit of one call of init or step", method,
+                 int(limit));
+    s.messages_ += uint32_t(n);
   }
   // m:random(n): 0 .. n - 1; m:random(0): 64 random bits (as Lua's math.random(0)). Each draw of
   // a step reads its own stream, the first stream 0.
@@ -574,11 +667,7 @@ class LuaState final : public sim::ProgramScratch {
   const std::string& text_;             // the script's, kept by its program
   const Declared* declared_ = nullptr;  // what prepare bound, kept by the program
   int step_ = LUA_NOREF, init_ = LUA_NOREF, module_ = LUA_NOREF, read_only_ = LUA_NOREF;
-  struct Check {
-    int index;  // of the upvalue in its function
-    std::string name;
-  };
-  std::vector<Check> checks_;  // their functions and values are on the stack from kFirstCheck
+  std::vector<Check> checks_;  // their slots are on the stack from kFirstCheck
   std::array<Pool, 3> pools_;
   std::array<std::vector<const char*>, 2> names_;  // of the variables and the parameters (see lookup)
   std::vector<int64_t> param_values_;
@@ -586,6 +675,7 @@ class LuaState final : public sim::ProgramScratch {
   sim::ModuleContext* module_context_ = nullptr;
   bool after_init_ = false;  // step 0 of a script with init: m:get reads what init set
   uint32_t draws_ = 0;
+  uint32_t messages_ = 0;  // sent by this call (count_messages)
 };
 
 class LuaProgram final : public sim::HostProgram {

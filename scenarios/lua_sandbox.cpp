@@ -261,6 +261,7 @@ LuaSandbox& LuaSandbox::of(lua_State* L) {
 }
 
 void LuaSandbox::push_guards() const { lua_rawgeti(L_, LUA_REGISTRYINDEX, guards_); }
+void LuaSandbox::push_library() const { lua_rawgeti(L_, LUA_REGISTRYINDEX, library_); }
 
 void* LuaSandbox::allocate(void* self_ptr, void* ptr, size_t old_size, size_t new_size) {
   auto& self = *static_cast<LuaSandbox*>(self_ptr);
@@ -315,11 +316,15 @@ void LuaSandbox::stop(lua_State* L, Stop why, int level) {
 
 // charge(units): library work about to be done, in instructions.
 int LuaSandbox::charge(lua_State* L) {
+  charge(L, lua_tonumber(L, 1));
+  return 0;
+}
+
+// Library work about to be done in a function the script called, in instructions.
+void LuaSandbox::charge(lua_State* L, double units) {
   LuaSandbox& s = of(L);
-  const double units = lua_tonumber(L, 1);
   if (units > 0) s.executed_ += units >= 1e18 ? int64_t(1e18) : int64_t(units);
   if (s.executed_ > s.limits_.instructions) stop(L, Stop::kInstructions, 1);
-  return 0;
 }
 
 // charge_text(...): one instruction per argument, and the strings' bytes.
@@ -479,6 +484,29 @@ void LuaSandbox::open_libraries() {
   for (const char* name : {"dofile", "loadfile", "load", "print", "collectgarbage", "rawset", "require", "warn"}) {
     lua_pushnil(L_);
     lua_setglobal(L_, name);
+  }
+  // What a freeze of the script's state calls (push_library), taken before the script can
+  // replace any of it: Lua's own next among them, which visits each key once in any order.
+  lua_createtable(L_, 0, 8);
+  for (const char* name : {"next", "type", "error", "rawget"}) {
+    lua_getglobal(L_, name);
+    lua_setfield(L_, -2, name);
+  }
+  lua_pushcfunction(L_, &LuaSandbox::ordered_pairs);
+  lua_setfield(L_, -2, "pairs");
+  lua_pushcfunction(L_, &LuaSandbox::plain_tostring);
+  lua_setfield(L_, -2, "tostring");
+  lua_getglobal(L_, LUA_STRLIBNAME);
+  lua_getfield(L_, -1, "sub");
+  lua_setfield(L_, -3, "sub");
+  lua_pop(L_, 1);
+  library_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+  // What would differ from run to run (lua_fixed_order.cpp): the order of next and pairs, the
+  // addresses tostring shows.
+  for (const luaL_Reg& f : {luaL_Reg{"next", &LuaSandbox::ordered_next}, luaL_Reg{"pairs", &LuaSandbox::ordered_pairs},
+                            luaL_Reg{"tostring", &LuaSandbox::plain_tostring}}) {
+    lua_pushcfunction(L_, f.func);
+    lua_setglobal(L_, f.name);
   }
   lua_getglobal(L_, LUA_MATHLIBNAME);  // m:random is the module's generator; math's is not
   for (const char* name : {"random", "randomseed"}) {

@@ -7,7 +7,9 @@
 // the pattern limit is refused (string.find and friends). table.sort is a stable merge sort in
 // Lua, counted like the script's own code and the same on every machine (Lua's own picks pivots
 // from the clock). Finalizers (__gc) and weak tables (__mode) are refused: they run or forget at
-// the collector's whim.
+// the collector's whim. What Lua leaves to hash seeds and addresses is made the same on every run
+// (lua_fixed_order.cpp): pairs and next visit keys in a fixed order, and tostring and
+// string.format show no addresses (format's %p is refused).
 //
 // Three limits stop a call, and none can be caught: once one is reached, every further
 // instruction raises the stop again (a pcall, an xpcall's handler, a __close all meet it), until
@@ -42,6 +44,9 @@ struct LuaLimits {
   // Steps a pattern's backtracking may take at worst in one call of string.find, match, gmatch
   // or gsub.
   double pattern_steps = 1e8;
+  // Program messages one init/step call may send (a broadcast sends one per neighbour): what a
+  // module's outbox may hold stays in proportion to the ensemble.
+  uint32_t messages = 65'536;
 };
 
 class LuaSandbox {
@@ -62,6 +67,9 @@ class LuaSandbox {
   // The functions the guards are made of, as a table on the stack: a freeze of the script's
   // reachable state skips them (they keep nothing).
   void push_guards() const;
+  // What a freeze of the script's state calls, as the sandbox had it before the script ran, as a
+  // table on the stack: next (Lua's own), pairs, type, error, rawget, tostring and string.sub.
+  void push_library() const;
 
   enum class Outcome {
     kOk,
@@ -78,6 +86,11 @@ class LuaSandbox {
   static void stop_hook(lua_State* L, lua_Debug*);
   [[noreturn]] static void stop(lua_State* L, Stop why, int level);
   static int charge(lua_State* L);
+  static void charge(lua_State* L, double units);
+  static int ordered_pairs(lua_State* L);
+  static int ordered_next(lua_State* L);
+  static int plain_tostring(lua_State* L);
+  static void push_plain_string(lua_State* L, int index);
   static int charge_text(lua_State* L);
   static int check_pattern(lua_State* L);
   static int metatable_write(lua_State* L);
@@ -104,6 +117,7 @@ class LuaSandbox {
   const void* refused_ptr_ = nullptr;
   size_t refused_size_ = 0;
   int guards_ = LUA_NOREF;
+  int library_ = LUA_NOREF;
   LuaWatchdog* watchdog_ = nullptr;
   std::unique_ptr<LuaWatchdog> own_watchdog_;
 };

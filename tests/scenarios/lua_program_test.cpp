@@ -280,6 +280,61 @@ TEST_F(LuaScript, StateOutsideTheVariablesIsAnError) {
             "");
 }
 
+TEST_F(LuaScript, TablesWithMetatablesAreFrozenToAndClassesStillWork) {
+  // A class: its methods behind __index, instances made while stepping.
+  EXPECT_EQ(
+      run_error(kHeader + "local Vec = {}\nVec.__index = Vec\nfunction Vec.new(x) return setmetatable({ x = x }, Vec) "
+                          "end\nfunction Vec:double() return 2 * self.x end\nfunction step(m)\n  if "
+                          "Vec.new(m.id):double() ~= 2 * m.id then error('wrong') end\n  m:set('v', 1)\nend\n"),
+      "");
+  // A metatable's own __index still answers what the table lacks.
+  EXPECT_EQ(run_error(kHeader + "local t = setmetatable({}, { __index = function() return 7 end })\nfunction step(m)\n"
+                                "  if t.anything ~= 7 then error('wrong') end\nend\n"),
+            "");
+  // A table that had a metatable when the script loaded is frozen like any other: before, it
+  // kept state the thread count and rollbacks changed.
+  EXPECT_NE(
+      run_error(kHeader + "local keep = setmetatable({ n = 0 }, {})\nfunction step(m)\n  keep.n = keep.n + 1\nend\n")
+          .find(script_path() + ":4: writes 'n' outside"),
+      std::string::npos);
+  EXPECT_NE(run_error(kHeader + "setmetatable(_G, {})\nfunction step(m)\n  n = (n or 0) + 1\nend\n")
+                .find(script_path() + ":4: writes 'n' outside"),
+            std::string::npos);
+  // A metamethod written while stepping is found after the call.
+  const std::string e = run_error(kHeader + "local C = {}\nC.__index = C\nfunction step(m)\n  C.__index = {}\nend\n");
+  EXPECT_NE(e.find("step wrote '__index' of a table made when the script loaded"), std::string::npos) << e;
+  // Replacing what the freeze calls does not stop it.
+  EXPECT_NE(run_error(kHeader + "getmetatable = function() return 1 end\nnext = function() end\ntype = nil\n"
+                                "cache = {}\nfunction step(m)\n  cache[1] = 1\nend\n")
+                .find(script_path() + ":7: writes '1' outside"),
+            std::string::npos);
+}
+
+TEST_F(LuaScript, NoMetamethodOfTheScriptRunsWhileItIsRead) {
+  // These hung for ever (an endless __index) or aborted dwatch (an error raised outside a pcall)
+  // when dwatch read `program`, `step` and `init` through the script's metatables.
+  EXPECT_EQ(run_error(kHeader + "function step(m) m:set('v', 1) end\n"
+                                "setmetatable(_G, { __index = function() while true do end end })\n"),
+            "");
+  EXPECT_EQ(run_error("program = setmetatable({ vars = { 'v' } }, { __index = function() error('boom') end })\n"
+                      "function step(m) m:set('v', 1) end\n"),
+            "");
+  const std::string e = run_error("setmetatable(_G, { __index = function(_, k) error('no ' .. k) end })\n");
+  EXPECT_NE(e.find("x.lua: the script must set `program = { vars = {...} }`"), std::string::npos) << e;
+}
+
+TEST_F(LuaScript, ACallSendsAtMostTheMessageLimit) {
+  // Two million broadcasts in one step took gigabytes; the limit stops the call at its line.
+  const std::string e = run_error(kHeader + "function step(m)\n  for i = 1, 2e6 do m:broadcast({ 1 }) end\nend\n");
+  EXPECT_NE(e.find(script_path() + ":3: m:broadcast: this call would send more than 65536 messages"), std::string::npos)
+      << e;
+  EXPECT_NE(
+      run_error(kHeader + "function step(m)\n  if m.id == 0 then for i = 1, 70000 do m:send(1, {}) end end\nend\n")
+          .find(script_path() + ":3: m:send: this call would send more than 65536"),
+      std::string::npos);
+  EXPECT_EQ(run_error(kHeader + "function step(m)\n  for i = 1, 30000 do m:broadcast({ i }) end\nend\n"), "");
+}
+
 TEST_F(LuaScript, TheSandboxHasNoFilesProcessesOrLoaders) {
   for (const char* name : {"io", "os", "require", "load", "loadfile", "dofile", "debug", "package", "print"}) {
     const std::string e = run_error(kHeader + "function step(m)\n  local x = " + name + ".x\nend\n");
