@@ -47,8 +47,7 @@ bool read_key(lua_State* L, int index, OrderedKey& key) {
       key.rank = 2;
       key.i = lua_toboolean(L, index);
       return true;
-    default:
-      return false;
+    default: return false;
   }
 }
 

@@ -1,6 +1,7 @@
 #include "sim/read_file.h"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -119,12 +120,15 @@ std::optional<std::string> read_file(const std::string& path, std::string* error
   return joined(read_file_blocks(path, error, max_bytes, text));
 }
 
-std::optional<ReadBlocks> read_file_blocks(const std::string& path, std::string* error, size_t max_bytes, bool text) {
+std::optional<ReadBlocks> read_file_blocks(const std::string& path, std::string* error, size_t max_bytes, bool text,
+                                           std::chrono::milliseconds fifo_wait) {
   const auto fail = [&](int code) {
     if (error) *error = reason(path, code);
     return std::nullopt;
   };
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  // Opened without waiting: a FIFO no program has opened for writing would block open() for ever
+  // (a scenario from someone else may name one); it is given `fifo_wait` to get something to read.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) return fail(errno);
   struct stat st {};
   if (::fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
@@ -132,6 +136,22 @@ std::optional<ReadBlocks> read_file_blocks(const std::string& path, std::string*
     ::close(fd);
     return fail(code);
   }
+  if (S_ISFIFO(st.st_mode)) {
+    // Linux reports neither data nor a hang-up on a FIFO no writer has opened yet: poll waits.
+    pollfd waiting{fd, POLLIN, 0};
+    const int ready = ::poll(&waiting, 1, int(fifo_wait.count()));
+    if (ready <= 0) {
+      const int code = errno;
+      ::close(fd);
+      if (ready < 0) return fail(code);
+      if (error)
+        *error = "cannot read " + path + ": it is a FIFO that no program wrote to within " +
+                 (fifo_wait.count() % 1000 == 0 ? std::to_string(fifo_wait.count() / 1000) + " s"
+                                                : std::to_string(fifo_wait.count()) + " ms");
+      return std::nullopt;
+    }
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);  // reads wait for a pipe's writer
   // A file's size is known before reading it; a pipe's or a device's is not, and the limit
   // stops the reading.
   if (S_ISREG(st.st_mode) && size_t(st.st_size) > max_bytes) {

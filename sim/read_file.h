@@ -7,6 +7,7 @@
 // first one, without being read whole.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -16,6 +17,8 @@ namespace dw::sim {
 
 // A scenario, a session script, a watchpoint file, a Lua script (README, "What bad input gets").
 inline constexpr size_t kMaxTextInput = size_t(8) << 20;
+// How long an input that is a FIFO may wait for a program to write to it.
+inline constexpr std::chrono::milliseconds kFifoWriterWait{10'000};
 
 // The file's bytes, or nothing with `error` set to "cannot read PATH: REASON".
 std::optional<std::string> read_file(const std::string& path, std::string* error, size_t max_bytes = kMaxTextInput,
@@ -29,8 +32,9 @@ struct ReadBlocks {
   std::vector<std::string> blocks;
   size_t size = 0;
 };
+// A FIFO waits up to `fifo_wait` for a program to write to it.
 std::optional<ReadBlocks> read_file_blocks(const std::string& path, std::string* error, size_t max_bytes,
-                                           bool text = true);
+                                           bool text = true, std::chrono::milliseconds fifo_wait = kFifoWriterWait);
 // Empty when `path` names a readable file that is not a directory, else "cannot read PATH: REASON".
 std::string check_readable(const std::string& path);
 

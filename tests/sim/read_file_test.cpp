@@ -67,6 +67,24 @@ TEST_F(ReadFile, ADeviceOrAPipeIsReadWithTheLimit) {
   writer.join();
 }
 
+TEST_F(ReadFile, AFifoWithoutAWriterIsRefusedAfterAWait) {
+  // open() of a FIFO nobody writes to blocked for ever.
+  const fs::path fifo = dir_ / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string error;
+  EXPECT_FALSE(read_file_blocks(fifo.string(), &error, size_t(1) << 20, true, std::chrono::milliseconds(200)));
+  EXPECT_EQ(error, "cannot read " + fifo.string() + ": it is a FIFO that no program wrote to within 200 ms");
+  // A writer that comes within the wait is read from.
+  std::thread writer([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    std::ofstream(fifo) << "late";
+  });
+  const auto read = read_file_blocks(fifo.string(), &error, size_t(1) << 20, true, std::chrono::milliseconds(5000));
+  writer.join();
+  ASSERT_TRUE(read) << error;
+  EXPECT_EQ(read->blocks.at(0), "late");
+}
+
 TEST_F(ReadFile, ANulByteIsPlacedAtItsLineAndColumn) {
   std::ofstream(dir_ / "nul.toml", std::ios::binary) << std::string("a = 1\nbc\0d", 10);
   std::string error;
