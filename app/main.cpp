@@ -59,11 +59,23 @@ int main(int argc, char** argv) {
               << "; dwatch --help says more)\n";
     return 2;
   }
+  // Words a command does not take are kept (allow_extras) and named here in the order given, an
+  // option as unknown: CLI11's own message lists them backwards ("not expected: f --scriptt").
+  for (CLI::App* c : app.get_subcommands([](CLI::App*) { return true; })) c->allow_extras();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
+  }
+  for (const CLI::App* c : app.get_subcommands()) {
+    const std::vector<std::string> extra = c->remaining();
+    if (extra.empty()) continue;
+    const std::string& word = extra.front();
+    std::cerr << "dwatch: error: " << (word.size() > 1 && word[0] == '-' ? "unknown option '" : "unexpected argument '")
+              << word << "' for 'dwatch " << c->get_name() << "' (dwatch " << c->get_name()
+              << " --help lists what it takes)\n";
+    return 2;
   }
   try {
     return run();

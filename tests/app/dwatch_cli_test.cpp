@@ -153,6 +153,16 @@ TEST_F(Cli, BadOptionsAreBadInput) {
             std::string::npos)
       << unwritable.err;
   EXPECT_EQ(run("").code, 2);
+  // A word a command does not take is named as given (CLI11 listed them backwards: "not expected:
+  // f --scriptt").
+  const Result misspelt = run("check --explainn 'modules(a); a.x = 1' f");
+  EXPECT_EQ(misspelt.code, 2);
+  EXPECT_EQ(
+      misspelt.err,
+      "dwatch: error: unknown option '--explainn' for 'dwatch check' (dwatch check --help lists what it takes)\n");
+  const Result extra = run("run a.toml surplus");
+  EXPECT_EQ(extra.code, 2);
+  EXPECT_NE(extra.err.find("unexpected argument 'surplus' for 'dwatch run'"), std::string::npos) << extra.err;
 }
 
 }  // namespace
