@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <iomanip>
@@ -292,8 +293,20 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       watch::DetectorOptions options;
       options.live_budget = 20'000'000;  // as a scenario's [[watch]] by default
       size_t i = 2;
+      // Each kind of word at most once: `centralized distributed` would otherwise keep the last.
+      std::array<const Token*, 4> said{};  // algorithm, action, shape, states
       for (; i < tokens.size() && tokens[i].text.rfind("modules", 0) != 0; ++i) {
         const std::string_view w = tokens[i].text;
+        const size_t kind = w == "centralized" || w == "distributed"     ? 0
+                            : w == "log" || w == "pause" || w == "count" ? 1
+                            : watch::parse_shape(w)                      ? 2
+                            : watch::parse_states(w)                     ? 3
+                                                                         : said.size();
+        if (kind < said.size() && said[kind])
+          return fail(tokens[i].span,
+                      "'" + std::string(w) + "' after '" + std::string(said[kind]->text) + "': the watchpoint's " +
+                          std::array{"algorithm", "action", "shape", "states"}[kind] + " is given once");
+        if (kind < said.size()) said[kind] = &tokens[i];
         if (w == "centralized") algorithm = watch::Algorithm::Centralized;
         else if (w == "distributed") algorithm = watch::Algorithm::Distributed;
         else if (w == "log") action = sim::MatchAction::Log;
