@@ -80,6 +80,11 @@ TEST_F(Cli, SeveralWatchesAtOnce) {
   const std::string m = slurp(dir_ / "m.jsonl");
   EXPECT_NE(m.find("\"watch\":\"ones\""), std::string::npos);
   EXPECT_NE(m.find("\"watch\":\"01_fig6_2222_grid\""), std::string::npos);
+  // Two of one name, as two [[watch]] of one name in a scenario, are refused: matches name them.
+  const Result twice = run("replay " + (c / "trace.jsonl").string() + " -w 'w=modules(a); (a.x1 = 1)' -w " +
+                           "'w=modules(a); (a.x1 = 0)'");
+  EXPECT_EQ(twice.code, 2);
+  EXPECT_EQ(twice.err, "<watch 2>:1:1: error: a second watchpoint named \"w\"\n");
 }
 
 TEST_F(Cli, BadTraceLineIsBadInputNamingTheLine) {
