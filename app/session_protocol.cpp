@@ -26,6 +26,7 @@ struct Request {
   Json id;  // null: none given
   std::string line;
   std::string unreadable;  // a line too long, JSON that is not a request
+  bool json = false;       // {"cmd": ...}: always answered, even when its command is blank
   bool end = false;        // the input ended
 };
 
@@ -80,13 +81,35 @@ Request parse_request(std::string line) {
     r.unreadable = "a request nests arrays and objects more than " + std::to_string(kMaxRequestDepth) + " deep";
     return r;
   }
-  const Json j = Json::parse(line, nullptr, /*allow_exceptions=*/false);
+  // nlohmann keeps the last of two equal keys: {"cmd": "step 1", "cmd": "step 3"} would run one
+  // of them unsaid, so a key seen twice in an object (the keys of each open object, innermost
+  // last) refuses the request.
+  std::vector<std::vector<std::string>> keys;
+  std::string twice;
+  const Json j = Json::parse(
+      line,
+      [&](int, Json::parse_event_t event, Json& parsed) {
+        if (event == Json::parse_event_t::object_start) keys.emplace_back();
+        else if (event == Json::parse_event_t::object_end) keys.pop_back();
+        else if (event == Json::parse_event_t::key && twice.empty()) {
+          const std::string key = parsed.get<std::string>();
+          if (std::find(keys.back().begin(), keys.back().end(), key) != keys.back().end()) twice = key;
+          else keys.back().push_back(key);
+        }
+        return true;
+      },
+      /*allow_exceptions=*/false);
   if (j.is_discarded() || !j.is_object() || !j.contains("cmd") || !j["cmd"].is_string()) {
     r.unreadable = "a request is a command line, or a JSON object {\"id\": ..., \"cmd\": \"COMMAND LINE\"}";
     if (j.is_object() && j.contains("id")) r.id = j["id"];
     return r;
   }
   if (j.contains("id")) r.id = j["id"];
+  r.json = true;
+  if (!twice.empty()) {
+    r.unreadable = "a request gives the key \"" + twice + "\" twice";
+    return r;
+  }
   r.line = j["cmd"].get<std::string>();
   if (r.line.find('\n') != std::string::npos) r.unreadable = "a request's command is one line";
   return r;
@@ -178,7 +201,15 @@ int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* 
       continue;
     }
     const std::optional<SessionCommand>& command = std::get<std::optional<SessionCommand>>(parsed);
-    if (!command) continue;  // a blank or comment line: nothing to answer
+    if (!command) {
+      // A blank or comment line is no request; a JSON one is, and its controller waits for the answer.
+      if (r.json)
+        answers.write(
+            r.id,
+            {{"error",
+              {{"line", number}, {"col", 1}, {"message", "a request's command is empty (blank, or a # comment)"}}}});
+      continue;
+    }
 
     std::stop_source stop;
     {

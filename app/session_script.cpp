@@ -538,16 +538,17 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         if (!cmd.name.empty() && (w = session_.watch_index(cmd.name)) < 0)
           return failed("no watchpoint is named '" + cmd.name + "'");
         // A `count` watchpoint keeps only the number of its matches of each step, not the groups.
+        // Its action may have changed on the way (`action W count`, then `log`): what it kept is
+        // listed and what it counted answered under only_counted, whatever its action is now.
         nlohmann::ordered_json list = nlohmann::ordered_json::array(), only_counted = nlohmann::ordered_json::object();
         uint64_t counted = 0;
         for (uint32_t i = 0; i < model.watches.size(); ++i) {
           if (w >= 0 && i != static_cast<uint32_t>(w)) continue;
           const sim::MatchList& m = session_.matches(i);
-          if (model.watches[i].action == sim::MatchAction::Count) {
-            const uint64_t n = cmd.number ? m.counted_at(*cmd.number) : session_.match_count(i);
+          const uint64_t n = cmd.number ? m.counted_at(*cmd.number) : m.counted_total();
+          if (n > 0 || model.watches[i].action == sim::MatchAction::Count) {
             only_counted[model.watches[i].watchpoint.name] = n;
             counted += n;
-            continue;
           }
           const auto [first, last] = cmd.number ? m.at(*cmd.number) : std::pair<size_t, size_t>{0, m.size()};
           for (size_t k = first; k < last; ++k) list.push_back(match_json(i, k));

@@ -1,5 +1,6 @@
 #include "app/watch_args.h"
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
 
@@ -20,6 +21,7 @@ bool is_name(const std::string& s) {
 std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const std::vector<std::string>& args,
                                                                            std::vector<std::string>* files_read) {
   std::vector<watch::Watchpoint> out;
+  std::vector<std::string> names;
   std::string errors;
   for (size_t i = 0; i < args.size(); ++i) {
     std::string arg = args[i];
@@ -50,6 +52,13 @@ std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const
       }
     }
     if (name.empty()) name = "w" + std::to_string(i + 1);
+    // Matches and logs name a watchpoint by it, as the scenario loader refuses a second [[watch]]
+    // of one name.
+    if (std::find(names.begin(), names.end(), name) != names.end()) {
+      errors += source_name + ":1:1: error: a second watchpoint named \"" + name + "\"\n";
+      continue;
+    }
+    names.push_back(name);
     auto compiled = watch::compile_watchpoint(name, watch::SourceText(source_name, text));
     if (auto* e = std::get_if<watch::CompileError>(&compiled)) errors += e->format();
     else out.push_back(std::move(std::get<watch::Watchpoint>(compiled)));

@@ -128,7 +128,9 @@ Camera make_camera(const Scene& scene, int width, int height, const Region& regi
 }
 
 std::string camera_misses(const Scene& scene, int width, int height) {
-  if (!scene.camera_eye || scene.modules.empty()) return "";
+  // A target alone moves the fitted camera too: its eye is derived from the target (make_camera)
+  // and can end up seeing nothing (a target far off), so that camera is checked as well.
+  if ((!scene.camera_eye && !scene.camera_target) || scene.modules.empty()) return "";
   const Region whole;
   const Camera c = make_camera(scene, width, height, whole);
   const glm::mat4 vp = view_projection(c, width, height, whole);

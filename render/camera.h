@@ -39,9 +39,10 @@ Bounds scene_bounds(const Scene& scene);
 // width x height whose ensemble goes into `region`.
 Camera make_camera(const Scene& scene, int width, int height, const Region& region);
 
-// Why a camera the user gave draws none of the ensemble in an image of width x height, or "" when
-// it draws some: every module behind it or outside its view, or all of them together under two
-// pixels across (an eye thousands of module sizes away). A fitted camera always sees them.
+// Why a camera the user gave (an eye, or a target alone, from which make_camera derives the eye)
+// draws none of the ensemble in an image of width x height, or "" when it draws some: every module
+// behind it or outside its view, or all of them together under two pixels across (an eye
+// thousands of module sizes away). A camera fitted without a target always sees them.
 std::string camera_misses(const Scene& scene, int width, int height);
 
 // World to clip space, the region's placement included.

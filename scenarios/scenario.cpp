@@ -78,7 +78,7 @@ struct Loader {
     const auto s = r.string("algorithm");
     if (!s) return std::nullopt;
     if (auto a = watch::parse_algorithm(*s)) return a;
-    r.error("algorithm", "'algorithm' must be \"centralized\" or \"distributed\", not \"" + *s + "\"");
+    r.error("algorithm", "'algorithm' must be " + watch::algorithm_names() + ", not \"" + *s + "\"");
     return std::nullopt;
   }
 
@@ -86,7 +86,7 @@ struct Loader {
     const auto s = r.string("shape");
     if (!s) return std::nullopt;
     if (auto v = watch::parse_shape(*s)) return v;
-    r.error("shape", "'shape' must be \"chain\", \"ordered\" or \"any\", not \"" + *s + "\"");
+    r.error("shape", "'shape' must be " + watch::shape_names() + ", not \"" + *s + "\"");
     return std::nullopt;
   }
 
@@ -94,7 +94,7 @@ struct Loader {
     const auto s = r.string("states");
     if (!s) return std::nullopt;
     if (auto v = watch::parse_states(*s)) return v;
-    r.error("states", "'states' must be \"consistent\" or \"simultaneous\", not \"" + *s + "\"");
+    r.error("states", "'states' must be " + watch::states_names() + ", not \"" + *s + "\"");
     return std::nullopt;
   }
 
@@ -102,7 +102,7 @@ struct Loader {
     const auto s = r.string("action");
     if (!s) return std::nullopt;
     if (auto a = sim::parse_action(*s)) return a;
-    r.error("action", "'action' must be \"pause\", \"log\" or \"count\", not \"" + *s + "\"");
+    r.error("action", "'action' must be " + sim::action_names() + ", not \"" + *s + "\"");
     return std::nullopt;
   }
 

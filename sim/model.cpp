@@ -15,7 +15,7 @@ std::string_view action_name(MatchAction a) {
 }
 
 std::optional<MatchAction> parse_action(std::string_view name) {
-  for (MatchAction a : {MatchAction::Pause, MatchAction::Log, MatchAction::Count})
+  for (MatchAction a : kActions)
     if (name == action_name(a)) return a;
   return std::nullopt;
 }

@@ -24,8 +24,10 @@ enum class MatchAction {
   Log,    // the match is kept (and written with --matches); the run goes on
   Count,  // only counted
 };
+inline constexpr MatchAction kActions[] = {MatchAction::Pause, MatchAction::Log, MatchAction::Count};
 std::string_view action_name(MatchAction a);
 std::optional<MatchAction> parse_action(std::string_view name);
+inline std::string action_names() { return watch::one_of(kActions, action_name); }
 
 struct HostedWatchpoint {
   watch::Watchpoint watchpoint;

@@ -19,6 +19,12 @@ uint64_t MatchList::counted_at(int64_t step) const {
   return n;
 }
 
+uint64_t MatchList::counted_total() const {
+  uint64_t n = 0;
+  for (const Counted& c : counted) n += c.matches;
+  return n;
+}
+
 Session::Session(Model& model, World& world, SessionOptions options)
     : model_(model), world_(world), options_(std::move(options)) {
   interventions_ = std::move(options_.events);

@@ -75,8 +75,9 @@ struct MatchList {
   size_t size() const { return t.size(); }
   // The matches of step t: [first, last) indices (t is sorted, so this is a binary search).
   std::pair<size_t, size_t> at(int64_t step) const;
-  // How many matches of watch step t a `count` watchpoint found.
+  // How many matches of watch step t a `count` watchpoint found; of every step.
   uint64_t counted_at(int64_t step) const;
+  uint64_t counted_total() const;
   void count(int64_t t, int64_t detected, uint64_t matches) {
     if (matches) counted.push_back({t, detected, matches});
   }
@@ -164,8 +165,9 @@ class Session {
   // Returns its index, or nothing when cancelled or without history (nothing changed then).
   std::optional<uint32_t> set_watch(HostedWatchpoint watch, const Control& control = {});
   // What watchpoint w does with its matches from now on (`action W log|pause|count`): nothing is
-  // evaluated again, the matches found stay as they are (a `count` watchpoint keeps none, so one
-  // switched from `count` lists only those found after), and a pause looks at the new action.
+  // evaluated again, the matches found stay as they are (a `count` watchpoint keeps only their
+  // number, so one switched from `count` lists only those found after, and counted the others),
+  // and a pause looks at the new action.
   void set_action(uint32_t w, MatchAction action) { model_.watches[w].action = action; }
   // Removes the watchpoint with this name; false when there is none.
   bool remove_watch(std::string_view name);

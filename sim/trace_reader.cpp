@@ -38,6 +38,7 @@ class TraceReader {
       at = end + 1;
     }
     const bool stopped = errors_.size() >= kMaxErrors && at < size;
+    check_paused();
     report_duplicates();
     if (errors_.size() > kMaxErrors) {
       const uint64_t next = errors_[kMaxErrors].line;
@@ -63,7 +64,7 @@ class TraceReader {
   };
 
   void error(const Where& w, std::string message) {
-    size_t col = 0;
+    size_t col = w.key.empty() ? w.from : 0;  // no key: where the value it concerns starts
     if (!w.key.empty()) {
       const size_t at = w.line.find("\"" + std::string(w.key) + "\"", w.from);
       if (at != std::string_view::npos) col = at;
@@ -97,34 +98,198 @@ class TraceReader {
                            "', which the header's \"watches\" does not hold");
     pause.watch = std::string(watch);
     paused_ = std::move(pause);
+    // Its step is checked against the trace's last once every line is read (check_paused).
+    paused_line_ = line_;
+    paused_at_ = Where{at.line, "t", at.line.find("\"paused\"")};
   }
 
-  // The header's "watches": objects of the six strings of a TraceWatch.
+  // A pause stops a run at a step it has run: one the trace holds, as the frames before the
+  // {"paused":...} line are that run's.
+  void check_paused() {
+    if (!paused_) return;
+    const auto last = std::max_element(entries_.begin(), entries_.end(),
+                                       [](const Trace::Entry& a, const Trace::Entry& b) { return a.t < b.t; });
+    if (last != entries_.end() && paused_->t <= last->t) return;
+    line_ = paused_line_;
+    error(paused_at_, "\"paused\" names step " + std::to_string(paused_->t) +
+                          (last == entries_.end() ? ", and the trace has no step"
+                                                  : ", after the trace's last step, " + std::to_string(last->t)));
+    // The lines before it may have errors too: the list stays in line order.
+    std::rotate(std::upper_bound(errors_.begin(), errors_.end() - 1, errors_.back(),
+                                 [](const TraceError& a, const TraceError& b) { return a.line < b.line; }),
+                errors_.end() - 1, errors_.end());
+  }
+
+  // Where each object in the array opening at `open` starts: the DOM keeps no positions, and a
+  // field of the second watch is searched for from where that watch starts.
+  static std::vector<size_t> object_starts(std::string_view text, size_t open) {
+    std::vector<size_t> starts;
+    int depth = 0;
+    bool in_string = false;
+    for (size_t i = open; i < text.size(); ++i) {
+      const char c = text[i];
+      if (in_string) {
+        if (c == '\\') ++i;
+        else if (c == '"') in_string = false;
+      } else if (c == '"') {
+        in_string = true;
+      } else if (c == '[' || c == '{') {
+        if (depth++ == 1 && c == '{') starts.push_back(i);
+      } else if ((c == ']' || c == '}') && --depth == 0) {
+        break;
+      }
+    }
+    return starts;
+  }
+
+  // The header's "interventions", as sim::intervention_json writes them: {"at": STEP, "module": ID,
+  // and one of "set": {"VAR": N}, "remove": true, "push": [X, Y, Z]; "scheduled": true for a
+  // scenario's own}. The frames carry their effects; a list that is not one says the header was
+  // not written by a run.
+  bool read_interventions(simdjson::dom::element v, const Where& at) {
+    simdjson::dom::array list;
+    if (v.get_array().get(list)) {
+      error(at, "\"interventions\" must be an array");
+      return false;
+    }
+    const char* form =
+        "each of \"interventions\" is {\"at\": STEP, \"module\": ID, and \"set\": {\"VAR\": N}, \"remove\": true or "
+        "\"push\": [X, Y, Z]}";
+    const std::vector<size_t> starts = object_starts(at.line, at.line.find('[', at.line.find("\"interventions\"")));
+    size_t index = 0;
+    for (simdjson::dom::element item : list) {
+      const size_t from = index < starts.size() ? starts[index] : 0;
+      ++index;
+      simdjson::dom::object o;
+      if (item.get_object().get(o)) {
+        error(at, form);
+        return false;
+      }
+      std::vector<std::string_view> seen;
+      int changes = 0;
+      for (auto [key, value] : o) {
+        const Where field{at.line, key, from};
+        if (std::find(seen.begin(), seen.end(), key) != seen.end()) {
+          error(Where{at.line, key, at.line.find("\"" + std::string(key) + "\"", from) + 1},
+                "duplicate field \"" + std::string(key) + "\" in an intervention");
+          return false;
+        }
+        seen.push_back(key);
+        int64_t n = 0;
+        simdjson::dom::object set;
+        simdjson::dom::array push;
+        if (key == "at") {
+          if (!integer(value, n, field, "\"at\"")) return false;
+          if (n < 0 || n > kMaxStep) {
+            error(field, "\"at\" must be a step in 0.." + std::to_string(kMaxStep));
+            return false;
+          }
+        } else if (key == "module") {
+          if (!integer(value, n, field, "\"module\"")) return false;
+          if (n < 0 || n > UINT32_MAX) {
+            error(field, "\"module\" must be in 0..4294967295");
+            return false;
+          }
+        } else if (key == "set" || key == "remove" || key == "push") {
+          ++changes;
+          const bool ok = key == "set" ? !value.get_object().get(set) && set.size() == 1 &&
+                                             (*set.begin()).value.type() == simdjson::dom::element_type::INT64
+                          : key == "remove" ? value.is_bool() && value.get_bool().value_unsafe()
+                                            : !value.get_array().get(push) && push.size() == 3 &&
+                                                  std::all_of(push.begin(), push.end(),
+                                                              [](simdjson::dom::element x) { return x.is_number(); });
+          if (!ok) {
+            error(field, form);
+            return false;
+          }
+        } else if (key == "scheduled") {
+          if (!value.is_bool()) {
+            error(field, "\"scheduled\" must be true or false");
+            return false;
+          }
+        } else {
+          error(field,
+                "unknown field \"" + std::string(key) +
+                    "\" in an intervention (it has \"at\", \"module\", \"set\", \"remove\", \"push\", \"scheduled\")");
+          return false;
+        }
+      }
+      if (changes != 1 || std::find(seen.begin(), seen.end(), "at") == seen.end() ||
+          std::find(seen.begin(), seen.end(), "module") == seen.end()) {
+        error(Where{at.line, {}, from}, form);
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // The header's "watches": objects of the six strings of a TraceWatch, each reading and action
+  // one the scenario loader accepts (its names), the names given and each once.
   bool read_watches(simdjson::dom::element v, const Where& at) {
     simdjson::dom::array list;
     if (v.get_array().get(list)) {
       error(at, "\"watches\" must be an array of watchpoints");
       return false;
     }
+    const std::vector<size_t> starts = object_starts(at.line, at.line.find('[', at.line.find("\"watches\"")));
+    size_t index = 0;
     for (simdjson::dom::element item : list) {
+      const Where entry{at.line, {}, index < starts.size() ? starts[index] : 0};
+      ++index;
       simdjson::dom::object o;
       if (item.get_object().get(o)) {
         error(at, "each of \"watches\" must be an object");
         return false;
       }
       TraceWatch w;
-      for (auto [field, target] : {std::pair{"name", &w.name},
-                                   {"text", &w.text},
-                                   {"algorithm", &w.algorithm},
-                                   {"shape", &w.shape},
-                                   {"states", &w.states},
-                                   {"action", &w.action}}) {
+      const std::pair<const char*, std::string*> fields[] = {{"name", &w.name},           {"text", &w.text},
+                                                             {"algorithm", &w.algorithm}, {"shape", &w.shape},
+                                                             {"states", &w.states},       {"action", &w.action}};
+      auto field_at = [&](std::string_view key) { return Where{at.line, key, entry.from}; };
+      std::vector<std::string_view> seen;
+      for (auto [key, value] : o) {
+        if (std::find(seen.begin(), seen.end(), key) != seen.end()) {
+          // The second of them: searched for past the first.
+          const size_t first_at = at.line.find("\"" + std::string(key) + "\"", entry.from);
+          error(Where{at.line, key, first_at + 1},
+                "duplicate field \"" + std::string(key) + "\" in a watch of \"watches\"");
+          return false;
+        }
+        seen.push_back(key);
+        if (std::none_of(std::begin(fields), std::end(fields), [&](const auto& f) { return key == f.first; })) {
+          std::string known;
+          for (const auto& f : fields) known += (known.empty() ? "\"" : ", \"") + std::string(f.first) + "\"";
+          error(field_at(key),
+                "unknown field \"" + std::string(key) + "\" in a watch of \"watches\" (a watch has " + known + ")");
+          return false;
+        }
+      }
+      for (auto [field, target] : fields) {
         std::string_view value;
         if (o[field].get_string().get(value)) {
           error(at, std::string("each of \"watches\" needs the string \"") + field + "\"");
           return false;
         }
         *target = std::string(value);
+      }
+      // As the scenario loader says of a [[watch]]: its checks, its names of what each key takes.
+      std::string why;
+      const char* key = nullptr;
+      if (w.name.empty()) key = "name", why = "a watchpoint's name cannot be empty";
+      else if (std::any_of(watches_.begin(), watches_.end(),
+                           [&](const TraceWatch& other) { return other.name == w.name; }))
+        key = "name", why = "a second watchpoint named \"" + w.name + "\"";
+      else if (!watch::parse_algorithm(w.algorithm))
+        key = "algorithm", why = "\"algorithm\" must be " + watch::algorithm_names() + ", not \"" + w.algorithm + "\"";
+      else if (!watch::parse_shape(w.shape))
+        key = "shape", why = "\"shape\" must be " + watch::shape_names() + ", not \"" + w.shape + "\"";
+      else if (!watch::parse_states(w.states))
+        key = "states", why = "\"states\" must be " + watch::states_names() + ", not \"" + w.states + "\"";
+      else if (!parse_action(w.action))
+        key = "action", why = "\"action\" must be " + action_names() + ", not \"" + w.action + "\"";
+      if (key) {
+        error(field_at(key), why);
+        return false;
       }
       watches_.push_back(std::move(w));
     }
@@ -157,7 +322,7 @@ class TraceReader {
       } else if (key == "interventions") {
         // Provenance (docs/design.md §7): how the run was made. The frames already carry its effects.
         if (!first) return error(at, "\"interventions\" belongs to the header, the first line");
-        if (!v.is_array()) return error(at, "\"interventions\" must be an array");
+        if (!read_interventions(v, at)) return;
         header = true;
       } else if (key == "watches") {
         if (!first) return error(at, "\"watches\" belongs to the header, the first line");
@@ -203,6 +368,12 @@ class TraceReader {
           e.nbrs.push_back(static_cast<uint32_t>(n));
         }
         has_nbrs = true;
+      } else if (first &&
+                 (obj["wptrace"].error() == simdjson::SUCCESS || obj["interventions"].error() == simdjson::SUCCESS ||
+                  obj["watches"].error() == simdjson::SUCCESS)) {
+        // A header's field misspelt: the fields it may have, not a frame line's.
+        return error(at, "unknown field \"" + std::string(key) +
+                             "\" (the header has \"wptrace\", \"interventions\", \"watches\")");
       } else {
         return error(at, "unknown field \"" + std::string(key) + "\" (a line has \"t\", \"m\", \"vars\", \"nbrs\")");
       }
@@ -268,6 +439,8 @@ class TraceReader {
   std::vector<Trace::Entry> entries_;
   std::vector<TraceWatch> watches_;
   std::optional<TracePause> paused_;
+  uint64_t paused_line_ = 0;
+  Where paused_at_;
   std::vector<TraceError> errors_;
   std::vector<std::string> names_;
   std::unordered_map<std::string, uint32_t> index_;  // name -> index into names_

@@ -23,7 +23,7 @@ const char* shape_name(GroupShape s) {
 }
 
 std::optional<GroupShape> parse_shape(std::string_view name) {
-  for (GroupShape s : {GroupShape::Chain, GroupShape::Ordered, GroupShape::Any})
+  for (GroupShape s : kShapes)
     if (name == shape_name(s)) return s;
   return std::nullopt;
 }
@@ -31,7 +31,7 @@ std::optional<GroupShape> parse_shape(std::string_view name) {
 const char* states_name(States s) { return s == States::Consistent ? "consistent" : "simultaneous"; }
 
 std::optional<States> parse_states(std::string_view name) {
-  for (States s : {States::Consistent, States::Simultaneous})
+  for (States s : kStates)
     if (name == states_name(s)) return s;
   return std::nullopt;
 }
@@ -89,7 +89,7 @@ void Detector::emit(int64_t t, std::span<const uint32_t> dense, std::span<const 
 const char* algorithm_name(Algorithm a) { return a == Algorithm::Centralized ? "centralized" : "distributed"; }
 
 std::optional<Algorithm> parse_algorithm(std::string_view name) {
-  for (Algorithm a : {Algorithm::Centralized, Algorithm::Distributed})
+  for (Algorithm a : kAlgorithms)
     if (name == algorithm_name(a)) return a;
   return std::nullopt;
 }

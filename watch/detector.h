@@ -22,22 +22,37 @@ struct Optimizations {
   bool temporal_spans = true;     // keep each variable's history for exactly its span
 };
 
+// The names a setting accepts, as a message offers them: "a", "b" or "c" (`values` in order).
+template <typename Value, size_t N, typename Name>
+std::string one_of(const Value (&values)[N], Name name) {
+  std::string s;
+  for (size_t i = 0; i < N; ++i)
+    s += std::string(i == 0 ? "" : i + 1 == N ? " or " : ", ") + "\"" + std::string(name(values[i])) + "\"";
+  return s;
+}
+
 enum class Algorithm { Centralized, Distributed };
+inline constexpr Algorithm kAlgorithms[] = {Algorithm::Centralized, Algorithm::Distributed};
 const char* algorithm_name(Algorithm a);
 std::optional<Algorithm> parse_algorithm(std::string_view name);
+inline std::string algorithm_names() { return one_of(kAlgorithms, algorithm_name); }
 
 // Which connected groups match (docs/design.md §4a), over the neighbour graph at the match's step:
 // Chain, a path in slot order; Ordered, each slot a neighbour of an earlier one (the paper's
 // Alg. 1); Any, every connected group in every slot assignment.
 enum class GroupShape : uint8_t { Chain, Ordered, Any };
+inline constexpr GroupShape kShapes[] = {GroupShape::Chain, GroupShape::Ordered, GroupShape::Any};
 const char* shape_name(GroupShape s);
 std::optional<GroupShape> parse_shape(std::string_view name);
+inline std::string shape_names() { return one_of(kShapes, shape_name); }
 
 // Which states the distributed algorithm compares (docs/design.md §4a): Consistent, each slot at its own
 // fill step (the paper's Alg. 2); Simultaneous, every slot at the PatternMatcher's start step.
 enum class States : uint8_t { Consistent, Simultaneous };
+inline constexpr States kStates[] = {States::Consistent, States::Simultaneous};
 const char* states_name(States s);
 std::optional<States> parse_states(std::string_view name);
+inline std::string states_names() { return one_of(kStates, states_name); }
 
 struct DetectorOptions {
   Optimizations optimizations;

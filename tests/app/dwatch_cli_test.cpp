@@ -80,6 +80,11 @@ TEST_F(Cli, SeveralWatchesAtOnce) {
   const std::string m = slurp(dir_ / "m.jsonl");
   EXPECT_NE(m.find("\"watch\":\"ones\""), std::string::npos);
   EXPECT_NE(m.find("\"watch\":\"01_fig6_2222_grid\""), std::string::npos);
+  // Two of one name, as two [[watch]] of one name in a scenario, are refused: matches name them.
+  const Result twice = run("replay " + (c / "trace.jsonl").string() + " -w 'w=modules(a); (a.x1 = 1)' -w " +
+                           "'w=modules(a); (a.x1 = 0)'");
+  EXPECT_EQ(twice.code, 2);
+  EXPECT_EQ(twice.err, "<watch 2>:1:1: error: a second watchpoint named \"w\"\n");
 }
 
 TEST_F(Cli, BadTraceLineIsBadInputNamingTheLine) {
@@ -509,10 +514,19 @@ TEST_F(Cli, RenderMistakesAreBadInput) {
   }
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
   // So is one that sees none of the ensemble once it is run: looking away, or from too far.
-  for (const std::string camera : {"--camera-eye 6,4,30 --camera-target 6,4,100", "--camera-eye 0,0,900000"}) {
+  // A target alone too, with the eye fitted from it, on the command line or in [view].
+  for (const std::string camera : {"--camera-eye 6,4,30 --camera-target 6,4,100", "--camera-eye 0,0,900000",
+                                   "--camera-target 1e6,1e6,1e6", "--camera-target 0,0,-1000"}) {
     const Result r = run("render " + scenario + " --out " + (dir_ / "x.png").string() + " " + camera);
     EXPECT_EQ(r.code, 2) << camera;
     EXPECT_NE(r.err.find("error: the camera at "), std::string::npos) << camera << ": " << r.err;
+  }
+  const std::string targeted = write("far.toml", slurp(scenario) + "camera_target = [1e6, 1e6, 1e6]\n").string();
+  for (const std::string& command : {"render " + targeted + " --out " + (dir_ / "x.png").string(),
+                                     "run " + targeted + " --render " + (dir_ / "x.png").string()}) {
+    const Result r = run(command);
+    EXPECT_EQ(r.code, 2) << command;
+    EXPECT_NE(r.err.find("error: the camera at "), std::string::npos) << command << ": " << r.err;
   }
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
 }

@@ -174,6 +174,32 @@ TEST_F(SessionProtocol, ALongRunReportsProgressAndStopsOnCancel) {
   EXPECT_EQ(p.finish(), 0);
 }
 
+// A JSON request is answered whatever it holds, as its controller waits for the answer: a blank
+// or comment command, or a key given twice (which of the two would run?), is an error answer.
+TEST_F(SessionProtocol, EveryJsonRequestIsAnswered) {
+  Protocol p(std::string(DWATCH_SCENARIOS_DIR) + "/token_ring.toml");
+  for (const std::string blank : {R"({"id": 11, "cmd": ""})", R"({"id": 12, "cmd": "   "})", R"({"cmd": "# c"})"}) {
+    p.send(blank);
+    const auto answer = p.next();
+    ASSERT_TRUE(answer) << blank;
+    EXPECT_EQ(answer->value("id", json()), json::parse(blank).value("id", json())) << blank;
+    EXPECT_EQ((*answer)["error"]["message"], "a request's command is empty (blank, or a # comment)") << *answer;
+  }
+  for (const std::string twice :
+       {R"({"id": 14, "cmd": "step 1", "cmd": "step 3"})", R"({"id": {"a": 1, "a": 2}, "cmd": "step"})"}) {
+    p.send(twice);
+    const auto answer = p.next();
+    ASSERT_TRUE(answer) << twice;
+    EXPECT_NE((*answer)["error"]["message"].get<std::string>().find("gives the key"), std::string::npos) << *answer;
+  }
+  p.send(R"({"id": 15, "cmd": "step"})");
+  const auto stepped = p.next();
+  ASSERT_TRUE(stepped);
+  EXPECT_EQ((*stepped)["id"], 15);
+  EXPECT_EQ((*stepped)["current"], 0) << "no refused request ran";
+  EXPECT_EQ(p.finish(), 0);
+}
+
 // An endless line (`session --protocol < /dev/zero`) is answered when it goes over the limit, not
 // at a newline that never comes; the rest of it is skipped and the next request answered.
 TEST_F(SessionProtocol, ARequestGoingOverTheLimitIsAnsweredBeforeItsNewline) {

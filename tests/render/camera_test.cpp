@@ -130,5 +130,17 @@ TEST(Camera, ACameraThatMissesTheEnsembleSaysWhy) {
   EXPECT_EQ(camera_misses(s, 640, 480), "");
 }
 
+// A target given alone moves the fitted camera, whose eye is derived from it (make_camera): that
+// camera is checked too, as a target far off draws nothing.
+TEST(Camera, ATargetAloneIsCheckedWithTheEyeFittedToIt) {
+  Scene s = test::block(12, 8, 1);
+  s.camera_target = sim::Vec3{5.5f, 3.5f, 0};  // the sheet's middle
+  EXPECT_EQ(camera_misses(s, 640, 480), "");
+  s.camera_target = sim::Vec3{1e6f, 1e6f, 1e6f};
+  EXPECT_NE(camera_misses(s, 640, 480).find("the camera at "), std::string::npos);
+  s.camera_target = sim::Vec3{0, 0, -1000};
+  EXPECT_NE(camera_misses(s, 640, 480).find("the camera at "), std::string::npos);
+}
+
 }  // namespace
 }  // namespace dw::render

@@ -87,6 +87,11 @@ TEST(TraceReader, APausedLineEndsTheTrace) {
             "t.jsonl:3:2: error: \"paused\" names the watchpoint 'v', which the header's \"watches\" does not hold");
   EXPECT_EQ(first_error(frame + "{\"paused\":{\"watch\":\"w\",\"t\":0}}\n"),
             "t.jsonl:2:2: error: \"paused\" names the watchpoint 'w', which the header's \"watches\" does not hold");
+  // A step past the trace's last: the run did not get there.
+  EXPECT_EQ(first_error(header + frame + "{\"paused\":{\"watch\":\"w\",\"t\":99999}}\n"),
+            "t.jsonl:3:24: error: \"paused\" names step 99999, after the trace's last step, 0");
+  EXPECT_EQ(first_error(header + "{\"paused\":{\"watch\":\"w\",\"t\":0}}\n"),
+            "t.jsonl:2:24: error: \"paused\" names step 0, and the trace has no step");
   for (const char* bad : {R"({"paused":{"watch":"w"}})", R"({"paused":{"watch":1,"t":0}})", R"({"paused":"w"})",
                           R"({"paused":{"watch":"w","t":0,"x":1}})", R"({"paused":{"watch":"w","t":-1}})",
                           R"({"paused":{"watch":"w","t":0},"t":0})"}) {
@@ -95,6 +100,71 @@ TEST(TraceReader, APausedLineEndsTheTrace) {
     EXPECT_EQ(errors[0].line, 3u) << bad;
     EXPECT_NE(errors[0].message.find("\"paused\""), std::string::npos) << bad << ": " << errors[0].message;
   }
+}
+
+// The header's watchpoints are read as the scenario loader reads [[watch]]: each reading and
+// action one of its names, every name given and once, no other field; the error points at the
+// field and says what it takes.
+TEST(TraceReader, TheHeadersWatchpointsAreCheckedAsAScenariosAre) {
+  const std::string frame = "\n{\"t\":0,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[]}\n";
+  auto header = [&](const std::string& second) {
+    return R"({"wptrace":1,"watches":[{"name":"v","text":"modules(a); a.x = 1","algorithm":"centralized",)"
+           R"("shape":"ordered","states":"consistent","action":"log"},{"name":"w","text":"modules(a); a.x = 1",)" +
+           second + "}]}" + frame;
+  };
+  const std::string good = R"("algorithm":"distributed","shape":"chain","states":"consistent","action":"count")";
+  ASSERT_EQ(first_error(header(good)), "no error");
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = header(good);
+    const size_t at = text.rfind(from);
+    return first_error(text.replace(at, from.size(), to));
+  };
+  EXPECT_EQ(with(R"("distributed")", R"("Centralized")"),
+            "t.jsonl:1:189: error: \"algorithm\" must be \"centralized\" or \"distributed\", not \"Centralized\"");
+  EXPECT_EQ(with(R"("distributed")", R"("quantum")"),
+            "t.jsonl:1:189: error: \"algorithm\" must be \"centralized\" or \"distributed\", not \"quantum\"");
+  EXPECT_EQ(with(R"("chain")", R"("blob")"),
+            "t.jsonl:1:215: error: \"shape\" must be \"chain\", \"ordered\" or \"any\", not \"blob\"");
+  EXPECT_EQ(with(R"("consistent")", R"("weird")"),
+            "t.jsonl:1:231: error: \"states\" must be \"consistent\" or \"simultaneous\", not \"weird\"");
+  for (const char* action : {R"("explode")", R"("")", R"("Count")"})
+    EXPECT_EQ(with(R"("count")", action),
+              "t.jsonl:1:253: error: \"action\" must be \"pause\", \"log\" or \"count\", not " + std::string(action));
+  EXPECT_EQ(with(R"("count")", R"("count","foo":1)"),
+            "t.jsonl:1:270: error: unknown field \"foo\" in a watch of \"watches\" (a watch has \"name\", \"text\", "
+            "\"algorithm\", \"shape\", \"states\", \"action\")");
+  EXPECT_EQ(with(R"("count")", R"("count","action":"log")"),
+            "t.jsonl:1:270: error: duplicate field \"action\" in a watch of \"watches\"");
+  EXPECT_EQ(with(R"("name":"w")", R"("name":"v")"), "t.jsonl:1:149: error: a second watchpoint named \"v\"");
+  EXPECT_EQ(with(R"("name":"w")", R"("name":"")"), "t.jsonl:1:149: error: a watchpoint's name cannot be empty");
+}
+
+// A header's other fields: what a run writes, nothing else.
+TEST(TraceReader, TheHeadersInterventionsAndFieldsAreAsARunWritesThem) {
+  const std::string frame = "\n{\"t\":0,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[]}\n";
+  EXPECT_EQ(
+      first_error(R"({"wptrace":1,"bogus":1})" + frame),
+      "t.jsonl:1:14: error: unknown field \"bogus\" (the header has \"wptrace\", \"interventions\", \"watches\")");
+  const std::string valid =
+      R"({"wptrace":1,"interventions":[{"at":40,"module":7,"set":{"x":1}},{"at":9,"module":3,"remove":true},)"
+      R"({"at":5,"module":0,"push":[0,0,30.5],"scheduled":true}]})";
+  EXPECT_EQ(first_error(valid + frame), "no error");
+  for (const char* bad : {R"({"at":1,"module":0})", R"({"at":1,"module":0,"set":{"x":1},"remove":true})",
+                          R"({"at":1,"module":0,"set":{"x":1.5}})", R"({"at":1,"module":0,"set":{}})",
+                          R"({"at":1,"module":0,"remove":false})", R"({"at":1,"module":0,"push":[0,0]})",
+                          R"({"module":0,"remove":true})", R"(1)"})
+    EXPECT_NE(first_error(R"({"wptrace":1,"interventions":[)" + std::string(bad) + "]}" + frame)
+                  .find("error: each of \"interventions\" is {\"at\": STEP"),
+              std::string::npos)
+        << bad;
+  EXPECT_EQ(
+      first_error(
+          R"({"wptrace":1,"interventions":[{"at":1,"module":0,"remove":true},{"at":-1,"module":0,"remove":true}]})" +
+          frame),
+      "t.jsonl:1:66: error: \"at\" must be a step in 0..10000000");
+  EXPECT_EQ(first_error(R"({"wptrace":1,"interventions":[{"at":1,"module":0,"remove":true,"why":"x"}]})" + frame),
+            "t.jsonl:1:64: error: unknown field \"why\" in an intervention (it has \"at\", \"module\", \"set\", "
+            "\"remove\", \"push\", \"scheduled\")");
 }
 
 TEST(TraceReader, NeighbourWithoutALineIsAnAbsentModule) {
