@@ -27,7 +27,8 @@ namespace {
 // them, __newindex refuses, __len and __pairs list them). Its metamethods (keys "__...") stay in
 // it, since Lua looks them up raw when the table is another's metatable (a class: `C.__index = C`);
 // writing one is found by the checks. A metatable the table had keeps its metamethods: they are
-// copied into the new one, and its __index is asked for what the contents lack.
+// copied into the new one, its __index is asked for what the contents lack, and its __len and
+// __pairs are given the contents.
 //
 // The chunk's _ENV is the sandbox's library as it was before the script ran (push_library): a
 // script that replaced `next` or `type` cannot change how it is frozen.
@@ -61,8 +62,10 @@ local function freeze(t)
     if rawget(own, "__index") ~= nil then setmetatable(hidden, { __index = rawget(own, "__index") }) end
   end
   mt.__index, mt.__newindex = hidden, deny
-  if rawget(mt, "__len") == nil then mt.__len = function() return #hidden end end
-  if rawget(mt, "__pairs") == nil then mt.__pairs = function() return pairs(hidden) end end
+  -- Its own __len and __pairs count and list the contents: they are given them, not t.
+  local own_len, own_pairs = mt.__len, mt.__pairs
+  mt.__len = own_len and function() return own_len(hidden) end or function() return #hidden end
+  mt.__pairs = own_pairs and function() return own_pairs(hidden) end or function() return pairs(hidden) end
   if rawget(mt, "__metatable") == nil then mt.__metatable = false end
   setmetatable(t, mt)
   for _, v in next, hidden do freeze_value(v) end

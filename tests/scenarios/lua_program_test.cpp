@@ -291,6 +291,12 @@ TEST_F(LuaScript, TablesWithMetatablesAreFrozenToAndClassesStillWork) {
   EXPECT_EQ(run_error(kHeader + "local t = setmetatable({}, { __index = function() return 7 end })\nfunction step(m)\n"
                                 "  if t.anything ~= 7 then error('wrong') end\nend\n"),
             "");
+  // Its own __pairs and __len still see what it holds.
+  EXPECT_EQ(run_error(kHeader + "local t = setmetatable({ 5, 6 }, { __len = function(t) return rawlen(t) + 1 end,\n"
+                                "  __pairs = function(t) return next, t, nil end })\nfunction step(m)\n"
+                                "  local n = 0 for k, v in pairs(t) do n = n + v end\n"
+                                "  if n ~= 11 or #t ~= 3 then error(n .. ' ' .. #t) end\nend\n"),
+            "");
   // A table that had a metatable when the script loaded is frozen like any other: before, it
   // kept state the thread count and rollbacks changed.
   EXPECT_NE(
