@@ -296,7 +296,8 @@ class LuaState final : public sim::ProgramScratch {
 
  private:
   // Stack slots of the state's own thread, between calls (prepare pushes them).
-  static constexpr int kModuleSlot = 1, kIdKey = 2, kStepKey = 3, kFirstCheck = 4;
+  // The checks' slots follow them (Check::slot).
+  static constexpr int kModuleSlot = 1, kIdKey = 2, kStepKey = 3;
   // What a call must leave as it was (see kFreeze).
   struct Check {
     bool field;  // a frozen table's metamethod, else a function's upvalue
@@ -670,7 +671,7 @@ class LuaState final : public sim::ProgramScratch {
   const std::string& text_;             // the script's, kept by its program
   const Declared* declared_ = nullptr;  // what prepare bound, kept by the program
   int step_ = LUA_NOREF, init_ = LUA_NOREF, module_ = LUA_NOREF, read_only_ = LUA_NOREF;
-  std::vector<Check> checks_;  // their slots are on the stack from kFirstCheck
+  std::vector<Check> checks_;  // their slots are on the stack above kStepKey
   std::array<Pool, 3> pools_;
   std::array<std::vector<const char*>, 2> names_;  // of the variables and the parameters (see lookup)
   std::vector<int64_t> param_values_;

@@ -256,7 +256,8 @@ class TraceReader {
           return false;
         }
         seen.push_back(key);
-        if (std::none_of(std::begin(fields), std::end(fields), [&](const auto& f) { return key == f.first; })) {
+        const std::string_view name = key;  // clang 14 captures no structured binding
+        if (std::none_of(std::begin(fields), std::end(fields), [&](const auto& f) { return name == f.first; })) {
           std::string known;
           for (const auto& f : fields) known += (known.empty() ? "\"" : ", \"") + std::string(f.first) + "\"";
           error(field_at(key),
