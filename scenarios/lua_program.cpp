@@ -35,16 +35,14 @@ namespace {
 constexpr const char* kFreeze = R"lua(
 local G, debug, guards = ...
 local getmetatable, setmetatable = debug.getmetatable, debug.setmetatable
-local frozen, seen, checks = {}, {}, {}
+local frozen, seen, checks, count = {}, {}, {}, 0
 for _, f in next, guards do seen[f] = true end
 local function deny(_, k)
   error("writes '" .. tostring(k) .. "' outside the module's variables (a script keeps its state with m:set)", 2)
 end
-local function check(holder, key, name, value)
-  checks[#checks + 1] = holder
-  checks[#checks + 1] = key
-  checks[#checks + 1] = name
-  checks[#checks + 1] = value
+local function check(holder, key, name, value)  -- counted: a value may be nil
+  checks[count + 1], checks[count + 2], checks[count + 3], checks[count + 4] = holder, key, name, value
+  count = count + 4
 end
 local freeze_value
 local function freeze(t)
@@ -93,7 +91,7 @@ function freeze_value(v)
   end
 end
 freeze(G)
-return checks
+return checks, count
 )lua";
 
 // What the script declares of itself (read from its `program` table when it is loaded).
@@ -227,12 +225,13 @@ class LuaState final : public sim::ProgramScratch {
     lua_pushglobaltable(L_);
     lua_pushvalue(L_, debug);
     sandbox_.push_guards();
-    if (!call(3, 1)) return failed();
+    if (!call(3, 2)) return failed();
+    const auto quadruples = static_cast<lua_Integer>(lua_tointeger(L_, -1));
+    lua_pop(L_, 1);
     // What every call needs stays on the stack: the module table, the keys of its fields, and
     // for each upvalue to check its function and its value (kFreeze's quadruples).
     lua_remove(L_, debug);
     const int checks = lua_gettop(L_);  // the stack's only entry, removed when the slots above are made
-    const auto quadruples = static_cast<lua_Integer>(lua_rawlen(L_, checks));
     luaL_checkstack(L_, int(quadruples) + 8, "upvalues to check");
     lua_rawgeti(L_, LUA_REGISTRYINDEX, module_);
     lua_pushliteral(L_, "id");

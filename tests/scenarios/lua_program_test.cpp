@@ -274,6 +274,10 @@ TEST_F(LuaScript, StateOutsideTheVariablesIsAnError) {
   // A local of the script, written by step.
   EXPECT_NE(run_error(kHeader + "local n = 0\nfunction step(m)\n  n = n + 1\nend\n").find("step wrote the local 'n'"),
             std::string::npos);
+  // A local that is nil (the fuzzer's crash: the checks' list lost its alignment at a nil value).
+  EXPECT_NE(run_error(kHeader + "local unset\nlocal base = { 1 }\nfunction step(m)\n  unset = base[1]\nend\n")
+                .find("step wrote the local 'unset'"),
+            std::string::npos);
   // Reading them, and local tables of a call, are fine.
   EXPECT_EQ(run_error(kHeader + "local base = { 5 }\nK = 2\nfunction step(m)\n  local t = {}\n  t[1] = base[1] * K\n"
                                 "  m:set(\"v\", #base + t[1])\nend\n"),
