@@ -13,6 +13,7 @@
 #include <stop_token>
 #include <thread>
 
+#include "sim/json_brackets.h"
 #include "watch/diagnostic.h"
 
 namespace dw::app {
@@ -52,20 +53,11 @@ class AnswerWriter {
 constexpr size_t kMaxRequestDepth = 64;
 size_t json_depth(std::string_view text) {
   size_t depth = 0, deepest = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      deepest = std::max(deepest, ++depth);
-    } else if ((c == ']' || c == '}') && depth > 0) {
-      --depth;
-    }
-  }
+  sim::for_each_bracket(text, 0, [&](size_t, char c) {
+    if (c == '[' || c == '{') deepest = std::max(deepest, ++depth);
+    else if (depth > 0) --depth;
+    return true;
+  });
   return deepest;
 }
 

@@ -295,30 +295,26 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       size_t i = 2;
       // Each kind of word at most once: `centralized distributed` would otherwise keep the last.
       std::array<const Token*, 4> said{};  // algorithm, action, shape, states
+      static constexpr std::array<const char*, 4> kKinds{"algorithm", "action", "shape", "states"};
       for (; i < tokens.size() && tokens[i].text.rfind("modules", 0) != 0; ++i) {
         const std::string_view w = tokens[i].text;
-        const size_t kind = w == "centralized" || w == "distributed"     ? 0
-                            : w == "log" || w == "pause" || w == "count" ? 1
-                            : watch::parse_shape(w)                      ? 2
-                            : watch::parse_states(w)                     ? 3
-                                                                         : said.size();
-        if (kind < said.size() && said[kind])
-          return fail(tokens[i].span,
-                      "'" + std::string(w) + "' after '" + std::string(said[kind]->text) + "': the watchpoint's " +
-                          std::array{"algorithm", "action", "shape", "states"}[kind] + " is given once");
-        if (kind < said.size()) said[kind] = &tokens[i];
+        size_t kind = 0;
         if (w == "centralized") algorithm = watch::Algorithm::Centralized;
         else if (w == "distributed") algorithm = watch::Algorithm::Distributed;
-        else if (w == "log") action = sim::MatchAction::Log;
-        else if (w == "pause") action = sim::MatchAction::Pause;
-        else if (w == "count") action = sim::MatchAction::Count;
-        else if (auto shape = watch::parse_shape(w)) options.shape = shape;
-        else if (auto states = watch::parse_states(w)) options.states = states;
+        else if (w == "log") action = sim::MatchAction::Log, kind = 1;
+        else if (w == "pause") action = sim::MatchAction::Pause, kind = 1;
+        else if (w == "count") action = sim::MatchAction::Count, kind = 1;
+        else if (auto shape = watch::parse_shape(w)) options.shape = shape, kind = 2;
+        else if (auto states = watch::parse_states(w)) options.states = states, kind = 3;
         else
           return fail(tokens[i].span,
                       "expected centralized, distributed, chain, ordered, any, consistent, simultaneous, log, "
                       "pause, count or the watchpoint's text (modules(...); ...), not '" +
                           std::string(w) + "'");
+        if (said[kind])
+          return fail(tokens[i].span, "'" + std::string(w) + "' after '" + std::string(said[kind]->text) +
+                                          "': the watchpoint's " + kKinds[kind] + " is given once");
+        said[kind] = &tokens[i];
       }
       if (const std::string why = watch::unsupported(algorithm, options); !why.empty())
         return fail(tokens[1].span, why);

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <unordered_map>
 
+#include "sim/json_brackets.h"
 #include "sim/read_file.h"
 #include "sim/trace.h"
 
@@ -125,21 +126,25 @@ class TraceReader {
   static std::vector<size_t> object_starts(std::string_view text, size_t open) {
     std::vector<size_t> starts;
     int depth = 0;
-    bool in_string = false;
-    for (size_t i = open; i < text.size(); ++i) {
-      const char c = text[i];
-      if (in_string) {
-        if (c == '\\') ++i;
-        else if (c == '"') in_string = false;
-      } else if (c == '"') {
-        in_string = true;
-      } else if (c == '[' || c == '{') {
-        if (depth++ == 1 && c == '{') starts.push_back(i);
-      } else if ((c == ']' || c == '}') && --depth == 0) {
-        break;
-      }
-    }
+    for_each_bracket(text, open, [&](size_t i, char c) {
+      if (c == ']' || c == '}') return --depth != 0;
+      if (depth++ == 1 && c == '{') starts.push_back(i);
+      return true;
+    });
     return starts;
+  }
+
+  // Whether an entry's field `field.key` comes for the first time (`seen`: the entry's fields so
+  // far). A second one is an error at it, searched for past the first.
+  bool first_time(std::vector<std::string_view>& seen, const Where& field, const char* entry) {
+    const std::string_view key = field.key;
+    if (std::find(seen.begin(), seen.end(), key) == seen.end()) {
+      seen.push_back(key);
+      return true;
+    }
+    const size_t first_at = field.line.find("\"" + std::string(key) + "\"", field.from);
+    error(Where{field.line, key, first_at + 1}, "duplicate field \"" + std::string(key) + "\" in " + entry);
+    return false;
   }
 
   // The header's "interventions", as sim::intervention_json writes them: {"at": STEP, "module": ID,
@@ -169,12 +174,7 @@ class TraceReader {
       int changes = 0;
       for (auto [key, value] : o) {
         const Where field{at.line, key, from};
-        if (std::find(seen.begin(), seen.end(), key) != seen.end()) {
-          error(Where{at.line, key, at.line.find("\"" + std::string(key) + "\"", from) + 1},
-                "duplicate field \"" + std::string(key) + "\" in an intervention");
-          return false;
-        }
-        seen.push_back(key);
+        if (!first_time(seen, field, "an intervention")) return false;
         int64_t n = 0;
         simdjson::dom::object set;
         simdjson::dom::array push;
@@ -248,14 +248,7 @@ class TraceReader {
       auto field_at = [&](std::string_view key) { return Where{at.line, key, entry.from}; };
       std::vector<std::string_view> seen;
       for (auto [key, value] : o) {
-        if (std::find(seen.begin(), seen.end(), key) != seen.end()) {
-          // The second of them: searched for past the first.
-          const size_t first_at = at.line.find("\"" + std::string(key) + "\"", entry.from);
-          error(Where{at.line, key, first_at + 1},
-                "duplicate field \"" + std::string(key) + "\" in a watch of \"watches\"");
-          return false;
-        }
-        seen.push_back(key);
+        if (!first_time(seen, field_at(key), "a watch of \"watches\"")) return false;
         const std::string_view name = key;  // clang 14 captures no structured binding
         if (std::none_of(std::begin(fields), std::end(fields), [&](const auto& f) { return name == f.first; })) {
           std::string known;
