@@ -11,6 +11,27 @@
 #include "dist/mpi_exchange.h"
 #endif
 
+namespace {
+
+// When a command's word is missing, the likely cause: the option given last took it as its own
+// value (`run --record S`: S became the trace's file, and no scenario is left). Names the option
+// and the word, or returns "".
+std::string taken_by_last_option(const CLI::App& app, int argc, char** argv) {
+  if (argc < 3) return "";
+  const std::string last = argv[argc - 1], option = argv[argc - 2];
+  if (option.size() < 2 || option[0] != '-' || last.empty() || last[0] == '-') return "";
+  for (const CLI::App* command : app.get_subcommands()) {
+    for (const CLI::Option* o : command->get_options()) {
+      if (o->get_expected_min() < 1 || !o->check_name(option)) continue;
+      return " ('" + option + "' took '" + last +
+             "' as its value: give it one of its own, or put the option after the " + "command's own words)";
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   // Before any thread starts (Open MPI's included): signals are taken by one thread of its own.
   // `bench` starts child processes, which would inherit the blocked signals: it keeps the
@@ -64,6 +85,12 @@ int main(int argc, char** argv) {
   for (CLI::App* c : app.get_subcommands([](CLI::App*) { return true; })) c->allow_extras();
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RequiredError& e) {
+    std::cerr << "dwatch: error: " << e.what() << taken_by_last_option(app, argc, argv) << "\n";
+    return 2;
+  } catch (const CLI::ArgumentMismatch& e) {
+    std::cerr << "dwatch: error: " << e.what() << " (the option takes a value and was given none)\n";
+    return 2;
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;

@@ -42,8 +42,8 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 }
 
 // The watchpoints the trace's header lists, each with the reading and action the recording run
-// gave it (the command line's optimization switches and budget apply); nothing, with the errors
-// printed, when one does not compile or cannot run, or there is none.
+// gave it (the command line's optimization switches and budget apply; the trace reader refused a
+// reading that cannot run); nothing, with the errors printed, when one does not compile or there is none.
 std::optional<std::vector<sim::HostedWatchpoint>> header_watches(const sim::Trace& trace, const std::string& path,
                                                                  const DetectorFlags& flags) {
   auto hosted = sim::hosted_watches(trace.watches(), path, flags.options());
@@ -52,11 +52,6 @@ std::optional<std::vector<sim::HostedWatchpoint>> header_watches(const sim::Trac
     return std::nullopt;
   }
   auto& out = std::get<std::vector<sim::HostedWatchpoint>>(hosted);
-  for (const sim::HostedWatchpoint& h : out)
-    if (const std::string why = watch::unsupported(h.algorithm, h.options); !why.empty()) {
-      std::cerr << path << ": error: watchpoint '" << h.watchpoint.name << "' of the header: " << why << "\n";
-      return std::nullopt;
-    }
   if (out.empty())
     std::cerr << path << ": error: the trace's header lists no watchpoints (a trace recorded by dwatch run lists "
               << "its scenario's): give them with --watch\n";

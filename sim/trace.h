@@ -164,6 +164,10 @@ class TraceWriter {
 
 // The watchpoints as a recorded trace's header lists them: each in normal form, with its reading.
 std::vector<TraceWatch> trace_watches(std::span<const HostedWatchpoint> watches);
+// A header watch's reading (its names already checked): its algorithm, and `base` with its shape
+// and states.
+std::pair<watch::Algorithm, watch::DetectorOptions> trace_watch_reading(const TraceWatch& watch,
+                                                                        watch::DetectorOptions base);
 // And back: each compiled (its diagnostics name `trace_path`), with its reading over `base` (the
 // caller's optimizations and budget) and its action; or the first one's compile errors.
 std::variant<std::vector<HostedWatchpoint>, std::string> hosted_watches(std::span<const TraceWatch> watches,

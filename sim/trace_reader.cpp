@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <tuple>
 #include <unordered_map>
 
 #include "sim/json_brackets.h"
@@ -281,6 +282,8 @@ class TraceReader {
         key = "states", why = "\"states\" must be " + watch::states_names() + ", not \"" + w.states + "\"";
       else if (!parse_action(w.action))
         key = "action", why = "\"action\" must be " + action_names() + ", not \"" + w.action + "\"";
+      else if (const std::string cannot = std::apply(watch::unsupported, trace_watch_reading(w, {})); !cannot.empty())
+        key = "states", why = "watchpoint \"" + w.name + "\" cannot run: " + cannot;
       if (key) {
         error(field_at(key), why);
         return false;

@@ -5,6 +5,15 @@
 
 namespace dw::sim {
 
+std::pair<watch::Algorithm, watch::DetectorOptions> trace_watch_reading(const TraceWatch& w,
+                                                                        watch::DetectorOptions base) {
+  const watch::Algorithm algorithm = watch::parse_algorithm(w.algorithm).value_or(watch::Algorithm::Distributed);
+  base.shape = watch::parse_shape(w.shape);
+  base.states =
+      algorithm == watch::Algorithm::Distributed ? watch::parse_states(w.states) : std::optional<watch::States>();
+  return {algorithm, base};
+}
+
 std::variant<std::vector<HostedWatchpoint>, std::string> hosted_watches(std::span<const TraceWatch> watches,
                                                                         const std::string& trace_path,
                                                                         const watch::DetectorOptions& base) {
@@ -13,13 +22,9 @@ std::variant<std::vector<HostedWatchpoint>, std::string> hosted_watches(std::spa
     auto compiled =
         watch::compile_watchpoint(w.name, watch::SourceText(trace_path + " (watch " + w.name + ")", w.text));
     if (auto* e = std::get_if<watch::CompileError>(&compiled)) return e->format();
-    HostedWatchpoint h{std::move(std::get<watch::Watchpoint>(compiled)),
-                       watch::parse_algorithm(w.algorithm).value_or(watch::Algorithm::Distributed),
-                       parse_action(w.action).value_or(MatchAction::Log), base};
-    h.options.shape = watch::parse_shape(w.shape);
-    h.options.states =
-        h.algorithm == watch::Algorithm::Distributed ? watch::parse_states(w.states) : std::optional<watch::States>();
-    out.push_back(std::move(h));
+    const auto [algorithm, options] = trace_watch_reading(w, base);
+    out.push_back({std::move(std::get<watch::Watchpoint>(compiled)), algorithm,
+                   parse_action(w.action).value_or(MatchAction::Log), options});
   }
   return out;
 }

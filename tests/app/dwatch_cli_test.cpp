@@ -168,6 +168,16 @@ TEST_F(Cli, BadOptionsAreBadInput) {
   const Result extra = run("run a.toml surplus");
   EXPECT_EQ(extra.code, 2);
   EXPECT_NE(extra.err.find("unexpected argument 'surplus' for 'dwatch run'"), std::string::npos) << extra.err;
+  // An option given last took the command's own word as its value: the message says which.
+  const Result taken = run("run --record S");
+  EXPECT_EQ(taken.code, 2);
+  EXPECT_EQ(taken.err,
+            "dwatch: error: scenario is required ('--record' took 'S' as its value: give it one of its own, or put the "
+            "option after the command's own words)\n");
+  const Result valueless = run("run a.toml --max-live");
+  EXPECT_EQ(valueless.code, 2);
+  EXPECT_NE(valueless.err.find("dwatch: error: --max-live: 1 required"), std::string::npos) << valueless.err;
+  EXPECT_NE(valueless.err.find("takes a value and was given none"), std::string::npos) << valueless.err;
 }
 
 }  // namespace
