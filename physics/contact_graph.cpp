@@ -13,7 +13,6 @@
 #include "physics/cell_grid.h"
 #include "physics/convert.h"
 #include "physics/shapes.h"
-#include "physics/sorted_vector.h"
 
 namespace dw::physics {
 namespace {
@@ -146,13 +145,22 @@ struct ContactGraph::Impl {
   CellGrid grid;                  // every present module, at grid_at
   std::vector<uint8_t> in_grid;   // per module
   std::vector<sim::Vec3> grid_at;
-  // As of the last measurement, per module: present, its world pose and its frame.
+  // As of the last measurement, per module: present, its world pose and its frame. `frame` is
+  // empty while every module's is the default one (a latched lattice anchored to the ground, where
+  // it would be 32 bytes a module of nothing), and per module once one is not.
   std::vector<uint8_t> was_present;
   std::vector<sim::Pose> world;
   std::vector<Frame> frame;
-  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> pairs;  // touching, sorted
+  const Frame& last_frame(sim::ModuleId m) const {
+    static constexpr Frame kDefault{};
+    return frame.empty() ? kDefault : frame[m];
+  }
+  void keep_frame(sim::ModuleId m, const Frame& f, size_t n) {
+    if (frame.empty() && f == Frame{}) return;
+    frame.resize(n);
+    frame[m] = f;
+  }
   // Scratch of an update, kept so that a million-module step does not fault in fresh pages.
-  std::vector<Frame> next_frame;
   std::vector<uint8_t> moved, reframed, flagged, search;  // all 0 between updates
   std::vector<sim::ModuleId> looked, flagged_list;
   std::shared_ptr<const sim::NeighborGraph> graph;
@@ -161,10 +169,7 @@ struct ContactGraph::Impl {
 ContactGraph::ContactGraph(ModuleShape shape, float threshold) : impl_(std::make_unique<Impl>(shape, threshold)) {}
 ContactGraph::~ContactGraph() = default;
 
-void ContactGraph::reset() {
-  impl_->graph.reset();
-  impl_->pairs.clear();
-}
+void ContactGraph::reset() { impl_->graph.reset(); }
 
 void ContactGraph::place(const sim::Bodies& bodies, std::span<const uint8_t> present) {
   Impl& s = *impl_;
@@ -204,8 +209,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
   s.grid_at.resize(n);
   s.was_present.resize(n, 0);
   s.world.resize(n);
-  s.frame.resize(n);
-  s.next_frame.resize(n);
+  if (!s.frame.empty()) s.frame.resize(n);
   s.moved.resize(n, 0);
   s.reframed.resize(n, 0);
   s.flagged.resize(n, 0);
@@ -227,18 +231,17 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
   flagged_list.clear();
   for (sim::ModuleId m : looked) {
     s.place(bodies, present, m);
-    s.next_frame[m] = Impl::frame_of(bodies, m);
     s.moved[m] = forget || present[m] != s.was_present[m] || (present[m] && !(poses[m] == s.world[m]));
-    s.reframed[m] = forget || !(s.next_frame[m] == s.frame[m]);
+    s.reframed[m] = forget || !(Impl::frame_of(bodies, m) == s.last_frame(m));
     s.flagged[m] = s.moved[m] || s.reframed[m];
     if (s.flagged[m]) flagged_list.push_back(m);
   }
   measured_ = 0;
   if (flagged_list.empty()) return s.graph;
-  const std::vector<Impl::Frame>& frame = s.next_frame;
   const std::vector<uint8_t>&moved = s.moved, &reframed = s.reframed, &flagged = s.flagged;
-  // The frame a module is measured at now (next_frame holds it for the flagged ones).
-  const auto now = [&](sim::ModuleId m) -> const Impl::Frame& { return flagged[m] ? frame[m] : s.frame[m]; };
+  // The frame a module is measured at now: the bodies' for the flagged ones (read again rather
+  // than kept: 32 bytes a module), the last one for the others, which are known not to differ.
+  const auto now = [&](sim::ModuleId m) { return flagged[m] ? Impl::frame_of(bodies, m) : s.last_frame(m); };
 
   // A pair is measured again when what it is measured at changed: both members of one cluster
   // that moves at their poses in it, any other pair at its world poses. Every other pair keeps
@@ -248,17 +251,17 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
     // A module that came or went is flagged (moved), so an unflagged pair is present as it was.
     if (!flagged[a] && !flagged[b]) return false;
     if (!present[a] || !present[b]) return true;
-    const bool was = Impl::together(s.frame[a], s.frame[b]), is = Impl::together(now(a), now(b));
+    const Impl::Frame &last_a = s.last_frame(a), &last_b = s.last_frame(b);
+    const Impl::Frame now_a = now(a), now_b = now(b);
+    const bool was = Impl::together(last_a, last_b), is = Impl::together(now_a, now_b);
     if (was != is) return true;
-    return is ? !(now(a).local == s.frame[a].local && now(b).local == s.frame[b].local) : moved[a] || moved[b];
+    return is ? !(now_a.local == last_a.local && now_b.local == last_b.local) : moved[a] || moved[b];
   };
-  // The stale pairs leave s.pairs (in place: a million pairs are not copied for a few hundred).
-  // Only a pair with a flagged member can be stale, and a module's pairs are its neighbours in the
-  // graph last read (made from s.pairs): the flagged modules' lists are all that is read.
+  // The stale pairs, to be measured again. Only a pair with a flagged member can be stale, and a
+  // module's pairs are its neighbours in the graph last made: the flagged modules' lists are all
+  // that is read. (The graph is the one list of pairs kept: a second, sorted, took 8 bytes a pair.)
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> dropped;
-  if (forget) {
-    s.pairs.clear();
-  } else {
+  if (!forget) {
     for (sim::ModuleId m : flagged_list)
       for (sim::ModuleId o : s.graph->neighbors(m)) {
         if (flagged[o] && o < m) continue;  // read from o's side
@@ -266,7 +269,6 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
         if (stale(pair.first, pair.second)) dropped.emplace_back(pair);
       }
     std::sort(dropped.begin(), dropped.end());
-    erase_from<std::pair<sim::ModuleId, sim::ModuleId>>(s.pairs, dropped);
   }
   // Who looks for pairs: what moved or was reframed, except the members of a cluster that moved
   // as a whole with nothing else near it (a pile free on the ground): their pairs with each other
@@ -319,13 +321,14 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
         if (b < a && search[b]) return;  // measured from b's side
         if (squared_distance(poses[a].position, poses[b].position) > cutoff2) return;
         ++measured[run];
-        const bool local = Impl::together(now(a), now(b));
-        if (s.touching(local ? now(a).local : poses[a], local ? now(b).local : poses[b]))
+        const Impl::Frame now_a = now(a), now_b = now(b);
+        const bool local = Impl::together(now_a, now_b);
+        if (s.touching(local ? now_a.local : poses[a], local ? now_b.local : poses[b]))
           found[run].emplace_back(std::min(a, b), std::max(a, b));
       });
     }
   });
-  // The kept pairs are sorted already: the new ones are sorted and merged in.
+  // The pairs found, sorted.
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> fresh;
   for (unsigned run = 0; run < runs; ++run) {
     fresh.insert(fresh.end(), found[run].begin(), found[run].end());
@@ -349,19 +352,18 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
   for (sim::ModuleId m : flagged_list) {
     s.was_present[m] = present[m];
     if (moved[m]) s.world[m] = poses[m];
-    if (reframed[m]) s.frame[m] = frame[m];
+    if (reframed[m]) s.keep_frame(m, Impl::frame_of(bodies, m), n);
     s.moved[m] = s.reframed[m] = s.flagged[m] = 0;
     search[m] = 0;
   }
   for (sim::ModuleId m : looked) s.was_present[m] = present[m];
-  merge_into<std::pair<sim::ModuleId, sim::ModuleId>>(s.pairs, fresh);
-  // The same pairs found again as were measured again: the graph stands.
-  if (s.graph && !forget && fresh == dropped && s.graph->module_count() == n) return s.graph;
-  if (!s.graph || forget) {
+  if (forget) {  // every pair was measured
     s.graph =
-        std::make_shared<const sim::NeighborGraph>(sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), s.pairs));
+        std::make_shared<const sim::NeighborGraph>(sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), fresh));
     return s.graph;
   }
+  // The same pairs found again as were measured again: the graph stands.
+  if (fresh == dropped) return s.graph;
   // What changed: the pairs dropped and not found again, and those found that were not there.
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> gone, made;
   std::set_difference(dropped.begin(), dropped.end(), fresh.begin(), fresh.end(), std::back_inserter(gone));
