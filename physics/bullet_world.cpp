@@ -59,14 +59,19 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
   }
   contacts_.reset();
   state.graph = contacts_.update(b, state.present, workers);
-  // Real modules latch to what they touch as they are put in place.
+  // Real modules latch to what they touch as they are put in place, and to the ground. The bonds
+  // are reserved at their number: grown by doubling, a million modules' three million held a third
+  // more than they used, in every state.
+  std::vector<sim::Bond> grounded;
+  if (settings_.anchor)
+    for (sim::ModuleId m = 0; m < n; ++m)
+      if (state.present[m] && touches_ground(b.poses[m])) grounded.push_back({m, sim::kGround});
+  b.bonds.reserve((settings_.bonds ? state.graph->edge_count() / 2 : 0) + grounded.size());
   if (settings_.bonds)
     for (sim::ModuleId m = 0; m < n; ++m)
       for (sim::ModuleId o : state.graph->neighbors(m))
         if (m < o) b.bonds.push_back({m, o});
-  if (settings_.anchor)
-    for (sim::ModuleId m = 0; m < n; ++m)
-      if (state.present[m] && touches_ground(b.poses[m])) b.bonds.push_back({m, sim::kGround});
+  b.bonds.insert(b.bonds.end(), grounded.begin(), grounded.end());
   std::sort(b.bonds.begin(), b.bonds.end());
   regroup_all(state);
   // Members of a cluster are measured at their poses in it: the graph of step 0 is the one a
