@@ -197,6 +197,7 @@ struct Loader {
       r.error("empty", "these boxes leave every cell of the lattice empty: there is no module to run");
       return std::nullopt;
     }
+    if (physics) l.graph = nullptr;  // the world's contacts make the graph (sim::Lattice::graph)
     return l;
   }
 

@@ -12,6 +12,15 @@ constexpr std::pair<LatticeKind, std::string_view> kNames[] = {
     {LatticeKind::Ring, "ring"},   {LatticeKind::Line, "line"},         {LatticeKind::Fcc, "fcc"},
 };
 
+// The graph's edges between occupied cells.
+std::shared_ptr<const NeighborGraph> between_occupied(const NeighborGraph& graph, std::span<const uint8_t> occupied) {
+  std::vector<std::pair<ModuleId, ModuleId>> pairs;
+  for (ModuleId m = 0; m < graph.module_count(); ++m)
+    for (ModuleId o : graph.neighbors(m))
+      if (m < o && occupied[m] && occupied[o]) pairs.emplace_back(m, o);
+  return std::make_shared<const NeighborGraph>(NeighborGraph::from_pairs(graph.module_count(), pairs));
+}
+
 }  // namespace
 
 std::string_view lattice_name(LatticeKind kind) {
@@ -147,12 +156,12 @@ void leave_empty(Lattice& lattice, std::span<const LatticeBox> boxes) {
     for (uint32_t y = 0; y < n[1]; ++y)
       for (uint32_t x = 0; x < n[0]; ++x)
         if (at(x, y, z) > 0) lattice.occupied[x + n[0] * (y + n[1] * z)] = 0;
-  std::vector<std::pair<ModuleId, ModuleId>> pairs;
-  for (ModuleId m = 0; m < lattice.graph->module_count(); ++m)
-    for (ModuleId o : lattice.graph->neighbors(m))
-      if (m < o && lattice.occupied[m] && lattice.occupied[o]) pairs.emplace_back(m, o);
-  lattice.graph =
-      std::make_shared<const NeighborGraph>(NeighborGraph::from_pairs(lattice.graph->module_count(), pairs));
+  lattice.graph = between_occupied(*lattice.graph, lattice.occupied);
+}
+
+std::shared_ptr<const NeighborGraph> lattice_graph(const Lattice& lattice) {
+  if (lattice.graph) return lattice.graph;
+  return between_occupied(*make_lattice(lattice.spec).graph, lattice.occupied);
 }
 
 }  // namespace dw::sim

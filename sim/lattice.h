@@ -34,8 +34,14 @@ struct Lattice {
   std::vector<std::array<float, 3>> positions;  // module centres, one module size apart; z is up
   std::vector<uint8_t> occupied;                // per cell: 0 for a cell left empty (no module there)
   // Face-adjacent modules; shared, not copied, by the states of a static lattice (the world's).
+  // Null in a physical world's model, whose contacts make the graph: kept, it would be a second
+  // one as large as the world's (lattice_graph makes it when asked).
   std::shared_ptr<const NeighborGraph> graph = std::make_shared<const NeighborGraph>();
 };
+
+// The lattice's face adjacency among its occupied cells: the graph it keeps, or one made afresh
+// when it keeps none.
+std::shared_ptr<const NeighborGraph> lattice_graph(const Lattice& lattice);
 
 // fcc (face-centred cubic, Catoms 3D): square layers one on another, each odd layer shifted by
 // half a module in x and y, layers sqrt(2)/2 apart, so that every module touches 12 others: 4

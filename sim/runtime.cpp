@@ -114,7 +114,8 @@ void Runtime::place_blocks(Partition partition) {
   partition_ = partition;
   if (partition == Partition::Graph && rank_count > 1) {
     // The links between blocks, as sorted (block, block) pairs: equal pairs make one edge's weight.
-    const NeighborGraph& g = *model_.lattice.graph;
+    const std::shared_ptr<const NeighborGraph> lattice = lattice_graph(model_.lattice);
+    const NeighborGraph& g = *lattice;
     std::vector<std::pair<uint32_t, uint32_t>> pairs;
     for (uint32_t m = 0; m < g.module_count(); ++m)
       for (ModuleId n : g.neighbors(m))
