@@ -86,21 +86,30 @@ std::string demolition_toml(int k, int steps) {
 }
 
 // The Bullet world over ranks (docs/design.md §12): many bodies moving at once, each layout's
-// physics part of a step (the slowest rank's) and its peak memory per rank, and a latched 40^3
-// lattice's peak per rank; the same matches and state hash on every layout, or it fails.
+// physics part of a step (the slowest rank's) and its peak memory per rank, and latched 40^3 and
+// 100^3 lattices' peaks per rank, each against one process's; the same matches and state hash on
+// every layout, or it fails.
 bool bench_mpi_physics(const BenchArgs& args, const fs::path& dir) {
-  const fs::path scenario = dir / "demolition.toml", lattice = dir / "lattice.toml";
+  const fs::path scenario = dir / "demolition.toml", lattice40 = dir / "lattice40.toml",
+                 lattice100 = dir / "lattice100.toml";
   std::ofstream(scenario) << demolition_toml(8, 200);
-  std::ofstream(lattice) << "seed = 1\nsteps = 20\n[lattice]\nkind = \"cubic\"\nsize = [40, 40, 40]\n"
-                         << "[[program]]\nname = \"body_sense\"\n[physics]\nenabled = true\n";
+  const auto latched = [](int side, int steps) {
+    return "seed = 1\nsteps = " + std::to_string(steps) + "\n[lattice]\nkind = \"cubic\"\nsize = [" +
+           std::to_string(side) + ", " + std::to_string(side) + ", " + std::to_string(side) +
+           "]\n[[program]]\nname = \"body_sense\"\n[physics]\nenabled = true\n";
+  };
+  std::ofstream(lattice40) << latched(40, 20);
+  std::ofstream(lattice100) << latched(100, 5);
   std::cout << "\nphysics over ranks (each rank steps a run of the islands; contacts and clusters on every rank)\n"
             << "  demolition 8x8: demolition.toml grown to 8 x 8 towers and 8 balls (1,280 modules), 200 steps\n"
-            << "  40^3 latched: a 40^3 lattice latched to the ground, resting, 20 steps\n"
+            << "  40^3 latched: a 40^3 lattice latched to the ground, resting, 20 steps (100^3: 5 steps)\n"
             << std::left << std::setw(44) << "scenario, layout" << std::right << std::setw(10) << "matches"
             << std::setw(12) << "best s" << std::setw(18) << "physics ms/step" << std::setw(14) << "MiB per rank"
+            << std::setw(10) << "of one"
             << "  state hash\n";
   bool same = true;
-  for (const auto& [label, path] : {std::pair{"demolition 8x8", scenario}, std::pair{"40^3 latched", lattice}}) {
+  for (const auto& [label, path] : {std::pair{"demolition 8x8", scenario}, std::pair{"40^3 latched", lattice40},
+                                    std::pair{"100^3 latched", lattice100}}) {
     nlohmann::json first;
     for (const Layout& l : {Layout{1, 1}, Layout{2, 1}, Layout{4, 1}}) {
       double best = 1e300, physics = 1e300;
@@ -118,8 +127,9 @@ bool bench_mpi_physics(const BenchArgs& args, const fs::path& dir) {
       std::cout << std::left << std::setw(44) << (std::string(label) + ", " + l.label()) << std::right << std::setw(10)
                 << stats["matches"].get<uint64_t>() << std::fixed << std::setprecision(3) << std::setw(12) << best
                 << std::setprecision(2) << std::setw(18) << 1e3 * physics / steps << std::setprecision(0)
-                << std::setw(14) << stats["peak_mib"].get<double>() << "  " << stats["state_hash"].get<std::string>()
-                << (agrees ? "" : "  DIFFERS from one rank") << "\n";
+                << std::setw(14) << stats["peak_mib"].get<double>() << std::setw(9)
+                << 100 * stats["peak_mib"].get<double>() / first["peak_mib"].get<double>() << "%  "
+                << stats["state_hash"].get<std::string>() << (agrees ? "" : "  DIFFERS from one rank") << "\n";
     }
   }
   return same;
