@@ -13,7 +13,7 @@
 //   - as dwatch runs scripts, each call uncounted until the watchdog interrupts it after a
 //     millisecond, what it did taken back, and run again counted.
 // Both give the same state hash after every step, or fail at the same step and module with the
-// same message. A call run counted runs in a state made for it (scenarios/lua_program.cpp), so
+// same message. A call run counted runs in a state made for it (scenarios/lua_state.cpp), so
 // nothing earlier runs leave in a state moves where it stops, with two exceptions by design:
 //   - time: a call stopped by the wall-clock deadline in either run, and a call the counted run
 //     stopped by its budget that the other finished, uncounted, within its patience;
