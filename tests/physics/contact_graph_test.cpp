@@ -47,6 +47,43 @@ TEST(ContactGraph, MeasuresEveryPairOnceThenOnlyWhatChanged) {
   }
 }
 
+// Read by what changed, the graph is the one a fresh ContactGraph measures from scratch, through
+// frames that appear (an anchored block let go: its members get frames where none were kept),
+// change and go (a module leaving its cluster, moving off and coming back).
+TEST(ContactGraph, WhatChangedGivesTheGraphOfAFreshMeasurement) {
+  const PhysicsSettings settings;
+  Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
+  sim::WorkerPool workers(2);
+  sim::Bodies b = test::latched_block(4, true, dynamics.module_shape());
+  const std::vector<uint8_t> present(b.poses.size(), 1);
+  std::vector<sim::ModuleId> all(b.poses.size());
+  for (sim::ModuleId m = 0; m < all.size(); ++m) all[m] = m;
+  ContactGraph contacts(ModuleShape::Box, 0.01f);
+  contacts.update(b, present, workers);
+  auto expect_fresh = [&](const std::vector<sim::ModuleId>& changed, const char* what) {
+    const auto read = contacts.update(b, present, workers, &changed);
+    ContactGraph fresh(ModuleShape::Box, 0.01f);
+    const auto measured = fresh.update(b, present, workers);
+    EXPECT_EQ(read->begin, measured->begin) << what;
+    EXPECT_EQ(read->ids, measured->ids) << what;
+    return read->edge_count();
+  };
+  b.clusters[0].anchored = false;  // every member now has a frame in the cluster
+  EXPECT_EQ(expect_fresh(all, "let go"), 2u * 144);
+  b.clusters[0].pose.position[0] += 0.25f;
+  place_members(b);
+  EXPECT_EQ(expect_fresh(all, "moved rigidly"), 2u * 144);
+  EXPECT_EQ(contacts.pairs_measured(), 0u) << "the frames taken when it was let go were kept";
+  const sim::Pose home = b.poses[63];
+  b.cluster_of[63] = sim::kNoCluster;
+  for (float& x : b.poses[63].position) x += 0.5f;
+  EXPECT_EQ(expect_fresh({63}, "63 left and moved off"), 2u * 141);
+  b.poses[63] = home;
+  EXPECT_EQ(expect_fresh({63}, "63 back in its cell, in no cluster"), 2u * 144);
+  b.cluster_of[63] = 0;  // and latched again, at the same pose in the cluster
+  EXPECT_EQ(expect_fresh({63}, "63 in its cluster again"), 2u * 144);
+}
+
 // The same graph on one worker as on two; near() finds the modules around a point.
 TEST(ContactGraph, WorkersDoNotChangeTheGraphAndNearFindsCentres) {
   const PhysicsSettings settings;
