@@ -131,9 +131,9 @@ void Session::take_keyframe() {
     }
   }
   const auto started = std::chrono::steady_clock::now();
-  // Over ranks the bodies, alike on every rank, are kept a slice per rank (sim/body_slices.h).
-  Bodies live;
-  if (slices_bodies()) live = std::move(head_.bodies);
+  // The bodies are kept apart, in chunks shared with the last keyframe's where they did not
+  // change, and over ranks a slice per rank (sim/body_slices.h).
+  Bodies live = std::move(head_.bodies);
   if (spare_.empty()) {
     keyframes_.push_back(head_);
   } else {
@@ -142,11 +142,12 @@ void Session::take_keyframe() {
     spare_.pop_back();
     keyframes_.back() = head_;
   }
-  if (slices_bodies()) {
-    head_.bodies = std::move(live);
-    body_slices_.push_back(body_slice(head_.bodies, options_.ranks->rank(), options_.ranks->ranks()));
-    history_bytes_ += body_slices_.back().size();
-  }
+  head_.bodies = std::move(live);
+  const BodySlice* last = body_slices_.empty() ? nullptr : &body_slices_.back();
+  const int rank = options_.ranks ? options_.ranks->rank() : 0, ranks = options_.ranks ? options_.ranks->ranks() : 1;
+  body_slices_.emplace_back(head_.bodies, rank, ranks, last);
+  history_bytes_ +=
+      body_slices_.back().bytes_beyond(body_slices_.size() > 1 ? &body_slices_[body_slices_.size() - 2] : nullptr);
   const double copy_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   history_bytes_ += state_bytes(keyframes_.back());
   if (keyframes_.size() == 1 || keyframes_.back().graph != keyframes_[keyframes_.size() - 2].graph)
@@ -166,17 +167,15 @@ void Session::take_keyframe() {
   // beside a copy of the state, keyframes are further apart, as long as a seek's stepping from
   // one stays short.
   if (keyframes_.size() > 1 &&
-      any_rank(options_.ranks, copy_seconds > kKeyframeTimeShare * double(interval_) * step_seconds_ &&
+      any_rank(options_.ranks, copy_seconds > options_.keyframe_time_share * double(interval_) * step_seconds_ &&
                                    2 * double(interval_) * step_seconds_ <= kSeekStepSeconds))
     thin_keyframes();
 }
 
-bool Session::slices_bodies() const { return options_.ranks && options_.ranks->ranks() > 1; }
-
-// A copy of keyframe `index` gets its bodies back from the ranks' slices (a collective call, made
-// alike on every rank: every rank restores the same keyframes).
+// A copy of keyframe `index` gets its bodies back (over ranks from the ranks' slices: a collective
+// call, made alike on every rank: every rank restores the same keyframes).
 void Session::restore_bodies(State& copy, size_t index) const {
-  if (slices_bodies()) copy.bodies = bodies_from_slices(body_slices_[index], *options_.ranks);
+  copy.bodies = bodies_from_slices(body_slices_[index], options_.ranks);
 }
 
 // Every other keyframe goes (keyframe 0 stays) and K doubles. A dropped one is kept as storage for
@@ -185,7 +184,7 @@ void Session::thin_keyframes() {
   std::vector<State> kept, dropped;
   for (size_t i = 0; i < keyframes_.size(); ++i) (i % 2 == 0 ? kept : dropped).push_back(std::move(keyframes_[i]));
   keyframes_ = std::move(kept);
-  std::vector<std::vector<std::byte>> kept_slices;
+  std::vector<BodySlice> kept_slices;
   for (size_t i = 0; i < body_slices_.size(); i += 2) kept_slices.push_back(std::move(body_slices_[i]));
   body_slices_ = std::move(kept_slices);
   interval_ *= 2;
@@ -202,7 +201,7 @@ void Session::thin_keyframes() {
 void Session::recount_history() {
   history_bytes_ = 0;
   for (size_t i = 0; i < keyframes_.size(); ++i) {
-    history_bytes_ += state_bytes(keyframes_[i]) + (i < body_slices_.size() ? body_slices_[i].size() : 0);
+    history_bytes_ += state_bytes(keyframes_[i]) + body_slices_[i].bytes_beyond(i > 0 ? &body_slices_[i - 1] : nullptr);
     if (i == 0 || keyframes_[i].graph != keyframes_[i - 1].graph) history_bytes_ += graph_bytes(*keyframes_[i].graph);
   }
 }
@@ -453,7 +452,7 @@ void Session::branch_here() {
   const size_t keep = static_cast<size_t>((current_ + 1) / interval_) + 1;
   if (keyframes_.size() > keep) {
     keyframes_.resize(keep);
-    body_slices_.resize(std::min(body_slices_.size(), keep));
+    body_slices_.resize(keep);
     recount_history();
   }
   truncate_history(current_);

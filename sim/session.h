@@ -29,6 +29,7 @@
 #include <utility>
 #include <vector>
 
+#include "sim/body_slices.h"
 #include "sim/intervention.h"
 #include "sim/runtime.h"
 
@@ -48,6 +49,10 @@ struct SessionOptions {
   // on its session, which steps the rank's modules and takes every decision alike on all ranks.
   RankExchange* ranks = nullptr;
   Partition partition = Partition::Auto;  // how the modules are shared among the ranks
+  // The share of the live run's time keyframes may take, at most: where a step is cheap beside a
+  // copy of the state they are further apart. (Infinite: only the budget spaces them, for tests
+  // that count them.)
+  double keyframe_time_share = 0.08;
 };
 
 // Lets a long operation be cancelled between steps and report how far it got. A cancelled
@@ -262,16 +267,14 @@ class Session {
   const State* world_on_ = nullptr;  // the state the world last stepped (it must be told of a change)
 
   std::vector<State> keyframes_;  // keyframes_[i]: the state before step i * interval_
-  // Over ranks, keyframes_[i].bodies is empty and body_slices_[i] holds this rank's share of it.
-  std::vector<std::vector<std::byte>> body_slices_;
-  bool slices_bodies() const;
+  // keyframes_[i].bodies is empty: body_slices_[i] holds them (over ranks, this rank's share).
+  std::vector<BodySlice> body_slices_;
   void restore_bodies(State& copy, size_t index) const;
   static constexpr size_t kSpareKeyframes = 4;
   std::vector<State> spare_;  // dropped keyframes, their storage for the next (within the budget)
   size_t spare_bytes_ = 0;
-  static constexpr double kKeyframeTimeShare = 0.08;  // of the live run's time, at most, for keyframes
-  static constexpr double kSeekStepSeconds = 0.025;   // stepping from a keyframe takes at most about this
-  double step_seconds_ = 0;                           // a live step's time, smoothed
+  static constexpr double kSeekStepSeconds = 0.025;  // stepping from a keyframe takes at most about this
+  double step_seconds_ = 0;                          // a live step's time, smoothed
   int64_t interval_ = 1;
   size_t history_bytes_ = 0;
 

@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <random>
 #include <sstream>
 
 #include "physics/bullet_world.h"
 #include "scenarios/scenario.h"
+#include "sim/body_slices.h"
 #include "sim/session.h"
 #include "sim/state.h"
 #include "tests/sim/run_trail.h"
@@ -104,9 +106,56 @@ TEST(PushWall, OverRanksKeyframesKeepASliceOfTheBodiesAndSeeksEqualOneProcess) {
       history += bytes;
     }
     // Keyframe 0 over the ranks: each rank adds what it holds whole besides the bodies (presence,
-    // the graph). Measured, in bytes against one process's 13,848: 19,544 on 2 ranks and 22,488
+    // the graph). Measured, in bytes against one process's 13,952: 19,592 on 2 ranks and 22,560
     // on 3; the bodies whole in every rank's keyframe 0 gave 25,772 and 35,024.
     EXPECT_LT(history, keyframe_zero + size_t(ranks - 1) * keyframe_zero * 3 / 5) << ranks << " ranks";
+  }
+}
+
+// Keyframes keep the bodies in chunks shared with the keyframe before where their bytes did not
+// change (sim/body_slices.h): the history of a lattice resting latched to the ground holds its
+// bodies once, and seeks give the states of the run, in one process and over ranks.
+TEST(Keyframes, AStillWorldsHistoryHoldsItsBodiesOnce) {
+  const std::string text =
+      "steps = 12\n[lattice]\nkind = \"cubic\"\nsize = [12, 12, 12]\n[[program]]\nname = \"body_sense\"\n"
+      "[physics]\nenabled = true\n";
+  const auto load = [&] {
+    auto loaded = load_scenario_text("still.toml", text);
+    if (auto* e = std::get_if<std::string>(&loaded)) ADD_FAILURE() << *e;
+    return std::move(std::get<Scenario>(loaded));
+  };
+  Scenario straight_run = load();
+  sim::Session plain(*straight_run.model, *straight_run.world, {.threads = 1, .history_bytes = 0});
+  std::vector<uint64_t> hashes;
+  plain.run_until(12,
+                  [&](const sim::State& st, const sim::StepOutput&) { hashes.push_back(sim::hash_state(st).whole()); });
+  const size_t bodies = sim::BodySlice(plain.state().bodies, 0, 1).size();
+
+  for (int ranks : {1, 2}) {
+    const auto seen = sim::on_ranks(ranks, [&](sim::RankExchange& r) {
+      Scenario s = load();
+      sim::Session run(*s.model, *s.world,
+                       {.threads = 1,
+                        .history_bytes = 256 << 20,
+                        .ranks = &r,
+                        .keyframe_time_share = std::numeric_limits<double>::infinity()});
+      const size_t keyframe_zero = run.history_bytes();
+      run.run_until(12);
+      const size_t keyframes = run.keyframes(), later = run.history_bytes() - keyframe_zero;
+      std::vector<uint64_t> at;
+      for (int64_t t : {11, 3, 0, 7}) {
+        EXPECT_TRUE(run.seek(t));
+        at.push_back(run.hash().whole());
+      }
+      return std::tuple(keyframes, keyframe_zero, later, at);
+    });
+    for (const auto& [keyframes, keyframe_zero, later, at] : seen) {
+      EXPECT_EQ(at, (std::vector<uint64_t>{hashes[11], hashes[3], hashes[0], hashes[7]})) << ranks << " ranks";
+      // Keyframe 0 holds this rank's share of the bodies; the later ones none of them.
+      EXPECT_EQ(keyframes, 12u);
+      EXPECT_GT(keyframe_zero, bodies / size_t(ranks));
+      EXPECT_LT(later, (keyframes - 1) * (keyframe_zero - bodies / size_t(ranks)) + 4096) << ranks << " ranks";
+    }
   }
 }
 

@@ -35,20 +35,61 @@ Bodies some_bodies(uint32_t modules) {
 TEST(BodySlices, TheRanksSlicesAreAboutEqualAndPutTogetherGiveTheBodies) {
   for (const uint32_t modules : {0u, 1u, 1000u}) {
     const Bodies bodies = some_bodies(modules);
-    const size_t whole = body_slice(bodies, 0, 1).size();
+    const BodySlice whole(bodies, 0, 1);
+    EXPECT_EQ(bodies_from_slices(whole, nullptr), bodies);
     for (int ranks : {1, 2, 3, 4}) {
       const auto seen = on_ranks(ranks, [&](RankExchange& r) {
-        const std::vector<std::byte> slice = body_slice(bodies, r.rank(), r.ranks());
-        return std::pair(slice.size(), bodies_from_slices(slice, r) == bodies);
+        const BodySlice slice(bodies, r.rank(), r.ranks());
+        return std::pair(slice.size(), bodies_from_slices(slice, &r) == bodies);
       });
       size_t total = 0;
       for (const auto& [bytes, equal] : seen) {
         EXPECT_TRUE(equal) << modules << " modules on " << ranks << " ranks";
-        EXPECT_LE(bytes, whole / size_t(ranks) + 1);
+        EXPECT_LE(bytes, whole.size() / size_t(ranks) + 1);
         total += bytes;
       }
-      EXPECT_EQ(total, whole);
+      EXPECT_EQ(total, whole.size());
     }
+  }
+}
+
+// A copy shares with the one before it every chunk whose bytes did not change, and only those:
+// a still world adds nothing; a module that moves adds the chunks its pose and velocity lie in;
+// bodies that grew share what comes before the growth. Read back, each copy is its own bodies.
+TEST(BodySlices, ACopySharesTheChunksThatDidNotChangeSinceTheLastOne) {
+  constexpr uint32_t kModules = 20'000;  // poses alone span 35 chunks
+  const Bodies still = some_bodies(kModules);
+  const BodySlice first(still, 0, 1);
+  ASSERT_GT(first.chunks().size(), 100u);
+  EXPECT_EQ(first.bytes_beyond(nullptr), first.size());
+
+  const BodySlice again(still, 0, 1, &first);
+  EXPECT_EQ(again.bytes_beyond(&first), 0u);
+  EXPECT_EQ(bodies_from_slices(again, nullptr), still);
+
+  Bodies moved = still;
+  moved.poses[kModules / 2].position[0] += 1e-3f;
+  moved.velocities[kModules / 2].linear[1] = 0.5f;
+  const BodySlice after_move(moved, 0, 1, &again);
+  EXPECT_EQ(after_move.bytes_beyond(&again), 2 * BodySlice::kChunkBytes);
+  EXPECT_EQ(bodies_from_slices(after_move, nullptr), moved);
+  EXPECT_EQ(bodies_from_slices(again, nullptr), still);  // the copy it shares with is untouched
+
+  Bodies grown = moved;
+  grown.prop_poses.push_back({});  // the last vectors: the chunks before them stay
+  const BodySlice after_growth(grown, 0, 1, &after_move);
+  EXPECT_LE(after_growth.bytes_beyond(&after_move), 2 * BodySlice::kChunkBytes);
+  EXPECT_EQ(bodies_from_slices(after_growth, nullptr), grown);
+
+  // Over ranks each rank's slice shares alike.
+  const auto added = on_ranks(3, [&](RankExchange& r) {
+    const BodySlice before(still, r.rank(), r.ranks());
+    const BodySlice now(still, r.rank(), r.ranks(), &before);
+    return std::pair(now.bytes_beyond(&before), bodies_from_slices(now, &r) == still);
+  });
+  for (const auto& [bytes, equal] : added) {
+    EXPECT_EQ(bytes, 0u);
+    EXPECT_TRUE(equal);
   }
 }
 
