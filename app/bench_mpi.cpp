@@ -4,11 +4,11 @@
 // layout gave the same matches and state hash (docs/design.md §12); then the Bullet world over ranks:
 // many bodies moving at once, and a latched lattice, their physics time and memory per rank.
 #include <fcntl.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -17,9 +17,8 @@
 #include <sstream>
 
 #include "app/bench.h"
+#include "app/bench_child.h"
 #include "app/output_files.h"
-
-extern char** environ;
 
 namespace dw::app {
 namespace {
@@ -46,13 +45,16 @@ nlohmann::json run_once(const Layout& l, const fs::path& scenario, const std::st
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-  posix_spawn_file_actions_t files;
-  posix_spawn_file_actions_init(&files);
-  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&files, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = 0;
-  const int spawned = posix_spawnp(&pid, argv[0], &files, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&files);
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    end_with_parent(parent, SIGTERM);  // mpirun stops its ranks on SIGTERM
+    const int out = ::open("/dev/null", O_WRONLY), error = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (out < 0 || error < 0 || ::dup2(out, STDOUT_FILENO) < 0 || ::dup2(error, STDERR_FILENO) < 0) ::_exit(127);
+    ::execvp(argv[0], argv.data());
+    ::_exit(127);
+  }
+  const int spawned = pid < 0 ? errno : 0;
   int status = 0;
   if (spawned != 0 || waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     std::ifstream e(err);

@@ -1,5 +1,9 @@
 // dwatch: a testbed for modular-robot ensembles with distributed watchpoints built in.
+#include <unistd.h>
+
+#include <csignal>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <optional>
@@ -30,6 +34,22 @@ std::string taken_by_last_option(const CLI::App& app, int argc, char** argv) {
   return "";
 }
 
+// A bench's rows run in child processes that end with it (app/bench_child.h): a signal ends the
+// bench at once, saying so, with 128 + the signal.
+void end_bench_at_a_signal() {
+  struct sigaction action {};
+  action.sa_handler = [](int signal) {
+    const char* what = signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "SIGHUP";
+    const char* rest = "): stopping at once, with the rows under way; a file not yet complete is not written\n";
+    const ssize_t a = ::write(STDERR_FILENO, "dwatch bench: interrupted (", 27);
+    const ssize_t b = ::write(STDERR_FILENO, what, std::strlen(what));
+    const ssize_t c = ::write(STDERR_FILENO, rest, std::strlen(rest));
+    (void)(a + b + c);
+    ::_exit(128 + signal);
+  };
+  for (const int s : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(s, &action, nullptr);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -39,6 +59,7 @@ int main(int argc, char** argv) {
   const dw::app::TerminalOutput terminal;  // no control byte from an input reaches a terminal raw
   std::optional<dw::app::Interrupts> interrupts;
   if (argc < 2 || std::string(argv[1]) != "bench") interrupts.emplace();
+  else end_bench_at_a_signal();
   dw::app::Interrupts* watcher = interrupts ? &*interrupts : nullptr;
   // Started by mpirun as one of several ranks (docs/design.md §12): only `run` runs over ranks.
   const char* world_size = std::getenv("OMPI_COMM_WORLD_SIZE");

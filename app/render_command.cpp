@@ -250,7 +250,9 @@ int render_scenario(const RenderArgs& args, Interrupts* interrupts) {
   std::vector<render::SceneGroup> groups;
   const render::Scene scene = scene_at(session, step, highlight, settings, scenario.name, groups);
   if (camera_refused(scene, args.width, args.height)) return 2;
-  if (std::string error = write_view(scene, *out, args.width, args.height); !error.empty()) {
+  std::string error = write_view(scene, *out, args.width, args.height);
+  if (error.empty()) error = out->commit();
+  if (!error.empty()) {
     std::cerr << "dwatch: error: " << error << "\n";
     return 1;
   }

@@ -110,6 +110,26 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
     stoppable.emplace(*interrupts);
     control.stop = stoppable->token();
   }
+  // A signal that stopped the stepping, or came while the outputs were made: nothing is written,
+  // and the stretch that follows takes the next. Only the commits, together at the end, are not
+  // stoppable: a signal then ends the process at once, each output complete or as it was.
+  const auto interrupted = [&](const std::string& when) {
+    const std::optional<int> signal = stoppable ? stoppable->signal() : std::nullopt;
+    stoppable.reset();
+    if (!signal) {
+      if (interrupts && !ranks) stoppable.emplace(*interrupts);
+      return 0;
+    }
+    progress.finish();
+    errors << "dwatch: run " << args.scenario << " interrupted (" << Interrupts::name(*signal) << ") " << when
+           << ": nothing written";
+    std::string kept;
+    for (const NamedFile& f : {record_file, matches_file, stats_file, render_file})
+      if (!f.path.empty() && f.path != "-") kept += (kept.empty() ? "" : ", ") + f.what + " " + f.path;
+    if (!kept.empty()) errors << " (" << kept << ": as they were before the run)";
+    errors << "\n";
+    return Interrupts::exit_code(*signal);
+  };
   std::optional<sim::Pause> pause;
   try {
     pause = run.run_until(
@@ -126,21 +146,10 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
           progress.update(out.step + 1);
         },
         control);
-    // From here on the outputs are written: a signal now ends the process at once, which leaves
-    // them uncommitted (their temporaries unnamed) and the earlier files as they were.
-    const std::optional<int> signal = stoppable ? stoppable->signal() : std::nullopt;
-    stoppable.reset();
-    if (signal) {
-      progress.finish();
-      errors << "dwatch: run " << args.scenario << " interrupted (" << Interrupts::name(*signal) << ") after "
-             << run.latest() + 1 << " of " << steps << " steps: nothing written";
-      std::string kept;
-      for (const NamedFile& f : {record_file, matches_file, stats_file, render_file})
-        if (!f.path.empty() && f.path != "-") kept += (kept.empty() ? "" : ", ") + f.what + " " + f.path;
-      if (!kept.empty()) errors << " (" << kept << ": as they were before the run)";
-      errors << "\n";
-      return Interrupts::exit_code(*signal);
-    }
+    if (const int code =
+            interrupted("after " + std::to_string(run.latest() + 1) + " of " + std::to_string(steps) + " steps");
+        code != 0)
+      return code;
     // A run a pause stopped says so at its trace's end: replayed, its watchpoints find what it
     // found, leaving its last steps undecided as it did.
     if (pause && recorder) recorder->write_paused({model.watches[pause->watch].watchpoint.name, pause->t});
@@ -318,7 +327,12 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
                     {"rolled_back", rolled_back}};
     *stats << j.dump(1) << "\n";
   }
-  if (!commit_outputs({record_out.get(), matches_out.get(), stats_out.get()})) return 1;
+  if (const int code = interrupted("after " + std::to_string(ran) + " of " + std::to_string(steps) +
+                                   " steps, while its outputs were made");
+      code != 0)
+    return code;
+  stoppable.reset();
+  if (!commit_outputs({record_out.get(), matches_out.get(), stats_out.get(), render_out.get()})) return 1;
   return stopped ? 1 : 0;
 }
 

@@ -592,6 +592,9 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         if (std::string error = open_output_apart(scenario_.inputs, file, out); !error.empty()) return failed(error);
         const render::Scene view = scene();
         if (std::string error = write_view(view, *out, cmd.width, cmd.height); !error.empty()) return failed(error);
+        // A signal while it drew stops the script here: the file it would replace stays as it was.
+        if (control.stopped()) return failed("cancelled");
+        if (std::string error = out->commit(); !error.empty()) return failed(error);
         answer["render"] = cmd.name;
         answer["t"] = std::max<int64_t>(0, session_.current());
         answer["width"] = cmd.width;

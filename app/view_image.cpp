@@ -87,7 +87,7 @@ std::string write_view(const render::Scene& scene, sim::OutputFile& out, int wid
   const auto bytes = render::encode_png(std::get<render::Image>(image), &error);
   if (!bytes) return error;
   out.stream().write(reinterpret_cast<const char*>(bytes->data()), static_cast<std::streamsize>(bytes->size()));
-  return out.commit();
+  return {};
 }
 
 }  // namespace dw::app

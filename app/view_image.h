@@ -36,7 +36,8 @@ bool camera_refused(const render::Scene& scene, int width, int height);
 // Draws the scene headless (OSMesa): the picture, or why not (a camera that misses the ensemble).
 std::variant<render::Image, std::string> render_view(const render::Scene& scene, int width, int height);
 
-// Draws the scene headless and writes it as a PNG to `out`, committed; an error message, or empty.
+// Draws the scene headless and writes it as a PNG to `out`, for the caller to commit (or not, when
+// it was stopped meanwhile); an error message, or empty.
 std::string write_view(const render::Scene& scene, sim::OutputFile& out, int width, int height);
 
 }  // namespace dw::app

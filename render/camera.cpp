@@ -153,7 +153,12 @@ std::string camera_misses(const Scene& scene, int width, int height) {
     std::snprintf(text, sizeof text, "%g,%g,%g", double(v.x), double(v.y), double(v.z));
     return std::string(text);
   };
-  const std::string where = "the camera at " + at(c.eye) + " looking at " + at(c.target);
+  // What the user gave, where given: a camera fitted around a given target moves that target.
+  const auto given = [](const std::optional<sim::Vec3>& v, glm::vec3 otherwise) {
+    return v ? glm::vec3((*v)[0], (*v)[1], (*v)[2]) : otherwise;
+  };
+  const std::string where =
+      "the camera at " + at(given(scene.camera_eye, c.eye)) + " looking at " + at(given(scene.camera_target, c.target));
   const std::string ensemble = "the ensemble lies in " + at(b.min) + " to " + at(b.max);
   if (lo.x > hi.x)
     return where + " sees none of the modules (" + ensemble + "): aim it at them, or give no camera to have it fitted";

@@ -118,6 +118,14 @@ std::unique_ptr<OutputFile> OutputFile::open(const std::string& path, std::strin
   } else if (errno != ENOENT) {
     return fail(errno);
   } else {
+    // A new file: its directory must exist as the kernel walks the path, not as the path reads
+    // once normalized (in "nosuch/../x" the kernel stops at "nosuch", while the target resolves
+    // to ./x, which may be an input).
+    const std::filesystem::path given(path);
+    const std::string parent = given.has_parent_path() ? given.parent_path().string() : ".";
+    struct stat dir {};
+    if (::stat(parent.c_str(), &dir) != 0) return fail(errno);
+    if (!S_ISDIR(dir.st_mode)) return fail(ENOTDIR);
     const mode_t mask = ::umask(0);
     ::umask(mask);
     mode = 0666 & ~mask;

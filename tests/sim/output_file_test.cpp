@@ -157,5 +157,29 @@ TEST_F(OutputFileTest, BadPathsAreRefusedWithTheReason) {
   EXPECT_EQ(entries(), 0u);
 }
 
+// A path through a directory that does not exist is refused as the kernel refuses it, even where
+// it reads, once normalized, as a file that exists: "nosuch/../kept.txt" must not replace
+// kept.txt (an input, perhaps).
+TEST_F(OutputFileTest, APathThroughAMissingDirectoryIsRefusedNotNormalizedAway) {
+  std::ofstream(dir_ / "kept.txt") << "input";
+  std::ofstream(dir_ / "plain") << "a file";
+  std::string error;
+  for (const fs::path& through :
+       {dir_ / "nosuch" / ".." / "kept.txt", dir_ / "plain" / ".." / "kept.txt", dir_ / "nosuch" / ".." / "new.txt"}) {
+    error.clear();
+    EXPECT_FALSE(OutputFile::open(through.string(), &error)) << through;
+    EXPECT_FALSE(error.empty()) << through;
+  }
+  EXPECT_EQ(slurp(dir_ / "kept.txt"), "input");
+  EXPECT_EQ(entries(), 2u);
+  // Through a directory that exists, ".." is the kernel's own: the file is written.
+  fs::create_directory(dir_ / "there");
+  auto out = OutputFile::open((dir_ / "there" / ".." / "new.txt").string(), &error);
+  ASSERT_TRUE(out) << error;
+  out->stream() << "new";
+  EXPECT_EQ(out->commit(), "");
+  EXPECT_EQ(slurp(dir_ / "new.txt"), "new");
+}
+
 }  // namespace
 }  // namespace dw::sim
