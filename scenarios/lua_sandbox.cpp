@@ -14,7 +14,6 @@ namespace {
 using namespace std::chrono_literals;
 
 constexpr int kHookEvery = 1000;
-constexpr const char* kGuardsChunk = "=[dwatch sandbox]";
 // Library work is charged one instruction per this many bytes it reads or writes.
 constexpr double kBytesPerInstruction = 16;
 
@@ -169,7 +168,7 @@ std::string location(lua_State* L, int level) {
   lua_Debug at;
   for (; lua_getstack(L, level, &at); ++level) {
     if (!lua_getinfo(L, "Sl", &at) || at.currentline <= 0) continue;
-    if (std::strcmp(at.source, kGuardsChunk) == 0) continue;
+    if (std::strcmp(at.source, LuaSandbox::kHostChunk) == 0) continue;
     return std::string(at.short_src) + ":" + std::to_string(at.currentline) + ": ";
   }
   return "";
@@ -271,11 +270,11 @@ void* LuaSandbox::allocate(void* self_ptr, void* ptr, size_t old_size, size_t ne
     self.bytes_ -= old;
     return nullptr;
   }
-  if (new_size > old && self.bytes_ + (new_size - old) > self.limits_.memory_bytes) {
+  const size_t cap = self.limits_.memory_bytes + (self.in_call_ ? 0 : kHostHeadroom);
+  if (new_size > old && self.bytes_ + (new_size - old) > cap) {
     // Lua collects everything it can and asks again: refused twice, the memory is full of what
     // the script holds, and the call stops.
-    const bool full =
-        new_size > self.limits_.memory_bytes || (ptr == self.refused_ptr_ && new_size == self.refused_size_);
+    const bool full = new_size > cap || (ptr == self.refused_ptr_ && new_size == self.refused_size_);
     self.refused_ptr_ = ptr;
     self.refused_size_ = new_size;
     if (full && self.L_) {
@@ -537,7 +536,7 @@ void LuaSandbox::open_libraries() {
   lua_setfield(L_, -2, "__metatable");
   lua_pop(L_, 2);
 
-  if (luaL_loadbufferx(L_, kGuards, std::strlen(kGuards), kGuardsChunk, "t") != LUA_OK) std::abort();
+  if (luaL_loadbufferx(L_, kGuards, std::strlen(kGuards), LuaSandbox::kHostChunk, "t") != LUA_OK) std::abort();
   lua_pushglobaltable(L_);
   for (const char* name : {LUA_STRLIBNAME, LUA_TABLIBNAME, LUA_UTF8LIBNAME}) lua_getglobal(L_, name);
   lua_pushcfunction(L_, &LuaSandbox::charge);
@@ -579,7 +578,9 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
   const int handler = lua_gettop(L_) - args;
   lua_pushcfunction(L_, &LuaSandbox::describe_error);
   lua_insert(L_, handler);
+  in_call_ = true;
   const int status = lua_pcall(L_, args, results, handler);
+  in_call_ = false;
   lua_remove(L_, handler);
   watchdog.end();
   lua_sethook(L_, nullptr, 0, 0);

@@ -51,6 +51,10 @@ struct LuaLimits {
 
 class LuaSandbox {
  public:
+  // The name of dwatch's own chunks run in the state: a stop inside one is reported at the
+  // script's name, not at a line of dwatch's.
+  static constexpr const char* kHostChunk = "=[dwatch sandbox]";
+
   // `display` names the script in messages. The state's calls are watched by `watchdog` when
   // given (one of the same thread, with the same limits), else by one of its own, made at the
   // first call.
@@ -109,6 +113,11 @@ class LuaSandbox {
   std::string display_;
   lua_State* L_ = nullptr;
   size_t bytes_ = 0;
+  // What dwatch itself does in the state between calls (making the host's tables, pushing a stop's
+  // message after the memory was found full) is not under a protected call, where a refused
+  // allocation is Lua's panic: it may go this far past the cap, which a script cannot reach.
+  static constexpr size_t kHostHeadroom = size_t{1} << 20;
+  bool in_call_ = false;
   int64_t executed_ = 0;
   Stop stop_ = Stop::kNone;
   std::string where_;  // "script.lua:LINE: " of an instruction-budget stop

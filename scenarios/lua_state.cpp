@@ -36,89 +36,98 @@ bool LuaState::declare(Declared& d) {
   return true;
 }
 
-bool LuaState::prepare(const Declared& d) {
-  declared_ = &d;
-  auto index_table = [&](Names which, const std::vector<std::string>& names) {
-    lua_newtable(L_);  // name -> index
-    for (size_t i = 0; i < names.size(); ++i) {
-      lua_pushinteger(L_, lua_Integer(i));
-      lua_setfield(L_, -2, names[i].c_str());
+// bind_host(): the module table, its methods and metatable, and the name tables behind get, set
+// and param, made under a protected call: their size follows the script's declaration, so they
+// may meet the memory cap, which must then be an error, not Lua's panic.
+int LuaState::bind_host(lua_State* L) {
+  LuaState& self = of(L);
+  // Nothing here owns memory a Lua error, unwinding past it, would leave behind.
+  auto index_table = [&](Names which, size_t count, auto name_of) {
+    lua_newtable(L);  // name -> index
+    for (size_t i = 0; i < count; ++i) {
+      const char* name = name_of(i);
+      lua_pushinteger(L, lua_Integer(i));
+      lua_setfield(L, -2, name);
       // The key's own string when Lua interns it (pushed twice, the same address), which the
       // table keeps alive; a longer name is looked up in the table.
-      const char* once = lua_pushstring(L_, names[i].c_str());
-      const char* twice = lua_pushstring(L_, names[i].c_str());
-      names_[which].push_back(once == twice ? once : nullptr);
-      lua_pop(L_, 2);
+      const char* once = lua_pushstring(L, name);
+      const char* twice = lua_pushstring(L, name);
+      self.names_[which].push_back(once == twice ? once : nullptr);
+      lua_pop(L, 2);
     }
-    return lua_gettop(L_);
+    return lua_gettop(L);
   };
-  std::vector<std::string> param_names;
-  for (const auto& [name, value] : d.params) {
-    param_names.push_back(name);
-    param_values_.push_back(value);
-  }
-  const int params = index_table(kParameters, param_names);
-  const int vars = index_table(kVariables, d.vars);
-  lua_pushglobaltable(L_);  // read raw, as declare read them
-  lua_pushliteral(L_, "step");
-  lua_rawget(L_, -2);
-  step_ = luaL_ref(L_, LUA_REGISTRYINDEX);
-  lua_pushliteral(L_, "init");
-  lua_rawget(L_, -2);
-  init_ = luaL_ref(L_, LUA_REGISTRYINDEX);
-  lua_pop(L_, 1);
+  const Declared& d = *self.declared_;
+  const int params = index_table(kParameters, d.params.size(), [&](size_t i) { return d.params[i].first.c_str(); });
+  const int vars = index_table(kVariables, d.vars.size(), [&](size_t i) { return d.vars[i].c_str(); });
+  lua_pushglobaltable(L);  // read raw, as declare read them
+  lua_pushliteral(L, "step");
+  lua_rawget(L, -2);
+  self.step_ = luaL_ref(L, LUA_REGISTRYINDEX);
+  lua_pushliteral(L, "init");
+  lua_rawget(L, -2);
+  self.init_ = luaL_ref(L, LUA_REGISTRYINDEX);
+  lua_pop(L, 1);
 
   // The module: one table, pointed at each module in turn. Its only own fields are id and step,
   // rewritten before every call, so nothing a script writes there outlives the call; the
   // methods sit behind its metatable, and a new field is an error. get and set find variables
   // in their upvalue, param the parameters in its own.
-  lua_createtable(L_, 0, 2);
+  lua_createtable(L, 0, 2);
   for (const char* key : {"id", "step"}) {
-    lua_pushstring(L_, key);
-    lua_pushinteger(L_, 0);
-    lua_rawset(L_, -3);
+    lua_pushstring(L, key);
+    lua_pushinteger(L, 0);
+    lua_rawset(L, -3);
   }
-  lua_createtable(L_, 0, 2);  // its metatable
-  lua_createtable(L_, 0, 8);  // the methods
+  lua_createtable(L, 0, 2);  // its metatable
+  lua_createtable(L, 0, 8);  // the methods
   static constexpr luaL_Reg kByVariable[] = {{"get", &LuaState::get}, {"set", &LuaState::set}, {nullptr, nullptr}};
-  lua_pushvalue(L_, vars);
-  luaL_setfuncs(L_, kByVariable, 1);
-  lua_pushvalue(L_, params);
-  lua_pushcclosure(L_, &LuaState::param, 1);
-  lua_setfield(L_, -2, "param");
+  lua_pushvalue(L, vars);
+  luaL_setfuncs(L, kByVariable, 1);
+  lua_pushvalue(L, params);
+  lua_pushcclosure(L, &LuaState::param, 1);
+  lua_setfield(L, -2, "param");
   // The tables m:inbox and m:neighbors hand out (their upvalues), and the metatable that lets
   // no entry be added to them.
-  lua_createtable(L_, 0, 2);
-  lua_pushcfunction(L_, &LuaState::new_entry);
-  lua_setfield(L_, -2, "__newindex");
-  lua_pushboolean(L_, 0);
-  lua_setfield(L_, -2, "__metatable");
-  read_only_ = luaL_ref(L_, LUA_REGISTRYINDEX);
-  for (int pool = 0; pool < 3; ++pool) lua_newtable(L_);  // kLists, kMessages, kWords
-  lua_pushvalue(L_, -3);
-  lua_pushcclosure(L_, &LuaState::neighbors, 1);
-  lua_setfield(L_, -5, "neighbors");
-  lua_pushliteral(L_, "from");
-  lua_pushliteral(L_, "data");
-  lua_pushcclosure(L_, &LuaState::inbox, 5);
-  lua_setfield(L_, -2, "inbox");
+  lua_createtable(L, 0, 2);
+  lua_pushcfunction(L, &LuaState::new_entry);
+  lua_setfield(L, -2, "__newindex");
+  lua_pushboolean(L, 0);
+  lua_setfield(L, -2, "__metatable");
+  self.read_only_ = luaL_ref(L, LUA_REGISTRYINDEX);
+  for (int pool = 0; pool < 3; ++pool) lua_newtable(L);  // kLists, kMessages, kWords
+  lua_pushvalue(L, -3);
+  lua_pushcclosure(L, &LuaState::neighbors, 1);
+  lua_setfield(L, -5, "neighbors");
+  lua_pushliteral(L, "from");
+  lua_pushliteral(L, "data");
+  lua_pushcclosure(L, &LuaState::inbox, 5);
+  lua_setfield(L, -2, "inbox");
   static constexpr luaL_Reg kMethods[] = {
       {"send", &LuaState::send},         {"broadcast", &LuaState::broadcast}, {"random", &LuaState::random},
       {"position", &LuaState::position}, {"moving", &LuaState::moving},       {"move", &LuaState::move},
       {"pivot", &LuaState::pivot},       {"push", &LuaState::push},           {nullptr, nullptr}};
-  luaL_setfuncs(L_, kMethods, 0);
-  lua_setfield(L_, -2, "__index");
-  lua_pushcfunction(L_, &LuaState::new_field);
-  lua_setfield(L_, -2, "__newindex");
-  lua_pushboolean(L_, 0);
-  lua_setfield(L_, -2, "__metatable");
-  lua_setmetatable(L_, -2);
-  module_ = luaL_ref(L_, LUA_REGISTRYINDEX);
-  lua_pop(L_, 2);  // params, vars
+  luaL_setfuncs(L, kMethods, 0);
+  lua_setfield(L, -2, "__index");
+  lua_pushcfunction(L, &LuaState::new_field);
+  lua_setfield(L, -2, "__newindex");
+  lua_pushboolean(L, 0);
+  lua_setfield(L, -2, "__metatable");
+  lua_setmetatable(L, -2);
+  self.module_ = luaL_ref(L, LUA_REGISTRYINDEX);
+  lua_pop(L, 2);  // params, vars
+  return 0;
+}
+
+bool LuaState::prepare(const Declared& d) {
+  declared_ = &d;
+  for (const auto& [name, value] : d.params) param_values_.push_back(value);
+  lua_pushcfunction(L_, &LuaState::bind_host);
+  if (!call(0, 0)) return failed();
 
   luaL_requiref(L_, LUA_DBLIBNAME, luaopen_debug, 0);  // for kFreeze only: never a global
   const int debug = lua_gettop(L_);
-  if (luaL_loadbufferx(L_, kFreeze, std::strlen(kFreeze), "=dwatch", "t") != LUA_OK) return failed();
+  if (luaL_loadbufferx(L_, kFreeze, std::strlen(kFreeze), LuaSandbox::kHostChunk, "t") != LUA_OK) return failed();
   sandbox_.push_library();
   lua_setupvalue(L_, -2, 1);  // the chunk's _ENV
   lua_pushglobaltable(L_);
@@ -131,7 +140,12 @@ bool LuaState::prepare(const Declared& d) {
   // for each upvalue to check its function and its value (kFreeze's quadruples).
   lua_remove(L_, debug);
   const int checks = lua_gettop(L_);  // the stack's only entry, removed when the slots above are made
-  luaL_checkstack(L_, int(quadruples) + 8, "upvalues to check");
+  // Outside a protected call: lua_checkstack says no where luaL_checkstack would reach Lua's panic.
+  if (quadruples > 4'000'000 || !lua_checkstack(L_, int(quadruples) + 8)) {
+    error_ = "the script holds too many functions and tables to check (" + std::to_string(quadruples / 4) +
+             " upvalues and metamethods)";
+    return false;
+  }
   lua_rawgeti(L_, LUA_REGISTRYINDEX, module_);
   lua_pushliteral(L_, "id");
   lua_pushliteral(L_, "step");
@@ -222,8 +236,16 @@ LuaSandbox::Outcome LuaState::attempt(int function, bool counted) {
 
 // A counted pcall; the error message stays on the stack when false.
 bool LuaState::call(int args, int results) { return sandbox_.call(args, results, true) == LuaSandbox::Outcome::kOk; }
+// A script's error may be megabytes long: what is shown of it is cut, as a watchpoint's line is.
 std::string LuaState::pop_message() {
-  std::string message = lua_type(L_, -1) == LUA_TSTRING ? lua_tostring(L_, -1) : "an error that is not a string";
+  constexpr size_t kShown = 1000;
+  std::string message = "an error that is not a string";
+  if (lua_type(L_, -1) == LUA_TSTRING) {
+    size_t length = 0;
+    const char* text = lua_tolstring(L_, -1, &length);
+    message.assign(text, std::min(length, kShown));
+    if (length > kShown) message += "... (" + std::to_string(length - kShown) + " bytes more)";
+  }
   lua_pop(L_, 1);
   return message;
 }

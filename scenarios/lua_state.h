@@ -170,6 +170,7 @@ class LuaState final : public sim::ProgramScratch {
   bool failed();
   const Check* changed_check();
   static int read_declaration(lua_State* L);
+  static int bind_host(lua_State* L);
 
   // The module API the script calls on `m` (lua_module_api.cpp).
   static int new_field(lua_State* L);

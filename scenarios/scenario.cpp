@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -71,6 +72,9 @@ struct Loader {
   std::string extra;                // diagnostics rendered against other files (watchpoint files)
   std::vector<std::string> inputs;  // the files read besides the scenario (watchpoint files)
   std::vector<ScriptSource> scripts;
+  // The files it names that are FIFOs share one wait: a scenario naming the same FIFO a thousand
+  // times holds dwatch no longer than one naming it once.
+  const std::chrono::steady_clock::time_point fifo_deadline = std::chrono::steady_clock::now() + sim::kFifoWriterWait;
 
   Loader(std::string p, std::string text) : path(p), source(std::move(p), std::move(text)) {}
 
@@ -311,7 +315,9 @@ struct Loader {
   std::optional<std::string> read_beside(TableReader& r, const char* key, const std::string& at, const char* what) {
     inputs.push_back(at);
     std::string error;
-    auto text = sim::read_file(at, &error);
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(fifo_deadline - std::chrono::steady_clock::now());
+    auto text = sim::read_file(at, &error, sim::kMaxTextInput, true, std::max(left, std::chrono::milliseconds(0)));
     if (!text) r.error(key, error + " (" + what + ")");
     return text;
   }

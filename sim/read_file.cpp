@@ -17,6 +17,10 @@ namespace {
 
 std::string reason(const std::string& path, int code) { return "cannot read " + path + ": " + std::strerror(code); }
 
+std::string wait_text(std::chrono::milliseconds wait) {
+  return wait.count() % 1000 == 0 ? std::to_string(wait.count() / 1000) + " s" : std::to_string(wait.count()) + " ms";
+}
+
 // Reads `fd` to its end; nothing with `error` set when it fails, holds more than `max_bytes` or
 // (for text) a NUL byte.
 //
@@ -24,8 +28,12 @@ std::string reason(const std::string& path, int code) { return "cannot read " + 
 // block let go once copied: a string grown by doubling holds up to twice what it read and, while it
 // grows, its old and new buffers together (a trace from a pipe took 10.5 GB before its 7.3 GiB
 // limit refused it). Reading takes the limit and one block; joining, the total and one block.
+// A FIFO (`fifo`: opened without blocking) is read only until the deadline: a writer that sends a
+// byte now and then, or stops, never holds dwatch for longer.
 std::optional<ReadBlocks> read_all(int fd, const std::string& name, std::string* error, size_t max_bytes, bool text,
-                                   size_t expected) {
+                                   size_t expected, bool fifo = false,
+                                   std::chrono::milliseconds fifo_wait = kFifoWriterWait) {
+  const auto deadline = std::chrono::steady_clock::now() + fifo_wait;
   const auto fail = [&](const std::string& why) {
     if (error) *error = "cannot read " + name + ": " + why;
     return std::nullopt;
@@ -45,11 +53,23 @@ std::optional<ReadBlocks> read_all(int fd, const std::string& name, std::string*
     const size_t room = std::min(kBlock - block.size(), size_t(1) << 16);
     const size_t old_size = block.size();
     block.resize(old_size + room);
+    if (fifo) {
+      // Linux reports neither data nor a hang-up on a FIFO no writer has opened yet: poll waits.
+      const auto left =
+          std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      pollfd waiting{fd, POLLIN, 0};
+      const int ready = ::poll(&waiting, 1, int(std::max<int64_t>(0, left.count())));
+      if (ready < 0 && errno != EINTR) return fail(std::strerror(errno));
+      if (ready == 0) {
+        block.resize(old_size);
+        return fail("it is a FIFO that was not written to its end within " + wait_text(fifo_wait));
+      }
+    }
     const ssize_t n = ::read(fd, block.data() + old_size, room);
     block.resize(old_size + size_t(std::max<ssize_t>(n, 0)));
     if (n == 0) break;
     if (n < 0) {
-      if (errno == EINTR) continue;
+      if (errno == EINTR || errno == EAGAIN) continue;
       return fail(std::strerror(errno));
     }
     if (text)
@@ -116,8 +136,9 @@ std::optional<std::string> read_stream(int fd, const std::string& name, std::str
   return joined(read_all(fd, name, error, max_bytes, text, 0));
 }
 
-std::optional<std::string> read_file(const std::string& path, std::string* error, size_t max_bytes, bool text) {
-  return joined(read_file_blocks(path, error, max_bytes, text));
+std::optional<std::string> read_file(const std::string& path, std::string* error, size_t max_bytes, bool text,
+                                     std::chrono::milliseconds fifo_wait) {
+  return joined(read_file_blocks(path, error, max_bytes, text, fifo_wait));
 }
 
 std::optional<ReadBlocks> read_file_blocks(const std::string& path, std::string* error, size_t max_bytes, bool text,
@@ -136,22 +157,8 @@ std::optional<ReadBlocks> read_file_blocks(const std::string& path, std::string*
     ::close(fd);
     return fail(code);
   }
-  if (S_ISFIFO(st.st_mode)) {
-    // Linux reports neither data nor a hang-up on a FIFO no writer has opened yet: poll waits.
-    pollfd waiting{fd, POLLIN, 0};
-    const int ready = ::poll(&waiting, 1, int(fifo_wait.count()));
-    if (ready <= 0) {
-      const int code = errno;
-      ::close(fd);
-      if (ready < 0) return fail(code);
-      if (error)
-        *error = "cannot read " + path + ": it is a FIFO that no program wrote to within " +
-                 (fifo_wait.count() % 1000 == 0 ? std::to_string(fifo_wait.count() / 1000) + " s"
-                                                : std::to_string(fifo_wait.count()) + " ms");
-      return std::nullopt;
-    }
-  }
-  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);  // reads wait for a pipe's writer
+  const bool fifo = S_ISFIFO(st.st_mode);
+  if (!fifo) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);  // reads wait for a pipe's writer
   // A file's size is known before reading it; a pipe's or a device's is not, and the limit
   // stops the reading.
   if (S_ISREG(st.st_mode) && size_t(st.st_size) > max_bytes) {
@@ -161,7 +168,8 @@ std::optional<ReadBlocks> read_file_blocks(const std::string& path, std::string*
                size_text(max_bytes) + " an input of this kind may hold";
     return std::nullopt;
   }
-  auto bytes = read_all(fd, path, error, max_bytes, text, S_ISREG(st.st_mode) ? size_t(st.st_size) : 0);
+  auto bytes =
+      read_all(fd, path, error, max_bytes, text, S_ISREG(st.st_mode) ? size_t(st.st_size) : 0, fifo, fifo_wait);
   ::close(fd);
   return bytes;
 }

@@ -17,12 +17,13 @@ namespace dw::sim {
 
 // A scenario, a session script, a watchpoint file, a Lua script (README, "What bad input gets").
 inline constexpr size_t kMaxTextInput = size_t(8) << 20;
-// How long an input that is a FIFO may wait for a program to write to it.
+// How long an input that is a FIFO may take to be written whole (from its opening to its end).
 inline constexpr std::chrono::milliseconds kFifoWriterWait{10'000};
 
 // The file's bytes, or nothing with `error` set to "cannot read PATH: REASON".
+// A FIFO is read for at most `fifo_wait`.
 std::optional<std::string> read_file(const std::string& path, std::string* error, size_t max_bytes = kMaxTextInput,
-                                     bool text = true);
+                                     bool text = true, std::chrono::milliseconds fifo_wait = kFifoWriterWait);
 // The same for an open stream (standard input), named `name` in the reason.
 std::optional<std::string> read_stream(int fd, const std::string& name, std::string* error,
                                        size_t max_bytes = kMaxTextInput, bool text = true);
@@ -32,7 +33,7 @@ struct ReadBlocks {
   std::vector<std::string> blocks;
   size_t size = 0;
 };
-// A FIFO waits up to `fifo_wait` for a program to write to it.
+// A FIFO is read for at most `fifo_wait`.
 std::optional<ReadBlocks> read_file_blocks(const std::string& path, std::string* error, size_t max_bytes,
                                            bool text = true, std::chrono::milliseconds fifo_wait = kFifoWriterWait);
 // Empty when `path` names a readable file that is not a directory, else "cannot read PATH: REASON".

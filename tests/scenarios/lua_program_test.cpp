@@ -499,6 +499,37 @@ std::string first_step_failure(sim::Model& model, sim::World& world) {
   return "ran through";
 }
 
+// The tables dwatch makes in a script's state from its declaration (the names of its variables)
+// meet the memory cap as the script's own would: the script is refused with the cap's message,
+// where the host's unprotected calls reached Lua's panic and aborted the process (600,000 names
+// under 64 MiB did). Some room above the cap is kept for what dwatch does between calls.
+TEST(LuaProgram, ADeclarationTooLargeForTheMemoryCapIsRefusedNotAborted) {
+  const std::string script =
+      "local t = {}\n"
+      "for i = 1, 20000 do t[i] = 'v' .. i end\n"
+      "program = { vars = t }\n"
+      "function step(m) m:set('v1', 1) end\n";
+  const watch::SourceText source("cap.toml", "");
+  FileDiagnostics diagnostics(source);
+  const toml::table params;
+  TableReader reader(params, diagnostics, "[[program]]");
+  std::string why;
+  // Caps from where the script's own table does not fit to where everything does: some cap in
+  // between meets the host's tables (without their protected call, this aborts).
+  int refused = 0, loaded = 0;
+  for (size_t cap = size_t{1} << 20; cap <= size_t{6} << 20; cap += size_t{1} << 17) {
+    why.clear();
+    if (make_lua_program("x.lua", script, reader, why, {.memory_bytes = cap})) {
+      ++loaded;
+    } else {
+      ++refused;
+      EXPECT_NE(why.find("not enough memory"), std::string::npos) << cap << ": " << why;
+    }
+  }
+  EXPECT_GT(refused, 0);
+  EXPECT_GT(loaded, 0);
+}
+
 // A call the watchdog interrupts runs again counted: what the interrupted try set and sent is
 // taken back, so the run equals one where every call was counted from the start.
 TEST_F(LuaScript, ACallRunAgainAfterTheWatchdogLeavesNoTrace) {

@@ -9,6 +9,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <thread>
 
 namespace dw::sim {
@@ -73,7 +74,7 @@ TEST_F(ReadFile, AFifoWithoutAWriterIsRefusedAfterAWait) {
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   std::string error;
   EXPECT_FALSE(read_file_blocks(fifo.string(), &error, size_t(1) << 20, true, std::chrono::milliseconds(200)));
-  EXPECT_EQ(error, "cannot read " + fifo.string() + ": it is a FIFO that no program wrote to within 200 ms");
+  EXPECT_EQ(error, "cannot read " + fifo.string() + ": it is a FIFO that was not written to its end within 200 ms");
   // A writer that comes within the wait is read from.
   std::thread writer([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -83,6 +84,27 @@ TEST_F(ReadFile, AFifoWithoutAWriterIsRefusedAfterAWait) {
   writer.join();
   ASSERT_TRUE(read) << error;
   EXPECT_EQ(read->blocks.at(0), "late");
+}
+
+// A writer that sends a little and then nothing more (or a byte now and then) holds the reader
+// no longer than a writer that never came: the wait covers the FIFO's whole reading.
+TEST_F(ReadFile, AFifoWhoseWriterStallsIsRefusedAtTheSameWait) {
+  const fs::path fifo = dir_ / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::promise<void> done;
+  std::thread writer([&, finished = done.get_future()] {
+    std::ofstream out(fifo);
+    out << "modules(a);" << std::flush;
+    finished.wait();  // holds the FIFO open, writing nothing
+  });
+  std::string error;
+  const auto started = std::chrono::steady_clock::now();
+  EXPECT_FALSE(read_file_blocks(fifo.string(), &error, size_t(1) << 20, true, std::chrono::milliseconds(300)));
+  const auto took = std::chrono::steady_clock::now() - started;
+  done.set_value();
+  writer.join();
+  EXPECT_EQ(error, "cannot read " + fifo.string() + ": it is a FIFO that was not written to its end within 300 ms");
+  EXPECT_LT(took, std::chrono::seconds(5));
 }
 
 TEST_F(ReadFile, ANulByteIsPlacedAtItsLineAndColumn) {
