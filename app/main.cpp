@@ -10,6 +10,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/interrupts.h"
 #include "app/terminal_filter.h"
 #ifdef DWATCH_MPI
 #include "dist/mpi_exchange.h"
@@ -38,14 +39,14 @@ std::string taken_by_last_option(const CLI::App& app, int argc, char** argv) {
 // bench at once, saying so, with 128 + the signal.
 void end_bench_at_a_signal() {
   struct sigaction action {};
-  action.sa_handler = [](int signal) {
-    const char* what = signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "SIGHUP";
+  action.sa_handler = [](int signal) {  // what it calls is async-signal-safe
+    const char* what = dw::app::Interrupts::name(signal);
     const char* rest = "): stopping at once, with the rows under way; a file not yet complete is not written\n";
     const ssize_t a = ::write(STDERR_FILENO, "dwatch bench: interrupted (", 27);
     const ssize_t b = ::write(STDERR_FILENO, what, std::strlen(what));
     const ssize_t c = ::write(STDERR_FILENO, rest, std::strlen(rest));
     (void)(a + b + c);
-    ::_exit(128 + signal);
+    ::_exit(dw::app::Interrupts::exit_code(signal));
   };
   for (const int s : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(s, &action, nullptr);
 }

@@ -110,16 +110,13 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
     stoppable.emplace(*interrupts);
     control.stop = stoppable->token();
   }
-  // A signal that stopped the stepping, or came while the outputs were made: nothing is written,
-  // and the stretch that follows takes the next. Only the commits, together at the end, are not
-  // stoppable: a signal then ends the process at once, each output complete or as it was.
+  // A signal that stopped the stepping, or came while the outputs were made: nothing is written.
+  // Only the commits, together at the end, are not stoppable: a signal then ends the process at
+  // once, each output complete or as it was.
   const auto interrupted = [&](const std::string& when) {
     const std::optional<int> signal = stoppable ? stoppable->signal() : std::nullopt;
     stoppable.reset();
-    if (!signal) {
-      if (interrupts && !ranks) stoppable.emplace(*interrupts);
-      return 0;
-    }
+    if (!signal) return 0;
     progress.finish();
     errors << "dwatch: run " << args.scenario << " interrupted (" << Interrupts::name(*signal) << ") " << when
            << ": nothing written";
@@ -150,6 +147,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
             interrupted("after " + std::to_string(run.latest() + 1) + " of " + std::to_string(steps) + " steps");
         code != 0)
       return code;
+    if (interrupts && !ranks) stoppable.emplace(*interrupts);  // while the outputs are made
     // A run a pause stopped says so at its trace's end: replayed, its watchpoints find what it
     // found, leaving its last steps undecided as it did.
     if (pause && recorder) recorder->write_paused({model.watches[pause->watch].watchpoint.name, pause->t});
@@ -331,7 +329,6 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
                                    " steps, while its outputs were made");
       code != 0)
     return code;
-  stoppable.reset();
   if (!commit_outputs({record_out.get(), matches_out.get(), stats_out.get(), render_out.get()})) return 1;
   return stopped ? 1 : 0;
 }

@@ -51,8 +51,6 @@ std::optional<ReadBlocks> read_all(int fd, const std::string& name, std::string*
     }
     std::string& block = blocks.back();
     const size_t room = std::min(kBlock - block.size(), size_t(1) << 16);
-    const size_t old_size = block.size();
-    block.resize(old_size + room);
     if (fifo) {
       // Linux reports neither data nor a hang-up on a FIFO no writer has opened yet: poll waits.
       const auto left =
@@ -60,11 +58,10 @@ std::optional<ReadBlocks> read_all(int fd, const std::string& name, std::string*
       pollfd waiting{fd, POLLIN, 0};
       const int ready = ::poll(&waiting, 1, int(std::max<int64_t>(0, left.count())));
       if (ready < 0 && errno != EINTR) return fail(std::strerror(errno));
-      if (ready == 0) {
-        block.resize(old_size);
-        return fail("it is a FIFO that was not written to its end within " + wait_text(fifo_wait));
-      }
+      if (ready == 0) return fail("it is a FIFO that was not written to its end within " + wait_text(fifo_wait));
     }
+    const size_t old_size = block.size();
+    block.resize(old_size + room);
     const ssize_t n = ::read(fd, block.data() + old_size, room);
     block.resize(old_size + size_t(std::max<ssize_t>(n, 0)));
     if (n == 0) break;

@@ -145,9 +145,9 @@ void Session::take_keyframe() {
   head_.bodies = std::move(live);
   const BodySlice* last = body_slices_.empty() ? nullptr : &body_slices_.back();
   const int rank = options_.ranks ? options_.ranks->rank() : 0, ranks = options_.ranks ? options_.ranks->ranks() : 1;
-  body_slices_.emplace_back(head_.bodies, rank, ranks, last);
-  history_bytes_ +=
-      body_slices_.back().bytes_beyond(body_slices_.size() > 1 ? &body_slices_[body_slices_.size() - 2] : nullptr);
+  BodySlice bodies(head_.bodies, rank, ranks, last);  // made before the list may move `last`
+  history_bytes_ += bodies.bytes_beyond(last);
+  body_slices_.push_back(std::move(bodies));
   const double copy_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   history_bytes_ += state_bytes(keyframes_.back());
   if (keyframes_.size() == 1 || keyframes_.back().graph != keyframes_[keyframes_.size() - 2].graph)
