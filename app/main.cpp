@@ -35,6 +35,13 @@ std::string taken_by_last_option(const CLI::App& app, int argc, char** argv) {
   return "";
 }
 
+// "NAME " of the command argv names, or "" (the mistake was before it): for "dwatch NAME --help".
+std::string command_named(const CLI::App& app, int argc, char** argv) {
+  for (const CLI::App* c : app.get_subcommands([](const CLI::App*) { return true; }))
+    if (argc > 1 && c->get_name() == argv[1]) return c->get_name() + " ";
+  return "";
+}
+
 // A bench's rows run in child processes that end with it (app/bench_child.h): a signal ends the
 // bench at once, saying so, with 128 + the signal.
 void end_bench_at_a_signal() {
@@ -111,12 +118,30 @@ int main(int argc, char** argv) {
     std::cerr << "dwatch: error: " << e.what() << taken_by_last_option(app, argc, argv) << "\n";
     return 2;
   } catch (const CLI::ArgumentMismatch& e) {
-    std::cerr << "dwatch: error: " << e.what() << " (the option takes a value and was given none)\n";
+    // An option given twice (CLI11: "At Most 1 required but received 2"), or without its value.
+    const std::string what = e.what();
+    const bool twice = what.find("At Most") != std::string::npos;
+    std::cerr << "dwatch: error: " << what.substr(0, what.find(':'))
+              << (twice ? ": given more than once (give it once)\n"
+                        : what.substr(what.find(':')) + " (the option takes a value and was given none)\n");
     return 2;
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // CLI11's own words ("--steps: 'steps' must be between 0 and 10000000, not -1"), said the way
+    // dwatch says every mistake, with where to look rather than CLI11's "Run with --help".
+    std::cerr << "dwatch: error: " << e.what() << " (dwatch " << command_named(app, argc, argv)
+              << "--help lists what it takes)\n";
+    return 2;
   }
+  // An empty word where an option or a command wants a value names no file, variable or text:
+  // `--matches ''` was taken as no --matches at all, and wrote nothing.
+  for (const CLI::App* c : app.get_subcommands())
+    for (const CLI::Option* o : c->get_options([](const CLI::Option* o) { return o->get_expected_min() > 0; }))
+      for (const std::string& value : o->results())
+        if (value.empty()) {
+          std::cerr << "dwatch: error: " << o->get_name() << ": the value is empty\n";
+          return 2;
+        }
   for (const CLI::App* c : app.get_subcommands()) {
     const std::vector<std::string> extra = c->remaining();
     if (extra.empty()) continue;

@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -74,6 +75,13 @@ std::optional<int64_t> integer(std::string_view s) {
   return v;
 }
 
+// Written as an integer, whatever its size: such a word is a step or a row, and one out of range
+// is told so rather than taken for a name.
+bool integer_word(std::string_view s) {
+  if (!s.empty() && (s[0] == '-' || s[0] == '+')) s.remove_prefix(1);
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
 std::optional<double> real(std::string_view s) {
   double v = 0;
   const auto [end, error] = std::from_chars(s.data(), s.data() + s.size(), v);
@@ -127,6 +135,13 @@ std::vector<watch::Diagnostic> unknown_variables(const sim::Model& model, const 
   return mistakes;
 }
 
+std::string session_word(const std::string& word) {
+  const bool plain = !word.empty() && word[0] != '"' && std::none_of(word.begin(), word.end(), [](char c) {
+    return c == '#' || std::isspace(static_cast<unsigned char>(c));
+  });
+  return plain ? word : '"' + word + '"';
+}
+
 const std::vector<std::string>& session_command_help() {
   static const std::vector<std::string> help = [] {
     std::vector<std::string> lines;
@@ -143,23 +158,36 @@ const std::vector<std::string>& session_command_help() {
 SessionShell::SessionShell(const scenarios::Scenario& scenario, sim::Session& session)
     : scenario_(scenario), session_(session) {}
 
-// command := NAME ARG* ('#' comment)?      one a line; see kCommands for each command's arguments
+// command := NAME WORD* ('#' comment)?      one a line; see kCommands for each command's arguments
+// WORD    := [^ \t#]+ | '"' [^"\n]* '"'      a quoted word (a file's name with spaces, or a '#')
+//                                            anywhere but in `watch`, whose text is the rest of the line
 std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> SessionShell::parse(
     const watch::SourceText& source, uint32_t begin, uint32_t line) {
   const std::string& text = source.text();
   uint32_t end = begin;
   while (end < text.size() && text[end] != '\n') ++end;
-  uint32_t stop = begin;  // the command's end: before a comment
-  while (stop < end && text[stop] != '#') ++stop;
+  uint32_t stop = end;  // the command's end: before a comment
   std::vector<Token> tokens;
-  for (uint32_t i = begin; i < stop;) {
+  for (uint32_t i = begin; i < end;) {
     if (std::isspace(static_cast<unsigned char>(text[i]))) {
       ++i;
       continue;
     }
+    if (text[i] == '"' && !(tokens.size() > 0 && tokens[0].text == "watch")) {
+      const size_t close = std::string_view(text).substr(0, end).find('"', i + 1);
+      if (close == std::string_view::npos)
+        return std::vector<watch::Diagnostic>{{{i, i + 1}, "a quoted word ends with '\"' on its line"}};
+      tokens.push_back({std::string_view(text).substr(i + 1, close - i - 1), {i, static_cast<uint32_t>(close + 1)}});
+      i = static_cast<uint32_t>(close + 1);
+      continue;
+    }
     uint32_t j = i;
-    while (j < stop && !std::isspace(static_cast<unsigned char>(text[j]))) ++j;
-    tokens.push_back({std::string_view(text).substr(i, j - i), {i, j}});
+    while (j < end && text[j] != '#' && !std::isspace(static_cast<unsigned char>(text[j]))) ++j;
+    if (j > i) tokens.push_back({std::string_view(text).substr(i, j - i), {i, j}});
+    if (j < end && text[j] == '#') {
+      stop = j;
+      break;
+    }
     i = j;
   }
   if (tokens.empty()) return std::optional<SessionCommand>{};
@@ -217,7 +245,7 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
         if (tokens[i].text == "--to-match" && cmd.name.empty()) {
           if (i + 1 == tokens.size()) return fail(after_last, "--to-match needs a watchpoint's name");
           cmd.name = tokens[++i].text;
-        } else if (!cmd.number && integer(tokens[i].text)) {
+        } else if (!cmd.number && integer_word(tokens[i].text)) {
           cmd.number = number(i, 0, kMaxStep, "T");
           if (!cmd.number) return mistakes;
         } else {
@@ -339,8 +367,10 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
     case Kind::Matches:
       if (!want(0, 2)) return mistakes;
       for (size_t i = 1; i < tokens.size(); ++i) {
-        if (integer(tokens[i].text)) cmd.number = number(i, 0, kMaxStep, "T");
-        else if (i == 1) cmd.name = tokens[i].text;
+        if (integer_word(tokens[i].text)) {
+          cmd.number = number(i, 0, kMaxStep, "T");
+          if (!cmd.number) return mistakes;
+        } else if (i == 1) cmd.name = tokens[i].text;
         else return usage(tokens[i].span);
       }
       break;
@@ -621,8 +651,9 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
       case Kind::Save: {
         if (cmd.name == "-") return failed("save needs a file name");
         struct stat st {};
-        if (!cmd.overwrite && ::lstat(cmd.name.c_str(), &st) == 0)
-          return failed(cmd.name + " exists; 'save " + cmd.name + " overwrite' replaces it");
+        // A folder is no file to overwrite: opening it says so ("Is a directory").
+        if (!cmd.overwrite && ::lstat(cmd.name.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
+          return failed(cmd.name + " exists; 'save " + session_word(cmd.name) + " overwrite' replaces it");
         std::string why;
         const std::optional<std::string> text = scenarios::saved_scenario(scenario_, session_, cmd.name, &why);
         if (!text) return failed(why);

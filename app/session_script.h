@@ -75,6 +75,10 @@ sim::SessionOptions session_options(const scenarios::Scenario& scenario, const S
 // A mistake for each variable the watchpoint reads that no program of the model has.
 std::vector<watch::Diagnostic> unknown_variables(const sim::Model& model, const watch::Watchpoint& watchpoint);
 
+// `word` as one word of a command line: in double quotes when it holds a space or a '#' (a file's
+// name; one holding a double quote cannot be said).
+std::string session_word(const std::string& word);
+
 // The commands, one line each, as `help` answers them.
 const std::vector<std::string>& session_command_help();
 

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <optional>
 #include <vector>
 
 namespace dw::render {
@@ -20,6 +22,24 @@ void fit_depth(Camera& c, const Bounds& b) {
   const float reach = b.radius() * 4 + 4;
   c.near_plane = std::max(0.05f, (distance - reach) * 0.5f);
   c.far_plane = distance + reach;
+}
+
+// The module whose shape, grown by the near plane's distance (what the camera clips), holds the
+// eye: from there the view shows the inside of its faces, a tinted picture of nothing.
+std::optional<sim::ModuleId> module_around(const Scene& scene, glm::vec3 eye, float near_plane) {
+  const float half = 0.5f + near_plane;
+  for (const SceneModule& m : scene.modules) {
+    const auto& q = m.pose.orientation;
+    const glm::vec3 local = glm::inverse(glm::quat(q[3], q[0], q[1], q[2])) *
+                            (eye - glm::vec3(m.pose.position[0], m.pose.position[1], m.pose.position[2]));
+    const float radial = glm::length(glm::vec2(local));
+    const bool inside = scene.module_shape == Shape::Sphere ? glm::length(local) < half
+                        : scene.module_shape == Shape::Cylinder
+                            ? radial < half && std::abs(local.z) < half
+                            : glm::all(glm::lessThan(glm::abs(local), glm::vec3(half)));
+    if (inside) return m.id;
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -148,6 +168,7 @@ std::string camera_misses(const Scene& scene, int width, int height) {
     hi = glm::max(hi, glm::min(ndc + reach, glm::vec2(1)));
   }
   const Bounds b = scene_bounds(scene);
+  const std::optional<sim::ModuleId> around = module_around(scene, c.eye, c.near_plane);
   auto at = [](glm::vec3 v) {
     char text[96];
     std::snprintf(text, sizeof text, "%g,%g,%g", double(v.x), double(v.y), double(v.z));
@@ -160,6 +181,9 @@ std::string camera_misses(const Scene& scene, int width, int height) {
   const std::string where =
       "the camera at " + at(given(scene.camera_eye, c.eye)) + " looking at " + at(given(scene.camera_target, c.target));
   const std::string ensemble = "the ensemble lies in " + at(b.min) + " to " + at(b.max);
+  if (around)
+    return where + " is inside module " + std::to_string(*around) + " (" + ensemble +
+           "): move it out, or give no camera to have it fitted";
   if (lo.x > hi.x)
     return where + " sees none of the modules (" + ensemble + "): aim it at them, or give no camera to have it fitted";
   const float pixels = std::max((hi.x - lo.x) * float(width), (hi.y - lo.y) * float(height)) * 0.5f;

@@ -130,8 +130,7 @@ void Debugger::refresh_frame() {
         status(a.line + ": " + a.error, true);
         model_.playing = false;
         // A save that would overwrite a file: the panel asks before sending it again.
-        if (a.line.rfind("save ", 0) == 0 && a.error.find(" exists; ") != std::string::npos)
-          save_refused_ = a.line.substr(5);
+        if (a.line.rfind("save ", 0) == 0 && a.error.find(" exists; ") != std::string::npos) save_refused_ = save_sent_;
         continue;
       }
       // A pause, or the match a run was asked to stop at: the group is shown the same way.

@@ -231,6 +231,7 @@ class Debugger {
   std::vector<std::string> cut_labels_, drawing_cut_labels_;  // the last frame's / this frame's
   std::string scroll_to_;     // a widget out of sight that `press` scrolls its panel to, as a person would
   char save_path_[256] = "";  // "Save as scenario": where (`save FILE`)
+  std::string save_sent_;     // the file of the last `save` sent
   std::string save_refused_;  // the file a `save` would have overwritten, asking to confirm
   int64_t set_value_ = 0;
   float push_[3] = {0, 0, 5};

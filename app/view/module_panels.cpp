@@ -110,12 +110,13 @@ void Debugger::inspector_panel() {
   ImGui::SameLine();
   if (button("save as scenario", true)) {
     save_refused_.clear();
-    apply({std::string("save ") + save_path_});
+    save_sent_ = save_path_;
+    apply({command::save(save_path_, false)});
   }
   if (!save_refused_.empty() && save_refused_ == save_path_) {
     ImGui::SameLine();
     if (button("overwrite it", true)) {
-      apply({"save " + save_refused_ + " overwrite"});
+      apply({command::save(save_refused_, true)});
       save_refused_.clear();
     }
   }
@@ -123,7 +124,7 @@ void Debugger::inspector_panel() {
   ImGui::InputText("##record", record_path_, sizeof record_path_);
   note_widget("trace-file");
   ImGui::SameLine();
-  if (button("record trace", true)) apply({std::string("record ") + record_path_});
+  if (button("record trace", true)) apply({command::record(record_path_)});
   ImGui::End();
 }
 

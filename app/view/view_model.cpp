@@ -1,5 +1,7 @@
 #include "app/view/view_model.h"
 
+#include "app/session_script.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -383,6 +385,10 @@ std::string watch(std::string_view name, std::string_view options, std::string_v
   return "watch " + std::string(name) + " " + (options.empty() ? "" : std::string(options) + " ") + flat;
 }
 std::string unwatch(std::string_view name) { return "unwatch " + std::string(name); }
+std::string save(const std::string& file, bool overwrite) {
+  return "save " + app::session_word(file) + (overwrite ? " overwrite" : "");
+}
+std::string record(const std::string& file) { return "record " + app::session_word(file); }
 }  // namespace command
 
 std::vector<std::string> ViewModel::on_key(Key key, const Position& at, std::span<const int64_t> chosen_steps,

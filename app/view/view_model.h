@@ -161,6 +161,8 @@ std::string push(sim::ModuleId m, glm::vec3 impulse);
 std::string watch(std::string_view name, std::string_view options, std::string_view text);
 std::string unwatch(std::string_view name);
 std::string reload();
+std::string save(const std::string& file, bool overwrite);
+std::string record(const std::string& file);
 }  // namespace command
 
 class ViewModel {

@@ -285,12 +285,12 @@ KeyboardInterrupt. Use a Session from one thread at a time (another thread may u
       .def(
           "save",
           [](Session& s, const std::string& path, bool overwrite) {
-            return s.command("save " + path + (overwrite ? " overwrite" : ""));
+            return s.command("save " + app::session_word(path) + (overwrite ? " overwrite" : ""));
           },
           py::arg("path"), py::arg("overwrite") = false, "This session as a scenario file.")
       .def(
-          "record", [](Session& s, const std::string& path) { return s.command("record " + path); }, py::arg("path"),
-          "The trace of steps 0..latest (wptrace v1).")
+          "record", [](Session& s, const std::string& path) { return s.command("record " + app::session_word(path)); },
+          py::arg("path"), "The trace of steps 0..latest (wptrace v1).")
       .def_property_readonly(
           "current", [](const Session& s) { return s.session().current(); }, "The step shown (-1 before the first).")
       .def_property_readonly(

@@ -141,7 +141,7 @@ def test_save_writes_a_scenario_the_session_loads_again(leaders, tmp_path):
     s.action("two_leaders", "log")
     s.run(5)
     s.set(3, "isLeader", 1)
-    saved = tmp_path / "branch.toml"
+    saved = tmp_path / "my branch #2.toml"  # a space and a '#': sent quoted
     assert s.save(str(saved))["save"] == str(saved)
     with pytest.raises(dwatch.CommandError, match="overwrite"):
         s.save(str(saved))

@@ -178,6 +178,23 @@ TEST_F(Cli, BadOptionsAreBadInput) {
   EXPECT_EQ(valueless.code, 2);
   EXPECT_NE(valueless.err.find("dwatch: error: --max-live: 1 required"), std::string::npos) << valueless.err;
   EXPECT_NE(valueless.err.find("takes a value and was given none"), std::string::npos) << valueless.err;
+  // CLI11's own checks are said as every mistake is, pointing at the command's --help.
+  const Result negative = run("run a.toml --steps -1");
+  EXPECT_EQ(negative.code, 2);
+  EXPECT_EQ(negative.err,
+            "dwatch: error: --steps: 'steps' must be between 0 and 10000000, not -1 (dwatch run --help lists what it "
+            "takes)\n");
+  const Result bench = run("bench nosuch");
+  EXPECT_EQ(bench.code, 2);
+  EXPECT_EQ(bench.err.rfind("dwatch: error: name: nosuch not in {", 0), 0u) << bench.err;
+  EXPECT_NE(bench.err.find("(dwatch bench --help lists what it takes)"), std::string::npos) << bench.err;
+  const Result twice = run("run a.toml --steps 5 --steps 6");
+  EXPECT_EQ(twice.code, 2);
+  EXPECT_EQ(twice.err, "dwatch: error: --steps: given more than once (give it once)\n");
+  // An empty value names no file: it was taken as no --matches at all, and nothing was written.
+  const Result empty = run("run a.toml --matches ''");
+  EXPECT_EQ(empty.code, 2);
+  EXPECT_EQ(empty.err, "dwatch: error: --matches: the value is empty\n");
 }
 
 }  // namespace

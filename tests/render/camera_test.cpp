@@ -130,6 +130,24 @@ TEST(Camera, ACameraThatMissesTheEnsembleSaysWhy) {
   EXPECT_EQ(camera_misses(s, 640, 480), "");
 }
 
+// An eye inside a module draws the inside of its faces: refused, naming the module. Just outside
+// its face, the module fills the view and is drawn.
+TEST(Camera, AnEyeInsideAModuleIsRefusedNamingIt) {
+  Scene s = test::block(4, 4, 1);
+  s.camera_target = sim::Vec3{3, 3, 0};
+  s.camera_eye = sim::Vec3{0.1f, 0.1f, 0.1f};
+  EXPECT_NE(camera_misses(s, 640, 480).find("is inside module 0 "), std::string::npos) << camera_misses(s, 640, 480);
+  s.camera_eye = sim::Vec3{2.3f, 1.2f, 0.4f};  // module 6, at (2, 1, 0)
+  EXPECT_NE(camera_misses(s, 640, 480).find("is inside module 6 "), std::string::npos) << camera_misses(s, 640, 480);
+  s.camera_eye = sim::Vec3{1.5f, 1.5f, 0.8f};  // above the sheet, between four modules
+  EXPECT_EQ(camera_misses(s, 640, 480), "");
+  // A module turned 45 degrees about z reaches 0.707 along x: an eye at 0.6 is inside it.
+  s.modules[0].pose.orientation = {0, 0, std::sin(0.3927f), std::cos(0.3927f)};
+  s.camera_eye = sim::Vec3{-0.6f, 0, 0};
+  s.camera_target = sim::Vec3{-5, 0, 0};
+  EXPECT_NE(camera_misses(s, 640, 480).find("is inside module 0 "), std::string::npos) << camera_misses(s, 640, 480);
+}
+
 // A target given alone moves the fitted camera, whose eye is derived from it (make_camera): that
 // camera is checked too, as a target far off draws nothing.
 TEST(Camera, ATargetAloneIsCheckedWithTheEyeFittedToIt) {

@@ -367,14 +367,16 @@ TEST_F(Window, ScriptsPressButtonsAndTypeIntoFieldsAsAPersonDoes) {
                                   "panel watchpoints\n"
                                   "type matches-file m.jsonl\n"
                                   "press save the matches\n"
-                                  "type scenario-file saved.toml\n"
+                                  "type scenario-file saved scenario.toml\n"  // sent quoted
                                   "press save as scenario\n"
                                   "expect-failure seek 500\n"
                                   "screenshot fail.png\n"
-                                  "expect-failure press Launch\n",
+                                  "expect-failure press Launch\n"
+                                  "press save as scenario\n"  // the file is there now
+                                  "press overwrite it\n",
                               true);
   ASSERT_EQ(view.exit_code, 0) << view.err;
-  ASSERT_EQ(view.answers.size(), 12u) << view.err;
+  ASSERT_EQ(view.answers.size(), 14u) << view.err;
   EXPECT_EQ(view.answers[3]["button"], "Add");
   // The watchpoint typed and added is the session's own: the same matches as `watch` there.
   const Outcome session =
@@ -391,7 +393,7 @@ TEST_F(Window, ScriptsPressButtonsAndTypeIntoFieldsAsAPersonDoes) {
   EXPECT_EQ(lines.size(), session.answers[2]["count"].get<size_t>());
   EXPECT_EQ(view.answers[6]["status"], "saved " + std::to_string(lines.size()) + " matches -> m.jsonl");
   // The scenario saved from the window has both watchpoints.
-  const Outcome reloaded = dwatch("session saved.toml", "status\n", false);
+  const Outcome reloaded = dwatch("session 'saved scenario.toml'", "status\n", false);
   ASSERT_EQ(reloaded.exit_code, 0) << reloaded.err;
   ASSERT_EQ(reloaded.answers[0]["watches"].size(), 2u);
   EXPECT_EQ(reloaded.answers[0]["watches"][1]["name"], "both");
@@ -407,6 +409,13 @@ TEST_F(Window, ScriptsPressButtonsAndTypeIntoFieldsAsAPersonDoes) {
   // A button the window does not have: the failure lists those it has.
   EXPECT_NE(view.answers[11]["failed"].get<std::string>().find("no button 'Launch' is in the window now (there are: "),
             std::string::npos);
+  // Saving again asks first; the button that confirms it names the file, spaces and all.
+  EXPECT_NE(view.answers[12]["status"].get<std::string>().find(
+                "saved scenario.toml exists; 'save \"saved scenario.toml\" overwrite' replaces it"),
+            std::string::npos)
+      << view.answers[12];
+  EXPECT_EQ(view.answers[13]["status"].get<std::string>().rfind("saved the session as saved scenario.toml (", 0), 0u)
+      << view.answers[13];
 
   // A command expected to fail that goes through stops the script.
   const Outcome wrong = dwatch("view " + kLeader, "expect-failure step 1\nhash\n", true);
