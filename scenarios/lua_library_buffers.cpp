@@ -45,7 +45,7 @@ int LuaSandbox::buffered(lua_State* L) {
       lua_insert(L, -2);
       return 2;
     }
-    if (attempt == 2) stop(L, Stop::kMemory, 0);
+    if (attempt == 2) stop(L, s.refused_why_, 0);
     lua_settop(L, n);
     lua_gc(L, LUA_GCCOLLECT);
     for (int i = 2; i <= n; ++i) {

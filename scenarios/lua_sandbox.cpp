@@ -251,6 +251,7 @@ LuaSandbox::LuaSandbox(const std::string& display, const LuaLimits& limits, LuaW
 LuaSandbox::~LuaSandbox() {
   own_watchdog_.reset();
   if (L_) lua_close(L_);
+  if (limits_.pool) limits_.pool->give_back(pooled_);
 }
 
 LuaSandbox& LuaSandbox::of(lua_State* L) {
@@ -268,27 +269,51 @@ void* LuaSandbox::allocate(void* self_ptr, void* ptr, size_t old_size, size_t ne
   if (new_size == 0) {
     std::free(ptr);
     self.bytes_ -= old;
+    self.return_to_pool();
     return nullptr;
   }
   const size_t cap = self.limits_.memory_bytes + (self.in_call_ ? 0 : kHostHeadroom);
-  if (new_size > old && self.bytes_ + (new_size - old) > cap) {
+  const size_t wanted = self.bytes_ - old + new_size;
+  const bool over_cap = new_size > old && wanted > cap;
+  if (over_cap || (new_size > old && !self.take_from_pool(wanted))) {
     // Lua collects everything it can and asks again: refused twice, the memory is full of what
-    // the script holds, and the call stops.
+    // the script holds (or the run's states hold), and the call stops.
     const bool full = new_size > cap || (ptr == self.refused_ptr_ && new_size == self.refused_size_);
     self.refused_ptr_ = ptr;
     self.refused_size_ = new_size;
+    self.refused_why_ = over_cap ? Stop::kMemory : Stop::kPool;
     if (full && self.L_) {
-      if (self.stop_ == Stop::kNone) self.stop_ = Stop::kMemory;
+      if (self.stop_ == Stop::kNone) self.stop_ = self.refused_why_;
       lua_sethook(self.L_, &LuaSandbox::stop_hook, LUA_MASKCOUNT, 1);
     }
     return nullptr;
   }
   void* p = std::realloc(ptr, new_size);
   if (p) {
-    self.bytes_ = self.bytes_ - old + new_size;
+    self.bytes_ = wanted;
     self.refused_size_ = 0;
   }
+  self.return_to_pool();
   return p;
+}
+
+// Granules enough for `bytes`, from the run's pool: dwatch's own work between calls takes them
+// whatever the pool holds (it must not fail; a script's next call is refused instead).
+bool LuaSandbox::take_from_pool(size_t bytes) {
+  if (!limits_.pool || bytes <= pooled_) return true;
+  const size_t more =
+      (bytes - pooled_ + LuaMemoryPool::kGranule - 1) / LuaMemoryPool::kGranule * LuaMemoryPool::kGranule;
+  if (!limits_.pool->take(more, !in_call_)) return false;
+  pooled_ += more;
+  return true;
+}
+
+// Granules beyond one spare go back to the pool, for the run's other states.
+void LuaSandbox::return_to_pool() {
+  if (!limits_.pool || pooled_ <= bytes_ + 2 * LuaMemoryPool::kGranule) return;
+  const size_t keep = (bytes_ / LuaMemoryPool::kGranule + 2) * LuaMemoryPool::kGranule;
+  limits_.pool->give_back(pooled_ - keep);
+  pooled_ = keep;
 }
 
 void LuaSandbox::count_hook(lua_State* L, lua_Debug*) {
@@ -591,7 +616,7 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
   if (stop_ == Stop::kNone && lua_type(L_, -1) == LUA_TSTRING) {
     constexpr std::string_view kOutOfMemory = "not enough memory";
     const std::string_view text = lua_tostring(L_, -1);
-    if (text.ends_with(kOutOfMemory)) stop_ = Stop::kMemory;
+    if (text.ends_with(kOutOfMemory)) stop_ = refused_why_;
   }
   // Uncounted, a stop says only that the call went far: the counted run decides, so that what a
   // call does never depends on the machine's speed.
@@ -635,8 +660,12 @@ void LuaSandbox::push_stop_message(Stop why) {
   const std::string message =
       why == Stop::kMemory ? display_ + ": not enough memory: a script's Lua state may hold at most " +
                                  sim::size_text(limits_.memory_bytes)
-                           : (where_.empty() ? display_ + ": " : where_) + "ran more than " +
-                                 std::to_string(limits_.instructions) + " instructions in one call (an endless loop?)";
+      : why == Stop::kPool
+          ? display_ + ": not enough memory: the run's Lua states (one per script per stepping thread) may hold " +
+                sim::size_text(limits_.pool->limit()) +
+                " together, what this machine had available beyond the scenario's memory estimate"
+          : (where_.empty() ? display_ + ": " : where_) + "ran more than " + std::to_string(limits_.instructions) +
+                " instructions in one call (an endless loop?)";
   lua_pushstring(L_, message.c_str());
 }
 

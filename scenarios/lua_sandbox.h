@@ -17,7 +17,8 @@
 //   - the instruction budget, counted only when a call is run counted (see LuaWatchdog);
 //   - the memory cap of the state, reached when an allocation does not fit even after a full
 //     collection (a library function building its result in lauxlib's buffer, which asks the
-//     allocator without collecting first, is tried again after one);
+//     allocator without collecting first, is tried again after one); the same for the run's
+//     pool, shared by all its states (scenarios/lua_memory_pool.h);
 //   - the deadline: a counted call still running after it is stopped, for work the count cannot
 //     see (comparing two long strings is one instruction).
 #pragma once
@@ -28,6 +29,7 @@
 #include <memory>
 #include <string>
 
+#include "scenarios/lua_memory_pool.h"
 #include "scenarios/lua_watchdog.h"
 
 namespace dw::scenarios {
@@ -47,6 +49,8 @@ struct LuaLimits {
   // Program messages one init/step call may send (a broadcast sends one per neighbour): what a
   // module's outbox may hold stays in proportion to the ensemble.
   uint32_t messages = 65'536;
+  // Shared by every state of a run (one per script per stepping thread); none: no shared limit.
+  std::shared_ptr<LuaMemoryPool> pool;
 };
 
 class LuaSandbox {
@@ -84,7 +88,7 @@ class LuaSandbox {
   Outcome call(int args, int results, bool counted);
 
  private:
-  enum class Stop { kNone, kInstructions, kMemory };
+  enum class Stop { kNone, kInstructions, kMemory, kPool };
   static void* allocate(void* self, void* ptr, size_t old_size, size_t new_size);
   static void count_hook(lua_State* L, lua_Debug*);
   static void stop_hook(lua_State* L, lua_Debug*);
@@ -105,6 +109,8 @@ class LuaSandbox {
   static int replaying(lua_State* L);
   static int replacement(lua_State* L);
   static int describe_error(lua_State* L);
+  bool take_from_pool(size_t bytes);
+  void return_to_pool();
   void open_libraries();
   void push_stop_message(Stop why);
   std::chrono::milliseconds tick() const;  // of the watchdog
@@ -113,6 +119,7 @@ class LuaSandbox {
   std::string display_;
   lua_State* L_ = nullptr;
   size_t bytes_ = 0;
+  size_t pooled_ = 0;  // taken from limits_.pool: bytes_ rounded up to granules, and one more at most
   // What dwatch itself does in the state between calls (making the host's tables, pushing a stop's
   // message after the memory was found full) is not under a protected call, where a refused
   // allocation is Lua's panic: it may go this far past the cap, which a script cannot reach.
@@ -125,6 +132,7 @@ class LuaSandbox {
   // means the memory is truly full.
   const void* refused_ptr_ = nullptr;
   size_t refused_size_ = 0;
+  Stop refused_why_ = Stop::kMemory;  // what refused it: the state's cap or the run's pool
   int guards_ = LUA_NOREF;
   int library_ = LUA_NOREF;
   LuaWatchdog* watchdog_ = nullptr;

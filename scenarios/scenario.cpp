@@ -74,6 +74,7 @@ struct Loader {
   std::vector<ScriptSource> scripts;
   // The files it names that are FIFOs share one wait: a scenario naming the same FIFO a thousand
   // times holds dwatch no longer than one naming it once.
+  const std::shared_ptr<LuaMemoryPool> lua_memory = std::make_shared<LuaMemoryPool>();
   const std::chrono::steady_clock::time_point fifo_deadline = std::chrono::steady_clock::now() + sim::kFifoWriterWait;
 
   Loader(std::string p, std::string text) : path(p), source(std::move(p), std::move(text)) {}
@@ -335,7 +336,9 @@ struct Loader {
     if (!text) return nullptr;
     std::string why;
     ScriptSource source{index, *script, at, {}};
-    auto program = make_lua_program(*script, *text, r, why, {}, &source.params);  // named as the scenario names it
+    LuaLimits limits;
+    limits.pool = lua_memory;
+    auto program = make_lua_program(*script, *text, r, why, limits, &source.params);  // named as the scenario names it
     r.finish();
     if (program) scripts.push_back(std::move(source));
     if (!program && !why.empty()) {
@@ -572,12 +575,16 @@ struct Loader {
     // theirs), the estimate again, before the model is built.
     uint64_t variables = 0;
     for (const auto& p : *progs) variables += p->variables().size();
-    if (const uint64_t modules = built_lattice->spec.module_count();
-        overrides.memory_limit > 0 &&
-        memory_estimate(modules, physics_on, s.history_mb, variables) > overrides.memory_limit) {
-      diagnostics.add(doc.get("program")->source(),
-                      memory_refusal(modules, physics_on, s.history_mb, overrides.memory_limit, variables));
-      return diagnostics.format();
+    if (overrides.memory_limit > 0) {
+      const uint64_t modules = built_lattice->spec.module_count();
+      const uint64_t estimate = memory_estimate(modules, physics_on, s.history_mb, variables);
+      if (estimate > overrides.memory_limit) {
+        diagnostics.add(doc.get("program")->source(),
+                        memory_refusal(modules, physics_on, s.history_mb, overrides.memory_limit, variables));
+        return diagnostics.format();
+      }
+      // The scripts' states take what is left, and at least what one of them may hold.
+      lua_memory->set_limit(std::max<uint64_t>(overrides.memory_limit - estimate, LuaLimits{}.memory_bytes));
     }
     auto built = sim::build_model(std::move(*built_lattice), std::move(*progs), std::move(*hosted),
                                   overrides.seed.value_or(static_cast<uint64_t>(seed.value_or(1))));
@@ -588,6 +595,7 @@ struct Loader {
     s.model = std::move(std::get<std::unique_ptr<sim::Model>>(built));
     s.inputs.insert(s.inputs.end(), inputs.begin(), inputs.end());
     s.scripts = std::move(scripts);
+    s.lua_memory = lua_memory;
     // A variable no program has would read as unknown forever: the watchpoint could never match.
     // The error points at the variable where it is first read, in the scenario or the watch file.
     for (size_t w = 0; w < s.model->watches.size(); ++w) {
@@ -644,7 +652,10 @@ std::variant<std::vector<std::string>, std::string> reload_scripts(const Scenari
     std::string why;
     auto text = sim::read_file(source.file, &why);
     if (!text) return why;
-    std::shared_ptr<const sim::HostProgram> program = make_lua_program(source.display, *text, source.params, why);
+    LuaLimits limits;
+    limits.pool = scenario.lua_memory;
+    std::shared_ptr<const sim::HostProgram> program =
+        make_lua_program(source.display, *text, source.params, why, limits);
     if (!program) return why;
     names.emplace_back(program->name());
     loaded.push_back({source.program, std::move(program)});

@@ -66,6 +66,7 @@
 #include <utility>
 #include <variant>
 
+#include "scenarios/lua_memory_pool.h"
 #include "sim/intervention.h"
 #include "sim/model.h"
 #include "sim/session.h"
@@ -99,6 +100,8 @@ struct Scenario {
   unsigned threads = 1;
   ViewSettings view;
   std::vector<ScriptSource> scripts;
+  // What the scripts' Lua states may hold together, shared by those reloaded.
+  std::shared_ptr<LuaMemoryPool> lua_memory = std::make_shared<LuaMemoryPool>();
 };
 
 // Loads the scenario's scripts again from their files (they changed) and runs each in place of

@@ -530,6 +530,41 @@ TEST(LuaProgram, ADeclarationTooLargeForTheMemoryCapIsRefusedNotAborted) {
   EXPECT_GT(loaded, 0);
 }
 
+// Every Lua state of a run (one per script per stepping thread) takes from one pool, what the
+// machine had beyond the scenario's estimate: a state the pool cannot hold is refused saying so,
+// however far below its own cap it is, and states give their memory back when they go.
+TEST_F(LuaScript, TheRunsLuaStatesTogetherStayWithinTheirSharedPool) {
+  const std::string script =
+      "program = { vars = { \"v\" } }\n"
+      "big = {}\n"
+      "for i = 1, 12000 do big[i] = string.rep('x', 1000) .. i end\n"  // about 12 MiB a state
+      "function step(m) m:set(\"v\", #big) end\n";
+  auto loaded = load(script);
+  ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+  Scenario& s = std::get<Scenario>(loaded);
+  EXPECT_EQ(s.lua_memory->used(), 0u) << "the state that checked the script gave its memory back";
+  s.lua_memory->set_limit(size_t{20} << 20);
+  {
+    sim::Session one(*s.model, *s.world, {.threads = 1});
+    one.run_until(2);
+    EXPECT_EQ(one.state().values[0], 12000);
+    EXPECT_GT(s.lua_memory->used(), size_t{12} << 20);
+  }
+  EXPECT_EQ(s.lua_memory->used(), 0u);
+  std::string error;
+  try {
+    sim::Session two(*s.model, *s.world, {.threads = 2});
+    two.run_until(2);
+  } catch (const sim::ProgramError& e) {
+    error = e.what();
+  }
+  EXPECT_NE(error.find("x.lua: not enough memory: the run's Lua states (one per script per stepping thread) may hold "
+                       "20 MiB together"),
+            std::string::npos)
+      << error;
+  EXPECT_EQ(s.lua_memory->used(), 0u);
+}
+
 // A call the watchdog interrupts runs again counted: what the interrupted try set and sent is
 // taken back, so the run equals one where every call was counted from the start.
 TEST_F(LuaScript, ACallRunAgainAfterTheWatchdogLeavesNoTrace) {

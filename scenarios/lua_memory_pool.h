@@ -1,0 +1,44 @@
+// The memory all the Lua states of a run may hold together. Each state has its own cap
+// (LuaLimits::memory_bytes), but a run has one state per script per stepping thread: ten scripts
+// on four threads, each near its cap, took over a gigabyte the scenario's memory estimate never
+// counted. The pool is what the machine had available beyond that estimate when the scenario was
+// loaded; a state takes from it in granules, so that the shared counter is touched once a
+// granule, not once an allocation.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+
+namespace dw::scenarios {
+
+class LuaMemoryPool {
+ public:
+  static constexpr size_t kGranule = size_t{1} << 20;  // what a state takes or gives back at once
+
+  explicit LuaMemoryPool(size_t limit = SIZE_MAX) : limit_(limit) {}
+  LuaMemoryPool(const LuaMemoryPool&) = delete;
+  LuaMemoryPool& operator=(const LuaMemoryPool&) = delete;
+
+  // Set once the scenario's estimate is known (its programs are loaded before it is).
+  void set_limit(size_t bytes) { limit_.store(bytes, std::memory_order_relaxed); }
+  size_t limit() const { return limit_.load(std::memory_order_relaxed); }
+  size_t used() const { return used_.load(std::memory_order_relaxed); }
+
+  // Takes `bytes` when they fit under the limit (or always, with `force`: dwatch's own work in a
+  // state between calls, which must not fail). Whether they fit.
+  bool take(size_t bytes, bool force = false) {
+    size_t now = used_.load(std::memory_order_relaxed);
+    do {
+      if (!force && (bytes > limit() || now > limit() - bytes)) return false;
+    } while (!used_.compare_exchange_weak(now, now + bytes, std::memory_order_relaxed));
+    return true;
+  }
+  void give_back(size_t bytes) { used_.fetch_sub(bytes, std::memory_order_relaxed); }
+
+ private:
+  std::atomic<size_t> limit_;
+  std::atomic<size_t> used_{0};
+};
+
+}  // namespace dw::scenarios
