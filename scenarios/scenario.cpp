@@ -575,6 +575,7 @@ struct Loader {
     // theirs), the estimate again, before the model is built.
     uint64_t variables = 0;
     for (const auto& p : *progs) variables += p->variables().size();
+    uint64_t spare = 0;  // what the machine has beyond the estimate; 0: unknown, or not checked
     if (overrides.memory_limit > 0) {
       const uint64_t modules = built_lattice->spec.module_count();
       const uint64_t estimate = memory_estimate(modules, physics_on, s.history_mb, variables);
@@ -583,8 +584,11 @@ struct Loader {
                         memory_refusal(modules, physics_on, s.history_mb, overrides.memory_limit, variables));
         return diagnostics.format();
       }
-      // The scripts' states take what is left, and at least what one of them may hold.
-      lua_memory->set_limit(std::max<uint64_t>(overrides.memory_limit - estimate, LuaLimits{}.memory_bytes));
+      // The scripts' states take what is left, and at least what one of them may hold; so may a
+      // step's messages, a quarter of it (at least 64 MiB): they are kept once a stepping thread
+      // and once more as the next step's inbox.
+      spare = overrides.memory_limit - estimate;
+      lua_memory->set_limit(std::max<uint64_t>(spare, LuaLimits{}.memory_bytes));
     }
     auto built = sim::build_model(std::move(*built_lattice), std::move(*progs), std::move(*hosted),
                                   overrides.seed.value_or(static_cast<uint64_t>(seed.value_or(1))));
@@ -593,6 +597,7 @@ struct Loader {
       return diagnostics.format();
     }
     s.model = std::move(std::get<std::unique_ptr<sim::Model>>(built));
+    if (spare > 0) s.model->message_bytes_per_step = std::max<uint64_t>(spare / 4, uint64_t{64} << 20);
     s.inputs.insert(s.inputs.end(), inputs.begin(), inputs.end());
     s.scripts = std::move(scripts);
     s.lua_memory = lua_memory;

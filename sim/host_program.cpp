@@ -80,6 +80,14 @@ void ModuleContext::broadcast(std::span<const int64_t> payload) {
 }
 
 void ModuleContext::post(ModuleId to, std::span<const int64_t> payload) {
+  // Past the step's limit on this thread, the step's messages in all are past it too: the step
+  // will fail whatever follows, and what is sent is not kept.
+  if (outbox_.over) return;
+  if (outbox_.byte_limit > 0 &&
+      outbox_.messages.used_bytes() + sizeof(MessageHeader) + payload.size_bytes() > outbox_.byte_limit) {
+    outbox_.over = true;
+    return;
+  }
   outbox_.messages.add(id_, to, program_, payload);
 }
 

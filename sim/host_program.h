@@ -65,6 +65,10 @@ bool same_variables(const HostProgram& a, const HostProgram& b);
 struct Outbox {
   MessageList messages;
   std::vector<Actuation> actuations;
+  // Model::message_bytes_per_step, and whether this thread's messages went past it (what was
+  // sent after that is not kept; the step fails once every module has run).
+  uint64_t byte_limit = 0;
+  bool over = false;
   std::string error;          // the lowest module's first misuse of the API (sending to a non-neighbour, ...)
   ModuleId error_module = 0;  // whose it was, at which step
   int64_t error_step = -1;
@@ -112,11 +116,13 @@ class ModuleContext {
   // What the step has sent and asked of the body so far, to take back (a call run again).
   struct Sent {
     size_t messages, actuations;
+    bool over;
   };
-  Sent sent() const { return {outbox_.messages.size(), outbox_.actuations.size()}; }
+  Sent sent() const { return {outbox_.messages.size(), outbox_.actuations.size(), outbox_.over}; }
   void take_back(Sent s) {
     outbox_.messages.keep_first(s.messages);
     outbox_.actuations.resize(s.actuations);
+    outbox_.over = s.over;
   }
 
   // This thread's scratch of the program (HostProgram::make_scratch).

@@ -102,6 +102,8 @@ class MessageList {
   std::vector<MessageHeader>& headers() { return headers_; }
   std::span<const MessageHeader> headers() const { return headers_; }
   std::vector<int64_t>& words() { return words_; }
+  // The bytes the messages take, as the header and words of each (bytes() is what is reserved).
+  size_t used_bytes() const { return headers_.size() * sizeof(MessageHeader) + words_.size() * sizeof(int64_t); }
   size_t bytes() const { return headers_.capacity() * sizeof(MessageHeader) + words_.capacity() * sizeof(int64_t); }
 
  private:

@@ -53,6 +53,11 @@ struct Model {
   std::vector<uint8_t> all_known;  // [module * variables + column], all 1: every module has every variable
   std::vector<HostedWatchpoint> watches;
   uint64_t seed = 1;
+  // What the messages sent in one step may take in one process, in bytes (each message's header
+  // and words); 0: no limit. A program sending without end would otherwise take the machine's
+  // memory before its step ended. The loader sets it from what the machine has beyond the
+  // scenario's memory estimate; a step going past it stops the run (Runtime::step).
+  uint64_t message_bytes_per_step = 0;
 
   uint32_t module_count() const { return universe.module_count(); }
   uint32_t variable_count() const { return static_cast<uint32_t>(universe.variables.size()); }

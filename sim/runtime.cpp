@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "sim/read_file.h"
 #include "watch/agent_step.h"
 #include "watch/make_detector.h"
 
@@ -244,6 +245,8 @@ void Runtime::start_thread(unsigned thread, const State& state) {
   s.outbox.messages.clear();
   s.outbox.actuations.clear();
   s.outbox.error.clear();  // a failed step may be tried again (a script reloaded, a seek back)
+  s.outbox.over = false;
+  s.outbox.byte_limit = model_.message_bytes_per_step;
   for (uint32_t w : agent_watches_)
     watch::start_agent_step(s.agents[w], state.step - model_.watches[w].watchpoint.program.agent_delay());
 }
@@ -609,15 +612,23 @@ void Runtime::take_arrived_lanes(uint32_t w, WatchState& ws) {
 // process reports it (each thread's outbox keeps its lowest module's). Otherwise the actuation
 // requests go to the world in module order, as one process has them (in thread order): the world
 // is stepped whole on every rank, so every rank needs all of them. One sum over the ranks says
-// whether either has to be gathered.
-void Runtime::agree_on_failure_and_gather_actuations() {
+// whether either has to be gathered. Without a misuse, messages past Model::message_bytes_per_step
+// in a process stop every rank: a thread past it alone means the process's are, so whether the
+// step stops does not depend on the threads.
+void Runtime::agree_on_failure_and_gather_actuations(int64_t step) {
   const Outbox* failed = nullptr;
   const size_t before = actuations_.size();  // the interventions' pushes come first
+  uint64_t message_bytes = 0;
+  bool over = false;
   for (const ThreadScratch& s : scratch_) {
     if (!s.outbox.error.empty() && (!failed || s.outbox.error_module < failed->error_module)) failed = &s.outbox;
     actuations_.insert(actuations_.end(), s.outbox.actuations.begin(), s.outbox.actuations.end());
+    message_bytes += s.outbox.messages.used_bytes();
+    over = over || s.outbox.over;
   }
-  uint64_t counts[2] = {failed != nullptr, actuations_.size() - before};
+  const uint64_t limit = model_.message_bytes_per_step;
+  over = over || (limit > 0 && message_bytes > limit);
+  uint64_t counts[3] = {failed != nullptr, actuations_.size() - before, over};
   if (ranks_) ranks_->sum(counts);
   if (ranks_ && counts[0] != 0) {
     std::vector<std::byte> said;
@@ -641,6 +652,11 @@ void Runtime::agree_on_failure_and_gather_actuations() {
     throw ProgramError(message, static_cast<ModuleId>(where[1]), where[0]);
   }
   if (failed) throw ProgramError(failed->error, failed->error_module, failed->error_step);
+  if (counts[2] != 0)
+    throw ProgramError("at step " + std::to_string(step) + " the modules' messages took more than " + size_text(limit) +
+                       (ranks_ ? " in one process" : "") +
+                       ", what a step's messages may take on this machine beyond the scenario's memory estimate (a "
+                       "program sending without end?)");
   if (!ranks_ || counts[1] == 0) return;
   std::vector<std::byte> mine;
   append_records(mine, std::span<const Actuation>(actuations_).subspan(before));
@@ -876,7 +892,7 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
       run_blocks(thread, own_blocks_, state);
     });
   }
-  agree_on_failure_and_gather_actuations();
+  agree_on_failure_and_gather_actuations(state.step);
 
   std::swap(state.values, next_values_);  // assign: the variables now hold step t's values
   for (uint32_t w = 0; w < model_.watches.size(); ++w) {

@@ -148,7 +148,7 @@ class Runtime {
   std::vector<std::span<const int64_t>> gather_values(const State& state, Gathered& parts);
   uint64_t pass_hash(uint64_t h, const std::function<uint64_t(uint64_t, uint32_t, uint32_t)>& run);
   void add_up_over_ranks(watch::AgentStepOutcome& outcome);
-  void agree_on_failure_and_gather_actuations();
+  void agree_on_failure_and_gather_actuations(int64_t step);
   uint32_t rank_of(ModuleId m) const;
 
   uint32_t block_begin(uint32_t block) const;  // its first module; block_begin(blocks_) = module count

@@ -151,6 +151,56 @@ TEST(Runtime, AFailureSkipsTheHigherModulesCallsAndReportsTheLowest) {
   }
 }
 
+// Module m sends `per_module[m]` one-word messages to its first neighbour each step.
+class Floods final : public HostProgram {
+ public:
+  explicit Floods(std::vector<int> per_module) : per_module_(std::move(per_module)) {}
+  std::string_view name() const override { return "floods"; }
+  std::vector<VariableSpec> variables() const override { return {{"f", 0}}; }
+  void step(ModuleContext& m) const override {
+    for (int i = 0; i < per_module_[m.id()]; ++i) m.send(m.neighbors()[0], {i});
+  }
+
+ private:
+  std::vector<int> per_module_;
+};
+
+// A step whose messages take more than Model::message_bytes_per_step stops the run, saying so,
+// before a program sending without end takes the machine's memory. Whether it stops is the
+// same on any thread count, however the senders fall to the threads: a thread past the limit
+// alone means the step's messages are.
+TEST(Runtime, AStepWhoseMessagesPassTheLimitStopsTheRunOnAnyThreadCount) {
+  constexpr uint64_t kLimit = 24 * 1000;  // a one-word message takes 24 bytes: 1,000 messages
+  const std::vector<std::pair<std::vector<int>, bool>> cases = {
+      {{250, 250, 250, 250, 0, 0, 0, 0}, false},   // 1,000: at the limit, spread
+      {{0, 0, 0, 0, 0, 0, 0, 1000}, false},        // 1,000 from one module
+      {{200, 200, 200, 200, 201, 0, 0, 0}, true},  // 1,001: no thread alone is past it
+      {{0, 0, 0, 0, 0, 0, 0, 5000000}, true},      // a flood, stopped early (5 million would take 120 MB)
+  };
+  for (const auto& [per_module, stops] : cases)
+    for (unsigned threads : {1u, 2u, 4u}) {
+      SCOPED_TRACE(testing::Message() << threads << " threads, " << (stops ? "stops" : "runs"));
+      std::vector<std::unique_ptr<const HostProgram>> programs;
+      programs.push_back(std::make_unique<Floods>(per_module));
+      auto model = std::get<std::unique_ptr<Model>>(
+          build_model(make_lattice({LatticeKind::Line, {8, 1, 1}}), std::move(programs), {}, 1));
+      model->message_bytes_per_step = kLimit;
+      StaticLatticeWorld world;
+      Runtime rt(*model, world, threads);
+      State s = rt.initial_state();
+      StepOutput out;
+      std::string error;
+      try {
+        rt.step(s, out);
+        rt.step(s, out);
+      } catch (const ProgramError& e) {
+        error = e.what();
+      }
+      if (stops) EXPECT_EQ(error.rfind("at step 0 the modules' messages took more than 24000 bytes, ", 0), 0u) << error;
+      else EXPECT_EQ(error, "");
+    }
+}
+
 TEST(Runtime, TwoProgramsDeclaringOneVariableIsAnError) {
   std::vector<std::unique_ptr<const HostProgram>> programs;
   programs.push_back(std::make_unique<test_programs::Gossip>());
