@@ -66,7 +66,7 @@ uint64_t connected_groups(const sim::Trace& trace) {
       {f.present.begin(), f.present.end()}, {f.nbr_begin.begin(), f.nbr_begin.end()}, {f.nbrs.begin(), f.nbrs.end()}};
   watch::ConnectedGroups groups(static_cast<uint32_t>(f.present.size()));
   uint64_t n = 0;
-  groups.enumerate(graph, graph.present, 4, [&](std::span<const uint32_t>) { ++n; });
+  groups.enumerate(graph, graph.present, 4, [&](std::span<const uint32_t>) { return ++n, true; });
   return n;
 }
 

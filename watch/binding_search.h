@@ -52,6 +52,8 @@ class BindingSearch {
   void assign(const StepView& view, std::span<const uint32_t> group, StepStats& stats, MatchBuffer& out);
 
   bool stopped() const { return !stop_reason_.empty(); }
+  // Stops the search from outside (the groups it is given went past the budget).
+  void stop(std::string reason) { stop_reason_ = std::move(reason); }
   const std::string& stop_reason() const { return stop_reason_; }
 
  private:

@@ -60,10 +60,19 @@ void CentralizedDetector::run_step(int64_t t) {
   // the groups are those of the graph without it.
   for (uint32_t m = 0; m < modules; ++m)
     eligible_[m] = now.present[m] && (!options_.optimizations.early_termination || view_.fillable(m) != 0);
-  groups_.enumerate(now, eligible_, static_cast<uint32_t>(program_->slot_count()),
-                    [&](std::span<const uint32_t> group) {
-                      if (!search_.stopped()) search_.assign(view_, group, step_, matches_);
-                    });
+  // The groups grown, whole or partial, are held to the live budget as the bindings are: each is
+  // what a PatternMatcher growing that group would be.
+  const uint64_t budget = options_.live_budget;
+  const bool whole = groups_.enumerate(
+      now, eligible_, static_cast<uint32_t>(program_->slot_count()),
+      [&](std::span<const uint32_t> group) {
+        search_.assign(view_, group, step_, matches_);
+        return !search_.stopped();
+      },
+      budget);
+  if (!whole && !search_.stopped())
+    search_.stop("more than " + std::to_string(budget) + " connected groups grown at watch step " + std::to_string(t) +
+                 " (whole or partial)");
 }
 
 }  // namespace dw::watch

@@ -39,9 +39,13 @@ class ConnectedGroups {
   // Calls fn(group) for every set of k modules with eligible[m] that is connected in `graph` at
   // step t: some order of it has each module after the first in N(an earlier one) (over a
   // directed graph that is the same as a root reaching every member; over an undirected one,
-  // plain connectivity). `group` lists the modules in the order they joined.
+  // plain connectivity). `group` lists the modules in the order they joined. fn returns whether
+  // to go on. `budget` (0: none) bounds the groups grown, whole or partial: the number of
+  // connected groups grows exponentially with k, and a watchpoint of 12 slots over a 6^3 lattice
+  // enumerated for hours. Whether every group was reached (false: stopped by fn or the budget).
   template <class Fn>
-  void enumerate(const StepHistory::Graph& graph, std::span<const uint8_t> eligible, uint32_t k, Fn&& fn);
+  bool enumerate(const StepHistory::Graph& graph, std::span<const uint8_t> eligible, uint32_t k, Fn&& fn,
+                 uint64_t budget = 0);
 
  private:
   template <class Fn>
@@ -53,12 +57,19 @@ class ConnectedGroups {
   std::vector<uint32_t> closed_;  // [module]: members it is, or is beside
   std::vector<uint32_t> group_;
   std::vector<std::vector<uint32_t>> ext_;  // the extension set at each depth
+  uint64_t grown_ = 0, budget_ = 0;         // groups grown this enumeration, and the most it may
+  bool stopped_ = false;
+  // Counts a group grown by one member: false when that is past the budget.
+  bool count() { return !(stopped_ = stopped_ || (budget_ != 0 && ++grown_ > budget_)); }
 };
 
 template <class Fn>
-void ConnectedGroups::enumerate(const StepHistory::Graph& graph, std::span<const uint8_t> eligible, uint32_t k,
-                                Fn&& fn) {
-  if (k == 0) return;
+bool ConnectedGroups::enumerate(const StepHistory::Graph& graph, std::span<const uint8_t> eligible, uint32_t k, Fn&& fn,
+                                uint64_t budget) {
+  if (k == 0) return true;
+  grown_ = 0;
+  budget_ = budget;
+  stopped_ = false;
   symmetric_ = undirected_.build(graph, eligible);
   ext_.resize(k + 1);
   const uint32_t modules = undirected_.module_count();
@@ -66,8 +77,9 @@ void ConnectedGroups::enumerate(const StepHistory::Graph& graph, std::span<const
   for (uint32_t v = 0; v < modules; ++v) {
     if (!eligible[v]) continue;
     group_.assign(1, v);
+    if (!count()) return false;
     if (k == 1) {
-      fn(std::span<const uint32_t>(group_));
+      if (!fn(std::span<const uint32_t>(group_))) return false;
       continue;
     }
     std::vector<uint32_t>& ext = ext_[1];
@@ -80,7 +92,9 @@ void ConnectedGroups::enumerate(const StepHistory::Graph& graph, std::span<const
     grow(ext, v, k, graph, fn);
     --closed_[v];
     for (uint32_t u : adjacent(v)) --closed_[u];
+    if (stopped_) return false;
   }
+  return true;
 }
 
 template <class Fn>
@@ -89,15 +103,18 @@ void ConnectedGroups::grow(std::vector<uint32_t>& ext, uint32_t root, uint32_t k
   const size_t depth = group_.size();
   if (depth + 1 == k) {  // the last member: every module left in the extension set completes a group
     for (uint32_t w : ext) {
+      if (!count()) return;
       group_.push_back(w);
-      if (symmetric_ || rooted(graph, group_)) fn(std::span<const uint32_t>(group_));
+      if ((symmetric_ || rooted(graph, group_)) && !fn(std::span<const uint32_t>(group_))) stopped_ = true;
       group_.pop_back();
+      if (stopped_) return;
     }
     return;
   }
   std::vector<uint32_t>& next = ext_[depth + 1];
   for (size_t i = 0; i < ext.size(); ++i) {
     const uint32_t w = ext[i];
+    if (!count()) return;
     next.assign(ext.begin() + static_cast<ptrdiff_t>(i) + 1, ext.end());
     for (uint32_t u : adjacent(w))
       if (u > root && closed_[u] == 0) next.push_back(u);
@@ -108,6 +125,7 @@ void ConnectedGroups::grow(std::vector<uint32_t>& ext, uint32_t root, uint32_t k
     group_.pop_back();
     --closed_[w];
     for (uint32_t u : adjacent(w)) --closed_[u];
+    if (stopped_) return;
   }
 }
 

@@ -93,6 +93,35 @@ TEST(CentralizedDetector, NeighborReadsTheDirectedGraphAtItsOffset) {
   EXPECT_EQ(e.run(Algorithm::Centralized, w), (std::set<Match>{{1, {0, 1}}, {1, {1, 0}}}));
 }
 
+// `any` groups are grown by enumeration before any binding is tried: a watchpoint whose groups
+// can never be completed (no module takes its last slot) grew groups for hours over a 6^3
+// lattice with 12 slots. The groups grown meet the budget as the bindings do.
+TEST(CentralizedDetector, GrowingAnyGroupsMeetsTheBudget) {
+  TestEnsemble e(36, {"x"});
+  for (uint32_t m = 0; m < 36; ++m) {  // a 6 x 6 grid
+    std::vector<uint32_t> n;
+    if (m % 6 > 0) n.push_back(m - 1);
+    if (m % 6 < 5) n.push_back(m + 1);
+    if (m >= 6) n.push_back(m - 6);
+    if (m < 30) n.push_back(m + 6);
+    e.set(0, m, {{"x", 1}}, n);
+  }
+  // Every module may take a, so every module is eligible; none takes f, so no binding is tried.
+  const Watchpoint w = compile_or_die("modules(a b c d e f); a.x >= 0 and f.x < 0");
+  DetectorOptions o;
+  o.shape = GroupShape::Any;
+  o.live_budget = 50;
+  DetectorStats st;
+  EXPECT_TRUE(e.run(Algorithm::Centralized, w, o, &st).empty());
+  EXPECT_TRUE(st.stopped);
+  EXPECT_NE(st.stop_reason.find("more than 50 connected groups grown at watch step 0"), std::string::npos)
+      << st.stop_reason;
+  o.live_budget = 0;
+  DetectorStats unbounded;
+  EXPECT_TRUE(e.run(Algorithm::Centralized, w, o, &unbounded).empty());
+  EXPECT_FALSE(unbounded.stopped);
+}
+
 TEST(CentralizedDetector, BudgetStopsTheRunAndKeepsEarlierMatches) {
   TestEnsemble e(4, {"isLeader"});
   e.set(0, 0, {{"isLeader", 1}}, {1});  // step 0: 2 + 2 fills

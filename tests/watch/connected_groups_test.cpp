@@ -25,7 +25,10 @@ StepHistory::Graph graph_of(const std::vector<std::vector<uint32_t>>& nbrs, std:
 std::vector<std::vector<uint32_t>> groups(const StepHistory::Graph& g, uint32_t k) {
   ConnectedGroups cg(static_cast<uint32_t>(g.present.size()));
   std::vector<std::vector<uint32_t>> out;
-  cg.enumerate(g, g.present, k, [&](std::span<const uint32_t> group) { out.emplace_back(group.begin(), group.end()); });
+  cg.enumerate(g, g.present, k, [&](std::span<const uint32_t> group) {
+    out.emplace_back(group.begin(), group.end());
+    return true;
+  });
   return out;
 }
 
@@ -34,6 +37,25 @@ TEST(ConnectedGroups, CountsTheConnectedFourModuleGroupsOfTheTableICube) {
   EXPECT_EQ(groups(g, 4).size(), 62'418u);
   EXPECT_EQ(groups(g, 2).size(), 2'700u);  // the cube's edges
   EXPECT_EQ(groups(g, 1).size(), 1'000u);
+}
+
+// The budget bounds the groups grown, whole or partial: past it the enumeration stops at once
+// (it reports it did not reach every group), within it nothing changes.
+TEST(ConnectedGroups, TheBudgetStopsTheEnumerationOfGroupsGrown) {
+  const auto g = graph_of(testing::cube_neighbors(10));
+  ConnectedGroups cg(1000);
+  size_t found = 0;
+  auto count = [&](std::span<const uint32_t>) { return ++found, true; };
+  EXPECT_FALSE(cg.enumerate(g, g.present, 4, count, 5'000));
+  EXPECT_GT(found, 0u);
+  EXPECT_LT(found, 5'000u);
+  found = 0;
+  EXPECT_TRUE(cg.enumerate(g, g.present, 4, count, 10'000'000));
+  EXPECT_EQ(found, 62'418u);
+  // fn stops it too.
+  found = 0;
+  EXPECT_FALSE(cg.enumerate(g, g.present, 4, [&](std::span<const uint32_t>) { return ++found < 10; }));
+  EXPECT_EQ(found, 10u);
 }
 
 // Brute force: every k-subset whose induced subgraph has a root reaching every member.
