@@ -1,4 +1,6 @@
 // dwatch._dwatch: the compiled part of the Python package (python/dwatch/__init__.py re-exports it).
+#include <pybind11/numpy.h>
+
 #include <sstream>
 
 #include "app/explain.h"
@@ -29,4 +31,9 @@ PYBIND11_MODULE(_dwatch, m) {
   dw::python::add_check(m);
   dw::python::add_replay(m);
   dw::python::add_session(m);
+  // pybind11 (2.10, Debian's) looks numpy's C API up into a function-local static the first time
+  // an array is made. Two threads making their first arrays at once deadlocked: one waited on
+  // that static holding the GIL, the other needed the GIL to finish it. Made here, at import,
+  // while one thread holds the GIL.
+  [[maybe_unused]] const pybind11::array_t<int64_t> numpy_api_looked_up(0);
 }

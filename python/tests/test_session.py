@@ -1,6 +1,8 @@
 """dwatch.Session: python/src/session_binding.cpp over the session shell (app/session_script.h)."""
 
 import signal
+import subprocess
+import sys
 import threading
 import time
 
@@ -172,6 +174,25 @@ def test_stepping_releases_the_gil(leaders):
     counter.join()
     assert took > 0.2, "the run must be long enough to measure"
     assert ticks > took * 100, f"{ticks} ticks in {took:.2f} s: the other thread was starved"
+
+
+def test_two_threads_each_with_a_session_make_their_first_arrays_at_once(leaders):
+    # In a fresh interpreter, so that no array was made before: the first arrays made by two
+    # threads at once deadlocked (pybind11's numpy lookup, a static, waited on under the GIL).
+    program = f"""
+import threading, dwatch
+def work():
+    s = dwatch.Session({leaders!r})
+    s.run(5)
+    for _ in range(20):
+        s.values("isLeader"); s.series(0, "isLeader", 0, 3)
+threads = [threading.Thread(target=work) for _ in range(2)]
+[t.start() for t in threads]
+[t.join() for t in threads]
+print("both done")
+"""
+    done = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, timeout=60)
+    assert done.stdout == "both done\n", done.stderr
 
 
 def test_ctrl_c_stops_a_long_run_and_the_session_goes_on(leaders):
