@@ -230,6 +230,12 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
     }
     return v;
   };
+  // A file's name: `""` names none.
+  auto file = [&](size_t i) {
+    if (tokens[i].text.empty()) return fail(tokens[i].span, "the file's name is empty"), false;
+    cmd.name = tokens[i].text;
+    return true;
+  };
   const sim::Model& model = session_.model();
   const int64_t last_module = static_cast<int64_t>(model.module_count()) - 1;
   constexpr int64_t kMaxStep = scenarios::kStepsRange.max;
@@ -380,19 +386,17 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       break;
     case Kind::Render:
       if (tokens.size() != 2 && tokens.size() != 4) return usage(tokens.size() > 4 ? tokens[4].span : after_last);
-      cmd.name = tokens[1].text;
+      if (!file(1)) return mistakes;
       if (tokens.size() == 4) {
         const auto w = number(2, 16, 8192, "W"), h = number(3, 16, 8192, "H");
         if (w && h) cmd.width = static_cast<int>(*w), cmd.height = static_cast<int>(*h);
       }
       break;
     case Kind::Record:
-      if (!want(1, 1)) return mistakes;
-      cmd.name = tokens[1].text;
+      if (!want(1, 1) || !file(1)) return mistakes;
       break;
     case Kind::Save:
-      if (!want(1, 2)) return mistakes;
-      cmd.name = tokens[1].text;
+      if (!want(1, 2) || !file(1)) return mistakes;
       if (tokens.size() == 3) {
         if (tokens[2].text != "overwrite") return usage(tokens[2].span);
         cmd.overwrite = true;
@@ -700,6 +704,10 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
     }
   } catch (const sim::ProgramError& e) {
     return failed(e.what());
+  } catch (const std::exception& e) {
+    // A mistake of dwatch's own, not the command's: said, and the session goes on (a command
+    // leaves the session as it was, or where a run had got to).
+    return failed(std::string("internal error: ") + e.what());
   }
   return answer;
 }

@@ -70,12 +70,17 @@ std::optional<std::string> saved_scenario(const Scenario& scenario, const sim::S
     return std::nullopt;
   }
   const sim::Model& model = session.model();
-  const fs::path to_dir = fs::absolute(fs::path(destination)).parent_path();
-  if (toml::array* programs = doc["program"].as_array())
-    for (toml::node& p : *programs)
-      if (toml::table* t = p.as_table())
-        if (const auto script = (*t)["script"].value<std::string>())
-          t->insert_or_assign("script", path_from(*script, scenario.path, to_dir));
+  try {  // the working folder may have been removed
+    const fs::path to_dir = fs::absolute(fs::path(destination)).parent_path();
+    if (toml::array* programs = doc["program"].as_array())
+      for (toml::node& p : *programs)
+        if (toml::table* t = p.as_table())
+          if (const auto script = (*t)["script"].value<std::string>())
+            t->insert_or_assign("script", path_from(*script, scenario.path, to_dir));
+  } catch (const fs::filesystem_error& e) {
+    if (error) *error = "cannot place the scripts' paths for " + destination + ": " + e.code().message();
+    return std::nullopt;
+  }
 
   doc.insert_or_assign("seed", static_cast<int64_t>(model.seed));
   doc.erase("watch");
