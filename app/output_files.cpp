@@ -50,7 +50,10 @@ std::string file_clash(const std::vector<std::string>& inputs, const std::vector
   std::string clash;
   for (size_t i = 0; i < out.size() && clash.empty(); ++i) {
     for (const auto& [path, id] : in)
-      if (clash.empty() && out[i].second == id) clash = spelled(*out[i].first) + " would overwrite the input " + *path;
+      if (clash.empty() && out[i].second == id && !id.null_device)
+        clash =
+            spelled(*out[i].first) + (*path == kStandardOutput ? " would write where the answers go (standard output)"
+                                                               : " would overwrite the input " + *path);
     for (size_t j = 0; j < i && clash.empty(); ++j)
       if (out[i].second == out[j].second && !out[i].second.null_device)
         clash = spelled(*out[j].first) + " and " + spelled(*out[i].first) + " name one file; give each output its own";

@@ -21,6 +21,9 @@ struct NamedFile {
   std::string path;  // "-" is standard output; empty: not given
 };
 
+// Among the inputs, what standard output is (the session's answers): no output may write there.
+inline constexpr std::string_view kStandardOutput = "/dev/stdout";
+
 // What is wrong, naming the two, when two outputs name one file or an output names one of the
 // inputs (files read: the scenario, a script, a trace, watchpoint files); empty when nothing is.
 std::string file_clash(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs);

@@ -14,6 +14,7 @@
 
 #include "app/commands.h"
 #include "app/integer_option.h"
+#include "app/output_files.h"
 #include "app/session_protocol.h"
 #include "app/session_script.h"
 #include "sim/read_file.h"
@@ -115,12 +116,14 @@ int session_main(const SessionArgs& args, Interrupts* interrupts) {
       return 2;
     }
     script.emplace(piped ? "<stdin>" : args.script, std::move(*text));
-    // What `record` or `render` must not overwrite: the script, also when it is a file piped in.
-    struct stat piped_file {};
     if (!piped) scenario.inputs.push_back(args.script);
-    else if (fstat(STDIN_FILENO, &piped_file) == 0 && S_ISREG(piped_file.st_mode))
-      scenario.inputs.push_back("/dev/stdin");
   }
+  // What `record`, `render` and `save` must not overwrite: the script, also when it is a file
+  // piped in or the protocol's requests; and the answers, wherever standard output goes.
+  struct stat in {};
+  if ((piped || args.protocol) && fstat(STDIN_FILENO, &in) == 0 && S_ISREG(in.st_mode))
+    scenario.inputs.push_back("/dev/stdin");
+  scenario.inputs.push_back(std::string(kStandardOutput));
   sim::Session session(*scenario.model, *scenario.world, session_options(scenario, args.source));
   SessionShell shell(scenario, session);
   if (args.protocol) return run_protocol(shell, STDIN_FILENO, std::cout, interrupts);

@@ -218,5 +218,17 @@ TEST_F(SessionProtocol, ARequestGoingOverTheLimitIsAnsweredBeforeItsNewline) {
   EXPECT_EQ(p.finish(), 0);
 }
 
+// Requests read from a file (`--protocol < requests`) are an input as a script is: a `record`
+// onto that file was written, and replaced the requests.
+TEST_F(SessionProtocol, TheRequestsFileIsAnInputNoCommandOverwrites) {
+  const fs::path requests = dir_ / "requests";
+  const std::string text = "step 2\nrecord " + requests.string() + "\n";
+  write("requests", text);
+  const Result r =
+      run("session " + std::string(DWATCH_SCENARIOS_DIR) + "/token_ring.toml --protocol < " + requests.string());
+  EXPECT_NE(r.out.find(requests.string() + " would overwrite the input /dev/stdin"), std::string::npos) << r.out;
+  EXPECT_EQ(slurp(requests), text);
+}
+
 }  // namespace
 }  // namespace dw::cli_test
