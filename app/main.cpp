@@ -1,6 +1,7 @@
 // dwatch: a testbed for modular-robot ensembles with distributed watchpoints built in.
 #include <unistd.h>
 
+#include <cerrno>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
@@ -118,12 +119,17 @@ int main(int argc, char** argv) {
     std::cerr << "dwatch: error: " << e.what() << taken_by_last_option(app, argc, argv) << "\n";
     return 2;
   } catch (const CLI::ArgumentMismatch& e) {
-    // An option given twice (CLI11: "At Most 1 required but received 2"), or without its value.
-    const std::string what = e.what();
-    const bool twice = what.find("At Most") != std::string::npos;
-    std::cerr << "dwatch: error: " << what.substr(0, what.find(':'))
-              << (twice ? ": given more than once (give it once)\n"
-                        : what.substr(what.find(':')) + " (the option takes a value and was given none)\n");
+    // An option given twice, or without its value, or with too many or too few (X,Y,Z).
+    const std::string what = e.what(), option = what.substr(0, what.find(':'));
+    int given = 0;
+    for (int i = 1; i < argc; ++i)
+      given += std::string(argv[i]) == option || std::string(argv[i]).rfind(option + "=", 0) == 0;
+    std::cerr << "dwatch: error: "
+              << (given > 1 ? option + ": given more than once (give it once)"
+                  : what.find(" missing") != std::string::npos
+                      ? what + " (the option takes a value and was given none)"
+                      : what + " (dwatch " + command_named(app, argc, argv) + "--help lists what it takes)")
+              << "\n";
     return 2;
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
@@ -152,7 +158,17 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    return run();
+    const int code = run();
+    // What a command printed is its answer: one that could not be written (a full disk, a closed
+    // pipe) is not a success.
+    errno = 0;
+    std::cout.flush();
+    if (!std::cout) {
+      std::cerr << "dwatch: error: writing standard output failed"
+                << (errno ? std::string(": ") + std::strerror(errno) : "") << "\n";
+      return code == 0 ? 1 : code;
+    }
+    return code;
   } catch (const std::bad_alloc&) {
     std::cerr << "dwatch: error: out of memory\n";
     return 1;

@@ -188,6 +188,17 @@ TEST_F(Cli, BadOptionsAreBadInput) {
   EXPECT_EQ(bench.code, 2);
   EXPECT_EQ(bench.err.rfind("dwatch: error: name: nosuch not in {", 0), 0u) << bench.err;
   EXPECT_NE(bench.err.find("(dwatch bench --help lists what it takes)"), std::string::npos) << bench.err;
+  const Result four = run("render a.toml --camera-eye 1,2,3,4");
+  EXPECT_EQ(four.code, 2);
+  EXPECT_EQ(four.err,
+            "dwatch: error: --camera-eye: At Most 3 required but received 4 (dwatch render --help lists what it "
+            "takes)\n");
+  // What a command prints is its answer: printed nowhere, it did not succeed.
+  const fs::path err = dir_ / "full_err";
+  const int status =
+      std::system((std::string(DWATCH_EXE) + " check 'modules(a); a.x = 1' >/dev/full 2>" + err.string()).c_str());
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1);
+  EXPECT_EQ(slurp(err), "dwatch: error: writing standard output failed: No space left on device\n");
   const Result twice = run("run a.toml --steps 5 --steps 6");
   EXPECT_EQ(twice.code, 2);
   EXPECT_EQ(twice.err, "dwatch: error: --steps: given more than once (give it once)\n");
