@@ -9,6 +9,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <system_error>
 
 #include "app/commands.h"
 #include "app/interrupts.h"
@@ -171,6 +172,11 @@ int main(int argc, char** argv) {
     return code;
   } catch (const std::bad_alloc&) {
     std::cerr << "dwatch: error: out of memory\n";
+    return 1;
+  } catch (const std::system_error& e) {
+    // The operating system refused a thread or a lock: the machine's limits, not a mistake.
+    std::cerr << "dwatch: error: the system refused what dwatch asked for: " << e.what()
+              << " (too many --threads for this machine's limits?)\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "dwatch: internal error: " << e.what() << "\n";

@@ -104,7 +104,23 @@ LuaSandbox::LuaSandbox(const std::string& display, const LuaLimits& limits, LuaW
   // A step's tables live for that step only: the young generation is where they die.
   lua_gc(L_, LUA_GCGEN, 0, 0);
   lua_sethook(L_, &LuaSandbox::count_hook, LUA_MASKCOUNT, kHookEvery);
-  open_libraries();
+  // What dwatch does outside a protected call could still meet a machine out of memory (not the
+  // cap: under `ulimit -v`), where Lua's default is to abort without a word.
+  lua_atpanic(L_, [](lua_State* L) -> int {
+    const char* what = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "an error outside a protected call";
+    std::fprintf(stderr, "dwatch: error: a Lua state failed: %s\n", what);
+    std::_Exit(1);
+  });
+  // The libraries and guards under a protected call: without the memory for them, the state is
+  // not made (state() is null), rather than Lua's panic.
+  lua_pushcfunction(L_, [](lua_State* L) -> int {
+    of(L).open_libraries();
+    return 0;
+  });
+  if (lua_pcall(L_, 0, 0, 0) != LUA_OK) {
+    lua_close(L_);
+    L_ = nullptr;
+  }
 }
 
 LuaSandbox::~LuaSandbox() {
@@ -420,7 +436,7 @@ void LuaSandbox::open_libraries() {
   lua_setfield(L_, -2, "__metatable");
   lua_pop(L_, 2);
 
-  if (luaL_loadbufferx(L_, kGuards, std::strlen(kGuards), LuaSandbox::kHostChunk, "t") != LUA_OK) std::abort();
+  if (luaL_loadbufferx(L_, kGuards, std::strlen(kGuards), LuaSandbox::kHostChunk, "t") != LUA_OK) lua_error(L_);
   lua_pushglobaltable(L_);
   for (const char* name : {LUA_STRLIBNAME, LUA_TABLIBNAME, LUA_UTF8LIBNAME}) lua_getglobal(L_, name);
   lua_pushcfunction(L_, &LuaSandbox::charge);
@@ -435,7 +451,8 @@ void LuaSandbox::open_libraries() {
   lua_pushboolean(L_, 0);
   lua_setfield(L_, -2, "__metatable");
   lua_pushcclosure(L_, &LuaSandbox::set_metatable, 1);
-  if (lua_pcall(L_, 12, 1, 0) != LUA_OK) std::abort();  // the guards are dwatch's own code
+  // The guards are dwatch's own code: only the memory for them can be missing.
+  if (lua_pcall(L_, 12, 1, 0) != LUA_OK) lua_error(L_);
   guards_ = luaL_ref(L_, LUA_REGISTRYINDEX);
 }
 
