@@ -18,6 +18,7 @@
 #include "scenarios/saved_scenario.h"
 #include "sim/match_log.h"
 #include "sim/state.h"
+#include "watch/watchpoint.h"
 
 namespace dw::app {
 namespace {
@@ -545,6 +546,12 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         break;
       }
       case Kind::Watch: {
+        const bool replaces = std::any_of(
+            model.watches.begin(), model.watches.end(),
+            [&](const sim::HostedWatchpoint& h) { return h.watchpoint.name == cmd.watch->watchpoint.name; });
+        if (!replaces && model.watches.size() >= watch::kMaxWatchpoints)
+          return failed("a session holds at most " + std::to_string(watch::kMaxWatchpoints) +
+                        " watchpoints: unwatch one first");
         const auto w = session_.set_watch(*cmd.watch, control);
         if (!w)
           return failed(control.stopped() ? "cancelled" : "the session keeps no history to evaluate a watchpoint over");

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "sim/read_file.h"
+#include "watch/watchpoint.h"
 
 namespace dw::app {
 namespace {
@@ -20,18 +21,24 @@ bool is_name(const std::string& s) {
 
 std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const std::vector<std::string>& args,
                                                                            std::vector<std::string>* files_read) {
+  if (args.size() > watch::kMaxWatchpoints)
+    return "dwatch: error: at most " + std::to_string(watch::kMaxWatchpoints) + " watchpoints, not " +
+           std::to_string(args.size()) + "\n";
+  // NAME=... names the watchpoint; a watchpoint's own text starts with `modules(`, never NAME=.
+  auto given_name = [](const std::string& arg) -> std::string {
+    const size_t eq = arg.find('=');
+    if (eq == std::string::npos || !is_name(arg.substr(0, eq)) || arg.substr(0, eq) == "modules") return "";
+    return arg.substr(0, eq);
+  };
+  std::vector<std::string> given;  // so that no name made up below is one the user gave
+  for (const std::string& arg : args) given.push_back(given_name(arg));
   std::vector<watch::Watchpoint> out;
   std::vector<std::string> names;
   std::string errors;
   for (size_t i = 0; i < args.size(); ++i) {
     std::string arg = args[i];
-    std::string name;
-    // NAME=... names the watchpoint; a watchpoint's own text starts with `modules(`, never NAME=.
-    if (const size_t eq = arg.find('=');
-        eq != std::string::npos && is_name(arg.substr(0, eq)) && arg.substr(0, eq) != "modules") {
-      name = arg.substr(0, eq);
-      arg = arg.substr(eq + 1);
-    }
+    std::string name = given[i];
+    if (!name.empty()) arg = arg.substr(name.size() + 1);
     std::string source_name = "<watch " + std::to_string(i + 1) + ">";
     std::string text = arg;
     if (!arg.empty() && arg[0] == '@') {
@@ -51,7 +58,10 @@ std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const
         name = p.stem() == "watch" && p.has_parent_path() ? p.parent_path().filename().string() : p.stem().string();
       }
     }
-    if (name.empty()) name = "w" + std::to_string(i + 1);
+    if (name.empty()) {
+      name = "w" + std::to_string(i + 1);
+      while (std::find(given.begin(), given.end(), name) != given.end()) name += "_";
+    }
     // Matches and logs name a watchpoint by it, as the scenario loader refuses a second [[watch]]
     // of one name.
     if (std::find(names.begin(), names.end(), name) != names.end()) {

@@ -14,6 +14,7 @@
 #include "scenarios/table_reader.h"
 #include "sim/lattice.h"
 #include "sim/read_file.h"
+#include "watch/watchpoint.h"
 
 namespace dw::scenarios {
 
@@ -458,6 +459,11 @@ struct Loader {
     const toml::array* a = n->as_array();
     if (!a || !a->is_array_of_tables()) {
       root.error("watch", "'watch' must be [[watch]] tables");
+      return std::nullopt;
+    }
+    if (a->size() > watch::kMaxWatchpoints) {
+      root.error("watch", "a scenario holds at most " + std::to_string(watch::kMaxWatchpoints) + " watchpoints, not " +
+                              std::to_string(a->size()));
       return std::nullopt;
     }
     bool ok = true;

@@ -8,6 +8,7 @@
 #include "sim/json_brackets.h"
 #include "sim/read_file.h"
 #include "sim/trace.h"
+#include "watch/watchpoint.h"
 
 namespace dw::sim {
 namespace {
@@ -230,6 +231,11 @@ class TraceReader {
     simdjson::dom::array list;
     if (v.get_array().get(list)) {
       error(at, "\"watches\" must be an array of watchpoints");
+      return false;
+    }
+    if (list.size() > watch::kMaxWatchpoints) {
+      error(at, "\"watches\" holds at most " + std::to_string(watch::kMaxWatchpoints) + " watchpoints, not " +
+                    std::to_string(list.size()));
       return false;
     }
     const std::vector<size_t> starts = object_starts(at.line, at.line.find('[', at.line.find("\"watches\"")));

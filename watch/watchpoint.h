@@ -14,6 +14,10 @@
 
 namespace dw::watch {
 
+// Watchpoints one run may hold (a scenario, a trace's header, a session, the command line). Each
+// keeps its detector, history and statistics: 100,000 of them, a 5 MB scenario, took 2.5 GB.
+inline constexpr size_t kMaxWatchpoints = 1000;
+
 struct Watchpoint {
   std::string name;
   std::shared_ptr<const SourceText> source;

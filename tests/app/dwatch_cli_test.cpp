@@ -199,6 +199,10 @@ TEST_F(Cli, BadOptionsAreBadInput) {
       std::system((std::string(DWATCH_EXE) + " check 'modules(a); a.x = 1' >/dev/full 2>" + err.string()).c_str());
   EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1);
   EXPECT_EQ(slurp(err), "dwatch: error: writing standard output failed: No space left on device\n");
+  // A watchpoint the user left unnamed is not given a name the user gave another (w2 here).
+  const Result named = run("check 'w2=modules(a); a.x = 1' 'modules(a b); a.x = 1'");
+  EXPECT_EQ(named.code, 0) << named.err;
+  EXPECT_NE(named.out.find("watchpoint w2_ (<watch 2>)"), std::string::npos) << named.out;
   const Result twice = run("run a.toml --steps 5 --steps 6");
   EXPECT_EQ(twice.code, 2);
   EXPECT_EQ(twice.err, "dwatch: error: --steps: given more than once (give it once)\n");

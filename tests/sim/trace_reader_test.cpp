@@ -63,6 +63,17 @@ TEST(TraceReader, TheHeaderListsTheRunsWatchpointsWithTheirReadings) {
     ASSERT_TRUE(std::holds_alternative<std::vector<TraceError>>(errors)) << bad;
     EXPECT_NE(std::get<std::vector<TraceError>>(errors)[0].message.find("\"watches\""), std::string::npos) << bad;
   }
+  // As many as a scenario may hold, no more (100,000 took 2.9 GB and minutes).
+  std::string many = R"({"wptrace":1,"watches":[)";
+  for (size_t i = 0; i <= watch::kMaxWatchpoints; ++i)
+    many +=
+        std::string(i ? "," : "") + R"({"name":"w)" + std::to_string(i) +
+        R"j(","text":"modules(a); (a.x = 1)","algorithm":"centralized","shape":"any","states":"consistent","action":"log"})j";
+  const auto too_many = read_trace_text("t", many + "]}\n");
+  ASSERT_TRUE(std::holds_alternative<std::vector<TraceError>>(too_many));
+  EXPECT_NE(std::get<std::vector<TraceError>>(too_many)[0].message.find(
+                "\"watches\" holds at most 1000 watchpoints, not 1001"),
+            std::string::npos);
   const auto late = read_trace_text("t", "{\"t\":0,\"m\":0,\"vars\":{},\"nbrs\":[]}\n{\"watches\":[]}\n");
   ASSERT_TRUE(std::holds_alternative<std::vector<TraceError>>(late));
   EXPECT_NE(std::get<std::vector<TraceError>>(late)[0].message.find("belongs to the header"), std::string::npos);
