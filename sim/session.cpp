@@ -424,14 +424,15 @@ std::string Session::intervene(Intervention i) {
     return "no program has that variable";
   if (i.kind == Intervention::Kind::Push && head_.bodies.empty())
     return "push needs bodies, and this scenario has no physics";
-  if (i.kind == Intervention::Kind::Remove) {
+  {  // a module removed keeps its variables and body where they were, read by nothing: a set or
+     // push on it would change nothing the run shows, and the intervention would be kept for naught
     const State& now = state();
     const bool queued = std::any_of(interventions_.begin(), interventions_.end(), [&](const Intervention& o) {
       return o.at == i.at && o.kind == Intervention::Kind::Remove && o.module == i.module;
     });
     if (queued || (i.module < now.present.size() && !now.present[i.module]))
       return "module " + std::to_string(i.module) + " is already gone at step " + std::to_string(i.at) +
-             ": there is nothing to remove";
+             ": there is nothing to " + intervention_name(i.kind);
   }
   if (current_ < latest_ && !has_history()) return "the session keeps no history to branch from";
   if (current_ < latest_) branch_here();
