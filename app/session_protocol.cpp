@@ -24,7 +24,7 @@ using Json = nlohmann::ordered_json;
 // One request as read: its id (null when none was given) and its command line, or why it could
 // not be read.
 struct Request {
-  Json id;  // null: none given
+  std::optional<Json> id;  // as given (null included): a string or an integer
   std::string line;
   std::string unreadable;  // a line too long, JSON that is not a request
   bool json = false;       // {"cmd": ...}: always answered, even when its command is blank
@@ -35,9 +35,9 @@ struct Request {
 class AnswerWriter {
  public:
   explicit AnswerWriter(std::ostream& out) : out_(out) {}
-  void write(const Json& id, Json body) {
+  void write(const std::optional<Json>& id, Json body) {
     Json line;
-    if (!id.is_null()) line["id"] = id;  // only when the request gave one
+    if (id) line["id"] = *id;  // only when the request gave one
     for (auto it = body.begin(); it != body.end(); ++it) line[it.key()] = std::move(it.value());
     std::lock_guard lock(mutex_);
     out_ << line.dump() << "\n" << std::flush;
@@ -91,15 +91,22 @@ Request parse_request(std::string line) {
         return true;
       },
       /*allow_exceptions=*/false);
+  // An id is echoed as given: a string, an integer or null. A number with a fraction or past 64
+  // bits (read as a double) would come back rounded, and the reader could not match it.
+  const bool usable_id =
+      j.is_object() && j.contains("id") && (j["id"].is_string() || j["id"].is_number_integer() || j["id"].is_null());
+  if (usable_id) r.id = j["id"];
   if (j.is_discarded() || !j.is_object() || !j.contains("cmd") || !j["cmd"].is_string()) {
     r.unreadable = "a request is a command line, or a JSON object {\"id\": ..., \"cmd\": \"COMMAND LINE\"}";
-    if (j.is_object() && j.contains("id")) r.id = j["id"];
     return r;
   }
-  if (j.contains("id")) r.id = j["id"];
   r.json = true;
   if (!twice.empty()) {
     r.unreadable = "a request gives the key \"" + twice + "\" twice";
+    return r;
+  }
+  if (j.contains("id") && !usable_id) {
+    r.unreadable = "a request's id is a string or an integer of at most 64 bits, not " + j["id"].dump();
     return r;
   }
   r.line = j["cmd"].get<std::string>();

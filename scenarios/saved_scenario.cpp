@@ -62,6 +62,14 @@ toml::table event_table(const sim::Intervention& i, const sim::Model& model) {
 
 std::optional<std::string> saved_scenario(const Scenario& scenario, const sim::Session& session,
                                           const std::string& destination, std::string* error) {
+  // A scenario file runs one version of each script from step 0.
+  if (const std::optional<int64_t> from = session.first_replacement()) {
+    if (error)
+      *error =
+          "this branch runs a reloaded script from step " + std::to_string(*from) +
+          ", and a scenario runs each script from step 0: it cannot say this branch (seek 0 and reload, then save)";
+    return std::nullopt;
+  }
   toml::table doc;
   try {
     doc = toml::parse(std::string_view(scenario.text), std::string_view(scenario.path));

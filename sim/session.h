@@ -161,6 +161,13 @@ class Session {
     std::shared_ptr<const HostProgram> with;
   };
   std::string replace_programs(std::vector<Replacement> replacements);
+  // The first step this branch runs a replaced program from, after step 0; none when every
+  // program runs as loaded (or was replaced before step 0).
+  std::optional<int64_t> first_replacement() const {
+    for (const ProgramVersion& v : program_versions_)
+      if (v.from > 0) return v.from;
+    return std::nullopt;
+  }
 
   // The program failure that stopped the run at step latest() + 1: nothing once a step after the
   // latest went through, or the future changed (an intervention, a program replaced).

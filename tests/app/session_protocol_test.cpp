@@ -133,10 +133,10 @@ TEST_F(SessionProtocol, EachRequestIsAnsweredBeforeTheNextIsSent) {
   const auto too_long = p.next();
   ASSERT_TRUE(too_long);
   EXPECT_NE((*too_long)["error"]["message"].get<std::string>().find("longer than"), std::string::npos);
-  p.send(R"({"id": [2], "cmd": "step"})");
+  p.send(R"({"id": "two", "cmd": "step"})");
   const auto stepped = p.next();
   ASSERT_TRUE(stepped);
-  EXPECT_EQ((*stepped)["id"], json::array({2}));
+  EXPECT_EQ((*stepped)["id"], "two");
   EXPECT_EQ((*stepped)["current"], 11);
   EXPECT_EQ(p.finish(), 0) << "the end of the input ends the session";
 }
@@ -191,6 +191,27 @@ TEST_F(SessionProtocol, EveryJsonRequestIsAnswered) {
     const auto answer = p.next();
     ASSERT_TRUE(answer) << twice;
     EXPECT_NE((*answer)["error"]["message"].get<std::string>().find("gives the key"), std::string::npos) << *answer;
+  }
+  // An id comes back as sent, or the request is refused: a fraction or an integer past 64 bits
+  // would come back rounded (18446744073709551616 as 1.8446744073709552e+19).
+  for (const std::string odd : {R"({"id": 18446744073709551616, "cmd": "step"})", R"({"id": 1e2, "cmd": "step"})",
+                                R"({"id": [1], "cmd": "step"})", R"({"id": true, "cmd": "step"})"}) {
+    p.send(odd);
+    const auto answer = p.next();
+    ASSERT_TRUE(answer) << odd;
+    EXPECT_FALSE(answer->contains("id")) << *answer;
+    EXPECT_NE((*answer)["error"]["message"].get<std::string>().find("a request's id is a string or an integer"),
+              std::string::npos)
+        << *answer;
+  }
+  for (const std::string kept : {R"({"id": null, "cmd": "status"})", R"({"id": 18446744073709551615, "cmd": "status"})",
+                                 R"({"id": -9223372036854775808, "cmd": "status"})"}) {
+    p.send(kept);
+    const auto answer = p.next();
+    ASSERT_TRUE(answer) << kept;
+    ASSERT_TRUE(answer->contains("id")) << *answer;
+    EXPECT_EQ((*answer)["id"], json::parse(kept)["id"]) << *answer;
+    EXPECT_EQ((*answer)["id"].dump(), json::parse(kept)["id"].dump()) << *answer;
   }
   p.send(R"({"id": 15, "cmd": "step"})");
   const auto stepped = p.next();
