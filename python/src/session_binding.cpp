@@ -126,13 +126,24 @@ class Session {
   }
 
   py::array_t<uint8_t> render(int width, int height, const std::optional<py::tuple>& camera) {
-    if (width < 1 || height < 1 || width > 8192 || height > 8192)
-      raise_error("Error", "width and height must be from 1 to 8192 pixels");
+    // As the session's `render W H` takes them.
+    if (width < 16 || height < 16 || width > 8192 || height > 8192)
+      raise_error("Error", "width and height must be from 16 to 8192 pixels");
     render::Scene scene = shell_->scene();
     if (camera) {
-      if (camera->size() != 2) raise_error("Error", "camera is (eye, target): two points (x, y, z)");
-      scene.camera_eye = (*camera)[0].cast<sim::Vec3>();
-      scene.camera_target = (*camera)[1].cast<sim::Vec3>();
+      std::array<double, 3> eye{}, target{};
+      try {
+        if (camera->size() != 2) throw py::cast_error();
+        eye = (*camera)[0].cast<std::array<double, 3>>();
+        target = (*camera)[1].cast<std::array<double, 3>>();
+      } catch (const py::cast_error&) {
+        raise_error("Error", "camera is (eye, target): two points (x, y, z)");
+      }
+      // As the command line's and a scenario's camera: refused where it can draw nothing.
+      if (const std::string problem = scenarios::camera_problem(eye, target); !problem.empty())
+        raise_error("Error", problem);
+      scene.camera_eye = sim::Vec3{float(eye[0]), float(eye[1]), float(eye[2])};
+      scene.camera_target = sim::Vec3{float(target[0]), float(target[1]), float(target[2])};
     }
     std::variant<render::Image, std::string> drawn;
     {

@@ -138,6 +138,17 @@ def test_render_draws_the_view_with_the_group_in_red(leaders):
     assert eye.shape == (200, 320, 3) and not np.array_equal(eye, plain)
 
 
+def test_render_refuses_what_the_session_and_the_command_line_refuse(leaders):
+    s = dwatch.Session(leaders)
+    s.run(3)
+    with pytest.raises(dwatch.Error, match="from 16 to 8192"):
+        s.render(1, 1)
+    for camera, said in [(((float("nan"), 0, 0), (0, 0, 0)), "finite"), (((1, 1, 1), (1, 1, 1)), "on its target"),
+                         ((1, 2), "two points"), (((0, 0), (1, 1, 1)), "two points")]:
+        with pytest.raises(dwatch.Error, match=said):
+            s.render(64, 64, camera=camera)
+
+
 def test_save_writes_a_scenario_the_session_loads_again(leaders, tmp_path):
     s = dwatch.Session(leaders)
     s.action("two_leaders", "log")
