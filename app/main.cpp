@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -172,6 +173,9 @@ int main(int argc, char** argv) {
     return code;
   } catch (const std::bad_alloc&) {
     std::cerr << "dwatch: error: out of memory\n";
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {  // a system_error too, but dwatch's mistake
+    std::cerr << "dwatch: internal error: " << e.what() << "\n";
     return 1;
   } catch (const std::system_error& e) {
     // The operating system refused a thread or a lock: the machine's limits, not a mistake.

@@ -48,7 +48,7 @@ constexpr int64_t kSteps = 2;
 // match; a deadline short enough that an input whose every call runs into it stays within
 // libFuzzer's timeout. A small cap makes the limits meet early (where they race, if anything
 // does) and each input cheap: replaying the corpus takes 2.3 times less than with 1 MiB.
-constexpr dw::scenarios::LuaLimits kLimits{
+const dw::scenarios::LuaLimits kLimits{
     .instructions = 100'000, .memory_bytes = 1u << 18, .deadline = 50ms, .pattern_steps = 1e6};
 
 // The lattice and the world the scripts run on, loaded once.
