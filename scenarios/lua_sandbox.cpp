@@ -539,7 +539,7 @@ void LuaSandbox::push_stop_message(Stop why) {
       : why == Stop::kPool
           ? display_ + ": not enough memory: the run's Lua states (one per script per stepping thread) may hold " +
                 sim::size_text(limits_.pool->limit()) +
-                " together, what this machine had available beyond the scenario's memory estimate"
+                " together, half of what this machine had available beyond the scenario's memory estimate"
           : (where_.empty() ? display_ + ": " : where_) + "ran more than " + std::to_string(limits_.instructions) +
                 " instructions in one call (an endless loop?)";
   lua_pushstring(L_, message.c_str());

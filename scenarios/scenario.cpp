@@ -590,11 +590,11 @@ struct Loader {
                         memory_refusal(modules, physics_on, s.history_mb, overrides.memory_limit, variables));
         return diagnostics.format();
       }
-      // The scripts' states take what is left, and at least what one of them may hold; so may a
-      // step's messages, a quarter of it (at least 64 MiB): they are kept once a stepping thread
-      // and once more as the next step's inbox.
+      // What is left is shared: half for the scripts' states (at least what one of them may
+      // hold), half for a step's messages, which are kept twice (by the threads that sent them,
+      // then as the next step's inbox), so a quarter each time (at least 64 MiB).
       spare = overrides.memory_limit - estimate;
-      lua_memory->set_limit(std::max<uint64_t>(spare, LuaLimits{}.memory_bytes));
+      lua_memory->set_limit(std::max<uint64_t>(spare / 2, LuaLimits{}.memory_bytes));
     }
     auto built = sim::build_model(std::move(*built_lattice), std::move(*progs), std::move(*hosted),
                                   overrides.seed.value_or(static_cast<uint64_t>(seed.value_or(1))));

@@ -65,8 +65,9 @@ bool same_variables(const HostProgram& a, const HostProgram& b);
 struct Outbox {
   MessageList messages;
   std::vector<Actuation> actuations;
-  // Model::message_bytes_per_step, and whether this thread's messages went past it (what was
-  // sent after that is not kept; the step fails once every module has run).
+  // Model::message_bytes_per_step, set when the runtime starts (0: none), and whether this
+  // thread's messages went past it this step (what was sent after that is not kept; the step
+  // fails once every module has run).
   uint64_t byte_limit = 0;
   bool over = false;
   std::string error;          // the lowest module's first misuse of the API (sending to a non-neighbour, ...)

@@ -79,6 +79,7 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads, RankExchang
   arriving_.resize(pool_.size());
   for (const auto& program : model.programs) programs_.push_back(program.get());
   for (ThreadScratch& s : scratch_) {
+    s.outbox.byte_limit = model.message_bytes_per_step;
     for (const auto& program : model.programs) s.programs.push_back(program->make_scratch());
     for (const HostedWatchpoint& w : model.watches) {
       // Each thread may use the whole budget; whether the step went over it is decided on the
@@ -246,7 +247,6 @@ void Runtime::start_thread(unsigned thread, const State& state) {
   s.outbox.actuations.clear();
   s.outbox.error.clear();  // a failed step may be tried again (a script reloaded, a seek back)
   s.outbox.over = false;
-  s.outbox.byte_limit = model_.message_bytes_per_step;
   for (uint32_t w : agent_watches_)
     watch::start_agent_step(s.agents[w], state.step - model_.watches[w].watchpoint.program.agent_delay());
 }

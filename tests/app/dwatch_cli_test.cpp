@@ -81,10 +81,9 @@ TEST_F(Cli, SeveralWatchesAtOnce) {
   EXPECT_NE(m.find("\"watch\":\"ones\""), std::string::npos);
   EXPECT_NE(m.find("\"watch\":\"01_fig6_2222_grid\""), std::string::npos);
   // Two of one name, as two [[watch]] of one name in a scenario, are refused: matches name them.
-  const Result twice = run("replay " + (c / "trace.jsonl").string() + " -w 'w=modules(a); (a.x1 = 1)' -w " +
-                           "'w=modules(a); (a.x1 = 0)'");
-  EXPECT_EQ(twice.code, 2);
-  EXPECT_EQ(twice.err, "<watch 2>:1:1: error: a second watchpoint named \"w\"\n");
+  expect_refused(
+      "replay " + (c / "trace.jsonl").string() + " -w 'w=modules(a); (a.x1 = 1)' -w 'w=modules(a); (a.x1 = 0)'",
+      "<watch 2>:1:1: error: a second watchpoint named \"w\"\n");
 }
 
 TEST_F(Cli, BadTraceLineIsBadInputNamingTheLine) {
@@ -160,39 +159,31 @@ TEST_F(Cli, BadOptionsAreBadInput) {
   EXPECT_EQ(run("").code, 2);
   // A word a command does not take is named as given (CLI11 listed them backwards: "not expected:
   // f --scriptt").
-  const Result misspelt = run("check --explainn 'modules(a); a.x = 1' f");
-  EXPECT_EQ(misspelt.code, 2);
-  EXPECT_EQ(
-      misspelt.err,
-      "dwatch: error: unknown option '--explainn' for 'dwatch check' (dwatch check --help lists what it takes)\n");
+  expect_refused("check --explainn 'modules(a); a.x = 1' f",
+                 "dwatch: error: unknown option '--explainn' for 'dwatch check' (dwatch check --help lists what it "
+                 "takes)\n");
   const Result extra = run("run a.toml surplus");
   EXPECT_EQ(extra.code, 2);
   EXPECT_NE(extra.err.find("unexpected argument 'surplus' for 'dwatch run'"), std::string::npos) << extra.err;
   // An option given last took the command's own word as its value: the message says which.
-  const Result taken = run("run --record S");
-  EXPECT_EQ(taken.code, 2);
-  EXPECT_EQ(taken.err,
-            "dwatch: error: scenario is required ('--record' took 'S' as its value: give it one of its own, or put the "
-            "option after the command's own words)\n");
+  expect_refused("run --record S",
+                 "dwatch: error: scenario is required ('--record' took 'S' as its value: give it one of its own, or "
+                 "put the option after the command's own words)\n");
   const Result valueless = run("run a.toml --max-live");
   EXPECT_EQ(valueless.code, 2);
   EXPECT_NE(valueless.err.find("dwatch: error: --max-live: 1 required"), std::string::npos) << valueless.err;
   EXPECT_NE(valueless.err.find("takes a value and was given none"), std::string::npos) << valueless.err;
   // CLI11's own checks are said as every mistake is, pointing at the command's --help.
-  const Result negative = run("run a.toml --steps -1");
-  EXPECT_EQ(negative.code, 2);
-  EXPECT_EQ(negative.err,
-            "dwatch: error: --steps: 'steps' must be between 0 and 10000000, not -1 (dwatch run --help lists what it "
-            "takes)\n");
+  expect_refused("run a.toml --steps -1",
+                 "dwatch: error: --steps: 'steps' must be between 0 and 10000000, not -1 (dwatch run --help lists "
+                 "what it takes)\n");
   const Result bench = run("bench nosuch");
   EXPECT_EQ(bench.code, 2);
   EXPECT_EQ(bench.err.rfind("dwatch: error: name: nosuch not in {", 0), 0u) << bench.err;
   EXPECT_NE(bench.err.find("(dwatch bench --help lists what it takes)"), std::string::npos) << bench.err;
-  const Result four = run("render a.toml --camera-eye 1,2,3,4");
-  EXPECT_EQ(four.code, 2);
-  EXPECT_EQ(four.err,
-            "dwatch: error: --camera-eye: At Most 3 required but received 4 (dwatch render --help lists what it "
-            "takes)\n");
+  expect_refused("render a.toml --camera-eye 1,2,3,4",
+                 "dwatch: error: --camera-eye: At Most 3 required but received 4 (dwatch render --help lists what "
+                 "it takes)\n");
   // What a command prints is its answer: printed nowhere, it did not succeed.
   const fs::path err = dir_ / "full_err";
   const int status =
@@ -203,13 +194,9 @@ TEST_F(Cli, BadOptionsAreBadInput) {
   const Result named = run("check 'w2=modules(a); a.x = 1' 'modules(a b); a.x = 1'");
   EXPECT_EQ(named.code, 0) << named.err;
   EXPECT_NE(named.out.find("watchpoint w2_ (<watch 2>)"), std::string::npos) << named.out;
-  const Result twice = run("run a.toml --steps 5 --steps 6");
-  EXPECT_EQ(twice.code, 2);
-  EXPECT_EQ(twice.err, "dwatch: error: --steps: given more than once (give it once)\n");
+  expect_refused("run a.toml --steps 5 --steps 6", "dwatch: error: --steps: given more than once (give it once)\n");
   // An empty value names no file: it was taken as no --matches at all, and nothing was written.
-  const Result empty = run("run a.toml --matches ''");
-  EXPECT_EQ(empty.code, 2);
-  EXPECT_EQ(empty.err, "dwatch: error: --matches: the value is empty\n");
+  expect_refused("run a.toml --matches ''", "dwatch: error: --matches: the value is empty\n");
 }
 
 }  // namespace
