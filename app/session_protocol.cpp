@@ -29,6 +29,16 @@ struct Request {
   std::string unreadable;  // a line too long, JSON that is not a request
   bool json = false;       // {"cmd": ...}: always answered, even when its command is blank
   bool end = false;        // the input ended
+  std::stop_source stop;   // asked by `cancel`, queued or while it runs
+
+  // Whether it asks something, and is answered: not the end of the input, nor a plain blank or
+  // `#` comment line.
+  bool asks() const {
+    if (end) return false;
+    if (json || !unreadable.empty()) return true;
+    const size_t first = line.find_first_not_of(" \t\r");
+    return first != std::string::npos && line[first] != '#';
+  }
 };
 
 // Answers go out whole and in one piece from the reader (cancel) and the runner alike.
@@ -126,9 +136,14 @@ int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* 
   std::mutex mutex;
   std::condition_variable ready;
   std::deque<Request> queue;
-  std::optional<std::stop_source> running;  // the command under way's, for `cancel`
+  std::optional<std::stop_source> running;  // the request under way's, for `cancel`
 
-  // The reader: lines as they come (the runner may be busy), `cancel` acted on at once.
+  // The reader: lines as they come (the runner may be busy), `cancel` acted on at once. It stops
+  // the oldest request not yet answered nor already told to stop: the one under way, or, when
+  // the runner has not taken it yet, the first queued (sent together, `run 1000000` and `cancel`
+  // reach the reader before the runner starts the run; a cancel then found nothing running and
+  // was lost). Taking a request from the queue and marking it under way is one step under the
+  // lock, so a request is always one or the other until it is answered.
   std::jthread reader([&] {
     std::string line;
     bool too_long = false;
@@ -136,7 +151,9 @@ int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* 
     auto take = [&](Request r) {
       if (r.unreadable.empty() && is_cancel(r.line)) {
         std::lock_guard lock(mutex);
-        const bool stopped = running && running->request_stop();
+        bool stopped = running && running->request_stop();
+        for (auto q = queue.begin(); !stopped && q != queue.end(); ++q)
+          if (q->asks()) stopped = q->stop.request_stop();
         answers.write(r.id, {{"cmd", "cancel"}, {"cancelled", stopped}});
         return;
       }
@@ -181,61 +198,63 @@ int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* 
       ready.wait(lock, [&] { return !queue.empty(); });
       r = std::move(queue.front());
       queue.pop_front();
+      if (r.asks()) running = r.stop;
     }
     if (r.end) break;
     ++number;
+    // Every answer but progress: the request is no longer under way once it is answered.
+    const auto reply = [&](Json body) {
+      {
+        std::lock_guard lock(mutex);
+        running.reset();
+      }
+      answers.write(r.id, std::move(body));
+    };
+    const auto fail = [&](int64_t col, const std::string& message) {
+      reply({{"error", {{"line", number}, {"col", col}, {"message", message}}}});
+    };
+    if (r.stop.stop_requested()) {
+      fail(1, "cancelled before it ran");
+      continue;
+    }
     if (!r.unreadable.empty()) {
-      answers.write(r.id, {{"error", {{"line", number}, {"col", 1}, {"message", r.unreadable}}}});
+      fail(1, r.unreadable);
       continue;
     }
     const watch::SourceText source("request " + std::to_string(number), r.line);
     auto parsed = shell.parse(source, 0, number);
     if (auto* mistakes = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) {
       const watch::Diagnostic& d = mistakes->front();  // one mistake, one message: the first
-      answers.write(r.id, {{"error",
-                            {{"line", number},
-                             {"col", d.span.begin + 1},
-                             {"message", d.message},
-                             {"text", watch::format_diagnostics(source, {d})}}}});
+      reply({{"error",
+              {{"line", number},
+               {"col", d.span.begin + 1},
+               {"message", d.message},
+               {"text", watch::format_diagnostics(source, {d})}}}});
       continue;
     }
     const std::optional<SessionCommand>& command = std::get<std::optional<SessionCommand>>(parsed);
     if (!command) {
       // A blank or comment line is no request; a JSON one is, and its controller waits for the answer.
-      if (r.json)
-        answers.write(
-            r.id,
-            {{"error",
-              {{"line", number}, {"col", 1}, {"message", "a request's command is empty (blank, or a # comment)"}}}});
+      if (r.json) fail(1, "a request's command is empty (blank, or a # comment)");
       continue;
     }
 
-    std::stop_source stop;
-    {
-      std::lock_guard lock(mutex);
-      running = stop;
-    }
     std::optional<Interrupts::Stoppable> stoppable;
     std::optional<std::stop_callback<std::function<void()>>> on_signal;
     if (interrupts) {
       stoppable.emplace(*interrupts);
-      on_signal.emplace(stoppable->token(), std::function<void()>([&stop] { stop.request_stop(); }));
+      on_signal.emplace(stoppable->token(), std::function<void()>([&r] { r.stop.request_stop(); }));
     }
     auto last = std::chrono::steady_clock::now();
-    const sim::Control control{.stop = stop.get_token(), .progress = [&](int64_t done, int64_t total) {
+    const sim::Control control{.stop = r.stop.get_token(), .progress = [&](int64_t done, int64_t total) {
                                  const auto now = std::chrono::steady_clock::now();
                                  if (now - last < std::chrono::milliseconds(100)) return;
                                  last = now;
                                  answers.write(r.id, {{"progress", {{"done", done}, {"total", total}}}});
                                }};
     auto answer = shell.execute(*command, control);
-    {
-      std::lock_guard lock(mutex);
-      running.reset();
-    }
-    if (auto* error = std::get_if<std::string>(&answer))
-      answers.write(r.id, {{"error", {{"line", number}, {"col", 1}, {"message", *error}}}});
-    else answers.write(r.id, std::move(std::get<Json>(answer)));
+    if (auto* error = std::get_if<std::string>(&answer)) fail(1, *error);
+    else reply(std::move(std::get<Json>(answer)));
     on_signal.reset();
     if (stoppable) {
       if (const auto signal = stoppable->signal()) {

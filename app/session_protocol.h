@@ -7,8 +7,10 @@
 //             | {"id": ID, "error": {"line": N, "col": C, "message": M, "text": CARET_TEXT}}
 //             | {"id": ID, "progress": {"done": D, "total": T}}     (long commands, 10 a second at most)
 //
-// Requests run one at a time, in order; `cancel` (or {"cmd": "cancel"}) is read while one runs and
-// stops it between steps (its answer then says "cancelled": true). A mistake or a failure is an
+// Requests run one at a time, in order; `cancel` (or {"cmd": "cancel"}) is read at once and stops
+// the oldest request not yet answered: the one under way, between steps (its answer then says
+// "cancelled": true), or one still waiting, which is then answered "cancelled before it ran"
+// without running. A mistake or a failure is an
 // answer, never the end of the session; the end of the input ends it (exit 0), as does a signal
 // (exit 128 + its number, once the command under way has stopped and answered).
 #pragma once

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -171,6 +172,52 @@ TEST_F(SessionProtocol, ALongRunReportsProgressAndStopsOnCancel) {
   const auto idle = p.next();
   ASSERT_TRUE(idle);
   EXPECT_EQ((*idle)["cancelled"], false) << "nothing was running";
+  EXPECT_EQ(p.finish(), 0);
+}
+
+// A cancel sent with its run, both read before the run starts, stops it (it found nothing under
+// way and was lost: the run went on to its end); each cancel takes the oldest request not yet
+// answered nor cancelled, so a second one stops the second run, waiting or under way.
+TEST_F(SessionProtocol, ACancelSentWithItsRequestStopsIt) {
+  Protocol p(std::string(DWATCH_SCENARIOS_DIR) + "/token_ring_correct.toml");
+  p.send("status");
+  const auto before = p.next();
+  ASSERT_TRUE(before);
+  int64_t current = (*before)["current"].get<int64_t>();  // where it stands until a run runs
+  p.write(R"({"id": "r1", "cmd": "run 10000000"})"
+          "\n"
+          R"({"id": "c1", "cmd": "cancel"})"
+          "\n"
+          R"({"id": "r2", "cmd": "run 10000000"})"
+          "\n"
+          R"({"id": "c2", "cmd": "cancel"})"
+          "\n");
+  std::map<std::string, json> answers;
+  while (answers.size() < 4) {
+    auto a = p.next();
+    ASSERT_TRUE(a) << "a request sent with its cancel was not stopped";
+    if (!a->contains("progress")) answers[(*a)["id"].get<std::string>()] = *a;
+  }
+  EXPECT_EQ(answers["c1"]["cancelled"], true);
+  EXPECT_EQ(answers["c2"]["cancelled"], true);
+  for (const char* id : {"r1", "r2"}) {
+    const json& run = answers[id];
+    if (run.contains("error")) {
+      EXPECT_EQ(run["error"]["message"], "cancelled before it ran") << run;
+    } else {
+      EXPECT_EQ(run["cancelled"], true) << run;
+      current = run["current"].get<int64_t>();
+      EXPECT_LT(current, 10000000);
+    }
+  }
+  p.send("status");
+  const auto status = p.next();
+  ASSERT_TRUE(status);
+  EXPECT_EQ((*status)["current"], current) << "the session stands where the stopped runs got to";
+  p.send("cancel");
+  const auto idle = p.next();
+  ASSERT_TRUE(idle);
+  EXPECT_EQ((*idle)["cancelled"], false) << "every request before it was answered";
   EXPECT_EQ(p.finish(), 0);
 }
 
