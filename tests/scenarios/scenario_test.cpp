@@ -137,6 +137,20 @@ TEST(Scenario, ItHoldsAtMostAThousandWatchpoints) {
       << std::get<std::string>(over).substr(0, 300);
 }
 
+// A bound is the number as a scenario writes it: 0.015 is the largest contact threshold, and was
+// refused as "between 0 and 0.015, not 0.015" (it was checked against the float nearest 0.015,
+// just below it).
+TEST(Scenario, ABoundItselfIsWithinTheBound) {
+  const std::string head =
+      "[lattice]\nkind = \"cubic\"\nsize = [2, 2, 2]\n[[program]]\nname = \"token_ring\"\n[physics]\n";
+  const auto at = load_scenario_text("at.toml", head + "contact_threshold = 0.015\n");
+  ASSERT_TRUE(std::holds_alternative<Scenario>(at)) << std::get<std::string>(at);
+  const auto over = load_scenario_text("over.toml", head + "contact_threshold = 0.0150001\n");
+  ASSERT_TRUE(std::holds_alternative<std::string>(over));
+  EXPECT_NE(std::get<std::string>(over).find("must be between 0 and 0.015, not 0.0150001"), std::string::npos)
+      << std::get<std::string>(over);
+}
+
 TEST(Scenario, OverridesWinOverTheFile) {
   auto loaded = load_scenario_text("x.toml", R"toml(seed = 3
 [lattice]
