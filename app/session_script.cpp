@@ -526,12 +526,14 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
       case Kind::Remove:
       case Kind::Push: {
         const int64_t dropped = session_.latest() - session_.current();
+        const std::string stuck = cmd.kind == Kind::Push ? session_.push_moves_nothing(cmd.intervention->module) : "";
         if (std::string error = session_.intervene(*cmd.intervention); !error.empty()) return failed(error);
         sim::Intervention made = *cmd.intervention;
         made.at = session_.current() + 1;
         answer["intervention"] = intervention_answer(made);
         answer["dropped_steps"] = dropped;
         merge(position());
+        if (!stuck.empty()) answer["warning"] = stuck;
         break;
       }
       case Kind::Reload: {

@@ -414,6 +414,20 @@ const NeighborGraph& Session::seen_graph() {
   return current_ < 0 ? *s.graph : *out.graph;
 }
 
+std::string Session::push_moves_nothing(ModuleId m) {
+  const Bodies& b = state().bodies;
+  if (m >= b.cluster_of.size()) return {};
+  const std::string who = "module " + std::to_string(m), when = " at step " + std::to_string(current_);
+  if (b.moving(m))
+    return who + " is making a lattice move" + when + ": it glides along its path whatever pushes it, so the push " +
+           "moves nothing";
+  const uint32_t c = b.cluster_of[m];
+  if (c != kNoCluster && b.clusters[c].anchored)
+    return who + " is latched to the ground" + when + " (its cluster of " + std::to_string(b.clusters[c].count) +
+           " modules is anchored): the push moves nothing unless a program's move frees it in the next step";
+  return {};
+}
+
 std::string Session::intervene(Intervention i) {
   i.at = current_ + 1;
   i.scheduled = false;

@@ -148,6 +148,11 @@ class Session {
   // the future after t is dropped and the next steps simulate the change. An error message when
   // it names no module or variable, or pushes without physics; empty when done.
   std::string intervene(Intervention intervention);
+  // Why a push on module m at the current step would move nothing, as things stand (latched to
+  // the ground, or making a lattice move); empty when it may move it. A program's move in the
+  // next step can still free a latched module, so the push is made either way and its answer
+  // carries this as a warning.
+  std::string push_moves_nothing(ModuleId m);
   // Every intervention of this branch, scheduled or made, in the order they apply.
   const std::vector<Intervention>& interventions() const { return interventions_; }
 

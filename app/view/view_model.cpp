@@ -350,6 +350,7 @@ std::string answer_words(const nlohmann::ordered_json& a) {
     words += (words.empty() ? "" : "; ") + std::string("at step ") + number("current") + " of " +
              std::to_string(a.value("latest", int64_t{0}) + 1) + " simulated";
   if (a.value("cancelled", false)) words += " (cancelled)";
+  if (a.contains("warning")) words += "; but " + a.value("warning", "");
   return words;
 }
 

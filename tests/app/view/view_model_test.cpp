@@ -351,7 +351,12 @@ TEST(AnswerWords, APauseASeekAndASaveReadAsSentences) {
   const auto action =
       nlohmann::ordered_json::parse(R"({"cmd":"action","watch":"two_leaders","was":"pause","action":"log"})");
   EXPECT_EQ(answer_words(action), "two_leaders logs its matches from now on (it paused on them before)");
-  for (const auto* a : {&paused, &seek, &save, &matched, &action})
+  // A push that moves nothing says why after what was done.
+  const auto pushed = nlohmann::ordered_json::parse(
+      R"({"cmd":"push","intervention":{"at":2,"module":0,"push":[0.0,0.0,5.0]},"dropped_steps":0,"current":1,"latest":1,"decided":1,"warning":"module 0 is latched to the ground at step 1"})");
+  EXPECT_EQ(answer_words(pushed),
+            "intervention at step 2; at step 1 of 2 simulated; but module 0 is latched to the ground at step 1");
+  for (const auto* a : {&paused, &seek, &save, &matched, &action, &pushed})
     EXPECT_EQ(answer_words(*a).find('{'), std::string::npos);
 }
 
