@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <string_view>
 #include <vector>
 
 namespace dw::sim {
@@ -20,6 +21,10 @@ std::string reason(const std::string& path, int code) { return "cannot read " + 
 std::string wait_text(std::chrono::milliseconds wait) {
   return wait.count() % 1000 == 0 ? std::to_string(wait.count() / 1000) + " s" : std::to_string(wait.count()) + " ms";
 }
+
+// What some editors (Notepad) write at the start of a UTF-8 file: no character of any of dwatch's
+// languages, and invisible in the editor, so a text input drops it rather than reporting it.
+constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
 
 // Reads `fd` to its end; nothing with `error` set when it fails, holds more than `max_bytes` or
 // (for text) a NUL byte.
@@ -82,6 +87,10 @@ std::optional<ReadBlocks> read_all(int fd, const std::string& name, std::string*
       }
     total += size_t(n);
     if (total > max_bytes) return fail("more than the " + size_text(max_bytes) + " an input of this kind may hold");
+  }
+  if (text && blocks[0].starts_with(kByteOrderMark)) {
+    blocks[0].erase(0, kByteOrderMark.size());
+    total -= kByteOrderMark.size();
   }
   return ReadBlocks{std::move(blocks), total};
 }

@@ -4,7 +4,8 @@
 // Every input has a size limit, checked against a file's size before reading it, and kept while
 // reading a pipe or a device (which has no size): `dwatch run /dev/zero` is an error, not a
 // process growing without end. Text inputs hold no NUL byte: a binary file is refused at its
-// first one, without being read whole.
+// first one, without being read whole. A text input's UTF-8 byte-order mark, which some editors
+// write first, is dropped.
 #pragma once
 
 #include <chrono>
