@@ -323,6 +323,7 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       //       [log|pause|count] TEXT: TEXT is the rest of the line.
       if (tokens.size() < 3) return usage(after_last);
       cmd.name = tokens[1].text;
+      if (const std::string why = watch::name_problem(cmd.name); !why.empty()) return fail(tokens[1].span, why);
       watch::Algorithm algorithm = watch::Algorithm::Distributed;
       sim::MatchAction action = sim::MatchAction::Log;
       watch::DetectorOptions options;

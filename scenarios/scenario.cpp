@@ -472,11 +472,14 @@ struct Loader {
       TableReader r(*e.as_table(), diagnostics, "[[watch]]");
       const std::optional<std::string> given = r.string("name");  // a wrong type is reported here
       std::string name = given.value_or("");
-      if (name.empty()) {
-        // Matches, logs and the session's commands name a watchpoint by it: it cannot be blank.
-        if (!r.has("name")) r.missing("name");
-        else if (given) r.error("name", "a watchpoint's name cannot be empty");
+      if (!r.has("name")) {
+        r.missing("name");
         ok = false;
+      } else if (const std::string why = watch::name_problem(name); given && !why.empty()) {
+        r.error("name", why);  // matches, logs and the session's commands name a watchpoint by it
+        ok = false;
+      } else if (name.empty()) {
+        ok = false;  // not a string: said by r.string
       } else if (std::find(names.begin(), names.end(), name) != names.end()) {
         r.error("name", "a second watchpoint named \"" + name + "\"");
         ok = false;

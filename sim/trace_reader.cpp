@@ -276,7 +276,7 @@ class TraceReader {
       // As the scenario loader says of a [[watch]]: its checks, its names of what each key takes.
       std::string why;
       const char* key = nullptr;
-      if (w.name.empty()) key = "name", why = "a watchpoint's name cannot be empty";
+      if (const std::string bad = watch::name_problem(w.name); !bad.empty()) key = "name", why = bad;
       else if (std::any_of(watches_.begin(), watches_.end(),
                            [&](const TraceWatch& other) { return other.name == w.name; }))
         key = "name", why = "a second watchpoint named \"" + w.name + "\"";

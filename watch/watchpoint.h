@@ -3,6 +3,7 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -31,6 +32,12 @@ struct CompileError {
   std::vector<Diagnostic> diagnostics;
   std::string format() const { return format_diagnostics(*source, diagnostics); }
 };
+
+// Why `name` cannot name a watchpoint, or empty when it can. Matches, logs and the session's
+// commands name a watchpoint by it, so it is a word they can say: not empty, no control
+// character (nothing a terminal or a log shows), not starting with a double quote (the session
+// reads a quoted word as the word inside), and not an integer (`matches 12` is step 12).
+std::string name_problem(std::string_view name);
 
 // Parses, checks and compiles. Never throws on bad input: errors come back as diagnostics.
 std::variant<Watchpoint, CompileError> compile_watchpoint(std::string name, SourceText source);

@@ -69,8 +69,9 @@ class Session {
   py::object watch(const std::string& name, const std::string& text, const std::string& algorithm,
                    const std::optional<std::string>& shape, const std::optional<std::string>& states,
                    const std::string& action, uint64_t max_live) {
-    if (name.empty() || name.find_first_of(" \t\r\n") != std::string::npos)
+    if (name.find_first_of(" \t") != std::string::npos)
       raise_error("CommandError", "a watchpoint's name is one word, not " + quoted(name));
+    if (const std::string why = watch::name_problem(name); !why.empty()) raise_error("CommandError", why);
     const Reading r = reading(algorithm, shape, states, max_live);
     const auto what = sim::parse_action(action);
     if (!what) raise_error("Error", "action must be 'log', 'pause' or 'count', not " + quoted(action));

@@ -107,6 +107,10 @@ def test_errors_are_exceptions_in_the_command_lines_words(leaders, tmp_path):
     with pytest.raises(dwatch.WatchError) as raised:
         s.watch("bad", "modules(a); a.nope = 1")
     assert raised.value.message == "'nope' is no program's variable"
+    with pytest.raises(dwatch.CommandError, match="is not an integer"):
+        s.watch("12", "modules(a); a.isLeader = 1")
+    with pytest.raises(dwatch.CommandError, match="no control character"):
+        s.watch("a\x01b", "modules(a); a.isLeader = 1")
     with pytest.raises(dwatch.CommandError, match="one command, on one line"):
         s.command("step\nstep")
     assert s.command("# a comment") is None

@@ -148,6 +148,8 @@ TEST(TraceReader, TheHeadersWatchpointsAreCheckedAsAScenariosAre) {
             "t.jsonl:1:270: error: duplicate field \"action\" in a watch of \"watches\"");
   EXPECT_EQ(with(R"("name":"w")", R"("name":"v")"), "t.jsonl:1:149: error: a second watchpoint named \"v\"");
   EXPECT_EQ(with(R"("name":"w")", R"("name":"")"), "t.jsonl:1:149: error: a watchpoint's name cannot be empty");
+  EXPECT_EQ(with(R"("name":"w")", R"("name":"7")"),
+            "t.jsonl:1:149: error: a watchpoint's name is not an integer ('matches 7' would be a step): add a letter");
   // Each name valid, the reading they make together not one that runs: said at the states.
   EXPECT_EQ(with(R"("chain")", R"("ordered")"),
             "t.jsonl:1:233: error: watchpoint \"w\" cannot run: shape \"ordered\" needs states = \"simultaneous\": the "
