@@ -506,7 +506,17 @@ struct Loader {
       options.states = overrides.states ? overrides.states : state_mode;
       const watch::Algorithm chosen = overrides.algorithm.value_or(alg.value_or(watch::Algorithm::Distributed));
       if (const std::string why = watch::unsupported(chosen, options); !why.empty()) {
-        r.error(r.has("shape") ? "shape" : r.has("states") ? "states" : r.has("algorithm") ? "algorithm" : "name", why);
+        // Said at what the file chose; a reading the command line chose in part says so (the
+        // user typed --shape, not the line of the file the caret is under).
+        std::string typed;
+        if (overrides.algorithm) typed += std::string(" --algorithm ") + watch::algorithm_name(*overrides.algorithm);
+        if (overrides.shape) typed += std::string(" --shape ") + watch::shape_name(*overrides.shape);
+        if (overrides.states) typed += std::string(" --states ") + watch::states_name(*overrides.states);
+        const char* key = !overrides.shape && r.has("shape")           ? "shape"
+                          : !overrides.states && r.has("states")       ? "states"
+                          : !overrides.algorithm && r.has("algorithm") ? "algorithm"
+                                                                       : "name";
+        r.error(key, typed.empty() ? why : "with" + typed + " from the command line: " + why);
         ok = false;
         continue;
       }

@@ -197,6 +197,15 @@ TEST_F(Cli, BadOptionsAreBadInput) {
   expect_refused("run a.toml --steps 5 --steps 6", "dwatch: error: --steps: given more than once (give it once)\n");
   // An empty value names no file: it was taken as no --matches at all, and nothing was written.
   expect_refused("run a.toml --matches ''", "dwatch: error: --matches: the value is empty\n");
+  // A reading the command line made impossible is said as the command line's, at the watchpoint
+  // (it was said at the file's `algorithm = ...` line, which the user had not touched).
+  const Result reading = run("run " + std::string(DWATCH_SCENARIOS_DIR) + "/leader_election.toml --shape ordered " +
+                             "--algorithm distributed");
+  EXPECT_EQ(reading.code, 2);
+  EXPECT_NE(reading.err.find("leader_election.toml:17:8: error: with --algorithm distributed --shape ordered from the "
+                             "command line: shape \"ordered\" needs states = \"simultaneous\""),
+            std::string::npos)
+      << reading.err;
 }
 
 }  // namespace
