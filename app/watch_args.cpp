@@ -56,6 +56,7 @@ std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const
         // A file named watch.txt is named by its folder, as in the conformance cases.
         const std::filesystem::path p(path);
         name = p.stem() == "watch" && p.has_parent_path() ? p.parent_path().filename().string() : p.stem().string();
+        if (!watch::name_problem(name).empty()) name.clear();  // 12.watch: matches could not say "12"
       }
     }
     if (name.empty()) {

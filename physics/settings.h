@@ -34,9 +34,10 @@ struct PhysicsSettings {
   // Two modules are neighbours when their shapes are at most this far apart (docs/design.md §8). At most
   // kMaxContactThreshold, below which Bullet keeps contact points.
   float contact_threshold = 0.01f;
-  static constexpr double kMaxContactThreshold = 0.015;  // as a scenario writes it: 0.015 is allowed
-  bool bonds = true;                                     // modules touching at the start are latched together
-  bool anchor = true;                                    // modules touching the ground at the start are latched to it
+  // A double, as a scenario writes it: 0.015 itself is allowed (the float nearest it is below it).
+  static constexpr double kMaxContactThreshold = 0.015;
+  bool bonds = true;   // modules touching at the start are latched together
+  bool anchor = true;  // modules touching the ground at the start are latched to it
   // A module pushed by other bodies harder than this (newtons, summed over a step) loses every
   // bond; 0: bonds never break. The ground's support never breaks a bond.
   float break_force = 1000;

@@ -2,8 +2,8 @@
 // (LuaLimits::memory_bytes), but a run has one state per script per stepping thread: ten scripts
 // on four threads, each near its cap, took over a gigabyte the scenario's memory estimate never
 // counted. The pool is half of what the machine had available beyond that estimate when the
-// scenario was loaded (the other half is for a step's messages); a state takes from it in granules, so that the shared
-// counter is touched once a granule, not once an allocation.
+// scenario was loaded (the other half is for a step's messages); a state takes from it in
+// granules, so that the shared counter is touched once a granule, not once an allocation.
 #pragma once
 
 #include <atomic>

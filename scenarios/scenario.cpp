@@ -475,11 +475,11 @@ struct Loader {
       if (!r.has("name")) {
         r.missing("name");
         ok = false;
-      } else if (const std::string why = watch::name_problem(name); given && !why.empty()) {
+      } else if (!given) {
+        ok = false;  // not a string: said by r.string
+      } else if (const std::string why = watch::name_problem(name); !why.empty()) {
         r.error("name", why);  // matches, logs and the session's commands name a watchpoint by it
         ok = false;
-      } else if (name.empty()) {
-        ok = false;  // not a string: said by r.string
       } else if (std::find(names.begin(), names.end(), name) != names.end()) {
         r.error("name", "a second watchpoint named \"" + name + "\"");
         ok = false;

@@ -447,8 +447,7 @@ std::string Session::intervene(Intervention i) {
     const std::vector<uint8_t>& occupied = model_.lattice.occupied;
     if (i.module < occupied.size() && !occupied[i.module])
       return "module " + std::to_string(i.module) +
-             " is a cell the lattice leaves empty ([[lattice.empty]]): there is "
-             "nothing to " +
+             " is a cell the lattice leaves empty ([[lattice.empty]]): there is nothing to " +
              intervention_name(i.kind);
     if (queued || (i.module < now.present.size() && !now.present[i.module]))
       return "module " + std::to_string(i.module) + " is already gone at step " + std::to_string(i.at) +
