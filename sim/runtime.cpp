@@ -735,6 +735,13 @@ StateHash Runtime::hash(const State& state) {
       return continue_hash(h, std::span(state.values).subspan(first * v, (end - first) * v));
     });
   };
+  // Every rank holds the bodies whole as yet; each hashes its own modules' records all the same,
+  // as it will once a rank holds only its own bodies and their neighbours.
+  const auto bodies = [&](uint64_t h) {
+    return pass_hash(h, [&](uint64_t h, uint32_t first, uint32_t end) {
+      return continue_hash(h, state.bodies, first_ + first, first_ + end);
+    });
+  };
   const auto inbox = [&](uint64_t h) {
     return pass_hash(h, [&](uint64_t h, uint32_t first, uint32_t end) {
       const std::vector<uint32_t>& begin = state.inbox.begin;  // empty before the first delivery
@@ -743,7 +750,8 @@ StateHash Runtime::hash(const State& state) {
       return continue_hash(h, state.inbox.messages.all().subspan(from, to - from));
     });
   };
-  return hash_state(state, digests, uint64_t{model_.module_count()} * v, values, messages, inbox);
+  const uint64_t body_count = state.bodies.empty() ? 0 : model_.module_count();
+  return hash_state(state, digests, {uint64_t{model_.module_count()} * v, values, body_count, bodies, messages, inbox});
 }
 
 void Runtime::intervene(State& state, std::span<const Intervention> interventions) {

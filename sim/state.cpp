@@ -110,14 +110,35 @@ std::string hash_text(const StateHash& hash) {
 StateHash hash_state(const State& s) {
   std::vector<InFlightDigest> digests;
   for (const WatchState& w : s.watches) digests.push_back(in_flight_digest(w));
-  return hash_state(
-      s, digests, s.values.size(), [&](uint64_t h) { return continue_hash(h, s.values); }, s.inbox.messages.size(),
-      [&](uint64_t h) { return continue_hash(h, s.inbox.messages.all()); });
+  const auto modules = static_cast<ModuleId>(s.bodies.poses.size());
+  return hash_state(s, digests,
+                    {s.values.size(), [&](uint64_t h) { return continue_hash(h, s.values); }, modules,
+                     [&](uint64_t h) { return continue_hash(h, s.bodies, 0, modules); }, s.inbox.messages.size(),
+                     [&](uint64_t h) { return continue_hash(h, s.inbox.messages.all()); }});
 }
 
 uint64_t continue_hash(uint64_t h, std::span<const int64_t> values) {
   Hasher hasher{h};
   for (int64_t x : values) hasher.word(static_cast<uint64_t>(x));
+  return hasher.h;
+}
+
+uint64_t continue_hash(uint64_t h, const Bodies& b, ModuleId first, ModuleId end) {
+  // A module's three records are 80 bytes, ten words: read bit for bit, a module at a time.
+  struct ModuleRecords {
+    Pose pose;
+    Velocity velocity;
+    Pose local;
+  };
+  static_assert(sizeof(ModuleRecords) == 80 && std::is_trivially_copyable_v<ModuleRecords>);
+  Hasher hasher{h};
+  for (ModuleId m = first; m < end; ++m) {
+    const ModuleRecords records{b.poses[m], b.velocities[m], b.local[m]};
+    uint64_t words[10];
+    std::memcpy(words, &records, sizeof records);
+    for (uint64_t w : words) hasher.word(w);
+    hasher.word(b.cluster_of[m]);
+  }
   return hasher.h;
 }
 
@@ -131,45 +152,48 @@ uint64_t continue_hash(uint64_t h, Messages messages) {
   return hasher.h;
 }
 
-StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight, uint64_t value_count,
-                     const PiecewiseHash& values, uint64_t message_count, const PiecewiseHash& messages) {
+StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight, const HashPieces& pieces) {
   Hasher h;
   h.word(static_cast<uint64_t>(s.step));
-  h.word(value_count);
-  h.h = values(h.h);
+  h.word(pieces.value_count);
+  h.h = pieces.values(h.h);
   h.words(s.present);
   if (s.graph) {
     h.words(s.graph->begin);
     h.words(s.graph->ids);
   }
+  // The bodies, when the world has any: each module's records in module order (held in pieces
+  // over ranks), then what belongs to no one module.
   const Bodies& b = s.bodies;
-  h.records(b.poses);
-  h.records(b.velocities);
-  h.records(b.local);
-  h.words(b.cluster_of);
-  for (const Cluster& c : b.clusters) {
-    h.record(c.pose);
-    h.record(c.velocity);
-    h.word((uint64_t{c.first} << 32) | c.count);
-    h.word(c.anchored);
+  if (pieces.body_count != 0 || !b.prop_poses.empty()) {
+    h.word(pieces.body_count);
+    if (pieces.body_count != 0) h.h = pieces.bodies(h.h);
+    h.word(b.clusters.size());
+    for (const Cluster& c : b.clusters) {
+      h.record(c.pose);
+      h.record(c.velocity);
+      h.word((uint64_t{c.first} << 32) | c.count);
+      h.word(c.anchored);
+    }
+    h.words(b.members);
+    h.records(b.bonds);
+    h.word(b.movers.size());
+    for (const Mover& m : b.movers) {
+      h.record(m.from);
+      h.record(m.to);
+      h.word(m.module);
+      h.word(static_cast<uint64_t>(m.start));
+      h.word(static_cast<uint64_t>(m.steps));
+      h.record(m.pivot);
+      h.record(m.axis);
+      h.record(m.angle);
+      h.record(m.spin);
+    }
+    h.records(b.prop_poses);
+    h.records(b.prop_velocities);
   }
-  h.words(b.members);
-  h.records(b.bonds);
-  for (const Mover& m : b.movers) {
-    h.record(m.from);
-    h.record(m.to);
-    h.word(m.module);
-    h.word(static_cast<uint64_t>(m.start));
-    h.word(static_cast<uint64_t>(m.steps));
-    h.record(m.pivot);
-    h.record(m.axis);
-    h.record(m.angle);
-    h.record(m.spin);
-  }
-  h.records(b.prop_poses);
-  h.records(b.prop_velocities);
-  h.word(message_count);
-  h.h = messages(h.h);
+  h.word(pieces.message_count);
+  h.h = pieces.messages(h.h);
   h.word(s.program_messages);
   // Watchpoints' actions (docs/design.md §4b), when there are any: a run without them hashes as it did.
   if (!s.actions.empty()) h.word(s.actions.size());

@@ -86,19 +86,30 @@ struct InFlightDigest {
   uint64_t sum = 0, count = 0;
 };
 InFlightDigest in_flight_digest(const WatchState& watch);
-// The hash of a sequence the ranks hold in pieces (the variables, the inbox's messages), taken in
-// module order without putting it together (docs/design.md §12): given the hash so far, returns
-// it after the whole sequence, the same on every rank.
+// The hash of a sequence the ranks hold in pieces (the variables, the bodies' per-module records,
+// the inbox's messages), taken in module order without putting it together (docs/design.md §12):
+// given the hash so far, returns it after the whole sequence, the same on every rank.
 using PiecewiseHash = std::function<uint64_t(uint64_t h)>;
-// What hash_state does with a run of either sequence: the hash `h` continued over it.
+// What hash_state does with a run of each sequence: the hash `h` continued over it. The bodies'
+// run is modules [first, end): each one's pose, velocity, pose in its cluster and cluster.
 uint64_t continue_hash(uint64_t h, std::span<const int64_t> values);
+uint64_t continue_hash(uint64_t h, const Bodies& bodies, ModuleId first, ModuleId end);
 uint64_t continue_hash(uint64_t h, Messages messages);
+// The sequences hash_state reads in pieces, each with its length: the variables (in module
+// order), the modules' bodies (none without a physical world: `bodies` is then not called) and
+// the inbox's messages (in the order one inbox holds them).
+struct HashPieces {
+  uint64_t value_count = 0;
+  PiecewiseHash values;
+  uint64_t body_count = 0;
+  PiecewiseHash bodies;
+  uint64_t message_count = 0;
+  PiecewiseHash messages;
+};
 // hash_state with each watchpoint's in-flight digest given rather than read from its lanes, and
-// the variables (`value_count` of them, in module order) and the inbox's messages
-// (`message_count`, in the order one inbox holds them) hashed by `values` and `messages` in place
-// of the state's own: a whole hashed from the ranks' parts.
-StateHash hash_state(const State& state, std::span<const InFlightDigest> in_flight, uint64_t value_count,
-                     const PiecewiseHash& values, uint64_t message_count, const PiecewiseHash& messages);
+// the sequences hashed by `pieces` in place of the state's own: a whole hashed from the ranks'
+// parts.
+StateHash hash_state(const State& state, std::span<const InFlightDigest> in_flight, const HashPieces& pieces);
 // A state hash as the outputs print it: 0x and 16 hex digits.
 std::string hash_text(uint64_t hash);
 // All three as the outputs print them: "0xWHOLE (simulation 0x..., watchpoints 0x...)".

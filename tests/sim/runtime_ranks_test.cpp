@@ -197,6 +197,74 @@ TEST(RuntimeRanks, TheHashOfTheWholeGathersNoRanksVariablesNorMessages) {
   }
 }
 
+// A world with a body per module, each one's records its own and changing every step.
+class DriftingBodies final : public World {
+ public:
+  void initialize(const Model& model, State& state, WorkerPool&) override {
+    const uint32_t n = model.module_count();
+    state.present.assign(n, 1);
+    state.graph = model.lattice.graph;
+    Bodies& b = state.bodies;
+    b.poses.resize(n);
+    b.velocities.resize(n);
+    b.local.resize(n);
+    b.cluster_of.assign(n, kNoCluster);
+    for (ModuleId m = 0; m < n; ++m) {
+      b.poses[m].position = {float(m), 0, 0};
+      b.velocities[m].angular = {0, 0, float(m % 7)};
+      b.local[m] = b.poses[m];
+    }
+  }
+  void restore(const Model&, const State&) override {}
+  void advance(const Model&, State& state, std::span<const Actuation>, WorkerPool&) override {
+    for (ModuleId m = 0; m < state.bodies.poses.size(); ++m)
+      state.bodies.poses[m].position[1] = float(state.step * (m % 5));
+  }
+};
+
+// The bodies are hashed like the variables: each rank hashes its own modules' where they are.
+// What a rank holds of the others' may be anything (a rank will hold only its own and their
+// neighbours'), and the hash is still one runtime's; only the hash passes between ranks.
+TEST(RuntimeRanks, EachRankHashesItsOwnModulesBodiesOnly) {
+  const auto model = test_programs::gossip_model(
+      {LatticeKind::Line, {3000, 1, 1}}, {{"modules(a b); (a.v = 1) and (b.v = 1)", watch::Algorithm::Distributed}});
+  DriftingBodies world;
+  Runtime one(*model, world, 1);
+  State s = one.initial_state();
+  StepOutput out;
+  for (int t = 0; t < 3; ++t) one.step(s, out);
+  const StateHash expected = one.hash(s);
+  State turned = s;  // every module's records count: one velocity changed changes the hash
+  turned.bodies.velocities[1700].angular[0] = 1e-3f;
+  EXPECT_NE(one.hash(turned).simulation, expected.simulation);
+  for (const Partition partition : {Partition::Blocks, Partition::Graph}) {
+    const auto seen = on_ranks(3, [&](RankExchange& r) {
+      DriftingBodies world;
+      CountingRank counted(r);
+      Runtime rt(*model, world, 1, &counted, partition);
+      State s = rt.initial_state();
+      StepOutput out;
+      for (int t = 0; t < 3; ++t) rt.step(s, out);
+      Bodies& b = s.bodies;
+      const ModuleId first = rt.first_module(), end = first + rt.module_window();
+      for (ModuleId m = 0; m < b.poses.size(); ++m)
+        if (m < first || m >= end) {
+          b.poses[m].position = {-1, -1, -1};
+          b.velocities[m].linear = {9, 9, 9};
+          b.local[m].orientation = {1, 0, 0, 0};
+          b.cluster_of[m] = 12345;
+        }
+      const size_t before = counted.gathered;
+      const StateHash hash = rt.hash(s);
+      return std::pair(hash, counted.gathered - before);
+    });
+    for (const auto& [hash, gathered] : seen) {
+      EXPECT_EQ(hash, expected) << partition_name(partition);
+      EXPECT_LE(gathered, 5 * 3 * sizeof(uint64_t)) << partition_name(partition) << ": only the hash passes";
+    }
+  }
+}
+
 // What a run of SendsToStranger(modules) on a line of `length` ended with: the step and the error.
 std::string failure(uint32_t length, const std::vector<ModuleId>& modules, RankExchange* ranks) {
   std::vector<std::unique_ptr<const HostProgram>> programs;
