@@ -735,12 +735,14 @@ StateHash Runtime::hash(const State& state) {
       return continue_hash(h, std::span(state.values).subspan(first * v, (end - first) * v));
     });
   };
-  // Every rank holds the bodies whole as yet; each hashes its own modules' records all the same,
-  // as it will once a rank holds only its own bodies and their neighbours.
-  const auto bodies = [&](uint64_t h) {
-    return pass_hash(h, [&](uint64_t h, uint32_t first, uint32_t end) {
-      return continue_hash(h, state.bodies, first_ + first, first_ + end);
-    });
+  // Every rank holds the graph and the bodies whole as yet; each hashes its own modules' all the
+  // same, as it will once a rank holds only its own modules' and their neighbours'.
+  const auto by_module = [&](const auto* whole) {
+    return [&, whole](uint64_t h) {
+      return pass_hash(h, [&](uint64_t h, uint32_t first, uint32_t end) {
+        return continue_hash(h, *whole, first_ + first, first_ + end);
+      });
+    };
   };
   const auto inbox = [&](uint64_t h) {
     return pass_hash(h, [&](uint64_t h, uint32_t first, uint32_t end) {
@@ -750,8 +752,10 @@ StateHash Runtime::hash(const State& state) {
       return continue_hash(h, state.inbox.messages.all().subspan(from, to - from));
     });
   };
-  const uint64_t body_count = state.bodies.empty() ? 0 : model_.module_count();
-  return hash_state(state, digests, {uint64_t{model_.module_count()} * v, values, body_count, bodies, messages, inbox});
+  const uint64_t n = model_.module_count();
+  return hash_state(state, digests,
+                    {n * v, values, state.graph ? n : 0, by_module(state.graph.get()), state.bodies.empty() ? 0 : n,
+                     by_module(&state.bodies), messages, inbox});
 }
 
 void Runtime::intervene(State& state, std::span<const Intervention> interventions) {

@@ -110,11 +110,23 @@ std::string hash_text(const StateHash& hash) {
 StateHash hash_state(const State& s) {
   std::vector<InFlightDigest> digests;
   for (const WatchState& w : s.watches) digests.push_back(in_flight_digest(w));
+  const ModuleId linked = s.graph ? s.graph->module_count() : 0;
   const auto modules = static_cast<ModuleId>(s.bodies.poses.size());
   return hash_state(s, digests,
-                    {s.values.size(), [&](uint64_t h) { return continue_hash(h, s.values); }, modules,
+                    {s.values.size(), [&](uint64_t h) { return continue_hash(h, s.values); }, linked,
+                     [&](uint64_t h) { return continue_hash(h, *s.graph, 0, linked); }, modules,
                      [&](uint64_t h) { return continue_hash(h, s.bodies, 0, modules); }, s.inbox.messages.size(),
                      [&](uint64_t h) { return continue_hash(h, s.inbox.messages.all()); }});
+}
+
+uint64_t continue_hash(uint64_t h, const NeighborGraph& graph, ModuleId first, ModuleId end) {
+  Hasher hasher{h};
+  for (ModuleId m = first; m < end; ++m) {
+    const std::span<const ModuleId> neighbors = graph.neighbors(m);
+    hasher.word(neighbors.size());
+    for (ModuleId n : neighbors) hasher.word(n);
+  }
+  return hasher.h;
 }
 
 uint64_t continue_hash(uint64_t h, std::span<const int64_t> values) {
@@ -158,10 +170,8 @@ StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight, 
   h.word(pieces.value_count);
   h.h = pieces.values(h.h);
   h.words(s.present);
-  if (s.graph) {
-    h.words(s.graph->begin);
-    h.words(s.graph->ids);
-  }
+  h.word(pieces.graph_count);
+  if (pieces.graph_count != 0) h.h = pieces.graph(h.h);
   // The bodies, when the world has any: each module's records in module order (held in pieces
   // over ranks), then what belongs to no one module.
   const Bodies& b = s.bodies;

@@ -90,17 +90,21 @@ InFlightDigest in_flight_digest(const WatchState& watch);
 // the inbox's messages), taken in module order without putting it together (docs/design.md §12):
 // given the hash so far, returns it after the whole sequence, the same on every rank.
 using PiecewiseHash = std::function<uint64_t(uint64_t h)>;
-// What hash_state does with a run of each sequence: the hash `h` continued over it. The bodies'
-// run is modules [first, end): each one's pose, velocity, pose in its cluster and cluster.
+// What hash_state does with a run of each sequence: the hash `h` continued over it. The graph's
+// and the bodies' runs are modules [first, end): each one's neighbours; each one's pose,
+// velocity, pose in its cluster and cluster.
 uint64_t continue_hash(uint64_t h, std::span<const int64_t> values);
+uint64_t continue_hash(uint64_t h, const NeighborGraph& graph, ModuleId first, ModuleId end);
 uint64_t continue_hash(uint64_t h, const Bodies& bodies, ModuleId first, ModuleId end);
 uint64_t continue_hash(uint64_t h, Messages messages);
 // The sequences hash_state reads in pieces, each with its length: the variables (in module
-// order), the modules' bodies (none without a physical world: `bodies` is then not called) and
-// the inbox's messages (in the order one inbox holds them).
+// order), the modules' neighbours, their bodies (none without a physical world: `bodies` is then
+// not called) and the inbox's messages (in the order one inbox holds them).
 struct HashPieces {
   uint64_t value_count = 0;
   PiecewiseHash values;
+  uint64_t graph_count = 0;  // modules, 0 for a state without a graph (`graph` not called)
+  PiecewiseHash graph;
   uint64_t body_count = 0;
   PiecewiseHash bodies;
   uint64_t message_count = 0;

@@ -222,10 +222,11 @@ class DriftingBodies final : public World {
   }
 };
 
-// The bodies are hashed like the variables: each rank hashes its own modules' where they are.
-// What a rank holds of the others' may be anything (a rank will hold only its own and their
-// neighbours'), and the hash is still one runtime's; only the hash passes between ranks.
-TEST(RuntimeRanks, EachRankHashesItsOwnModulesBodiesOnly) {
+// The neighbour graph and the bodies are hashed like the variables: each rank hashes its own
+// modules' where they are. What a rank holds of the others' may be anything (a rank will hold only
+// its own and their neighbours'), and the hash is still one runtime's; only the hash passes
+// between ranks.
+TEST(RuntimeRanks, EachRankHashesItsOwnModulesLinksAndBodiesOnly) {
   const auto model = test_programs::gossip_model(
       {LatticeKind::Line, {3000, 1, 1}}, {{"modules(a b); (a.v = 1) and (b.v = 1)", watch::Algorithm::Distributed}});
   DriftingBodies world;
@@ -237,6 +238,9 @@ TEST(RuntimeRanks, EachRankHashesItsOwnModulesBodiesOnly) {
   State turned = s;  // every module's records count: one velocity changed changes the hash
   turned.bodies.velocities[1700].angular[0] = 1e-3f;
   EXPECT_NE(one.hash(turned).simulation, expected.simulation);
+  State cut = s;  // and so does a link less
+  cut.graph = std::make_shared<const NeighborGraph>(s.graph->without(1700));
+  EXPECT_NE(one.hash(cut).simulation, expected.simulation);
   for (const Partition partition : {Partition::Blocks, Partition::Graph}) {
     const auto seen = on_ranks(3, [&](RankExchange& r) {
       DriftingBodies world;
@@ -254,13 +258,20 @@ TEST(RuntimeRanks, EachRankHashesItsOwnModulesBodiesOnly) {
           b.local[m].orientation = {1, 0, 0, 0};
           b.cluster_of[m] = 12345;
         }
+      NeighborGraph links;  // the others' lists emptied
+      for (ModuleId m = 0; m < s.graph->module_count(); ++m) {
+        if (m >= first && m < end)
+          links.ids.insert(links.ids.end(), s.graph->neighbors(m).begin(), s.graph->neighbors(m).end());
+        links.begin.push_back(uint32_t(links.ids.size()));
+      }
+      s.graph = std::make_shared<const NeighborGraph>(std::move(links));
       const size_t before = counted.gathered;
       const StateHash hash = rt.hash(s);
       return std::pair(hash, counted.gathered - before);
     });
     for (const auto& [hash, gathered] : seen) {
       EXPECT_EQ(hash, expected) << partition_name(partition);
-      EXPECT_LE(gathered, 5 * 3 * sizeof(uint64_t)) << partition_name(partition) << ": only the hash passes";
+      EXPECT_LE(gathered, 5 * 4 * sizeof(uint64_t)) << partition_name(partition) << ": only the hash passes";
     }
   }
 }
