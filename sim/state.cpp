@@ -1,5 +1,6 @@
 #include "sim/state.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <type_traits>
@@ -144,12 +145,33 @@ uint64_t continue_hash(uint64_t h, const Bodies& b, ModuleId first, ModuleId end
   };
   static_assert(sizeof(ModuleRecords) == 80 && std::is_trivially_copyable_v<ModuleRecords>);
   Hasher hasher{h};
+  // The bonds are sorted by their lower end and the movers by module: each module's are the next.
+  auto bond = std::lower_bound(b.bonds.begin(), b.bonds.end(), Bond{first, 0});
+  auto mover = std::lower_bound(b.movers.begin(), b.movers.end(), first,
+                                [](const Mover& x, ModuleId id) { return x.module < id; });
   for (ModuleId m = first; m < end; ++m) {
     const ModuleRecords records{b.poses[m], b.velocities[m], b.local[m]};
     uint64_t words[10];
     std::memcpy(words, &records, sizeof records);
     for (uint64_t w : words) hasher.word(w);
     hasher.word(b.cluster_of[m]);
+    auto bonds_end = bond;
+    while (bonds_end != b.bonds.end() && bonds_end->a == m) ++bonds_end;
+    hasher.word(uint64_t(bonds_end - bond));
+    for (; bond != bonds_end; ++bond) hasher.word(bond->b);
+    const bool moving = mover != b.movers.end() && mover->module == m;
+    hasher.word(moving);
+    if (moving) {
+      hasher.record(mover->from);
+      hasher.record(mover->to);
+      hasher.word(static_cast<uint64_t>(mover->start));
+      hasher.word(static_cast<uint64_t>(mover->steps));
+      hasher.record(mover->pivot);
+      hasher.record(mover->axis);
+      hasher.record(mover->angle);
+      hasher.record(mover->spin);
+      ++mover;
+    }
   }
   return hasher.h;
 }
@@ -172,8 +194,8 @@ StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight, 
   h.words(s.present);
   h.word(pieces.graph_count);
   if (pieces.graph_count != 0) h.h = pieces.graph(h.h);
-  // The bodies, when the world has any: each module's records in module order (held in pieces
-  // over ranks), then what belongs to no one module.
+  // The bodies, when the world has any: each module's records, bonds and lattice move in module
+  // order (held in pieces over ranks), then what belongs to no one module.
   const Bodies& b = s.bodies;
   if (pieces.body_count != 0 || !b.prop_poses.empty()) {
     h.word(pieces.body_count);
@@ -186,19 +208,6 @@ StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight, 
       h.word(c.anchored);
     }
     h.words(b.members);
-    h.records(b.bonds);
-    h.word(b.movers.size());
-    for (const Mover& m : b.movers) {
-      h.record(m.from);
-      h.record(m.to);
-      h.word(m.module);
-      h.word(static_cast<uint64_t>(m.start));
-      h.word(static_cast<uint64_t>(m.steps));
-      h.record(m.pivot);
-      h.record(m.axis);
-      h.record(m.angle);
-      h.record(m.spin);
-    }
     h.records(b.prop_poses);
     h.records(b.prop_velocities);
   }

@@ -92,7 +92,8 @@ InFlightDigest in_flight_digest(const WatchState& watch);
 using PiecewiseHash = std::function<uint64_t(uint64_t h)>;
 // What hash_state does with a run of each sequence: the hash `h` continued over it. The graph's
 // and the bodies' runs are modules [first, end): each one's neighbours; each one's pose,
-// velocity, pose in its cluster and cluster.
+// velocity, pose in its cluster, cluster, bonds (to modules above it and to the ground) and
+// lattice move.
 uint64_t continue_hash(uint64_t h, std::span<const int64_t> values);
 uint64_t continue_hash(uint64_t h, const NeighborGraph& graph, ModuleId first, ModuleId end);
 uint64_t continue_hash(uint64_t h, const Bodies& bodies, ModuleId first, ModuleId end);

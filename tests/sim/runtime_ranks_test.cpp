@@ -213,6 +213,9 @@ class DriftingBodies final : public World {
       b.poses[m].position = {float(m), 0, 0};
       b.velocities[m].angular = {0, 0, float(m % 7)};
       b.local[m] = b.poses[m];
+      if (m % 3 == 0 && m + 1 < n) b.bonds.push_back({m, m + 1});
+      if (m % 10 == 0) b.bonds.push_back({m, kGround});
+      if (m % 97 == 0) b.movers.push_back({.module = m, .start = m, .steps = 5, .angle = float(m)});
     }
   }
   void restore(const Model&, const State&) override {}
@@ -238,8 +241,14 @@ TEST(RuntimeRanks, EachRankHashesItsOwnModulesLinksAndBodiesOnly) {
   State turned = s;  // every module's records count: one velocity changed changes the hash
   turned.bodies.velocities[1700].angular[0] = 1e-3f;
   EXPECT_NE(one.hash(turned).simulation, expected.simulation);
-  State cut = s;  // and so does a link less
+  State cut = s;  // and so do a link, a bond and a lattice move less
   cut.graph = std::make_shared<const NeighborGraph>(s.graph->without(1700));
+  EXPECT_NE(one.hash(cut).simulation, expected.simulation);
+  cut = s;
+  cut.bodies.bonds.erase(cut.bodies.bonds.begin() + 1000);
+  EXPECT_NE(one.hash(cut).simulation, expected.simulation);
+  cut = s;
+  cut.bodies.movers.erase(cut.bodies.movers.begin() + 20);
   EXPECT_NE(one.hash(cut).simulation, expected.simulation);
   for (const Partition partition : {Partition::Blocks, Partition::Graph}) {
     const auto seen = on_ranks(3, [&](RankExchange& r) {
@@ -258,6 +267,9 @@ TEST(RuntimeRanks, EachRankHashesItsOwnModulesLinksAndBodiesOnly) {
           b.local[m].orientation = {1, 0, 0, 0};
           b.cluster_of[m] = 12345;
         }
+      const auto outside = [&](ModuleId m) { return m < first || m >= end; };
+      std::erase_if(b.bonds, [&](const Bond& bond) { return outside(bond.a) && bond.b != kGround; });
+      std::erase_if(b.movers, [&](const Mover& mover) { return outside(mover.module); });
       NeighborGraph links;  // the others' lists emptied
       for (ModuleId m = 0; m < s.graph->module_count(); ++m) {
         if (m >= first && m < end)
