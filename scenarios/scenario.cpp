@@ -412,7 +412,12 @@ struct Loader {
       base.at = at.value_or(0);
       base.module = static_cast<sim::ModuleId>(module.value_or(0));
       base.scheduled = true;
-      const bool ok = at && module;
+      const auto kind = r.has("set")      ? sim::Intervention::Kind::Set
+                        : r.has("remove") ? sim::Intervention::Kind::Remove
+                                          : sim::Intervention::Kind::Push;
+      std::string empty = module ? sim::empty_cell_problem(model.lattice, base.module, kind) : "";
+      if (!empty.empty()) r.error("module", empty);
+      const bool ok = at && module && empty.empty();
       if (const toml::table* set = r.has("set") ? r.table("set") : nullptr) {
         if (set->empty()) r.error("set", "'set' names no variable: set = { var = value }");
         for (const auto& [key, value] : *set) {

@@ -4,6 +4,12 @@
 
 namespace dw::sim {
 
+std::string empty_cell_problem(const Lattice& lattice, ModuleId m, Intervention::Kind kind) {
+  if (m >= lattice.occupied.size() || lattice.occupied[m]) return "";
+  return "module " + std::to_string(m) +
+         " is a cell the lattice leaves empty ([[lattice.empty]]): there is nothing to " + intervention_name(kind);
+}
+
 std::string intervention_json(const Intervention& i, const watch::Universe& universe) {
   nlohmann::ordered_json j;
   j["at"] = i.at;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sim/bodies.h"
+#include "sim/lattice.h"
 #include "watch/frame.h"
 
 namespace dw::sim {
@@ -38,6 +39,11 @@ inline const char* intervention_name(Intervention::Kind kind) {
   }
   return "?";
 }
+
+// Why an intervention of this kind on module m can do nothing because the lattice leaves its cell
+// empty ([[lattice.empty]]), or "" when the cell holds a module: what a session and a scenario's
+// [[event]] both refuse.
+std::string empty_cell_problem(const Lattice& lattice, ModuleId m, Intervention::Kind kind);
 
 // As one JSON object, the way a scenario's [[event]] says it:
 // {"at":40,"module":7,"set":{"token":1}}, {"at":9,"module":3,"remove":true},

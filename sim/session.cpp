@@ -444,11 +444,7 @@ std::string Session::intervene(Intervention i) {
     const bool queued = std::any_of(interventions_.begin(), interventions_.end(), [&](const Intervention& o) {
       return o.at == i.at && o.kind == Intervention::Kind::Remove && o.module == i.module;
     });
-    const std::vector<uint8_t>& occupied = model_.lattice.occupied;
-    if (i.module < occupied.size() && !occupied[i.module])
-      return "module " + std::to_string(i.module) +
-             " is a cell the lattice leaves empty ([[lattice.empty]]): there is nothing to " +
-             intervention_name(i.kind);
+    if (std::string problem = empty_cell_problem(model_.lattice, i.module, i.kind); !problem.empty()) return problem;
     if (queued || (i.module < now.present.size() && !now.present[i.module]))
       return "module " + std::to_string(i.module) + " is already gone at step " + std::to_string(i.at) +
              ": there is nothing to " + intervention_name(i.kind);
