@@ -69,8 +69,10 @@ class Session {
   py::object watch(const std::string& name, const std::string& text, const std::string& algorithm,
                    const std::optional<std::string>& shape, const std::optional<std::string>& states,
                    const std::string& action, uint64_t max_live) {
-    if (name.find_first_of(" \t") != std::string::npos)
-      raise_error("CommandError", "a watchpoint's name is one word, not " + quoted(name));
+    // Its name is said in the session language as a word, quoted when it holds a space or '#'
+    // (unwatch, action, run's to_match): a quoted word cannot hold '"'.
+    if (app::session_word(name) != name && name.find('"') != std::string::npos)
+      raise_error("CommandError", "a watchpoint's name with a space or '#' cannot also hold '\"', not " + quoted(name));
     if (const std::string why = watch::name_problem(name); !why.empty()) raise_error("CommandError", why);
     const Reading r = reading(algorithm, shape, states, max_live);
     const auto what = sim::parse_action(action);
@@ -232,7 +234,8 @@ KeyboardInterrupt. Use a Session from one thread at a time (another thread may u
       .def(
           "run",
           [](Session& s, std::optional<int64_t> t, std::optional<std::string> to_match) {
-            return s.command("run" + (t ? " " + number(*t) : "") + (to_match ? " --to-match " + *to_match : ""));
+            return s.command("run" + (t ? " " + number(*t) : "") +
+                             (to_match ? " --to-match " + app::session_word(*to_match) : ""));
           },
           py::arg("t") = py::none(), py::arg("to_match") = py::none(),
           "Runs until step t is current (default: the scenario's last step), a pause match, or the next match of "
@@ -271,12 +274,13 @@ KeyboardInterrupt. Use a Session from one thread at a time (another thread may u
            py::arg("max_live") = 20'000'000,
            "Adds or replaces a watchpoint, evaluated over the whole history. Raises WatchError.")
       .def(
-          "unwatch", [](Session& s, const std::string& name) { return s.command("unwatch " + name); }, py::arg("name"),
-          "Removes a watchpoint.")
+          "unwatch",
+          [](Session& s, const std::string& name) { return s.command("unwatch " + app::session_word(name)); },
+          py::arg("name"), "Removes a watchpoint.")
       .def(
           "action",
           [](Session& s, const std::string& name, const std::string& what) {
-            return s.command("action " + name + " " + what);
+            return s.command("action " + app::session_word(name) + " " + what);
           },
           py::arg("name"), py::arg("action"),
           "What the watchpoint does with its matches from now on: log, pause, count.")

@@ -111,6 +111,8 @@ def test_errors_are_exceptions_in_the_command_lines_words(leaders, tmp_path):
         s.watch("12", "modules(a); a.isLeader = 1")
     with pytest.raises(dwatch.CommandError, match="no control character"):
         s.watch("a\x01b", "modules(a); a.isLeader = 1")
+    with pytest.raises(dwatch.CommandError, match="cannot also hold"):
+        s.watch('a "b', "modules(a); a.isLeader = 1")
     with pytest.raises(dwatch.CommandError, match="one command, on one line"):
         s.command("step\nstep")
     assert s.command("# a comment") is None
@@ -260,3 +262,19 @@ def test_push_answers_and_hashes_as_the_command_line(source):
     answers = [s.step(2), s.push(59, 0.0, -500.0, 0.25), s.step(5), s.command("hash")]
     assert answers[1]["intervention"] == {"at": 2, "module": 59, "push": [0.0, -500.0, 0.25]}
     assert answers == session_answers(scenario, "step 2", "push 59 0 -500 0.25", "step 5", "hash")
+
+
+def test_a_watchpoint_named_with_a_space_is_said_quoted(leaders):
+    # A scenario may name a watchpoint "two leaders #2"; so may Python, and every command naming it
+    # quotes it (`unwatch "two leaders #2"`).
+    s = dwatch.Session(leaders)
+    s.unwatch("two_leaders")
+    name = "two leaders #2"
+    s.watch(name, "modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)")
+    assert name in s.watches
+    assert s.run(to_match=name)["matched"]["watch"] == name and s.matches(name).count >= 1
+    assert s.action(name, "pause")["action"] == "pause"
+    assert s.run()["paused"]["watch"] == name
+    s.unwatch(name)
+    assert name not in s.watches
+
