@@ -1,6 +1,8 @@
 // The runtime over several ranks (sim/runtime.cpp with a RankExchange, docs/design.md §12), without MPI:
 // the ranks are threads of this test, exchanging through memory. After every step, the state hash
 // of the whole (Runtime::hash), the statistics and the matches equal those of one runtime.
+#include <functional>
+
 #include <gtest/gtest.h>
 
 #include "sim/runtime.h"
@@ -164,6 +166,25 @@ class CountingRank final : public RankExchange {
   RankExchange& rank_;
 };
 
+// On each of 3 ranks, after 3 steps: the hash of the whole, and the bytes the rank gave to
+// gathers while hashing. `spoil`, when given, first changes what the rank holds.
+template <class W>
+std::vector<std::pair<StateHash, size_t>> hash_on_ranks(const Model& model, Partition partition,
+                                                        const std::function<void(const Runtime&, State&)>& spoil = {}) {
+  return on_ranks(3, [&](RankExchange& r) {
+    W world;
+    CountingRank counted(r);
+    Runtime rt(model, world, 1, &counted, partition);
+    State s = rt.initial_state();
+    StepOutput out;
+    for (int t = 0; t < 3; ++t) rt.step(s, out);
+    if (spoil) spoil(rt, s);
+    const size_t before = counted.gathered;
+    const StateHash hash = rt.hash(s);
+    return std::pair(hash, counted.gathered - before);
+  });
+}
+
 // The hash of the whole is passed from rank to rank in module order: the ranks' variables and
 // messages (here some 40,000 messages, 3 MB) are hashed where they are, never gathered, and the
 // hash is one runtime's, whether a rank's blocks are one run or dealt round-robin.
@@ -177,20 +198,9 @@ TEST(RuntimeRanks, TheHashOfTheWholeGathersNoRanksVariablesNorMessages) {
   StepOutput out;
   for (int t = 0; t < 3; ++t) one.step(s, out);
   ASSERT_GT(s.inbox.messages.size(), 10'000u);
-  const uint64_t expected = one.hash(s).whole();
+  const StateHash expected = one.hash(s);
   for (const Partition partition : {Partition::Blocks, Partition::Graph}) {
-    const auto seen = on_ranks(3, [&](RankExchange& r) {
-      StaticLatticeWorld world;
-      CountingRank counted(r);
-      Runtime rt(*model, world, 1, &counted, partition);
-      State s = rt.initial_state();
-      StepOutput out;
-      for (int t = 0; t < 3; ++t) rt.step(s, out);
-      const size_t before = counted.gathered;
-      const uint64_t hash = rt.hash(s).whole();
-      return std::pair(hash, counted.gathered - before);
-    });
-    for (const auto& [hash, gathered] : seen) {
+    for (const auto& [hash, gathered] : hash_on_ranks<StaticLatticeWorld>(*model, partition)) {
       EXPECT_EQ(hash, expected) << partition_name(partition);
       EXPECT_LE(gathered, 5 * 2 * sizeof(uint64_t)) << partition_name(partition) << ": only the hash passes";
     }
@@ -250,38 +260,29 @@ TEST(RuntimeRanks, EachRankHashesItsOwnModulesLinksAndBodiesOnly) {
   cut = s;
   cut.bodies.movers.erase(cut.bodies.movers.begin() + 20);
   EXPECT_NE(one.hash(cut).simulation, expected.simulation);
-  for (const Partition partition : {Partition::Blocks, Partition::Graph}) {
-    const auto seen = on_ranks(3, [&](RankExchange& r) {
-      DriftingBodies world;
-      CountingRank counted(r);
-      Runtime rt(*model, world, 1, &counted, partition);
-      State s = rt.initial_state();
-      StepOutput out;
-      for (int t = 0; t < 3; ++t) rt.step(s, out);
-      Bodies& b = s.bodies;
-      const ModuleId first = rt.first_module(), end = first + rt.module_window();
-      for (ModuleId m = 0; m < b.poses.size(); ++m)
-        if (m < first || m >= end) {
-          b.poses[m].position = {-1, -1, -1};
-          b.velocities[m].linear = {9, 9, 9};
-          b.local[m].orientation = {1, 0, 0, 0};
-          b.cluster_of[m] = 12345;
-        }
-      const auto outside = [&](ModuleId m) { return m < first || m >= end; };
-      std::erase_if(b.bonds, [&](const Bond& bond) { return outside(bond.a) && bond.b != kGround; });
-      std::erase_if(b.movers, [&](const Mover& mover) { return outside(mover.module); });
-      NeighborGraph links;  // the others' lists emptied
-      for (ModuleId m = 0; m < s.graph->module_count(); ++m) {
-        if (m >= first && m < end)
-          links.ids.insert(links.ids.end(), s.graph->neighbors(m).begin(), s.graph->neighbors(m).end());
-        links.begin.push_back(uint32_t(links.ids.size()));
+  // What a rank holds of the modules outside its window: garbled.
+  const auto spoil = [](const Runtime& rt, State& s) {
+    Bodies& b = s.bodies;
+    const ModuleId first = rt.first_module(), end = first + rt.module_window();
+    const auto outside = [&](ModuleId m) { return m < first || m >= end; };
+    for (ModuleId m = 0; m < b.poses.size(); ++m)
+      if (outside(m)) {
+        b.poses[m].position = {-1, -1, -1};
+        b.velocities[m].linear = {9, 9, 9};
+        b.local[m].orientation = {1, 0, 0, 0};
+        b.cluster_of[m] = 12345;
       }
-      s.graph = std::make_shared<const NeighborGraph>(std::move(links));
-      const size_t before = counted.gathered;
-      const StateHash hash = rt.hash(s);
-      return std::pair(hash, counted.gathered - before);
-    });
-    for (const auto& [hash, gathered] : seen) {
+    std::erase_if(b.bonds, [&](const Bond& bond) { return outside(bond.a) && bond.b != kGround; });
+    std::erase_if(b.movers, [&](const Mover& mover) { return outside(mover.module); });
+    NeighborGraph links;  // the others' lists emptied
+    for (ModuleId m = 0; m < s.graph->module_count(); ++m) {
+      if (!outside(m)) links.ids.insert(links.ids.end(), s.graph->neighbors(m).begin(), s.graph->neighbors(m).end());
+      links.begin.push_back(uint32_t(links.ids.size()));
+    }
+    s.graph = std::make_shared<const NeighborGraph>(std::move(links));
+  };
+  for (const Partition partition : {Partition::Blocks, Partition::Graph}) {
+    for (const auto& [hash, gathered] : hash_on_ranks<DriftingBodies>(*model, partition, spoil)) {
       EXPECT_EQ(hash, expected) << partition_name(partition);
       EXPECT_LE(gathered, 5 * 4 * sizeof(uint64_t)) << partition_name(partition) << ": only the hash passes";
     }
