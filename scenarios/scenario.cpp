@@ -415,7 +415,7 @@ struct Loader {
       const auto kind = r.has("set")      ? sim::Intervention::Kind::Set
                         : r.has("remove") ? sim::Intervention::Kind::Remove
                                           : sim::Intervention::Kind::Push;
-      std::string empty = module ? sim::empty_cell_problem(model.lattice, base.module, kind) : "";
+      const std::string empty = module ? sim::empty_cell_problem(model.lattice, base.module, kind) : "";
       if (!empty.empty()) r.error("module", empty);
       const bool ok = at && module && empty.empty();
       if (const toml::table* set = r.has("set") ? r.table("set") : nullptr) {
