@@ -365,7 +365,7 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
 
   // A restored state is compared in full once: the graph's memory is of another state.
   if (!still) {
-    state.graph = contacts_.update(b, state.present, workers, contacts_known_ ? &changed_ : nullptr, ranks_);
+    state.graph = contacts_.update(b, state.present, workers, contacts_known_ ? &changed_ : nullptr, ranks_, &owners_);
     contacts_known_ = true;
   }
   if (check_) {

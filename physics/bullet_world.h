@@ -31,9 +31,12 @@ class BulletWorld final : public sim::World {
                sim::WorkerPool& workers) override;
   void remove_module(const sim::Model& model, sim::State& state, sim::ModuleId m) override;
   bool moves() const override { return true; }
-  // Over ranks, each steps a run of the islands (Dynamics::step) and measures a run of the
-  // modules whose contacts may have changed (ContactGraph::update).
-  void share_over(sim::RankExchange* ranks) override { ranks_ = ranks; }
+  // Over ranks, each steps a run of the islands (Dynamics::step) and measures the contacts of
+  // the modules it owns whose contacts may have changed (ContactGraph::update).
+  void share_over(sim::RankExchange* ranks, const sim::ModuleOwners& owners) override {
+    ranks_ = ranks;
+    owners_ = owners;
+  }
 
   // Checks every contact graph read by what changed against one read by comparing every module
   // (a second ContactGraph measuring alongside): a difference throws std::logic_error naming the
@@ -74,6 +77,7 @@ class BulletWorld final : public sim::World {
   std::vector<sim::ModuleId> changed_;
   std::unique_ptr<ContactGraph> check_;
   sim::RankExchange* ranks_ = nullptr;
+  sim::ModuleOwners owners_;
   std::vector<std::pair<float, sim::ModuleId>> heading_;  // (x of the target, mover), sorted; in advance
 };
 

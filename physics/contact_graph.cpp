@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <span>
+#include <stdexcept>
 
 #include <BulletCollision/CollisionShapes/btConvexShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
@@ -199,7 +201,8 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
                                                                std::span<const uint8_t> present,
                                                                sim::WorkerPool& workers,
                                                                const std::vector<sim::ModuleId>* changed,
-                                                               sim::RankExchange* ranks) {
+                                                               sim::RankExchange* ranks,
+                                                               const sim::ModuleOwners* owners) {
   Impl& s = *impl_;
   const std::span<const sim::Pose> poses = bodies.poses;
   const size_t n = poses.size();
@@ -300,21 +303,26 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies
         for (sim::ModuleId m : members) search[m] = 0;
     }
 
-  // Each worker measures the stale pairs of a run of the flagged modules (over ranks, of this
-  // rank's run of them); the runs are joined.
+  // Each worker measures the stale pairs of a run of the flagged modules; the runs are joined.
+  // Over ranks, of the flagged modules this rank owns: what a rank holding only its own modules
+  // and those around them can measure.
   const float cutoff2 = s.cutoff * s.cutoff;
   const unsigned runs = workers.size();
-  size_t first = 0, count = flagged_list.size();
+  std::span<const sim::ModuleId> measuring = flagged_list;
+  std::vector<sim::ModuleId> owned;
   if (ranks != nullptr) {
-    const size_t all = count, rank = size_t(ranks->rank()), rank_count = size_t(ranks->ranks());
-    first = all * rank / rank_count;
-    count = all * (rank + 1) / rank_count - first;
+    if (owners == nullptr) throw std::logic_error("ContactGraph::update over ranks needs the modules' owners");
+    const auto me = static_cast<uint32_t>(ranks->rank());
+    for (sim::ModuleId m : flagged_list)
+      if (owners->rank_of(m) == me) owned.push_back(m);
+    measuring = owned;
   }
+  const size_t count = measuring.size();
   std::vector<std::vector<std::pair<sim::ModuleId, sim::ModuleId>>> found(runs);
   std::vector<uint64_t> measured(runs, 0);
   workers.run([&](unsigned run) {
-    for (size_t i = first + count * run / runs; i < first + count * (run + 1) / runs; ++i) {
-      const sim::ModuleId a = flagged_list[i];
+    for (size_t i = count * run / runs; i < count * (run + 1) / runs; ++i) {
+      const sim::ModuleId a = measuring[i];
       if (!search[a]) continue;
       s.grid.around(poses[a].position, [&](sim::ModuleId b) {
         if (b == a || !stale(a, b)) return;

@@ -36,13 +36,14 @@ class ContactGraph {
   // `changed`, when given, lists every module whose presence, world pose or frame may differ from
   // the last update (the others are known not to, and are not compared: a million-module block
   // with a thousand moving is not walked); without it every module is compared. Over `ranks` (a
-  // collective call, made alike on every rank with the same bodies), each rank measures a run of
-  // the modules that changed and the ranks swap the pairs they found: every rank gets the graph
-  // one process gets.
+  // collective call, made alike on every rank with the same bodies), each rank measures the pairs
+  // of the changed modules it owns (`owners`; a pair of two changed modules from its lower one's
+  // side) and the ranks swap the pairs they found: every rank gets the graph one process gets.
   std::shared_ptr<const sim::NeighborGraph> update(const sim::Bodies& bodies, std::span<const uint8_t> present,
                                                    sim::WorkerPool& workers,
                                                    const std::vector<sim::ModuleId>* changed = nullptr,
-                                                   sim::RankExchange* ranks = nullptr);
+                                                   sim::RankExchange* ranks = nullptr,
+                                                   const sim::ModuleOwners* owners = nullptr);
   // Brings the grid of module centres up to the bodies without measuring (update does it too):
   // what near() reads.
   void place(const sim::Bodies& bodies, std::span<const uint8_t> present);

@@ -81,6 +81,14 @@ class RankExchange {
   }
 };
 
+// Which rank owns each module (docs/design.md §12): the modules in blocks of 2^block_shift
+// consecutive ids, each block one rank's (Runtime::place_blocks); alike on every rank.
+struct ModuleOwners {
+  std::vector<uint32_t> block_rank;  // per block
+  uint32_t block_shift = 0;
+  uint32_t rank_of(uint32_t module) const { return block_rank[module >> block_shift]; }
+};
+
 // How the modules are shared among ranks, in blocks of consecutive ids (docs/design.md §12).
 enum class Partition {
   Auto,    // Blocks for a static lattice, Graph for a world whose links move (World::moves)

@@ -68,12 +68,12 @@ Runtime::Runtime(const Model& model, World& world, unsigned threads, RankExchang
   const uint32_t workers = pool_.size() * rank_count;
   const uint32_t per_thread = std::max(1u, m / workers);
   if (workers == 1)
-    while (block_shift_ < 12 && (1u << block_shift_) < per_thread) ++block_shift_;
+    while (owners_.block_shift < 12 && (1u << owners_.block_shift) < per_thread) ++owners_.block_shift;
   else
-    while (block_shift_ < 12 && (2u << block_shift_) <= per_thread) ++block_shift_;
-  blocks_ = (m >> block_shift_) + ((m & ((1u << block_shift_) - 1)) != 0);
+    while (owners_.block_shift < 12 && (2u << owners_.block_shift) <= per_thread) ++owners_.block_shift;
+  blocks_ = (m >> owners_.block_shift) + ((m & ((1u << owners_.block_shift) - 1)) != 0);
   place_blocks(partition);
-  world_.share_over(ranks_);
+  world_.share_over(ranks_, owners_);
   scratch_.resize(pool_.size());
   border_messages_.resize(pool_.size());
   arriving_.resize(pool_.size());
@@ -111,7 +111,7 @@ void Runtime::place_blocks(Partition partition) {
   const std::vector<uint8_t>& occupied = model_.lattice.occupied;
   std::vector<uint32_t> weight(blocks_, 0);
   for (uint32_t m = 0; m < model_.module_count(); ++m)
-    weight[m >> block_shift_] += m < occupied.size() ? occupied[m] : 1;
+    weight[m >> owners_.block_shift] += m < occupied.size() ? occupied[m] : 1;
   if (partition == Partition::Auto) partition = world_.moves() ? Partition::Graph : Partition::Blocks;
   partition_ = partition;
   if (partition == Partition::Graph && rank_count > 1) {
@@ -121,7 +121,7 @@ void Runtime::place_blocks(Partition partition) {
     std::vector<std::pair<uint32_t, uint32_t>> pairs;
     for (uint32_t m = 0; m < g.module_count(); ++m)
       for (ModuleId n : g.neighbors(m))
-        if (m >> block_shift_ != n >> block_shift_) pairs.push_back({m >> block_shift_, n >> block_shift_});
+        if (m >> owners_.block_shift != n >> owners_.block_shift) pairs.push_back({m >> owners_.block_shift, n >> owners_.block_shift});
     std::sort(pairs.begin(), pairs.end());
     std::vector<uint32_t> first(blocks_ + 1, 0), adjacent, link_weight;
     for (size_t i = 0; i < pairs.size(); ++i) {
@@ -134,31 +134,31 @@ void Runtime::place_blocks(Partition partition) {
       ++first[pairs[i].first + 1];
     }
     for (uint32_t b = 0; b < blocks_; ++b) first[b + 1] += first[b];
-    block_rank_ = ranks_->partition_graph(first, adjacent, weight, link_weight);
-    if (block_rank_.size() != blocks_) throw std::logic_error("the rank exchange has no graph partitioner");
+    owners_.block_rank = ranks_->partition_graph(first, adjacent, weight, link_weight);
+    if (owners_.block_rank.size() != blocks_) throw std::logic_error("the rank exchange has no graph partitioner");
   } else {
     uint64_t total = 0, seen = 0;
     for (uint32_t w : weight) total += w;
-    block_rank_.assign(blocks_, 0);
+    owners_.block_rank.assign(blocks_, 0);
     for (uint32_t b = 0; b < blocks_; ++b) {
       // The block goes to the rank whose share its middle module falls in.
       const uint64_t middle = 2 * seen + weight[b];
-      block_rank_[b] =
+      owners_.block_rank[b] =
           total == 0 ? 0 : static_cast<uint32_t>(std::min<uint64_t>(rank_count - 1, middle * rank_count / (2 * total)));
       seen += weight[b];
     }
   }
   own_blocks_.clear();
   for (uint32_t b = 0; b < blocks_; ++b)
-    if (block_rank_[b] == me) own_blocks_.push_back(b);
+    if (owners_.block_rank[b] == me) own_blocks_.push_back(b);
   first_ = own_blocks_.empty() ? 0 : block_begin(own_blocks_.front());
   window_ = own_blocks_.empty() ? 0 : block_begin(own_blocks_.back() + 1) - first_;
 }
 
-uint32_t Runtime::rank_of(ModuleId m) const { return block_rank_[m >> block_shift_]; }
+uint32_t Runtime::rank_of(ModuleId m) const { return owners_.rank_of(m); }
 
 uint32_t Runtime::block_begin(uint32_t block) const {
-  return static_cast<uint32_t>(std::min<uint64_t>(uint64_t{block} << block_shift_, model_.module_count()));
+  return static_cast<uint32_t>(std::min<uint64_t>(uint64_t{block} << owners_.block_shift, model_.module_count()));
 }
 
 State Runtime::initial_state() {
@@ -233,7 +233,7 @@ void Runtime::run_agents(unsigned thread, uint32_t block, uint32_t w, State& sta
 void Runtime::step_block_agents(unsigned thread, uint32_t block, uint32_t w, WatchState& ws, int64_t f) {
   Lanes out;
   out.row = sending_[w].data() + size_t{thread} * blocks_;
-  out.block_shift = block_shift_;
+  out.block_shift = owners_.block_shift;
   arriving_[thread].clear();
   for (unsigned from = 0; from < pool_.size(); ++from)
     arriving_[thread].push_back(&ws.in_flight[size_t{from} * blocks_ + block]);
@@ -349,8 +349,8 @@ std::vector<std::vector<std::byte>> Runtime::batches_for_ranks() {
     for (uint32_t thread = 0; thread < pool_.size(); ++thread)
       for (uint32_t block = 0; block < blocks_; ++block) {
         watch::RecordBuffer& lane = sending_[w][size_t{thread} * blocks_ + block];
-        if (lane.empty() || block_rank_[block] == me) continue;
-        std::vector<std::byte>& to = out[block_rank_[block]];
+        if (lane.empty() || owners_.block_rank[block] == me) continue;
+        std::vector<std::byte>& to = out[owners_.block_rank[block]];
         put(to, block);
         put(to, lane.size());
         to.insert(to.end(), lane.data(), lane.data() + lane.size());
@@ -597,7 +597,7 @@ void Runtime::add_up_over_ranks(watch::AgentStepOutcome& outcome) {
 void Runtime::take_arrived_lanes(uint32_t w, WatchState& ws) {
   const uint32_t me = static_cast<uint32_t>(ranks_->rank());
   for (size_t lane = 0; lane < ws.in_flight.size(); ++lane)
-    if (!ws.in_flight[lane].empty() && block_rank_[lane % blocks_] != me)
+    if (!ws.in_flight[lane].empty() && owners_.block_rank[lane % blocks_] != me)
       throw std::logic_error("a block taken for interior sent to another rank: its PatternMatchers would be lost");
   for (const std::span<const std::byte> lanes : arrived_lanes_[w])
     for (size_t at = 0; at < lanes.size();) {
@@ -684,8 +684,8 @@ std::vector<std::span<const int64_t>> Runtime::gather_values(const State& state,
   std::vector<size_t> read(parts.size(), 0);
   for (uint32_t b = 0; b < blocks_; ++b) {
     const size_t n = (block_begin(b + 1) - block_begin(b)) * v;
-    rows.push_back(records_of<int64_t>(parts[block_rank_[b]]).subspan(read[block_rank_[b]], n));
-    read[block_rank_[b]] += n;
+    rows.push_back(records_of<int64_t>(parts[owners_.block_rank[b]]).subspan(read[owners_.block_rank[b]], n));
+    read[owners_.block_rank[b]] += n;
   }
   return rows;
 }
@@ -705,11 +705,11 @@ std::vector<int64_t> Runtime::whole_values(const State& state) {
 uint64_t Runtime::pass_hash(uint64_t h, const std::function<uint64_t(uint64_t, uint32_t, uint32_t)>& run) {
   const auto me = static_cast<uint32_t>(ranks_->rank());
   for (uint32_t b = 0, e = 0; b < blocks_; b = e) {
-    for (e = b + 1; e < blocks_ && block_rank_[e] == block_rank_[b];) ++e;
-    const bool mine = block_rank_[b] == me;
+    for (e = b + 1; e < blocks_ && owners_.block_rank[e] == owners_.block_rank[b];) ++e;
+    const bool mine = owners_.block_rank[b] == me;
     if (mine) h = run(h, block_begin(b) - first_, block_begin(e) - first_);
     const Gathered told = ranks_->all_gather(mine ? std::as_bytes(std::span(&h, 1)) : std::span<const std::byte>{});
-    h = records_of<uint64_t>(told[block_rank_[b]])[0];
+    h = records_of<uint64_t>(told[owners_.block_rank[b]])[0];
   }
   return h;
 }
@@ -863,7 +863,7 @@ void Runtime::share_neighbor_values(State& state) {
   for (uint32_t w : acting) {
     watch::AgentHistory& history = state.watches[w].agents->history();
     for (uint32_t b = 0; b < blocks_; ++b) {
-      if (block_rank_[b] == me) continue;
+      if (owners_.block_rank[b] == me) continue;
       for (uint32_t m = block_begin(b); m < block_begin(b + 1); ++m)
         for (size_t c = 0; c < columns_[w].size(); ++c) {
           if (columns_[w][c] < 0) continue;

@@ -152,15 +152,15 @@ class Runtime {
   uint32_t rank_of(ModuleId m) const;
 
   uint32_t block_begin(uint32_t block) const;  // its first module; block_begin(blocks_) = module count
-  void place_blocks(Partition partition);      // block_rank_ and own_blocks_
+  void place_blocks(Partition partition);      // owners_.block_rank and own_blocks_
 
   const Model& model_;
   World& world_;
   WorkerPool pool_;
-  uint32_t block_shift_ = 0;  // blocks of 1 << block_shift_ modules
+
   uint32_t blocks_ = 0;
   RankExchange* ranks_;               // null: this process runs every module
-  std::vector<uint32_t> block_rank_;  // per block, the rank that steps it
+  ModuleOwners owners_;  // blocks of 1 << owners_.block_shift modules, and the rank that steps each
   std::vector<uint32_t> own_blocks_;  // this rank's, ascending; thread t takes the t-th of equal runs
   uint32_t first_ = 0, window_ = 0;   // the modules the state holds (module_window)
   uint64_t bytes_to_ranks_ = 0;

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <span>
+#include <tuple>
+#include <vector>
 
 #include "physics/clusters.h"
 #include "physics/dynamics.h"
@@ -100,37 +103,77 @@ TEST(ContactGraph, WorkersDoNotChangeTheGraphAndNearFindsCentres) {
   EXPECT_GT(a.distance(b.poses[0], b.poses[5]), 0.01f) << "edge diagonals are apart (rounded edges)";
 }
 
-// Over ranks each measures a run of the modules that changed and they swap what they found:
-// every rank gets one process's graph and count of pairs measured, whole or read by what changed.
-TEST(ContactGraph, RanksMeasuringRunsOfTheModulesGetTheGraphOfOneProcess) {
+// A rank that counts the pairs it gives to the swap (the measured count, then (a, b) words) of
+// which it owns neither module.
+class PairsOfOthers final : public sim::RankExchange {
+ public:
+  PairsOfOthers(sim::RankExchange& rank, const sim::ModuleOwners& owners) : rank_(rank), owners_(owners) {}
+  int rank() const override { return rank_.rank(); }
+  int ranks() const override { return rank_.ranks(); }
+  void start_exchange(std::vector<std::vector<std::byte>> out) override { rank_.start_exchange(std::move(out)); }
+  std::vector<std::vector<std::byte>> finish_exchange() override { return rank_.finish_exchange(); }
+  sim::Gathered all_gather(std::span<const std::byte> mine) override {
+    const auto pairs = sim::records_of<uint32_t>(mine.subspan(sizeof(uint64_t)));
+    const auto me = static_cast<uint32_t>(rank());
+    for (size_t i = 0; i + 1 < pairs.size(); i += 2)
+      others += owners_.rank_of(pairs[i]) != me && owners_.rank_of(pairs[i + 1]) != me;
+    found += pairs.size() / 2;
+    return rank_.all_gather(mine);
+  }
+  void sum(std::span<uint64_t> values) override { rank_.sum(values); }
+  size_t others = 0, found = 0;
+
+ private:
+  sim::RankExchange& rank_;
+  const sim::ModuleOwners& owners_;
+};
+
+// Over ranks each measures the pairs of the changed modules it owns, and they swap what they
+// found: every rank gets one process's graph and count of pairs measured, whole or read by what
+// changed, and no rank measures a pair of two modules it does not own (the blocks of 4 modules
+// dealt round-robin, so that a run of ids is never one rank's).
+TEST(ContactGraph, RanksMeasuringTheirOwnModulesGetTheGraphOfOneProcess) {
   const PhysicsSettings settings;
   Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
   sim::Bodies start = test::latched_block(4, true, dynamics.module_shape());
   const std::vector<uint8_t> present(start.poses.size(), 1);
   // Three corner and edge modules leave the block and move off; then one comes back.
   const std::vector<sim::ModuleId> leaving = {3, 12, 63};
-  const auto updates = [&](sim::RankExchange* ranks) {
+  const auto updates = [&](sim::RankExchange* ranks, const sim::ModuleOwners* owners) {
     sim::Bodies b = start;
     sim::WorkerPool workers(1);
     ContactGraph contacts(ModuleShape::Box, 0.01f);
     std::vector<std::pair<std::vector<sim::ModuleId>, uint64_t>> seen;
-    seen.emplace_back(contacts.update(b, present, workers, nullptr, ranks)->ids, contacts.pairs_measured());
+    seen.emplace_back(contacts.update(b, present, workers, nullptr, ranks, owners)->ids, contacts.pairs_measured());
     for (sim::ModuleId m : leaving) {
       b.cluster_of[m] = sim::kNoCluster;
       b.poses[m].position[2] += 0.6f;
     }
-    seen.emplace_back(contacts.update(b, present, workers, &leaving, ranks)->ids, contacts.pairs_measured());
+    seen.emplace_back(contacts.update(b, present, workers, &leaving, ranks, owners)->ids, contacts.pairs_measured());
     b.poses[63] = start.poses[63];
     const std::vector<sim::ModuleId> back = {63};
-    seen.emplace_back(contacts.update(b, present, workers, &back, ranks)->ids, contacts.pairs_measured());
+    seen.emplace_back(contacts.update(b, present, workers, &back, ranks, owners)->ids, contacts.pairs_measured());
     return seen;
   };
-  const auto one = updates(nullptr);
+  const auto one = updates(nullptr, nullptr);
   ASSERT_NE(one[0].first, one[1].first);
   ASSERT_GT(one[1].second, 0u);
-  for (int ranks : {2, 3}) {
-    const auto all = sim::on_ranks(ranks, [&](sim::RankExchange& rank) { return updates(&rank); });
-    for (int r = 0; r < ranks; ++r) EXPECT_EQ(all[size_t(r)], one) << ranks << " ranks, rank " << r;
+  for (uint32_t ranks : {2u, 3u}) {
+    sim::ModuleOwners owners{.block_shift = 2};
+    for (uint32_t block = 0; block < 16; ++block) owners.block_rank.push_back(block % ranks);
+    const auto all = sim::on_ranks(int(ranks), [&](sim::RankExchange& rank) {
+      PairsOfOthers counted(rank, owners);
+      auto seen = updates(&counted, &owners);
+      return std::tuple(std::move(seen), counted.others, counted.found);
+    });
+    size_t found = 0;
+    for (uint32_t r = 0; r < ranks; ++r) {
+      const auto& [seen, others, by_rank] = all[r];
+      EXPECT_EQ(seen, one) << ranks << " ranks, rank " << r;
+      EXPECT_EQ(others, 0u) << ranks << " ranks, rank " << r;
+      found += by_rank;
+    }
+    EXPECT_GT(found, 0u);
   }
 }
 
