@@ -197,12 +197,9 @@ std::vector<sim::ModuleId> ContactGraph::near(const sim::Vec3& at, float radius)
   return found;
 }
 
-std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(const sim::Bodies& bodies,
-                                                               std::span<const uint8_t> present,
-                                                               sim::WorkerPool& workers,
-                                                               const std::vector<sim::ModuleId>* changed,
-                                                               sim::RankExchange* ranks,
-                                                               const sim::ModuleOwners* owners) {
+std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
+    const sim::Bodies& bodies, std::span<const uint8_t> present, sim::WorkerPool& workers,
+    const std::vector<sim::ModuleId>* changed, sim::RankExchange* ranks, const sim::ModuleOwners* owners) {
   Impl& s = *impl_;
   const std::span<const sim::Pose> poses = bodies.poses;
   const size_t n = poses.size();

@@ -121,7 +121,8 @@ void Runtime::place_blocks(Partition partition) {
     std::vector<std::pair<uint32_t, uint32_t>> pairs;
     for (uint32_t m = 0; m < g.module_count(); ++m)
       for (ModuleId n : g.neighbors(m))
-        if (m >> owners_.block_shift != n >> owners_.block_shift) pairs.push_back({m >> owners_.block_shift, n >> owners_.block_shift});
+        if (m >> owners_.block_shift != n >> owners_.block_shift)
+          pairs.push_back({m >> owners_.block_shift, n >> owners_.block_shift});
     std::sort(pairs.begin(), pairs.end());
     std::vector<uint32_t> first(blocks_ + 1, 0), adjacent, link_weight;
     for (size_t i = 0; i < pairs.size(); ++i) {

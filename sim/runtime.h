@@ -160,7 +160,7 @@ class Runtime {
 
   uint32_t blocks_ = 0;
   RankExchange* ranks_;               // null: this process runs every module
-  ModuleOwners owners_;  // blocks of 1 << owners_.block_shift modules, and the rank that steps each
+  ModuleOwners owners_;               // blocks of 1 << owners_.block_shift modules, and the rank that steps each
   std::vector<uint32_t> own_blocks_;  // this rank's, ascending; thread t takes the t-th of equal runs
   uint32_t first_ = 0, window_ = 0;   // the modules the state holds (module_window)
   uint64_t bytes_to_ranks_ = 0;
