@@ -156,8 +156,6 @@ void Runtime::place_blocks(Partition partition) {
   window_ = own_blocks_.empty() ? 0 : block_begin(own_blocks_.back() + 1) - first_;
 }
 
-uint32_t Runtime::rank_of(ModuleId m) const { return owners_.rank_of(m); }
-
 uint32_t Runtime::block_begin(uint32_t block) const {
   return static_cast<uint32_t>(std::min<uint64_t>(uint64_t{block} << owners_.block_shift, model_.module_count()));
 }
@@ -305,7 +303,7 @@ void Runtime::split_own_blocks(const State& state) {
     for (size_t i = 0; i < own_blocks_.size(); ++i)
       for (uint32_t m = block_begin(own_blocks_[i]); m < block_begin(own_blocks_[i] + 1) && !b.crosses[i]; ++m)
         for (uint32_t e = g.begin[m]; e < g.begin[m + 1]; ++e)
-          if (rank_of(g.ids[e]) != me) {
+          if (owners_.rank_of(g.ids[e]) != me) {
             b.crosses[i] = 1;
             break;
           }
@@ -337,7 +335,7 @@ std::vector<std::vector<std::byte>> Runtime::batches_for_ranks() {
   std::vector<MessageList> going(out.size());
   for (const ThreadScratch& s : scratch_)
     for (const Message m : s.outbox.messages)
-      if (const uint32_t r = rank_of(m.to); r != me) going[r].add(m);
+      if (const uint32_t r = owners_.rank_of(m.to); r != me) going[r].add(m);
   for (size_t r = 0; r < out.size(); ++r) {
     put(out[r], going[r].size());
     append_records(out[r], std::as_const(going[r]).headers());
@@ -519,7 +517,7 @@ void Runtime::deliver_program_messages(State& state) {
     for (unsigned thread = 0; thread < pool_.size(); ++thread) {
       const MessageList& sent = scratch_[thread].outbox.messages;
       for (size_t i = 0; i < sent.size(); ++i)
-        if (rank_of(sent[i].to) == me) ++total;
+        if (owners_.rank_of(sent[i].to) == me) ++total;
         else if (i >= border_messages_[thread])
           throw std::logic_error("a block taken for interior sent to another rank: its message would be lost");
     }
@@ -533,7 +531,7 @@ void Runtime::deliver_program_messages(State& state) {
   auto each = [&](auto&& fn) {
     for (const ThreadScratch& s : scratch_)
       for (const Message m : s.outbox.messages)
-        if (!ranks_ || rank_of(m.to) == me) fn(m);
+        if (!ranks_ || owners_.rank_of(m.to) == me) fn(m);
     for (const Messages part : arrived_messages_)
       for (const Message m : part) fn(m);
   };
@@ -768,7 +766,7 @@ void Runtime::intervene(State& state, std::span<const Intervention> intervention
                          std::to_string(i.at) + " names no module or variable of the model");
     switch (i.kind) {
       case Intervention::Kind::Set:  // the module's rank's alone: no other holds its variables
-        if (!ranks_ || rank_of(i.module) == static_cast<uint32_t>(ranks_->rank()))
+        if (!ranks_ || owners_.rank_of(i.module) == static_cast<uint32_t>(ranks_->rank()))
           state.values[size_t{i.module - first_} * v + size_t(i.column)] = i.value;
         break;
       case Intervention::Kind::Remove: world_.remove_module(model_, state, i.module); break;
@@ -797,7 +795,7 @@ void Runtime::act(State& state) {
     }
     ++ws.actions_done;
     if (a.remove) world_.remove_module(model_, state, a.module);
-    else if (!ranks_ || rank_of(a.module) == static_cast<uint32_t>(ranks_->rank()))  // its rank's alone
+    else if (!ranks_ || owners_.rank_of(a.module) == static_cast<uint32_t>(ranks_->rank()))  // its rank's alone
       state.values[size_t{a.module - first_} * v + size_t(a.column)] = a.value;
   }
   state.actions.clear();

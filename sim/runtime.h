@@ -149,7 +149,6 @@ class Runtime {
   uint64_t pass_hash(uint64_t h, const std::function<uint64_t(uint64_t, uint32_t, uint32_t)>& run);
   void add_up_over_ranks(watch::AgentStepOutcome& outcome);
   void agree_on_failure_and_gather_actuations(int64_t step);
-  uint32_t rank_of(ModuleId m) const;
 
   uint32_t block_begin(uint32_t block) const;  // its first module; block_begin(blocks_) = module count
   void place_blocks(Partition partition);      // owners_.block_rank and own_blocks_
@@ -157,7 +156,6 @@ class Runtime {
   const Model& model_;
   World& world_;
   WorkerPool pool_;
-
   uint32_t blocks_ = 0;
   RankExchange* ranks_;               // null: this process runs every module
   ModuleOwners owners_;               // blocks of 1 << owners_.block_shift modules, and the rank that steps each
