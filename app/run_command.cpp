@@ -134,7 +134,8 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
         [&](const sim::State& state, const sim::StepOutput& out) {
           if (recording) {
             std::vector<int64_t> values = run.whole_values(state);
-            if (recorder) recorder->write(sim::make_frame(model, out.step, values, out.present, out.graph));
+            const std::shared_ptr<const sim::NeighborGraph> graph = run.whole_graph(out.graph);
+            if (recorder) recorder->write(sim::make_frame(model, out.step, values, out.present, graph));
           }
           for (size_t w = 0; w < out.watches.size(); ++w)
             if (!out.watches[w].slots.empty() && model.watches[w].action != sim::MatchAction::Count)

@@ -58,7 +58,8 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
     b.prop_velocities.push_back(p.velocity);
   }
   contacts_.reset();
-  state.graph = contacts_.update(b, state.present, workers);
+  // Over ranks, this rank's window of the graph (ContactGraph::update): no rank holds it whole.
+  state.graph = contacts_.update(b, state.present, workers, nullptr, ranks_, &owners_);
   // Real modules latch to what they touch as they are put in place, and to the ground. The bonds
   // are reserved at their number: grown by doubling, a million modules' three million held a third
   // more than they used, in every state.
@@ -66,17 +67,19 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
   if (settings_.anchor)
     for (sim::ModuleId m = 0; m < n; ++m)
       if (state.present[m] && touches_ground(b.poses[m])) grounded.push_back({m, sim::kGround});
-  b.bonds.reserve((settings_.bonds ? state.graph->edge_count() / 2 : 0) + grounded.size());
   if (settings_.bonds)
-    for (sim::ModuleId m = 0; m < n; ++m)
-      for (sim::ModuleId o : state.graph->neighbors(m))
-        if (m < o) b.bonds.push_back({m, o});
+    b.bonds = touching_bonds(
+        state,
+        [&](auto&& visit) {
+          for (sim::ModuleId m = 0; m < n; ++m) visit(m);
+        },
+        [](sim::ModuleId m, sim::ModuleId o) { return m < o; }, grounded.size());
   b.bonds.insert(b.bonds.end(), grounded.begin(), grounded.end());
   std::sort(b.bonds.begin(), b.bonds.end());
   regroup_all(state);
   // Members of a cluster are measured at their poses in it: the graph of step 0 is the one a
   // restored world finds (and the first step does not pay for measuring every pair again).
-  state.graph = contacts_.update(b, state.present, workers);
+  state.graph = contacts_.update(b, state.present, workers, nullptr, ranks_, &owners_);
   contacts_known_ = true;
 }
 
@@ -271,16 +274,46 @@ void BulletWorld::let_go(std::span<const sim::ModuleId> leaving, sim::State& sta
   changes_.removed.insert(changes_.removed.end(), gone.begin(), gone.end());
 }
 
+template <typename Asking, typename Latches>
+std::vector<sim::Bond> BulletWorld::touching_bonds(const sim::State& state, Asking&& asking, Latches&& latches,
+                                                   size_t room) {
+  std::vector<sim::Bond> found;
+  const uint32_t me = ranks_ ? static_cast<uint32_t>(ranks_->rank()) : 0;
+  asking([&](sim::ModuleId m) {
+    if (state.present[m] && (!ranks_ || owners_.rank_of(m) == me))
+      for (sim::ModuleId o : state.graph->neighbors(m))
+        if (latches(m, o)) found.push_back({std::min(m, o), std::max(m, o)});
+  });
+  if (!ranks_) return found;
+  std::vector<std::byte> mine;
+  sim::append_records<sim::Bond>(mine, found);
+  found = {};
+  const sim::Gathered parts = ranks_->all_gather(mine);
+  mine = {};
+  size_t count = room;
+  for (std::span<const std::byte> part : parts) count += sim::records_of<sim::Bond>(part).size();
+  found.reserve(count);
+  for (std::span<const std::byte> part : parts) {
+    const std::span<const sim::Bond> theirs = sim::records_of<sim::Bond>(part);
+    found.insert(found.end(), theirs.begin(), theirs.end());
+  }
+  return found;
+}
+
 // Modules ending a lattice move latch to what they touch (and the ground).
 void BulletWorld::latch(std::span<const sim::ModuleId> arrived, sim::State& state) {
   sim::Bodies& b = state.bodies;
   std::vector<sim::Bond> made;
-  for (sim::ModuleId m : arrived) {
-    if (settings_.bonds)
-      for (sim::ModuleId o : state.graph->neighbors(m))
-        if (!b.moving(o)) made.push_back({std::min(m, o), std::max(m, o)});
-    if (settings_.anchor && touches_ground(b.poses[m])) made.push_back({m, sim::kGround});
-  }
+  if (settings_.bonds)
+    made = touching_bonds(
+        state,
+        [&](auto&& visit) {
+          for (sim::ModuleId m : arrived) visit(m);
+        },
+        [&](sim::ModuleId, sim::ModuleId o) { return !b.moving(o); }, arrived.size());
+  if (settings_.anchor)
+    for (sim::ModuleId m : arrived)
+      if (touches_ground(b.poses[m])) made.push_back({m, sim::kGround});
   std::sort(made.begin(), made.end());
   made.erase(std::unique(made.begin(), made.end()), made.end());
   merge_into<sim::Bond>(b.bonds, made);
@@ -370,9 +403,12 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
   }
   if (check_) {
     const auto full = check_->update(b, state.present, workers);
-    if (full->begin != state.graph->begin || full->ids != state.graph->ids)
-      throw std::logic_error("the contact graph read by what changed differs from the full one at step " +
-                             std::to_string(state.step));
+    for (sim::ModuleId m = 0; m < full->module_count(); ++m) {
+      const auto whole = full->neighbors(m), read = state.graph->neighbors(m);
+      if (state.graph->holds(m) ? !std::ranges::equal(whole, read) : !read.empty())
+        throw std::logic_error("the contact graph read by what changed differs from the full one at step " +
+                               std::to_string(state.step) + " (module " + std::to_string(m) + "'s neighbours)");
+    }
   }
   graph_stale_ = false;
   changed_.clear();

@@ -31,8 +31,9 @@ class BulletWorld final : public sim::World {
                sim::WorkerPool& workers) override;
   void remove_module(const sim::Model& model, sim::State& state, sim::ModuleId m) override;
   bool moves() const override { return true; }
-  // Over ranks, each steps a run of the islands (Dynamics::step) and measures the contacts of
-  // the modules it owns whose contacts may have changed (ContactGraph::update).
+  // Over ranks, each steps a run of the islands (Dynamics::step) and holds the neighbour graph of
+  // its window, measured by itself (ContactGraph::update); bonds are made by the owners of the
+  // modules that latch.
   void share_over(sim::RankExchange* ranks, const sim::ModuleOwners& owners) override {
     ranks_ = ranks;
     owners_ = owners;
@@ -56,6 +57,12 @@ class BulletWorld final : public sim::World {
   void set_off(const sim::Mover& mover, sim::State& state, std::vector<sim::ModuleId>& leaving);
   void let_go(std::span<const sim::ModuleId> leaving, sim::State& state);
   void latch(std::span<const sim::ModuleId> arrived, sim::State& state);
+  // The bonds between each present module `asking(visit)` visits and those of its neighbours
+  // `latches(m, o)` accepts, with room for `room` more. Over ranks a module's neighbours are known
+  // where its list is held, its owner's window among them: each rank finds its own modules'
+  // bonds, and the ranks swap them.
+  template <typename Asking, typename Latches>
+  std::vector<sim::Bond> touching_bonds(const sim::State& state, Asking&& asking, Latches&& latches, size_t room);
   void regroup(sim::State& state);
   void regroup_all(sim::State& state);
 

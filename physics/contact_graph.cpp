@@ -29,6 +29,10 @@ struct ClosestDistance final : btDiscreteCollisionDetectorInterface::Result {
   }
 };
 
+// How much wider than the reach a rank's window is: rounding in a moving cluster's poses may put
+// two neighbours measured in its frame a hair further apart in the world.
+constexpr float kWindowMargin = 1.125f;
+
 float squared_distance(const sim::Vec3& a, const sim::Vec3& b) {
   const float x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
   return x * x + y * y + z * z;
@@ -163,8 +167,8 @@ struct ContactGraph::Impl {
     frame[m] = f;
   }
   // Scratch of an update, kept so that a million-module step does not fault in fresh pages.
-  std::vector<uint8_t> moved, reframed, flagged, search;  // all 0 between updates
-  std::vector<sim::ModuleId> looked, flagged_list;
+  std::vector<uint8_t> moved, reframed, flagged, search, renew;  // all 0 between updates
+  std::vector<sim::ModuleId> looked, flagged_list, entering;
   std::shared_ptr<const sim::NeighborGraph> graph;
 };
 
@@ -197,13 +201,44 @@ std::vector<sim::ModuleId> ContactGraph::near(const sim::Vec3& at, float radius)
   return found;
 }
 
+// Over ranks, a rank's window (docs/design.md §12a): the present modules it owns, and those whose
+// centres lie within `radius` of one of them (a neighbour's centre is within the reach).
+struct Window {
+  const CellGrid& grid;
+  const sim::Bodies& bodies;
+  std::span<const uint8_t> present;
+  const sim::ModuleOwners& owners;
+  uint32_t me;
+  float radius;
+
+  bool owned(sim::ModuleId m) const { return owners.rank_of(m) == me; }
+  template <typename Visit>
+  void near(const sim::Vec3& at, Visit&& visit) const {
+    const sim::Vec3 lo{at[0] - radius, at[1] - radius, at[2] - radius},
+        hi{at[0] + radius, at[1] + radius, at[2] + radius};
+    grid.within(lo, hi, [&](sim::ModuleId o) {
+      if (squared_distance(bodies.poses[o].position, at) <= radius * radius) visit(o);
+    });
+  }
+  bool holds(sim::ModuleId m) const {
+    if (!present[m]) return false;
+    if (owned(m)) return true;
+    bool found = false;
+    near(bodies.poses[m].position, [&](sim::ModuleId o) { found = found || (present[o] && owned(o)); });
+    return found;
+  }
+};
+
 std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     const sim::Bodies& bodies, std::span<const uint8_t> present, sim::WorkerPool& workers,
     const std::vector<sim::ModuleId>* changed, sim::RankExchange* ranks, const sim::ModuleOwners* owners) {
   Impl& s = *impl_;
   const std::span<const sim::Pose> poses = bodies.poses;
   const size_t n = poses.size();
-  const bool forget = !s.graph || s.world.size() != n;
+  const bool windowed = ranks != nullptr;
+  if (windowed && owners == nullptr)
+    throw std::logic_error("ContactGraph::update over ranks needs the modules' owners");
+  const bool forget = !s.graph || s.world.size() != n || windowed != (s.graph->held != nullptr);
   if (forget) changed = nullptr;
   s.in_grid.resize(n, 0);
   s.grid_at.resize(n);
@@ -213,6 +248,8 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   s.moved.resize(n, 0);
   s.reframed.resize(n, 0);
   s.flagged.resize(n, 0);
+  s.search.resize(n, 0);
+  if (windowed) s.renew.resize(n, 0);
 
   // The modules to look at: those the caller says may have changed, or all. Per module, what
   // changed since the last measurement: it came or went or its world pose changed (moved), or its
@@ -237,11 +274,50 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     if (s.flagged[m]) flagged_list.push_back(m);
   }
   measured_ = 0;
-  if (flagged_list.empty()) return s.graph;
+  if (flagged_list.empty()) return s.graph;  // alike on every rank
   const std::vector<uint8_t>&moved = s.moved, &reframed = s.reframed, &flagged = s.flagged;
   // The frame a module is measured at now: the bodies' for the flagged ones (read again rather
   // than kept: 32 bytes a module), the last one for the others, which are known not to differ.
   const auto now = [&](sim::ModuleId m) { return flagged[m] ? Impl::frame_of(bodies, m) : s.last_frame(m); };
+
+  // Over ranks, the window now: it changes only around what changed, the modules flagged and
+  // those near where a flagged module of this rank's was and is. A module entering it (not
+  // flagged, or flagged) has every pair measured again (`renew`): its list is made whole.
+  std::shared_ptr<const std::vector<uint8_t>> window;
+  std::vector<sim::ModuleId>& entering = s.entering;
+  entering.clear();
+  const std::vector<uint8_t>* was_held = forget || !s.graph ? nullptr : s.graph->held.get();
+  if (windowed) {
+    const Window w{s.grid, bodies, present, *owners, static_cast<uint32_t>(ranks->rank()), s.cutoff * kWindowMargin};
+    auto held = std::make_shared<std::vector<uint8_t>>(n, 0);
+    if (forget) {
+      for (sim::ModuleId a = 0; a < n; ++a)
+        if (present[a] && w.owned(a)) {
+          (*held)[a] = 1;
+          w.near(poses[a].position, [&](sim::ModuleId o) { (*held)[o] = present[o]; });
+        }
+    } else {
+      *held = *was_held;
+      std::vector<sim::ModuleId> again(flagged_list);
+      for (sim::ModuleId m : flagged_list)
+        if (w.owned(m)) {
+          w.near(poses[m].position, [&](sim::ModuleId o) { again.push_back(o); });
+          if (s.was_present[m]) w.near(s.world[m].position, [&](sim::ModuleId o) { again.push_back(o); });
+        }
+      std::sort(again.begin(), again.end());
+      again.erase(std::unique(again.begin(), again.end()), again.end());
+      for (sim::ModuleId m : again) {
+        (*held)[m] = w.holds(m);
+        if ((*held)[m] && !(*was_held)[m]) {
+          entering.push_back(m);
+          s.renew[m] = 1;
+        }
+      }
+    }
+    window = std::move(held);
+  }
+  const auto holds = [&](sim::ModuleId m) { return !window || (*window)[m] != 0; };
+  const auto held_before = [&](sim::ModuleId m) { return was_held == nullptr || (*was_held)[m] != 0; };
 
   // A pair is measured again when what it is measured at changed: both members of one cluster
   // that moves at their poses in it, any other pair at its world poses. Every other pair keeps
@@ -257,24 +333,40 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     if (was != is) return true;
     return is ? !(now_a.local == last_a.local && now_b.local == last_b.local) : moved[a] || moved[b];
   };
-  // The stale pairs, to be measured again. Only a pair with a flagged member can be stale, and a
-  // module's pairs are its neighbours in the graph last made: the flagged modules' lists are all
-  // that is read. (The graph is the one list of pairs kept: a second, sorted, took 8 bytes a pair.)
+  const auto renewing = [&](sim::ModuleId m) { return windowed && s.renew[m] != 0; };
+  const auto renewed = [&](sim::ModuleId a, sim::ModuleId b) { return renewing(a) || renewing(b); };
+  // The pairs measured again, as they were. Only a pair with a flagged (or renewed) member can
+  // be, and a module's pairs are its neighbours in the graph last made: those lists are all that
+  // is read. (The graph is the one list of pairs kept: a second, sorted, took 8 bytes a pair.) Over
+  // ranks, a module whose list this rank did not hold finds its pairs in the lists held near
+  // where it was measured last.
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> dropped;
   if (!forget) {
-    for (sim::ModuleId m : flagged_list)
-      for (sim::ModuleId o : s.graph->neighbors(m)) {
-        if (flagged[o] && o < m) continue;  // read from o's side
-        const auto pair = std::minmax(m, o);
-        if (stale(pair.first, pair.second)) dropped.emplace_back(pair);
+    const auto drop = [&](sim::ModuleId m, sim::ModuleId o) {
+      if (stale(m, o) || renewed(m, o)) dropped.emplace_back(std::minmax(m, o));
+    };
+    const auto read = [&](sim::ModuleId m) {
+      if (held_before(m)) {
+        for (sim::ModuleId o : s.graph->neighbors(m))
+          if (!(flagged[o] && o < m && held_before(o))) drop(m, o);  // else read from o's side
+        return;
       }
+      if (!s.was_present[m]) return;
+      const Window w{s.grid, bodies, present, *owners, 0, s.cutoff * kWindowMargin};
+      w.near(s.world[m].position, [&](sim::ModuleId o) {
+        if (held_before(o) && !flagged[o] && s.graph->adjacent(o, m)) drop(m, o);
+      });
+    };
+    for (sim::ModuleId m : flagged_list) read(m);
+    for (sim::ModuleId m : entering)
+      if (!flagged[m]) read(m);
     std::sort(dropped.begin(), dropped.end());
+    dropped.erase(std::unique(dropped.begin(), dropped.end()), dropped.end());
   }
   // Who looks for pairs: what moved or was reframed, except the members of a cluster that moved
   // as a whole with nothing else near it (a pile free on the ground): their pairs with each other
   // keep their measurement, and nothing outside the cluster is within reach.
   std::vector<uint8_t>& search = s.search;
-  search.resize(n, 0);
   for (sim::ModuleId m : flagged_list) search[m] = present[m];
   if (!forget && !bodies.cluster_of.empty())
     for (uint32_t c = 0; c < bodies.clusters.size(); ++c) {
@@ -299,33 +391,33 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
       if (alone)
         for (sim::ModuleId m : members) search[m] = 0;
     }
+  const auto visits = [&](sim::ModuleId m) { return search[m] || (renewing(m) && present[m]); };
 
-  // Each worker measures the stale pairs of a run of the flagged modules; the runs are joined.
-  // Over ranks, of the flagged modules this rank owns: what a rank holding only its own modules
-  // and those around them can measure.
+  // Each worker measures the stale pairs of a run of the visiting modules; the runs are joined.
+  // A pair is measured from its lower visiting member's side. Over ranks, a rank measures the pairs
+  // of its window, and counts those one process measures from a module it owns: the same count.
   const float cutoff2 = s.cutoff * s.cutoff;
   const unsigned runs = workers.size();
-  std::span<const sim::ModuleId> measuring = flagged_list;
-  std::vector<sim::ModuleId> owned;
-  if (ranks != nullptr) {
-    if (owners == nullptr) throw std::logic_error("ContactGraph::update over ranks needs the modules' owners");
-    const auto me = static_cast<uint32_t>(ranks->rank());
-    for (sim::ModuleId m : flagged_list)
-      if (owners->rank_of(m) == me) owned.push_back(m);
-    measuring = owned;
-  }
-  const size_t count = measuring.size();
+  // The flagged modules, then those entering the window.
+  const auto visiting = [&](size_t i) {
+    return i < flagged_list.size() ? flagged_list[i] : entering[i - flagged_list.size()];
+  };
+  const size_t count = flagged_list.size() + entering.size();
   std::vector<std::vector<std::pair<sim::ModuleId, sim::ModuleId>>> found(runs);
   std::vector<uint64_t> measured(runs, 0);
+  const uint32_t me = windowed ? static_cast<uint32_t>(ranks->rank()) : 0;
   workers.run([&](unsigned run) {
     for (size_t i = count * run / runs; i < count * (run + 1) / runs; ++i) {
-      const sim::ModuleId a = measuring[i];
-      if (!search[a]) continue;
+      const sim::ModuleId a = visiting(i);
+      if (!visits(a) || (i >= flagged_list.size() && flagged[a])) continue;  // an entering module flagged: once
       s.grid.around(poses[a].position, [&](sim::ModuleId b) {
-        if (b == a || !stale(a, b)) return;
-        if (b < a && search[b]) return;  // measured from b's side
+        if (b == a) return;
+        const bool natural = stale(a, b);
+        if (!natural && !renewed(a, b)) return;
         if (squared_distance(poses[a].position, poses[b].position) > cutoff2) return;
-        ++measured[run];
+        if (natural && search[a] && !(b < a && search[b]) && (!windowed || owners->rank_of(a) == me)) ++measured[run];
+        if (!holds(a) && !holds(b)) return;
+        if (b < a && visits(b)) return;  // measured from b's side
         const Impl::Frame now_a = now(a), now_b = now(b);
         const bool local = Impl::together(now_a, now_b);
         if (s.touching(local ? now_a.local : poses[a], local ? now_b.local : poses[b]))
@@ -339,20 +431,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     fresh.insert(fresh.end(), found[run].begin(), found[run].end());
     measured_ += measured[run];
   }
-  if (ranks != nullptr) {  // every rank's pairs, as (a, b) words after the count measured
-    std::vector<uint32_t> mine;
-    for (const auto& [a, b] : fresh) mine.insert(mine.end(), {a, b});
-    std::vector<std::byte> bytes;
-    sim::append_records<uint64_t>(bytes, std::span(&measured_, 1));
-    sim::append_records<uint32_t>(bytes, mine);
-    fresh.clear();
-    measured_ = 0;
-    for (std::span<const std::byte> part : ranks->all_gather(bytes)) {
-      measured_ += sim::records_of<uint64_t>(part.first(sizeof(uint64_t)))[0];
-      const std::span<const uint32_t> pairs = sim::records_of<uint32_t>(part.subspan(sizeof(uint64_t)));
-      for (size_t i = 0; i + 1 < pairs.size(); i += 2) fresh.emplace_back(pairs[i], pairs[i + 1]);
-    }
-  }
+  if (windowed) ranks->sum(std::span(&measured_, 1));
   std::sort(fresh.begin(), fresh.end());
   for (sim::ModuleId m : flagged_list) {
     s.was_present[m] = present[m];
@@ -362,18 +441,32 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     search[m] = 0;
   }
   for (sim::ModuleId m : looked) s.was_present[m] = present[m];
+  for (sim::ModuleId m : entering) s.renew[m] = 0;
   if (forget) {  // every pair was measured
-    s.graph =
-        std::make_shared<const sim::NeighborGraph>(sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), fresh));
+    s.graph = std::make_shared<const sim::NeighborGraph>(
+        sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), fresh).held_only(std::move(window)));
     return s.graph;
   }
-  // The same pairs found again as were measured again: the graph stands.
-  if (fresh == dropped) return s.graph;
-  // What changed: the pairs dropped and not found again, and those found that were not there.
-  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> gone, made;
+  // The same pairs found again as were measured again, and the same window: the graph stands.
+  const bool rewindowed = windowed && *window != *was_held;
+  if (fresh == dropped && !rewindowed) return s.graph;
+  // What changed: the pairs dropped and not found again, and those found that were not there; and
+  // the lists of the modules entering the window, whole.
+  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> gone, made, gained;
   std::set_difference(dropped.begin(), dropped.end(), fresh.begin(), fresh.end(), std::back_inserter(gone));
   std::set_difference(fresh.begin(), fresh.end(), dropped.begin(), dropped.end(), std::back_inserter(made));
-  s.graph = std::make_shared<const sim::NeighborGraph>(s.graph->changed(gone, made));
+  if (!entering.empty()) {
+    std::vector<uint8_t>& entered = s.renew;  // 0 again: marks the entering modules for this pass
+    for (sim::ModuleId m : entering) entered[m] = 1;
+    for (const auto& [a, b] : fresh) {
+      if (entered[a]) gained.emplace_back(a, b);
+      if (entered[b]) gained.emplace_back(b, a);
+    }
+    for (sim::ModuleId m : entering) entered[m] = 0;
+    std::sort(gained.begin(), gained.end());
+  }
+  s.graph = std::make_shared<const sim::NeighborGraph>(
+      s.graph->changed(gone, made, rewindowed ? std::move(window) : nullptr, gained));
   return s.graph;
 }
 

@@ -36,9 +36,9 @@ class ContactGraph {
   // `changed`, when given, lists every module whose presence, world pose or frame may differ from
   // the last update (the others are known not to, and are not compared: a million-module block
   // with a thousand moving is not walked); without it every module is compared. Over `ranks` (a
-  // collective call, made alike on every rank with the same bodies), each rank measures the pairs
-  // of the changed modules it owns (`owners`; a pair of two changed modules from its lower one's
-  // side) and the ranks swap the pairs they found: every rank gets the graph one process gets.
+  // collective call, made alike on every rank with the same bodies), each rank gets its window of
+  // the graph one process gets (NeighborGraph::held): the lists of the modules it owns (`owners`)
+  // and of those within reach of them, each whole, measured by the rank itself; no pair is sent.
   std::shared_ptr<const sim::NeighborGraph> update(const sim::Bodies& bodies, std::span<const uint8_t> present,
                                                    sim::WorkerPool& workers,
                                                    const std::vector<sim::ModuleId>* changed = nullptr,
@@ -60,7 +60,8 @@ class ContactGraph {
   // Forgets every measurement (the next update measures every pair).
   void reset();
 
-  // Pairs measured by the last update (the others kept their measurement), over ranks by all.
+  // Pairs measured by the last update (the others kept their measurement), over ranks as one
+  // process measures them (each counted by the owner of the module it is measured from).
   uint64_t pairs_measured() const { return measured_; }
 
  private:

@@ -11,6 +11,7 @@ bool NeighborGraph::adjacent(ModuleId a, ModuleId b) const {
 
 NeighborGraph NeighborGraph::without(ModuleId gone) const {
   NeighborGraph g;
+  g.held = held;
   g.begin.assign(begin.size(), 0);
   g.ids.reserve(ids.size());
   for (ModuleId m = 0; m < module_count(); ++m) {
@@ -60,7 +61,11 @@ NeighborGraph NeighborGraph::from_pairs(uint32_t module_count, std::span<const s
 }
 
 NeighborGraph NeighborGraph::changed(std::span<const std::pair<ModuleId, ModuleId>> gone,
-                                     std::span<const std::pair<ModuleId, ModuleId>> made) const {
+                                     std::span<const std::pair<ModuleId, ModuleId>> made,
+                                     std::shared_ptr<const std::vector<uint8_t>> window,
+                                     std::span<const std::pair<ModuleId, ModuleId>> gained) const {
+  NeighborGraph g;
+  g.held = window ? std::move(window) : held;
   // Per module touched, its partners gone or made: (module, partner, made?), sorted by module.
   struct Change {
     ModuleId module, partner;
@@ -68,11 +73,14 @@ NeighborGraph NeighborGraph::changed(std::span<const std::pair<ModuleId, ModuleI
     bool operator<(const Change& o) const { return module < o.module || (module == o.module && partner < o.partner); }
   };
   std::vector<Change> changes;
-  for (const auto& [a, b] : gone) changes.insert(changes.end(), {{a, b, false}, {b, a, false}});
-  for (const auto& [a, b] : made) changes.insert(changes.end(), {{a, b, true}, {b, a, true}});
+  const auto change = [&](ModuleId m, ModuleId partner, bool made) {
+    if (g.holds(m) && holds(m)) changes.push_back({m, partner, made});
+  };
+  for (const auto& [a, b] : gone) change(a, b, false), change(b, a, false);
+  for (const auto& [a, b] : made) change(a, b, true), change(b, a, true);
+  for (const auto& [m, partner] : gained) changes.push_back({m, partner, true});  // into an empty list
   std::sort(changes.begin(), changes.end());
 
-  NeighborGraph g;
   const uint32_t n = module_count();
   g.begin.resize(begin.size());
   g.ids.reserve(ids.size() + made.size() * 2);
@@ -107,6 +115,26 @@ NeighborGraph NeighborGraph::changed(std::span<const std::pair<ModuleId, ModuleI
   const auto shift = static_cast<int64_t>(g.ids.size()) - begin[copied];
   for (uint32_t k = copied; k <= n; ++k) g.begin[k] = static_cast<uint32_t>(begin[k] + shift);
   g.ids.insert(g.ids.end(), ids.begin() + begin[copied], ids.end());
+  if (g.held == held) return g;
+  // The lists of the modules the window lost go.
+  std::shared_ptr<const std::vector<uint8_t>> kept = g.held;
+  return std::move(g).held_only(std::move(kept));
+}
+
+NeighborGraph NeighborGraph::held_only(std::shared_ptr<const std::vector<uint8_t>> window) && {
+  NeighborGraph g = std::move(*this);
+  g.held = std::move(window);
+  if (!g.held) return g;
+  uint32_t out = 0;
+  for (ModuleId m = 0; m < g.module_count(); ++m) {
+    const uint32_t from = g.begin[m], to = g.begin[m + 1];
+    g.begin[m] = out;
+    if ((*g.held)[m])
+      for (uint32_t e = from; e < to; ++e) g.ids[out++] = g.ids[e];
+  }
+  g.begin[g.module_count()] = out;
+  g.ids.resize(out);
+  g.ids.shrink_to_fit();
   return g;
 }
 

@@ -699,6 +699,34 @@ std::vector<int64_t> Runtime::whole_values(const State& state) {
   return values;
 }
 
+// Each rank gives its blocks' lists in block order, each as its length and its ids.
+std::shared_ptr<const NeighborGraph> Runtime::whole_graph(const std::shared_ptr<const NeighborGraph>& graph) {
+  if (!ranks_ || !graph->held) return graph;
+  std::vector<uint32_t> own;
+  for (uint32_t b : own_blocks_)
+    for (ModuleId m = block_begin(b); m < block_begin(b + 1); ++m) {
+      const std::span<const ModuleId> list = graph->neighbors(m);
+      own.push_back(static_cast<uint32_t>(list.size()));
+      own.insert(own.end(), list.begin(), list.end());
+    }
+  const Gathered parts = ranks_->all_gather(std::as_bytes(std::span<const uint32_t>(own)));
+  auto whole = std::make_shared<NeighborGraph>();
+  whole->begin.reserve(size_t{model_.module_count()} + 1);
+  std::vector<size_t> read(parts.size(), 0);
+  for (uint32_t b = 0; b < blocks_; ++b) {
+    const uint32_t rank = owners_.block_rank[b];
+    const std::span<const uint32_t> words = records_of<uint32_t>(parts[rank]);
+    for (ModuleId m = block_begin(b); m < block_begin(b + 1); ++m) {
+      const uint32_t count = words[read[rank]++];
+      whole->ids.insert(whole->ids.end(), words.begin() + ptrdiff_t(read[rank]),
+                        words.begin() + ptrdiff_t(read[rank] + count));
+      read[rank] += count;
+      whole->begin.push_back(static_cast<uint32_t>(whole->ids.size()));
+    }
+  }
+  return whole;
+}
+
 // Passes the hash along the blocks in module order: the rank holding a run of blocks continues it
 // over that run (`run(h, first, end)`, modules of this rank's window), then gives it to all.
 uint64_t Runtime::pass_hash(uint64_t h, const std::function<uint64_t(uint64_t, uint32_t, uint32_t)>& run) {

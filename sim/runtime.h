@@ -109,6 +109,9 @@ class Runtime {
   // The variables of every module in `state` (model order): over several ranks, gathered from the
   // rank of each (a collective call); otherwise state.values.
   std::vector<int64_t> whole_values(const State& state);
+  // N(m, t) of every module: over several ranks, when `graph` is a rank's window of it, gathered
+  // from the rank of each (a collective call); otherwise `graph`.
+  std::shared_ptr<const NeighborGraph> whole_graph(const std::shared_ptr<const NeighborGraph>& graph);
   // Bytes this rank has sent to the others since the runtime was made: program messages and
   // PatternMatchers (the per-step batches), not the gathers of matches and statistics.
   uint64_t bytes_to_ranks() const { return bytes_to_ranks_; }

@@ -199,6 +199,11 @@ class Session {
   // The variables of every module in `state` (one of this session's): over ranks, gathered from
   // the rank of each (a collective call).
   std::vector<int64_t> whole_values(const State& state) { return runtime_->whole_values(state); }
+  // N(m, t) of every module in `graph` (a state's or a step's): over ranks, gathered from the rank
+  // of each (a collective call).
+  std::shared_ptr<const NeighborGraph> whole_graph(const std::shared_ptr<const NeighborGraph>& graph) {
+    return runtime_->whole_graph(graph);
+  }
   // Bytes this rank sent to the other ranks (Runtime::bytes_to_ranks).
   uint64_t bytes_to_ranks() const { return runtime_->bytes_to_ranks(); }
   double world_seconds() const { return runtime_->world_seconds(); }

@@ -34,8 +34,10 @@ class World {
   virtual void remove_module(const Model& model, State& state, ModuleId m);
   // This process is one rank of a run over several (docs/design.md §12): every rank calls
   // advance alike, step by step, so a world may share its work among them through `ranks`
-  // (collective calls), as long as every rank ends each step with the same state. `owners` says
-  // which rank owns each module: the work of a module is best done by its owner.
+  // (collective calls), as long as every rank ends each step with the same state, but for
+  // N(m, t), which a rank may hold for its window only (NeighborGraph::held): the modules it owns
+  // and those within reach of them. `owners` says which rank owns each module: the work of a
+  // module is best done by its owner.
   virtual void share_over(RankExchange* ranks, const ModuleOwners& owners) { (void)ranks, (void)owners; }
   // Whether N(m, t) changes as the run goes (bodies moving), beyond interventions: then the ids'
   // order says less about who will touch whom, and ranks share the modules by their graph.

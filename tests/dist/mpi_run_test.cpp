@@ -139,6 +139,25 @@ TEST_F(MpiRun, ManyBodiesMovingAtOnceEqualOneProcessTraceIncluded) {
   EXPECT_GT(results(dir_ / "one.json")["watches"][0]["matches"].get<int>(), 50) << "towers were torn";
 }
 
+TEST_F(MpiRun, NeighbourAggregatesOverMovingBodiesEqualOneProcess) {
+  // A rank holds the neighbour lists of its window only (docs/design.md §12a): its own modules' and
+  // those of the modules within reach of them, which an aggregate over a neighbour's neighbours and
+  // a pair of neighbouring slots read while the towers fall across the ranks' parts.
+  std::string text = slurp(scenarios_ + "/demolition.toml");
+  text +=
+      "[[watch]]\nname = \"crowded\"\naction = \"log\"\n"
+      "text = \"modules(a b); count(n in neighbors(a): n.nbrs >= 4) >= 2 and "
+      "sum(n in neighbors(b.last): n.nbrs) > b.nbrs + 6\"\n"
+      "[[watch]]\nname = \"cornered\"\naction = \"log\"\n"
+      "text = \"modules(a b); count(n in neighbors(a): neighbor(n b) and n.nbrs >= 3) >= 1 and "
+      "(b.nbrs <= 3)\"\n";
+  const fs::path scenario = write("demolition_crowded.toml", text);
+  expect_same_over_ranks(scenario.string() + " --steps 150 --algorithm distributed", 1, true);
+  const nlohmann::json one = results(dir_ / "one.json");
+  EXPECT_GT(one["watches"][2]["matches"].get<int>(), 20);
+  EXPECT_GT(one["watches"][3]["matches"].get<int>(), 20);
+}
+
 TEST_F(MpiRun, EveryOtherPhysicsScenarioEqualsOneProcess) {
   // Read as ranks can read them: distributed, over consistent states.
   for (const char* name : {"smart_blocks_flow.toml", "catoms3d_roll.toml", "token_ring_physics.toml",

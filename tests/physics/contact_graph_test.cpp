@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <span>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -103,77 +106,108 @@ TEST(ContactGraph, WorkersDoNotChangeTheGraphAndNearFindsCentres) {
   EXPECT_GT(a.distance(b.poses[0], b.poses[5]), 0.01f) << "edge diagonals are apart (rounded edges)";
 }
 
-// A rank that counts the pairs it gives to the swap (the measured count, then (a, b) words) of
-// which it owns neither module.
-class PairsOfOthers final : public sim::RankExchange {
+// A rank that counts the gathers it takes part in (the contact graph sums, and gathers nothing).
+class CountedGathers final : public sim::RankExchange {
  public:
-  PairsOfOthers(sim::RankExchange& rank, const sim::ModuleOwners& owners) : rank_(rank), owners_(owners) {}
+  explicit CountedGathers(sim::RankExchange& rank) : rank_(rank) {}
   int rank() const override { return rank_.rank(); }
   int ranks() const override { return rank_.ranks(); }
   void start_exchange(std::vector<std::vector<std::byte>> out) override { rank_.start_exchange(std::move(out)); }
   std::vector<std::vector<std::byte>> finish_exchange() override { return rank_.finish_exchange(); }
   sim::Gathered all_gather(std::span<const std::byte> mine) override {
-    const auto pairs = sim::records_of<uint32_t>(mine.subspan(sizeof(uint64_t)));
-    const auto me = static_cast<uint32_t>(rank());
-    for (size_t i = 0; i + 1 < pairs.size(); i += 2)
-      others += owners_.rank_of(pairs[i]) != me && owners_.rank_of(pairs[i + 1]) != me;
-    found += pairs.size() / 2;
+    ++gathers;
     return rank_.all_gather(mine);
   }
   void sum(std::span<uint64_t> values) override { rank_.sum(values); }
-  size_t others = 0, found = 0;
+  size_t gathers = 0;
 
  private:
   sim::RankExchange& rank_;
-  const sim::ModuleOwners& owners_;
 };
 
-// Over ranks each measures the pairs of the changed modules it owns, and they swap what they
-// found: every rank gets one process's graph and count of pairs measured, whole or read by what
-// changed, and no rank measures a pair of two modules it does not own (the blocks of 4 modules
-// dealt round-robin, so that a run of ids is never one rank's).
-TEST(ContactGraph, RanksMeasuringTheirOwnModulesGetTheGraphOfOneProcess) {
+// Over ranks each holds the graph of its window: the modules it owns and those within reach of
+// them, each list whole, the others' empty; so every neighbour of a module it owns has its list
+// held. Each measures the pairs of its window, and no rank sends another a pair: the lists held
+// are one process's, and so is the count of pairs measured, whole or read by what changed, as
+// modules leave, one crosses from one rank's slab to another's, and comes back. The block's
+// layers of 64 modules are the ranks' slabs.
+TEST(ContactGraph, RanksHoldTheGraphOfTheirWindowAsOneProcessHasIt) {
   const PhysicsSettings settings;
   Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
-  sim::Bodies start = test::latched_block(4, true, dynamics.module_shape());
+  const sim::Bodies start = test::latched_block(8, true, dynamics.module_shape());
   const std::vector<uint8_t> present(start.poses.size(), 1);
-  // Three corner and edge modules leave the block and move off; then one comes back.
-  const std::vector<sim::ModuleId> leaving = {3, 12, 63};
+  struct Seen {
+    std::shared_ptr<const sim::NeighborGraph> graph;
+    uint64_t measured;
+  };
   const auto updates = [&](sim::RankExchange* ranks, const sim::ModuleOwners* owners) {
     sim::Bodies b = start;
-    sim::WorkerPool workers(1);
+    sim::WorkerPool workers(2);
     ContactGraph contacts(ModuleShape::Box, 0.01f);
-    std::vector<std::pair<std::vector<sim::ModuleId>, uint64_t>> seen;
-    seen.emplace_back(contacts.update(b, present, workers, nullptr, ranks, owners)->ids, contacts.pairs_measured());
+    std::vector<Seen> seen;
+    const auto update = [&](const std::vector<sim::ModuleId>* changed) {
+      seen.push_back({contacts.update(b, present, workers, changed, ranks, owners), 0});
+      seen.back().measured = contacts.pairs_measured();
+    };
+    update(nullptr);
+    // Corner and edge modules of the top and bottom layers lift off.
+    const std::vector<sim::ModuleId> leaving = {3, 12, 63, 511, 448};
     for (sim::ModuleId m : leaving) {
       b.cluster_of[m] = sim::kNoCluster;
       b.poses[m].position[2] += 0.6f;
     }
-    seen.emplace_back(contacts.update(b, present, workers, &leaving, ranks, owners)->ids, contacts.pairs_measured());
-    b.poses[63] = start.poses[63];
-    const std::vector<sim::ModuleId> back = {63};
-    seen.emplace_back(contacts.update(b, present, workers, &back, ranks, owners)->ids, contacts.pairs_measured());
+    update(&leaving);
+    // Module 0 (bottom layer) goes up the block's side to touch module 320's face (layer 5).
+    const std::vector<sim::ModuleId> climbing = {0};
+    b.cluster_of[0] = sim::kNoCluster;
+    b.poses[0].position = {-1.0f, 0.0f, 5.0f};
+    update(&climbing);
+    // And comes back, as do the others.
+    b.poses[0] = start.poses[0];
+    update(&climbing);
+    for (sim::ModuleId m : leaving) b.poses[m] = start.poses[m];
+    update(&leaving);
+    update(nullptr);  // a restored world compares every module
     return seen;
   };
   const auto one = updates(nullptr, nullptr);
-  ASSERT_NE(one[0].first, one[1].first);
-  ASSERT_GT(one[1].second, 0u);
-  for (uint32_t ranks : {2u, 3u}) {
-    sim::ModuleOwners owners{.block_shift = 2};
-    for (uint32_t block = 0; block < 16; ++block) owners.block_rank.push_back(block % ranks);
+  ASSERT_EQ(one.size(), 6u);
+  ASSERT_NE(one[0].graph->ids, one[1].graph->ids);
+  ASSERT_TRUE(one[2].graph->adjacent(0, 320));
+  ASSERT_GT(one[1].measured, 0u);
+  for (uint32_t ranks : {2u, 3u, 4u}) {
+    sim::ModuleOwners owners{.block_shift = 6};
+    for (uint32_t layer = 0; layer < 8; ++layer) owners.block_rank.push_back(layer * ranks / 8);
     const auto all = sim::on_ranks(int(ranks), [&](sim::RankExchange& rank) {
-      PairsOfOthers counted(rank, owners);
+      CountedGathers counted(rank);
       auto seen = updates(&counted, &owners);
-      return std::tuple(std::move(seen), counted.others, counted.found);
+      return std::pair(std::move(seen), counted.gathers);
     });
-    size_t found = 0;
     for (uint32_t r = 0; r < ranks; ++r) {
-      const auto& [seen, others, by_rank] = all[r];
-      EXPECT_EQ(seen, one) << ranks << " ranks, rank " << r;
-      EXPECT_EQ(others, 0u) << ranks << " ranks, rank " << r;
-      found += by_rank;
+      const auto& [seen, gathers] = all[r];
+      EXPECT_EQ(gathers, 0u);
+      ASSERT_EQ(seen.size(), one.size());
+      for (size_t u = 0; u < one.size(); ++u) {
+        SCOPED_TRACE(std::to_string(ranks) + " ranks, rank " + std::to_string(r) + ", update " + std::to_string(u));
+        const sim::NeighborGraph &window = *seen[u].graph, &whole = *one[u].graph;
+        EXPECT_EQ(seen[u].measured, one[u].measured);
+        size_t held = 0, owned = 0;
+        for (sim::ModuleId m = 0; m < whole.module_count(); ++m) {
+          const std::span<const sim::ModuleId> list = window.neighbors(m), expected = whole.neighbors(m);
+          held += window.holds(m);
+          if (window.holds(m)) EXPECT_TRUE(std::ranges::equal(list, expected)) << "module " << m;
+          else EXPECT_TRUE(list.empty()) << "module " << m;
+          if (owners.rank_of(m) == r) {
+            ++owned;
+            EXPECT_TRUE(window.holds(m)) << "module " << m;
+            for (sim::ModuleId o : expected) EXPECT_TRUE(window.holds(o)) << "module " << m << "'s neighbour " << o;
+          }
+        }
+        // Its own layers, the layer on either side and the modules moving: not the whole block.
+        EXPECT_LE(held, owned + 2 * 64 + 6);
+        EXPECT_LT(held, whole.module_count());
+      }
     }
-    EXPECT_GT(found, 0u);
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 namespace dw::sim {
 namespace {
@@ -166,6 +167,30 @@ TEST(NeighborGraph, ChangedByPairsGoneAndMadeEqualsTheGraphBuiltAfresh) {
   const NeighborGraph same = fresh.changed({}, {});
   EXPECT_EQ(same.begin, fresh.begin);
   EXPECT_EQ(same.ids, fresh.ids);
+
+  // A window (docs/design.md §12a) holding modules 0-11 and then 6-19: the lists it keeps take the
+  // changes, those it gains are given whole, those it loses come out empty; the result is the
+  // fresh graph's window.
+  auto before = std::make_shared<std::vector<uint8_t>>(30, 0), now = std::make_shared<std::vector<uint8_t>>(30, 0);
+  std::fill(before->begin(), before->begin() + 12, 1);
+  std::fill(now->begin() + 6, now->begin() + 20, 1);
+  const NeighborGraph held = NeighborGraph::from_pairs(30, pairs).held_only(before);
+  EXPECT_TRUE(held.holds(3));
+  EXPECT_FALSE(held.holds(12));
+  EXPECT_TRUE(held.neighbors(12).empty());
+  std::vector<std::pair<ModuleId, ModuleId>> gained;
+  for (const auto& [a, b] : after) {
+    if ((*now)[a] && !(*before)[a]) gained.emplace_back(a, b);
+    if ((*now)[b] && !(*before)[b]) gained.emplace_back(b, a);
+  }
+  std::sort(gained.begin(), gained.end());
+  ASSERT_FALSE(gained.empty());
+  const NeighborGraph moved = held.changed(gone, made, now, gained);
+  const NeighborGraph window = NeighborGraph::from_pairs(30, after).held_only(now);
+  EXPECT_EQ(moved.held, now);
+  EXPECT_EQ(moved.begin, window.begin);
+  EXPECT_EQ(moved.ids, window.ids);
+  EXPECT_FALSE(moved.ids.empty());
 }
 
 }  // namespace
