@@ -78,8 +78,13 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
   std::sort(b.bonds.begin(), b.bonds.end());
   regroup_all(state);
   // Members of a cluster are measured at their poses in it: the graph of step 0 is the one a
-  // restored world finds (and the first step does not pay for measuring every pair again).
-  state.graph = contacts_.update(b, state.present, workers, nullptr, ranks_, &owners_);
+  // restored world finds (and the first step does not pay for measuring every pair again). Only
+  // the members of clusters that move have a frame; nothing else changed since the first update.
+  std::vector<sim::ModuleId> framed;
+  for (const sim::Cluster& c : b.clusters)
+    if (!c.anchored && c.count > 1)
+      framed.insert(framed.end(), b.members.begin() + c.first, b.members.begin() + c.first + c.count);
+  state.graph = contacts_.update(b, state.present, workers, &framed, ranks_, &owners_);
   contacts_known_ = true;
 }
 

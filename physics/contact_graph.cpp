@@ -33,6 +33,32 @@ struct ClosestDistance final : btDiscreteCollisionDetectorInterface::Result {
 // two neighbours measured in its frame a hair further apart in the world.
 constexpr float kWindowMargin = 1.125f;
 
+// Per-module records kept for some modules only, in pages of 256 allocated when first written:
+// over ranks a rank remembers the poses of its window and the modules next to it, a few in ten
+// of a large ensemble; in one process, every module's.
+template <typename T>
+class PagedRecords {
+ public:
+  static constexpr size_t kPage = 256;
+  size_t size() const { return known_.size(); }
+  void resize(size_t n) {
+    known_.resize(n, 0);
+    pages_.resize((n + kPage - 1) / kPage);
+  }
+  bool known(sim::ModuleId m) const { return known_[m] != 0; }
+  const T& operator[](sim::ModuleId m) const { return pages_[m / kPage][m % kPage]; }
+  void set(sim::ModuleId m, const T& value) {
+    std::unique_ptr<T[]>& page = pages_[m / kPage];
+    if (!page) page = std::make_unique<T[]>(kPage);
+    page[m % kPage] = value;
+    known_[m] = 1;
+  }
+
+ private:
+  std::vector<uint8_t> known_;
+  std::vector<std::unique_ptr<T[]>> pages_;
+};
+
 float squared_distance(const sim::Vec3& a, const sim::Vec3& b) {
   const float x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
   return x * x + y * y + z * z;
@@ -155,7 +181,10 @@ struct ContactGraph::Impl {
   // empty while every module's is the default one (a latched lattice anchored to the ground, where
   // it would be 32 bytes a module of nothing), and per module once one is not.
   std::vector<uint8_t> was_present;
-  std::vector<sim::Pose> world;
+  // Over ranks, `world` is remembered for the modules of the window and those in its lists (the
+  // only ones whose pairs it holds) and kept for every module once remembered: a module not
+  // remembered counts as moved whenever it is looked at.
+  PagedRecords<sim::Pose> world;
   std::vector<Frame> frame;
   const Frame& last_frame(sim::ModuleId m) const {
     static constexpr Frame kDefault{};
@@ -268,13 +297,19 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   flagged_list.clear();
   for (sim::ModuleId m : looked) {
     s.place(bodies, present, m);
-    s.moved[m] = forget || present[m] != s.was_present[m] || (present[m] && !(poses[m] == s.world[m]));
+    s.moved[m] =
+        forget || present[m] != s.was_present[m] || (present[m] && !(s.world.known(m) && poses[m] == s.world[m]));
     s.reframed[m] = forget || !(Impl::frame_of(bodies, m) == s.last_frame(m));
     s.flagged[m] = s.moved[m] || s.reframed[m];
     if (s.flagged[m]) flagged_list.push_back(m);
   }
   measured_ = 0;
-  if (flagged_list.empty()) return s.graph;  // alike on every rank
+  // Over ranks what a rank finds changed depends on what it remembers: each takes part in the sum
+  // of the counts all the same.
+  if (flagged_list.empty()) {
+    if (windowed) ranks->sum(std::span(&measured_, 1));
+    return s.graph;
+  }
   const std::vector<uint8_t>&moved = s.moved, &reframed = s.reframed, &flagged = s.flagged;
   // The frame a module is measured at now: the bodies' for the flagged ones (read again rather
   // than kept: 32 bytes a module), the last one for the others, which are known not to differ.
@@ -302,7 +337,8 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
       for (sim::ModuleId m : flagged_list)
         if (w.owned(m)) {
           w.near(poses[m].position, [&](sim::ModuleId o) { again.push_back(o); });
-          if (s.was_present[m]) w.near(s.world[m].position, [&](sim::ModuleId o) { again.push_back(o); });
+          if (s.was_present[m] && s.world.known(m))
+            w.near(s.world[m].position, [&](sim::ModuleId o) { again.push_back(o); });
         }
       std::sort(again.begin(), again.end());
       again.erase(std::unique(again.begin(), again.end()), again.end());
@@ -351,7 +387,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
           if (!(flagged[o] && o < m && held_before(o))) drop(m, o);  // else read from o's side
         return;
       }
-      if (!s.was_present[m]) return;
+      if (!s.was_present[m] || !s.world.known(m)) return;  // never next to the window: no pair held
       const Window w{s.grid, bodies, present, *owners, 0, s.cutoff * kWindowMargin};
       w.near(s.world[m].position, [&](sim::ModuleId o) {
         if (held_before(o) && !flagged[o] && s.graph->adjacent(o, m)) drop(m, o);
@@ -433,9 +469,21 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   }
   if (windowed) ranks->sum(std::span(&measured_, 1));
   std::sort(fresh.begin(), fresh.end());
+  // What is remembered: every module in one process; over ranks, those of the window and of its
+  // lists (every pair found touches the window), and every module remembered before.
+  const auto remember = [&](sim::ModuleId m) {
+    if (!s.world.known(m)) s.world.set(m, poses[m]);
+  };
+  if (windowed) {
+    for (sim::ModuleId m : entering) remember(m);
+    for (const auto& [a, b] : fresh) remember(a), remember(b);
+    if (forget)
+      for (sim::ModuleId m = 0; m < n; ++m)
+        if ((*window)[m]) remember(m);
+  }
   for (sim::ModuleId m : flagged_list) {
     s.was_present[m] = present[m];
-    if (moved[m]) s.world[m] = poses[m];
+    if (moved[m] && (!windowed || s.world.known(m))) s.world.set(m, poses[m]);
     if (reframed[m]) s.keep_frame(m, Impl::frame_of(bodies, m), n);
     s.moved[m] = s.reframed[m] = s.flagged[m] = 0;
     search[m] = 0;
