@@ -489,7 +489,6 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     search[m] = 0;
   }
   for (sim::ModuleId m : looked) s.was_present[m] = present[m];
-  for (sim::ModuleId m : entering) s.renew[m] = 0;
   if (forget) {  // every pair was measured
     s.graph = std::make_shared<const sim::NeighborGraph>(
         sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), fresh).held_only(std::move(window)));
@@ -497,20 +496,18 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   }
   // The same pairs found again as were measured again, and the same window: the graph stands.
   const bool rewindowed = windowed && *window != *was_held;
-  if (fresh == dropped && !rewindowed) return s.graph;
+  if (fresh == dropped && !rewindowed) return s.graph;  // (and no module entered it)
   // What changed: the pairs dropped and not found again, and those found that were not there; and
   // the lists of the modules entering the window, whole.
   std::vector<std::pair<sim::ModuleId, sim::ModuleId>> gone, made, gained;
   std::set_difference(dropped.begin(), dropped.end(), fresh.begin(), fresh.end(), std::back_inserter(gone));
   std::set_difference(fresh.begin(), fresh.end(), dropped.begin(), dropped.end(), std::back_inserter(made));
   if (!entering.empty()) {
-    std::vector<uint8_t>& entered = s.renew;  // 0 again: marks the entering modules for this pass
-    for (sim::ModuleId m : entering) entered[m] = 1;
     for (const auto& [a, b] : fresh) {
-      if (entered[a]) gained.emplace_back(a, b);
-      if (entered[b]) gained.emplace_back(b, a);
+      if (s.renew[a]) gained.emplace_back(a, b);
+      if (s.renew[b]) gained.emplace_back(b, a);
     }
-    for (sim::ModuleId m : entering) entered[m] = 0;
+    for (sim::ModuleId m : entering) s.renew[m] = 0;
     std::sort(gained.begin(), gained.end());
   }
   s.graph = std::make_shared<const sim::NeighborGraph>(
