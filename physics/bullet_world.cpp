@@ -73,7 +73,8 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
         [&](auto&& visit) {
           for (sim::ModuleId m = 0; m < n; ++m) visit(m);
         },
-        [](sim::ModuleId m, sim::ModuleId o) { return m < o; }, grounded.size());
+        [](sim::ModuleId m, sim::ModuleId o) { return m < o; },
+        grounded.size() + (ranks_ ? 0 : state.graph->edge_count() / 2));
   b.bonds.insert(b.bonds.end(), grounded.begin(), grounded.end());
   std::sort(b.bonds.begin(), b.bonds.end());
   regroup_all(state);
@@ -283,6 +284,7 @@ template <typename Asking, typename Latches>
 std::vector<sim::Bond> BulletWorld::touching_bonds(const sim::State& state, Asking&& asking, Latches&& latches,
                                                    size_t room) {
   std::vector<sim::Bond> found;
+  if (!ranks_) found.reserve(room);
   const uint32_t me = ranks_ ? static_cast<uint32_t>(ranks_->rank()) : 0;
   asking([&](sim::ModuleId m) {
     if (state.present[m] && (!ranks_ || owners_.rank_of(m) == me))

@@ -58,7 +58,8 @@ class BulletWorld final : public sim::World {
   void let_go(std::span<const sim::ModuleId> leaving, sim::State& state);
   void latch(std::span<const sim::ModuleId> arrived, sim::State& state);
   // The bonds between each present module `asking(visit)` visits and those of its neighbours
-  // `latches(m, o)` accepts, with room for `room` more. Over ranks a module's neighbours are known
+  // `latches(m, o)` accepts, with room for `room` bonds in all (over ranks, for `room` more than
+  // those found). Over ranks a module's neighbours are known
   // where its list is held, its owner's window among them: each rank finds its own modules'
   // bonds, and the ranks swap them.
   template <typename Asking, typename Latches>
