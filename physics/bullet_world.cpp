@@ -123,7 +123,7 @@ void BulletWorld::remove_module(const sim::Model& model, sim::State& state, sim:
   sim::Bodies& b = state.bodies;
   std::erase_if(b.bonds, [&](const sim::Bond& x) { return x.a == m || x.b == m; });
   std::erase_if(b.movers, [&](const sim::Mover& x) { return x.module == m; });
-  b.velocities[m] = {};
+  b.velocities.set(m, {});
   regroup_all(state);
   graph_stale_ = true;  // the clusters it left may have new frames
 }
@@ -251,7 +251,7 @@ void BulletWorld::set_off(const sim::Mover& mover, sim::State& state, std::vecto
   b.movers.insert(std::lower_bound(b.movers.begin(), b.movers.end(), mover,
                                    [](const sim::Mover& x, const sim::Mover& y) { return x.module < y.module; }),
                   mover);
-  b.velocities[mover.module] = {};
+  b.velocities.set(mover.module, {});
   const std::pair target{mover.to.position[0], mover.module};
   heading_.insert(std::lower_bound(heading_.begin(), heading_.end(), target), target);
   leaving.push_back(mover.module);
@@ -292,19 +292,9 @@ std::vector<sim::Bond> BulletWorld::touching_bonds(const sim::State& state, Aski
         if (latches(m, o)) found.push_back({std::min(m, o), std::max(m, o)});
   });
   if (!ranks_) return found;
-  std::vector<std::byte> mine;
-  sim::append_records<sim::Bond>(mine, found);
-  found = {};
-  const sim::Gathered parts = ranks_->all_gather(mine);
-  mine = {};
-  size_t count = room;
-  for (std::span<const std::byte> part : parts) count += sim::records_of<sim::Bond>(part).size();
-  found.reserve(count);
-  for (std::span<const std::byte> part : parts) {
-    const std::span<const sim::Bond> theirs = sim::records_of<sim::Bond>(part);
-    found.insert(found.end(), theirs.begin(), theirs.end());
-  }
-  return found;
+  std::vector<sim::Bond> all;
+  sim::all_gather_into<sim::Bond>(*ranks_, found, all, room);
+  return all;
 }
 
 // Modules ending a lattice move latch to what they touch (and the ground).
@@ -394,11 +384,12 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
     b.poses[m.module] = glide(m, state.step);
     if (state.step - m.start >= m.steps) {
       arrived.push_back(m.module);
-      b.velocities[m.module] = {};
+      b.velocities.set(m.module, {});
     } else {
       const float per_second = 1 / (float(m.steps) * settings_.dt);
-      for (int i = 0; i < 3; ++i)
-        b.velocities[m.module].linear[i] = (m.to.position[i] - m.from.position[i]) * per_second;
+      sim::Velocity v = b.velocities[m.module];
+      for (int i = 0; i < 3; ++i) v.linear[i] = (m.to.position[i] - m.from.position[i]) * per_second;
+      b.velocities.set(m.module, v);
     }
   }
   std::erase_if(b.movers, [&](const sim::Mover& m) { return state.step - m.start >= m.steps; });

@@ -21,21 +21,20 @@ void settle(sim::Bodies& b, sim::Cluster& c, std::span<const sim::ModuleId> mine
   }
   c.velocity = {};
   if (c.anchored) {
-    // It never moves: the world's frame will do, and members keep their poses in it whatever
-    // joins or leaves (a block of a million that a module leaves is not recomputed: a member of
-    // an anchored cluster has its pose as its local pose and no velocity already).
+    // It never moves: the world's frame will do, and members' poses in it are their world poses
+    // (Bodies::pose_in_cluster) whatever joins or leaves (a block of a million that a module
+    // leaves is not walked: a member of an anchored cluster has no velocity already).
     c.pose = sim::Pose{};
     for (sim::ModuleId m : mine) {
       const uint32_t was = b.cluster_of.empty() ? sim::kNoCluster : b.cluster_of[m];
       if (was != sim::kNoCluster && b.clusters[was].anchored) continue;
-      b.local[m] = b.poses[m];
-      b.velocities[m] = {};
+      b.velocities.set(m, {});
     }
     return;
   }
   if (c.count == 1) {
     c.pose = b.poses[mine[0]];
-    b.local[mine[0]] = sim::Pose{};
+    b.local.set(mine[0], sim::Pose{});
   } else {
     // A cluster the ground lets go of gets its principal frame too: a rigid body turns about its
     // centre of mass.
@@ -47,7 +46,7 @@ void settle(sim::Bodies& b, sim::Cluster& c, std::span<const sim::ModuleId> mine
     compound.calculatePrincipalAxisTransform(masses.data(), principal, inertia);
     c.pose = from_bt(principal);
     const btTransform frame = to_bt(c.pose), inverse = frame.inverse();
-    for (sim::ModuleId m : mine) b.local[m] = from_bt(inverse * to_bt(b.poses[m]));
+    for (sim::ModuleId m : mine) b.local.set(m, from_bt(inverse * to_bt(b.poses[m])));
   }
   // The members' mean velocity: momentum is kept when pieces join or split.
   btVector3 linear(0, 0, 0), angular(0, 0, 0);
@@ -114,7 +113,7 @@ void place_members(sim::Bodies& b) {
       const sim::ModuleId m = b.members[i];
       const btTransform pose = frame * to_bt(b.local[m]);
       b.poses[m] = from_bt(pose);
-      b.velocities[m] = {from_bt(v + w.cross(pose.getOrigin() - frame.getOrigin())), c.velocity.angular};
+      b.velocities.set(m, {from_bt(v + w.cross(pose.getOrigin() - frame.getOrigin())), c.velocity.angular});
     }
   }
 }

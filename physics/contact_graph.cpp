@@ -15,6 +15,7 @@
 #include "physics/cell_grid.h"
 #include "physics/convert.h"
 #include "physics/shapes.h"
+#include "sim/paged_array.h"
 
 namespace dw::physics {
 namespace {
@@ -33,30 +34,27 @@ struct ClosestDistance final : btDiscreteCollisionDetectorInterface::Result {
 // two neighbours measured in its frame a hair further apart in the world.
 constexpr float kWindowMargin = 1.125f;
 
-// Per-module records kept for some modules only, in pages of 256 allocated when first written:
-// over ranks a rank remembers the poses of its window and the modules next to it, a few in ten
-// of a large ensemble; in one process, every module's.
+// Per-module records kept for some modules only (sim::PagedArray, with which are known): over
+// ranks a rank remembers the poses of its window and the modules next to it, a few in ten of a
+// large ensemble; in one process, every module's.
 template <typename T>
 class PagedRecords {
  public:
-  static constexpr size_t kPage = 256;
   size_t size() const { return known_.size(); }
   void resize(size_t n) {
     known_.resize(n, 0);
-    pages_.resize((n + kPage - 1) / kPage);
+    records_.resize(n);
   }
   bool known(sim::ModuleId m) const { return known_[m] != 0; }
-  const T& operator[](sim::ModuleId m) const { return pages_[m / kPage][m % kPage]; }
+  const T& operator[](sim::ModuleId m) const { return records_[m]; }
   void set(sim::ModuleId m, const T& value) {
-    std::unique_ptr<T[]>& page = pages_[m / kPage];
-    if (!page) page = std::make_unique<T[]>(kPage);
-    page[m % kPage] = value;
+    records_.set(m, value);
     known_[m] = 1;
   }
 
  private:
   std::vector<uint8_t> known_;
-  std::vector<std::unique_ptr<T[]>> pages_;
+  sim::PagedArray<T> records_;
 };
 
 float squared_distance(const sim::Vec3& a, const sim::Vec3& b) {

@@ -126,15 +126,16 @@ std::vector<uint8_t> enclosed_boxes(const std::vector<sim::Pose>& members) {
 
 const Dynamics::Compound& Dynamics::compound(const sim::Bodies& b, const sim::Cluster& c, int64_t step) {
   uint64_t key = 0xcbf29ce484222325ull ^ c.count;
+  const auto local = [&](uint32_t i) { return b.pose_in_cluster(b.members[i]); };
   for (uint32_t i = c.first; i < c.first + c.count; ++i) {
-    const sim::Pose& p = b.local[b.members[i]];
+    const sim::Pose& p = local(i);
     for (float x : p.position) key = (key ^ std::bit_cast<uint32_t>(x)) * 0x100000001b3ull;
     for (float x : p.orientation) key = (key ^ std::bit_cast<uint32_t>(x)) * 0x100000001b3ull;
   }
   auto same = [&](const Compound& k) {
     if (k.local.size() != c.count) return false;
     for (uint32_t i = 0; i < c.count; ++i)
-      if (!(k.local[i] == b.local[b.members[c.first + i]])) return false;
+      if (!(k.local[i] == local(c.first + i))) return false;
     return true;
   };
   auto it = shapes_->compounds.find(key);
@@ -143,7 +144,7 @@ const Dynamics::Compound& Dynamics::compound(const sim::Bodies& b, const sim::Cl
     Compound k;
     btCompoundShape whole(true, static_cast<int>(c.count));
     for (uint32_t i = c.first; i < c.first + c.count; ++i) {
-      k.local.push_back(b.local[b.members[i]]);
+      k.local.push_back(local(i));
       whole.addChildShape(to_bt(k.local.back()), module_shape_);
     }
     std::vector<btScalar> masses(c.count, settings_.module_mass);

@@ -292,7 +292,7 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     made.push_back({c, std::move(members), std::move(group)});
   }
   // Frames, as settle gives them. An anchored cluster's is the world's whatever its members, and
-  // a member that was in an anchored cluster already has its pose as its local pose and no
+  // a member that was in an anchored cluster already has its world pose as its pose in it and no
   // velocity (and keeps its frame for the contact graph): only the others are looked at, so the
   // rest of a latched block of a million is not walked. Any other member of a new cluster may be
   // reframed.
@@ -313,8 +313,7 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
       if (piece.rest && b.clusters[piece.cluster].anchored) continue;
       for (sim::ModuleId m : piece.members) {
         if (was_anchored(m)) continue;
-        b.local[m] = b.poses[m];
-        b.velocities[m] = {};
+        b.velocities.set(m, {});
         reframed_.push_back(m);
       }
     }

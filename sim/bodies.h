@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "sim/neighbor_graph.h"
+#include "sim/paged_array.h"
 
 namespace dw::sim {
 
@@ -73,8 +74,8 @@ struct Mover {
 
 struct Bodies {
   std::vector<Pose> poses;           // per module, in the world
-  std::vector<Velocity> velocities;  // per module: of its centre
-  std::vector<Pose> local;           // per module: its pose in its cluster's frame
+  PagedArray<Velocity> velocities;   // per module: of its centre (zero at rest: not kept)
+  PagedArray<Pose> local;            // per module in a cluster that moves: its pose in its frame
   std::vector<uint32_t> cluster_of;  // per module, or kNoCluster
   std::vector<Cluster> clusters;     // ordered by their smallest member
   std::vector<ModuleId> members;     // each cluster's members, ascending
@@ -84,6 +85,14 @@ struct Bodies {
   std::vector<Velocity> prop_velocities;
 
   bool empty() const { return poses.empty(); }
+  // A module's pose in its cluster's frame. An anchored cluster's frame is the world's, so its
+  // members' is their world pose (not kept twice: a latched lattice of a million would hold 28 MB
+  // of copies); a module in no cluster has the identity.
+  Pose pose_in_cluster(ModuleId m) const {
+    const uint32_t c = cluster_of.empty() ? kNoCluster : cluster_of[m];
+    if (c == kNoCluster) return {};
+    return clusters[c].anchored ? poses[m] : local[m];
+  }
   // Making a lattice move.
   bool moving(ModuleId m) const {
     auto at =

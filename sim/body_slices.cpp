@@ -9,7 +9,12 @@
 namespace dw::sim {
 namespace {
 
-// Every vector of the bodies, in the order they are serialized.
+template <class T>
+constexpr bool kPaged = false;
+template <class T>
+constexpr bool kPaged<PagedArray<T>> = true;
+
+// Every vector (or paged array) of the bodies, in the order they are serialized.
 template <class B, class F>
 void each_vector(B& b, F&& f) {
   f(b.poses);
@@ -47,11 +52,15 @@ Bodies read_bodies(const Parts& parts) {
   };
   Bodies bodies;
   each_vector(bodies, [&](auto& v) {
-    uint64_t size = 0;
-    take(&size, sizeof size);
-    if (size > left / sizeof(v[0])) throw std::logic_error("the slices of the bodies do not add up");
-    v.resize(size);
-    take(v.data(), size * sizeof(v[0]));
+    if constexpr (kPaged<std::decay_t<decltype(v)>>) {
+      v.read(take, left);
+    } else {
+      uint64_t size = 0;
+      take(&size, sizeof size);
+      if (size > left / sizeof(v[0])) throw std::logic_error("the slices of the bodies do not add up");
+      v.resize(size);
+      take(v.data(), size * sizeof(v[0]));
+    }
   });
   if (left != 0) throw std::logic_error("the slices of the bodies do not add up");
   return bodies;
@@ -61,7 +70,10 @@ Bodies read_bodies(const Parts& parts) {
 
 BodySlice::BodySlice(const Bodies& bodies, int rank, int ranks, const BodySlice* previous) {
   uint64_t total = 0;
-  each_vector(bodies, [&](const auto& v) { total += sizeof(uint64_t) + v.size() * sizeof(v[0]); });
+  each_vector(bodies, [&](const auto& v) {
+    if constexpr (kPaged<std::decay_t<decltype(v)>>) total += v.written_bytes();
+    else total += sizeof(uint64_t) + v.size() * sizeof(v[0]);
+  });
   const uint64_t first = total * uint64_t(rank) / uint64_t(ranks), last = total * uint64_t(rank + 1) / uint64_t(ranks);
   size_ = last - first;
   chunks_.reserve((size_ + kChunkBytes - 1) / kChunkBytes);
@@ -95,10 +107,14 @@ BodySlice::BodySlice(const Bodies& bodies, int rank, int ranks, const BodySlice*
     at += bytes;
   };
   each_vector(bodies, [&](const auto& v) {
-    static_assert(std::is_trivially_copyable_v<std::decay_t<decltype(v[0])>>);
-    const uint64_t size = v.size();
-    lay(&size, sizeof size);
-    lay(v.data(), size * sizeof(v[0]));
+    if constexpr (kPaged<std::decay_t<decltype(v)>>) {
+      v.write(lay);
+    } else {
+      static_assert(std::is_trivially_copyable_v<std::decay_t<decltype(v[0])>>);
+      const uint64_t size = v.size();
+      lay(&size, sizeof size);
+      lay(v.data(), size * sizeof(v[0]));
+    }
   });
   if (!chunk.empty()) close_chunk();
 }

@@ -150,7 +150,7 @@ uint64_t continue_hash(uint64_t h, const Bodies& b, ModuleId first, ModuleId end
   auto mover = std::lower_bound(b.movers.begin(), b.movers.end(), first,
                                 [](const Mover& x, ModuleId id) { return x.module < id; });
   for (ModuleId m = first; m < end; ++m) {
-    const ModuleRecords records{b.poses[m], b.velocities[m], b.local[m]};
+    const ModuleRecords records{b.poses[m], b.velocities[m], b.pose_in_cluster(m)};
     uint64_t words[10];
     std::memcpy(words, &records, sizeof records);
     for (uint64_t w : words) hasher.word(w);
@@ -249,10 +249,10 @@ size_t state_bytes(const State& s) {
   constexpr size_t kBlock = 16;
   const Bodies& b = s.bodies;
   size_t n = sizeof(State) + vector_bytes(s.values) + vector_bytes(s.present) + vector_bytes(b.poses) +
-             vector_bytes(b.velocities) + vector_bytes(b.local) + vector_bytes(b.cluster_of) +
-             vector_bytes(b.clusters) + vector_bytes(b.members) + vector_bytes(b.bonds) + vector_bytes(b.movers) +
-             vector_bytes(b.prop_poses) + vector_bytes(b.prop_velocities) + vector_bytes(s.inbox.begin) +
-             s.inbox.messages.bytes() + vector_bytes(s.actions) + 16 * kBlock;
+             b.velocities.bytes() + b.local.bytes() + vector_bytes(b.cluster_of) + vector_bytes(b.clusters) +
+             vector_bytes(b.members) + vector_bytes(b.bonds) + vector_bytes(b.movers) + vector_bytes(b.prop_poses) +
+             vector_bytes(b.prop_velocities) + vector_bytes(s.inbox.begin) + s.inbox.messages.bytes() +
+             vector_bytes(s.actions) + 16 * kBlock;
   for (const WatchState& w : s.watches) {
     n += sizeof(WatchState) + vector_bytes(w.in_flight);
     if (w.agents) n += w.agents->bytes();

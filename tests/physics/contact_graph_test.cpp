@@ -75,7 +75,10 @@ TEST(ContactGraph, WhatChangedGivesTheGraphOfAFreshMeasurement) {
     EXPECT_EQ(read->ids, measured->ids) << what;
     return read->edge_count();
   };
-  b.clusters[0].anchored = false;  // every member now has a frame in the cluster
+  // Let go, its frame still the world's: every member now has a frame in the cluster, its world
+  // pose kept as its pose in the cluster (Bodies::pose_in_cluster).
+  for (sim::ModuleId m = 0; m < b.poses.size(); ++m) b.local.set(m, b.poses[m]);
+  b.clusters[0].anchored = false;
   EXPECT_EQ(expect_fresh(all, "let go"), 2u * 144);
   b.clusters[0].pose.position[0] += 0.25f;
   place_members(b);
@@ -106,25 +109,6 @@ TEST(ContactGraph, WorkersDoNotChangeTheGraphAndNearFindsCentres) {
   EXPECT_LT(a.distance(b.poses[0], b.poses[1]), 0.001f);
   EXPECT_GT(a.distance(b.poses[0], b.poses[5]), 0.01f) << "edge diagonals are apart (rounded edges)";
 }
-
-// A rank that counts the gathers it takes part in (the contact graph sums, and gathers nothing).
-class CountedGathers final : public sim::RankExchange {
- public:
-  explicit CountedGathers(sim::RankExchange& rank) : rank_(rank) {}
-  int rank() const override { return rank_.rank(); }
-  int ranks() const override { return rank_.ranks(); }
-  void start_exchange(std::vector<std::vector<std::byte>> out) override { rank_.start_exchange(std::move(out)); }
-  std::vector<std::vector<std::byte>> finish_exchange() override { return rank_.finish_exchange(); }
-  sim::Gathered all_gather(std::span<const std::byte> mine) override {
-    ++gathers;
-    return rank_.all_gather(mine);
-  }
-  void sum(std::span<uint64_t> values) override { rank_.sum(values); }
-  size_t gathers = 0;
-
- private:
-  sim::RankExchange& rank_;
-};
 
 // Over ranks each holds the graph of its window: the modules it owns and those within reach of
 // them, each list whole, the others' empty; so every neighbour of a module it owns has its list
@@ -185,7 +169,7 @@ TEST(ContactGraph, RanksHoldTheGraphOfTheirWindowAsOneProcessHasIt) {
     sim::ModuleOwners owners{.block_shift = 6};
     for (uint32_t layer = 0; layer < 8; ++layer) owners.block_rank.push_back(layer * ranks / 8);
     const auto all = sim::on_ranks(int(ranks), [&](sim::RankExchange& rank) {
-      CountedGathers counted(rank);
+      sim::CountedGathers counted(rank);
       auto seen = updates(&counted, &owners);
       return std::pair(std::move(seen), counted.gathers);
     });

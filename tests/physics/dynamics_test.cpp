@@ -84,9 +84,10 @@ sim::Bodies falling_blocks(const std::vector<float>& speed, float apart, btColli
       for (int y = 0; y < 2; ++y)
         for (int x = 0; x < 2; ++x) {
           b.poses.push_back({.position = {first + float(k) * apart + float(x), float(y), 3.0f + float(z)}});
-          b.velocities.push_back({.linear = {speed[k], 0, 0}});
         }
   const auto n = static_cast<sim::ModuleId>(b.poses.size());
+  b.velocities.resize(n);
+  for (sim::ModuleId m = 0; m < n; ++m) b.velocities.set(m, {.linear = {speed[m / 8], 0, 0}});
   b.local.resize(n);
   for (sim::ModuleId m = 0; m < n; ++m)
     for (sim::ModuleId o = m + 1; o < n; ++o) {

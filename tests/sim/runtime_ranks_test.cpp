@@ -221,8 +221,7 @@ class DriftingBodies final : public World {
     b.cluster_of.assign(n, kNoCluster);
     for (ModuleId m = 0; m < n; ++m) {
       b.poses[m].position = {float(m), 0, 0};
-      b.velocities[m].angular = {0, 0, float(m % 7)};
-      b.local[m] = b.poses[m];
+      b.velocities.set(m, {.angular = {0, 0, float(m % 7)}});
       if (m % 3 == 0 && m + 1 < n) b.bonds.push_back({m, m + 1});
       if (m % 10 == 0) b.bonds.push_back({m, kGround});
       if (m % 97 == 0) b.movers.push_back({.module = m, .start = m, .steps = 5, .angle = float(m)});
@@ -249,7 +248,7 @@ TEST(RuntimeRanks, EachRankHashesItsOwnModulesLinksAndBodiesOnly) {
   for (int t = 0; t < 3; ++t) one.step(s, out);
   const StateHash expected = one.hash(s);
   State turned = s;  // every module's records count: one velocity changed changes the hash
-  turned.bodies.velocities[1700].angular[0] = 1e-3f;
+  turned.bodies.velocities.set(1700, {.angular = {1e-3f, 0, 0}});
   EXPECT_NE(one.hash(turned).simulation, expected.simulation);
   State cut = s;  // and so do a link, a bond and a lattice move less
   cut.graph = std::make_shared<const NeighborGraph>(s.graph->without(1700));
@@ -268,8 +267,8 @@ TEST(RuntimeRanks, EachRankHashesItsOwnModulesLinksAndBodiesOnly) {
     for (ModuleId m = 0; m < b.poses.size(); ++m)
       if (outside(m)) {
         b.poses[m].position = {-1, -1, -1};
-        b.velocities[m].linear = {9, 9, 9};
-        b.local[m].orientation = {1, 0, 0, 0};
+        b.velocities.set(m, {.linear = {9, 9, 9}});
+        b.local.set(m, {.orientation = {1, 0, 0, 0}});
         b.cluster_of[m] = 12345;
       }
     std::erase_if(b.bonds, [&](const Bond& bond) { return outside(bond.a) && bond.b != kGround; });

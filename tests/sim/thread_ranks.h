@@ -2,6 +2,7 @@
 // tests of what runs over ranks, each rank a thread, exchanging through memory.
 #pragma once
 
+#include <algorithm>
 #include <barrier>
 #include <thread>
 #include <type_traits>
@@ -71,6 +72,26 @@ class ThreadRanks {
   std::barrier<> sync_;
   std::vector<std::vector<std::vector<std::byte>>> posted_;  // [from][to]
   std::vector<std::vector<uint64_t>> sums_;
+};
+
+// A rank that counts the gathers it takes part in, and the largest part it gave one.
+class CountedGathers final : public RankExchange {
+ public:
+  explicit CountedGathers(RankExchange& rank) : rank_(rank) {}
+  int rank() const override { return rank_.rank(); }
+  int ranks() const override { return rank_.ranks(); }
+  void start_exchange(std::vector<std::vector<std::byte>> out) override { rank_.start_exchange(std::move(out)); }
+  std::vector<std::vector<std::byte>> finish_exchange() override { return rank_.finish_exchange(); }
+  Gathered all_gather(std::span<const std::byte> mine) override {
+    ++gathers;
+    largest = std::max(largest, mine.size());
+    return rank_.all_gather(mine);
+  }
+  void sum(std::span<uint64_t> values) override { rank_.sum(values); }
+  size_t gathers = 0, largest = 0;
+
+ private:
+  RankExchange& rank_;
 };
 
 // Runs `fn(rank)` on `n` ranks, each its own thread, and returns what each gave.
