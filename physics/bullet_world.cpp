@@ -17,9 +17,9 @@ namespace {
 float lowest_bottom(const sim::Lattice& lattice) {
   float z = 0;
   bool any = false;
-  for (size_t m = 0; m < lattice.positions.size(); ++m)
+  for (sim::ModuleId m = 0; m < lattice.occupied.size(); ++m)
     if (lattice.occupied[m]) {
-      z = any ? std::min(z, lattice.positions[m][2]) : lattice.positions[m][2];
+      z = any ? std::min(z, lattice.position(m)[2]) : lattice.position(m)[2];
       any = true;
     }
   return z - 0.5f;
@@ -49,8 +49,8 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
   state.present = model.lattice.occupied;
   sim::Bodies& b = state.bodies;
   b = sim::Bodies{};
+  b.poses = decltype(b.poses)(sim::CellPose{model.lattice.spec, 1});  // every module at its cell
   b.poses.resize(n);
-  for (uint32_t m = 0; m < n; ++m) b.poses[m].position = model.lattice.positions[m];
   b.velocities.resize(n);
   b.local.resize(n);
   for (const PropSpec& p : settings_.props) {
@@ -381,7 +381,7 @@ void BulletWorld::advance(const sim::Model&, sim::State& state, std::span<const 
   // Lattice moves go on; those that arrive latch to what they touch once the graph is read.
   std::vector<sim::ModuleId> arrived;
   for (const sim::Mover& m : b.movers) {
-    b.poses[m.module] = glide(m, state.step);
+    b.poses.set(m.module, glide(m, state.step));
     if (state.step - m.start >= m.steps) {
       arrived.push_back(m.module);
       b.velocities.set(m.module, {});

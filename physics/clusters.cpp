@@ -112,7 +112,7 @@ void place_members(sim::Bodies& b) {
     for (uint32_t i = c.first; i < c.first + c.count; ++i) {
       const sim::ModuleId m = b.members[i];
       const btTransform pose = frame * to_bt(b.local[m]);
-      b.poses[m] = from_bt(pose);
+      b.poses.set(m, from_bt(pose));
       b.velocities.set(m, {from_bt(v + w.cross(pose.getOrigin() - frame.getOrigin())), c.velocity.angular});
     }
   }

@@ -46,7 +46,7 @@ class PagedRecords {
     records_.resize(n);
   }
   bool known(sim::ModuleId m) const { return known_[m] != 0; }
-  const T& operator[](sim::ModuleId m) const { return records_[m]; }
+  const T operator[](sim::ModuleId m) const { return records_[m]; }
   void set(sim::ModuleId m, const T& value) {
     records_.set(m, value);
     known_[m] = 1;
@@ -232,7 +232,7 @@ std::vector<sim::ModuleId> ContactGraph::near(const sim::Vec3& at, float radius)
 // centres lie within `radius` of one of them (a neighbour's centre is within the reach).
 struct Window {
   const CellGrid& grid;
-  const sim::Bodies& bodies;
+  std::span<const sim::Vec3> at;  // where the grid placed each module: where it is
   std::span<const uint8_t> present;
   const sim::ModuleOwners& owners;
   uint32_t me;
@@ -244,14 +244,14 @@ struct Window {
     const sim::Vec3 lo{at[0] - radius, at[1] - radius, at[2] - radius},
         hi{at[0] + radius, at[1] + radius, at[2] + radius};
     grid.within(lo, hi, [&](sim::ModuleId o) {
-      if (squared_distance(bodies.poses[o].position, at) <= radius * radius) visit(o);
+      if (squared_distance(this->at[o], at) <= radius * radius) visit(o);
     });
   }
   bool holds(sim::ModuleId m) const {
     if (!present[m]) return false;
     if (owned(m)) return true;
     bool found = false;
-    near(bodies.poses[m].position, [&](sim::ModuleId o) { found = found || (present[o] && owned(o)); });
+    near(at[m], [&](sim::ModuleId o) { found = found || (present[o] && owned(o)); });
     return found;
   }
 };
@@ -260,7 +260,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     const sim::Bodies& bodies, std::span<const uint8_t> present, sim::WorkerPool& workers,
     const std::vector<sim::ModuleId>* changed, sim::RankExchange* ranks, const sim::ModuleOwners* owners) {
   Impl& s = *impl_;
-  const std::span<const sim::Pose> poses = bodies.poses;
+  const auto& poses = bodies.poses;
   const size_t n = poses.size();
   const bool windowed = ranks != nullptr;
   if (windowed && owners == nullptr)
@@ -321,20 +321,20 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   entering.clear();
   const std::vector<uint8_t>* was_held = forget || !s.graph ? nullptr : s.graph->held.get();
   if (windowed) {
-    const Window w{s.grid, bodies, present, *owners, static_cast<uint32_t>(ranks->rank()), s.cutoff * kWindowMargin};
+    const Window w{s.grid, s.grid_at, present, *owners, static_cast<uint32_t>(ranks->rank()), s.cutoff * kWindowMargin};
     auto held = std::make_shared<std::vector<uint8_t>>(n, 0);
     if (forget) {
       for (sim::ModuleId a = 0; a < n; ++a)
         if (present[a] && w.owned(a)) {
           (*held)[a] = 1;
-          w.near(poses[a].position, [&](sim::ModuleId o) { (*held)[o] = present[o]; });
+          w.near(s.grid_at[a], [&](sim::ModuleId o) { (*held)[o] = present[o]; });
         }
     } else {
       *held = *was_held;
       std::vector<sim::ModuleId> again(flagged_list);
       for (sim::ModuleId m : flagged_list)
         if (w.owned(m)) {
-          w.near(poses[m].position, [&](sim::ModuleId o) { again.push_back(o); });
+          w.near(s.grid_at[m], [&](sim::ModuleId o) { again.push_back(o); });
           if (s.was_present[m] && s.world.known(m))
             w.near(s.world[m].position, [&](sim::ModuleId o) { again.push_back(o); });
         }
@@ -386,7 +386,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
         return;
       }
       if (!s.was_present[m] || !s.world.known(m)) return;  // never next to the window: no pair held
-      const Window w{s.grid, bodies, present, *owners, 0, s.cutoff * kWindowMargin};
+      const Window w{s.grid, s.grid_at, present, *owners, 0, s.cutoff * kWindowMargin};
       w.near(s.world[m].position, [&](sim::ModuleId o) {
         if (held_before(o) && !flagged[o] && s.graph->adjacent(o, m)) drop(m, o);
       });
@@ -444,17 +444,21 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     for (size_t i = count * run / runs; i < count * (run + 1) / runs; ++i) {
       const sim::ModuleId a = visiting(i);
       if (!visits(a) || (i >= flagged_list.size() && flagged[a])) continue;  // an entering module flagged: once
-      s.grid.around(poses[a].position, [&](sim::ModuleId b) {
+      // Poses are read once each (a module at rest has its cell's, computed on each read), and
+      // the distance from where the grid placed b, which is where b is now: every module whose
+      // pose may have changed was placed again above.
+      const sim::Pose pose_a = poses[a];
+      s.grid.around(pose_a.position, [&](sim::ModuleId b) {
         if (b == a) return;
         const bool natural = stale(a, b);
         if (!natural && !renewed(a, b)) return;
-        if (squared_distance(poses[a].position, poses[b].position) > cutoff2) return;
+        if (squared_distance(pose_a.position, s.grid_at[b]) > cutoff2) return;
         if (natural && search[a] && !(b < a && search[b]) && (!windowed || owners->rank_of(a) == me)) ++measured[run];
         if (!holds(a) && !holds(b)) return;
         if (b < a && visits(b)) return;  // measured from b's side
         const Impl::Frame now_a = now(a), now_b = now(b);
         const bool local = Impl::together(now_a, now_b);
-        if (s.touching(local ? now_a.local : poses[a], local ? now_b.local : poses[b]))
+        if (s.touching(local ? now_a.local : pose_a, local ? now_b.local : poses[b]))
           found[run].emplace_back(std::min(a, b), std::max(a, b));
       });
     }

@@ -20,7 +20,7 @@ Scene build_scene(const sim::Model& model, const sim::State& state, std::span<co
   auto present = [&](sim::ModuleId m) { return m < n && (state.present.size() != n || state.present[m]); };
 
   float lowest = std::numeric_limits<float>::max();
-  for (const auto& p : model.lattice.positions) lowest = std::min(lowest, p[2]);
+  for (sim::ModuleId m = 0; m < n; ++m) lowest = std::min(lowest, model.lattice.position(m)[2]);
   scene.ground_z = settings.ground_z.value_or(n == 0 ? -0.5f : lowest - 0.5f);
 
   // Colours: the variable's values over the present modules fix the scale.
@@ -50,7 +50,7 @@ Scene build_scene(const sim::Model& model, const sim::State& state, std::span<co
     if (physical) {
       sm.pose = state.bodies.poses[m];
     } else {
-      sm.pose.position = model.lattice.positions[m];
+      sm.pose.position = model.lattice.position(m);
     }
     sm.color = column >= 0 ? scale.color(value(m)) : kNeutralModule;
     sm.highlighted = highlighted[m] != 0;

@@ -16,6 +16,7 @@
 #include <limits>
 #include <vector>
 
+#include "sim/lattice.h"
 #include "sim/neighbor_graph.h"
 #include "sim/paged_array.h"
 
@@ -72,8 +73,20 @@ struct Mover {
   bool operator==(const Mover&) const = default;
 };
 
+// A module's pose until it first moves: at its lattice cell, unturned (without a lattice, at the
+// origin).
+struct CellPose {
+  LatticeSpec lattice{};
+  uint32_t on_lattice = 0;  // not a bool: serialized bit for bit, it leaves no padding
+  Pose operator()(size_t m) const {
+    return on_lattice ? Pose{.position = cell_position(lattice, static_cast<ModuleId>(m))} : Pose{};
+  }
+  bool operator==(const CellPose&) const = default;
+};
+static_assert(sizeof(CellPose) == sizeof(LatticeSpec) + sizeof(uint32_t));
+
 struct Bodies {
-  std::vector<Pose> poses;           // per module, in the world
+  PagedArray<Pose, CellPose> poses;  // per module, in the world (a lattice's at rest: not kept)
   PagedArray<Velocity> velocities;   // per module: of its centre (zero at rest: not kept)
   PagedArray<Pose> local;            // per module in a cluster that moves: its pose in its frame
   std::vector<uint32_t> cluster_of;  // per module, or kNoCluster

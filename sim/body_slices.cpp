@@ -11,8 +11,8 @@ namespace {
 
 template <class T>
 constexpr bool kPaged = false;
-template <class T>
-constexpr bool kPaged<PagedArray<T>> = true;
+template <class T, class D>
+constexpr bool kPaged<PagedArray<T, D>> = true;
 
 // Every vector (or paged array) of the bodies, in the order they are serialized.
 template <class B, class F>

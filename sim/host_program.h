@@ -141,8 +141,8 @@ class ModuleContext {
 
   // The module's body, as the step began (sensing). Only in a physical world: has_body() says.
   bool has_body() const { return !bodies_.empty(); }
-  const Pose& pose() const { return bodies_.poses[id_]; }
-  const Velocity& velocity() const { return bodies_.velocities[id_]; }
+  Pose pose() const { return bodies_.poses[id_]; }
+  Velocity velocity() const { return bodies_.velocities[id_]; }
   // Making a lattice move (it then belongs to no cluster and has no bonds).
   bool moving() const { return bodies_.moving(id_); }
 

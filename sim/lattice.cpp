@@ -47,12 +47,36 @@ int lattice_dimensions(LatticeKind kind) {
   return 1;
 }
 
+std::array<float, 3> cell_position_off_grid(const LatticeSpec& spec, ModuleId m) {
+  const uint32_t nx = spec.size[0], ny = spec.size[1];
+  const uint32_t x = m % nx, y = (m / nx) % ny, z = m / nx / ny;
+  switch (spec.kind) {
+    case LatticeKind::Cubic:
+    case LatticeKind::Square2d: return {float(x), float(y), float(z)};
+    case LatticeKind::Hex2d:
+      // Offset rows: odd rows shift half a module right, rows sqrt(3)/2 apart, so every module
+      // touches six others (fewer at the border).
+      return {float(x) + ((y & 1) ? 0.5f : 0.0f), float(y) * (std::sqrt(3.0f) / 2), 0};
+    case LatticeKind::Fcc: {
+      const float shift = (z & 1) ? 0.5f : 0.0f;
+      return {float(x) + shift, float(y) + shift, float(z) * (std::sqrt(2.0f) / 2)};
+    }
+    case LatticeKind::Ring: {
+      // Neighbours one module apart (a chord of 1) around a circle.
+      const double radius = 0.5 / std::sin(std::numbers::pi / nx);
+      const double a = 2 * std::numbers::pi * m / nx;
+      return {float(radius * std::cos(a)), float(radius * std::sin(a)), 0};
+    }
+    case LatticeKind::Line: return {float(m), 0, 0};
+  }
+  return {};
+}
+
 Lattice make_lattice(const LatticeSpec& spec) {
   Lattice l;
   l.spec = spec;
   const uint32_t nx = spec.size[0], ny = spec.size[1], nz = spec.size[2];
   const uint32_t count = static_cast<uint32_t>(spec.module_count());
-  l.positions.resize(count);
   std::vector<std::pair<ModuleId, ModuleId>> pairs;
   auto id = [&](uint32_t x, uint32_t y, uint32_t z) { return x + nx * (y + ny * z); };
 
@@ -62,19 +86,14 @@ Lattice make_lattice(const LatticeSpec& spec) {
       for (uint32_t z = 0; z < nz; ++z)
         for (uint32_t y = 0; y < ny; ++y)
           for (uint32_t x = 0; x < nx; ++x) {
-            l.positions[id(x, y, z)] = {float(x), float(y), float(z)};
             if (x + 1 < nx) pairs.emplace_back(id(x, y, z), id(x + 1, y, z));
             if (y + 1 < ny) pairs.emplace_back(id(x, y, z), id(x, y + 1, z));
             if (z + 1 < nz) pairs.emplace_back(id(x, y, z), id(x, y, z + 1));
           }
       break;
     case LatticeKind::Hex2d: {
-      // Offset rows: odd rows shift half a module right, rows sqrt(3)/2 apart, so every module
-      // touches six others (fewer at the border).
-      const float row = std::sqrt(3.0f) / 2;
       for (uint32_t y = 0; y < ny; ++y)
         for (uint32_t x = 0; x < nx; ++x) {
-          l.positions[id(x, y, 0)] = {float(x) + ((y & 1) ? 0.5f : 0.0f), float(y) * row, 0};
           if (x + 1 < nx) pairs.emplace_back(id(x, y, 0), id(x + 1, y, 0));
           if (y + 1 < ny) {
             // The row above: the same x, and x - 1 (even rows) or x + 1 (odd rows).
@@ -86,12 +105,9 @@ Lattice make_lattice(const LatticeSpec& spec) {
       break;
     }
     case LatticeKind::Fcc: {
-      const float layer = std::sqrt(2.0f) / 2;
       for (uint32_t z = 0; z < nz; ++z)
         for (uint32_t y = 0; y < ny; ++y)
           for (uint32_t x = 0; x < nx; ++x) {
-            const float shift = (z & 1) ? 0.5f : 0.0f;
-            l.positions[id(x, y, z)] = {float(x) + shift, float(y) + shift, float(z) * layer};
             if (x + 1 < nx) pairs.emplace_back(id(x, y, z), id(x + 1, y, z));
             if (y + 1 < ny) pairs.emplace_back(id(x, y, z), id(x, y + 1, z));
             if (z + 1 == nz) continue;
@@ -107,20 +123,11 @@ Lattice make_lattice(const LatticeSpec& spec) {
       break;
     }
     case LatticeKind::Ring: {
-      // Neighbours one module apart (a chord of 1) around a circle.
-      const double radius = 0.5 / std::sin(std::numbers::pi / nx);
-      for (uint32_t i = 0; i < nx; ++i) {
-        const double a = 2 * std::numbers::pi * i / nx;
-        l.positions[i] = {float(radius * std::cos(a)), float(radius * std::sin(a)), 0};
-        pairs.emplace_back(i, (i + 1) % nx);
-      }
+      for (uint32_t i = 0; i < nx; ++i) pairs.emplace_back(i, (i + 1) % nx);
       break;
     }
     case LatticeKind::Line:
-      for (uint32_t i = 0; i < nx; ++i) {
-        l.positions[i] = {float(i), 0, 0};
-        if (i + 1 < nx) pairs.emplace_back(i, i + 1);
-      }
+      for (uint32_t i = 0; i + 1 < nx; ++i) pairs.emplace_back(i, i + 1);
       break;
   }
   l.occupied.assign(count, 1);

@@ -27,12 +27,23 @@ struct LatticeSpec {
   LatticeKind kind = LatticeKind::Cubic;
   std::array<uint32_t, 3> size{1, 1, 1};  // unused dimensions are 1
   uint64_t module_count() const { return uint64_t{size[0]} * size[1] * size[2]; }
+  bool operator==(const LatticeSpec&) const = default;
 };
+
+// The centre of module m's cell, one module size apart from the next; z is up. Computed, not
+// kept: 12 bytes a module (12 MB for a 100^3 lattice) on every rank. Inline for the square
+// grids, which the contact graph asks for every module's neighbours.
+std::array<float, 3> cell_position_off_grid(const LatticeSpec& spec, ModuleId m);
+inline std::array<float, 3> cell_position(const LatticeSpec& spec, ModuleId m) {
+  if (spec.kind != LatticeKind::Cubic && spec.kind != LatticeKind::Square2d) return cell_position_off_grid(spec, m);
+  const uint32_t nx = spec.size[0], ny = spec.size[1], row = m / nx;
+  return {float(m - row * nx), float(row % ny), float(row / ny)};
+}
 
 struct Lattice {
   LatticeSpec spec;
-  std::vector<std::array<float, 3>> positions;  // module centres, one module size apart; z is up
-  std::vector<uint8_t> occupied;                // per cell: 0 for a cell left empty (no module there)
+  std::array<float, 3> position(ModuleId m) const { return cell_position(spec, m); }
+  std::vector<uint8_t> occupied;  // per cell: 0 for a cell left empty (no module there)
   // Face-adjacent modules; shared, not copied, by the states of a static lattice (the world's).
   // Null in a physical world's model, whose contacts make the graph: kept, it would be a second
   // one as large as the world's (lattice_graph makes it when asked).

@@ -30,7 +30,7 @@ std::variant<std::unique_ptr<Model>, std::string> build_model(Lattice lattice,
                                                               std::vector<std::unique_ptr<const HostProgram>> programs,
                                                               std::vector<HostedWatchpoint> watches, uint64_t seed) {
   auto model = std::make_unique<Model>();
-  const uint32_t modules = static_cast<uint32_t>(lattice.positions.size());
+  const uint32_t modules = static_cast<uint32_t>(lattice.spec.module_count());
   model->lattice = std::move(lattice);
   model->seed = seed;
   model->universe.module_ids.resize(modules);

@@ -72,7 +72,7 @@ void expect_cube_holds(PhysicsSettings settings, uint32_t n, size_t face_pairs) 
   float drift = 0;
   for (sim::ModuleId m = 0; m < model->module_count(); ++m)
     for (int i = 0; i < 3; ++i)
-      drift = std::max(drift, std::abs(run.state().bodies.poses[m].position[i] - model->lattice.positions[m][i]));
+      drift = std::max(drift, std::abs(run.state().bodies.poses[m].position[i] - model->lattice.position(m)[i]));
   EXPECT_LT(drift, 0.02f);
 }
 
@@ -315,7 +315,7 @@ TEST(BulletWorld, CatomRollsOverANeighbourIntoTheNextFccCell) {
   run.run_until(12);
   const sim::State& st = run.state();
   EXPECT_FALSE(st.bodies.moving(9));
-  EXPECT_EQ(st.bodies.poses[9].position, model->lattice.positions[10]);
+  EXPECT_EQ(st.bodies.poses[9].position, model->lattice.position(10));
   const std::vector<sim::ModuleId> under{1, 2, 4, 5};
   EXPECT_EQ(std::vector<sim::ModuleId>(st.graph->neighbors(9).begin(), st.graph->neighbors(9).end()), under);
 }
@@ -337,7 +337,7 @@ TEST(BulletWorld, CylinderRollsOverANeighbourIntoTheHexCellBesideBoth) {
   sim::Session run(*model, world, {.threads = 1});
   run.run_until(12);
   const sim::State& st = run.state();
-  const sim::Vec3& at = model->lattice.positions[12];
+  const sim::Vec3& at = model->lattice.position(12);
   EXPECT_LT(std::hypot(st.bodies.poses[11].position[0] - at[0], st.bodies.poses[11].position[1] - at[1]), 1e-5f);
   std::vector<sim::ModuleId> expected;
   for (sim::ModuleId o = 0; o < model->module_count(); ++o) {

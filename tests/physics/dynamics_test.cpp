@@ -83,7 +83,9 @@ sim::Bodies falling_blocks(const std::vector<float>& speed, float apart, btColli
     for (int z = 0; z < 2; ++z)
       for (int y = 0; y < 2; ++y)
         for (int x = 0; x < 2; ++x) {
-          b.poses.push_back({.position = {first + float(k) * apart + float(x), float(y), 3.0f + float(z)}});
+          const auto m = static_cast<sim::ModuleId>(b.poses.size());
+          b.poses.resize(m + 1);
+          b.poses.set(m, {.position = {first + float(k) * apart + float(x), float(y), 3.0f + float(z)}});
         }
   const auto n = static_cast<sim::ModuleId>(b.poses.size());
   b.velocities.resize(n);

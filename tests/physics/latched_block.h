@@ -12,9 +12,9 @@ namespace dw::physics::test {
 
 inline sim::Bodies latched_block(int side, bool anchored, btCollisionShape& module_shape) {
   sim::Bodies b;
-  for (int z = 0; z < side; ++z)
-    for (int y = 0; y < side; ++y)
-      for (int x = 0; x < side; ++x) b.poses.push_back({.position = {float(x), float(y), float(z)}});
+  const auto cells = static_cast<uint32_t>(side);
+  b.poses = decltype(b.poses)(sim::CellPose{{sim::LatticeKind::Cubic, {cells, cells, cells}}, 1});
+  b.poses.resize(cells * cells * cells);  // each at its cell
   const auto n = static_cast<sim::ModuleId>(b.poses.size());
   b.velocities.resize(n);
   b.local.resize(n);
@@ -29,6 +29,13 @@ inline sim::Bodies latched_block(int side, bool anchored, btCollisionShape& modu
   std::sort(b.bonds.begin(), b.bonds.end());
   form_clusters(b, std::vector<uint8_t>(n, 1), module_shape);
   return b;
+}
+
+// Moves module m by `by` (the bodies keep poses by set()).
+inline void shift(sim::Bodies& b, sim::ModuleId m, const sim::Vec3& by) {
+  sim::Pose p = b.poses[m];
+  for (int i = 0; i < 3; ++i) p.position[i] += by[i];
+  b.poses.set(m, p);
 }
 
 }  // namespace dw::physics::test

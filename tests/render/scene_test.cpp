@@ -41,13 +41,13 @@ TEST(BuildScene, LatticePositionsAndColoursByTheVariable) {
   ASSERT_EQ(scene.modules.size(), 6u);
   const ColorScale scale("v", f.state.values);
   for (const SceneModule& m : scene.modules) {
-    EXPECT_EQ(m.pose.position, f.model->lattice.positions[m.id]);
+    EXPECT_EQ(m.pose.position, f.model->lattice.position(m.id));
     EXPECT_EQ(m.color, scale.color(f.state.values[m.id]));
     EXPECT_FALSE(m.highlighted);
   }
   EXPECT_EQ(scene.legend.title, "v");
   EXPECT_EQ(scene.legend.entries.size(), 3u);
-  EXPECT_FLOAT_EQ(scene.ground_z, f.model->lattice.positions[0][2] - 0.5f);
+  EXPECT_FLOAT_EQ(scene.ground_z, f.model->lattice.position(0)[2] - 0.5f);
   EXPECT_EQ(scene.title, "t");
 }
 
@@ -82,8 +82,8 @@ TEST(BuildScene, GroupsMarkTheirModulesAndAreKeptInSlotOrder) {
 TEST(BuildScene, PhysicalPosesAndPropsComeFromTheState) {
   Fixture f({0, 0, 0, 0, 0, 0});
   f.state.bodies.poses.resize(6);
-  for (uint32_t m = 0; m < 6; ++m) f.state.bodies.poses[m].position = {float(m) * 2, 1, 3};
-  f.state.bodies.poses[2].orientation = {0, 0, 0.7071068f, 0.7071068f};
+  for (uint32_t m = 0; m < 6; ++m) f.state.bodies.poses.set(m, {.position = {float(m) * 2, 1, 3}});
+  f.state.bodies.poses.set(2, {.position = {4, 1, 3}, .orientation = {0, 0, 0.7071068f, 0.7071068f}});
   f.state.bodies.prop_poses = {sim::Pose{{5, 6, 7}, {0, 0, 0, 1}}};
   SceneSettings settings;
   settings.module_shape = Shape::Sphere;

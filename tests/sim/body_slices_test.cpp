@@ -16,10 +16,13 @@ Bodies some_bodies(uint32_t modules) {
   std::uniform_real_distribution<float> any(-5, 5);
   const auto pose = [&] { return Pose{{any(random), any(random), any(random)}, {0, 0, any(random), 1}}; };
   Bodies b;
+  // Poses by default at the cells of a lattice (carried with them), a few modules moved off.
+  b.poses = decltype(b.poses)(CellPose{{LatticeKind::Cubic, {10, 10, 1000}}, 1});
+  b.poses.resize(modules);
   b.velocities.resize(modules);
   b.local.resize(modules);
   for (uint32_t m = 0; m < modules; ++m) {
-    b.poses.push_back(pose());
+    if (m % 5000 < 3000) b.poses.set(m, pose());
     // Runs of modules at rest: pages of velocities that are not kept.
     if (m % 2000 < 1000) b.velocities.set(m, {{any(random), 0, 0}, {0, any(random), 0}});
     b.local.set(m, pose());
@@ -71,7 +74,9 @@ TEST(BodySlices, ACopySharesTheChunksThatDidNotChangeSinceTheLastOne) {
   EXPECT_EQ(bodies_from_slices(again, nullptr), still);
 
   Bodies moved = still;
-  moved.poses[kModules / 2].position[0] += 1e-3f;
+  Pose further = moved.poses[kModules / 2];
+  further.position[0] += 1e-3f;
+  moved.poses.set(kModules / 2, further);
   Velocity faster = moved.velocities[kModules / 2];
   faster.linear[1] = 0.5f;
   moved.velocities.set(kModules / 2, faster);

@@ -13,15 +13,15 @@ uint32_t degree(const Lattice& l, ModuleId m) { return static_cast<uint32_t>(l.g
 
 TEST(Lattice, CubeHasItsFaceAdjacentPairsOnly) {
   const Lattice l = make_lattice({LatticeKind::Cubic, {10, 10, 10}});
-  ASSERT_EQ(l.positions.size(), 1000u);
+  ASSERT_EQ(l.spec.module_count(), 1000u);
   EXPECT_EQ(l.graph->edge_count(), 2 * 2700u);
   EXPECT_EQ(degree(l, 5 + 10 * (5 + 10 * 5)), 6u);
   EXPECT_EQ(degree(l, 0), 3u);
   // Neighbours are exactly one module size apart.
   for (ModuleId m = 0; m < 1000; ++m)
     for (ModuleId n : l.graph->neighbors(m)) {
-      const auto& a = l.positions[m];
-      const auto& b = l.positions[n];
+      const auto& a = l.position(m);
+      const auto& b = l.position(n);
       EXPECT_FLOAT_EQ(std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]), 1.0f);
     }
 }
@@ -31,15 +31,15 @@ TEST(Lattice, CubeHasItsFaceAdjacentPairsOnly) {
 TEST(Lattice, FccNeighboursAreExactlyThePairsOneModuleApart) {
   constexpr uint32_t n = 5;
   const Lattice l = make_lattice({LatticeKind::Fcc, {n, n, n}});
-  ASSERT_EQ(l.positions.size(), n * n * n);
+  ASSERT_EQ(l.spec.module_count(), n * n * n);
   uint32_t twelve = 0;
-  for (ModuleId a = 0; a < l.positions.size(); ++a) {
+  for (ModuleId a = 0; a < l.spec.module_count(); ++a) {
     const auto nbrs = l.graph->neighbors(a);
     twelve += nbrs.size() == 12;
     EXPECT_LE(nbrs.size(), 12u);
-    for (ModuleId b = 0; b < l.positions.size(); ++b) {
+    for (ModuleId b = 0; b < l.spec.module_count(); ++b) {
       if (a == b) continue;
-      const auto &p = l.positions[a], &q = l.positions[b];
+      const auto &p = l.position(a), &q = l.position(b);
       const float d = std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]);
       const bool listed = std::find(nbrs.begin(), nbrs.end(), b) != nbrs.end();
       EXPECT_EQ(listed, std::abs(d - 1) < 1e-5f) << a << " and " << b << " are " << d << " apart";
@@ -49,8 +49,8 @@ TEST(Lattice, FccNeighboursAreExactlyThePairsOneModuleApart) {
   // Interior: x and y from 1 to n - 2 in every layer but the first and the last.
   EXPECT_EQ(twelve, (n - 2) * (n - 2) * (n - 2));
   // The layers: an odd one shifted half a module in x and y, sqrt(2)/2 above the even one.
-  EXPECT_FLOAT_EQ(l.positions[n * n][0], 0.5f);
-  EXPECT_FLOAT_EQ(l.positions[n * n][2], std::sqrt(2.0f) / 2);
+  EXPECT_FLOAT_EQ(l.position(n * n)[0], 0.5f);
+  EXPECT_FLOAT_EQ(l.position(n * n)[2], std::sqrt(2.0f) / 2);
 }
 
 TEST(Lattice, HexInteriorModulesHaveSixNeighboursOneApart) {
@@ -59,8 +59,8 @@ TEST(Lattice, HexInteriorModulesHaveSixNeighboursOneApart) {
     for (uint32_t x = 1; x + 1 < 8; ++x) EXPECT_EQ(degree(l, x + 8 * y), 6u) << x << "," << y;
   for (ModuleId m = 0; m < 48; ++m)
     for (ModuleId n : l.graph->neighbors(m)) {
-      const auto& a = l.positions[m];
-      const auto& b = l.positions[n];
+      const auto& a = l.position(m);
+      const auto& b = l.position(n);
       EXPECT_NEAR(std::hypot(a[0] - b[0], a[1] - b[1]), 1.0, 1e-5);
       EXPECT_TRUE(l.graph->adjacent(n, m));
     }
@@ -68,7 +68,7 @@ TEST(Lattice, HexInteriorModulesHaveSixNeighboursOneApart) {
   uint32_t close = 0;
   for (ModuleId m = 0; m < 48; ++m)
     for (ModuleId n = m + 1; n < 48; ++n)
-      close += std::hypot(l.positions[m][0] - l.positions[n][0], l.positions[m][1] - l.positions[n][1]) < 1.01;
+      close += std::hypot(l.position(m)[0] - l.position(n)[0], l.position(m)[1] - l.position(n)[1]) < 1.01;
   EXPECT_EQ(2 * close, l.graph->edge_count());
 }
 

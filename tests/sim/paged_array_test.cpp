@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
@@ -93,6 +94,63 @@ TEST(PagedArray, WrittenAndReadBackGivesTheSameRecords) {
   std::memcpy(bytes.data(), &huge, sizeof huge);
   at = 0;
   EXPECT_THROW(b.read(take, bytes.size()), std::logic_error);
+}
+
+// Poses whose default is each module's cell: a lattice at rest keeps none, and the cells come
+// back with the records read from bytes.
+TEST(PagedArray, PerIndexDefaultsAreEachModulesCellAndTravelWithTheRecords) {
+  const LatticeSpec spec{LatticeKind::Fcc, {7, 5, 9}};
+  PagedArray<Pose, CellPose> poses(CellPose{spec, 1});
+  poses.resize(spec.module_count());
+  const size_t bare = poses.bytes();
+  for (ModuleId m = 0; m < poses.size(); ++m) {
+    ASSERT_EQ(poses[m].position, cell_position(spec, m));
+    poses.set(m, poses[m]);  // at rest where it is: nothing kept
+  }
+  EXPECT_EQ(poses.bytes(), bare);
+  const ModuleId moved = 300;
+  const Pose away{{-3, 2, 1}, {0, 0, 1, 0}};
+  poses.set(moved, away);
+  EXPECT_EQ(poses.bytes(), bare + kPage * sizeof(Pose));
+  // The others of its page keep their cells.
+  EXPECT_EQ(poses[moved + 1].position, cell_position(spec, moved + 1));
+  EXPECT_EQ(poses[moved - 1].position, cell_position(spec, moved - 1));
+
+  std::vector<std::byte> bytes;
+  poses.write([&](const void* data, size_t n) {
+    const auto* p = static_cast<const std::byte*>(data);
+    bytes.insert(bytes.end(), p, p + n);
+  });
+  size_t at = 0;
+  PagedArray<Pose, CellPose> read;  // no lattice: every default at the origin
+  EXPECT_NE(read, poses);
+  read.read(
+      [&](void* into, size_t n) {
+        std::memcpy(into, bytes.data() + at, n);
+        at += n;
+      },
+      bytes.size());
+  EXPECT_EQ(read, poses);
+  EXPECT_EQ(read.defaults(), poses.defaults());
+  EXPECT_EQ(read[moved], away);
+  EXPECT_EQ(read[5].position, cell_position(spec, 5));
+}
+
+// The cells make_lattice's graph joins are one module apart, for every kind: the positions and
+// the adjacency come from one formula each.
+TEST(CellPosition, NeighboursInTheLatticeGraphAreOneModuleApart) {
+  for (const LatticeSpec spec :
+       {LatticeSpec{LatticeKind::Cubic, {4, 3, 5}}, LatticeSpec{LatticeKind::Square2d, {6, 4, 1}},
+        LatticeSpec{LatticeKind::Hex2d, {5, 6, 1}}, LatticeSpec{LatticeKind::Fcc, {4, 4, 4}},
+        LatticeSpec{LatticeKind::Ring, {12, 1, 1}}, LatticeSpec{LatticeKind::Line, {9, 1, 1}}}) {
+    const Lattice lattice = make_lattice(spec);
+    for (ModuleId m = 0; m < spec.module_count(); ++m)
+      for (ModuleId o : lattice.graph->neighbors(m)) {
+        const auto a = lattice.position(m), b = cell_position(spec, o);
+        EXPECT_NEAR(std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]), 1.0f, 1e-5f)
+            << lattice_name(spec.kind) << " " << m << "-" << o;
+      }
+  }
 }
 
 }  // namespace

@@ -220,7 +220,7 @@ class DriftingBodies final : public World {
     b.local.resize(n);
     b.cluster_of.assign(n, kNoCluster);
     for (ModuleId m = 0; m < n; ++m) {
-      b.poses[m].position = {float(m), 0, 0};
+      b.poses.set(m, {.position = {float(m), 0, 0}});
       b.velocities.set(m, {.angular = {0, 0, float(m % 7)}});
       if (m % 3 == 0 && m + 1 < n) b.bonds.push_back({m, m + 1});
       if (m % 10 == 0) b.bonds.push_back({m, kGround});
@@ -229,8 +229,11 @@ class DriftingBodies final : public World {
   }
   void restore(const Model&, const State&) override {}
   void advance(const Model&, State& state, std::span<const Actuation>, WorkerPool&) override {
-    for (ModuleId m = 0; m < state.bodies.poses.size(); ++m)
-      state.bodies.poses[m].position[1] = float(state.step * (m % 5));
+    for (ModuleId m = 0; m < state.bodies.poses.size(); ++m) {
+      Pose p = state.bodies.poses[m];
+      p.position[1] = float(state.step * (m % 5));
+      state.bodies.poses.set(m, p);
+    }
   }
 };
 
@@ -266,7 +269,7 @@ TEST(RuntimeRanks, EachRankHashesItsOwnModulesLinksAndBodiesOnly) {
     const auto outside = [&](ModuleId m) { return m < first || m >= end; };
     for (ModuleId m = 0; m < b.poses.size(); ++m)
       if (outside(m)) {
-        b.poses[m].position = {-1, -1, -1};
+        b.poses.set(m, {.position = {-1, -1, -1}});
         b.velocities.set(m, {.linear = {9, 9, 9}});
         b.local.set(m, {.orientation = {1, 0, 0, 0}});
         b.cluster_of[m] = 12345;
