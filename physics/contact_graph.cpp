@@ -36,10 +36,14 @@ constexpr float kWindowMargin = 1.125f;
 
 // Per-module records kept for some modules only (sim::PagedArray, with which are known): over
 // ranks a rank remembers the poses of its window and the modules next to it, a few in ten of a
-// large ensemble; in one process, every module's.
-template <typename T>
+// large ensemble; in one process, every module's. A record equal to its default (a module at rest
+// in its cell) takes no page.
+template <typename T, typename Default>
 class PagedRecords {
  public:
+  PagedRecords() = default;
+  explicit PagedRecords(const Default& defaults) : records_(defaults) {}
+  const Default& defaults() const { return records_.defaults(); }
   size_t size() const { return known_.size(); }
   void resize(size_t n) {
     known_.resize(n, 0);
@@ -54,7 +58,7 @@ class PagedRecords {
 
  private:
   std::vector<uint8_t> known_;
-  sim::PagedArray<T> records_;
+  sim::PagedArray<T, Default> records_;
 };
 
 float squared_distance(const sim::Vec3& a, const sim::Vec3& b) {
@@ -182,7 +186,7 @@ struct ContactGraph::Impl {
   // Over ranks, `world` is remembered for the modules of the window and those in its lists (the
   // only ones whose pairs it holds) and kept for every module once remembered: a module not
   // remembered counts as moved whenever it is looked at.
-  PagedRecords<sim::Pose> world;
+  PagedRecords<sim::Pose, sim::CellPose> world;
   std::vector<Frame> frame;
   const Frame& last_frame(sim::ModuleId m) const {
     static constexpr Frame kDefault{};
@@ -265,6 +269,8 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   const bool windowed = ranks != nullptr;
   if (windowed && owners == nullptr)
     throw std::logic_error("ContactGraph::update over ranks needs the modules' owners");
+  // Poses at rest are remembered as the bodies keep them: as their cells, without pages.
+  if (!(s.world.defaults() == bodies.poses.defaults())) s.world = decltype(s.world)(bodies.poses.defaults());
   const bool forget = !s.graph || s.world.size() != n || windowed != (s.graph->held != nullptr);
   if (forget) changed = nullptr;
   s.in_grid.resize(n, 0);
