@@ -47,7 +47,7 @@ int lattice_dimensions(LatticeKind kind) {
   return 1;
 }
 
-std::array<float, 3> cell_position_off_grid(const LatticeSpec& spec, ModuleId m) {
+std::array<float, 3> cell_position_of_any_kind(const LatticeSpec& spec, ModuleId m) {
   const uint32_t nx = spec.size[0], ny = spec.size[1];
   const uint32_t x = m % nx, y = (m / nx) % ny, z = m / nx / ny;
   switch (spec.kind) {

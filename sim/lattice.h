@@ -33,9 +33,9 @@ struct LatticeSpec {
 // The centre of module m's cell, one module size apart from the next; z is up. Computed, not
 // kept: 12 bytes a module (12 MB for a 100^3 lattice) on every rank. Inline for the square
 // grids, which the contact graph asks for every module's neighbours.
-std::array<float, 3> cell_position_off_grid(const LatticeSpec& spec, ModuleId m);
+std::array<float, 3> cell_position_of_any_kind(const LatticeSpec& spec, ModuleId m);
 inline std::array<float, 3> cell_position(const LatticeSpec& spec, ModuleId m) {
-  if (spec.kind != LatticeKind::Cubic && spec.kind != LatticeKind::Square2d) return cell_position_off_grid(spec, m);
+  if (spec.kind != LatticeKind::Cubic && spec.kind != LatticeKind::Square2d) return cell_position_of_any_kind(spec, m);
   const uint32_t nx = spec.size[0], ny = spec.size[1], row = m / nx;
   return {float(m - row * nx), float(row % ny), float(row / ny)};
 }
