@@ -142,30 +142,6 @@ TEST(RuntimeRanks, EachRankHoldsItsOwnModulesStateOnly) {
   EXPECT_EQ(next, model->module_count());
 }
 
-// A rank that counts the bytes it gives to all_gather.
-class CountingRank final : public RankExchange {
- public:
-  explicit CountingRank(RankExchange& rank) : rank_(rank) {}
-  int rank() const override { return rank_.rank(); }
-  int ranks() const override { return rank_.ranks(); }
-  void start_exchange(std::vector<std::vector<std::byte>> out) override { rank_.start_exchange(std::move(out)); }
-  std::vector<std::vector<std::byte>> finish_exchange() override { return rank_.finish_exchange(); }
-  Gathered all_gather(std::span<const std::byte> mine) override {
-    gathered += mine.size();
-    return rank_.all_gather(mine);
-  }
-  void sum(std::span<uint64_t> values) override { rank_.sum(values); }
-  std::vector<uint32_t> partition_graph(std::span<const uint32_t> first, std::span<const uint32_t> adjacent,
-                                        std::span<const uint32_t> vertex_weight,
-                                        std::span<const uint32_t> edge_weight) override {
-    return rank_.partition_graph(first, adjacent, vertex_weight, edge_weight);
-  }
-  size_t gathered = 0;
-
- private:
-  RankExchange& rank_;
-};
-
 // On each of 3 ranks, after 3 steps: the hash of the whole, and the bytes the rank gave to
 // gathers while hashing. `spoil`, when given, first changes what the rank holds.
 template <class W>
@@ -173,7 +149,7 @@ std::vector<std::pair<StateHash, size_t>> hash_on_ranks(const Model& model, Part
                                                         const std::function<void(const Runtime&, State&)>& spoil = {}) {
   return on_ranks(3, [&](RankExchange& r) {
     W world;
-    CountingRank counted(r);
+    CountedGathers counted(r);
     Runtime rt(model, world, 1, &counted, partition);
     State s = rt.initial_state();
     StepOutput out;

@@ -74,7 +74,8 @@ class ThreadRanks {
   std::vector<std::vector<uint64_t>> sums_;
 };
 
-// A rank that counts the gathers it takes part in, and the largest part it gave one.
+// A rank that counts the gathers it takes part in, the bytes it gave them, and the largest part
+// it gave one.
 class CountedGathers final : public RankExchange {
  public:
   explicit CountedGathers(RankExchange& rank) : rank_(rank) {}
@@ -84,11 +85,17 @@ class CountedGathers final : public RankExchange {
   std::vector<std::vector<std::byte>> finish_exchange() override { return rank_.finish_exchange(); }
   Gathered all_gather(std::span<const std::byte> mine) override {
     ++gathers;
+    gathered += mine.size();
     largest = std::max(largest, mine.size());
     return rank_.all_gather(mine);
   }
   void sum(std::span<uint64_t> values) override { rank_.sum(values); }
-  size_t gathers = 0, largest = 0;
+  std::vector<uint32_t> partition_graph(std::span<const uint32_t> first, std::span<const uint32_t> adjacent,
+                                        std::span<const uint32_t> vertex_weight,
+                                        std::span<const uint32_t> edge_weight) override {
+    return rank_.partition_graph(first, adjacent, vertex_weight, edge_weight);
+  }
+  size_t gathers = 0, gathered = 0, largest = 0;
 
  private:
   RankExchange& rank_;
