@@ -5,6 +5,15 @@
 
 namespace dw::physics {
 
+CellGrid::CellGrid(float side, const sim::CellPose& rest)
+    : side_(side), at_cell_(rest.on_lattice && rest.lattice.kind != sim::LatticeKind::Ring), at_(CellCentre{rest}) {}
+
+void CellGrid::resize(size_t n) {
+  for (size_t m = n; m < state_.size(); ++m) place(static_cast<sim::ModuleId>(m), false, {});
+  state_.resize(n, kOut);
+  at_.resize(n);
+}
+
 CellGrid::Cell CellGrid::cell(const sim::Vec3& at) const {
   const auto axis = [&](float v) {
     const double x = std::floor(double(v) / double(side_));
@@ -15,21 +24,28 @@ CellGrid::Cell CellGrid::cell(const sim::Vec3& at) const {
   return {axis(at[0]), axis(at[1]), axis(at[2])};
 }
 
-void CellGrid::erase(sim::ModuleId m, const sim::Vec3& at) {
-  const auto it = cells_.find(key(at));
-  if (it == cells_.end()) return;
+void CellGrid::unbin(sim::ModuleId m, const sim::Vec3& at) {
+  const auto it = binned_.find(key(at));
+  if (it == binned_.end()) return;
   std::vector<sim::ModuleId>& in = it->second;
   const auto at_m = std::find(in.begin(), in.end(), m);
   if (at_m == in.end()) return;
   *at_m = in.back();
   in.pop_back();
-  if (in.empty()) cells_.erase(it);
+  if (in.empty()) binned_.erase(it);
 }
 
-void CellGrid::move(sim::ModuleId m, const sim::Vec3& from, const sim::Vec3& to) {
-  if (key(from) == key(to)) return;
-  erase(m, from);
-  insert(m, to);
+void CellGrid::place(sim::ModuleId m, bool present, const sim::Vec3& at) {
+  const State was = state_[m];
+  State now = kOut;
+  if (present) now = at_cell_ && at == at_.defaults()(m) ? kAtCell : kBinned;
+  if (now == was && now != kBinned) return;
+  const sim::Vec3 from = at_[m];
+  if (was == kBinned && (now != kBinned || key(from) != key(at))) unbin(m, from);
+  if (now == kBinned && (was != kBinned || key(from) != key(at))) binned_[key(at)].push_back(m);
+  binned_count_ += size_t(now == kBinned) - size_t(was == kBinned);
+  state_[m] = now;
+  if (now != kOut) at_.set(m, at);
 }
 
 }  // namespace dw::physics

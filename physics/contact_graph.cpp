@@ -154,21 +154,15 @@ struct ContactGraph::Impl {
 
   // Brings module m's place in the grid up to the bodies.
   void place(const sim::Bodies& bodies, std::span<const uint8_t> present, sim::ModuleId m) {
-    const sim::Vec3& at = bodies.poses[m].position;
-    if (!present[m]) {
-      if (in_grid[m]) grid.erase(m, grid_at[m]);
-      in_grid[m] = 0;
-      return;
-    }
-    if (!in_grid[m]) {
-      grid.insert(m, at);
-    } else if (at != grid_at[m]) {
-      grid.move(m, grid_at[m], at);
-    } else {
-      return;
-    }
-    in_grid[m] = 1;
-    grid_at[m] = at;
+    grid.place(m, present[m] != 0, bodies.poses[m].position);
+  }
+  // Makes the grid's cells those of the bodies (a fresh grid, whose modules must all be placed),
+  // with room for n modules. Returns whether it was made afresh.
+  bool fit_grid(const sim::Bodies& bodies, size_t n) {
+    const bool fresh = !(grid.rest() == bodies.poses.defaults());
+    if (fresh) grid = CellGrid(cutoff, bodies.poses.defaults());
+    grid.resize(n);
+    return fresh;
   }
 
   std::unique_ptr<btCollisionShape> shape;
@@ -176,9 +170,7 @@ struct ContactGraph::Impl {
   ModuleShape kind;
   float threshold, cutoff;
   float half = 0.5f, margin = 0;  // half the module's size, and its margin
-  CellGrid grid;                  // every present module, at grid_at
-  std::vector<uint8_t> in_grid;   // per module
-  std::vector<sim::Vec3> grid_at;
+  CellGrid grid;                  // every present module, where it was last placed
   // As of the last measurement, per module: present, its world pose and its frame. `frame` is
   // empty while every module's is the default one (a latched lattice anchored to the ground, where
   // it would be 32 bytes a module of nothing), and per module once one is not.
@@ -211,8 +203,7 @@ void ContactGraph::reset() { impl_->graph.reset(); }
 void ContactGraph::place(const sim::Bodies& bodies, std::span<const uint8_t> present) {
   Impl& s = *impl_;
   const size_t n = bodies.poses.size();
-  s.in_grid.resize(n, 0);
-  s.grid_at.resize(n);
+  s.fit_grid(bodies, n);
   for (size_t m = 0; m < n; ++m) s.place(bodies, present, static_cast<sim::ModuleId>(m));
 }
 
@@ -225,8 +216,8 @@ bool ContactGraph::touching(const sim::Pose& a, const sim::Pose& b) const { retu
 std::vector<sim::ModuleId> ContactGraph::near(const sim::Vec3& at, float radius) const {
   const Impl& s = *impl_;
   std::vector<sim::ModuleId> found;
-  s.grid.around(at, [&](sim::ModuleId m) {
-    if (squared_distance(s.grid_at[m], at) < radius * radius) found.push_back(m);
+  s.grid.around(at, [&](sim::ModuleId m, const sim::Vec3& m_at) {
+    if (squared_distance(m_at, at) < radius * radius) found.push_back(m);
   });
   std::sort(found.begin(), found.end());
   return found;
@@ -235,8 +226,7 @@ std::vector<sim::ModuleId> ContactGraph::near(const sim::Vec3& at, float radius)
 // Over ranks, a rank's window (docs/design.md §12a): the present modules it owns, and those whose
 // centres lie within `radius` of one of them (a neighbour's centre is within the reach).
 struct Window {
-  const CellGrid& grid;
-  std::span<const sim::Vec3> at;  // where the grid placed each module: where it is
+  const CellGrid& grid;  // where each module is
   std::span<const uint8_t> present;
   const sim::ModuleOwners& owners;
   uint32_t me;
@@ -247,15 +237,15 @@ struct Window {
   void near(const sim::Vec3& at, Visit&& visit) const {
     const sim::Vec3 lo{at[0] - radius, at[1] - radius, at[2] - radius},
         hi{at[0] + radius, at[1] + radius, at[2] + radius};
-    grid.within(lo, hi, [&](sim::ModuleId o) {
-      if (squared_distance(this->at[o], at) <= radius * radius) visit(o);
+    grid.within(lo, hi, [&](sim::ModuleId o, const sim::Vec3& o_at) {
+      if (squared_distance(o_at, at) <= radius * radius) visit(o);
     });
   }
   bool holds(sim::ModuleId m) const {
     if (!present[m]) return false;
     if (owned(m)) return true;
     bool found = false;
-    near(at[m], [&](sim::ModuleId o) { found = found || (present[o] && owned(o)); });
+    near(grid.at(m), [&](sim::ModuleId o) { found = found || (present[o] && owned(o)); });
     return found;
   }
 };
@@ -271,10 +261,9 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     throw std::logic_error("ContactGraph::update over ranks needs the modules' owners");
   // Poses at rest are remembered as the bodies keep them: as their cells, without pages.
   if (!(s.world.defaults() == bodies.poses.defaults())) s.world = decltype(s.world)(bodies.poses.defaults());
-  const bool forget = !s.graph || s.world.size() != n || windowed != (s.graph->held != nullptr);
+  const bool regrid = s.fit_grid(bodies, n);
+  const bool forget = regrid || !s.graph || s.world.size() != n || windowed != (s.graph->held != nullptr);
   if (forget) changed = nullptr;
-  s.in_grid.resize(n, 0);
-  s.grid_at.resize(n);
   s.was_present.resize(n, 0);
   s.world.resize(n);
   if (!s.frame.empty()) s.frame.resize(n);
@@ -327,20 +316,20 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   entering.clear();
   const std::vector<uint8_t>* was_held = forget || !s.graph ? nullptr : s.graph->held.get();
   if (windowed) {
-    const Window w{s.grid, s.grid_at, present, *owners, static_cast<uint32_t>(ranks->rank()), s.cutoff * kWindowMargin};
+    const Window w{s.grid, present, *owners, static_cast<uint32_t>(ranks->rank()), s.cutoff * kWindowMargin};
     auto held = std::make_shared<std::vector<uint8_t>>(n, 0);
     if (forget) {
       for (sim::ModuleId a = 0; a < n; ++a)
         if (present[a] && w.owned(a)) {
           (*held)[a] = 1;
-          w.near(s.grid_at[a], [&](sim::ModuleId o) { (*held)[o] = present[o]; });
+          w.near(s.grid.at(a), [&](sim::ModuleId o) { (*held)[o] = present[o]; });
         }
     } else {
       *held = *was_held;
       std::vector<sim::ModuleId> again(flagged_list);
       for (sim::ModuleId m : flagged_list)
         if (w.owned(m)) {
-          w.near(s.grid_at[m], [&](sim::ModuleId o) { again.push_back(o); });
+          w.near(s.grid.at(m), [&](sim::ModuleId o) { again.push_back(o); });
           if (s.was_present[m] && s.world.known(m))
             w.near(s.world[m].position, [&](sim::ModuleId o) { again.push_back(o); });
         }
@@ -392,7 +381,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
         return;
       }
       if (!s.was_present[m] || !s.world.known(m)) return;  // never next to the window: no pair held
-      const Window w{s.grid, s.grid_at, present, *owners, 0, s.cutoff * kWindowMargin};
+      const Window w{s.grid, present, *owners, 0, s.cutoff * kWindowMargin};
       w.near(s.world[m].position, [&](sim::ModuleId o) {
         if (held_before(o) && !flagged[o] && s.graph->adjacent(o, m)) drop(m, o);
       });
@@ -423,8 +412,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
         }
       if (s.grid.cells_in(lo, hi) > 8 * uint64_t{cluster.count} + 64) continue;  // spread thin: ask each
       bool alone = true;
-      s.grid.within(lo, hi, [&](sim::ModuleId o) {
-        const auto& p = poses[o].position;
+      s.grid.within(lo, hi, [&](sim::ModuleId o, const sim::Vec3& p) {
         alone = alone && (bodies.cluster_of[o] == c || p[0] < lo[0] || p[0] > hi[0] || p[1] < lo[1] || p[1] > hi[1] ||
                           p[2] < lo[2] || p[2] > hi[2]);
       });
@@ -454,11 +442,11 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
       // the distance from where the grid placed b, which is where b is now: every module whose
       // pose may have changed was placed again above.
       const sim::Pose pose_a = poses[a];
-      s.grid.around(pose_a.position, [&](sim::ModuleId b) {
+      s.grid.around(pose_a.position, [&](sim::ModuleId b, const sim::Vec3& b_at) {
         if (b == a) return;
         const bool natural = stale(a, b);
         if (!natural && !renewed(a, b)) return;
-        if (squared_distance(pose_a.position, s.grid_at[b]) > cutoff2) return;
+        if (squared_distance(pose_a.position, b_at) > cutoff2) return;
         if (natural && search[a] && !(b < a && search[b]) && (!windowed || owners->rank_of(a) == me)) ++measured[run];
         if (!holds(a) && !holds(b)) return;
         if (b < a && visits(b)) return;  // measured from b's side

@@ -1,5 +1,6 @@
 #include "sim/lattice.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <utility>
@@ -50,26 +51,38 @@ int lattice_dimensions(LatticeKind kind) {
 std::array<float, 3> cell_position_of_any_kind(const LatticeSpec& spec, ModuleId m) {
   const uint32_t nx = spec.size[0], ny = spec.size[1];
   const uint32_t x = m % nx, y = (m / nx) % ny, z = m / nx / ny;
-  switch (spec.kind) {
-    case LatticeKind::Cubic:
-    case LatticeKind::Square2d: return {float(x), float(y), float(z)};
-    case LatticeKind::Hex2d:
-      // Offset rows: odd rows shift half a module right, rows sqrt(3)/2 apart, so every module
-      // touches six others (fewer at the border).
-      return {float(x) + ((y & 1) ? 0.5f : 0.0f), float(y) * (std::sqrt(3.0f) / 2), 0};
-    case LatticeKind::Fcc: {
-      const float shift = (z & 1) ? 0.5f : 0.0f;
-      return {float(x) + shift, float(y) + shift, float(z) * (std::sqrt(2.0f) / 2)};
-    }
-    case LatticeKind::Ring: {
-      // Neighbours one module apart (a chord of 1) around a circle.
-      const double radius = 0.5 / std::sin(std::numbers::pi / nx);
-      const double a = 2 * std::numbers::pi * m / nx;
-      return {float(radius * std::cos(a)), float(radius * std::sin(a)), 0};
-    }
-    case LatticeKind::Line: return {float(m), 0, 0};
+  if (spec.kind != LatticeKind::Ring) return cell_centre(spec, x, y, z);
+  // A ring's neighbours are one module apart (a chord of 1) around a circle.
+  const double radius = 0.5 / std::sin(std::numbers::pi / nx);
+  const double a = 2 * std::numbers::pi * m / nx;
+  return {float(radius * std::cos(a)), float(radius * std::sin(a)), 0};
+}
+
+CellRange cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, const std::array<float, 3>& hi) {
+  if (spec.kind == LatticeKind::Ring) return {};
+  // Per axis: the distance between cells, and how far right a shifted row or layer sits (hex2d's
+  // odd rows in x, fcc's odd layers in x and y). The margin takes in float rounding of centres.
+  std::array<double, 3> spacing{1, 1, 1}, shift{0, 0, 0};
+  if (spec.kind == LatticeKind::Hex2d) {
+    spacing[1] = std::sqrt(3.0) / 2;
+    shift[0] = 0.5;
+  } else if (spec.kind == LatticeKind::Fcc) {
+    spacing[2] = std::sqrt(2.0) / 2;
+    shift[0] = shift[1] = 0.5;
   }
-  return {};
+  constexpr double kMargin = 1e-3;
+  CellRange range;
+  for (int i = 0; i < 3; ++i) {
+    const double from = std::ceil((double(lo[i]) - shift[i]) / spacing[i] - kMargin),
+                 to = std::floor(double(hi[i]) / spacing[i] + kMargin);
+    const double last = double(spec.size[size_t(i)]) - 1;
+    // Not finite, or outside the lattice: no cell (a NaN fails every comparison).
+    if (!(from <= to) || !(to >= 0) || !(from <= last)) return {};
+    range.from[size_t(i)] = static_cast<uint32_t>(std::max(from, 0.0));
+    range.to[size_t(i)] = static_cast<uint32_t>(std::min(to, last));
+  }
+  range.empty = false;
+  return range;
 }
 
 Lattice make_lattice(const LatticeSpec& spec) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -34,10 +35,51 @@ struct LatticeSpec {
 // kept: 12 bytes a module (12 MB for a 100^3 lattice) on every rank. Inline for the square
 // grids, which the contact graph asks for every module's neighbours.
 std::array<float, 3> cell_position_of_any_kind(const LatticeSpec& spec, ModuleId m);
+// The same, from the cell's lattice coordinates, for every kind but the ring (whose cells are
+// numbered around a circle).
+inline std::array<float, 3> cell_centre(const LatticeSpec& spec, uint32_t x, uint32_t y, uint32_t z) {
+  switch (spec.kind) {
+    case LatticeKind::Hex2d:
+      // Offset rows: odd rows shift half a module right, rows sqrt(3)/2 apart, so every module
+      // touches six others (fewer at the border).
+      return {float(x) + ((y & 1) ? 0.5f : 0.0f), float(y) * (std::sqrt(3.0f) / 2), 0};
+    case LatticeKind::Fcc: {
+      const float shift = (z & 1) ? 0.5f : 0.0f;
+      return {float(x) + shift, float(y) + shift, float(z) * (std::sqrt(2.0f) / 2)};
+    }
+    default: return {float(x), float(y), float(z)};
+  }
+}
 inline std::array<float, 3> cell_position(const LatticeSpec& spec, ModuleId m) {
   if (spec.kind != LatticeKind::Cubic && spec.kind != LatticeKind::Square2d) return cell_position_of_any_kind(spec, m);
   const uint32_t nx = spec.size[0], ny = spec.size[1], row = m / nx;
   return {float(m - row * nx), float(row % ny), float(row / ny)};
+}
+
+// The lattice coordinates (inclusive, x y z) of the cells whose centres may lie in the box
+// [lo, hi]: every one that does, and at most a rounding's worth more. `empty` when there are none,
+// and always for a ring, whose cells lie on a circle (its modules are few: callers list them).
+struct CellRange {
+  std::array<uint32_t, 3> from{}, to{};
+  bool empty = true;
+};
+CellRange cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, const std::array<float, 3>& hi);
+// Calls visit(m, centre) for every module of a lattice other than a ring whose cell's centre lies
+// in the box [lo, hi], ascending: what a grid of module centres holds of those at rest, without
+// holding them.
+template <typename Visit>
+void for_cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, const std::array<float, 3>& hi,
+                      Visit&& visit) {
+  const CellRange range = cells_in_box(spec, lo, hi);
+  if (range.empty) return;
+  const uint32_t nx = spec.size[0], ny = spec.size[1];
+  for (uint32_t z = range.from[2]; z <= range.to[2]; ++z)
+    for (uint32_t y = range.from[1]; y <= range.to[1]; ++y)
+      for (uint32_t x = range.from[0]; x <= range.to[0]; ++x) {
+        const std::array<float, 3> p = cell_centre(spec, x, y, z);
+        if (p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1] && p[2] >= lo[2] && p[2] <= hi[2])
+          visit(x + nx * (y + ny * z), p);
+      }
 }
 
 struct Lattice {

@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <random>
+#include <vector>
 
 namespace dw::sim {
 namespace {
@@ -191,6 +194,67 @@ TEST(NeighborGraph, ChangedByPairsGoneAndMadeEqualsTheGraphBuiltAfresh) {
   EXPECT_EQ(moved.begin, window.begin);
   EXPECT_EQ(moved.ids, window.ids);
   EXPECT_FALSE(moved.ids.empty());
+}
+
+// The cells make_lattice's graph joins are one module apart, for every kind: the positions and
+// the adjacency come from one formula each.
+TEST(CellPosition, NeighboursInTheLatticeGraphAreOneModuleApart) {
+  for (const LatticeSpec spec :
+       {LatticeSpec{LatticeKind::Cubic, {4, 3, 5}}, LatticeSpec{LatticeKind::Square2d, {6, 4, 1}},
+        LatticeSpec{LatticeKind::Hex2d, {5, 6, 1}}, LatticeSpec{LatticeKind::Fcc, {4, 4, 4}},
+        LatticeSpec{LatticeKind::Ring, {12, 1, 1}}, LatticeSpec{LatticeKind::Line, {9, 1, 1}}}) {
+    const Lattice lattice = make_lattice(spec);
+    for (ModuleId m = 0; m < spec.module_count(); ++m)
+      for (ModuleId o : lattice.graph->neighbors(m)) {
+        const auto a = lattice.position(m), b = cell_position(spec, o);
+        EXPECT_NEAR(std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]), 1.0f, 1e-5f)
+            << lattice_name(spec.kind) << " " << m << "-" << o;
+      }
+  }
+}
+
+// The cells found in a box are exactly those whose centres lie in it, ascending, on every kind
+// of lattice but the ring (none), for boxes inside, across and outside the lattice's edges.
+TEST(CellsInBox, VisitsTheModulesWhoseCellsLieInTheBox) {
+  std::mt19937 random(5);
+  std::uniform_real_distribution<float> corner(-3, 9), width(0, 4);
+  for (const LatticeSpec spec :
+       {LatticeSpec{LatticeKind::Cubic, {4, 3, 5}}, LatticeSpec{LatticeKind::Square2d, {6, 4, 1}},
+        LatticeSpec{LatticeKind::Hex2d, {5, 6, 1}}, LatticeSpec{LatticeKind::Fcc, {4, 4, 6}},
+        LatticeSpec{LatticeKind::Ring, {12, 1, 1}}, LatticeSpec{LatticeKind::Line, {9, 1, 1}}}) {
+    size_t found = 0;
+    for (int box = 0; box < 300; ++box) {
+      std::array<float, 3> lo{}, hi{};
+      for (size_t i = 0; i < 3; ++i) hi[i] = (lo[i] = corner(random)) + width(random);
+      if (box % 3 == 0) lo[2] = hi[2] = 0;  // a flat box, where planar lattices lie
+      if (box % 5 == 0) {                   // a centre on the box's side
+        lo = cell_position(spec, ModuleId(box) % uint32_t(spec.module_count()));
+        for (size_t i = 0; i < 3; ++i) hi[i] = lo[i] + width(random);
+      }
+      std::vector<ModuleId> seen, expected;
+      for_cells_in_box(spec, lo, hi, [&](ModuleId m, const std::array<float, 3>& centre) {
+        seen.push_back(m);
+        EXPECT_EQ(centre, cell_position(spec, m));
+      });
+      if (spec.kind != LatticeKind::Ring)
+        for (ModuleId m = 0; m < spec.module_count(); ++m) {
+          const auto p = cell_position(spec, m);
+          if (p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1] && p[2] >= lo[2] && p[2] <= hi[2])
+            expected.push_back(m);
+        }
+      EXPECT_EQ(seen, expected) << lattice_name(spec.kind) << " box " << box;
+      found += seen.size();
+    }
+    if (spec.kind != LatticeKind::Ring) {
+      EXPECT_GT(found, 100u) << lattice_name(spec.kind);
+    }
+  }
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  const LatticeSpec cube{LatticeKind::Cubic, {3, 3, 3}};
+  EXPECT_FALSE(cells_in_box(cube, {-inf, -inf, -inf}, {inf, inf, inf}).empty);
+  EXPECT_EQ(cells_in_box(cube, {-inf, -inf, -inf}, {inf, inf, inf}).to, (std::array<uint32_t, 3>{2, 2, 2}));
+  EXPECT_TRUE(cells_in_box(cube, {nan, 0, 0}, {1, 1, 1}).empty);
+  EXPECT_TRUE(cells_in_box(cube, {3.5f, 0, 0}, {9, 1, 1}).empty);
 }
 
 }  // namespace

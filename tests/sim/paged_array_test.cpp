@@ -136,22 +136,5 @@ TEST(PagedArray, PerIndexDefaultsAreEachModulesCellAndTravelWithTheRecords) {
   EXPECT_EQ(read[5].position, cell_position(spec, 5));
 }
 
-// The cells make_lattice's graph joins are one module apart, for every kind: the positions and
-// the adjacency come from one formula each.
-TEST(CellPosition, NeighboursInTheLatticeGraphAreOneModuleApart) {
-  for (const LatticeSpec spec :
-       {LatticeSpec{LatticeKind::Cubic, {4, 3, 5}}, LatticeSpec{LatticeKind::Square2d, {6, 4, 1}},
-        LatticeSpec{LatticeKind::Hex2d, {5, 6, 1}}, LatticeSpec{LatticeKind::Fcc, {4, 4, 4}},
-        LatticeSpec{LatticeKind::Ring, {12, 1, 1}}, LatticeSpec{LatticeKind::Line, {9, 1, 1}}}) {
-    const Lattice lattice = make_lattice(spec);
-    for (ModuleId m = 0; m < spec.module_count(); ++m)
-      for (ModuleId o : lattice.graph->neighbors(m)) {
-        const auto a = lattice.position(m), b = cell_position(spec, o);
-        EXPECT_NEAR(std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]), 1.0f, 1e-5f)
-            << lattice_name(spec.kind) << " " << m << "-" << o;
-      }
-  }
-}
-
 }  // namespace
 }  // namespace dw::sim
