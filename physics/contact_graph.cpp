@@ -171,10 +171,15 @@ struct ContactGraph::Impl {
   float threshold, cutoff;
   float half = 0.5f, margin = 0;  // half the module's size, and its margin
   CellGrid grid;                  // every present module, where it was last placed
-  // As of the last measurement, per module: present, its world pose and its frame. `frame` is
-  // empty while every module's is the default one (a latched lattice anchored to the ground, where
-  // it would be 32 bytes a module of nothing), and per module once one is not.
-  std::vector<uint8_t> was_present;
+  // Per module, a byte of marks: whether it was present at the last measurement (kept), and an
+  // update's marks (all clear between updates): a byte a module where a vector of each took six.
+  enum Mark : uint8_t { kWasPresent = 1, kMoved = 2, kReframed = 4, kFlagged = 8, kSearch = 16, kRenew = 32 };
+  std::vector<uint8_t> marks;
+  bool marked(sim::ModuleId m, Mark k) const { return (marks[m] & k) != 0; }
+  void mark(sim::ModuleId m, Mark k, bool on) { marks[m] = on ? uint8_t(marks[m] | k) : uint8_t(marks[m] & ~k); }
+  // As of the last measurement, per module: its world pose and its frame. `frame` is empty while
+  // every module's is the default one (a latched lattice anchored to the ground, where it would be
+  // 32 bytes a module of nothing), and per module once one is not.
   // Over ranks, `world` is remembered for the modules of the window and those in its lists (the
   // only ones whose pairs it holds) and kept for every module once remembered: a module not
   // remembered counts as moved whenever it is looked at.
@@ -190,7 +195,6 @@ struct ContactGraph::Impl {
     frame[m] = f;
   }
   // Scratch of an update, kept so that a million-module step does not fault in fresh pages.
-  std::vector<uint8_t> moved, reframed, flagged, search, renew;  // all 0 between updates
   std::vector<sim::ModuleId> looked, flagged_list, entering;
   std::shared_ptr<const sim::NeighborGraph> graph;
 };
@@ -264,14 +268,9 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   const bool regrid = s.fit_grid(bodies, n);
   const bool forget = regrid || !s.graph || s.world.size() != n || windowed != (s.graph->held != nullptr);
   if (forget) changed = nullptr;
-  s.was_present.resize(n, 0);
+  s.marks.resize(n, 0);
   s.world.resize(n);
   if (!s.frame.empty()) s.frame.resize(n);
-  s.moved.resize(n, 0);
-  s.reframed.resize(n, 0);
-  s.flagged.resize(n, 0);
-  s.search.resize(n, 0);
-  if (windowed) s.renew.resize(n, 0);
 
   // The modules to look at: those the caller says may have changed, or all. Per module, what
   // changed since the last measurement: it came or went or its world pose changed (moved), or its
@@ -290,11 +289,13 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   flagged_list.clear();
   for (sim::ModuleId m : looked) {
     s.place(bodies, present, m);
-    s.moved[m] =
-        forget || present[m] != s.was_present[m] || (present[m] && !(s.world.known(m) && poses[m] == s.world[m]));
-    s.reframed[m] = forget || !(Impl::frame_of(bodies, m) == s.last_frame(m));
-    s.flagged[m] = s.moved[m] || s.reframed[m];
-    if (s.flagged[m]) flagged_list.push_back(m);
+    const bool is = present[m] != 0, moved = forget || is != s.marked(m, Impl::kWasPresent) ||
+                                             (is && !(s.world.known(m) && poses[m] == s.world[m]));
+    const bool reframed = forget || !(Impl::frame_of(bodies, m) == s.last_frame(m));
+    s.mark(m, Impl::kMoved, moved);
+    s.mark(m, Impl::kReframed, reframed);
+    s.mark(m, Impl::kFlagged, moved || reframed);
+    if (moved || reframed) flagged_list.push_back(m);
   }
   measured_ = 0;
   // Over ranks what a rank finds changed depends on what it remembers: each takes part in the sum
@@ -303,10 +304,13 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     if (windowed) ranks->sum(std::span(&measured_, 1));
     return s.graph;
   }
-  const std::vector<uint8_t>&moved = s.moved, &reframed = s.reframed, &flagged = s.flagged;
+  const auto moved = [&](sim::ModuleId m) { return s.marked(m, Impl::kMoved); };
+  const auto reframed = [&](sim::ModuleId m) { return s.marked(m, Impl::kReframed); };
+  const auto flagged = [&](sim::ModuleId m) { return s.marked(m, Impl::kFlagged); };
+  const auto was_present = [&](sim::ModuleId m) { return s.marked(m, Impl::kWasPresent); };
   // The frame a module is measured at now: the bodies' for the flagged ones (read again rather
   // than kept: 32 bytes a module), the last one for the others, which are known not to differ.
-  const auto now = [&](sim::ModuleId m) { return flagged[m] ? Impl::frame_of(bodies, m) : s.last_frame(m); };
+  const auto now = [&](sim::ModuleId m) { return flagged(m) ? Impl::frame_of(bodies, m) : s.last_frame(m); };
 
   // Over ranks, the window now: it changes only around what changed, the modules flagged and
   // those near where a flagged module of this rank's was and is. A module entering it (not
@@ -330,7 +334,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
       for (sim::ModuleId m : flagged_list)
         if (w.owned(m)) {
           w.near(s.grid.at(m), [&](sim::ModuleId o) { again.push_back(o); });
-          if (s.was_present[m] && s.world.known(m))
+          if (was_present(m) && s.world.known(m))
             w.near(s.world[m].position, [&](sim::ModuleId o) { again.push_back(o); });
         }
       std::sort(again.begin(), again.end());
@@ -339,7 +343,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
         (*held)[m] = w.holds(m);
         if ((*held)[m] && !(*was_held)[m]) {
           entering.push_back(m);
-          s.renew[m] = 1;
+          s.mark(m, Impl::kRenew, true);
         }
       }
     }
@@ -354,15 +358,15 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   const auto stale = [&](sim::ModuleId a, sim::ModuleId b) {
     if (forget) return true;
     // A module that came or went is flagged (moved), so an unflagged pair is present as it was.
-    if (!flagged[a] && !flagged[b]) return false;
+    if (!flagged(a) && !flagged(b)) return false;
     if (!present[a] || !present[b]) return true;
     const Impl::Frame &last_a = s.last_frame(a), &last_b = s.last_frame(b);
     const Impl::Frame now_a = now(a), now_b = now(b);
     const bool was = Impl::together(last_a, last_b), is = Impl::together(now_a, now_b);
     if (was != is) return true;
-    return is ? !(now_a.local == last_a.local && now_b.local == last_b.local) : moved[a] || moved[b];
+    return is ? !(now_a.local == last_a.local && now_b.local == last_b.local) : moved(a) || moved(b);
   };
-  const auto renewing = [&](sim::ModuleId m) { return windowed && s.renew[m] != 0; };
+  const auto renewing = [&](sim::ModuleId m) { return s.marked(m, Impl::kRenew); };
   const auto renewed = [&](sim::ModuleId a, sim::ModuleId b) { return renewing(a) || renewing(b); };
   // The pairs measured again, as they were. Only a pair with a flagged (or renewed) member can
   // be, and a module's pairs are its neighbours in the graph last made: those lists are all that
@@ -377,32 +381,32 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     const auto read = [&](sim::ModuleId m) {
       if (held_before(m)) {
         for (sim::ModuleId o : s.graph->neighbors(m))
-          if (!(flagged[o] && o < m && held_before(o))) drop(m, o);  // else read from o's side
+          if (!(flagged(o) && o < m && held_before(o))) drop(m, o);  // else read from o's side
         return;
       }
-      if (!s.was_present[m] || !s.world.known(m)) return;  // never next to the window: no pair held
+      if (!was_present(m) || !s.world.known(m)) return;  // never next to the window: no pair held
       const Window w{s.grid, present, *owners, 0, s.cutoff * kWindowMargin};
       w.near(s.world[m].position, [&](sim::ModuleId o) {
-        if (held_before(o) && !flagged[o] && s.graph->adjacent(o, m)) drop(m, o);
+        if (held_before(o) && !flagged(o) && s.graph->adjacent(o, m)) drop(m, o);
       });
     };
     for (sim::ModuleId m : flagged_list) read(m);
     for (sim::ModuleId m : entering)
-      if (!flagged[m]) read(m);
+      if (!flagged(m)) read(m);
     std::sort(dropped.begin(), dropped.end());
     dropped.erase(std::unique(dropped.begin(), dropped.end()), dropped.end());
   }
   // Who looks for pairs: what moved or was reframed, except the members of a cluster that moved
   // as a whole with nothing else near it (a pile free on the ground): their pairs with each other
   // keep their measurement, and nothing outside the cluster is within reach.
-  std::vector<uint8_t>& search = s.search;
-  for (sim::ModuleId m : flagged_list) search[m] = present[m];
+  const auto search = [&](sim::ModuleId m) { return s.marked(m, Impl::kSearch); };
+  for (sim::ModuleId m : flagged_list) s.mark(m, Impl::kSearch, present[m] != 0);
   if (!forget && !bodies.cluster_of.empty())
     for (uint32_t c = 0; c < bodies.clusters.size(); ++c) {
       const sim::Cluster& cluster = bodies.clusters[c];
       if (cluster.anchored || cluster.count < 2) continue;
       const std::span<const sim::ModuleId> members(bodies.members.data() + cluster.first, cluster.count);
-      if (std::any_of(members.begin(), members.end(), [&](sim::ModuleId m) { return reframed[m] && flagged[m]; }))
+      if (std::any_of(members.begin(), members.end(), [&](sim::ModuleId m) { return reframed(m) && flagged(m); }))
         continue;
       sim::Vec3 lo = poses[members[0]].position, hi = lo;
       for (sim::ModuleId m : members)
@@ -417,9 +421,9 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
                           p[2] < lo[2] || p[2] > hi[2]);
       });
       if (alone)
-        for (sim::ModuleId m : members) search[m] = 0;
+        for (sim::ModuleId m : members) s.mark(m, Impl::kSearch, false);
     }
-  const auto visits = [&](sim::ModuleId m) { return search[m] || (renewing(m) && present[m]); };
+  const auto visits = [&](sim::ModuleId m) { return search(m) || (renewing(m) && present[m]); };
 
   // Each worker measures the stale pairs of a run of the visiting modules; the runs are joined.
   // A pair is measured from its lower visiting member's side. Over ranks, a rank measures the pairs
@@ -437,7 +441,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   workers.run([&](unsigned run) {
     for (size_t i = count * run / runs; i < count * (run + 1) / runs; ++i) {
       const sim::ModuleId a = visiting(i);
-      if (!visits(a) || (i >= flagged_list.size() && flagged[a])) continue;  // an entering module flagged: once
+      if (!visits(a) || (i >= flagged_list.size() && flagged(a))) continue;  // an entering module flagged: once
       // Poses are read once each (a module at rest has its cell's, computed on each read), and
       // the distance from where the grid placed b, which is where b is now: every module whose
       // pose may have changed was placed again above.
@@ -447,7 +451,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
         const bool natural = stale(a, b);
         if (!natural && !renewed(a, b)) return;
         if (squared_distance(pose_a.position, b_at) > cutoff2) return;
-        if (natural && search[a] && !(b < a && search[b]) && (!windowed || owners->rank_of(a) == me)) ++measured[run];
+        if (natural && search(a) && !(b < a && search(b)) && (!windowed || owners->rank_of(a) == me)) ++measured[run];
         if (!holds(a) && !holds(b)) return;
         if (b < a && visits(b)) return;  // measured from b's side
         const Impl::Frame now_a = now(a), now_b = now(b);
@@ -478,13 +482,12 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
         if ((*window)[m]) remember(m);
   }
   for (sim::ModuleId m : flagged_list) {
-    s.was_present[m] = present[m];
-    if (moved[m] && (!windowed || s.world.known(m))) s.world.set(m, poses[m]);
-    if (reframed[m]) s.keep_frame(m, Impl::frame_of(bodies, m), n);
-    s.moved[m] = s.reframed[m] = s.flagged[m] = 0;
-    search[m] = 0;
+    if (moved(m) && (!windowed || s.world.known(m))) s.world.set(m, poses[m]);
+    if (reframed(m)) s.keep_frame(m, Impl::frame_of(bodies, m), n);
+    // kRenew stays until the lists gained are read below.
+    s.marks[m] &= uint8_t(~(Impl::kMoved | Impl::kReframed | Impl::kFlagged | Impl::kSearch));
   }
-  for (sim::ModuleId m : looked) s.was_present[m] = present[m];
+  for (sim::ModuleId m : looked) s.mark(m, Impl::kWasPresent, present[m] != 0);
   if (forget) {  // every pair was measured
     s.graph = std::make_shared<const sim::NeighborGraph>(
         sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), fresh).held_only(std::move(window)));
@@ -500,10 +503,10 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   std::set_difference(fresh.begin(), fresh.end(), dropped.begin(), dropped.end(), std::back_inserter(made));
   if (!entering.empty()) {
     for (const auto& [a, b] : fresh) {
-      if (s.renew[a]) gained.emplace_back(a, b);
-      if (s.renew[b]) gained.emplace_back(b, a);
+      if (renewing(a)) gained.emplace_back(a, b);
+      if (renewing(b)) gained.emplace_back(b, a);
     }
-    for (sim::ModuleId m : entering) s.renew[m] = 0;
+    for (sim::ModuleId m : entering) s.mark(m, Impl::kRenew, false);
     std::sort(gained.begin(), gained.end());
   }
   s.graph = std::make_shared<const sim::NeighborGraph>(
