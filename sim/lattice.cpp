@@ -48,13 +48,10 @@ int lattice_dimensions(LatticeKind kind) {
   return 1;
 }
 
-std::array<float, 3> cell_position_of_any_kind(const LatticeSpec& spec, ModuleId m) {
-  const uint32_t nx = spec.size[0], ny = spec.size[1];
-  const uint32_t x = m % nx, y = (m / nx) % ny, z = m / nx / ny;
-  if (spec.kind != LatticeKind::Ring) return cell_centre(spec, x, y, z);
-  // A ring's neighbours are one module apart (a chord of 1) around a circle.
-  const double radius = 0.5 / std::sin(std::numbers::pi / nx);
-  const double a = 2 * std::numbers::pi * m / nx;
+std::array<float, 3> ring_cell_centre(const LatticeSpec& spec, ModuleId m) {
+  const uint32_t n = spec.size[0];
+  const double radius = 0.5 / std::sin(std::numbers::pi / n);
+  const double a = 2 * std::numbers::pi * m / n;
   return {float(radius * std::cos(a)), float(radius * std::sin(a)), 0};
 }
 

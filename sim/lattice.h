@@ -2,6 +2,7 @@
 // Module ids run x-fastest: x + nx * (y + ny * z).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -31,12 +32,8 @@ struct LatticeSpec {
   bool operator==(const LatticeSpec&) const = default;
 };
 
-// The centre of module m's cell, one module size apart from the next; z is up. Computed, not
-// kept: 12 bytes a module (12 MB for a 100^3 lattice) on every rank. Inline for the square
-// grids, which the contact graph asks for every module's neighbours.
-std::array<float, 3> cell_position_of_any_kind(const LatticeSpec& spec, ModuleId m);
-// The same, from the cell's lattice coordinates, for every kind but the ring (whose cells are
-// numbered around a circle).
+// The centre of the cell at lattice coordinates (x, y, z), one module size apart from the next;
+// z is up. For every kind but the ring (whose cells are numbered around a circle).
 inline std::array<float, 3> cell_centre(const LatticeSpec& spec, uint32_t x, uint32_t y, uint32_t z) {
   switch (spec.kind) {
     case LatticeKind::Hex2d:
@@ -50,10 +47,14 @@ inline std::array<float, 3> cell_centre(const LatticeSpec& spec, uint32_t x, uin
     default: return {float(x), float(y), float(z)};
   }
 }
+// A ring's cells: neighbours one module apart (a chord of 1) around a circle.
+std::array<float, 3> ring_cell_centre(const LatticeSpec& spec, ModuleId m);
+// The centre of module m's cell. Computed, not kept: 12 bytes a module (12 MB for a 100^3
+// lattice) on every rank. Inline, since the contact graph asks for every module's neighbours.
 inline std::array<float, 3> cell_position(const LatticeSpec& spec, ModuleId m) {
-  if (spec.kind != LatticeKind::Cubic && spec.kind != LatticeKind::Square2d) return cell_position_of_any_kind(spec, m);
+  if (spec.kind == LatticeKind::Ring) return ring_cell_centre(spec, m);
   const uint32_t nx = spec.size[0], ny = spec.size[1], row = m / nx;
-  return {float(m - row * nx), float(row % ny), float(row / ny)};
+  return cell_centre(spec, m - row * nx, row % ny, row / ny);
 }
 
 // The lattice coordinates (inclusive, x y z) of the cells whose centres may lie in the box
@@ -73,13 +74,33 @@ void for_cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, c
   const CellRange range = cells_in_box(spec, lo, hi);
   if (range.empty) return;
   const uint32_t nx = spec.size[0], ny = spec.size[1];
-  for (uint32_t z = range.from[2]; z <= range.to[2]; ++z)
-    for (uint32_t y = range.from[1]; y <= range.to[1]; ++y)
-      for (uint32_t x = range.from[0]; x <= range.to[0]; ++x) {
+  // The range takes in both a shifted row's cells and an unshifted one's; each row (hex2d) or
+  // layer (fcc) narrows it to its own: a column fewer, in x and y for fcc.
+  const bool hex = spec.kind == LatticeKind::Hex2d, fcc = spec.kind == LatticeKind::Fcc;
+  // Narrows [from, to] to the cells of a row shifted by `shift`; false when none is left.
+  const auto narrow = [](uint32_t& from, uint32_t& to, float low, float high, double shift) {
+    constexpr double kMargin = 1e-3;
+    const double a = std::max(double(from), std::ceil(double(low) - shift - kMargin)),
+                 b = std::min(double(to), std::floor(double(high) - shift + kMargin));
+    if (!(a <= b)) return false;
+    from = static_cast<uint32_t>(a);
+    to = static_cast<uint32_t>(b);
+    return true;
+  };
+  for (uint32_t z = range.from[2]; z <= range.to[2]; ++z) {
+    const double layer_shift = fcc && (z & 1) ? 0.5 : 0.0;
+    uint32_t y_from = range.from[1], y_to = range.to[1];
+    if (fcc && !narrow(y_from, y_to, lo[1], hi[1], layer_shift)) continue;
+    for (uint32_t y = y_from; y <= y_to; ++y) {
+      uint32_t x_from = range.from[0], x_to = range.to[0];
+      if ((fcc || hex) && !narrow(x_from, x_to, lo[0], hi[0], layer_shift + (hex && (y & 1) ? 0.5 : 0.0))) continue;
+      for (uint32_t x = x_from; x <= x_to; ++x) {
         const std::array<float, 3> p = cell_centre(spec, x, y, z);
         if (p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1] && p[2] >= lo[2] && p[2] <= hi[2])
           visit(x + nx * (y + ny * z), p);
       }
+    }
+  }
 }
 
 struct Lattice {
