@@ -26,14 +26,12 @@ class CellGrid {
 
   float side() const { return side_; }
   const sim::CellPose& rest() const { return at_.defaults().cell; }
-  size_t size() const { return state_.size(); }
   // Room for n modules; those added are out of the grid.
   void resize(size_t n);
 
   // Puts module m at `at`, or takes it out of the grid (not present).
   void place(sim::ModuleId m, bool present, const sim::Vec3& at);
-  bool has(sim::ModuleId m) const { return state_[m] != kOut; }
-  // Where module m was placed last (while has(m)).
+  // Where module m was placed last (while in the grid).
   sim::Vec3 at(sim::ModuleId m) const { return at_[m]; }
   // How many modules are binned: those present away from their cells.
   size_t binned() const { return binned_count_; }

@@ -172,7 +172,7 @@ struct ContactGraph::Impl {
   float half = 0.5f, margin = 0;  // half the module's size, and its margin
   CellGrid grid;                  // every present module, where it was last placed
   // Per module, a byte of marks: whether it was present at the last measurement (kept), and an
-  // update's marks (all clear between updates): a byte a module where a vector of each took six.
+  // update's marks (all clear between updates): a byte a module, where a vector for each took six.
   enum Mark : uint8_t { kWasPresent = 1, kMoved = 2, kReframed = 4, kFlagged = 8, kSearch = 16, kRenew = 32 };
   std::vector<uint8_t> marks;
   bool marked(sim::ModuleId m, Mark k) const { return (marks[m] & k) != 0; }

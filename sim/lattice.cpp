@@ -58,7 +58,7 @@ std::array<float, 3> ring_cell_centre(const LatticeSpec& spec, ModuleId m) {
 CellRange cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, const std::array<float, 3>& hi) {
   if (spec.kind == LatticeKind::Ring) return {};
   // Per axis: the distance between cells, and how far right a shifted row or layer sits (hex2d's
-  // odd rows in x, fcc's odd layers in x and y). The margin takes in float rounding of centres.
+  // odd rows in x, fcc's odd layers in x and y).
   std::array<double, 3> spacing{1, 1, 1}, shift{0, 0, 0};
   if (spec.kind == LatticeKind::Hex2d) {
     spacing[1] = std::sqrt(3.0) / 2;
@@ -67,11 +67,10 @@ CellRange cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, 
     spacing[2] = std::sqrt(2.0) / 2;
     shift[0] = shift[1] = 0.5;
   }
-  constexpr double kMargin = 1e-3;
   CellRange range;
   for (int i = 0; i < 3; ++i) {
-    const double from = std::ceil((double(lo[i]) - shift[i]) / spacing[i] - kMargin),
-                 to = std::floor(double(hi[i]) / spacing[i] + kMargin);
+    const double from = std::ceil((double(lo[i]) - shift[i]) / spacing[i] - kCellRounding),
+                 to = std::floor(double(hi[i]) / spacing[i] + kCellRounding);
     const double last = double(spec.size[size_t(i)]) - 1;
     // Not finite, or outside the lattice: no cell (a NaN fails every comparison).
     if (!(from <= to) || !(to >= 0) || !(from <= last)) return {};

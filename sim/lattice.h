@@ -64,6 +64,8 @@ struct CellRange {
   std::array<uint32_t, 3> from{}, to{};
   bool empty = true;
 };
+// How far past a box's side a cell is still taken in: float rounding of its centre.
+inline constexpr double kCellRounding = 1e-3;
 CellRange cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, const std::array<float, 3>& hi);
 // Calls visit(m, centre) for every module of a lattice other than a ring whose cell's centre lies
 // in the box [lo, hi], ascending: what a grid of module centres holds of those at rest, without
@@ -79,9 +81,8 @@ void for_cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, c
   const bool hex = spec.kind == LatticeKind::Hex2d, fcc = spec.kind == LatticeKind::Fcc;
   // Narrows [from, to] to the cells of a row shifted by `shift`; false when none is left.
   const auto narrow = [](uint32_t& from, uint32_t& to, float low, float high, double shift) {
-    constexpr double kMargin = 1e-3;
-    const double a = std::max(double(from), std::ceil(double(low) - shift - kMargin)),
-                 b = std::min(double(to), std::floor(double(high) - shift + kMargin));
+    const double a = std::max(double(from), std::ceil(double(low) - shift - kCellRounding)),
+                 b = std::min(double(to), std::floor(double(high) - shift + kCellRounding));
     if (!(a <= b)) return false;
     from = static_cast<uint32_t>(a);
     to = static_cast<uint32_t>(b);
