@@ -41,8 +41,10 @@ void CellGrid::place(sim::ModuleId m, bool present, const sim::Vec3& at) {
   if (present) now = at_cell_ && at == at_.defaults()(m) ? kAtCell : kBinned;
   if (now == was && now != kBinned) return;
   const sim::Vec3 from = at_[m];
-  if (was == kBinned && (now != kBinned || key(from) != key(at))) unbin(m, from);
-  if (now == kBinned && (was != kBinned || key(from) != key(at))) binned_[key(at)].push_back(m);
+  // A binned module that moves within its grid cell stays in its bin.
+  const bool rebin = was != now || key(from) != key(at);
+  if (was == kBinned && rebin) unbin(m, from);
+  if (now == kBinned && rebin) binned_[key(at)].push_back(m);
   binned_count_ += size_t(now == kBinned) - size_t(was == kBinned);
   state_[m] = now;
   if (now != kOut) at_.set(m, at);

@@ -61,11 +61,11 @@ CellRange cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, 
   // odd rows in x, fcc's odd layers in x and y).
   std::array<double, 3> spacing{1, 1, 1}, shift{0, 0, 0};
   if (spec.kind == LatticeKind::Hex2d) {
-    spacing[1] = std::sqrt(3.0) / 2;
-    shift[0] = 0.5;
+    spacing[1] = kHexRowSpacing;
+    shift[0] = kShiftedRowOffset;
   } else if (spec.kind == LatticeKind::Fcc) {
-    spacing[2] = std::sqrt(2.0) / 2;
-    shift[0] = shift[1] = 0.5;
+    spacing[2] = kFccLayerSpacing;
+    shift[0] = shift[1] = kShiftedRowOffset;
   }
   CellRange range;
   for (int i = 0; i < 3; ++i) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <span>
 #include <string>
@@ -32,17 +33,22 @@ struct LatticeSpec {
   bool operator==(const LatticeSpec&) const = default;
 };
 
+// The shapes of the offset lattices. hex2d: odd rows sit half a module right, rows sqrt(3)/2
+// apart, so every module touches six others (fewer at the border). fcc: odd layers sit half a
+// module right in x and in y, layers sqrt(2)/2 apart, so every module touches twelve.
+inline constexpr double kShiftedRowOffset = 0.5;
+inline constexpr double kHexRowSpacing = std::numbers::sqrt3 / 2;
+inline constexpr double kFccLayerSpacing = std::numbers::sqrt2 / 2;
+
 // The centre of the cell at lattice coordinates (x, y, z), one module size apart from the next;
 // z is up. For every kind but the ring (whose cells are numbered around a circle).
 inline std::array<float, 3> cell_centre(const LatticeSpec& spec, uint32_t x, uint32_t y, uint32_t z) {
+  constexpr float shift = float(kShiftedRowOffset);
   switch (spec.kind) {
-    case LatticeKind::Hex2d:
-      // Offset rows: odd rows shift half a module right, rows sqrt(3)/2 apart, so every module
-      // touches six others (fewer at the border).
-      return {float(x) + ((y & 1) ? 0.5f : 0.0f), float(y) * (std::sqrt(3.0f) / 2), 0};
+    case LatticeKind::Hex2d: return {float(x) + ((y & 1) ? shift : 0.0f), float(y) * float(kHexRowSpacing), 0};
     case LatticeKind::Fcc: {
-      const float shift = (z & 1) ? 0.5f : 0.0f;
-      return {float(x) + shift, float(y) + shift, float(z) * (std::sqrt(2.0f) / 2)};
+      const float offset = (z & 1) ? shift : 0.0f;
+      return {float(x) + offset, float(y) + offset, float(z) * float(kFccLayerSpacing)};
     }
     default: return {float(x), float(y), float(z)};
   }
@@ -89,12 +95,13 @@ void for_cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, c
     return true;
   };
   for (uint32_t z = range.from[2]; z <= range.to[2]; ++z) {
-    const double layer_shift = fcc && (z & 1) ? 0.5 : 0.0;
+    const double layer_shift = fcc && (z & 1) ? kShiftedRowOffset : 0.0;
     uint32_t y_from = range.from[1], y_to = range.to[1];
     if (fcc && !narrow(y_from, y_to, lo[1], hi[1], layer_shift)) continue;
     for (uint32_t y = y_from; y <= y_to; ++y) {
       uint32_t x_from = range.from[0], x_to = range.to[0];
-      if ((fcc || hex) && !narrow(x_from, x_to, lo[0], hi[0], layer_shift + (hex && (y & 1) ? 0.5 : 0.0))) continue;
+      if ((fcc || hex) && !narrow(x_from, x_to, lo[0], hi[0], layer_shift + (hex && (y & 1) ? kShiftedRowOffset : 0.0)))
+        continue;
       for (uint32_t x = x_from; x <= x_to; ++x) {
         const std::array<float, 3> p = cell_centre(spec, x, y, z);
         if (p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1] && p[2] >= lo[2] && p[2] <= hi[2])
