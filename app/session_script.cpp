@@ -441,11 +441,11 @@ nlohmann::ordered_json SessionShell::match_json(uint32_t w, size_t i) const {
   j["t"] = list.t[i];
   nlohmann::ordered_json slots = nlohmann::ordered_json::object();
   for (size_t s = 0; s < k; ++s)
-    slots[h.watchpoint.program.slot_names[s]] = session_.model().universe.module_ids[list.slots[i * k + s]];
+    slots[h.watchpoint.program.slot_names[s]] = session_.model().universe.id(list.slots[i * k + s]);
   j["slots"] = std::move(slots);
   if (const size_t a = h.watchpoint.program.actions.size(); a > 0 && list.actions.size() >= (i + 1) * a) {
     std::vector<watch::ModuleId> ids;
-    for (size_t s = 0; s < k; ++s) ids.push_back(session_.model().universe.module_ids[list.slots[i * k + s]]);
+    for (size_t s = 0; s < k; ++s) ids.push_back(session_.model().universe.id(list.slots[i * k + s]));
     j["then"] = sim::MatchLog::then_json(sim::MatchLog::info(h.watchpoint), ids, {list.actions.data() + i * a, a});
   }
   j["detected"] = list.detected[i];
@@ -490,7 +490,7 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
           const sim::HostedWatchpoint& h = model.watches[pause->watch];
           nlohmann::ordered_json group = nlohmann::ordered_json::object();
           for (size_t s = 0; s < pause->group.size(); ++s)
-            group[h.watchpoint.program.slot_names[s]] = model.universe.module_ids[pause->group[s]];
+            group[h.watchpoint.program.slot_names[s]] = model.universe.id(pause->group[s]);
           stop = {{"watch", h.watchpoint.name},
                   {"t", pause->t},
                   {"detected", pause->detected},
@@ -606,14 +606,14 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         const auto m = static_cast<sim::ModuleId>(*cmd.number);
         const sim::State& s = session_.state();
         answer["t"] = session_.current();
-        answer["module"] = model.universe.module_ids[m];
+        answer["module"] = model.universe.id(m);
         answer["present"] = session_.seen_present()[m] != 0;
         nlohmann::ordered_json vars = nlohmann::ordered_json::object();
         for (uint32_t v = 0; v < model.variable_count(); ++v)
           vars[model.universe.variables[v]] = s.values[size_t{m} * model.variable_count() + v];
         answer["vars"] = std::move(vars);
         nlohmann::ordered_json nbrs = nlohmann::ordered_json::array();
-        for (sim::ModuleId n : session_.seen_graph().neighbors(m)) nbrs.push_back(model.universe.module_ids[n]);
+        for (sim::ModuleId n : session_.seen_graph().neighbors(m)) nbrs.push_back(model.universe.id(n));
         answer["nbrs"] = std::move(nbrs);
         if (!s.bodies.empty()) {
           const sim::Pose& p = s.bodies.poses[m];

@@ -41,7 +41,7 @@ toml::table watch_table(const sim::HostedWatchpoint& h) {
 toml::table event_table(const sim::Intervention& i, const sim::Model& model) {
   toml::table t;
   t.insert("at", i.at);
-  t.insert("module", static_cast<int64_t>(model.universe.module_ids[i.module]));
+  t.insert("module", static_cast<int64_t>(model.universe.id(i.module)));
   switch (i.kind) {
     case sim::Intervention::Kind::Set: {
       toml::table set;

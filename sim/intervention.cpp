@@ -13,7 +13,7 @@ std::string empty_cell_problem(const Lattice& lattice, ModuleId m, Intervention:
 std::string intervention_json(const Intervention& i, const watch::Universe& universe) {
   nlohmann::ordered_json j;
   j["at"] = i.at;
-  j["module"] = i.module < universe.module_ids.size() ? universe.module_ids[i.module] : i.module;
+  j["module"] = i.module < universe.module_count() ? universe.id(i.module) : i.module;
   switch (i.kind) {
     case Intervention::Kind::Set: j["set"] = {{universe.variables.at(static_cast<size_t>(i.column)), i.value}}; break;
     case Intervention::Kind::Remove: j["remove"] = true; break;

@@ -33,8 +33,7 @@ std::variant<std::unique_ptr<Model>, std::string> build_model(Lattice lattice,
   const uint32_t modules = static_cast<uint32_t>(lattice.spec.module_count());
   model->lattice = std::move(lattice);
   model->seed = seed;
-  model->universe.module_ids.resize(modules);
-  for (uint32_t m = 0; m < modules; ++m) model->universe.module_ids[m] = m;
+  model->universe.identity_count = modules;
   std::vector<std::string_view> owner;
   // Columns by name: a script may declare hundreds of thousands of variables (Model::column
   // searches the list, which made this loop quadratic).
@@ -58,7 +57,6 @@ std::variant<std::unique_ptr<Model>, std::string> build_model(Lattice lattice,
     }
   }
   model->programs = std::move(programs);
-  model->all_known.assign(size_t{modules} * model->variable_count(), 1);
   model->watches = std::move(watches);
   return model;
 }

@@ -50,7 +50,6 @@ struct Model {
   std::vector<uint32_t> program_base;                        // the column of each program's first variable
   watch::Universe universe;                                  // module ids 0..M-1; variable names in column order
   std::vector<int64_t> initial_values;                       // per column
-  std::vector<uint8_t> all_known;  // [module * variables + column], all 1: every module has every variable
   std::vector<HostedWatchpoint> watches;
   uint64_t seed = 1;
   // What the messages sent in one step may take in one process, in bytes (each message's header

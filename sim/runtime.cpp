@@ -34,7 +34,6 @@ watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_
   frame.step = step;
   frame.present = present;
   frame.values = values;
-  frame.has_value = std::span(model.all_known).subspan(size_t{first_module} * model.variable_count(), values.size());
   frame.first_module = first_module;
   frame.nbr_begin = graph->begin;
   frame.nbrs = graph->ids;

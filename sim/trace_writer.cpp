@@ -70,18 +70,18 @@ void TraceWriter::write(const watch::Frame& f) {
   const std::string t = std::to_string(f.step);
   for (uint32_t m = 0; m < universe_.module_count(); ++m) {
     if (!f.present[m]) continue;
-    line_ = "{\"t\":" + t + ",\"m\":" + std::to_string(universe_.module_ids[m]) + ",\"vars\":{";
+    line_ = "{\"t\":" + t + ",\"m\":" + std::to_string(universe_.id(m)) + ",\"vars\":{";
     bool first = true;
     for (size_t v = 0; v < keys_.size(); ++v) {
       const size_t at = static_cast<size_t>(m) * f.variable_count + v;
-      if (!f.has_value[at]) continue;
+      if (!f.has(at)) continue;
       line_ += (first ? "" : ",") + keys_[v] + std::to_string(f.values[at]);
       first = false;
     }
     line_ += "},\"nbrs\":[";
     first = true;
     for (uint32_t n : f.neighbors(m)) {
-      line_ += (first ? "" : ",") + std::to_string(universe_.module_ids[n]);
+      line_ += (first ? "" : ",") + std::to_string(universe_.id(n));
       first = false;
     }
     line_ += "]}\n";

@@ -62,7 +62,7 @@ void AgentHistory::record(const Frame& frame, uint32_t begin, uint32_t end, std:
     const size_t c = static_cast<size_t>(columns[v]);
     for (uint32_t m = begin; m < end; ++m) {
       const size_t at = size_t{m - frame.first_module} * frame.variable_count + c;
-      const bool known = frame.present[m] && frame.has_value[at];
+      const bool known = frame.present[m] && frame.has(at);
       row.known[m - first_] = known;
       row.values[m - first_] = known ? frame.values[at] : 0;
     }

@@ -75,14 +75,14 @@ std::vector<int> variable_columns(const Program& program, const Universe& univer
 }
 
 Detector::Detector(const Universe& universe, MatchSink sink) : universe_(universe), sink_(std::move(sink)) {
-  for (uint32_t m = 0; m < universe.module_count(); ++m) dense_ids_are_ids_ &= universe.module_ids[m] == m;
+  for (uint32_t m = 0; m < universe.module_count(); ++m) dense_ids_are_ids_ &= universe.id(m) == m;
 }
 
 void Detector::emit(int64_t t, std::span<const uint32_t> dense, std::span<const Value> actions) {
   if (dense.empty()) return;
   if (dense_ids_are_ids_) return sink_(t, dense, actions);
   ids_.resize(dense.size());
-  for (size_t i = 0; i < ids_.size(); ++i) ids_[i] = universe_.module_ids[dense[i]];
+  for (size_t i = 0; i < ids_.size(); ++i) ids_[i] = universe_.id(dense[i]);
   sink_(t, ids_, actions);
 }
 

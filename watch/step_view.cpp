@@ -21,7 +21,7 @@ void StepHistory::record(const Frame& frame) {
     const int c = frame_columns_[v];
     for (uint32_t m = 0; m < modules_; ++m) {
       const size_t at = static_cast<size_t>(m) * frame.variable_count + static_cast<size_t>(c);
-      const bool known = c >= 0 && frame.present[m] && frame.has_value[at];
+      const bool known = c >= 0 && frame.present[m] && frame.has(at);
       col.known[m] = known;
       col.value[m] = known ? frame.values[at] : 0;
     }

@@ -464,7 +464,7 @@ void Debugger::view_input(float x, float y, bool hovered) {
   if (hovered_) {
     const sim::Model& m = session_.model();
     ImGui::BeginTooltip();
-    ImGui::Text("module %u", m.universe.module_ids[*hovered_]);
+    ImGui::Text("module %u", m.universe.id(*hovered_));
     if (!frame_.color_values.empty() && *hovered_ < frame_.color_values.size())
       ImGui::Text("%s = %lld", model_.color_by.c_str(), static_cast<long long>(frame_.color_values[*hovered_]));
     ImGui::TextDisabled("click to select");

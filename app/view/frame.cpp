@@ -12,7 +12,7 @@ std::string slots_text(const sim::Model& model, uint32_t watch, std::span<const 
   const auto& names = model.watches[watch].watchpoint.program.slot_names;
   std::string s;
   for (size_t i = 0; i < group.size() && i < names.size(); ++i)
-    s += (s.empty() ? "" : " ") + names[i] + "=" + std::to_string(model.universe.module_ids[group[i]]);
+    s += (s.empty() ? "" : " ") + names[i] + "=" + std::to_string(model.universe.id(group[i]));
   return s;
 }
 
@@ -173,9 +173,8 @@ nlohmann::ordered_json Frame::panel(const std::string& name, const sim::Model& m
     j["latest"] = at.latest;
     j["decided"] = decided;
     if (failure)
-      j["failure"] = {{"step", failure->step},
-                      {"module", model.universe.module_ids[failure->module]},
-                      {"message", failure->message}};
+      j["failure"] = {
+          {"step", failure->step}, {"module", model.universe.id(failure->module)}, {"message", failure->message}};
   } else if (name == "matches") {
     j["total"] = match_total;
     nlohmann::ordered_json rows = nlohmann::ordered_json::array();
@@ -194,7 +193,7 @@ nlohmann::ordered_json Frame::panel(const std::string& name, const sim::Model& m
       return j;
     }
     const Inspector& in = *inspector;
-    j["module"] = model.universe.module_ids[in.module];
+    j["module"] = model.universe.id(in.module);
     j["t"] = at.current;
     j["present"] = in.present;
     nlohmann::ordered_json vars = nlohmann::ordered_json::array();
@@ -206,7 +205,7 @@ nlohmann::ordered_json Frame::panel(const std::string& name, const sim::Model& m
     }
     j["vars"] = std::move(vars);
     nlohmann::ordered_json nbrs = nlohmann::ordered_json::array();
-    for (sim::ModuleId n : in.neighbors) nbrs.push_back(model.universe.module_ids[n]);
+    for (sim::ModuleId n : in.neighbors) nbrs.push_back(model.universe.id(n));
     j["nbrs"] = std::move(nbrs);
     j["matches"] = in.matches_total;
     j["plot"] = {{"variable", model.universe.variables[size_t(in.plot_column)]},

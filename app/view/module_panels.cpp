@@ -21,7 +21,7 @@ void Debugger::inspector_panel() {
     return;
   }
   const Inspector& in = *frame_.inspector;
-  ImGui::Text("module %u at step %" PRId64 "%s", m.universe.module_ids[in.module], frame_.at.current,
+  ImGui::Text("module %u at step %" PRId64 "%s", m.universe.id(in.module), frame_.at.current,
               in.present ? "" : "  (absent)");
   if (in.pose) {
     const auto& p = in.pose->position;
@@ -62,7 +62,7 @@ void Debugger::inspector_panel() {
   ImGui::TextUnformatted("neighbours:");
   for (sim::ModuleId n : in.neighbors) {
     ImGui::SameLine();
-    if (ImGui::SmallButton(std::to_string(m.universe.module_ids[n]).c_str())) {
+    if (ImGui::SmallButton(std::to_string(m.universe.id(n)).c_str())) {
       model_.on_module_click(n);
       frame_stale_ = true;
     }

@@ -101,8 +101,8 @@ void Debugger::transport_panel() {
     // What stopped the run, in red, at the step it happened; the module is selected.
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.35f, 0.3f, 1.0f));
     ImGui::TextWrapped("Program error at step %" PRId64 " (module %" PRId64 "); the run stands at step %" PRId64 ": %s",
-                       frame_.failure->step, int64_t(scenario_.model->universe.module_ids[frame_.failure->module]),
-                       at.latest, frame_.failure->message.c_str());
+                       frame_.failure->step, int64_t(scenario_.model->universe.id(frame_.failure->module)), at.latest,
+                       frame_.failure->message.c_str());
     ImGui::PopStyleColor();
   } else if (status_failed_) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.35f, 0.3f, 1.0f));

@@ -89,7 +89,7 @@ nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& 
     settle();
     frame();  // the camera centres on the group at the next frame
     answer["current"] = frame_.at.current;
-    answer["selected"] = model_.selected ? nlohmann::ordered_json(m.universe.module_ids[*model_.selected]) : nullptr;
+    answer["selected"] = model_.selected ? nlohmann::ordered_json(m.universe.id(*model_.selected)) : nullptr;
   } else if (words[0] == "click") {
     const auto module = number(1, 0, int64_t(m.module_count()) - 1, "M");
     if (!module) return answer;
@@ -108,7 +108,7 @@ nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& 
     frame_stale_ = true;
     settle();
     answer["pixel"] = {pixel->x, pixel->y};
-    answer["selected"] = model_.selected ? nlohmann::ordered_json(m.universe.module_ids[*model_.selected]) : nullptr;
+    answer["selected"] = model_.selected ? nlohmann::ordered_json(m.universe.id(*model_.selected)) : nullptr;
   } else if (words[0] == "screenshot") {
     if (words.size() != 2) {
       error = "screenshot FILE";

@@ -42,6 +42,24 @@ std::unique_ptr<Model> probe_model(LatticeSpec spec, std::vector<std::unique_ptr
   return std::get<std::unique_ptr<Model>>(build_model(make_lattice(spec), std::move(programs), {}, 5));
 }
 
+// A lattice's modules are numbered by their cells, and each has every variable: the model keeps
+// no table for either (each would be as large as the ensemble, on every rank).
+TEST(Runtime, FramesSayEveryModuleHasEveryVariableWithoutATable) {
+  const auto model = probe_model({LatticeKind::Cubic, {3, 2, 2}});
+  EXPECT_TRUE(model->universe.module_ids.empty());
+  ASSERT_EQ(model->module_count(), 12u);
+  for (uint32_t m = 0; m < 12; ++m) EXPECT_EQ(model->universe.id(m), m);
+  StaticLatticeWorld world;
+  Runtime rt(*model, world, 1);
+  State s = rt.initial_state();
+  StepOutput out;
+  rt.step(s, out);
+  const watch::Frame frame = observed_frame(*model, s, out);
+  EXPECT_TRUE(frame.has_value.empty());
+  ASSERT_EQ(frame.values.size(), size_t{12} * model->variable_count());
+  for (size_t at = 0; at < frame.values.size(); ++at) EXPECT_TRUE(frame.has(at)) << at;
+}
+
 TEST(Runtime, ReadsSeeThePreviousStepAndMessagesArriveOneStepLater) {
   const auto model = probe_model({LatticeKind::Line, {4, 1, 1}});
   StaticLatticeWorld world;
