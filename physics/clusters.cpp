@@ -101,7 +101,9 @@ void form_clusters(sim::Bodies& b, std::span<const uint8_t> present, btCollision
   for (sim::Cluster& c : clusters) settle(b, c, std::span(members.data() + c.first, c.count), module_shape);
   b.clusters = std::move(clusters);
   b.members = std::move(members);
-  b.cluster_of = std::move(component);
+  b.cluster_of = {};
+  b.cluster_of.resize(n);
+  for (sim::ModuleId m = 0; m < n; ++m) b.cluster_of.set(m, component[m]);
 }
 
 void place_members(sim::Bodies& b) {

@@ -339,7 +339,7 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
       // The rest of a cluster that keeps its index keeps its members' cluster_of.
       for (uint32_t p : k.pieces)
         if (!(s.pieces[p].rest && s.pieces[p].cluster == now))
-          for (sim::ModuleId m : s.pieces[p].members) b.cluster_of[m] = now;
+          for (sim::ModuleId m : s.pieces[p].members) b.cluster_of.set(m, now);
       add(k.c, k.members);
     }
   };
@@ -359,12 +359,12 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     const sim::Cluster& c = clusters[now];
     const bool moves = !c.anchored && c.count > 1;  // its members' frames name the cluster
     for (uint32_t i = c.first; i < c.first + c.count; ++i) {
-      b.cluster_of[s.members[i]] = now;
+      b.cluster_of.set(s.members[i], now);
       if (moves) reframed_.push_back(s.members[i]);
     }
   }
   for (sim::ModuleId m : changes.stopped)
-    if (!still(m)) b.cluster_of[m] = sim::kNoCluster;
+    if (!still(m)) b.cluster_of.set(m, sim::kNoCluster);
   b.clusters = std::move(clusters);
   b.members.swap(s.members);
 

@@ -89,12 +89,14 @@ struct Bodies {
   PagedArray<Pose, CellPose> poses;  // per module, in the world (a lattice's at rest: not kept)
   PagedArray<Velocity> velocities;   // per module: of its centre (zero at rest: not kept)
   PagedArray<Pose> local;            // per module in a cluster that moves: its pose in its frame
-  std::vector<uint32_t> cluster_of;  // per module, or kNoCluster
-  std::vector<Cluster> clusters;     // ordered by their smallest member
-  std::vector<ModuleId> members;     // each cluster's members, ascending
-  std::vector<Bond> bonds;           // sorted
-  std::vector<Mover> movers;         // sorted by module
-  std::vector<Pose> prop_poses;      // the scenario's props (bodies that are not modules)
+  // Per module, or kNoCluster. Paged with cluster 0 as the default: a latched lattice is one
+  // anchored cluster, whose million members would otherwise take 4 MB on every rank.
+  PagedArray<uint32_t> cluster_of;
+  std::vector<Cluster> clusters;  // ordered by their smallest member
+  std::vector<ModuleId> members;  // each cluster's members, ascending
+  std::vector<Bond> bonds;        // sorted
+  std::vector<Mover> movers;      // sorted by module
+  std::vector<Pose> prop_poses;   // the scenario's props (bodies that are not modules)
   std::vector<Velocity> prop_velocities;
 
   bool empty() const { return poses.empty(); }

@@ -249,7 +249,7 @@ size_t state_bytes(const State& s) {
   constexpr size_t kBlock = 16;
   const Bodies& b = s.bodies;
   size_t n = sizeof(State) + vector_bytes(s.values) + vector_bytes(s.present) + b.poses.bytes() + b.velocities.bytes() +
-             b.local.bytes() + vector_bytes(b.cluster_of) + vector_bytes(b.clusters) + vector_bytes(b.members) +
+             b.local.bytes() + b.cluster_of.bytes() + vector_bytes(b.clusters) + vector_bytes(b.members) +
              vector_bytes(b.bonds) + vector_bytes(b.movers) + vector_bytes(b.prop_poses) +
              vector_bytes(b.prop_velocities) + vector_bytes(s.inbox.begin) + s.inbox.messages.bytes() +
              vector_bytes(s.actions) + 16 * kBlock;

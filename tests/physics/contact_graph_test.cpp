@@ -44,7 +44,7 @@ TEST(ContactGraph, MeasuresEveryPairOnceThenOnlyWhatChanged) {
       EXPECT_EQ(contacts.pairs_measured(), 0u);
     }
     // One corner module leaves its cluster and moves off: only its own candidates are measured.
-    b.cluster_of[63] = sim::kNoCluster;
+    b.cluster_of.set(63, sim::kNoCluster);
     test::shift(b, 63, {0.5f, 0.5f, 0.5f});
     const auto moved = contacts.update(b, present, workers);
     EXPECT_LE(contacts.pairs_measured(), 7u);
@@ -85,12 +85,12 @@ TEST(ContactGraph, WhatChangedGivesTheGraphOfAFreshMeasurement) {
   EXPECT_EQ(expect_fresh(all, "moved rigidly"), 2u * 144);
   EXPECT_EQ(contacts.pairs_measured(), 0u) << "the frames taken when it was let go were kept";
   const sim::Pose home = b.poses[63];
-  b.cluster_of[63] = sim::kNoCluster;
+  b.cluster_of.set(63, sim::kNoCluster);
   test::shift(b, 63, {0.5f, 0.5f, 0.5f});
   EXPECT_EQ(expect_fresh({63}, "63 left and moved off"), 2u * 141);
   b.poses.set(63, home);
   EXPECT_EQ(expect_fresh({63}, "63 back in its cell, in no cluster"), 2u * 144);
-  b.cluster_of[63] = 0;  // and latched again, at the same pose in the cluster
+  b.cluster_of.set(63, 0);  // and latched again, at the same pose in the cluster
   EXPECT_EQ(expect_fresh({63}, "63 in its cluster again"), 2u * 144);
 }
 
@@ -138,13 +138,13 @@ TEST(ContactGraph, RanksHoldTheGraphOfTheirWindowAsOneProcessHasIt) {
     // Corner and edge modules of the top and bottom layers lift off.
     const std::vector<sim::ModuleId> leaving = {3, 12, 63, 511, 448};
     for (sim::ModuleId m : leaving) {
-      b.cluster_of[m] = sim::kNoCluster;
+      b.cluster_of.set(m, sim::kNoCluster);
       test::shift(b, m, {0, 0, 0.6f});
     }
     update(&leaving);
     // Module 0 (bottom layer) goes up the block's side to touch module 320's face (layer 5).
     const std::vector<sim::ModuleId> climbing = {0};
-    b.cluster_of[0] = sim::kNoCluster;
+    b.cluster_of.set(0, sim::kNoCluster);
     b.poses.set(0, {.position = {-1.0f, 0.0f, 5.0f}});
     update(&climbing);
     // And comes back, as do the others.

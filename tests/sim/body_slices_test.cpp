@@ -21,12 +21,13 @@ Bodies some_bodies(uint32_t modules) {
   b.poses.resize(modules);
   b.velocities.resize(modules);
   b.local.resize(modules);
+  b.cluster_of.resize(modules);
   for (uint32_t m = 0; m < modules; ++m) {
     if (m % 5000 < 3000) b.poses.set(m, pose());
     // Runs of modules at rest: pages of velocities that are not kept.
     if (m % 2000 < 1000) b.velocities.set(m, {{any(random), 0, 0}, {0, any(random), 0}});
     b.local.set(m, pose());
-    b.cluster_of.push_back(m % 3 == 0 ? kNoCluster : m / 10);
+    b.cluster_of.set(m, m % 3 == 0 ? kNoCluster : m / 10);
     b.members.push_back(m);
     if (m + 1 < modules) b.bonds.push_back({m, m + 1});
   }

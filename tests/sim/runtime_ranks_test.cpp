@@ -194,8 +194,9 @@ class DriftingBodies final : public World {
     b.poses.resize(n);
     b.velocities.resize(n);
     b.local.resize(n);
-    b.cluster_of.assign(n, kNoCluster);
+    b.cluster_of.resize(n);
     for (ModuleId m = 0; m < n; ++m) {
+      b.cluster_of.set(m, kNoCluster);
       b.poses.set(m, {.position = {float(m), 0, 0}});
       b.velocities.set(m, {.angular = {0, 0, float(m % 7)}});
       if (m % 3 == 0 && m + 1 < n) b.bonds.push_back({m, m + 1});
@@ -248,7 +249,7 @@ TEST(RuntimeRanks, EachRankHashesItsOwnModulesLinksAndBodiesOnly) {
         b.poses.set(m, {.position = {-1, -1, -1}});
         b.velocities.set(m, {.linear = {9, 9, 9}});
         b.local.set(m, {.orientation = {1, 0, 0, 0}});
-        b.cluster_of[m] = 12345;
+        b.cluster_of.set(m, 12345);
       }
     std::erase_if(b.bonds, [&](const Bond& bond) { return outside(bond.a) && bond.b != kGround; });
     std::erase_if(b.movers, [&](const Mover& mover) { return outside(mover.module); });
