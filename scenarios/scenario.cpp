@@ -197,13 +197,13 @@ struct Loader {
         }
     }
     if (!ok) return std::nullopt;
-    sim::Lattice l = sim::make_lattice(spec);
+    // A physical world's contacts make its graph (sim::Lattice::graph): none is made here.
+    sim::Lattice l = sim::make_lattice(spec, !physics);
     sim::leave_empty(l, boxes);
     if (std::none_of(l.occupied.begin(), l.occupied.end(), [](uint8_t o) { return o != 0; })) {
       r.error("empty", "these boxes leave every cell of the lattice empty: there is no module to run");
       return std::nullopt;
     }
-    if (physics) l.graph = nullptr;  // the world's contacts make the graph (sim::Lattice::graph)
     return l;
   }
 

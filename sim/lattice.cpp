@@ -13,15 +13,6 @@ constexpr std::pair<LatticeKind, std::string_view> kNames[] = {
     {LatticeKind::Ring, "ring"},   {LatticeKind::Line, "line"},         {LatticeKind::Fcc, "fcc"},
 };
 
-// The graph's edges between occupied cells.
-std::shared_ptr<const NeighborGraph> between_occupied(const NeighborGraph& graph, std::span<const uint8_t> occupied) {
-  std::vector<std::pair<ModuleId, ModuleId>> pairs;
-  for (ModuleId m = 0; m < graph.module_count(); ++m)
-    for (ModuleId o : graph.neighbors(m))
-      if (m < o && occupied[m] && occupied[o]) pairs.emplace_back(m, o);
-  return std::make_shared<const NeighborGraph>(NeighborGraph::from_pairs(graph.module_count(), pairs));
-}
-
 }  // namespace
 
 std::string_view lattice_name(LatticeKind kind) {
@@ -81,67 +72,31 @@ CellRange cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, 
   return range;
 }
 
-Lattice make_lattice(const LatticeSpec& spec) {
+Lattice make_lattice(const LatticeSpec& spec, bool with_graph) {
   Lattice l;
   l.spec = spec;
-  const uint32_t nx = spec.size[0], ny = spec.size[1], nz = spec.size[2];
-  const uint32_t count = static_cast<uint32_t>(spec.module_count());
-  std::vector<std::pair<ModuleId, ModuleId>> pairs;
-  auto id = [&](uint32_t x, uint32_t y, uint32_t z) { return x + nx * (y + ny * z); };
-
-  switch (spec.kind) {
-    case LatticeKind::Cubic:
-    case LatticeKind::Square2d:
-      for (uint32_t z = 0; z < nz; ++z)
-        for (uint32_t y = 0; y < ny; ++y)
-          for (uint32_t x = 0; x < nx; ++x) {
-            if (x + 1 < nx) pairs.emplace_back(id(x, y, z), id(x + 1, y, z));
-            if (y + 1 < ny) pairs.emplace_back(id(x, y, z), id(x, y + 1, z));
-            if (z + 1 < nz) pairs.emplace_back(id(x, y, z), id(x, y, z + 1));
-          }
-      break;
-    case LatticeKind::Hex2d: {
-      for (uint32_t y = 0; y < ny; ++y)
-        for (uint32_t x = 0; x < nx; ++x) {
-          if (x + 1 < nx) pairs.emplace_back(id(x, y, 0), id(x + 1, y, 0));
-          if (y + 1 < ny) {
-            // The row above: the same x, and x - 1 (even rows) or x + 1 (odd rows).
-            pairs.emplace_back(id(x, y, 0), id(x, y + 1, 0));
-            const int64_t other = (y & 1) ? int64_t{x} + 1 : int64_t{x} - 1;
-            if (other >= 0 && other < nx) pairs.emplace_back(id(x, y, 0), id(uint32_t(other), y + 1, 0));
-          }
-        }
-      break;
-    }
-    case LatticeKind::Fcc: {
-      for (uint32_t z = 0; z < nz; ++z)
-        for (uint32_t y = 0; y < ny; ++y)
-          for (uint32_t x = 0; x < nx; ++x) {
-            if (x + 1 < nx) pairs.emplace_back(id(x, y, z), id(x + 1, y, z));
-            if (y + 1 < ny) pairs.emplace_back(id(x, y, z), id(x, y + 1, z));
-            if (z + 1 == nz) continue;
-            // The four cells of the layer above: x - 1 .. x from an even layer, x .. x + 1 from an odd one.
-            const int64_t from = (z & 1) ? 0 : -1;
-            for (int64_t dy = from; dy <= from + 1; ++dy)
-              for (int64_t dx = from; dx <= from + 1; ++dx) {
-                const int64_t ax = int64_t{x} + dx, ay = int64_t{y} + dy;
-                if (ax >= 0 && ax < nx && ay >= 0 && ay < ny)
-                  pairs.emplace_back(id(x, y, z), id(uint32_t(ax), uint32_t(ay), z + 1));
-              }
-          }
-      break;
-    }
-    case LatticeKind::Ring: {
-      for (uint32_t i = 0; i < nx; ++i) pairs.emplace_back(i, (i + 1) % nx);
-      break;
-    }
-    case LatticeKind::Line:
-      for (uint32_t i = 0; i + 1 < nx; ++i) pairs.emplace_back(i, i + 1);
-      break;
-  }
-  l.occupied.assign(count, 1);
-  l.graph = std::make_shared<const NeighborGraph>(NeighborGraph::from_pairs(count, pairs));
+  l.occupied.assign(static_cast<size_t>(spec.module_count()), 1);
+  l.graph = with_graph ? std::make_shared<const NeighborGraph>(lattice_graph(spec, {})) : nullptr;
   return l;
+}
+
+NeighborGraph lattice_graph(const LatticeSpec& spec, std::span<const uint8_t> occupied) {
+  const auto count = static_cast<uint32_t>(spec.module_count());
+  NeighborGraph g;
+  // Each list's length, then where it begins; filling a list moves its begin to its end, and
+  // the begins are put back by one.
+  g.begin.assign(size_t{count} + 1, 0);
+  for_lattice_pairs(spec, occupied, [&](ModuleId a, ModuleId b) { ++g.begin[a + 1], ++g.begin[b + 1]; });
+  for (uint32_t m = 0; m < count; ++m) g.begin[m + 1] += g.begin[m];
+  g.ids.resize(g.begin[count]);
+  for_lattice_pairs(spec, occupied, [&](ModuleId a, ModuleId b) { g.ids[g.begin[a]++] = b, g.ids[g.begin[b]++] = a; });
+  for (uint32_t m = count; m > 0; --m) g.begin[m] = g.begin[m - 1];
+  g.begin[0] = 0;
+  // Pairs come ascending, so each list has its smaller ids, then its larger, in order; but for a
+  // ring's last pair.
+  if (spec.kind == LatticeKind::Ring)
+    for (uint32_t m = 0; m < count; ++m) std::sort(g.ids.begin() + g.begin[m], g.ids.begin() + g.begin[m + 1]);
+  return g;
 }
 
 void leave_empty(Lattice& lattice, std::span<const LatticeBox> boxes) {
@@ -172,12 +127,8 @@ void leave_empty(Lattice& lattice, std::span<const LatticeBox> boxes) {
     for (uint32_t y = 0; y < n[1]; ++y)
       for (uint32_t x = 0; x < n[0]; ++x)
         if (at(x, y, z) > 0) lattice.occupied[x + n[0] * (y + n[1] * z)] = 0;
-  lattice.graph = between_occupied(*lattice.graph, lattice.occupied);
-}
-
-std::shared_ptr<const NeighborGraph> lattice_graph(const Lattice& lattice) {
-  if (lattice.graph) return lattice.graph;
-  return between_occupied(*make_lattice(lattice.spec).graph, lattice.occupied);
+  if (lattice.graph)
+    lattice.graph = std::make_shared<const NeighborGraph>(lattice_graph(lattice.spec, lattice.occupied));
 }
 
 }  // namespace dw::sim

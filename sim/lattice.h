@@ -111,6 +111,85 @@ void for_cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, c
   }
 }
 
+// The links of a cell to its lattice neighbours with larger ids, numbered by *slot*: +x, +y, +z
+// for cubic, square2d and line (those a size leaves out are outside the lattice); for hex2d +x
+// and the two cells of the row above; for fcc +x, +y and the four cells of the layer above (from
+// an even layer at (x, y), x - 1 .. x and y - 1 .. y; from an odd one, x .. x + 1 and y .. y + 1).
+// A ring has none (its last cell's neighbour is its first). A module's bonds to its lattice
+// neighbours are kept as a bit per slot (sim/bond_set.h): a latched million take a byte each.
+inline constexpr int kMaxLinkSlots = 6;
+// The step from a cell in an odd row (hex2d) or layer (fcc), or not, to its link in `slot`.
+inline std::array<int32_t, 3> link_step(LatticeKind kind, int slot, bool odd) {
+  if (slot == 0) return {1, 0, 0};
+  if (kind == LatticeKind::Hex2d) return {slot == 1 ? (odd ? 0 : -1) : (odd ? 1 : 0), 1, 0};
+  if (kind == LatticeKind::Fcc) {
+    if (slot == 1) return {0, 1, 0};
+    const int32_t from = odd ? 0 : -1, k = slot - 2;
+    return {from + (k & 1), from + (k >> 1), 1};
+  }
+  return {0, slot == 1 ? 1 : 0, slot == 2 ? 1 : 0};
+}
+inline int link_slots(LatticeKind kind) {
+  switch (kind) {
+    case LatticeKind::Ring: return 0;
+    case LatticeKind::Fcc: return kMaxLinkSlots;
+    default: return 3;
+  }
+}
+// Calls visit(slot, neighbour) for each link of cell m to a larger id, in slot order (which is
+// the neighbours' order).
+template <typename Visit>
+void for_links_above(const LatticeSpec& spec, ModuleId m, Visit&& visit) {
+  if (m >= spec.module_count()) return;
+  const uint32_t nx = spec.size[0], ny = spec.size[1], nz = spec.size[2], row = m / nx;
+  const int64_t x = m - row * nx, y = row % ny, z = row / ny;
+  const bool odd = ((spec.kind == LatticeKind::Hex2d ? y : z) & 1) != 0;
+  for (int slot = 0; slot < link_slots(spec.kind); ++slot) {
+    const auto step = link_step(spec.kind, slot, odd);
+    const int64_t ax = x + step[0], ay = y + step[1], az = z + step[2];
+    if (ax >= 0 && ax < nx && ay >= 0 && ay < ny && az < nz)
+      visit(slot, static_cast<ModuleId>(ax + nx * (ay + ny * az)));
+  }
+}
+// Calls visit(slot, neighbour) for each cell with a smaller id linked to m, and the slot of its
+// link to m.
+template <typename Visit>
+void for_links_below(const LatticeSpec& spec, ModuleId m, Visit&& visit) {
+  if (m >= spec.module_count()) return;
+  const uint32_t nx = spec.size[0], ny = spec.size[1], row = m / nx;
+  const int64_t x = m - row * nx, y = row % ny, z = row / ny;
+  const bool hex = spec.kind == LatticeKind::Hex2d;
+  for (int slot = 0; slot < link_slots(spec.kind); ++slot) {
+    // The row or layer a slot climbs does not hang on parity; the source's parity fixes the rest.
+    const auto climb = link_step(spec.kind, slot, false);
+    const int64_t source_row = hex ? y - climb[1] : z - climb[2];
+    if (source_row < 0) continue;
+    const auto step = link_step(spec.kind, slot, (source_row & 1) != 0);
+    const int64_t sx = x - step[0], sy = y - step[1], sz = z - step[2];
+    if (sx >= 0 && sx < nx && sy >= 0 && sy < ny && sz >= 0)
+      visit(slot, static_cast<ModuleId>(sx + nx * (sy + ny * sz)));
+  }
+}
+
+// Calls visit(a, b) for every two neighbouring cells a < b both occupied (`occupied` empty:
+// every cell), ascending, but for a ring's (0, n - 1), which comes last.
+template <typename Visit>
+void for_lattice_pairs(const LatticeSpec& spec, std::span<const uint8_t> occupied, Visit&& visit) {
+  const auto count = static_cast<ModuleId>(spec.module_count());
+  const auto in = [&](ModuleId m) { return occupied.empty() || occupied[m] != 0; };
+  for (ModuleId m = 0; m < count; ++m) {
+    if (!in(m)) continue;
+    if (spec.kind == LatticeKind::Ring) {
+      if (m + 1 < count && in(m + 1)) visit(m, m + 1);
+    } else {
+      for_links_above(spec, m, [&](int, ModuleId o) {
+        if (in(o)) visit(m, o);
+      });
+    }
+  }
+  if (spec.kind == LatticeKind::Ring && in(0) && in(count - 1)) visit(ModuleId{0}, count - 1);
+}
+
 struct Lattice {
   LatticeSpec spec;
   std::array<float, 3> position(ModuleId m) const { return cell_position(spec, m); }
@@ -121,9 +200,9 @@ struct Lattice {
   std::shared_ptr<const NeighborGraph> graph = std::make_shared<const NeighborGraph>();
 };
 
-// The lattice's face adjacency among its occupied cells: the graph it keeps, or one made afresh
-// when it keeps none.
-std::shared_ptr<const NeighborGraph> lattice_graph(const Lattice& lattice);
+// The face adjacency among the occupied cells of a lattice (`occupied` empty: every cell), made
+// straight from the cells: no list of pairs (24 MB for 100^3) is held beside it.
+NeighborGraph lattice_graph(const LatticeSpec& spec, std::span<const uint8_t> occupied);
 
 // fcc (face-centred cubic, Catoms 3D): square layers one on another, each odd layer shifted by
 // half a module in x and y, layers sqrt(2)/2 apart, so that every module touches 12 others: 4
@@ -132,7 +211,8 @@ std::shared_ptr<const NeighborGraph> lattice_graph(const Lattice& lattice);
 //
 // Ring needs at least 3 modules; every size at least 1. The caller checks those (the scenario
 // loader reports them against the file).
-Lattice make_lattice(const LatticeSpec& spec);
+// Without `with_graph`, it keeps no graph (a physical world's: its contacts make the graph).
+Lattice make_lattice(const LatticeSpec& spec, bool with_graph = true);
 // Leaves the cells of boxes (inclusive lattice coordinates, x y z, from and to) empty: their
 // modules are absent for the whole run and touch nobody. Takes time in the boxes' number and the
 // lattice's cells, however large the boxes are and however many overlap.

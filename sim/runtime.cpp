@@ -115,13 +115,20 @@ void Runtime::place_blocks(Partition partition) {
   partition_ = partition;
   if (partition == Partition::Graph && rank_count > 1) {
     // The links between blocks, as sorted (block, block) pairs: equal pairs make one edge's weight.
-    const std::shared_ptr<const NeighborGraph> lattice = lattice_graph(model_.lattice);
-    const NeighborGraph& g = *lattice;
+    // A physical world's lattice keeps no graph: its cells give the links (no graph of a million
+    // is made on every rank only to be read once).
     std::vector<std::pair<uint32_t, uint32_t>> pairs;
-    for (uint32_t m = 0; m < g.module_count(); ++m)
-      for (ModuleId n : g.neighbors(m))
-        if (m >> owners_.block_shift != n >> owners_.block_shift)
-          pairs.push_back({m >> owners_.block_shift, n >> owners_.block_shift});
+    const auto link = [&](ModuleId m, ModuleId n) {
+      const uint32_t a = m >> owners_.block_shift, b = n >> owners_.block_shift;
+      if (a != b) pairs.push_back({a, b}), pairs.push_back({b, a});
+    };
+    if (const NeighborGraph* g = model_.lattice.graph.get()) {
+      for (ModuleId m = 0; m < g->module_count(); ++m)
+        for (ModuleId n : g->neighbors(m))
+          if (m < n) link(m, n);
+    } else {
+      for_lattice_pairs(model_.lattice.spec, model_.lattice.occupied, link);
+    }
     std::sort(pairs.begin(), pairs.end());
     std::vector<uint32_t> first(blocks_ + 1, 0), adjacent, link_weight;
     for (size_t i = 0; i < pairs.size(); ++i) {

@@ -121,6 +121,64 @@ TEST(Lattice, BoxesLeftEmptyAreExactlyTheCellsAnyBoxHolds) {
   EXPECT_EQ(empty, 8u + (6u - 1u) + 10u + 1u + 4u);  // the boxes, the second less the cell it shares
 }
 
+// The links above a cell and those below it are the same pairs, seen from each end, with the
+// same slot; above, they come in the order of their ids; and they are the lattice graph's pairs.
+TEST(LatticeLinks, BelowIsAboveSeenFromTheOtherEndAndBothAreTheGraphsPairs) {
+  const LatticeSpec specs[] = {
+      {LatticeKind::Cubic, {4, 3, 5}},    {LatticeKind::Cubic, {1, 1, 1}}, {LatticeKind::Cubic, {2, 1, 3}},
+      {LatticeKind::Square2d, {5, 4, 1}}, {LatticeKind::Line, {7, 1, 1}},  {LatticeKind::Hex2d, {5, 6, 1}},
+      {LatticeKind::Hex2d, {2, 7, 1}},    {LatticeKind::Fcc, {4, 5, 6}},   {LatticeKind::Fcc, {1, 3, 2}},
+      {LatticeKind::Fcc, {3, 2, 3}},      {LatticeKind::Fcc, {2, 2, 2}},
+  };
+  for (const LatticeSpec& spec : specs) {
+    SCOPED_TRACE(std::string(lattice_name(spec.kind)) + " " + std::to_string(spec.module_count()));
+    struct Link {
+      ModuleId low, high;
+      int slot;
+      auto operator<=>(const Link&) const = default;
+    };
+    std::vector<Link> above, below;
+    const auto n = static_cast<ModuleId>(spec.module_count());
+    for (ModuleId m = 0; m < n; ++m) {
+      ModuleId last = m;
+      for_links_above(spec, m, [&](int slot, ModuleId o) {
+        EXPECT_GT(o, last) << "module " << m << " slot " << slot;
+        last = o;
+        above.push_back({m, o, slot});
+      });
+      for_links_below(spec, m, [&](int slot, ModuleId o) {
+        EXPECT_LT(o, m);
+        below.push_back({o, m, slot});
+      });
+    }
+    std::sort(below.begin(), below.end());
+    EXPECT_EQ(above, below);
+    const Lattice l = make_lattice(spec);
+    EXPECT_EQ(2 * above.size(), l.graph->edge_count());
+    for (const Link& x : above) EXPECT_TRUE(l.graph->adjacent(x.low, x.high));
+  }
+}
+
+// A graph made straight from the cells between those occupied equals the one kept by the lattice
+// whose boxes were left empty, and one made from the pairs.
+TEST(LatticeGraph, MadeFromTheCellsEqualsTheOneFromThePairs) {
+  for (const LatticeSpec& spec : {LatticeSpec{LatticeKind::Fcc, {4, 5, 6}}, LatticeSpec{LatticeKind::Ring, {9, 1, 1}},
+                                  LatticeSpec{LatticeKind::Hex2d, {6, 5, 1}}}) {
+    std::mt19937 random(5);
+    std::vector<uint8_t> occupied(spec.module_count());
+    for (uint8_t& o : occupied) o = random() % 4 != 0;
+    std::vector<std::pair<ModuleId, ModuleId>> pairs;
+    for_lattice_pairs(spec, occupied, [&](ModuleId a, ModuleId b) {
+      EXPECT_TRUE(occupied[a] && occupied[b]);
+      pairs.emplace_back(b, a);  // turned round: from_pairs sorts them
+    });
+    const NeighborGraph made = lattice_graph(spec, occupied);
+    const NeighborGraph from = NeighborGraph::from_pairs(static_cast<uint32_t>(occupied.size()), pairs);
+    EXPECT_EQ(made.begin, from.begin);
+    EXPECT_EQ(made.ids, from.ids);
+  }
+}
+
 TEST(NeighborGraph, FromPairsSortsAndDeduplicates) {
   const std::vector<std::pair<ModuleId, ModuleId>> pairs{{2, 0}, {0, 1}, {0, 2}, {3, 1}};
   const NeighborGraph g = NeighborGraph::from_pairs(4, pairs);
