@@ -8,7 +8,6 @@
 
 #include "physics/clusters.h"
 #include "physics/pivot.h"
-#include "physics/sorted_vector.h"
 #include "sim/host_program.h"
 
 namespace dw::physics {
@@ -60,23 +59,43 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
   contacts_.reset();
   // Over ranks, this rank's window of the graph (ContactGraph::update): no rank holds it whole.
   state.graph = contacts_.update(b, state.present, workers, nullptr, ranks_, &owners_);
-  // Real modules latch to what they touch as they are put in place, and to the ground. The bonds
-  // are reserved at their number: grown by doubling, a million modules' three million held a third
-  // more than they used, in every state.
-  std::vector<sim::Bond> grounded;
-  if (settings_.anchor)
-    for (sim::ModuleId m = 0; m < n; ++m)
-      if (state.present[m] && touches_ground(b.poses[m])) grounded.push_back({m, sim::kGround});
-  if (settings_.bonds)
-    b.bonds = touching_bonds(
-        state,
-        [&](auto&& visit) {
-          for (sim::ModuleId m = 0; m < n; ++m) visit(m);
-        },
-        [](sim::ModuleId m, sim::ModuleId o) { return m < o; },
-        grounded.size() + (ranks_ ? 0 : state.graph->edge_count() / 2));
-  b.bonds.insert(b.bonds.end(), grounded.begin(), grounded.end());
-  std::sort(b.bonds.begin(), b.bonds.end());
+  // Real modules latch to what they touch as they are put in place, and to the ground. Each rank
+  // sets its own modules' bonds to larger ids (all of them in one process), and the ranks swap
+  // the bytes that differ from the lattice's default and the bonds listed: a latched lattice's
+  // three million bonds are not gathered.
+  b.bonds = sim::BondSet(model.lattice.spec, settings_.bonds, n);
+  const uint32_t me = ranks_ ? static_cast<uint32_t>(ranks_->rank()) : 0;
+  struct Links {
+    sim::ModuleId module;
+    uint32_t bits;
+  };
+  std::vector<Links> differing;
+  std::vector<sim::Bond> listed;
+  for (sim::ModuleId m = 0; m < n; ++m) {
+    if (ranks_ && owners_.rank_of(m) != me) continue;
+    uint32_t bits = 0;
+    if (state.present[m]) {
+      if (settings_.bonds)
+        for (sim::ModuleId o : state.graph->neighbors(m))
+          if (o > m) {
+            if (const uint8_t bit = b.bonds.bit({m, o})) bits |= bit;
+            else listed.push_back({m, o});
+          }
+      if (settings_.anchor && touches_ground(b.poses[m])) bits |= sim::kGroundBit;
+    }
+    if (bits != b.bonds.default_links(m)) differing.push_back({m, bits});
+  }
+  if (ranks_) {
+    std::vector<Links> mine;
+    std::vector<sim::Bond> ours;
+    mine.swap(differing);
+    ours.swap(listed);
+    sim::all_gather_into<Links>(*ranks_, mine, differing);
+    sim::all_gather_into<sim::Bond>(*ranks_, ours, listed);
+  }
+  for (const Links& x : differing) b.bonds.set_links(x.module, static_cast<uint8_t>(x.bits));
+  std::sort(listed.begin(), listed.end());
+  b.bonds.insert(listed);
   regroup_all(state);
   // Members of a cluster are measured at their poses in it: the graph of step 0 is the one a
   // restored world finds (and the first step does not pay for measuring every pair again). Only
@@ -110,7 +129,7 @@ void BulletWorld::regroup_all(sim::State& state) {
 void BulletWorld::regroup(sim::State& state) {
   if (changes_.empty()) return;
   changes_.normalize();
-  if (!bond_index_.valid()) bond_index_.rebuild(state.bodies.bonds, state.bodies.poses.size());
+  if (!bond_index_.valid()) bond_index_.rebuild(state.bodies.bonds);
   regrouper_(state.bodies, state.present, changes_, bond_index_, dynamics_.module_shape());
   changes_.clear();
   changed_.insert(changed_.end(), regrouper_.reframed().begin(), regrouper_.reframed().end());
@@ -121,7 +140,7 @@ void BulletWorld::remove_module(const sim::Model& model, sim::State& state, sim:
   World::remove_module(model, state, m);
   // Its body goes with it: no bonds, no glide, no cluster; the rest regroup without it.
   sim::Bodies& b = state.bodies;
-  std::erase_if(b.bonds, [&](const sim::Bond& x) { return x.a == m || x.b == m; });
+  b.bonds.erase(bonds_of(b.bonds, std::span(&m, 1)));
   std::erase_if(b.movers, [&](const sim::Mover& x) { return x.module == m; });
   b.velocities.set(m, {});
   regroup_all(state);
@@ -135,31 +154,25 @@ bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vec
   const int64_t asked = state.step - 1;
   // Requests to release or make a bond change the bonds (and their index) at once: a later request
   // of the same step sees them.
-  auto erase_bonds = [&](auto&& which) {
-    std::vector<sim::Bond> gone;
-    for (const sim::Bond& x : b.bonds)
-      if (which(x)) gone.push_back(x);
+  const auto release = [&](std::span<const sim::Bond> gone) {
     if (gone.empty()) return false;
-    erase_from<sim::Bond>(b.bonds, gone);
-    if (bond_index_.valid()) bond_index_.apply(gone, {});
+    b.bonds.erase(gone);
+    if (bond_index_.valid()) bond_index_.apply(b.bonds, gone, {});
     changes_.removed.insert(changes_.removed.end(), gone.begin(), gone.end());
     return true;
   };
   switch (a.kind) {
     case sim::Actuation::Kind::Push: pushes.push_back({a.module, a.vector}); return false;
-    case sim::Actuation::Kind::Release:
-      return erase_bonds([&](const sim::Bond& x) {
-        return (x.a == a.module && x.b == a.other) || (x.a == a.other && x.b == a.module);
-      });
-    case sim::Actuation::Kind::ReleaseAll:
-      return erase_bonds([&](const sim::Bond& x) { return x.a == a.module || x.b == a.module; });
+    case sim::Actuation::Kind::Release: {
+      const sim::Bond bond{std::min(a.module, a.other), std::max(a.module, a.other)};
+      return b.bonds.contains(bond) && release(std::span(&bond, 1));
+    }
+    case sim::Actuation::Kind::ReleaseAll: return release(bonds_of(b.bonds, std::span(&a.module, 1)));
     case sim::Actuation::Kind::Bond: {
       if (b.moving(a.module) || b.moving(a.other)) return false;  // latches only what is still
       const sim::Bond bond{std::min(a.module, a.other), std::max(a.module, a.other)};
-      const auto at = std::lower_bound(b.bonds.begin(), b.bonds.end(), bond);
-      if (at != b.bonds.end() && *at == bond) return false;
-      b.bonds.insert(at, bond);
-      if (bond_index_.valid()) bond_index_.apply({}, std::vector{bond});
+      if (!b.bonds.insert(bond)) return false;
+      if (bond_index_.valid()) bond_index_.apply(b.bonds, {}, std::span(&bond, 1));
       changes_.added.push_back(bond);
       return true;
     }
@@ -258,42 +271,37 @@ void BulletWorld::set_off(const sim::Mover& mover, sim::State& state, std::vecto
   changes_.stopped.push_back(mover.module);
 }
 
-// The bonds of the modules setting off go, found by the index of bonds, in one pass.
+// The bonds of `modules` (to others and to the ground), sorted, found by the index of bonds.
+std::vector<sim::Bond> BulletWorld::bonds_of(const sim::BondSet& bonds, std::span<const sim::ModuleId> modules) {
+  if (!bond_index_.valid()) bond_index_.rebuild(bonds);
+  std::vector<sim::Bond> found;
+  for (sim::ModuleId m : modules) bond_index_.bonds_of(bonds, m, [&](const sim::Bond& x) { found.push_back(x); });
+  std::sort(found.begin(), found.end());
+  found.erase(std::unique(found.begin(), found.end()), found.end());
+  return found;
+}
+
+// The bonds of the modules setting off go, in one pass.
 void BulletWorld::let_go(std::span<const sim::ModuleId> leaving, sim::State& state) {
   sim::Bodies& b = state.bodies;
   if (leaving.empty()) return;
-  if (!bond_index_.valid()) bond_index_.rebuild(b.bonds, b.poses.size());
-  std::vector<sim::Bond> gone;
-  for (sim::ModuleId m : leaving) {
-    for (auto at = std::lower_bound(b.bonds.begin(), b.bonds.end(), sim::Bond{m, 0}); at != b.bonds.end() && at->a == m;
-         ++at)
-      gone.push_back(*at);
-    bond_index_.partners(b.bonds, m, [&](sim::ModuleId o) {
-      if (o < m) gone.push_back({o, m});
-    });
-  }
-  std::sort(gone.begin(), gone.end());
-  gone.erase(std::unique(gone.begin(), gone.end()), gone.end());
+  const std::vector<sim::Bond> gone = bonds_of(b.bonds, leaving);
   if (gone.empty()) return;
-  erase_from<sim::Bond>(b.bonds, gone);
-  bond_index_.apply(gone, {});
+  b.bonds.erase(gone);
+  bond_index_.apply(b.bonds, gone, {});
   changes_.removed.insert(changes_.removed.end(), gone.begin(), gone.end());
 }
 
-template <typename Asking, typename Latches>
-std::vector<sim::Bond> BulletWorld::touching_bonds(const sim::State& state, Asking&& asking, Latches&& latches,
-                                                   size_t room) {
+std::vector<sim::Bond> BulletWorld::touching_bonds(const sim::State& state, std::span<const sim::ModuleId> modules) {
   std::vector<sim::Bond> found;
-  if (!ranks_) found.reserve(room);
   const uint32_t me = ranks_ ? static_cast<uint32_t>(ranks_->rank()) : 0;
-  asking([&](sim::ModuleId m) {
+  for (sim::ModuleId m : modules)
     if (state.present[m] && (!ranks_ || owners_.rank_of(m) == me))
       for (sim::ModuleId o : state.graph->neighbors(m))
-        if (latches(m, o)) found.push_back({std::min(m, o), std::max(m, o)});
-  });
+        if (!state.bodies.moving(o)) found.push_back({std::min(m, o), std::max(m, o)});
   if (!ranks_) return found;
   std::vector<sim::Bond> all;
-  sim::all_gather_into<sim::Bond>(*ranks_, found, all, room);
+  sim::all_gather_into<sim::Bond>(*ranks_, found, all);
   return all;
 }
 
@@ -301,20 +309,14 @@ std::vector<sim::Bond> BulletWorld::touching_bonds(const sim::State& state, Aski
 void BulletWorld::latch(std::span<const sim::ModuleId> arrived, sim::State& state) {
   sim::Bodies& b = state.bodies;
   std::vector<sim::Bond> made;
-  if (settings_.bonds)
-    made = touching_bonds(
-        state,
-        [&](auto&& visit) {
-          for (sim::ModuleId m : arrived) visit(m);
-        },
-        [&](sim::ModuleId, sim::ModuleId o) { return !b.moving(o); }, arrived.size());
+  if (settings_.bonds) made = touching_bonds(state, arrived);
   if (settings_.anchor)
     for (sim::ModuleId m : arrived)
       if (touches_ground(b.poses[m])) made.push_back({m, sim::kGround});
   std::sort(made.begin(), made.end());
   made.erase(std::unique(made.begin(), made.end()), made.end());
-  merge_into<sim::Bond>(b.bonds, made);
-  if (bond_index_.valid()) bond_index_.apply({}, made);
+  b.bonds.insert(made);
+  if (bond_index_.valid()) bond_index_.apply(b.bonds, {}, made);
   changes_.added.insert(changes_.added.end(), made.begin(), made.end());
   changes_.started.insert(changes_.started.end(), arrived.begin(), arrived.end());
 }
@@ -331,12 +333,13 @@ void BulletWorld::step_bodies(sim::State& state, std::span<const Push> pushes, s
   for (int round = 0;; ++round) {
     dynamics_.step(b, pushes, state.step, force_, workers, ranks_);
     if (settings_.break_force <= 0 || round == 8) break;
-    const size_t before = b.bonds.size();
-    std::erase_if(b.bonds, [&](const sim::Bond& bond) {
-      return force_[bond.a] > settings_.break_force ||
-             (bond.b != sim::kGround && force_[bond.b] > settings_.break_force);
-    });
-    if (b.bonds.size() == before) break;
+    // Every bond of a module pushed too hard (its bond to the ground too) breaks.
+    std::vector<sim::ModuleId> pushed;
+    for (sim::ModuleId m = 0; m < force_.size(); ++m)
+      if (force_[m] > settings_.break_force) pushed.push_back(m);
+    const std::vector<sim::Bond> broken = bonds_of(b.bonds, pushed);
+    if (broken.empty()) break;
+    b.bonds.erase(broken);
     b.clusters = clusters;
     b.prop_poses = prop_poses;
     b.prop_velocities = prop_velocities;

@@ -55,15 +55,13 @@ class BulletWorld final : public sim::World {
   bool touches_ground(const sim::Pose& pose) const;
   std::optional<sim::ModuleId> taken_by(sim::ModuleId self, const sim::Vec3& at, const sim::State& state) const;
   void set_off(const sim::Mover& mover, sim::State& state, std::vector<sim::ModuleId>& leaving);
+  std::vector<sim::Bond> bonds_of(const sim::BondSet& bonds, std::span<const sim::ModuleId> modules);
   void let_go(std::span<const sim::ModuleId> leaving, sim::State& state);
   void latch(std::span<const sim::ModuleId> arrived, sim::State& state);
-  // The bonds between each present module `asking(visit)` visits and those of its neighbours
-  // `latches(m, o)` accepts, with room for `room` bonds in all (over ranks, for `room` more than
-  // those found). Over ranks a module's neighbours are known
-  // where its list is held, its owner's window among them: each rank finds its own modules'
-  // bonds, and the ranks swap them.
-  template <typename Asking, typename Latches>
-  std::vector<sim::Bond> touching_bonds(const sim::State& state, Asking&& asking, Latches&& latches, size_t room);
+  // The bonds between each of `modules` and the still modules it touches. Over ranks a module's
+  // neighbours are known where its list is held, its owner's window among them: each rank finds
+  // its own modules' bonds, and the ranks swap them.
+  std::vector<sim::Bond> touching_bonds(const sim::State& state, std::span<const sim::ModuleId> modules);
   void regroup(sim::State& state);
   void regroup_all(sim::State& state);
 

@@ -65,14 +65,14 @@ void form_clusters(sim::Bodies& b, std::span<const uint8_t> present, btCollision
   std::vector<uint32_t> parent(n);
   std::iota(parent.begin(), parent.end(), 0u);
   std::vector<uint8_t> grounded(n, 0);
-  for (const sim::Bond& bond : b.bonds) {
-    if (!in_cluster(bond.a)) continue;
+  b.bonds.for_each([&](const sim::Bond& bond) {
+    if (!in_cluster(bond.a)) return;
     if (bond.b == sim::kGround) grounded[bond.a] = 1;
     else if (in_cluster(bond.b)) {
       const uint32_t ra = find_root(parent, bond.a), rb = find_root(parent, bond.b);
       parent[std::max(ra, rb)] = std::min(ra, rb);  // the root is the smallest member
     }
-  }
+  });
 
   // Components in the order of their smallest member, members ascending.
   std::vector<uint32_t> component(n, sim::kNoCluster), sizes;

@@ -4,65 +4,33 @@
 #include <numeric>
 
 #include "physics/clusters.h"
-#include "physics/sorted_vector.h"
 #include "physics/union_find.h"
+#include "sim/sorted_vector.h"
 
 namespace dw::physics {
 namespace {
 
 constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 
-sim::Bond reversed(const sim::Bond& x) { return {x.b, x.a}; }
-
-// The module-module bonds of `bonds` (sorted), each as {b, a}, sorted.
-std::vector<sim::Bond> reversed_module_bonds(std::span<const sim::Bond> bonds) {
+// The listed module-module bonds of `bonds` (sorted), each as {b, a}, sorted.
+std::vector<sim::Bond> reversed_listed(const sim::BondSet& set, std::span<const sim::Bond> bonds) {
   std::vector<sim::Bond> out;
   for (const sim::Bond& x : bonds)
-    if (x.b != sim::kGround) out.push_back(reversed(x));
+    if (set.bit(x) == 0) out.push_back({x.b, x.a});
   std::sort(out.begin(), out.end());
   return out;
 }
 
-bool grounded(std::span<const sim::Bond> bonds, sim::ModuleId m) {
-  return std::binary_search(bonds.begin(), bonds.end(), sim::Bond{m, sim::kGround});
-}
-
 }  // namespace
 
-void BondIndex::Runs::build(std::span<const sim::Bond> sorted, size_t module_count) {
-  const size_t runs = module_count / kRun + 1;
-  start.assign(runs + 1, 0);
-  size_t at = 0;
-  for (size_t run = 0; run <= runs; ++run) {
-    while (at < sorted.size() && sorted[at].a < run * kRun) ++at;
-    start[run] = static_cast<uint32_t>(at);
-  }
-}
-
-// Each start moves by the bonds made before it less those gone before it.
-void BondIndex::Runs::shift(std::span<const sim::Bond> removed, std::span<const sim::Bond> added) {
-  size_t gone = 0, made = 0;
-  for (size_t run = 0; run < start.size(); ++run) {
-    const uint64_t first = uint64_t{run} * kRun;
-    while (gone < removed.size() && removed[gone].a < first) ++gone;
-    while (made < added.size() && added[made].a < first) ++made;
-    start[run] = static_cast<uint32_t>(start[run] + made - gone);
-  }
-}
-
-void BondIndex::rebuild(std::span<const sim::Bond> bonds, size_t module_count) {
-  reversed_ = reversed_module_bonds(bonds);
-  forward_.build(bonds, module_count);
-  backward_.build(reversed_, module_count);
+void BondIndex::rebuild(const sim::BondSet& bonds) {
+  reversed_ = reversed_listed(bonds, bonds.listed());
   valid_ = true;
 }
 
-void BondIndex::apply(std::span<const sim::Bond> removed, std::span<const sim::Bond> added) {
-  const std::vector<sim::Bond> gone = reversed_module_bonds(removed), made = reversed_module_bonds(added);
-  erase_from<sim::Bond>(reversed_, gone);
-  merge_into<sim::Bond>(reversed_, made);
-  forward_.shift(removed, added);
-  backward_.shift(gone, made);
+void BondIndex::apply(const sim::BondSet& bonds, std::span<const sim::Bond> removed, std::span<const sim::Bond> added) {
+  sim::erase_from<sim::Bond>(reversed_, reversed_listed(bonds, removed));
+  sim::merge_into<sim::Bond>(reversed_, reversed_listed(bonds, added));
 }
 
 void BondChanges::clear() {
@@ -285,10 +253,12 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     for (uint32_t p : group)
       if (p != largest) others.insert(others.end(), s.pieces[p].members.begin(), s.pieces[p].members.end());
     std::sort(others.begin(), others.end());
-    merge_into<sim::ModuleId>(members, others);
+    sim::merge_into<sim::ModuleId>(members, others);
     sim::Cluster c;
     c.count = static_cast<uint32_t>(members.size());
-    c.anchored = std::any_of(members.begin(), members.end(), [&](sim::ModuleId m) { return grounded(b.bonds, m); });
+    c.anchored = std::any_of(members.begin(), members.end(), [&](sim::ModuleId m) {
+      return b.bonds.contains({m, sim::kGround});
+    });
     made.push_back({c, std::move(members), std::move(group)});
   }
   // Frames, as settle gives them. An anchored cluster's is the world's whatever its members, and

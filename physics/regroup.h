@@ -22,49 +22,38 @@ class btCollisionShape;
 
 namespace dw::physics {
 
-// The bonds of each module, both ways: b.bonds sorted by (a, b) gives a module's bonds to larger
-// ids and to the ground; this keeps the same bonds sorted by (b, a) for those to smaller ids. A
-// module's bonds are looked up among those of its run of 64 ids (where each run starts is kept,
-// and moved along as bonds come and go), not over all three million.
+// The bonds of each module, both ways. The set gives a module's bonds to larger ids and to the
+// ground (BondSet::above) and those to lattice neighbours below it (BondSet::linked_below); this
+// keeps the listed bonds (those not between lattice neighbours) sorted by (b, a), for those to
+// smaller ids.
 class BondIndex {
  public:
   // Forgets everything: the next use builds it from the bonds.
   void invalidate() { valid_ = false; }
   bool valid() const { return valid_; }
-  void rebuild(std::span<const sim::Bond> bonds, size_t module_count);
+  void rebuild(const sim::BondSet& bonds);
   // Brings it from the bonds before to those after these changes (each sorted, module-module and
   // ground bonds alike).
-  void apply(std::span<const sim::Bond> removed, std::span<const sim::Bond> added);
+  void apply(const sim::BondSet& bonds, std::span<const sim::Bond> removed, std::span<const sim::Bond> added);
   // Calls f(o) for every module o bonded to m (not the ground).
   template <class F>
-  void partners(std::span<const sim::Bond> bonds, sim::ModuleId m, F&& f) const {
-    for (const sim::Bond* at = forward_.find(bonds, m); at != bonds.data() + bonds.size() && at->a == m; ++at)
-      if (at->b != sim::kGround) f(at->b);
-    for (const sim::Bond* at = backward_.find(reversed_, m); at != reversed_.data() + reversed_.size() && at->a == m;
-         ++at)
-      f(at->b);
+  void partners(const sim::BondSet& bonds, sim::ModuleId m, F&& f) const {
+    bonds_of(bonds, m, [&](const sim::Bond& x) {
+      if (x.b != sim::kGround) f(x.a == m ? x.b : x.a);
+    });
+  }
+  // Calls f(bond) for every bond with m as an end, the ground's too.
+  template <class F>
+  void bonds_of(const sim::BondSet& bonds, sim::ModuleId m, F&& f) const {
+    bonds.above(m, [&](sim::ModuleId o) { f(sim::Bond{m, o}); });
+    bonds.linked_below(m, [&](sim::ModuleId o) { f(sim::Bond{o, m}); });
+    for (auto at = std::lower_bound(reversed_.begin(), reversed_.end(), sim::Bond{m, 0});
+         at != reversed_.end() && at->a == m; ++at)
+      f(sim::Bond{at->b, m});
   }
 
  private:
-  // Where the bonds of each run of 64 module ids start in a vector of bonds sorted by `a`.
-  struct Runs {
-    static constexpr uint32_t kRun = 64;
-    std::vector<uint32_t> start;  // [runs + 1]
-    void build(std::span<const sim::Bond> sorted, size_t module_count);
-    void shift(std::span<const sim::Bond> removed, std::span<const sim::Bond> added);
-    // The first bond of m or after it.
-    const sim::Bond* find(std::span<const sim::Bond> sorted, sim::ModuleId m) const {
-      const sim::Bond *first = sorted.data(), *last = sorted.data() + sorted.size();
-      const size_t run = m / kRun;
-      if (run + 1 < start.size()) {
-        last = sorted.data() + start[run + 1];
-        first = sorted.data() + start[run];
-      }
-      return std::lower_bound(first, last, sim::Bond{m, 0});
-    }
-  };
-  std::vector<sim::Bond> reversed_;  // {b, a} of every module-module bond, sorted
-  Runs forward_, backward_;
+  std::vector<sim::Bond> reversed_;  // {b, a} of every listed module-module bond, sorted
   bool valid_ = false;
 };
 

@@ -16,6 +16,7 @@
 #include <limits>
 #include <vector>
 
+#include "sim/bond_set.h"
 #include "sim/lattice.h"
 #include "sim/neighbor_graph.h"
 #include "sim/paged_array.h"
@@ -39,17 +40,8 @@ struct Velocity {
 // No padding: the state hash reads them bit for bit.
 static_assert(sizeof(Pose) == 7 * sizeof(float) && sizeof(Velocity) == 6 * sizeof(float));
 
-// The ground, as the other end of a bond.
-inline constexpr ModuleId kGround = std::numeric_limits<ModuleId>::max();
 // cluster_of for a module that belongs to no cluster (absent, or making a lattice move).
 inline constexpr uint32_t kNoCluster = std::numeric_limits<uint32_t>::max();
-
-// A latch between two touching modules (a < b), or between a module and the ground (b = kGround).
-struct Bond {
-  ModuleId a = 0, b = 0;
-  auto operator<=>(const Bond&) const = default;
-};
-static_assert(sizeof(Bond) == 2 * sizeof(ModuleId));
 
 struct Cluster {
   Pose pose;                      // the frame: centre of mass, principal axes
@@ -94,9 +86,9 @@ struct Bodies {
   PagedArray<uint32_t> cluster_of;
   std::vector<Cluster> clusters;  // ordered by their smallest member
   std::vector<ModuleId> members;  // each cluster's members, ascending
-  std::vector<Bond> bonds;        // sorted
-  std::vector<Mover> movers;      // sorted by module
-  std::vector<Pose> prop_poses;   // the scenario's props (bodies that are not modules)
+  BondSet bonds;
+  std::vector<Mover> movers;     // sorted by module
+  std::vector<Pose> prop_poses;  // the scenario's props (bodies that are not modules)
   std::vector<Velocity> prop_velocities;
 
   bool empty() const { return poses.empty(); }

@@ -23,7 +23,7 @@ void each_vector(B& b, F&& f) {
   f(b.cluster_of);
   f(b.clusters);
   f(b.members);
-  f(b.bonds);
+  b.bonds.each_part(f);
   f(b.movers);
   f(b.prop_poses);
   f(b.prop_velocities);

@@ -1,4 +1,4 @@
-// Sorted vectors of a million bonds or contact pairs changed by a few thousand entries a step:
+// Sorted vectors of many bonds or cluster members changed by a few thousand entries a step:
 // merged and thinned in place, from the back and in one pass, with no buffer the size of the
 // whole (std::inplace_merge and std::set_difference into a copy fault in fresh pages each step).
 #pragma once
@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-namespace dw::physics {
+namespace dw::sim {
 
 // Adds `more` (sorted, none already in `into`) to `into` (sorted).
 template <typename T>
@@ -31,4 +31,4 @@ void erase_from(std::vector<T>& from, std::span<const T> gone) {
   from.erase(kept, from.end());
 }
 
-}  // namespace dw::physics
+}  // namespace dw::sim

@@ -145,20 +145,20 @@ uint64_t continue_hash(uint64_t h, const Bodies& b, ModuleId first, ModuleId end
   };
   static_assert(sizeof(ModuleRecords) == 80 && std::is_trivially_copyable_v<ModuleRecords>);
   Hasher hasher{h};
-  // The bonds are sorted by their lower end and the movers by module: each module's are the next.
-  auto bond = std::lower_bound(b.bonds.begin(), b.bonds.end(), Bond{first, 0});
+  // The movers are sorted by module: each module's is the next.
   auto mover = std::lower_bound(b.movers.begin(), b.movers.end(), first,
                                 [](const Mover& x, ModuleId id) { return x.module < id; });
+  std::vector<ModuleId> bonded;  // a module's bonds to larger ids and the ground
   for (ModuleId m = first; m < end; ++m) {
     const ModuleRecords records{b.poses[m], b.velocities[m], b.pose_in_cluster(m)};
     uint64_t words[10];
     std::memcpy(words, &records, sizeof records);
     for (uint64_t w : words) hasher.word(w);
     hasher.word(b.cluster_of[m]);
-    auto bonds_end = bond;
-    while (bonds_end != b.bonds.end() && bonds_end->a == m) ++bonds_end;
-    hasher.word(uint64_t(bonds_end - bond));
-    for (; bond != bonds_end; ++bond) hasher.word(bond->b);
+    bonded.clear();
+    b.bonds.above(m, [&](ModuleId o) { bonded.push_back(o); });
+    hasher.word(bonded.size());
+    for (ModuleId o : bonded) hasher.word(o);
     const bool moving = mover != b.movers.end() && mover->module == m;
     hasher.word(moving);
     if (moving) {
@@ -250,9 +250,8 @@ size_t state_bytes(const State& s) {
   const Bodies& b = s.bodies;
   size_t n = sizeof(State) + vector_bytes(s.values) + vector_bytes(s.present) + b.poses.bytes() + b.velocities.bytes() +
              b.local.bytes() + b.cluster_of.bytes() + vector_bytes(b.clusters) + vector_bytes(b.members) +
-             vector_bytes(b.bonds) + vector_bytes(b.movers) + vector_bytes(b.prop_poses) +
-             vector_bytes(b.prop_velocities) + vector_bytes(s.inbox.begin) + s.inbox.messages.bytes() +
-             vector_bytes(s.actions) + 16 * kBlock;
+             b.bonds.bytes() + vector_bytes(b.movers) + vector_bytes(b.prop_poses) + vector_bytes(b.prop_velocities) +
+             vector_bytes(s.inbox.begin) + s.inbox.messages.bytes() + vector_bytes(s.actions) + 16 * kBlock;
   for (const WatchState& w : s.watches) {
     n += sizeof(WatchState) + vector_bytes(w.in_flight);
     if (w.agents) n += w.agents->bytes();

@@ -91,10 +91,11 @@ sim::Bodies falling_blocks(const std::vector<float>& speed, float apart, btColli
   b.velocities.resize(n);
   for (sim::ModuleId m = 0; m < n; ++m) b.velocities.set(m, {.linear = {speed[m / 8], 0, 0}});
   b.local.resize(n);
+  b.bonds = sim::BondSet({}, false, n);  // off any lattice: every bond listed
   for (sim::ModuleId m = 0; m < n; ++m)
     for (sim::ModuleId o = m + 1; o < n; ++o) {
       const auto &p = b.poses[m].position, &q = b.poses[o].position;
-      if (std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) == 1) b.bonds.push_back({m, o});
+      if (std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) == 1) b.bonds.insert({m, o});
     }
   form_clusters(b, std::vector<uint8_t>(n, 1), shape);
   return b;

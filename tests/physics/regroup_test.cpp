@@ -22,30 +22,31 @@ struct Block {
   Regrouper regroup;
 
   Block(int side, bool anchored) : b(test::latched_block(side, anchored, shape)), present(b.poses.size(), 1) {
-    index.rebuild(b.bonds, b.poses.size());
+    index.rebuild(b.bonds);
   }
   bool touching(sim::ModuleId m, sim::ModuleId o) const {
     const auto &p = b.poses[m].position, &q = b.poses[o].position;
     return std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) < 1.01f;
   }
-  void erase(sim::Bond x) {  // by value: x may be one of the bonds
-    const auto at = std::lower_bound(b.bonds.begin(), b.bonds.end(), x);
-    if (at == b.bonds.end() || !(*at == x)) return;
-    b.bonds.erase(at);
-    index.apply(std::vector{x}, {});
+  void erase(const sim::Bond& x) {
+    if (!b.bonds.erase(x)) return;
+    index.apply(b.bonds, std::vector{x}, {});
     changes.removed.push_back(x);
   }
   void add(const sim::Bond& x) {
-    const auto at = std::lower_bound(b.bonds.begin(), b.bonds.end(), x);
-    if (at != b.bonds.end() && *at == x) return;
-    b.bonds.insert(at, x);
-    index.apply({}, std::vector{x});
+    if (!b.bonds.insert(x)) return;
+    index.apply(b.bonds, {}, std::vector{x});
     changes.added.push_back(x);
+  }
+  std::vector<sim::Bond> all_bonds() const {
+    std::vector<sim::Bond> all;
+    b.bonds.for_each([&](const sim::Bond& x) { all.push_back(x); });
+    return all;
   }
   // m sets off on a lattice move: its bonds go.
   void set_off(sim::ModuleId m) {
     std::vector<sim::Bond> gone;
-    for (const sim::Bond& x : b.bonds)
+    for (const sim::Bond& x : all_bonds())
       if (x.a == m || x.b == m) gone.push_back(x);
     for (const sim::Bond& x : gone) erase(x);
     sim::Mover mover{.module = m};
@@ -135,8 +136,9 @@ TEST(Regrouper, RandomChangesGiveFormClustersResult) {
             if (k.b.moving(m)) arriving.push_back(m);
             break;
           case 2: {  // a bond released
-            if (k.b.bonds.empty()) break;
-            k.erase(k.b.bonds[random() % k.b.bonds.size()]);
+            const std::vector<sim::Bond> all = k.all_bonds();
+            if (all.empty()) break;
+            k.erase(all[random() % all.size()]);
             break;
           }
           case 3: {  // a bond made to a touching still module

@@ -195,12 +195,14 @@ class DriftingBodies final : public World {
     b.velocities.resize(n);
     b.local.resize(n);
     b.cluster_of.resize(n);
+    b.bonds = BondSet(model.lattice.spec, false, n);
     for (ModuleId m = 0; m < n; ++m) {
       b.cluster_of.set(m, kNoCluster);
       b.poses.set(m, {.position = {float(m), 0, 0}});
       b.velocities.set(m, {.angular = {0, 0, float(m % 7)}});
-      if (m % 3 == 0 && m + 1 < n) b.bonds.push_back({m, m + 1});
-      if (m % 10 == 0) b.bonds.push_back({m, kGround});
+      if (m % 3 == 0 && m + 1 < n) b.bonds.insert({m, m + 1});   // to a lattice neighbour
+      if (m % 11 == 0 && m + 2 < n) b.bonds.insert({m, m + 2});  // listed
+      if (m % 10 == 0) b.bonds.insert({m, kGround});
       if (m % 97 == 0) b.movers.push_back({.module = m, .start = m, .steps = 5, .angle = float(m)});
     }
   }
@@ -233,9 +235,11 @@ TEST(RuntimeRanks, EachRankHashesItsOwnModulesLinksAndBodiesOnly) {
   State cut = s;  // and so do a link, a bond and a lattice move less
   cut.graph = std::make_shared<const NeighborGraph>(s.graph->without(1700));
   EXPECT_NE(one.hash(cut).simulation, expected.simulation);
-  cut = s;
-  cut.bodies.bonds.erase(cut.bodies.bonds.begin() + 1000);
-  EXPECT_NE(one.hash(cut).simulation, expected.simulation);
+  for (const Bond& bond : {Bond{999, 1000}, Bond{1001, 1003}, Bond{1000, kGround}}) {
+    cut = s;
+    ASSERT_TRUE(cut.bodies.bonds.erase(bond));
+    EXPECT_NE(one.hash(cut).simulation, expected.simulation);
+  }
   cut = s;
   cut.bodies.movers.erase(cut.bodies.movers.begin() + 20);
   EXPECT_NE(one.hash(cut).simulation, expected.simulation);
@@ -251,7 +255,12 @@ TEST(RuntimeRanks, EachRankHashesItsOwnModulesLinksAndBodiesOnly) {
         b.local.set(m, {.orientation = {1, 0, 0, 0}});
         b.cluster_of.set(m, 12345);
       }
-    std::erase_if(b.bonds, [&](const Bond& bond) { return outside(bond.a) && bond.b != kGround; });
+    std::vector<Bond> listed_outside;
+    for (const Bond& bond : b.bonds.listed())
+      if (outside(bond.a)) listed_outside.push_back(bond);
+    b.bonds.erase(listed_outside);
+    for (ModuleId m = 0; m < b.poses.size(); ++m)
+      if (outside(m)) b.bonds.set_links(m, b.bonds.links(m) & kGroundBit);
     std::erase_if(b.movers, [&](const Mover& mover) { return outside(mover.module); });
     NeighborGraph links;  // the others' lists emptied
     for (ModuleId m = 0; m < s.graph->module_count(); ++m) {
