@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
+#include <optional>
 #include <span>
 #include <stdexcept>
 
@@ -59,6 +59,39 @@ class PagedRecords {
  private:
   std::vector<uint8_t> known_;
   sim::PagedArray<T, Default> records_;
+};
+
+// Module ids, ascending: a list, or every id below n without holding them (a full measurement
+// looks at and flags every module: two lists of them took 8 MB a million, on every rank).
+class Ids {
+ public:
+  void all(size_t n) {
+    list_.clear();
+    every_ = n;
+  }
+  std::vector<sim::ModuleId>& list() {
+    every_.reset();
+    return list_;
+  }
+  size_t size() const { return every_ ? *every_ : list_.size(); }
+  bool empty() const { return size() == 0; }
+  sim::ModuleId operator[](size_t i) const { return every_ ? static_cast<sim::ModuleId>(i) : list_[i]; }
+  struct Iterator {
+    const Ids* ids;
+    size_t i;
+    sim::ModuleId operator*() const { return (*ids)[i]; }
+    Iterator& operator++() {
+      ++i;
+      return *this;
+    }
+    bool operator==(const Iterator&) const = default;
+  };
+  Iterator begin() const { return {this, 0}; }
+  Iterator end() const { return {this, size()}; }
+
+ private:
+  std::optional<size_t> every_;
+  std::vector<sim::ModuleId> list_;
 };
 
 float squared_distance(const sim::Vec3& a, const sim::Vec3& b) {
@@ -195,7 +228,8 @@ struct ContactGraph::Impl {
     frame[m] = f;
   }
   // Scratch of an update, kept so that a million-module step does not fault in fresh pages.
-  std::vector<sim::ModuleId> looked, flagged_list, entering;
+  Ids looked, flagged_list;
+  std::vector<sim::ModuleId> entering;
   std::shared_ptr<const sim::NeighborGraph> graph;
 };
 
@@ -275,18 +309,19 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
   // The modules to look at: those the caller says may have changed, or all. Per module, what
   // changed since the last measurement: it came or went or its world pose changed (moved), or its
   // frame did (reframed); `flagged` either. Only those look for pairs to measure.
-  std::vector<sim::ModuleId>& looked = s.looked;
-  looked.clear();
+  Ids& looked = s.looked;
   if (changed) {
-    looked = *changed;
-    std::sort(looked.begin(), looked.end());
-    looked.erase(std::unique(looked.begin(), looked.end()), looked.end());
+    std::vector<sim::ModuleId>& list = looked.list();
+    list = *changed;
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
   } else {
-    looked.resize(n);
-    std::iota(looked.begin(), looked.end(), 0u);
+    looked.all(n);
   }
-  std::vector<sim::ModuleId>& flagged_list = s.flagged_list;
-  flagged_list.clear();
+  // Forgetting, every module is flagged.
+  Ids& flagged_list = s.flagged_list;
+  if (forget) flagged_list.all(n);
+  else flagged_list.list().clear();
   for (sim::ModuleId m : looked) {
     s.place(bodies, present, m);
     const bool is = present[m] != 0, moved = forget || is != s.marked(m, Impl::kWasPresent) ||
@@ -295,7 +330,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     s.mark(m, Impl::kMoved, moved);
     s.mark(m, Impl::kReframed, reframed);
     s.mark(m, Impl::kFlagged, moved || reframed);
-    if (moved || reframed) flagged_list.push_back(m);
+    if ((moved || reframed) && !forget) flagged_list.list().push_back(m);
   }
   measured_ = 0;
   // Over ranks what a rank finds changed depends on what it remembers: each takes part in the sum
@@ -330,7 +365,8 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
         }
     } else {
       *held = *was_held;
-      std::vector<sim::ModuleId> again(flagged_list);
+      std::vector<sim::ModuleId> again;
+      for (sim::ModuleId m : flagged_list) again.push_back(m);
       for (sim::ModuleId m : flagged_list)
         if (w.owned(m)) {
           w.near(s.grid.at(m), [&](sim::ModuleId o) { again.push_back(o); });

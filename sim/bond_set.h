@@ -53,8 +53,7 @@ class BondSet {
   BondSet() = default;
   // `modules` modules on `lattice` (whose ids are its cells'), latched to every lattice neighbour
   // or to none.
-  BondSet(const LatticeSpec& lattice, bool latched, size_t modules)
-      : links_(LinkDefault{lattice, latched ? 1u : 0u}) {
+  BondSet(const LatticeSpec& lattice, bool latched, size_t modules) : links_(LinkDefault{lattice, latched ? 1u : 0u}) {
     links_.resize(modules);
   }
 

@@ -19,8 +19,9 @@ std::vector<Bond> all_of(const BondSet& bonds) {
 // Latched by default, a set holds every pair of lattice neighbours, as the lattice's graph
 // has them; not latched, none.
 TEST(BondSet, LatchedByDefaultItHoldsTheLatticesPairs) {
-  for (const LatticeSpec& spec : {LatticeSpec{LatticeKind::Cubic, {10, 10, 10}}, LatticeSpec{LatticeKind::Fcc, {5, 4, 6}},
-                                  LatticeSpec{LatticeKind::Hex2d, {7, 6, 1}}}) {
+  for (const LatticeSpec& spec :
+       {LatticeSpec{LatticeKind::Cubic, {10, 10, 10}}, LatticeSpec{LatticeKind::Fcc, {5, 4, 6}},
+        LatticeSpec{LatticeKind::Hex2d, {7, 6, 1}}}) {
     const auto n = static_cast<uint32_t>(spec.module_count());
     const BondSet latched(spec, true, n);
     std::vector<Bond> pairs;
