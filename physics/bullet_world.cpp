@@ -30,6 +30,15 @@ std::string who(const sim::Actuation& a, int64_t step) {
   return "module " + std::to_string(a.module) + " at step " + std::to_string(step);
 }
 
+// Every rank's `mine`, in rank order (a collective call over ranks); in one process, `mine`.
+template <class T>
+std::vector<T> from_every_rank(sim::RankExchange* ranks, std::vector<T> mine) {
+  if (!ranks) return mine;
+  std::vector<T> all;
+  sim::all_gather_into<T>(*ranks, mine, all);
+  return all;
+}
+
 }  // namespace
 
 BulletWorld::BulletWorld(PhysicsSettings settings, const sim::Lattice& lattice)
@@ -85,15 +94,9 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
     }
     if (bits != b.bonds.default_links(m)) differing.push_back({m, bits});
   }
-  if (ranks_) {
-    std::vector<Links> mine;
-    std::vector<sim::Bond> ours;
-    mine.swap(differing);
-    ours.swap(listed);
-    sim::all_gather_into<Links>(*ranks_, mine, differing);
-    sim::all_gather_into<sim::Bond>(*ranks_, ours, listed);
-  }
-  for (const Links& x : differing) b.bonds.set_links(x.module, static_cast<uint8_t>(x.bits));
+  for (const Links& x : from_every_rank(ranks_, std::move(differing)))
+    b.bonds.set_links(x.module, static_cast<uint8_t>(x.bits));
+  listed = from_every_rank(ranks_, std::move(listed));
   std::sort(listed.begin(), listed.end());
   b.bonds.insert(listed);
   regroup_all(state);
@@ -299,10 +302,7 @@ std::vector<sim::Bond> BulletWorld::touching_bonds(const sim::State& state, std:
     if (state.present[m] && (!ranks_ || owners_.rank_of(m) == me))
       for (sim::ModuleId o : state.graph->neighbors(m))
         if (!state.bodies.moving(o)) found.push_back({std::min(m, o), std::max(m, o)});
-  if (!ranks_) return found;
-  std::vector<sim::Bond> all;
-  sim::all_gather_into<sim::Bond>(*ranks_, found, all);
-  return all;
+  return from_every_rank(ranks_, std::move(found));
 }
 
 // Modules ending a lattice move latch to what they touch (and the ground).

@@ -127,8 +127,8 @@ std::span<const T> records_of(std::span<const std::byte> bytes) {
 
 // Every rank's `mine` in rank order, appended to `into` on every rank (a collective call), with
 // room reserved for `room` records more. Gathered in rounds of at most `round_bytes` from each
-// rank and laid down at once, so what is gathered is never held twice: the bonds of a latched
-// 100^3 lattice are 24 MB, which a single gather would hold beside their copy.
+// rank and laid down at once, so what is gathered is never held twice (a single gather of
+// millions of records would hold them beside their copy).
 template <class T>
 void all_gather_into(RankExchange& ranks, std::span<const T> mine, std::vector<T>& into, size_t room = 0,
                      size_t round_bytes = size_t{1} << 20) {
