@@ -75,7 +75,8 @@ std::vector<int> variable_columns(const Program& program, const Universe& univer
 }
 
 Detector::Detector(const Universe& universe, MatchSink sink) : universe_(universe), sink_(std::move(sink)) {
-  for (uint32_t m = 0; m < universe.module_count(); ++m) dense_ids_are_ids_ &= universe.id(m) == m;
+  // A lattice's universe lists no ids (each is its index); a trace's lists them, in any order.
+  for (uint32_t m = 0; m < universe.module_ids.size(); ++m) dense_ids_are_ids_ &= universe.module_ids[m] == m;
 }
 
 void Detector::emit(int64_t t, std::span<const uint32_t> dense, std::span<const Value> actions) {
