@@ -366,13 +366,14 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     } else {
       *held = *was_held;
       std::vector<sim::ModuleId> again;
-      for (sim::ModuleId m : flagged_list) again.push_back(m);
-      for (sim::ModuleId m : flagged_list)
+      for (sim::ModuleId m : flagged_list) {
+        again.push_back(m);
         if (w.owned(m)) {
           w.near(s.grid.at(m), [&](sim::ModuleId o) { again.push_back(o); });
           if (was_present(m) && s.world.known(m))
             w.near(s.world[m].position, [&](sim::ModuleId o) { again.push_back(o); });
         }
+      }
       std::sort(again.begin(), again.end());
       again.erase(std::unique(again.begin(), again.end()), again.end());
       for (sim::ModuleId m : again) {

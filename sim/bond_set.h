@@ -57,7 +57,6 @@ class BondSet {
     links_.resize(modules);
   }
 
-  size_t module_count() const { return links_.size(); }
   const LatticeSpec& lattice() const { return links_.defaults().lattice; }
   // The bit of `x` in its lower end's byte, or 0 when it is listed.
   uint8_t bit(const Bond& x) const {
