@@ -86,9 +86,9 @@ struct Bodies {
   PagedArray<uint32_t> cluster_of;
   std::vector<Cluster> clusters;  // ordered by their smallest member
   std::vector<ModuleId> members;  // each cluster's members, ascending
-  BondSet bonds;
-  std::vector<Mover> movers;     // sorted by module
-  std::vector<Pose> prop_poses;  // the scenario's props (bodies that are not modules)
+  BondSet bonds;                  // who is latched to whom and to the ground
+  std::vector<Mover> movers;      // sorted by module
+  std::vector<Pose> prop_poses;   // the scenario's props (bodies that are not modules)
   std::vector<Velocity> prop_velocities;
 
   bool empty() const { return poses.empty(); }
