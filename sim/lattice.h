@@ -57,10 +57,21 @@ inline std::array<float, 3> cell_centre(const LatticeSpec& spec, uint32_t x, uin
 std::array<float, 3> ring_cell_centre(const LatticeSpec& spec, ModuleId m);
 // The centre of module m's cell. Computed, not kept: 12 bytes a module (12 MB for a 100^3
 // lattice) on every rank. Inline, since the contact graph asks for every module's neighbours.
+// The lattice coordinates (x, y, z) of cell m.
+inline std::array<uint32_t, 3> cell_coordinates(const LatticeSpec& spec, ModuleId m) {
+  const uint32_t nx = spec.size[0], ny = spec.size[1], row = m / nx;
+  return {m - row * nx, row % ny, row / ny};
+}
+// The cell at lattice coordinates (x, y, z), or none outside the lattice.
+inline std::optional<ModuleId> cell_at(const LatticeSpec& spec, int64_t x, int64_t y, int64_t z) {
+  const auto& n = spec.size;
+  if (x < 0 || y < 0 || z < 0 || x >= n[0] || y >= n[1] || z >= n[2]) return std::nullopt;
+  return static_cast<ModuleId>(x + n[0] * (y + n[1] * z));
+}
 inline std::array<float, 3> cell_position(const LatticeSpec& spec, ModuleId m) {
   if (spec.kind == LatticeKind::Ring) return ring_cell_centre(spec, m);
-  const uint32_t nx = spec.size[0], ny = spec.size[1], row = m / nx;
-  return cell_centre(spec, m - row * nx, row % ny, row / ny);
+  const auto [x, y, z] = cell_coordinates(spec, m);
+  return cell_centre(spec, x, y, z);
 }
 
 // The lattice coordinates (inclusive, x y z) of the cells whose centres may lie in the box
@@ -141,14 +152,11 @@ inline int link_slots(LatticeKind kind) {
 template <typename Visit>
 void for_links_above(const LatticeSpec& spec, ModuleId m, Visit&& visit) {
   if (m >= spec.module_count()) return;
-  const uint32_t nx = spec.size[0], ny = spec.size[1], nz = spec.size[2], row = m / nx;
-  const int64_t x = m - row * nx, y = row % ny, z = row / ny;
+  const auto [x, y, z] = cell_coordinates(spec, m);
   const bool odd = ((spec.kind == LatticeKind::Hex2d ? y : z) & 1) != 0;
   for (int slot = 0; slot < link_slots(spec.kind); ++slot) {
     const auto step = link_step(spec.kind, slot, odd);
-    const int64_t ax = x + step[0], ay = y + step[1], az = z + step[2];
-    if (ax >= 0 && ax < nx && ay >= 0 && ay < ny && az < nz)
-      visit(slot, static_cast<ModuleId>(ax + nx * (ay + ny * az)));
+    if (const auto o = cell_at(spec, int64_t{x} + step[0], int64_t{y} + step[1], int64_t{z} + step[2])) visit(slot, *o);
   }
 }
 // Calls visit(slot, neighbour) for each cell with a smaller id linked to m, and the slot of its
@@ -156,18 +164,15 @@ void for_links_above(const LatticeSpec& spec, ModuleId m, Visit&& visit) {
 template <typename Visit>
 void for_links_below(const LatticeSpec& spec, ModuleId m, Visit&& visit) {
   if (m >= spec.module_count()) return;
-  const uint32_t nx = spec.size[0], ny = spec.size[1], row = m / nx;
-  const int64_t x = m - row * nx, y = row % ny, z = row / ny;
+  const auto [x, y, z] = cell_coordinates(spec, m);
   const bool hex = spec.kind == LatticeKind::Hex2d;
   for (int slot = 0; slot < link_slots(spec.kind); ++slot) {
     // The row or layer a slot climbs does not hang on parity; the source's parity fixes the rest.
     const auto climb = link_step(spec.kind, slot, false);
-    const int64_t source_row = hex ? y - climb[1] : z - climb[2];
+    const int64_t source_row = hex ? int64_t{y} - climb[1] : int64_t{z} - climb[2];
     if (source_row < 0) continue;
     const auto step = link_step(spec.kind, slot, (source_row & 1) != 0);
-    const int64_t sx = x - step[0], sy = y - step[1], sz = z - step[2];
-    if (sx >= 0 && sx < nx && sy >= 0 && sy < ny && sz >= 0)
-      visit(slot, static_cast<ModuleId>(sx + nx * (sy + ny * sz)));
+    if (const auto o = cell_at(spec, int64_t{x} - step[0], int64_t{y} - step[1], int64_t{z} - step[2])) visit(slot, *o);
   }
 }
 
