@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "scenarios/lua_sandbox.h"
-#include "scenarios/programs.h"
+#include "scenarios/programs/programs.h"
 
 namespace dw::scenarios {
 

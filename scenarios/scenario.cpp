@@ -10,7 +10,7 @@
 #include "physics/bullet_world.h"
 #include "scenarios/lua_program.h"
 #include "scenarios/memory_estimate.h"
-#include "scenarios/programs.h"
+#include "scenarios/programs/programs.h"
 #include "scenarios/table_reader.h"
 #include "sim/lattice.h"
 #include "sim/read_file.h"

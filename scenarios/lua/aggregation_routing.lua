@@ -1,4 +1,4 @@
--- The paper's medium-intensity workload (§V-B), the Lua twin of scenarios/aggregation_routing.cpp
+-- The paper's medium-intensity workload (§V-B), the Lua twin of scenarios/programs/aggregation_routing.cpp
 -- with three landmarks: the same variables, messages and order, so the same state hashes and
 -- matches after every step. (The C++ program starts its distances at -1 and a script's variables
 -- start at 0; both set every variable at every step, so only the state before step 0 differs.)

@@ -1,5 +1,5 @@
 -- 2-hop leader election (the paper's Fig. 2 setting), the Lua twin of
--- scenarios/leader_election.cpp: the same variables, messages and random draw, so the same state
+-- scenarios/programs/leader_election.cpp: the same variables, messages and random draw, so the same state
 -- hashes and matches. Leaders end up at least three hops apart.
 --
 -- Each module draws a unique priority at step 0. Every step it broadcasts its status, its

@@ -1,5 +1,5 @@
 -- Modules sliding along the top of a row (the paper's §I example), the Lua twin of
--- scenarios/slide.cpp: the same variables, messages and moves, so the same state hashes and
+-- scenarios/programs/slide.cpp: the same variables, messages and moves, so the same state hashes and
 -- matches. It needs a world with bodies ([physics] enabled): it senses its position with
 -- m:position() and m:moving(), and moves with m:move(dx, dy, dz).
 --

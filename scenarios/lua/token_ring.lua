@@ -1,4 +1,4 @@
--- Token passing on a ring (the paper's Fig. 3 setting), the Lua twin of scenarios/token_ring.cpp:
+-- Token passing on a ring (the paper's Fig. 3 setting), the Lua twin of scenarios/programs/token_ring.cpp:
 -- the same variables in the same order, the same messages, so the same state hashes and matches.
 -- The module holding the token at step t passes it to its successor (the neighbour with the next
 -- id around the ring). Module 0 is the master: it makes the first token at step 0, and a new one

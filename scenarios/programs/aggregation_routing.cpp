@@ -11,7 +11,7 @@
 // modules.
 #include <algorithm>
 
-#include "scenarios/programs.h"
+#include "scenarios/programs/programs.h"
 
 namespace dw::scenarios {
 namespace {

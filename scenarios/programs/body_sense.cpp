@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "scenarios/programs.h"
+#include "scenarios/programs/programs.h"
 
 namespace dw::scenarios {
 namespace {

@@ -14,7 +14,7 @@
 // mistake that produces the paper's Fig. 2 violation: two leaders two hops apart.
 #include <algorithm>
 
-#include "scenarios/programs.h"
+#include "scenarios/programs/programs.h"
 
 namespace dw::scenarios {
 namespace {

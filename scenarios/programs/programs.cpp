@@ -1,4 +1,4 @@
-#include "scenarios/programs.h"
+#include "scenarios/programs/programs.h"
 
 namespace dw::scenarios {
 namespace {

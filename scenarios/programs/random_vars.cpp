@@ -1,6 +1,6 @@
 // The paper's benchmark host program (§V): every step each module draws x1..xk uniformly from
 // 0..max_i-1. Parameter: the tuple [max_x1, ..., max_xk].
-#include "scenarios/programs.h"
+#include "scenarios/programs/programs.h"
 
 namespace dw::scenarios {
 namespace {

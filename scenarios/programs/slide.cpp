@@ -8,7 +8,7 @@
 // each other, which is what the §I watchpoint catches; with gap >= 4 they never do.
 #include <cmath>
 
-#include "scenarios/programs.h"
+#include "scenarios/programs/programs.h"
 
 namespace dw::scenarios {
 namespace {

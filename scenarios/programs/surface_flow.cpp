@@ -13,7 +13,7 @@
 // two modules never ask for one cell at once.
 #include <cmath>
 
-#include "scenarios/programs.h"
+#include "scenarios/programs/programs.h"
 
 namespace dw::scenarios {
 namespace {

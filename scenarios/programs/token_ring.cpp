@@ -11,7 +11,7 @@
 //                     timeout runs out, where again neither neighbour had it the step before.
 #include <limits>
 
-#include "scenarios/programs.h"
+#include "scenarios/programs/programs.h"
 
 namespace dw::scenarios {
 namespace {

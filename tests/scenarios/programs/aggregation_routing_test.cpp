@@ -1,4 +1,4 @@
-// Spanning-tree aggregation and landmark routing (scenarios/aggregation_routing.cpp) converge to
+// Spanning-tree aggregation and landmark routing (scenarios/programs/aggregation_routing.cpp) converge to
 // the BFS distances and to the root counting every module.
 #include <gtest/gtest.h>
 

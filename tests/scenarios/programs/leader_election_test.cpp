@@ -1,4 +1,4 @@
-// 2-hop leader election (scenarios/leader_election.cpp).
+// 2-hop leader election (scenarios/programs/leader_election.cpp).
 //
 // Why the correct variant is safe: say u is elected at step t_u and w at t_w >= t_u, within two
 // hops. If they are two hops apart through v: w was not covered at t_w, so v had not heard of u

@@ -1,4 +1,4 @@
-// The Table I host (scenarios/random_vars.cpp) through the runtime draws exactly the numbers of
+// The Table I host (scenarios/programs/random_vars.cpp) through the runtime draws exactly the numbers of
 // the synthetic trace, so live detection and replay of that trace agree, for both algorithms.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Token passing (scenarios/token_ring.cpp) under the Fig. 3 watchpoint: the first match comes
+// Token passing (scenarios/programs/token_ring.cpp) under the Fig. 3 watchpoint: the first match comes
 // exactly where the injected bug puts it, and never without a bug.
 #include <gtest/gtest.h>
 
