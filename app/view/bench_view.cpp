@@ -118,7 +118,7 @@ int bench_view(const BenchArgs& args) {
       play_steps.values.push_back(double(debugger.shown().at.current - 150) / played_seconds);
 
       // A click on a match row (the last one, far from the current step) until the step shows.
-      const view::Frame& shown = debugger.shown();
+      const view::Readout& shown = debugger.shown();
       if (!shown.match_rows.empty()) {
         const view::MatchRef ref = shown.match_rows[shown.match_rows.size() / 2].ref;
         const int64_t want = shown.match_rows[shown.match_rows.size() / 2].t;

@@ -15,13 +15,13 @@ void Debugger::inspector_panel() {
   place(panels_.module);
   ImGui::Begin("Module");
   const sim::Model& m = session_.model();
-  if (!frame_.inspector) {
+  if (!readout_.inspector) {
     ImGui::TextDisabled("click a module in the 3D view, a match or a neighbour");
     ImGui::End();
     return;
   }
-  const Inspector& in = *frame_.inspector;
-  ImGui::Text("module %u at step %" PRId64 "%s", m.universe.id(in.module), frame_.at.current,
+  const Inspector& in = *readout_.inspector;
+  ImGui::Text("module %u at step %" PRId64 "%s", m.universe.id(in.module), readout_.at.current,
               in.present ? "" : "  (absent)");
   if (in.pose) {
     const auto& p = in.pose->position;
@@ -38,7 +38,7 @@ void Debugger::inspector_panel() {
       ImGui::TableNextColumn();
       if (ImGui::Selectable(v.name.c_str(),
                             v.name == model_.plot_variable || (model_.plot_variable.empty() && &v == &in.variables[0])))
-        model_.plot_variable = v.name, frame_stale_ = true;
+        model_.plot_variable = v.name, readout_stale_ = true;
       ImGui::TableNextColumn();
       if (v.changed()) cell_text(std::to_string(v.value) + "  (changed)", ImVec4(1, 0.8f, 0.2f, 1));
       else cell_text(std::to_string(v.value));
@@ -64,7 +64,7 @@ void Debugger::inspector_panel() {
     ImGui::SameLine();
     if (ImGui::SmallButton(std::to_string(m.universe.id(n)).c_str())) {
       model_.on_module_click(n);
-      frame_stale_ = true;
+      readout_stale_ = true;
     }
   }
   // The module's matches, one row each (which, its step, its slots), so that two of one step read
@@ -78,7 +78,7 @@ void Debugger::inspector_panel() {
       std::vector<std::string> commands;
       worker_->try_read([&](sim::Session& s) { commands = model_.on_match_click(s, r); });
       apply(commands);
-      frame_stale_ = true;
+      readout_stale_ = true;
     }
   }
   ImGui::Separator();
@@ -101,7 +101,7 @@ void Debugger::inspector_panel() {
     ImGui::SameLine();
     if (button("Push")) apply({command::push(in.module, {push_[0], push_[1], push_[2]})});
   }
-  ImGui::Text("%zu interventions on this branch", frame_.interventions.size());
+  ImGui::Text("%zu interventions on this branch", readout_.interventions.size());
   // The session's `save`: its watchpoints and this branch's interventions, through the same
   // checks as every output; an existing file is replaced only once confirmed.
   ImGui::SetNextItemWidth(width_beside({"save as scenario", "overwrite it"}));
@@ -132,9 +132,9 @@ void Debugger::statistics_panel() {
   place(panels_.statistics);
   ImGui::Begin("Statistics");
   ImGui::Text("frame %.1f ms", shown_frame_ms_);
-  for (size_t w = 0; w < frame_.stats.size(); ++w) {
-    const std::vector<StatsRow>& rows = frame_.stats[w];
-    if (!ImGui::CollapsingHeader(frame_.watches[w].name.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) continue;
+  for (size_t w = 0; w < readout_.stats.size(); ++w) {
+    const std::vector<StatsRow>& rows = readout_.stats[w];
+    if (!ImGui::CollapsingHeader(readout_.watches[w].name.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) continue;
     if (rows.empty()) {
       ImGui::TextDisabled("no steps yet");
       continue;

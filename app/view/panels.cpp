@@ -1,6 +1,6 @@
 // The debugger's panels (Dear ImGui): transport and timeline, watchpoints and the editor, the
 // matches table (the Module, Statistics and help panels are in module_panels.cpp). Each draws from
-// the Frame and sends session commands; none reads the session while a job may run.
+// the Readout and sends session commands; none reads the session while a job may run.
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
@@ -11,10 +11,11 @@
 #include <sstream>
 #include <tuple>
 
-#include "app/explain.h"
-#include "app/output_files.h"
 #include "app/view/debugger.h"
 #include "app/view/widgets.h"
+#include "shell/output_files.h"
+#include "sim/unknown_variables.h"
+#include "watch/explain.h"
 #include "watch/watchpoint.h"
 
 namespace dw::view {
@@ -37,7 +38,7 @@ void Debugger::transport_panel() {
                        "The window is %.0fx%.0f: the panels need %.0fx%.0f or more to show whole. Enlarge it.",
                        vp->WorkSize.x, vp->WorkSize.y, PanelLayout::kMinWidth, PanelLayout::kMinHeight);
   }
-  const Position& at = frame_.at;
+  const Position& at = readout_.at;
   if (button(model_.playing ? "Pause (Space)" : "Play (Space)")) press(Key::Space);
   for (const char* label : {"< Back", "Step >", "Run"}) {
     flow(button_width(label));
@@ -72,12 +73,12 @@ void Debugger::transport_panel() {
     ImGui::SetTooltip("The chosen watchpoint's next match: simulated on to it when none is known yet");
   flow(140);
   ImGui::SetNextItemWidth(140);
-  const char* chosen = size_t(model_.chosen_watch) < frame_.watches.size()
-                           ? frame_.watches[size_t(model_.chosen_watch)].name.c_str()
+  const char* chosen = size_t(model_.chosen_watch) < readout_.watches.size()
+                           ? readout_.watches[size_t(model_.chosen_watch)].name.c_str()
                            : "(none)";
   if (ImGui::BeginCombo("##chosen", chosen)) {
-    for (size_t w = 0; w < frame_.watches.size(); ++w)
-      if (ImGui::Selectable(frame_.watches[w].name.c_str(), int(w) == model_.chosen_watch))
+    for (size_t w = 0; w < readout_.watches.size(); ++w)
+      if (ImGui::Selectable(readout_.watches[w].name.c_str(), int(w) == model_.chosen_watch))
         model_.chosen_watch = int(w);
     ImGui::EndCombo();
   }
@@ -87,8 +88,8 @@ void Debugger::transport_panel() {
   else
     ImGui::TextWrapped("step %" PRId64 " of %" PRId64 " simulated (decided through %" PRId64
                        "; the scenario runs %" PRId64 ")   history: %zu keyframes every %" PRId64 " steps, %.1f MiB",
-                       at.current, at.latest, frame_.decided, at.end, frame_.keyframes, frame_.keyframe_interval,
-                       double(frame_.history_bytes) / (1 << 20));
+                       at.current, at.latest, readout_.decided, at.end, readout_.keyframes, readout_.keyframe_interval,
+                       double(readout_.history_bytes) / (1 << 20));
   if (!worker_->idle()) {
     const auto [done, total] = worker_->progress();
     ImGui::ProgressBar(total > 0 ? float(done) / float(total) : 0.0f, ImVec2(300, 0),
@@ -97,12 +98,12 @@ void Debugger::transport_panel() {
     if (button("Cancel (Esc)")) worker_->cancel();
     ImGui::SameLine();
   }
-  if (frame_.failure) {
+  if (readout_.failure) {
     // What stopped the run, in red, at the step it happened; the module is selected.
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.35f, 0.3f, 1.0f));
     ImGui::TextWrapped("Program error at step %" PRId64 " (module %" PRId64 "); the run stands at step %" PRId64 ": %s",
-                       frame_.failure->step, int64_t(scenario_.model->universe.id(frame_.failure->module)), at.latest,
-                       frame_.failure->message.c_str());
+                       readout_.failure->step, int64_t(scenario_.model->universe.id(readout_.failure->module)),
+                       at.latest, readout_.failure->message.c_str());
     ImGui::PopStyleColor();
   } else if (status_failed_) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.35f, 0.3f, 1.0f));
@@ -130,12 +131,12 @@ void Debugger::timeline(float width) {
   // One lane a watchpoint, then the interventions' lane; the cursor across all.
   // The lanes' names whole, up to 30% of the width (cut with "..." beyond).
   std::vector<std::string> names{"interventions"};
-  for (const WatchRow& row : frame_.watches) names.push_back(row.name);
+  for (const WatchRow& row : readout_.watches) names.push_back(row.name);
   const float lane = 14, label = names_width(names, 100, std::max(100.0f, width * 0.3f));
-  const size_t lanes = frame_.watches.size() + 1;
+  const size_t lanes = readout_.watches.size() + 1;
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   const float lanes_height = lane * float(lanes) + 4;
-  std::tie(timeline_.first, timeline_.last) = model_.timeline_range.shown(frame_.at);
+  std::tie(timeline_.first, timeline_.last) = model_.timeline_range.shown(readout_.at);
   timeline_y_ = origin.y;
   timeline_height_ = lanes_height;
   timeline_.x0 = origin.x + label;
@@ -143,11 +144,11 @@ void Debugger::timeline(float width) {
   ImDrawList* draw = ImGui::GetWindowDrawList();
   const int columns = int(timeline_.width);
   const float simulated = std::clamp(
-      timeline_.x_of(frame_.at.latest) + 0.5f * timeline_.width / float(timeline_.last - timeline_.first + 1),
+      timeline_.x_of(readout_.at.latest) + 0.5f * timeline_.width / float(timeline_.last - timeline_.first + 1),
       timeline_.x0, timeline_.x0 + timeline_.width);
   draw->AddRectFilled(ImVec2(timeline_.x0, origin.y), ImVec2(timeline_.x0 + timeline_.width, origin.y + lanes_height),
                       IM_COL32(45, 45, 50, 255));
-  if (frame_.at.latest >= timeline_.first)
+  if (readout_.at.latest >= timeline_.first)
     draw->AddRectFilled(ImVec2(timeline_.x0, origin.y), ImVec2(simulated, origin.y + lanes_height),
                         IM_COL32(60, 62, 70, 255));
   // The range's first and last steps under it, and "fit" when zoomed.
@@ -157,22 +158,23 @@ void Debugger::timeline(float width) {
   draw->AddText(ImVec2(timeline_.x0 + timeline_.width - ImGui::CalcTextSize(last_label.c_str()).x, scale_y),
                 IM_COL32(200, 200, 200, 255), last_label.c_str());
   // The lanes were counted with the session for the timeline as drawn last; a new width or length
-  // asks for a fresh Frame.
+  // asks for a fresh Readout.
   timeline_columns_ = columns;
-  if (frame_.columns != columns || frame_.timeline.last != timeline_.last || frame_.timeline.width != timeline_.width)
-    frame_stale_ = true;
-  const std::vector<uint32_t> interventions_lane = lane_density(frame_.intervention_steps, timeline_, columns);
+  if (readout_.columns != columns || readout_.timeline.last != timeline_.last ||
+      readout_.timeline.width != timeline_.width)
+    readout_stale_ = true;
+  const std::vector<uint32_t> interventions_lane = lane_density(readout_.intervention_steps, timeline_, columns);
   const float mark = std::max(1.0f, std::floor(timeline_.width / float(timeline_.last - timeline_.first + 1)) - 2);
   for (size_t w = 0; w < lanes; ++w) {
     const float y = origin.y + lane * float(w) + 2;
-    const bool interventions = w == frame_.watches.size();
+    const bool interventions = w == readout_.watches.size();
     const ImU32 color = interventions ? IM_COL32(240, 240, 240, 255) : lane_color(w);
-    const std::string& name = interventions ? names.front() : frame_.watches[w].name;
+    const std::string& name = interventions ? names.front() : readout_.watches[w].name;
     const std::string shown = fitted_text(name, label - 6);
     if (shown != name) drawing_cut_labels_.push_back(name);
     draw->AddText(ImVec2(origin.x, y - 2), color, shown.c_str());
-    const std::vector<uint32_t>& density = interventions ? interventions_lane : frame_.watches[w].lane;
-    if (density.size() != size_t(columns)) continue;  // counted for another width: the next Frame's
+    const std::vector<uint32_t>& density = interventions ? interventions_lane : readout_.watches[w].lane;
+    if (density.size() != size_t(columns)) continue;  // counted for another width: the next Readout's
     const uint32_t most = density.empty() ? 0 : *std::max_element(density.begin(), density.end());
     for (int c = 0; c < columns; ++c) {
       if (!density[size_t(c)]) continue;
@@ -185,7 +187,7 @@ void Debugger::timeline(float width) {
                           color);
     }
   }
-  const int64_t current = std::max<int64_t>(0, frame_.at.current);
+  const int64_t current = std::max<int64_t>(0, readout_.at.current);
   if (current >= timeline_.first && current <= timeline_.last) {
     const float cx = timeline_.x_of(current);
     draw->AddLine(ImVec2(cx, origin.y), ImVec2(cx, origin.y + lanes_height), IM_COL32(255, 255, 255, 255), 2);
@@ -199,20 +201,20 @@ void Debugger::timeline(float width) {
     ImGui::SetTooltip("step %" PRId64 " (click or drag to go there; wheel: zoom, right drag: pan)",
                       timeline_.step_at(mouse_x));
     if (io.MouseWheel != 0)
-      model_.timeline_range.zoom(std::pow(0.8, double(io.MouseWheel)), timeline_.step_at(mouse_x), frame_.at);
+      model_.timeline_range.zoom(std::pow(0.8, double(io.MouseWheel)), timeline_.step_at(mouse_x), readout_.at);
     if (ImGui::IsMouseDragging(ImGuiMouseButton_Right)) {
       const float steps_per_pixel = float(timeline_.last - timeline_.first + 1) / timeline_.width;
       const auto steps = int64_t(-ImGui::GetMouseDragDelta(ImGuiMouseButton_Right).x * steps_per_pixel);
       if (steps != 0) {
-        model_.timeline_range.pan(steps, frame_.at);
+        model_.timeline_range.pan(steps, readout_.at);
         ImGui::ResetMouseDragDelta(ImGuiMouseButton_Right);
       }
     }
   }
   // A click seeks; a drag seeks as it goes, once the session is free (never queueing a backlog).
   if (ImGui::IsItemActive() &&
-      (ImGui::IsItemClicked() || (worker_->idle() && timeline_.step_at(mouse_x) != frame_.at.current)))
-    apply(model_.on_timeline_click(timeline_, mouse_x, frame_.at));
+      (ImGui::IsItemClicked() || (worker_->idle() && timeline_.step_at(mouse_x) != readout_.at.current)))
+    apply(model_.on_timeline_click(timeline_, mouse_x, readout_.at));
   ImGui::SetCursorScreenPos(ImVec2(origin.x, scale_y));
   if (model_.timeline_range.fitted) {
     ImGui::Dummy(ImVec2(1, ImGui::GetTextLineHeight()));
@@ -229,7 +231,7 @@ void Debugger::watchpoints_panel() {
                         ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
     // The names and the buttons whole; the reading and the count take what is left, cut visibly.
     std::vector<std::string> names{"name"};
-    for (const WatchRow& row : frame_.watches) names.push_back(row.name);
+    for (const WatchRow& row : readout_.watches) names.push_back(row.name);
     for (const DisabledWatch& d : disabled_) names.push_back(d.name);
     const float buttons = ImGui::CalcTextSize("edit").x + ImGui::CalcTextSize("remove").x +
                           4 * ImGui::GetStyle().FramePadding.x + ImGui::GetStyle().ItemSpacing.x;
@@ -241,8 +243,8 @@ void Debugger::watchpoints_panel() {
     ImGui::TableSetupColumn("matches", 0, 1);
     ImGui::TableSetupColumn("", ImGuiTableColumnFlags_WidthFixed, buttons);
     ImGui::TableHeadersRow();
-    for (size_t w = 0; w < frame_.watches.size(); ++w) {
-      const WatchRow& row = frame_.watches[w];
+    for (size_t w = 0; w < readout_.watches.size(); ++w) {
+      const WatchRow& row = readout_.watches[w];
       ImGui::PushID(int(w));
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
@@ -333,12 +335,12 @@ void Debugger::editor() {
         edit_diagnostics_ = error->format();
       } else {
         const watch::Watchpoint& w = std::get<watch::Watchpoint>(compiled);
-        const std::vector<watch::Diagnostic> unknown = app::unknown_variables(session_.model(), w);
+        const std::vector<watch::Diagnostic> unknown = sim::unknown_variable_mistakes(session_.model(), w);
         if (!unknown.empty()) {
           edit_diagnostics_ = watch::format_diagnostics(*w.source, unknown);
         } else {
           std::ostringstream explained;
-          app::explain_watchpoint(w, explained);
+          watch::explain_watchpoint(w, explained);
           edit_explanation_ = explained.str();
           edit_ok_ = true;
         }
@@ -353,7 +355,7 @@ void Debugger::editor() {
   const std::string unsupported =
       watch::unsupported(edit_algorithm_ == 0 ? watch::Algorithm::Centralized : watch::Algorithm::Distributed, reading);
   ImGui::BeginDisabled(!edit_ok_ || edit_name_.empty() || !unsupported.empty());
-  const bool exists = std::any_of(frame_.watches.begin(), frame_.watches.end(),
+  const bool exists = std::any_of(readout_.watches.begin(), readout_.watches.end(),
                                   [&](const WatchRow& w) { return w.name == edit_name_; });
   if (button(exists ? "Replace" : "Add")) {
     std::string words = std::string(kAlgorithms[edit_algorithm_]) + " " + kShapes[edit_shape_];
@@ -379,14 +381,14 @@ void Debugger::matches_panel() {
   ImGui::Begin("Matches");
   MatchFilter& filter = model_.filter;
   ImGui::SetNextItemWidth(120);
-  const char* watch_label = filter.watch >= 0 && size_t(filter.watch) < frame_.watches.size()
-                                ? frame_.watches[size_t(filter.watch)].name.c_str()
+  const char* watch_label = filter.watch >= 0 && size_t(filter.watch) < readout_.watches.size()
+                                ? readout_.watches[size_t(filter.watch)].name.c_str()
                                 : "every watch";
   if (ImGui::BeginCombo("##filter_watch", watch_label)) {
-    if (ImGui::Selectable("every watch", filter.watch < 0)) filter.watch = -1, frame_stale_ = true;
-    for (size_t w = 0; w < frame_.watches.size(); ++w)
-      if (ImGui::Selectable(frame_.watches[w].name.c_str(), int(w) == filter.watch))
-        filter.watch = int(w), frame_stale_ = true;
+    if (ImGui::Selectable("every watch", filter.watch < 0)) filter.watch = -1, readout_stale_ = true;
+    for (size_t w = 0; w < readout_.watches.size(); ++w)
+      if (ImGui::Selectable(readout_.watches[w].name.c_str(), int(w) == filter.watch))
+        filter.watch = int(w), readout_stale_ = true;
     ImGui::EndCombo();
   }
   flow(100 + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize("module (-1: any)").x);
@@ -394,17 +396,17 @@ void Debugger::matches_panel() {
   if (ImGui::InputInt("module (-1: any)", &filter_module_)) {
     filter_module_ = std::max(-1, filter_module_);
     filter.module = filter_module_ >= 0 ? std::optional<sim::ModuleId>(sim::ModuleId(filter_module_)) : std::nullopt;
-    frame_stale_ = true;
+    readout_stale_ = true;
   }
   flow(button_width("copy JSON lines"));
   if (button("copy JSON lines", true)) {
     std::string lines;
     worker_->try_read([&](sim::Session&) {
-      for (const MatchRowText& r : frame_.match_rows)
+      for (const MatchRowText& r : readout_.match_rows)
         lines += shell_.match_json(r.ref.watch, r.ref.index).dump() + "\n";
     });
     ImGui::SetClipboardText(lines.c_str());
-    status("copied " + std::to_string(frame_.match_rows.size()) + " matches as JSON lines");
+    status("copied " + std::to_string(readout_.match_rows.size()) + " matches as JSON lines");
   }
   ImGui::SetNextItemWidth(width_beside({"save the matches"}));
   ImGui::InputText("##matches_path", matches_path_, sizeof matches_path_);
@@ -420,7 +422,7 @@ void Debugger::matches_panel() {
     });
     // As every output of dwatch: never over an input, and whole or not at all.
     std::unique_ptr<sim::OutputFile> out;
-    std::string error = read ? app::open_output_apart(scenario_.inputs, {"the matches' file", matches_path_}, out)
+    std::string error = read ? shell::open_output_apart(scenario_.inputs, {"the matches' file", matches_path_}, out)
                              : "the session is busy: save again when it is done";
     if (error.empty()) {
       out->stream() << lines;
@@ -429,14 +431,14 @@ void Debugger::matches_panel() {
     if (error.empty()) status("saved " + std::to_string(written) + " matches -> " + matches_path_);
     else status(error, true);
   }
-  ImGui::Text("%zu matches%s", frame_.match_total,
-              frame_.match_total > frame_.match_rows.size() ? " (the first shown: filter to narrow)" : "");
+  ImGui::Text("%zu matches%s", readout_.match_total,
+              readout_.match_total > readout_.match_rows.size() ? " (the first shown: filter to narrow)" : "");
   const ImGuiTableFlags flags = ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollY |
                                 ImGuiTableFlags_Sortable | ImGuiTableFlags_SizingStretchProp;
   if (ImGui::BeginTable("matches", 4, flags)) {
     ImGui::TableSetupScrollFreeze(0, 1);
     std::vector<std::string> names{"watch"};
-    for (const WatchRow& row : frame_.watches) names.push_back(row.name);
+    for (const WatchRow& row : readout_.watches) names.push_back(row.name);
     ImGui::TableSetupColumn("watch", ImGuiTableColumnFlags_WidthFixed, names_width(names, 40, 200), 1);
     ImGui::TableSetupColumn("t", ImGuiTableColumnFlags_DefaultSort, 1, 0);
     ImGui::TableSetupColumn("detected", 0, 1, 2);
@@ -449,13 +451,13 @@ void Debugger::matches_panel() {
                                            : MatchFilter::Order::Step;
       filter.descending = s.SortDirection == ImGuiSortDirection_Descending;
       sort->SpecsDirty = false;
-      frame_stale_ = true;
+      readout_stale_ = true;
     }
     ImGuiListClipper clipper;
-    clipper.Begin(int(frame_.match_rows.size()));
+    clipper.Begin(int(readout_.match_rows.size()));
     while (clipper.Step())
       for (int i = clipper.DisplayStart; i < clipper.DisplayEnd; ++i) {
-        const MatchRowText& r = frame_.match_rows[size_t(i)];
+        const MatchRowText& r = readout_.match_rows[size_t(i)];
         ImGui::TableNextRow();
         ImGui::TableNextColumn();
         const bool chosen = model_.selected_match == r.ref;
@@ -464,7 +466,7 @@ void Debugger::matches_panel() {
           std::vector<std::string> commands;
           worker_->try_read([&](sim::Session& s) { commands = model_.on_match_click(s, r.ref); });
           apply(commands);
-          frame_stale_ = true;
+          readout_stale_ = true;
         }
         ImGui::SameLine(0, 0);
         label_cell(r.watch);

@@ -1,8 +1,8 @@
-#include "app/view/frame.h"
+#include "app/view/readout.h"
 
 #include <algorithm>
 
-#include "app/view_image.h"
+#include "shell/view_image.h"
 #include "sim/intervention.h"
 #include "watch/detector.h"
 
@@ -45,7 +45,8 @@ MatchRowText match_row(const sim::Session& session, MatchRef r) {
           slots_text(model, r.watch, group_of(session, r))};
 }
 
-Inspector inspect(sim::Session& session, const ViewModel& view, const ModuleWindow* window, const FrameLimits& limits) {
+Inspector inspect(sim::Session& session, const ViewModel& view, const ModuleWindow* window,
+                  const ReadoutLimits& limits) {
   const sim::Model& model = session.model();
   const sim::ModuleId m = *view.selected;
   Inspector in;
@@ -78,19 +79,19 @@ Inspector inspect(sim::Session& session, const ViewModel& view, const ModuleWind
 
 }  // namespace
 
-Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, const ViewModel& view,
-                 const FrameRequest& request, const FrameLimits& limits) {
+Readout read_readout(sim::Session& session, const scenarios::Scenario& scenario, const ViewModel& view,
+                     const ReadoutRequest& request, const ReadoutLimits& limits) {
   const sim::Model& model = session.model();
-  Frame f;
-  f.version = request.version;
-  f.timeline = request.timeline;
-  f.columns = request.columns;
-  f.at = {session.current(), session.latest(), session.end()};
-  f.decided = session.decided();
-  f.history_bytes = session.history_bytes();
-  f.keyframes = session.keyframes();
-  f.keyframe_interval = session.keyframe_interval();
-  f.failure = session.failure();
+  Readout readout;
+  readout.version = request.version;
+  readout.timeline = request.timeline;
+  readout.columns = request.columns;
+  readout.at = {session.current(), session.latest(), session.end()};
+  readout.decided = session.decided();
+  readout.history_bytes = session.history_bytes();
+  readout.keyframes = session.keyframes();
+  readout.keyframe_interval = session.keyframe_interval();
+  readout.failure = session.failure();
 
   for (uint32_t w = 0; w < model.watches.size(); ++w) {
     const sim::HostedWatchpoint& h = model.watches[w];
@@ -107,65 +108,65 @@ Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, con
     row.matches = session.match_count(w);
     row.slots = size_t(h.watchpoint.program.slot_count());
     const std::vector<int64_t>& steps = session.matches(w).t;
-    const int64_t now = f.at.current;
+    const int64_t now = readout.at.current;
     if (auto p = previous_match(steps, now)) row.nearest_steps.push_back(*p);
     if (auto n = next_match(steps, now)) row.nearest_steps.push_back(*n);
     row.lane = lane_density(steps, request.timeline, request.columns);
-    f.watches.push_back(std::move(row));
+    readout.watches.push_back(std::move(row));
 
     // The detector's statistics of the steps up to the current one.
     std::vector<StatsRow> stats;
     const watch::DetectorStats& ds = session.stats(w);
-    const int64_t t = std::max<int64_t>(0, f.at.current);
+    const int64_t t = std::max<int64_t>(0, readout.at.current);
     for (const watch::StepStats& st : ds.steps) {
       if (st.step > t || st.step <= t - limits.stats_steps) continue;
       stats.push_back({st.step, st.live, st.created, st.messages, st.matches, st.seconds, st.live_by_filled});
     }
-    f.stats.push_back(std::move(stats));
+    readout.stats.push_back(std::move(stats));
   }
 
   for (const sim::Intervention& i : session.interventions()) {
-    f.intervention_steps.push_back(i.at);
-    f.interventions.push_back(sim::intervention_json(i, model.universe));
+    readout.intervention_steps.push_back(i.at);
+    readout.interventions.push_back(sim::intervention_json(i, model.universe));
   }
 
   // The scene highlights one group of the current step, linked and labelled: the selected match
   // when it is of this step, else the first (as `dwatch render` draws a step). The timeline and
   // the matches table show the others.
-  const int64_t t = std::max<int64_t>(0, f.at.current);
+  const int64_t t = std::max<int64_t>(0, readout.at.current);
   std::vector<render::SceneGroup> groups;
-  if (f.at.current >= 0) groups = app::groups_at(session, t, app::Highlight::First);
+  if (readout.at.current >= 0) groups = shell::groups_at(session, t, shell::Highlight::First);
   if (const auto& chosen = view.selected_match; chosen && chosen->watch < model.watches.size() &&
                                                 chosen->index < session.matches(chosen->watch).size() &&
                                                 session.matches(chosen->watch).t[chosen->index] == t) {
     const watch::Watchpoint& wp = model.watches[chosen->watch].watchpoint;
     groups = {{wp.name, t, wp.program.slot_names, group_of(session, *chosen)}};
   }
-  render::SceneSettings settings = app::scene_settings(scenario, view.color_by);
+  render::SceneSettings settings = shell::scene_settings(scenario, view.color_by);
   settings.selected = view.selected;
   settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(t);
-  f.scene = render::build_scene(model, session.state(), groups, settings);
+  readout.scene = render::build_scene(model, session.state(), groups, settings);
   if (const int c = settings.color_by.empty() ? -1 : model.column(settings.color_by); c >= 0) {
     const sim::State& s = session.state();
     const size_t v = model.variable_count();
-    for (size_t m = 0; m < model.module_count(); ++m) f.color_values.push_back(s.values[m * v + size_t(c)]);
+    for (size_t m = 0; m < model.module_count(); ++m) readout.color_values.push_back(s.values[m * v + size_t(c)]);
   }
 
   if (view.selected && *view.selected < model.module_count())
-    f.inspector = inspect(session, view, request.window, limits);
+    readout.inspector = inspect(session, view, request.window, limits);
 
   if (request.keep_rows) {
-    f.match_rows = request.keep_rows->match_rows;
-    f.match_total = request.keep_rows->match_total;
-    return f;
+    readout.match_rows = request.keep_rows->match_rows;
+    readout.match_total = request.keep_rows->match_total;
+    return readout;
   }
   MatchRows rows = filter_matches(session, view.filter, limits.match_rows);
-  f.match_total = rows.total;
-  for (const MatchRef& r : rows.rows) f.match_rows.push_back(match_row(session, r));
-  return f;
+  readout.match_total = rows.total;
+  for (const MatchRef& r : rows.rows) readout.match_rows.push_back(match_row(session, r));
+  return readout;
 }
 
-nlohmann::ordered_json Frame::panel(const std::string& name, const sim::Model& model) const {
+nlohmann::ordered_json Readout::panel(const std::string& name, const sim::Model& model) const {
   nlohmann::ordered_json j;
   j["panel"] = name;
   if (name == "position") {

@@ -1,7 +1,7 @@
-// What the window shows of the session, read in one go between the worker's jobs (a Frame): the
+// What the window shows of the session, read in one go between the worker's jobs (a Readout): the
 // position, the watchpoints and their match steps, the interventions, the 3D scene of the current
 // step, the selected module's inspector, the statistics, and the rows of the matches table. Panels
-// draw only from a Frame, so they keep drawing while a job runs. Every text a panel shows comes
+// draw only from a Readout, so they keep drawing while a job runs. Every text a panel shows comes
 // from here too, which is what a script's `panel` command reads back.
 #pragma once
 
@@ -27,7 +27,7 @@ struct WatchRow {
   uint64_t matches = 0;
   size_t slots = 0;
   std::vector<int64_t> nearest_steps;  // the match steps just before and after the current one: P and N
-  std::vector<uint32_t> lane;          // matches per column of the timeline (Frame::timeline)
+  std::vector<uint32_t> lane;          // matches per column of the timeline (Readout::timeline)
 };
 
 struct VariableRow {
@@ -67,7 +67,7 @@ struct StatsRow {  // one watchpoint's detector at one step
   std::vector<uint64_t> live_by_filled;
 };
 
-struct Frame {
+struct Readout {
   uint64_t version = 0;  // the worker's finished jobs when read
   Position at;
   int64_t decided = -1;
@@ -91,8 +91,8 @@ struct Frame {
   nlohmann::ordered_json panel(const std::string& name, const sim::Model& model) const;
 };
 
-// How much a Frame holds: table rows, the inspector's matches and plot, the statistics' steps.
-struct FrameLimits {
+// How much a Readout holds: table rows, the inspector's matches and plot, the statistics' steps.
+struct ReadoutLimits {
   size_t match_rows = 10'000;
   size_t module_matches = 100;
   int64_t plot_steps = 100;  // the inspector's plot: this many steps ending at the current one
@@ -110,19 +110,19 @@ struct ModuleWindow {
 std::optional<ModuleWindow> read_module_window(sim::Session& session, sim::ModuleId m, int64_t steps,
                                                const sim::Control& control = {});
 
-// What a Frame is read for besides the view model.
-struct FrameRequest {
+// What a Readout is read for besides the view model.
+struct ReadoutRequest {
   uint64_t version = 0;  // the worker's finished jobs
   const ModuleWindow* window =
       nullptr;        // when it is the selected module's up to the current step: the inspector's history
   Timeline timeline;  // the timeline as drawn, and its width in pixels: the lanes
   int columns = 0;
-  const Frame* keep_rows = nullptr;  // while playing: the matches table of this Frame stays (rows cost O(matches))
+  const Readout* keep_rows = nullptr;  // while playing: the matches table of this Readout stays (rows cost O(matches))
 };
 
 // Reads the session (which the caller must not share with a running job).
-Frame read_frame(sim::Session& session, const scenarios::Scenario& scenario, const ViewModel& model,
-                 const FrameRequest& request, const FrameLimits& limits = {});
+Readout read_readout(sim::Session& session, const scenarios::Scenario& scenario, const ViewModel& model,
+                     const ReadoutRequest& request, const ReadoutLimits& limits = {});
 
 // "a=3 b=7": a group's slots by name.
 std::string slots_text(const sim::Model& model, uint32_t watch, std::span<const sim::ModuleId> group);

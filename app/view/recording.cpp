@@ -2,13 +2,13 @@
 // time the shown step changes, drawn at full quality at the size the view had when recording
 // began (render/video_writer.h: H.264/MP4 or VP9/WebM by the file's name, streamed to the encoder
 // frame by frame, nothing at the path until it is stopped).
-#include "app/output_files.h"
 #include "app/view/debugger.h"
+#include "shell/output_files.h"
 
 namespace dw::view {
 
 void Debugger::start_recording(const std::string& path) {
-  if (std::string clash = app::file_clash(scenario_.inputs, {{"the video", path}}); !clash.empty())
+  if (std::string clash = shell::file_clash(scenario_.inputs, {{"the video", path}}); !clash.empty())
     return status(clash, true);
   // yuv420p: even sizes.
   const render::VideoSettings settings{view_.width & ~1, view_.height & ~1, 10};
@@ -22,8 +22,8 @@ void Debugger::start_recording(const std::string& path) {
 }
 
 void Debugger::record_frame() {
-  if (!video_ || frame_.at.current == video_step_ || frame_.at.current < 0) return;
-  video_step_ = frame_.at.current;
+  if (!video_ || readout_.at.current == video_step_ || readout_.at.current < 0) return;
+  video_step_ = readout_.at.current;
   window_.make_current();
   std::string error;
   try {

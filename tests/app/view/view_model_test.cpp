@@ -1,5 +1,5 @@
-// The debugger's view model and Frame without a window: the camera, the timeline's mapping, what
-// each key and click sends to the session, the matches table's filter and order, and the Frame's
+// The debugger's view model and Readout without a window: the camera, the timeline's mapping, what
+// each key and click sends to the session, the matches table's filter and order, and the Readout's
 // panels read from a real session.
 #include "app/view/view_model.h"
 
@@ -9,7 +9,7 @@
 #include <fstream>
 #include <numeric>
 
-#include "app/view/frame.h"
+#include "app/view/readout.h"
 #include "scenarios/scenario.h"
 
 namespace dw::view {
@@ -273,27 +273,27 @@ TEST_F(Leader, AMatchClickSeeksToItsStepAndSelectsItsGroup) {
   EXPECT_TRUE(view.reveal_group);
   EXPECT_FALSE(view.focus_selection) << "a match chosen does not re-centre the camera";
 
-  // The Frame highlights that group, and the inspector shows the module's values.
+  // The Readout highlights that group, and the inspector shows the module's values.
   const auto window = read_module_window(*session, *view.selected, 100);
   ASSERT_TRUE(window);
   const Timeline timeline{0, session->latest(), 0, 50};
-  const Frame f = read_frame(*session, *scenario, view, {1, &*window, timeline, 50});
+  const Readout readout = read_readout(*session, *scenario, view, {1, &*window, timeline, 50});
   // The timeline's lane counts every match of the history once, in the column of its step.
-  const std::vector<uint32_t>& lane = f.watches[0].lane;
+  const std::vector<uint32_t>& lane = readout.watches[0].lane;
   ASSERT_EQ(lane.size(), 50u);
   EXPECT_EQ(std::accumulate(lane.begin(), lane.end(), size_t{0}), session->matches(0).size());
   EXPECT_EQ(lane, lane_density(session->matches(0).t, timeline, 50));
   // Seen from the step the session is on (the pause), the next match is ahead of it or none.
-  for (int64_t s : f.watches[0].nearest_steps) EXPECT_NE(s, pause->t);
-  ASSERT_EQ(f.scene.groups.size(), 1u);
-  EXPECT_EQ(f.scene.groups[0].modules, pause->group);
-  ASSERT_TRUE(f.inspector);
-  const nlohmann::ordered_json panel = f.panel("inspector", *scenario->model);
+  for (int64_t s : readout.watches[0].nearest_steps) EXPECT_NE(s, pause->t);
+  ASSERT_EQ(readout.scene.groups.size(), 1u);
+  EXPECT_EQ(readout.scene.groups[0].modules, pause->group);
+  ASSERT_TRUE(readout.inspector);
+  const nlohmann::ordered_json panel = readout.panel("inspector", *scenario->model);
   EXPECT_EQ(panel["module"], pause->group[0]);
   const int leader = scenario->model->column("isLeader");
-  EXPECT_EQ(f.inspector->variables[size_t(leader)].value, 1) << "slot a of two_leaders is a leader";
-  EXPECT_EQ(f.inspector->plot.size(), size_t(pause->t + 1));
-  EXPECT_EQ(f.panel("nosuch", *scenario->model).count("error"), 1u);
+  EXPECT_EQ(readout.inspector->variables[size_t(leader)].value, 1) << "slot a of two_leaders is a leader";
+  EXPECT_EQ(readout.inspector->plot.size(), size_t(pause->t + 1));
+  EXPECT_EQ(readout.panel("nosuch", *scenario->model).count("error"), 1u);
 }
 
 // A script's runtime error, as the window shows it: the position panel names the step and the
@@ -313,7 +313,7 @@ TEST(ProgramFailure, IsShownAtItsStepUntilTheRunMovesOn) {
   sim::Session session(*scenario.model, *scenario.world, {1, scenario.steps});
   EXPECT_THROW(session.run_until(20), sim::ProgramError);
   ViewModel view;
-  nlohmann::ordered_json position = read_frame(session, scenario, view, {}).panel("position", *scenario.model);
+  nlohmann::ordered_json position = read_readout(session, scenario, view, {}).panel("position", *scenario.model);
   ASSERT_TRUE(position.contains("failure")) << position.dump();
   EXPECT_EQ(position["failure"]["step"], 6);
   EXPECT_EQ(position["failure"]["module"], 2);
@@ -322,7 +322,7 @@ TEST(ProgramFailure, IsShownAtItsStepUntilTheRunMovesOn) {
 
   std::ofstream(dir / "x.lua") << header + "function step(m) m:set(\"v\", m.step) end\n";
   ASSERT_TRUE(std::holds_alternative<std::vector<std::string>>(scenarios::reload_scripts(scenario, session)));
-  EXPECT_FALSE(read_frame(session, scenario, view, {}).panel("position", *scenario.model).contains("failure"));
+  EXPECT_FALSE(read_readout(session, scenario, view, {}).panel("position", *scenario.model).contains("failure"));
   session.run_until(20);
   EXPECT_EQ(session.state().values[2], 19);
   fs::remove_all(dir);
