@@ -2,8 +2,8 @@
 // renderer and scene as `dwatch render`), the transport bar and a timeline of every watchpoint's
 // matches, and panels for the watchpoints, the matches, the selected module, interventions and
 // statistics. Every widget sends a line of the session language (docs/design.md §7a) through the same
-// SessionShell as `dwatch session`, run by a worker thread so that the window keeps drawing; what
-// the panels show is a Frame read between jobs. A script drives the same window: the session's
+// shell::Shell as `dwatch session`, run by a worker thread so that the window keeps drawing; what
+// the panels show is a Readout read between jobs. A script drives the same window: the session's
 // commands, plus `click`, `key`, `wait`, `screenshot` and `panel`.
 #pragma once
 
@@ -19,10 +19,10 @@
 #include <vector>
 
 #include <imgui.h>
-#include "app/session_script.h"
+#include "shell/shell.h"
 
-#include "app/view/frame.h"
 #include "app/view/glfw_window.h"
+#include "app/view/readout.h"
 #include "app/view/session_worker.h"
 #include "app/view/view_model.h"
 #include "render/image.h"
@@ -60,13 +60,13 @@ class Debugger {
   // line on stdout; a command that fails stops the script (exit 1).
   int run_script(const watch::SourceText& script);
 
-  // One frame: input, a fresh Frame if the session changed, panels, the 3D view, swap.
+  // One frame: input, a fresh Readout if the session changed, panels, the 3D view, swap.
   void frame();
-  // Frames until the worker has nothing left to do and the Frame is current.
+  // Frames until the worker has nothing left to do and the Readout is current.
   void settle();
 
   ViewModel& model() { return model_; }
-  const Frame& shown() const { return frame_; }
+  const Readout& shown() const { return readout_; }
   SessionWorker& worker() { return *worker_; }
   // Sends a line of the session language to the worker; its answer (or mistake) comes back
   // through the status line, and to a script.
@@ -83,31 +83,60 @@ class Debugger {
     int width = 0, height = 0;
   };
 
-  // debugger.cpp
-  void refresh_frame();
+  // debugger.cpp: the lifecycle and the frame loop
   bool settled();
+
+  // session_link.cpp: what the window sends the session and reads back
+  // Answers first (to the status line), then a fresh Readout when the session changed.
+  void refresh_readout();
+  void apply(const std::vector<std::string>& commands);
+  void status(std::string message, bool failed = false);  // `failed`: shown in red
+  void play();
+
+  // keyboard.cpp
   void handle_keys();
   void press(Key key);
-  void play();
-  void draw_view();
-  void view_input(float x, float y, bool hovered);
-  std::optional<sim::ModuleId> module_at(float x, float y);
-  render::Scene& camera_scene();  // the Frame's scene, seen through the user's camera
+
+  // camera.cpp
+  render::Scene& camera_scene();  // the Readout's scene, seen through the user's camera
   void place_camera();
   void focus_on_selection();
   void reveal_group();
   // How many of `modules` (every module when empty) show inside the 3D view.
   int modules_in_view(std::span<const sim::ModuleId> modules);
+  // The mouse over the 3D view (its invisible button the last item) turns, pans and zooms the
+  // camera; true when the left button was let go without a drag: a click.
+  bool steer_camera(bool hovered);
+
+  // picking.cpp
+  // The mouse at framebuffer pixel (x, y) of the 3D view: the camera's drags, a click selects, a
+  // hover names the module.
+  void view_input(float x, float y, bool hovered);
+  std::optional<sim::ModuleId> module_at(float x, float y);
+
+  // layout.cpp
+  // Tiles the window for this frame (panels_), and decides whether the panels go there (panels_cond_).
+  void lay_out_panels();
+  // The next window goes where panels_ puts `rect` (see panels_cond_).
+  void place(const PanelRect& rect) const;
+
+  // scene_view.cpp
+  void draw_view();
   void render_view_texture(bool moving);
+  std::string screenshot_view(const std::string& path);
+
+  // compose.cpp
   // Puts the 3D view and the panels together in composed_fbo_, redrawing only what changed; false
   // when nothing did (the window keeps what it shows).
   bool compose(int width, int height);
-  std::string screenshot_view(const std::string& path);
-  void apply(const std::vector<std::string>& commands);
-  void status(std::string message, bool failed = false);  // `failed`: shown in red
 
   // window_script.cpp
   nlohmann::ordered_json window_command(const std::vector<std::string>& words, std::string& error);
+  // Each adds to `answer`, or says in `error` why the command could not be carried out.
+  void input_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer, std::string& error);
+  void screenshot_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer, std::string& error);
+  void press_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer, std::string& error);
+  void panel_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer, std::string& error);
   // A press of the left button at window pixel (x, y), and its release, through GLFW's callbacks as
   // the platform delivers them: what ImGui draws there reacts as to a person's click. False when
   // the pointer cannot get there (off the screen).
@@ -121,8 +150,6 @@ class Debugger {
   void stop_recording();
 
   // widgets.cpp
-  // The next window goes where panels_ puts `rect` (see panels_cond_).
-  void place(const PanelRect& rect) const;
   // Notes the last widget under `name` (its label before any "##") for `press` and `type`;
   // `text_width`: the width of what it shows, when that may be wider than the widget (a combo's
   // choice), so that a cut label is found; `selectable`: an item of a list.
@@ -149,13 +176,13 @@ class Debugger {
   sim::Session& session_;
   GlfwWindow& window_;
   std::string layout_;
-  app::SessionShell shell_;
+  shell::Shell shell_;
   std::unique_ptr<SessionWorker> worker_;
   std::unique_ptr<render::Renderer> renderer_;
   ViewModel model_;
-  Frame frame_;
-  bool frame_stale_ = true;
-  std::optional<sim::ProgramFailure> shown_failure_;  // the Frame's, when last read
+  Readout readout_;
+  bool readout_stale_ = true;
+  std::optional<sim::ProgramFailure> shown_failure_;  // the Readout's, when last read
 
   // The inspector's history of the selected module, written by a worker job (under the session's
   // lock, as is every read of it).

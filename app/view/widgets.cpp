@@ -65,11 +65,6 @@ void flow(float width) {
   if (right <= ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x) ImGui::SameLine();
 }
 
-void Debugger::place(const PanelRect& r) const {
-  ImGui::SetNextWindowPos(ImVec2(r.x, r.y), panels_cond_);
-  ImGui::SetNextWindowSize(ImVec2(r.width, r.height), panels_cond_);
-}
-
 void Debugger::label_cell(const std::string& text, std::optional<ImVec4> color) {
   if (cell_text(text, color)) drawing_cut_labels_.push_back(text);
 }

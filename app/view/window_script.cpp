@@ -12,171 +12,205 @@
 #include <cmath>
 #include <iostream>
 
-#include "app/output_files.h"
 #include "render/annotations.h"
+#include "shell/output_files.h"
 
 namespace dw::view {
+namespace {
+
+// Word i of a window command as an integer from lo to hi (`what` names it); nothing, and `error`
+// says why, when it is missing or out of range.
+std::optional<int64_t> word_number(const std::vector<std::string>& words, size_t i, int64_t lo, int64_t hi,
+                                   const char* what, std::string& error) {
+  if (i >= words.size()) {
+    error = std::string(what) + " is missing";
+    return std::nullopt;
+  }
+  char* end = nullptr;
+  const long long v = std::strtoll(words[i].c_str(), &end, 10);
+  if (hi < lo) {  // nothing to choose from
+    error = std::string("there is no ") + what + " to choose: the list is empty";
+    return std::nullopt;
+  }
+  if (*end || words[i].empty() || v < lo || v > hi) {
+    error = std::string(what) + " must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
+    return std::nullopt;
+  }
+  return v;
+}
+
+}  // namespace
 
 nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& words, std::string& error) {
   nlohmann::ordered_json answer;
   answer["cmd"] = words[0];
-  const sim::Model& m = session_.model();
-  auto number = [&](size_t i, int64_t lo, int64_t hi, const char* what) -> std::optional<int64_t> {
-    if (i >= words.size()) {
-      error = std::string(what) + " is missing";
-      return std::nullopt;
-    }
-    char* end = nullptr;
-    const long long v = std::strtoll(words[i].c_str(), &end, 10);
-    if (hi < lo) {  // nothing to choose from
-      error = std::string("there is no ") + what + " to choose: the list is empty";
-      return std::nullopt;
-    }
-    if (*end || words[i].empty() || v < lo || v > hi) {
-      error = std::string(what) + " must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
-      return std::nullopt;
-    }
-    return v;
-  };
   settle();
+  const std::string& command = words[0];
+  if (command == "screenshot") screenshot_command(words, answer, error);
+  else if (command == "press" || command == "type") press_command(words, answer, error);
+  else if (command == "panel") panel_command(words, answer, error);
+  else input_command(words, answer, error);  // wait, key, click, timeline
+  return answer;
+}
+
+// wait N | key NAME | click timeline T | timeline fit | timeline FIRST LAST | click match ROW |
+// click M: what a person's keys, clicks and patience do.
+void Debugger::input_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer,
+                             std::string& error) {
+  const sim::Model& m = session_.model();
   if (words[0] == "wait") {
-    const auto n = number(1, 0, 100000, "N");
-    if (!n) return answer;
+    const auto n = word_number(words, 1, 0, 100000, "N", error);
+    if (!n) return;
     for (int64_t i = 0; i < *n; ++i) frame();
     answer["frames"] = *n;
   } else if (words[0] == "key") {
     const auto key = words.size() == 2 ? key_named(words[1]) : std::nullopt;
     if (!key) {
       error = "key NAME: one of space, right, left, n, p, f, z, home, end, f1, f12, escape";
-      return answer;
+      return;
     }
     press(*key);
     settle();
     answer["key"] = words[1];
-    answer["current"] = frame_.at.current;
+    answer["current"] = readout_.at.current;
   } else if (words[0] == "click" && words.size() >= 2 && words[1] == "timeline") {
-    const auto t = number(2, 0, std::max<int64_t>(timeline_.last, 0), "T");
-    if (!t) return answer;
+    const auto t = word_number(words, 2, 0, std::max<int64_t>(timeline_.last, 0), "T", error);
+    if (!t) return;
     const float x = timeline_.x_of(*t);
-    apply(model_.on_timeline_click(timeline_, x, frame_.at));
+    apply(model_.on_timeline_click(timeline_, x, readout_.at));
     settle();
     answer["x"] = x;
-    answer["current"] = frame_.at.current;
+    answer["current"] = readout_.at.current;
   } else if (words[0] == "timeline") {
     // timeline fit | timeline FIRST LAST: what the wheel and a right drag do.
     if (words.size() == 2 && words[1] == "fit") {
       model_.timeline_range.fit();
     } else {
-      const int64_t end = std::max({frame_.at.end - 1, frame_.at.latest, int64_t{0}});
-      const auto first = number(1, 0, end, "FIRST"), last = first ? number(2, *first, end, "LAST") : std::nullopt;
+      const int64_t end = std::max({readout_.at.end - 1, readout_.at.latest, int64_t{0}});
+      const auto first = word_number(words, 1, 0, end, "FIRST", error),
+                 last = first ? word_number(words, 2, *first, end, "LAST", error) : std::nullopt;
       if (!last) {
         error = "timeline fit | timeline FIRST LAST: " + error;
-        return answer;
+        return;
       }
-      model_.timeline_range.show(*first, *last, frame_.at);
+      model_.timeline_range.show(*first, *last, readout_.at);
     }
     frame();
     answer["first"] = timeline_.first;
     answer["last"] = timeline_.last;
   } else if (words[0] == "click" && words.size() >= 2 && words[1] == "match") {
-    const auto row = number(2, 0, int64_t(frame_.match_rows.size()) - 1, "ROW");
-    if (!row) return answer;
-    const MatchRef ref = frame_.match_rows[size_t(*row)].ref;
+    const auto row = word_number(words, 2, 0, int64_t(readout_.match_rows.size()) - 1, "ROW", error);
+    if (!row) return;
+    const MatchRef ref = readout_.match_rows[size_t(*row)].ref;
     std::vector<std::string> commands;
     worker_->read([&](sim::Session& s) { commands = model_.on_match_click(s, ref); });
     apply(commands);
-    frame_stale_ = true;
+    readout_stale_ = true;
     settle();
     frame();  // the camera centres on the group at the next frame
-    answer["current"] = frame_.at.current;
+    answer["current"] = readout_.at.current;
     answer["selected"] = model_.selected ? nlohmann::ordered_json(m.universe.id(*model_.selected)) : nullptr;
   } else if (words[0] == "click") {
-    const auto module = number(1, 0, int64_t(m.module_count()) - 1, "M");
-    if (!module) return answer;
+    const auto module = word_number(words, 1, 0, int64_t(m.module_count()) - 1, "M", error);
+    if (!module) return;
     // Where module M shows, clicked through the same picking as the mouse.
     const glm::mat4 vp = renderer_->view_projection(camera_scene(), view_.width, view_.height);
     std::optional<glm::vec2> pixel;
-    for (const render::SceneModule& s : frame_.scene.modules)
+    for (const render::SceneModule& s : readout_.scene.modules)
       if (s.id == sim::ModuleId(*module))
         pixel = render::project(vp, {s.pose.position[0], s.pose.position[1], s.pose.position[2]}, view_.width,
                                 view_.height);
     if (!pixel) {
       error = "module " + std::to_string(*module) + " is not in the 3D view at this step";
-      return answer;
+      return;
     }
     model_.on_module_click(module_at(pixel->x, pixel->y));
-    frame_stale_ = true;
+    readout_stale_ = true;
     settle();
     answer["pixel"] = {pixel->x, pixel->y};
     answer["selected"] = model_.selected ? nlohmann::ordered_json(m.universe.id(*model_.selected)) : nullptr;
-  } else if (words[0] == "screenshot") {
-    if (words.size() != 2) {
-      error = "screenshot FILE";
-      return answer;
-    }
-    if (std::string clash = app::file_clash(scenario_.inputs, {{"screenshot", words[1]}}); !clash.empty()) {
-      error = clash;
-      return answer;
-    }
-    window_shot_ = words[1];
+  }
+}
+
+// screenshot FILE: the window as it shows after the next frame, and what of the ensemble the 3D
+// view shows.
+void Debugger::screenshot_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer,
+                                  std::string& error) {
+  if (words.size() != 2) {
+    error = "screenshot FILE";
+    return;
+  }
+  if (std::string clash = shell::file_clash(scenario_.inputs, {{"screenshot", words[1]}}); !clash.empty()) {
+    error = clash;
+    return;
+  }
+  window_shot_ = words[1];
+  frame();
+  if (!window_shot_error_.empty()) {
+    error = window_shot_error_;
+    return;
+  }
+  const render::Camera c = model_.camera.camera();
+  answer["screenshot"] = words[1];
+  answer["t"] = std::max<int64_t>(0, readout_.at.current);
+  answer["view"] = {{"x", view_.x}, {"y", view_.y}, {"width", view_.width}, {"height", view_.height}};
+  answer["camera_eye"] = vec_text(c.eye);
+  answer["camera_target"] = vec_text(c.target);
+  answer["color_by"] = model_.color_by;
+  // What of the ensemble the 3D view shows: every module's centre inside it, and the groups'.
+  std::vector<sim::ModuleId> group;
+  for (const render::SceneGroup& g : readout_.scene.groups)
+    group.insert(group.end(), g.modules.begin(), g.modules.end());
+  answer["in_view"] = {{"modules", modules_in_view({})},
+                       {"of", readout_.scene.modules.size()},
+                       {"group", group.empty() ? 0 : modules_in_view(group)},
+                       {"group_of", group.size()}};
+}
+
+// press NAME... | type FIELD TEXT: found where the last frame drew it, then clicked there.
+void Debugger::press_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer,
+                             std::string& error) {
+  std::string name;
+  for (size_t i = 1; i < (words[0] == "type" ? std::min<size_t>(2, words.size()) : words.size()); ++i)
+    name += (name.empty() ? "" : " ") + words[i];
+  frame();  // the widgets as they show now
+  const auto it = widgets_.find(name);
+  if (it == widgets_.end()) {
+    std::string shown;
+    for (const auto& [n, place] : widgets_) shown += (shown.empty() ? "" : ", ") + n;
+    error = "no " + std::string(words[0] == "type" ? "field" : "button") + " '" + name +
+            "' is in the window now (there are: " + shown + ")";
+    return;
+  }
+  WidgetPlace place = it->second;
+  if (place.out_of_sight && !place.cut) {  // scrolled to, as a person would with the wheel
+    scroll_to_ = name;
     frame();
-    if (!window_shot_error_.empty()) {
-      error = window_shot_error_;
-      return answer;
-    }
-    const render::Camera c = model_.camera.camera();
-    answer["screenshot"] = words[1];
-    answer["t"] = std::max<int64_t>(0, frame_.at.current);
-    answer["view"] = {{"x", view_.x}, {"y", view_.y}, {"width", view_.width}, {"height", view_.height}};
-    answer["camera_eye"] = vec_text(c.eye);
-    answer["camera_target"] = vec_text(c.target);
-    answer["color_by"] = model_.color_by;
-    // What of the ensemble the 3D view shows: every module's centre inside it, and the groups'.
-    std::vector<sim::ModuleId> group;
-    for (const render::SceneGroup& g : frame_.scene.groups)
-      group.insert(group.end(), g.modules.begin(), g.modules.end());
-    answer["in_view"] = {{"modules", modules_in_view({})},
-                         {"of", frame_.scene.modules.size()},
-                         {"group", group.empty() ? 0 : modules_in_view(group)},
-                         {"group_of", group.size()}};
-  } else if (words[0] == "press" || words[0] == "type") {
-    // press NAME... | type FIELD TEXT: found where the last frame drew it, then clicked there.
-    std::string name;
-    for (size_t i = 1; i < (words[0] == "type" ? std::min<size_t>(2, words.size()) : words.size()); ++i)
-      name += (name.empty() ? "" : " ") + words[i];
-    frame();  // the widgets as they show now
-    const auto it = widgets_.find(name);
-    if (it == widgets_.end()) {
-      std::string shown;
-      for (const auto& [n, place] : widgets_) shown += (shown.empty() ? "" : ", ") + n;
-      error = "no " + std::string(words[0] == "type" ? "field" : "button") + " '" + name +
-              "' is in the window now (there are: " + shown + ")";
-      return answer;
-    }
-    WidgetPlace place = it->second;
-    if (place.out_of_sight && !place.cut) {  // scrolled to, as a person would with the wheel
-      scroll_to_ = name;
-      frame();
-      frame();
-      place = widgets_[name];
-    }
-    if (place.cut || place.out_of_sight || place.disabled) {
-      error = "'" + name + "' is " +
-              (place.disabled ? "greyed out: a click there does nothing"
-                              : "cut off or out of sight in its panel: a click there would not reach it");
-      return answer;
-    }
-    if (!click_at((place.x0 + place.x1) / 2, (place.y0 + place.y1) / 2)) {
-      error = "'" + name + "' lies off the screen (the window is larger than the display): the pointer cannot reach it";
-      return answer;
-    }
-    if (words[0] == "type") type_text(words.size() > 2 ? words[2] : "");
-    settle();
-    answer[words[0] == "type" ? "field" : "button"] = name;
-    if (words[0] == "type") answer["text"] = words.size() > 2 ? words[2] : "";
-    answer["status"] = status_;
-    answer["current"] = frame_.at.current;
-  } else if (words[0] == "panel" && words.size() == 2 && words[1] == "widgets") {
+    frame();
+    place = widgets_[name];
+  }
+  if (place.cut || place.out_of_sight || place.disabled) {
+    error = "'" + name + "' is " +
+            (place.disabled ? "greyed out: a click there does nothing"
+                            : "cut off or out of sight in its panel: a click there would not reach it");
+    return;
+  }
+  if (!click_at((place.x0 + place.x1) / 2, (place.y0 + place.y1) / 2)) {
+    error = "'" + name + "' lies off the screen (the window is larger than the display): the pointer cannot reach it";
+    return;
+  }
+  if (words[0] == "type") type_text(words.size() > 2 ? words[2] : "");
+  settle();
+  answer[words[0] == "type" ? "field" : "button"] = name;
+  if (words[0] == "type") answer["text"] = words.size() > 2 ? words[2] : "";
+  answer["status"] = status_;
+  answer["current"] = readout_.at.current;
+}
+
+// panel widgets | panel plots | panel timeline | panel NAME: what the window shows, as text.
+void Debugger::panel_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer,
+                             std::string& error) {
+  if (words.size() == 2 && words[1] == "widgets") {
     // Every button and field of the last frame, where it is, and whether it shows whole.
     answer["widgets"] = nlohmann::ordered_json::array();
     for (const auto& [name, place] : widgets_)
@@ -188,30 +222,29 @@ nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& 
     answer["cut_labels"] = cut_labels_;
     const ImGuiViewport* vp = ImGui::GetMainViewport();
     answer["window"] = {{"width", vp->WorkSize.x}, {"height", vp->WorkSize.y}, {"too_small", panels_.too_small}};
-  } else if (words[0] == "panel") {
-    if (words.size() != 2) {
-      error = "panel NAME: position, matches, watchpoints, inspector, plots, timeline or widgets";
-      return answer;
-    }
-    if (words[1] == "plots") {  // where the last frame drew its plots, for tests that look at them
-      answer["plot_rects"] = nlohmann::ordered_json::array();
-      for (const auto& r : plot_rects_) answer["plot_rects"].push_back(r);
-      return answer;
-    }
-    if (words[1] == "timeline") {  // the steps it shows, and where
-      answer["first"] = timeline_.first;
-      answer["last"] = timeline_.last;
-      answer["fitted"] = model_.timeline_range.fitted;
-      answer["x0"] = timeline_.x0;
-      answer["width"] = timeline_.width;
-      answer["y0"] = timeline_y_;
-      answer["height"] = timeline_height_;
-      return answer;
-    }
-    answer = frame_.panel(words[1], m);
-    if (answer.contains("error")) error = answer["error"];
+    return;
   }
-  return answer;
+  if (words.size() != 2) {
+    error = "panel NAME: position, matches, watchpoints, inspector, plots, timeline or widgets";
+    return;
+  }
+  if (words[1] == "plots") {  // where the last frame drew its plots, for tests that look at them
+    answer["plot_rects"] = nlohmann::ordered_json::array();
+    for (const auto& r : plot_rects_) answer["plot_rects"].push_back(r);
+    return;
+  }
+  if (words[1] == "timeline") {  // the steps it shows, and where
+    answer["first"] = timeline_.first;
+    answer["last"] = timeline_.last;
+    answer["fitted"] = model_.timeline_range.fitted;
+    answer["x0"] = timeline_.x0;
+    answer["width"] = timeline_.width;
+    answer["y0"] = timeline_y_;
+    answer["height"] = timeline_height_;
+    return;
+  }
+  answer = readout_.panel(words[1], session_.model());
+  if (answer.contains("error")) error = answer["error"];
 }
 
 int Debugger::run_script(const watch::SourceText& script) {
@@ -272,7 +305,7 @@ int Debugger::run_script(const watch::SourceText& script) {
       auto parsed = shell_.parse(script, uint32_t(command_begin), number);
       if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed))
         mistakes += watch::format_diagnostics(script, *ds);
-      else if (std::get<std::optional<app::SessionCommand>>(parsed))
+      else if (std::get<std::optional<shell::Command>>(parsed))
         lines.push_back({number, {}, text.substr(command_begin, stop - command_begin), expect_failure});
     }
     begin = newline == std::string::npos ? text.size() : newline + 1;

@@ -1,0 +1,142 @@
+// The 3D view's panel: its tool row (colour by, fit, centre, screenshot, record), the picture the
+// renderer draws into a texture (smaller while it moves, in full once it holds still), the mouse
+// over it (camera.cpp, picking.cpp) and its screenshot.
+#include <imgui.h>
+
+#include <algorithm>
+#include <cinttypes>
+#include <cstdio>
+
+#include "app/view/debugger.h"
+#include "app/view/widgets.h"
+#include "shell/output_files.h"
+
+namespace dw::view {
+
+void Debugger::render_view_texture(bool moving) {
+  const render::Gl& gl = window_.gl();
+  if (!view_fbo_) {
+    gl.GenFramebuffers(1, &view_fbo_);
+    gl.GenTextures(1, &view_texture_);
+  }
+  if (texture_width_ != view_.width || texture_height_ != view_.height) {
+    gl.BindTexture(GL_TEXTURE_2D, view_texture_);
+    gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, view_.width, view_.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, view_fbo_);
+    gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, view_texture_, 0);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    texture_width_ = view_.width;
+    texture_height_ = view_.height;
+    drawn_key_.clear();
+  }
+  const float scale = moving ? kMotionScale : 1.0f;
+  const int width = std::max(16, int(float(view_.width) * scale)),
+            height = std::max(16, int(float(view_.height) * scale));
+  const std::string key = std::to_string(readout_.version) + "|" + vec_text(model_.camera.eye()) + "|" +
+                          vec_text(model_.camera.target) + "|" + std::to_string(width) + "x" + std::to_string(height);
+  if (key == drawn_key_) return;
+  // While it moves, the renderer's interactive path (no edge smoothing, opaque); still, in full.
+  renderer_->draw(camera_scene(), width, height, view_fbo_,
+                  moving ? render::RenderQuality::Moving : render::RenderQuality::Full);
+  // Blending leaves alpha below 1 where translucent things were drawn, and ImGui blends the image
+  // over the window: the picture is opaque, as `dwatch render` writes it.
+  gl.BindFramebuffer(GL_FRAMEBUFFER, view_fbo_);
+  gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);
+  gl.ClearColor(0, 0, 0, 1);
+  gl.Clear(GL_COLOR_BUFFER_BIT);
+  gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+  drawn_key_ = key;
+  drawn_width_ = width;
+  drawn_height_ = height;
+}
+
+void Debugger::draw_view() {
+  place(panels_.view);
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0);  // a border would cover the picture's edge
+  // No background: the picture is copied into the window's framebuffer before ImGui draws (see
+  // frame()), which a software rasteriser does far faster than it samples a textured quad.
+  ImGui::Begin("3D view", nullptr,
+               ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse | ImGuiWindowFlags_NoBackground);
+  ImGui::PopStyleVar(2);
+
+  // The tool row: colour-by, fit, centre, screenshot.
+  ImGui::SetCursorPos(ImVec2(ImGui::GetCursorPosX() + 6, ImGui::GetCursorPosY() + 4));
+  ImGui::SetNextItemWidth(160);
+  const auto& variables = session_.model().universe.variables;  // fixed for the run
+  if (ImGui::BeginCombo("colour by", model_.color_by.empty() ? "(one colour)" : model_.color_by.c_str())) {
+    if (ImGui::Selectable("(one colour)", model_.color_by.empty())) model_.color_by.clear(), readout_stale_ = true;
+    for (const std::string& v : variables)
+      if (ImGui::Selectable(v.c_str(), v == model_.color_by)) model_.color_by = v, readout_stale_ = true;
+    ImGui::EndCombo();
+  }
+  ImGui::SameLine();
+  if (button("Fit (F)")) press(Key::F);
+  ImGui::SameLine();
+  if (button("Centre (Z)")) press(Key::Z);
+  ImGui::SameLine();
+  if (button("Screenshot (F12)")) press(Key::F12);
+  // Record: a video of the steps as they show (.mp4 or .webm).
+  if (!video_) {
+    if (!video_path_[0])
+      std::snprintf(video_path_, sizeof video_path_, "dwatch-%s.mp4", shell::file_name_part(scenario_.name).c_str());
+    flow(160 + ImGui::GetStyle().ItemSpacing.x + button_width("Record"));
+    ImGui::SetNextItemWidth(160);
+    ImGui::InputText("##video", video_path_, sizeof video_path_);
+    note_widget("video-file");
+    ImGui::SameLine();
+    if (button("Record")) start_recording(video_path_);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("A video of the 3D view, a frame per step as the steps show (.mp4: H.264, .webm: VP9)");
+  } else {
+    const int64_t frames = video_->frames();
+    flow(button_width("Stop recording"));
+    if (button("Stop recording")) stop_recording();
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "REC %" PRId64 " frames", frames);
+  }
+
+  const ImVec2 avail = ImGui::GetContentRegionAvail();
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
+  view_ = {origin.x * scale.x, origin.y * scale.y, std::max(16, int(avail.x * scale.x)),
+           std::max(16, int(avail.y * scale.y))};
+  if (!model_.camera_placed) place_camera();
+  if (model_.focus_selection) focus_on_selection();
+  if (model_.reveal_group && worker_->idle() && !readout_stale_) reveal_group();
+  const glm::vec3 eye = model_.camera.eye();
+  // Moving: playing, the camera turning, or the step just changed (a click on the timeline or a
+  // match shows the step at once, drawn smaller, and in full at the next frame).
+  const bool moving =
+      model_.playing || eye != last_eye_ || model_.camera.target != last_target_ || readout_.version != last_version_;
+  last_eye_ = eye;
+  last_target_ = model_.camera.target;
+  last_version_ = readout_.version;
+  render_view_texture(moving);
+  const ImVec2 size(float(view_.width) / scale.x, float(view_.height) / scale.y);
+  ImGui::InvisibleButton(
+      "view", size,
+      ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight | ImGuiButtonFlags_MouseButtonMiddle);
+  const ImVec2 mouse = ImGui::GetIO().MousePos;
+  view_input((mouse.x - origin.x) * scale.x, (mouse.y - origin.y) * scale.y, ImGui::IsItemHovered());
+  ImGui::End();
+}
+
+std::string Debugger::screenshot_view(const std::string& path) {
+  if (std::string clash = shell::file_clash(scenario_.inputs, {{"screenshot", path}}); !clash.empty()) return clash;
+  window_.make_current();
+  try {
+    const render::Image image = renderer_->render(camera_scene(), view_.width, view_.height);
+    std::string error;
+    if (!render::write_png(path, image, &error)) return error;
+  } catch (const render::RenderError& e) {
+    return e.what();
+  }
+  drawn_key_.clear();
+  return {};
+}
+
+}  // namespace dw::view
