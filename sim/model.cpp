@@ -5,21 +5,6 @@
 
 namespace dw::sim {
 
-std::string_view action_name(MatchAction a) {
-  switch (a) {
-    case MatchAction::Pause: return "pause";
-    case MatchAction::Log: return "log";
-    case MatchAction::Count: return "count";
-  }
-  return "?";
-}
-
-std::optional<MatchAction> parse_action(std::string_view name) {
-  for (MatchAction a : kActions)
-    if (name == action_name(a)) return a;
-  return std::nullopt;
-}
-
 int Model::column(std::string_view name) const {
   const auto& v = universe.variables;
   const auto it = std::find(v.begin(), v.end(), name);

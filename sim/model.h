@@ -12,37 +12,12 @@
 
 #include "sim/host_program.h"
 #include "sim/lattice.h"
+#include "sim/watch_spec.h"
 #include "watch/detector.h"
 #include "watch/frame.h"
 #include "watch/watchpoint.h"
 
 namespace dw::sim {
-
-// What happens when a watchpoint matches.
-enum class MatchAction {
-  Pause,  // the run stops at the match's step and reports the group
-  Log,    // the match is kept (and written with --matches); the run goes on
-  Count,  // only counted
-};
-inline constexpr MatchAction kActions[] = {MatchAction::Pause, MatchAction::Log, MatchAction::Count};
-std::string_view action_name(MatchAction a);
-std::optional<MatchAction> parse_action(std::string_view name);
-inline std::string action_names() { return watch::one_of(kActions, action_name); }
-
-struct HostedWatchpoint {
-  watch::Watchpoint watchpoint;
-  watch::Algorithm algorithm = watch::Algorithm::Distributed;
-  MatchAction action = MatchAction::Log;
-  watch::DetectorOptions options;
-
-  // Steps between a state and the watch step it completes (watch::lag).
-  int64_t lag() const { return watch::lag(watchpoint.program, algorithm, options); }
-  // The paper's distributed algorithm runs on the modules, as agents the runtime steps with
-  // them; every other reading is a detector observing the run's frames.
-  bool runs_on_agents() const {
-    return algorithm == watch::Algorithm::Distributed && !watch::simultaneous(algorithm, options);
-  }
-};
 
 struct Model {
   Lattice lattice;

@@ -702,7 +702,7 @@ std::string Session::record(std::ostream& out, const Control& control) {
   restore_bodies(s, 0);
   const std::vector<uint8_t> none(model_.watches.size() + 1, 0);
   StepOutput step_out;
-  TraceWriter writer(out, model_.universe, interventions_, trace_watches(model_.watches));
+  TraceWriter writer(out, model_.universe, interventions_, specs_of(model_.watches));
   while (s.step <= latest_) {
     if (control.stopped()) return "cancelled";
     step(s, step_out, none);

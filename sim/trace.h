@@ -17,16 +17,10 @@
 
 #include "sim/intervention.h"
 #include "sim/model.h"
+#include "sim/watch_spec.h"
 #include "watch/frame.h"
 
 namespace dw::sim {
-
-// A watchpoint the recording run watched, as the trace's header lists it: what `replay` with no
-// --watch replays, with the same reading.
-struct TraceWatch {
-  std::string name, text, algorithm, shape, states, action;
-  bool operator==(const TraceWatch&) const = default;
-};
 
 // The pause that stopped a recorded run (its trace's last line): the run ended there without
 // deciding its last steps, so a replay of its watchpoints does not decide them either (no drain).
@@ -74,9 +68,10 @@ class Trace {
   // Ten million steps (eleven days at 10 Hz); every step up to the largest is part of the run.
   static constexpr int64_t kMaxStep = 10'000'000;
 
-  // The watchpoints of the run that recorded it (its header's "watches").
-  const std::vector<TraceWatch>& watches() const { return watches_; }
-  void set_watches(std::vector<TraceWatch> watches) { watches_ = std::move(watches); }
+  // The watchpoints of the run that recorded it (its header's "watches"): what `replay` with no
+  // --watch replays, with the same reading (the budget and optimizations are the default ones).
+  const std::vector<WatchSpec>& watches() const { return watches_; }
+  void set_watches(std::vector<WatchSpec> watches) { watches_ = std::move(watches); }
   // The pause that stopped the run that recorded it, if one did.
   const std::optional<TracePause>& paused() const { return paused_; }
   void set_paused(std::optional<TracePause> paused) { paused_ = std::move(paused); }
@@ -94,7 +89,7 @@ class Trace {
   std::vector<int64_t> value_;
   std::vector<uint64_t> nbr_begin_;  // [lines + 1] into nbrs_
   std::vector<uint32_t> nbrs_;       // dense module indices
-  std::vector<TraceWatch> watches_;
+  std::vector<WatchSpec> watches_;
   std::optional<TracePause> paused_;
 };
 
@@ -150,7 +145,7 @@ std::variant<Trace, std::vector<TraceError>> read_trace_text(const std::string& 
 class TraceWriter {
  public:
   TraceWriter(std::ostream& out, const watch::Universe& universe, std::span<const Intervention> interventions = {},
-              std::span<const TraceWatch> watches = {});
+              std::span<const WatchSpec> watches = {});
   void write(const watch::Frame& frame);
   // The last line, when a pause stopped the run.
   void write_paused(const TracePause& pause);
@@ -163,14 +158,10 @@ class TraceWriter {
 };
 
 // The watchpoints as a recorded trace's header lists them: each in normal form, with its reading.
-std::vector<TraceWatch> trace_watches(std::span<const HostedWatchpoint> watches);
-// A header watch's reading (its names already checked): its algorithm, and `base` with its shape
-// and states.
-std::pair<watch::Algorithm, watch::DetectorOptions> trace_watch_reading(const TraceWatch& watch,
-                                                                        watch::DetectorOptions base);
-// And back: each compiled (its diagnostics name `trace_path`), with its reading over `base` (the
-// caller's optimizations and budget) and its action; or the first one's compile errors.
-std::variant<std::vector<HostedWatchpoint>, std::string> hosted_watches(std::span<const TraceWatch> watches,
+inline std::vector<WatchSpec> trace_watches(std::span<const HostedWatchpoint> watches) { return specs_of(watches); }
+// And back: each compiled (its diagnostics name `trace_path`), with its reading, over `base`'s
+// budget and optimizations (the caller's), and its action; or the first one's compile errors.
+std::variant<std::vector<HostedWatchpoint>, std::string> hosted_watches(std::span<const WatchSpec> watches,
                                                                         const std::string& trace_path,
                                                                         const watch::DetectorOptions& base);
 

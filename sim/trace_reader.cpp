@@ -96,7 +96,7 @@ class TraceReader {
     if (pause.t < 0 || pause.t > kMaxStep)
       return error(at, "\"paused\" has a step out of 0.." + std::to_string(kMaxStep));
     // It names the watchpoint that paused the run: one of the header's, which precede it.
-    if (std::none_of(watches_.begin(), watches_.end(), [&](const TraceWatch& w) { return w.name == watch; }))
+    if (std::none_of(watches_.begin(), watches_.end(), [&](const WatchSpec& w) { return w.name == watch; }))
       return error(at, "\"paused\" names the watchpoint '" + std::string(watch) +
                            "', which the header's \"watches\" does not hold");
     pause.watch = std::string(watch);
@@ -225,8 +225,8 @@ class TraceReader {
     return true;
   }
 
-  // The header's "watches": objects of the six strings of a TraceWatch, each reading and action
-  // one the scenario loader accepts (its names), the names given and each once.
+  // The header's "watches": objects of a WatchSpec's six strings (sim::to_json), each reading and
+  // action one the scenario loader accepts (its names), the names given and each once.
   bool read_watches(simdjson::dom::element v, const Where& at) {
     simdjson::dom::array list;
     if (v.get_array().get(list)) {
@@ -248,53 +248,31 @@ class TraceReader {
         error(at, "each of \"watches\" must be an object");
         return false;
       }
-      TraceWatch w;
-      const std::pair<const char*, std::string*> fields[] = {{"name", &w.name},           {"text", &w.text},
-                                                             {"algorithm", &w.algorithm}, {"shape", &w.shape},
-                                                             {"states", &w.states},       {"action", &w.action}};
       auto field_at = [&](std::string_view key) { return Where{at.line, key, entry.from}; };
       std::vector<std::string_view> seen;
       for (auto [key, value] : o) {
         if (!first_time(seen, field_at(key), "a watch of \"watches\"")) return false;
         const std::string_view name = key;  // clang 14 captures no structured binding
-        if (std::none_of(std::begin(fields), std::end(fields), [&](const auto& f) { return name == f.first; })) {
+        if (std::none_of(std::begin(kJsonKeys), std::end(kJsonKeys), [&](std::string_view k) { return name == k; })) {
           std::string known;
-          for (const auto& f : fields) known += (known.empty() ? "\"" : ", \"") + std::string(f.first) + "\"";
+          for (std::string_view k : kJsonKeys) known += (known.empty() ? "\"" : ", \"") + std::string(k) + "\"";
           error(field_at(key),
                 "unknown field \"" + std::string(key) + "\" in a watch of \"watches\" (a watch has " + known + ")");
           return false;
         }
       }
-      for (auto [field, target] : fields) {
-        std::string_view value;
-        if (o[field].get_string().get(value)) {
-          error(at, std::string("each of \"watches\" needs the string \"") + field + "\"");
-          return false;
-        }
-        *target = std::string(value);
-      }
-      // As the scenario loader says of a [[watch]]: its checks, its names of what each key takes.
-      std::string why;
-      const char* key = nullptr;
-      if (const std::string bad = watch::name_problem(w.name); !bad.empty()) key = "name", why = bad;
-      else if (std::any_of(watches_.begin(), watches_.end(),
-                           [&](const TraceWatch& other) { return other.name == w.name; }))
-        key = "name", why = "a second watchpoint named \"" + w.name + "\"";
-      else if (!watch::parse_algorithm(w.algorithm))
-        key = "algorithm", why = "\"algorithm\" must be " + watch::algorithm_names() + ", not \"" + w.algorithm + "\"";
-      else if (!watch::parse_shape(w.shape))
-        key = "shape", why = "\"shape\" must be " + watch::shape_names() + ", not \"" + w.shape + "\"";
-      else if (!watch::parse_states(w.states))
-        key = "states", why = "\"states\" must be " + watch::states_names() + ", not \"" + w.states + "\"";
-      else if (!parse_action(w.action))
-        key = "action", why = "\"action\" must be " + action_names() + ", not \"" + w.action + "\"";
-      else if (const std::string cannot = std::apply(watch::unsupported, trace_watch_reading(w, {})); !cannot.empty())
-        key = "states", why = "watchpoint \"" + w.name + "\" cannot run: " + cannot;
-      if (key) {
-        error(field_at(key), why);
+      // Its strings, each once, read as every watchpoint's JSON is (a value that is not one is
+      // left out: the reader says it is missing).
+      nlohmann::json strings = nlohmann::json::object();
+      for (std::string_view key : kJsonKeys)
+        if (std::string_view value; !o[key].get_string().get(value)) strings[std::string(key)] = value;
+      auto read = spec_from_json(strings, watches_);
+      if (const auto* bad = std::get_if<SpecError>(&read)) {
+        if (bad->missing) error(at, "each of \"watches\" needs the string \"" + bad->key + "\"");
+        else error(field_at(bad->key), bad->why);
         return false;
       }
-      watches_.push_back(std::move(w));
+      watches_.push_back(std::move(std::get<WatchSpec>(read)));
     }
     return true;
   }
@@ -440,7 +418,7 @@ class TraceReader {
   const simdjson::padded_string& text_;
   simdjson::dom::parser parser_;
   std::vector<Trace::Entry> entries_;
-  std::vector<TraceWatch> watches_;
+  std::vector<WatchSpec> watches_;
   std::optional<TracePause> paused_;
   uint64_t paused_line_ = 0;
   Where paused_at_;

@@ -5,43 +5,19 @@
 
 namespace dw::sim {
 
-std::pair<watch::Algorithm, watch::DetectorOptions> trace_watch_reading(const TraceWatch& w,
-                                                                        watch::DetectorOptions base) {
-  const watch::Algorithm algorithm = watch::parse_algorithm(w.algorithm).value_or(watch::Algorithm::Distributed);
-  base.shape = watch::parse_shape(w.shape);
-  base.states =
-      algorithm == watch::Algorithm::Distributed ? watch::parse_states(w.states) : std::optional<watch::States>();
-  return {algorithm, base};
-}
-
-std::variant<std::vector<HostedWatchpoint>, std::string> hosted_watches(std::span<const TraceWatch> watches,
+std::variant<std::vector<HostedWatchpoint>, std::string> hosted_watches(std::span<const WatchSpec> watches,
                                                                         const std::string& trace_path,
                                                                         const watch::DetectorOptions& base) {
-  std::vector<HostedWatchpoint> out;
-  for (const TraceWatch& w : watches) {
-    auto compiled =
-        watch::compile_watchpoint(w.name, watch::SourceText(trace_path + " (watch " + w.name + ")", w.text));
-    if (auto* e = std::get_if<watch::CompileError>(&compiled)) return e->format();
-    const auto [algorithm, options] = trace_watch_reading(w, base);
-    out.push_back({std::move(std::get<watch::Watchpoint>(compiled)), algorithm,
-                   parse_action(w.action).value_or(MatchAction::Log), options});
+  std::vector<WatchSpec> specs(watches.begin(), watches.end());
+  for (WatchSpec& spec : specs) {
+    spec.options.live_budget = base.live_budget;
+    spec.options.optimizations = base.optimizations;
   }
-  return out;
-}
-
-std::vector<TraceWatch> trace_watches(std::span<const HostedWatchpoint> watches) {
-  std::vector<TraceWatch> out;
-  for (const HostedWatchpoint& h : watches)
-    out.push_back({h.watchpoint.name, watch::to_string(h.watchpoint.ast),
-                   std::string(watch::algorithm_name(h.algorithm)),
-                   std::string(watch::shape_name(watch::group_shape(h.algorithm, h.options))),
-                   std::string(watch::states_name(h.options.states.value_or(watch::States::Consistent))),
-                   std::string(action_name(h.action))});
-  return out;
+  return compile_all(specs, trace_path);
 }
 
 TraceWriter::TraceWriter(std::ostream& out, const watch::Universe& universe,
-                         std::span<const Intervention> interventions, std::span<const TraceWatch> watches)
+                         std::span<const Intervention> interventions, std::span<const WatchSpec> watches)
     : out_(out), universe_(universe) {
   // Variable names are escaped once by nlohmann; the numbers are written per line.
   for (const std::string& v : universe.variables) keys_.push_back(nlohmann::json(v).dump() + ":");
@@ -54,13 +30,7 @@ TraceWriter::TraceWriter(std::ostream& out, const watch::Universe& universe,
   }
   if (!watches.empty()) {
     nlohmann::ordered_json list = nlohmann::ordered_json::array();
-    for (const TraceWatch& w : watches)
-      list.push_back({{"name", w.name},
-                      {"text", w.text},
-                      {"algorithm", w.algorithm},
-                      {"shape", w.shape},
-                      {"states", w.states},
-                      {"action", w.action}});
+    for (const WatchSpec& w : watches) list.push_back(to_json(w));
     out_ << ",\"watches\":" << list.dump();
   }
   out_ << "}\n";
