@@ -13,6 +13,7 @@
 #include <span>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace dw::sim {
@@ -83,7 +84,7 @@ class RankExchange {
 };
 
 // Which rank owns each module (docs/design.md §12): the modules in blocks of 2^block_shift
-// consecutive ids, each block one rank's (Runtime::place_blocks); alike on every rank.
+// consecutive ids, each block one rank's (BlockPlacement, sim/block_placement.h); alike on every rank.
 struct ModuleOwners {
   std::vector<uint32_t> block_rank;  // per block
   uint32_t block_shift = 0;
@@ -154,6 +155,28 @@ void all_gather_into(RankExchange& ranks, std::span<const T> mine, std::vector<T
       std::copy(theirs.begin(), theirs.end(), into.begin() + static_cast<ptrdiff_t>(first[r] + done));
     }
   }
+}
+
+// `values` summed element-wise over the ranks, in place, on every rank (a collective call); in one
+// process they are the sums already.
+inline void sum_over_ranks(RankExchange* ranks, std::span<uint64_t> values) {
+  if (ranks != nullptr) ranks->sum(values);
+}
+inline uint64_t sum_over_ranks(RankExchange* ranks, uint64_t value) {
+  sum_over_ranks(ranks, std::span(&value, 1));
+  return value;
+}
+
+// Every rank's `records`, in rank order, in place of this rank's, on every rank (a collective
+// call); in one process they are all of them already.
+template <class T>
+void gather_over_ranks(RankExchange* ranks, std::vector<T>& records) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  if (ranks == nullptr) return;
+  std::vector<T> all;
+  for (const auto& part : ranks->all_gather(std::as_bytes(std::span<const T>(records))))
+    all.insert(all.end(), records_of<T>(part).begin(), records_of<T>(part).end());
+  records = std::move(all);
 }
 
 // The largest of every rank's `value` (a collective call); in one process, `value`.

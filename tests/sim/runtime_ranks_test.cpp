@@ -1,6 +1,7 @@
-// The runtime over several ranks (sim/runtime.cpp with a RankExchange, docs/design.md §12), without MPI:
-// the ranks are threads of this test, exchanging through memory. After every step, the state hash
-// of the whole (Runtime::hash), the statistics and the matches equal those of one runtime.
+// The runtime over several ranks (sim/runtime.cpp with a RankExchange, what crosses between them in
+// sim/rank_stepping.cpp, docs/design.md §12), without MPI: the ranks are threads of this test,
+// exchanging through memory. After every step, the state hash of the whole (Runtime::hash), the
+// statistics and the matches equal those of one runtime.
 #include <functional>
 
 #include <gtest/gtest.h>
