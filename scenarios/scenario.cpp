@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "physics/bullet_world.h"
-#include "scenarios/lua_program.h"
+#include "scenarios/lua_host/lua_program.h"
 #include "scenarios/memory_estimate.h"
 #include "scenarios/programs/programs.h"
 #include "scenarios/table_reader.h"

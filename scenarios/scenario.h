@@ -66,7 +66,7 @@
 #include <utility>
 #include <variant>
 
-#include "scenarios/lua_memory_pool.h"
+#include "scenarios/lua_host/lua_memory_pool.h"
 #include "sim/intervention.h"
 #include "sim/model.h"
 #include "sim/session.h"

@@ -1,5 +1,5 @@
-// libFuzzer target for host programs in Lua under the sandbox (scenarios/lua_program.h,
-// scenarios/lua_sandbox.h, scenarios/lua_watchdog.h; docs/design.md §11): any text is loaded as a
+// libFuzzer target for host programs in Lua under the sandbox (scenarios/lua_host/lua_program.h,
+// scenarios/lua_host/lua_sandbox.h, scenarios/lua_host/lua_watchdog.h; docs/design.md §11): any text is loaded as a
 // script and, when it declares itself, stepped for kSteps steps on a line of kModules modules (its
 // neighbours, messages and random draws included). A script is code from someone else that dwatch
 // runs, so every input must end within the sandbox's limits, whatever it tries (an endless loop
@@ -13,7 +13,7 @@
 //   - as dwatch runs scripts, each call uncounted until the watchdog interrupts it after a
 //     millisecond, what it did taken back, and run again counted.
 // Both give the same state hash after every step, or fail at the same step and module with the
-// same message. A call run counted runs in a state made for it (scenarios/lua_state.cpp), so
+// same message. A call run counted runs in a state made for it (scenarios/lua_host/lua_state.cpp), so
 // nothing earlier runs leave in a state moves where it stops, with two exceptions by design:
 //   - time: a call stopped by the wall-clock deadline in either run, and a call the counted run
 //     stopped by its budget that the other finished, uncounted, within its patience;
@@ -33,7 +33,7 @@
 #include <variant>
 #include <vector>
 
-#include "scenarios/lua_program.h"
+#include "scenarios/lua_host/lua_program.h"
 #include "scenarios/scenario.h"
 #include "sim/session.h"
 

@@ -1,7 +1,7 @@
-// Host programs in Lua (scenarios/lua_program.h): a port gives its C++ twin's states bit for
+// Host programs in Lua (scenarios/lua_host/lua_program.h): a port gives its C++ twin's states bit for
 // bit, on any thread count and through rollback; the sandbox and its limits; and every mistake a
 // script can make, named where it happened.
-#include "scenarios/lua_program.h"
+#include "scenarios/lua_host/lua_program.h"
 
 #include <gtest/gtest.h>
 

@@ -14,7 +14,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "scenarios/lua_sandbox.h"
+#include "scenarios/lua_host/lua_sandbox.h"
 
 namespace dw::scenarios {
 namespace {

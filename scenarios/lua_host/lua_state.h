@@ -1,5 +1,5 @@
-// One Lua state of a host program in Lua (scenarios/lua_program.h): the script loaded into it,
-// sandboxed (scenarios/lua_sandbox.h) and frozen, and the module `m` its calls of init and step
+// One Lua state of a host program in Lua (scenarios/lua_host/lua_program.h): the script loaded into it,
+// sandboxed (scenarios/lua_host/lua_sandbox.h) and frozen, and the module `m` its calls of init and step
 // are given. Internal to scenarios/: lua_state.cpp loads, declares, freezes and runs the script,
 // lua_module_api.cpp holds the functions the script calls on `m`, lua_program.cpp makes a
 // program of it with one state per stepping thread.
@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "scenarios/lua_sandbox.h"
+#include "scenarios/lua_host/lua_sandbox.h"
 #include "sim/host_program.h"
 
 namespace dw::scenarios {

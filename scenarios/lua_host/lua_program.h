@@ -4,7 +4,7 @@
 // (sim/host_program.h): m.id, m.step, m:get, m:set, m:neighbors, m:inbox, m:send, m:broadcast,
 // m:random, m:param.
 //
-// Sandboxed (scenarios/lua_sandbox.h): libraries bounded in time, an instruction budget per call,
+// Sandboxed (scenarios/lua_host/lua_sandbox.h): libraries bounded in time, an instruction budget per call,
 // a memory cap per Lua state and a deadline, none of which a script can catch. A module's state
 // lives only in its variables: once loaded, a script
 // may not write a global, a table reached from one, or a local declared outside the function
@@ -18,8 +18,9 @@
 #include <utility>
 #include <vector>
 
-#include "scenarios/lua_sandbox.h"
-#include "scenarios/programs/programs.h"
+#include "scenarios/lua_host/lua_sandbox.h"
+#include "scenarios/table_reader.h"
+#include "sim/host_program.h"
 
 namespace dw::scenarios {
 

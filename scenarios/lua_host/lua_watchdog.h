@@ -8,7 +8,7 @@
 // handler installs a hook (lua_sethook may be called from a signal handler) that raises an error
 // only this class makes, before every instruction until the call returns, so that no pcall can
 // keep it. The caller then takes back what the call did and runs it again under the counting hook
-// (scenarios/lua_sandbox.h), so whether a call exceeds its instruction budget never depends on
+// (scenarios/lua_host/lua_sandbox.h), so whether a call exceeds its instruction budget never depends on
 // timing; the counted run is watched too, with a deadline, for work the count cannot see.
 #pragma once
 

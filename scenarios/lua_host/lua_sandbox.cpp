@@ -1,6 +1,6 @@
-#include "scenarios/lua_sandbox.h"
+#include "scenarios/lua_host/lua_sandbox.h"
 
-#include "scenarios/lua_guards.h"
+#include "scenarios/lua_host/lua_guards.h"
 #include "sim/read_file.h"
 
 #include <algorithm>

@@ -1,6 +1,6 @@
-#include "scenarios/lua_program.h"
+#include "scenarios/lua_host/lua_program.h"
 
-#include "scenarios/lua_state.h"
+#include "scenarios/lua_host/lua_state.h"
 
 #include <algorithm>
 #include <cstdint>

@@ -18,7 +18,7 @@
 //   - the memory cap of the state, reached when an allocation does not fit even after a full
 //     collection (a library function building its result in lauxlib's buffer, which asks the
 //     allocator without collecting first, is tried again after one); the same for the run's
-//     pool, shared by all its states (scenarios/lua_memory_pool.h);
+//     pool, shared by all its states (scenarios/lua_host/lua_memory_pool.h);
 //   - the deadline: a counted call still running after it is stopped, for work the count cannot
 //     see (comparing two long strings is one instruction).
 #pragma once
@@ -29,8 +29,8 @@
 #include <memory>
 #include <string>
 
-#include "scenarios/lua_memory_pool.h"
-#include "scenarios/lua_watchdog.h"
+#include "scenarios/lua_host/lua_memory_pool.h"
+#include "scenarios/lua_host/lua_watchdog.h"
 
 namespace dw::scenarios {
 
@@ -39,7 +39,7 @@ struct LuaLimits {
   int64_t instructions = 10'000'000;  // VM instructions per init/step call, library work included
   size_t memory_bytes = 64u << 20;    // per Lua state (one per stepping thread)
   // Calls run uncounted, at full speed; one still running after this long is run again with
-  // every instruction counted (scenarios/lua_watchdog.h). Zero: every call counted.
+  // every instruction counted (scenarios/lua_host/lua_watchdog.h). Zero: every call counted.
   std::chrono::milliseconds patience{10};
   // Wall-clock time a counted call may take.
   std::chrono::milliseconds deadline{10'000};

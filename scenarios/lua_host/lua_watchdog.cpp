@@ -1,4 +1,4 @@
-#include "scenarios/lua_watchdog.h"
+#include "scenarios/lua_host/lua_watchdog.h"
 
 #include <cerrno>
 #include <csignal>

@@ -1,7 +1,7 @@
 // A LuaState's own work (lua_state.h): loading the script, reading what it declares, binding the
 // module API and freezing the script (kFreeze), and running a call of init or step, uncounted
 // first and, when that does not go through, counted in a fresh state.
-#include "scenarios/lua_state.h"
+#include "scenarios/lua_host/lua_state.h"
 
 #include "watch/lexer.h"
 

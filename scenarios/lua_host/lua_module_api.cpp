@@ -2,7 +2,7 @@
 // parameters, its neighbours and inbox (tables from pools kept from call to call), sending, random
 // draws and, in a world with bodies, the body's sensing and actuation. The C functions that
 // LuaState::prepare binds into the module table, and their helpers.
-#include "scenarios/lua_state.h"
+#include "scenarios/lua_host/lua_state.h"
 
 #include "sim/message.h"
 

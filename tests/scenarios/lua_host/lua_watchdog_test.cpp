@@ -1,6 +1,6 @@
-// The watchdog (scenarios/lua_watchdog.cpp) interrupts a call that runs past its patience, and
+// The watchdog (scenarios/lua_host/lua_watchdog.cpp) interrupts a call that runs past its patience, and
 // only such a call.
-#include "scenarios/lua_watchdog.h"
+#include "scenarios/lua_host/lua_watchdog.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
-// What Lua leaves to its hash seed and to addresses (scenarios/lua_fixed_order.cpp): the same in
+// What Lua leaves to its hash seed and to addresses (scenarios/lua_host/lua_fixed_order.cpp): the same in
 // every state, so that a script computes the same values on every run and every thread.
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "scenarios/lua_sandbox.h"
+#include "scenarios/lua_host/lua_sandbox.h"
 
 namespace dw::scenarios {
 namespace {

@@ -1,10 +1,10 @@
-// Library functions building their results in lauxlib's buffer (scenarios/lua_library_buffers.cpp)
+// Library functions building their results in lauxlib's buffer (scenarios/lua_host/lua_library_buffers.cpp)
 // under the sandbox's memory cap.
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "scenarios/lua_sandbox.h"
+#include "scenarios/lua_host/lua_sandbox.h"
 
 namespace dw::scenarios {
 namespace {

@@ -3,7 +3,7 @@
 // is refused memory, without running the script's code twice (see `buffered`).
 #include <cstring>
 
-#include "scenarios/lua_sandbox.h"
+#include "scenarios/lua_host/lua_sandbox.h"
 
 namespace dw::scenarios {
 

@@ -1,6 +1,6 @@
-// The sandbox (scenarios/lua_sandbox.cpp): no script, however hostile, hangs or exhausts the
+// The sandbox (scenarios/lua_host/lua_sandbox.cpp): no script, however hostile, hangs or exhausts the
 // machine, and none can catch the limits that stop it.
-#include "scenarios/lua_sandbox.h"
+#include "scenarios/lua_host/lua_sandbox.h"
 
 #include <gtest/gtest.h>
 
