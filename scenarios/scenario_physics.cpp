@@ -1,0 +1,65 @@
+// A scenario's [physics] (docs/design.md §8): the Bullet world's settings and its [[physics.prop]]
+// bodies; nothing when it is off (a static lattice).
+#include "scenarios/scenario_loader.h"
+
+namespace dw::scenarios {
+
+namespace {
+
+std::optional<physics::ModuleShape> module_shape(TableReader& r, std::string_view key) {
+  const auto name = r.string(key);
+  if (!name) return std::nullopt;
+  if (*name == "box") return physics::ModuleShape::Box;
+  if (*name == "cylinder") return physics::ModuleShape::Cylinder;
+  if (*name == "sphere") return physics::ModuleShape::Sphere;
+  r.error(key, "'" + std::string(key) + "' must be \"box\", \"cylinder\" or \"sphere\", not \"" + *name + "\"");
+  return std::nullopt;
+}
+
+sim::Vec3 vec3(const std::optional<std::vector<double>>& v, sim::Vec3 otherwise) {
+  return v ? sim::Vec3{float((*v)[0]), float((*v)[1]), float((*v)[2])} : otherwise;
+}
+
+}  // namespace
+
+// [physics]: nothing when it is off (a static lattice).
+std::optional<physics::PhysicsSettings> Loader::physics_settings(TableReader& root) {
+  const toml::table* t = root.table("physics");
+  if (!t) return std::nullopt;
+  TableReader r(*t, diagnostics, "[physics]");
+  physics::PhysicsSettings p;
+  const bool on = r.boolean("enabled").value_or(false);
+  p.dt = float(r.number("dt", 1e-4, 1).value_or(p.dt));
+  p.gravity = vec3(r.numbers("gravity", 3, -1000, 1000), p.gravity);  // m/s^2: 100 g either way
+  p.shape = module_shape(r, "shape");
+  p.module_mass = float(r.number("module_mass", 1e-3, 1e6).value_or(p.module_mass));
+  p.contact_threshold = float(
+      r.number("contact_threshold", 0, physics::PhysicsSettings::kMaxContactThreshold).value_or(p.contact_threshold));
+  p.bonds = r.boolean("bonds").value_or(p.bonds);
+  p.anchor = r.boolean("anchor").value_or(p.anchor);
+  p.break_force = float(r.number("break_force", 0, 1e12).value_or(p.break_force));
+  p.friction = float(r.number("friction", 0, 10).value_or(p.friction));
+  p.restitution = float(r.number("restitution", 0, 1).value_or(p.restitution));
+  p.solver_iterations = int(r.integer("solver_iterations", 1, 1000).value_or(p.solver_iterations));
+  p.move_steps = r.integer("move_steps", 1, 100'000).value_or(p.move_steps);
+  for (const toml::table* prop : r.tables("prop")) {
+    TableReader q(*prop, diagnostics, "[[physics.prop]]");
+    physics::PropSpec b;
+    b.shape = module_shape(q, "shape").value_or(b.shape);
+    if (b.shape == physics::ModuleShape::Cylinder) q.error("shape", "a prop is a \"box\" or a \"sphere\"");
+    b.size = vec3(q.numbers("size", 3, 1e-3, 1e3), b.size);
+    if (q.has("diameter")) b.size[0] = float(q.number("diameter", 1e-3, 1e3).value_or(1));
+    b.mass = float(q.number("mass", 0, 1e9).value_or(b.mass));
+    b.pose.position = vec3(q.numbers("position", 3, -kMaxCoordinate, kMaxCoordinate), b.pose.position);
+    b.velocity.linear = vec3(q.numbers("velocity", 3, -1e4, 1e4), b.velocity.linear);            // m/s
+    b.velocity.angular = vec3(q.numbers("angular_velocity", 3, -1e4, 1e4), b.velocity.angular);  // rad/s
+    if (!q.has("position")) q.missing("position");
+    q.finish();
+    p.props.push_back(b);
+  }
+  r.finish();
+  if (!on) return std::nullopt;
+  return p;
+}
+
+}  // namespace dw::scenarios
