@@ -131,7 +131,7 @@ void Debugger::timeline(float width) {
   // One lane a watchpoint, then the interventions' lane; the cursor across all.
   // The lanes' names whole, up to 30% of the width (cut with "..." beyond).
   std::vector<std::string> names{"interventions"};
-  for (const WatchRow& row : readout_.watches) names.push_back(row.name);
+  for (const WatchRow& row : readout_.watches) names.push_back(row.spec.name);
   const float lane = 14, label = names_width(names, 100, std::max(100.0f, width * 0.3f));
   const size_t lanes = readout_.watches.size() + 1;
   const ImVec2 origin = ImGui::GetCursorScreenPos();
@@ -231,7 +231,7 @@ void Debugger::watchpoints_panel() {
                         ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
     // The names and the buttons whole; the reading and the count take what is left, cut visibly.
     std::vector<std::string> names{"name"};
-    for (const WatchRow& row : readout_.watches) names.push_back(row.name);
+    for (const WatchRow& row : readout_.watches) names.push_back(row.spec.name);
     for (const DisabledWatch& d : disabled_) names.push_back(d.name);
     const float buttons = ImGui::CalcTextSize("edit").x + ImGui::CalcTextSize("remove").x +
                           4 * ImGui::GetStyle().FramePadding.x + ImGui::GetStyle().ItemSpacing.x;
@@ -250,30 +250,35 @@ void Debugger::watchpoints_panel() {
       ImGui::TableNextColumn();
       bool on = true;
       if (ImGui::Checkbox("##on", &on)) {  // off: out of the session, its definition kept here
-        disabled_.push_back({row.name, row.words(), row.text});
-        apply({command::unwatch(row.name)});
+        disabled_.push_back({row.spec.name, row.spec.words(), row.spec.text});
+        apply({command::unwatch(row.spec.name)});
       }
       ImGui::TableNextColumn();
-      label_cell(row.name, ImColor(lane_color(w)));
-      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\nlag %" PRId64 " steps", row.text.c_str(), row.lag);
+      label_cell(row.spec.name, ImColor(lane_color(w)));
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\nlag %" PRId64 " steps", row.spec.text.c_str(), row.lag);
       ImGui::TableNextColumn();
-      cell_text(row.algorithm + " " + row.shape + (row.states == "simultaneous" ? " simultaneous" : ""));
+      const bool simultaneous = row.spec.distributed() && row.spec.options.states == watch::States::Simultaneous;
+      cell_text(std::string(row.spec.algorithm_name()) + " " + row.spec.shape_name() +
+                (simultaneous ? " simultaneous" : ""));
       ImGui::TableNextColumn();
-      cell_text(row.action);
+      cell_text(std::string(sim::action_name(row.spec.action)));
       ImGui::TableNextColumn();
       cell_text(std::to_string(row.matches));
       ImGui::TableNextColumn();
-      if (button("edit##" + row.name, true)) {
-        edit_name_ = row.name;
-        edit_text_ = row.text;
-        edit_algorithm_ = row.algorithm == "centralized" ? 0 : 1;
-        edit_shape_ = row.shape == "chain" ? 0 : row.shape == "ordered" ? 1 : 2;
-        edit_states_ = row.states == "simultaneous" ? 1 : 0;
-        edit_action_ = row.action == "pause" ? 1 : row.action == "count" ? 2 : 0;
+      if (button("edit##" + row.spec.name, true)) {
+        edit_name_ = row.spec.name;
+        edit_text_ = row.spec.text;
+        edit_algorithm_ = row.spec.distributed() ? 1 : 0;
+        const std::string_view shape = row.spec.shape_name();
+        edit_shape_ = shape == "chain" ? 0 : shape == "ordered" ? 1 : 2;
+        edit_states_ = simultaneous ? 1 : 0;
+        edit_action_ = row.spec.action == sim::MatchAction::Pause   ? 1
+                       : row.spec.action == sim::MatchAction::Count ? 2
+                                                                    : 0;
         edit_checked_.clear();
       }
       ImGui::SameLine();
-      if (button("remove##" + row.name, true)) apply({command::unwatch(row.name)});
+      if (button("remove##" + row.spec.name, true)) apply({command::unwatch(row.spec.name)});
       ImGui::PopID();
     }
     for (size_t d = 0; d < disabled_.size(); ++d) {
@@ -347,21 +352,17 @@ void Debugger::editor() {
       }
     }
   }
-  // A reading that cannot find the shape (the paper's distributed one finds chains only) is said,
-  // not sent.
-  watch::DetectorOptions reading;
-  reading.shape = watch::parse_shape(kShapes[edit_shape_]);
-  if (edit_algorithm_ == 1) reading.states = watch::parse_states(kStates[edit_states_]);
-  const std::string unsupported =
-      watch::unsupported(edit_algorithm_ == 0 ? watch::Algorithm::Centralized : watch::Algorithm::Distributed, reading);
+  // The reading chosen, sent as the session's `watch` words. One that cannot find the shape (the
+  // paper's distributed one finds chains only) is said, not sent.
+  sim::WatchSpec chosen;
+  for (const char* word : {kAlgorithms[edit_algorithm_], kShapes[edit_shape_], kActions[edit_action_]})
+    sim::read_word(chosen, word);
+  if (chosen.distributed()) sim::read_word(chosen, kStates[edit_states_]);
+  const std::string unsupported = watch::unsupported(chosen.algorithm, chosen.options);
   ImGui::BeginDisabled(!edit_ok_ || edit_name_.empty() || !unsupported.empty());
   const bool exists = std::any_of(readout_.watches.begin(), readout_.watches.end(),
-                                  [&](const WatchRow& w) { return w.name == edit_name_; });
-  if (button(exists ? "Replace" : "Add")) {
-    std::string words = std::string(kAlgorithms[edit_algorithm_]) + " " + kShapes[edit_shape_];
-    if (edit_algorithm_ == 1) words += std::string(" ") + kStates[edit_states_];
-    apply({command::watch(edit_name_, words + " " + kActions[edit_action_], edit_text_)});
-  }
+                                  [&](const WatchRow& w) { return w.spec.name == edit_name_; });
+  if (button(exists ? "Replace" : "Add")) apply({command::watch(edit_name_, chosen.words(), edit_text_)});
   ImGui::EndDisabled();
   if (!unsupported.empty()) {
     ImGui::SameLine();
@@ -438,7 +439,7 @@ void Debugger::matches_panel() {
   if (ImGui::BeginTable("matches", 4, flags)) {
     ImGui::TableSetupScrollFreeze(0, 1);
     std::vector<std::string> names{"watch"};
-    for (const WatchRow& row : readout_.watches) names.push_back(row.name);
+    for (const WatchRow& row : readout_.watches) names.push_back(row.spec.name);
     ImGui::TableSetupColumn("watch", ImGuiTableColumnFlags_WidthFixed, names_width(names, 40, 200), 1);
     ImGui::TableSetupColumn("t", ImGuiTableColumnFlags_DefaultSort, 1, 0);
     ImGui::TableSetupColumn("detected", 0, 1, 2);

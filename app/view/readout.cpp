@@ -96,14 +96,8 @@ Readout read_readout(sim::Session& session, const scenarios::Scenario& scenario,
   for (uint32_t w = 0; w < model.watches.size(); ++w) {
     const sim::HostedWatchpoint& h = model.watches[w];
     WatchRow row;
-    row.name = h.watchpoint.name;
-    row.algorithm = watch::algorithm_name(h.algorithm);
-    // The groups it finds and the states it compares (docs/design.md §4a).
-    row.shape = watch::shape_name(watch::group_shape(h.algorithm, h.options));
-    if (h.algorithm == watch::Algorithm::Distributed)
-      row.states = watch::states_name(h.options.states.value_or(watch::States::Consistent));
-    row.action = std::string(sim::action_name(h.action));
-    row.text = h.watchpoint.source->text();
+    row.spec = sim::spec_of(h);
+    row.spec.text = h.watchpoint.source->text();
     row.lag = h.lag();
     row.matches = session.match_count(w);
     row.slots = size_t(h.watchpoint.program.slot_count());
@@ -185,8 +179,11 @@ nlohmann::ordered_json Readout::panel(const std::string& name, const sim::Model&
   } else if (name == "watchpoints") {
     nlohmann::ordered_json rows = nlohmann::ordered_json::array();
     for (const WatchRow& w : watches)
-      rows.push_back(
-          {{"name", w.name}, {"algorithm", w.algorithm}, {"action", w.action}, {"lag", w.lag}, {"matches", w.matches}});
+      rows.push_back({{"name", w.spec.name},
+                      {"algorithm", w.spec.algorithm_name()},
+                      {"action", sim::action_name(w.spec.action)},
+                      {"lag", w.lag},
+                      {"matches", w.matches}});
     j["rows"] = std::move(rows);
   } else if (name == "inspector") {
     if (!inspector) {

@@ -19,10 +19,9 @@
 namespace dw::view {
 
 struct WatchRow {
-  std::string name, algorithm, shape, action, text;
-  std::string states;  // distributed: "consistent" or "simultaneous"; empty for centralized
-  // The session's `watch` words that give this reading and action (docs/design.md §7a, §4a).
-  std::string words() const { return algorithm + " " + shape + (states.empty() ? "" : " " + states) + " " + action; }
+  // Its name, reading and action (docs/design.md §7a, §4a), and its text as written (what the
+  // edit box shows), not in normal form.
+  sim::WatchSpec spec;
   int64_t lag = 0;
   uint64_t matches = 0;
   size_t slots = 0;
