@@ -67,8 +67,8 @@ watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_
   return frame;
 }
 
-std::string why_not_over_ranks(const Model& model) {
-  for (const HostedWatchpoint& w : model.watches)
+std::string why_not_over_ranks(std::span<const HostedWatchpoint> watches) {
+  for (const HostedWatchpoint& w : watches)
     if (!w.runs_on_agents())
       return "watchpoint '" + w.watchpoint.name + "' is " +
              (w.algorithm == watch::Algorithm::Centralized ? "centralized" : "read over simultaneous states") +

@@ -39,9 +39,11 @@ watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_
                         std::span<const uint8_t> present, const std::shared_ptr<const NeighborGraph>& graph,
                         uint32_t first_module = 0);
 
-// Why `model` cannot run over several ranks, or empty when it can (docs/design.md §12): a centralized or
-// simultaneous-state detector observes the whole ensemble in one place, which no rank holds.
-std::string why_not_over_ranks(const Model& model);
+// Why `watches` (a model's) cannot run over several ranks, or empty when they can (docs/design.md
+// §12): a centralized or simultaneous-state detector observes the whole ensemble in one place,
+// which no rank holds.
+std::string why_not_over_ranks(std::span<const HostedWatchpoint> watches);
+inline std::string why_not_over_ranks(const Model& model) { return why_not_over_ranks(model.watches); }
 
 // PatternMatchers another rank sent to one of this rank's blocks: records for its first lane.
 struct ArrivedLane {
