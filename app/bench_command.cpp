@@ -20,8 +20,8 @@
 #include "app/bench_child.h"
 #include "app/commands.h"
 #include "app/detector_flags.h"
-#include "app/integer_option.h"
-#include "app/output_files.h"
+#include "shell/integer_option.h"
+#include "shell/output_files.h"
 #include "sim/rank_exchange.h"
 #include "sim/synthetic_trace.h"
 #include "watch/make_detector.h"
@@ -165,7 +165,7 @@ int bench_engine(const BenchArgs& args) {
       if (row.stopped) status = 1;
     }
   }
-  if (!commit_outputs({csv_file.get()})) return 1;
+  if (!shell::commit_outputs({csv_file.get()})) return 1;
   return status;
 }
 
@@ -178,7 +178,8 @@ bool open_csv(const BenchArgs& args, const std::string& name, const std::string&
     std::cerr << "dwatch: error: --out: cannot make " << args.out_dir << ": " << ec.message() << "\n";
     return false;
   }
-  if (!open_output({"--out", (std::filesystem::path(args.out_dir) / (name + ".csv")).string()}, out)) return false;
+  if (!shell::open_output({"--out", (std::filesystem::path(args.out_dir) / (name + ".csv")).string()}, out))
+    return false;
   out->stream() << header << "\n";
   return true;
 }
@@ -196,14 +197,16 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
   cmd->add_option("--tuple", args->tuples, "Host-program tuples max_x1:max_x2:max_x3:max_x4 (repeatable)");
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
       ->check(CLI::IsMember({"centralized", "distributed", "both"}));
-  add_integer_option(*cmd, "--size", args->size, {"size", 1, 200}, "Lattice edge (modules per side; million: 100)");
-  add_integer_option(*cmd, "--steps", args->steps, {"steps", 1, 1'000'000}, "Steps to run");
-  add_integer_option(*cmd, "--seed", args->seed, scenarios::kSeedRange, "Seed of the host program's random variables");
+  shell::add_integer_option(*cmd, "--size", args->size, {"size", 1, 200},
+                            "Lattice edge (modules per side; million: 100)");
+  shell::add_integer_option(*cmd, "--steps", args->steps, {"steps", 1, 1'000'000}, "Steps to run");
+  shell::add_integer_option(*cmd, "--seed", args->seed, scenarios::kSeedRange,
+                            "Seed of the host program's random variables");
   cmd->add_option("--out", args->out_dir, "Write NAME.csv into this directory");
-  add_integer_option(*cmd, "--threads,-j", args->threads, scenarios::kThreadsRange,
-                     "Threads stepping modules (table1, overhead, million)");
-  add_integer_option(*cmd, "--repeat", args->repeat, {"repeat", 1, 100},
-                     "Runs per row (paper: passes over all the rows); the fastest and the median are reported");
+  shell::add_integer_option(*cmd, "--threads,-j", args->threads, scenarios::kThreadsRange,
+                            "Threads stepping modules (table1, overhead, million)");
+  shell::add_integer_option(*cmd, "--repeat", args->repeat, {"repeat", 1, 100},
+                            "Runs per row (paper: passes over all the rows); the fastest and the median are reported");
   cmd->add_flag("--quick", args->quick,
                 "paper: at most 2 passes, 4 sizes for Fig. 8 (under a minute); lua: the memory row at 50^3");
   cmd->add_option("--table2-workload", args->table2_workload,

@@ -9,7 +9,7 @@
 
 #include "app/bench.h"
 #include "app/bench_child.h"
-#include "app/output_files.h"
+#include "shell/output_files.h"
 
 namespace dw::app {
 
@@ -59,7 +59,7 @@ int bench_expressions(const BenchArgs& args, bool tuples_given) {
       }
     }
   }
-  return commit_outputs({csv_file.get()}) ? 0 : 1;
+  return shell::commit_outputs({csv_file.get()}) ? 0 : 1;
 }
 
 }  // namespace dw::app

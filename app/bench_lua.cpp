@@ -9,7 +9,7 @@
 #include <iostream>
 
 #include "app/bench.h"
-#include "app/output_files.h"
+#include "shell/output_files.h"
 
 namespace dw::app {
 namespace {
@@ -98,7 +98,7 @@ int bench_lua(const BenchArgs& args) {
   all_met = all_met && met;
   std::cout << "  leader_election.lua on " << memory.modules << " modules: " << std::setprecision(2) << ratio
             << "x the C++ twin's peak memory, " << (met ? "within" : "OVER") << " the bar of 2x\n";
-  if (!commit_outputs({csv.get()})) return 1;
+  if (!shell::commit_outputs({csv.get()})) return 1;
   return all_met ? 0 : 1;
 }
 

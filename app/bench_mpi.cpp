@@ -18,7 +18,7 @@
 
 #include "app/bench.h"
 #include "app/bench_child.h"
-#include "app/output_files.h"
+#include "shell/output_files.h"
 
 namespace dw::app {
 namespace {
@@ -215,7 +215,7 @@ int bench_mpi(const BenchArgs& args) {
             << (same ? "every layout gave the same matches and state hash\n" : "");
   same &= bench_mpi_physics(args, dir);
   if (!same) std::cerr << "dwatch bench: error: the layouts disagree\n";
-  if (!commit_outputs({csv.get()})) return 1;
+  if (!shell::commit_outputs({csv.get()})) return 1;
   return same ? 0 : 1;
 }
 

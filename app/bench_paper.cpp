@@ -18,8 +18,8 @@
 #include <thread>
 
 #include "app/bench.h"
-#include "app/output_files.h"
 #include "app/paper_report.h"
+#include "shell/output_files.h"
 #include "watch/connected_groups.h"
 
 namespace dw::app {
@@ -301,7 +301,7 @@ int bench_paper(const BenchArgs& given) {
   constexpr std::array<const char*, 5> kFiles{"table1.csv", "fig7.csv", "fig8.csv", "table2.csv", "paper.md"};
   std::array<std::unique_ptr<sim::OutputFile>, kFiles.size()> files;
   for (size_t i = 0; i < kFiles.size(); ++i)
-    if (!open_output({"--out", (std::filesystem::path(dir) / kFiles[i]).string()}, files[i])) return 2;
+    if (!shell::open_output({"--out", (std::filesystem::path(dir) / kFiles[i]).string()}, files[i])) return 2;
 
   std::cout << "bench paper: the paper's §V on " << run.cpu << " (" << run.cores << " cores, load average "
             << std::fixed << std::setprecision(2) << run.load_average << "), every row timed in " << run.args.repeat
@@ -321,7 +321,8 @@ int bench_paper(const BenchArgs& given) {
   write_fig8_csv(run, files[2]->stream());
   write_table2_csv(run, files[3]->stream());
   files[4]->stream() << paper_markdown(run, judged);
-  if (!commit_outputs({files[0].get(), files[1].get(), files[2].get(), files[3].get(), files[4].get()})) return 1;
+  if (!shell::commit_outputs({files[0].get(), files[1].get(), files[2].get(), files[3].get(), files[4].get()}))
+    return 1;
 
   const std::string plot = plot_command(dir, plot_script());
   if (std::system((plot + " >&2").c_str()) != 0) {

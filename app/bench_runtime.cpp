@@ -13,8 +13,8 @@
 
 #include "app/bench.h"
 #include "app/bench_child.h"
-#include "app/output_files.h"
 #include "scenarios/scenario.h"
+#include "shell/output_files.h"
 #include "sim/session.h"
 
 namespace dw::app {
@@ -169,7 +169,7 @@ int bench_runtime(const BenchArgs& args) {
                 table.csv))
     return 2;
   const int status = run_rows(args, table);
-  if (!commit_outputs({table.csv.get()})) return 1;
+  if (!shell::commit_outputs({table.csv.get()})) return 1;
   return status != 0 ? status : table.stopped ? 1 : 0;
 }
 

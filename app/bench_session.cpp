@@ -21,8 +21,8 @@
 
 #include "app/bench.h"
 #include "app/bench_child.h"
-#include "app/output_files.h"
 #include "scenarios/scenario.h"
+#include "shell/output_files.h"
 #include "sim/session.h"
 
 namespace dw::app {
@@ -261,7 +261,7 @@ int bench_session(const BenchArgs& args) {
     return 1;
   print_history("history memory: Table I ensemble ([8:4:2:1]), " + std::to_string(long_run) + " steps", h, peak,
                 csv.get());
-  return commit_outputs({csv.get()}) ? 0 : 1;
+  return shell::commit_outputs({csv.get()}) ? 0 : 1;
 }
 
 }  // namespace dw::app

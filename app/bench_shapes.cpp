@@ -6,7 +6,7 @@
 
 #include "app/bench.h"
 #include "app/bench_child.h"
-#include "app/output_files.h"
+#include "shell/output_files.h"
 
 namespace dw::app {
 namespace {
@@ -87,7 +87,7 @@ int bench_shapes(const BenchArgs& args, bool tuples_given) {
               << "x;  simultaneous any / centralized any: " << ratio(6, 2)
               << "x;  centralized any: " << std::setprecision(3) << rows[2].seconds << " s\n";
   }
-  if (!commit_outputs({csv_file.get()})) return 1;
+  if (!shell::commit_outputs({csv_file.get()})) return 1;
   return status;
 }
 

@@ -2,8 +2,8 @@
 #include <iostream>
 
 #include "app/commands.h"
-#include "app/explain.h"
 #include "app/watch_args.h"
+#include "watch/explain.h"
 
 namespace dw::app {
 
@@ -19,7 +19,7 @@ void add_check_command(CLI::App& app, std::function<int()>& run) {
         return 2;
       }
       for (const watch::Watchpoint& w : std::get<std::vector<watch::Watchpoint>>(loaded))
-        explain_watchpoint(w, std::cout);
+        watch::explain_watchpoint(w, std::cout);
       return 0;
     };
   });

@@ -5,7 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 
-#include "app/interrupts.h"
+#include "shell/interrupts.h"
 #include "sim/rank_exchange.h"
 
 namespace dw::app {
@@ -16,10 +16,10 @@ void add_replay_command(CLI::App& app, std::function<int()>& run);
 // `ranks`: this process is one rank of a run over several (mpirun, docs/design.md §12), or null.
 // `interrupts`: the process's signal watcher, which a long command lets stop it cleanly, or null.
 void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks = nullptr,
-                     Interrupts* interrupts = nullptr);
+                     shell::Interrupts* interrupts = nullptr);
 void add_bench_command(CLI::App& app, std::function<int()>& run);
-void add_render_command(CLI::App& app, std::function<int()>& run, Interrupts* interrupts = nullptr);
-void add_session_command(CLI::App& app, std::function<int()>& run, Interrupts* interrupts = nullptr);
+void add_render_command(CLI::App& app, std::function<int()>& run, shell::Interrupts* interrupts = nullptr);
+void add_session_command(CLI::App& app, std::function<int()>& run, shell::Interrupts* interrupts = nullptr);
 void add_view_command(CLI::App& app, std::function<int()>& run);  // app/view/view_command.cpp
 
 }  // namespace dw::app

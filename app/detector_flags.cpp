@@ -1,6 +1,6 @@
 #include "app/detector_flags.h"
 
-#include "app/integer_option.h"
+#include "shell/integer_option.h"
 
 #include "watch/ast.h"
 
@@ -37,8 +37,8 @@ void add_detector_flags(CLI::App& cmd, DetectorFlags& flags, bool with_algorithm
   cmd.add_flag("--no-neighbor-culling", flags.no_neighbor_culling,
                "Spread to every neighbour regardless of neighbor()");
   cmd.add_flag("--no-temporal-spans", flags.no_temporal_spans, "Keep all history instead of each variable's span");
-  add_integer_option(cmd, "--max-live", flags.max_live, scenarios::kMaxLiveRange,
-                     "Budget: most PatternMatchers alive in one step; past it the run stops (exit 1). 0: none")
+  shell::add_integer_option(cmd, "--max-live", flags.max_live, scenarios::kMaxLiveRange,
+                            "Budget: most PatternMatchers alive in one step; past it the run stops (exit 1). 0: none")
       ->default_val(flags.max_live);
 }
 

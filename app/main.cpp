@@ -13,8 +13,8 @@
 #include <system_error>
 
 #include "app/commands.h"
-#include "app/interrupts.h"
 #include "app/terminal_filter.h"
+#include "shell/interrupts.h"
 #ifdef DWATCH_MPI
 #include "dist/mpi_exchange.h"
 #endif
@@ -50,13 +50,13 @@ std::string command_named(const CLI::App& app, int argc, char** argv) {
 void end_bench_at_a_signal() {
   struct sigaction action {};
   action.sa_handler = [](int signal) {  // what it calls is async-signal-safe
-    const char* what = dw::app::Interrupts::name(signal);
+    const char* what = dw::shell::Interrupts::name(signal);
     const char* rest = "): stopping at once, with the rows under way; a file not yet complete is not written\n";
     const ssize_t a = ::write(STDERR_FILENO, "dwatch bench: interrupted (", 27);
     const ssize_t b = ::write(STDERR_FILENO, what, std::strlen(what));
     const ssize_t c = ::write(STDERR_FILENO, rest, std::strlen(rest));
     (void)(a + b + c);
-    ::_exit(dw::app::Interrupts::exit_code(signal));
+    ::_exit(dw::shell::Interrupts::exit_code(signal));
   };
   for (const int s : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(s, &action, nullptr);
 }
@@ -68,10 +68,10 @@ int main(int argc, char** argv) {
   // `bench` starts child processes, which would inherit the blocked signals: it keeps the
   // default, ending at once, and writes nothing a signal could leave half done.
   const dw::app::TerminalOutput terminal;  // no control byte from an input reaches a terminal raw
-  std::optional<dw::app::Interrupts> interrupts;
+  std::optional<dw::shell::Interrupts> interrupts;
   if (argc < 2 || std::string(argv[1]) != "bench") interrupts.emplace();
   else end_bench_at_a_signal();
-  dw::app::Interrupts* watcher = interrupts ? &*interrupts : nullptr;
+  dw::shell::Interrupts* watcher = interrupts ? &*interrupts : nullptr;
   // Started by mpirun as one of several ranks (docs/design.md §12): only `run` runs over ranks.
   const char* world_size = std::getenv("OMPI_COMM_WORLD_SIZE");
   const bool several = world_size != nullptr && std::atoi(world_size) > 1;

@@ -10,15 +10,15 @@
 
 #include "app/commands.h"
 #include "app/detector_flags.h"
-#include "app/integer_option.h"
-#include "app/output_files.h"
 #include "app/progress.h"
-#include "app/session_script.h"
-#include "app/view_image.h"
 #include "render/osmesa_context.h"
 #include "render/renderer.h"
 #include "render/scene.h"
 #include "render/video_writer.h"
+#include "shell/integer_option.h"
+#include "shell/options.h"
+#include "shell/output_files.h"
+#include "shell/view_image.h"
 #include "sim/session.h"
 
 namespace dw::app {
@@ -61,8 +61,8 @@ std::string options_problem(const RenderArgs& a) {
   return {};
 }
 
-Highlight highlight_named(const std::string& name) {
-  return name == "all" ? Highlight::All : name == "none" ? Highlight::None : Highlight::First;
+shell::Highlight highlight_named(const std::string& name) {
+  return name == "all" ? shell::Highlight::All : name == "none" ? shell::Highlight::None : shell::Highlight::First;
 }
 
 // Moves the session onto step t (through any pause) and simulates on until every watchpoint has
@@ -75,16 +75,16 @@ bool go_to(sim::Session& session, int64_t t, const sim::Control& control) {
 }
 
 // Step t as `dwatch render --step t` draws it: its highlighted groups, the step in the title.
-render::Scene scene_at(sim::Session& session, int64_t t, Highlight highlight, render::SceneSettings settings,
+render::Scene scene_at(sim::Session& session, int64_t t, shell::Highlight highlight, render::SceneSettings settings,
                        const std::string& name, std::vector<render::SceneGroup>& groups) {
-  groups = groups_at(session, t, highlight);
+  groups = shell::groups_at(session, t, highlight);
   settings.title = name + "  \xC2\xB7  step " + std::to_string(t);
   return render::build_scene(session.model(), session.state(), groups, settings);
 }
 
 // A `count` watchpoint keeps no groups: say so rather than highlight nothing without a word.
-void say_counted(const sim::Model& model, Highlight highlight) {
-  if (highlight == Highlight::None) return;
+void say_counted(const sim::Model& model, shell::Highlight highlight) {
+  if (highlight == shell::Highlight::None) return;
   for (const sim::HostedWatchpoint& h : model.watches)
     if (h.action == sim::MatchAction::Count)
       std::cout << "  " << h.watchpoint.name
@@ -95,13 +95,13 @@ void say_counted(const sim::Model& model, Highlight highlight) {
 // The steps --from..--to, one frame each, under the first frame's camera. Frames go to the
 // encoder as they are drawn; a signal stops between two, leaving no file.
 int render_video(const RenderArgs& args, scenarios::Scenario& scenario, render::SceneSettings settings,
-                 Interrupts* interrupts) {
+                 shell::Interrupts* interrupts) {
   const int64_t from = args.from.value_or(0), to = args.to.value_or(std::max<int64_t>(0, scenario.steps - 1));
   if (from > to) {
     std::cerr << "dwatch: error: --from " << from << " is after the last step, " << to << " (--to)\n";
     return 2;
   }
-  if (!check_distinct_files(scenario.inputs, {{"--video", args.video}})) return 2;
+  if (!shell::check_distinct_files(scenario.inputs, {{"--video", args.video}})) return 2;
   const int fps = int(args.fps.value_or(kDefaultFps));
   auto opened = render::VideoWriter::open(args.video, {args.width, args.height, fps});  // a bad path costs no run
   if (auto* error = std::get_if<std::string>(&opened)) {
@@ -116,12 +116,12 @@ int render_video(const RenderArgs& args, scenarios::Scenario& scenario, render::
   }
 
   const sim::Model& model = *scenario.model;
-  const Highlight highlight = highlight_named(args.highlight);
+  const shell::Highlight highlight = highlight_named(args.highlight);
   sim::Session session(*scenario.model, *scenario.world,
                        {scenario.threads, scenario.steps, scenario.history_mb << 20, scenario.events});
   ProgressBar progress("video " + scenario.name, to - from + 1, true);
   // As `run`: a signal stops between two frames, the video left unwritten.
-  std::optional<Interrupts::Stoppable> stoppable;
+  std::optional<shell::Interrupts::Stoppable> stoppable;
   sim::Control control;
   if (interrupts) {
     stoppable.emplace(*interrupts);
@@ -143,7 +143,7 @@ int render_video(const RenderArgs& args, scenarios::Scenario& scenario, render::
         // as `render --step` draws it.
         render::Scene framing = scene;
         framing.groups.clear();
-        if (camera_refused(framing, args.width, args.height)) {
+        if (shell::camera_refused(framing, args.width, args.height)) {
           progress.finish();
           return 2;
         }
@@ -174,10 +174,10 @@ int render_video(const RenderArgs& args, scenarios::Scenario& scenario, render::
   const std::optional<int> signal = stoppable ? stoppable->signal() : std::nullopt;
   stoppable.reset();
   if (signal) {
-    std::cerr << "dwatch: render " << args.scenario << " interrupted (" << Interrupts::name(*signal) << ") after "
-              << video.frames() << " of " << to - from + 1 << " frames: nothing written (--video " << args.video
-              << ": as it was before)\n";
-    return Interrupts::exit_code(*signal);
+    std::cerr << "dwatch: render " << args.scenario << " interrupted (" << shell::Interrupts::name(*signal)
+              << ") after " << video.frames() << " of " << to - from + 1 << " frames: nothing written (--video "
+              << args.video << ": as it was before)\n";
+    return shell::Interrupts::exit_code(*signal);
   }
   if (std::string error = video.finish(); !error.empty()) {
     std::cerr << "dwatch: error: " << error << "\n";
@@ -199,13 +199,13 @@ int render_video(const RenderArgs& args, scenarios::Scenario& scenario, render::
   return 0;
 }
 
-int render_scenario(const RenderArgs& args, Interrupts* interrupts) {
+int render_scenario(const RenderArgs& args, shell::Interrupts* interrupts) {
   if (std::string problem = options_problem(args); !problem.empty()) {
     std::cerr << "dwatch: error: " << problem << "\n";
     return 2;
   }
   scenarios::ScenarioOverrides overrides;
-  overrides.memory_limit = memory_limit_unless(args.no_memory_check);
+  overrides.memory_limit = shell::memory_limit_unless(args.no_memory_check);
   auto loaded = scenarios::load_scenario(args.scenario, overrides);
   if (auto* errors = std::get_if<std::string>(&loaded)) {
     std::cerr << *errors;
@@ -213,7 +213,7 @@ int render_scenario(const RenderArgs& args, Interrupts* interrupts) {
   }
   scenarios::Scenario& scenario = std::get<scenarios::Scenario>(loaded);
   const sim::Model& model = *scenario.model;
-  if (std::string error = check_color_by(model, args.color_by); !error.empty()) {
+  if (std::string error = shell::check_color_by(model, args.color_by); !error.empty()) {
     std::cerr << "dwatch: error: " << error << "\n";
     return 2;
   }
@@ -225,14 +225,14 @@ int render_scenario(const RenderArgs& args, Interrupts* interrupts) {
       return 2;
     }
   }
-  render::SceneSettings settings = scene_settings(scenario, args.color_by);
+  render::SceneSettings settings = shell::scene_settings(scenario, args.color_by);
   auto vec = [](const std::vector<double>& v) { return sim::Vec3{float(v[0]), float(v[1]), float(v[2])}; };
   if (!args.camera_eye.empty()) settings.camera_eye = vec(args.camera_eye);
   if (!args.camera_target.empty()) settings.camera_target = vec(args.camera_target);
   if (!args.video.empty()) return render_video(args, scenario, settings, interrupts);
-  const NamedFile out_file{"--out", args.out};
+  const shell::NamedFile out_file{"--out", args.out};
   std::unique_ptr<sim::OutputFile> out;  // opened now: a bad path costs no run
-  if (!check_distinct_files(scenario.inputs, {out_file}) || !open_output(out_file, out)) return 2;
+  if (!shell::check_distinct_files(scenario.inputs, {out_file}) || !shell::open_output(out_file, out)) return 2;
   const int64_t step = args.step.value_or(std::max<int64_t>(0, scenario.steps - 1));
 
   // The session goes to the step (through any pause) and simulates on until every watchpoint
@@ -246,11 +246,11 @@ int render_scenario(const RenderArgs& args, Interrupts* interrupts) {
     return 1;
   }
 
-  const Highlight highlight = highlight_named(args.highlight);
+  const shell::Highlight highlight = highlight_named(args.highlight);
   std::vector<render::SceneGroup> groups;
   const render::Scene scene = scene_at(session, step, highlight, settings, scenario.name, groups);
-  if (camera_refused(scene, args.width, args.height)) return 2;
-  std::string error = write_view(scene, *out, args.width, args.height);
+  if (shell::camera_refused(scene, args.width, args.height)) return 2;
+  std::string error = shell::write_view(scene, *out, args.width, args.height);
   if (error.empty()) error = out->commit();
   if (!error.empty()) {
     std::cerr << "dwatch: error: " << error << "\n";
@@ -268,23 +268,26 @@ int render_scenario(const RenderArgs& args, Interrupts* interrupts) {
 
 }  // namespace
 
-void add_render_command(CLI::App& app, std::function<int()>& run, Interrupts* interrupts) {
+void add_render_command(CLI::App& app, std::function<int()>& run, shell::Interrupts* interrupts) {
   auto* cmd =
       app.add_subcommand("render", "Draw a scenario's 3D view at one step to a PNG, or steps to a video, headless");
   auto args = std::make_shared<RenderArgs>();
   cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
-  add_integer_option(*cmd, "--step", args->step, {"step", 0, scenarios::kStepsRange.max},
-                     "The step to show (default: the scenario's last)");
+  shell::add_integer_option(*cmd, "--step", args->step, {"step", 0, scenarios::kStepsRange.max},
+                            "The step to show (default: the scenario's last)");
   cmd->add_option("--out,-o", args->out, "The PNG to write (or --video)");
   cmd->add_option("--video", args->video,
                   "A video of the steps --from..--to instead: .mp4 (H.264) or .webm (VP9), even --width and --height");
-  add_integer_option(*cmd, "--from", args->from, {"from", 0, scenarios::kStepsRange.max},
-                     "The video's first step (default: 0)");
-  add_integer_option(*cmd, "--to", args->to, {"to", 0, scenarios::kStepsRange.max},
-                     "The video's last step (default: the scenario's last)");
-  add_integer_option(*cmd, "--fps", args->fps, {"fps", 1, 240}, "The video's frames (steps) per second (default: 10)");
-  add_integer_option(*cmd, "--width", args->width, {"width", 16, 8192}, "Image width in pixels")->default_val(1280);
-  add_integer_option(*cmd, "--height", args->height, {"height", 16, 8192}, "Image height in pixels")->default_val(720);
+  shell::add_integer_option(*cmd, "--from", args->from, {"from", 0, scenarios::kStepsRange.max},
+                            "The video's first step (default: 0)");
+  shell::add_integer_option(*cmd, "--to", args->to, {"to", 0, scenarios::kStepsRange.max},
+                            "The video's last step (default: the scenario's last)");
+  shell::add_integer_option(*cmd, "--fps", args->fps, {"fps", 1, 240},
+                            "The video's frames (steps) per second (default: 10)");
+  shell::add_integer_option(*cmd, "--width", args->width, {"width", 16, 8192}, "Image width in pixels")
+      ->default_val(1280);
+  shell::add_integer_option(*cmd, "--height", args->height, {"height", 16, 8192}, "Image height in pixels")
+      ->default_val(720);
   cmd->add_option("--color-by", args->color_by, "Colour modules by this variable (default: the scenario's [view])");
   cmd->add_option("--highlight", args->highlight, "Which groups matched at the step to highlight")
       ->check(CLI::IsMember({"first", "all", "none"}))
@@ -296,7 +299,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run, Interrupts* in
                   "Where the camera looks: X,Y,Z (default: the ensemble's centre)")
       ->delimiter(',')
       ->expected(3);
-  add_memory_check_flag(*cmd, args->no_memory_check);
+  shell::add_memory_check_flag(*cmd, args->no_memory_check);
   cmd->callback([&run, args, interrupts] { run = [args, interrupts] { return render_scenario(*args, interrupts); }; });
 }
 

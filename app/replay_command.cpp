@@ -15,9 +15,9 @@
 
 #include "app/commands.h"
 #include "app/detector_flags.h"
-#include "app/integer_option.h"
-#include "app/output_files.h"
 #include "app/watch_args.h"
+#include "shell/integer_option.h"
+#include "shell/output_files.h"
 #include "sim/match_log.h"
 #include "sim/replay.h"
 #include "sim/trace.h"
@@ -78,12 +78,12 @@ int replay(const ReplayArgs& args) {
   }
 
   // Output files are opened before the trace is read, so that a bad path costs nothing.
-  const NamedFile matches_file{"--matches", args.matches_path}, stats_file{"--stats", args.stats_path};
+  const shell::NamedFile matches_file{"--matches", args.matches_path}, stats_file{"--stats", args.stats_path};
   std::unique_ptr<sim::OutputFile> matches_out, stats_out;
-  if (!check_distinct_files(inputs, {matches_file, stats_file}) || !open_output(matches_file, matches_out) ||
-      !open_output(stats_file, stats_out))
+  if (!shell::check_distinct_files(inputs, {matches_file, stats_file}) ||
+      !shell::open_output(matches_file, matches_out) || !shell::open_output(stats_file, stats_out))
     return 2;
-  std::ostream* out = stream_of(matches_out);
+  std::ostream* out = shell::stream_of(matches_out);
 
   const auto parse_start = std::chrono::steady_clock::now();
   auto read = sim::read_trace(args.trace);
@@ -224,7 +224,7 @@ int replay(const ReplayArgs& args) {
     for (size_t i = 0; i < watches.size(); ++i) j["watches"].push_back(stats_json(watches[i], stats[i], matches_of(i)));
     stats_out->stream() << j.dump(1) << "\n";
   }
-  if (!commit_outputs({matches_out.get(), stats_out.get()})) return 1;
+  if (!shell::commit_outputs({matches_out.get(), stats_out.get()})) return 1;
   return stopped ? 1 : 0;
 }
 
@@ -239,8 +239,8 @@ void add_replay_command(CLI::App& app, std::function<int()>& run) {
                   "trace's header lists, each with its run's reading)");
   cmd->add_option("--matches", args->matches_path, "Write every match as JSON Lines to FILE (- for stdout)");
   cmd->add_option("--stats", args->stats_path, "Write run statistics as JSON to FILE");
-  add_integer_option(*cmd, "--print", args->print, {"print", 0, 1'000'000},
-                     "Matches to print per watchpoint when --matches is not given")
+  shell::add_integer_option(*cmd, "--print", args->print, {"print", 0, 1'000'000},
+                            "Matches to print per watchpoint when --matches is not given")
       ->default_val(20);
   cmd->add_option("--max-frame-memory", args->max_frame_gib,
                   "GiB one dense frame (modules x variables read) may take (default: a quarter of the memory)")
@@ -252,9 +252,9 @@ void add_replay_command(CLI::App& app, std::function<int()>& run) {
                                                               : "must be a number of GiB from 0.001 to 1000000";
           },
           "GiB", "finite GiB"));
-  add_integer_option(*cmd, "--max-module-steps", args->max_module_steps,
-                     {"max-module-steps", 1, std::numeric_limits<int64_t>::max()},
-                     "Steps x modules the detection may go over (default: 1,000 per line of the trace, at least 10^9)");
+  shell::add_integer_option(
+      *cmd, "--max-module-steps", args->max_module_steps, {"max-module-steps", 1, std::numeric_limits<int64_t>::max()},
+      "Steps x modules the detection may go over (default: 1,000 per line of the trace, at least 10^9)");
   add_detector_flags(*cmd, args->detector);
   cmd->callback([&run, args] { run = [args] { return replay(*args); }; });
 }

@@ -10,12 +10,12 @@
 
 #include "app/commands.h"
 #include "app/detector_flags.h"
-#include "app/integer_option.h"
-#include "app/output_files.h"
 #include "app/progress.h"
-#include "app/session_script.h"
-#include "app/view_image.h"
 #include "scenarios/scenario.h"
+#include "shell/integer_option.h"
+#include "shell/options.h"
+#include "shell/output_files.h"
+#include "shell/view_image.h"
 #include "sim/match_log.h"
 #include "sim/session.h"
 #include "sim/trace.h"
@@ -33,7 +33,7 @@ struct RunArgs {
   bool no_memory_check = false;
 };
 
-int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* interrupts) {
+int run_scenario(const RunArgs& args, sim::RankExchange* ranks, shell::Interrupts* interrupts) {
   // The time reported covers the set-up too: loading, the world, the first state.
   const auto started = std::chrono::steady_clock::now();
   // Over several ranks, rank 0 speaks and writes the outputs; every rank runs its part.
@@ -48,7 +48,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
   if (!args.shape.empty()) overrides.shape = watch::parse_shape(args.shape);
   if (!args.states.empty()) overrides.states = watch::parse_states(args.states);
   if (args.max_live) overrides.max_live = static_cast<uint64_t>(*args.max_live);
-  overrides.memory_limit = memory_limit_unless(args.no_memory_check);
+  overrides.memory_limit = shell::memory_limit_unless(args.no_memory_check);
   auto loaded = scenarios::load_scenario(args.scenario, overrides);
   if (auto* message = std::get_if<std::string>(&loaded)) {
     errors << *message;
@@ -71,16 +71,19 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
       return 2;
     }
   }
-  const NamedFile record_file{"--record", args.record_path}, matches_file{"--matches", args.matches_path},
+  const shell::NamedFile record_file{"--record", args.record_path}, matches_file{"--matches", args.matches_path},
       stats_file{"--stats", args.stats_path}, render_file{"--render", args.render_path};
   std::unique_ptr<sim::OutputFile> record_out, matches_out, stats_out, render_out;
   // Only rank 0 opens the outputs; if it cannot, every rank stops.
-  if (sim::any_rank(ranks, lead && !(check_distinct_files(scenario.inputs,
-                                                          {record_file, matches_file, stats_file, render_file}) &&
-                                     open_output(record_file, record_out) && open_output(matches_file, matches_out) &&
-                                     open_output(stats_file, stats_out) && open_output(render_file, render_out))))
+  if (sim::any_rank(
+          ranks,
+          lead &&
+              !(shell::check_distinct_files(scenario.inputs, {record_file, matches_file, stats_file, render_file}) &&
+                shell::open_output(record_file, record_out) && shell::open_output(matches_file, matches_out) &&
+                shell::open_output(stats_file, stats_out) && shell::open_output(render_file, render_out))))
     return 2;
-  std::ostream *record = stream_of(record_out), *matches = stream_of(matches_out), *stats = stream_of(stats_out);
+  std::ostream *record = shell::stream_of(record_out), *matches = shell::stream_of(matches_out),
+               *stats = shell::stream_of(stats_out);
   const bool to_stdout = args.record_path == "-" || args.matches_path == "-" || args.stats_path == "-";
 
   std::vector<sim::MatchLog::WatchInfo> infos;
@@ -104,7 +107,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
   // A signal stops the run between steps, the outputs left uncommitted. Over ranks every rank
   // would have to stop at the same step: a signal ends each at once instead.
   const auto stepping = std::chrono::steady_clock::now();
-  std::optional<Interrupts::Stoppable> stoppable;
+  std::optional<shell::Interrupts::Stoppable> stoppable;
   sim::Control control;
   if (interrupts && !ranks) {
     stoppable.emplace(*interrupts);
@@ -118,14 +121,14 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
     stoppable.reset();
     if (!signal) return 0;
     progress.finish();
-    errors << "dwatch: run " << args.scenario << " interrupted (" << Interrupts::name(*signal) << ") " << when
+    errors << "dwatch: run " << args.scenario << " interrupted (" << shell::Interrupts::name(*signal) << ") " << when
            << ": nothing written";
     std::string kept;
-    for (const NamedFile& f : {record_file, matches_file, stats_file, render_file})
+    for (const shell::NamedFile& f : {record_file, matches_file, stats_file, render_file})
       if (!f.path.empty() && f.path != "-") kept += (kept.empty() ? "" : ", ") + f.what + " " + f.path;
     if (!kept.empty()) errors << " (" << kept << ": as they were before the run)";
     errors << "\n";
-    return Interrupts::exit_code(*signal);
+    return shell::Interrupts::exit_code(*signal);
   };
   std::optional<sim::Pause> pause;
   try {
@@ -267,14 +270,14 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
       const watch::Watchpoint& w = model.watches[pause->watch].watchpoint;
       groups.push_back({w.name, pause->t, w.program.slot_names, pause->group});
     }
-    render::SceneSettings settings = scene_settings(scenario, "");
+    render::SceneSettings settings = shell::scene_settings(scenario, "");
     settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(shown);
     sim::State whole = run.state();  // over ranks, the variables of every rank's modules
     whole.values = run.whole_values(whole);
     if (!lead) return stopped ? 1 : 0;
     const render::Scene scene = render::build_scene(model, whole, groups, settings);
-    if (camera_refused(scene, 1280, 720)) return 2;
-    if (std::string error = write_view(scene, *render_out, 1280, 720); !error.empty()) {
+    if (shell::camera_refused(scene, 1280, 720)) return 2;
+    if (std::string error = shell::write_view(scene, *render_out, 1280, 720); !error.empty()) {
       std::cerr << "dwatch: error: " << error << "\n";
       return 1;
     }
@@ -330,22 +333,24 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, Interrupts* inte
                                    " steps, while its outputs were made");
       code != 0)
     return code;
-  if (!commit_outputs({record_out.get(), matches_out.get(), stats_out.get(), render_out.get()})) return 1;
+  if (!shell::commit_outputs({record_out.get(), matches_out.get(), stats_out.get(), render_out.get()})) return 1;
   return stopped ? 1 : 0;
 }
 
 }  // namespace
 
-void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks, Interrupts* interrupts) {
+void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks,
+                     shell::Interrupts* interrupts) {
   auto* cmd = app.add_subcommand("run", "Run a scenario headless, watchpoints live");
   auto args = std::make_shared<RunArgs>();
   cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
-  add_integer_option(*cmd, "--steps", args->steps, scenarios::kStepsRange, "Steps to run (default: the scenario's)");
-  add_integer_option(*cmd, "--seed", args->seed, scenarios::kSeedRange, "Random seed (default: the scenario's)");
-  add_integer_option(*cmd, "--threads,-j", args->threads, scenarios::kThreadsRange,
-                     "Threads stepping modules (results never depend on it)");
-  add_integer_option(*cmd, "--history-mb", args->history_mb, scenarios::kHistoryRange,
-                     "Memory for the history's keyframes, in MiB (default: the scenario's)");
+  shell::add_integer_option(*cmd, "--steps", args->steps, scenarios::kStepsRange,
+                            "Steps to run (default: the scenario's)");
+  shell::add_integer_option(*cmd, "--seed", args->seed, scenarios::kSeedRange, "Random seed (default: the scenario's)");
+  shell::add_integer_option(*cmd, "--threads,-j", args->threads, scenarios::kThreadsRange,
+                            "Threads stepping modules (results never depend on it)");
+  shell::add_integer_option(*cmd, "--history-mb", args->history_mb, scenarios::kHistoryRange,
+                            "Memory for the history's keyframes, in MiB (default: the scenario's)");
   cmd->add_option("--algorithm", args->algorithm, "Run every watchpoint with this algorithm")
       ->check(CLI::IsMember({"centralized", "distributed"}));
   cmd->add_option("--shape", args->shape, "Run every watchpoint finding these groups: chain, ordered or any")
@@ -353,9 +358,9 @@ void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange
   cmd->add_option("--states", args->states,
                   "Run every distributed watchpoint over consistent (the paper's) or simultaneous states")
       ->check(CLI::IsMember({"consistent", "simultaneous"}));
-  add_integer_option(*cmd, "--max-live", args->max_live, scenarios::kMaxLiveRange,
-                     "Budget of every watchpoint: most PatternMatchers alive in one step; past it the run stops "
-                     "(exit 1). 0: none (default: each watchpoint's max_live)");
+  shell::add_integer_option(*cmd, "--max-live", args->max_live, scenarios::kMaxLiveRange,
+                            "Budget of every watchpoint: most PatternMatchers alive in one step; past it the run stops "
+                            "(exit 1). 0: none (default: each watchpoint's max_live)");
   cmd->add_option("--partition", args->partition,
                   "Over several ranks (mpirun), share the modules in runs of blocks (slabs of a lattice), by a "
                   "METIS partition of their neighbour graph, or (auto) by blocks for a static lattice and by METIS "
@@ -367,11 +372,11 @@ void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange
   cmd->add_option("--stats", args->stats_path, "Write run statistics as JSON");
   cmd->add_option("--render", args->render_path,
                   "Draw the 3D view to a PNG: at the first pause's step with its group, else at the last step");
-  add_integer_option(*cmd, "--print", args->print, {"print", 0, 1'000'000},
-                     "Matches to print per watchpoint when --matches is not given")
+  shell::add_integer_option(*cmd, "--print", args->print, {"print", 0, 1'000'000},
+                            "Matches to print per watchpoint when --matches is not given")
       ->default_val(5);
   cmd->add_flag("--no-progress", args->no_progress, "No progress bar, even on a terminal");
-  add_memory_check_flag(*cmd, args->no_memory_check);
+  shell::add_memory_check_flag(*cmd, args->no_memory_check);
   cmd->callback([&run, args, ranks, interrupts] {
     run = [args, ranks, interrupts] { return run_scenario(*args, ranks, interrupts); };
   });

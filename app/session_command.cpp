@@ -13,36 +13,36 @@
 #include <memory>
 
 #include "app/commands.h"
-#include "app/integer_option.h"
-#include "app/output_files.h"
-#include "app/session_protocol.h"
-#include "app/session_script.h"
+#include "shell/integer_option.h"
+#include "shell/options.h"
+#include "shell/output_files.h"
+#include "shell/protocol.h"
+#include "shell/shell.h"
 #include "sim/read_file.h"
 
 namespace dw::app {
 namespace {
 
 struct SessionArgs {
-  SessionSource source;
+  shell::SessionSource source;
   std::string script;
   bool protocol = false;
 };
 
 // Carries one command out; a signal meanwhile stops it between steps (Interrupts), which the
 // second of the pair says.
-std::pair<std::variant<nlohmann::ordered_json, std::string>, std::optional<int>> execute(SessionShell& shell,
-                                                                                         const SessionCommand& command,
-                                                                                         Interrupts* interrupts) {
+std::pair<std::variant<nlohmann::ordered_json, std::string>, std::optional<int>> execute(
+    shell::Shell& shell, const shell::Command& command, shell::Interrupts* interrupts) {
   if (!interrupts) return {shell.execute(command), std::nullopt};
-  Interrupts::Stoppable stoppable(*interrupts);
+  shell::Interrupts::Stoppable stoppable(*interrupts);
   auto answer = shell.execute(command, {.stop = stoppable.token()});
   return {std::move(answer), stoppable.signal()};
 }
 
 // Every line checked first; then carried out in order. A signal stops the script at the command
 // under way.
-int run_script(SessionShell& shell, const watch::SourceText& source, Interrupts* interrupts) {
-  std::vector<SessionCommand> commands;
+int run_script(shell::Shell& shell, const watch::SourceText& source, shell::Interrupts* interrupts) {
+  std::vector<shell::Command> commands;
   std::string mistakes;
   const std::string& text = source.text();
   uint32_t line = 1;
@@ -50,7 +50,7 @@ int run_script(SessionShell& shell, const watch::SourceText& source, Interrupts*
     auto parsed = shell.parse(source, static_cast<uint32_t>(begin), line);
     if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed))
       mistakes += watch::format_diagnostics(source, *ds);
-    else if (auto& c = std::get<std::optional<SessionCommand>>(parsed)) commands.push_back(std::move(*c));
+    else if (auto& c = std::get<std::optional<shell::Command>>(parsed)) commands.push_back(std::move(*c));
     const size_t newline = text.find('\n', begin);
     begin = newline == std::string::npos ? text.size() : newline + 1;
   }
@@ -58,13 +58,13 @@ int run_script(SessionShell& shell, const watch::SourceText& source, Interrupts*
     std::cerr << mistakes;
     return 2;
   }
-  for (const SessionCommand& c : commands) {
+  for (const shell::Command& c : commands) {
     auto [answer, signal] = execute(shell, c, interrupts);
     if (signal) {
       std::cout.flush();
-      std::cerr << source.name() << ":" << c.line << ": interrupted (" << Interrupts::name(*signal)
+      std::cerr << source.name() << ":" << c.line << ": interrupted (" << shell::Interrupts::name(*signal)
                 << "): the command stopped where it had got to and the script stops here\n";
-      return Interrupts::exit_code(*signal);
+      return shell::Interrupts::exit_code(*signal);
     }
     if (auto* error = std::get_if<std::string>(&answer)) {
       std::cout.flush();
@@ -78,7 +78,7 @@ int run_script(SessionShell& shell, const watch::SourceText& source, Interrupts*
 
 // A prompt with line editing and history (libedit); mistakes and failures are reported and the
 // prompt goes on. Ctrl-C stops the command under way; at the prompt it ends the session.
-int run_prompt(SessionShell& shell, Interrupts* interrupts) {
+int run_prompt(shell::Shell& shell, shell::Interrupts* interrupts) {
   std::cerr << "dwatch session: 'help' lists the commands, Ctrl-C stops one, Ctrl-D leaves\n";
   while (char* raw = readline("dwatch> ")) {
     const std::string line(raw);
@@ -90,19 +90,20 @@ int run_prompt(SessionShell& shell, Interrupts* interrupts) {
       std::cerr << watch::format_diagnostics(source, *ds);
       continue;
     }
-    const auto& command = std::get<std::optional<SessionCommand>>(parsed);
+    const auto& command = std::get<std::optional<shell::Command>>(parsed);
     if (!command) continue;
     auto [answer, signal] = execute(shell, *command, interrupts);
     if (signal)
-      std::cerr << "interrupted (" << Interrupts::name(*signal) << "): the command stopped where it had got to\n";
+      std::cerr << "interrupted (" << shell::Interrupts::name(*signal)
+                << "): the command stopped where it had got to\n";
     else if (auto* error = std::get_if<std::string>(&answer)) std::cerr << "error: " << *error << "\n";
     else std::cout << std::get<nlohmann::ordered_json>(answer).dump() << "\n" << std::flush;
   }
   return 0;
 }
 
-int session_main(const SessionArgs& args, Interrupts* interrupts) {
-  std::optional<scenarios::Scenario> loaded = load_session_scenario(args.source);
+int session_main(const SessionArgs& args, shell::Interrupts* interrupts) {
+  std::optional<scenarios::Scenario> loaded = shell::load_session_scenario(args.source);
   if (!loaded) return 2;
   scenarios::Scenario& scenario = *loaded;
   std::optional<watch::SourceText> script;
@@ -123,19 +124,19 @@ int session_main(const SessionArgs& args, Interrupts* interrupts) {
   struct stat in {};
   if ((piped || args.protocol) && fstat(STDIN_FILENO, &in) == 0 && S_ISREG(in.st_mode))
     scenario.inputs.push_back("/dev/stdin");
-  scenario.inputs.push_back(std::string(kStandardOutput));
-  sim::Session session(*scenario.model, *scenario.world, session_options(scenario, args.source));
-  SessionShell shell(scenario, session);
-  if (args.protocol) return run_protocol(shell, STDIN_FILENO, std::cout, interrupts);
+  scenario.inputs.push_back(std::string(shell::kStandardOutput));
+  sim::Session session(*scenario.model, *scenario.world, shell::session_options(scenario, args.source));
+  shell::Shell shell(scenario, session);
+  if (args.protocol) return shell::run_protocol(shell, STDIN_FILENO, std::cout, interrupts);
   return script ? run_script(shell, *script, interrupts) : run_prompt(shell, interrupts);
 }
 
 }  // namespace
 
-void add_session_command(CLI::App& app, std::function<int()>& run, Interrupts* interrupts) {
+void add_session_command(CLI::App& app, std::function<int()>& run, shell::Interrupts* interrupts) {
   auto* cmd = app.add_subcommand("session", "The debugger without a window: commands from a script or a prompt");
   auto args = std::make_shared<SessionArgs>();
-  add_session_source(*cmd, args->source);
+  shell::add_session_source(*cmd, args->source);
   auto* script = cmd->add_option("--script", args->script, "Commands to carry out, one a line (- for standard input)");
   cmd->add_flag("--protocol", args->protocol,
                 "Read requests as they come on standard input and answer each at once, one JSON line each, "
@@ -143,7 +144,7 @@ void add_session_command(CLI::App& app, std::function<int()>& run, Interrupts* i
       ->excludes(script);
   cmd->footer("Commands:\n  " + [] {
     std::string all;
-    for (const std::string& line : session_command_help()) all += (all.empty() ? "" : "\n  ") + line;
+    for (const std::string& line : shell::command_help()) all += (all.empty() ? "" : "\n  ") + line;
     return all;
   }());
   cmd->callback([&run, args, interrupts] { run = [args, interrupts] { return session_main(*args, interrupts); }; });

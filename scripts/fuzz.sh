@@ -40,7 +40,7 @@ seed_dir() {
     parser) cp tests/fuzz/parser_corpus/* tests/watch/cases/*.watch "$dir" ;;
     scenario) cp scenarios/*.toml tests/scenarios/cases/*.toml "$dir" ;;
     trace) for c in tests/conformance/*/; do cp "$c/trace.jsonl" "$dir/$(basename "$c").jsonl"; done ;;
-    session) cp tests/app/session_cases/*.session tests/fuzz/session_corpus/* "$dir" ;;
+    session) cp tests/shell/session_cases/*.session tests/fuzz/session_corpus/* "$dir" ;;
     lua) cp scenarios/lua/*.lua tests/fuzz/lua_corpus/* "$dir" ;;
   esac
   echo "$dir"

@@ -1,8 +1,8 @@
-#include "app/integer_option.h"
+#include "shell/integer_option.h"
 
 #include <charconv>
 
-namespace dw::app {
+namespace dw::shell {
 
 CLI::Validator in_range(scenarios::IntegerRange range) {
   return CLI::Validator(
@@ -19,4 +19,4 @@ CLI::Validator in_range(scenarios::IntegerRange range) {
       "INT in [" + std::to_string(range.min) + " - " + std::to_string(range.max) + "]");
 }
 
-}  // namespace dw::app
+}  // namespace dw::shell

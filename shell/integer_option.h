@@ -8,7 +8,7 @@
 
 #include "scenarios/limits.h"
 
-namespace dw::app {
+namespace dw::shell {
 
 // A validator: the text must be a decimal integer within `range`.
 CLI::Validator in_range(scenarios::IntegerRange range);
@@ -20,4 +20,4 @@ CLI::Option* add_integer_option(CLI::App& cmd, const std::string& names, T& targ
   return cmd.add_option(names, target, description)->check(in_range(range));
 }
 
-}  // namespace dw::app
+}  // namespace dw::shell

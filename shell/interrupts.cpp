@@ -1,4 +1,4 @@
-#include "app/interrupts.h"
+#include "shell/interrupts.h"
 
 #include <pthread.h>
 #include <unistd.h>
@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 
-namespace dw::app {
+namespace dw::shell {
 namespace {
 
 sigset_t interrupt_signals() {
@@ -108,4 +108,4 @@ std::optional<int> Interrupts::Stoppable::signal() const {
   return std::nullopt;
 }
 
-}  // namespace dw::app
+}  // namespace dw::shell

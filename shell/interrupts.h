@@ -17,7 +17,7 @@
 #include <string>
 #include <thread>
 
-namespace dw::app {
+namespace dw::shell {
 
 class Interrupts {
  public:
@@ -64,4 +64,4 @@ class Interrupts {
   std::thread thread_;
 };
 
-}  // namespace dw::app
+}  // namespace dw::shell

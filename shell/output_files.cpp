@@ -1,4 +1,4 @@
-#include "app/output_files.h"
+#include "shell/output_files.h"
 
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
@@ -7,7 +7,7 @@
 #include <cctype>
 #include <iostream>
 
-namespace dw::app {
+namespace dw::shell {
 namespace {
 
 // What a path is, to compare two: a device and inode when it exists, else its normalized path.
@@ -103,4 +103,4 @@ bool commit_outputs(const std::vector<sim::OutputFile*>& outputs) {
   return ok;
 }
 
-}  // namespace dw::app
+}  // namespace dw::shell

@@ -13,7 +13,7 @@
 
 #include "sim/output_file.h"
 
-namespace dw::app {
+namespace dw::shell {
 
 // A file as the command line names it: `what` says which ("--matches", "the scenario").
 struct NamedFile {
@@ -47,4 +47,4 @@ std::string open_output_apart(const std::vector<std::string>& inputs, const Name
 // Commits every open output; false, with the error on stderr, when one failed.
 bool commit_outputs(const std::vector<sim::OutputFile*>& outputs);
 
-}  // namespace dw::app
+}  // namespace dw::shell

@@ -1,4 +1,4 @@
-#include "app/session_protocol.h"
+#include "shell/protocol.h"
 
 #include <unistd.h>
 
@@ -16,7 +16,7 @@
 #include "sim/json_brackets.h"
 #include "watch/diagnostic.h"
 
-namespace dw::app {
+namespace dw::shell {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -131,7 +131,7 @@ bool is_cancel(const std::string& line) {
 
 }  // namespace
 
-int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* interrupts) {
+int run_protocol(Shell& shell, int in_fd, std::ostream& out, Interrupts* interrupts) {
   AnswerWriter answers(out);
   std::mutex mutex;
   std::condition_variable ready;
@@ -232,7 +232,7 @@ int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* 
                {"text", watch::format_diagnostics(source, {d})}}}});
       continue;
     }
-    const std::optional<SessionCommand>& command = std::get<std::optional<SessionCommand>>(parsed);
+    const std::optional<Command>& command = std::get<std::optional<Command>>(parsed);
     if (!command) {
       // A blank or comment line is no request; a JSON one is, and its controller waits for the answer.
       if (r.json) fail(1, "a request's command is empty (blank, or a # comment)");
@@ -267,4 +267,4 @@ int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* 
   return 0;
 }
 
-}  // namespace dw::app
+}  // namespace dw::shell

@@ -17,14 +17,14 @@
 
 #include <ostream>
 
-#include "app/interrupts.h"
-#include "app/session_script.h"
+#include "shell/interrupts.h"
+#include "shell/shell.h"
 
-namespace dw::app {
+namespace dw::shell {
 
 // A request line longer than this is answered with an error and skipped.
 inline constexpr size_t kMaxRequestBytes = size_t{1} << 20;
 
-int run_protocol(SessionShell& shell, int in_fd, std::ostream& out, Interrupts* interrupts);
+int run_protocol(Shell& shell, int in_fd, std::ostream& out, Interrupts* interrupts);
 
-}  // namespace dw::app
+}  // namespace dw::shell

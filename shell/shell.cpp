@@ -1,4 +1,4 @@
-#include "app/session_script.h"
+#include "shell/shell.h"
 
 #include <sys/stat.h>
 
@@ -10,20 +10,19 @@
 #include <iostream>
 #include <sstream>
 
-#include "app/integer_option.h"
-#include "app/output_files.h"
-#include "app/view_image.h"
+#include "shell/output_files.h"
+#include "shell/view_image.h"
 #include "scenarios/limits.h"
-#include "scenarios/memory_estimate.h"
 #include "scenarios/saved_scenario.h"
 #include "sim/match_log.h"
 #include "sim/state.h"
+#include "sim/unknown_variables.h"
 #include "watch/watchpoint.h"
 
-namespace dw::app {
+namespace dw::shell {
 namespace {
 
-using Kind = SessionCommand::Kind;
+using Kind = Command::Kind;
 
 struct CommandSpec {
   const char* name;
@@ -92,58 +91,14 @@ std::optional<double> real(std::string_view s) {
 
 }  // namespace
 
-void add_session_source(CLI::App& cmd, SessionSource& source) {
-  cmd.add_option("scenario", source.scenario, "Scenario file (TOML)")->required();
-  add_integer_option(cmd, "--seed", source.seed, scenarios::kSeedRange, "Random seed (default: the scenario's)");
-  add_integer_option(cmd, "--threads,-j", source.threads, scenarios::kThreadsRange,
-                     "Threads stepping modules (results never depend on it)");
-  add_integer_option(cmd, "--history-mb", source.history_mb, scenarios::kHistoryRange,
-                     "Memory for the history's keyframes, in MiB (default: the scenario's)");
-  add_memory_check_flag(cmd, source.no_memory_check);
-}
-
-void add_memory_check_flag(CLI::App& cmd, bool& off) {
-  cmd.add_flag("--no-memory-check", off,
-               "Load the scenario even when its memory estimate is above what this machine has available");
-}
-
-uint64_t memory_limit_unless(bool off) { return off ? 0 : scenarios::memory_limit(); }
-
-std::optional<scenarios::Scenario> load_session_scenario(const SessionSource& source) {
-  scenarios::ScenarioOverrides overrides;
-  if (source.seed) overrides.seed = static_cast<uint64_t>(*source.seed);
-  overrides.memory_limit = memory_limit_unless(source.no_memory_check);
-  auto loaded = scenarios::load_scenario(source.scenario, overrides);
-  if (auto* errors = std::get_if<std::string>(&loaded)) {
-    std::cerr << *errors;
-    return std::nullopt;
-  }
-  return std::move(std::get<scenarios::Scenario>(loaded));
-}
-
-sim::SessionOptions session_options(const scenarios::Scenario& scenario, const SessionSource& source) {
-  return {.threads = source.threads ? static_cast<unsigned>(*source.threads) : scenario.threads,
-          .end = scenario.steps,
-          .history_bytes = (source.history_mb ? static_cast<size_t>(*source.history_mb) : scenario.history_mb) << 20,
-          .events = scenario.events};
-}
-
-std::vector<watch::Diagnostic> unknown_variables(const sim::Model& model, const watch::Watchpoint& watchpoint) {
-  std::vector<watch::Diagnostic> mistakes;
-  for (const std::string& v : watchpoint.program.variables)
-    if (model.column(v) < 0)
-      mistakes.push_back({watch::first_use(watchpoint.ast, v), "'" + v + "' is no program's variable"});
-  return mistakes;
-}
-
-std::string session_word(const std::string& word) {
+std::string command_word(const std::string& word) {
   const bool plain = !word.empty() && word[0] != '"' && std::none_of(word.begin(), word.end(), [](char c) {
     return c == '#' || std::isspace(static_cast<unsigned char>(c));
   });
   return plain ? word : '"' + word + '"';
 }
 
-const std::vector<std::string>& session_command_help() {
+const std::vector<std::string>& command_help() {
   static const std::vector<std::string> help = [] {
     std::vector<std::string> lines;
     for (const CommandSpec& c : kCommands) {
@@ -156,13 +111,13 @@ const std::vector<std::string>& session_command_help() {
   return help;
 }
 
-SessionShell::SessionShell(const scenarios::Scenario& scenario, sim::Session& session)
+Shell::Shell(const scenarios::Scenario& scenario, sim::Session& session)
     : scenario_(scenario), session_(session) {}
 
 // command := NAME WORD* ('#' comment)?      one a line; see kCommands for each command's arguments
 // WORD    := [^ \t#]+ | '"' [^"\n]* '"'      a quoted word (a file's name with spaces, or a '#')
 //                                            anywhere but in `watch`, whose text is the rest of the line
-std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> SessionShell::parse(
+std::variant<std::optional<Command>, std::vector<watch::Diagnostic>> Shell::parse(
     const watch::SourceText& source, uint32_t begin, uint32_t line) {
   const std::string& text = source.text();
   uint32_t end = begin;
@@ -191,7 +146,7 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
     }
     i = j;
   }
-  if (tokens.empty()) return std::optional<SessionCommand>{};
+  if (tokens.empty()) return std::optional<Command>{};
 
   std::vector<watch::Diagnostic> mistakes;
   // Names, files and watchpoints are UTF-8 text: a byte that is not would reach the answers,
@@ -211,7 +166,7 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
     if (tokens[0].text == c.name) spec = &c;
   if (!spec) return fail(tokens[0].span, "unknown command '" + std::string(tokens[0].text) + "' ('help' lists them)");
 
-  SessionCommand cmd;
+  Command cmd;
   cmd.kind = spec->kind;
   cmd.line = line;
   const watch::Span after_last{tokens.back().span.end, tokens.back().span.end + 1};
@@ -364,7 +319,7 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       auto compiled = watch::compile_watchpoint(cmd.name, watch::SourceText(source.name(), std::move(blanked)));
       if (auto* error = std::get_if<watch::CompileError>(&compiled)) return std::move(error->diagnostics);
       sim::HostedWatchpoint hosted{std::move(std::get<watch::Watchpoint>(compiled)), algorithm, action, options};
-      for (watch::Diagnostic& d : unknown_variables(model, hosted.watchpoint)) mistakes.push_back(std::move(d));
+      for (watch::Diagnostic& d : sim::unknown_variable_mistakes(model, hosted.watchpoint)) mistakes.push_back(std::move(d));
       cmd.watch = std::move(hosted);
       break;
     }
@@ -414,17 +369,17 @@ std::variant<std::optional<SessionCommand>, std::vector<watch::Diagnostic>> Sess
       break;
   }
   if (!mistakes.empty()) return mistakes;
-  return std::optional<SessionCommand>(std::move(cmd));
+  return std::optional<Command>(std::move(cmd));
 }
 
-render::Scene SessionShell::scene() {
+render::Scene Shell::scene() {
   const int64_t t = std::max<int64_t>(0, session_.current());
   render::SceneSettings settings = scene_settings(scenario_, "");
   settings.title = scenario_.name + "  \xC2\xB7  step " + std::to_string(t);
   return render::build_scene(session_.model(), session_.state(), groups_at(session_, t, Highlight::First), settings);
 }
 
-nlohmann::ordered_json SessionShell::position() {
+nlohmann::ordered_json Shell::position() {
   nlohmann::ordered_json j;
   j["current"] = session_.current();
   j["latest"] = session_.latest();
@@ -432,7 +387,7 @@ nlohmann::ordered_json SessionShell::position() {
   return j;
 }
 
-nlohmann::ordered_json SessionShell::match_json(uint32_t w, size_t i) const {
+nlohmann::ordered_json Shell::match_json(uint32_t w, size_t i) const {
   const sim::HostedWatchpoint& h = session_.model().watches[w];
   const sim::MatchList& list = session_.matches(w);
   const size_t k = h.watchpoint.program.slot_count();
@@ -452,7 +407,7 @@ nlohmann::ordered_json SessionShell::match_json(uint32_t w, size_t i) const {
   return j;
 }
 
-std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const SessionCommand& cmd,
+std::variant<nlohmann::ordered_json, std::string> Shell::execute(const Command& cmd,
                                                                         const sim::Control& control) {
   using Result = std::variant<nlohmann::ordered_json, std::string>;
   const auto failed = [](std::string why) { return Result(std::in_place_index<1>, std::move(why)); };
@@ -667,7 +622,7 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
         struct stat st {};
         // A folder is no file to overwrite: opening it says so ("Is a directory").
         if (!cmd.overwrite && ::lstat(cmd.name.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
-          return failed(cmd.name + " exists; 'save " + session_word(cmd.name) + " overwrite' replaces it");
+          return failed(cmd.name + " exists; 'save " + command_word(cmd.name) + " overwrite' replaces it");
         std::string why;
         const std::optional<std::string> text = scenarios::saved_scenario(scenario_, session_, cmd.name, &why);
         if (!text) return failed(why);
@@ -710,7 +665,7 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
                              {"bytes", session_.history_bytes()}};
         break;
       }
-      case Kind::Help: answer["commands"] = session_command_help(); break;
+      case Kind::Help: answer["commands"] = command_help(); break;
     }
   } catch (const sim::ProgramError& e) {
     return failed(e.what());
@@ -722,4 +677,4 @@ std::variant<nlohmann::ordered_json, std::string> SessionShell::execute(const Se
   return answer;
 }
 
-}  // namespace dw::app
+}  // namespace dw::shell

@@ -1,4 +1,4 @@
-#include "app/view_image.h"
+#include "shell/view_image.h"
 
 #include <iostream>
 
@@ -8,7 +8,7 @@
 #include "render/osmesa_context.h"
 #include "render/renderer.h"
 
-namespace dw::app {
+namespace dw::shell {
 namespace {
 
 render::Shape shape_of(physics::ModuleShape s) {
@@ -90,4 +90,4 @@ std::string write_view(const render::Scene& scene, sim::OutputFile& out, int wid
   return {};
 }
 
-}  // namespace dw::app
+}  // namespace dw::shell

@@ -14,7 +14,7 @@
 #include "sim/output_file.h"
 #include "sim/session.h"
 
-namespace dw::app {
+namespace dw::shell {
 
 enum class Highlight { First, All, None };
 
@@ -40,4 +40,4 @@ std::variant<render::Image, std::string> render_view(const render::Scene& scene,
 // it was stopped meanwhile); an error message, or empty.
 std::string write_view(const render::Scene& scene, sim::OutputFile& out, int width, int height);
 
-}  // namespace dw::app
+}  // namespace dw::shell

@@ -1,10 +1,10 @@
-#include "app/explain.h"
+#include "watch/explain.h"
 
 #include <cstdlib>
 
 #include "watch/detector.h"
 
-namespace dw::app {
+namespace dw::watch {
 namespace {
 
 std::string offsets_text(const std::vector<int>& offsets) {
@@ -99,4 +99,4 @@ void explain_watchpoint(const watch::Watchpoint& w, std::ostream& out) {
       << p.sets.size() << " carried neighbour set(s)\n";
 }
 
-}  // namespace dw::app
+}  // namespace dw::watch

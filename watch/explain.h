@@ -7,8 +7,8 @@
 
 #include "watch/watchpoint.h"
 
-namespace dw::app {
+namespace dw::watch {
 
 void explain_watchpoint(const watch::Watchpoint& w, std::ostream& out);
 
-}  // namespace dw::app
+}  // namespace dw::watch

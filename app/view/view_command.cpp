@@ -5,22 +5,23 @@
 #include <memory>
 
 #include "app/commands.h"
-#include "app/integer_option.h"
 #include "app/view/debugger.h"
+#include "shell/integer_option.h"
+#include "shell/options.h"
 #include "sim/read_file.h"
 
 namespace dw::app {
 namespace {
 
 struct ViewArgs {
-  SessionSource source;
+  shell::SessionSource source;
   std::string script;
   int width = 1600, height = 1000;
   bool keep_layout = true;
 };
 
 int view_main(const ViewArgs& args) {
-  std::optional<scenarios::Scenario> loaded = load_session_scenario(args.source);
+  std::optional<scenarios::Scenario> loaded = shell::load_session_scenario(args.source);
   if (!loaded) return 2;
   scenarios::Scenario& scenario = *loaded;
   std::optional<watch::SourceText> script;
@@ -39,7 +40,7 @@ int view_main(const ViewArgs& args) {
     std::cerr << "dwatch view: error: " << *error << "\n";
     return 1;
   }
-  sim::Session session(*scenario.model, *scenario.world, session_options(scenario, args.source));
+  sim::Session session(*scenario.model, *scenario.world, shell::session_options(scenario, args.source));
   // A script gets the default layout, whatever the user's own file says: its screenshots must
   // not depend on how someone arranged the panels.
   view::Debugger debugger(scenario, session, *std::get<0>(window),
@@ -52,12 +53,12 @@ int view_main(const ViewArgs& args) {
 void add_view_command(CLI::App& app, std::function<int()>& run) {
   auto* cmd = app.add_subcommand("view", "The debugger window: 3D view, timeline, watchpoints, matches, inspector");
   auto args = std::make_shared<ViewArgs>();
-  add_session_source(*cmd, args->source);
+  shell::add_session_source(*cmd, args->source);
   cmd->add_option("--script", args->script,
                   "Drive the window with commands: the session's, plus click M | click match ROW | click timeline T, "
                   "key NAME, wait N, screenshot FILE, panel NAME");
-  add_integer_option(*cmd, "--width", args->width, {"width", 640, 8192}, "Window width")->default_val(1600);
-  add_integer_option(*cmd, "--height", args->height, {"height", 480, 8192}, "Window height")->default_val(1000);
+  shell::add_integer_option(*cmd, "--width", args->width, {"width", 640, 8192}, "Window width")->default_val(1600);
+  shell::add_integer_option(*cmd, "--height", args->height, {"height", 480, 8192}, "Window height")->default_val(1000);
   cmd->add_flag("!--forget-layout", args->keep_layout,
                 "Start from the default layout and do not save it (it lives in ~/.config/dwatch/view.ini)");
   cmd->callback([&run, args] { run = [args] { return view_main(*args); }; });

@@ -1,6 +1,6 @@
 #include "app/view/view_model.h"
 
-#include "app/session_script.h"
+#include "shell/command.h"
 
 #include <algorithm>
 #include <cmath>
@@ -387,9 +387,9 @@ std::string watch(std::string_view name, std::string_view options, std::string_v
 }
 std::string unwatch(std::string_view name) { return "unwatch " + std::string(name); }
 std::string save(const std::string& file, bool overwrite) {
-  return "save " + app::session_word(file) + (overwrite ? " overwrite" : "");
+  return "save " + shell::command_word(file) + (overwrite ? " overwrite" : "");
 }
-std::string record(const std::string& file) { return "record " + app::session_word(file); }
+std::string record(const std::string& file) { return "record " + shell::command_word(file); }
 }  // namespace command
 
 std::vector<std::string> ViewModel::on_key(Key key, const Position& at, std::span<const int64_t> chosen_steps,

@@ -3,8 +3,8 @@
 
 #include <sstream>
 
-#include "app/explain.h"
 #include "python/src/bindings.h"
+#include "watch/explain.h"
 
 namespace dw::python {
 
@@ -14,7 +14,7 @@ void add_check(py::module_& m) {
       [](const std::string& text, const std::string& name) {
         const watch::Watchpoint w = compile_or_raise(name, text);
         std::ostringstream out;
-        app::explain_watchpoint(w, out);
+        watch::explain_watchpoint(w, out);
         return out.str();
       },
       py::arg("text"), py::arg("name") = "w",

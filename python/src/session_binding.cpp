@@ -1,5 +1,5 @@
 // dwatch.Session: the debugging session (sim/session.h) from Python. Commands go through the
-// session language's shell (app/session_script.h), as `dwatch session` and the window send them,
+// session language's shell (shell/shell.h), as `dwatch session` and the window send them,
 // so that their checks, answers and error words are the command line's; the arrays (matches,
 // values, series, pictures) are read from the session directly.
 #include <pybind11/numpy.h>
@@ -8,11 +8,13 @@
 #include <sstream>
 #include <stop_token>
 
-#include "app/session_script.h"
-#include "app/view_image.h"
 #include "python/src/bindings.h"
 #include "python/src/matches.h"
 #include "scenarios/limits.h"
+#include "shell/options.h"
+#include "shell/shell.h"
+#include "shell/view_image.h"
+#include "sim/unknown_variables.h"
 
 namespace dw::python {
 namespace {
@@ -31,10 +33,10 @@ class Session {
     check(threads, scenarios::kThreadsRange);
     check(seed, scenarios::kSeedRange);
     check(history_mb, scenarios::kHistoryRange);
-    const app::SessionSource source{.scenario = path, .seed = seed, .threads = threads, .history_mb = history_mb};
+    const shell::SessionSource source{.scenario = path, .seed = seed, .threads = threads, .history_mb = history_mb};
     scenarios::ScenarioOverrides overrides;
     if (seed) overrides.seed = static_cast<uint64_t>(*seed);
-    overrides.memory_limit = app::memory_limit_unless(false);
+    overrides.memory_limit = shell::memory_limit_unless(false);
     std::variant<scenarios::Scenario, std::string> loaded;
     {
       py::gil_scoped_release released;
@@ -46,9 +48,9 @@ class Session {
       raise_error("ScenarioError", message);
     }
     scenario_ = std::make_unique<scenarios::Scenario>(std::get<scenarios::Scenario>(std::move(loaded)));
-    session_ =
-        std::make_unique<sim::Session>(*scenario_->model, *scenario_->world, app::session_options(*scenario_, source));
-    shell_ = std::make_unique<app::SessionShell>(*scenario_, *session_);
+    session_ = std::make_unique<sim::Session>(*scenario_->model, *scenario_->world,
+                                              shell::session_options(*scenario_, source));
+    shell_ = std::make_unique<shell::Shell>(*scenario_, *session_);
   }
 
   // One line of the session language: its answer as a dict (None for a blank or comment line).
@@ -61,7 +63,7 @@ class Session {
       while (!message.empty() && message.back() == '\n') message.pop_back();
       raise_error("CommandError", message);
     }
-    const auto& command = std::get<std::optional<app::SessionCommand>>(parsed);
+    const auto& command = std::get<std::optional<shell::Command>>(parsed);
     if (!command) return py::none();
     return execute(*command);
   }
@@ -71,16 +73,16 @@ class Session {
                    const std::string& action, uint64_t max_live) {
     // Its name is said in the session language as a word, quoted when it holds a space or '#'
     // (unwatch, action, run's to_match): a quoted word cannot hold '"'.
-    if (app::session_word(name) != name && name.find('"') != std::string::npos)
+    if (shell::command_word(name) != name && name.find('"') != std::string::npos)
       raise_error("CommandError", "a watchpoint's name with a space or '#' cannot also hold '\"', not " + quoted(name));
     if (const std::string why = watch::name_problem(name); !why.empty()) raise_error("CommandError", why);
     const Reading r = reading(algorithm, shape, states, max_live);
     const auto what = sim::parse_action(action);
     if (!what) raise_error("Error", "action must be 'log', 'pause' or 'count', not " + quoted(action));
     watch::Watchpoint w = compile_or_raise(name, text);
-    if (auto unknown = app::unknown_variables(session_->model(), w); !unknown.empty())
+    if (auto unknown = sim::unknown_variable_mistakes(session_->model(), w); !unknown.empty())
       raise_watch_error({w.source, std::move(unknown)});
-    app::SessionCommand command{.kind = app::SessionCommand::Kind::Watch, .name = name};
+    shell::Command command{.kind = shell::Command::Kind::Watch, .name = name};
     command.watch = sim::HostedWatchpoint{std::move(w), r.algorithm, *what, r.options};
     return execute(command);
   }
@@ -151,7 +153,7 @@ class Session {
     std::variant<render::Image, std::string> drawn;
     {
       py::gil_scoped_release released;
-      drawn = app::render_view(scene, width, height);
+      drawn = shell::render_view(scene, width, height);
     }
     if (auto* error = std::get_if<std::string>(&drawn)) raise_error("Error", *error);
     const render::Image& image = std::get<render::Image>(drawn);
@@ -191,7 +193,7 @@ class Session {
     if (interrupted) throw py::error_already_set();  // the signal handler's exception, still set
   }
 
-  py::object execute(const app::SessionCommand& command) {
+  py::object execute(const shell::Command& command) {
     std::variant<nlohmann::ordered_json, std::string> answer;
     run_cancellable([&](const sim::Control& control) {
       try {
@@ -206,7 +208,7 @@ class Session {
 
   std::unique_ptr<scenarios::Scenario> scenario_;
   std::unique_ptr<sim::Session> session_;
-  std::unique_ptr<app::SessionShell> shell_;
+  std::unique_ptr<shell::Shell> shell_;
 };
 
 std::string number(int64_t v) { return std::to_string(v); }
@@ -235,7 +237,7 @@ KeyboardInterrupt. Use a Session from one thread at a time (another thread may u
           "run",
           [](Session& s, std::optional<int64_t> t, std::optional<std::string> to_match) {
             return s.command("run" + (t ? " " + number(*t) : "") +
-                             (to_match ? " --to-match " + app::session_word(*to_match) : ""));
+                             (to_match ? " --to-match " + shell::command_word(*to_match) : ""));
           },
           py::arg("t") = py::none(), py::arg("to_match") = py::none(),
           "Runs until step t is current (default: the scenario's last step), a pause match, or the next match of "
@@ -275,12 +277,12 @@ KeyboardInterrupt. Use a Session from one thread at a time (another thread may u
            "Adds or replaces a watchpoint, evaluated over the whole history. Raises WatchError.")
       .def(
           "unwatch",
-          [](Session& s, const std::string& name) { return s.command("unwatch " + app::session_word(name)); },
+          [](Session& s, const std::string& name) { return s.command("unwatch " + shell::command_word(name)); },
           py::arg("name"), "Removes a watchpoint.")
       .def(
           "action",
           [](Session& s, const std::string& name, const std::string& what) {
-            return s.command("action " + app::session_word(name) + " " + what);
+            return s.command("action " + shell::command_word(name) + " " + what);
           },
           py::arg("name"), py::arg("action"),
           "What the watchpoint does with its matches from now on: log, pause, count.")
@@ -301,11 +303,12 @@ KeyboardInterrupt. Use a Session from one thread at a time (another thread may u
       .def(
           "save",
           [](Session& s, const std::string& path, bool overwrite) {
-            return s.command("save " + app::session_word(path) + (overwrite ? " overwrite" : ""));
+            return s.command("save " + shell::command_word(path) + (overwrite ? " overwrite" : ""));
           },
           py::arg("path"), py::arg("overwrite") = false, "This session as a scenario file.")
       .def(
-          "record", [](Session& s, const std::string& path) { return s.command("record " + app::session_word(path)); },
+          "record",
+          [](Session& s, const std::string& path) { return s.command("record " + shell::command_word(path)); },
           py::arg("path"), "The trace of steps 0..latest (wptrace v1).")
       .def_property_readonly(
           "current", [](const Session& s) { return s.session().current(); }, "The step shown (-1 before the first).")

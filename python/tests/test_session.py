@@ -1,4 +1,4 @@
-"""dwatch.Session: python/src/session_binding.cpp over the session shell (app/session_script.h)."""
+"""dwatch.Session: python/src/session_binding.cpp over the session shell (shell/shell.h)."""
 
 import signal
 import subprocess

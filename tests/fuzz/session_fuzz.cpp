@@ -1,6 +1,6 @@
-// libFuzzer target for the session language (app/session_script.h, docs/design.md §7a): any script
-// text is parsed a line at a time with SessionShell::parse, as `dwatch session` parses it, and
-// every command that parsed is carried out with SessionShell::execute on a small scenario. A
+// libFuzzer target for the session language (shell/shell.h, docs/design.md §7a): any script
+// text is parsed a line at a time with Shell::parse, as `dwatch session` parses it, and
+// every command that parsed is carried out with Shell::execute on a small scenario. A
 // script is the debugger's whole input surface (the window sends the same commands), and each
 // command moves a cursor over a history that is kept as keyframes and re-simulated on demand:
 // beyond "no crash, no hang, no sanitizer report", the target checks what a user relies on:
@@ -17,7 +17,7 @@
 //     session's simulation hash at the session's current step.
 //
 // Budgets, stated so that one input stays in the milliseconds: the input's first line
-// `# scenario: NAME` (as in tests/app/session_cases) picks one of a few scenarios shrunk to a
+// `# scenario: NAME` (as in tests/shell/session_cases) picks one of a few scenarios shrunk to a
 // handful of modules, loaded once; no command takes the cursor past step kLastStep (a step or run
 // asking for more stops there), a watchpoint has at most kMaxSlots slots and a lag of at most
 // kMaxLag (others are skipped), and at most kMaxCommands commands (kMaxWatches of them `watch`)
@@ -38,8 +38,9 @@
 #include <variant>
 #include <vector>
 
-#include "app/session_script.h"
 #include "scenarios/scenario.h"
+#include "shell/options.h"
+#include "shell/shell.h"
 #include "sim/read_file.h"
 #include "sim/session.h"
 #include "sim/trace.h"
@@ -48,8 +49,8 @@
 namespace {
 
 namespace fs = std::filesystem;
-using dw::app::SessionCommand;
-using Kind = SessionCommand::Kind;
+using dw::shell::Command;
+using Kind = Command::Kind;
 
 constexpr int64_t kLastStep = 32;
 constexpr int64_t kMaxLag = 8;
@@ -237,7 +238,7 @@ bool has_actions(const dw::sim::Model& model) {
 
 // Brings the command within the budgets above: a step or run that would go past kLastStep stops
 // there instead; false for a command that cannot run within them (skipped).
-bool fit_budget(SessionCommand& c, const dw::sim::Session& session, size_t watches_run) {
+bool fit_budget(Command& c, const dw::sim::Session& session, size_t watches_run) {
   switch (c.kind) {
     case Kind::Step:
       if (session.current() + *c.number > kLastStep) c.number = kLastStep - session.current();
@@ -294,12 +295,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   LoadedScenario& loaded = loaded_scenario(scenario_named_by(text));
   dw::scenarios::Scenario& scenario = loaded.scenario;
-  sim::SessionOptions options = dw::app::session_options(scenario, {});
+  sim::SessionOptions options = dw::shell::session_options(scenario, {});
   options.threads = 1;
   options.history_bytes = kHistoryBytes;
   {
     sim::Session session(*scenario.model, *scenario.world, options);
-    dw::app::SessionShell shell(scenario, session);
+    dw::shell::Shell shell(scenario, session);
     const dw::watch::SourceText source("fuzz.session", text);
     std::map<int64_t, uint64_t> simulation_at;  // the simulation hash of each step seen, on this branch
     std::map<std::string, std::string> files;   // FILE as the script names it -> in the output folder
@@ -314,9 +315,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           fail("a line that does not parse has no diagnostic");
         continue;
       }
-      std::optional<SessionCommand>& command = std::get<std::optional<SessionCommand>>(parsed);
+      std::optional<Command>& command = std::get<std::optional<Command>>(parsed);
       if (!command) continue;
-      SessionCommand& c = *command;
+      Command& c = *command;
       if (c.line != line) fail("a command names another line");
       if (!fit_budget(c, session, watches_run)) continue;
       // record FILE, save FILE: FILE goes to the output folder ("-" is refused by save itself).

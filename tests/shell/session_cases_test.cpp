@@ -1,4 +1,4 @@
-// `dwatch session` scripts as case files (tests/app/session_cases/*.session): each names its
+// `dwatch session` scripts as case files (tests/shell/session_cases/*.session): each names its
 // scenario, and after each command its expected answer as a `#> ` comment (compared as JSON);
 // `# exit: N` and `# stderr: TEXT` lines give the expected exit code and lines of stderr.
 #include <gtest/gtest.h>

@@ -1,0 +1,56 @@
+// A command of the session language (docs/design.md §7a) as parsed: which one, and its
+// arguments, checked against the model (Shell::parse makes it, Shell::execute carries it out).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/intervention.h"
+#include "sim/model.h"
+
+namespace dw::shell {
+
+struct Command {
+  enum class Kind {
+    Step,
+    Run,
+    Continue,
+    Seek,
+    Set,
+    Remove,
+    Push,
+    Watch,
+    Unwatch,
+    Action,
+    Matches,
+    State,
+    Hash,
+    Render,
+    Record,
+    Save,
+    Interventions,
+    Reload,
+    Status,
+    Help,
+  };
+  Kind kind = Kind::Help;
+  uint32_t line = 0;              // in the script
+  std::optional<int64_t> number;  // step N, run T, seek T, matches T
+  std::string name;               // watch/unwatch/action/matches NAME, run --to-match NAME, render/record/save FILE
+  sim::MatchAction action = sim::MatchAction::Log;  // action NAME ACTION
+  bool overwrite = false;                           // save FILE overwrite
+  int width = 1280, height = 720;                   // render
+  std::optional<sim::Intervention> intervention;
+  std::optional<sim::HostedWatchpoint> watch;
+};
+
+// `word` as one word of a command line: in double quotes when it holds a space or a '#' (a file's
+// name; one holding a double quote cannot be said).
+std::string command_word(const std::string& word);
+
+// The commands, one line each, as `help` answers them.
+const std::vector<std::string>& command_help();
+
+}  // namespace dw::shell
