@@ -66,6 +66,10 @@ class Cli : public ::testing::Test {
   const fs::path cases_ = DWATCH_CONFORMANCE_DIR;
 };
 
+// The command line on group shapes and state modes (docs/design.md §4a), in the files of the
+// commands it runs.
+class ShapesCli : public Cli {};
+
 // A PNG's size, from its IHDR chunk.
 inline std::pair<uint32_t, uint32_t> png_size(const fs::path& p) {
   const std::string s = slurp(p);

@@ -1,4 +1,4 @@
-// Ctrl-C, SIGTERM and SIGHUP as a user sends them to a running dwatch (app/interrupts.cpp): the
+// Ctrl-C, SIGTERM and SIGHUP as a user sends them to a running dwatch (shell/interrupts.cpp): the
 // run stops, says where, exits 128 + signal, and leaves every file as it was -- no temporary, no
 // half-written output, the earlier outputs untouched.
 #include <fcntl.h>
