@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sim/intervention.h"
@@ -45,6 +46,19 @@ struct Command {
   std::optional<sim::Intervention> intervention;
   std::optional<sim::HostedWatchpoint> watch;
 };
+
+// A command's line in the table of commands: its name, its arguments as `help` shows them, and
+// what it does.
+struct CommandSpec {
+  const char* name;
+  Command::Kind kind;
+  const char* usage;
+  const char* what;
+};
+// The command named `name`, or nullptr.
+const CommandSpec* find_command(std::string_view name);
+// The line of `kind`.
+const CommandSpec& command_spec(Command::Kind kind);
 
 // `word` as one word of a command line: in double quotes when it holds a space or a '#' (a file's
 // name; one holding a double quote cannot be said).

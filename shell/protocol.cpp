@@ -7,6 +7,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <iostream>
 #include <mutex>
 #include <optional>
@@ -129,139 +130,158 @@ bool is_cancel(const std::string& line) {
   return b != std::string::npos && line.substr(b, e - b + 1) == "cancel";
 }
 
-}  // namespace
-
-int run_protocol(Shell& shell, int in_fd, std::ostream& out, Interrupts* interrupts) {
-  AnswerWriter answers(out);
+// The requests read and not yet answered, shared by the reader and the runner.
+struct Requests {
   std::mutex mutex;
   std::condition_variable ready;
   std::deque<Request> queue;
   std::optional<std::stop_source> running;  // the request under way's, for `cancel`
+};
 
-  // The reader: lines as they come (the runner may be busy), `cancel` acted on at once. It stops
-  // the oldest request not yet answered nor already told to stop: the one under way, or, when
-  // the runner has not taken it yet, the first queued (sent together, `run 1000000` and `cancel`
-  // reach the reader before the runner starts the run; a cancel then found nothing running and
-  // was lost). Taking a request from the queue and marking it under way is one step under the
-  // lock, so a request is always one or the other until it is answered.
-  std::jthread reader([&] {
-    std::string line;
-    bool too_long = false;
-    char buffer[65536];
-    auto take = [&](Request r) {
-      if (r.unreadable.empty() && is_cancel(r.line)) {
-        std::lock_guard lock(mutex);
-        bool stopped = running && running->request_stop();
-        for (auto q = queue.begin(); !stopped && q != queue.end(); ++q)
-          if (q->asks()) stopped = q->stop.request_stop();
-        answers.write(r.id, {{"cmd", "cancel"}, {"cancelled", stopped}});
-        return;
-      }
-      std::lock_guard lock(mutex);
-      queue.push_back(std::move(r));
-      ready.notify_one();
-    };
-    for (;;) {
-      const ssize_t n = ::read(in_fd, buffer, sizeof buffer);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) break;
-      for (ssize_t i = 0; i < n; ++i) {
-        if (buffer[i] != '\n') {
-          if (too_long) continue;
-          if (line.size() < kMaxRequestBytes) {
-            line += buffer[i];
-            continue;
-          }
-          // Answered when it goes over, not at its newline, which an endless input (/dev/zero)
-          // never sends; the rest of it, to its newline, is skipped.
-          too_long = true;
-          line = std::string();
-          take(Request{.unreadable = "a request longer than " + std::to_string(kMaxRequestBytes) + " bytes"});
+// A request as the reader takes it: `cancel` acted on at once, anything else queued. A cancel
+// stops the oldest request not yet answered nor already told to stop: the one under way, or,
+// when the runner has not taken it yet, the first queued (sent together, `run 1000000` and
+// `cancel` reach the reader before the runner starts the run; a cancel then found nothing
+// running and was lost).
+void take(Request r, Requests& requests, AnswerWriter& answers) {
+  if (r.unreadable.empty() && is_cancel(r.line)) {
+    std::lock_guard lock(requests.mutex);
+    bool stopped = requests.running && requests.running->request_stop();
+    for (auto q = requests.queue.begin(); !stopped && q != requests.queue.end(); ++q)
+      if (q->asks()) stopped = q->stop.request_stop();
+    answers.write(r.id, {{"cmd", "cancel"}, {"cancelled", stopped}});
+    return;
+  }
+  std::lock_guard lock(requests.mutex);
+  requests.queue.push_back(std::move(r));
+  requests.ready.notify_one();
+}
+
+// The reader: lines as they come (the runner may be busy), each taken at once, then the end of
+// the input queued.
+void read_requests(int in_fd, Requests& requests, AnswerWriter& answers) {
+  std::string line;
+  bool too_long = false;
+  char buffer[65536];
+  for (;;) {
+    const ssize_t n = ::read(in_fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    for (ssize_t i = 0; i < n; ++i) {
+      if (buffer[i] != '\n') {
+        if (too_long) continue;
+        if (line.size() < kMaxRequestBytes) {
+          line += buffer[i];
           continue;
         }
-        if (!too_long) take(parse_request(std::move(line)));
-        line.clear();
-        too_long = false;
+        // Answered when it goes over, not at its newline, which an endless input (/dev/zero)
+        // never sends; the rest of it, to its newline, is skipped.
+        too_long = true;
+        line = std::string();
+        take(Request{.unreadable = "a request longer than " + std::to_string(kMaxRequestBytes) + " bytes"}, requests,
+             answers);
+        continue;
       }
+      if (!too_long) take(parse_request(std::move(line)), requests, answers);
+      line.clear();
+      too_long = false;
     }
-    if (!line.empty()) take(parse_request(std::move(line)));
-    std::lock_guard lock(mutex);
-    queue.push_back(Request{.end = true});
-    ready.notify_one();
-  });
+  }
+  if (!line.empty()) take(parse_request(std::move(line)), requests, answers);
+  std::lock_guard lock(requests.mutex);
+  requests.queue.push_back(Request{.end = true});
+  requests.ready.notify_one();
+}
 
+// Parses and carries out request `number`, and answers it. The signal that ended the session
+// meanwhile, if one did.
+std::optional<int> answer_request(Shell& shell, Request& r, uint32_t number, Requests& requests, AnswerWriter& answers,
+                                  Interrupts* interrupts) {
+  // Every answer but progress: the request is no longer under way once it is answered.
+  const auto reply = [&](Json body) {
+    {
+      std::lock_guard lock(requests.mutex);
+      requests.running.reset();
+    }
+    answers.write(r.id, std::move(body));
+  };
+  const auto fail = [&](int64_t col, const std::string& message) {
+    reply({{"error", {{"line", number}, {"col", col}, {"message", message}}}});
+  };
+  if (r.stop.stop_requested()) {
+    fail(1, "cancelled before it ran");
+    return std::nullopt;
+  }
+  if (!r.unreadable.empty()) {
+    fail(1, r.unreadable);
+    return std::nullopt;
+  }
+  const watch::SourceText source("request " + std::to_string(number), r.line);
+  auto parsed = shell.parse(source, 0, number);
+  if (auto* mistakes = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) {
+    const watch::Diagnostic& d = mistakes->front();  // one mistake, one message: the first
+    reply({{"error",
+            {{"line", number},
+             {"col", d.span.begin + 1},
+             {"message", d.message},
+             {"text", watch::format_diagnostics(source, {d})}}}});
+    return std::nullopt;
+  }
+  const std::optional<Command>& command = std::get<std::optional<Command>>(parsed);
+  if (!command) {
+    // A blank or comment line is no request; a JSON one is, and its controller waits for the answer.
+    if (r.json) fail(1, "a request's command is empty (blank, or a # comment)");
+    return std::nullopt;
+  }
+
+  std::optional<Interrupts::Stoppable> stoppable;
+  std::optional<std::stop_callback<std::function<void()>>> on_signal;
+  if (interrupts) {
+    stoppable.emplace(*interrupts);
+    on_signal.emplace(stoppable->token(), std::function<void()>([&r] { r.stop.request_stop(); }));
+  }
+  auto last = std::chrono::steady_clock::now();
+  const sim::Control control{.stop = r.stop.get_token(), .progress = [&](int64_t done, int64_t total) {
+                               const auto now = std::chrono::steady_clock::now();
+                               if (now - last < std::chrono::milliseconds(100)) return;
+                               last = now;
+                               answers.write(r.id, {{"progress", {{"done", done}, {"total", total}}}});
+                             }};
+  auto answer = shell.execute(*command, control);
+  if (auto* error = std::get_if<std::string>(&answer)) fail(1, *error);
+  else reply(std::move(std::get<Json>(answer)));
+  on_signal.reset();
+  if (stoppable) {
+    if (const auto signal = stoppable->signal()) {
+      std::cerr << "dwatch session: " << Interrupts::name(*signal) << ": the session ends\n";
+      return Interrupts::exit_code(*signal);
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+int run_protocol(Shell& shell, int in_fd, std::ostream& out, Interrupts* interrupts) {
+  AnswerWriter answers(out);
+  Requests requests;
+  // Taking a request from the queue and marking it under way is one step under the lock, so a
+  // request is always one or the other until it is answered.
+  std::jthread reader([&] { read_requests(in_fd, requests, answers); });
   uint32_t number = 0;
   for (;;) {
     Request r;
     {
-      std::unique_lock lock(mutex);
-      ready.wait(lock, [&] { return !queue.empty(); });
-      r = std::move(queue.front());
-      queue.pop_front();
-      if (r.asks()) running = r.stop;
+      std::unique_lock lock(requests.mutex);
+      requests.ready.wait(lock, [&] { return !requests.queue.empty(); });
+      r = std::move(requests.queue.front());
+      requests.queue.pop_front();
+      if (r.asks()) requests.running = r.stop;
     }
     if (r.end) break;
-    ++number;
-    // Every answer but progress: the request is no longer under way once it is answered.
-    const auto reply = [&](Json body) {
-      {
-        std::lock_guard lock(mutex);
-        running.reset();
-      }
-      answers.write(r.id, std::move(body));
-    };
-    const auto fail = [&](int64_t col, const std::string& message) {
-      reply({{"error", {{"line", number}, {"col", col}, {"message", message}}}});
-    };
-    if (r.stop.stop_requested()) {
-      fail(1, "cancelled before it ran");
-      continue;
-    }
-    if (!r.unreadable.empty()) {
-      fail(1, r.unreadable);
-      continue;
-    }
-    const watch::SourceText source("request " + std::to_string(number), r.line);
-    auto parsed = shell.parse(source, 0, number);
-    if (auto* mistakes = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) {
-      const watch::Diagnostic& d = mistakes->front();  // one mistake, one message: the first
-      reply({{"error",
-              {{"line", number},
-               {"col", d.span.begin + 1},
-               {"message", d.message},
-               {"text", watch::format_diagnostics(source, {d})}}}});
-      continue;
-    }
-    const std::optional<Command>& command = std::get<std::optional<Command>>(parsed);
-    if (!command) {
-      // A blank or comment line is no request; a JSON one is, and its controller waits for the answer.
-      if (r.json) fail(1, "a request's command is empty (blank, or a # comment)");
-      continue;
-    }
-
-    std::optional<Interrupts::Stoppable> stoppable;
-    std::optional<std::stop_callback<std::function<void()>>> on_signal;
-    if (interrupts) {
-      stoppable.emplace(*interrupts);
-      on_signal.emplace(stoppable->token(), std::function<void()>([&r] { r.stop.request_stop(); }));
-    }
-    auto last = std::chrono::steady_clock::now();
-    const sim::Control control{.stop = r.stop.get_token(), .progress = [&](int64_t done, int64_t total) {
-                                 const auto now = std::chrono::steady_clock::now();
-                                 if (now - last < std::chrono::milliseconds(100)) return;
-                                 last = now;
-                                 answers.write(r.id, {{"progress", {{"done", done}, {"total", total}}}});
-                               }};
-    auto answer = shell.execute(*command, control);
-    if (auto* error = std::get_if<std::string>(&answer)) fail(1, *error);
-    else reply(std::move(std::get<Json>(answer)));
-    on_signal.reset();
-    if (stoppable) {
-      if (const auto signal = stoppable->signal()) {
-        std::cerr << "dwatch session: " << Interrupts::name(*signal) << ": the session ends\n";
-        reader.detach();  // blocked reading the input, which nothing else will read
-        return Interrupts::exit_code(*signal);
-      }
+    if (const auto code = answer_request(shell, r, ++number, requests, answers, interrupts)) {
+      reader.detach();  // blocked reading the input, which nothing else will read
+      return *code;
     }
   }
   return 0;

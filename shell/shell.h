@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -27,11 +29,10 @@ class Shell {
   // Parses the line of `source` that starts at byte `begin` (1-based number `line`). Nothing for
   // a blank or comment line; the diagnostics (one per mistake) when it is wrong.
   std::variant<std::optional<Command>, std::vector<watch::Diagnostic>> parse(const watch::SourceText& source,
-                                                                                    uint32_t begin, uint32_t line);
+                                                                             uint32_t begin, uint32_t line);
 
   // Carries a command out: its answer, or why it failed.
-  std::variant<nlohmann::ordered_json, std::string> execute(const Command& command,
-                                                            const sim::Control& control = {});
+  std::variant<nlohmann::ordered_json, std::string> execute(const Command& command, const sim::Control& control = {});
 
   // The 3D view of the current step (step 0 before any), its first match of each watchpoint
   // highlighted: what `render` draws.
@@ -41,7 +42,31 @@ class Shell {
   nlohmann::ordered_json match_json(uint32_t w, size_t i) const;
 
  private:
-  nlohmann::ordered_json position();
+  using Answer = std::variant<nlohmann::ordered_json, std::string>;
+
+  // The commands, each given its answer begun (its "cmd") to go on with. carry_out.cpp: those
+  // that move the session or change its watchpoints; answers.cpp: those that only read it;
+  // write_files.cpp: those that write a file.
+  Answer run_to(const Command& command, const sim::Control& control, nlohmann::ordered_json answer);
+  Answer seek(const Command& command, const sim::Control& control, nlohmann::ordered_json answer);
+  Answer intervene(const Command& command, nlohmann::ordered_json answer);
+  Answer reload(nlohmann::ordered_json answer);
+  Answer set_watch(const Command& command, const sim::Control& control, nlohmann::ordered_json answer);
+  Answer set_action(const Command& command, nlohmann::ordered_json answer);
+  Answer matches(const Command& command, nlohmann::ordered_json answer);
+  Answer module_state(const Command& command, nlohmann::ordered_json answer);
+  Answer state_hash(nlohmann::ordered_json answer);
+  Answer interventions(nlohmann::ordered_json answer);
+  Answer status(nlohmann::ordered_json answer);
+  Answer render_file(const Command& command, const sim::Control& control, nlohmann::ordered_json answer);
+  Answer record_file(const Command& command, const sim::Control& control, nlohmann::ordered_json answer);
+  Answer save_file(const Command& command, nlohmann::ordered_json answer);
+
+  // A command's failure, and why.
+  static Answer failed(std::string why) { return Answer(std::in_place_index<1>, std::move(why)); }
+  // Where the cursor stands: current, latest and decided steps, added to an answer.
+  void add_position(nlohmann::ordered_json& answer);
+  nlohmann::ordered_json intervention_answer(const sim::Intervention& intervention) const;
 
   const scenarios::Scenario& scenario_;
   sim::Session& session_;

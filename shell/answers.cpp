@@ -1,0 +1,136 @@
+// The commands that only read the session (matches, state, hash, interventions, status), and the
+// pieces of JSON the answers share: the cursor's position, a match as the match log writes it,
+// an intervention.
+#include "shell/shell.h"
+
+#include "sim/match_log.h"
+#include "sim/state.h"
+#include "watch/watchpoint.h"
+
+namespace dw::shell {
+
+void Shell::add_position(nlohmann::ordered_json& answer) {
+  answer["current"] = session_.current();
+  answer["latest"] = session_.latest();
+  answer["decided"] = session_.decided();
+}
+
+nlohmann::ordered_json Shell::intervention_answer(const sim::Intervention& intervention) const {
+  return nlohmann::ordered_json::parse(sim::intervention_json(intervention, session_.model().universe));
+}
+
+nlohmann::ordered_json Shell::match_json(uint32_t w, size_t i) const {
+  const sim::HostedWatchpoint& h = session_.model().watches[w];
+  const sim::MatchList& list = session_.matches(w);
+  const size_t k = h.watchpoint.program.slot_count();
+  nlohmann::ordered_json j;
+  j["watch"] = h.watchpoint.name;
+  j["t"] = list.t[i];
+  nlohmann::ordered_json slots = nlohmann::ordered_json::object();
+  for (size_t s = 0; s < k; ++s)
+    slots[h.watchpoint.program.slot_names[s]] = session_.model().universe.id(list.slots[i * k + s]);
+  j["slots"] = std::move(slots);
+  if (const size_t a = h.watchpoint.program.actions.size(); a > 0 && list.actions.size() >= (i + 1) * a) {
+    std::vector<watch::ModuleId> ids;
+    for (size_t s = 0; s < k; ++s) ids.push_back(session_.model().universe.id(list.slots[i * k + s]));
+    j["then"] = sim::MatchLog::then_json(sim::MatchLog::info(h.watchpoint), ids, {list.actions.data() + i * a, a});
+  }
+  j["detected"] = list.detected[i];
+  return j;
+}
+
+Shell::Answer Shell::matches(const Command& cmd, nlohmann::ordered_json answer) {
+  const sim::Model& model = session_.model();
+  int w = -1;
+  if (!cmd.name.empty() && (w = session_.watch_index(cmd.name)) < 0)
+    return failed("no watchpoint is named '" + cmd.name + "'");
+  // A `count` watchpoint keeps only the number of its matches of each step, not the groups.
+  // Its action may have changed on the way (`action W count`, then `log`): what it kept is
+  // listed and what it counted answered under only_counted, whatever its action is now.
+  nlohmann::ordered_json list = nlohmann::ordered_json::array(), only_counted = nlohmann::ordered_json::object();
+  uint64_t counted = 0;
+  for (uint32_t i = 0; i < model.watches.size(); ++i) {
+    if (w >= 0 && i != static_cast<uint32_t>(w)) continue;
+    const sim::MatchList& m = session_.matches(i);
+    const uint64_t n = cmd.number ? m.counted_at(*cmd.number) : m.counted_total();
+    if (n > 0 || model.watches[i].action == sim::MatchAction::Count) {
+      only_counted[model.watches[i].watchpoint.name] = n;
+      counted += n;
+    }
+    const auto [first, last] = cmd.number ? m.at(*cmd.number) : std::pair<size_t, size_t>{0, m.size()};
+    for (size_t k = first; k < last; ++k) list.push_back(match_json(i, k));
+  }
+  if (cmd.number) {
+    answer["t"] = *cmd.number;
+    answer["decided"] = *cmd.number <= session_.decided();
+  }
+  answer["count"] = list.size() + counted;
+  if (!only_counted.empty()) answer["only_counted"] = std::move(only_counted);
+  answer["matches"] = std::move(list);
+  return answer;
+}
+
+// state M: the module at the current step, as its program and its neighbours see it.
+Shell::Answer Shell::module_state(const Command& cmd, nlohmann::ordered_json answer) {
+  const sim::Model& model = session_.model();
+  const auto m = static_cast<sim::ModuleId>(*cmd.number);
+  const sim::State& s = session_.state();
+  answer["t"] = session_.current();
+  answer["module"] = model.universe.id(m);
+  answer["present"] = session_.seen_present()[m] != 0;
+  nlohmann::ordered_json vars = nlohmann::ordered_json::object();
+  for (uint32_t v = 0; v < model.variable_count(); ++v)
+    vars[model.universe.variables[v]] = s.values[size_t{m} * model.variable_count() + v];
+  answer["vars"] = std::move(vars);
+  nlohmann::ordered_json nbrs = nlohmann::ordered_json::array();
+  for (sim::ModuleId n : session_.seen_graph().neighbors(m)) nbrs.push_back(model.universe.id(n));
+  answer["nbrs"] = std::move(nbrs);
+  if (!s.bodies.empty()) {
+    const sim::Pose& p = s.bodies.poses[m];
+    answer["pose"] = {{"position", p.position}, {"orientation", p.orientation}};
+  }
+  return answer;
+}
+
+Shell::Answer Shell::state_hash(nlohmann::ordered_json answer) {
+  const sim::StateHash hash = session_.hash();
+  answer["t"] = session_.current();
+  answer["hash"] = sim::hash_text(hash.whole());
+  answer["simulation"] = sim::hash_text(hash.simulation);
+  answer["watchpoints"] = sim::hash_text(hash.watches);
+  return answer;
+}
+
+Shell::Answer Shell::interventions(nlohmann::ordered_json answer) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const sim::Intervention& i : session_.interventions()) list.push_back(intervention_answer(i));
+  answer["interventions"] = std::move(list);
+  return answer;
+}
+
+Shell::Answer Shell::status(nlohmann::ordered_json answer) {
+  const sim::Model& model = session_.model();
+  add_position(answer);
+  answer["end"] = session_.end();
+  nlohmann::ordered_json watches = nlohmann::ordered_json::array();
+  for (uint32_t w = 0; w < model.watches.size(); ++w) {
+    const sim::HostedWatchpoint& h = model.watches[w];
+    watches.push_back({{"name", h.watchpoint.name},
+                       {"algorithm", watch::algorithm_name(h.algorithm)},
+                       {"shape", watch::shape_name(watch::group_shape(h.algorithm, h.options))},
+                       {"action", sim::action_name(h.action)},
+                       {"lag", h.lag()},
+                       {"decided", session_.decided(w)},
+                       {"matches", session_.match_count(w)},
+                       {"stopped", session_.stats(w).stopped}});
+  }
+  answer["watches"] = std::move(watches);
+  answer["interventions"] = session_.interventions().size();
+  // How the history is kept: it varies with the machine's speed (never the results).
+  answer["history"] = {{"keyframe_interval", session_.keyframe_interval()},
+                       {"keyframes", session_.keyframes()},
+                       {"bytes", session_.history_bytes()}};
+  return answer;
+}
+
+}  // namespace dw::shell

@@ -1,0 +1,165 @@
+// Shell::execute: a parsed command carried out on the session and answered. This file has the
+// dispatch and the commands that move the cursor, make a new branch or change the watchpoints;
+// every decision is the session's (sim/session.h), a command only asks and answers.
+#include "shell/shell.h"
+
+#include <algorithm>
+
+#include "scenarios/scenario.h"
+#include "watch/watchpoint.h"
+
+namespace dw::shell {
+
+using Kind = Command::Kind;
+
+Shell::Shell(const scenarios::Scenario& scenario, sim::Session& session) : scenario_(scenario), session_(session) {}
+
+std::variant<nlohmann::ordered_json, std::string> Shell::execute(const Command& cmd, const sim::Control& control) {
+  nlohmann::ordered_json answer;
+  answer["cmd"] = command_spec(cmd.kind).name;
+  try {
+    switch (cmd.kind) {
+      case Kind::Step:
+      case Kind::Run:
+      case Kind::Continue: return run_to(cmd, control, std::move(answer));
+      case Kind::Action: return set_action(cmd, std::move(answer));
+      case Kind::Seek: return seek(cmd, control, std::move(answer));
+      case Kind::Set:
+      case Kind::Remove:
+      case Kind::Push: return intervene(cmd, std::move(answer));
+      case Kind::Reload: return reload(std::move(answer));
+      case Kind::Watch: return set_watch(cmd, control, std::move(answer));
+      case Kind::Unwatch:
+        if (!session_.remove_watch(cmd.name)) return failed("no watchpoint is named '" + cmd.name + "'");
+        answer["unwatched"] = cmd.name;
+        break;
+      case Kind::Matches: return matches(cmd, std::move(answer));
+      case Kind::State: return module_state(cmd, std::move(answer));
+      case Kind::Hash: return state_hash(std::move(answer));
+      case Kind::Render: return render_file(cmd, control, std::move(answer));
+      case Kind::Record: return record_file(cmd, control, std::move(answer));
+      case Kind::Save: return save_file(cmd, std::move(answer));
+      case Kind::Interventions: return interventions(std::move(answer));
+      case Kind::Status: return status(std::move(answer));
+      case Kind::Help: answer["commands"] = command_help(); break;
+    }
+  } catch (const sim::ProgramError& e) {
+    return failed(e.what());
+  } catch (const std::exception& e) {
+    // A mistake of dwatch's own, not the command's: said, and the session goes on (a command
+    // leaves the session as it was, or where a run had got to).
+    return failed(std::string("internal error: ") + e.what());
+  }
+  return answer;
+}
+
+// step N, run [T] [--to-match NAME], continue: to the target step, or the pause (or the match
+// asked for) that stops the run first.
+Shell::Answer Shell::run_to(const Command& cmd, const sim::Control& control, nlohmann::ordered_json answer) {
+  const sim::Model& model = session_.model();
+  std::optional<uint32_t> to_match;
+  if (cmd.kind == Kind::Run && !cmd.name.empty()) {
+    const int w = session_.watch_index(cmd.name);
+    if (w < 0) return failed("no watchpoint is named '" + cmd.name + "'");
+    if (model.watches[static_cast<size_t>(w)].action == sim::MatchAction::Count)
+      return failed("'" + cmd.name + "' counts its matches and keeps none to stop at ('action " + cmd.name +
+                    " log' keeps them from now on)");
+    to_match = static_cast<uint32_t>(w);
+  }
+  const int64_t target = cmd.kind == Kind::Step ? session_.current() + *cmd.number
+                         : cmd.number           ? *cmd.number
+                                                : std::max(session_.end() - 1, session_.current());
+  const auto pause = session_.run_until(target + 1, {}, control, to_match);
+  add_position(answer);
+  nlohmann::ordered_json stop = nullptr;
+  if (pause) {
+    const sim::HostedWatchpoint& h = model.watches[pause->watch];
+    nlohmann::ordered_json group = nlohmann::ordered_json::object();
+    for (size_t s = 0; s < pause->group.size(); ++s)
+      group[h.watchpoint.program.slot_names[s]] = model.universe.id(pause->group[s]);
+    stop = {{"watch", h.watchpoint.name},
+            {"t", pause->t},
+            {"detected", pause->detected},
+            {"group", group},
+            {"matches", pause->matches}};
+  }
+  // A run to a match stopped by that match says so apart from a pause action's stop.
+  const bool asked = pause && pause->asked;
+  answer["paused"] = asked ? nullptr : stop;
+  if (to_match) answer["matched"] = asked ? stop : nullptr;
+  if (control.stopped()) answer["cancelled"] = true;
+  return answer;
+}
+
+Shell::Answer Shell::set_action(const Command& cmd, nlohmann::ordered_json answer) {
+  const int w = session_.watch_index(cmd.name);
+  if (w < 0) return failed("no watchpoint is named '" + cmd.name + "'");
+  answer["watch"] = cmd.name;
+  answer["was"] = std::string(sim::action_name(session_.model().watches[static_cast<size_t>(w)].action));
+  session_.set_action(static_cast<uint32_t>(w), cmd.action);
+  answer["action"] = std::string(sim::action_name(cmd.action));
+  return answer;
+}
+
+Shell::Answer Shell::seek(const Command& cmd, const sim::Control& control, nlohmann::ordered_json answer) {
+  if (*cmd.number > session_.latest())
+    return failed("step " + std::to_string(*cmd.number) + " has not been simulated (the latest is " +
+                  std::to_string(session_.latest()) + "; step or run to get there)");
+  if (!session_.seek(*cmd.number, control)) {
+    if (control.stopped()) return failed("cancelled");
+    return failed("the session keeps no history to seek back to");
+  }
+  add_position(answer);
+  return answer;
+}
+
+// set, remove, push: an intervention at the current step, which starts a new branch.
+Shell::Answer Shell::intervene(const Command& cmd, nlohmann::ordered_json answer) {
+  const int64_t dropped = session_.latest() - session_.current();
+  const std::string stuck = cmd.kind == Kind::Push ? session_.push_moves_nothing(cmd.intervention->module) : "";
+  if (std::string error = session_.intervene(*cmd.intervention); !error.empty()) return failed(error);
+  sim::Intervention made = *cmd.intervention;
+  made.at = session_.current() + 1;
+  answer["intervention"] = intervention_answer(made);
+  answer["dropped_steps"] = dropped;
+  add_position(answer);
+  if (!stuck.empty()) answer["warning"] = stuck;
+  return answer;
+}
+
+Shell::Answer Shell::reload(nlohmann::ordered_json answer) {
+  if (scenario_.scripts.empty()) return failed("the scenario runs no Lua script to reload");
+  const int64_t dropped = session_.latest() - session_.current();
+  auto reloaded = scenarios::reload_scripts(scenario_, session_);
+  if (auto* error = std::get_if<std::string>(&reloaded)) return failed(*error);
+  answer["reloaded"] = std::get<std::vector<std::string>>(reloaded);
+  answer["from"] = session_.current() + 1;
+  answer["dropped_steps"] = dropped;
+  add_position(answer);
+  return answer;
+}
+
+// watch: a watchpoint added or replaced, evaluated over the whole history at once.
+Shell::Answer Shell::set_watch(const Command& cmd, const sim::Control& control, nlohmann::ordered_json answer) {
+  const sim::Model& model = session_.model();
+  const bool replaces = std::any_of(model.watches.begin(), model.watches.end(), [&](const sim::HostedWatchpoint& h) {
+    return h.watchpoint.name == cmd.watch->watchpoint.name;
+  });
+  if (!replaces && model.watches.size() >= watch::kMaxWatchpoints)
+    return failed("a session holds at most " + std::to_string(watch::kMaxWatchpoints) +
+                  " watchpoints: unwatch one first");
+  const auto w = session_.set_watch(*cmd.watch, control);
+  if (!w) return failed(control.stopped() ? "cancelled" : "the session keeps no history to evaluate a watchpoint over");
+  const sim::HostedWatchpoint& h = model.watches[*w];
+  answer["watch"] = h.watchpoint.name;
+  answer["index"] = *w;
+  answer["algorithm"] = watch::algorithm_name(h.algorithm);
+  answer["shape"] = watch::shape_name(watch::group_shape(h.algorithm, h.options));
+  answer["action"] = sim::action_name(h.action);
+  answer["lag"] = h.lag();
+  answer["matches"] = session_.match_count(*w);
+  answer["decided"] = session_.decided(*w);
+  return answer;
+}
+
+}  // namespace dw::shell

@@ -1,0 +1,78 @@
+#include "shell/command.h"
+
+#include <algorithm>
+#include <cctype>
+
+namespace dw::shell {
+namespace {
+
+using Kind = Command::Kind;
+
+const CommandSpec kCommands[] = {
+    {"step", Kind::Step, "step [N]", "run N steps (default 1); stops at a pause"},
+    {"run", Kind::Run, "run [T] [--to-match NAME]",
+     "run until a pause fires (or NAME's next match), step T, or the scenario's end"},
+    {"continue", Kind::Continue, "continue",
+     "run on past the pause that stopped the cursor: to the next one, or the end"},
+    {"seek", Kind::Seek, "seek T", "make step T current (0 <= T <= latest); nothing is lost"},
+    {"set", Kind::Set, "set M VAR VALUE", "intervention at the current step: a new branch"},
+    {"remove", Kind::Remove, "remove M", "intervention: module M leaves the ensemble"},
+    {"push", Kind::Push, "push M X Y Z", "intervention (physics): an impulse (N s) on M's body"},
+    {"watch", Kind::Watch,
+     "watch NAME [centralized|distributed] [chain|ordered|any] [consistent|simultaneous] [log|pause|count] TEXT",
+     "add or replace a watchpoint (its shape and states as in docs/design.md section 3); answers its matches count "
+     "over the history"},
+    {"unwatch", Kind::Unwatch, "unwatch NAME", "remove a watchpoint"},
+    {"action", Kind::Action, "action NAME log|pause|count",
+     "what watchpoint NAME does with its matches from now on (nothing is evaluated again)"},
+    {"matches", Kind::Matches, "matches [NAME] [T]", "the matches (as in the match log), of one watch / at step T"},
+    {"state", Kind::State, "state M", "module M at the current step: variables, neighbours, pose"},
+    {"hash", Kind::Hash, "hash", "the state hash at the current step, and its simulation and watchpoints parts"},
+    {"render", Kind::Render, "render FILE [W H]", "the 3D view of the current step (PNG)"},
+    {"record", Kind::Record, "record FILE", "the trace of steps 0..latest, its header listing the interventions"},
+    {"save", Kind::Save, "save FILE [overwrite]",
+     "this session as a scenario file: its watchpoints, the branch's interventions, paths that work from FILE's "
+     "folder; an existing FILE only with 'overwrite'"},
+    {"interventions", Kind::Interventions, "interventions", "the interventions of this branch, with their steps"},
+    {"reload", Kind::Reload, "reload",
+     "load the scenario's Lua scripts again: the changed program runs from the next step, a new branch"},
+    {"status", Kind::Status, "status", "where the session stands: steps, watchpoints, history"},
+    {"help", Kind::Help, "help", "these commands"},
+};
+
+}  // namespace
+
+const CommandSpec* find_command(std::string_view name) {
+  const CommandSpec* spec = nullptr;
+  for (const CommandSpec& c : kCommands)
+    if (name == c.name) spec = &c;
+  return spec;
+}
+
+const CommandSpec& command_spec(Command::Kind kind) {
+  for (const CommandSpec& c : kCommands)
+    if (c.kind == kind) return c;
+  return kCommands[std::size(kCommands) - 1];  // every kind has its line: never reached
+}
+
+std::string command_word(const std::string& word) {
+  const bool plain = !word.empty() && word[0] != '"' && std::none_of(word.begin(), word.end(), [](char c) {
+    return c == '#' || std::isspace(static_cast<unsigned char>(c));
+  });
+  return plain ? word : '"' + word + '"';
+}
+
+const std::vector<std::string>& command_help() {
+  static const std::vector<std::string> help = [] {
+    std::vector<std::string> lines;
+    for (const CommandSpec& c : kCommands) {
+      std::string usage = c.usage;
+      usage.resize(std::max<size_t>(usage.size() + 2, 22), ' ');
+      lines.push_back(usage + c.what);
+    }
+    return lines;
+  }();
+  return help;
+}
+
+}  // namespace dw::shell
