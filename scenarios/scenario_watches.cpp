@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "scenarios/scenario_loader.h"
+#include "sim/unknown_variables.h"
 
 namespace dw::scenarios {
 
@@ -185,19 +186,17 @@ std::optional<std::vector<sim::HostedWatchpoint>> Loader::watches(TableReader& r
 void Loader::check_watched_variables(const sim::Model& model, const toml::table& doc) {
   for (size_t w = 0; w < model.watches.size(); ++w) {
     const watch::Watchpoint& wp = model.watches[w].watchpoint;
-    for (const std::string& v : wp.program.variables) {
-      if (model.column(v) >= 0) continue;
+    for (const sim::UnknownVariable& v : sim::unknown_variables(model, wp)) {
       std::string known;
       for (const std::string& k : model.universe.variables) known += (known.empty() ? "" : ", ") + k;
       const std::string message =
-          "watchpoint \"" + wp.name + "\" reads '" + v + "', which no program has (variables: " + known + ")";
-      const watch::Span at = watch::first_use(wp.ast, v);
+          "watchpoint \"" + wp.name + "\" reads '" + v.name + "', which no program has (variables: " + known + ")";
       if (wp.source->name() == path) {
-        diagnostics.add({at, message});  // compiled in place: the span is the scenario file's
+        diagnostics.add({v.first_use, message});  // compiled in place: the span is the scenario file's
       } else {
         TableReader r(*(*doc.get("watch")->as_array())[w].as_table(), diagnostics, "[[watch]]");
         r.error(r.has("text") ? "text" : "file", message + ":");
-        extra += watch::format_diagnostic(*wp.source, {at, "'" + v + "' is read here"});
+        extra += watch::format_diagnostic(*wp.source, {v.first_use, "'" + v.name + "' is read here"});
       }
     }
   }
