@@ -287,6 +287,110 @@ void check_recorded(const std::string& path, int64_t latest) {
     fail("a recorded trace does not hold every step");
 }
 
+// What a command's checks need to know of the session before it ran.
+struct Before {
+  int64_t current = 0, latest = 0;
+  bool actions = false;             // a watchpoint had actions
+  bool named_watch_exists = false;  // the command names a watchpoint (run --to-match, action, ...) there was
+  bool named_watch_counts = false;  // ... and it counts its matches
+};
+
+Before before(const Command& c, const dw::sim::Session& session) {
+  Before b{.current = session.current(), .latest = session.latest(), .actions = has_actions(session.model())};
+  b.named_watch_exists = !c.name.empty() && session.watch_index(c.name) >= 0;
+  b.named_watch_counts =
+      b.named_watch_exists &&
+      session.model().watches[static_cast<size_t>(session.watch_index(c.name))].action == dw::sim::MatchAction::Count;
+  return b;
+}
+
+// Whether the command may fail, as the session stood before it: only with a program's failure, a
+// name it does not know, a step not simulated yet, or what an intervention or a file may meet.
+bool may_fail(const Command& c, const dw::sim::Session& session, const Before& before) {
+  switch (c.kind) {
+    case Kind::Step:
+    case Kind::Continue: return session.failure().has_value();
+    case Kind::Run:
+      return session.failure().has_value() ||
+             (!c.name.empty() && (!before.named_watch_exists || before.named_watch_counts));
+    case Kind::Action: return !before.named_watch_exists;
+    case Kind::Seek: return *c.number > before.latest;
+    case Kind::Unwatch: return !before.named_watch_exists;
+    case Kind::Matches: return !c.name.empty() && !before.named_watch_exists;
+    case Kind::Set:
+    case Kind::Remove:
+    case Kind::Push:
+    case Kind::Reload: return true;  // a module already removed; a script unchanged
+    case Kind::Watch:
+    case Kind::State:
+    case Kind::Hash:
+    case Kind::Record:
+    case Kind::Interventions:
+    case Kind::Status:
+    case Kind::Help: return false;
+    default: return true;  // save: FILE may exist
+  }
+}
+
+// The answer can be written, and the cursor is where the command says; a recorded trace and a
+// saved scenario read back. `simulation_at` forgets the steps a new branch or actions changed.
+void check_answer(const Command& c, const nlohmann::ordered_json& answer, dw::sim::Session& session,
+                  const Before& before, std::map<int64_t, uint64_t>& simulation_at) {
+  if (!answer.contains("cmd")) fail("an answer does not name its command");
+  try {
+    (void)answer.dump();  // as `dwatch session` writes it
+  } catch (const std::exception& e) {
+    fail("an answer cannot be written", e.what());
+  }
+  if (answer.contains("current") && answer["current"] != session.current())
+    fail("an answer's current step is not the session's");
+  switch (c.kind) {
+    case Kind::Seek:
+      if (session.current() != *c.number) fail("seek T did not make T current");
+      break;
+    case Kind::Step:
+    case Kind::Run:
+    case Kind::Continue: {
+      const int64_t target = c.kind == Kind::Step ? before.current + *c.number
+                             : c.number           ? *c.number
+                                                  : std::max(session.end() - 1, before.current);
+      const bool matched = answer.contains("matched") && !answer["matched"].is_null();
+      const nlohmann::ordered_json& stop = matched ? answer["matched"] : answer["paused"];
+      if (stop.is_null()) {
+        if (session.current() != std::max(before.current, target)) fail("a run did not reach its target");
+      } else if (stop["t"] != session.current() || session.current() <= before.current || session.current() > target) {
+        fail("a run paused off the pause's step");
+      }
+      if (matched) {
+        const auto w = static_cast<uint32_t>(session.watch_index(c.name));
+        const auto [first, last] = session.matches(w).at(session.current());
+        if (first == last) fail("a run to a match stopped on a step without one");
+      }
+      break;
+    }
+    case Kind::Action:
+      if (session.model().watches[static_cast<size_t>(session.watch_index(c.name))].action != c.action)
+        fail("action W A did not change what W does");
+      break;
+    case Kind::Set:
+    case Kind::Remove:
+    case Kind::Push:
+    case Kind::Reload:
+      // The future after the current step is another branch's.
+      simulation_at.erase(simulation_at.upper_bound(session.current()), simulation_at.end());
+      if (session.latest() != session.current()) fail("an intervention kept the future");
+      break;
+    case Kind::Watch:
+    case Kind::Unwatch:
+      // Actions change the states themselves: the whole history is another.
+      if (before.actions || has_actions(session.model())) simulation_at.clear();
+      break;
+    case Kind::Record: check_recorded(c.name, session.latest()); break;
+    default: break;
+  }
+  if (answer.contains("save")) check_saved(c.name, session.current(), session.hash().simulation);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -328,12 +432,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         c.name = it->second;
       }
 
-      const int64_t before = session.current(), latest_before = session.latest();
-      const bool actions_before = has_actions(session.model());
-      const bool named_watch_exists = !c.name.empty() && session.watch_index(c.name) >= 0;
-      const bool named_watch_counts =
-          named_watch_exists &&
-          session.model().watches[static_cast<size_t>(session.watch_index(c.name))].action == sim::MatchAction::Count;
+      const Before before_it = before(c, session);
       std::variant<nlohmann::ordered_json, std::string> result;
       try {
         result = shell.execute(c);
@@ -344,87 +443,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       watches_run += c.kind == Kind::Watch;
 
       if (auto* error = std::get_if<std::string>(&result)) {
-        bool may_fail = false;
-        switch (c.kind) {
-          case Kind::Step:
-          case Kind::Continue: may_fail = session.failure().has_value(); break;
-          case Kind::Run:
-            may_fail =
-                session.failure().has_value() || (!c.name.empty() && (!named_watch_exists || named_watch_counts));
-            break;
-          case Kind::Action: may_fail = !named_watch_exists; break;
-          case Kind::Seek: may_fail = *c.number > latest_before; break;
-          case Kind::Unwatch: may_fail = !named_watch_exists; break;
-          case Kind::Matches: may_fail = !c.name.empty() && !named_watch_exists; break;
-          case Kind::Set:
-          case Kind::Remove:
-          case Kind::Push:
-          case Kind::Reload: may_fail = true; break;  // a module already removed; a script unchanged
-          case Kind::Watch:
-          case Kind::State:
-          case Kind::Hash:
-          case Kind::Record:
-          case Kind::Interventions:
-          case Kind::Status:
-          case Kind::Help: may_fail = false; break;
-          default: may_fail = true;  // save: FILE may exist
-        }
-        if (!may_fail) fail("a command that cannot fail failed", std::to_string(c.line) + ": " + *error);
+        if (!may_fail(c, session, before_it))
+          fail("a command that cannot fail failed", std::to_string(c.line) + ": " + *error);
       } else {
-        const nlohmann::ordered_json& answer = std::get<nlohmann::ordered_json>(result);
-        if (!answer.contains("cmd")) fail("an answer does not name its command");
-        try {
-          (void)answer.dump();  // as `dwatch session` writes it
-        } catch (const std::exception& e) {
-          fail("an answer cannot be written", e.what());
-        }
-        if (answer.contains("current") && answer["current"] != session.current())
-          fail("an answer's current step is not the session's");
-        switch (c.kind) {
-          case Kind::Seek:
-            if (session.current() != *c.number) fail("seek T did not make T current");
-            break;
-          case Kind::Step:
-          case Kind::Run:
-          case Kind::Continue: {
-            const int64_t target = c.kind == Kind::Step ? before + *c.number
-                                   : c.number           ? *c.number
-                                                        : std::max(session.end() - 1, before);
-            const bool matched = answer.contains("matched") && !answer["matched"].is_null();
-            const nlohmann::ordered_json& stop = matched ? answer["matched"] : answer["paused"];
-            if (stop.is_null()) {
-              if (session.current() != std::max(before, target)) fail("a run did not reach its target");
-            } else if (stop["t"] != session.current() || session.current() <= before || session.current() > target) {
-              fail("a run paused off the pause's step");
-            }
-            if (matched) {
-              const auto w = static_cast<uint32_t>(session.watch_index(c.name));
-              const auto [first, last] = session.matches(w).at(session.current());
-              if (first == last) fail("a run to a match stopped on a step without one");
-            }
-            break;
-          }
-          case Kind::Action:
-            if (session.model().watches[static_cast<size_t>(session.watch_index(c.name))].action != c.action)
-              fail("action W A did not change what W does");
-            break;
-          case Kind::Set:
-          case Kind::Remove:
-          case Kind::Push:
-          case Kind::Reload:
-            // The future after the current step is another branch's.
-            simulation_at.erase(simulation_at.upper_bound(session.current()), simulation_at.end());
-            if (session.latest() != session.current()) fail("an intervention kept the future");
-            break;
-          case Kind::Watch:
-          case Kind::Unwatch:
-            // Actions change the states themselves: the whole history is another.
-            if (actions_before || has_actions(session.model())) simulation_at.clear();
-            break;
-          case Kind::Record: check_recorded(c.name, session.latest()); break;
-          default: break;
-        }
-        if (answer.contains("save")) check_saved(c.name, session.current(), session.hash().simulation);
+        check_answer(c, std::get<nlohmann::ordered_json>(result), session, before_it, simulation_at);
       }
 
       // However the current step was reached, its simulation is the same.
