@@ -11,13 +11,14 @@
 
 namespace dw::sim {
 
-Runtime::Runtime(const Model& model, World& world, unsigned threads, RankExchange* ranks, Partition partition)
+Runtime::Runtime(const Model& model, HostedWatches watches, World& world, unsigned threads, RankExchange* ranks,
+                 Partition partition)
     : model_(model),
       world_(world),
       pool_(std::max(1u, std::min(threads, std::max(1u, model.module_count())))),
       ranks_(ranks),
       placement_(model, pool_.size(), ranks, partition, world.moves()),
-      hosting_(model, model.watches, placement_, pool_.size(), ranks) {
+      hosting_(model, std::move(watches), placement_, pool_.size(), ranks) {
   if (ranks_) over_ranks_.emplace(*ranks_, placement_, pool_.size());
   world_.share_over(ranks_, placement_.owners());
   scratch_.resize(pool_.size());

@@ -51,7 +51,9 @@ class Runtime {
   // gives its rank; every rank keeps the world (its bodies and N(m, t)) whole, with the actuations
   // of all, and the rest of the state for its own modules only. The world may share its own work
   // among the ranks (World::share_over).
-  Runtime(const Model& model, World& world, unsigned threads, RankExchange* ranks = nullptr,
+  // `watches` are the watchpoints it hosts beside the model (docs/design.md §2: a session's own),
+  // where their owner keeps them: they must outlive the runtime, which is made again when they change.
+  Runtime(const Model& model, HostedWatches watches, World& world, unsigned threads, RankExchange* ranks = nullptr,
           Partition partition = Partition::Auto);
 
   // The state before step 0: initial values, the world's step-0 topology, fresh detectors.

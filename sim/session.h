@@ -4,7 +4,8 @@
 //   - keyframes (full states) every K steps, K doubling whenever they outgrow their memory budget;
 //     any step is reached by restoring the keyframe before it and stepping on, so looking at the
 //     past never loses the future;
-//   - the matches and statistics of every watchpoint over the history, indexed by step;
+//   - its watchpoints, in slots with stable handles (sim/watch_slots.h), each with its matches
+//     and statistics over the history, indexed by step; it starts with the scenario's (Model::watches);
 //   - interventions (set, remove, push) at the current step, which cut the future and start a
 //     branch, and the scenario's scheduled ones ([[event]]), applied as the steps run;
 //   - watchpoints added, replaced or removed at any time: a new one is evaluated over the whole
@@ -32,6 +33,7 @@
 #include "sim/body_slices.h"
 #include "sim/intervention.h"
 #include "sim/runtime.h"
+#include "sim/watch_slots.h"
 
 namespace dw::sim {
 
@@ -64,30 +66,6 @@ struct Control {
   bool stopped() const { return stop.stop_requested(); }
 };
 
-// The matches of one watchpoint, in the order found (by t, then by slot ids).
-struct MatchList {
-  std::vector<int64_t> t;             // the match's watch step
-  std::vector<int64_t> detected;      // the step during which it was found (t + the watchpoint's lag)
-  std::vector<ModuleId> slots;        // slot_count ids per match
-  std::vector<watch::Value> actions;  // a watchpoint with actions: their values, action_count per match
-  // A `count` watchpoint keeps no match, only how many it found of each watch step (when found):
-  // a few words a step, whatever the number of matches.
-  struct Counted {
-    int64_t t = 0, detected = 0;
-    uint64_t matches = 0;
-  };
-  std::vector<Counted> counted;
-  size_t size() const { return t.size(); }
-  // The matches of step t: [first, last) indices (t is sorted, so this is a binary search).
-  std::pair<size_t, size_t> at(int64_t step) const;
-  // How many matches of watch step t a `count` watchpoint found; of every step.
-  uint64_t counted_at(int64_t step) const;
-  uint64_t counted_total() const;
-  void count(int64_t t, int64_t detected, uint64_t matches) {
-    if (matches) counted.push_back({t, detected, matches});
-  }
-};
-
 // A program's failure that stopped the run: the step it was running and the module.
 struct ProgramFailure {
   int64_t step = 0;
@@ -108,8 +86,8 @@ struct Pause {
 
 class Session {
  public:
-  // `model` and `world` must outlive the session; the session adds and removes watchpoints in
-  // the model (nothing else of it changes).
+  // `model` and `world` must outlive the session, which never changes the model (docs/design.md
+  // §2): it hosts the model's watchpoints, the scenario's, as its first, in slots of its own.
   Session(Model& model, World& world, SessionOptions options);
   ~Session();
 
@@ -142,7 +120,7 @@ class Session {
   void decide(int64_t t, const StepObserver& observer = {}, const Control& control = {});
   // Through which step every watchpoint (or watchpoint w) has decided; latest() without any.
   int64_t decided() const;
-  int64_t decided(uint32_t w) const { return latest_ - model_.watches[w].lag(); }
+  int64_t decided(uint32_t w) const { return latest_ - watches_[w].hosted.lag(); }
 
   // An intervention at the current step t, applied at the start of step t + 1 (`at` is set so):
   // the future after t is dropped and the next steps simulate the change. An error message when
@@ -178,17 +156,25 @@ class Session {
   // latest went through, or the future changed (an intervention, a program replaced).
   const std::optional<ProgramFailure>& failure() const { return failure_; }
 
-  // Adds a watchpoint, or replaces the one with its name, and evaluates it over the whole history.
-  // Returns its index, or nothing when cancelled or without history (nothing changed then).
-  std::optional<uint32_t> set_watch(HostedWatchpoint watch, const Control& control = {});
+  // The watchpoints, at their positions (the order the run hosts them in), each with what it
+  // found over the history.
+  const WatchSlots& watches() const { return watches_; }
+  // Adds a watchpoint, or replaces the one with its name (at its position, under a new id), and
+  // evaluates it over the whole history. Its position; or nothing, nothing changed, and `why` says
+  // why not: a session holds at most watch::kMaxWatchpoints, needs its history to evaluate one, and
+  // may be cancelled ("cancelled").
+  std::optional<uint32_t> set_watch(HostedWatchpoint watch, const Control& control = {}, std::string* why = nullptr);
   // What watchpoint w does with its matches from now on (`action W log|pause|count`): nothing is
   // evaluated again, the matches found stay as they are (a `count` watchpoint keeps only their
   // number, so one switched from `count` lists only those found after, and counted the others),
   // and a pause looks at the new action.
-  void set_action(uint32_t w, MatchAction action) { model_.watches[w].action = action; }
+  void set_action(uint32_t w, MatchAction action) {
+    watches_[w].hosted.action = action;
+    mirror_watches();
+  }
   // Removes the watchpoint with this name; false when there is none.
   bool remove_watch(std::string_view name);
-  // The index of the watchpoint with this name, or -1.
+  // The position of the watchpoint with this name, or -1.
   int watch_index(std::string_view name) const;
 
   // The full state at the current step (restored on demand), and after the latest step.
@@ -214,12 +200,12 @@ class Session {
 
   // Matches of `log` and `pause` watchpoints over the history (a `count` one's keeps only their
   // number per step, MatchList::counted).
-  const MatchList& matches(uint32_t w) const { return matches_[w]; }
+  const MatchList& matches(uint32_t w) const { return watches_[w].matches; }
   uint64_t match_count(uint32_t w) const { return head_.watches[w].matches; }
   // Matches per step of steps [from, to], for a timeline.
   std::vector<uint64_t> match_counts(uint32_t w, int64_t from, int64_t to) const;
   // Statistics over the history (the per-step series is the session's own).
-  const watch::DetectorStats& stats(uint32_t w) const { return stats_[w]; }
+  const watch::DetectorStats& stats(uint32_t w) const { return watches_[w].stats; }
   // One variable of one module over steps [from, to] (to ≤ latest), re-simulated from the
   // keyframes; nothing when cancelled.
   std::optional<std::vector<int64_t>> series(ModuleId m, int column, int64_t from, int64_t to,
@@ -258,12 +244,18 @@ class Session {
   void drain_agents(const DrainSink& sink);
   void keep_matches(uint32_t w, int64_t t, int64_t detected, uint64_t matches, std::span<const ModuleId> slots,
                     std::span<const watch::Value> actions);
+  bool evaluate_over_history(uint32_t w, const Control& control);
+  void add_drained_stats(uint32_t w, const watch::DetectorStats& before, const watch::DetectorStats& after);
   void drop_changes_after(int64_t at);
   int64_t max_lag() const;
+  // Until every caller reads watches(): the model's list is the session's, as it was.
+  void mirror_watches();
+  Model& mirrored_;
 
-  Model& model_;
+  const Model& model_;
   World& world_;
   SessionOptions options_;
+  WatchSlots watches_;  // the runtime hosts them where they are
   std::unique_ptr<Runtime> runtime_;
   std::vector<Intervention> interventions_;  // sorted by `at`, stable
   struct ProgramVersion {
@@ -294,10 +286,6 @@ class Session {
   double step_seconds_ = 0;                          // a live step's time, smoothed
   int64_t interval_ = 1;
   size_t history_bytes_ = 0;
-
-  std::vector<MatchList> matches_;
-  std::vector<watch::DetectorStats> stats_;
-  std::vector<std::vector<int64_t>> stats_step_;  // per watch: the step of each series entry
 };
 
 }  // namespace dw::sim

@@ -78,10 +78,10 @@ std::string why_not_over_ranks(std::span<const HostedWatchpoint> watches) {
   return {};
 }
 
-WatchHosting::WatchHosting(const Model& model, std::span<const HostedWatchpoint> watches,
-                           const BlockPlacement& placement, unsigned threads, RankExchange* ranks)
+WatchHosting::WatchHosting(const Model& model, HostedWatches watches, const BlockPlacement& placement, unsigned threads,
+                           RankExchange* ranks)
     : model_(model),
-      watches_(watches),
+      watches_(std::move(watches)),
       placement_(placement),
       threads_(threads),
       ranks_(ranks),

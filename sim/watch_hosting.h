@@ -56,8 +56,8 @@ class WatchHosting {
   // Hosts `watches` for the modules `placement` gives this process, on `threads` threads, over
   // `ranks` when given. The model, the watches and the placement must outlive the hosting; the
   // runtime is made again when the watches change.
-  WatchHosting(const Model& model, std::span<const HostedWatchpoint> watches, const BlockPlacement& placement,
-               unsigned threads, RankExchange* ranks);
+  WatchHosting(const Model& model, HostedWatches watches, const BlockPlacement& placement, unsigned threads,
+               RankExchange* ranks);
 
   uint32_t size() const { return static_cast<uint32_t>(watches_.size()); }
   // A fresh detector state for watchpoint w, as before step 0.
@@ -116,7 +116,7 @@ class WatchHosting {
   void take_arrived_lanes(WatchState& ws, std::span<const ArrivedLane> arrived) const;
 
   const Model& model_;
-  std::span<const HostedWatchpoint> watches_;
+  HostedWatches watches_;
   const BlockPlacement& placement_;
   const unsigned threads_;
   RankExchange* ranks_;                                      // null: one process

@@ -76,7 +76,7 @@ WatchSpec spec_of(const HostedWatchpoint& h) {
   return {h.watchpoint.name, watch::to_string(h.watchpoint.ast), h.algorithm, h.options, h.action};
 }
 
-std::vector<WatchSpec> specs_of(std::span<const HostedWatchpoint> hosted) {
+std::vector<WatchSpec> specs_of(const HostedWatches& hosted) {
   std::vector<WatchSpec> out;
   for (const HostedWatchpoint& h : hosted) out.push_back(spec_of(h));
   return out;

@@ -52,6 +52,38 @@ struct HostedWatchpoint {
   }
 };
 
+// The watchpoints a run hosts, in the order its states hold them (State::watches), each where its
+// owner keeps it: a list (a scenario's, a test's) or a session's slots. A view: its owner makes
+// the runtime again when they change.
+class HostedWatches {
+ public:
+  HostedWatches() = default;
+  // Implicit: a list is the watch set it holds.
+  HostedWatches(std::span<const HostedWatchpoint> list) {
+    for (const HostedWatchpoint& h : list) each_.push_back(&h);
+  }
+  HostedWatches(const std::vector<HostedWatchpoint>& list) : HostedWatches(std::span(list)) {}
+  explicit HostedWatches(std::vector<const HostedWatchpoint*> each) : each_(std::move(each)) {}
+
+  size_t size() const { return each_.size(); }
+  bool empty() const { return each_.empty(); }
+  const HostedWatchpoint& operator[](size_t w) const { return *each_[w]; }
+  struct Iterator {
+    const HostedWatchpoint* const* at;
+    const HostedWatchpoint& operator*() const { return **at; }
+    Iterator& operator++() {
+      ++at;
+      return *this;
+    }
+    bool operator==(const Iterator&) const = default;
+  };
+  Iterator begin() const { return {each_.data()}; }
+  Iterator end() const { return {each_.data() + each_.size()}; }
+
+ private:
+  std::vector<const HostedWatchpoint*> each_;
+};
+
 struct WatchSpec {
   std::string name;
   std::string text;  // modules(...); ...
@@ -88,7 +120,7 @@ std::string second_name_problem(std::string_view name, std::span<const WatchSpec
 
 // The spec of a hosted watchpoint: its text in normal form (watch::to_string).
 WatchSpec spec_of(const HostedWatchpoint& hosted);
-std::vector<WatchSpec> specs_of(std::span<const HostedWatchpoint> hosted);
+std::vector<WatchSpec> specs_of(const HostedWatches& hosted);
 // Compiles the spec's text from `source` (its diagnostics name it and point into it; a text
 // written inside a larger file keeps that file's positions) with its reading and action.
 std::variant<HostedWatchpoint, watch::CompileError> compile(const WatchSpec& spec, watch::SourceText source);

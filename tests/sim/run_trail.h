@@ -16,9 +16,9 @@ struct Trail {
 
 inline std::vector<std::vector<int64_t>> flat_matches(const sim::Session& run) {
   std::vector<std::vector<int64_t>> out;
-  for (uint32_t w = 0; w < run.model().watches.size(); ++w) {
+  for (uint32_t w = 0; w < run.watches().size(); ++w) {
     const MatchList& l = run.matches(w);
-    const uint32_t k = run.model().watches[w].watchpoint.program.slot_count();
+    const uint32_t k = run.watches()[w].hosted.watchpoint.program.slot_count();
     std::vector<int64_t> flat;
     for (size_t i = 0; i < l.size(); ++i) {
       flat.push_back(l.t[i]);

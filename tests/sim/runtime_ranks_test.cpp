@@ -53,7 +53,7 @@ template <class W = StaticLatticeWorld>
 Seen run(const Model& model, int steps, unsigned threads, RankExchange* ranks,
          Partition partition = Partition::Blocks) {
   W world;
-  Runtime rt(model, world, threads, ranks, partition);
+  Runtime rt(model, model.watches, world, threads, ranks, partition);
   State s = rt.initial_state();
   StepOutput out;
   Seen seen;
@@ -123,7 +123,7 @@ TEST(RuntimeRanks, EachRankHoldsItsOwnModulesStateOnly) {
   const size_t v = model->variable_count();
   const std::vector<std::pair<uint32_t, uint32_t>> windows = on_ranks(3, [&](RankExchange& r) {
     StaticLatticeWorld world;
-    Runtime rt(*model, world, 1, &r);
+    Runtime rt(*model, model->watches, world, 1, &r);
     State s = rt.initial_state();
     StepOutput out;
     for (int t = 0; t < 3; ++t) rt.step(s, out);
@@ -151,7 +151,7 @@ std::vector<std::pair<StateHash, size_t>> hash_on_ranks(const Model& model, Part
   return on_ranks(3, [&](RankExchange& r) {
     W world;
     CountedGathers counted(r);
-    Runtime rt(model, world, 1, &counted, partition);
+    Runtime rt(model, model.watches, world, 1, &counted, partition);
     State s = rt.initial_state();
     StepOutput out;
     for (int t = 0; t < 3; ++t) rt.step(s, out);
@@ -170,7 +170,7 @@ TEST(RuntimeRanks, TheHashOfTheWholeGathersNoRanksVariablesNorMessages) {
       test_programs::gossip_model({LatticeKind::Line, {4 * 4096 + 100, 1, 1}},
                                   {{"modules(a b); (a.v = 1) and (b.v = 1)", watch::Algorithm::Distributed}});
   StaticLatticeWorld world;
-  Runtime one(*model, world, 1);
+  Runtime one(*model, model->watches, world, 1);
   State s = one.initial_state();
   StepOutput out;
   for (int t = 0; t < 3; ++t) one.step(s, out);
@@ -225,7 +225,7 @@ TEST(RuntimeRanks, EachRankHashesItsOwnModulesLinksAndBodiesOnly) {
   const auto model = test_programs::gossip_model(
       {LatticeKind::Line, {3000, 1, 1}}, {{"modules(a b); (a.v = 1) and (b.v = 1)", watch::Algorithm::Distributed}});
   DriftingBodies world;
-  Runtime one(*model, world, 1);
+  Runtime one(*model, model->watches, world, 1);
   State s = one.initial_state();
   StepOutput out;
   for (int t = 0; t < 3; ++t) one.step(s, out);
@@ -285,7 +285,7 @@ std::string failure(uint32_t length, const std::vector<ModuleId>& modules, RankE
   const auto model = std::get<std::unique_ptr<Model>>(
       build_model(make_lattice({LatticeKind::Line, {length, 1, 1}}), std::move(programs), {}, 1));
   StaticLatticeWorld world;
-  Runtime rt(*model, world, 1, ranks);
+  Runtime rt(*model, model->watches, world, 1, ranks);
   State s = rt.initial_state();
   StepOutput out;
   try {

@@ -50,7 +50,7 @@ TEST(Runtime, FramesSayEveryModuleHasEveryVariableWithoutATable) {
   ASSERT_EQ(model->module_count(), 12u);
   for (uint32_t m = 0; m < 12; ++m) EXPECT_EQ(model->universe.id(m), m);
   StaticLatticeWorld world;
-  Runtime rt(*model, world, 1);
+  Runtime rt(*model, model->watches, world, 1);
   State s = rt.initial_state();
   StepOutput out;
   rt.step(s, out);
@@ -63,7 +63,7 @@ TEST(Runtime, FramesSayEveryModuleHasEveryVariableWithoutATable) {
 TEST(Runtime, ReadsSeeThePreviousStepAndMessagesArriveOneStepLater) {
   const auto model = probe_model({LatticeKind::Line, {4, 1, 1}});
   StaticLatticeWorld world;
-  Runtime rt(*model, world, 1);
+  Runtime rt(*model, model->watches, world, 1);
   State s = rt.initial_state();
   StepOutput out;
   rt.step(s, out);
@@ -88,7 +88,7 @@ TEST(Runtime, ProgramsSideBySideReadOnlyTheirOwnMessages) {
   EXPECT_EQ(model->variable_count(), 8u);
   EXPECT_EQ(model->program_base[1], 5u);
   StaticLatticeWorld world;
-  Runtime rt(*model, world, 1);
+  Runtime rt(*model, model->watches, world, 1);
   State s = rt.initial_state();
   StepOutput out;
   rt.step(s, out);
@@ -106,7 +106,7 @@ TEST(Runtime, SendingToAModuleThatIsNotANeighbourStopsTheRun) {
   const auto model = std::get<std::unique_ptr<Model>>(
       build_model(make_lattice({LatticeKind::Line, {8, 1, 1}}), std::move(programs), {}, 1));
   StaticLatticeWorld world;
-  Runtime rt(*model, world, 2);
+  Runtime rt(*model, model->watches, world, 2);
   State s = rt.initial_state();
   StepOutput out;
   rt.step(s, out);
@@ -153,7 +153,7 @@ TEST(Runtime, AFailureSkipsTheHigherModulesCallsAndReportsTheLowest) {
     const auto model = std::get<std::unique_ptr<Model>>(
         build_model(make_lattice({LatticeKind::Line, {400, 1, 1}}), std::move(programs), {}, 1));
     StaticLatticeWorld world;
-    Runtime rt(*model, world, threads);
+    Runtime rt(*model, model->watches, world, threads);
     State s = rt.initial_state();
     StepOutput out;
     try {
@@ -204,7 +204,7 @@ TEST(Runtime, AStepWhoseMessagesPassTheLimitStopsTheRunOnAnyThreadCount) {
           build_model(make_lattice({LatticeKind::Line, {8, 1, 1}}), std::move(programs), {}, 1));
       model->message_bytes_per_step = kLimit;
       StaticLatticeWorld world;
-      Runtime rt(*model, world, threads);
+      Runtime rt(*model, model->watches, world, threads);
       State s = rt.initial_state();
       StepOutput out;
       std::string error;
@@ -245,7 +245,7 @@ TEST(Runtime, AModelWithoutVariablesSteps) {
       build_model(make_lattice({LatticeKind::Line, {3, 1, 1}}), std::move(programs), {}, 1));
   ASSERT_EQ(model->variable_count(), 0u);
   StaticLatticeWorld world;
-  Runtime rt(*model, world, 1);
+  Runtime rt(*model, model->watches, world, 1);
   State s = rt.initial_state();
   StepOutput out;
   rt.step(s, out);
@@ -262,7 +262,7 @@ TEST(Runtime, RecordedFramesReplayToTheLiveMatches) {
   for (auto algorithm : {watch::Algorithm::Centralized, watch::Algorithm::Distributed}) {
     const auto model = test_programs::gossip_model({LatticeKind::Hex2d, {6, 5, 1}}, {{text, algorithm}});
     StaticLatticeWorld world;
-    Runtime rt(*model, world, 2);
+    Runtime rt(*model, model->watches, world, 2);
     State s = rt.initial_state();
     std::ostringstream recording;
     TraceWriter writer(recording, model->universe);

@@ -370,11 +370,11 @@ TEST(Session, RetroactiveWatchpointEqualsOneThatWatchedFromTheStart) {
 TEST(Session, ReplacingAndRemovingWatchpoints) {
   const auto model = gossip_model({LatticeKind::Cubic, {5, 5, 3}}, kWatches);
   const Trail all = straight_run(*model, 1, 30);
+  // The second watchpoint ("w", like all three here), named to be replaced by the third's text.
+  model->watches[1].watchpoint.name = "second";
   StaticLatticeWorld world;
   Session run(*model, world, {.threads = 1});
   run.run_until(30);
-  // The second watchpoint ("w", like all three here) replaced by the third's text.
-  model->watches[1].watchpoint.name = "second";
   ASSERT_EQ(run.set_watch(hosted("second", kWatches[2].first, kWatches[2].second)), 1u);
   const auto flat = test::flat_matches(run);
   EXPECT_EQ(flat[0], all.matches[0]);
@@ -382,7 +382,7 @@ TEST(Session, ReplacingAndRemovingWatchpoints) {
   EXPECT_EQ(flat[2], all.matches[2]);
   EXPECT_TRUE(run.remove_watch("second"));
   EXPECT_FALSE(run.remove_watch("second"));
-  ASSERT_EQ(run.model().watches.size(), 2u);
+  ASSERT_EQ(run.watches().size(), 2u);
   EXPECT_EQ(test::flat_matches(run), (std::vector<std::vector<int64_t>>{all.matches[0], all.matches[2]}));
   // The session's states hold exactly the watchpoints left: they hash as a straight run of those.
   const auto two = gossip_model({LatticeKind::Cubic, {5, 5, 3}}, {kWatches[0], kWatches[2]});
@@ -438,8 +438,10 @@ TEST(Session, RandomWalksEqualTheStraightRunWithTheSameEvents) {
       SCOPED_TRACE("threads " + std::to_string(threads) + ", walk" + log);
 
       std::vector<HostedWatchpoint> watches;
-      for (const HostedWatchpoint& h : run.model().watches)
+      for (uint32_t w = 0; w < run.watches().size(); ++w) {
+        const HostedWatchpoint& h = run.watches()[w].hosted;
         watches.push_back(hosted(h.watchpoint.name, h.watchpoint.source->text(), h.algorithm));
+      }
       std::vector<std::unique_ptr<const HostProgram>> programs;
       programs.push_back(std::make_unique<test_programs::Gossip>());
       auto again = std::get<std::unique_ptr<Model>>(build_model(make_lattice(spec), std::move(programs), watches, 1));
@@ -463,7 +465,7 @@ TEST(Session, CancelledOperationsLeaveTheSessionAsItWas) {
                               if (++calls == 3 || done > 5) stop.request_stop();
                             }};
   EXPECT_FALSE(run.set_watch(hosted("late", kWatches[1].first, kWatches[1].second), cancel_soon));
-  EXPECT_EQ(run.model().watches.size(), 1u);
+  EXPECT_EQ(run.watches().size(), 1u);
   EXPECT_EQ(run.current(), 39);
 
   std::stop_source stop2;

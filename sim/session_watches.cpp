@@ -1,0 +1,229 @@
+// The session's watchpoints (docs/design.md §7, "retroactive watchpoints"): what each keeps of a
+// step, what the detectors find when the run is over (drain), and watchpoints added, replaced and
+// removed at any time, a new one evaluated over the whole history.
+#include <algorithm>
+
+#include "sim/session.h"
+
+namespace dw::sim {
+
+void Session::record_output(const State& state, const StepOutput& out, uint32_t first_watch, uint32_t watch_count) {
+  for (uint32_t w = first_watch; w < first_watch + watch_count; ++w) {
+    const WatchStepOutput& o = out.watches[w];
+    WatchSlot& slot = watches_[w];
+    slot.stats.stopped = state.watches[w].stopped;
+    slot.stats.stop_reason = state.watches[w].stop_reason;
+    if (o.observed) slot.add_stats(o.stats, out.step);
+    keep_matches(w, o.t, out.step, o.matches, o.slots, o.actions);
+  }
+}
+
+// What a watchpoint keeps of the `matches` it found of watch step t during step `detected`: a
+// `count` one their number, the others each group (`slots`, slot_count ids a match) and its
+// actions' values.
+void Session::keep_matches(uint32_t w, int64_t t, int64_t detected, uint64_t matches, std::span<const ModuleId> slots,
+                           std::span<const watch::Value> actions) {
+  MatchList& list = watches_[w].matches;
+  if (watches_[w].hosted.action == MatchAction::Count) {
+    list.count(t, detected, matches);
+    return;
+  }
+  const uint32_t k = watches_[w].hosted.watchpoint.program.slot_count();
+  list.slots.insert(list.slots.end(), slots.begin(), slots.end());
+  list.actions.insert(list.actions.end(), actions.begin(), actions.end());
+  list.t.insert(list.t.end(), slots.size() / k, t);
+  list.detected.insert(list.detected.end(), slots.size() / k, detected);
+}
+
+void Session::drain(const DrainSink& sink) {
+  drain_agents(sink);
+  for (uint32_t w = 0; w < watches_.size(); ++w) {
+    WatchState& ws = head_.watches[w];
+    if (!ws.detector || ws.stopped) continue;
+    const uint32_t k = watches_[w].hosted.watchpoint.program.slot_count();
+    ws.detector->set_sink([&](int64_t t, std::span<const ModuleId> ids, std::span<const watch::Value> actions) {
+      ws.matches += ids.size() / k;
+      keep_matches(w, t, latest_, ids.size() / k, ids, actions);
+      if (sink) sink(w, t, ids, actions);
+    });
+    const watch::DetectorStats before = ws.detector->stats();
+    ws.detector->finish();
+    add_drained_stats(w, before, ws.detector->stats());
+  }
+  drained_ = true;
+}
+
+// The drain's work, as one more entry of the session's series.
+void Session::add_drained_stats(uint32_t w, const watch::DetectorStats& before, const watch::DetectorStats& after) {
+  watch::StepStats drained;
+  drained.step = latest_;
+  drained.live_by_filled.assign(watches_[w].hosted.watchpoint.program.slot_count() + 1, 0);
+  for (size_t i = 0; i < after.created_by_filled.size() && i < before.created_by_filled.size(); ++i)
+    drained.live_by_filled[i] = after.created_by_filled[i] - before.created_by_filled[i];
+  drained.created = after.created - before.created;
+  drained.messages = after.messages - before.messages;
+  drained.bytes = after.bytes - before.bytes;
+  drained.lost = after.lost - before.lost;
+  drained.value_messages = after.value_messages - before.value_messages;
+  drained.matches = after.matches - before.matches;
+  drained.seconds = after.seconds - before.seconds;
+  if (drained.created || drained.messages || drained.matches || drained.lost) watches_[w].add_stats(drained, latest_);
+}
+
+// Agents that wait a hop for their neighbours' values decide the run's last steps too, as replay
+// of the run's trace does (watch::DistributedDetector::finish).
+void Session::drain_agents(const DrainSink& sink) {
+  for (uint32_t w = 0; w < watches_.size(); ++w) {
+    WatchSlot& slot = watches_[w];
+    const watch::Program& p = slot.hosted.watchpoint.program;
+    if (!slot.hosted.runs_on_agents() || p.aggregate_hops == 0) continue;
+    for (int64_t f = head_.step - p.agent_delay(); f <= head_.step - 1 - p.extent_plus; ++f) {
+      if (f < 0 || head_.watches[w].stopped) continue;
+      WatchStepOutput out;
+      runtime_->drain_agents(head_, w, f, out);
+      if (out.observed) slot.add_stats(out.stats, latest_);
+      slot.stats.stopped = head_.watches[w].stopped;
+      slot.stats.stop_reason = head_.watches[w].stop_reason;
+      keep_matches(w, out.t, latest_, out.matches, out.slots, out.actions);
+      if (!out.slots.empty() && sink) sink(w, out.t, out.slots, out.actions);
+    }
+  }
+}
+
+std::vector<uint64_t> Session::match_counts(uint32_t w, int64_t from, int64_t to) const {
+  std::vector<uint64_t> counts(static_cast<size_t>(std::max<int64_t>(0, to - from + 1)), 0);
+  const MatchList& list = watches_[w].matches;
+  for (const MatchList::Counted& c : list.counted)
+    if (c.t >= from && c.t <= to) counts[static_cast<size_t>(c.t - from)] += c.matches;
+  const size_t first = list.at(from).first;
+  for (size_t i = first; i < list.size() && list.t[i] <= to; ++i) ++counts[static_cast<size_t>(list.t[i] - from)];
+  return counts;
+}
+
+int Session::watch_index(std::string_view name) const {
+  const std::optional<uint32_t> w = watches_.find(name);
+  return w ? static_cast<int>(*w) : -1;
+}
+
+std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control& control, std::string* why) {
+  const auto refuse = [why](std::string reason) {
+    if (why) *why = std::move(reason);
+    return std::nullopt;
+  };
+  const std::optional<uint32_t> replaces = watches_.find(watch.watchpoint.name);
+  if (!replaces && watches_.size() >= watch::kMaxWatchpoints)
+    return refuse("a session holds at most " + std::to_string(watch::kMaxWatchpoints) +
+                  " watchpoints: unwatch one first");
+  if (!has_history())
+    return refuse(control.stopped() ? "cancelled" : "the session keeps no history to evaluate a watchpoint over");
+  const bool acts = !watch.watchpoint.program.actions.empty() ||
+                    (replaces && !watches_[*replaces].hosted.watchpoint.program.actions.empty());
+  // The new watchpoint goes in last; then, replacing one, into its place (the others keep theirs).
+  watches_.add(std::move(watch));
+  const uint32_t w = watches_.size() - 1;
+  if (acts) {
+    // Its actions change the states themselves (docs/design.md §4b): the history is simulated again.
+    if (replaces) watches_.move_last_to(*replaces);
+    mirror_watches();
+    rebuild_runtime();
+    resimulate();
+    return replaces.value_or(w);
+  }
+  rebuild_runtime();
+  bool evaluated = false;
+  try {
+    evaluated = evaluate_over_history(w, control);
+  } catch (...) {
+    watches_.pop_back();
+    rebuild_runtime();
+    throw;
+  }
+  if (!evaluated) {  // cancelled: as it was
+    watches_.pop_back();
+    rebuild_runtime();
+    return refuse("cancelled");
+  }
+  if (replaces) {
+    const auto move_last = [r = *replaces](std::vector<WatchState>& v) {
+      v[r] = std::move(v.back());
+      v.pop_back();
+    };
+    watches_.move_last_to(*replaces);
+    move_last(head_.watches);
+    for (State& k : keyframes_) move_last(k.watches);
+    rebuild_runtime();
+  }
+  mirror_watches();
+  recount_history();
+  look_ahead({});
+  return replaces.value_or(w);
+}
+
+// The new watchpoint at position w (the last) evaluated alone over the history, from the first
+// keyframe, its state copied into every keyframe on the way and then the head's. False when
+// cancelled (its states are then in no keyframe).
+bool Session::evaluate_over_history(uint32_t w, const Control& control) {
+  State s = acting_part(keyframes_[0]);
+  restore_bodies(s, 0);
+  s.watches.push_back(runtime_->initial_watch_state(w));
+  std::vector<WatchState> at_keyframe{s.watches[w]};  // its state at keyframes_[i]
+  size_t added = state_bytes(State{.watches = {at_keyframe[0]}});
+  std::vector<uint8_t> watching(w + 1, 0);
+  watching[w] = 1;
+  StepOutput out;
+  while (s.step <= latest_ || (s.step % interval_ == 0 && s.step / interval_ < int64_t(keyframes_.size()))) {
+    if (s.step % interval_ == 0 && s.step > 0) {
+      at_keyframe.push_back(s.watches[w]);
+      added += state_bytes(State{.watches = {at_keyframe.back()}});
+      // Keyframes must stay within the budget with the new watchpoint's states in them too.
+      while (keyframes_.size() > 1 &&
+             history_bytes_ + added / at_keyframe.size() * keyframes_.size() > options_.history_bytes) {
+        thin_keyframes();
+        std::vector<WatchState> kept;
+        for (size_t i = 0; i < at_keyframe.size(); i += 2) kept.push_back(std::move(at_keyframe[i]));
+        at_keyframe = std::move(kept);
+        added = 0;
+        for (const WatchState& ws : at_keyframe) added += state_bytes(State{.watches = {ws}});
+      }
+    }
+    if (s.step > latest_) break;
+    if (control.stopped()) return false;
+    step(s, out, watching);
+    world_on_ = nullptr;  // `s` is a local
+    record_output(s, out, w, 1);
+    if (control.progress) control.progress(s.step, latest_ + 1);
+  }
+  for (size_t i = 0; i < keyframes_.size(); ++i) keyframes_[i].watches.push_back(std::move(at_keyframe[i]));
+  head_.watches.push_back(std::move(s.watches[w]));
+  view_valid_ = false;
+  return true;
+}
+
+// A new watchpoint may have a longer lag: the current step is decided again, as far as the end allows.
+void Session::look_ahead(const StepObserver& observer) {
+  const int64_t need = std::min(current_ + max_lag(), options_.end - 1);
+  while (latest_ < need) step_head(observer);
+}
+
+bool Session::remove_watch(std::string_view name) {
+  const std::optional<uint32_t> found = watches_.find(name);
+  if (!found) return false;
+  const uint32_t w = *found;
+  const bool acted = !watches_[w].hosted.watchpoint.program.actions.empty();
+  watches_.erase(w);
+  mirror_watches();
+  head_.watches.erase(head_.watches.begin() + std::ptrdiff_t{w});
+  for (State& k : keyframes_) k.watches.erase(k.watches.begin() + std::ptrdiff_t{w});
+  view_valid_ = false;
+  rebuild_runtime();
+  recount_history();
+  if (acted) resimulate();
+  return true;
+}
+
+void Session::mirror_watches() {
+  mirrored_.watches.clear();
+  for (const HostedWatchpoint& h : watches_.hosted()) mirrored_.watches.push_back(h);
+}
+
+}  // namespace dw::sim
