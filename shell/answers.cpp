@@ -20,7 +20,7 @@ nlohmann::ordered_json Shell::intervention_answer(const sim::Intervention& inter
 }
 
 nlohmann::ordered_json Shell::match_json(uint32_t w, size_t i) const {
-  const sim::HostedWatchpoint& h = session_.model().watches[w];
+  const sim::HostedWatchpoint& h = session_.watches()[w].hosted;
   const sim::MatchList& list = session_.matches(w);
   const size_t k = h.watchpoint.program.slot_count();
   nlohmann::ordered_json j;
@@ -40,7 +40,7 @@ nlohmann::ordered_json Shell::match_json(uint32_t w, size_t i) const {
 }
 
 Shell::Answer Shell::matches(const Command& cmd, nlohmann::ordered_json answer) {
-  const sim::Model& model = session_.model();
+  const sim::WatchSlots& watches = session_.watches();
   int w = -1;
   if (!cmd.name.empty() && (w = session_.watch_index(cmd.name)) < 0)
     return failed("no watchpoint is named '" + cmd.name + "'");
@@ -49,12 +49,12 @@ Shell::Answer Shell::matches(const Command& cmd, nlohmann::ordered_json answer) 
   // listed and what it counted answered under only_counted, whatever its action is now.
   nlohmann::ordered_json list = nlohmann::ordered_json::array(), only_counted = nlohmann::ordered_json::object();
   uint64_t counted = 0;
-  for (uint32_t i = 0; i < model.watches.size(); ++i) {
+  for (uint32_t i = 0; i < watches.size(); ++i) {
     if (w >= 0 && i != static_cast<uint32_t>(w)) continue;
     const sim::MatchList& m = session_.matches(i);
     const uint64_t n = cmd.number ? m.counted_at(*cmd.number) : m.counted_total();
-    if (n > 0 || model.watches[i].action == sim::MatchAction::Count) {
-      only_counted[model.watches[i].watchpoint.name] = n;
+    if (n > 0 || watches[i].hosted.action == sim::MatchAction::Count) {
+      only_counted[watches[i].hosted.watchpoint.name] = n;
       counted += n;
     }
     const auto [first, last] = cmd.number ? m.at(*cmd.number) : std::pair<size_t, size_t>{0, m.size()};
@@ -109,16 +109,16 @@ Shell::Answer Shell::interventions(nlohmann::ordered_json answer) {
 }
 
 Shell::Answer Shell::status(nlohmann::ordered_json answer) {
-  const sim::Model& model = session_.model();
   add_position(answer);
   answer["end"] = session_.end();
   nlohmann::ordered_json watches = nlohmann::ordered_json::array();
-  for (uint32_t w = 0; w < model.watches.size(); ++w) {
-    const sim::HostedWatchpoint& h = model.watches[w];
-    watches.push_back({{"name", h.watchpoint.name},
-                       {"algorithm", watch::algorithm_name(h.algorithm)},
-                       {"shape", watch::shape_name(watch::group_shape(h.algorithm, h.options))},
-                       {"action", sim::action_name(h.action)},
+  for (uint32_t w = 0; w < session_.watches().size(); ++w) {
+    const sim::HostedWatchpoint& h = session_.watches()[w].hosted;
+    const sim::WatchSpec spec = sim::spec_of(h);
+    watches.push_back({{"name", spec.name},
+                       {"algorithm", spec.algorithm_name()},
+                       {"shape", spec.shape_name()},
+                       {"action", sim::action_name(spec.action)},
                        {"lag", h.lag()},
                        {"decided", session_.decided(w)},
                        {"matches", session_.match_count(w)},

@@ -61,7 +61,7 @@ Shell::Answer Shell::run_to(const Command& cmd, const sim::Control& control, nlo
   if (cmd.kind == Kind::Run && !cmd.name.empty()) {
     const int w = session_.watch_index(cmd.name);
     if (w < 0) return failed("no watchpoint is named '" + cmd.name + "'");
-    if (model.watches[static_cast<size_t>(w)].action == sim::MatchAction::Count)
+    if (session_.watches()[static_cast<uint32_t>(w)].hosted.action == sim::MatchAction::Count)
       return failed("'" + cmd.name + "' counts its matches and keeps none to stop at ('action " + cmd.name +
                     " log' keeps them from now on)");
     to_match = static_cast<uint32_t>(w);
@@ -73,7 +73,7 @@ Shell::Answer Shell::run_to(const Command& cmd, const sim::Control& control, nlo
   add_position(answer);
   nlohmann::ordered_json stop = nullptr;
   if (pause) {
-    const sim::HostedWatchpoint& h = model.watches[pause->watch];
+    const sim::HostedWatchpoint& h = session_.watches()[pause->watch].hosted;
     nlohmann::ordered_json group = nlohmann::ordered_json::object();
     for (size_t s = 0; s < pause->group.size(); ++s)
       group[h.watchpoint.program.slot_names[s]] = model.universe.id(pause->group[s]);
@@ -95,7 +95,7 @@ Shell::Answer Shell::set_action(const Command& cmd, nlohmann::ordered_json answe
   const int w = session_.watch_index(cmd.name);
   if (w < 0) return failed("no watchpoint is named '" + cmd.name + "'");
   answer["watch"] = cmd.name;
-  answer["was"] = std::string(sim::action_name(session_.model().watches[static_cast<size_t>(w)].action));
+  answer["was"] = std::string(sim::action_name(session_.watches()[static_cast<uint32_t>(w)].hosted.action));
   session_.set_action(static_cast<uint32_t>(w), cmd.action);
   answer["action"] = std::string(sim::action_name(cmd.action));
   return answer;
@@ -141,21 +141,16 @@ Shell::Answer Shell::reload(nlohmann::ordered_json answer) {
 
 // watch: a watchpoint added or replaced, evaluated over the whole history at once.
 Shell::Answer Shell::set_watch(const Command& cmd, const sim::Control& control, nlohmann::ordered_json answer) {
-  const sim::Model& model = session_.model();
-  const bool replaces = std::any_of(model.watches.begin(), model.watches.end(), [&](const sim::HostedWatchpoint& h) {
-    return h.watchpoint.name == cmd.watch->watchpoint.name;
-  });
-  if (!replaces && model.watches.size() >= watch::kMaxWatchpoints)
-    return failed("a session holds at most " + std::to_string(watch::kMaxWatchpoints) +
-                  " watchpoints: unwatch one first");
-  const auto w = session_.set_watch(*cmd.watch, control);
-  if (!w) return failed(control.stopped() ? "cancelled" : "the session keeps no history to evaluate a watchpoint over");
-  const sim::HostedWatchpoint& h = model.watches[*w];
-  answer["watch"] = h.watchpoint.name;
+  std::string why;
+  const auto w = session_.set_watch(*cmd.watch, control, &why);
+  if (!w) return failed(why);
+  const sim::HostedWatchpoint& h = session_.watches()[*w].hosted;
+  const sim::WatchSpec spec = sim::spec_of(h);
+  answer["watch"] = spec.name;
   answer["index"] = *w;
-  answer["algorithm"] = watch::algorithm_name(h.algorithm);
-  answer["shape"] = watch::shape_name(watch::group_shape(h.algorithm, h.options));
-  answer["action"] = sim::action_name(h.action);
+  answer["algorithm"] = spec.algorithm_name();
+  answer["shape"] = spec.shape_name();
+  answer["action"] = sim::action_name(spec.action);
   answer["lag"] = h.lag();
   answer["matches"] = session_.match_count(*w);
   answer["decided"] = session_.decided(*w);

@@ -270,49 +270,42 @@ bool ArgumentReader::watch() {
   if (tokens.size() < 3) return usage(after_last);
   cmd.name = tokens[1].text;
   if (const std::string why = watch::name_problem(cmd.name); !why.empty()) return fail(tokens[1].span, why);
-  watch::Algorithm algorithm = watch::Algorithm::Distributed;
-  sim::MatchAction action = sim::MatchAction::Log;
-  watch::DetectorOptions options;
-  options.live_budget = 20'000'000;  // as a scenario's [[watch]] by default
+  sim::WatchSpec spec;  // with the default budget, as a scenario's [[watch]]
+  spec.name = cmd.name;
   size_t i = 2;
   // Each kind of word at most once: `centralized distributed` would otherwise keep the last.
-  std::array<const Token*, 4> said{};  // algorithm, action, shape, states
-  static constexpr std::array<const char*, 4> kKinds{"algorithm", "action", "shape", "states"};
+  std::array<const Token*, 4> said{};  // by sim::WatchWord: algorithm, action, shape, states
   for (; i < tokens.size() && tokens[i].text.rfind("modules", 0) != 0; ++i) {
     const std::string_view w = tokens[i].text;
-    size_t kind = 0;
-    if (w == "centralized") algorithm = watch::Algorithm::Centralized;
-    else if (w == "distributed") algorithm = watch::Algorithm::Distributed;
-    else if (w == "log") action = sim::MatchAction::Log, kind = 1;
-    else if (w == "pause") action = sim::MatchAction::Pause, kind = 1;
-    else if (w == "count") action = sim::MatchAction::Count, kind = 1;
-    else if (auto shape = watch::parse_shape(w)) options.shape = shape, kind = 2;
-    else if (auto states = watch::parse_states(w)) options.states = states, kind = 3;
-    else
+    const std::optional<sim::WatchWord> part = sim::read_word(spec, w);
+    if (!part)
       return fail(tokens[i].span,
                   "expected centralized, distributed, chain, ordered, any, consistent, simultaneous, log, "
                   "pause, count or the watchpoint's text (modules(...); ...), not '" +
                       std::string(w) + "'");
+    const auto kind = static_cast<size_t>(*part);
     if (said[kind])
       return fail(tokens[i].span, "'" + std::string(w) + "' after '" + std::string(said[kind]->text) +
-                                      "': the watchpoint's " + kKinds[kind] + " is given once");
+                                      "': the watchpoint's " + sim::word_key(*part) + " is given once");
     said[kind] = &tokens[i];
   }
-  if (const std::string why = watch::unsupported(algorithm, options); !why.empty()) return fail(tokens[1].span, why);
+  if (const std::string why = watch::unsupported(spec.algorithm, spec.options); !why.empty())
+    return fail(tokens[1].span, why);
   if (i == tokens.size()) return fail(after_last, "the watchpoint's text is missing: modules(...); ...");
   // Compiled against the script's own text, blanked but for the watchpoint, so that its
   // diagnostics point into the script.
   const std::string& text = source.text();
+  spec.text = text.substr(tokens[i].span.begin, stop - tokens[i].span.begin);
   std::string blanked(text.size(), ' ');
   for (size_t c = 0; c < text.size(); ++c)
     if (text[c] == '\n') blanked[c] = '\n';
-  std::copy(text.begin() + tokens[i].span.begin, text.begin() + stop, blanked.begin() + tokens[i].span.begin);
-  auto compiled = watch::compile_watchpoint(cmd.name, watch::SourceText(source.name(), std::move(blanked)));
+  std::copy(spec.text.begin(), spec.text.end(), blanked.begin() + tokens[i].span.begin);
+  auto compiled = sim::compile(spec, watch::SourceText(source.name(), std::move(blanked)));
   if (auto* error = std::get_if<watch::CompileError>(&compiled)) {
     mistakes = std::move(error->diagnostics);
     return false;
   }
-  sim::HostedWatchpoint hosted{std::move(std::get<watch::Watchpoint>(compiled)), algorithm, action, options};
+  sim::HostedWatchpoint& hosted = std::get<sim::HostedWatchpoint>(compiled);
   for (watch::Diagnostic& d : sim::unknown_variable_mistakes(model, hosted.watchpoint))
     mistakes.push_back(std::move(d));
   cmd.watch = std::move(hosted);

@@ -41,9 +41,8 @@ render::SceneSettings scene_settings(const scenarios::Scenario& scenario, const 
 std::vector<render::SceneGroup> groups_at(const sim::Session& session, int64_t t, Highlight highlight) {
   std::vector<render::SceneGroup> groups;
   if (highlight == Highlight::None) return groups;
-  const sim::Model& model = session.model();
-  for (uint32_t w = 0; w < model.watches.size(); ++w) {
-    const watch::Watchpoint& wp = model.watches[w].watchpoint;
+  for (uint32_t w = 0; w < session.watches().size(); ++w) {
+    const watch::Watchpoint& wp = session.watches()[w].hosted.watchpoint;
     const size_t k = size_t(wp.program.slot_count());
     const sim::MatchList& list = session.matches(w);
     for (auto [i, last] = list.at(t); i < last; ++i) {

@@ -70,7 +70,7 @@ Shell::Answer Shell::save_file(const Command& cmd, nlohmann::ordered_json answer
   out->stream() << *text;
   if (std::string error = out->commit(); !error.empty()) return failed(error);
   answer["save"] = cmd.name;
-  answer["watches"] = session_.model().watches.size();
+  answer["watches"] = session_.watches().size();
   answer["interventions"] = session_.interventions().size();
   return answer;
 }

@@ -33,7 +33,7 @@ Debugger::Debugger(const scenarios::Scenario& scenario, sim::Session& session, G
   ImGui_ImplGlfw_InitForOpenGL(window_.handle(), true);
   ImGui_ImplOpenGL3_Init("#version 330 core");
   model_.color_by = scenario_.view.color_by;
-  edit_name_ = "w" + std::to_string(session_.model().watches.size() + 1);
+  edit_name_ = "w" + std::to_string(session_.watches().size() + 1);
   const std::string save_path = shell::file_name_part(scenario_.name) + "-branch.toml";
   save_path.copy(save_path_, sizeof save_path_ - 1);
   last_request_ = std::chrono::steady_clock::now();

@@ -36,7 +36,8 @@ void Debugger::press(Key key) {
   const std::span<const int64_t> steps = w < readout_.watches.size()
                                              ? std::span<const int64_t>(readout_.watches[w].nearest_steps)
                                              : std::span<const int64_t>();
-  apply(model_.on_key(key, readout_.at, steps, w < readout_.watches.size() ? readout_.watches[w].name : std::string()));
+  apply(model_.on_key(key, readout_.at, steps,
+                      w < readout_.watches.size() ? readout_.watches[w].spec.name : std::string()));
   if (model_.screenshot_requested) {
     model_.screenshot_requested = false;
     const std::string path = "dwatch-" + shell::file_name_part(scenario_.name) + "-step-" +

@@ -134,7 +134,7 @@ void Debugger::statistics_panel() {
   ImGui::Text("frame %.1f ms", shown_frame_ms_);
   for (size_t w = 0; w < readout_.stats.size(); ++w) {
     const std::vector<StatsRow>& rows = readout_.stats[w];
-    if (!ImGui::CollapsingHeader(readout_.watches[w].name.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) continue;
+    if (!ImGui::CollapsingHeader(readout_.watches[w].spec.name.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) continue;
     if (rows.empty()) {
       ImGui::TextDisabled("no steps yet");
       continue;

@@ -74,11 +74,11 @@ void Debugger::transport_panel() {
   flow(140);
   ImGui::SetNextItemWidth(140);
   const char* chosen = size_t(model_.chosen_watch) < readout_.watches.size()
-                           ? readout_.watches[size_t(model_.chosen_watch)].name.c_str()
+                           ? readout_.watches[size_t(model_.chosen_watch)].spec.name.c_str()
                            : "(none)";
   if (ImGui::BeginCombo("##chosen", chosen)) {
     for (size_t w = 0; w < readout_.watches.size(); ++w)
-      if (ImGui::Selectable(readout_.watches[w].name.c_str(), int(w) == model_.chosen_watch))
+      if (ImGui::Selectable(readout_.watches[w].spec.name.c_str(), int(w) == model_.chosen_watch))
         model_.chosen_watch = int(w);
     ImGui::EndCombo();
   }
@@ -169,7 +169,7 @@ void Debugger::timeline(float width) {
     const float y = origin.y + lane * float(w) + 2;
     const bool interventions = w == readout_.watches.size();
     const ImU32 color = interventions ? IM_COL32(240, 240, 240, 255) : lane_color(w);
-    const std::string& name = interventions ? names.front() : readout_.watches[w].name;
+    const std::string& name = interventions ? names.front() : readout_.watches[w].spec.name;
     const std::string shown = fitted_text(name, label - 6);
     if (shown != name) drawing_cut_labels_.push_back(name);
     draw->AddText(ImVec2(origin.x, y - 2), color, shown.c_str());
@@ -383,12 +383,12 @@ void Debugger::matches_panel() {
   MatchFilter& filter = model_.filter;
   ImGui::SetNextItemWidth(120);
   const char* watch_label = filter.watch >= 0 && size_t(filter.watch) < readout_.watches.size()
-                                ? readout_.watches[size_t(filter.watch)].name.c_str()
+                                ? readout_.watches[size_t(filter.watch)].spec.name.c_str()
                                 : "every watch";
   if (ImGui::BeginCombo("##filter_watch", watch_label)) {
     if (ImGui::Selectable("every watch", filter.watch < 0)) filter.watch = -1, readout_stale_ = true;
     for (size_t w = 0; w < readout_.watches.size(); ++w)
-      if (ImGui::Selectable(readout_.watches[w].name.c_str(), int(w) == filter.watch))
+      if (ImGui::Selectable(readout_.watches[w].spec.name.c_str(), int(w) == filter.watch))
         filter.watch = int(w), readout_stale_ = true;
     ImGui::EndCombo();
   }
@@ -418,7 +418,7 @@ void Debugger::matches_panel() {
     std::string lines;
     size_t written = 0;
     const bool read = worker_->try_read([&](sim::Session& s) {
-      for (uint32_t w = 0; w < s.model().watches.size(); ++w)
+      for (uint32_t w = 0; w < s.watches().size(); ++w)
         for (size_t i = 0; i < s.matches(w).size(); ++i, ++written) lines += shell_.match_json(w, i).dump() + "\n";
     });
     // As every output of dwatch: never over an input, and whole or not at all.

@@ -8,8 +8,9 @@
 
 namespace dw::view {
 
-std::string slots_text(const sim::Model& model, uint32_t watch, std::span<const sim::ModuleId> group) {
-  const auto& names = model.watches[watch].watchpoint.program.slot_names;
+std::string slots_text(const sim::Session& session, uint32_t watch, std::span<const sim::ModuleId> group) {
+  const sim::Model& model = session.model();
+  const auto& names = session.watches()[watch].hosted.watchpoint.program.slot_names;
   std::string s;
   for (size_t i = 0; i < group.size() && i < names.size(); ++i)
     s += (s.empty() ? "" : " ") + names[i] + "=" + std::to_string(model.universe.id(group[i]));
@@ -32,17 +33,16 @@ std::optional<ModuleWindow> read_module_window(sim::Session& session, sim::Modul
 namespace {
 
 std::vector<sim::ModuleId> group_of(const sim::Session& session, MatchRef r) {
-  const size_t k = size_t(session.model().watches[r.watch].watchpoint.program.slot_count());
+  const size_t k = size_t(session.watches()[r.watch].hosted.watchpoint.program.slot_count());
   const sim::MatchList& list = session.matches(r.watch);
   return {list.slots.begin() + std::ptrdiff_t(r.index * k), list.slots.begin() + std::ptrdiff_t((r.index + 1) * k)};
 }
 
 // A match as a row of the matches table (and of the Module panel's list).
 MatchRowText match_row(const sim::Session& session, MatchRef r) {
-  const sim::Model& model = session.model();
   const sim::MatchList& list = session.matches(r.watch);
-  return {r, model.watches[r.watch].watchpoint.name, list.t[r.index], list.detected[r.index],
-          slots_text(model, r.watch, group_of(session, r))};
+  return {r, session.watches()[r.watch].hosted.watchpoint.name, list.t[r.index], list.detected[r.index],
+          slots_text(session, r.watch, group_of(session, r))};
 }
 
 Inspector inspect(sim::Session& session, const ViewModel& view, const ModuleWindow* window,
@@ -93,8 +93,8 @@ Readout read_readout(sim::Session& session, const scenarios::Scenario& scenario,
   readout.keyframe_interval = session.keyframe_interval();
   readout.failure = session.failure();
 
-  for (uint32_t w = 0; w < model.watches.size(); ++w) {
-    const sim::HostedWatchpoint& h = model.watches[w];
+  for (uint32_t w = 0; w < session.watches().size(); ++w) {
+    const sim::HostedWatchpoint& h = session.watches()[w].hosted;
     WatchRow row;
     row.spec = sim::spec_of(h);
     row.spec.text = h.watchpoint.source->text();
@@ -130,10 +130,10 @@ Readout read_readout(sim::Session& session, const scenarios::Scenario& scenario,
   const int64_t t = std::max<int64_t>(0, readout.at.current);
   std::vector<render::SceneGroup> groups;
   if (readout.at.current >= 0) groups = shell::groups_at(session, t, shell::Highlight::First);
-  if (const auto& chosen = view.selected_match; chosen && chosen->watch < model.watches.size() &&
+  if (const auto& chosen = view.selected_match; chosen && chosen->watch < session.watches().size() &&
                                                 chosen->index < session.matches(chosen->watch).size() &&
                                                 session.matches(chosen->watch).t[chosen->index] == t) {
-    const watch::Watchpoint& wp = model.watches[chosen->watch].watchpoint;
+    const watch::Watchpoint& wp = session.watches()[chosen->watch].hosted.watchpoint;
     groups = {{wp.name, t, wp.program.slot_names, group_of(session, *chosen)}};
   }
   render::SceneSettings settings = shell::scene_settings(scenario, view.color_by);

@@ -124,6 +124,6 @@ Readout read_readout(sim::Session& session, const scenarios::Scenario& scenario,
                      const ReadoutRequest& request, const ReadoutLimits& limits = {});
 
 // "a=3 b=7": a group's slots by name.
-std::string slots_text(const sim::Model& model, uint32_t watch, std::span<const sim::ModuleId> group);
+std::string slots_text(const sim::Session& session, uint32_t watch, std::span<const sim::ModuleId> group);
 
 }  // namespace dw::view

@@ -87,7 +87,7 @@ void Debugger::refresh_readout() {
         const auto [first, last] = s.matches(uint32_t(w)).at(paused->second);
         if (first < last) {
           model_.selected_match = MatchRef{uint32_t(w), first};
-          const size_t k = size_t(s.model().watches[size_t(w)].watchpoint.program.slot_count());
+          const size_t k = size_t(s.watches()[uint32_t(w)].hosted.watchpoint.program.slot_count());
           model_.selected = s.matches(uint32_t(w)).slots[first * k];
           model_.reveal_group = true;
         }
@@ -101,8 +101,8 @@ void Debugger::refresh_readout() {
                            (model_.filter.module ? std::to_string(*model_.filter.module) : "-") + "|" +
                            std::to_string(int(model_.filter.order)) + std::to_string(model_.filter.descending) + "|" +
                            std::to_string(s.interventions().size());
-    for (uint32_t w = 0; w < s.model().watches.size(); ++w)
-      rows_key += "|" + s.model().watches[w].watchpoint.source->text() + "#" + std::to_string(s.matches(w).size());
+    for (uint32_t w = 0; w < s.watches().size(); ++w)
+      rows_key += "|" + s.watches()[w].hosted.watchpoint.source->text() + "#" + std::to_string(s.matches(w).size());
     if (rows_key == rows_key_ || (model_.playing && now - rows_read_at_ < std::chrono::milliseconds(500))) {
       request.keep_rows = &readout_;
     } else {

@@ -152,13 +152,12 @@ std::optional<int64_t> previous_match(std::span<const int64_t> steps, int64_t t)
 
 MatchRows filter_matches(const sim::Session& session, const MatchFilter& filter, size_t limit) {
   MatchRows result;
-  const sim::Model& model = session.model();
   std::vector<MatchRef> all, one, merged;
   auto step_of = [&](const MatchRef& r) { return session.matches(r.watch).t[r.index]; };
-  for (uint32_t w = 0; w < model.watches.size(); ++w) {
+  for (uint32_t w = 0; w < session.watches().size(); ++w) {
     if (filter.watch >= 0 && uint32_t(filter.watch) != w) continue;
     const sim::MatchList& list = session.matches(w);
-    const size_t k = size_t(model.watches[w].watchpoint.program.slot_count());
+    const size_t k = size_t(session.watches()[w].hosted.watchpoint.program.slot_count());
     one.clear();
     for (size_t i = 0; i < list.size(); ++i) {
       if (filter.module) {
@@ -434,7 +433,7 @@ std::vector<std::string> ViewModel::on_match_click(const sim::Session& session, 
   playing = false;
   selected_match = match;
   const sim::MatchList& list = session.matches(match.watch);
-  const size_t k = size_t(session.model().watches[match.watch].watchpoint.program.slot_count());
+  const size_t k = size_t(session.watches()[match.watch].hosted.watchpoint.program.slot_count());
   selected = list.slots[match.index * k];
   reveal_group = true;
   return {command::seek(list.t[match.index])};

@@ -56,7 +56,7 @@ def replay(
     algorithm: str = "distributed",
     shape: Optional[str] = None,
     states: Optional[str] = None,
-    max_live: int = 20000000,
+    max_live: int = 20000000,  # sim::kDefaultMatchBudget (sim/watch_spec.h): a stub says the value
     count_only: bool = False,
 ) -> dict[str, Matches]:
     """Watchpoints over a trace file or columns, as `dwatch replay` runs them."""
@@ -90,7 +90,7 @@ class Session:
         shape: Optional[str] = None,
         states: Optional[str] = None,
         action: str = "log",
-        max_live: int = 20000000,
+        max_live: int = 20000000,  # sim::kDefaultMatchBudget (sim/watch_spec.h): a stub says the value
     ) -> dict[str, Any]: ...
     def unwatch(self, name: str) -> dict[str, Any]: ...
     def action(self, name: str, action: str) -> dict[str, Any]: ...

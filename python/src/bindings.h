@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "sim/watch_spec.h"
 #include "watch/detector.h"
 #include "watch/watchpoint.h"
 
@@ -21,18 +22,14 @@ void add_errors(py::module_& m);
 // Raises dwatch.WatchError for a watchpoint that does not compile: line, column and message of the
 // first mistake, and the caret text of all of them.
 [[noreturn]] void raise_watch_error(const watch::CompileError& error);
-// A watchpoint compiled from `text` named `name` (its source named "<watch NAME>"), or
-// dwatch.WatchError.
-watch::Watchpoint compile_or_raise(const std::string& name, const std::string& text);
+// The watchpoint `spec` compiled (its source named "<watch NAME>"), or dwatch.WatchError.
+sim::HostedWatchpoint compile_or_raise(const sim::WatchSpec& spec);
 
-// The detectors' reading from the names `--algorithm`, `--shape` and `--states` take, with the
-// `--max-live` budget; dwatch.Error when a name is wrong or the reading cannot run.
-struct Reading {
-  watch::Algorithm algorithm = watch::Algorithm::Distributed;
-  watch::DetectorOptions options;
-};
-Reading reading(const std::string& algorithm, const std::optional<std::string>& shape,
-                const std::optional<std::string>& states, uint64_t max_live);
+// A watchpoint's reading (its name and text left empty) from the names `--algorithm`, `--shape`
+// and `--states` take, with the `--max-live` budget; dwatch.Error when a name is wrong or the
+// reading cannot run.
+sim::WatchSpec reading(const std::string& algorithm, const std::optional<std::string>& shape,
+                       const std::optional<std::string>& states, uint64_t max_live);
 
 void add_check(py::module_& m);    // dwatch.check (module.cpp)
 void add_replay(py::module_& m);   // dwatch.replay and dwatch.Matches

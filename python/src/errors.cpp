@@ -51,10 +51,10 @@ void raise_watch_error(const watch::CompileError& error) {
   throw py::error_already_set();
 }
 
-watch::Watchpoint compile_or_raise(const std::string& name, const std::string& text) {
-  auto compiled = watch::compile_watchpoint(name, watch::SourceText("<watch " + name + ">", text));
+sim::HostedWatchpoint compile_or_raise(const sim::WatchSpec& spec) {
+  auto compiled = sim::compile(spec, watch::SourceText("<watch " + spec.name + ">", spec.text));
   if (auto* error = std::get_if<watch::CompileError>(&compiled)) raise_watch_error(*error);
-  return std::get<watch::Watchpoint>(std::move(compiled));
+  return std::get<sim::HostedWatchpoint>(std::move(compiled));
 }
 
 }  // namespace dw::python

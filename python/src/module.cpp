@@ -12,9 +12,11 @@ void add_check(py::module_& m) {
   m.def(
       "check",
       [](const std::string& text, const std::string& name) {
-        const watch::Watchpoint w = compile_or_raise(name, text);
+        sim::WatchSpec spec;
+        spec.name = name;
+        spec.text = text;
         std::ostringstream out;
-        watch::explain_watchpoint(w, out);
+        watch::explain_watchpoint(compile_or_raise(spec).watchpoint, out);
         return out.str();
       },
       py::arg("text"), py::arg("name") = "w",

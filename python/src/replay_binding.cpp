@@ -76,11 +76,14 @@ sim::Trace trace_from_file(const std::string& path) {
 
 // The watchpoints: a text, a sequence of texts (named w1, w2, ... as on the command line) or a
 // mapping of names to texts; none: those the trace's header lists, each with its run's reading.
-std::vector<sim::HostedWatchpoint> hosted(const py::object& watches, const Reading& r, const sim::Trace& trace,
+std::vector<sim::HostedWatchpoint> hosted(const py::object& watches, const sim::WatchSpec& r, const sim::Trace& trace,
                                           const std::string& trace_name) {
   std::vector<sim::HostedWatchpoint> out;
   const auto add = [&](const std::string& name, const std::string& text) {
-    out.push_back({compile_or_raise(name, text), r.algorithm, sim::MatchAction::Log, r.options});
+    sim::WatchSpec spec = r;
+    spec.name = name;
+    spec.text = text;
+    out.push_back(compile_or_raise(spec));
   };
   if (watches.is_none()) {
     auto from_header = sim::hosted_watches(trace.watches(), trace_name, r.options);
@@ -103,7 +106,7 @@ std::vector<sim::HostedWatchpoint> hosted(const py::object& watches, const Readi
 py::dict replay(const py::object& trace_arg, const py::object& watches, const std::string& algorithm,
                 const std::optional<std::string>& shape, const std::optional<std::string>& states, uint64_t max_live,
                 bool count_only) {
-  const Reading r = reading(algorithm, shape, states, max_live);
+  const sim::WatchSpec r = reading(algorithm, shape, states, max_live);
   const bool columns = py::isinstance<py::dict>(trace_arg);
   const std::string trace_name = columns ? "<columns>" : py::str(trace_arg).cast<std::string>();
   const sim::Trace trace = columns ? trace_from_columns(trace_arg.cast<py::dict>()) : trace_from_file(trace_name);
@@ -149,21 +152,16 @@ py::dict replay(const py::object& trace_arg, const py::object& watches, const st
 
 }  // namespace
 
-Reading reading(const std::string& algorithm, const std::optional<std::string>& shape,
-                const std::optional<std::string>& states, uint64_t max_live) {
-  Reading r;
-  if (algorithm == "centralized") r.algorithm = watch::Algorithm::Centralized;
-  else if (algorithm != "distributed")
+sim::WatchSpec reading(const std::string& algorithm, const std::optional<std::string>& shape,
+                       const std::optional<std::string>& states, uint64_t max_live) {
+  sim::WatchSpec r;
+  if (!sim::read_word(r, algorithm, sim::WatchWord::Algorithm))
     raise_error("Error", "algorithm must be 'centralized' or 'distributed', not '" + algorithm + "'");
   r.options.live_budget = max_live;
-  if (shape) {
-    r.options.shape = watch::parse_shape(*shape);
-    if (!r.options.shape) raise_error("Error", "shape must be 'chain', 'ordered' or 'any', not '" + *shape + "'");
-  }
-  if (states) {
-    r.options.states = watch::parse_states(*states);
-    if (!r.options.states) raise_error("Error", "states must be 'consistent' or 'simultaneous', not '" + *states + "'");
-  }
+  if (shape && !sim::read_word(r, *shape, sim::WatchWord::Shape))
+    raise_error("Error", "shape must be 'chain', 'ordered' or 'any', not '" + *shape + "'");
+  if (states && !sim::read_word(r, *states, sim::WatchWord::States))
+    raise_error("Error", "states must be 'consistent' or 'simultaneous', not '" + *states + "'");
   if (const std::string why = watch::unsupported(r.algorithm, r.options); !why.empty()) raise_error("Error", why);
   return r;
 }
@@ -171,7 +169,7 @@ Reading reading(const std::string& algorithm, const std::optional<std::string>& 
 void add_replay(py::module_& m) {
   add_matches(m);
   m.def("replay", &replay, py::arg("trace"), py::arg("watches") = py::none(), py::arg("algorithm") = "distributed",
-        py::arg("shape") = py::none(), py::arg("states") = py::none(), py::arg("max_live") = 20'000'000,
+        py::arg("shape") = py::none(), py::arg("states") = py::none(), py::arg("max_live") = sim::kDefaultMatchBudget,
         py::arg("count_only") = false,
         R"(Runs watchpoints over a trace, as `dwatch replay` does; returns {name: Matches}.
 

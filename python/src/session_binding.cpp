@@ -76,14 +76,16 @@ class Session {
     if (shell::command_word(name) != name && name.find('"') != std::string::npos)
       raise_error("CommandError", "a watchpoint's name with a space or '#' cannot also hold '\"', not " + quoted(name));
     if (const std::string why = watch::name_problem(name); !why.empty()) raise_error("CommandError", why);
-    const Reading r = reading(algorithm, shape, states, max_live);
-    const auto what = sim::parse_action(action);
-    if (!what) raise_error("Error", "action must be 'log', 'pause' or 'count', not " + quoted(action));
-    watch::Watchpoint w = compile_or_raise(name, text);
-    if (auto unknown = sim::unknown_variable_mistakes(session_->model(), w); !unknown.empty())
-      raise_watch_error({w.source, std::move(unknown)});
+    sim::WatchSpec spec = reading(algorithm, shape, states, max_live);
+    if (!sim::read_word(spec, action, sim::WatchWord::Action))
+      raise_error("Error", "action must be 'log', 'pause' or 'count', not " + quoted(action));
+    spec.name = name;
+    spec.text = text;
+    sim::HostedWatchpoint hosted = compile_or_raise(spec);
+    if (auto unknown = sim::unknown_variable_mistakes(session_->model(), hosted.watchpoint); !unknown.empty())
+      raise_watch_error({hosted.watchpoint.source, std::move(unknown)});
     shell::Command command{.kind = shell::Command::Kind::Watch, .name = name};
-    command.watch = sim::HostedWatchpoint{std::move(w), r.algorithm, *what, r.options};
+    command.watch = std::move(hosted);
     return execute(command);
   }
 
@@ -91,7 +93,7 @@ class Session {
     const int w = session_->watch_index(name);
     if (w < 0) raise_error("CommandError", "no watchpoint is named " + quoted(name));
     const sim::MatchList& list = session_->matches(static_cast<uint32_t>(w));
-    const auto& slot_names = session_->model().watches[static_cast<size_t>(w)].watchpoint.program.slot_names;
+    const auto& slot_names = session_->watches()[static_cast<uint32_t>(w)].hosted.watchpoint.program.slot_names;
     Matches::Builder built;
     built.t.append(list.t);
     built.detected.append(list.detected);
@@ -273,7 +275,7 @@ KeyboardInterrupt. Use a Session from one thread at a time (another thread may u
           "Intervention (physics): an impulse of (x, y, z) N s on the module's body.")
       .def("watch", &Session::watch, py::arg("name"), py::arg("text"), py::arg("algorithm") = "distributed",
            py::arg("shape") = py::none(), py::arg("states") = py::none(), py::arg("action") = "log",
-           py::arg("max_live") = 20'000'000,
+           py::arg("max_live") = sim::kDefaultMatchBudget,
            "Adds or replaces a watchpoint, evaluated over the whole history. Raises WatchError.")
       .def(
           "unwatch",
@@ -326,7 +328,7 @@ KeyboardInterrupt. Use a Session from one thread at a time (another thread may u
           "watches",
           [](const Session& s) {
             std::vector<std::string> names;
-            for (const sim::HostedWatchpoint& h : s.session().model().watches) names.push_back(h.watchpoint.name);
+            for (const sim::HostedWatchpoint& h : s.session().watches().hosted()) names.push_back(h.watchpoint.name);
             return names;
           },
           "The watchpoints' names.");
