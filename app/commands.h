@@ -8,6 +8,10 @@
 #include "shell/interrupts.h"
 #include "sim/rank_exchange.h"
 
+namespace dw::bench {
+struct BenchArgs;
+}  // namespace dw::bench
+
 namespace dw::app {
 
 // Registers a subcommand on `app`; `run` is set to the function that carries it out once parsed.
@@ -17,9 +21,10 @@ void add_replay_command(CLI::App& app, std::function<int()>& run);
 // `interrupts`: the process's signal watcher, which a long command lets stop it cleanly, or null.
 void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks = nullptr,
                      shell::Interrupts* interrupts = nullptr);
-void add_bench_command(CLI::App& app, std::function<int()>& run);
 void add_render_command(CLI::App& app, std::function<int()>& run, shell::Interrupts* interrupts = nullptr);
 void add_session_command(CLI::App& app, std::function<int()>& run, shell::Interrupts* interrupts = nullptr);
 void add_view_command(CLI::App& app, std::function<int()>& run);  // app/view/view_command.cpp
+// `bench view` (app/view/bench_view.cpp), which main hands to the bench command (bench/bench_command.h).
+int bench_view(const bench::BenchArgs& args);
 
 }  // namespace dw::app

@@ -14,6 +14,7 @@
 
 #include "app/commands.h"
 #include "app/terminal_filter.h"
+#include "bench/bench_command.h"
 #include "shell/interrupts.h"
 #ifdef DWATCH_MPI
 #include "dist/mpi_exchange.h"
@@ -101,7 +102,7 @@ int main(int argc, char** argv) {
   dw::app::add_render_command(app, run, watcher);
   dw::app::add_session_command(app, run, watcher);
   dw::app::add_view_command(app, run);
-  dw::app::add_bench_command(app, run);
+  dw::bench::add_bench_command(app, run, dw::app::bench_view);
   // A word where a command belongs that is none of them: say so, and name the real ones.
   if (argc > 1 && argv[1][0] != '-' &&
       app.get_subcommands([&](CLI::App* c) { return c->get_name() == argv[1]; }).empty()) {

@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "app/commands.h"
-#include "app/detector_flags.h"
+#include "app/detector_stats.h"
 #include "app/progress.h"
 #include "render/osmesa_context.h"
 #include "render/renderer.h"

@@ -14,8 +14,9 @@
 #include <cstdlib>
 
 #include "app/commands.h"
-#include "app/detector_flags.h"
+#include "app/detector_stats.h"
 #include "app/watch_args.h"
+#include "shell/detector_flags.h"
 #include "shell/integer_option.h"
 #include "shell/output_files.h"
 #include "sim/match_log.h"
@@ -34,7 +35,7 @@ struct ReplayArgs {
   size_t print = 20;
   double max_frame_gib = 0;      // 0: a quarter of the machine's memory
   int64_t max_module_steps = 0;  // 0: sim::replay_work_problem's default
-  DetectorFlags detector;
+  shell::DetectorFlags detector;
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -45,7 +46,7 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 // gave it (the command line's optimization switches and budget apply; the trace reader refused a
 // reading that cannot run); nothing, with the errors printed, when one does not compile or there is none.
 std::optional<std::vector<sim::HostedWatchpoint>> header_watches(const sim::Trace& trace, const std::string& path,
-                                                                 const DetectorFlags& flags) {
+                                                                 const shell::DetectorFlags& flags) {
   auto hosted = sim::hosted_watches(trace.watches(), path, flags.options());
   if (auto* errors = std::get_if<std::string>(&hosted)) {
     std::cerr << *errors;
@@ -255,7 +256,7 @@ void add_replay_command(CLI::App& app, std::function<int()>& run) {
   shell::add_integer_option(
       *cmd, "--max-module-steps", args->max_module_steps, {"max-module-steps", 1, std::numeric_limits<int64_t>::max()},
       "Steps x modules the detection may go over (default: 1,000 per line of the trace, at least 10^9)");
-  add_detector_flags(*cmd, args->detector);
+  shell::add_detector_flags(*cmd, args->detector);
   cmd->callback([&run, args] { run = [args] { return replay(*args); }; });
 }
 

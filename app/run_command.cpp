@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
-#include "app/detector_flags.h"
+#include "app/detector_stats.h"
 #include "app/progress.h"
 #include "scenarios/scenario.h"
 #include "shell/integer_option.h"

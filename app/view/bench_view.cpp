@@ -13,8 +13,9 @@
 #include <sstream>
 #include <vector>
 
-#include "app/bench.h"
+#include "app/commands.h"
 #include "app/view/debugger.h"
+#include "bench/bench.h"
 
 namespace dw::app {
 namespace {
@@ -60,7 +61,7 @@ std::string median_and_best(const Runs& runs, double scale) {
 
 }  // namespace
 
-int bench_view(const BenchArgs& args) {
+int bench_view(const bench::BenchArgs& args) {
   auto window = view::GlfwWindow::create(1600, 1000, "dwatch bench view");
   if (auto* error = std::get_if<std::string>(&window)) {
     std::cerr << "dwatch bench view: error: " << *error << "\n";

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "app/bench.h"
-#include "app/paper_numbers.h"
+#include "bench/bench.h"
+#include "bench/paper_numbers.h"
 
-namespace dw::app {
+namespace dw::bench {
 
 // Least squares y = slope * x + intercept; r_squared = 1 - SS_res / SS_tot (1 when every y is
 // the same and the line goes through them all).
@@ -79,8 +79,7 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
 std::string out_dir(const BenchArgs& args);
 // The command line that reproduces `run`, and the one that redraws its plots.
 std::string paper_command(const PaperRun& run);
-// `script` is scripts/plot_paper.py: plot_script() where this build found it.
+// `script` is scripts/plot_paper.py where this program finds it (shipped_files.h).
 std::string plot_command(const std::string& dir, const std::string& script);
-const char* plot_script();
 
-}  // namespace dw::app
+}  // namespace dw::bench

@@ -13,14 +13,14 @@
 #include <iomanip>
 #include <iostream>
 
-#include "app/bench.h"
+#include "bench/bench.h"
 #include "render/image.h"
 #include "render/osmesa_context.h"
 #include "render/palette.h"
 #include "render/renderer.h"
 #include "render/video_writer.h"
 
-namespace dw::app {
+namespace dw::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -176,4 +176,4 @@ int bench_render(const BenchArgs& args) {
   return 0;
 }
 
-}  // namespace dw::app
+}  // namespace dw::bench

@@ -1,46 +1,8 @@
-#include "app/detector_flags.h"
-
-#include "shell/integer_option.h"
+#include "app/detector_stats.h"
 
 #include "watch/ast.h"
 
 namespace dw::app {
-
-watch::Algorithm DetectorFlags::algorithm() const {
-  return algorithm_name == "centralized" ? watch::Algorithm::Centralized : watch::Algorithm::Distributed;
-}
-
-watch::DetectorOptions DetectorFlags::options() const {
-  watch::DetectorOptions o;
-  o.optimizations.early_termination = !no_early_termination;
-  o.optimizations.neighbor_culling = !no_neighbor_culling;
-  o.optimizations.temporal_spans = !no_temporal_spans;
-  o.live_budget = max_live;
-  if (!shape_name.empty()) o.shape = watch::parse_shape(shape_name);
-  if (!states_name.empty()) o.states = watch::parse_states(states_name);
-  return o;
-}
-
-void add_detector_flags(CLI::App& cmd, DetectorFlags& flags, bool with_algorithm) {
-  if (with_algorithm) {
-    cmd.add_option("--algorithm,-a", flags.algorithm_name, "centralized (Alg. 1) or distributed (Alg. 2)")
-        ->check(CLI::IsMember({"centralized", "distributed"}))
-        ->capture_default_str();
-  }
-  cmd.add_option("--shape", flags.shape_name,
-                 "Groups to find: chain, ordered or any (default: ordered centralized, chain distributed)")
-      ->check(CLI::IsMember({"chain", "ordered", "any"}));
-  cmd.add_option("--states", flags.states_name,
-                 "Distributed: consistent (the paper's) or simultaneous (exact, any shape; docs/design.md §4a)")
-      ->check(CLI::IsMember({"consistent", "simultaneous"}));
-  cmd.add_flag("--no-early-termination", flags.no_early_termination, "Keep PatternMatchers that can no longer match");
-  cmd.add_flag("--no-neighbor-culling", flags.no_neighbor_culling,
-               "Spread to every neighbour regardless of neighbor()");
-  cmd.add_flag("--no-temporal-spans", flags.no_temporal_spans, "Keep all history instead of each variable's span");
-  shell::add_integer_option(cmd, "--max-live", flags.max_live, scenarios::kMaxLiveRange,
-                            "Budget: most PatternMatchers alive in one step; past it the run stops (exit 1). 0: none")
-      ->default_val(flags.max_live);
-}
 
 void print_detector_stats(std::ostream& out, const watch::DetectorStats& st) {
   out << "    PatternMatchers: " << st.created << " created, peak " << st.peak_live << " live in a step";

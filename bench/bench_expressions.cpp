@@ -7,11 +7,11 @@
 #include <iomanip>
 #include <iostream>
 
-#include "app/bench.h"
-#include "app/bench_child.h"
+#include "bench/bench.h"
+#include "bench/bench_child.h"
 #include "shell/output_files.h"
 
-namespace dw::app {
+namespace dw::bench {
 
 int bench_expressions(const BenchArgs& args, bool tuples_given) {
   const std::pair<const char*, const char*> forms[] = {
@@ -62,4 +62,4 @@ int bench_expressions(const BenchArgs& args, bool tuples_given) {
   return shell::commit_outputs({csv_file.get()}) ? 0 : 1;
 }
 
-}  // namespace dw::app
+}  // namespace dw::bench

@@ -1,5 +1,5 @@
 // `dwatch bench NAME`: reproductions of the paper's measurements.
-//   engine    Table I on the watch engine alone, over a synthetic trace (bench_command.cpp)
+//   engine    Table I on the watch engine alone, over a synthetic trace (bench_engine.cpp)
 //   expressions  docs/design.md §4b's arithmetic and aggregates beside plain Fig. 6 (bench_expressions.cpp)
 //   shapes    every group shape and state mode (docs/design.md §4a) on the engine: time, messages per match
 //             (bench_shapes.cpp)
@@ -15,7 +15,8 @@
 //             (bench_render.cpp)
 //   session   the session's history: live cost, keyframes, seek, retroactive watchpoints (bench_session.cpp)
 //   lua       the Lua ports of scenarios/lua/ beside their C++ twins: speed and memory (bench_lua.cpp)
-//   view      the debugger window: frames/s, and how fast a click shows its step (app/view/bench_view.cpp)
+//   view      the debugger window: frames/s, and how fast a click shows its step (app/view/bench_view.cpp,
+//             handed to add_bench_command: bench_command.h)
 #pragma once
 
 #include <cstdint>
@@ -26,12 +27,12 @@
 #include <string>
 #include <vector>
 
-#include "app/detector_flags.h"
+#include "shell/detector_flags.h"
 #include "sim/output_file.h"
 #include "sim/trace.h"
 #include "watch/watchpoint.h"
 
-namespace dw::app {
+namespace dw::bench {
 
 // The paper's Fig. 6 watchpoint, as the benchmarks use it (x_i = 0 has probability 1/max_i).
 constexpr const char* kFig6 = "modules(a b c d); (a.x1 = 0) and (b.x2 = 0) and (c.x3 = 0) and (d.x4 = 0)";
@@ -54,7 +55,7 @@ struct BenchArgs {
   bool quick = false;                           // paper: at most 2 passes, 4 sizes for Fig. 8
   std::string table2_workload = "random_vars";  // paper: Table II's baseline
   std::string partition = "auto";               // mpi: run --partition
-  DetectorFlags detector;
+  shell::DetectorFlags detector;
 };
 
 // The CSV file `--out DIR` asks for (DIR/NAME.csv, the folder made if need be), with its header
@@ -95,7 +96,7 @@ std::string cubic_toml(uint32_t nx, uint32_t ny, uint32_t nz);
 std::string random_vars_toml(std::span<const int64_t> maxima);
 // A counting [[watch]] read the way the command's flags say (--no-*, --max-live, --shape, --states).
 std::string watch_toml(const std::string& name, const std::string& text, watch::Algorithm a,
-                       const DetectorFlags& flags);
+                       const shell::DetectorFlags& flags);
 // The paper's "medium-intensity workload" (§V-B): data aggregation and landmark routing.
 inline constexpr const char* kAggregationToml = "[[program]]\nname = \"aggregation_routing\"\nlandmarks = 3\n";
 
@@ -124,12 +125,9 @@ int bench_runtime(const BenchArgs& args);  // table1, overhead, million, physics
 int bench_mpi(const BenchArgs& args);      // bench_mpi.cpp
 // The million-module ensemble at edge `size` (bench million, bench mpi): random_vars [8:4:2:1] and
 // Fig. 6, distributed, counting; the default --max-live grows with the modules past a million.
-std::string million_toml(uint32_t size, DetectorFlags flags);
+std::string million_toml(uint32_t size, shell::DetectorFlags flags);
 int bench_render(const BenchArgs& args);
 int bench_session(const BenchArgs& args);
-int bench_view(const BenchArgs& args);
 int bench_lua(const BenchArgs& args);
-// Where the shipped Lua ports are (scenarios/lua/ of the source tree).
-const char* lua_dir();  // app/view/bench_view.cpp: the window (needs a display)
 
-}  // namespace dw::app
+}  // namespace dw::bench

@@ -4,11 +4,11 @@
 #include <iomanip>
 #include <iostream>
 
-#include "app/bench.h"
-#include "app/bench_child.h"
+#include "bench/bench.h"
+#include "bench/bench_child.h"
 #include "shell/output_files.h"
 
-namespace dw::app {
+namespace dw::bench {
 namespace {
 
 struct Reading {
@@ -91,4 +91,4 @@ int bench_shapes(const BenchArgs& args, bool tuples_given) {
   return status;
 }
 
-}  // namespace dw::app
+}  // namespace dw::bench

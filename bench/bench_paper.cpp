@@ -17,12 +17,13 @@
 #include <sstream>
 #include <thread>
 
-#include "app/bench.h"
-#include "app/paper_report.h"
+#include "bench/bench.h"
+#include "bench/paper_report.h"
+#include "bench/shipped_files.h"
 #include "shell/output_files.h"
 #include "watch/connected_groups.h"
 
-namespace dw::app {
+namespace dw::bench {
 namespace {
 
 // Counts the distinct module sets among a detector's four-slot matches, step by step: a set
@@ -324,7 +325,7 @@ int bench_paper(const BenchArgs& given) {
   if (!shell::commit_outputs({files[0].get(), files[1].get(), files[2].get(), files[3].get(), files[4].get()}))
     return 1;
 
-  const std::string plot = plot_command(dir, plot_script());
+  const std::string plot = plot_command(dir, shipped_files().plot_script);
   if (std::system((plot + " >&2").c_str()) != 0) {
     std::cerr << "dwatch bench: error: the plots were not made (" << plot
               << "); the CSV files and paper.md are written. Plotting needs Debian's python3-matplotlib "
@@ -337,4 +338,4 @@ int bench_paper(const BenchArgs& given) {
   return any_stopped(run) ? 1 : 0;
 }
 
-}  // namespace dw::app
+}  // namespace dw::bench

@@ -1,11 +1,11 @@
 // paper_report.cpp: the fits, the verdicts on the paper's claims, the CSV files and paper.md.
-#include "app/paper_report.h"
+#include "bench/paper_report.h"
 
 #include <gtest/gtest.h>
 
 #include <sstream>
 
-namespace dw::app {
+namespace dw::bench {
 namespace {
 
 TEST(FitLine, ThroughALineExactly) {
@@ -150,4 +150,4 @@ TEST(PaperCsv, ColumnsThePlotScriptReads) {
 }
 
 }  // namespace
-}  // namespace dw::app
+}  // namespace dw::bench

@@ -16,11 +16,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/bench.h"
-#include "app/bench_child.h"
+#include "bench/bench.h"
+#include "bench/bench_child.h"
 #include "shell/output_files.h"
 
-namespace dw::app {
+namespace dw::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -219,4 +219,4 @@ int bench_mpi(const BenchArgs& args) {
   return same ? 0 : 1;
 }
 
-}  // namespace dw::app
+}  // namespace dw::bench

@@ -19,13 +19,13 @@
 #include <random>
 #include <string_view>
 
-#include "app/bench.h"
-#include "app/bench_child.h"
+#include "bench/bench.h"
+#include "bench/bench_child.h"
 #include "scenarios/scenario.h"
 #include "shell/output_files.h"
 #include "sim/session.h"
 
-namespace dw::app {
+namespace dw::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -48,7 +48,7 @@ struct RetroRow {
 };
 
 // The Table I ensemble for a tuple, with the Fig. 6 watch read as `watch` says, or none.
-std::string table1_text(const std::string& tuple, const DetectorFlags* watch) {
+std::string table1_text(const std::string& tuple, const shell::DetectorFlags* watch) {
   return "seed = 1\n" + cubic_toml(10, 10, 10) + random_vars_toml(parse_tuple(tuple)) +
          (watch ? watch_toml("fig6", kFig6, watch::Algorithm::Distributed, *watch) : "");
 }
@@ -117,7 +117,7 @@ HistoryRow history_row(const std::string& text, int64_t steps, int repeat, unsig
 }
 
 // A Fig. 6 watchpoint added after `steps` steps, against a run that had it from step 0.
-RetroRow retro_row(int64_t steps, unsigned threads, const DetectorFlags& flags) {
+RetroRow retro_row(int64_t steps, unsigned threads, const shell::DetectorFlags& flags) {
   RetroRow row;
   auto with = load(table1_text("2:2:2:2", &flags));
   auto without = load(table1_text("2:2:2:2", nullptr));
@@ -264,4 +264,4 @@ int bench_session(const BenchArgs& args) {
   return shell::commit_outputs({csv.get()}) ? 0 : 1;
 }
 
-}  // namespace dw::app
+}  // namespace dw::bench

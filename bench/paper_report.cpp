@@ -1,11 +1,11 @@
-#include "app/paper_report.h"
+#include "bench/paper_report.h"
 
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
 
-namespace dw::app {
+namespace dw::bench {
 namespace {
 
 std::string fixed(double v, int digits) {
@@ -276,26 +276,26 @@ std::string paper_command(const PaperRun& run) {
   if (a.steps != 100) c += " --steps " + std::to_string(a.steps);
   if (a.seed != 1) c += " --seed " + std::to_string(a.seed);
   if (a.table2_workload != "random_vars") c += " --table2-workload " + a.table2_workload;
-  const DetectorFlags& d = a.detector;
+  const shell::DetectorFlags& d = a.detector;
   if (d.no_early_termination) c += " --no-early-termination";
   if (d.no_neighbor_culling) c += " --no-neighbor-culling";
   if (d.no_temporal_spans) c += " --no-temporal-spans";
-  if (d.max_live != DetectorFlags{}.max_live) c += " --max-live " + std::to_string(d.max_live);
+  if (d.max_live != shell::DetectorFlags{}.max_live) c += " --max-live " + std::to_string(d.max_live);
   return c;
 }
 
 std::string out_dir(const BenchArgs& args) { return args.out_dir.empty() ? "paper" : args.out_dir; }
-
-const char* plot_script() { return DWATCH_PLOT_SCRIPT; }
 
 std::string plot_command(const std::string& dir, const std::string& script) {
   // Debian's matplotlib is only importable by Debian's interpreter (docs/design.md §9).
   return "/usr/bin/python3 '" + script + "' '" + dir + "'";
 }
 
-std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judged) {
+namespace {
+
+// The title, how the run was made, on what, and the verdicts.
+void markdown_intro(std::ostream& md, const PaperRun& run, const std::vector<Verdict>& judged) {
   const BenchArgs& a = run.args;
-  std::ostringstream md;
   const std::string cube = std::to_string(a.size) + "³";
   md << "# The paper's evaluation, regenerated\n\n"
      << "Every table and figure of §V of *Distributed Watchpoints* (De Rosa et al.), measured by dwatch " << run.version
@@ -319,7 +319,12 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
   for (const Verdict& v : judged)
     md << "| " << v.claim << " | " << v.paper << " | " << v.measured << " | " << v.criterion << " | "
        << (v.holds ? "**holds**" : "**does not hold**") << " |\n";
+}
 
+// Table I beside the paper's, and which reading of its "matches" the paper's numbers fit.
+void markdown_table1(std::ostream& md, const PaperRun& run) {
+  const BenchArgs& a = run.args;
+  const std::string cube = std::to_string(a.size) + "³";
   md << "\n## Table I: matches and time per host-program tuple (distributed, " << a.size * a.size * a.size
      << " modules)\n\n![Table I](table1.png)\n\n"
      << "| tuple | paper matches | dwatch matches | ratio | paper s | dwatch s | paper ÷ dwatch | PatternMatchers | "
@@ -379,6 +384,11 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
           "form the star-shaped groups (one module beside the three others) at all. dwatch keeps the paper's stated "
           "semantics for its "
           "matches (docs/design.md §4); `shape = \"any\"` finds every connected group.\n";
+}
+
+// Fig. 7's PatternMatchers by slots filled, and Fig. 8's times against ensemble size with their fits.
+void markdown_figures(std::ostream& md, const PaperRun& run) {
+  const BenchArgs& a = run.args;
   md << "\n## Fig. 7: PatternMatchers created by slots filled (" << grouped(double(modules(run))) << " modules, "
      << a.steps << " steps)\n\n![Fig. 7](fig7.png)\n\n"
      << "The paper prints Fig. 7 as a plot without values, so there is nothing to set these beside; its text "
@@ -412,7 +422,11 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
                                : "linear, 105%")
        << " |\n";
   }
+}
 
+// Table II: the overhead of each expression size at each frequency, beside the paper's.
+void markdown_table2(std::ostream& md, const PaperRun& run) {
+  const BenchArgs& a = run.args;
   md << "\n## Table II: overhead against expression size (centralized, " << a.size * a.size * a.size
      << " modules)\n\n![Table II](table2.png)\n\n"
      << "Expressions `modules(s1..sk); (s1.x1 = 0) and ... and (sk.xk = 0)`. The paper does not say what its "
@@ -437,7 +451,11 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
       md << " " << fixed(run.table2[size_t(size - 1)][f].seconds, 4) << " |";
     md << "\n";
   }
+}
 
+// What the overheads mean beside DPRSim's own speed.
+void markdown_overheads(std::ostream& md, const PaperRun& run) {
+  const BenchArgs& a = run.args;
   const PaperTable1Row* all = table1_row(run, "1:1:1:1");
   const paper::Table1Row p_mid = *paper::table1("2:2:2:2"), p_all = *paper::table1("1:1:1:1");
   const double paper_module_step = p_mid.seconds / double(paper::kModules) / double(paper::kSteps);
@@ -458,7 +476,18 @@ std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judg
     md << " The worst case, [1:1:1:1], took " << fixed(all->live.seconds, 3) << " s against the paper's "
        << fixed(p_all.seconds, 0) << " s.";
   md << "\n";
+}
+
+}  // namespace
+
+std::string paper_markdown(const PaperRun& run, const std::vector<Verdict>& judged) {
+  std::ostringstream md;
+  markdown_intro(md, run, judged);
+  markdown_table1(md, run);
+  markdown_figures(md, run);
+  markdown_table2(md, run);
+  markdown_overheads(md, run);
   return md.str();
 }
 
-}  // namespace dw::app
+}  // namespace dw::bench

@@ -8,10 +8,11 @@
 #include <iomanip>
 #include <iostream>
 
-#include "app/bench.h"
+#include "bench/bench.h"
+#include "bench/shipped_files.h"
 #include "shell/output_files.h"
 
-namespace dw::app {
+namespace dw::bench {
 namespace {
 
 struct Workload {
@@ -23,7 +24,7 @@ struct Workload {
 };
 
 std::string program_toml(const Workload& w, bool lua) {
-  return std::string("[[program]]\n") + (lua ? "script = \"" + std::string(lua_dir()) + "/" + w.program + ".lua\"\n"
+  return std::string("[[program]]\n") + (lua ? "script = \"" + shipped_files().lua + "/" + w.program + ".lua\"\n"
                                              : "name = \"" + std::string(w.program) + "\"\n");
 }
 
@@ -35,8 +36,6 @@ struct Measured {
 };
 
 }  // namespace
-
-const char* lua_dir() { return DWATCH_LUA_DIR; }
 
 int bench_lua(const BenchArgs& args) {
   std::unique_ptr<sim::OutputFile> csv;
@@ -102,4 +101,4 @@ int bench_lua(const BenchArgs& args) {
   return all_met ? 0 : 1;
 }
 
-}  // namespace dw::app
+}  // namespace dw::bench

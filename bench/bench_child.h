@@ -10,7 +10,7 @@
 #include <iostream>
 #include <type_traits>
 
-namespace dw::app {
+namespace dw::bench {
 
 // Called in a child just forked from `parent`: it gets `signal` when its parent ends (a bench
 // stopped by a signal leaves no row running on).
@@ -48,4 +48,4 @@ bool in_child(Fn&& fn, Result& result, long& peak_kib) {
   return got == static_cast<ssize_t>(sizeof result) && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
-}  // namespace dw::app
+}  // namespace dw::bench

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string_view>
 
-namespace dw::app::paper {
+namespace dw::bench::paper {
 
 // The ensemble of every experiment but Fig. 8: a 10x10x10 cube, 100 steps.
 inline constexpr int kModules = 1000;
@@ -51,4 +51,4 @@ inline constexpr double kWorstSlowdown = 14;        // "a slowdown of about four
 inline constexpr double kReasonableOverhead = 100;  // "overhead of 100% or less"
 inline constexpr double kTrajectoryTimeRatio = 6;   // [1:2:4:8] "almost 6 times as long as" [8:4:2:1]
 
-}  // namespace dw::app::paper
+}  // namespace dw::bench::paper
