@@ -53,7 +53,7 @@ Shell::Answer Shell::matches(const Command& cmd, nlohmann::ordered_json answer) 
     if (w >= 0 && i != static_cast<uint32_t>(w)) continue;
     const sim::MatchList& m = session_.matches(i);
     const uint64_t n = cmd.number ? m.counted_at(*cmd.number) : m.counted_total();
-    if (n > 0 || watches[i].hosted.action == sim::MatchAction::Count) {
+    if (n > 0 || !sim::lists_matches(watches[i].hosted.action)) {
       only_counted[watches[i].hosted.watchpoint.name] = n;
       counted += n;
     }

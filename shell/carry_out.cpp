@@ -61,7 +61,7 @@ Shell::Answer Shell::run_to(const Command& cmd, const sim::Control& control, nlo
   if (cmd.kind == Kind::Run && !cmd.name.empty()) {
     const int w = session_.watch_index(cmd.name);
     if (w < 0) return failed("no watchpoint is named '" + cmd.name + "'");
-    if (session_.watches()[static_cast<uint32_t>(w)].hosted.action == sim::MatchAction::Count)
+    if (!sim::lists_matches(session_.watches()[static_cast<uint32_t>(w)].hosted.action))
       return failed("'" + cmd.name + "' counts its matches and keeps none to stop at ('action " + cmd.name +
                     " log' keeps them from now on)");
     to_match = static_cast<uint32_t>(w);

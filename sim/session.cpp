@@ -8,7 +8,7 @@
 #include <chrono>
 
 #include "sim/body_slices.h"
-#include "sim/trace.h"
+#include "sim/run_outputs.h"
 
 namespace dw::sim {
 
@@ -227,12 +227,14 @@ std::string Session::record(std::ostream& out, const Control& control) {
   restore_bodies(s, 0);
   const std::vector<uint8_t> none(watches_.size() + 1, 0);
   StepOutput step_out;
-  TraceWriter writer(out, model_.universe, interventions_, specs_of(watches_.hosted()));
+  // As a run's --record writes it: its header lists the branch's interventions and the watchpoints.
+  RunOutputs outputs(watches_.hosted(), nullptr);
+  outputs.record(out, model_.universe, interventions_);
   while (s.step <= latest_) {
     if (control.stopped()) return "cancelled";
     step(s, step_out, none);
     world_on_ = nullptr;
-    writer.write(observed_frame(model_, s, step_out));
+    outputs.record_frame(observed_frame(model_, s, step_out));
     if (control.progress) control.progress(s.step, latest_ + 1);
   }
   out.flush();

@@ -24,7 +24,7 @@ void Session::record_output(const State& state, const StepOutput& out, uint32_t 
 void Session::keep_matches(uint32_t w, int64_t t, int64_t detected, uint64_t matches, std::span<const ModuleId> slots,
                            std::span<const watch::Value> actions) {
   MatchList& list = watches_[w].matches;
-  if (watches_[w].hosted.action == MatchAction::Count) {
+  if (!lists_matches(watches_[w].hosted.action)) {
     list.count(t, detected, matches);
     return;
   }

@@ -256,7 +256,7 @@ void WatchHosting::finish_distributed(uint32_t w, State& state, WatchStepOutput&
   out.t = t0;
   for (const watch::AgentContext* ctx : contexts) out.matches += ctx->match_values / k;
   out.matches = sum_over_ranks(ranks_, out.matches);
-  if ((hosted.action == MatchAction::Count && program.actions.empty()) || out.matches == 0) return;
+  if ((!lists_matches(hosted.action) && program.actions.empty()) || out.matches == 0) return;
   for (const watch::AgentContext* ctx : contexts) {
     out.slots.insert(out.slots.end(), ctx->matches.begin(),
                      ctx->matches.begin() + static_cast<ptrdiff_t>(ctx->match_values));
@@ -282,7 +282,7 @@ void WatchHosting::take_arrived_lanes(WatchState& ws, std::span<const ArrivedLan
 void WatchHosting::observe_detector(uint32_t w, State& state, WatchStepOutput& out) {
   WatchState& ws = state.watches[w];
   const watch::Program& program = watches_[w].watchpoint.program;
-  const bool keep = watches_[w].action != MatchAction::Count || !program.actions.empty();
+  const bool keep = lists_matches(watches_[w].action) || !program.actions.empty();
   const uint32_t k = program.slot_count();
   ws.detector->set_sink(
       [&out, keep, k](int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value> actions) {

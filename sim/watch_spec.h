@@ -35,6 +35,9 @@ inline constexpr MatchAction kActions[] = {MatchAction::Pause, MatchAction::Log,
 std::string_view action_name(MatchAction a);
 std::optional<MatchAction> parse_action(std::string_view name);
 inline std::string action_names() { return watch::one_of(kActions, action_name); }
+// Whether a watchpoint lists its matches, each group with its actions' values: a `count` one keeps
+// only their number (of each step), which is all the match log, the session and the runtime keep.
+inline bool lists_matches(MatchAction a) { return a != MatchAction::Count; }
 
 // A compiled watchpoint with its reading and action: what a run hosts.
 struct HostedWatchpoint {

@@ -9,6 +9,7 @@
 #include "python/src/bindings.h"
 #include "python/src/matches.h"
 #include "sim/replay.h"
+#include "sim/run_outputs.h"
 #include "sim/trace.h"
 
 namespace dw::python {
@@ -136,7 +137,7 @@ py::dict replay(const py::object& trace_arg, const py::object& watches, const st
             std::span<const watch::Value>) {
           found[w].add(detected, t, ids, watched[w].watchpoint.program.slot_names.size());
         },
-        {}, !watches.is_none() || !trace.paused());
+        {}, sim::RunOutputs::replay_drains(trace, watches.is_none()));
   }
   for (size_t i = 0; i < watched.size(); ++i)
     if (stats[i].stopped)
