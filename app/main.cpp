@@ -12,8 +12,8 @@
 #include <string>
 #include <system_error>
 
-#include "app/commands.h"
-#include "app/terminal_filter.h"
+#include "app/cli/commands.h"
+#include "app/cli/terminal_filter.h"
 #include "bench/bench_command.h"
 #include "shell/interrupts.h"
 #ifdef DWATCH_MPI
@@ -46,7 +46,7 @@ std::string command_named(const CLI::App& app, int argc, char** argv) {
   return "";
 }
 
-// A bench's rows run in child processes that end with it (app/bench_child.h): a signal ends the
+// A bench's rows run in child processes that end with it (bench/bench_child.h): a signal ends the
 // bench at once, saying so, with 128 + the signal.
 void end_bench_at_a_signal() {
   struct sigaction action {};
@@ -62,47 +62,9 @@ void end_bench_at_a_signal() {
   for (const int s : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(s, &action, nullptr);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  // Before any thread starts (Open MPI's included): signals are taken by one thread of its own.
-  // `bench` starts child processes, which would inherit the blocked signals: it keeps the
-  // default, ending at once, and writes nothing a signal could leave half done.
-  const dw::app::TerminalOutput terminal;  // no control byte from an input reaches a terminal raw
-  std::optional<dw::shell::Interrupts> interrupts;
-  if (argc < 2 || std::string(argv[1]) != "bench") interrupts.emplace();
-  else end_bench_at_a_signal();
-  dw::shell::Interrupts* watcher = interrupts ? &*interrupts : nullptr;
-  // Started by mpirun as one of several ranks (docs/design.md §12): only `run` runs over ranks.
-  const char* world_size = std::getenv("OMPI_COMM_WORLD_SIZE");
-  const bool several = world_size != nullptr && std::atoi(world_size) > 1;
-#ifdef DWATCH_MPI
-  dw::dist::MpiProcess mpi(argc, argv);
-  dw::sim::RankExchange* ranks = mpi.ranks();
-#else
-  dw::sim::RankExchange* ranks = nullptr;
-  if (several) {
-    std::cerr << "dwatch: error: started by mpirun as one of " << world_size
-              << " ranks, but this dwatch was built without MPI (libopenmpi-dev; scripts/install-deps.sh)\n";
-    return 2;
-  }
-#endif
-  if (several && (argc < 2 || std::string(argv[1]) != "run")) {
-    if (ranks == nullptr || ranks->rank() == 0)
-      std::cerr << "dwatch: error: only 'dwatch run' runs over several ranks (mpirun -np N dwatch run SCENARIO)\n";
-    return 2;
-  }
-  CLI::App app{"dwatch: distributed watchpoints for modular-robot ensembles"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", "dwatch " DWATCH_VERSION);
-  std::function<int()> run;
-  dw::app::add_run_command(app, run, ranks, watcher);
-  dw::app::add_check_command(app, run);
-  dw::app::add_replay_command(app, run);
-  dw::app::add_render_command(app, run, watcher);
-  dw::app::add_session_command(app, run, watcher);
-  dw::app::add_view_command(app, run);
-  dw::bench::add_bench_command(app, run, dw::app::bench_view);
+// Parses the command line into `app`. The exit code when it is refused (with the mistake on
+// stderr) or answered (--help, --version); nothing when a command is to run.
+std::optional<int> refused_or_answered(CLI::App& app, int argc, char** argv) {
   // A word where a command belongs that is none of them: say so, and name the real ones.
   if (argc > 1 && argv[1][0] != '-' &&
       app.get_subcommands([&](CLI::App* c) { return c->get_name() == argv[1]; }).empty()) {
@@ -160,6 +122,12 @@ int main(int argc, char** argv) {
               << " --help lists what it takes)\n";
     return 2;
   }
+  return std::nullopt;
+}
+
+// Runs the parsed command: its exit code, or 1 when what it printed could not be written or it
+// failed in a way no command reports itself (memory, the system's limits, an internal error).
+int carry_out(const std::function<int()>& run) {
   try {
     const int code = run();
     // What a command printed is its answer: one that could not be written (a full disk, a closed
@@ -187,4 +155,49 @@ int main(int argc, char** argv) {
     std::cerr << "dwatch: internal error: " << e.what() << "\n";
     return 1;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Before any thread starts (Open MPI's included): signals are taken by one thread of its own.
+  // `bench` starts child processes, which would inherit the blocked signals: it keeps the
+  // default, ending at once, and writes nothing a signal could leave half done.
+  const dw::app::TerminalOutput terminal;  // no control byte from an input reaches a terminal raw
+  std::optional<dw::shell::Interrupts> interrupts;
+  if (argc < 2 || std::string(argv[1]) != "bench") interrupts.emplace();
+  else end_bench_at_a_signal();
+  dw::shell::Interrupts* watcher = interrupts ? &*interrupts : nullptr;
+  // Started by mpirun as one of several ranks (docs/design.md §12): only `run` runs over ranks.
+  const char* world_size = std::getenv("OMPI_COMM_WORLD_SIZE");
+  const bool several = world_size != nullptr && std::atoi(world_size) > 1;
+#ifdef DWATCH_MPI
+  dw::dist::MpiProcess mpi(argc, argv);
+  dw::sim::RankExchange* ranks = mpi.ranks();
+#else
+  dw::sim::RankExchange* ranks = nullptr;
+  if (several) {
+    std::cerr << "dwatch: error: started by mpirun as one of " << world_size
+              << " ranks, but this dwatch was built without MPI (libopenmpi-dev; scripts/install-deps.sh)\n";
+    return 2;
+  }
+#endif
+  if (several && (argc < 2 || std::string(argv[1]) != "run")) {
+    if (ranks == nullptr || ranks->rank() == 0)
+      std::cerr << "dwatch: error: only 'dwatch run' runs over several ranks (mpirun -np N dwatch run SCENARIO)\n";
+    return 2;
+  }
+  CLI::App app{"dwatch: distributed watchpoints for modular-robot ensembles"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "dwatch " DWATCH_VERSION);
+  std::function<int()> run;
+  dw::app::add_run_command(app, run, ranks, watcher);
+  dw::app::add_check_command(app, run);
+  dw::app::add_replay_command(app, run);
+  dw::app::add_render_command(app, run, watcher);
+  dw::app::add_session_command(app, run, watcher);
+  dw::app::add_view_command(app, run);
+  dw::bench::add_bench_command(app, run, dw::app::bench_view);
+  if (const std::optional<int> code = refused_or_answered(app, argc, argv)) return *code;
+  return carry_out(run);
 }

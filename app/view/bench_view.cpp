@@ -13,7 +13,7 @@
 #include <sstream>
 #include <vector>
 
-#include "app/commands.h"
+#include "app/cli/commands.h"
 #include "app/view/debugger.h"
 #include "bench/bench.h"
 

@@ -4,7 +4,7 @@
 #include <iostream>
 #include <memory>
 
-#include "app/commands.h"
+#include "app/cli/commands.h"
 #include "app/view/debugger.h"
 #include "shell/integer_option.h"
 #include "shell/options.h"

@@ -8,9 +8,9 @@
 #include <memory>
 #include <sstream>
 
-#include "app/commands.h"
-#include "app/detector_stats.h"
-#include "app/progress.h"
+#include "app/cli/commands.h"
+#include "app/cli/detector_stats.h"
+#include "app/cli/progress.h"
 #include "render/osmesa_context.h"
 #include "render/renderer.h"
 #include "render/scene.h"

@@ -1,4 +1,4 @@
-#include "app/watch_args.h"
+#include "app/cli/watch_args.h"
 
 #include <algorithm>
 #include <cctype>

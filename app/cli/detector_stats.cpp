@@ -1,4 +1,4 @@
-#include "app/detector_stats.h"
+#include "app/cli/detector_stats.h"
 
 #include "watch/ast.h"
 

@@ -1,4 +1,4 @@
-#include "app/terminal_filter.h"
+#include "app/cli/terminal_filter.h"
 
 #include <unistd.h>
 

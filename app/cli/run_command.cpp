@@ -8,9 +8,9 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "app/commands.h"
-#include "app/detector_stats.h"
-#include "app/progress.h"
+#include "app/cli/commands.h"
+#include "app/cli/detector_stats.h"
+#include "app/cli/progress.h"
 #include "scenarios/scenario.h"
 #include "shell/integer_option.h"
 #include "shell/options.h"

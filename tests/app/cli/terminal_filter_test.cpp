@@ -1,5 +1,5 @@
-// app/terminal_filter.cpp: what an input put in a message reaches a terminal as text.
-#include "app/terminal_filter.h"
+// app/cli/terminal_filter.cpp: what an input put in a message reaches a terminal as text.
+#include "app/cli/terminal_filter.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // `dwatch check TEXT|@FILE...`: diagnostics, or what the watchpoint means to the detectors.
 #include <iostream>
 
-#include "app/commands.h"
-#include "app/watch_args.h"
+#include "app/cli/commands.h"
+#include "app/cli/watch_args.h"
 #include "watch/explain.h"
 
 namespace dw::app {

@@ -1,4 +1,4 @@
-#include "app/progress.h"
+#include "app/cli/progress.h"
 
 #include <unistd.h>
 #include <cstdio>
@@ -11,7 +11,7 @@ ProgressBar::ProgressBar(std::string label, int64_t total, bool enabled)
       enabled_(enabled && isatty(STDERR_FILENO)),
       start_(std::chrono::steady_clock::now()),
       last_(start_) {
-  // Written with stdio, beside the filtered streams (app/terminal_filter.h): the label, a
+  // Written with stdio, beside the filtered streams (app/cli/terminal_filter.h): the label, a
   // scenario's name, is shown without its control characters here.
   for (char& c : label_)
     if ((static_cast<unsigned char>(c) < 0x20) || c == 0x7F) c = '?';

@@ -12,7 +12,7 @@
 #include <iostream>
 #include <memory>
 
-#include "app/commands.h"
+#include "app/cli/commands.h"
 #include "shell/integer_option.h"
 #include "shell/options.h"
 #include "shell/output_files.h"

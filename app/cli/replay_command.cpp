@@ -13,9 +13,9 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "app/commands.h"
-#include "app/detector_stats.h"
-#include "app/watch_args.h"
+#include "app/cli/commands.h"
+#include "app/cli/detector_stats.h"
+#include "app/cli/watch_args.h"
 #include "shell/detector_flags.h"
 #include "shell/integer_option.h"
 #include "shell/output_files.h"
