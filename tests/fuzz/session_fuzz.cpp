@@ -230,9 +230,9 @@ class OutputFolder {
   fs::path path_;
 };
 
-bool has_actions(const dw::sim::Model& model) {
-  for (const dw::sim::HostedWatchpoint& h : model.watches)
-    if (!h.watchpoint.program.actions.empty()) return true;
+bool has_actions(const dw::sim::Session& session) {
+  for (uint32_t w = 0; w < session.watches().size(); ++w)
+    if (!session.watches()[w].hosted.watchpoint.program.actions.empty()) return true;
   return false;
 }
 
@@ -296,11 +296,11 @@ struct Before {
 };
 
 Before before(const Command& c, const dw::sim::Session& session) {
-  Before b{.current = session.current(), .latest = session.latest(), .actions = has_actions(session.model())};
+  Before b{.current = session.current(), .latest = session.latest(), .actions = has_actions(session)};
   b.named_watch_exists = !c.name.empty() && session.watch_index(c.name) >= 0;
   b.named_watch_counts =
-      b.named_watch_exists &&
-      session.model().watches[static_cast<size_t>(session.watch_index(c.name))].action == dw::sim::MatchAction::Count;
+      b.named_watch_exists && session.watches()[static_cast<uint32_t>(session.watch_index(c.name))].hosted.action ==
+                                  dw::sim::MatchAction::Count;
   return b;
 }
 
@@ -369,7 +369,7 @@ void check_answer(const Command& c, const nlohmann::ordered_json& answer, dw::si
       break;
     }
     case Kind::Action:
-      if (session.model().watches[static_cast<size_t>(session.watch_index(c.name))].action != c.action)
+      if (session.watches()[static_cast<uint32_t>(session.watch_index(c.name))].hosted.action != c.action)
         fail("action W A did not change what W does");
       break;
     case Kind::Set:
@@ -383,7 +383,7 @@ void check_answer(const Command& c, const nlohmann::ordered_json& answer, dw::si
     case Kind::Watch:
     case Kind::Unwatch:
       // Actions change the states themselves: the whole history is another.
-      if (before.actions || has_actions(session.model())) simulation_at.clear();
+      if (before.actions || has_actions(session)) simulation_at.clear();
       break;
     case Kind::Record: check_recorded(c.name, session.latest()); break;
     default: break;
