@@ -1,5 +1,5 @@
 // `dwatch session SCENARIO --protocol`: the session as a machine interface for other programs
-// (docs/design.md §7a, README "The session protocol"), as a debugger's MI is for an IDE. One
+// (docs/design.md §7a, docs/session.md "The protocol"), as a debugger's MI is for an IDE. One
 // request a line on standard input, each answered by one JSON line on standard output, flushed:
 //
 //   request  := COMMAND_LINE | {"id": ID, "cmd": COMMAND_LINE}

@@ -1,6 +1,6 @@
 // The session command language (docs/design.md §7a): one command a line, `#` comments, each answered
 // with one JSON object a line. `dwatch session` reads it from a script or a prompt; the window
-// sends the same commands. This file only parses and formats: every decision (where a run stops,
+// sends the same commands. The shell only parses and formats: every decision (where a run stops,
 // what an intervention drops, what a view of a step shows) is the session's (sim/session.h).
 #pragma once
 
