@@ -3,7 +3,7 @@
 // length (the encoder's look-ahead and reference frames: about 100 MiB more at 1280x720, measured
 // by `dwatch bench render`). The codec and container follow the file's name:
 //
-//   .mp4   H.264 (libx264) in MP4: plays everywhere; x264 is GPL-2+ (README, "Videos")
+//   .mp4   H.264 (libx264) in MP4: plays everywhere; x264 is GPL-2+ (docs/cli.md, "Videos")
 //   .webm  VP9 (libvpx, BSD) in WebM
 //
 // Both store colour at half resolution (yuv420p), so width and height must be even. The file is

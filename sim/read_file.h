@@ -16,7 +16,7 @@
 
 namespace dw::sim {
 
-// A scenario, a session script, a watchpoint file, a Lua script (README, "What bad input gets").
+// A scenario, a session script, a watchpoint file, a Lua script (docs/errors.md).
 inline constexpr size_t kMaxTextInput = size_t(8) << 20;
 // How long an input that is a FIFO may take to be written whole (from its opening to its end).
 inline constexpr std::chrono::milliseconds kFifoWriterWait{10'000};

@@ -140,7 +140,7 @@ void add_session_command(CLI::App& app, std::function<int()>& run, shell::Interr
   auto* script = cmd->add_option("--script", args->script, "Commands to carry out, one a line (- for standard input)");
   cmd->add_flag("--protocol", args->protocol,
                 "Read requests as they come on standard input and answer each at once, one JSON line each, "
-                "with ids, progress and 'cancel' (README: the session protocol)")
+                "with ids, progress and 'cancel' (docs/session.md: the protocol)")
       ->excludes(script);
   cmd->footer("Commands:\n  " + [] {
     std::string all;

@@ -1,5 +1,5 @@
-// Stops a Lua call that runs too long without slowing down the calls that do not (README,
-// "Your own programs, in Lua").
+// Stops a Lua call that runs too long without slowing down the calls that do not (docs/lua.md,
+// "Sandbox").
 //
 // Counting a script's instructions with a count hook costs the VM a check on every instruction,
 // about a third of a typical script's time, to catch the rare call that runs away. Instead, a

@@ -1,7 +1,7 @@
 // libFuzzer target for the watchpoint parser: any input must give a tree or diagnostics, never a
 // crash, a hang or a sanitizer report. A valid watchpoint is also evaluated, by both detectors,
 // over three steps of a small ensemble whose values reach int64's ends (docs/design.md §4b: never a wrap,
-// never a trap). Build with -DDWATCH_FUZZ=ON and clang (see README).
+// never a trap). Build with -DDWATCH_FUZZ=ON and clang (see CONTRIBUTING.md).
 #include <cstddef>
 #include <cstdint>
 #include <string>

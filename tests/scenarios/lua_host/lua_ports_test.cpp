@@ -1,6 +1,6 @@
 // Host programs in Lua (scenarios/lua_host/lua_program.h) beside their C++ twins: a port gives its
 // twin's states bit for bit and the same matches, on any thread count, through rollback and in a
-// Bullet world; the README's gradient example finds every hop distance.
+// Bullet world; docs/lua.md's gradient example finds every hop distance.
 #include <gtest/gtest.h>
 
 #include <filesystem>
