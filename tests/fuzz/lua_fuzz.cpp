@@ -77,8 +77,8 @@ struct RunResult {
 
 bool mentions(const std::string& text, const char* part) { return text.find(part) != std::string::npos; }
 // Whether the script may read what Lua leaves unordered: `pairs` and `next` over string keys
-// (docs/lua.md, "Determinism"), whose order follows each Lua state's own hash seed. Two runs of such a script may
-// differ, by design.
+// (docs/lua.md, "Determinism"), whose order follows each Lua state's own hash seed. Two runs of
+// such a script may differ, by design.
 bool reads_unordered(const std::string& text) {
   for (size_t at = text.find("pairs"); at != std::string::npos; at = text.find("pairs", at + 1))
     if (at == 0 || text[at - 1] != 'i') return true;
