@@ -35,7 +35,7 @@ struct WatchState {
   // Centralized: the detector, observing the whole ensemble once per step.
   std::unique_ptr<watch::Detector> detector;
   // Distributed: one agent per module, and the PatternMatchers in flight to be read at the
-  // state's step, in lanes [sending thread * blocks + receiving block] (see Runtime).
+  // state's step, in lanes [sending thread * blocks + receiving block] (see WatchHosting).
   std::optional<watch::DistributedAgents> agents;
   std::vector<watch::RecordBuffer> in_flight;
   uint64_t matches = 0;

@@ -1,5 +1,5 @@
 // One step of the distributed algorithm (paper Alg. 2, docs/design.md §4) over a run of agents, as both
-// of its hosts run it: the runtime, block by block on its threads (sim/runtime.cpp), and the
+// of its hosts run it: the runtime, block by block on its threads (sim/watch_hosting.cpp), and the
 // replay detector, every module as one block (distributed_detector.cpp). One driver, so that the
 // two cannot drift apart.
 #pragma once

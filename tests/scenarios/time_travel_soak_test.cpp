@@ -77,7 +77,7 @@ TEST(TimeTravelSoak, Table1WithABudgetStopEqualsTheStraightRunAtEveryStep) {
                            "\n[[watch]]\nname = \"budget\"\n"
                            "text = \"modules(a b c); (a.x1 = 0) and (b.x2 = 0) and (c.x3 = 0)\"\n"
                            "algorithm = \"distributed\"\naction = \"count\"\nmax_live = 19950\n";
-  // Two threads: the budget is shared by both (runtime.cpp), and the stop must not depend on it.
+  // Two threads: the budget is shared by both (sim/watch_hosting.cpp), and the stop must not depend on it.
   const watch::DetectorStats budget = soak(toml, 2, 7, 1);
   EXPECT_TRUE(budget.stopped);
   EXPECT_NE(budget.stop_reason.find("detector step 1413"), std::string::npos) << budget.stop_reason;
