@@ -4,6 +4,7 @@
   - no source file over 600 lines, no function over 120 (C++: counted from the line of its opening
     brace to the line of its closing one, at namespace or class scope; a class body is not a function);
   - the README at most 300 lines, and every file the README or docs/ link to ships;
+  - the arrows of docs/design.md §1: a folder includes only the folders below it;
   - nothing links dw_app but the dwatch executable (read from CMake's graph of targets, when a
     build folder is given: scripts/check-house.py [BUILD_DIR]).
 """
@@ -15,6 +16,21 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 MAX_FILE, MAX_FUNCTION, MAX_README = 600, 120, 300
 SOURCE = {".cpp", ".h", ".py", ".pyi", ".sh", ".in"}
+# The arrows of docs/design.md §1: the folders each folder's sources may include (tests/ may
+# include anything). Nothing includes app/ but app/.
+BELOW = {
+    "watch": {"watch"},
+    "sim": {"watch", "sim"},
+    "physics": {"watch", "sim", "physics"},
+    "render": {"watch", "sim", "render"},
+    "scenarios": {"watch", "sim", "physics", "scenarios"},
+    "dist": {"watch", "sim", "dist"},
+    "shell": {"watch", "sim", "physics", "render", "scenarios", "shell"},
+    "bench": {"watch", "sim", "physics", "render", "scenarios", "dist", "shell", "bench"},
+    "python": {"watch", "sim", "physics", "render", "scenarios", "shell", "python"},
+    "app": {"watch", "sim", "physics", "render", "scenarios", "dist", "shell", "bench", "app"},
+}
+
 # Left as they are on purpose, each with its reason; the list only shrinks.
 KNOWN = {
     # physics/ is rewritten by the physics issue (warm-started contacts kept in the state), which
@@ -71,6 +87,19 @@ def long_functions(path):
     return found
 
 
+def wrong_arrows(path, rel):
+    """#include lines of a source that point up the house or sideways (BELOW)."""
+    allowed = BELOW.get(rel.parts[0])
+    if allowed is None:
+        return []
+    found = []
+    for n, line in enumerate(path.read_text(errors="replace").split("\n"), 1):
+        m = re.match(r'\s*#\s*include\s+"([a-z_]+)/', line)
+        if m and m.group(1) in BELOW and m.group(1) not in allowed:
+            found.append(f"{rel}:{n}: {rel.parts[0]}/ includes {m.group(1)}/ (docs/design.md §1: the arrows)")
+    return found
+
+
 def linked_docs():
     """Files named by a Markdown link in the README, CONTRIBUTING.md and docs/ that do not exist."""
     missing = []
@@ -106,6 +135,8 @@ def main():
         lines = path.read_text(errors="replace").count("\n")
         if lines > MAX_FILE:
             problems.append(f"{rel}: {lines} lines (at most {MAX_FILE}: one job a file)")
+        if path.suffix in {".cpp", ".h"}:
+            problems += wrong_arrows(path, rel)
         if path.suffix in {".cpp", ".h"} and str(rel) not in KNOWN:
             for start, length in long_functions(path):
                 problems.append(f"{rel}:{start}: a function of {length} lines (at most {MAX_FUNCTION})")
