@@ -3,8 +3,7 @@
 #include <toml++/toml.h>
 #include <filesystem>
 #include <sstream>
-
-#include "watch/ast.h"
+#include <variant>
 
 namespace dw::scenarios {
 namespace {
@@ -22,19 +21,11 @@ std::string path_from(const std::string& path, const std::string& from, const fs
   return relative.empty() || *relative.begin() == ".." ? at.string() : relative.string();
 }
 
+// A watchpoint as a [[watch]] table holds it, every setting written out (sim::toml_fields).
 toml::table watch_table(const sim::HostedWatchpoint& h) {
   toml::table t;
-  t.insert("name", h.watchpoint.name);
-  t.insert("text", watch::to_string(h.watchpoint.ast));
-  t.insert("algorithm", std::string(watch::algorithm_name(h.algorithm)));
-  t.insert("shape", std::string(watch::shape_name(watch::group_shape(h.algorithm, h.options))));
-  if (h.algorithm == watch::Algorithm::Distributed)
-    t.insert("states", std::string(watch::states_name(h.options.states.value_or(watch::States::Consistent))));
-  t.insert("action", std::string(sim::action_name(h.action)));
-  t.insert("max_live", static_cast<int64_t>(h.options.live_budget));
-  t.insert("early_termination", h.options.optimizations.early_termination);
-  t.insert("neighbor_culling", h.options.optimizations.neighbor_culling);
-  t.insert("temporal_spans", h.options.optimizations.temporal_spans);
+  for (const auto& [key, value] : sim::toml_fields(sim::spec_of(h)))
+    std::visit([&t, key = key](const auto& v) { t.insert(key, v); }, value);
   return t;
 }
 
@@ -93,7 +84,7 @@ std::optional<std::string> saved_scenario(const Scenario& scenario, const sim::S
   doc.insert_or_assign("seed", static_cast<int64_t>(model.seed));
   doc.erase("watch");
   toml::array watches;
-  for (const sim::HostedWatchpoint& h : model.watches) watches.push_back(watch_table(h));
+  for (const sim::HostedWatchpoint& h : session.watches().hosted()) watches.push_back(watch_table(h));
   if (!watches.empty()) doc.insert("watch", std::move(watches));
   doc.erase("event");
   toml::array events;

@@ -21,7 +21,7 @@
 //                                      # centralized, chain distributed)
 //   states = "simultaneous"            # distributed: consistent (the paper's) | simultaneous
 //   action = "pause"                   # pause | log | count (default log)
-//   max_live = 20000000                # the PatternMatcher budget (0: none)
+//   max_live = 20000000                # the PatternMatcher budget (0: none; default sim::kDefaultMatchBudget)
 //   early_termination = true           # the §IV optimizations, all on by default
 //   neighbor_culling = true
 //   temporal_spans = true

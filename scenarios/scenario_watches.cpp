@@ -28,36 +28,15 @@ std::optional<uint32_t> text_in_place(const FileDiagnostics& d, const toml::node
   return std::nullopt;
 }
 
-std::optional<watch::Algorithm> algorithm(TableReader& r) {
-  const auto s = r.string("algorithm");
-  if (!s) return std::nullopt;
-  if (auto a = watch::parse_algorithm(*s)) return a;
-  r.error("algorithm", "'algorithm' must be " + watch::algorithm_names() + ", not \"" + *s + "\"");
-  return std::nullopt;
-}
-
-std::optional<watch::GroupShape> shape(TableReader& r) {
-  const auto s = r.string("shape");
-  if (!s) return std::nullopt;
-  if (auto v = watch::parse_shape(*s)) return v;
-  r.error("shape", "'shape' must be " + watch::shape_names() + ", not \"" + *s + "\"");
-  return std::nullopt;
-}
-
-std::optional<watch::States> states(TableReader& r) {
-  const auto s = r.string("states");
-  if (!s) return std::nullopt;
-  if (auto v = watch::parse_states(*s)) return v;
-  r.error("states", "'states' must be " + watch::states_names() + ", not \"" + *s + "\"");
-  return std::nullopt;
-}
-
-std::optional<sim::MatchAction> action(TableReader& r) {
-  const auto s = r.string("action");
-  if (!s) return std::nullopt;
-  if (auto a = sim::parse_action(*s)) return a;
-  r.error("action", "'action' must be " + sim::action_names() + ", not \"" + *s + "\"");
-  return std::nullopt;
+// One part of the reading (algorithm, shape, states, action), by its key, read into `spec`: false
+// when it is given and wrong (said here, or by the reader for a value that is not a string).
+bool read_part(TableReader& r, sim::WatchSpec& spec, sim::WatchWord part) {
+  const std::string key = sim::word_key(part);
+  const auto s = r.string(key);
+  if (!s) return !r.has(key);
+  if (sim::read_word(spec, *s, part)) return true;
+  r.error(key, "'" + key + "' must be " + sim::word_choices(part) + ", not \"" + *s + "\"");
+  return false;
 }
 
 }  // namespace
@@ -118,45 +97,44 @@ std::optional<std::vector<sim::HostedWatchpoint>> Loader::watches(TableReader& r
     return std::nullopt;
   }
   bool ok = true;
-  std::vector<std::string> names;
+  std::vector<sim::WatchSpec> named;  // the watchpoints so far, by name
   for (const toml::node& e : *a) {
     TableReader r(*e.as_table(), diagnostics, "[[watch]]");
     const std::optional<std::string> given = r.string("name");  // a wrong type is reported here
-    std::string name = given.value_or("");
+    sim::WatchSpec spec;  // the default budget and optimizations unless the table says otherwise
+    spec.name = given.value_or("");
     if (!r.has("name")) {
       r.missing("name");
       ok = false;
     } else if (!given) {
       ok = false;  // not a string: said by r.string
-    } else if (const std::string why = watch::name_problem(name); !why.empty()) {
+    } else if (const std::string why = watch::name_problem(spec.name); !why.empty()) {
       r.error("name", why);  // matches, logs and the session's commands name a watchpoint by it
       ok = false;
-    } else if (std::find(names.begin(), names.end(), name) != names.end()) {
-      r.error("name", "a second watchpoint named \"" + name + "\"");
+    } else if (const std::string twice = sim::second_name_problem(spec.name, named); !twice.empty()) {
+      r.error("name", twice);
       ok = false;
     }
-    names.push_back(name);
-    auto compiled = compile(r, name.empty() ? "watch" : name);
-    const auto alg = algorithm(r);
-    const auto group = shape(r);
-    const auto state_mode = states(r);
-    const auto act = action(r);
+    named.push_back(spec);
+    auto compiled = compile(r, spec.name.empty() ? "watch" : spec.name);
+    bool read = true;
+    for (const sim::WatchWord part :
+         {sim::WatchWord::Algorithm, sim::WatchWord::Shape, sim::WatchWord::States, sim::WatchWord::Action})
+      read = read_part(r, spec, part) && read;
     const auto max_live = r.integer(kMaxLiveRange);
     const auto early = r.boolean("early_termination");
     const auto cull = r.boolean("neighbor_culling");
     const auto spans = r.boolean("temporal_spans");
     r.finish();
-    if (!compiled || (r.has("algorithm") && !alg) || (r.has("shape") && !group) || (r.has("states") && !state_mode) ||
-        (r.has("action") && !act) || (r.has("max_live") && !max_live) || (r.has("early_termination") && !early) ||
+    if (!compiled || !read || (r.has("max_live") && !max_live) || (r.has("early_termination") && !early) ||
         (r.has("neighbor_culling") && !cull) || (r.has("temporal_spans") && !spans)) {
       ok = false;
       continue;
     }
-    watch::DetectorOptions options;
-    options.shape = overrides.shape ? overrides.shape : group;
-    options.states = overrides.states ? overrides.states : state_mode;
-    const watch::Algorithm chosen = overrides.algorithm.value_or(alg.value_or(watch::Algorithm::Distributed));
-    if (const std::string why = watch::unsupported(chosen, options); !why.empty()) {
+    if (overrides.algorithm) spec.algorithm = *overrides.algorithm;
+    if (overrides.shape) spec.options.shape = overrides.shape;
+    if (overrides.states) spec.options.states = overrides.states;
+    if (const std::string why = watch::unsupported(spec.algorithm, spec.options); !why.empty()) {
       // Said at what the file chose; a reading the command line chose in part says so (the
       // user typed --shape, not the line of the file the caret is under).
       std::string typed;
@@ -171,11 +149,12 @@ std::optional<std::vector<sim::HostedWatchpoint>> Loader::watches(TableReader& r
       ok = false;
       continue;
     }
-    options.live_budget = overrides.max_live.value_or(static_cast<uint64_t>(max_live.value_or(20'000'000)));
-    options.optimizations.early_termination = early.value_or(true);
-    options.optimizations.neighbor_culling = cull.value_or(true);
-    options.optimizations.temporal_spans = spans.value_or(true);
-    out.push_back(sim::HostedWatchpoint{std::move(*compiled), chosen, act.value_or(sim::MatchAction::Log), options});
+    if (max_live) spec.options.live_budget = static_cast<uint64_t>(*max_live);
+    if (overrides.max_live) spec.options.live_budget = *overrides.max_live;
+    spec.options.optimizations = {.early_termination = early.value_or(true),
+                                  .neighbor_culling = cull.value_or(true),
+                                  .temporal_spans = spans.value_or(true)};
+    out.push_back(sim::hosted(spec, std::move(*compiled)));
   }
   if (!ok) return std::nullopt;
   return out;

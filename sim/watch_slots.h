@@ -26,10 +26,10 @@ struct WatchId {
 
 // The matches of one watchpoint, in the order found (by t, then by slot ids).
 struct MatchList {
-  std::vector<int64_t> t;             // the match's watch step
-  std::vector<int64_t> detected;      // the step during which it was found (t + the watchpoint's lag)
-  std::vector<watch::ModuleId> slots;        // slot_count ids per match
-  std::vector<watch::Value> actions;  // a watchpoint with actions: their values, action_count per match
+  std::vector<int64_t> t;              // the match's watch step
+  std::vector<int64_t> detected;       // the step during which it was found (t + the watchpoint's lag)
+  std::vector<watch::ModuleId> slots;  // slot_count ids per match
+  std::vector<watch::Value> actions;   // a watchpoint with actions: their values, action_count per match
   // A `count` watchpoint keeps no match, only how many it found of each watch step (when found):
   // a few words a step, whatever the number of matches.
   struct Counted {
@@ -91,9 +91,9 @@ class WatchSlots {
   void free_slot(uint32_t index);
 
   std::vector<std::optional<WatchSlot>> slots_;  // by id index; a free one holds nothing
-  std::vector<uint32_t> generations_;  // by id index: a slot's, one more each time it is freed
-  std::vector<uint32_t> free_;         // free id indices, the last freed last
-  std::vector<uint32_t> order_;        // the id index at each position
+  std::vector<uint32_t> generations_;            // by id index: a slot's, one more each time it is freed
+  std::vector<uint32_t> free_;                   // free id indices, the last freed last
+  std::vector<uint32_t> order_;                  // the id index at each position
 };
 
 }  // namespace dw::sim

@@ -85,7 +85,11 @@ std::vector<WatchSpec> specs_of(const HostedWatches& hosted) {
 std::variant<HostedWatchpoint, watch::CompileError> compile(const WatchSpec& spec, watch::SourceText source) {
   auto compiled = watch::compile_watchpoint(spec.name, std::move(source));
   if (auto* e = std::get_if<watch::CompileError>(&compiled)) return std::move(*e);
-  return HostedWatchpoint{std::move(std::get<watch::Watchpoint>(compiled)), spec.algorithm, spec.action, spec.options};
+  return hosted(spec, std::move(std::get<watch::Watchpoint>(compiled)));
+}
+
+HostedWatchpoint hosted(const WatchSpec& spec, watch::Watchpoint compiled) {
+  return {std::move(compiled), spec.algorithm, spec.action, spec.options};
 }
 
 std::variant<HostedWatchpoint, watch::CompileError> compile(const WatchSpec& spec, const std::string& file) {

@@ -124,6 +124,9 @@ std::string second_name_problem(std::string_view name, std::span<const WatchSpec
 // The spec of a hosted watchpoint: its text in normal form (watch::to_string).
 WatchSpec spec_of(const HostedWatchpoint& hosted);
 std::vector<WatchSpec> specs_of(const HostedWatches& hosted);
+// The spec's text compiled elsewhere (`compiled`: a scenario file's compiles it in place), hosted
+// with the spec's reading and action.
+HostedWatchpoint hosted(const WatchSpec& spec, watch::Watchpoint compiled);
 // Compiles the spec's text from `source` (its diagnostics name it and point into it; a text
 // written inside a larger file keeps that file's positions) with its reading and action.
 std::variant<HostedWatchpoint, watch::CompileError> compile(const WatchSpec& spec, watch::SourceText source);

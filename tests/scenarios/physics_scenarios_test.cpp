@@ -519,7 +519,8 @@ TEST(PhysicsSession, RandomWalksEqualTheStraightRunWithTheSameEvents) {
       SCOPED_TRACE("threads " + std::to_string(threads) + ", walk" + log);
 
       Scenario again = load_file("leader_election_physics.toml");
-      again.model->watches = run.model().watches;
+      again.model->watches.clear();  // the session's, as the walk left them
+      for (const sim::HostedWatchpoint& h : run.watches().hosted()) again.model->watches.push_back(h);
       sim::Session straight(*again.model, *again.world, {.threads = threads, .events = run.interventions()});
       std::vector<uint64_t> hashes;
       while (straight.current() < kSteps - 1)
