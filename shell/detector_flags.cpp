@@ -5,8 +5,6 @@
 
 namespace dw::shell {
 
-watch::Algorithm DetectorFlags::algorithm() const { return reading().algorithm; }
-
 sim::WatchSpec DetectorFlags::reading() const {
   sim::WatchSpec r;  // the flags' names were checked as they were read (add_detector_flags)
   sim::read_word(r, algorithm_name, sim::WatchWord::Algorithm);

@@ -14,7 +14,6 @@ namespace dw::shell {
 
 struct DetectorFlags {
   std::string algorithm_name = "distributed";
-  watch::Algorithm algorithm() const;
   bool no_early_termination = false;
   bool no_neighbor_culling = false;
   bool no_temporal_spans = false;

@@ -56,8 +56,10 @@ class RunOutputs {
   // what found() was told.
   void finish(std::span<const uint64_t> counted = {});
 
-  // Matches of watchpoint w so far: logged, or counted.
+  // Matches of watchpoint w so far: logged, or counted; and those the log lists (none of a `count`
+  // one), of which the first `keep` are kept.
   uint64_t count(uint32_t w) const;
+  uint64_t listed(uint32_t w) const { return log_.count(w); }
   const std::vector<MatchLog::Kept>& kept(uint32_t w) const { return log_.kept(w); }
 
  private:

@@ -18,8 +18,8 @@ void add_check_command(CLI::App& app, std::function<int()>& run) {
         std::cerr << *errors;
         return 2;
       }
-      for (const watch::Watchpoint& w : std::get<std::vector<watch::Watchpoint>>(loaded))
-        watch::explain_watchpoint(w, std::cout);
+      for (const sim::HostedWatchpoint& h : std::get<std::vector<sim::HostedWatchpoint>>(loaded))
+        watch::explain_watchpoint(h.watchpoint, std::cout);
       return 0;
     };
   });

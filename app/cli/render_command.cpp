@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "app/cli/commands.h"
-#include "app/cli/detector_stats.h"
 #include "app/cli/progress.h"
+#include "app/cli/run_summary.h"
 #include "render/osmesa_context.h"
 #include "render/renderer.h"
 #include "render/scene.h"
@@ -83,10 +83,10 @@ render::Scene scene_at(sim::Session& session, int64_t t, shell::Highlight highli
 }
 
 // A `count` watchpoint keeps no groups: say so rather than highlight nothing without a word.
-void say_counted(const sim::Model& model, shell::Highlight highlight) {
+void say_counted(const sim::Session& session, shell::Highlight highlight) {
   if (highlight == shell::Highlight::None) return;
-  for (const sim::HostedWatchpoint& h : model.watches)
-    if (h.action == sim::MatchAction::Count)
+  for (const sim::HostedWatchpoint& h : session.watches().hosted())
+    if (!sim::lists_matches(h.action))
       std::cout << "  " << h.watchpoint.name
                 << " only counts its matches (action = \"count\"), so none of its groups is"
                 << " highlighted; set action = \"log\" to see them\n";
@@ -115,7 +115,6 @@ int render_video(const RenderArgs& args, scenarios::Scenario& scenario, render::
     return 1;
   }
 
-  const sim::Model& model = *scenario.model;
   const shell::Highlight highlight = highlight_named(args.highlight);
   sim::Session session(*scenario.model, *scenario.world,
                        {scenario.threads, scenario.steps, scenario.history_mb << 20, scenario.events});
@@ -195,7 +194,7 @@ int render_video(const RenderArgs& args, scenarios::Scenario& scenario, render::
   if (first_group)
     std::cout << "  first: " << first_group->watch << " t=" << first_group->t << ": "
               << group_text(first_group->slot_names, first_group->modules) << "\n";
-  say_counted(model, highlight);
+  say_counted(session, highlight);
   return 0;
 }
 
@@ -262,7 +261,7 @@ int render_scenario(const RenderArgs& args, shell::Interrupts* interrupts) {
             << " (" << args.width << "x" << args.height << ")\n";
   for (const render::SceneGroup& g : groups)
     std::cout << "  " << g.watch << " t=" << g.t << ": " << group_text(g.slot_names, g.modules) << "\n";
-  say_counted(model, highlight);
+  say_counted(session, highlight);
   return 0;
 }
 

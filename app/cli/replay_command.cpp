@@ -10,18 +10,14 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include <cmath>
-#include <cstdlib>
-
 #include "app/cli/commands.h"
-#include "app/cli/detector_stats.h"
+#include "app/cli/run_summary.h"
 #include "app/cli/watch_args.h"
 #include "shell/detector_flags.h"
 #include "shell/integer_option.h"
 #include "shell/output_files.h"
-#include "sim/match_log.h"
 #include "sim/replay.h"
-#include "sim/trace.h"
+#include "sim/run_outputs.h"
 #include "watch/watchpoint.h"
 
 namespace dw::app {
@@ -42,6 +38,23 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+// The watchpoints given with --watch, with the command line's reading, each match logged;
+// nothing, the errors printed, when one does not compile or the reading cannot run.
+std::optional<std::vector<sim::HostedWatchpoint>> given_watches(const ReplayArgs& args,
+                                                                std::vector<std::string>& inputs) {
+  const sim::WatchSpec reading = args.detector.reading();
+  auto loaded = load_watchpoints(args.watches, reading, &inputs);
+  if (auto* errors = std::get_if<std::string>(&loaded)) {
+    std::cerr << *errors;
+    return std::nullopt;
+  }
+  if (const std::string why = watch::unsupported(reading.algorithm, reading.options); !why.empty()) {
+    std::cerr << "dwatch: error: " << why << "\n";
+    return std::nullopt;
+  }
+  return std::get<std::vector<sim::HostedWatchpoint>>(std::move(loaded));
+}
+
 // The watchpoints the trace's header lists, each with the reading and action the recording run
 // gave it (the command line's optimization switches and budget apply; the trace reader refused a
 // reading that cannot run); nothing, with the errors printed, when one does not compile or there is none.
@@ -59,23 +72,114 @@ std::optional<std::vector<sim::HostedWatchpoint>> header_watches(const sim::Trac
   return out.empty() ? std::nullopt : std::optional(std::move(out));
 }
 
+// A variable no line has would read as unknown everywhere, so its watchpoint can never match:
+// said where it is read, and the replay goes on. So is what a watchpoint's actions would do.
+void warn_of(std::span<const sim::HostedWatchpoint> replayed, const sim::Trace& trace, const std::string& path) {
+  const auto& known = trace.universe().variables;
+  for (const sim::HostedWatchpoint& h : replayed) {
+    const watch::Watchpoint& w = h.watchpoint;
+    for (const std::string& v : w.program.variables)
+      if (std::find(known.begin(), known.end(), v) == known.end())
+        std::cerr << watch::format_diagnostic(
+            *w.source,
+            {watch::first_use(w.ast, v),
+             "watchpoint \"" + w.name + "\" reads '" + v + "', which no line of " + path + " has: it can never match"},
+            "warning");
+  }
+}
+
+void warn_of_actions(std::span<const sim::HostedWatchpoint> replayed) {
+  // docs/design.md §4b: a trace cannot change, and already holds what the run's actions did.
+  for (const sim::HostedWatchpoint& h : replayed)
+    if (!h.watchpoint.program.actions.empty())
+      std::cerr << "dwatch: watchpoint '" << h.watchpoint.name
+                << "' has actions: replay reports its matches and what they would do, and performs none\n";
+}
+
+// Whether every watchpoint reads alike (then the summary says the reading once).
+bool one_reading(std::span<const sim::HostedWatchpoint> replayed) {
+  const sim::HostedWatchpoint& first = replayed.front();
+  return std::all_of(replayed.begin(), replayed.end(), [&](const sim::HostedWatchpoint& r) {
+    return r.algorithm == first.algorithm &&
+           watch::group_shape(r.algorithm, r.options) == watch::group_shape(first.algorithm, first.options) &&
+           watch::simultaneous(r.algorithm, r.options) == watch::simultaneous(first.algorithm, first.options);
+  });
+}
+
+struct Replayed {
+  std::vector<sim::HostedWatchpoint> watches;
+  std::vector<watch::DetectorStats> stats;
+  bool drained = true;
+  double parse_seconds = 0, detect_seconds = 0;
+};
+
+// The summary: the trace, the reading, each watchpoint's matches and statistics; whether one's
+// budget stopped it.
+bool print_replay_summary(std::ostream& summary, const ReplayArgs& args, const sim::Trace& trace, const Replayed& r,
+                          const sim::RunOutputs& outputs, bool listed_elsewhere) {
+  const bool alike = one_reading(r.watches);
+  summary << "replay " << args.trace << ": " << trace.line_count() << " lines, " << trace.step_count() << " steps, "
+          << trace.modules_with_lines() << " modules";
+  if (const uint32_t only_named = trace.universe().module_count() - trace.modules_with_lines())
+    summary << " (and " << only_named << " named only as neighbours)";
+  const sim::HostedWatchpoint& first = r.watches.front();
+  if (alike)
+    summary << "; " << reading_text(first.algorithm, first.options, first.watchpoint.program.slot_count())
+            << " detector\n";
+  else summary << "; each watchpoint read as the run that recorded the trace read it\n";
+  if (!r.drained)
+    summary << "  the run stopped at " << trace.paused()->watch << "'s pause (step " << trace.paused()->t
+            << "): its last steps stay undecided, as the run left them\n";
+  bool stopped = false;
+  for (uint32_t i = 0; i < r.watches.size(); ++i) {
+    const sim::HostedWatchpoint& h = r.watches[i];
+    summary << "  " << h.watchpoint.name;
+    if (!alike) summary << " [" << reading_text(h.algorithm, h.options, h.watchpoint.program.slot_count()) << "]";
+    summary << ": " << outputs.count(i) << " match" << (outputs.count(i) == 1 ? "" : "es") << "\n";
+    print_detector_stats(summary, r.stats[i]);
+    if (!listed_elsewhere)
+      print_first_matches(summary, h.watchpoint.program.slot_names, outputs.listed(i), args.print, [&](size_t m) {
+        const sim::MatchLog::Kept& kept = outputs.kept(i)[m];
+        return std::pair{kept.t, std::span<const watch::ModuleId>(kept.ids)};
+      });
+    stopped = say_stopped(std::cerr, h.watchpoint.name, r.stats[i], "--max-live") || stopped;
+  }
+  summary << std::fixed << std::setprecision(3) << "  time: reading " << r.parse_seconds << " s, detecting "
+          << r.detect_seconds << " s\n";
+  return stopped;
+}
+
+// --stats: the matches, the (first watchpoint's) reading, the trace, the times, each watchpoint's
+// statistics.
+nlohmann::ordered_json replay_stats_json(const ReplayArgs& args, const sim::Trace& trace, const Replayed& r,
+                                         const sim::RunOutputs& outputs) {
+  uint64_t total = 0;
+  for (uint32_t i = 0; i < r.watches.size(); ++i) total += outputs.count(i);
+  const sim::WatchSpec reading = sim::spec_of(r.watches.front());
+  nlohmann::ordered_json j;
+  j["matches"] = total;
+  j["algorithm"] = reading.algorithm_name();
+  j["shape"] = reading.shape_name();
+  if (reading.distributed()) j["states"] = reading.states_name();
+  j["trace"] = {{"path", args.trace},
+                {"lines", trace.line_count()},
+                {"steps", trace.step_count()},
+                {"modules", trace.modules_with_lines()},
+                {"modules_named_only_as_neighbours", trace.universe().module_count() - trace.modules_with_lines()}};
+  j["seconds"] = {{"reading", r.parse_seconds}, {"detecting", r.detect_seconds}};
+  j["watches"] = nlohmann::json::array();
+  for (uint32_t i = 0; i < r.watches.size(); ++i)
+    j["watches"].push_back(stats_json(sim::spec_of(r.watches[i]), r.stats[i], outputs.count(i)));
+  return j;
+}
+
 int replay(const ReplayArgs& args) {
   std::vector<std::string> inputs{args.trace};
-  std::vector<sim::HostedWatchpoint> replayed;
+  Replayed r;
   if (!args.watches.empty()) {
-    auto loaded = load_watchpoints(args.watches, &inputs);
-    if (auto* errors = std::get_if<std::string>(&loaded)) {
-      std::cerr << *errors;
-      return 2;
-    }
-    const watch::Algorithm algorithm = args.detector.algorithm();
-    const watch::DetectorOptions options = args.detector.options();
-    if (const std::string why = watch::unsupported(algorithm, options); !why.empty()) {
-      std::cerr << "dwatch: error: " << why << "\n";
-      return 2;
-    }
-    for (watch::Watchpoint& w : std::get<std::vector<watch::Watchpoint>>(loaded))
-      replayed.push_back({std::move(w), algorithm, sim::MatchAction::Log, options});
+    auto given = given_watches(args, inputs);
+    if (!given) return 2;
+    r.watches = std::move(*given);
   }
 
   // Output files are opened before the trace is read, so that a bad path costs nothing.
@@ -93,7 +197,7 @@ int replay(const ReplayArgs& args) {
     return 2;
   }
   const sim::Trace& trace = std::get<sim::Trace>(read);
-  const double parse_seconds = seconds_since(parse_start);
+  r.parse_seconds = seconds_since(parse_start);
   if (std::string why = sim::replay_work_problem(trace, uint64_t(args.max_module_steps)); !why.empty()) {
     std::cerr << args.trace << ": error: " << why << " (--max-module-steps sets the limit)\n";
     return 2;
@@ -101,130 +205,35 @@ int replay(const ReplayArgs& args) {
   if (args.watches.empty()) {
     auto from_header = header_watches(trace, args.trace, args.detector);
     if (!from_header) return 2;
-    replayed = std::move(*from_header);
+    r.watches = std::move(*from_header);
   }
-  std::vector<watch::Watchpoint> watches;
-  for (const sim::HostedWatchpoint& r : replayed) watches.push_back(r.watchpoint);
-  const watch::Algorithm algorithm = replayed.front().algorithm;
-  const watch::DetectorOptions options = replayed.front().options;
-  const bool one_reading = std::all_of(replayed.begin(), replayed.end(), [&](const sim::HostedWatchpoint& r) {
-    return r.algorithm == algorithm &&
-           watch::group_shape(r.algorithm, r.options) == watch::group_shape(algorithm, options) &&
-           watch::simultaneous(r.algorithm, r.options) == watch::simultaneous(algorithm, options);
-  });
 
-  // Frames hold only what the watchpoints read. A variable no line has would read as unknown
-  // everywhere, so its watchpoint can never match: said where it is read, and the replay goes on.
-  const std::vector<std::string> read_vars = sim::read_variables(replayed);
-  for (const watch::Watchpoint& w : watches)
-    for (const std::string& v : w.program.variables) {
-      const auto& known = trace.universe().variables;
-      if (std::find(known.begin(), known.end(), v) == known.end())
-        std::cerr << watch::format_diagnostic(
-            *w.source,
-            {watch::first_use(w.ast, v), "watchpoint \"" + w.name + "\" reads '" + v + "', which no line of " +
-                                             args.trace + " has: it can never match"},
-            "warning");
-    }
-  auto made = sim::FrameReader::make(
-      trace, read_vars, args.max_frame_gib > 0 ? args.max_frame_gib * (1u << 30) : sim::default_frame_budget());
+  // Frames hold only what the watchpoints read.
+  warn_of(r.watches, trace, args.trace);
+  auto made =
+      sim::FrameReader::make(trace, sim::read_variables(r.watches),
+                             args.max_frame_gib > 0 ? args.max_frame_gib * (1u << 30) : sim::default_frame_budget());
   if (auto* why = std::get_if<std::string>(&made)) {
     std::cerr << args.trace << ": error: " << *why << "\n";
     return 1;
   }
-  sim::FrameReader& frames = std::get<sim::FrameReader>(made);
-  std::vector<sim::MatchLog::WatchInfo> infos;
-  for (const watch::Watchpoint& w : watches) {
-    infos.push_back(sim::MatchLog::info(w));
-    // docs/design.md §4b: a trace cannot change, and already holds what the run's actions did.
-    if (!w.program.actions.empty())
-      std::cerr << "dwatch: watchpoint '" << w.name
-                << "' has actions: replay reports its matches and what they would do, and performs none\n";
-  }
-  sim::MatchLog log(std::move(infos), out, std::max<size_t>(args.print, 1));
-
-  std::vector<uint64_t> counted(watches.size(), 0);  // of count-only watchpoints
-  const auto matches_of = [&](size_t i) {
-    return replayed[i].action == sim::MatchAction::Count ? counted[i] : log.count(i);
-  };
-  std::vector<watch::MatchSink> logged;
-  for (size_t i = 0; i < watches.size(); ++i) logged.push_back(log.sink(i));
-
-  // The run's own watchpoints find what the run found: a run a pause stopped left its last steps
-  // undecided. Other watchpoints decide them, as at the end of any trace.
-  const bool drain = !args.watches.empty() || !trace.paused();
+  warn_of_actions(r.watches);
+  sim::RunOutputs outputs(r.watches, out, std::max<size_t>(args.print, 1));
+  r.drained = sim::RunOutputs::replay_drains(trace, args.watches.empty());
   const auto detect_start = std::chrono::steady_clock::now();
-  const std::vector<watch::DetectorStats> stats = sim::replay(
-      frames, trace.step_count(), replayed,
+  r.stats = sim::replay(
+      std::get<sim::FrameReader>(made), trace.step_count(), r.watches,
       [&](size_t i, int64_t, int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value> actions) {
-        if (replayed[i].action == sim::MatchAction::Count) counted[i] += ids.size() / watches[i].program.slot_count();
-        else logged[i](t, ids, actions);
+        outputs.found(uint32_t(i), t, ids.size() / r.watches[i].watchpoint.program.slot_count(), ids, actions);
       },
-      [&](int64_t t) { log.release(t); }, drain);
-  for (size_t i = 0; i < watches.size(); ++i)
-    if (replayed[i].action == sim::MatchAction::Count) log.write_counted(watches[i].name, counted[i]);  // as run
-  const double detect_seconds = seconds_since(detect_start);
+      [&](int64_t t) { outputs.release(t); }, r.drained);
+  outputs.finish();  // as run: each count watchpoint's number last
+  r.detect_seconds = seconds_since(detect_start);
 
   // The summary goes to stdout unless the matches do.
   std::ostream& summary = args.matches_path == "-" || args.stats_path == "-" ? std::cerr : std::cout;
-  summary << "replay " << args.trace << ": " << trace.line_count() << " lines, " << trace.step_count() << " steps, "
-          << trace.modules_with_lines() << " modules";
-  if (const uint32_t only_named = trace.universe().module_count() - trace.modules_with_lines())
-    summary << " (and " << only_named << " named only as neighbours)";
-  if (one_reading)
-    summary << "; " << reading_text(algorithm, options, watches.front().program.slot_count()) << " detector\n";
-  else summary << "; each watchpoint read as the run that recorded the trace read it\n";
-  if (!drain)
-    summary << "  the run stopped at " << trace.paused()->watch << "'s pause (step " << trace.paused()->t
-            << "): its last steps stay undecided, as the run left them\n";
-  bool stopped = false;
-  uint64_t total = 0;
-  for (size_t i = 0; i < watches.size(); ++i) {
-    const watch::DetectorStats& st = stats[i];
-    total += matches_of(i);
-    summary << "  " << watches[i].name;
-    if (!one_reading)
-      summary << " [" << reading_text(replayed[i].algorithm, replayed[i].options, watches[i].program.slot_count())
-              << "]";
-    summary << ": " << matches_of(i) << " match" << (matches_of(i) == 1 ? "" : "es") << "\n";
-    print_detector_stats(summary, st);
-    if (out == nullptr) {
-      const auto& slots = watches[i].program.slot_names;
-      for (const sim::MatchLog::Kept& k : log.kept(i)) {
-        if (&k - log.kept(i).data() >= static_cast<ptrdiff_t>(args.print)) break;
-        summary << "    t=" << k.t;
-        for (size_t s = 0; s < slots.size(); ++s) summary << " " << slots[s] << "=" << k.ids[s];
-        summary << "\n";
-      }
-      if (log.count(i) > args.print && args.print > 0)
-        summary << "    ... " << (log.count(i) - args.print) << " more (--matches FILE writes them all)\n";
-    }
-    if (st.stopped) {
-      stopped = true;
-      std::cerr << "dwatch: " << watches[i].name << ": stopped: " << st.stop_reason
-                << "; the matches found before are kept (--max-live sets the budget)\n";
-    }
-  }
-  summary << std::fixed << std::setprecision(3) << "  time: reading " << parse_seconds << " s, detecting "
-          << detect_seconds << " s\n";
-
-  if (stats_out) {
-    nlohmann::ordered_json j;
-    j["matches"] = total;
-    j["algorithm"] = watch::algorithm_name(algorithm);
-    j["shape"] = watch::shape_name(watch::group_shape(algorithm, options));
-    if (algorithm == watch::Algorithm::Distributed)
-      j["states"] = watch::states_name(options.states.value_or(watch::States::Consistent));
-    j["trace"] = {{"path", args.trace},
-                  {"lines", trace.line_count()},
-                  {"steps", trace.step_count()},
-                  {"modules", trace.modules_with_lines()},
-                  {"modules_named_only_as_neighbours", trace.universe().module_count() - trace.modules_with_lines()}};
-    j["seconds"] = {{"reading", parse_seconds}, {"detecting", detect_seconds}};
-    j["watches"] = nlohmann::json::array();
-    for (size_t i = 0; i < watches.size(); ++i) j["watches"].push_back(stats_json(watches[i], stats[i], matches_of(i)));
-    stats_out->stream() << j.dump(1) << "\n";
-  }
+  const bool stopped = print_replay_summary(summary, args, trace, r, outputs, out != nullptr);
+  if (stats_out) stats_out->stream() << replay_stats_json(args, trace, r, outputs).dump(1) << "\n";
   if (!shell::commit_outputs({matches_out.get(), stats_out.get()})) return 1;
   return stopped ? 1 : 0;
 }

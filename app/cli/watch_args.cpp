@@ -19,8 +19,9 @@ bool is_name(const std::string& s) {
 
 }  // namespace
 
-std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const std::vector<std::string>& args,
-                                                                           std::vector<std::string>* files_read) {
+std::variant<std::vector<sim::HostedWatchpoint>, std::string> load_watchpoints(const std::vector<std::string>& args,
+                                                                               const sim::WatchSpec& reading,
+                                                                               std::vector<std::string>* files_read) {
   if (args.size() > watch::kMaxWatchpoints)
     return "dwatch: error: at most " + std::to_string(watch::kMaxWatchpoints) + " watchpoints, not " +
            std::to_string(args.size()) + "\n";
@@ -32,8 +33,8 @@ std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const
   };
   std::vector<std::string> given;  // so that no name made up below is one the user gave
   for (const std::string& arg : args) given.push_back(given_name(arg));
-  std::vector<watch::Watchpoint> out;
-  std::vector<std::string> names;
+  std::vector<sim::HostedWatchpoint> out;
+  std::vector<sim::WatchSpec> named;
   std::string errors;
   for (size_t i = 0; i < args.size(); ++i) {
     std::string arg = args[i];
@@ -65,14 +66,17 @@ std::variant<std::vector<watch::Watchpoint>, std::string> load_watchpoints(const
     }
     // Matches and logs name a watchpoint by it, as the scenario loader refuses a second [[watch]]
     // of one name.
-    if (std::find(names.begin(), names.end(), name) != names.end()) {
-      errors += source_name + ":1:1: error: a second watchpoint named \"" + name + "\"\n";
+    if (const std::string twice = sim::second_name_problem(name, named); !twice.empty()) {
+      errors += source_name + ":1:1: error: " + twice + "\n";
       continue;
     }
-    names.push_back(name);
-    auto compiled = watch::compile_watchpoint(name, watch::SourceText(source_name, text));
+    sim::WatchSpec spec = reading;
+    spec.name = name;
+    spec.text = text;
+    named.push_back(spec);
+    auto compiled = sim::compile(spec, watch::SourceText(source_name, text));
     if (auto* e = std::get_if<watch::CompileError>(&compiled)) errors += e->format();
-    else out.push_back(std::move(std::get<watch::Watchpoint>(compiled)));
+    else out.push_back(std::move(std::get<sim::HostedWatchpoint>(compiled)));
   }
   if (!errors.empty()) return errors;
   return out;

@@ -1,6 +1,4 @@
-#include "app/cli/detector_stats.h"
-
-#include "watch/ast.h"
+#include "app/cli/run_summary.h"
 
 namespace dw::app {
 
@@ -16,10 +14,10 @@ void print_detector_stats(std::ostream& out, const watch::DetectorStats& st) {
   out << "\n";
 }
 
-nlohmann::ordered_json stats_json(const watch::Watchpoint& w, const watch::DetectorStats& st, uint64_t matches) {
+nlohmann::ordered_json stats_json(const sim::WatchSpec& spec, const watch::DetectorStats& st, uint64_t matches) {
   nlohmann::ordered_json j;
-  j["name"] = w.name;
-  j["watchpoint"] = watch::to_string(w.ast);
+  j["name"] = spec.name;
+  j["watchpoint"] = spec.text;
   j["matches"] = matches;
   j["created"] = st.created;
   j["messages"] = st.messages;
@@ -47,6 +45,29 @@ nlohmann::ordered_json stats_json(const watch::Watchpoint& w, const watch::Detec
   j["per_step"] = std::move(steps);
   if (st.steps_truncated) j["per_step_truncated"] = true;  // only the first DetectorStats::kMaxSteps
   return j;
+}
+
+void add_reading_json(nlohmann::ordered_json& entry, const sim::WatchSpec& spec) {
+  entry["algorithm"] = spec.algorithm_name();
+  entry["shape"] = spec.shape_name();
+  if (spec.distributed()) entry["states"] = spec.states_name();
+  entry["action"] = sim::action_name(spec.action);
+}
+
+void print_first_matches(std::ostream& out, std::span<const std::string> slot_names, uint64_t listed, size_t print,
+                         const MatchAt& match) {
+  for (size_t i = 0; i < listed && i < print; ++i) {
+    const auto [t, group] = match(i);
+    out << "    t=" << t << " " << group_text(slot_names, group) << "\n";
+  }
+  if (listed > print && print > 0) out << "    ... " << (listed - print) << " more (--matches FILE writes them all)\n";
+}
+
+bool say_stopped(std::ostream& errors, const std::string& name, const watch::DetectorStats& st, const char* budget) {
+  if (st.stopped)
+    errors << "dwatch: " << name << ": stopped: " << st.stop_reason << "; the matches found before are kept (" << budget
+           << " sets the budget)\n";
+  return st.stopped;
 }
 
 std::string reading_text(watch::Algorithm algorithm, const watch::DetectorOptions& options, int slots) {
