@@ -12,8 +12,8 @@
 
 namespace dw::sim {
 
-Session::Session(Model& model, World& world, SessionOptions options)
-    : mirrored_(model), model_(model), world_(world), options_(std::move(options)), watches_(model.watches) {
+Session::Session(const Model& model, World& world, SessionOptions options)
+    : model_(model), world_(world), options_(std::move(options)), watches_(model.watches) {
   interventions_ = std::move(options_.events);
   options_.events.clear();
   // Over ranks the budget is the run's: each rank's keyframes hold its own modules' part, so each

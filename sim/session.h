@@ -88,7 +88,7 @@ class Session {
  public:
   // `model` and `world` must outlive the session, which never changes the model (docs/design.md
   // §2): it hosts the model's watchpoints, the scenario's, as its first, in slots of its own.
-  Session(Model& model, World& world, SessionOptions options);
+  Session(const Model& model, World& world, SessionOptions options);
   ~Session();
 
   const Model& model() const { return model_; }
@@ -168,10 +168,7 @@ class Session {
   // evaluated again, the matches found stay as they are (a `count` watchpoint keeps only their
   // number, so one switched from `count` lists only those found after, and counted the others),
   // and a pause looks at the new action.
-  void set_action(uint32_t w, MatchAction action) {
-    watches_[w].hosted.action = action;
-    mirror_watches();
-  }
+  void set_action(uint32_t w, MatchAction action) { watches_[w].hosted.action = action; }
   // Removes the watchpoint with this name; false when there is none.
   bool remove_watch(std::string_view name);
   // The position of the watchpoint with this name, or -1.
@@ -248,9 +245,6 @@ class Session {
   void add_drained_stats(uint32_t w, const watch::DetectorStats& before, const watch::DetectorStats& after);
   void drop_changes_after(int64_t at);
   int64_t max_lag() const;
-  // Until every caller reads watches(): the model's list is the session's, as it was.
-  void mirror_watches();
-  Model& mirrored_;
 
   const Model& model_;
   World& world_;

@@ -124,7 +124,6 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
   if (acts) {
     // Its actions change the states themselves (docs/design.md §4b): the history is simulated again.
     if (replaces) watches_.move_last_to(*replaces);
-    mirror_watches();
     rebuild_runtime();
     resimulate();
     return replaces.value_or(w);
@@ -153,7 +152,6 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
     for (State& k : keyframes_) move_last(k.watches);
     rebuild_runtime();
   }
-  mirror_watches();
   recount_history();
   look_ahead({});
   return replaces.value_or(w);
@@ -211,7 +209,6 @@ bool Session::remove_watch(std::string_view name) {
   const uint32_t w = *found;
   const bool acted = !watches_[w].hosted.watchpoint.program.actions.empty();
   watches_.erase(w);
-  mirror_watches();
   head_.watches.erase(head_.watches.begin() + std::ptrdiff_t{w});
   for (State& k : keyframes_) k.watches.erase(k.watches.begin() + std::ptrdiff_t{w});
   view_valid_ = false;
@@ -219,11 +216,6 @@ bool Session::remove_watch(std::string_view name) {
   recount_history();
   if (acted) resimulate();
   return true;
-}
-
-void Session::mirror_watches() {
-  mirrored_.watches.clear();
-  for (const HostedWatchpoint& h : watches_.hosted()) mirrored_.watches.push_back(h);
 }
 
 }  // namespace dw::sim

@@ -157,10 +157,9 @@ class TraceWriter {
   std::string line_;
 };
 
-// The watchpoints as a recorded trace's header lists them: each in normal form, with its reading.
-inline std::vector<WatchSpec> trace_watches(std::span<const HostedWatchpoint> watches) { return specs_of(watches); }
-// And back: each compiled (its diagnostics name `trace_path`), with its reading, over `base`'s
-// budget and optimizations (the caller's), and its action; or the first one's compile errors.
+// A trace's watchpoints (its header's, Trace::watches) compiled to replay them: each with its
+// reading and action, over `base`'s budget and optimizations (the replaying command's), its
+// diagnostics naming `trace_path`; or the first one's compile errors.
 std::variant<std::vector<HostedWatchpoint>, std::string> hosted_watches(std::span<const WatchSpec> watches,
                                                                         const std::string& trace_path,
                                                                         const watch::DetectorOptions& base);

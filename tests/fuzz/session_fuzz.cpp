@@ -172,24 +172,17 @@ action = "pause"
 };
 constexpr size_t kScenarioCount = std::size(kScenarios);
 
-// A scenario loaded once, and its watchpoints as loaded: a session adds and removes watchpoints in
-// the model, which every input gets back as they were.
-struct LoadedScenario {
-  dw::scenarios::Scenario scenario;
-  std::vector<dw::sim::HostedWatchpoint> watches;
-};
-
-LoadedScenario& loaded_scenario(size_t index) {
-  static std::optional<LoadedScenario> loaded[kScenarioCount];
+// A scenario loaded once: a session keeps its own watchpoints and never changes the model, so
+// every input starts from the scenario as loaded.
+dw::scenarios::Scenario& loaded_scenario(size_t index) {
+  static std::optional<dw::scenarios::Scenario> loaded[kScenarioCount];
   if (!loaded[index]) {
     auto made = dw::scenarios::load_scenario_text(DWATCH_SCENARIOS_DIR "/fuzz_session.toml", kScenarios[index].toml);
     if (auto* errors = std::get_if<std::string>(&made)) {
       std::fprintf(stderr, "session_fuzz: scenario %zu: %s", index, errors->c_str());
       std::abort();
     }
-    dw::scenarios::Scenario& scenario = std::get<dw::scenarios::Scenario>(made);
-    std::vector<dw::sim::HostedWatchpoint> watches = scenario.model->watches;
-    loaded[index].emplace(LoadedScenario{std::move(scenario), std::move(watches)});
+    loaded[index].emplace(std::get<dw::scenarios::Scenario>(std::move(made)));
   }
   return *loaded[index];
 }
@@ -397,8 +390,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   namespace sim = dw::sim;
   static const OutputFolder outputs;
   const std::string text(reinterpret_cast<const char*>(data), size);
-  LoadedScenario& loaded = loaded_scenario(scenario_named_by(text));
-  dw::scenarios::Scenario& scenario = loaded.scenario;
+  dw::scenarios::Scenario& scenario = loaded_scenario(scenario_named_by(text));
   sim::SessionOptions options = dw::shell::session_options(scenario, {});
   options.threads = 1;
   options.history_bytes = kHistoryBytes;
@@ -456,7 +448,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         fail("a step's simulation hash differs with the way it was reached", std::to_string(session.current()));
     }
   }
-  scenario.model->watches = loaded.watches;
   if (!std::filesystem::is_empty(outputs.path())) outputs.clear();
   return 0;
 }

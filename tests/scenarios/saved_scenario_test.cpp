@@ -74,9 +74,9 @@ TEST_F(SavedScenario, LoadedFromAnotherFolderItRunsTheSessionsBranch) {
     expected.scheduled = true;
     EXPECT_EQ(saved.events[i], expected) << "event " << i;
   }
-  ASSERT_EQ(saved.model->watches.size(), scenario.model->watches.size());
-  for (size_t w = 0; w < saved.model->watches.size(); ++w) {
-    const sim::HostedWatchpoint &a = saved.model->watches[w], &b = scenario.model->watches[w];
+  ASSERT_EQ(saved.model->watches.size(), session.watches().size());
+  for (uint32_t w = 0; w < saved.model->watches.size(); ++w) {
+    const sim::HostedWatchpoint &a = saved.model->watches[w], &b = session.watches()[w].hosted;
     EXPECT_EQ(a.watchpoint.name, b.watchpoint.name);
     EXPECT_EQ(watch::to_string(a.watchpoint.ast), watch::to_string(b.watchpoint.ast));
     EXPECT_EQ(a.algorithm, b.algorithm);
