@@ -70,9 +70,8 @@ TEST(WatchSpec, JsonGoesThereAndBack) {
   read_word(s, "ordered");
   read_word(s, "count");
   const std::string written = to_json(s).dump();
-  EXPECT_EQ(written,
-            R"j({"name":"w","text":"modules(a); (a.x = 1)","algorithm":"centralized","shape":"ordered",)j"
-            R"("states":"consistent","action":"count"})");
+  EXPECT_EQ(written, R"j({"name":"w","text":"modules(a); (a.x = 1)","algorithm":"centralized","shape":"ordered",)j"
+                     R"("states":"consistent","action":"count"})");
   auto read = spec_from_json(nlohmann::json::parse(written));
   ASSERT_TRUE(std::holds_alternative<WatchSpec>(read)) << std::get<SpecError>(read).why;
   const WatchSpec& back = std::get<WatchSpec>(read);
