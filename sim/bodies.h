@@ -17,13 +17,13 @@
 #include <vector>
 
 #include "sim/bond_set.h"
+#include "sim/contact_cache.h"
 #include "sim/lattice.h"
 #include "sim/neighbor_graph.h"
 #include "sim/paged_array.h"
+#include "sim/vec3.h"
 
 namespace dw::sim {
-
-using Vec3 = std::array<float, 3>;
 
 struct Pose {
   Vec3 position{};
@@ -90,6 +90,7 @@ struct Bodies {
   std::vector<Mover> movers;      // sorted by module
   std::vector<Pose> prop_poses;   // the scenario's props (bodies that are not modules)
   std::vector<Velocity> prop_velocities;
+  std::vector<ContactPoint> contacts;  // the warm start of the next step (sim/contact_cache.h)
 
   bool empty() const { return poses.empty(); }
   // A module's pose in its cluster's frame. An anchored cluster's frame is the world's, so its

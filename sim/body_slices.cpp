@@ -27,6 +27,7 @@ void each_vector(B& b, F&& f) {
   f(b.movers);
   f(b.prop_poses);
   f(b.prop_velocities);
+  f(b.contacts);
 }
 
 // The bodies read back from their serialization, which lies in `parts` one after the other: a

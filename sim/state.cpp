@@ -210,6 +210,11 @@ StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight, 
     h.words(b.members);
     h.records(b.prop_poses);
     h.records(b.prop_velocities);
+    // The contact cache (design §8a), when there is one: a world without contacts hashes as before.
+    if (!b.contacts.empty()) {
+      h.word(b.contacts.size());
+      h.records(b.contacts);
+    }
   }
   h.word(pieces.message_count);
   h.h = pieces.messages(h.h);
@@ -250,7 +255,7 @@ size_t state_bytes(const State& s) {
   const Bodies& b = s.bodies;
   size_t n = sizeof(State) + vector_bytes(s.values) + vector_bytes(s.present) + b.poses.bytes() + b.velocities.bytes() +
              b.local.bytes() + b.cluster_of.bytes() + vector_bytes(b.clusters) + vector_bytes(b.members) +
-             b.bonds.bytes() + vector_bytes(b.movers) + vector_bytes(b.prop_poses) + vector_bytes(b.prop_velocities) +
+             b.bonds.bytes() + vector_bytes(b.movers) + vector_bytes(b.prop_poses) + vector_bytes(b.prop_velocities) + vector_bytes(b.contacts) +
              vector_bytes(s.inbox.begin) + s.inbox.messages.bytes() + vector_bytes(s.actions) + 16 * kBlock;
   for (const WatchState& w : s.watches) {
     n += sizeof(WatchState) + vector_bytes(w.in_flight);
