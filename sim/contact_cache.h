@@ -30,7 +30,7 @@ struct ContactPoint {
   bool operator==(const ContactPoint&) const = default;
 };
 // No padding: the state hash reads them bit for bit.
-static_assert(sizeof(ContactPoint) == 2 * sizeof(uint32_t) + 18 * sizeof(float) + sizeof(uint32_t));
+static_assert(sizeof(ContactPoint) == 2 * sizeof(uint32_t) + 19 * sizeof(float) + sizeof(uint32_t));
 
 inline bool contact_pair_less(const ContactPoint& x, const ContactPoint& y) {
   return std::tie(x.a, x.b) < std::tie(y.a, y.b);
