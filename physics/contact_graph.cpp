@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <optional>
 #include <span>
 #include <stdexcept>
 
@@ -14,8 +13,8 @@
 
 #include "physics/cell_grid.h"
 #include "physics/convert.h"
+#include "physics/module_records.h"
 #include "physics/shapes.h"
-#include "sim/paged_array.h"
 
 namespace dw::physics {
 namespace {
@@ -33,66 +32,6 @@ struct ClosestDistance final : btDiscreteCollisionDetectorInterface::Result {
 // How much wider than the reach a rank's window is: rounding in a moving cluster's poses may put
 // two neighbours measured in its frame a hair further apart in the world.
 constexpr float kWindowMargin = 1.125f;
-
-// Per-module records kept for some modules only (sim::PagedArray, with which are known): over
-// ranks a rank remembers the poses of its window and the modules next to it, a few in ten of a
-// large ensemble; in one process, every module's. A record equal to its default (a module at rest
-// in its cell) takes no page.
-template <typename T, typename Default>
-class PagedRecords {
- public:
-  PagedRecords() = default;
-  explicit PagedRecords(const Default& defaults) : records_(defaults) {}
-  const Default& defaults() const { return records_.defaults(); }
-  size_t size() const { return known_.size(); }
-  void resize(size_t n) {
-    known_.resize(n, 0);
-    records_.resize(n);
-  }
-  bool known(sim::ModuleId m) const { return known_[m] != 0; }
-  const T operator[](sim::ModuleId m) const { return records_[m]; }
-  void set(sim::ModuleId m, const T& value) {
-    records_.set(m, value);
-    known_[m] = 1;
-  }
-
- private:
-  std::vector<uint8_t> known_;
-  sim::PagedArray<T, Default> records_;
-};
-
-// Module ids, ascending: a list, or every id below n without holding them (a full measurement
-// looks at and flags every module: two lists of them took 8 MB a million, on every rank).
-class Ids {
- public:
-  void all(size_t n) {
-    list_.clear();
-    every_ = n;
-  }
-  std::vector<sim::ModuleId>& list() {
-    every_.reset();
-    return list_;
-  }
-  size_t size() const { return every_ ? *every_ : list_.size(); }
-  bool empty() const { return size() == 0; }
-  sim::ModuleId operator[](size_t i) const { return every_ ? static_cast<sim::ModuleId>(i) : list_[i]; }
-  struct Iterator {
-    const Ids* ids;
-    size_t i;
-    sim::ModuleId operator*() const { return (*ids)[i]; }
-    Iterator& operator++() {
-      ++i;
-      return *this;
-    }
-    bool operator==(const Iterator&) const = default;
-  };
-  Iterator begin() const { return {this, 0}; }
-  Iterator end() const { return {this, size()}; }
-
- private:
-  std::optional<size_t> every_;
-  std::vector<sim::ModuleId> list_;
-};
 
 float squared_distance(const sim::Vec3& a, const sim::Vec3& b) {
   const float x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
@@ -231,6 +170,8 @@ struct ContactGraph::Impl {
   Ids looked, flagged_list;
   std::vector<sim::ModuleId> entering;
   std::shared_ptr<const sim::NeighborGraph> graph;
+
+  struct Pass;  // one update, below
 };
 
 ContactGraph::ContactGraph(ModuleShape shape, float threshold) : impl_(std::make_unique<Impl>(shape, threshold)) {}
@@ -288,73 +229,101 @@ struct Window {
   }
 };
 
-std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
-    const sim::Bodies& bodies, std::span<const uint8_t> present, sim::WorkerPool& workers,
-    const std::vector<sim::ModuleId>* changed, sim::RankExchange* ranks, const sim::ModuleOwners* owners) {
-  Impl& s = *impl_;
-  const auto& poses = bodies.poses;
-  const size_t n = poses.size();
-  const bool windowed = ranks != nullptr;
-  if (windowed && owners == nullptr)
-    throw std::logic_error("ContactGraph::update over ranks needs the modules' owners");
-  // Poses at rest are remembered as the bodies keep them: as their cells, without pages.
-  if (!(s.world.defaults() == bodies.poses.defaults())) s.world = decltype(s.world)(bodies.poses.defaults());
-  const bool regrid = s.fit_grid(bodies, n);
-  const bool forget = regrid || !s.graph || s.world.size() != n || windowed != (s.graph->held != nullptr);
-  if (forget) changed = nullptr;
-  s.marks.resize(n, 0);
-  s.world.resize(n);
-  if (!s.frame.empty()) s.frame.resize(n);
+// One update (ContactGraph::update), stage by stage, each a function of its own: what changed
+// since the last measurement (look), over ranks the window now (rewindow), the pairs to measure
+// again as they were (read_stale), who looks for pairs (choose_searchers), the measurement itself
+// (measure), what is remembered of it (remember), and the graph it makes (make_graph).
+struct ContactGraph::Impl::Pass {
+  using Pair = std::pair<sim::ModuleId, sim::ModuleId>;
+
+  Pass(Impl& s, const sim::Bodies& bodies, std::span<const uint8_t> present, sim::RankExchange* ranks,
+       const sim::ModuleOwners* owners)
+      : s(s),
+        bodies(bodies),
+        poses(bodies.poses),
+        present(present),
+        ranks(ranks),
+        owners(owners),
+        n(bodies.poses.size()),
+        windowed(ranks != nullptr) {
+    // Poses at rest are remembered as the bodies keep them: as their cells, without pages.
+    if (!(s.world.defaults() == bodies.poses.defaults())) s.world = decltype(s.world)(bodies.poses.defaults());
+    const bool regrid = s.fit_grid(bodies, n);
+    forget = regrid || !s.graph || s.world.size() != n || windowed != (s.graph->held != nullptr);
+    s.marks.resize(n, 0);
+    s.world.resize(n);
+    if (!s.frame.empty()) s.frame.resize(n);
+  }
+
+  bool moved(sim::ModuleId m) const { return s.marked(m, Impl::kMoved); }
+  bool reframed(sim::ModuleId m) const { return s.marked(m, Impl::kReframed); }
+  bool flagged(sim::ModuleId m) const { return s.marked(m, Impl::kFlagged); }
+  bool was_present(sim::ModuleId m) const { return s.marked(m, Impl::kWasPresent); }
+  bool renewing(sim::ModuleId m) const { return s.marked(m, Impl::kRenew); }
+  bool renewed(sim::ModuleId a, sim::ModuleId b) const { return renewing(a) || renewing(b); }
+  bool search(sim::ModuleId m) const { return s.marked(m, Impl::kSearch); }
+  bool visits(sim::ModuleId m) const { return search(m) || (renewing(m) && present[m]); }
+  // The frame a module is measured at now: the bodies' for the flagged ones (read again rather
+  // than kept: 32 bytes a module), the last one for the others, which are known not to differ.
+  Frame now(sim::ModuleId m) const { return flagged(m) ? Impl::frame_of(bodies, m) : s.last_frame(m); }
+  // Over ranks, whether the window holds m's list now, and whether it held it before.
+  bool holds(sim::ModuleId m) const { return !window || (*window)[m] != 0; }
+  bool held_before(sim::ModuleId m) const { return was_held == nullptr || (*was_held)[m] != 0; }
+
+  // A pair is measured again when what it is measured at changed: both members of one cluster
+  // that moves at their poses in it, any other pair at its world poses. Every other pair keeps
+  // its measurement.
+  bool stale(sim::ModuleId a, sim::ModuleId b) const {
+    if (forget) return true;
+    // A module that came or went is flagged (moved), so an unflagged pair is present as it was.
+    if (!flagged(a) && !flagged(b)) return false;
+    if (!present[a] || !present[b]) return true;
+    const Impl::Frame &last_a = s.last_frame(a), &last_b = s.last_frame(b);
+    const Impl::Frame now_a = now(a), now_b = now(b);
+    const bool was = Impl::together(last_a, last_b), is = Impl::together(now_a, now_b);
+    if (was != is) return true;
+    return is ? !(now_a.local == last_a.local && now_b.local == last_b.local) : moved(a) || moved(b);
+  }
 
   // The modules to look at: those the caller says may have changed, or all. Per module, what
   // changed since the last measurement: it came or went or its world pose changed (moved), or its
-  // frame did (reframed); `flagged` either. Only those look for pairs to measure.
-  Ids& looked = s.looked;
-  if (changed) {
-    std::vector<sim::ModuleId>& list = looked.list();
-    list = *changed;
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  } else {
-    looked.all(n);
+  // frame did (reframed); `flagged` either. Only those look for pairs to measure. Returns whether
+  // any is flagged.
+  bool look(const std::vector<sim::ModuleId>* changed) {
+    Ids& looked = s.looked;
+    if (changed && !forget) {
+      std::vector<sim::ModuleId>& list = looked.list();
+      list = *changed;
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+    } else {
+      looked.all(n);
+    }
+    // Forgetting, every module is flagged.
+    Ids& flagged_list = s.flagged_list;
+    if (forget) flagged_list.all(n);
+    else flagged_list.list().clear();
+    for (sim::ModuleId m : looked) {
+      s.place(bodies, present, m);
+      const bool is = present[m] != 0, moved = forget || is != s.marked(m, Impl::kWasPresent) ||
+                                               (is && !(s.world.known(m) && poses[m] == s.world[m]));
+      const bool reframed = forget || !(Impl::frame_of(bodies, m) == s.last_frame(m));
+      s.mark(m, Impl::kMoved, moved);
+      s.mark(m, Impl::kReframed, reframed);
+      s.mark(m, Impl::kFlagged, moved || reframed);
+      if ((moved || reframed) && !forget) flagged_list.list().push_back(m);
+    }
+    return !flagged_list.empty();
   }
-  // Forgetting, every module is flagged.
-  Ids& flagged_list = s.flagged_list;
-  if (forget) flagged_list.all(n);
-  else flagged_list.list().clear();
-  for (sim::ModuleId m : looked) {
-    s.place(bodies, present, m);
-    const bool is = present[m] != 0, moved = forget || is != s.marked(m, Impl::kWasPresent) ||
-                                             (is && !(s.world.known(m) && poses[m] == s.world[m]));
-    const bool reframed = forget || !(Impl::frame_of(bodies, m) == s.last_frame(m));
-    s.mark(m, Impl::kMoved, moved);
-    s.mark(m, Impl::kReframed, reframed);
-    s.mark(m, Impl::kFlagged, moved || reframed);
-    if ((moved || reframed) && !forget) flagged_list.list().push_back(m);
-  }
-  measured_ = 0;
-  // Over ranks what a rank finds changed depends on what it remembers: each takes part in the sum
-  // of the counts all the same.
-  if (flagged_list.empty()) {
-    if (windowed) ranks->sum(std::span(&measured_, 1));
-    return s.graph;
-  }
-  const auto moved = [&](sim::ModuleId m) { return s.marked(m, Impl::kMoved); };
-  const auto reframed = [&](sim::ModuleId m) { return s.marked(m, Impl::kReframed); };
-  const auto flagged = [&](sim::ModuleId m) { return s.marked(m, Impl::kFlagged); };
-  const auto was_present = [&](sim::ModuleId m) { return s.marked(m, Impl::kWasPresent); };
-  // The frame a module is measured at now: the bodies' for the flagged ones (read again rather
-  // than kept: 32 bytes a module), the last one for the others, which are known not to differ.
-  const auto now = [&](sim::ModuleId m) { return flagged(m) ? Impl::frame_of(bodies, m) : s.last_frame(m); };
 
   // Over ranks, the window now: it changes only around what changed, the modules flagged and
   // those near where a flagged module of this rank's was and is. A module entering it (not
   // flagged, or flagged) has every pair measured again (`renew`): its list is made whole.
-  std::shared_ptr<const std::vector<uint8_t>> window;
-  std::vector<sim::ModuleId>& entering = s.entering;
-  entering.clear();
-  const std::vector<uint8_t>* was_held = forget || !s.graph ? nullptr : s.graph->held.get();
-  if (windowed) {
+  void rewindow() {
+    std::vector<sim::ModuleId>& entering = s.entering;
+    entering.clear();
+    was_held = forget || !s.graph ? nullptr : s.graph->held.get();
+    if (!windowed) return;
     const Window w{s.grid, present, *owners, static_cast<uint32_t>(ranks->rank()), s.cutoff * kWindowMargin};
     auto held = std::make_shared<std::vector<uint8_t>>(n, 0);
     if (forget) {
@@ -366,7 +335,7 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     } else {
       *held = *was_held;
       std::vector<sim::ModuleId> again;
-      for (sim::ModuleId m : flagged_list) {
+      for (sim::ModuleId m : s.flagged_list) {
         again.push_back(m);
         if (w.owned(m)) {
           w.near(s.grid.at(m), [&](sim::ModuleId o) { again.push_back(o); });
@@ -386,32 +355,14 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
     }
     window = std::move(held);
   }
-  const auto holds = [&](sim::ModuleId m) { return !window || (*window)[m] != 0; };
-  const auto held_before = [&](sim::ModuleId m) { return was_held == nullptr || (*was_held)[m] != 0; };
 
-  // A pair is measured again when what it is measured at changed: both members of one cluster
-  // that moves at their poses in it, any other pair at its world poses. Every other pair keeps
-  // its measurement.
-  const auto stale = [&](sim::ModuleId a, sim::ModuleId b) {
-    if (forget) return true;
-    // A module that came or went is flagged (moved), so an unflagged pair is present as it was.
-    if (!flagged(a) && !flagged(b)) return false;
-    if (!present[a] || !present[b]) return true;
-    const Impl::Frame &last_a = s.last_frame(a), &last_b = s.last_frame(b);
-    const Impl::Frame now_a = now(a), now_b = now(b);
-    const bool was = Impl::together(last_a, last_b), is = Impl::together(now_a, now_b);
-    if (was != is) return true;
-    return is ? !(now_a.local == last_a.local && now_b.local == last_b.local) : moved(a) || moved(b);
-  };
-  const auto renewing = [&](sim::ModuleId m) { return s.marked(m, Impl::kRenew); };
-  const auto renewed = [&](sim::ModuleId a, sim::ModuleId b) { return renewing(a) || renewing(b); };
-  // The pairs measured again, as they were. Only a pair with a flagged (or renewed) member can
-  // be, and a module's pairs are its neighbours in the graph last made: those lists are all that
-  // is read. (The graph is the one list of pairs kept: a second, sorted, took 8 bytes a pair.) Over
-  // ranks, a module whose list this rank did not hold finds its pairs in the lists held near
-  // where it was measured last.
-  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> dropped;
-  if (!forget) {
+  // The pairs measured again, as they were (`dropped`). Only a pair with a flagged (or renewed)
+  // member can be, and a module's pairs are its neighbours in the graph last made: those lists are
+  // all that is read. (The graph is the one list of pairs kept: a second, sorted, took 8 bytes a
+  // pair.) Over ranks, a module whose list this rank did not hold finds its pairs in the lists held
+  // near where it was measured last.
+  void read_stale() {
+    if (forget) return;
     const auto drop = [&](sim::ModuleId m, sim::ModuleId o) {
       if (stale(m, o) || renewed(m, o)) dropped.emplace_back(std::minmax(m, o));
     };
@@ -427,18 +378,19 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
         if (held_before(o) && !flagged(o) && s.graph->adjacent(o, m)) drop(m, o);
       });
     };
-    for (sim::ModuleId m : flagged_list) read(m);
-    for (sim::ModuleId m : entering)
+    for (sim::ModuleId m : s.flagged_list) read(m);
+    for (sim::ModuleId m : s.entering)
       if (!flagged(m)) read(m);
     std::sort(dropped.begin(), dropped.end());
     dropped.erase(std::unique(dropped.begin(), dropped.end()), dropped.end());
   }
+
   // Who looks for pairs: what moved or was reframed, except the members of a cluster that moved
   // as a whole with nothing else near it (a pile free on the ground): their pairs with each other
   // keep their measurement, and nothing outside the cluster is within reach.
-  const auto search = [&](sim::ModuleId m) { return s.marked(m, Impl::kSearch); };
-  for (sim::ModuleId m : flagged_list) s.mark(m, Impl::kSearch, present[m] != 0);
-  if (!forget && !bodies.cluster_of.empty())
+  void choose_searchers() {
+    for (sim::ModuleId m : s.flagged_list) s.mark(m, Impl::kSearch, present[m] != 0);
+    if (forget || bodies.cluster_of.empty()) return;
     for (uint32_t c = 0; c < bodies.clusters.size(); ++c) {
       const sim::Cluster& cluster = bodies.clusters[c];
       if (cluster.anchored || cluster.count < 2) continue;
@@ -460,95 +412,141 @@ std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
       if (alone)
         for (sim::ModuleId m : members) s.mark(m, Impl::kSearch, false);
     }
-  const auto visits = [&](sim::ModuleId m) { return search(m) || (renewing(m) && present[m]); };
+  }
 
-  // Each worker measures the stale pairs of a run of the visiting modules; the runs are joined.
-  // A pair is measured from its lower visiting member's side. Over ranks, a rank measures the pairs
-  // of its window, and counts those one process measures from a module it owns: the same count.
-  const float cutoff2 = s.cutoff * s.cutoff;
-  const unsigned runs = workers.size();
-  // The flagged modules, then those entering the window.
-  const auto visiting = [&](size_t i) {
-    return i < flagged_list.size() ? flagged_list[i] : entering[i - flagged_list.size()];
-  };
-  const size_t count = flagged_list.size() + entering.size();
-  std::vector<std::vector<std::pair<sim::ModuleId, sim::ModuleId>>> found(runs);
-  std::vector<uint64_t> measured(runs, 0);
-  const uint32_t me = windowed ? static_cast<uint32_t>(ranks->rank()) : 0;
-  workers.run([&](unsigned run) {
-    for (size_t i = count * run / runs; i < count * (run + 1) / runs; ++i) {
-      const sim::ModuleId a = visiting(i);
-      if (!visits(a) || (i >= flagged_list.size() && flagged(a))) continue;  // an entering module flagged: once
-      // Poses are read once each (a module at rest has its cell's, computed on each read), and
-      // the distance from where the grid placed b, which is where b is now: every module whose
-      // pose may have changed was placed again above.
-      const sim::Pose pose_a = poses[a];
-      s.grid.around(pose_a.position, [&](sim::ModuleId b, const sim::Vec3& b_at) {
-        if (b == a) return;
-        const bool natural = stale(a, b);
-        if (!natural && !renewed(a, b)) return;
-        if (squared_distance(pose_a.position, b_at) > cutoff2) return;
-        if (natural && search(a) && !(b < a && search(b)) && (!windowed || owners->rank_of(a) == me)) ++measured[run];
-        if (!holds(a) && !holds(b)) return;
-        if (b < a && visits(b)) return;  // measured from b's side
-        const Impl::Frame now_a = now(a), now_b = now(b);
-        const bool local = Impl::together(now_a, now_b);
-        if (s.touching(local ? now_a.local : pose_a, local ? now_b.local : poses[b]))
-          found[run].emplace_back(std::min(a, b), std::max(a, b));
-      });
+  // Each worker measures the stale pairs of a run of the visiting modules (the flagged ones, then
+  // those entering the window); the runs are joined into `fresh`, sorted. A pair is measured from
+  // its lower visiting member's side. Over ranks, a rank measures the pairs of its window, and
+  // counts those one process measures from a module it owns: the same count, summed over them.
+  void measure(sim::WorkerPool& workers) {
+    const Ids& flagged_list = s.flagged_list;
+    const std::vector<sim::ModuleId>& entering = s.entering;
+    const float cutoff2 = s.cutoff * s.cutoff;
+    const unsigned runs = workers.size();
+    const auto visiting = [&](size_t i) {
+      return i < flagged_list.size() ? flagged_list[i] : entering[i - flagged_list.size()];
+    };
+    const size_t count = flagged_list.size() + entering.size();
+    std::vector<std::vector<Pair>> found(runs);
+    std::vector<uint64_t> counted(runs, 0);
+    const uint32_t me = windowed ? static_cast<uint32_t>(ranks->rank()) : 0;
+    workers.run([&](unsigned run) {
+      for (size_t i = count * run / runs; i < count * (run + 1) / runs; ++i) {
+        const sim::ModuleId a = visiting(i);
+        if (!visits(a) || (i >= flagged_list.size() && flagged(a))) continue;  // an entering module flagged: once
+        // Poses are read once each (a module at rest has its cell's, computed on each read), and
+        // the distance from where the grid placed b, which is where b is now: every module whose
+        // pose may have changed was placed again by look().
+        const sim::Pose pose_a = poses[a];
+        s.grid.around(pose_a.position, [&](sim::ModuleId b, const sim::Vec3& b_at) {
+          if (b == a) return;
+          const bool natural = stale(a, b);
+          if (!natural && !renewed(a, b)) return;
+          if (squared_distance(pose_a.position, b_at) > cutoff2) return;
+          if (natural && search(a) && !(b < a && search(b)) && (!windowed || owners->rank_of(a) == me)) ++counted[run];
+          if (!holds(a) && !holds(b)) return;
+          if (b < a && visits(b)) return;  // measured from b's side
+          const Impl::Frame now_a = now(a), now_b = now(b);
+          const bool local = Impl::together(now_a, now_b);
+          if (s.touching(local ? now_a.local : pose_a, local ? now_b.local : poses[b]))
+            found[run].emplace_back(std::min(a, b), std::max(a, b));
+        });
+      }
+    });
+    for (unsigned run = 0; run < runs; ++run) {
+      fresh.insert(fresh.end(), found[run].begin(), found[run].end());
+      measured += counted[run];
     }
-  });
-  // The pairs found, sorted.
-  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> fresh;
-  for (unsigned run = 0; run < runs; ++run) {
-    fresh.insert(fresh.end(), found[run].begin(), found[run].end());
-    measured_ += measured[run];
+    if (windowed) ranks->sum(std::span(&measured, 1));
+    std::sort(fresh.begin(), fresh.end());
   }
-  if (windowed) ranks->sum(std::span(&measured_, 1));
-  std::sort(fresh.begin(), fresh.end());
+
   // What is remembered: every module in one process; over ranks, those of the window and of its
-  // lists (every pair found touches the window), and every module remembered before.
-  const auto remember = [&](sim::ModuleId m) {
-    if (!s.world.known(m)) s.world.set(m, poses[m]);
-  };
-  if (windowed) {
-    for (sim::ModuleId m : entering) remember(m);
-    for (const auto& [a, b] : fresh) remember(a), remember(b);
-    if (forget)
-      for (sim::ModuleId m = 0; m < n; ++m)
-        if ((*window)[m]) remember(m);
+  // lists (every pair found touches the window), and every module remembered before. The marks of
+  // the update are cleared but kRenew, which stays until make_graph reads the lists gained.
+  void remember() {
+    const auto keep = [&](sim::ModuleId m) {
+      if (!s.world.known(m)) s.world.set(m, poses[m]);
+    };
+    if (windowed) {
+      for (sim::ModuleId m : s.entering) keep(m);
+      for (const auto& [a, b] : fresh) keep(a), keep(b);
+      if (forget)
+        for (sim::ModuleId m = 0; m < n; ++m)
+          if ((*window)[m]) keep(m);
+    }
+    for (sim::ModuleId m : s.flagged_list) {
+      if (moved(m) && (!windowed || s.world.known(m))) s.world.set(m, poses[m]);
+      if (reframed(m)) s.keep_frame(m, Impl::frame_of(bodies, m), n);
+      s.marks[m] &= uint8_t(~(Impl::kMoved | Impl::kReframed | Impl::kFlagged | Impl::kSearch));
+    }
+    for (sim::ModuleId m : s.looked) s.mark(m, Impl::kWasPresent, present[m] != 0);
   }
-  for (sim::ModuleId m : flagged_list) {
-    if (moved(m) && (!windowed || s.world.known(m))) s.world.set(m, poses[m]);
-    if (reframed(m)) s.keep_frame(m, Impl::frame_of(bodies, m), n);
-    // kRenew stays until the lists gained are read below.
-    s.marks[m] &= uint8_t(~(Impl::kMoved | Impl::kReframed | Impl::kFlagged | Impl::kSearch));
-  }
-  for (sim::ModuleId m : looked) s.mark(m, Impl::kWasPresent, present[m] != 0);
-  if (forget) {  // every pair was measured
+
+  // The graph: made from the pairs found when every pair was measured; else the last one with the
+  // pairs dropped and not found again taken out, those found that were not there put in, and the
+  // lists of the modules entering the window whole; or the last one itself when the same pairs
+  // were found again as were measured again, in the same window.
+  std::shared_ptr<const sim::NeighborGraph> make_graph() {
+    if (forget) {
+      s.graph = std::make_shared<const sim::NeighborGraph>(
+          sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), fresh).held_only(std::move(window)));
+      return s.graph;
+    }
+    const bool rewindowed = windowed && *window != *was_held;
+    if (fresh == dropped && !rewindowed) return s.graph;  // (and no module entered it)
+    std::vector<Pair> gone, made, gained;
+    std::set_difference(dropped.begin(), dropped.end(), fresh.begin(), fresh.end(), std::back_inserter(gone));
+    std::set_difference(fresh.begin(), fresh.end(), dropped.begin(), dropped.end(), std::back_inserter(made));
+    if (!s.entering.empty()) {
+      for (const auto& [a, b] : fresh) {
+        if (renewing(a)) gained.emplace_back(a, b);
+        if (renewing(b)) gained.emplace_back(b, a);
+      }
+      for (sim::ModuleId m : s.entering) s.mark(m, Impl::kRenew, false);
+      std::sort(gained.begin(), gained.end());
+    }
     s.graph = std::make_shared<const sim::NeighborGraph>(
-        sim::NeighborGraph::from_pairs(static_cast<uint32_t>(n), fresh).held_only(std::move(window)));
+        s.graph->changed(gone, made, rewindowed ? std::move(window) : nullptr, gained));
     return s.graph;
   }
-  // The same pairs found again as were measured again, and the same window: the graph stands.
-  const bool rewindowed = windowed && *window != *was_held;
-  if (fresh == dropped && !rewindowed) return s.graph;  // (and no module entered it)
-  // What changed: the pairs dropped and not found again, and those found that were not there; and
-  // the lists of the modules entering the window, whole.
-  std::vector<std::pair<sim::ModuleId, sim::ModuleId>> gone, made, gained;
-  std::set_difference(dropped.begin(), dropped.end(), fresh.begin(), fresh.end(), std::back_inserter(gone));
-  std::set_difference(fresh.begin(), fresh.end(), dropped.begin(), dropped.end(), std::back_inserter(made));
-  if (!entering.empty()) {
-    for (const auto& [a, b] : fresh) {
-      if (renewing(a)) gained.emplace_back(a, b);
-      if (renewing(b)) gained.emplace_back(b, a);
-    }
-    for (sim::ModuleId m : entering) s.mark(m, Impl::kRenew, false);
-    std::sort(gained.begin(), gained.end());
+
+  Impl& s;
+  const sim::Bodies& bodies;
+  const sim::PagedArray<sim::Pose, sim::CellPose>& poses;
+  std::span<const uint8_t> present;
+  sim::RankExchange* ranks;
+  const sim::ModuleOwners* owners;
+  const size_t n;
+  const bool windowed;
+  bool forget = false;  // every pair is measured: the last measurement is of another state
+  // Over ranks, the window now (set by rewindow) and the one the last graph held.
+  std::shared_ptr<const std::vector<uint8_t>> window;
+  const std::vector<uint8_t>* was_held = nullptr;
+  std::vector<Pair> dropped, fresh;  // the pairs measured again as they were, and as they are
+  uint64_t measured = 0;             // pairs_measured()
+};
+
+std::shared_ptr<const sim::NeighborGraph> ContactGraph::update(
+    const sim::Bodies& bodies, std::span<const uint8_t> present, sim::WorkerPool& workers,
+    const std::vector<sim::ModuleId>* changed, sim::RankExchange* ranks, const sim::ModuleOwners* owners) {
+  if (ranks != nullptr && owners == nullptr)
+    throw std::logic_error("ContactGraph::update over ranks needs the modules' owners");
+  Impl::Pass pass(*impl_, bodies, present, ranks, owners);
+  measured_ = 0;
+  if (!pass.look(changed)) {
+    // Over ranks what a rank finds changed depends on what it remembers: each takes part in the
+    // sum of the counts all the same.
+    if (ranks != nullptr) ranks->sum(std::span(&measured_, 1));
+    return impl_->graph;
   }
-  s.graph = std::make_shared<const sim::NeighborGraph>(
-      s.graph->changed(gone, made, rewindowed ? std::move(window) : nullptr, gained));
-  return s.graph;
+  pass.rewindow();
+  pass.read_stale();
+  pass.choose_searchers();
+  pass.measure(workers);
+  measured_ = pass.measured;
+  pass.remember();
+  return pass.make_graph();
 }
 
 }  // namespace dw::physics

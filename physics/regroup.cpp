@@ -86,6 +86,10 @@ struct Regrouper::Scratch {
   std::vector<uint8_t> done;
   std::vector<uint8_t> still;          // per module: present and not making a lattice move
   std::vector<sim::ModuleId> members;  // the next b.members
+  // The clusters something changed in, and (cluster, member) for each still member that lost bonds.
+  std::vector<uint32_t> dirty;
+  std::vector<std::pair<uint32_t, sim::ModuleId>> seeds;
+  std::vector<std::pair<uint32_t, uint32_t>> rest_of;  // (changed cluster, its rest piece), by cluster
 };
 
 Regrouper::Regrouper() : s_(std::make_unique<Scratch>()) {}
@@ -162,6 +166,14 @@ void Regrouper::search(const sim::Bodies& b, const BondIndex& index, uint32_t cl
       for (sim::ModuleId m : s.found[k]) s.label[m] = kNone;
 }
 
+// A new cluster: its frame and members (the largest piece's, with the others merged in) and the
+// pieces it was made of.
+struct Regrouper::Made {
+  sim::Cluster c;
+  std::vector<sim::ModuleId> members;
+  std::vector<uint32_t> pieces;
+};
+
 void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, const BondChanges& changes,
                            const BondIndex& index, btCollisionShape& module_shape) {
   Scratch& s = *s_;
@@ -171,16 +183,26 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
   searched_ = 0;
   s.still.assign(present.begin(), present.end());
   for (const sim::Mover& mover : b.movers) s.still[mover.module] = 0;
-  const auto still = [&](sim::ModuleId m) { return s.still[m] != 0; };
-  const auto old_of = [&](sim::ModuleId m) { return b.cluster_of[m]; };
+  find_changed(b, changes);
+  cut_pieces(b, changes, index);
+  std::vector<Made> made = join_pieces(b, changes);
+  frame_clusters(b, changes, made, module_shape);
+  put_clusters(b, changes, made);
+  for (const Piece& p : s.pieces)
+    if (!p.rest)  // a rest's members were never labelled
+      for (sim::ModuleId m : p.members) s.label[m] = kNone;
+}
 
-  // The clusters something changed in, and the members that lost bonds (where a split may start).
-  std::vector<uint32_t> dirty;
-  std::vector<std::pair<uint32_t, sim::ModuleId>> seeds;
+// The clusters something changed in (`dirty`), and the members that lost bonds (`seeds`, where a
+// split may start), each sorted.
+void Regrouper::find_changed(const sim::Bodies& b, const BondChanges& changes) {
+  Scratch& s = *s_;
+  s.dirty.clear();
+  s.seeds.clear();
   const auto touch = [&](sim::ModuleId m, bool lost_bond) {
-    if (m == sim::kGround || old_of(m) == sim::kNoCluster) return;
-    dirty.push_back(old_of(m));
-    if (lost_bond && still(m)) seeds.emplace_back(old_of(m), m);
+    if (m == sim::kGround || b.cluster_of[m] == sim::kNoCluster) return;
+    s.dirty.push_back(b.cluster_of[m]);
+    if (lost_bond && s.still[m]) s.seeds.emplace_back(b.cluster_of[m], m);
   };
   for (const sim::Bond& x : changes.removed) {
     touch(x.a, x.b != sim::kGround);
@@ -191,41 +213,48 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     touch(x.b, false);
   }
   for (sim::ModuleId m : changes.stopped) touch(m, false);
-  std::sort(dirty.begin(), dirty.end());
-  dirty.erase(std::unique(dirty.begin(), dirty.end()), dirty.end());
-  std::sort(seeds.begin(), seeds.end());
-  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+  std::sort(s.dirty.begin(), s.dirty.end());
+  s.dirty.erase(std::unique(s.dirty.begin(), s.dirty.end()), s.dirty.end());
+  std::sort(s.seeds.begin(), s.seeds.end());
+  s.seeds.erase(std::unique(s.seeds.begin(), s.seeds.end()), s.seeds.end());
+}
 
-  // Pieces cut off each changed cluster, then its rest; modules that came to rest alone.
-  std::vector<std::pair<uint32_t, uint32_t>> rest_of;  // (cluster, its rest piece)
-  for (size_t i = 0, j = 0; i < dirty.size(); ++i) {
+// The pieces: those cut off each changed cluster, then its rest (the still members no search cut
+// off); and modules that came to rest alone.
+void Regrouper::cut_pieces(const sim::Bodies& b, const BondChanges& changes, const BondIndex& index) {
+  Scratch& s = *s_;
+  s.rest_of.clear();
+  for (size_t i = 0, j = 0; i < s.dirty.size(); ++i) {
     std::vector<sim::ModuleId> mine;
-    for (; j < seeds.size() && seeds[j].first == dirty[i]; ++j) mine.push_back(seeds[j].second);
-    if (mine.size() > 1) search(b, index, dirty[i], mine);
-    rest_of.emplace_back(dirty[i], static_cast<uint32_t>(s.pieces.size()));
-    s.pieces.push_back({.cluster = dirty[i], .rest = true});
+    for (; j < s.seeds.size() && s.seeds[j].first == s.dirty[i]; ++j) mine.push_back(s.seeds[j].second);
+    if (mine.size() > 1) search(b, index, s.dirty[i], mine);
+    s.rest_of.emplace_back(s.dirty[i], static_cast<uint32_t>(s.pieces.size()));
+    s.pieces.push_back({.cluster = s.dirty[i], .rest = true});
   }
   for (sim::ModuleId m : changes.started)
-    if (still(m) && s.label[m] == kNone && old_of(m) == sim::kNoCluster) {
+    if (s.still[m] && s.label[m] == kNone && b.cluster_of[m] == sim::kNoCluster) {
       s.label[m] = static_cast<uint32_t>(s.pieces.size());
       s.pieces.push_back({.members = {m}});
     }
-  const auto piece_of = [&](sim::ModuleId m) {
-    if (s.label[m] != kNone) return s.label[m];
-    return std::lower_bound(rest_of.begin(), rest_of.end(), std::pair{old_of(m), 0u})->second;
-  };
-
-  // The rests' members: the cluster's still members no search cut off.
   for (Piece& p : s.pieces) {
     if (!p.rest) continue;
     const sim::Cluster& c = b.clusters[p.cluster];
     for (uint32_t i = c.first; i < c.first + c.count; ++i) {
       const sim::ModuleId m = b.members[i];
-      if (still(m) && s.label[m] == kNone) p.members.push_back(m);
+      if (s.still[m] && s.label[m] == kNone) p.members.push_back(m);
     }
   }
+}
 
-  // Pieces joined by bonds made are one cluster.
+// Pieces joined by bonds made are one cluster: the new clusters, each with its members and
+// whether it is anchored.
+std::vector<Regrouper::Made> Regrouper::join_pieces(const sim::Bodies& b, const BondChanges& changes) {
+  Scratch& s = *s_;
+  const auto still = [&](sim::ModuleId m) { return s.still[m] != 0; };
+  const auto piece_of = [&](sim::ModuleId m) {
+    if (s.label[m] != kNone) return s.label[m];
+    return std::lower_bound(s.rest_of.begin(), s.rest_of.end(), std::pair{b.cluster_of[m], 0u})->second;
+  };
   std::vector<uint32_t> parent(s.pieces.size());
   std::iota(parent.begin(), parent.end(), 0u);
   for (const sim::Bond& x : changes.added)
@@ -237,12 +266,6 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
   for (uint32_t p = 0; p < s.pieces.size(); ++p)
     if (!s.pieces[p].members.empty()) joined[find_root(parent, p)].push_back(p);
 
-  // The new clusters and their members: the largest piece's, with the others merged in.
-  struct Made {
-    sim::Cluster c;
-    std::vector<sim::ModuleId> members;
-    std::vector<uint32_t> pieces;
-  };
   std::vector<Made> made;
   for (std::vector<uint32_t>& group : joined) {
     if (group.empty()) continue;
@@ -261,14 +284,20 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     });
     made.push_back({c, std::move(members), std::move(group)});
   }
-  // Frames, as settle gives them. An anchored cluster's is the world's whatever its members, and
-  // a member that was in an anchored cluster already has its world pose as its pose in it and no
-  // velocity (and keeps its frame for the contact graph): only the others are looked at, so the
-  // rest of a latched block of a million is not walked. Any other member of a new cluster may be
-  // reframed.
+  return made;
+}
+
+// Frames, as settle gives them; the new clusters then sorted by smallest member. An anchored
+// cluster's is the world's whatever its members, and a member that was in an anchored cluster
+// already has its world pose as its pose in it and no velocity (and keeps its frame for the
+// contact graph): only the others are looked at, so the rest of a latched block of a million is
+// not walked. Any other member of a new cluster may be reframed.
+void Regrouper::frame_clusters(sim::Bodies& b, const BondChanges& changes, std::vector<Made>& made,
+                               btCollisionShape& module_shape) {
+  const Scratch& s = *s_;
   reframed_.assign(changes.stopped.begin(), changes.stopped.end());
   const auto was_anchored = [&](sim::ModuleId m) {
-    return old_of(m) != sim::kNoCluster && b.clusters[old_of(m)].anchored;
+    return b.cluster_of[m] != sim::kNoCluster && b.clusters[b.cluster_of[m]].anchored;
   };
   for (Made& k : made) {
     if (!k.c.anchored) {
@@ -289,8 +318,12 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     }
   }
   std::sort(made.begin(), made.end(), [](const Made& x, const Made& y) { return x.members[0] < y.members[0]; });
+}
 
-  // The clusters nothing changed in keep their place among the new ones, by smallest member.
+// The clusters of b: those nothing changed in keep their place among the new ones, by smallest
+// member, and every module's cluster_of follows (a moving cluster renamed reframes its members).
+void Regrouper::put_clusters(sim::Bodies& b, const BondChanges& changes, const std::vector<Made>& made) {
+  Scratch& s = *s_;
   std::vector<sim::Cluster> clusters;
   clusters.reserve(b.clusters.size() + made.size());
   s.members.clear();
@@ -314,7 +347,7 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     }
   };
   for (uint32_t old = 0, d = 0; old < b.clusters.size(); ++old) {
-    if (d < dirty.size() && dirty[d] == old) {
+    if (d < s.dirty.size() && s.dirty[d] == old) {
       ++d;
       continue;
     }
@@ -334,13 +367,9 @@ void Regrouper::operator()(sim::Bodies& b, std::span<const uint8_t> present, con
     }
   }
   for (sim::ModuleId m : changes.stopped)
-    if (!still(m)) b.cluster_of.set(m, sim::kNoCluster);
+    if (!s.still[m]) b.cluster_of.set(m, sim::kNoCluster);
   b.clusters = std::move(clusters);
   b.members.swap(s.members);
-
-  for (const Piece& p : s.pieces)
-    if (!p.rest)  // a rest's members were never labelled
-      for (sim::ModuleId m : p.members) s.label[m] = kNone;
 }
 
 }  // namespace dw::physics

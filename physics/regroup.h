@@ -87,7 +87,15 @@ class Regrouper {
  private:
   struct Piece;
   struct Scratch;
+  struct Made;
+  // The stages of a call, in order (regroup.cpp).
+  void find_changed(const sim::Bodies& b, const BondChanges& changes);
+  void cut_pieces(const sim::Bodies& b, const BondChanges& changes, const BondIndex& index);
   void search(const sim::Bodies& b, const BondIndex& index, uint32_t cluster, std::span<const sim::ModuleId> seeds);
+  std::vector<Made> join_pieces(const sim::Bodies& b, const BondChanges& changes);
+  void frame_clusters(sim::Bodies& b, const BondChanges& changes, std::vector<Made>& made,
+                      btCollisionShape& module_shape);
+  void put_clusters(sim::Bodies& b, const BondChanges& changes, const std::vector<Made>& made);
 
   std::unique_ptr<Scratch> s_;
   uint64_t searched_ = 0;

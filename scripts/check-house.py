@@ -34,10 +34,8 @@ BELOW = {
 # Left as they are on purpose, each with its reason; the list only shrinks.
 KNOWN = {
     # physics/ is rewritten by the physics issue (warm-started contacts kept in the state), which
-    # splits these three steps of the contact pass as it replaces them.
-    "physics/contact_graph.cpp": "the physics issue",
+    # splits this step of the contact pass as it replaces it.
     "physics/dynamics.cpp": "the physics issue",
-    "physics/regroup.cpp": "the physics issue",
 }
 
 
