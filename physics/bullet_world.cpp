@@ -323,13 +323,18 @@ void BulletWorld::latch(std::span<const sim::ModuleId> arrived, sim::State& stat
 
 // Steps the bodies; a module pushed harder than the break force loses its bonds, and the step is
 // done again from the same start without them (bounded: each round breaks at least one bond). A
-// dynamics step changes only the clusters' frames and the props, so only those are kept to redo it.
+// dynamics step changes only the clusters' frames, the props and the contact cache, so only those are
+// kept to redo it.
 void BulletWorld::step_bodies(sim::State& state, std::span<const Push> pushes, sim::WorkerPool& workers) {
   sim::Bodies& b = state.bodies;
-  if (dynamics_.idle(b)) return;
+  if (dynamics_.idle(b)) {
+    b.contacts.clear();  // nothing moves: nothing to warm-start
+    return;
+  }
   std::vector<sim::Cluster> clusters = b.clusters;
   const std::vector<sim::Pose> prop_poses = b.prop_poses;
   const std::vector<sim::Velocity> prop_velocities = b.prop_velocities;
+  const std::vector<sim::ContactPoint> contacts = b.contacts;
   for (int round = 0;; ++round) {
     dynamics_.step(b, pushes, state.step, force_, workers, ranks_);
     if (settings_.break_force <= 0 || round == 8) break;
@@ -343,6 +348,7 @@ void BulletWorld::step_bodies(sim::State& state, std::span<const Push> pushes, s
     b.clusters = clusters;
     b.prop_poses = prop_poses;
     b.prop_velocities = prop_velocities;
+    b.contacts = contacts;
     regroup_all(state);
     clusters = b.clusters;
   }

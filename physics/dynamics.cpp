@@ -17,9 +17,11 @@
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
+#include "physics/box_plane.h"
 #include "physics/convert.h"
 #include "physics/islands.h"
 #include "physics/shapes.h"
+#include "physics/warm_start.h"
 
 namespace dw::physics {
 
@@ -59,9 +61,13 @@ struct Dynamics::Shapes {
   struct Worker {
     btDefaultCollisionConfiguration config;
     btCollisionDispatcher dispatcher{&config};
+    BoxPlaneCreateFunc box_plane{false}, plane_box{true};
     Worker() {
-      // One query must give a resting contact all its points: nothing is kept to build them up
-      // over several steps.
+      dispatcher.registerCollisionCreateFunc(BOX_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE, &box_plane);
+      dispatcher.registerCollisionCreateFunc(STATIC_PLANE_PROXYTYPE, BOX_SHAPE_PROXYTYPE, &plane_box);
+      // A box on the ground gets all its corners in one query (physics/box_plane.h); other shapes
+      // a few points a query, tilted, and the rest from the contact cache over steps
+      // (physics/warm_start.h).
       config.setPlaneConvexMultipointIterations();
       config.setConvexConvexMultipointIterations();
     }
@@ -319,6 +325,7 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
   // contact forces into a list of its own, added up in island order after.
   while (shapes_->workers.size() < workers.size()) shapes_->workers.push_back(std::make_unique<Shapes::Worker>());
   std::vector<std::vector<std::pair<sim::ModuleId, float>>> forces(count);
+  std::vector<std::vector<sim::ContactPoint>> kept(count);  // each island's contact points after the step
   const auto module_of = [&](const btCollisionObject* o, int child) -> int64_t {
     const int tag = o->getUserIndex();
     if (tag < 0 || tag >= clusters + movers) return -1;
@@ -330,6 +337,12 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     if (child < 0 || size_t(child) >= member_of_child.size()) return -1;
     return b.members[c.first + member_of_child[size_t(child)]];
   };
+  const auto side_of = [&](const btCollisionObject* o, int child) -> int64_t {
+    const int tag = o->getUserIndex();
+    if (tag < 0) return sim::kGroundContact;
+    if (tag >= clusters + movers) return sim::contact_prop(uint32_t(tag - clusters - movers));
+    return module_of(o, child);
+  };
   const auto step_island = [&](uint32_t island, Shapes::Worker& worker) {
     const float dt = settings_.dt;
     btDbvtBroadphase broadphase;
@@ -337,12 +350,10 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     btDefaultCollisionConfiguration& config = worker.config;
     btSequentialImpulseConstraintSolver solver;
     std::vector<std::unique_ptr<btRigidBody>> rigid;  // outlive the world, which unlinks them when it goes
-    btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
+    WarmStartedWorld world(&dispatcher, &broadphase, &solver, &config, b.contacts, side_of);
     const PairsDroppedFirst<btDiscreteDynamicsWorld> teardown{world};
     world.setGravity(to_bt(settings_.gravity));
     world.getSolverInfo().m_numIterations = settings_.solver_iterations;
-    // Warm starting stays on: its cache is empty in a fresh world, and only with it does the
-    // solver write the applied impulses back to the contact points (read below for bond breaking).
     world.getDispatchInfo().m_deterministicOverlappingPairs = true;
     const auto add = [&](float mass, btCollisionShape* shape, const btVector3& inertia, const btTransform& pose,
                          int tag) {
@@ -380,6 +391,7 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     }
 
     world.stepSimulation(dt, 0, dt);
+    world.keep_contacts(kept[island]);
 
     for (const auto& [tag, body] : mine) {
       const sim::Pose pose = from_bt(body->getWorldTransform());
@@ -429,15 +441,18 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
   });
 
   force.assign(b.poses.size(), 0.0f);
+  std::vector<sim::ContactPoint> cache;  // the next step's warm start, in island order, then by pair
   if (ranks == nullptr) {
     for (const auto& list : forces)
       for (const auto& [m, f] : list) force[m] += f;
+    for (const auto& list : kept) cache.insert(cache.end(), list.begin(), list.end());
   } else {
     // What this rank's islands wrote, to every rank; each part is laid down as its islands wrote
     // it, and the forces added up in island order (the ranks' runs are in island order), so each
     // rank has the bits of one process.
     std::vector<IslandResult> moved;
     std::vector<ContactForce> pushed_by;
+    std::vector<sim::ContactPoint> touching;
     for (uint32_t i = first; i < last; ++i) {
       for (uint32_t j : islands[i])
         if (bodies[j].mass > 0) {
@@ -448,12 +463,14 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
                              b.prop_velocities[size_t(tag - clusters - movers)]});
         }
       for (const auto& [m, f] : forces[i]) pushed_by.push_back({m, f});
+      touching.insert(touching.end(), kept[i].begin(), kept[i].end());
     }
     std::vector<std::byte> mine;
-    const uint64_t sizes[2] = {moved.size(), pushed_by.size()};
+    const uint64_t sizes[3] = {moved.size(), pushed_by.size(), touching.size()};
     sim::append_records<uint64_t>(mine, sizes);
     sim::append_records<IslandResult>(mine, moved);
     sim::append_records<ContactForce>(mine, pushed_by);
+    sim::append_records<sim::ContactPoint>(mine, touching);
     for (std::span<const std::byte> part : ranks->all_gather(mine)) {
       const std::span<const uint64_t> size = sim::records_of<uint64_t>(part.first(sizeof sizes));
       part = part.subspan(sizeof sizes);
@@ -466,10 +483,16 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
           b.prop_velocities[size_t(r.tag - clusters - movers)] = r.velocity;
         }
       }
-      for (const ContactForce& f : sim::records_of<ContactForce>(part.subspan(size[0] * sizeof(IslandResult))))
+      part = part.subspan(size[0] * sizeof(IslandResult));
+      for (const ContactForce& f : sim::records_of<ContactForce>(part.first(size[1] * sizeof(ContactForce))))
         force[f.module] += f.value;
+      const auto points = sim::records_of<sim::ContactPoint>(part.subspan(size[1] * sizeof(ContactForce)));
+      cache.insert(cache.end(), points.begin(), points.end());
     }
   }
+  // Each pair's points lie in one island, in the solver's order: sorting by pair keeps that order.
+  std::stable_sort(cache.begin(), cache.end(), sim::contact_pair_less);
+  b.contacts = std::move(cache);
 
   std::erase_if(shapes_->compounds, [&](const auto& entry) { return entry.second.used < to - 1; });
 }

@@ -1,13 +1,13 @@
 // One physics step of what can move (docs/design.md §7, §8): clusters that are not anchored, modules
 // making a lattice move (kinematic), and props.
 //
-// The Bullet world is built from the state for each step and dropped after it, so nothing of
-// Bullet's carries from one step to the next: no warm-start caches, no persistent manifolds, no
-// pair-cache order. A step is therefore a pure function of the state, the live run and a run
-// re-simulated after a rollback compute the same thing, and no keyframes are needed. What is
-// kept between steps (the compound shapes of clusters) is itself a function of the state. The
-// price is a solver without warm starting, which is why moving clusters are rigid bodies rather
-// than modules held together by constraints.
+// The Bullet world is built from the state for each step and dropped after it: what Bullet would
+// carry from one step to the next in a long-lived world — the contact points and the impulses
+// that warm-start its solver — is kept in the state instead (sim::Bodies::contacts,
+// physics/warm_start.h, docs/design.md §8a). A step is therefore a pure function of the state: the
+// live run and a run re-simulated after a rollback compute the same thing, on any thread or rank
+// count. What is kept between steps (the compound shapes of clusters) is itself a function of the
+// state.
 #pragma once
 
 #include <cstdint>

@@ -43,7 +43,8 @@ struct PhysicsSettings {
   float break_force = 1000;
   float friction = 0.6f;
   float restitution = 0.1f;
-  int solver_iterations = 10;
+  // 20: a 200 kg box on a 1 kg cube, and a column of ten boxes, need them (tests/physics).
+  int solver_iterations = 20;
   int64_t move_steps = 30;  // steps a lattice move takes
   std::vector<PropSpec> props;
 };

@@ -40,7 +40,7 @@
 //   break_force = 1000                 # newtons; a module pushed harder loses its bonds (0: never)
 //   friction = 0.6
 //   restitution = 0.1
-//   solver_iterations = 10
+//   solver_iterations = 20
 //   move_steps = 30                    # steps a lattice move takes
 //   [[physics.prop]]                   # bodies that are not modules: projectiles, obstacles
 //   shape = "sphere"                   # sphere | box

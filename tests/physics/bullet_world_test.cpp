@@ -422,7 +422,7 @@ TEST(BulletWorld, ReleasedModuleFallsFromTheTopOfAColumn) {
   });
   BulletWorld world(s, model->lattice);
   sim::Session run(*model, world, {.threads = 1});
-  run.run_until(120);
+  run.run_until(240);
   const sim::State& st = run.state();
   EXPECT_LT(st.bodies.poses[2].position[2], 0.1f) << "it fell to the ground";
   EXPECT_GT(st.bodies.poses[2].position[0], 0.9f);

@@ -1,0 +1,127 @@
+#include "physics/warm_start.h"
+
+#include <algorithm>
+
+#include <BulletCollision/BroadphaseCollision/btDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+
+#include "physics/convert.h"
+
+namespace dw::physics {
+
+void use_warm_start(btContactSolverInfo& info) {
+  info.m_solverMode = SOLVER_USE_WARMSTARTING | SOLVER_SIMD | SOLVER_USE_2_FRICTION_DIRECTIONS |
+                      SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION | SOLVER_ENABLE_FRICTION_DIRECTION_CACHING;
+}
+
+WarmStartedWorld::WarmStartedWorld(btDispatcher* dispatcher, btBroadphaseInterface* broadphase,
+                                   btConstraintSolver* solver, btCollisionConfiguration* config,
+                                   std::span<const sim::ContactPoint> cache, ContactSide side)
+    : btDiscreteDynamicsWorld(dispatcher, broadphase, solver, config), cache_(cache), side_(std::move(side)) {
+  use_warm_start(getSolverInfo());
+}
+
+namespace {
+
+// A point of the cache as a manifold point between `a` and `b` at their poses now, if Bullet's
+// btPersistentManifold::refreshContactPoints would keep it: within the breaking threshold along
+// its normal, and not slid further than that across it.
+bool still_touching(const sim::ContactPoint& c, const btCollisionObject& a, const btCollisionObject& b, int child_a,
+                    int child_b, btScalar threshold, btManifoldPoint& out) {
+  out = btManifoldPoint(to_bt(c.local_a), to_bt(c.local_b), to_bt(c.normal), c.distance);
+  out.m_positionWorldOnA = a.getWorldTransform()(out.m_localPointA);
+  out.m_positionWorldOnB = b.getWorldTransform()(out.m_localPointB);
+  out.m_distance1 = (out.m_positionWorldOnA - out.m_positionWorldOnB).dot(out.m_normalWorldOnB);
+  if (out.m_distance1 > threshold) return false;
+  const btVector3 across = out.m_positionWorldOnB - (out.m_positionWorldOnA - out.m_normalWorldOnB * out.m_distance1);
+  if (across.length2() > threshold * threshold) return false;
+  out.m_index0 = out.m_partId0 = child_a;
+  out.m_index1 = out.m_partId1 = child_b;
+  out.m_combinedFriction = btManifoldResult::calculateCombinedFriction(&a, &b);
+  out.m_combinedRestitution = btManifoldResult::calculateCombinedRestitution(&a, &b);
+  return true;
+}
+
+void carry_over(const sim::ContactPoint& c, btManifoldPoint& point) {
+  point.m_appliedImpulse = c.impulse;
+  point.m_appliedImpulseLateral1 = c.friction[0];
+  point.m_appliedImpulseLateral2 = c.friction[1];
+  point.m_lateralFrictionDir1 = to_bt(c.direction[0]);
+  point.m_lateralFrictionDir2 = to_bt(c.direction[1]);
+  point.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
+  point.m_lifeTime = int(c.age) + 1;
+}
+
+}  // namespace
+
+// Per manifold: each new point takes over the nearest cached point of its two modules (each
+// cached point once: its impulse was applied once), and the cached points no new point took stay
+// if Bullet's refresh would keep them — so a contact builds up its points over steps, as in one
+// long-lived Bullet world. A manifold's two modules are those of its first point, or of its two
+// bodies when it has none and neither is a compound (a compound's child is known only by a point).
+void WarmStartedWorld::solveConstraints(btContactSolverInfo& info) {
+  btDispatcher& dispatcher = *getDispatcher();
+  for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
+    btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(i);
+    const btCollisionObject& a = *manifold.getBody0();
+    const btCollisionObject& b = *manifold.getBody1();
+    const int child_a = manifold.getNumContacts() > 0 ? manifold.getContactPoint(0).m_index0 : -1;
+    const int child_b = manifold.getNumContacts() > 0 ? manifold.getContactPoint(0).m_index1 : -1;
+    const int64_t side_a = side_(&a, child_a), side_b = side_(&b, child_b);
+    if (side_a < 0 || side_b < 0) continue;
+    const sim::ContactPoint key{.a = uint32_t(side_a), .b = uint32_t(side_b)};
+    const auto [first, last] = std::equal_range(cache_.begin(), cache_.end(), key, sim::contact_pair_less);
+    if (first == last) continue;
+    const btScalar threshold = manifold.getContactBreakingThreshold();
+    uint32_t taken = 0;  // bit k: the pair's k-th cached point is taken (a pair holds a few)
+    const auto cached = std::span(first, std::min<size_t>(size_t(last - first), 32));
+    for (int p = 0; p < manifold.getNumContacts(); ++p) {
+      btManifoldPoint& point = manifold.getContactPoint(p);
+      if (point.m_index0 != child_a || point.m_index1 != child_b) continue;
+      int nearest = -1;
+      btScalar shortest = threshold * threshold;
+      for (size_t k = 0; k < cached.size(); ++k) {
+        const btScalar d = (to_bt(cached[k].local_a) - point.m_localPointA).length2();
+        if (d < shortest && !(taken >> k & 1u)) {
+          shortest = d;
+          nearest = int(k);
+        }
+      }
+      if (nearest < 0) continue;
+      taken |= 1u << nearest;
+      carry_over(cached[size_t(nearest)], point);
+    }
+    for (size_t k = 0; k < cached.size(); ++k) {
+      btManifoldPoint kept;
+      if ((taken >> k & 1u) || !still_touching(cached[k], a, b, child_a, child_b, threshold, kept)) continue;
+      carry_over(cached[k], kept);
+      manifold.addManifoldPoint(kept);
+    }
+  }
+  btDiscreteDynamicsWorld::solveConstraints(info);
+}
+
+void WarmStartedWorld::keep_contacts(std::vector<sim::ContactPoint>& out) {
+  btDispatcher& dispatcher = *getDispatcher();
+  for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
+    const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(i);
+    for (int p = 0; p < manifold.getNumContacts(); ++p) {
+      const btManifoldPoint& point = manifold.getContactPoint(p);
+      const int64_t a = side_(manifold.getBody0(), point.m_index0), b = side_(manifold.getBody1(), point.m_index1);
+      if (a < 0 || b < 0) continue;
+      out.push_back({.a = uint32_t(a),
+                     .b = uint32_t(b),
+                     .local_a = from_bt(point.m_localPointA),
+                     .local_b = from_bt(point.m_localPointB),
+                     .normal = from_bt(point.m_normalWorldOnB),
+                     .distance = float(point.getDistance()),
+                     .impulse = float(point.m_appliedImpulse),
+                     .friction = {float(point.m_appliedImpulseLateral1), float(point.m_appliedImpulseLateral2)},
+                     .direction = {from_bt(point.m_lateralFrictionDir1), from_bt(point.m_lateralFrictionDir2)},
+                     .age = uint32_t(std::max(point.m_lifeTime, 0))});
+    }
+  }
+}
+
+}  // namespace dw::physics

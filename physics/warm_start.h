@@ -1,0 +1,47 @@
+// Warm starting from the contact cache (docs/design.md §8a). Each step's Bullet world is built from
+// the state, so the points its narrow phase finds are new to it; before the solver runs, each is
+// matched with the point of the same two modules that the last step left in the cache (the nearest
+// within Bullet's contact breaking threshold, as btPersistentManifold::getCacheEntry matches), and
+// starts from that point's accumulated impulses, friction directions and age. After the step, the
+// points the solver worked on become the cache of the next. Bullet's own persistent manifolds do
+// the same within one long-lived world; here the cache is state, so a seek, a thread count or a
+// rank count sees the same warm start.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+
+#include "sim/contact_cache.h"
+
+namespace dw::physics {
+
+// Which module (sim::ContactPoint::a, b: a module's id, the ground, a prop) a side of a contact
+// point belongs to, from its collision object and the child shape it lies on (-1 for a shape that
+// is not a compound); -1 when that does not say (a compound's child not given).
+using ContactSide = std::function<int64_t(const btCollisionObject*, int child)>;
+
+// The solver settings of a warm-started step: two friction directions per point, fixed by the
+// normal rather than by the sliding velocity and kept with the point, so that the impulses carried
+// from step to step keep pointing where they were applied.
+void use_warm_start(btContactSolverInfo& info);
+
+// A dynamics world whose solver starts from `cache` (sorted by pair, sim/contact_cache.h).
+class WarmStartedWorld final : public btDiscreteDynamicsWorld {
+ public:
+  WarmStartedWorld(btDispatcher* dispatcher, btBroadphaseInterface* broadphase, btConstraintSolver* solver,
+                   btCollisionConfiguration* config, std::span<const sim::ContactPoint> cache, ContactSide side);
+  void solveConstraints(btContactSolverInfo& info) override;
+  // The points of every manifold after the step, in the dispatcher's order (each pair's in the
+  // order the solver saw them), appended to `out`.
+  void keep_contacts(std::vector<sim::ContactPoint>& out);
+
+ private:
+  std::span<const sim::ContactPoint> cache_;
+  ContactSide side_;
+};
+
+}  // namespace dw::physics
