@@ -1,0 +1,50 @@
+// The plain Bullet program `dwatch bench physics` sets dwatch's physics step beside (issue 60): one
+// persistent btDiscreteDynamicsWorld (btDbvtBroadphase, btSequentialImpulseConstraintSolver,
+// btDefaultCollisionConfiguration), stepped as a Bullet user steps it, with dwatch's settings
+// (physics/settings.h): boxes one module across (Bullet's own margin, as physics/shapes.cpp
+// makes them), the module mass, dt with one substep, gravity, friction, restitution, solver
+// iterations, and a static plane for the ground. No Bullet type is named here: only
+// plain_bullet.cpp sees Bullet's headers (docs/design.md §1).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "physics/settings.h"
+#include "sim/bodies.h"
+
+namespace dw::bench {
+
+// One rigid body of the scene: a box one module across, or a cluster of them held as one rigid
+// compound; fixed (mass 0) or free.
+struct PlainBody {
+  std::vector<sim::Pose> boxes;  // each box's pose in the world at the start
+  bool fixed = false;
+};
+
+struct PlainScene {
+  std::vector<PlainBody> bodies;
+  float ground_z = 0;  // the ground plane's height
+};
+
+// Whether bodies ever sleep: never (DISABLE_DEACTIVATION on every body, as dwatch's step does
+// today), or as Bullet lets them (deactivated after 2 s still, woken by a touch).
+enum class Sleeping { Never, AsBullet };
+
+// Where one box started and ended, and how it moved at the end (its centre's velocity, and its
+// body's angular velocity).
+struct BoxMotion {
+  sim::Vec3 start{}, end{};
+  sim::Vec3 linear{}, angular{};
+};
+
+struct PlainRun {
+  double step_seconds = 0;       // in stepSimulation, over all the steps
+  std::vector<BoxMotion> boxes;  // every box of every body, in the scene's order
+};
+
+// Builds the scene in a fresh world and steps it `steps` times (the building untimed).
+PlainRun run_plain_bullet(const PlainScene& scene, const physics::PhysicsSettings& settings, Sleeping sleeping,
+                          int64_t steps);
+
+}  // namespace dw::bench
