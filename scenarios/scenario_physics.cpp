@@ -1,5 +1,8 @@
 // A scenario's [physics] (docs/design.md §8): the Bullet world's settings and its [[physics.prop]]
 // bodies; nothing when it is off (a static lattice).
+#include <array>
+#include <cmath>
+
 #include "scenarios/scenario_loader.h"
 
 namespace dw::scenarios {
@@ -18,6 +21,17 @@ std::optional<physics::ModuleShape> module_shape(TableReader& r, std::string_vie
 
 sim::Vec3 vec3(const std::optional<std::vector<double>>& v, sim::Vec3 otherwise) {
   return v ? sim::Vec3{float((*v)[0]), float((*v)[1]), float((*v)[2])} : otherwise;
+}
+
+// A unit quaternion [x, y, z, w] from the four numbers given, scaled to length 1 (a turn written
+// to a few digits, as [0.7071, 0, 0, 0.7071], is the turn meant); all four zero is no turn at all.
+std::array<float, 4> orientation(TableReader& r, const std::vector<double>& q) {
+  const double length = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (length < 1e-6) {
+    r.error("orientation", "'orientation' is a turn as a quaternion [x, y, z, w], not all zero");
+    return {0, 0, 0, 1};
+  }
+  return {float(q[0] / length), float(q[1] / length), float(q[2] / length), float(q[3] / length)};
 }
 
 }  // namespace
@@ -53,6 +67,7 @@ std::optional<physics::PhysicsSettings> Loader::physics_settings(TableReader& ro
     b.pose.position = vec3(q.numbers("position", 3, -kMaxCoordinate, kMaxCoordinate), b.pose.position);
     b.velocity.linear = vec3(q.numbers("velocity", 3, -1e4, 1e4), b.velocity.linear);            // m/s
     b.velocity.angular = vec3(q.numbers("angular_velocity", 3, -1e4, 1e4), b.velocity.angular);  // rad/s
+    if (const auto turn = q.numbers("orientation", 4, -1, 1)) b.pose.orientation = orientation(q, *turn);
     if (!q.has("position")) q.missing("position");
     q.finish();
     p.props.push_back(b);

@@ -167,6 +167,18 @@ TEST_F(MpiRun, EveryOtherPhysicsScenarioEqualsOneProcess) {
   }
 }
 
+// The plausibility scenes (scenarios/physics/, docs/design.md §8a): free boxes stacked on each
+// other and the ground (the contact cache that warm-starts them is part of the state), two boxes
+// resting apart (two islands, which different ranks step), a box launched by a scheduled push, a
+// heavy prop on a light cube. (The pile, 1,000 such boxes in one island, is the column's case.)
+TEST_F(MpiRun, ThePlausibilityScenesEqualOneProcess) {
+  for (const char* scene : {"column.toml --steps 200", "resting_boxes.toml --steps 150",
+                            "launched_box.toml --steps 100", "heavy_on_light.toml --steps 150"}) {
+    SCOPED_TRACE(scene);
+    expect_same_over_ranks(scenarios_ + "/physics/" + scene);
+  }
+}
+
 TEST_F(MpiRun, WatchpointActionsEqualOneProcess) {
   // LDP's gradient read by the agents (docs/design.md §4b): the actions' values are gathered with the
   // matches, and each rank sets its own modules' variables, at the same step as one process.

@@ -539,7 +539,8 @@ TEST(PhysicsSession, RandomWalksEqualTheStraightRunWithTheSameEvents) {
   EXPECT_GE(interventions, 4u) << "the walks intervened";
 }
 
-// Every physics scenario that runs on (and a surface flow with hundreds gliding at once): the same
+// Every physics scenario that runs on, with its scheduled events (the plausibility scenes of
+// scenarios/physics/ among them, and a surface flow with hundreds gliding at once): the same
 // hash every step on 1 thread and on 2, through a seek back and on again; and every step's contact
 // graph, read by comparing only what the world says changed, equals one read by comparing every
 // module (a restored state is compared in full once).
@@ -548,7 +549,7 @@ TEST(PhysicsScenarios, SameHashesOnOneAndTwoThreadsThroughSeeksAndContactsReadBy
     std::vector<uint64_t> one;
     {
       Scenario s = load();
-      sim::Session run(*s.model, *s.world, {.threads = 1});
+      sim::Session run(*s.model, *s.world, {.threads = 1, .events = s.events});
       run.run_until(steps,
                     [&](const sim::State& st, const sim::StepOutput&) { one.push_back(sim::hash_state(st).whole()); });
     }
@@ -556,7 +557,7 @@ TEST(PhysicsScenarios, SameHashesOnOneAndTwoThreadsThroughSeeksAndContactsReadBy
     auto* world = dynamic_cast<physics::BulletWorld*>(s.world.get());
     ASSERT_NE(world, nullptr) << name;
     world->check_contacts();
-    sim::Session run(*s.model, *s.world, {.threads = 2, .history_bytes = 16 << 20});
+    sim::Session run(*s.model, *s.world, {.threads = 2, .history_bytes = 16 << 20, .events = s.events});
     size_t step = 0, differ = 0;
     EXPECT_NO_THROW(run.run_until(steps, [&](const sim::State& st, const sim::StepOutput&) {
       differ += step >= one.size() || sim::hash_state(st).whole() != one[step];
@@ -574,8 +575,10 @@ TEST(PhysicsScenarios, SameHashesOnOneAndTwoThreadsThroughSeeksAndContactsReadBy
     EXPECT_EQ(run.hash().whole(), one.back()) << name;
   };
   for (const char* name : {"push_wall.toml", "slide.toml", "smart_blocks_flow.toml", "catoms3d_roll.toml",
-                           "token_ring_physics.toml", "demolition.toml"})
+                           "token_ring_physics.toml", "demolition.toml", "physics/column.toml",
+                           "physics/resting_boxes.toml", "physics/launched_box.toml", "physics/heavy_on_light.toml"})
     check([&] { return load_file(name); }, 150, name);
+  check([] { return load_file("physics/pile.toml"); }, 40, "physics/pile.toml");  // 1,000 free boxes: dear
   check([] { return surface_flow(20); }, 80, "surface_flow 20");
 }
 
