@@ -10,22 +10,6 @@
 namespace dw::physics::test {
 namespace {
 
-// The farthest any corner of a box one size across at `now` is from where it was at `then`: how
-// far it moved, turns included.
-float corner_travel(const sim::Pose& then, const sim::Pose& now) {
-  const auto a = axes(then), b = axes(now);
-  float most = 0;
-  for (float x : {-kHalf, kHalf})
-    for (float y : {-kHalf, kHalf})
-      for (float z : {-kHalf, kHalf}) {
-        sim::Vec3 d = minus(now.position, then.position);
-        for (size_t i = 0; i < 3; ++i)
-          d[i] += x * (b[0][i] - a[0][i]) + y * (b[1][i] - a[1][i]) + z * (b[2][i] - a[2][i]);
-        most = std::max(most, length(d));
-      }
-  return most;
-}
-
 // The scene loads as written: the prop lies on its side, turned a quarter turn about x.
 TEST(PlausibilityContact, ABoxPropLoadsTurnedAsItsOrientationSays) {
   const scenarios::Scenario s = load_scene("physics/resting_boxes.toml");

@@ -256,6 +256,22 @@ inline float kinetic_energy(const sim::Velocity& v, float mass) {
   return 0.5f * mass * dot(v.linear, v.linear) + 0.5f * (mass / 6) * dot(v.angular, v.angular);
 }
 
+// The farthest any corner of a box one size across at `now` is from where it was at `then`: how
+// far it moved, turns included.
+inline float corner_travel(const sim::Pose& then, const sim::Pose& now) {
+  const auto a = axes(then), b = axes(now);
+  float most = 0;
+  for (float x : {-kHalf, kHalf})
+    for (float y : {-kHalf, kHalf})
+      for (float z : {-kHalf, kHalf}) {
+        sim::Vec3 d = minus(now.position, then.position);
+        for (size_t i = 0; i < 3; ++i)
+          d[i] += x * (b[0][i] - a[0][i]) + y * (b[1][i] - a[1][i]) + z * (b[2][i] - a[2][i]);
+        most = std::max(most, length(d));
+      }
+  return most;
+}
+
 // How far a pose is from another, across (in x and y) and up or down.
 inline float across(const sim::Vec3& a, const sim::Vec3& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
 inline float updown(const sim::Vec3& a, const sim::Vec3& b) { return std::abs(a[2] - b[2]); }

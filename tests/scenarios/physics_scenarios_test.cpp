@@ -578,7 +578,7 @@ TEST(PhysicsScenarios, SameHashesOnOneAndTwoThreadsThroughSeeksAndContactsReadBy
                            "token_ring_physics.toml", "demolition.toml", "physics/column.toml",
                            "physics/resting_boxes.toml", "physics/launched_box.toml", "physics/heavy_on_light.toml"})
     check([&] { return load_file(name); }, 150, name);
-  check([] { return load_file("physics/pile.toml"); }, 40, "physics/pile.toml");  // 1,000 free boxes: dear
+  check([] { return load_file("physics/pile.toml"); }, 30, "physics/pile.toml");  // 1,000 free boxes: dear
   check([] { return surface_flow(20); }, 80, "surface_flow 20");
 }
 
