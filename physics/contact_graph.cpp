@@ -253,6 +253,10 @@ struct ContactGraph::Impl::Pass {
     s.marks.resize(n, 0);
     s.world.resize(n);
     if (!s.frame.empty()) s.frame.resize(n);
+    for (const sim::Mover& mover : bodies.movers)
+      if (mover.hinge < n && present[mover.module] && present[mover.hinge])
+        hinges.emplace_back(std::minmax(mover.module, mover.hinge));
+    std::sort(hinges.begin(), hinges.end());
   }
 
   bool moved(sim::ModuleId m) const { return s.marked(m, Impl::kMoved); }
@@ -266,6 +270,12 @@ struct ContactGraph::Impl::Pass {
   // The frame a module is measured at now: the bodies' for the flagged ones (read again rather
   // than kept: 32 bytes a module), the last one for the others, which are known not to differ.
   Frame now(sim::ModuleId m) const { return flagged(m) ? Impl::frame_of(bodies, m) : s.last_frame(m); }
+  // A pivot and the neighbour it turns on touch all the turn long: along the edge it turns about,
+  // which GJK finds apart in the middle of a cube's turn (their edges are rounded by the margin),
+  // or as a sphere rolls on it. A mover moves every step, so the pair is measured every step.
+  bool hinged(sim::ModuleId a, sim::ModuleId b) const {
+    return !hinges.empty() && std::binary_search(hinges.begin(), hinges.end(), Pair(std::minmax(a, b)));
+  }
   // Over ranks, whether the window holds m's list now, and whether it held it before.
   bool holds(sim::ModuleId m) const { return !window || (*window)[m] != 0; }
   bool held_before(sim::ModuleId m) const { return was_held == nullptr || (*was_held)[m] != 0; }
@@ -448,7 +458,7 @@ struct ContactGraph::Impl::Pass {
           if (b < a && visits(b)) return;  // measured from b's side
           const Impl::Frame now_a = now(a), now_b = now(b);
           const bool local = Impl::together(now_a, now_b);
-          if (s.touching(local ? now_a.local : pose_a, local ? now_b.local : poses[b]))
+          if (hinged(a, b) || s.touching(local ? now_a.local : pose_a, local ? now_b.local : poses[b]))
             found[run].emplace_back(std::min(a, b), std::max(a, b));
         });
       }
@@ -523,6 +533,7 @@ struct ContactGraph::Impl::Pass {
   // Over ranks, the window now (set by rewindow) and the one the last graph held.
   std::shared_ptr<const std::vector<uint8_t>> window;
   const std::vector<uint8_t>* was_held = nullptr;
+  std::vector<Pair> hinges;          // each pivot with the neighbour it turns on, as (lower, higher)
   std::vector<Pair> dropped, fresh;  // the pairs measured again as they were, and as they are
   uint64_t measured = 0;             // pairs_measured()
 };

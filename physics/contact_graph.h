@@ -1,6 +1,8 @@
 // The neighbour graph from contacts (docs/design.md §8): two modules are neighbours when Bullet's
-// GJK puts their shapes at most the threshold apart. Candidates come from a grid of module
-// centres (physics/cell_grid.h); no Bullet world, collision object or pair cache is kept.
+// GJK puts their shapes at most the threshold apart, or when one pivots on the other (its
+// sim::Mover::hinge: they touch along the edge it turns about, which the margins round off in the
+// middle of a cube's turn). Candidates come from a grid of module centres (physics/cell_grid.h);
+// no Bullet world, collision object or pair cache is kept.
 //
 // The graph is a pure function of the bodies: two modules of one rigid cluster that moves are
 // measured at their poses in the cluster's frame (which do not change while the cluster lasts),

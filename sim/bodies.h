@@ -51,10 +51,15 @@ struct Cluster {
   bool operator==(const Cluster&) const = default;
 };
 
+// Mover::hinge of a lattice move, which turns on no module.
+inline constexpr ModuleId kNoHinge = std::numeric_limits<ModuleId>::max();
+
 // A lattice move: the module glides from one cell to the adjacent one over `steps` steps; or a
 // pivot: it turns by `angle` about the line through `pivot` along `axis` (a cube about an edge it
 // shares with a neighbour, a sphere rolling over a neighbour), its own body turning `spin` times
-// as far (1 for a cube; 2 for a sphere rolling without slipping on one of its size).
+// as far (1 for a cube; 2 for a sphere rolling without slipping on one of its size). A pivot's
+// `hinge` is that neighbour: it touches the mover all the turn long (along the edge, or as the
+// sphere rolls on it), so the two are neighbours at every step of the turn (physics/contact_graph.h).
 struct Mover {
   ModuleId module = 0;
   Pose from, to;
@@ -62,6 +67,7 @@ struct Mover {
   int64_t steps = 1;
   Vec3 pivot{}, axis{};  // a slide has no axis
   float angle = 0, spin = 1;
+  ModuleId hinge = kNoHinge;
   bool operator==(const Mover&) const = default;
 };
 

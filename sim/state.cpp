@@ -170,6 +170,7 @@ uint64_t continue_hash(uint64_t h, const Bodies& b, ModuleId first, ModuleId end
       hasher.record(mover->axis);
       hasher.record(mover->angle);
       hasher.record(mover->spin);
+      if (mover->hinge != kNoHinge) hasher.word(mover->hinge);  // a pivot's (a lattice move hashes as before)
       ++mover;
     }
   }
@@ -255,8 +256,9 @@ size_t state_bytes(const State& s) {
   const Bodies& b = s.bodies;
   size_t n = sizeof(State) + vector_bytes(s.values) + vector_bytes(s.present) + b.poses.bytes() + b.velocities.bytes() +
              b.local.bytes() + b.cluster_of.bytes() + vector_bytes(b.clusters) + vector_bytes(b.members) +
-             b.bonds.bytes() + vector_bytes(b.movers) + vector_bytes(b.prop_poses) + vector_bytes(b.prop_velocities) + vector_bytes(b.contacts) +
-             vector_bytes(s.inbox.begin) + s.inbox.messages.bytes() + vector_bytes(s.actions) + 16 * kBlock;
+             b.bonds.bytes() + vector_bytes(b.movers) + vector_bytes(b.prop_poses) + vector_bytes(b.prop_velocities) +
+             vector_bytes(b.contacts) + vector_bytes(s.inbox.begin) + s.inbox.messages.bytes() +
+             vector_bytes(s.actions) + 16 * kBlock;
   for (const WatchState& w : s.watches) {
     n += sizeof(WatchState) + vector_bytes(w.in_flight);
     if (w.agents) n += w.agents->bytes();
