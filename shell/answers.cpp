@@ -70,12 +70,18 @@ Shell::Answer Shell::matches(const Command& cmd, nlohmann::ordered_json answer) 
   return answer;
 }
 
-// state M: the module at the current step, as its program and its neighbours see it.
+// state M: the module at the current step t, as its program and its neighbours see it: its
+// variables and N(m, t); with bodies, its pose after step t's physics (`pose`) and the one its
+// neighbours were measured from (`nbrs_measured_from`, at the end of step t - 1: docs/design.md
+// §2; null if the session's history cannot give it).
 Shell::Answer Shell::module_state(const Command& cmd, nlohmann::ordered_json answer) {
   const sim::Model& model = session_.model();
   const auto m = static_cast<sim::ModuleId>(*cmd.number);
+  // Read first: it may take the view back a step, and a state read before would be that step's.
+  const std::optional<sim::Pose> measured = session_.measured_pose(m);
   const sim::State& s = session_.state();
-  answer["t"] = session_.current();
+  const int64_t t = session_.current();
+  answer["t"] = t;
   answer["module"] = model.universe.id(m);
   answer["present"] = session_.seen_present()[m] != 0;
   nlohmann::ordered_json vars = nlohmann::ordered_json::object();
@@ -86,8 +92,13 @@ Shell::Answer Shell::module_state(const Command& cmd, nlohmann::ordered_json ans
   for (sim::ModuleId n : session_.seen_graph().neighbors(m)) nbrs.push_back(model.universe.id(n));
   answer["nbrs"] = std::move(nbrs);
   if (!s.bodies.empty()) {
-    const sim::Pose& p = s.bodies.poses[m];
+    const sim::Pose p = s.bodies.poses[m];
     answer["pose"] = {{"position", p.position}, {"orientation", p.orientation}};
+    // Before step 0 (t = -1) the graph is the initial state's, measured from its own poses.
+    answer["nbrs_measured_from"] = measured ? nlohmann::ordered_json{{"t", std::max<int64_t>(t - 1, -1)},
+                                                                     {"position", measured->position},
+                                                                     {"orientation", measured->orientation}}
+                                            : nlohmann::ordered_json(nullptr);
   }
   return answer;
 }

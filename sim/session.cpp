@@ -188,6 +188,21 @@ const NeighborGraph& Session::seen_graph() {
   return current_ < 0 ? *s.graph : *out.graph;
 }
 
+std::optional<Pose> Session::measured_pose(ModuleId m, const Control& control) {
+  // Before step 0 the graph shown is the initial state's, measured from its own poses.
+  if (current_ < 0) {
+    const State& s = state();
+    return s.bodies.empty() ? std::nullopt : std::optional(s.bodies.poses[m]);
+  }
+  if (measured_for_ != current_) {
+    if (!has_history() || !materialize(current_ - 1, control)) return std::nullopt;
+    measured_poses_ = view_.bodies.poses;
+    measured_for_ = current_;
+  }
+  if (measured_poses_.empty()) return std::nullopt;
+  return measured_poses_[m];
+}
+
 std::optional<std::vector<int64_t>> Session::series(ModuleId m, int column, int64_t from, int64_t to,
                                                     const Control& control) {
   auto rows = module_series(m, from, to, control);

@@ -194,6 +194,13 @@ class Session {
   // What the watchpoints saw at the current step besides the values: presence and N(m, t).
   std::span<const uint8_t> seen_present();
   const NeighborGraph& seen_graph();
+  // The pose module m had when its neighbours of the current step, N(m, current()), were measured:
+  // at the end of step current() - 1 (docs/design.md §2), where state() holds the poses after
+  // the current step's physics. Read from the history when asked (the view goes back to that step
+  // and on again, a seek's steps; the poses are kept until the cursor moves or the history
+  // changes), so a run that never asks keeps nothing more. Nothing without bodies, when the
+  // session keeps no history (the step before the latest is not kept), or when cancelled.
+  std::optional<Pose> measured_pose(ModuleId m, const Control& control = {});
 
   // Matches of `log` and `pause` watchpoints over the history (a `count` one's keeps only their
   // number per step, MatchList::counted).
@@ -267,6 +274,11 @@ class Session {
   State view_;  // after some step <= latest_, when view_valid_; the current step's when current_ < latest_
   StepOutput view_out_;
   bool view_valid_ = false;
+  // The poses at the end of step measured_for_ - 1, from which N(measured_for_) was measured
+  // (measured_pose), once asked; kNotMeasured when none are, or the history changed since.
+  static constexpr int64_t kNotMeasured = -2;
+  PagedArray<Pose, CellPose> measured_poses_;
+  int64_t measured_for_ = kNotMeasured;
   const State* world_on_ = nullptr;  // the state the world last stepped (it must be told of a change)
 
   std::vector<State> keyframes_;  // keyframes_[i]: the state before step i * interval_

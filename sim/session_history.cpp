@@ -130,6 +130,7 @@ void Session::branch_here() {
   head_ = std::move(view_);
   head_out_ = std::move(view_out_);
   view_valid_ = false;
+  measured_for_ = kNotMeasured;
   world_on_ = nullptr;
   latest_ = current_;
   const size_t keep = static_cast<size_t>((current_ + 1) / interval_) + 1;
@@ -160,6 +161,7 @@ void Session::resimulate() {
   }
   latest_ = current_ = -1;
   view_valid_ = false;
+  measured_for_ = kNotMeasured;
   failure_.reset();
   take_keyframe();
   while (latest_ < latest) step_head({});

@@ -194,6 +194,7 @@ bool Session::evaluate_over_history(uint32_t w, const Control& control) {
   for (size_t i = 0; i < keyframes_.size(); ++i) keyframes_[i].watches.push_back(std::move(at_keyframe[i]));
   head_.watches.push_back(std::move(s.watches[w]));
   view_valid_ = false;
+  measured_for_ = kNotMeasured;
   return true;
 }
 
@@ -212,6 +213,7 @@ bool Session::remove_watch(std::string_view name) {
   head_.watches.erase(head_.watches.begin() + std::ptrdiff_t{w});
   for (State& k : keyframes_) k.watches.erase(k.watches.begin() + std::ptrdiff_t{w});
   view_valid_ = false;
+  measured_for_ = kNotMeasured;
   rebuild_runtime();
   recount_history();
   if (acted) resimulate();

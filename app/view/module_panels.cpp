@@ -23,10 +23,12 @@ void Debugger::inspector_panel() {
   const Inspector& in = *readout_.inspector;
   ImGui::Text("module %u at step %" PRId64 "%s", m.universe.id(in.module), readout_.at.current,
               in.present ? "" : "  (absent)");
+  // Which pose it is: the one after the step's physics (the 3D view's); the neighbours were
+  // measured from the poses at the end of the step before (docs/design.md §2).
   if (in.pose) {
     const auto& p = in.pose->position;
     ImGui::SameLine();
-    ImGui::TextDisabled("  at (%.2f, %.2f, %.2f)", p[0], p[1], p[2]);
+    ImGui::TextDisabled("  after the step at (%.2f, %.2f, %.2f)", p[0], p[1], p[2]);
   }
   if (ImGui::BeginTable("vars", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
     ImGui::TableSetupColumn("variable");
@@ -59,7 +61,7 @@ void Debugger::inspector_panel() {
     plot_rects_.push_back(
         {ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y, ImGui::GetItemRectMax().x, ImGui::GetItemRectMax().y});
   }
-  ImGui::TextUnformatted("neighbours:");
+  ImGui::TextUnformatted(in.pose ? "neighbours (touching at the end of the step before):" : "neighbours:");
   for (sim::ModuleId n : in.neighbors) {
     ImGui::SameLine();
     if (ImGui::SmallButton(std::to_string(m.universe.id(n)).c_str())) {

@@ -291,7 +291,9 @@ KeyboardInterrupt. Use a Session from one thread at a time (another thread may u
       .def("matches", &Session::matches, py::arg("name"), "The watchpoint's matches over the history, as arrays.")
       .def(
           "state", [](Session& s, int64_t module) { return s.command("state " + number(module)); }, py::arg("module"),
-          "The module at the current step: variables, neighbours, pose.")
+          "The module at the current step: variables, neighbours, and with physics its pose after the step "
+          "('pose') and the one its neighbours were measured from, at the end of the step before "
+          "('nbrs_measured_from').")
       .def("values", &Session::values, py::arg("variable"),
            "One variable of every module at the current step: int64, shape (modules,).")
       .def("series", &Session::series, py::arg("module"), py::arg("variable"), py::arg("first"), py::arg("last"),

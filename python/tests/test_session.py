@@ -264,6 +264,20 @@ def test_push_answers_and_hashes_as_the_command_line(source):
     assert answers == session_answers(scenario, "step 2", "push 59 0 -500 0.25", "step 5", "hash")
 
 
+def test_state_names_the_pose_the_neighbours_were_measured_from(source):
+    # With physics, state() answers as `dwatch session` does (docs/session.md, "Which pose `state`
+    # shows"): `pose` after the step, `nbrs_measured_from` the pose after the step before.
+    scenario = str(source / "scenarios" / "slide.toml")
+    s = dwatch.Session(scenario)
+    s.run(8)
+    now = s.state(15)
+    assert now == session_answers(scenario, "run 8", "state 15")[-1]
+    s.seek(7)
+    before = s.state(15)
+    assert now["nbrs_measured_from"] == {"t": 7, **before["pose"]}
+    assert now["pose"] != before["pose"], "module 15 glides along its lattice move"
+
+
 def test_a_watchpoint_named_with_a_space_is_said_quoted(leaders):
     # A scenario may name a watchpoint "two leaders #2"; so may Python, and every command naming it
     # quotes it (`unwatch "two leaders #2"`).

@@ -8,10 +8,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "tests/app/cli.h"
 
@@ -296,6 +298,48 @@ TEST_F(SessionProtocol, TheRequestsFileIsAnInputNoCommandOverwrites) {
       run("session " + std::string(DWATCH_SCENARIOS_DIR) + "/token_ring.toml --protocol < " + requests.string());
   EXPECT_NE(r.out.find(requests.string() + " would overwrite the input /dev/stdin"), std::string::npos) << r.out;
   EXPECT_EQ(slurp(requests), text);
+}
+
+// With physics, `state M` names both poses (docs/session.md, "Which pose `state` shows"): `pose`
+// after step t's physics, and `nbrs_measured_from`, the one N(m, t) was measured from: the pose
+// after step t - 1, at the latest step and at a step sought alike; before step 0, the initial one.
+TEST_F(SessionProtocol, StateNamesThePoseTheNeighboursWereMeasuredFrom) {
+  Protocol p(std::string(DWATCH_SCENARIOS_DIR) + "/slide.toml");
+  const auto ask = [&](const std::string& line) {
+    p.send(line);
+    const auto answer = p.next();
+    EXPECT_TRUE(answer && !answer->contains("error")) << line << ": " << answer.value_or(json());
+    return answer.value_or(json());
+  };
+  constexpr int kModules = 16;  // a row of 12 and 4 sliders on it
+  constexpr int kLast = 12;     // the first slider glides from step 1 to 21
+  // state[t + 1][m]: module m's answer at step t: before step 0 (the session's start), at the
+  // latest step, then at each step sought.
+  std::vector<std::vector<json>> state(kLast + 2);
+  const auto ask_all = [&](int t) {
+    for (int m = 0; m < kModules; ++m) state[size_t(t + 1)].push_back(ask("state " + std::to_string(m)));
+  };
+  ask_all(-1);
+  ask("unwatch set_off_together");  // no lag: the latest step is current after the run
+  ASSERT_EQ(ask("run " + std::to_string(kLast))["latest"], kLast);
+  for (int t = kLast; t >= 0; --t) {
+    if (t < kLast) ask("seek " + std::to_string(t));
+    ask_all(t);
+  }
+  int moved = 0;
+  for (int t = -1; t <= kLast; ++t)
+    for (int m = 0; m < kModules; ++m) {
+      const json& now = state[size_t(t + 1)][size_t(m)];
+      ASSERT_TRUE(now.contains("nbrs_measured_from")) << "step " << t << " module " << m << ": " << now;
+      const json& from = now["nbrs_measured_from"];
+      const json& before = state[size_t(std::max(t, 0))][size_t(m)]["pose"];  // after step t - 1
+      EXPECT_EQ(from["t"], std::max(t - 1, -1)) << "step " << t << " module " << m;
+      EXPECT_EQ(from["position"], before["position"]) << "step " << t << " module " << m;
+      EXPECT_EQ(from["orientation"], before["orientation"]) << "step " << t << " module " << m;
+      moved += now["pose"] != before;
+    }
+  EXPECT_GE(moved, kLast - 1) << "a slider glides at every step after the first: its two poses differ";
+  EXPECT_EQ(p.finish(), 0);
 }
 
 }  // namespace
