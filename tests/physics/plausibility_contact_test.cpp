@@ -25,18 +25,21 @@ TEST(PlausibilityContact, ABoxPropLoadsTurnedAsItsOrientationSays) {
 }
 
 // Neither box, the one on its face nor the one on its side, moves any corner more than 0.001 in
-// 1,000 steps.
+// 1,000 steps, nor sinks 0.02 into the ground.
 TEST(PlausibilityContact, ABoxAtRestOnAFaceOrASideStaysThere) {
   const scenarios::Scenario s = load_scene("physics/resting_boxes.toml");
   const sim::Pose face{.position = s.model->lattice.position(0)};
   const sim::Pose side = bullet_world(s).settings().props[0].pose;
   Worst on_face("box on a face, travel", 0.001f), on_side("box on a side, travel", 0.001f);
+  Overlaps overlaps(bullet_world(s), 0.02f);
   run_scene(s, 1000, [&](const sim::State& st, int64_t step) {
     on_face.see(corner_travel(face, st.bodies.poses[0]), step, [] { return module_name(0); });
     on_side.see(corner_travel(side, st.bodies.prop_poses[0]), step, [] { return std::string("prop 0"); });
+    overlaps.measure(st, step);
   });
   EXPECT_TRUE(on_face.within()) << on_face.report();
   EXPECT_TRUE(on_side.within()) << on_side.report();
+  EXPECT_TRUE(overlaps.ground.within()) << overlaps.ground.report();
 }
 
 // Launched at v = 2 m/s, the box slides v^2 / (2 mu g) and stops there (within 10%), mu the
@@ -74,8 +77,8 @@ TEST(PlausibilityContact, ABoxLaunchedAlongTheGroundStopsWhereFrictionSays) {
   EXPECT_LT(tipped, 1e-3f) << "module 0 tipped";
 }
 
-// The cube's centre never goes more than 0.02 below its rest height in 300 steps, nor its box
-// into the ground, under the 200 kg box.
+// The cube's centre never goes more than 0.02 below its rest height in 300 steps, nor its box into
+// the ground or the heavy box into it by more than 0.02.
 TEST(PlausibilityContact, AHeavyBoxDoesNotPressALightCubeIntoTheGround) {
   const scenarios::Scenario s = load_scene("physics/heavy_on_light.toml");
   const BulletWorld& world = bullet_world(s);
@@ -83,17 +86,15 @@ TEST(PlausibilityContact, AHeavyBoxDoesNotPressALightCubeIntoTheGround) {
   ASSERT_EQ(world.settings().props[0].mass, 200.0f);
   const float rest = s.model->lattice.position(0)[2];
   ASSERT_EQ(rest, world.ground_z() + kHalf);
-  Worst sunk("cube's centre below its rest height", 0.02f), into_ground("cube's depth into the ground", 0.02f);
-  Worst heavy_sunk("heavy box's centre below its rest height", 0.04f);  // two boxes' worth
+  Worst sunk("cube's centre below its rest height", 0.02f);
+  Overlaps overlaps(world, 0.02f);
   run_scene(s, 300, [&](const sim::State& st, int64_t step) {
-    const sim::Pose& cube = st.bodies.poses[0];
-    sunk.see(rest - cube.position[2], step, [] { return module_name(0); });
-    into_ground.see(ground_depth(cube, world.ground_z()), step, [] { return module_name(0); });
-    heavy_sunk.see(rest + 1 - st.bodies.prop_poses[0].position[2], step, [] { return std::string("prop 0"); });
+    sunk.see(rest - st.bodies.poses[0].position[2], step, [] { return module_name(0); });
+    overlaps.measure(st, step);
   });
   EXPECT_TRUE(sunk.within()) << sunk.report();
-  EXPECT_TRUE(into_ground.within()) << into_ground.report();
-  EXPECT_TRUE(heavy_sunk.within()) << heavy_sunk.report();
+  EXPECT_TRUE(overlaps.ground.within()) << overlaps.ground.report();
+  EXPECT_TRUE(overlaps.pairs.within()) << overlaps.pairs.report() << " (prop 0: the heavy box)";
 }
 
 }  // namespace

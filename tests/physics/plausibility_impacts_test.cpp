@@ -82,17 +82,24 @@ TEST(PlausibilityImpacts, PushWallsDebrisComesToRest) {
   const uint32_t n = s.model->module_count();
   std::vector<sim::Pose> then(n);
   Worst travel("travel over the last 150 steps", 0.01f);
+  int64_t struck = -1;   // the first step a module left its cell
+  float ball_speed = 0;  // the most over the last 150 steps
   sim::Pose ball;
   run_scene(s, s.steps, [&](const sim::State& st, int64_t step) {
+    for (sim::ModuleId m = 0; m < n && struck < 0; ++m)
+      if (st.present[m] && corner_travel({.position = s.model->lattice.position(m)}, st.bodies.poses[m]) > 0.01f)
+        struck = step;
     for (sim::ModuleId m = 0; m < n && step >= from; ++m) {
       if (!st.present[m]) continue;
       if (step == from) then[m] = st.bodies.poses[m];
       travel.see(corner_travel(then[m], st.bodies.poses[m]), step, [&] { return module_name(m); });
     }
     ball = st.bodies.prop_poses[0];
+    if (step >= from) ball_speed = std::max(ball_speed, length(st.bodies.prop_velocities[0].linear));
   });
-  EXPECT_TRUE(travel.within()) << travel.report() << " (the ball at the end: " << ball.position[0] << ", "
-                               << ball.position[1] << ", " << ball.position[2] << ")";
+  EXPECT_TRUE(travel.within()) << travel.report() << " (the ball struck at step " << struck << "; it ends at "
+                               << ball.position[0] << ", " << ball.position[1] << ", " << ball.position[2]
+                               << ", at up to " << ball_speed << " m/s over those steps)";
 }
 
 }  // namespace

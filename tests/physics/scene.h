@@ -166,10 +166,11 @@ inline float box_overlap_bound(const sim::Pose& p, const sim::Pose& q) {
   return least;
 }
 
-// Every present module's overlap with the ground, the scenario's sphere props and the modules
+// Every present module's overlap with the ground, the scenario's sphere props and the boxes
 // whose centres are close enough to touch it (found on a grid of centres two sizes across), each
 // pair once, as Bullet measures it: GJK on the rounded boxes (ContactGraph::distance, EPA for
-// overlaps), asked only of pairs that the whole boxes' separating axes cannot clear.
+// overlaps), asked only of pairs that the whole boxes' separating axes cannot clear. Box props of
+// a module's size are boxes like the modules; other box props are left out.
 class Overlaps {
  public:
   // `bar`: the depth each measure allows.
@@ -184,36 +185,48 @@ class Overlaps {
     if (world.shape() != ModuleShape::Box) throw std::runtime_error("the overlap measures are for boxes");
   }
 
-  // Modules' and sphere props' depth into the ground; module centres below the lowest a box's
-  // centre rests at (half a size above the ground); the deepest overlap of two modules or a module
-  // and a sphere prop (where it is under the bar, an upper bound may stand for it).
+  // Modules' and props' depth into the ground; module centres below the lowest a box's centre
+  // rests at (half a size above the ground); the deepest overlap of two boxes or a module and a
+  // sphere prop (where it is under the bar, an upper bound may stand for it).
   Worst ground, centres, pairs;
 
   void measure(const sim::State& st, int64_t step) {
     const sim::Bodies& b = st.bodies;
-    for (size_t i = 0; i < props_.size(); ++i)
+    boxes_.clear();
+    for (sim::ModuleId m = 0; m < b.poses.size(); ++m)
+      if (st.present[m]) boxes_.push_back({b.poses[m], m, false});
+    for (size_t i = 0; i < props_.size(); ++i) {
+      const sim::Pose& p = b.prop_poses[i];
       if (props_[i].shape == ModuleShape::Sphere)
-        ground.see(ground_ - (b.prop_poses[i].position[2] - props_[i].size[0] / 2), step,
-                   [&] { return "prop " + std::to_string(i); });
+        ground.see(ground_ - (p.position[2] - props_[i].size[0] / 2), step, [&] { return prop_name(i); });
+      else if (props_[i].size == sim::Vec3{1, 1, 1}) boxes_.push_back({p, uint32_t(i), true});
+    }
     grid_.clear();
-    for (sim::ModuleId m = 0; m < b.poses.size(); ++m) {
-      if (!st.present[m]) continue;
-      const sim::Pose p = b.poses[m];
-      ground.see(ground_depth(p, ground_), step, [&] { return module_name(m); });
-      centres.see(ground_ + kHalf - p.position[2], step, [&] { return module_name(m); });
+    for (uint32_t k = 0; k < boxes_.size(); ++k) {
+      const Box& box = boxes_[k];
+      ground.see(ground_depth(box.pose, ground_), step, [&] { return name(box); });
+      grid_[key(box.pose.position)].push_back(k);
+      if (box.prop) continue;
+      centres.see(ground_ + kHalf - box.pose.position[2], step, [&] { return name(box); });
       for (size_t i = 0; i < props_.size(); ++i)
         if (props_[i].shape == ModuleShape::Sphere)
-          pairs.see(sphere_depth(p, b.prop_poses[i].position, props_[i].size[0] / 2), step,
-                    [&] { return module_name(m) + " and prop " + std::to_string(i); });
-      grid_[key(p.position)].push_back(m);
+          pairs.see(sphere_depth(box.pose, b.prop_poses[i].position, props_[i].size[0] / 2), step,
+                    [&] { return name(box) + " and " + prop_name(i); });
     }
-    for (const auto& [cell, modules] : grid_)
-      for (sim::ModuleId m : modules) around(b, m, step);
+    for (uint32_t k = 0; k < boxes_.size(); ++k) around(k, step);
   }
 
  private:
+  struct Box {
+    sim::Pose pose;
+    uint32_t id;  // a module's, or a prop's index
+    bool prop;
+  };
+  static std::string prop_name(size_t i) { return "prop " + std::to_string(i); }
+  static std::string name(const Box& box) { return box.prop ? prop_name(box.id) : module_name(box.id); }
+
   // Centres further apart than twice a rounded box's far corner cannot overlap; the grid's cells
-  // are wider, so that the 27 around a centre hold every module that can.
+  // are wider, so that the 27 around a centre hold every box that can.
   static constexpr float kApart = 2 * (kCore * 1.7320508f + kMargin), kSide = 2;
   static int64_t coordinate(float x) { return int64_t(std::floor(x / kSide)); }
   static uint64_t pack(int64_t x, int64_t y, int64_t z) {
@@ -222,23 +235,23 @@ class Overlaps {
   }
   static uint64_t key(const sim::Vec3& at) { return pack(coordinate(at[0]), coordinate(at[1]), coordinate(at[2])); }
 
-  // Module m against the modules of larger id in the 27 cells around its own.
-  void around(const sim::Bodies& b, sim::ModuleId m, int64_t step) {
-    const sim::Pose p = b.poses[m];
+  // Box k against the boxes after it in the 27 cells around its own.
+  void around(uint32_t k, int64_t step) {
+    const sim::Pose& p = boxes_[k].pose;
     const int64_t x = coordinate(p.position[0]), y = coordinate(p.position[1]), z = coordinate(p.position[2]);
     for (int64_t dz = -1; dz <= 1; ++dz)
       for (int64_t dy = -1; dy <= 1; ++dy)
         for (int64_t dx = -1; dx <= 1; ++dx) {
           const auto cell = grid_.find(pack(x + dx, y + dy, z + dz));
           if (cell == grid_.end()) continue;
-          for (sim::ModuleId o : cell->second) {
-            if (o <= m) continue;
-            const sim::Pose q = b.poses[o];
+          for (uint32_t o : cell->second) {
+            if (o <= k) continue;
+            const sim::Pose& q = boxes_[o].pose;
             const sim::Vec3 d = minus(q.position, p.position);
             if (dot(d, d) >= kApart * kApart) continue;
             float depth = box_overlap_bound(p, q);
             if (depth > bar_) depth = -contacts_.distance(p, q);  // only a deep one asks GJK
-            pairs.see(depth, step, [&] { return module_name(m) + " and " + module_name(o); });
+            pairs.see(depth, step, [&] { return name(boxes_[k]) + " and " + name(boxes_[o]); });
           }
         }
   }
@@ -247,7 +260,8 @@ class Overlaps {
   float ground_;
   std::vector<PropSpec> props_;
   float bar_;
-  std::unordered_map<uint64_t, std::vector<sim::ModuleId>> grid_;
+  std::vector<Box> boxes_;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> grid_;
 };
 
 // A module's kinetic energy (J): a box one size across of `mass`, whose moment of inertia about
