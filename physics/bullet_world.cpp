@@ -215,8 +215,8 @@ bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vec
       constexpr float kOverlap = 0.02f;
       std::optional<sim::ModuleId> blocked;
       for (const PivotArc& arc : std::get<std::vector<PivotArc>>(planned)) {
-        sim::Mover mover{a.module,  b.poses[a.module], {},        asked,   settings_.move_steps,
-                         arc.pivot, arc.axis,          arc.angle, arc.spin};
+        sim::Mover mover{a.module,  b.poses[a.module], {},        asked,    settings_.move_steps,
+                         arc.pivot, arc.axis,          arc.angle, arc.spin, a.other};  // turns on a.other
         mover.to = turn(mover, 1);
         mover.to.position = cell;  // exactly the cell
         std::optional<sim::ModuleId> in_the_way;

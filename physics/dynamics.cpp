@@ -55,23 +55,24 @@ struct Dynamics::Compound {
   int64_t used = 0;
 };
 
+// Per worker thread: Bullet's pools (not shared between threads), and a dispatcher, which a
+// world leaves empty (its pairs dropped first) and which takes a while to build.
+struct Dynamics::Worker {
+  btDefaultCollisionConfiguration config;
+  btCollisionDispatcher dispatcher{&config};
+  BoxPlaneCreateFunc box_plane{false}, plane_box{true};
+  Worker() {
+    dispatcher.registerCollisionCreateFunc(BOX_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE, &box_plane);
+    dispatcher.registerCollisionCreateFunc(STATIC_PLANE_PROXYTYPE, BOX_SHAPE_PROXYTYPE, &plane_box);
+    // A box on the ground gets all its corners in one query (physics/box_plane.h); other shapes
+    // a few points a query, tilted, and the rest from the contact cache over steps
+    // (physics/warm_start.h).
+    config.setPlaneConvexMultipointIterations();
+    config.setConvexConvexMultipointIterations();
+  }
+};
+
 struct Dynamics::Shapes {
-  // Per worker thread: Bullet's pools (not shared between threads), and a dispatcher, which a
-  // world leaves empty (its pairs dropped first) and which takes a while to build.
-  struct Worker {
-    btDefaultCollisionConfiguration config;
-    btCollisionDispatcher dispatcher{&config};
-    BoxPlaneCreateFunc box_plane{false}, plane_box{true};
-    Worker() {
-      dispatcher.registerCollisionCreateFunc(BOX_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE, &box_plane);
-      dispatcher.registerCollisionCreateFunc(STATIC_PLANE_PROXYTYPE, BOX_SHAPE_PROXYTYPE, &plane_box);
-      // A box on the ground gets all its corners in one query (physics/box_plane.h); other shapes
-      // a few points a query, tilted, and the rest from the contact cache over steps
-      // (physics/warm_start.h).
-      config.setPlaneConvexMultipointIterations();
-      config.setConvexConvexMultipointIterations();
-    }
-  };
   std::vector<std::unique_ptr<Worker>> workers;
   std::unique_ptr<btCollisionShape> module;
   btStaticPlaneShape ground;
@@ -224,45 +225,62 @@ struct ContactForce {
 };
 }  // namespace
 
-void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, std::vector<float>& force,
-                    sim::WorkerPool& workers, sim::RankExchange* ranks) {
-  const int clusters = static_cast<int>(b.clusters.size()), movers = static_cast<int>(b.movers.size());
-
-  // Every body of the step, in tag order; which of them move (clusters not anchored, props with
-  // mass), and what they can reach.
+// What one step works from: its bodies in tag order (ground -1, then clusters, movers, props), the
+// islands they form, each island's pushes, and which islands sleep.
+struct Dynamics::Plan {
+  int clusters = 0, movers = 0;
   std::vector<Body> bodies;
-  std::vector<const Compound*> cluster_compound(b.clusters.size(), nullptr);
-  for (int i = 0; i < clusters; ++i) {
+  std::vector<const Compound*> compound_of;  // per cluster of more than one module
+  std::vector<std::vector<uint32_t>> islands;
+  std::vector<std::vector<const Push*>> pushes;  // per island
+  std::vector<uint8_t> asleep;                   // per island
+};
+
+// What stepping one island wrote beside the bodies: contact forces on modules, and its contact
+// points for the next step's warm start.
+struct Dynamics::IslandOutput {
+  std::vector<std::pair<sim::ModuleId, float>> forces;
+  std::vector<sim::ContactPoint> contacts;
+};
+
+// Every body of the step, in tag order, and what each can reach over it.
+void Dynamics::gather_bodies(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes, int64_t to) {
+  plan.compound_of.assign(b.clusters.size(), nullptr);
+  for (int i = 0; i < plan.clusters; ++i) {
     const sim::Cluster& c = b.clusters[size_t(i)];
     Body body{.tag = i, .mass = c.anchored ? 0 : settings_.module_mass * float(c.count), .shape = module_shape_};
     if (c.count > 1) {
       const Compound& k = compound(b, c, to);
-      cluster_compound[size_t(i)] = &k;
+      plan.compound_of[size_t(i)] = &k;
       body.shape = k.shape.get();
       if (!c.anchored) body.inertia = k.inertia;
     } else if (!c.anchored) {
       body.shape->calculateLocalInertia(body.mass, body.inertia);
     }
-    body.pose = to_bt(c.pose);
+    // An anchored cluster's frame is the world's: a lone member stands at its own pose (on the
+    // first dynamics it stood at the origin, and what fell on where it was passed through it).
+    body.pose = to_bt(c.anchored && c.count == 1 ? b.poses[b.members[c.first]] : c.pose);
     body.velocity = c.anchored ? sim::Velocity{} : c.velocity;
-    bodies.push_back(body);
+    plan.bodies.push_back(body);
   }
-  for (int i = 0; i < movers; ++i) {
+  for (int i = 0; i < plan.movers; ++i) {
     const sim::Mover& m = b.movers[size_t(i)];
-    Body body{.tag = clusters + i, .shape = module_shape_, .kinematic = true};
+    Body body{.tag = plan.clusters + i, .shape = module_shape_, .kinematic = true};
     body.pose = to_bt(glide(m, to));
     body.before = to_bt(glide(m, to - 1));
-    bodies.push_back(body);
+    plan.bodies.push_back(body);
   }
   for (size_t i = 0; i < settings_.props.size(); ++i) {
     const PropSpec& p = settings_.props[i];
-    Body body{.tag = clusters + movers + int(i), .mass = std::max(p.mass, 0.0f), .shape = shapes_->props[i].get()};
+    Body body{
+        .tag = plan.clusters + plan.movers + int(i), .mass = std::max(p.mass, 0.0f), .shape = shapes_->props[i].get()};
     if (p.mass > 0) body.shape->calculateLocalInertia(p.mass, body.inertia);
     body.pose = to_bt(b.prop_poses[i]);
     body.velocity = b.prop_velocities[i];
-    bodies.push_back(body);
+    plan.bodies.push_back(body);
   }
   // Pushes speed a cluster up by at most |J| / m and turn it by at most |r| |J| / (least inertia).
+  std::vector<Body>& bodies = plan.bodies;
   std::vector<float> pushed(bodies.size(), 0), turned(bodies.size(), 0);
   for (const Push& p : pushes) {
     const uint32_t c = b.cluster_of[p.module];
@@ -282,8 +300,15 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
       bodies[i].reach.cover(reach(was, 0, 0));
     }
   }
+}
 
-  // Islands among the bodies that move; each takes the fixed and kinematic bodies its box meets.
+// Islands among the bodies that move; each takes the fixed and kinematic bodies its box meets, and
+// the pushes on its clusters (a cluster held by the ground, or a module gliding, takes none). An
+// island sleeps when every body of it is a cluster that has slept or been still long enough
+// (Cluster::still), none is pushed and nothing kinematic reaches it: whatever is awake and
+// could touch a sleeping body wakes its whole island, as Bullet's islands wake.
+void Dynamics::form_islands(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes) const {
+  const std::vector<Body>& bodies = plan.bodies;
   std::vector<uint32_t> moving;
   std::vector<ReachBox> boxes;
   for (uint32_t i = 0; i < bodies.size(); ++i)
@@ -293,206 +318,272 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     }
   uint32_t count = 0;
   const std::vector<uint32_t> island_of = islands_of(boxes, count);
-  std::vector<std::vector<uint32_t>> islands(count);
+  plan.islands.assign(count, {});
+  plan.asleep.assign(count, 1);
   std::vector<ReachBox> island_box(count);
   std::vector<uint8_t> boxed(count, 0);
+  const int64_t sleep_steps = sleep_after_steps();
   for (size_t k = 0; k < moving.size(); ++k) {
     const uint32_t i = island_of[k];
-    islands[i].push_back(moving[k]);
+    plan.islands[i].push_back(moving[k]);
     if (!boxed[i]) island_box[i] = boxes[k];
     island_box[i].cover(boxes[k]);
     boxed[i] = 1;
+    const bool still =
+        moving[k] < uint32_t(plan.clusters) && sleep_steps > 0 && b.clusters[moving[k]].still >= sleep_steps;
+    if (!still) plan.asleep[i] = 0;
   }
   for (uint32_t j = 0; j < bodies.size(); ++j)
     if (bodies[j].mass <= 0)
       for (uint32_t i = 0; i < count; ++i)
-        if (island_box[i].overlaps(bodies[j].reach)) islands[i].push_back(j);
-  for (std::vector<uint32_t>& island : islands) std::sort(island.begin(), island.end());
-  islands_ = count;
-  // Each island's pushes, in their order: those on its clusters that move (a cluster held by the
-  // ground, or a module gliding, takes none).
+        if (island_box[i].overlaps(bodies[j].reach)) {
+          plan.islands[i].push_back(j);
+          if (bodies[j].kinematic) plan.asleep[i] = 0;
+        }
+  for (std::vector<uint32_t>& island : plan.islands) std::sort(island.begin(), island.end());
   std::vector<uint32_t> island_of_body(bodies.size(), UINT32_MAX);
   for (size_t k = 0; k < moving.size(); ++k) island_of_body[moving[k]] = island_of[k];
-  std::vector<std::vector<const Push*>> island_pushes(count);
+  plan.pushes.assign(count, {});
   for (const Push& p : pushes) {
     const uint32_t c = b.cluster_of[p.module];
-    if (c != sim::kNoCluster && !b.clusters[c].anchored && island_of_body[c] != UINT32_MAX)
-      island_pushes[island_of_body[c]].push_back(&p);
+    if (c != sim::kNoCluster && !b.clusters[c].anchored && island_of_body[c] != UINT32_MAX) {
+      plan.pushes[island_of_body[c]].push_back(&p);
+      plan.asleep[island_of_body[c]] = 0;
+    }
   }
+}
 
-  // Each worker steps a run of islands in worlds of its own (its own collision configuration:
-  // Bullet's pools are not shared); each island writes only its own clusters and props, and its
-  // contact forces into a list of its own, added up in island order after.
-  while (shapes_->workers.size() < workers.size()) shapes_->workers.push_back(std::make_unique<Shapes::Worker>());
-  std::vector<std::vector<std::pair<sim::ModuleId, float>>> forces(count);
-  std::vector<std::vector<sim::ContactPoint>> kept(count);  // each island's contact points after the step
-  const auto module_of = [&](const btCollisionObject* o, int child) -> int64_t {
-    const int tag = o->getUserIndex();
-    if (tag < 0 || tag >= clusters + movers) return -1;
-    if (tag >= clusters) return b.movers[size_t(tag - clusters)].module;
-    const sim::Cluster& c = b.clusters[size_t(tag)];
-    if (c.count == 1) return b.members[c.first];
-    // The compound holds only the surface members: its children are numbered among those.
-    const std::vector<uint32_t>& member_of_child = cluster_compound[size_t(tag)]->member_of_child;
-    if (child < 0 || size_t(child) >= member_of_child.size()) return -1;
-    return b.members[c.first + member_of_child[size_t(child)]];
-  };
-  const auto side_of = [&](const btCollisionObject* o, int child) -> int64_t {
+int64_t Dynamics::sleep_after_steps() const {
+  return settings_.sleep_after > 0 ? std::max<int64_t>(1, std::llround(settings_.sleep_after / settings_.dt)) : 0;
+}
+
+// The module (or -1: a prop, the ground) a side of a contact lies on.
+int64_t Dynamics::module_of(const Plan& plan, const sim::Bodies& b, const btCollisionObject* o, int child) {
+  const int tag = o->getUserIndex();
+  if (tag < 0 || tag >= plan.clusters + plan.movers) return -1;
+  if (tag >= plan.clusters) return b.movers[size_t(tag - plan.clusters)].module;
+  const sim::Cluster& c = b.clusters[size_t(tag)];
+  if (c.count == 1) return b.members[c.first];
+  // The compound holds only the surface members: its children are numbered among those.
+  const std::vector<uint32_t>& member_of_child = plan.compound_of[size_t(tag)]->member_of_child;
+  if (child < 0 || size_t(child) >= member_of_child.size()) return -1;
+  return b.members[c.first + member_of_child[size_t(child)]];
+}
+
+// One island in a Bullet world of its own, on one worker's collision configuration (Bullet's
+// pools are not shared); it writes only its own clusters and props.
+void Dynamics::step_island(const Plan& plan, uint32_t island, Worker& worker, sim::Bodies& b, IslandOutput& out) {
+  const float dt = settings_.dt;
+  const ContactSide side_of = [&](const btCollisionObject* o, int child) -> int64_t {
     const int tag = o->getUserIndex();
     if (tag < 0) return sim::kGroundContact;
-    if (tag >= clusters + movers) return sim::contact_prop(uint32_t(tag - clusters - movers));
-    return module_of(o, child);
+    if (tag >= plan.clusters + plan.movers) return sim::contact_prop(uint32_t(tag - plan.clusters - plan.movers));
+    return module_of(plan, b, o, child);
   };
-  const auto step_island = [&](uint32_t island, Shapes::Worker& worker) {
-    const float dt = settings_.dt;
-    btDbvtBroadphase broadphase;
-    btCollisionDispatcher& dispatcher = worker.dispatcher;
-    btDefaultCollisionConfiguration& config = worker.config;
-    btSequentialImpulseConstraintSolver solver;
-    std::vector<std::unique_ptr<btRigidBody>> rigid;  // outlive the world, which unlinks them when it goes
-    WarmStartedWorld world(&dispatcher, &broadphase, &solver, &config, b.contacts, side_of);
-    const PairsDroppedFirst<btDiscreteDynamicsWorld> teardown{world};
-    world.setGravity(to_bt(settings_.gravity));
-    world.getSolverInfo().m_numIterations = settings_.solver_iterations;
-    world.getDispatchInfo().m_deterministicOverlappingPairs = true;
-    const auto add = [&](float mass, btCollisionShape* shape, const btVector3& inertia, const btTransform& pose,
-                         int tag) {
-      btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
-      info.m_startWorldTransform = pose;
-      info.m_friction = settings_.friction;
-      info.m_restitution = settings_.restitution;
-      auto& body = rigid.emplace_back(std::make_unique<btRigidBody>(info));
-      body->setActivationState(DISABLE_DEACTIVATION);  // sleeping changes contacts (docs/design.md §8)
-      body->setUserIndex(tag);
-      world.addRigidBody(body.get());
-      return body.get();
-    };
-    btTransform identity;
-    identity.setIdentity();
-    add(0, &shapes_->ground, btVector3(0, 0, 0), identity, -1);
-    std::vector<std::pair<int, btRigidBody*>> mine;  // (tag, body) of the bodies that move
-    for (uint32_t i : islands[island]) {
-      const Body& body = bodies[i];
-      btRigidBody* r = add(body.mass, body.shape, body.inertia, body.pose, body.tag);
-      if (body.kinematic) {
-        r->setCollisionFlags(r->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
-        r->setInterpolationWorldTransform(body.before);
-      } else if (body.mass > 0) {
-        r->setLinearVelocity(to_bt(body.velocity.linear));
-        r->setAngularVelocity(to_bt(body.velocity.angular));
-        mine.emplace_back(body.tag, r);
-      }
+  btDbvtBroadphase broadphase;
+  btCollisionDispatcher& dispatcher = worker.dispatcher;
+  btSequentialImpulseConstraintSolver solver;
+  std::vector<std::unique_ptr<btRigidBody>> rigid;  // outlive the world, which unlinks them when it goes
+  WarmStartedWorld world(&dispatcher, &broadphase, &solver, &worker.config, b.contacts, side_of);
+  const PairsDroppedFirst<btDiscreteDynamicsWorld> teardown{world};
+  world.setGravity(to_bt(settings_.gravity));
+  world.getSolverInfo().m_numIterations = settings_.solver_iterations;
+  world.getDispatchInfo().m_deterministicOverlappingPairs = true;
+  const auto add = [&](float mass, btCollisionShape* shape, const btVector3& inertia, const btTransform& pose,
+                       int tag) {
+    btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
+    info.m_startWorldTransform = pose;
+    info.m_friction = settings_.friction;
+    info.m_restitution = settings_.restitution;
+    auto& body = rigid.emplace_back(std::make_unique<btRigidBody>(info));
+    // Sleeping is the state's (Cluster::still, form_islands): Bullet's own would keep it outside.
+    body->setActivationState(DISABLE_DEACTIVATION);
+    body->setUserIndex(tag);
+    world.addRigidBody(body.get());
+    return body.get();
+  };
+  btTransform identity;
+  identity.setIdentity();
+  add(0, &shapes_->ground, btVector3(0, 0, 0), identity, -1);
+  std::vector<std::pair<int, btRigidBody*>> mine;  // (tag, body) of the bodies that move
+  for (uint32_t i : plan.islands[island]) {
+    const Body& body = plan.bodies[i];
+    btRigidBody* r = add(body.mass, body.shape, body.inertia, body.pose, body.tag);
+    if (body.kinematic) {
+      r->setCollisionFlags(r->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+      r->setInterpolationWorldTransform(body.before);
+    } else if (body.mass > 0) {
+      r->setLinearVelocity(to_bt(body.velocity.linear));
+      r->setAngularVelocity(to_bt(body.velocity.angular));
+      mine.emplace_back(body.tag, r);
     }
-    for (const Push* p : island_pushes[island]) {  // `mine` is in tag order, a cluster's tag its index
-      const int c = int(b.cluster_of[p->module]);
-      btRigidBody* body =
-          std::lower_bound(mine.begin(), mine.end(), c, [](const auto& x, int tag) { return x.first < tag; })->second;
-      body->applyImpulse(to_bt(p->impulse), to_bt(b.poses[p->module].position) - body->getWorldTransform().getOrigin());
-    }
+  }
+  for (const Push* p : plan.pushes[island]) {  // `mine` is in tag order, a cluster's tag its index
+    const int c = int(b.cluster_of[p->module]);
+    btRigidBody* body =
+        std::lower_bound(mine.begin(), mine.end(), c, [](const auto& x, int tag) { return x.first < tag; })->second;
+    body->applyImpulse(to_bt(p->impulse), to_bt(b.poses[p->module].position) - body->getWorldTransform().getOrigin());
+  }
 
-    world.stepSimulation(dt, 0, dt);
-    world.keep_contacts(kept[island]);
-
-    for (const auto& [tag, body] : mine) {
-      const sim::Pose pose = from_bt(body->getWorldTransform());
-      const sim::Velocity velocity{from_bt(body->getLinearVelocity()), from_bt(body->getAngularVelocity())};
-      if (tag < clusters) {
-        b.clusters[size_t(tag)].pose = pose;
-        b.clusters[size_t(tag)].velocity = velocity;
-      } else {
-        b.prop_poses[size_t(tag - clusters - movers)] = pose;
-        b.prop_velocities[size_t(tag - clusters - movers)] = velocity;
-      }
-    }
-    // Contact forces per module from other bodies, from the impulses the solver applied. The
-    // ground only carries what rests on it: its contacts do not count.
+  // Substeps of one fixed length, each a step of its own (maxSubSteps 0: no interpolation). The
+  // contact force on a module over the step is what the solver applied over all of them, from
+  // other bodies: the ground only carries what rests on it, its contacts do not count.
+  const float substep = dt / float(settings_.substeps);
+  for (int k = 0; k < settings_.substeps; ++k) {
+    world.stepSimulation(substep, 0, substep);
     for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
       const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(i);
+      if (manifold->getBody0()->getUserIndex() < 0 || manifold->getBody1()->getUserIndex() < 0) continue;
       for (int p = 0; p < manifold->getNumContacts(); ++p) {
         const btManifoldPoint& point = manifold->getContactPoint(p);
-        const float f = point.getAppliedImpulse() / dt;
-        if (f <= 0 || manifold->getBody0()->getUserIndex() < 0 || manifold->getBody1()->getUserIndex() < 0) continue;
-        if (const int64_t m = module_of(manifold->getBody0(), point.m_index0); m >= 0)
-          forces[island].emplace_back(sim::ModuleId(m), f);
-        if (const int64_t m = module_of(manifold->getBody1(), point.m_index1); m >= 0)
-          forces[island].emplace_back(sim::ModuleId(m), f);
+        const float f = float(point.getAppliedImpulse()) / dt;
+        if (f <= 0) continue;
+        if (const int64_t m = module_of(plan, b, manifold->getBody0(), point.m_index0); m >= 0)
+          out.forces.emplace_back(sim::ModuleId(m), f);
+        if (const int64_t m = module_of(plan, b, manifold->getBody1(), point.m_index1); m >= 0)
+          out.forces.emplace_back(sim::ModuleId(m), f);
       }
     }
+  }
+  world.keep_contacts(out.contacts);
+
+  const int props_from = plan.clusters + plan.movers;
+  for (const auto& [tag, body] : mine) {
+    const sim::Pose pose = from_bt(body->getWorldTransform());
+    const sim::Velocity velocity{from_bt(body->getLinearVelocity()), from_bt(body->getAngularVelocity())};
+    if (tag < plan.clusters) {
+      b.clusters[size_t(tag)].pose = pose;
+      b.clusters[size_t(tag)].velocity = velocity;
+    } else {
+      b.prop_poses[size_t(tag - props_from)] = pose;
+      b.prop_velocities[size_t(tag - props_from)] = velocity;
+    }
+  }
+}
+
+// Over ranks, what this rank's islands [first, last) wrote goes to every rank; each part is laid
+// down as its islands wrote it, and the forces and contacts added up in island order (the ranks'
+// runs are in island order), so each rank has the bits of one process.
+void Dynamics::share(const Plan& plan, uint32_t first, uint32_t last, std::vector<IslandOutput>& outputs,
+                     sim::Bodies& b, sim::RankExchange& ranks) {
+  const int props_from = plan.clusters + plan.movers;
+  std::vector<IslandResult> moved;
+  std::vector<ContactForce> pushed_by;
+  std::vector<sim::ContactPoint> touching;
+  for (uint32_t i = first; i < last; ++i) {
+    if (plan.asleep[i]) continue;
+    for (uint32_t j : plan.islands[i])
+      if (plan.bodies[j].mass > 0) {
+        const int tag = plan.bodies[j].tag;
+        if (tag < plan.clusters) moved.push_back({tag, b.clusters[size_t(tag)].pose, b.clusters[size_t(tag)].velocity});
+        else
+          moved.push_back({tag, b.prop_poses[size_t(tag - props_from)], b.prop_velocities[size_t(tag - props_from)]});
+      }
+    for (const auto& [m, f] : outputs[i].forces) pushed_by.push_back({m, f});
+    touching.insert(touching.end(), outputs[i].contacts.begin(), outputs[i].contacts.end());
+  }
+  std::vector<std::byte> mine;
+  const uint64_t sizes[3] = {moved.size(), pushed_by.size(), touching.size()};
+  sim::append_records<uint64_t>(mine, sizes);
+  sim::append_records<IslandResult>(mine, moved);
+  sim::append_records<ContactForce>(mine, pushed_by);
+  sim::append_records<sim::ContactPoint>(mine, touching);
+  // Every island's forces and contacts, from every rank, in island order: into the first output.
+  outputs.assign(outputs.size(), {});
+  IslandOutput& all = outputs.front();
+  for (std::span<const std::byte> part : ranks.all_gather(mine)) {
+    const std::span<const uint64_t> size = sim::records_of<uint64_t>(part.first(sizeof sizes));
+    part = part.subspan(sizeof sizes);
+    for (const IslandResult& r : sim::records_of<IslandResult>(part.first(size[0] * sizeof(IslandResult)))) {
+      if (r.tag < plan.clusters) {
+        b.clusters[size_t(r.tag)].pose = r.pose;
+        b.clusters[size_t(r.tag)].velocity = r.velocity;
+      } else {
+        b.prop_poses[size_t(r.tag - props_from)] = r.pose;
+        b.prop_velocities[size_t(r.tag - props_from)] = r.velocity;
+      }
+    }
+    part = part.subspan(size[0] * sizeof(IslandResult));
+    for (const ContactForce& f : sim::records_of<ContactForce>(part.first(size[1] * sizeof(ContactForce))))
+      all.forces.emplace_back(f.module, f.value);
+    const auto points = sim::records_of<sim::ContactPoint>(part.subspan(size[1] * sizeof(ContactForce)));
+    all.contacts.insert(all.contacts.end(), points.begin(), points.end());
+  }
+}
+
+// After the step: how long each cluster has been still (Bullet's deactivation rule: slower than
+// the sleeping thresholds), a sleeping one kept still with no velocity; the contact cache from
+// the islands stepped, and the sleeping islands' own kept as they were.
+void Dynamics::settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim::Bodies& b) const {
+  const int64_t sleep_steps = sleep_after_steps();
+  std::vector<uint8_t> sleeping(b.clusters.size(), 0);
+  for (size_t i = 0; i < plan.islands.size(); ++i)
+    for (uint32_t j : plan.islands[i]) {
+      if (j >= uint32_t(plan.clusters) || plan.bodies[j].mass <= 0) continue;
+      sim::Cluster& c = b.clusters[j];
+      if (plan.asleep[i]) {
+        c.velocity = {};
+        sleeping[j] = 1;
+        continue;
+      }
+      // A cluster of an island woken this step starts counting again, as Bullet's activate() does.
+      if (sleep_steps > 0 && c.still >= sleep_steps) c.still = 0;
+      const bool slow = to_bt(c.velocity.linear).length2() < settings_.sleep_linear * settings_.sleep_linear &&
+                        to_bt(c.velocity.angular).length2() < settings_.sleep_angular * settings_.sleep_angular;
+      c.still = slow ? c.still + 1 : 0;
+    }
+  std::vector<sim::ContactPoint> cache;
+  const auto asleep = [&](uint32_t side) {
+    if (side >= b.cluster_of.size()) return false;  // the ground or a prop: never asleep
+    const uint32_t c = b.cluster_of[side];
+    return c != sim::kNoCluster && c < sleeping.size() && sleeping[c];
   };
+  for (const sim::ContactPoint& p : b.contacts)
+    if (asleep(p.a) || asleep(p.b)) cache.push_back(p);
+  for (const IslandOutput& out : outputs) cache.insert(cache.end(), out.contacts.begin(), out.contacts.end());
+  // Each pair's points lie in one island, in the solver's order: sorting by pair keeps that order.
+  std::stable_sort(cache.begin(), cache.end(), sim::contact_pair_less);
+  b.contacts = std::move(cache);
+}
+
+void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, std::vector<float>& force,
+                    sim::WorkerPool& workers, sim::RankExchange* ranks) {
+  Plan plan{.clusters = int(b.clusters.size()), .movers = int(b.movers.size())};
+  gather_bodies(plan, b, pushes, to);
+  form_islands(plan, b, pushes);
+  const uint32_t count = uint32_t(plan.islands.size());
+  islands_ = count;
   // Over ranks, this rank's run of the islands (weighed by the modules in them).
   uint32_t first = 0, last = count;
   if (ranks != nullptr) {
     std::vector<uint64_t> weight(count, 0);
     for (uint32_t i = 0; i < count; ++i)
-      for (uint32_t j : islands[i]) weight[i] += j < uint32_t(clusters) ? b.clusters[j].count : 1;
+      for (uint32_t j : plan.islands[i]) weight[i] += j < uint32_t(plan.clusters) ? b.clusters[j].count : 1;
     const std::vector<uint32_t> runs = rank_runs(weight, uint32_t(ranks->ranks()));
     first = runs[size_t(ranks->rank())];
     last = runs[size_t(ranks->rank()) + 1];
   }
   stepped_.clear();
   for (uint32_t i = first; i < last; ++i)
-    for (uint32_t j : islands[i])
-      if (bodies[j].mass > 0 && j < uint32_t(clusters)) stepped_.push_back(j);
+    for (uint32_t j : plan.islands[i])
+      if (!plan.asleep[i] && plan.bodies[j].mass > 0 && j < uint32_t(plan.clusters)) stepped_.push_back(j);
   std::sort(stepped_.begin(), stepped_.end());
+
+  // Each worker steps a run of the islands; each writes only its own clusters and props, and its
+  // forces and contacts into an output of its own, added up in island order after.
+  while (shapes_->workers.size() < workers.size()) shapes_->workers.push_back(std::make_unique<Worker>());
+  std::vector<IslandOutput> outputs(std::max<uint32_t>(count, 1));
   const unsigned runs = workers.size();
   workers.run([&](unsigned run) {
     for (uint32_t i = first + (last - first) * run / runs; i < first + (last - first) * (run + 1) / runs; ++i)
-      step_island(i, *shapes_->workers[run]);
+      if (!plan.asleep[i]) step_island(plan, i, *shapes_->workers[run], b, outputs[i]);
   });
+  if (ranks != nullptr) share(plan, first, last, outputs, b, *ranks);
 
   force.assign(b.poses.size(), 0.0f);
-  std::vector<sim::ContactPoint> cache;  // the next step's warm start, in island order, then by pair
-  if (ranks == nullptr) {
-    for (const auto& list : forces)
-      for (const auto& [m, f] : list) force[m] += f;
-    for (const auto& list : kept) cache.insert(cache.end(), list.begin(), list.end());
-  } else {
-    // What this rank's islands wrote, to every rank; each part is laid down as its islands wrote
-    // it, and the forces added up in island order (the ranks' runs are in island order), so each
-    // rank has the bits of one process.
-    std::vector<IslandResult> moved;
-    std::vector<ContactForce> pushed_by;
-    std::vector<sim::ContactPoint> touching;
-    for (uint32_t i = first; i < last; ++i) {
-      for (uint32_t j : islands[i])
-        if (bodies[j].mass > 0) {
-          const int tag = bodies[j].tag;
-          if (tag < clusters) moved.push_back({tag, b.clusters[size_t(tag)].pose, b.clusters[size_t(tag)].velocity});
-          else
-            moved.push_back({tag, b.prop_poses[size_t(tag - clusters - movers)],
-                             b.prop_velocities[size_t(tag - clusters - movers)]});
-        }
-      for (const auto& [m, f] : forces[i]) pushed_by.push_back({m, f});
-      touching.insert(touching.end(), kept[i].begin(), kept[i].end());
-    }
-    std::vector<std::byte> mine;
-    const uint64_t sizes[3] = {moved.size(), pushed_by.size(), touching.size()};
-    sim::append_records<uint64_t>(mine, sizes);
-    sim::append_records<IslandResult>(mine, moved);
-    sim::append_records<ContactForce>(mine, pushed_by);
-    sim::append_records<sim::ContactPoint>(mine, touching);
-    for (std::span<const std::byte> part : ranks->all_gather(mine)) {
-      const std::span<const uint64_t> size = sim::records_of<uint64_t>(part.first(sizeof sizes));
-      part = part.subspan(sizeof sizes);
-      for (const IslandResult& r : sim::records_of<IslandResult>(part.first(size[0] * sizeof(IslandResult)))) {
-        if (r.tag < clusters) {
-          b.clusters[size_t(r.tag)].pose = r.pose;
-          b.clusters[size_t(r.tag)].velocity = r.velocity;
-        } else {
-          b.prop_poses[size_t(r.tag - clusters - movers)] = r.pose;
-          b.prop_velocities[size_t(r.tag - clusters - movers)] = r.velocity;
-        }
-      }
-      part = part.subspan(size[0] * sizeof(IslandResult));
-      for (const ContactForce& f : sim::records_of<ContactForce>(part.first(size[1] * sizeof(ContactForce))))
-        force[f.module] += f.value;
-      const auto points = sim::records_of<sim::ContactPoint>(part.subspan(size[1] * sizeof(ContactForce)));
-      cache.insert(cache.end(), points.begin(), points.end());
-    }
-  }
-  // Each pair's points lie in one island, in the solver's order: sorting by pair keeps that order.
-  std::stable_sort(cache.begin(), cache.end(), sim::contact_pair_less);
-  b.contacts = std::move(cache);
+  for (const IslandOutput& out : outputs)
+    for (const auto& [m, f] : out.forces) force[m] += f;
+  settle(plan, outputs, b);
 
   std::erase_if(shapes_->compounds, [&](const auto& entry) { return entry.second.used < to - 1; });
 }

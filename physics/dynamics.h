@@ -21,6 +21,7 @@
 #include "sim/rank_exchange.h"
 #include "sim/worker_pool.h"
 
+class btCollisionObject;
 class btCollisionShape;
 
 namespace dw::physics {
@@ -67,11 +68,23 @@ class Dynamics {
  private:
   struct Compound;
   struct Body;
+  struct Plan;
+  struct IslandOutput;
+  struct Shapes;
+  struct Worker;
   ReachBox reach(const Body& body, float pushed, float turned) const;
   const Compound& compound(const sim::Bodies& bodies, const sim::Cluster& cluster, int64_t step);
+  // The stages of a step, in order (dynamics.cpp).
+  void gather_bodies(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes, int64_t to);
+  void form_islands(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes) const;
+  void step_island(const Plan& plan, uint32_t island, Worker& worker, sim::Bodies& b, IslandOutput& out);
+  static void share(const Plan& plan, uint32_t first, uint32_t last, std::vector<IslandOutput>& outputs, sim::Bodies& b,
+                    sim::RankExchange& ranks);
+  void settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim::Bodies& b) const;
+  static int64_t module_of(const Plan& plan, const sim::Bodies& b, const btCollisionObject* o, int child);
+  int64_t sleep_after_steps() const;
 
   const PhysicsSettings& settings_;
-  struct Shapes;
   std::unique_ptr<Shapes> shapes_;
   btCollisionShape* module_shape_;
   uint32_t islands_ = 0;

@@ -62,7 +62,7 @@ void carry_over(const sim::ContactPoint& c, btManifoldPoint& point) {
 // bodies when it has none and neither is a compound (a compound's child is known only by a point).
 void WarmStartedWorld::solveConstraints(btContactSolverInfo& info) {
   btDispatcher& dispatcher = *getDispatcher();
-  for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
+  for (int i = 0; i < (started_ ? 0 : dispatcher.getNumManifolds()); ++i) {
     btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(i);
     const btCollisionObject& a = *manifold.getBody0();
     const btCollisionObject& b = *manifold.getBody1();
@@ -99,6 +99,7 @@ void WarmStartedWorld::solveConstraints(btContactSolverInfo& info) {
       manifold.addManifoldPoint(kept);
     }
   }
+  started_ = true;
   btDiscreteDynamicsWorld::solveConstraints(info);
 }
 

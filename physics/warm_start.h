@@ -42,6 +42,7 @@ class WarmStartedWorld final : public btDiscreteDynamicsWorld {
  private:
   std::span<const sim::ContactPoint> cache_;
   ContactSide side_;
+  bool started_ = false;  // a substep after the first continues from Bullet's own manifolds
 };
 
 }  // namespace dw::physics

@@ -40,7 +40,9 @@
 //   break_force = 1000                 # newtons; a module pushed harder loses its bonds (0: never)
 //   friction = 0.6
 //   restitution = 0.1
-//   solver_iterations = 20
+//   solver_iterations = 10
+//   substeps = 4                       # each step solved as this many substeps
+//   sleep_after = 2                    # seconds still before a free body sleeps (0: never)
 //   move_steps = 30                    # steps a lattice move takes
 //   [[physics.prop]]                   # bodies that are not modules: projectiles, obstacles
 //   shape = "sphere"                   # sphere | box

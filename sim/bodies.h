@@ -47,7 +47,9 @@ struct Cluster {
   Pose pose;                      // the frame: centre of mass, principal axes
   Velocity velocity;              // of the centre of mass
   uint32_t first = 0, count = 0;  // its members: Bodies::members[first, first + count)
-  bool anchored = false;          // latched to the ground: it does not move
+  // Steps it has been still for (physics/settings.h: sleep_after); past that, with its island, it sleeps.
+  uint32_t still = 0;
+  bool anchored = false;  // latched to the ground: it does not move
   bool operator==(const Cluster&) const = default;
 };
 

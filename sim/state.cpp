@@ -206,7 +206,7 @@ StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight, 
       h.record(c.pose);
       h.record(c.velocity);
       h.word((uint64_t{c.first} << 32) | c.count);
-      h.word(c.anchored);
+      h.word((uint64_t{c.still} << 1) | c.anchored);
     }
     h.words(b.members);
     h.records(b.prop_poses);

@@ -456,7 +456,11 @@ TEST(BulletWorld, RequestsOnBondsRegroupAsFromAllTheBonds) {
   EXPECT_NO_THROW(run.run_until(16, [&](const sim::State& st, const sim::StepOutput&) {
     sim::Bodies whole = st.bodies;
     form_clusters(whole, st.present, shapes.module_shape());
-    EXPECT_EQ(whole.clusters, st.bodies.clusters) << "step " << st.step;
+    // How long a cluster has been still is the dynamics' count (Cluster::still), which clusters
+    // formed afresh start at 0: the rest must be the same to the bit.
+    std::vector<sim::Cluster> regrouped = st.bodies.clusters;
+    for (sim::Cluster& c : regrouped) c.still = 0;
+    EXPECT_EQ(whole.clusters, regrouped) << "step " << st.step;
     EXPECT_EQ(whole.members, st.bodies.members) << "step " << st.step;
     EXPECT_EQ(whole.cluster_of, st.bodies.cluster_of) << "step " << st.step;
     most_clusters = std::max(most_clusters, st.bodies.clusters.size());
