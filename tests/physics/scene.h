@@ -8,6 +8,8 @@
 // was seen at, and how often the bar was passed: a failing test says who, when and how much.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -42,13 +44,28 @@ inline const BulletWorld& bullet_world(const scenarios::Scenario& s) {
   return *world;
 }
 
+// The bodies start awake (docs/design.md §8a): after step 0 no cluster that moves has been still
+// for longer than that one step, so none sleeps before Bullet's deactivation time has passed, and
+// the scene's numbers over its first steps are those of bodies stepped.
+inline void expect_awake_at_start(const sim::State& st) {
+  for (size_t c = 0; c < st.bodies.clusters.size(); ++c) {
+    const sim::Cluster& cluster = st.bodies.clusters[c];
+    EXPECT_TRUE(cluster.anchored || cluster.still <= 1)
+        << "cluster " << c << " (module " << st.bodies.members[cluster.first] << ") still for " << cluster.still
+        << " steps after step 0";
+  }
+}
+
 // Runs the scenario as `dwatch run` does (its scheduled events included, no history kept) for
-// `steps` steps, calling look(state, step) after each, step 0 included.
+// `steps` steps, calling look(state, step) after each, step 0 included; the bodies start awake.
 inline void run_scene(const scenarios::Scenario& s, int64_t steps,
                       const std::function<void(const sim::State&, int64_t)>& look, unsigned threads = 1) {
   sim::Session run(*s.model, *s.world, {.threads = threads, .history_bytes = 0, .events = s.events});
   while (run.current() + 1 < steps)
-    run.run_until(steps, [&](const sim::State& st, const sim::StepOutput& out) { look(st, out.step); });
+    run.run_until(steps, [&](const sim::State& st, const sim::StepOutput& out) {
+      if (out.step == 0) expect_awake_at_start(st);
+      look(st, out.step);
+    });
 }
 
 // The worst of a measure over a run (the larger, the worse), whose it was and when, and how many
