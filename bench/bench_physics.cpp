@@ -27,10 +27,6 @@
 namespace dw::bench {
 namespace {
 
-// Whether the plain Bullet program's bodies sleep: as dwatch's step lets them. Today dwatch sets
-// DISABLE_DEACTIVATION on every body (physics/dynamics.cpp); change this with it.
-constexpr Sleeping kSleeping = Sleeping::Never;
-
 // A side of a row runs at most --repeat times, and stops sooner once its runs add up to this: a
 // run of many steps is already a mean over them. The fastest run is the figure.
 constexpr double kEnoughSeconds = 3;
@@ -219,7 +215,7 @@ Side bullet_side(const std::string& text, const BenchArgs& args, int64_t steps) 
   }
   double total = 0;
   for (int run = 0; run < args.repeat && (run == 0 || total < kEnoughSeconds); ++run) {
-    const PlainRun plain = run_plain_bullet(scene, world->settings(), kSleeping, steps);
+    const PlainRun plain = run_plain_bullet(scene, world->settings(), sleeping_of(world->settings()), steps);
     total += plain.first_step_seconds + plain.later_steps_seconds;
     keep_fastest(run, plain.first_step_seconds, plain.later_steps_seconds, steps - 1, side);
     if (run == 0) measure_end(plain.boxes, scene.ground_z, world->settings().module_mass, side);
@@ -232,9 +228,13 @@ std::string settings_text(const physics::PhysicsSettings& p) {
   std::ostringstream text;
   text << "    plain Bullet: one persistent btDiscreteDynamicsWorld (btDbvtBroadphase, sequential impulses), boxes of "
           "1 (Bullet's margin), a static plane under the lowest module;\n    both: dt "
-       << p.dt << " s in one substep, gravity " << -p.gravity[2] << ", " << p.module_mass << " kg a module, friction "
-       << p.friction << ", restitution " << p.restitution << ", " << p.solver_iterations << " solver iterations, "
-       << (kSleeping == Sleeping::Never ? "no body ever sleeps" : "bodies sleep as Bullet lets them") << "\n";
+       << p.dt << " s in " << p.substeps << (p.substeps == 1 ? " substep" : " substeps") << ", gravity "
+       << -p.gravity[2] << ", " << p.module_mass << " kg a module, friction " << p.friction << ", restitution "
+       << p.restitution << ", " << p.solver_iterations << " solver iterations, ";
+  if (sleeping_of(p) == Sleeping::Never) text << "no body ever sleeps\n";
+  else
+    text << "bodies sleep as Bullet's deactivation has them (" << p.sleep_after << " s slower than " << p.sleep_linear
+         << " m/s and " << p.sleep_angular << " rad/s)\n";
   return text.str();
 }
 

@@ -1,5 +1,6 @@
 #include "bench/plain_bullet.h"
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 
@@ -38,6 +39,9 @@ PlainRun run_plain_bullet(const PlainScene& scene, const physics::PhysicsSetting
   std::vector<std::unique_ptr<btCompoundShape>> compounds;
   std::vector<std::unique_ptr<btRigidBody>> rigid;
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
+  // How long a body is still before it sleeps is Bullet's global (2 s unless set): this runs in a
+  // process of its own (bench_physics.cpp).
+  if (sleeping == Sleeping::AsBullet) gDeactivationTime = settings.sleep_after;
   world.setGravity(to_bt(settings.gravity));
   world.getSolverInfo().m_numIterations = settings.solver_iterations;
 
@@ -50,6 +54,7 @@ PlainRun run_plain_bullet(const PlainScene& scene, const physics::PhysicsSetting
     info.m_restitution = settings.restitution;
     btRigidBody* body = rigid.emplace_back(std::make_unique<btRigidBody>(info)).get();
     if (sleeping == Sleeping::Never) body->setActivationState(DISABLE_DEACTIVATION);
+    else body->setSleepingThresholds(settings.sleep_linear, settings.sleep_angular);
     world.addRigidBody(body);
   };
   btTransform identity;
@@ -79,9 +84,13 @@ PlainRun run_plain_bullet(const PlainScene& scene, const physics::PhysicsSetting
   const auto since = [](std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
+  // Each step as `substeps` fixed steps of dt / substeps, as dwatch makes them (one call of
+  // stepSimulation(dt, substeps, dt / substeps) rounds its leftover time into the next step).
+  const int substeps = std::max(1, settings.substeps);
+  const btScalar substep = settings.dt / btScalar(substeps);
   for (int64_t s = 0; s < steps; ++s) {
     const auto start = std::chrono::steady_clock::now();
-    world.stepSimulation(settings.dt, 1, settings.dt);
+    for (int k = 0; k < substeps; ++k) world.stepSimulation(substep, 0, substep);
     (s == 0 ? run.first_step_seconds : run.later_steps_seconds) += since(start);
   }
 

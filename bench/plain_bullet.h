@@ -2,8 +2,8 @@
 // persistent btDiscreteDynamicsWorld (btDbvtBroadphase, btSequentialImpulseConstraintSolver,
 // btDefaultCollisionConfiguration), stepped as a Bullet user steps it, with dwatch's settings
 // (physics/settings.h): boxes one module across (Bullet's own margin, as physics/shapes.cpp
-// makes them), the module mass, dt with one substep, gravity, friction, restitution, solver
-// iterations, and a static plane for the ground. No Bullet type is named here: only
+// makes them), the module mass, dt in as many substeps, gravity, friction, restitution, solver
+// iterations, the sleeping thresholds, and a static plane for the ground. No Bullet type is named here: only
 // plain_bullet.cpp sees Bullet's headers (docs/design.md §1).
 #pragma once
 
@@ -27,9 +27,14 @@ struct PlainScene {
   float ground_z = 0;  // the ground plane's height
 };
 
-// Whether bodies ever sleep: never (DISABLE_DEACTIVATION on every body, as dwatch's step does
-// today), or as Bullet lets them (deactivated after 2 s still, woken by a touch).
+// Whether bodies ever sleep: never (DISABLE_DEACTIVATION on every body), or as Bullet lets them:
+// an island whose bodies have all been slower than the settings' sleeping thresholds for
+// `sleep_after` seconds sleeps until something touches it.
 enum class Sleeping { Never, AsBullet };
+// What dwatch does with these settings (physics/settings.h: sleep_after 0, nothing sleeps).
+inline Sleeping sleeping_of(const physics::PhysicsSettings& settings) {
+  return settings.sleep_after > 0 ? Sleeping::AsBullet : Sleeping::Never;
+}
 
 // Where one box started and ended, and how it moved at the end (its centre's velocity, and its
 // body's angular velocity).
