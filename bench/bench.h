@@ -7,8 +7,10 @@
 //   overhead  the watchpoint's overhead over a medium-intensity workload (paper §V-B)
 //   million   a 100^3 cube, [8:4:2:1], Fig. 6, distributed: time and memory at scale
 //   mpi       the same over several processes (mpirun): time, bytes between ranks, memory per rank
-//   physics   resting lattices in the Bullet world (1,000 and 8,000 modules), and the watchpoint
-//             overhead over a 1,000-module physics run of leader election
+//   physics   dwatch's physics step beside a plain persistent Bullet program doing the same scene
+//             (unbonded boxes falling, an unbonded pile, bonded clusters, a latched lattice; the
+//             ratio is the figure), then resting lattices and the watchpoint overhead over a
+//             1,000-module physics run of leader election (bench_physics.cpp)
 //   paper     the paper's whole §V: Table I, Fig. 7, Fig. 8, Table II beside its published numbers,
 //             as CSV, plots and paper.md (bench_paper.cpp, paper_report.cpp, scripts/plot_paper.py)
 //   render    frames of the headless 3D view at 1280x720, 1,000 and 10,000 modules, and a video of 200

@@ -26,7 +26,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run, BenchFunction b
   cmd->add_option("--which", args->algorithm, "centralized, distributed or both")
       ->check(CLI::IsMember({"centralized", "distributed", "both"}));
   shell::add_integer_option(*cmd, "--size", args->size, {"size", 1, 200},
-                            "Lattice edge (modules per side; million: 100)");
+                            "Lattice edge (modules per side; million: 100; physics: 20)");
   shell::add_integer_option(*cmd, "--steps", args->steps, {"steps", 1, 1'000'000}, "Steps to run");
   shell::add_integer_option(*cmd, "--seed", args->seed, scenarios::kSeedRange,
                             "Seed of the host program's random variables");
@@ -36,7 +36,8 @@ void add_bench_command(CLI::App& app, std::function<int()>& run, BenchFunction b
   shell::add_integer_option(*cmd, "--repeat", args->repeat, {"repeat", 1, 100},
                             "Runs per row (paper: passes over all the rows); the fastest and the median are reported");
   cmd->add_flag("--quick", args->quick,
-                "paper: at most 2 passes, 4 sizes for Fig. 8 (under a minute); lua: the memory row at 50^3");
+                "paper: at most 2 passes, 4 sizes for Fig. 8 (under a minute); lua: the memory row at 50^3; "
+                "physics: only the rows beside plain Bullet");
   cmd->add_option("--table2-workload", args->table2_workload,
                   "paper: Table II's baseline, random_vars alone (the default) or with aggregation_routing")
       ->check(CLI::IsMember({"random_vars", "aggregation_routing"}));
