@@ -10,16 +10,13 @@
 
 namespace dw::physics {
 
-void use_warm_start(btContactSolverInfo& info) {
-  info.m_solverMode = SOLVER_USE_WARMSTARTING | SOLVER_SIMD | SOLVER_USE_2_FRICTION_DIRECTIONS |
-                      SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION | SOLVER_ENABLE_FRICTION_DIRECTION_CACHING;
-}
-
 WarmStartedWorld::WarmStartedWorld(btDispatcher* dispatcher, btBroadphaseInterface* broadphase,
                                    btConstraintSolver* solver, btCollisionConfiguration* config,
                                    std::span<const sim::ContactPoint> cache, ContactSide side)
     : btDiscreteDynamicsWorld(dispatcher, broadphase, solver, config), cache_(cache), side_(std::move(side)) {
-  use_warm_start(getSolverInfo());
+  getSolverInfo().m_solverMode = SOLVER_USE_WARMSTARTING | SOLVER_SIMD | SOLVER_USE_2_FRICTION_DIRECTIONS |
+                                 SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION |
+                                 SOLVER_ENABLE_FRICTION_DIRECTION_CACHING;
 }
 
 namespace {

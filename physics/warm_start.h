@@ -24,12 +24,11 @@ namespace dw::physics {
 // is not a compound); -1 when that does not say (a compound's child not given).
 using ContactSide = std::function<int64_t(const btCollisionObject*, int child)>;
 
-// The solver settings of a warm-started step: two friction directions per point, fixed by the
-// normal rather than by the sliding velocity and kept with the point, so that the impulses carried
-// from step to step keep pointing where they were applied.
-void use_warm_start(btContactSolverInfo& info);
-
-// A dynamics world whose solver starts from `cache` (sorted by pair, sim/contact_cache.h).
+// A dynamics world whose solver starts from `cache` (sorted by pair, sim/contact_cache.h). Its
+// solver uses two friction directions per point, fixed by the normal rather than by the sliding
+// velocity and kept with the point, so that the impulses carried from step to step keep pointing
+// where they were applied. A step in substeps warm-starts its first from the cache and the
+// others from Bullet's own manifolds.
 class WarmStartedWorld final : public btDiscreteDynamicsWorld {
  public:
   WarmStartedWorld(btDispatcher* dispatcher, btBroadphaseInterface* broadphase, btConstraintSolver* solver,
