@@ -60,6 +60,10 @@ struct Dynamics::Compound {
 struct Dynamics::Worker {
   btDefaultCollisionConfiguration config;
   btCollisionDispatcher dispatcher{&config};
+  // Reused by every island of the worker: its pools keep their memory (a fresh solver zeroed them
+  // every step). Nothing of a solve outlives it but the seed of a random order, which is unused
+  // and reset.
+  btSequentialImpulseConstraintSolver solver;
   BoxPlaneCreateFunc box_plane{false}, plane_box{true};
   Worker() {
     dispatcher.registerCollisionCreateFunc(BOX_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE, &box_plane);
@@ -382,7 +386,8 @@ void Dynamics::step_island(const Plan& plan, uint32_t island, Worker& worker, si
   };
   btDbvtBroadphase broadphase;
   btCollisionDispatcher& dispatcher = worker.dispatcher;
-  btSequentialImpulseConstraintSolver solver;
+  btSequentialImpulseConstraintSolver& solver = worker.solver;
+  solver.reset();
   std::vector<std::unique_ptr<btRigidBody>> rigid;  // outlive the world, which unlinks them when it goes
   WarmStartedWorld world(&dispatcher, &broadphase, &solver, &worker.config, b.contacts, side_of);
   const PairsDroppedFirst<btDiscreteDynamicsWorld> teardown{world};
