@@ -1,5 +1,5 @@
 // `dwatch bench physics` (docs/benchmarks.md): dwatch's physics step beside a plain persistent
-// Bullet program (bench/plain_bullet.h) doing the same scene with the same settings in the same
+// Bullet program (physics/plain_bullet.h) doing the same scene with the same settings in the same
 // run, the ratio being the figure (issue 60): unbonded boxes falling, an unbonded pile at rest, a
 // bonded cluster falling and at rest, a lattice latched to the ground. Then, unless --quick, what
 // a physics world costs beyond a step: setting up and memory, islands over threads, fcc beside
@@ -16,16 +16,22 @@
 
 #include "bench/bench.h"
 #include "bench/bench_child.h"
-#include "bench/plain_bullet.h"
 #include "bench/runtime_rows.h"
 #include "bench/shipped_files.h"
 #include "physics/bullet_world.h"
+#include "physics/plain_bullet.h"
 #include "scenarios/scenario.h"
 #include "shell/output_files.h"
 #include "sim/session.h"
 
 namespace dw::bench {
 namespace {
+
+using physics::BoxMotion;
+using physics::PlainBody;
+using physics::PlainRun;
+using physics::PlainScene;
+using physics::Sleeping;
 
 // A side of a row runs at most --repeat times, and stops sooner once its runs add up to this: a
 // run of many steps is already a mean over them. The fastest run is the figure.
@@ -117,15 +123,6 @@ std::vector<Scene> scenes(uint32_t n, int64_t steps) {
   return out;
 }
 
-std::optional<scenarios::Scenario> load(const std::string& text) {
-  auto loaded = scenarios::load_scenario_text("bench.toml", text);
-  if (auto* e = std::get_if<std::string>(&loaded)) {
-    std::cerr << *e;
-    return std::nullopt;
-  }
-  return std::move(std::get<scenarios::Scenario>(loaded));
-}
-
 const physics::BulletWorld* bullet_world(const scenarios::Scenario& s) {
   const auto* world = dynamic_cast<const physics::BulletWorld*>(s.world.get());
   if (!world) std::cerr << "dwatch bench: error: the scene has no physics\n";
@@ -163,7 +160,7 @@ Side dwatch_side(const std::string& text, const BenchArgs& args, int64_t steps) 
   Side side;
   double total = 0;
   for (int run = 0; run < args.repeat && (run == 0 || total < kEnoughSeconds); ++run) {
-    const std::optional<scenarios::Scenario> s = load(text);
+    const std::optional<scenarios::Scenario> s = load_bench_scenario(text);
     const physics::BulletWorld* world = s ? bullet_world(*s) : nullptr;
     if (!world) {
       side.failed = true;
@@ -193,7 +190,7 @@ Side dwatch_side(const std::string& text, const BenchArgs& args, int64_t steps) 
 // on its own, the scenario's settings.
 Side bullet_side(const std::string& text, const BenchArgs& args, int64_t steps) {
   Side side;
-  const std::optional<scenarios::Scenario> s = load(text);
+  const std::optional<scenarios::Scenario> s = load_bench_scenario(text);
   const physics::BulletWorld* world = s ? bullet_world(*s) : nullptr;
   if (!world) {
     side.failed = true;
@@ -215,7 +212,8 @@ Side bullet_side(const std::string& text, const BenchArgs& args, int64_t steps) 
   }
   double total = 0;
   for (int run = 0; run < args.repeat && (run == 0 || total < kEnoughSeconds); ++run) {
-    const PlainRun plain = run_plain_bullet(scene, world->settings(), sleeping_of(world->settings()), steps);
+    const PlainRun plain =
+        physics::run_plain_bullet(scene, world->settings(), physics::sleeping_of(world->settings()), steps);
     total += plain.first_step_seconds + plain.later_steps_seconds;
     keep_fastest(run, plain.first_step_seconds, plain.later_steps_seconds, steps - 1, side);
     if (run == 0) measure_end(plain.boxes, scene.ground_z, world->settings().module_mass, side);
@@ -231,7 +229,7 @@ std::string settings_text(const physics::PhysicsSettings& p) {
        << p.dt << " s in " << p.substeps << (p.substeps == 1 ? " substep" : " substeps") << ", gravity "
        << -p.gravity[2] << ", " << p.module_mass << " kg a module, friction " << p.friction << ", restitution "
        << p.restitution << ", " << p.solver_iterations << " solver iterations, ";
-  if (sleeping_of(p) == Sleeping::Never) text << "no body ever sleeps\n";
+  if (physics::sleeping_of(p) == Sleeping::Never) text << "no body ever sleeps\n";
   else
     text << "bodies sleep as Bullet's deactivation has them (" << p.sleep_after << " s slower than " << p.sleep_linear
          << " m/s and " << p.sleep_angular << " rad/s)\n";

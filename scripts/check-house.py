@@ -4,7 +4,8 @@
   - no source file over 600 lines, no function over 120 (C++: counted from the line of its opening
     brace to the line of its closing one, at namespace or class scope; a class body is not a function);
   - the README at most 300 lines, and every file the README or docs/ link to ships;
-  - the arrows of docs/design.md §1: a folder includes only the folders below it;
+  - the arrows of docs/design.md §1: a folder includes only the folders below it, and Bullet only
+    physics/;
   - nothing links dw_app but the dwatch executable (read from CMake's graph of targets, when a
     build folder is given: scripts/check-house.py [BUILD_DIR]).
 """
@@ -92,6 +93,9 @@ def wrong_arrows(path, rel):
         m = re.match(r'\s*#\s*include\s+"([a-z_]+)/', line)
         if m and m.group(1) in BELOW and m.group(1) not in allowed:
             found.append(f"{rel}:{n}: {rel.parts[0]}/ includes {m.group(1)}/ (docs/design.md §1: the arrows)")
+        # Bullet is physics/'s own: no other folder sees its headers.
+        if rel.parts[0] != "physics" and re.match(r"\s*#\s*include\s+<(Bullet\w*|LinearMath)/", line):
+            found.append(f"{rel}:{n}: Bullet is included outside physics/ (docs/design.md §1)")
     return found
 
 

@@ -1,4 +1,4 @@
-#include "bench/plain_bullet.h"
+#include "physics/plain_bullet.h"
 
 #include <algorithm>
 #include <chrono>
@@ -14,27 +14,20 @@
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
-namespace dw::bench {
-namespace {
+#include "physics/convert.h"
+#include "physics/shapes.h"
 
-btVector3 to_bt(const sim::Vec3& v) { return {v[0], v[1], v[2]}; }
-sim::Vec3 from_bt(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
-btTransform to_bt(const sim::Pose& p) {
-  const auto& q = p.orientation;
-  return btTransform(btQuaternion(q[0], q[1], q[2], q[3]), to_bt(p.position));
-}
+namespace dw::physics {
 
-}  // namespace
-
-PlainRun run_plain_bullet(const PlainScene& scene, const physics::PhysicsSettings& settings, Sleeping sleeping,
-                          int64_t steps) {
+PlainRun run_plain_bullet(const PlainScene& scene, const PhysicsSettings& settings, Sleeping sleeping, int64_t steps) {
   // Declared in the order that tears them down safely: the world goes first (it unlinks the
   // bodies), then the bodies, then their shapes.
   btDefaultCollisionConfiguration config;
   btCollisionDispatcher dispatcher(&config);
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
-  btBoxShape box(btVector3(0.5f, 0.5f, 0.5f));  // Bullet's default margin, as physics/shapes.cpp
+  const std::unique_ptr<btCollisionShape> module = make_module_shape(ModuleShape::Box);  // dwatch's own box
+  btCollisionShape& box = *module;
   btStaticPlaneShape ground(btVector3(0, 0, 1), scene.ground_z);
   std::vector<std::unique_ptr<btCompoundShape>> compounds;
   std::vector<std::unique_ptr<btRigidBody>> rigid;
@@ -111,4 +104,4 @@ PlainRun run_plain_bullet(const PlainScene& scene, const physics::PhysicsSetting
   return run;
 }
 
-}  // namespace dw::bench
+}  // namespace dw::physics

@@ -3,8 +3,8 @@
 // btDefaultCollisionConfiguration), stepped as a Bullet user steps it, with dwatch's settings
 // (physics/settings.h): boxes one module across (Bullet's own margin, as physics/shapes.cpp
 // makes them), the module mass, dt in as many substeps, gravity, friction, restitution, solver
-// iterations, the sleeping thresholds, and a static plane for the ground. No Bullet type is named here: only
-// plain_bullet.cpp sees Bullet's headers (docs/design.md §1).
+// iterations, the sleeping thresholds, and a static plane for the ground. It lives in physics/, where
+// Bullet's headers may be seen (docs/design.md §1); no Bullet type is named here.
 #pragma once
 
 #include <cstdint>
@@ -13,7 +13,7 @@
 #include "physics/settings.h"
 #include "sim/bodies.h"
 
-namespace dw::bench {
+namespace dw::physics {
 
 // One rigid body of the scene: a box one module across, or a cluster of them held as one rigid
 // compound; fixed (mass 0) or free.
@@ -32,7 +32,7 @@ struct PlainScene {
 // `sleep_after` seconds sleeps until something touches it.
 enum class Sleeping { Never, AsBullet };
 // What dwatch does with these settings (physics/settings.h: sleep_after 0, nothing sleeps).
-inline Sleeping sleeping_of(const physics::PhysicsSettings& settings) {
+inline Sleeping sleeping_of(const PhysicsSettings& settings) {
   return settings.sleep_after > 0 ? Sleeping::AsBullet : Sleeping::Never;
 }
 
@@ -51,7 +51,6 @@ struct PlainRun {
 };
 
 // Builds the scene in a fresh world and steps it `steps` times (the building untimed).
-PlainRun run_plain_bullet(const PlainScene& scene, const physics::PhysicsSettings& settings, Sleeping sleeping,
-                          int64_t steps);
+PlainRun run_plain_bullet(const PlainScene& scene, const PhysicsSettings& settings, Sleeping sleeping, int64_t steps);
 
-}  // namespace dw::bench
+}  // namespace dw::physics
