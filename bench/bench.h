@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "scenarios/scenario.h"
 #include "shell/detector_flags.h"
 #include "sim/output_file.h"
 #include "sim/trace.h"
@@ -95,6 +96,8 @@ EngineRow count_engine_row(const sim::Trace& trace, const watch::Watchpoint& w, 
 
 // Scenario text for the runtime benchmarks, which go through the scenario loader like any file.
 std::string cubic_toml(uint32_t nx, uint32_t ny, uint32_t nz);
+// A bench's scenario text loaded; a mistake in it is written to stderr (nullopt).
+std::optional<scenarios::Scenario> load_bench_scenario(const std::string& text);
 std::string random_vars_toml(std::span<const int64_t> maxima);
 // A counting [[watch]] read the way the command's flags say (--no-*, --max-live, --shape, --states).
 std::string watch_toml(const std::string& name, const std::string& text, watch::Algorithm a,

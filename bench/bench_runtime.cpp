@@ -17,6 +17,15 @@
 
 namespace dw::bench {
 
+std::optional<scenarios::Scenario> load_bench_scenario(const std::string& text) {
+  auto loaded = scenarios::load_scenario_text("bench.toml", text);
+  if (auto* e = std::get_if<std::string>(&loaded)) {
+    std::cerr << *e;
+    return std::nullopt;
+  }
+  return std::move(std::get<scenarios::Scenario>(loaded));
+}
+
 std::string cubic_toml(uint32_t nx, uint32_t ny, uint32_t nz) {
   return "[lattice]\nkind = \"cubic\"\nsize = [" + std::to_string(nx) + ", " + std::to_string(ny) + ", " +
          std::to_string(nz) + "]\n";
@@ -54,14 +63,7 @@ namespace {
 // One run of the scenario from scratch: the seconds its timed part took, or a negative number,
 // with the error on stderr, when the scenario does not load. Fills in the first watch's counts.
 double run_scenario_once(const std::string& text, const BenchArgs& args, Timed timed, RuntimeRow& row) {
-  auto load = [&]() -> std::optional<scenarios::Scenario> {
-    auto loaded = scenarios::load_scenario_text("bench.toml", text);
-    if (auto* e = std::get_if<std::string>(&loaded)) {
-      std::cerr << *e;
-      return std::nullopt;
-    }
-    return std::move(std::get<scenarios::Scenario>(loaded));
-  };
+  const auto load = [&] { return load_bench_scenario(text); };
   const sim::SessionOptions options{.threads = args.threads, .history_bytes = 0};  // no history: the runtime alone
   if (timed == Timed::SetUp) {
     const auto start = std::chrono::steady_clock::now();

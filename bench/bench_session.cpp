@@ -58,15 +58,6 @@ const std::string kPhysicsElection =
     "[[watch]]\nname = \"two_leaders\"\naction = \"count\"\n"
     "text = \"modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)\"\n[physics]\nenabled = true\n";
 
-std::optional<scenarios::Scenario> load(const std::string& text) {
-  auto loaded = scenarios::load_scenario_text("bench.toml", text);
-  if (auto* e = std::get_if<std::string>(&loaded)) {
-    std::cerr << *e;
-    return std::nullopt;
-  }
-  return std::move(std::get<scenarios::Scenario>(loaded));
-}
-
 // A run of `steps` with the history on and off (best of `repeat` each), then seeks to 40 random
 // steps of the history.
 HistoryRow history_row(const std::string& text, int64_t steps, int repeat, unsigned threads) {
@@ -74,7 +65,7 @@ HistoryRow history_row(const std::string& text, int64_t steps, int repeat, unsig
   for (int r = 0; r < repeat; ++r)
     for (bool on : {false, true}) {
       if (repeat == 0) break;
-      auto s = load(text);
+      auto s = load_bench_scenario(text);
       if (!s) return row.failed = true, row;
       sim::Session session(
           *s->model, *s->world,
@@ -85,7 +76,7 @@ HistoryRow history_row(const std::string& text, int64_t steps, int repeat, unsig
       double& best = on ? row.live_on : row.live_off;
       best = r == 0 ? seconds : std::min(best, seconds);
     }
-  auto s = load(text);
+  auto s = load_bench_scenario(text);
   if (!s) return row.failed = true, row;
   sim::Session session(*s->model, *s->world, {.threads = threads, .end = steps});
   session.run_until(steps);
@@ -119,8 +110,8 @@ HistoryRow history_row(const std::string& text, int64_t steps, int repeat, unsig
 // A Fig. 6 watchpoint added after `steps` steps, against a run that had it from step 0.
 RetroRow retro_row(int64_t steps, unsigned threads, const shell::DetectorFlags& flags) {
   RetroRow row;
-  auto with = load(table1_text("2:2:2:2", &flags));
-  auto without = load(table1_text("2:2:2:2", nullptr));
+  auto with = load_bench_scenario(table1_text("2:2:2:2", &flags));
+  auto without = load_bench_scenario(table1_text("2:2:2:2", nullptr));
   if (!with || !without) return row.failed = true, row;
   sim::Session fresh(*with->model, *with->world, {.threads = threads, .history_bytes = 0});
   fresh.run_until(steps);
