@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <chrono>
 #include <condition_variable>
+#include <cstdio>
 #include <deque>
 #include <functional>
 #include <iostream>
@@ -14,6 +15,7 @@
 #include <stop_token>
 #include <thread>
 
+#include "shell/utf8_text.h"
 #include "sim/json_brackets.h"
 #include "watch/diagnostic.h"
 
@@ -27,10 +29,11 @@ using Json = nlohmann::ordered_json;
 struct Request {
   std::optional<Json> id;  // as given (null included): a string or an integer
   std::string line;
-  std::string unreadable;  // a line too long, JSON that is not a request
-  bool json = false;       // {"cmd": ...}: always answered, even when its command is blank
-  bool end = false;        // the input ended
-  std::stop_source stop;   // asked by `cancel`, queued or while it runs
+  std::string unreadable;    // a line too long, JSON that is not a request, bytes that are not UTF-8
+  size_t unreadable_at = 0;  // the byte of the line the reason is at
+  bool json = false;         // {"cmd": ...}: always answered, even when its command is blank
+  bool end = false;          // the input ended
+  std::stop_source stop;     // asked by `cancel`, queued or while it runs
 
   // Whether it asks something, and is answered: not the end of the input, nor a plain blank or
   // `#` comment line.
@@ -51,7 +54,7 @@ class AnswerWriter {
     if (id) line["id"] = *id;  // only when the request gave one
     for (auto it = body.begin(); it != body.end(); ++it) line[it.key()] = std::move(it.value());
     std::lock_guard lock(mutex_);
-    out_ << line.dump() << "\n" << std::flush;
+    out_ << answer_line(line) << "\n" << std::flush;
   }
 
  private:
@@ -75,6 +78,16 @@ size_t json_depth(std::string_view text) {
 Request parse_request(std::string line) {
   Request r;
   if (!line.empty() && line.back() == '\r') line.pop_back();
+  // A request is UTF-8 text, its JSON too: a byte that is not would reach the answers (an unknown
+  // command is echoed), and a file name of it names nothing a user can type.
+  if (const auto at = first_invalid_utf8(line)) {
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02X", unsigned(uint8_t(line[*at])));
+    r.unreadable = std::string("a request is UTF-8 text: the byte ") + byte + " at column " + std::to_string(*at + 1) +
+                   " is not part of a UTF-8 character";
+    r.unreadable_at = *at;
+    return r;
+  }
   const size_t first = line.find_first_not_of(" \t");
   if (first == std::string::npos || line[first] != '{') {
     r.line = std::move(line);
@@ -213,7 +226,7 @@ std::optional<int> answer_request(Shell& shell, Request& r, uint32_t number, Req
     return std::nullopt;
   }
   if (!r.unreadable.empty()) {
-    fail(1, r.unreadable);
+    fail(static_cast<int64_t>(r.unreadable_at) + 1, r.unreadable);
     return std::nullopt;
   }
   const watch::SourceText source("request " + std::to_string(number), r.line);

@@ -18,6 +18,7 @@
 #include "shell/output_files.h"
 #include "shell/protocol.h"
 #include "shell/shell.h"
+#include "shell/utf8_text.h"
 #include "sim/read_file.h"
 
 namespace dw::app {
@@ -28,6 +29,16 @@ struct SessionArgs {
   std::string script;
   bool protocol = false;
 };
+
+// A line that is not UTF-8 text is refused before it is parsed, at its first byte that is not: it
+// would name a file nobody can type, and reach the answers.
+std::optional<watch::Diagnostic> not_utf8(const std::string& text, size_t begin, size_t end) {
+  const auto at = shell::first_invalid_utf8(std::string_view(text).substr(begin, end - begin));
+  if (!at) return std::nullopt;
+  const auto byte = static_cast<uint32_t>(begin + *at);
+  return watch::Diagnostic{{byte, byte + 1},
+                           "a byte that is not UTF-8 text: names, files and watchpoints are read as UTF-8"};
+}
 
 // Carries one command out; a signal meanwhile stops it between steps (Interrupts), which the
 // second of the pair says.
@@ -47,12 +58,17 @@ int run_script(shell::Shell& shell, const watch::SourceText& source, shell::Inte
   const std::string& text = source.text();
   uint32_t line = 1;
   for (size_t begin = 0; begin < text.size(); ++line) {
-    auto parsed = shell.parse(source, static_cast<uint32_t>(begin), line);
-    if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed))
-      mistakes += watch::format_diagnostics(source, *ds);
-    else if (auto& c = std::get<std::optional<shell::Command>>(parsed)) commands.push_back(std::move(*c));
     const size_t newline = text.find('\n', begin);
-    begin = newline == std::string::npos ? text.size() : newline + 1;
+    const size_t end = newline == std::string::npos ? text.size() : newline;
+    if (const auto mistake = not_utf8(text, begin, end)) {
+      mistakes += watch::format_diagnostics(source, {*mistake});
+    } else {
+      auto parsed = shell.parse(source, static_cast<uint32_t>(begin), line);
+      if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed))
+        mistakes += watch::format_diagnostics(source, *ds);
+      else if (auto& c = std::get<std::optional<shell::Command>>(parsed)) commands.push_back(std::move(*c));
+    }
+    begin = end == text.size() ? end : end + 1;
   }
   if (!mistakes.empty()) {
     std::cerr << mistakes;
@@ -68,10 +84,11 @@ int run_script(shell::Shell& shell, const watch::SourceText& source, shell::Inte
     }
     if (auto* error = std::get_if<std::string>(&answer)) {
       std::cout.flush();
-      std::cerr << source.name() << ":" << c.line << ": error: " << *error << " (the script stops here)\n";
+      std::cerr << source.name() << ":" << c.line << ": error: " << shell::replace_invalid_utf8(*error)
+                << " (the script stops here)\n";
       return 1;
     }
-    std::cout << std::get<nlohmann::ordered_json>(answer).dump() << "\n" << std::flush;
+    std::cout << shell::answer_line(std::get<nlohmann::ordered_json>(answer)) << "\n" << std::flush;
   }
   return 0;
 }
@@ -85,6 +102,10 @@ int run_prompt(shell::Shell& shell, shell::Interrupts* interrupts) {
     std::free(raw);
     if (line.find_first_not_of(" \t") != std::string::npos) add_history(line.c_str());
     const watch::SourceText source("<input>", line);
+    if (const auto mistake = not_utf8(line, 0, line.size())) {
+      std::cerr << watch::format_diagnostics(source, {*mistake});
+      continue;
+    }
     auto parsed = shell.parse(source, 0, 1);
     if (auto* ds = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) {
       std::cerr << watch::format_diagnostics(source, *ds);
@@ -96,8 +117,9 @@ int run_prompt(shell::Shell& shell, shell::Interrupts* interrupts) {
     if (signal)
       std::cerr << "interrupted (" << shell::Interrupts::name(*signal)
                 << "): the command stopped where it had got to\n";
-    else if (auto* error = std::get_if<std::string>(&answer)) std::cerr << "error: " << *error << "\n";
-    else std::cout << std::get<nlohmann::ordered_json>(answer).dump() << "\n" << std::flush;
+    else if (auto* error = std::get_if<std::string>(&answer))
+      std::cerr << "error: " << shell::replace_invalid_utf8(*error) << "\n";
+    else std::cout << shell::answer_line(std::get<nlohmann::ordered_json>(answer)) << "\n" << std::flush;
   }
   return 0;
 }

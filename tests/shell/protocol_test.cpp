@@ -270,6 +270,41 @@ TEST_F(SessionProtocol, EveryJsonRequestIsAnswered) {
   EXPECT_EQ(p.finish(), 0);
 }
 
+// Bytes that are not UTF-8 never end the session (the JSON writer threw on them): a request that
+// is not UTF-8 (a surrogate, an overlong form, a code point past U+10FFFF, a stray byte; in a
+// command line or in JSON) gets an error answer saying so, at its byte, and nothing of it runs; a
+// Lua program's error string holding them is answered with U+FFFD in their place.
+TEST_F(SessionProtocol, BytesThatAreNotUtf8AreAnsweredNeverTheEnd) {
+  write("bad.lua",
+        "program = { vars = { 'x' } }\nfunction init(m) end\n"
+        "function step(m) if m.step == 2 then error('bad \\xff\\xed\\xa0\\x80 end') end end\n");
+  const fs::path scenario = write(
+      "bad.toml", "name = 'bad'\nsteps = 10\n[lattice]\nkind = 'ring'\nsize = [4]\n[[program]]\nscript = 'bad.lua'\n");
+  Protocol p(scenario.string());
+  const std::string save = "save " + (dir_ / "\xED\xA0\x80.toml").string();
+  for (const std::string& request :
+       {std::string("\xED\xA0\x80"), save, std::string("step \xE0\x80\xB1"), std::string("seek \xF4\x90\x80\x80"),
+        std::string("status \xFF"), std::string("{\"id\": 1, \"cmd\": \"save \xED\xA0\x80.toml\"}")}) {
+    p.send(request);
+    const auto answer = p.next();
+    ASSERT_TRUE(answer) << "no answer to a request that is not UTF-8: the session ended";
+    EXPECT_NE((*answer)["error"]["message"].get<std::string>().find("a request is UTF-8 text"), std::string::npos)
+        << *answer;
+    EXPECT_EQ((*answer)["error"]["col"], request.find_first_of("\xED\xE0\xF4\xFF") + 1) << *answer;
+  }
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 2) << "no file was saved";
+  p.send("run 5");
+  const auto failed = p.next();
+  ASSERT_TRUE(failed) << "no answer to a Lua error that is not UTF-8: the session ended";
+  EXPECT_NE((*failed)["error"]["message"].get<std::string>().find("bad \xEF\xBF\xBD\xEF\xBF\xBD"), std::string::npos)
+      << *failed;
+  p.send("hash");
+  const auto hash = p.next();
+  ASSERT_TRUE(hash);
+  EXPECT_TRUE(hash->contains("hash")) << *hash;
+  EXPECT_EQ(p.finish(), 0);
+}
+
 // An endless line (`session --protocol < /dev/zero`) is answered when it goes over the limit, not
 // at a newline that never comes; the rest of it is skipped and the next request answered.
 TEST_F(SessionProtocol, ARequestGoingOverTheLimitIsAnsweredBeforeItsNewline) {
