@@ -113,6 +113,7 @@ WatchState WatchHosting::initial_state(uint32_t w) const {
     ws.agents.emplace(h.watchpoint.program, h.options.optimizations.temporal_spans,
                       whole ? 0 : placement_.first_module(),
                       whole ? model_.module_count() : placement_.module_window());
+    if (h.watchpoint.program.reads_id) ws.agents->set_module_ids(model_.universe.module_ids);  // id() (§4c)
     ws.in_flight.resize(size_t{threads_} * placement_.blocks());
   }
   return ws;

@@ -71,6 +71,10 @@ Analysis analyze(const Ast& ast) {
         mentions(n.x);
         break;
       }
+      case NodeKind::Id:  // the module's presence, kept with its neighbour set
+        graph_read(absolute(n.x));
+        mentions(n.x);
+        break;
       case NodeKind::Neighbor:
         graph_read(absolute(n.x));
         if (n.x.bound) agg->neighbor_sets.push_back(n.x.offset);
@@ -81,9 +85,9 @@ Analysis analyze(const Ast& ast) {
       default: break;
     }
   };
-  if (ast.root != kNoNode) visit_tree(ast, ast.root, visit);
+  if (ast.root != kNoNode) visit_tree(ast, evaluated_root(ast), visit);
   for (const Action& act : ast.actions)
-    if (act.kind == Action::Kind::Set) visit_tree(ast, act.value, visit);
+    if (act.kind == Action::Kind::Set) visit_tree(ast, evaluated_value(act), visit);
   for (VariableUse& v : a.variables) sort_unique(v.offsets, std::less<int>{}, std::equal_to<int>{});
   for (auto& reads : a.slot_reads) sort_unique_reads(reads);
   for (AggregateUse& g : a.aggregates) {

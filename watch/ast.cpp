@@ -24,6 +24,16 @@ const char* aggregate_name(AggregateKind k) {
   return "?";
 }
 
+const char* window_name(WindowKind k) {
+  switch (k) {
+    case WindowKind::Once: return "once";
+    case WindowKind::Historically: return "historically";
+    case WindowKind::Times: return "times";
+    case WindowKind::Since: return "since";
+  }
+  return "?";
+}
+
 std::string to_string(const Ast& ast, const ModuleRef& m, std::string_view bound) {
   std::string out = m.bound ? std::string(bound) : m.slot >= 0 ? ast.slots[m.slot].name : "?";
   for (int i = 0; i < m.offset; ++i) out += ".next";
@@ -156,6 +166,25 @@ class Printer {
         bound_ = saved;
         return;
       }
+      case NodeKind::Window:
+        out_ += window_name(n.window);
+        if (n.value > 0) out_ += '[' + std::to_string(n.value) + ']';
+        out_ += '(';
+        print(n.lhs);
+        if (n.rhs != kNoNode) {
+          out_ += ", ";
+          print(n.rhs);
+        }
+        out_ += ')';
+        return;
+      case NodeKind::Id: out_ += "id(" + to_string(ast_, n.x, bound_) + ')'; return;
+      // Never printed as the watchpoint (they are in the evaluated tree only); spelled for a reader.
+      case NodeKind::Step: out_ += "step(" + to_string(ast_, n.x, bound_) + ')'; return;
+      case NodeKind::Truth:
+        out_ += "truth(";
+        print(n.lhs);
+        out_ += ')';
+        return;
     }
   }
 

@@ -58,7 +58,19 @@ enum class NodeKind : uint8_t {
   Min,  // of two
   Max,  // of two
   Aggregate,
+  // docs/design.md §4c: a window in time (a condition, or `times`, an integer expression) and `id(m)`
+  Window,
+  Id,
+  // Made by watch/windows.h when it writes a window out over its shifts, never by the parser:
+  // `Step` is the step at which slot x's "now" plus x.offset falls (known before step 0 too),
+  // `Truth` the integer 1, 0 or unknown of the condition lhs.
+  Step,
+  Truth,
 };
+
+// `once[k](φ)`, `historically[k](φ)`, `times[k](φ)`, `since[k](φ, ψ)`; k = 0 for an unbounded since.
+enum class WindowKind : uint8_t { Once, Historically, Times, Since };
+const char* window_name(WindowKind k);
 
 enum class AggregateKind : uint8_t { Count, Sum, Min, Max };
 const char* aggregate_name(AggregateKind k);
@@ -68,11 +80,13 @@ struct Node {
   Span span;
   // Not, Negate, Abs: the operand (lhs). And, Or, Compare, the arithmetic operators, Min, Max:
   // left and right. Aggregate: its condition (Count, or kNoNode) or its value (Sum, Min, Max).
+  // Window: its condition (since: φ, and rhs ψ). Truth: the condition.
   NodeIndex lhs = kNoNode;
   NodeIndex rhs = kNoNode;
-  ModuleRef x, y;                   // Neighbor(x y); Variable: x; Aggregate: x, the module it ranges over
+  ModuleRef x, y;                   // Neighbor(x y); Variable, Id, Step: x; Aggregate: x, the module it ranges over
   CompareOp op = CompareOp::Equal;  // Compare
-  int64_t value = 0;                // Integer
+  int64_t value = 0;                // Integer; Window: its k (0: an unbounded since)
+  WindowKind window = WindowKind::Once;
   AggregateKind aggregate = AggregateKind::Count;
   std::string name;  // Variable: the variable; Aggregate: the bound name
 };
@@ -82,17 +96,25 @@ struct Action {
   enum class Kind : uint8_t { Set, Remove };
   Kind kind = Kind::Set;
   int32_t slot = -1;
-  std::string variable;       // Set
-  NodeIndex value = kNoNode;  // Set: an integer expression
+  std::string variable;           // Set
+  NodeIndex value = kNoNode;      // Set: an integer expression
+  NodeIndex evaluated = kNoNode;  // Set: `value` with its windows written out (watch/windows.h)
   Span span;
 };
 
 struct Ast {
   std::vector<SlotDecl> slots;
   std::vector<Node> nodes;
-  NodeIndex root = kNoNode;
+  NodeIndex root = kNoNode;  // as written: what is printed
   std::vector<Action> actions;
+  // `root` with every window written out over its shifts (watch/windows.h): what is analysed and
+  // compiled. Its nodes follow the written ones, which keep their indices.
+  NodeIndex evaluated = kNoNode;
 };
+
+// What is analysed and compiled: the tree with its windows written out, or the one written.
+inline NodeIndex evaluated_root(const Ast& ast) { return ast.evaluated != kNoNode ? ast.evaluated : ast.root; }
+inline NodeIndex evaluated_value(const Action& a) { return a.evaluated != kNoNode ? a.evaluated : a.value; }
 
 // The watchpoint in normal form: every comparison in parentheses, and/or chains flattened, mixed
 // and/or grouped explicitly, arithmetic grouped only where precedence needs it. Printing is

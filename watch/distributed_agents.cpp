@@ -38,13 +38,16 @@ class DistributedAgents::Reader {
  public:
   Reader(const DistributedAgents& agents, uint32_t m, uint32_t slot, int64_t f, const PatternMatcherRef* pm,
          std::vector<uint32_t>& neighbors, std::vector<uint32_t>& rows)
-      : h_(agents.history_), m_(m), slot_(slot), f_(f), pm_(pm), neighbors_(neighbors), rows_(rows) {}
+      : agents_(agents), h_(agents.history_), m_(m), slot_(slot), f_(f), pm_(pm), neighbors_(neighbors), rows_(rows) {}
 
   Value term(const ValueInstr& in) const {
     int64_t v = 0;
     if (in.cell >= 0) return pm_->cell(static_cast<uint32_t>(in.cell), v) ? known_value(v) : Value{};
-    return h_.value(m_, in.variable, f_ + in.offset, v) ? known_value(v) : Value{};
+    return agents_.read_value(m_, in.variable, f_ + in.offset, v) ? known_value(v) : Value{};
   }
+
+  // Slot i fills at t0 + i (docs/design.md §4): its "now", from the one filling now.
+  int64_t now(int slot) const { return f_ + slot - static_cast<int64_t>(slot_); }
 
   int open(const AggregateCode& a) {
     aggregate_ = &a;
@@ -72,7 +75,7 @@ class DistributedAgents::Reader {
   Value bound(int i, const ValueInstr& in) const {
     if (!table_) {
       int64_t v = 0;
-      return h_.value(bound_id(i), in.variable, step_ + in.offset, v) ? known_value(v) : Value{};
+      return agents_.read_value(bound_id(i), in.variable, step_ + in.offset, v) ? known_value(v) : Value{};
     }
     const auto& reads = aggregate_->neighbor_reads;
     uint32_t r = 0;
@@ -136,6 +139,7 @@ class DistributedAgents::Reader {
   }
 
  private:
+  const DistributedAgents& agents_;
   const AgentHistory& h_;
   uint32_t m_, slot_;
   int64_t f_;
@@ -254,7 +258,7 @@ bool DistributedAgents::write_table(uint32_t m, int64_t f, const AggregateCode& 
     words.push_back(n);
     for (const TermRef& r : a.neighbor_reads) {
       int64_t v = 0;
-      const bool known = history_.value(n, r.variable, step + r.offset, v);
+      const bool known = read_value(n, r.variable, step + r.offset, v);
       const uint64_t bits = static_cast<uint64_t>(v);
       words.insert(words.end(), {static_cast<uint32_t>(bits), static_cast<uint32_t>(bits >> 32), known});
     }
@@ -347,7 +351,7 @@ void DistributedAgents::fill_and_spread(uint32_t m, int64_t f, PatternMatcherRef
   for (uint16_t c : sp.cells) {
     const CarriedCell& cell = p.cells[c];
     int64_t v = 0;
-    const bool known = history_.value(m, cell.variable, f + cell.offset, v);
+    const bool known = read_value(m, cell.variable, f + cell.offset, v);
     pm.set_cell(c, v, known);
   }
   for (uint16_t s : sp.sets) {

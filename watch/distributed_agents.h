@@ -67,6 +67,10 @@ class DistributedAgents {
   // The agents of modules [first, first + modules): all of them, or a rank's own (docs/design.md §12).
   DistributedAgents(const Program& program, bool temporal_spans, uint32_t first, uint32_t modules);
 
+  // The universe's ids (Universe::module_ids), for a program that reads id(m) (docs/design.md §4c);
+  // without them each module's id is its index.
+  void set_module_ids(std::vector<ModuleId> ids) { ids_ = std::move(ids); }
+
   uint32_t size() const { return history_.modules(); }
   const AgentHistory& history() const { return history_; }
   AgentHistory& history() { return history_; }
@@ -116,10 +120,19 @@ class DistributedAgents {
   // The own leaves (SlotProgram::own_leaves) of every present module, decided once per detector
   // step when it records: the same for every PatternMatcher it fills then. For a conjunction,
   // one truth per slot (the and of that slot's own leaves); otherwise one per leaf.
+  // Module m's value of a program variable at `step`, or of kIdVariable its id; false when unknown.
+  bool read_value(uint32_t m, int variable, int64_t step, int64_t& out) const {
+    if (variable != kIdVariable) return history_.value(m, variable, step, out);
+    if (!history_.present(m, step)) return false;
+    out = ids_.empty() ? m : ids_[m];
+    return true;
+  }
+
   uint32_t stride_;
   uint32_t first_;          // the first module's id
   std::vector<Truth> own_;  // [(module - first_) * stride_ + slot or leaf]
   AgentHistory history_;
+  std::vector<ModuleId> ids_;  // see set_module_ids
 };
 
 }  // namespace dw::watch

@@ -13,7 +13,9 @@ DistributedDetector::DistributedDetector(const Watchpoint& w, const Universe& u,
       options_(options),
       columns_(variable_columns(w.program, u)),
       agents_(w.program, options.optimizations.temporal_spans, 0, u.module_count()),
-      ctx_(w.program, options.optimizations, options.live_budget) {}
+      ctx_(w.program, options.optimizations, options.live_budget) {
+  if (w.program.reads_id) agents_.set_module_ids(u.module_ids);
+}
 
 size_t DistributedDetector::bytes() const { return sizeof(DistributedAgents) + agents_.bytes(); }
 

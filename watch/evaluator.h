@@ -10,6 +10,8 @@
 //   uint32_t bound_id(int i)                 neighbour i's module
 //   uint32_t slot_module(int slot)           the module filling a slot
 //   Truth slot_adjacent(const ConditionTest&, uint32_t y)   y in N(slot x's module, now_x + off)
+//   int64_t now(int slot)                    the slot's "now" (docs/design.md §4c: where windows clip)
+// A term or bound read of kIdVariable is id(m): the module's id when present at that step.
 // Aggregates do not nest, so a reader has at most one open at a time.
 #pragma once
 
@@ -66,7 +68,7 @@ inline Truth compare_values(CompareOp op, Value a, Value b) {
 struct EvaluatorScratch {
   EvaluatorScratch() = default;
   explicit EvaluatorScratch(const Program& p)
-      : values(static_cast<size_t>(p.max_value_stack) + p.aggregates.size() + 1),
+      : values(static_cast<size_t>(p.max_value_stack) + p.aggregates.size() + p.truths.size() + 1),
         truths(static_cast<size_t>(p.max_condition_stack) + 1) {}
   std::vector<Value> values;
   std::vector<Truth> truths;
@@ -93,6 +95,12 @@ class Evaluator {
           stack[sp] = aggregate(p_.aggregates[in.index], base + sp + 1);
           ++sp;
           break;
+        case ValueOp::Step: stack[sp++] = known_value(r_.now(in.slot) + in.offset); break;
+        case ValueOp::Truth: {
+          const Truth t = logic(p_.truths[in.index], p_.truth_depths[in.index], base + sp + 1, neighbor);
+          stack[sp++] = t == kUnknown ? Value{} : known_value(t == kTrue ? 1 : 0);
+          break;
+        }
         case ValueOp::Negate:
         case ValueOp::Abs: stack[sp - 1] = apply(in.op, stack[sp - 1], {}); break;
         default:
@@ -146,7 +154,16 @@ class Evaluator {
   }
 
   Truth condition(const AggregateCode& a, size_t base, int neighbor) {
-    return run_logic(a.condition, s_.truths.data(), [&](uint32_t t) { return test(p_.tests[t], base, neighbor); });
+    return logic(a.condition, a.condition_depth, base, neighbor);
+  }
+
+  // Postfix logic over tests, its truths above those of the logic under way (they may nest).
+  Truth logic(const std::vector<ExprOp>& ops, int depth, size_t base, int neighbor) {
+    Truth* stack = s_.truths.data() + truths_used_;
+    truths_used_ += static_cast<size_t>(depth);
+    const Truth t = run_logic(ops, stack, [&](uint32_t i) { return test(p_.tests[i], base, neighbor); });
+    truths_used_ -= static_cast<size_t>(depth);
+    return t;
   }
 
   Truth test(const ConditionTest& t, size_t base, int neighbor) {
@@ -160,6 +177,7 @@ class Evaluator {
   const Program& p_;
   Reader& r_;
   EvaluatorScratch& s_;
+  size_t truths_used_ = 0;
 };
 
 template <class Reader>

@@ -1,8 +1,11 @@
 #include "watch/explain.h"
 
 #include <cstdlib>
+#include <set>
 
 #include "watch/detector.h"
+#include "watch/parser.h"
+#include "watch/windows.h"
 
 namespace dw::watch {
 namespace {
@@ -11,6 +14,23 @@ std::string offsets_text(const std::vector<int>& offsets) {
   std::string s;
   for (int o : offsets) s += (s.empty() ? "" : ", ") + std::to_string(o);
   return s;
+}
+
+// docs/design.md §4c: each window, how far back it looks and how it is evaluated.
+void explain_windows(const watch::Watchpoint& w, std::ostream& out) {
+  bool any = false;
+  for (size_t i = 0; i < w.ast.nodes.size(); ++i) {
+    const watch::Node& n = w.ast.nodes[i];
+    if (n.kind != watch::NodeKind::Window) continue;
+    if (!any)
+      out << "  windows        (at each step a window keeps the shifts j whose reads fall at step 0 or later;"
+          << " none kept: unknown)\n";
+    any = true;
+    const int64_t reach = watch::window_reach(w.ast, static_cast<watch::NodeIndex>(i));
+    out << "    " << watch::to_string(w.ast, static_cast<watch::NodeIndex>(i)) << "\n      j = 0.." << n.value
+        << "; reach " << reach << (reach == 1 ? " step" : " steps") << " back (of the limit " << watch::kMaxOffset
+        << "); evaluated as " << n.value + 1 << " shifted copies of its condition each step (cost O(k))\n";
+  }
 }
 
 }  // namespace
@@ -51,9 +71,12 @@ void explain_watchpoint(const watch::Watchpoint& w, std::ostream& out) {
     if (n.x < n.y) out << "culls candidates for " << y << " to N(" << x << "); " << x << " carries its neighbour set\n";
     else out << "decided by " << x << " from its own neighbour set (no culling)\n";
   }
+  explain_windows(w, out);
   out << "  aggregates" << (a.aggregates.empty() ? "     none" : "") << "\n";
+  std::set<uint32_t> shown;  // a window's copies of an aggregate are one aggregate as written
   for (const watch::AggregateUse& g : a.aggregates) {
     const watch::Node& n = w.ast.nodes[static_cast<size_t>(g.node)];
+    if (!shown.insert(n.span.begin).second) continue;
     out << "    " << watch::to_string(w.ast, g.node) << "\n      over N(" << p.slot_names[g.slot] << ", now"
         << (g.offset ? (g.offset > 0 ? " + " : " - ") + std::to_string(std::abs(g.offset)) : "") << ")";
     if (!g.neighbor_reads.empty()) {

@@ -27,6 +27,11 @@ TokenKind keyword_or_name(std::string_view word) {
   if (word == "then") return TokenKind::Then;
   if (word == "set") return TokenKind::Set;
   if (word == "remove") return TokenKind::Remove;
+  if (word == "once") return TokenKind::Once;
+  if (word == "historically") return TokenKind::Historically;
+  if (word == "since") return TokenKind::Since;
+  if (word == "times") return TokenKind::Times;
+  if (word == "id") return TokenKind::Id;
   return TokenKind::Name;
 }
 
@@ -139,6 +144,8 @@ class Lexer {
       case '.': return make(TokenKind::Dot, begin);
       case ',': return make(TokenKind::Comma, begin);
       case ':': return make(TokenKind::Colon, begin);
+      case '[': return make(TokenKind::LBracket, begin);
+      case ']': return make(TokenKind::RBracket, begin);
       case '+': return make(TokenKind::Plus, begin);
       case '-': return make(TokenKind::Minus, begin);
       case '*': return make(TokenKind::Star, begin);
@@ -170,7 +177,7 @@ class Lexer {
   size_t base_ = 0;  // where the text starts in the file its spans count in
 };
 
-bool is_keyword(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Remove; }
+bool is_keyword(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Id; }
 
 bool is_reserved(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Next; }
 
@@ -198,12 +205,19 @@ std::string describe(TokenKind k) {
     case TokenKind::Then: return "'then'";
     case TokenKind::Set: return "'set'";
     case TokenKind::Remove: return "'remove'";
+    case TokenKind::Once: return "'once'";
+    case TokenKind::Historically: return "'historically'";
+    case TokenKind::Since: return "'since'";
+    case TokenKind::Times: return "'times'";
+    case TokenKind::Id: return "'id'";
     case TokenKind::LParen: return "'('";
     case TokenKind::RParen: return "')'";
     case TokenKind::Semicolon: return "';'";
     case TokenKind::Dot: return "'.'";
     case TokenKind::Comma: return "','";
     case TokenKind::Colon: return "':'";
+    case TokenKind::LBracket: return "'['";
+    case TokenKind::RBracket: return "']'";
     case TokenKind::Plus: return "'+'";
     case TokenKind::Minus: return "'-'";
     case TokenKind::Star: return "'*'";

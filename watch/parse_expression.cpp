@@ -55,7 +55,7 @@ NodeIndex Parser::integer(bool negated, Span minus) {
 }
 
 // atom := INT | statevar | '(' expr ')' | 'abs' '(' expr ')' | ('min' | 'max') '(' expr ',' expr ')'
-//       | aggregate
+//       | aggregate | 'times' '[' INT ']' '(' or ')' | 'id' '(' module ')'
 NodeIndex Parser::parse_atom(int depth) {
   const Span start = peek().span;
   switch (peek().kind) {
@@ -90,6 +90,8 @@ NodeIndex Parser::parse_atom(int depth) {
       return parse_min_max(depth);
     case TokenKind::Count:
     case TokenKind::Sum: return parse_aggregate(depth);
+    case TokenKind::Times: return parse_window(depth);
+    case TokenKind::Id: return parse_id();
     default: error_expected("a number, a state variable or an expression"); return error_node(start);
   }
 }
@@ -190,13 +192,13 @@ void Parser::shift(ModuleRef& m, int delta) {
 }
 
 // module := NAME ('.' ('last' | 'next'))*
-bool Parser::parse_module_in_neighbor(ModuleRef& out) {
+bool Parser::parse_module_in_neighbor(ModuleRef& out, const char* taker) {
   if (!parse_slot_name(out)) return false;
   while (match(TokenKind::Dot)) {
     if (match(TokenKind::Last)) shift(out, -1);
     else if (match(TokenKind::Next)) shift(out, +1);
     else {
-      error_at(peek().span, "neighbor() takes modules, not variables: expected 'last' or 'next' after '.'");
+      error_at(peek().span, std::string(taker) + " takes modules, not variables: expected 'last' or 'next' after '.'");
       return false;
     }
     out.span = Span::cover(out.span, previous().span);

@@ -11,7 +11,11 @@ namespace detail {
 bool starts_expression(TokenKind k) {
   return k == TokenKind::Name || k == TokenKind::Integer || k == TokenKind::NonInteger || k == TokenKind::Minus ||
          k == TokenKind::LParen || k == TokenKind::Abs || k == TokenKind::Min || k == TokenKind::Max ||
-         k == TokenKind::Count || k == TokenKind::Sum;
+         k == TokenKind::Count || k == TokenKind::Sum || k == TokenKind::Times || k == TokenKind::Id;
+}
+
+bool starts_window_condition(TokenKind k) {
+  return k == TokenKind::Once || k == TokenKind::Historically || k == TokenKind::Since;
 }
 
 // ---- grammar: the watchpoint --------------------------------------------------------------
@@ -24,7 +28,9 @@ void Parser::parse_watchpoint() {
   if (!match(TokenKind::Semicolon)) {
     error_expected("';' after the module list");
     // Going on is only useful when the condition clearly starts here.
-    if (!check(TokenKind::Not) && !check(TokenKind::Neighbor) && !starts_expression(peek().kind)) return;
+    if (!check(TokenKind::Not) && !check(TokenKind::Neighbor) && !starts_expression(peek().kind) &&
+        !starts_window_condition(peek().kind))
+      return;
     panic_ = false;
   }
   if (check(TokenKind::End)) {
@@ -165,12 +171,14 @@ NodeIndex Parser::parse_not(int depth) {
 }
 
 // primary := 'neighbor' '(' module ','? module ')' | '(' or ')' | compare
+//          | ('once' | 'historically') '[' INT ']' '(' or ')' | 'since' ['[' INT ']'] '(' or ',' or ')'
 // The paper's `'(' compare ')'` is the case of `'(' or ')'` whose inside is one comparison; a
 // bare comparison where a primary is expected is an accepted extension. A '(' that does not open
 // a condition opens the first operand of a comparison (docs/design.md §4b).
 NodeIndex Parser::parse_primary(int depth) {
   const Span start = peek().span;
   if (match(TokenKind::Neighbor)) return parse_neighbor(start);
+  if (starts_window_condition(peek().kind)) return parse_window(depth);
   if (check(TokenKind::LParen) && opens_condition(depth)) {
     advance();
     const size_t diagnostics = diagnostics_.size();
@@ -195,7 +203,7 @@ NodeIndex Parser::parse_primary(int depth) {
     return inner;
   }
   if (starts_expression(peek().kind)) return parse_compare(depth);
-  error_expected("a condition ('(', 'not', 'neighbor' or a comparison)");
+  error_expected("a condition ('(', 'not', 'neighbor', a window or a comparison)");
   synchronize();
   return error_node(start);
 }

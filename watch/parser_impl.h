@@ -15,6 +15,7 @@
 namespace dw::watch::detail {
 
 bool starts_expression(TokenKind k);
+bool starts_window_condition(TokenKind k);  // once, historically, since
 
 class Parser {
  public:
@@ -188,6 +189,12 @@ class Parser {
   }
 
   NodeIndex parse_neighbor(Span keyword);
+  // Windows in time and id() (docs/design.md §4c), in watch/parse_window.cpp.
+  NodeIndex parse_window(int depth);
+  bool parse_window_length(Node& n, const std::string& what);
+  void check_reach(NodeIndex window);
+  void check_one_module(NodeIndex since);
+  NodeIndex parse_id();
 
   std::string name_of(const ModuleRef& m) const { return m.bound ? bound_ : ast_.slots[m.slot].name; }
   std::string module_text(const ModuleRef& m) const { return std::string(source_.slice(m.span)); }
@@ -215,7 +222,7 @@ class Parser {
   NodeIndex parse_min_max(int depth);
   NodeIndex parse_aggregate(int depth);
   void shift(ModuleRef& m, int delta);
-  bool parse_module_in_neighbor(ModuleRef& out);
+  bool parse_module_in_neighbor(ModuleRef& out, const char* taker = "neighbor()");
   bool parse_slot_name(ModuleRef& out);
   bool parse_variable_name(std::string& out);
   NodeIndex parse_statevar();

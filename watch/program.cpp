@@ -93,7 +93,7 @@ class Compiler {
       ActionCode code{a.kind, static_cast<int16_t>(a.slot), a.variable, kNoCode};
       if (a.kind == Action::Kind::Set) {
         decide_ = static_cast<int16_t>(p_.slot_count() - 1);
-        code.value = compile_value(a.value);
+        code.value = compile_value(evaluated_value(a));
       }
       p_.actions.push_back(std::move(code));
     }
@@ -127,7 +127,7 @@ class Compiler {
   // The expression as postfix code over its leaves.
   void emit_postfix() {
     p_.max_stack = std::max(1, postfix(
-                                   ast_, ast_.root, is_test,
+                                   ast_, evaluated_root(ast_), is_test,
                                    [&](NodeIndex i) {
                                      p_.expr.push_back({ExprOp::PushLeaf, compile_leaf(i)});
                                    },
@@ -139,7 +139,7 @@ class Compiler {
   TermRef term(const Node& v) {
     TermRef t;
     t.slot = static_cast<int16_t>(v.x.slot);
-    t.variable = static_cast<int16_t>(analysis_.variable_index(v.name));
+    t.variable = v.kind == NodeKind::Id ? kIdVariable : static_cast<int16_t>(analysis_.variable_index(v.name));
     t.offset = static_cast<int16_t>(v.x.offset);
     return t;
   }
@@ -175,7 +175,8 @@ class Compiler {
     int16_t last = 0;
     visit_tree(ast_, node, [&](NodeIndex i, NodeIndex) {
       const Node& n = ast_.nodes[i];
-      if (n.kind == NodeKind::Variable || n.kind == NodeKind::Aggregate || n.kind == NodeKind::Neighbor)
+      if (n.kind == NodeKind::Variable || n.kind == NodeKind::Id || n.kind == NodeKind::Aggregate ||
+          n.kind == NodeKind::Neighbor)
         for (const ModuleRef* m : {&n.x, &n.y})
           if (!m->bound && m->slot >= 0 && (n.kind == NodeKind::Neighbor || m == &n.x))
             last = std::max(last, static_cast<int16_t>(m->slot));
@@ -241,14 +242,27 @@ class Compiler {
   uint32_t compile_value(NodeIndex root) {
     std::vector<ValueInstr> code;
     auto is_operand = [](const Node& n) {
-      return n.kind == NodeKind::Integer || n.kind == NodeKind::Variable || n.kind == NodeKind::Aggregate;
+      return n.kind == NodeKind::Integer || n.kind == NodeKind::Variable || n.kind == NodeKind::Aggregate ||
+             n.kind == NodeKind::Id || n.kind == NodeKind::Step || n.kind == NodeKind::Truth;
     };
     auto operand = [&](NodeIndex i) {
       const Node& n = ast_.nodes[i];
       ValueInstr in;
+      if (n.kind == NodeKind::Id) p_.reads_id = true;
       if (n.kind == NodeKind::Integer) {
         in.op = ValueOp::Constant;
         in.constant = n.value;
+      } else if (n.kind == NodeKind::Step) {
+        in.op = ValueOp::Step;
+        in.slot = static_cast<int16_t>(n.x.slot);
+        in.offset = static_cast<int16_t>(n.x.offset);
+      } else if (n.kind == NodeKind::Truth) {
+        in.op = ValueOp::Truth;
+        int depth = 0;
+        std::vector<ExprOp> ops = compile_condition(n.lhs, aggregate_, depth);
+        in.index = static_cast<uint32_t>(p_.truths.size());
+        p_.truths.push_back(std::move(ops));
+        p_.truth_depths.push_back(depth);
       } else if (n.kind == NodeKind::Aggregate) {
         in.op = ValueOp::Aggregate;
         in.index = compile_aggregate(i);
@@ -293,8 +307,12 @@ class Compiler {
     const uint32_t outer = aggregate_;
     aggregate_ = index;
     if (n.lhs != kNoNode) {
-      if (n.aggregate == AggregateKind::Count) compile_condition(n.lhs, index);
-      else {
+      if (n.aggregate == AggregateKind::Count) {
+        int depth = 0;
+        std::vector<ExprOp> ops = compile_condition(n.lhs, index, depth);
+        p_.aggregates[index].condition = std::move(ops);
+        p_.aggregates[index].condition_depth = depth;
+      } else {
         const uint32_t value = compile_value(n.lhs);
         p_.aggregates[index].value = value;
       }
@@ -308,7 +326,9 @@ class Compiler {
     return index;
   }
 
-  void compile_condition(NodeIndex root, uint32_t aggregate) {
+  // A condition as postfix logic over tests; `aggregate` is the one its bound name belongs to
+  // (meaningful inside one only). `depth` is the truths its evaluation needs.
+  std::vector<ExprOp> compile_condition(NodeIndex root, uint32_t aggregate, int& depth) {
     std::vector<ExprOp> ops;
     auto test = [&](NodeIndex i) {
       const Node& n = ast_.nodes[i];
@@ -337,8 +357,9 @@ class Compiler {
       ops.push_back({ExprOp::PushLeaf, static_cast<uint32_t>(p_.tests.size() - 1)});
     };
     auto op = [&](const Node& n) { ops.push_back({logic_op(n.kind), 0}); };
-    p_.max_condition_stack = std::max(p_.max_condition_stack, postfix(ast_, root, is_test, test, op));
-    p_.aggregates[aggregate].condition = std::move(ops);
+    depth = postfix(ast_, root, is_test, test, op);
+    p_.max_condition_stack += depth;
+    return ops;
   }
 
   const Ast& ast_;

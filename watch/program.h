@@ -24,6 +24,10 @@
 
 namespace dw::watch {
 
+// The variable index that stands for `id(m)` (docs/design.md §4c): the module's id, known when the
+// module is present at that step. Read, carried and tabled as a variable is.
+constexpr int16_t kIdVariable = -1;
+
 // `slot.variable` at `offset` steps from the slot's "now".
 struct TermRef {
   int16_t slot = 0;
@@ -52,6 +56,8 @@ enum class ValueOp : uint8_t {
   Term,       // push slot.variable at offset (carried in `cell` when >= 0)
   Bound,      // push the aggregate's current neighbour's variable, `offset` from the aggregate's step
   Aggregate,  // push aggregate `index`
+  Step,       // push the slot's "now" plus offset (docs/design.md §4c: where a window is clipped)
+  Truth,      // push condition `index` (Program::truths) as 1, 0 or unknown
   Negate,
   Add,
   Subtract,
@@ -67,7 +73,7 @@ struct ValueInstr {
   ValueOp op = ValueOp::Constant;
   int16_t slot = 0, variable = 0, offset = 0;
   int16_t cell = -1;
-  uint32_t index = 0;  // Aggregate
+  uint32_t index = 0;  // Aggregate, Truth
   int64_t constant = 0;
 };
 
@@ -122,6 +128,7 @@ struct AggregateCode {
   int16_t slot = 0, offset = 0;   // ranges over N(slot's module, now + offset), present neighbours
   uint32_t value = kNoCode;       // sum, min, max: the value of each neighbour
   std::vector<ExprOp> condition;  // count: over Program::tests, empty for none
+  int condition_depth = 0;        // the truths its condition's evaluation needs
   // Distributed: >= 0 when its slot fills before the decide slot, and so the slot's module carries
   // its neighbours (ids, what the body reads of them) in this table.
   int16_t table = -1;
@@ -229,7 +236,13 @@ class Program {
   std::vector<std::vector<ValueInstr>> codes;
   std::vector<ConditionTest> tests;
   std::vector<AggregateCode> aggregates;
+  // Conditions read as integers (ValueOp::Truth: a window written out, watch/windows.h), over tests,
+  // with the truths each needs.
+  std::vector<std::vector<ExprOp>> truths;
+  std::vector<int> truth_depths;
+  bool reads_id = false;  // some term is id(m): the readers need the modules' ids
   int max_value_stack = 0;
+  // Truths of scratch: enough for every condition program at once, as they may nest.
   int max_condition_stack = 0;
   std::vector<ActionCode> actions;
 };

@@ -8,6 +8,7 @@ namespace dw::watch {
 
 StepHistory::StepHistory(const Program& p, const Universe& u, bool spans, int64_t later)
     : modules_(u.module_count()), frame_columns_(variable_columns(p, u)), columns_(p.variables.size()) {
+  if (p.reads_id) ids_ = u.module_ids;
   for (size_t v = 0; v < columns_.size(); ++v)
     columns_[v].configure(spans ? p.extent_plus - p.variable_min_offset[v] + 1 + later : 0);
   graphs_.configure(spans ? p.extent_plus - p.min_neighbor_offset + 1 + later : 0);
@@ -78,9 +79,15 @@ class StepView::Reader {
   }
   uint32_t slot_module(int slot) const { return binding_[slot]; }
   Truth slot_adjacent(const ConditionTest& t, uint32_t y) const { return v_.neighbor(binding_[t.x], t.offset, y); }
+  int64_t now(int) const { return v_.t_; }  // every slot's, in a simultaneous reading
 
  private:
   Value read(int variable, int64_t step, uint32_t m) const {
+    if (variable == kIdVariable) {
+      const StepHistory::Graph* g = h_.graph(step);
+      if (g == nullptr || !g->present[m]) return {};
+      return known_value(h_.id(m));
+    }
     const StepHistory::Column* c = h_.column(variable, step);
     if (c == nullptr || !c->known[m]) return {};
     return known_value(c->value[m]);

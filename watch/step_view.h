@@ -40,10 +40,12 @@ class StepHistory {
   const Column* column(int variable, int64_t step) const { return columns_[static_cast<size_t>(variable)].find(step); }
   const Graph* graph(int64_t step) const { return graphs_.find(step); }
   size_t bytes() const;
-  uint64_t held_values() const;  // values and graphs held, in module-steps
+  uint64_t held_values() const;                                         // values and graphs held, in module-steps
+  ModuleId id(uint32_t m) const { return ids_.empty() ? m : ids_[m]; }  // what id(m) reads
 
  private:
   uint32_t modules_;
+  std::vector<ModuleId> ids_;       // the universe's, when the program reads id() (empty: each id its index)
   std::vector<int> frame_columns_;  // program variable -> frame column
   // Deques: a StepView keeps pointers to the items across later writes (see StepRing).
   std::vector<StepRing<Column, std::deque<Column>>> columns_;  // per program variable

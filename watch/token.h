@@ -32,6 +32,12 @@ enum class TokenKind : uint8_t {
   Then,
   Set,
   Remove,
+  // keywords of windows in time and built-ins (docs/design.md §4c), the same rule as those above
+  Once,
+  Historically,
+  Since,
+  Times,
+  Id,
   // punctuation
   LParen,
   RParen,
@@ -39,6 +45,8 @@ enum class TokenKind : uint8_t {
   Dot,
   Comma,
   Colon,
+  LBracket,
+  RBracket,
   // arithmetic
   Plus,
   Minus,

@@ -1,6 +1,7 @@
 #include "watch/watchpoint.h"
 
 #include "watch/parser.h"
+#include "watch/windows.h"
 
 namespace dw::watch {
 
@@ -21,6 +22,8 @@ std::variant<Watchpoint, CompileError> compile_watchpoint(std::string name, Sour
   auto shared = std::make_shared<const SourceText>(std::move(source));
   ParseResult parsed = parse(*shared);
   if (!parsed.ok()) return CompileError{shared, std::move(parsed.diagnostics)};
+  if (std::vector<Diagnostic> too_large = write_out_windows(parsed.ast); !too_large.empty())
+    return CompileError{shared, std::move(too_large)};
   Analysis analysis = analyze(parsed.ast);
   Program program(parsed.ast, analysis);
   return Watchpoint{std::move(name), shared, std::move(parsed.ast), std::move(analysis), std::move(program)};

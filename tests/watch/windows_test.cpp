@@ -1,0 +1,167 @@
+// Windows in time and id() (docs/design.md §4c) in every reading: where each window is clipped near
+// step 0, nested windows, an empty window's unknown, and how they print and explain.
+#include "watch/windows.h"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "test_ensemble.h"
+#include "watch/explain.h"
+#include "watch/parser.h"
+
+namespace dw::watch {
+namespace {
+
+using testing::compile_or_die;
+using testing::Match;
+using testing::TestEnsemble;
+
+struct Reading {
+  const char* name;
+  Algorithm algorithm;
+  DetectorOptions options;
+};
+
+std::vector<Reading> readings() {
+  DetectorOptions simultaneous;
+  simultaneous.states = States::Simultaneous;
+  simultaneous.shape = GroupShape::Ordered;
+  return {{"centralized", Algorithm::Centralized, {}},
+          {"distributed", Algorithm::Distributed, {}},
+          {"simultaneous", Algorithm::Distributed, simultaneous}};
+}
+
+// One module, alone, for `steps` steps, with x[t] (and, when given, y[t]).
+TestEnsemble alone(const std::vector<int64_t>& x, const std::vector<int64_t>& y = {}) {
+  TestEnsemble e(1, {"x", "y"});
+  for (size_t t = 0; t < x.size(); ++t) {
+    std::map<std::string, int64_t> vars{{"x", x[t]}};
+    if (!y.empty()) vars["y"] = y[t];
+    e.set(static_cast<int64_t>(t), 0, vars, {});
+  }
+  return e;
+}
+
+std::set<int64_t> steps_matched(const TestEnsemble& e, const std::string& text, const Reading& r) {
+  std::set<int64_t> out;
+  for (const Match& m : e.run(r.algorithm, compile_or_die(text), r.options)) out.insert(m.first);
+  return out;
+}
+
+TEST(Windows, AWindowOfConstantsKeepsTheShiftsUpToTheMatchStep) {
+  // times[3](1 = 1) is 1 at step 0, 2 at 1, 3 at 2 and 4 from step 3 on.
+  const TestEnsemble e = alone({1, 2, 3, 4, 4, 4});
+  for (const Reading& r : readings()) {
+    EXPECT_EQ(steps_matched(e, "modules(a); times[3](1 = 1) = a.x", r), (std::set<int64_t>{0, 1, 2, 3, 4, 5}))
+        << r.name;
+    EXPECT_EQ(steps_matched(e, "modules(a); times[3](1 = 1) != a.x", r), (std::set<int64_t>{})) << r.name;
+  }
+}
+
+TEST(Windows, ANestedWindowCountsAsReadingItsConditionAtItsOwnShiftZero) {
+  // At step 0 the inner window reads a.x at step 0 alone, so the outer one keeps j = 0.
+  const TestEnsemble e = alone({1, 0, 0, 0});
+  for (const Reading& r : readings())
+    EXPECT_EQ(steps_matched(e, "modules(a); once[2](historically[1](a.x = 1))", r), (std::set<int64_t>{0, 1, 2}))
+        << r.name;
+}
+
+TEST(Windows, ALastInsideAWindowDropsTheShiftsThatWouldReadBeforeStepZero) {
+  // y changes at every step: times[4](a.y != a.last.y) counts j = 0, 1 at step 2 (2 changes),
+  // j = 0 at step 1, j = 0..4 from step 5 on, and at step 0 keeps no j (unknown: no count at all).
+  const TestEnsemble e = alone({0, 1, 2, 3, 4, 5}, {0, 1, 2, 3, 4, 5});
+  for (const Reading& r : readings()) {
+    EXPECT_EQ(steps_matched(e, "modules(a); times[4](a.y != a.last.y) = a.x", r), (std::set<int64_t>{1, 2, 3, 4, 5}))
+        << r.name;
+    EXPECT_EQ(steps_matched(e, "modules(a); times[4](a.y != a.last.y) >= 0", r), (std::set<int64_t>{1, 2, 3, 4, 5}))
+        << r.name;
+  }
+}
+
+TEST(Windows, OnceHistoricallyAndSinceOverOneModule) {
+  //                      t: 0  1  2  3  4  5  6
+  const TestEnsemble e = alone({1, 0, 0, 0, 1, 1, 0}, {0, 1, 1, 1, 1, 0, 1});
+  for (const Reading& r : readings()) {
+    EXPECT_EQ(steps_matched(e, "modules(a); once[2](a.x = 1)", r), (std::set<int64_t>{0, 1, 2, 4, 5, 6})) << r.name;
+    EXPECT_EQ(steps_matched(e, "modules(a); historically[2](a.y = 1)", r), (std::set<int64_t>{3, 4})) << r.name;
+    // ψ = (x = 1) at some step of the last 3, and y = 1 at every step after it.
+    EXPECT_EQ(steps_matched(e, "modules(a); since[2](a.y = 1, a.x = 1)", r), (std::set<int64_t>{0, 1, 2, 4, 5, 6}))
+        << r.name;
+  }
+}
+
+TEST(Windows, AWindowWithNoShiftKeptIsUnknown) {
+  const TestEnsemble e = alone({1, 1, 1});
+  for (const Reading& r : readings()) {
+    // At step 0 a.last.x is before step 0: no j is kept, neither the window nor its negation holds.
+    EXPECT_EQ(steps_matched(e, "modules(a); once[1](a.last.x = 1)", r), (std::set<int64_t>{1, 2})) << r.name;
+    EXPECT_EQ(steps_matched(e, "modules(a); not once[1](a.last.x = 1)", r), (std::set<int64_t>{})) << r.name;
+    EXPECT_EQ(steps_matched(e, "modules(a); not historically[1](a.last.x = 2)", r), (std::set<int64_t>{1, 2}))
+        << r.name;
+  }
+}
+
+TEST(Windows, InTheDistributedReadingAWindowOverTheSecondSlotIsClippedAtItsOwnStep) {
+  // Two neighbours; b fills one step after a, so at t0 = 0 a window over b alone reads from step 1.
+  TestEnsemble e(2, {"x"});
+  for (int64_t t = 0; t < 4; ++t) {
+    e.set(t, 0, {{"x", 0}}, {1});
+    e.set(t, 1, {{"x", 0}}, {0});
+  }
+  const Watchpoint w = compile_or_die("modules(a b); times[3](b.x = 0) = 2");
+  // Centralized: 1 at step 0, 2 at step 1. Distributed: b's step is t0 + 1, so 2 at t0 = 0.
+  EXPECT_EQ(e.run(Algorithm::Centralized, w), (std::set<Match>{{1, {0, 1}}, {1, {1, 0}}}));
+  EXPECT_EQ(e.run(Algorithm::Distributed, w), (std::set<Match>{{0, {0, 1}}, {0, {1, 0}}}));
+}
+
+TEST(Windows, IdReadsTheModulesIdWhenItIsPresent) {
+  TestEnsemble e(3, {"x"});
+  e.set(0, 0, {{"x", 0}}, {1});
+  e.set(0, 1, {{"x", 1}}, {0, 2});
+  e.set(0, 2, {{"x", 7}}, {1});
+  e.set(1, 1, {{"x", 1}}, {});
+  for (const Reading& r : readings()) {
+    EXPECT_EQ(steps_matched(e, "modules(a); a.x = id(a)", r), (std::set<int64_t>{0, 1})) << r.name;
+    // Module 1 at step 1: id(a.last) is 1; module 0 is absent at step 1.
+    EXPECT_EQ(steps_matched(e, "modules(a); id(a.last) = 1", r), (std::set<int64_t>{1})) << r.name;
+    EXPECT_EQ(steps_matched(e, "modules(a); count(n in neighbors(a): id(n) > id(a)) = 1", r), (std::set<int64_t>{0}))
+        << r.name;
+  }
+  const Watchpoint w = compile_or_die("modules(a b); id(b) = id(a) + 1");
+  EXPECT_EQ(e.run(Algorithm::Centralized, w), (std::set<Match>{{0, {0, 1}}, {0, {1, 2}}}));
+  EXPECT_EQ(e.run(Algorithm::Distributed, w), (std::set<Match>{{0, {0, 1}}}));  // b fills at step 1: only 1's there
+}
+
+TEST(Windows, PrintAndReadBackTheSame) {
+  for (const char* text : {"modules(a b); once[3]((a.x = 2)) and historically[2]((b.y = 1))",
+                           "modules(a b); since[3]((b.x != 0), (a.x = 2)) or (times[4]((b.y != b.last.y)) >= 2)",
+                           "modules(a); (id(a.last) = times[2](once[1]((a.x = 1))))", "modules(a); (a.id = a.once)"}) {
+    const SourceText source("w", text);
+    const ParseResult r = parse(source);
+    ASSERT_TRUE(r.ok()) << text;
+    EXPECT_EQ(to_string(r.ast), text);
+  }
+}
+
+TEST(Windows, CheckSaysEachWindowsReach) {
+  std::ostringstream out;
+  explain_watchpoint(compile_or_die("modules(a); times[20](a.parent != a.last.parent) > 3"), out);
+  EXPECT_NE(out.str().find("times[20]((a.parent != a.last.parent))\n      j = 0..20; reach 21 steps back"),
+            std::string::npos)
+      << out.str();
+}
+
+TEST(Windows, TheReachCountsTowardTheOffsetLimit) {
+  const SourceText ok("w", "modules(a); once[9999](a.last.x = 1)");
+  EXPECT_TRUE(parse(ok).ok());
+  const SourceText far("w", "modules(a); once[9999](a.last.last.x = 1)");
+  const ParseResult r = parse(far);
+  ASSERT_EQ(r.diagnostics.size(), 1u);
+  EXPECT_NE(r.diagnostics[0].message.find("reaches 10001 steps back"), std::string::npos) << r.diagnostics[0].message;
+  const SourceText nested("w", "modules(a); once[6000](historically[5000](a.x = 1))");
+  EXPECT_EQ(parse(nested).diagnostics.size(), 1u);
+}
+
+}  // namespace
+}  // namespace dw::watch
