@@ -165,8 +165,13 @@ int main(int argc, char** argv) {
   // default, ending at once, and writes nothing a signal could leave half done.
   const dw::app::TerminalOutput terminal;  // no control byte from an input reaches a terminal raw
   std::optional<dw::shell::Interrupts> interrupts;
-  if (argc < 2 || std::string(argv[1]) != "bench") interrupts.emplace();
-  else end_bench_at_a_signal();
+  try {
+    if (argc < 2 || std::string(argv[1]) != "bench") interrupts.emplace();
+    else end_bench_at_a_signal();
+  } catch (const std::system_error& e) {  // the thread that takes the signals, refused (`ulimit -u`)
+    std::cerr << "dwatch: error: the system refused what dwatch asked for: " << e.what() << "\n";
+    return 1;
+  }
   dw::shell::Interrupts* watcher = interrupts ? &*interrupts : nullptr;
   // Started by mpirun as one of several ranks (docs/design.md §12): only `run` runs over ranks.
   const char* world_size = std::getenv("OMPI_COMM_WORLD_SIZE");

@@ -1,18 +1,40 @@
 #include "sim/worker_pool.h"
 
+#include <iostream>
+#include <system_error>
+
 namespace dw::sim {
 
-WorkerPool::WorkerPool(unsigned threads) : size_(threads == 0 ? 1 : threads) {
-  for (unsigned i = 1; i < size_; ++i) threads_.emplace_back([this, i] { work(i); });
+// A thread the system refuses is no reason to stop: the work is split by module, not by thread,
+// so the pool runs on the threads it got. Anything else thrown meanwhile (memory) ends the threads
+// started before it goes on: a pool left half made aborted (a joinable thread destroyed) or hung
+// (a condition variable destroyed under its waiting threads).
+WorkerPool::WorkerPool(unsigned threads, const ThreadStart& start) : size_(threads == 0 ? 1 : threads) {
+  threads_.reserve(size_ - 1);  // before any thread starts: keeping one never throws
+  try {
+    for (unsigned i = 1; i < size_; ++i) threads_.push_back(start([this, i] { work(i); }));
+  } catch (const std::system_error& refused) {
+    const unsigned asked = size_;
+    size_ = static_cast<unsigned>(threads_.size()) + 1;
+    std::cerr << "dwatch: warning: the system refused a thread (" << refused.code().message() << "): running on "
+              << size_ << " of the " << asked
+              << " threads asked for (--threads, `threads`; the results are the same)\n";
+  } catch (...) {
+    stop();
+    throw;
+  }
 }
 
-WorkerPool::~WorkerPool() {
+WorkerPool::~WorkerPool() { stop(); }
+
+void WorkerPool::stop() {
   {
     std::lock_guard lock(mutex_);
     quit_ = true;
   }
   start_.notify_all();
   for (std::thread& t : threads_) t.join();
+  threads_.clear();
 }
 
 void WorkerPool::run(const std::function<void(unsigned)>& fn) {
