@@ -8,7 +8,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <limits>
 #include <span>
 
 namespace dw::scenarios {
@@ -181,9 +184,22 @@ sim::ModuleContext& LuaState::body(lua_State* L, const char* method) {
     luaL_error(L, "m:%s() needs a body, and this world has none (the scenario's [physics] is off)", method);
   return m;
 }
-sim::Vec3 LuaState::vector(lua_State* L) {  // arguments 2, 3 and 4
+// Arguments 2, 3 and 4 of m:METHOD as a vector. A NaN or an infinity (or a number past a float's
+// range) would reach the world's poses and silently corrupt them: a program error naming the call,
+// as a pivot into no cell is.
+sim::Vec3 LuaState::vector(lua_State* L, const char* method) {
   sim::Vec3 v;
-  for (int i = 0; i < 3; ++i) v[size_t(i)] = float(luaL_checknumber(L, 2 + i));
+  for (int i = 0; i < 3; ++i) {
+    const lua_Number given = luaL_checknumber(L, 2 + i);
+    if (std::isfinite(given) && std::abs(given) <= std::numeric_limits<float>::max()) {
+      v[size_t(i)] = float(given);
+      continue;
+    }
+    char shown[32];
+    if (std::isnan(given)) std::snprintf(shown, sizeof shown, "nan");
+    else std::snprintf(shown, sizeof shown, "%g", double(given));
+    luaL_error(L, "m:%s: its %s is %s, not a finite number", method, i == 0 ? "x" : i == 1 ? "y" : "z", shown);
+  }
   return v;
 }
 // m:position(): x, y, z of the body's centre as the step began, in module sizes.
@@ -201,7 +217,7 @@ int LuaState::moving(lua_State* L) {
 // world steps on (refused when the cell is taken or the module is already moving).
 int LuaState::move(lua_State* L) {
   sim::ModuleContext& m = body(L, "move");
-  m.move(vector(L));
+  m.move(vector(L, "move"));
   return 0;
 }
 // m:pivot(about, dx, dy, dz): a pivot about the neighbour `about` into the cell at (dx, dy, dz)
@@ -220,7 +236,7 @@ int LuaState::pivot(lua_State* L) {
 // m:push(x, y, z): an impulse on the body, applied as the world steps on.
 int LuaState::push(lua_State* L) {
   sim::ModuleContext& m = body(L, "push");
-  m.push(vector(L));
+  m.push(vector(L, "push"));
   return 0;
 }
 

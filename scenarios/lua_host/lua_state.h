@@ -200,7 +200,7 @@ class LuaState final : public sim::ProgramScratch {
   static void count_messages(lua_State* L, const char* method, size_t n);
   static int random(lua_State* L);
   static sim::ModuleContext& body(lua_State* L, const char* method);
-  static sim::Vec3 vector(lua_State* L);
+  static sim::Vec3 vector(lua_State* L, const char* method);
   static int position(lua_State* L);
   static int moving(lua_State* L);
   static int move(lua_State* L);

@@ -282,6 +282,30 @@ TEST_F(LuaScript, PivotRollsOverANeighbourAndNamesAWrongOne) {
   }
 }
 
+// m:move and m:push refuse what is not a finite number (NaN, the infinities, a number past a
+// float's range), as m:pivot does: a program error naming the call, never a corrupt pose.
+TEST_F(LuaScript, MoveAndPushRefuseWhatIsNotAFiniteNumber) {
+  const std::pair<std::string, std::string> cases[] = {{"m:move(0/0, 0, 0)", "m:move: its x is nan"},
+                                                       {"m:move(0, math.huge, 0)", "m:move: its y is inf"},
+                                                       {"m:push(0, 0, -math.huge)", "m:push: its z is -inf"},
+                                                       {"m:push(0/0, 1, 1)", "m:push: its x is nan"},
+                                                       {"m:push(1e300, 0, 0)", "m:push: its x is 1e+300"}};
+  for (const auto& [call, said] : cases) {
+    auto loaded =
+        load(kHeader + "function step(m)\n  if m.id == 3 then " + call + " end\nend\n", "[physics]\nenabled = true\n");
+    ASSERT_TRUE(std::holds_alternative<Scenario>(loaded)) << std::get<std::string>(loaded);
+    Scenario& s = std::get<Scenario>(loaded);
+    sim::Session run(*s.model, *s.world, {.threads = 1});
+    try {
+      run.run_until(2);
+      ADD_FAILURE() << call << ": no error, and module 3 is at x = " << run.state().bodies.poses[3].position[0];
+    } catch (const sim::ProgramError& e) {
+      EXPECT_NE(std::string(e.what()).find("x.lua:3: " + said + ", not a finite number"), std::string::npos)
+          << call << ": " << e.what();
+    }
+  }
+}
+
 // Names longer than Lua interns are found all the same.
 TEST_F(LuaScript, LongVariableAndParameterNamesWork) {
   const std::string v(60, 'v'), k(50, 'k');
