@@ -71,6 +71,10 @@ Analysis analyze(const Ast& ast) {
         mentions(n.x);
         break;
       }
+      case NodeKind::SinceBit:  // a bit its module keeps (its conditions, below, are read to work it out)
+        offset_seen(n.x.offset);
+        mentions(n.x);
+        break;
       case NodeKind::Id:  // the module's presence, kept with its neighbour set
         graph_read(absolute(n.x));
         mentions(n.x);

@@ -167,6 +167,17 @@ class Printer {
         return;
       }
       case NodeKind::Window:
+      case NodeKind::Id:
+      case NodeKind::Step:
+      case NodeKind::Truth:
+      case NodeKind::SinceBit: print_window_term(n); return;
+    }
+  }
+
+  // docs/design.md §4c: windows and id(), and what watch/windows.h writes them out with.
+  void print_window_term(const Node& n) {
+    switch (n.kind) {
+      case NodeKind::Window:
         out_ += window_name(n.window);
         if (n.value > 0) out_ += '[' + std::to_string(n.value) + ']';
         out_ += '(';
@@ -177,14 +188,24 @@ class Printer {
         }
         out_ += ')';
         return;
-      case NodeKind::Id: out_ += "id(" + to_string(ast_, n.x, bound_) + ')'; return;
-      // Never printed as the watchpoint (they are in the evaluated tree only); spelled for a reader.
+      case NodeKind::Id:
+        out_ += "id(" + to_string(ast_, n.x, bound_) + ')';
+        return;
+        // Never printed as the watchpoint (they are in the evaluated tree only); spelled for a reader.
       case NodeKind::Step: out_ += "step(" + to_string(ast_, n.x, bound_) + ')'; return;
       case NodeKind::Truth:
         out_ += "truth(";
         print(n.lhs);
         out_ += ')';
         return;
+      case NodeKind::SinceBit:
+        out_ += "since(";
+        print(n.lhs);
+        out_ += ", ";
+        print(n.rhs);
+        out_ += ")@" + to_string(ast_, n.x, bound_);
+        return;
+      default: return;
     }
   }
 

@@ -66,6 +66,9 @@ enum class NodeKind : uint8_t {
   // `Truth` the integer 1, 0 or unknown of the condition lhs.
   Step,
   Truth,
+  // An unbounded since kept as a bit a step (watch/since_bits.h), read at x: `value` is the since
+  // as written; lhs and rhs its φ and ψ as this copy reads them (what the analysis keeps).
+  SinceBit,
 };
 
 // `once[k](φ)`, `historically[k](φ)`, `times[k](φ)`, `since[k](φ, ψ)`; k = 0 for an unbounded since.

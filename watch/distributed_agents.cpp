@@ -4,6 +4,8 @@
 #include <cstring>
 #include <functional>
 
+#include "watch/since_bits.h"
+
 namespace dw::watch {
 namespace {
 
@@ -175,6 +177,7 @@ DistributedAgents::DistributedAgents(const Program& p, bool temporal_spans, uint
 void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end, const Program& p,
                                std::span<const int> columns) {
   history_.record(frame, begin, end, columns);
+  work_out_since_bits(p, frame.step, begin, end);
   const int64_t f = frame.step - p.agent_delay();
   if (f >= 0) prepare(p, f, begin, end);
 }
@@ -195,6 +198,26 @@ void DistributedAgents::prepare(const Program& p, int64_t f, uint32_t begin, uin
   if (const AgentHistory::StepGraph g = history_.graph(f); g.ids != nullptr)
     for (const uint32_t* n = g.ids + g.begin[begin]; n < g.ids + g.begin[end]; n += 64 / sizeof(uint32_t))
       __builtin_prefetch(n);
+}
+
+// Modules [begin, end) work out each unbounded since's bit at the newest step its conditions can be
+// read for, from their own history (watch/since_bits.h).
+void DistributedAgents::work_out_since_bits(const Program& p, int64_t newest, uint32_t begin, uint32_t end) {
+  if (p.since_bits.empty()) return;
+  EvaluatorScratch scratch(p);  // per call: several threads record blocks at once
+  for (size_t i = 0; i < p.since_bits.size(); ++i) {
+    const SinceBit& bit = p.since_bits[i];
+    const int variable = static_cast<int>(p.variables.size() + i);
+    const int64_t s = newest - bit.ahead;
+    if (s < 0) continue;
+    for (uint32_t m = begin; m < end; ++m) {
+      int64_t v = 0;
+      const Truth prior = history_.value(m, variable, s - 1, v) ? truth_of(v != 0) : kUnknown;
+      auto read = [&](int var, int64_t step, int64_t& out) { return history_.value(m, var, step, out); };
+      const Truth t = since_bit(p, bit, s, prior, read, scratch);
+      history_.set_value(m, variable, s, t == kTrue ? 1 : 0, t != kUnknown);
+    }
+  }
 }
 
 // And-s own leaf `leaf` of modules [begin, end) at detector step f into own_[m * stride_ + at], a

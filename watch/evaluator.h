@@ -79,6 +79,9 @@ class Evaluator {
  public:
   Evaluator(const Program& p, Reader& r, EvaluatorScratch& s) : p_(p), r_(r), s_(s) {}
 
+  // Condition program `truth` (Program::truths), outside any aggregate.
+  Truth condition_program(uint32_t truth) { return logic(p_.truths[truth], p_.truth_depths[truth], 0, -1); }
+
   // A leaf of kind Expression.
   Truth leaf(const Leaf& l) { return compare_values(l.op, value(l.lhs_code, 0, -1), value(l.rhs_code, 0, -1)); }
 

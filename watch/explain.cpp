@@ -26,6 +26,12 @@ void explain_windows(const watch::Watchpoint& w, std::ostream& out) {
       out << "  windows        (at each step a window keeps the shifts j whose reads fall at step 0 or later;"
           << " none kept: unknown)\n";
     any = true;
+    if (n.window == watch::WindowKind::Since && n.value == 0) {
+      out << "    " << watch::to_string(w.ast, static_cast<watch::NodeIndex>(i))
+          << "\n      unbounded: each module keeps it as one bit a step, S(s) = psi(s) or (phi(s) and S(s - 1)), "
+             "from the first step both can be read (cost independent of the past)\n";
+      continue;
+    }
     const int64_t reach = watch::window_reach(w.ast, static_cast<watch::NodeIndex>(i));
     out << "    " << watch::to_string(w.ast, static_cast<watch::NodeIndex>(i)) << "\n      j = 0.." << n.value
         << "; reach " << reach << (reach == 1 ? " step" : " steps") << " back (of the limit " << watch::kMaxOffset

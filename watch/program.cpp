@@ -1,6 +1,9 @@
 #include "watch/program.h"
 
 #include <algorithm>
+#include <map>
+
+#include "watch/windows.h"
 
 namespace dw::watch {
 
@@ -98,6 +101,10 @@ class Compiler {
       p_.actions.push_back(std::move(code));
     }
     order_sets();
+    // A since's bit is kept from its earliest read and, to work the next one out, one step more
+    // than it looks ahead (docs/design.md §4c).
+    for (size_t i = 0; i < p_.since_bits.size(); ++i)
+      p_.variable_min_offset.push_back(std::min(since_min_offset_[i], p_.extent_plus - p_.since_bits[i].ahead - 1));
   }
 
  private:
@@ -176,7 +183,7 @@ class Compiler {
     visit_tree(ast_, node, [&](NodeIndex i, NodeIndex) {
       const Node& n = ast_.nodes[i];
       if (n.kind == NodeKind::Variable || n.kind == NodeKind::Id || n.kind == NodeKind::Aggregate ||
-          n.kind == NodeKind::Neighbor)
+          n.kind == NodeKind::Neighbor || n.kind == NodeKind::SinceBit)
         for (const ModuleRef* m : {&n.x, &n.y})
           if (!m->bound && m->slot >= 0 && (n.kind == NodeKind::Neighbor || m == &n.x))
             last = std::max(last, static_cast<int16_t>(m->slot));
@@ -238,12 +245,41 @@ class Compiler {
     return index;
   }
 
+  // The variable that holds the bit of the unbounded since `n` stands for (watch/since_bits.h): made
+  // the first time, with its conditions compiled as its slot's own (nothing carried).
+  int16_t since_column(const Node& n) {
+    const NodeIndex written = static_cast<NodeIndex>(n.value);
+    auto [it, fresh] = since_index_.emplace(written, p_.since_bits.size());
+    if (fresh) {
+      SinceBit bit;
+      bit.slot = static_cast<int16_t>(n.x.slot);
+      since_steps(ast_, written, bit.first_step, bit.ahead);
+      const int16_t decide = decide_;
+      const bool carries = carries_;
+      decide_ = bit.slot;
+      int depth = 0;
+      bit.phi = static_cast<uint32_t>(p_.truths.size());
+      p_.truths.push_back(compile_condition(n.lhs, aggregate_, depth));
+      p_.truth_depths.push_back(depth);
+      bit.psi = static_cast<uint32_t>(p_.truths.size());
+      p_.truths.push_back(compile_condition(n.rhs, aggregate_, depth));
+      p_.truth_depths.push_back(depth);
+      decide_ = decide;
+      carries_ = carries;
+      p_.since_bits.push_back(bit);
+      since_min_offset_.push_back(n.x.offset);
+    }
+    since_min_offset_[it->second] = std::min(since_min_offset_[it->second], n.x.offset);
+    return static_cast<int16_t>(p_.variables.size() + it->second);
+  }
+
   // An integer expression as postfix value code, its terms carried as decide_ requires.
   uint32_t compile_value(NodeIndex root) {
     std::vector<ValueInstr> code;
     auto is_operand = [](const Node& n) {
       return n.kind == NodeKind::Integer || n.kind == NodeKind::Variable || n.kind == NodeKind::Aggregate ||
-             n.kind == NodeKind::Id || n.kind == NodeKind::Step || n.kind == NodeKind::Truth;
+             n.kind == NodeKind::Id || n.kind == NodeKind::Step || n.kind == NodeKind::Truth ||
+             n.kind == NodeKind::SinceBit;
     };
     auto operand = [&](NodeIndex i) {
       const Node& n = ast_.nodes[i];
@@ -252,6 +288,17 @@ class Compiler {
       if (n.kind == NodeKind::Integer) {
         in.op = ValueOp::Constant;
         in.constant = n.value;
+      } else if (n.kind == NodeKind::SinceBit) {
+        TermRef t;
+        t.slot = static_cast<int16_t>(n.x.slot);
+        t.variable = since_column(n);
+        t.offset = static_cast<int16_t>(n.x.offset);
+        carry(t, decide_);
+        in.op = ValueOp::Term;
+        in.slot = t.slot;
+        in.variable = t.variable;
+        in.offset = t.offset;
+        in.cell = t.cell;
       } else if (n.kind == NodeKind::Step) {
         in.op = ValueOp::Step;
         in.slot = static_cast<int16_t>(n.x.slot);
@@ -365,9 +412,11 @@ class Compiler {
   const Ast& ast_;
   const Analysis& analysis_;
   Program& p_;
-  int16_t decide_ = 0;      // the decide slot of what is being compiled
-  uint32_t aggregate_ = 0;  // the aggregate whose body is being compiled
-  bool carries_ = false;    // the leaf being compiled reads a cell, a set or a table
+  int16_t decide_ = 0;                       // the decide slot of what is being compiled
+  uint32_t aggregate_ = 0;                   // the aggregate whose body is being compiled
+  std::map<NodeIndex, size_t> since_index_;  // unbounded since as written -> Program::since_bits
+  std::vector<int> since_min_offset_;        // per since bit: the earliest offset it is read at
+  bool carries_ = false;                     // the leaf being compiled reads a cell, a set or a table
 };
 
 }  // namespace

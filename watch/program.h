@@ -170,6 +170,15 @@ struct CarriedSet {
 };
 
 // `then set a.v = expr` / `then remove a`, its value decided at the last slot.
+// An unbounded `since(φ, ψ)` over one slot's own variables (watch/since_bits.h): each module keeps
+// its bit a step as one more variable, read as variable `variables.size() + i` for since_bits[i].
+struct SinceBit {
+  int16_t slot = 0;
+  uint32_t phi = 0, psi = 0;  // Program::truths, offsets from the step whose bit is worked out
+  int first_step = 0;         // the first step whose reads of φ and ψ all fall at step 0 or later
+  int ahead = 0;              // the largest offset they read: S(s) is known once step s + ahead is
+};
+
 struct ActionCode {
   Action::Kind kind = Action::Kind::Set;
   int16_t slot = 0;
@@ -241,6 +250,9 @@ class Program {
   std::vector<std::vector<ExprOp>> truths;
   std::vector<int> truth_depths;
   bool reads_id = false;  // some term is id(m): the readers need the modules' ids
+  // Unbounded sinces, kept as variables after `variables`; variable_min_offset covers them too.
+  std::vector<SinceBit> since_bits;
+  size_t column_count() const { return variables.size() + since_bits.size(); }
   int max_value_stack = 0;
   // Truths of scratch: enough for every condition program at once, as they may nest.
   int max_condition_stack = 0;

@@ -3,11 +3,16 @@
 #include <algorithm>
 
 #include "watch/detector.h"
+#include "watch/since_bits.h"
 
 namespace dw::watch {
 
 StepHistory::StepHistory(const Program& p, const Universe& u, bool spans, int64_t later)
-    : modules_(u.module_count()), frame_columns_(variable_columns(p, u)), columns_(p.variables.size()) {
+    : program_(&p),
+      scratch_(p),
+      modules_(u.module_count()),
+      frame_columns_(variable_columns(p, u)),
+      columns_(p.column_count()) {
   if (p.reads_id) ids_ = u.module_ids;
   for (size_t v = 0; v < columns_.size(); ++v)
     columns_[v].configure(spans ? p.extent_plus - p.variable_min_offset[v] + 1 + later : 0);
@@ -19,7 +24,7 @@ void StepHistory::record(const Frame& frame) {
     Column& col = columns_[v].write(frame.step);
     col.value.resize(modules_);
     col.known.resize(modules_);
-    const int c = frame_columns_[v];
+    const int c = v < frame_columns_.size() ? frame_columns_[v] : -1;  // a since's bit: worked out below
     for (uint32_t m = 0; m < modules_; ++m) {
       const size_t at = static_cast<size_t>(m) * frame.variable_count + static_cast<size_t>(c);
       const bool known = c >= 0 && frame.present[m] && frame.has(at);
@@ -31,6 +36,32 @@ void StepHistory::record(const Frame& frame) {
   g.present.assign(frame.present.begin(), frame.present.end());
   g.begin.assign(frame.nbr_begin.begin(), frame.nbr_begin.end());
   g.ids.assign(frame.nbrs.begin(), frame.nbrs.end());
+  work_out_since_bits(frame.step);
+}
+
+// Each unbounded since's bit at the newest step its conditions can be read for (watch/since_bits.h).
+void StepHistory::work_out_since_bits(int64_t newest) {
+  const Program& p = *program_;
+  for (size_t i = 0; i < p.since_bits.size(); ++i) {
+    const SinceBit& bit = p.since_bits[i];
+    const int64_t s = newest - bit.ahead;
+    auto& ring = columns_[p.variables.size() + i];
+    Column* now = ring.find(s);
+    if (now == nullptr) continue;
+    const Column* before = ring.find(s - 1);
+    for (uint32_t m = 0; m < modules_; ++m) {
+      const Truth prior = before != nullptr && before->known[m] ? truth_of(before->value[m] != 0) : kUnknown;
+      auto read = [&](int variable, int64_t step, int64_t& out) {
+        const Column* c = column(variable, step);
+        if (c == nullptr || !c->known[m]) return false;
+        out = c->value[m];
+        return true;
+      };
+      const Truth t = since_bit(p, bit, s, prior, read, scratch_);
+      now->known[m] = t != kUnknown;
+      now->value[m] = t == kTrue;
+    }
+  }
 }
 
 size_t StepHistory::bytes() const {

@@ -20,17 +20,55 @@ struct Shift {
 // and the earliest offset of the enclosing aggregate's bound name.
 struct Reads {
   std::map<int, int> slot;  // slot -> earliest offset
+  int latest = 0;           // the largest offset read, at least 0
   bool bound = false;
   int bound_offset = 0;
   void add_slot(int s, int offset) {
     auto [it, fresh] = slot.emplace(s, offset);
     if (!fresh) it->second = std::min(it->second, offset);
+    latest = std::max(latest, offset);
   }
   void add_bound(int offset) {
     bound_offset = bound ? std::min(bound_offset, offset) : offset;
     bound = true;
   }
 };
+
+// What `root` (a window's condition, as written) reads at its shift 0: nested windows count as
+// reading their own condition at their shift 0; an aggregate reads its module and, at its step
+// plus their offsets, its bound name's variables and neighbour sets.
+Reads reads_at_shift_zero(const Ast& ast, NodeIndex root) {
+  Reads r;
+  struct Item {
+    NodeIndex node;
+    int aggregate_slot, aggregate_offset;  // the aggregate inside `root` the node lies in, or -1
+  };
+  std::vector<Item> work{{root, -1, 0}};
+  while (!work.empty()) {
+    const Item it = work.back();
+    work.pop_back();
+    const Node& n = ast.nodes[static_cast<size_t>(it.node)];
+    auto read = [&](const ModuleRef& m) {
+      if (!m.bound) r.add_slot(m.slot, m.offset);
+      else if (it.aggregate_slot >= 0) r.add_slot(it.aggregate_slot, it.aggregate_offset + m.offset);
+      else r.add_bound(m.offset);  // the aggregate around the window
+    };
+    Item inner = it;
+    switch (n.kind) {
+      case NodeKind::Variable:
+      case NodeKind::Id:
+      case NodeKind::Neighbor: read(n.x); break;
+      case NodeKind::Aggregate:
+        read(n.x);
+        inner = {it.node, n.x.slot, n.x.offset};
+        break;
+      default: break;
+    }
+    if (n.lhs != kNoNode) work.push_back({n.lhs, inner.aggregate_slot, inner.aggregate_offset});
+    if (n.rhs != kNoNode) work.push_back({n.rhs, inner.aggregate_slot, inner.aggregate_offset});
+  }
+  return r;
+}
 
 class Writer {
  public:
@@ -49,6 +87,7 @@ class Writer {
     if (too_large_) return i;
     if (s.none() && !has_window_[static_cast<size_t>(i)]) return i;  // shared as written
     Node n = ast_.nodes[static_cast<size_t>(i)];
+    if (n.kind == NodeKind::Window && n.window == WindowKind::Since && n.value == 0) return since_bit(i, n, s);
     if (n.kind == NodeKind::Window) return write_out(n, s);
     lower(n.x, s);
     if (n.kind == NodeKind::Neighbor) lower(n.y, s);
@@ -113,38 +152,7 @@ class Writer {
   // What `root` (a window's condition, as written) reads at its shift 0: nested windows count as
   // reading their own condition at their shift 0; an aggregate reads its module and, at its step
   // plus their offsets, its bound name's variables and neighbour sets.
-  Reads reads_of(NodeIndex root) const {
-    Reads r;
-    struct Item {
-      NodeIndex node;
-      int aggregate_slot, aggregate_offset;  // the aggregate inside `root` the node lies in, or -1
-    };
-    std::vector<Item> work{{root, -1, 0}};
-    while (!work.empty()) {
-      const Item it = work.back();
-      work.pop_back();
-      const Node& n = ast_.nodes[static_cast<size_t>(it.node)];
-      auto read = [&](const ModuleRef& m) {
-        if (!m.bound) r.add_slot(m.slot, m.offset);
-        else if (it.aggregate_slot >= 0) r.add_slot(it.aggregate_slot, it.aggregate_offset + m.offset);
-        else r.add_bound(m.offset);  // the aggregate around the window
-      };
-      Item inner = it;
-      switch (n.kind) {
-        case NodeKind::Variable:
-        case NodeKind::Id:
-        case NodeKind::Neighbor: read(n.x); break;
-        case NodeKind::Aggregate:
-          read(n.x);
-          inner = {it.node, n.x.slot, n.x.offset};
-          break;
-        default: break;
-      }
-      if (n.lhs != kNoNode) work.push_back({n.lhs, inner.aggregate_slot, inner.aggregate_offset});
-      if (n.rhs != kNoNode) work.push_back({n.rhs, inner.aggregate_slot, inner.aggregate_offset});
-    }
-    return r;
-  }
+  Reads reads_of(NodeIndex root) const { return reads_at_shift_zero(ast_, root); }
 
   // The step of the earliest read of the window's condition at shift 0, lowered by `s`: j is kept
   // exactly when this is at least j. A condition that reads nothing reads the match step (slot
@@ -156,6 +164,26 @@ class Writer {
     if (r.bound) fold(step(s.aggregate_slot, s.aggregate_offset + r.bound_offset - s.bound, span));
     if (m == kNoNode) fold(step(0, -s.slot, span));
     return m;
+  }
+
+  // An unbounded since (watch/since_bits.h): the bit its module keeps, read at the slot's "now"
+  // lowered by the windows around it, and its conditions as written out once (what the bit is
+  // worked out from, and what the analysis keeps the history for).
+  NodeIndex since_bit(NodeIndex written, const Node& w, const Shift& s) {
+    Reads r = reads_of(w.lhs);
+    for (const auto& [slot, offset] : reads_of(w.rhs).slot) r.add_slot(slot, offset);
+    auto [it, fresh] = since_conditions_.emplace(written, std::pair<NodeIndex, NodeIndex>{kNoNode, kNoNode});
+    if (fresh) it->second = {copy(w.lhs, {}), copy(w.rhs, {})};
+    Node b;
+    b.kind = NodeKind::SinceBit;
+    b.span = w.span;
+    b.value = written;
+    b.x.slot = r.slot.empty() ? 0 : r.slot.begin()->first;
+    b.x.offset = -s.slot;
+    b.lhs = it->second.first;
+    b.rhs = it->second.second;
+    const NodeIndex bit = add(std::move(b));
+    return compare(bit, CompareOp::Equal, integer(1, w.span), w.span);
   }
 
   NodeIndex write_out(const Node& w, const Shift& s) {
@@ -212,6 +240,7 @@ class Writer {
   }
 
   Ast& ast_;
+  std::map<NodeIndex, std::pair<NodeIndex, NodeIndex>> since_conditions_;  // by unbounded since: φ, ψ
   size_t written_;
   std::vector<uint8_t> has_window_;
   bool too_large_ = false;
@@ -256,12 +285,19 @@ int64_t window_reach(const Ast& ast, NodeIndex window) {
   return reach;
 }
 
+void since_steps(const Ast& ast, NodeIndex since, int& first_step, int& ahead) {
+  const Node& w = ast.nodes[static_cast<size_t>(since)];
+  Reads r = reads_at_shift_zero(ast, w.lhs);
+  const Reads more = reads_at_shift_zero(ast, w.rhs);
+  for (const auto& [slot, offset] : more.slot) r.add_slot(slot, offset);
+  first_step = 0;
+  for (const auto& [slot, offset] : r.slot) first_step = std::max(first_step, -offset);
+  ahead = r.latest;
+}
+
 std::vector<Diagnostic> write_out_windows(Ast& ast) {
   Writer writer(ast);
   if (!writer.any()) return {};
-  for (const Node& n : ast.nodes)
-    if (n.kind == NodeKind::Window && n.window == WindowKind::Since && n.value == 0)
-      return {{n.span, "an unbounded since(...) is not evaluated yet: give it a bound, since[k](...)"}};
   if (ast.root != kNoNode) ast.evaluated = writer.copy(ast.root, {});
   for (Action& a : ast.actions)
     if (a.kind == Action::Kind::Set) a.evaluated = writer.copy(a.value, {});

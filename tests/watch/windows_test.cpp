@@ -91,6 +91,36 @@ TEST(Windows, OnceHistoricallyAndSinceOverOneModule) {
   }
 }
 
+TEST(Windows, AnUnboundedSinceIsKeptAsABitAStep) {
+  //                      t: 0  1  2  3  4  5  6
+  const TestEnsemble e = alone({1, 0, 0, 0, 1, 1, 0}, {0, 1, 0, 1, 1, 0, 1});
+  for (const Reading& r : readings()) {
+    EXPECT_EQ(steps_matched(e, "modules(a); since(a.y = 1, a.x = 1)", r), (std::set<int64_t>{0, 1, 4, 5, 6})) << r.name;
+    EXPECT_EQ(steps_matched(e, "modules(a); not since(a.y = 1, a.x = 1)", r), (std::set<int64_t>{2, 3})) << r.name;
+    // Read one step back, by a window around it: S(t) or S(t - 1).
+    EXPECT_EQ(steps_matched(e, "modules(a); not once[1](since(a.y = 1, a.x = 1))", r), (std::set<int64_t>{3}))
+        << r.name;
+    // With a.last inside it starts at step 1 (S(0) = F): unknown at step 0.
+    EXPECT_EQ(steps_matched(e, "modules(a); since(a.y = 1, a.last.x = 1)", r), (std::set<int64_t>{1, 5, 6})) << r.name;
+    EXPECT_EQ(steps_matched(e, "modules(a); not since(a.y = 1, a.last.x = 1)", r), (std::set<int64_t>{2, 3, 4}))
+        << r.name;
+    // With a.next inside, the bit of step t is known once step t + 1 is.
+    EXPECT_EQ(steps_matched(e, "modules(a); since(a.y = 1, a.next.x = 1)", r), (std::set<int64_t>{3, 4})) << r.name;
+  }
+}
+
+TEST(Windows, AnUnboundedSinceOverTheSecondSlotReadsAtItsStep) {
+  TestEnsemble e(2, {"x"});
+  for (int64_t t = 0; t < 4; ++t) {
+    e.set(t, 0, {{"x", 0}}, {1});
+    e.set(t, 1, {{"x", t == 1 ? 1 : 0}}, {0});
+  }
+  // b.x = 1 at step 1 only: since(b.x = 0, b.x = 1) holds from step 1 on, at b's own step.
+  const Watchpoint w = compile_or_die("modules(a b); since(b.x = 0, b.x = 1) and id(a) = 0");
+  EXPECT_EQ(e.run(Algorithm::Centralized, w), (std::set<Match>{{1, {0, 1}}, {2, {0, 1}}, {3, {0, 1}}}));
+  EXPECT_EQ(e.run(Algorithm::Distributed, w), (std::set<Match>{{0, {0, 1}}, {1, {0, 1}}, {2, {0, 1}}}));
+}
+
 TEST(Windows, AWindowWithNoShiftKeptIsUnknown) {
   const TestEnsemble e = alone({1, 1, 1});
   for (const Reading& r : readings()) {
@@ -150,6 +180,12 @@ TEST(Windows, CheckSaysEachWindowsReach) {
   EXPECT_NE(out.str().find("times[20]((a.parent != a.last.parent))\n      j = 0..20; reach 21 steps back"),
             std::string::npos)
       << out.str();
+}
+
+TEST(Windows, CheckSaysAnUnboundedSinceIsKeptIncrementally) {
+  std::ostringstream out;
+  explain_watchpoint(compile_or_die("modules(a); a.isLeader = 1 and not since(a.isLeader = 1, a.won = 1)"), out);
+  EXPECT_NE(out.str().find("unbounded: each module keeps it as one bit a step"), std::string::npos) << out.str();
 }
 
 TEST(Windows, TheReachCountsTowardTheOffsetLimit) {
