@@ -16,6 +16,7 @@
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
+#include <LinearMath/btPoolAllocator.h>
 
 #include "physics/box_plane.h"
 #include "physics/convert.h"
@@ -55,17 +56,13 @@ struct Dynamics::Compound {
   int64_t used = 0;
 };
 
-// Per worker thread: Bullet's pools (not shared between threads), and a dispatcher, which a
-// world leaves empty (its pairs dropped first) and which takes a while to build.
-struct Dynamics::Worker {
+// Bullet's collision configuration and dispatcher, with pools of `pool` manifolds and as many
+// collision algorithms: what a world gets beyond them comes from the heap, one allocation each.
+struct Dynamics::Collision {
   btDefaultCollisionConfiguration config;
   btCollisionDispatcher dispatcher{&config};
-  // Reused by every island of the worker: its pools keep their memory (a fresh solver zeroed them
-  // every step). Nothing of a solve outlives it but the seed of a random order, which is unused
-  // and reset.
-  btSequentialImpulseConstraintSolver solver;
   BoxPlaneCreateFunc box_plane{false}, plane_box{true};
-  Worker() {
+  explicit Collision(int pool) : config(pool_sizes(pool)) {
     dispatcher.registerCollisionCreateFunc(BOX_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE, &box_plane);
     dispatcher.registerCollisionCreateFunc(STATIC_PLANE_PROXYTYPE, BOX_SHAPE_PROXYTYPE, &plane_box);
     // A box on the ground gets all its corners in one query (physics/box_plane.h); other shapes
@@ -73,6 +70,48 @@ struct Dynamics::Worker {
     // (physics/warm_start.h).
     config.setPlaneConvexMultipointIterations();
     config.setConvexConvexMultipointIterations();
+  }
+  static btDefaultCollisionConstructionInfo pool_sizes(int pool) {
+    btDefaultCollisionConstructionInfo info;
+    info.m_defaultMaxPersistentManifoldPoolSize = pool;
+    info.m_defaultMaxCollisionAlgorithmPoolSize = pool;
+    return info;
+  }
+  // Whether the pools hold `manifolds` manifolds and the algorithms of `pairs` pairs (a cluster's
+  // pair has one more for each child it touches: a full algorithm pool says so).
+  bool holds(int manifolds, int pairs) {
+    return manifolds < config.getPersistentManifoldPool()->getMaxCount() &&
+           pairs < config.getCollisionAlgorithmPool()->getMaxCount() &&
+           config.getCollisionAlgorithmPool()->getFreeCount() > 0;
+  }
+};
+
+// Per worker thread: what Bullet would otherwise allocate, zero and free again for each island of
+// each step, kept for the next (none of it is state: a world leaves it empty, and the results do
+// not depend on it).
+struct Dynamics::Worker {
+  static constexpr int kFirstPool = 4096;  // Bullet's default
+  std::unique_ptr<Collision> collision = std::make_unique<Collision>(kFirstPool);
+  int pool = kFirstPool;
+  int needed = 0;  // what an island needed beyond the pools, 0 if they sufficed
+  // The broadphase, emptied by each world and reset to its first state before the next
+  // (btDbvtBroadphase::resetPool: the pairs it finds, and their order, as a fresh one's).
+  btDbvtBroadphase broadphase;
+  // Reused by every island of the worker: its pools keep their memory (a fresh solver zeroed them
+  // every step). Nothing of a solve outlives it but the seed of a random order, which is unused
+  // and reset.
+  btSequentialImpulseConstraintSolver solver;
+
+  // Before an island: pools with room to spare for what one overflowed (so that a large pile's
+  // every manifold comes from one block paged in once, not from the heap anew each step).
+  Collision& fit() {
+    if (needed > 0) {
+      pool = int(std::bit_ceil(uint32_t(needed + needed / 4)));
+      collision = std::make_unique<Collision>(pool);
+      needed = 0;
+    }
+    broadphase.resetPool(&collision->dispatcher);
+    return *collision;
   }
 };
 
@@ -250,6 +289,7 @@ struct Dynamics::IslandOutput {
 // Every body of the step, in tag order, and what each can reach over it.
 void Dynamics::gather_bodies(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes, int64_t to) {
   plan.compound_of.assign(b.clusters.size(), nullptr);
+  plan.bodies.reserve(b.clusters.size() + b.movers.size() + settings_.props.size());
   for (int i = 0; i < plan.clusters; ++i) {
     const sim::Cluster& c = b.clusters[size_t(i)];
     Body body{.tag = i, .mass = c.anchored ? 0 : settings_.module_mass * float(c.count), .shape = module_shape_};
@@ -384,12 +424,12 @@ void Dynamics::step_island(const Plan& plan, uint32_t island, Worker& worker, si
     if (tag >= plan.clusters + plan.movers) return sim::contact_prop(uint32_t(tag - plan.clusters - plan.movers));
     return module_of(plan, b, o, child);
   };
-  btDbvtBroadphase broadphase;
-  btCollisionDispatcher& dispatcher = worker.dispatcher;
+  Collision& collision = worker.fit();
+  btCollisionDispatcher& dispatcher = collision.dispatcher;
   btSequentialImpulseConstraintSolver& solver = worker.solver;
   solver.reset();
   std::vector<std::unique_ptr<btRigidBody>> rigid;  // outlive the world, which unlinks them when it goes
-  WarmStartedWorld world(&dispatcher, &broadphase, &solver, &worker.config, b.contacts, side_of);
+  WarmStartedWorld world(&dispatcher, &worker.broadphase, &solver, &collision.config, b.contacts, side_of);
   const PairsDroppedFirst<btDiscreteDynamicsWorld> teardown{world};
   world.setGravity(to_bt(settings_.gravity));
   world.getSolverInfo().m_numIterations = settings_.solver_iterations;
@@ -436,6 +476,9 @@ void Dynamics::step_island(const Plan& plan, uint32_t island, Worker& worker, si
   const float substep = dt / float(settings_.substeps);
   for (int k = 0; k < settings_.substeps; ++k) {
     world.stepSimulation(substep, 0, substep);
+    const int manifolds = dispatcher.getNumManifolds(), pairs = world.getPairCache()->getNumOverlappingPairs();
+    if (!collision.holds(manifolds, pairs))
+      worker.needed = std::max({worker.needed, manifolds, pairs, 2 * worker.pool});
     for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
       const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(i);
       if (manifold->getBody0()->getUserIndex() < 0 || manifold->getBody1()->getUserIndex() < 0) continue;
@@ -538,6 +581,9 @@ void Dynamics::settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim:
       c.still = slow ? c.still + 1 : 0;
     }
   std::vector<sim::ContactPoint> cache;
+  size_t stepped = 0;
+  for (const IslandOutput& out : outputs) stepped += out.contacts.size();
+  cache.reserve(stepped);
   const auto asleep = [&](uint32_t side) {
     if (side >= b.cluster_of.size()) return false;  // the ground or a prop: never asleep
     const uint32_t c = b.cluster_of[side];

@@ -71,6 +71,7 @@ class Dynamics {
   struct Plan;
   struct IslandOutput;
   struct Shapes;
+  struct Collision;
   struct Worker;
   ReachBox reach(const Body& body, float pushed, float turned) const;
   const Compound& compound(const sim::Bodies& bodies, const sim::Cluster& cluster, int64_t step);

@@ -16,6 +16,7 @@
 
 #include "physics/convert.h"
 #include "physics/shapes.h"
+#include "physics/warm_start.h"
 
 namespace dw::physics {
 
@@ -37,6 +38,7 @@ PlainRun run_plain_bullet(const PlainScene& scene, const PhysicsSettings& settin
   if (sleeping == Sleeping::AsBullet) gDeactivationTime = settings.sleep_after;
   world.setGravity(to_bt(settings.gravity));
   world.getSolverInfo().m_numIterations = settings.solver_iterations;
+  world.getSolverInfo().m_solverMode = kSolverMode;  // dwatch's (physics/warm_start.h)
 
   const auto add = [&](float mass, btCollisionShape* shape, const btTransform& pose) {
     btVector3 inertia(0, 0, 0);

@@ -3,8 +3,9 @@
 // btDefaultCollisionConfiguration), stepped as a Bullet user steps it, with dwatch's settings
 // (physics/settings.h): boxes one module across (Bullet's own margin, as physics/shapes.cpp
 // makes them), the module mass, dt in as many substeps, gravity, friction, restitution, solver
-// iterations, the sleeping thresholds, and a static plane for the ground. It lives in physics/, where
-// Bullet's headers may be seen (docs/design.md §1); no Bullet type is named here.
+// iterations and mode (physics/warm_start.h), the sleeping thresholds, and a static plane for the
+// ground. It lives in physics/, where Bullet's headers may be seen (docs/design.md §1); no Bullet
+// type is named here.
 #pragma once
 
 #include <cstdint>

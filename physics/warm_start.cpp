@@ -14,9 +14,7 @@ WarmStartedWorld::WarmStartedWorld(btDispatcher* dispatcher, btBroadphaseInterfa
                                    btConstraintSolver* solver, btCollisionConfiguration* config,
                                    std::span<const sim::ContactPoint> cache, ContactSide side)
     : btDiscreteDynamicsWorld(dispatcher, broadphase, solver, config), cache_(cache), side_(std::move(side)) {
-  getSolverInfo().m_solverMode = SOLVER_USE_WARMSTARTING | SOLVER_SIMD | SOLVER_USE_2_FRICTION_DIRECTIONS |
-                                 SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION |
-                                 SOLVER_ENABLE_FRICTION_DIRECTION_CACHING;
+  getSolverInfo().m_solverMode = kSolverMode;
 }
 
 namespace {
@@ -102,6 +100,10 @@ void WarmStartedWorld::solveConstraints(btContactSolverInfo& info) {
 
 void WarmStartedWorld::keep_contacts(std::vector<sim::ContactPoint>& out) {
   btDispatcher& dispatcher = *getDispatcher();
+  size_t points = 0;
+  for (int i = 0; i < dispatcher.getNumManifolds(); ++i)
+    points += size_t(dispatcher.getManifoldByIndexInternal(i)->getNumContacts());
+  out.reserve(out.size() + points);
   for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
     const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(i);
     for (int p = 0; p < manifold.getNumContacts(); ++p) {

@@ -24,10 +24,16 @@ namespace dw::physics {
 // is not a compound); -1 when that does not say (a compound's child not given).
 using ContactSide = std::function<int64_t(const btCollisionObject*, int child)>;
 
-// A dynamics world whose solver starts from `cache` (sorted by pair, sim/contact_cache.h). Its
-// solver uses two friction directions per point, fixed by the normal rather than by the sliding
-// velocity and kept with the point, so that the impulses carried from step to step keep pointing
-// where they were applied. A step in substeps warm-starts its first from the cache and the
+// The solver's mode: warm-started, two friction directions per point, fixed by the normal rather
+// than by the sliding velocity and kept with the point (so that the impulses carried from step to
+// step keep pointing where they were applied). The plain Bullet peer of `dwatch bench physics`
+// solves with the same (physics/plain_bullet.h).
+inline constexpr int kSolverMode = SOLVER_USE_WARMSTARTING | SOLVER_SIMD | SOLVER_USE_2_FRICTION_DIRECTIONS |
+                                   SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION |
+                                   SOLVER_ENABLE_FRICTION_DIRECTION_CACHING;
+
+// A dynamics world whose solver (kSolverMode) starts from `cache` (sorted by pair,
+// sim/contact_cache.h). A step in substeps warm-starts its first from the cache and the
 // others from Bullet's own manifolds.
 class WarmStartedWorld final : public btDiscreteDynamicsWorld {
  public:
