@@ -96,6 +96,9 @@ bool commit_outputs(const std::vector<sim::OutputFile*>& outputs) {
   for (sim::OutputFile* out : outputs) {
     if (out == nullptr) continue;
     if (std::string error = out->commit(); !error.empty()) {
+      // "-" said as the README says it: a closed pipe or a full disk under `--matches -`.
+      if (out->path() == "-" && error.rfind("writing - failed", 0) == 0)
+        error.replace(0, std::string_view("writing -").size(), "writing standard output");
       std::cerr << "dwatch: error: " << error << "\n";
       ok = false;
     }

@@ -89,6 +89,7 @@ int run_script(shell::Shell& shell, const watch::SourceText& source, shell::Inte
       return 1;
     }
     std::cout << shell::answer_line(std::get<nlohmann::ordered_json>(answer)) << "\n" << std::flush;
+    if (!std::cout) return 1;  // no answer reaches anyone any more; the caller says why
   }
   return 0;
 }
@@ -120,6 +121,7 @@ int run_prompt(shell::Shell& shell, shell::Interrupts* interrupts) {
     else if (auto* error = std::get_if<std::string>(&answer))
       std::cerr << "error: " << shell::replace_invalid_utf8(*error) << "\n";
     else std::cout << shell::answer_line(std::get<nlohmann::ordered_json>(answer)) << "\n" << std::flush;
+    if (!std::cout) return 1;
   }
   return 0;
 }

@@ -2,6 +2,8 @@
 // app/cli/): mistakes on the command line, numbers in their keys' ranges, outputs that would
 // clobber each other or an input, failed writes, inputs without end, summaries.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -183,6 +185,47 @@ TEST_F(Cli, AFailedWriteNamesThePathAndDestroysNothing) {
   EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1);
   EXPECT_EQ(slurp(old), "old picture");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 3) << "no temporary left behind";
+}
+
+// dwatch `args` with standard output a pipe nobody reads any more (its read end closed before
+// dwatch starts, as `| head -1` leaves it once head has its line): its exit code (-SIGNAL when a
+// signal ended it) and stderr.
+Result with_closed_pipe(const fs::path& dir, const std::string& args, const std::string& input = "/dev/null") {
+  int ends[2];
+  if (::pipe(ends) != 0) return {-1, "", "pipe"};
+  ::close(ends[0]);
+  const fs::path err = dir / "closed_pipe_err";
+  const std::string cmd = "exec " + std::string(DWATCH_EXE) + " " + args + " <" + input + " 2>" + err.string();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(ends[1], STDOUT_FILENO);
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(ends[1]);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status), "", slurp(err)};
+}
+
+// A closed pipe is a write that failed: exit 1, said, for every command and whatever writes to
+// standard output (a summary, --matches -, answers, --help); never a silent end by SIGPIPE (141).
+TEST_F(Cli, AClosedPipeIsAFailedWriteSaid) {
+  const std::string scenario = (kScenarios / "token_ring.toml").string();
+  const fs::path script = write("s.session", "step\nhash\n");
+  const fs::path requests = write("requests", "step\nhash\nstep\n");
+  for (const auto& [args, input] : std::vector<std::pair<std::string, std::string>>{
+           {"run " + scenario + " --no-progress", "/dev/null"},
+           {"run " + scenario + " --no-progress --matches -", "/dev/null"},
+           {"replay --help", "/dev/null"},
+           {"run --help", "/dev/null"},
+           {"check 'modules(a); a.x = 1'", "/dev/null"},
+           {"session " + scenario + " --script " + script.string(), "/dev/null"},
+           {"session " + scenario + " --protocol", requests.string()}}) {
+    const Result r = with_closed_pipe(dir_, args, input);
+    EXPECT_EQ(r.code, 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("dwatch: error: writing standard output failed"), std::string::npos) << args << ": " << r.err;
+  }
 }
 
 TEST_F(Cli, InputsWithoutEndAreRefusedAtTheirLimit) {
