@@ -228,6 +228,43 @@ TEST_F(Cli, AClosedPipeIsAFailedWriteSaid) {
   }
 }
 
+// Standard output redirected to an output's file (`--matches o.txt > o.txt`) would lose the
+// summary (the output is committed over it): refused as the session refuses it, before the run.
+TEST_F(Cli, AnOutputOntoStandardOutputIsRefusedWhereTheSummaryGoes) {
+  const std::string scenario = (kScenarios / "token_ring.toml").string();
+  const fs::path o = dir_ / "o.txt";
+  for (const std::string option : {"--matches", "--stats", "--record"}) {
+    const int status = std::system((std::string(DWATCH_EXE) + " run " + scenario + " --no-progress " + option + " " +
+                                    o.string() + " >" + o.string() + " 2>" + (dir_ / "err").string())
+                                       .c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2) << option;
+    EXPECT_EQ(slurp(dir_ / "err"), "dwatch: error: " + std::string(option) + " " + o.string() +
+                                       " would write where the summary goes (standard output)\n");
+    EXPECT_EQ(slurp(o), "") << "nothing ran";
+  }
+  // replay's and render's summaries alike.
+  const fs::path c = cases_ / "07_last_last_single";
+  for (const std::string& command :
+       {"replay " + (c / "trace.jsonl").string() + " -w @" + (c / "watch.txt").string() + " --matches ",
+        "render " + scenario + " --step 1 --out "}) {
+    const int status = std::system(
+        (std::string(DWATCH_EXE) + " " + command + o.string() + " >" + o.string() + " 2>" + (dir_ / "err").string())
+            .c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2) << command;
+    EXPECT_NE(slurp(dir_ / "err").find("would write where the summary goes (standard output)"), std::string::npos)
+        << command << ": " << slurp(dir_ / "err");
+  }
+  const Result through_proc = run("run " + scenario + " --no-progress --matches /proc/self/fd/1");
+  EXPECT_EQ(through_proc.code, 2) << through_proc.err;
+  EXPECT_NE(through_proc.err.find("would write where the summary goes (standard output)"), std::string::npos)
+      << through_proc.err;
+  // Standard output elsewhere, or the matches on it (the summary then goes to stderr): as before.
+  EXPECT_EQ(run("run " + scenario + " --no-progress --matches " + o.string()).code, 0);
+  const Result on_stdout = run("run " + scenario + " --no-progress --matches -");
+  EXPECT_EQ(on_stdout.code, 0) << on_stdout.err;
+  EXPECT_NE(on_stdout.err.find("token_from_nowhere"), std::string::npos) << on_stdout.err;
+}
+
 TEST_F(Cli, InputsWithoutEndAreRefusedAtTheirLimit) {
   // Each would grow to gigabytes if read whole.
   const std::string scenario = (dir_ / "z.toml").string();
