@@ -245,32 +245,38 @@ class Compiler {
     return index;
   }
 
+  // A condition read as an integer (Program::truths); the ones inside it are compiled first.
+  uint32_t compile_truth(NodeIndex condition) {
+    int depth = 0;
+    std::vector<ExprOp> ops = compile_condition(condition, aggregate_, depth);
+    p_.truths.push_back(std::move(ops));
+    p_.truth_depths.push_back(depth);
+    return static_cast<uint32_t>(p_.truths.size() - 1);
+  }
+
   // The variable that holds the bit of the unbounded since `n` stands for (watch/since_bits.h): made
   // the first time, with its conditions compiled as its slot's own (nothing carried).
   int16_t since_column(const Node& n) {
     const NodeIndex written = static_cast<NodeIndex>(n.value);
-    auto [it, fresh] = since_index_.emplace(written, p_.since_bits.size());
-    if (fresh) {
+    auto found = since_index_.find(written);
+    if (found == since_index_.end()) {
       SinceBit bit;
       bit.slot = static_cast<int16_t>(n.x.slot);
       since_steps(ast_, written, bit.first_step, bit.ahead);
       const int16_t decide = decide_;
       const bool carries = carries_;
       decide_ = bit.slot;
-      int depth = 0;
-      bit.phi = static_cast<uint32_t>(p_.truths.size());
-      p_.truths.push_back(compile_condition(n.lhs, aggregate_, depth));
-      p_.truth_depths.push_back(depth);
-      bit.psi = static_cast<uint32_t>(p_.truths.size());
-      p_.truths.push_back(compile_condition(n.rhs, aggregate_, depth));
-      p_.truth_depths.push_back(depth);
+      // A since inside this one gets its bit first: histories work the bits out in order.
+      bit.phi = compile_truth(n.lhs);
+      bit.psi = compile_truth(n.rhs);
       decide_ = decide;
       carries_ = carries;
+      found = since_index_.emplace(written, p_.since_bits.size()).first;
       p_.since_bits.push_back(bit);
       since_min_offset_.push_back(n.x.offset);
     }
-    since_min_offset_[it->second] = std::min(since_min_offset_[it->second], n.x.offset);
-    return static_cast<int16_t>(p_.variables.size() + it->second);
+    since_min_offset_[found->second] = std::min(since_min_offset_[found->second], n.x.offset);
+    return static_cast<int16_t>(p_.variables.size() + found->second);
   }
 
   // An integer expression as postfix value code, its terms carried as decide_ requires.
@@ -305,11 +311,7 @@ class Compiler {
         in.offset = static_cast<int16_t>(n.x.offset);
       } else if (n.kind == NodeKind::Truth) {
         in.op = ValueOp::Truth;
-        int depth = 0;
-        std::vector<ExprOp> ops = compile_condition(n.lhs, aggregate_, depth);
-        in.index = static_cast<uint32_t>(p_.truths.size());
-        p_.truths.push_back(std::move(ops));
-        p_.truth_depths.push_back(depth);
+        in.index = compile_truth(n.lhs);
       } else if (n.kind == NodeKind::Aggregate) {
         in.op = ValueOp::Aggregate;
         in.index = compile_aggregate(i);

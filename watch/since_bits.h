@@ -1,9 +1,9 @@
 // An unbounded `since(φ, ψ)` kept incrementally (docs/design.md §4c): over one slot's own variables,
 // each module keeps one three-valued bit a step, S(s) = ψ(s) or (φ(s) and S(s − 1)), from
 // S(d − 1) = F where d is the first step whose reads of φ and ψ all fall at step 0 or later
-// (unknown before it). A history holds the bits as one more column per since, after the program's
-// variables (Program::since_bits), and works each step's bits out as it records a frame: a
-// reading then reads `since(...)` as a variable, at its own "now".
+// (unknown before it; d ≥ 0, as the parser refuses a since that reads only ahead). A history holds the bits as one more
+// column per since, after the program's variables (Program::since_bits), and works each step's bits out as it records a
+// frame: a reading then reads `since(...)` as a variable, at its own "now".
 #pragma once
 
 #include <cstdint>
@@ -37,9 +37,10 @@ Truth since_bit(const Program& p, const SinceBit& bit, int64_t s, Truth before, 
     int64_t now(int) const { return step; }
   } reader{read, s};
   Evaluator e(p, reader, scratch);
-  const Truth psi = e.condition_program(bit.psi);
-  if (s == bit.first_step) return kleene_or(psi, kFalse);
-  return kleene_or(psi, kleene_and(e.condition_program(bit.phi), before));
+  auto next = [&](Truth prior) {
+    return kleene_or(e.condition_program(bit.psi), kleene_and(e.condition_program(bit.phi), prior));
+  };
+  return next(s == bit.first_step ? kFalse : before);
 }
 
 }  // namespace dw::watch

@@ -290,7 +290,8 @@ void since_steps(const Ast& ast, NodeIndex since, int& first_step, int& ahead) {
   Reads r = reads_at_shift_zero(ast, w.lhs);
   const Reads more = reads_at_shift_zero(ast, w.rhs);
   for (const auto& [slot, offset] : more.slot) r.add_slot(slot, offset);
-  first_step = 0;
+  r.latest = std::max(r.latest, more.latest);
+  first_step = 0;  // the parser refuses a since that reads only ahead, which would start before 0
   for (const auto& [slot, offset] : r.slot) first_step = std::max(first_step, -offset);
   ahead = r.latest;
 }

@@ -26,8 +26,8 @@ constexpr size_t kMaxEvaluatedNodes = 400'000;
 // errors that stop it from being evaluated (too large once written out).
 std::vector<Diagnostic> write_out_windows(Ast& ast);
 
-// Of an unbounded since: the first step whose reads of φ and ψ all fall at step 0 or later, and
-// the largest offset they read (at least 0).
+// Of an unbounded since: the first step whose reads of φ and ψ all fall at step 0 or later, and the
+// largest offset they read (at least 0).
 void since_steps(const Ast& ast, NodeIndex since, int& first_step, int& ahead);
 
 // How far back `window` looks from its step: its length, plus the deepest 'last' inside it,
