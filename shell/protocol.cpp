@@ -89,7 +89,7 @@ Request parse_request(std::string line) {
   if (!line.empty() && line.back() == '\r') line.pop_back();
   // A request is UTF-8 text, its JSON too: a byte that is not would reach the answers (an unknown
   // command is echoed), and a file name of it names nothing a user can type.
-  if (const auto at = first_invalid_utf8(line)) {
+  if (const auto at = watch::first_non_utf8(line)) {
     char byte[8];
     std::snprintf(byte, sizeof byte, "0x%02X", unsigned(uint8_t(line[*at])));
     r.unreadable = std::string("a request is UTF-8 text: the byte ") + byte + " at column " + std::to_string(*at + 1) +

@@ -20,6 +20,7 @@
 #include "shell/shell.h"
 #include "shell/utf8_text.h"
 #include "sim/read_file.h"
+#include "watch/diagnostic.h"
 
 namespace dw::app {
 namespace {
@@ -33,7 +34,7 @@ struct SessionArgs {
 // A line that is not UTF-8 text is refused before it is parsed, at its first byte that is not: it
 // would name a file nobody can type, and reach the answers.
 std::optional<watch::Diagnostic> not_utf8(const std::string& text, size_t begin, size_t end) {
-  const auto at = shell::first_invalid_utf8(std::string_view(text).substr(begin, end - begin));
+  const auto at = watch::first_non_utf8(std::string_view(text).substr(begin, end - begin));
   if (!at) return std::nullopt;
   const auto byte = static_cast<uint32_t>(begin + *at);
   return watch::Diagnostic{{byte, byte + 1},
