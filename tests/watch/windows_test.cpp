@@ -317,3 +317,70 @@ TEST(Windows, RandomWindowsEqualTheirDefinitionInEveryReading) {
 
 }  // namespace
 }  // namespace dw::watch
+
+namespace dw::watch {
+namespace {
+
+TEST(Windows, AWindowOverOneModuleIsKeptByItNotWrittenOutOverItsShifts) {
+  // §4c Costs: a window of 6,000 steps over one module's own variables costs what one of 2 does.
+  const Watchpoint small = compile_or_die("modules(a); times[2](historically[3](a.x = 1)) > 1");
+  const Watchpoint large = compile_or_die("modules(a); times[6000](historically[4000](a.x = 1)) > 1");
+  EXPECT_EQ(large.ast.nodes.size(), small.ast.nodes.size());
+  ASSERT_EQ(large.program.kept_windows.size(), 2u);
+  EXPECT_EQ(large.program.kept_windows[0].kind, WindowKind::Historically);  // the inner one first
+  EXPECT_EQ(large.program.kept_windows[1].k, 6000);
+  // A window reading a second module is written out: its cost is its length.
+  const Watchpoint two = compile_or_die("modules(a b); once[50](a.x = b.x)");
+  EXPECT_TRUE(two.program.kept_windows.empty());
+  EXPECT_GT(two.ast.nodes.size(), 50u);
+}
+
+TEST(Windows, ALongKeptWindowEqualsItsDefinitionOverManySteps) {
+  // 400 steps of x, absent now and then: once, historically, times and since over windows of 1
+  // to 150 steps against a brute force of their definition (the clipping near step 0 included).
+  constexpr int kSteps = 400;
+  std::mt19937 rng(4242);
+  std::vector<std::optional<int64_t>> x(kSteps);
+  TestEnsemble e(1, {"x"});
+  for (int t = 0; t < kSteps; ++t) {
+    if (rng() % 17 != 0) x[static_cast<size_t>(t)] = static_cast<int64_t>(rng() % 5 != 0);
+    if (x[static_cast<size_t>(t)]) e.set(t, 0, {{"x", *x[static_cast<size_t>(t)]}}, {});
+  }
+  e.grow(kSteps - 1);
+  auto phi = [&](int64_t s) {
+    return x[static_cast<size_t>(s)] ? truth_of(*x[static_cast<size_t>(s)] == 1) : kUnknown;
+  };
+  for (int k : {1, 7, 150}) {
+    const std::string n = std::to_string(k);
+    std::set<int64_t> once, hist, times, since;
+    for (int64_t t = 0; t < kSteps; ++t) {
+      if (!e.present(t, 0)) continue;
+      Truth o = kFalse, h = kTrue, s = kFalse;
+      int64_t count = 0;
+      bool unknown = false;
+      for (int64_t j = 0; j <= std::min<int64_t>(k, t); ++j) {
+        o = kleene_or(o, phi(t - j));
+        h = kleene_and(h, phi(t - j));
+        count += phi(t - j) == kTrue;
+        unknown |= phi(t - j) == kUnknown;
+        Truth held = kleene_not(phi(t - j));  // since(x = 1, x != 1)
+        for (int64_t i = 0; i < j; ++i) held = kleene_and(held, phi(t - i));
+        s = kleene_or(s, held);
+      }
+      if (o == kTrue) once.insert(t);
+      if (h == kTrue) hist.insert(t);
+      if (!unknown && count == k / 2) times.insert(t);
+      if (s == kTrue) since.insert(t);
+    }
+    for (const Reading& r : readings()) {
+      EXPECT_EQ(steps_matched(e, "modules(a); once[" + n + "](a.x = 1)", r), once) << k << r.name;
+      EXPECT_EQ(steps_matched(e, "modules(a); historically[" + n + "](a.x = 1)", r), hist) << k << r.name;
+      EXPECT_EQ(steps_matched(e, "modules(a); times[" + n + "](a.x = 1) = " + std::to_string(k / 2), r), times)
+          << k << r.name;
+      EXPECT_EQ(steps_matched(e, "modules(a); since[" + n + "](a.x = 1, a.x != 1)", r), since) << k << r.name;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace dw::watch
