@@ -5,9 +5,11 @@
 // killer -- leaves nothing either; on a file system without O_TMPFILE it is a named
 // `.NAME.dwatch-XXXXXX`, removed by the destructor. Anything else -- a device, a FIFO,
 // /dev/stdout, "-" for standard output -- is written in place and never removed or truncated
-// away on failure. Errors name the path and the operating system's reason.
+// away on failure, and opened without blocking: a FIFO's reader, and room to write, are waited
+// for at most a bound (kOutputWait). Errors name the path and the operating system's reason.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <ostream>
@@ -16,11 +18,17 @@
 
 namespace dw::sim {
 
+// How long an output written in place may keep a write waiting: for a FIFO's reader to open it,
+// or for a reader to take what was written.
+inline constexpr std::chrono::milliseconds kOutputWait{10'000};
+
 class OutputFile {
  public:
   // Opens `path` for writing ("-": standard output). Nothing, with `error` set to
-  // "cannot write PATH: REASON", when it cannot be written.
-  static std::unique_ptr<OutputFile> open(const std::string& path, std::string* error);
+  // "cannot write PATH: REASON", when it cannot be written (a FIFO no process opens to read
+  // within `wait`).
+  static std::unique_ptr<OutputFile> open(const std::string& path, std::string* error,
+                                          std::chrono::milliseconds wait = kOutputWait);
   ~OutputFile();  // without a successful commit(), the temporary is removed; the target is untouched
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
@@ -32,13 +40,15 @@ class OutputFile {
 
  private:
   class FdBuffer;
-  OutputFile(std::string path, std::string temporary, int fd, bool owns_fd);
+  OutputFile(std::string path, std::string temporary, int fd, bool owns_fd, std::chrono::milliseconds wait);
   std::string link_unnamed(const std::string& directory);
+  std::string reason(int code) const;  // why a write failed, from its errno
 
   std::string path_;       // as the user named it
   std::string temporary_;  // a named temporary, renamed over target_ at commit; empty: unnamed or in place
-  bool unnamed_ = false;   // an O_TMPFILE temporary, given a name at commit
-  std::string target_;     // where the temporary goes (a symlink's target, resolved)
+  std::chrono::milliseconds wait_;
+  bool unnamed_ = false;  // an O_TMPFILE temporary, given a name at commit
+  std::string target_;    // where the temporary goes (a symlink's target, resolved)
   std::unique_ptr<FdBuffer> buffer_;
   std::ostream stream_;
   bool committed_ = false;
