@@ -51,6 +51,8 @@ KeptStep work_out_window(const Program& p, const KeptWindow& w, int64_t s, Read&
     }
     // The condition reads one module's own variables: no aggregate, no neighbour, no other slot.
     int open(const AggregateCode&) const { return -1; }
+    int expand(int) const { return 0; }
+    int keep(const std::vector<uint8_t>&) const { return 0; }
     Value bound(int, const ValueInstr&) const { return {}; }
     uint32_t bound_id(int) const { return 0; }
     Truth bound_adjacent(int, int, uint32_t) const { return kUnknown; }

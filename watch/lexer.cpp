@@ -32,6 +32,11 @@ TokenKind keyword_or_name(std::string_view word) {
   if (word == "since") return TokenKind::Since;
   if (word == "times") return TokenKind::Times;
   if (word == "id") return TokenKind::Id;
+  if (word == "within") return TokenKind::Within;
+  if (word == "all") return TokenKind::All;
+  if (word == "argmin") return TokenKind::Argmin;
+  if (word == "argmax") return TokenKind::Argmax;
+  if (word == "component") return TokenKind::Component;
   return TokenKind::Name;
 }
 
@@ -177,7 +182,7 @@ class Lexer {
   size_t base_ = 0;  // where the text starts in the file its spans count in
 };
 
-bool is_keyword(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Id; }
+bool is_keyword(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Component; }
 
 bool is_reserved(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Next; }
 
@@ -210,6 +215,11 @@ std::string describe(TokenKind k) {
     case TokenKind::Since: return "'since'";
     case TokenKind::Times: return "'times'";
     case TokenKind::Id: return "'id'";
+    case TokenKind::Within: return "'within'";
+    case TokenKind::All: return "'all'";
+    case TokenKind::Argmin: return "'argmin'";
+    case TokenKind::Argmax: return "'argmax'";
+    case TokenKind::Component: return "'component'";
     case TokenKind::LParen: return "'('";
     case TokenKind::RParen: return "')'";
     case TokenKind::Semicolon: return "';'";
