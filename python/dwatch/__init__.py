@@ -11,6 +11,7 @@ checks, the same matches, the same state hashes, and the command line's words in
 """
 
 from ._dwatch import (
+    BudgetError,
     CommandError,
     Error,
     Matches,
@@ -24,6 +25,7 @@ from ._dwatch import (
 )
 
 __all__ = [
+    "BudgetError",
     "CommandError",
     "Error",
     "Matches",

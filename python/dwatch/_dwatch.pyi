@@ -25,6 +25,14 @@ class ScenarioError(Error, ValueError):
 class TraceError(Error, ValueError):
     """A trace file or trace columns with mistakes."""
 
+class BudgetError(Error):
+    """A watchpoint exceeded max_live and stopped; the others went on."""
+
+    matches: dict[str, "Matches"]
+    """Every watchpoint's matches, the stopped ones' up to their stop."""
+    stopped: dict[str, str]
+    """The stopped watchpoints and why."""
+
 class CommandError(Error):
     """A session command that is wrong or failed, in `dwatch session`'s words."""
 
@@ -47,7 +55,7 @@ Columns = Mapping[str, Any]
 """Trace columns: "t", "m" (one entry per line), "nbr_begin" + "nbrs" (offsets and flat ids) or
 "nbrs" (a sequence per line), and "vars" (variable name -> one value per line)."""
 
-def check(text: str, name: str = "w") -> str:
+def check(text: str, name: str = "w1") -> str:
     """What `dwatch check` prints for the watchpoint; raises WatchError."""
 
 def replay(
@@ -97,10 +105,12 @@ class Session:
     def matches(self, name: str) -> Matches: ...
     def state(self, module: int) -> dict[str, Any]:
         """The module at the current step: variables, neighbours, and with physics its pose after the step ('pose') and the one its neighbours were measured from, at the end of the step before ('nbrs_measured_from')."""
-    def values(self, variable: str) -> npt.NDArray[np.int64]:
-        """One variable of every module at the current step, shape (modules,)."""
-    def series(self, module: int, variable: str, first: int, last: int) -> npt.NDArray[np.int64]:
-        """One variable of one module over steps first..last, shape (last - first + 1,)."""
+    def values(self, variable: str) -> np.ma.MaskedArray[Any, np.dtype[np.int64]]:
+        """One variable of every module at the current step, shape (modules,), absent modules masked."""
+    def present(self) -> npt.NDArray[np.bool_]:
+        """Which modules are present at the current step, shape (modules,)."""
+    def series(self, module: int, variable: str, first: int, last: int) -> np.ma.MaskedArray[Any, np.dtype[np.int64]]:
+        """One variable of one module over steps first..last, shape (last - first + 1,), masked where absent."""
     def hash(self) -> str: ...
     def render(
         self, width: int = 1280, height: int = 720, camera: Optional[Tuple[Point, Point]] = None

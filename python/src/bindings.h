@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "sim/trace.h"
 #include "sim/watch_spec.h"
 #include "watch/detector.h"
 #include "watch/watchpoint.h"
@@ -30,6 +31,11 @@ sim::HostedWatchpoint compile_or_raise(const sim::WatchSpec& spec);
 // reading cannot run.
 sim::WatchSpec reading(const std::string& algorithm, const std::optional<std::string>& shape,
                        const std::optional<std::string>& states, uint64_t max_live);
+
+// The trace of dwatch.replay's columns (a dict: "t", "m", the neighbours as "nbr_begin" + flat
+// "nbrs" or as "nbrs" alone, one sequence per line, and "vars", name -> values), each checked as
+// strictly as a trace file's numbers; dwatch.TraceError naming the column and the line (columns.cpp).
+sim::Trace trace_from_columns(const py::dict& columns);
 
 void add_check(py::module_& m);    // dwatch.check (module.cpp)
 void add_replay(py::module_& m);   // dwatch.replay and dwatch.Matches

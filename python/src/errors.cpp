@@ -29,6 +29,9 @@ void add_errors(py::module_& m) {
             "A scenario file that cannot be loaded; the message lists its mistakes as file:line:col: error: ...");
   add_error(m, "TraceError", py::make_tuple(error, value_error),
             "A trace (a file or columns) with mistakes; the message lists them as the command line does.");
+  add_error(m, "BudgetError", error,
+            "A watchpoint exceeded its live-match budget (max_live) and stopped. matches: every watchpoint's "
+            "{name: Matches}, the stopped ones' up to their stop; stopped: {name: reason}.");
   add_error(m, "CommandError", error,
             "A session command that is wrong or failed; the message is what `dwatch session` says.");
 }
