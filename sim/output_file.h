@@ -14,6 +14,7 @@
 #include <memory>
 #include <ostream>
 #include <span>
+#include <stop_token>
 #include <string>
 
 namespace dw::sim {
@@ -26,9 +27,10 @@ class OutputFile {
  public:
   // Opens `path` for writing ("-": standard output). Nothing, with `error` set to
   // "cannot write PATH: REASON", when it cannot be written (a FIFO no process opens to read
-  // within `wait`).
+  // within `wait`). A stop requested on `stop` (a signal) ends the wait for a reader, or for room
+  // to write, at once.
   static std::unique_ptr<OutputFile> open(const std::string& path, std::string* error,
-                                          std::chrono::milliseconds wait = kOutputWait);
+                                          std::chrono::milliseconds wait = kOutputWait, std::stop_token stop = {});
   ~OutputFile();  // without a successful commit(), the temporary is removed; the target is untouched
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
@@ -40,7 +42,8 @@ class OutputFile {
 
  private:
   class FdBuffer;
-  OutputFile(std::string path, std::string temporary, int fd, bool owns_fd, std::chrono::milliseconds wait);
+  OutputFile(std::string path, std::string temporary, int fd, bool owns_fd, std::chrono::milliseconds wait,
+             std::stop_token stop);
   std::string link_unnamed(const std::string& directory);
   std::string reason(int code) const;  // why a write failed, from its errno
 
