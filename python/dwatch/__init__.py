@@ -11,6 +11,7 @@ checks, the same matches, the same state hashes, and the command line's words in
 """
 
 from ._dwatch import (
+    ArgumentError,
     BudgetError,
     CommandError,
     Error,
@@ -25,6 +26,7 @@ from ._dwatch import (
 )
 
 __all__ = [
+    "ArgumentError",
     "BudgetError",
     "CommandError",
     "Error",

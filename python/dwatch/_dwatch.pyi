@@ -11,11 +11,17 @@ __version__: str
 class Error(Exception):
     """What dwatch refuses or fails to do; its message is the command line's."""
 
+    file: Optional[str]
+    """Where the (first) mistake is, when the error says: a file's path, "<watch NAME>", "<command>"."""
+    line: Optional[int]
+    column: Optional[int]
+
+class ArgumentError(Error, ValueError):
+    """An argument out of its range or not one of its words."""
+
 class WatchError(Error, ValueError):
     """A watchpoint with mistakes: the first one's place and message, and the caret text of all."""
 
-    line: int
-    column: int
     message: str
     text: str
 
@@ -76,11 +82,15 @@ class Session:
 
     def __init__(
         self,
-        scenario: str,
+        scenario: Union[str, os.PathLike[str]],
         threads: Optional[int] = None,
         seed: Optional[int] = None,
         history_mb: Optional[int] = None,
     ) -> None: ...
+    def close(self) -> None:
+        """Frees the session now; any later call raises Error."""
+    def __enter__(self) -> "Session": ...
+    def __exit__(self, *args: object) -> None: ...
     def command(self, line: str) -> Optional[dict[str, Any]]:
         """Any command of the session language; its answer."""
     def step(self, n: int = 1) -> dict[str, Any]: ...
@@ -116,8 +126,8 @@ class Session:
         self, width: int = 1280, height: int = 720, camera: Optional[Tuple[Point, Point]] = None
     ) -> npt.NDArray[np.uint8]:
         """The 3D view of the current step, shape (height, width, 3)."""
-    def save(self, path: str, overwrite: bool = False) -> dict[str, Any]: ...
-    def record(self, path: str) -> dict[str, Any]: ...
+    def save(self, path: Union[str, os.PathLike[str]], overwrite: bool = False) -> dict[str, Any]: ...
+    def record(self, path: Union[str, os.PathLike[str]]) -> dict[str, Any]: ...
     @property
     def current(self) -> int: ...
     @property

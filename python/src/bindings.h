@@ -20,6 +20,14 @@ namespace py = pybind11;
 void add_errors(py::module_& m);
 // Raises dwatch.<kind> (Error, ScenarioError, TraceError, CommandError) with `message`.
 [[noreturn]] void raise_error(const char* kind, const std::string& message);
+// The same with where the (first) mistake is: its file, line and column (1-based), the
+// attributes every dwatch error has (None when not known).
+[[noreturn]] void raise_error_at(const char* kind, const std::string& message, const std::string& file, uint64_t line,
+                                 uint64_t column);
+// ScenarioError with the place of the first "file:line:col: error: " line of `message`.
+[[noreturn]] void raise_scenario_error(const std::string& message);
+// FileNotFoundError (errno ENOENT) for `path`, unless the file exists.
+void raise_if_missing(const std::string& path);
 // Raises dwatch.WatchError for a watchpoint that does not compile: line, column and message of the
 // first mistake, and the caret text of all of them.
 [[noreturn]] void raise_watch_error(const watch::CompileError& error);

@@ -17,6 +17,7 @@ namespace dw::python {
 namespace {
 
 sim::Trace trace_from_file(const std::string& path) {
+  raise_if_missing(path);
   std::variant<sim::Trace, std::vector<sim::TraceError>> read;
   {
     py::gil_scoped_release released;
@@ -25,7 +26,8 @@ sim::Trace trace_from_file(const std::string& path) {
   if (auto* errors = std::get_if<std::vector<sim::TraceError>>(&read)) {
     std::string message;
     for (const sim::TraceError& e : *errors) message += (message.empty() ? "" : "\n") + e.format();
-    raise_error("TraceError", message);
+    const sim::TraceError& first = errors->front();
+    raise_error_at("TraceError", message, first.file, first.line, first.column);
   }
   return std::get<sim::Trace>(std::move(read));
 }
@@ -64,7 +66,8 @@ py::dict replay(const py::object& trace_arg, const py::object& watches, const st
                 bool count_only) {
   const sim::WatchSpec r = reading(algorithm, shape, states, max_live);
   const bool columns = py::isinstance<py::dict>(trace_arg);
-  const std::string trace_name = columns ? "<columns>" : py::str(trace_arg).cast<std::string>();
+  const std::string trace_name =
+      columns ? "<columns>" : py::module_::import("os").attr("fspath")(trace_arg).cast<std::string>();
   const sim::Trace trace = columns ? trace_from_columns(trace_arg.cast<py::dict>()) : trace_from_file(trace_name);
   const std::vector<sim::HostedWatchpoint> watched = hosted(watches, r, trace, trace_name);
   if (std::string why = sim::replay_work_problem(trace); !why.empty())
@@ -139,13 +142,14 @@ sim::WatchSpec reading(const std::string& algorithm, const std::optional<std::st
                        const std::optional<std::string>& states, uint64_t max_live) {
   sim::WatchSpec r;
   if (!sim::read_word(r, algorithm, sim::WatchWord::Algorithm))
-    raise_error("Error", "algorithm must be 'centralized' or 'distributed', not '" + algorithm + "'");
+    raise_error("ArgumentError", "algorithm must be 'centralized' or 'distributed', not '" + algorithm + "'");
   r.options.live_budget = max_live;
   if (shape && !sim::read_word(r, *shape, sim::WatchWord::Shape))
-    raise_error("Error", "shape must be 'chain', 'ordered' or 'any', not '" + *shape + "'");
+    raise_error("ArgumentError", "shape must be 'chain', 'ordered' or 'any', not '" + *shape + "'");
   if (states && !sim::read_word(r, *states, sim::WatchWord::States))
-    raise_error("Error", "states must be 'consistent' or 'simultaneous', not '" + *states + "'");
-  if (const std::string why = watch::unsupported(r.algorithm, r.options); !why.empty()) raise_error("Error", why);
+    raise_error("ArgumentError", "states must be 'consistent' or 'simultaneous', not '" + *states + "'");
+  if (const std::string why = watch::unsupported(r.algorithm, r.options); !why.empty())
+    raise_error("ArgumentError", why);
   return r;
 }
 

@@ -4,6 +4,9 @@
 // values, series, pictures) are read from the session directly.
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
 
 #include <sstream>
 #include <stop_token>
@@ -54,16 +57,18 @@ py::object masked(py::array_t<int64_t> values, const Present& present) {
 
 class Session {
  public:
-  Session(const std::string& path, std::optional<int64_t> threads, std::optional<int64_t> seed,
+  Session(const std::filesystem::path& file, std::optional<int64_t> threads, std::optional<int64_t> seed,
           std::optional<int64_t> history_mb) {
     const auto check = [](std::optional<int64_t> v, const scenarios::IntegerRange& range) {
       if (v && (*v < range.min || *v > range.max))
-        raise_error("Error", std::string(range.key) + " must be an integer from " + std::to_string(range.min) + " to " +
-                                 std::to_string(range.max));
+        raise_error("ArgumentError", std::string(range.key) + " must be an integer from " + std::to_string(range.min) +
+                                         " to " + std::to_string(range.max));
     };
     check(threads, scenarios::kThreadsRange);
     check(seed, scenarios::kSeedRange);
     check(history_mb, scenarios::kHistoryRange);
+    const std::string path = file.string();
+    raise_if_missing(path);
     const shell::SessionSource source{.scenario = path, .seed = seed, .threads = threads, .history_mb = history_mb};
     scenarios::ScenarioOverrides overrides;
     if (seed) overrides.seed = static_cast<uint64_t>(*seed);
@@ -76,7 +81,7 @@ class Session {
     if (auto* errors = std::get_if<std::string>(&loaded)) {
       std::string message = *errors;
       while (!message.empty() && message.back() == '\n') message.pop_back();
-      raise_error("ScenarioError", message);
+      raise_scenario_error(message);
     }
     scenario_ = std::make_unique<scenarios::Scenario>(std::get<scenarios::Scenario>(std::move(loaded)));
     session_ = std::make_unique<sim::Session>(*scenario_->model, *scenario_->world,
@@ -86,14 +91,15 @@ class Session {
 
   // One line of the session language: its answer as a dict (None for a blank or comment line).
   py::object command(const std::string& line) {
-    const InUse in_use(busy_);
+    const InUse in_use = use();
     if (line.find('\n') != std::string::npos) raise_error("CommandError", "one command, on one line");
     const watch::SourceText source("<command>", line);
     auto parsed = shell_->parse(source, 0, 1);
     if (auto* mistakes = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) {
       std::string message = watch::format_diagnostics(source, *mistakes);
       while (!message.empty() && message.back() == '\n') message.pop_back();
-      raise_error("CommandError", message);
+      const watch::Location at = source.locate(mistakes->front().span.begin);
+      raise_error_at("CommandError", message, source.name(), at.line, at.column);
     }
     const auto& command = std::get<std::optional<shell::Command>>(parsed);
     if (!command) return py::none();
@@ -103,7 +109,7 @@ class Session {
   py::object watch(const std::string& name, const std::string& text, const std::string& algorithm,
                    const std::optional<std::string>& shape, const std::optional<std::string>& states,
                    const std::string& action, uint64_t max_live) {
-    const InUse in_use(busy_);
+    const InUse in_use = use();
     // Its name is said in the session language as a word, quoted when it holds a space or '#'
     // (unwatch, action, run's to_match): a quoted word cannot hold '"'.
     if (shell::command_word(name) != name && name.find('"') != std::string::npos)
@@ -111,7 +117,7 @@ class Session {
     if (const std::string why = watch::name_problem(name); !why.empty()) raise_error("CommandError", why);
     sim::WatchSpec spec = reading(algorithm, shape, states, max_live);
     if (!sim::read_word(spec, action, sim::WatchWord::Action))
-      raise_error("Error", "action must be 'log', 'pause' or 'count', not " + quoted(action));
+      raise_error("ArgumentError", "action must be 'log', 'pause' or 'count', not " + quoted(action));
     spec.name = name;
     spec.text = text;
     sim::HostedWatchpoint hosted = compile_or_raise(spec);
@@ -123,7 +129,7 @@ class Session {
   }
 
   Matches matches(const std::string& name) {
-    const InUse in_use(busy_);
+    const InUse in_use = use();
     const int w = session_->watch_index(name);
     if (w < 0) raise_error("CommandError", "no watchpoint is named " + quoted(name));
     const sim::MatchList& list = session_->matches(static_cast<uint32_t>(w));
@@ -138,7 +144,7 @@ class Session {
 
   // One variable of every module at the current step, absent modules masked.
   py::object values(const std::string& variable) {
-    const InUse in_use(busy_);
+    const InUse in_use = use();
     const int column = this->column(variable);
     const sim::Model& model = session_->model();
     std::vector<int64_t> all;
@@ -157,7 +163,7 @@ class Session {
 
   // Which modules are present at the current step.
   py::array_t<bool> present() {
-    const InUse in_use(busy_);
+    const InUse in_use = use();
     std::vector<uint8_t> present;
     {
       py::gil_scoped_release released;
@@ -169,7 +175,7 @@ class Session {
   }
 
   py::object series(int64_t module, const std::string& variable, int64_t first, int64_t last) {
-    const InUse in_use(busy_);
+    const InUse in_use = use();
     const int column = this->column(variable);
     if (module < 0 || module >= session_->model().module_count())
       raise_error("CommandError",
@@ -186,10 +192,10 @@ class Session {
   }
 
   py::array_t<uint8_t> render(int width, int height, const std::optional<py::tuple>& camera) {
-    const InUse in_use(busy_);
+    const InUse in_use = use();
     // As the session's `render W H` takes them.
     if (width < 16 || height < 16 || width > 8192 || height > 8192)
-      raise_error("Error", "width and height must be from 16 to 8192 pixels");
+      raise_error("ArgumentError", "width and height must be from 16 to 8192 pixels");
     render::Scene scene = shell_->scene();
     if (camera) {
       std::array<double, 3> eye{}, target{};
@@ -198,11 +204,11 @@ class Session {
         eye = (*camera)[0].cast<std::array<double, 3>>();
         target = (*camera)[1].cast<std::array<double, 3>>();
       } catch (const py::cast_error&) {
-        raise_error("Error", "camera is (eye, target): two points (x, y, z)");
+        raise_error("ArgumentError", "camera is (eye, target): two points (x, y, z)");
       }
       // As the command line's and a scenario's camera: refused where it can draw nothing.
       if (const std::string problem = scenarios::camera_problem(eye, target); !problem.empty())
-        raise_error("Error", problem);
+        raise_error("ArgumentError", problem);
       scene.camera_eye = sim::Vec3{float(eye[0]), float(eye[1]), float(eye[2])};
       scene.camera_target = sim::Vec3{float(target[0]), float(target[1]), float(target[2])};
     }
@@ -222,10 +228,29 @@ class Session {
 
   const sim::Session& session() const {
     if (busy_) in_use_elsewhere();  // another thread's call is changing it
+    if (!session_) closed();
     return *session_;
   }
 
+  // Frees the session (its history, the scenario's world) now rather than when Python collects
+  // it; any later call raises dwatch.Error. Closing twice does nothing.
+  void close() {
+    const InUse in_use(busy_);
+    shell_.reset();  // it refers to the session and the scenario
+    session_.reset();
+    scenario_.reset();
+  }
+
  private:
+  [[noreturn]] static void closed() { raise_error("Error", "this Session is closed"); }
+
+  // Marks the session in use for one call: another thread's call meanwhile is refused, as is any
+  // call once it is closed.
+  InUse use() {
+    if (!session_) closed();
+    return InUse(busy_);
+  }
+
   int column(const std::string& variable) const {
     const int c = session_->model().column(variable);
     if (c < 0) raise_error("CommandError", quoted(variable) + " is no program's variable");
@@ -310,8 +335,14 @@ GIL; Ctrl-C stops a long command between steps (the session stays consistent) an
 KeyboardInterrupt. Use a Session from one thread at a time (another thread may use another): a
 call while another thread's runs raises RuntimeError. values() and series() are numpy masked
 arrays, absent (removed) modules masked; present() says which modules are there.)");
+  session.def("close", &Session::close, "Frees the session now; any later call raises Error.")
+      .def("__enter__", [](py::object self) { return self; })
+      .def(
+          "__exit__", [](Session& s, const py::args&) { s.close(); },
+          "Closes the session at the end of a `with` block.");
   session
-      .def(py::init<const std::string&, std::optional<int64_t>, std::optional<int64_t>, std::optional<int64_t>>(),
+      .def(py::init<const std::filesystem::path&, std::optional<int64_t>, std::optional<int64_t>,
+                    std::optional<int64_t>>(),
            py::arg("scenario"), py::arg("threads") = py::none(), py::arg("seed") = py::none(),
            py::arg("history_mb") = py::none(),
            "Loads a scenario file (TOML); threads, seed and history_mb override the scenario's. Raises "
@@ -395,13 +426,15 @@ arrays, absent (removed) modules masked; present() says which modules are there.
            "width, 3). camera: (eye, target), two points; default: fitted.")
       .def(
           "save",
-          [](Session& s, const std::string& path, bool overwrite) {
-            return s.command("save " + shell::command_word(path) + (overwrite ? " overwrite" : ""));
+          [](Session& s, const std::filesystem::path& path, bool overwrite) {
+            return s.command("save " + shell::command_word(path.string()) + (overwrite ? " overwrite" : ""));
           },
           py::arg("path"), py::arg("overwrite") = false, "This session as a scenario file.")
       .def(
           "record",
-          [](Session& s, const std::string& path) { return s.command("record " + shell::command_word(path)); },
+          [](Session& s, const std::filesystem::path& path) {
+            return s.command("record " + shell::command_word(path.string()));
+          },
           py::arg("path"), "The trace of steps 0..latest (wptrace v1).");
   add_properties(session);
 }
