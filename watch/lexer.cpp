@@ -170,6 +170,11 @@ class Lexer {
     }
     // Consume a whole UTF-8 sequence so that the caret covers one character.
     while (pos_ < text_.size() && (static_cast<unsigned char>(text_[pos_]) & 0xC0) == 0x80) ++pos_;
+    // Comparisons typed as one mathematical sign (U+2265, U+2264, U+2260): say the ASCII spelling.
+    const std::string_view sign = text_.substr(begin, pos_ - begin);
+    if (sign == "\u2265") return invalid(begin, "'\u2265' is not an operator; use '>='");
+    if (sign == "\u2264") return invalid(begin, "'\u2264' is not an operator; use '<='");
+    if (sign == "\u2260") return invalid(begin, "'\u2260' is not an operator; use '!='");
     const unsigned char u = static_cast<unsigned char>(c);
     std::string shown = (u >= 0x20 && u < 0x7f) ? "'" + std::string(1, c) + "'"
                                                 : "byte 0x" + std::string(1, "0123456789abcdef"[u >> 4]) +
