@@ -55,6 +55,10 @@ class Matches:
     """Module filling each slot, shape (n, len(slot_names))."""
     count: int
     """Every match, also when only counted (count_only=True, a `count` watchpoint): the arrays are then empty."""
+    def records(self) -> np.recarray:
+        """Fields t, detected and one per slot (slot_NAME for a slot named t or detected)."""
+    def to_pandas(self) -> Any:
+        """A pandas DataFrame of records(); needs pandas."""
     def __len__(self) -> int: ...
 
 Columns = Mapping[str, Any]
@@ -117,6 +121,8 @@ class Session:
         """The module at the current step: variables, neighbours, and with physics its pose after the step ('pose') and the one its neighbours were measured from, at the end of the step before ('nbrs_measured_from')."""
     def values(self, variable: str) -> np.ma.MaskedArray[Any, np.dtype[np.int64]]:
         """One variable of every module at the current step, shape (modules,), absent modules masked."""
+    def neighbours(self) -> Tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+        """N(m, t) at the current step as compressed rows (indptr, indices)."""
     def present(self) -> npt.NDArray[np.bool_]:
         """Which modules are present at the current step, shape (modules,)."""
     def series(self, module: int, variable: str, first: int, last: int) -> np.ma.MaskedArray[Any, np.dtype[np.int64]]:

@@ -174,6 +174,25 @@ class Session {
     return out;
   }
 
+  // N(m, t) of every module at the current step, as the watchpoints saw it: compressed rows, the
+  // neighbours of m being indices[indptr[m]:indptr[m + 1]] (scipy.sparse.csr_matrix's layout).
+  py::tuple neighbours() {
+    const InUse in_use = use();
+    std::vector<int64_t> indptr, indices;
+    {
+      py::gil_scoped_release released;
+      const sim::NeighborGraph& graph = session_->seen_graph();
+      indptr.assign(graph.begin.begin(), graph.begin.end());
+      indices.assign(graph.ids.begin(), graph.ids.end());
+    }
+    const auto read_only = [](const std::vector<int64_t>& v) {
+      py::array_t<int64_t> out(static_cast<py::ssize_t>(v.size()), v.data());
+      out.attr("flags").attr("writeable") = false;
+      return out;
+    };
+    return py::make_tuple(read_only(indptr), read_only(indices));
+  }
+
   py::object series(int64_t module, const std::string& variable, int64_t first, int64_t last) {
     const InUse in_use = use();
     const int column = this->column(variable);
@@ -414,6 +433,10 @@ arrays, absent (removed) modules masked; present() says which modules are there.
       .def("values", &Session::values, py::arg("variable"),
            "One variable of every module at the current step: an int64 numpy.ma.MaskedArray, shape (modules,), "
            "absent modules masked.")
+      .def("neighbours", &Session::neighbours,
+           "N(m, t) of every module at the current step, as the watchpoints saw it, as compressed rows: (indptr, "
+           "indices), int64, read-only; module m's neighbours are indices[indptr[m]:indptr[m + 1]], sorted "
+           "(scipy.sparse.csr_matrix((np.ones(len(indices)), indices, indptr)) is the adjacency matrix).")
       .def("present", &Session::present, "Which modules are present at the current step: bool, shape (modules,).")
       .def("series", &Session::series, py::arg("module"), py::arg("variable"), py::arg("first"), py::arg("last"),
            "One variable of one module over steps first..last: an int64 numpy.ma.MaskedArray, shape (last - first "
