@@ -79,15 +79,31 @@ void DistributedAgents::prepare(const Program& p, int64_t f, uint32_t begin, uin
 void DistributedAgents::work_out_kept_windows(const Program& p, int64_t newest, uint32_t begin, uint32_t end) {
   if (p.kept_windows.empty()) return;
   EvaluatorScratch scratch(p);  // per call: several threads record blocks at once
+  std::vector<Truth> phi, psi;
+  const size_t from = begin - first_, n = end - begin;  // the history's arrays start at first_
+  auto column_of = [&](int variable, int64_t step, const int64_t*& values, const uint8_t*& known) {
+    if (!history_.column(variable, step, values, known)) return false;
+    values += from;
+    known += from;
+    return true;
+  };
+  auto read = [&](size_t m, int variable, int64_t step, int64_t& out) {
+    return read_value(begin + static_cast<uint32_t>(m), variable, step, out);
+  };
   for (const KeptWindow& w : p.kept_windows) {
     const int64_t s = newest - w.ahead;
-    if (s < 0) continue;
-    for (uint32_t m = begin; m < end; ++m) {
-      auto read = [&](int var, int64_t step, int64_t& out) { return read_value(m, var, step, out); };
-      const KeptStep k = work_out_window(p, w, s, read, scratch);
-      for (int c = 0; c < w.columns(); ++c)
-        history_.set_value(m, w.column + c, s, k.value[static_cast<size_t>(c)], k.known[static_cast<size_t>(c)]);
+    KeptColumns c;
+    if (s < 0 || !history_.row(w.column, s, c.now[0], c.now_known[0])) continue;
+    for (int i = 0; i < w.columns(); ++i) {
+      history_.row(w.column + i, s, c.now[size_t(i)], c.now_known[size_t(i)]);
+      c.now[size_t(i)] += from;
+      c.now_known[size_t(i)] += from;
+      column_of(w.column + i, s - 1, c.before[size_t(i)], c.before_known[size_t(i)]);
     }
+    if (w.kind == WindowKind::Times) column_of(w.column + 1, s - w.k - 1, c.count_left, c.count_left_known);
+    condition_truths(p, w.phi, s, n, column_of, read, scratch, phi);
+    if (w.kind == WindowKind::Since) condition_truths(p, w.psi, s, n, column_of, read, scratch, psi);
+    advance_window(w, s, phi.data(), psi.data(), c, n);
   }
 }
 

@@ -43,30 +43,39 @@ void StepHistory::record(const Frame& frame) {
 // Each kept window's columns at the newest step its conditions can be read for (watch/kept_windows.h).
 void StepHistory::work_out_kept_windows(int64_t newest) {
   const Program& p = *program_;
+  auto column_of = [&](int variable, int64_t step, const int64_t*& values, const uint8_t*& known) {
+    const Column* c = column(variable, step);
+    if (c == nullptr) return false;
+    values = c->value.data();
+    known = c->known.data();
+    return true;
+  };
+  auto read = [&](size_t m, int variable, int64_t step, int64_t& out) {
+    if (variable == kIdVariable) {
+      const Graph* g = graph(step);
+      if (g == nullptr || !g->present[m]) return false;
+      out = id(static_cast<uint32_t>(m));
+      return true;
+    }
+    const Column* c = column(variable, step);
+    if (c == nullptr || !c->known[m]) return false;
+    out = c->value[m];
+    return true;
+  };
   for (const KeptWindow& w : p.kept_windows) {
     const int64_t s = newest - w.ahead;
-    Column* now[kMaxKeptColumns] = {};
-    for (int c = 0; c < w.columns(); ++c) now[c] = columns_[static_cast<size_t>(w.column + c)].find(s);
-    if (now[0] == nullptr) continue;
-    for (uint32_t m = 0; m < modules_; ++m) {
-      auto read = [&](int variable, int64_t step, int64_t& out) {
-        if (variable == kIdVariable) {
-          const Graph* g = graph(step);
-          if (g == nullptr || !g->present[m]) return false;
-          out = id(m);
-          return true;
-        }
-        const Column* c = column(variable, step);
-        if (c == nullptr || !c->known[m]) return false;
-        out = c->value[m];
-        return true;
-      };
-      const KeptStep k = work_out_window(p, w, s, read, scratch_);
-      for (int c = 0; c < w.columns(); ++c) {
-        now[c]->known[m] = k.known[static_cast<size_t>(c)];
-        now[c]->value[m] = k.value[static_cast<size_t>(c)];
-      }
+    KeptColumns c;
+    if (columns_[static_cast<size_t>(w.column)].find(s) == nullptr) continue;
+    for (int i = 0; i < w.columns(); ++i) {
+      Column& now = *columns_[static_cast<size_t>(w.column + i)].find(s);
+      c.now[size_t(i)] = now.value.data();
+      c.now_known[size_t(i)] = now.known.data();
+      column_of(w.column + i, s - 1, c.before[size_t(i)], c.before_known[size_t(i)]);
     }
+    if (w.kind == WindowKind::Times) column_of(w.column + 1, s - w.k - 1, c.count_left, c.count_left_known);
+    condition_truths(p, w.phi, s, modules_, column_of, read, scratch_, phi_);
+    if (w.kind == WindowKind::Since) condition_truths(p, w.psi, s, modules_, column_of, read, scratch_, psi_);
+    advance_window(w, s, phi_.data(), psi_.data(), c, modules_);
   }
 }
 
