@@ -113,6 +113,7 @@ void Parser::parse_actions() {
         return;
       }
       if (!parse_variable_name(a.variable)) return;
+      a.variable_span = previous().span;
       if (!expect(TokenKind::Equal,
                   "'=' after 'set " + std::string(source_.slice(Span::cover(m.span, previous().span))) + "'"))
         return;
