@@ -188,7 +188,8 @@ bool Parser::parse_domain(Node& n, bool& bad_name, bool nested, int depth) {
     skip_group(open);
     return false;
   };
-  if (check(TokenKind::Name) && source_.slice(peek().span) == n.name) {
+  // A bound name that shadows a module was said already: it names that module here.
+  if (!bad_name && check(TokenKind::Name) && source_.slice(peek().span) == n.name) {
     report(peek().span, "an aggregate ranges over a module's " + std::string(within ? "surroundings" : "neighbours") +
                             "; '" + n.name + "' is its own bound name, not a module");
     bad_name = true;
@@ -305,6 +306,15 @@ NodeIndex Parser::parse_statevar() {
   Node n;
   n.kind = NodeKind::Variable;
   const Span start = peek().span;
+  if (check(TokenKind::Name) && at(pos_ + 1).kind == TokenKind::LParen) {
+    // A call of no function the language has (a misspelt 'min'): one mistake, said once.
+    error_at(start, "'" + std::string(source_.slice(start)) +
+                        "' is no function; the language's are count, sum, min, max, abs, argmin, argmax, id, "
+                        "once, historically, since and times");
+    advance();  // the name
+    advance();  // '('
+    return skip_group(start);
+  }
   if (!parse_slot_name(n.x)) return error_node(start);
   for (;;) {
     if (!match(TokenKind::Dot)) {
