@@ -36,18 +36,26 @@ std::optional<Cone> why_match(Session& session, uint32_t w, int64_t t, std::span
                               bool narrow, const Control& control) {
   const watch::Program& program = session.watches()[w].hosted.watchpoint.program;
   std::vector<ValueAsked> values;
+  const auto read = [&](int16_t slot, int16_t variable, int16_t offset) {
+    if (variable < 0 || size_t(slot) >= group.size()) return;  // id(m), or no slot's
+    const int column = session.model().column(program.variables[static_cast<size_t>(variable)]);
+    const int64_t at = t + offset;
+    if (column < 0 || at < 0 || at > session.latest()) return;
+    const ValueAsked v{.module = group[static_cast<size_t>(slot)], .column = column, .t = at};
+    const bool asked = std::any_of(values.begin(), values.end(), [&](const ValueAsked& o) {
+      return o.module == v.module && o.column == v.column && o.t == v.t;
+    });
+    if (!asked) values.push_back(v);
+  };
+  // The reads of its comparisons, and of its value code (expressions, actions).
+  for (const watch::Leaf& leaf : program.leaves) {
+    if (leaf.kind != watch::LeafKind::Compare) continue;
+    read(leaf.lhs.slot, leaf.lhs.variable, leaf.lhs.offset);
+    if (!leaf.rhs_is_constant) read(leaf.rhs.slot, leaf.rhs.variable, leaf.rhs.offset);
+  }
   for (const std::vector<watch::ValueInstr>& code : program.codes)
-    for (const watch::ValueInstr& i : code) {
-      if (i.op != watch::ValueOp::Term || i.variable < 0 || size_t(i.slot) >= group.size()) continue;
-      const int column = session.model().column(program.variables[static_cast<size_t>(i.variable)]);
-      const int64_t at = t + i.offset;
-      if (column < 0 || at < 0 || at > session.latest()) continue;
-      const ValueAsked v{.module = group[static_cast<size_t>(i.slot)], .column = column, .t = at};
-      const bool asked = std::any_of(values.begin(), values.end(), [&](const ValueAsked& o) {
-        return o.module == v.module && o.column == v.column && o.t == v.t;
-      });
-      if (!asked) values.push_back(v);
-    }
+    for (const watch::ValueInstr& i : code)
+      if (i.op == watch::ValueOp::Term) read(i.slot, i.variable, i.offset);
   auto cone = cone_in_session(session, std::move(values), depth, narrow, control);
   if (cone)
     for (ConeEvent& e : cone->events) e.group = std::find(group.begin(), group.end(), e.module) != group.end();
