@@ -292,7 +292,7 @@ TEST_F(Leader, AMatchClickSeeksToItsStepAndSelectsItsGroup) {
   EXPECT_EQ(panel["module"], pause->group[0]);
   const int leader = scenario->model->column("isLeader");
   EXPECT_EQ(readout.inspector->variables[size_t(leader)].value, 1) << "slot a of two_leaders is a leader";
-  EXPECT_EQ(readout.inspector->plot.size(), size_t(pause->t + 1));
+  EXPECT_EQ(readout.inspector->plot.size(), size_t(session->latest() + 1)) << "the whole history";
   EXPECT_EQ(readout.panel("nosuch", *scenario->model).count("error"), 1u);
 }
 
