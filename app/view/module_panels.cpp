@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cinttypes>
+#include <cstdio>
 
 #include "app/view/debugger.h"
 #include "app/view/widgets.h"
@@ -195,34 +196,45 @@ void Debugger::statistics_panel() {
       continue;
     }
     const StatsRow& last = rows.back();
+    // A step's time in the unit that shows it ("0.000 ms" was most steps).
+    auto duration = [](double seconds) {
+      char text[32];
+      if (seconds < 1e-3) std::snprintf(text, sizeof text, "%.0f \u00b5s", seconds * 1e6);
+      else std::snprintf(text, sizeof text, "%.2f ms", seconds * 1e3);
+      return std::string(text);
+    };
     ImGui::TextWrapped("step %" PRId64 ": %" PRIu64 " PatternMatchers live, %" PRIu64 " created, %" PRIu64
-                       " messages, %.3f ms",
-                       last.step, last.live, last.created, last.messages, last.seconds * 1000);
-    std::vector<float> live, created, messages, ms;
+                       " messages, %s",
+                       last.step, last.live, last.created, last.messages, duration(last.seconds).c_str());
+    std::vector<float> live, created, messages, us;
     for (const StatsRow& r : rows) {
       live.push_back(float(r.live));
       created.push_back(float(r.created));
       messages.push_back(float(r.messages));
-      ms.push_back(float(r.seconds * 1000));
+      us.push_back(float(r.seconds * 1e6));
     }
     ImGui::PushID(int(w));
-    // Five small plots over the steps up to the current one, side by side.
+    // Five small plots over the steps up to the current one, side by side: each from 0 (its bottom)
+    // to its largest value, written in it (they had no values at all).
     if (ImGui::BeginTable("plots", 5, ImGuiTableFlags_SizingStretchSame)) {
       auto plot = [this](const char* what, const std::vector<float>& values, bool histogram = false) {
         ImGui::TableNextColumn();
         ImGui::TextUnformatted(what);
         const std::string id = std::string("##") + what;
+        const float top = values.empty() ? 0 : std::max(1.0f, *std::max_element(values.begin(), values.end()));
+        char most[32];
+        std::snprintf(most, sizeof most, "max %.0f", double(top));
         ImGui::SetNextItemWidth(-FLT_MIN);  // the cell's width (see the Module panel's plot)
         if (histogram)
-          ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 32));
-        else ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 32));
+          ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, most, 0, top, ImVec2(0, 32));
+        else ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, most, 0, top, ImVec2(0, 32));
         plot_rects_.push_back({ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y, ImGui::GetItemRectMax().x,
                                ImGui::GetItemRectMax().y});
       };
       plot("live", live);
       plot("created", created);
       plot("messages", messages);
-      plot("step ms", ms);
+      plot("step \u00b5s", us);
       // The paper's Fig. 7: PatternMatchers by slots filled (0..k), at this step.
       plot("by filled", std::vector<float>(last.live_by_filled.begin(), last.live_by_filled.end()), true);
       ImGui::EndTable();

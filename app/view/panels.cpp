@@ -87,11 +87,17 @@ void Debugger::transport_panel() {
 
   if (at.latest < 0)  // nothing simulated yet: no step to speak of
     ImGui::Text("no step simulated yet (the scenario runs %" PRId64 ")", at.end);
-  else
-    ImGui::TextWrapped("step %" PRId64 " of %" PRId64 " simulated (decided through %" PRId64
-                       "; the scenario runs %" PRId64 ")   history: %zu keyframes every %" PRId64 " steps, %.1f MiB",
-                       at.current, at.latest, readout_.decided, at.end, readout_.keyframes, readout_.keyframe_interval,
+  else {
+    // Said as the status line says it; a step not yet decided by every watchpoint (after an
+    // intervention, while the session simulates ahead) says so rather than "decided through -1".
+    const std::string decided = readout_.decided >= at.current
+                                    ? "decided through " + std::to_string(readout_.decided)
+                                    : std::string("this step not yet decided by every watchpoint");
+    ImGui::TextWrapped("%s, %s; the scenario runs %" PRId64 "   history: %s every %" PRId64 " steps, %.1f MiB",
+                       position_words(at.current, at.latest).c_str(), decided.c_str(), at.end,
+                       counted(int64_t(readout_.keyframes), "keyframe").c_str(), readout_.keyframe_interval,
                        double(readout_.history_bytes) / (1 << 20));
+  }
   if (!worker_->idle()) {
     const auto [done, total] = worker_->progress();
     ImGui::ProgressBar(total > 0 ? float(done) / float(total) : 0.0f, ImVec2(300, 0),

@@ -47,3 +47,28 @@ TEST_F(Window, EveryTableHeaderShowsWholeAtEverySize) {
 }
 
 }  // namespace
+
+namespace {
+
+// The Statistics panel's small plots say their values: each writes its largest inside it (they
+// had none, and "step ms" read 0.000), seen as white text pixels within each plot's frame.
+TEST_F(Window, TheStatisticsPlotsWriteTheirValues) {
+  const Outcome view = dwatch("view " + kLeader, "run\nwait 3\npanel plots\nscreenshot s.png\n", true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 4u) << view.err;
+  const json& all = view.answers[2]["plot_rects"];
+  ASSERT_GE(all.size(), 5u) << "the statistics' five plots (after the Module panel's when a module is selected)";
+  const json rects(all.end() - 5, all.end());
+  std::string error;
+  const auto image = dw::render::read_png((dir_ / "s.png").string(), &error);
+  ASSERT_TRUE(image) << error;
+  for (const json& r : rects) {
+    int white = 0;
+    for (int y = int(r[1].get<double>()); y < int(r[3].get<double>()); ++y)
+      for (int x = int(r[0].get<double>()); x < int(r[2].get<double>()); ++x)
+        white += std::min({image->pixel(x, y)[0], image->pixel(x, y)[1], image->pixel(x, y)[2]}) > 220;
+    EXPECT_GT(white, 10) << "a statistics plot without its value: " << r;
+  }
+}
+
+}  // namespace
