@@ -11,6 +11,7 @@ namespace dw::view {
 std::string slots_text(const sim::Session& session, uint32_t watch, std::span<const sim::ModuleId> group) {
   const sim::Model& model = session.model();
   const auto& names = session.watches()[watch].hosted.watchpoint.program.slot_names;
+  if (names.empty()) return "(no module)";  // a zero-slot watchpoint's match (docs/design.md §4c)
   std::string s;
   for (size_t i = 0; i < group.size() && i < names.size(); ++i)
     s += (s.empty() ? "" : " ") + names[i] + "=" + std::to_string(model.universe.id(group[i]));
