@@ -72,3 +72,32 @@ TEST_F(Window, TheStatisticsPlotsWriteTheirValues) {
 }
 
 }  // namespace
+
+namespace {
+
+// At 1280x720 the 3D view's title is as large as the panels' text (it shrank with the view, to
+// ~9 pixel high letters): "leader_election · step 0" spans at least 150 pixels (it spanned 123).
+TEST_F(Window, TheViewsTitleKeepsItsSizeInASmallWindow) {
+  const Outcome view = dwatch("view " + kLeader + " --width 1280 --height 720", "step\nscreenshot t.png\n", true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 2u) << view.err;
+  std::string error;
+  const auto image = dw::render::read_png((dir_ / "t.png").string(), &error);
+  ASSERT_TRUE(image) << error;
+  const json& v = view.answers[1]["view"];
+  const int x0 = int(v["x"].get<double>()), y0 = int(v["y"].get<double>());
+  // The title's line: the first rows with dark ink at the view's top left, and their extent.
+  int first = -1, left = 1 << 30, right = -1;
+  for (int y = y0; y < y0 + 80 && y < image->height; ++y) {
+    if (first >= 0 && y > first + 14) break;
+    for (int x = x0 + 4; x < x0 + 400 && x < image->width; ++x)
+      if (std::max({image->pixel(x, y)[0], image->pixel(x, y)[1], image->pixel(x, y)[2]}) < 90) {
+        if (first < 0) first = y;
+        left = std::min(left, x), right = std::max(right, x);
+      }
+  }
+  ASSERT_GE(first, 0) << "no title";
+  EXPECT_GE(right - left, 150) << "the title spans " << right - left << " pixels";
+}
+
+}  // namespace
