@@ -101,3 +101,44 @@ TEST_F(Window, TheViewsTitleKeepsItsSizeInASmallWindow) {
 }
 
 }  // namespace
+
+namespace {
+
+// White text pixels in a box.
+int white_pixels(const dw::render::Image& image, int x0, int y0, int x1, int y1) {
+  int count = 0;
+  for (int y = std::max(0, y0); y < std::min(image.height, y1); ++y)
+    for (int x = std::max(0, x0); x < std::min(image.width, x1); ++x)
+      count += std::min({image.pixel(x, y)[0], image.pixel(x, y)[1], image.pixel(x, y)[2]}) > 235;
+  return count;
+}
+
+// The timeline says where the cursor is (only its ends were labelled): the current step's number
+// in white under the cursor's line, and zoomed away from it, at the edge it lies beyond.
+TEST_F(Window, TheTimelineWritesTheCursorsStep) {
+  std::ofstream(dir_ / "x.lua") << "program = { vars = { \"v\" } }\nfunction step(m) m:set(\"v\", 1) end\n";
+  std::ofstream(dir_ / "s.toml") << "steps = 60\n[lattice]\nkind = \"line\"\nsize = [3]\n[[program]]\n"
+                                    "script = \"x.lua\"\n";
+  const Outcome view = dwatch("view s.toml",
+                              "run\nseek 20\npanel timeline\nscreenshot a.png\ntimeline 30 39\npanel timeline\n"
+                              "screenshot b.png\n",
+                              true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 7u) << view.err;
+  std::string error;
+  const auto a = dw::render::read_png((dir_ / "a.png").string(), &error);
+  const auto b = dw::render::read_png((dir_ / "b.png").string(), &error);
+  ASSERT_TRUE(a && b) << error;
+  for (const auto& [image, t] : {std::pair{&*a, view.answers[2]}, std::pair{&*b, view.answers[5]}}) {
+    const double x0 = t["x0"], width = t["width"];
+    const int64_t first = t["first"], last = t["last"];
+    const int below = int(t["y0"].get<double>() + t["height"].get<double>());
+    // Under the cursor when it is in the range; at the left edge when the range starts after it.
+    const double cx = 20 >= first ? x0 + (20.5 - double(first)) / double(last - first + 1) * width : x0;
+    EXPECT_GT(white_pixels(*image, int(cx) - 25, below, int(cx) + 25, below + 18), 8)
+        << "no step written at the cursor, range " << first << " to " << last;
+  }
+  EXPECT_EQ(view.answers[5]["first"], 30) << "the zoomed range";
+}
+
+}  // namespace
