@@ -358,7 +358,7 @@ void Dynamics::share(const Plan& plan, uint32_t first, uint32_t last, std::vecto
 // After the step: how long each cluster has been still (Bullet's deactivation rule: slower than
 // the sleeping thresholds), a sleeping one kept still with no velocity; the contact cache from
 // the islands stepped, and the sleeping islands' own kept as they were.
-void Dynamics::settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim::Bodies& b) const {
+void Dynamics::settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim::Bodies& b) {
   const int64_t sleep_steps = sleep_after_steps();
   std::vector<uint8_t> sleeping(b.clusters.size(), 0);
   for (size_t i = 0; i < plan.islands.size(); ++i)
@@ -404,10 +404,11 @@ void Dynamics::settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim:
   for (const IslandOutput& out : outputs) add_runs(out.contacts, false);
   std::stable_sort(runs.begin(), runs.end(),
                    [](const Run& x, const Run& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
-  std::vector<sim::ContactPoint> cache;
+  std::vector<sim::ContactPoint>& cache = spare_contacts_;
+  cache.clear();
   cache.reserve(points);
   for (const Run& r : runs) cache.insert(cache.end(), r.first, r.first + r.count);
-  b.contacts = std::move(cache);
+  b.contacts.swap(cache);
 }
 
 void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, std::vector<float>* force,
@@ -440,7 +441,18 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
   // Each worker steps a run of the batches; each writes only its own clusters and props, and its
   // forces and contacts into the output of its first island, added up in island order after.
   while (shapes_->workers.size() < workers.size()) shapes_->workers.push_back(std::make_unique<Worker>());
-  std::vector<IslandOutput> outputs(std::max<uint32_t>(count, 1));
+  // The outputs a batch writes (its first island's) keep their memory from the last step; the
+  // others give it back, so that what is kept is about one contact cache, however the batches
+  // move between steps.
+  std::vector<IslandOutput>& outputs = outputs_;
+  outputs.resize(std::max<uint32_t>(count, 1));
+  std::vector<uint8_t> written(outputs.size(), 0);
+  for (uint32_t k = 0; k < batches; ++k) written[plan.batches[k]] = 1;
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    outputs[i].forces.clear();
+    if (written[i]) outputs[i].contacts.clear();
+    else std::vector<sim::ContactPoint>().swap(outputs[i].contacts);
+  }
   const unsigned runs = workers.size();
   workers.run([&](unsigned run) {
     const uint32_t span = last_batch - first_batch;
