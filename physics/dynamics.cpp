@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <tuple>
 #include <unordered_set>
 
 #include "physics/convert.h"
@@ -380,8 +379,7 @@ void Dynamics::settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim:
   // points come in runs (a manifold's, in the solver's order) and lie in one island: sorting the
   // runs by pair, stably, is the stable sort of the points by pair, at a run's cost, not a point's.
   struct Run {
-    uint32_t a, b;
-    const sim::ContactPoint* first;
+    const sim::ContactPoint* first;  // its pair is first->a, first->b
     uint32_t count;
   };
   const auto asleep = [&](uint32_t side) {
@@ -394,16 +392,17 @@ void Dynamics::settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim:
   const auto add_runs = [&](std::span<const sim::ContactPoint> from, bool kept_only_asleep) {
     for (const sim::ContactPoint& p : from) {
       if (kept_only_asleep && !asleep(p.a) && !asleep(p.b)) continue;
-      if (!runs.empty() && runs.back().first + runs.back().count == &p && runs.back().a == p.a && runs.back().b == p.b)
+      if (!runs.empty() && runs.back().first + runs.back().count == &p && runs.back().first->a == p.a &&
+          runs.back().first->b == p.b)
         ++runs.back().count;
-      else runs.push_back({p.a, p.b, &p, 1});
+      else runs.push_back({&p, 1});
       ++points;
     }
   };
   add_runs(b.contacts, true);
   for (const IslandOutput& out : outputs) add_runs(out.contacts, false);
   std::stable_sort(runs.begin(), runs.end(),
-                   [](const Run& x, const Run& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
+                   [](const Run& x, const Run& y) { return sim::contact_pair_less(*x.first, *y.first); });
   std::vector<sim::ContactPoint>& cache = spare_contacts_;
   cache.clear();
   cache.reserve(points);
