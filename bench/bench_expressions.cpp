@@ -8,7 +8,14 @@
 //   one slot    modules(a); a.x1 = 0
 //   once[1000]  modules(a); once[1000](a.x1 = 0), a window each module keeps (peer: one slot;
 //               issue 61's bar: at most 1.5x its time and 200 bytes a module more)
+//   all         modules(); count(n in all: n.x1 = 0) > 500, the whole ensemble once a step (peer:
+//               one slot; issue 61's bar: at most 1.2x)
+//   nbrs >10    modules(a); count(n in neighbors(a): n.x1 = 0) > 10, a peer
+//   within 3    modules(a); count(n in within(a, 3): n.x1 = 0) > 10, ~62 modules a slot where its
+//               peer reads 6 (peer: nbrs >10; issue 61's bar: at most 3x)
 // Each row is the fastest of --repeat runs in a child process (peak memory its own), as `engine`.
+// Then the last three forms' rows again live (random_vars running, the watch hosted as `run` hosts
+// it), on 1 and 2 threads, each beside its peer: the runtime's threads step the agents.
 #include <iomanip>
 #include <iostream>
 
@@ -17,6 +24,59 @@
 #include "shell/output_files.h"
 
 namespace dw::bench {
+
+namespace {
+
+constexpr const char* kOneSlotForm = "modules(a); a.x1 = 0";
+constexpr const char* kAllForm = "modules(); count(n in all: n.x1 = 0) > 500";
+constexpr const char* kNeighborsForm = "modules(a); count(n in neighbors(a): n.x1 = 0) > 10";
+constexpr const char* kWithinForm = "modules(a); count(n in within(a, 3): n.x1 = 0) > 10";
+
+// The wider domains live: each form beside its peer in the same run, on 1 and 2 threads, every
+// algorithm asked for. The figure is the whole run's time (the host program's share included).
+int live_rows(const BenchArgs& args, const std::vector<watch::Algorithm>& algorithms,
+              const std::vector<std::string>& tuples, sim::OutputFile* csv) {
+  struct Live {
+    const char* name;
+    const char* text;
+    int peer;
+  };
+  const Live forms[] = {{"one slot", kOneSlotForm, 0},
+                        {"all", kAllForm, 0},
+                        {"nbrs >10", kNeighborsForm, 2},
+                        {"within 3", kWithinForm, 2}};
+  std::cout << "\nlive: the same forms hosted as `run` hosts them, random_vars running (x peer: time)\n"
+            << std::left << std::setw(11) << "tuple" << std::setw(13) << "algorithm" << std::setw(9) << "threads"
+            << std::setw(12) << "form" << std::setw(10) << "peer" << std::right << std::setw(12) << "matches"
+            << std::setw(10) << "best s" << std::setw(10) << "median s" << std::setw(8) << "x peer\n";
+  for (const std::string& tuple : tuples)
+    for (watch::Algorithm a : algorithms)
+      for (unsigned threads : {1u, 2u}) {
+        BenchArgs on = args;
+        on.threads = threads;
+        std::vector<RuntimeRow> rows;
+        for (const Live& form : forms) {
+          const std::string toml = cubic_toml(args.size, args.size, args.size) + random_vars_toml(parse_tuple(tuple)) +
+                                   watch_toml(form.name, form.text, a, args.detector);
+          RuntimeRow& row = rows.emplace_back();
+          if (!run_runtime_row(toml, on, args.repeat, row)) return 1;
+          const RuntimeRow& peer = rows[size_t(form.peer)];
+          const double ratio = peer.seconds > 0 ? row.seconds / peer.seconds : 0;
+          std::cout << std::left << std::setw(11) << tuple << std::setw(13) << watch::algorithm_name(a) << std::setw(9)
+                    << threads << std::setw(12) << form.name << std::setw(10) << forms[form.peer].name << std::right
+                    << std::setw(12) << row.matches << std::setw(10) << std::fixed << std::setprecision(4)
+                    << row.seconds << std::setw(10) << row.median_seconds << std::setw(8) << std::setprecision(2)
+                    << ratio << "\n";
+          if (csv)
+            csv->stream() << tuple << "," << watch::algorithm_name(a) << ",live " << threads << "t " << form.name << ","
+                          << forms[form.peer].name << "," << row.matches << "," << row.created << "," << row.seconds
+                          << "," << row.median_seconds << "," << ratio << "," << row.peak_kib << ",\n";
+        }
+      }
+  return 0;
+}
+
+}  // namespace
 
 int bench_expressions(const BenchArgs& args, bool tuples_given) {
   struct Form {
@@ -28,8 +88,11 @@ int bench_expressions(const BenchArgs& args, bool tuples_given) {
       {"plain", kFig6, 0},
       {"arithmetic", "modules(a b c d); (a.x1 + 0 = 0) and (b.x2 * 1 = 0) and (c.x3 - 0 = 0) and (d.x4 = 0 + 0)", 0},
       {"aggregate", "modules(a); count(n in neighbors(a): n.x1 = 0) >= 3", 0},
-      {"one slot", "modules(a); a.x1 = 0", 3},
+      {"one slot", kOneSlotForm, 3},
       {"once[1000]", "modules(a); once[1000](a.x1 = 0)", 3},
+      {"all", kAllForm, 3},
+      {"nbrs >10", kNeighborsForm, 6},
+      {"within 3", kWithinForm, 6},
   };
   const double modules = double(args.size) * double(args.size) * double(args.size);
   std::vector<watch::Algorithm> algorithms;
@@ -78,6 +141,7 @@ int bench_expressions(const BenchArgs& args, bool tuples_given) {
       }
     }
   }
+  if (const int status = live_rows(args, algorithms, tuples, csv_file.get()); status != 0) return status;
   return shell::commit_outputs({csv_file.get()}) ? 0 : 1;
 }
 

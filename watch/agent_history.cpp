@@ -20,14 +20,31 @@ void AgentHistory::begin_record(const Frame& frame) {
     row.values.resize(modules_);
     row.known.resize(modules_);
   }
-  // A graph copied for an earlier step serves again while the frames' graph stays the same (a
-  // trace of a static lattice). Taken before the write, which may reuse its ring entry.
+  // Taken before the write, which may reuse the step before's ring entry: its graph (held, so
+  // that no new graph can take its address) and whether this step's presence is the same.
+  const Topology* before = topology_.find(frame.step - 1);
   Topology last;
-  if (const Topology* t = topology_.find(frame.step - 1); t != nullptr && !frame.topology && !t->shared) last = *t;
+  bool same_presence = false;
+  if (before != nullptr) {
+    last.owner = before->owner;
+    last.begin = before->begin;
+    last.ids = before->ids;
+    last.shared = before->shared;
+    last.version = before->version;
+    same_presence = std::equal(before->present.begin(), before->present.end(), frame.present.begin() + first_);
+  }
   Topology& t = topology_.write(frame.step);
   // Presence is whole in every frame: kept for every module this history holds, its host's own
   // or not (a rank's agents whose aggregates read other ranks' modules).
   t.present.assign(frame.present.begin() + first_, frame.present.begin() + first_ + modules_);
+  take_links(frame, last, t);
+  // The same links (a graph shared again, or the copy taken again) and presence: the same graph.
+  t.version = last.owner && same_presence && t.owner == last.owner ? last.version : ++versions_;
+}
+
+// t's links: the frame's graph shared, or a copy, or the step before's copy when the frames'
+// graph stays the same (a trace of a static lattice).
+void AgentHistory::take_links(const Frame& frame, const Topology& last, Topology& t) {
   if (frame.topology) {
     t.owner = frame.topology;
     t.begin = frame.nbr_begin;
@@ -36,8 +53,9 @@ void AgentHistory::begin_record(const Frame& frame) {
     return;
   }
   t.shared = false;
-  if (last.owner && std::ranges::equal(last.begin, frame.nbr_begin) && std::ranges::equal(last.ids, frame.nbrs)) {
-    t.owner = std::move(last.owner);
+  if (last.owner && !last.shared && std::ranges::equal(last.begin, frame.nbr_begin) &&
+      std::ranges::equal(last.ids, frame.nbrs)) {
+    t.owner = last.owner;
     t.begin = last.begin;
     t.ids = last.ids;
     return;

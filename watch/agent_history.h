@@ -97,6 +97,13 @@ class AgentHistory {
     return t->ids.empty() ? kNoLink : t->ids.data() + t->begin[m];
   }
 
+  // The version of the graph at `step`: the same as the step before's while its presence and
+  // links are (BallCache); 0 when the step is unknown.
+  uint64_t graph_version(int64_t step) const {
+    const Topology* t = topology_.find(step);
+    return t != nullptr ? t->version : 0;
+  }
+
   bool present(uint32_t m, int64_t step) const {
     const Topology* t = topology_.find(step);
     return t != nullptr && t->present[m - first_];
@@ -125,15 +132,19 @@ class AgentHistory {
     std::shared_ptr<const void> owner;  // keeps begin and ids alive
     std::span<const uint32_t> begin;    // [module + 1]
     std::span<const uint32_t> ids;
-    bool shared = false;  // owned by the host, not by this history
+    bool shared = false;   // owned by the host, not by this history
+    uint64_t version = 0;  // see graph_version
   };
   struct Graph {  // a graph this history had to copy
     std::vector<uint32_t> begin, ids;
   };
 
+  void take_links(const Frame& frame, const Topology& last, Topology& t);
+
   uint32_t first_ = 0, modules_ = 0;
   std::vector<StepRing<Values>> values_;  // per program variable
   StepRing<Topology> topology_;           // presence and N(m, step)
+  uint64_t versions_ = 0;                 // graph versions handed out
 };
 
 }  // namespace dw::watch

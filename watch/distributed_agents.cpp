@@ -34,7 +34,8 @@ AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t bu
       optimizations(o),
       slot_count(static_cast<uint32_t>(p.slot_count())),
       live_limit(budget ? budget : UINT64_MAX),
-      evaluation(p) {
+      evaluation(p),
+      balls(p.aggregates.size()) {
   stack.resize(static_cast<size_t>(p.max_stack));
   trial.resize(p.leaves.size());
   scratch.resize(layout.sets + kScratchSlack);
@@ -46,6 +47,9 @@ DistributedAgents::DistributedAgents(const Program& p, bool temporal_spans, uint
       first_(first),
       own_(size_t{modules} * stride_, kUnknown) {
   history_.configure(p, temporal_spans, first, modules);
+  own_balls_.resize(p.aggregates.size());
+  for (const AggregateCode& a : p.aggregates)
+    if (a.domain == Domain::Within) own_balls_[static_cast<size_t>(&a - p.aggregates.data())].reserve(modules);
 }
 
 void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end, const Program& p,
@@ -150,6 +154,7 @@ void DistributedAgents::decide_own_expression(const Program& p, const Leaf& leaf
   VisitMarks seen;
   for (uint32_t m = begin; m < end; ++m) {
     Reader r(*this, m, static_cast<uint32_t>(leaf.decide_slot), f, nullptr, neighbors, rows, seen);
+    r.use_balls(p, own_balls_, first_);
     Truth& own = own_[size_t{m - first_} * stride_ + at];
     own = kleene_and(own, Evaluator(p, r, scratch).leaf(leaf));
   }
@@ -201,6 +206,7 @@ bool DistributedAgents::write_table(uint32_t m, int64_t f, const AggregateCode& 
 void DistributedAgents::act(uint32_t m, int64_t f, const PatternMatcherRef& pm, AgentContext& ctx) const {
   const Program& p = ctx.program;
   Reader r(*this, m, pm.filled(), f, &pm, ctx.neighbors, ctx.rows, ctx.seen);
+  r.use_balls(p, ctx.balls, 0);
   Evaluator e(p, r, ctx.evaluation);
   for (const ActionCode& a : p.actions)
     ctx.action_values.push_back(a.value == kNoCode ? known_value(0) : e.value(a.value, 0, -1));
@@ -416,6 +422,7 @@ Truth DistributedAgents::decide(const Leaf& leaf, uint32_t m, int64_t f, const P
                                 AgentContext& ctx) const {
   if (leaf.kind == LeafKind::Expression) {
     Reader r(*this, m, pm.filled(), f, &pm, ctx.neighbors, ctx.rows, ctx.seen);
+    r.use_balls(ctx.program, ctx.balls, 0);
     return Evaluator(ctx.program, r, ctx.evaluation).leaf(leaf);
   }
   if (leaf.kind == LeafKind::Neighbor) {

@@ -59,6 +59,7 @@ struct AgentContext {
   EvaluatorScratch evaluation;            // value code's stacks
   std::vector<uint32_t> neighbors, rows;  // an aggregate's neighbours, or its table's rows
   VisitMarks seen;                        // within()'s and component()'s search
+  std::vector<BallCache> balls;           // within()'s around modules a PatternMatcher carries [aggregate]
   std::vector<Truth> stack;
   std::vector<Truth> trial;
   std::vector<uint32_t> targets;
@@ -136,6 +137,9 @@ class DistributedAgents {
   std::vector<Truth> own_;  // [(module - first_) * stride_ + slot or leaf]
   AgentHistory history_;
   std::vector<ModuleId> ids_;  // see set_module_ids
+  // within()'s balls around each module deciding its own leaves [aggregate], roots from first_:
+  // each written only by the thread that records the module's block.
+  std::vector<BallCache> own_balls_;
 };
 
 }  // namespace dw::watch

@@ -89,15 +89,43 @@ class DistributedAgents::Reader {
       seen_.mark(root);
       return 1;
     }
-    gather_within(
-        root, a.hops,
-        [&](uint32_t u, auto&& visit) {
-          uint32_t count = 0;
-          const uint32_t* ns = h_.neighbors(u, step_, count);
-          for (uint32_t i = 0; ns != nullptr && i < count; ++i) visit(ns[i]);
-        },
-        [&](uint32_t u) { return h_.present(u, step_); }, neighbors_, seen_);
+    auto gather = [&](std::vector<uint32_t>& out) {
+      gather_within(
+          root, a.hops,
+          [&](uint32_t u, auto&& visit) {
+            uint32_t count = 0;
+            const uint32_t* ns = h_.neighbors(u, step_, count);
+            for (uint32_t i = 0; ns != nullptr && i < count; ++i) visit(ns[i]);
+          },
+          [&](uint32_t u) { return h_.present(u, step_); }, out, seen_);
+    };
+    if (balls_ == nullptr || root < ball_first_) {
+      gather(neighbors_);
+      return static_cast<int>(neighbors_.size());
+    }
+    BallCache& cache = (*balls_)[static_cast<size_t>(&a - aggregates_)];
+    const std::span<const uint32_t> ball = cache.ball(root - ball_first_, h_.graph_version(step_), gather, neighbors_);
+    if (ball.data() != neighbors_.data()) neighbors_.assign(ball.begin(), ball.end());
     return static_cast<int>(neighbors_.size());
+  }
+
+  // within() keeps its balls in `balls` ([aggregate of `p`], roots from `first`) from step to step.
+  void use_balls(const Program& p, std::vector<BallCache>& balls, uint32_t first) {
+    aggregates_ = p.aggregates.data();
+    balls_ = &balls;
+    ball_first_ = first;
+  }
+
+  bool count_where(const ValueInstr& in, CompareOp op, int64_t c, int count, Value& out) const {
+    if (table_ || in.variable == kIdVariable) return false;
+    const int64_t* values = nullptr;
+    const uint8_t* known = nullptr;
+    int64_t n = 0;
+    const std::span<const uint32_t> ids(neighbors_.data(), static_cast<size_t>(count));
+    if (count == 0) out = known_value(0);
+    else if (!h_.column(in.variable, step_ + in.offset, values, known)) out = {};
+    else out = count_holding(ids, h_.first(), values, known, op, c, n) ? known_value(n) : Value{};
+    return true;
   }
 
   int expand(int i) {
@@ -185,8 +213,11 @@ class DistributedAgents::Reader {
   int64_t f_;
   const PatternMatcherRef* pm_;
   std::vector<uint32_t>& neighbors_;
-  std::vector<uint32_t>& rows_;  // table: each row's byte offset in the record
-  VisitMarks& seen_;             // within()'s and component()'s search
+  std::vector<uint32_t>& rows_;                // table: each row's byte offset in the record
+  VisitMarks& seen_;                           // within()'s and component()'s search
+  const AggregateCode* aggregates_ = nullptr;  // see use_balls
+  std::vector<BallCache>* balls_ = nullptr;
+  uint32_t ball_first_ = 0;
   const AggregateCode* aggregate_ = nullptr;
   bool table_ = false;
   uint32_t at_ = 0;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace dw::watch {
@@ -65,6 +66,46 @@ void gather_within(uint32_t root, int hops, EachNeighbor&& each_neighbor, Presen
   }
   std::sort(out.begin(), out.end());
 }
+
+// Balls kept from step to step: within(m, h) is a function of the graph's links and presence
+// alone, so while they stay the same (a lattice at rest: the whole run) each module's ball is
+// searched once, not once a step and a reading. A graph is named by its version (the history's:
+// equal versions, equal links and presence; 0 names none). One cache per within() aggregate, and
+// its entries are written only by whoever evaluates their module: a thread that evaluates its own
+// block's modules, or a thread's own cache.
+class BallCache {
+ public:
+  // Root `index`'s ball over graph `version`, as gather(out) finds it when not kept yet. A ball
+  // larger than kMostKept is found again every time (kept, a few such would outweigh the history).
+  template <class Gather>
+  std::span<const uint32_t> ball(uint32_t index, uint64_t version, Gather&& gather, std::vector<uint32_t>& scratch) {
+    if (version == 0) {
+      gather(scratch);
+      return scratch;
+    }
+    if (index >= kept_.size()) kept_.resize(size_t{index} + 1 + index / 2);
+    Kept& k = kept_[index];
+    if (k.version == version) return k.ids;
+    gather(scratch);
+    if (scratch.size() > kMostKept) return scratch;
+    k.ids.assign(scratch.begin(), scratch.end());
+    k.version = version;
+    return k.ids;
+  }
+  // Makes room for roots [0, roots) at once: a cache whose roots are evaluated by several threads
+  // (each its own) must not grow while they run.
+  void reserve(uint32_t roots) {
+    if (kept_.size() < roots) kept_.resize(roots);
+  }
+  static constexpr size_t kMostKept = 1024;
+
+ private:
+  struct Kept {
+    uint64_t version = 0;
+    std::vector<uint32_t> ids;
+  };
+  std::vector<Kept> kept_;  // [root index]
+};
 
 // Keeps the candidates marked as members, sorted. Returns their count.
 inline int keep_members(std::vector<uint32_t>& list, const std::vector<uint8_t>& joined) {

@@ -14,12 +14,17 @@
 //   int expand(int i)                        component: neighbour i's present neighbours not yet
 //                                            seen become elements too; the count of elements
 //   int keep(const std::vector<uint8_t>&)    component: only the elements marked stay; their count
+// and may give, to count `count(n in D: n.x OP c)` without reading the elements one by one:
+//   bool count_where(const ValueInstr&, CompareOp, int64_t c, int count, Value& out)
+//                                            false when it cannot (then they are read one by one)
 // A term or bound read of kIdVariable is id(m): the module's id when present at that step.
 // Aggregates do not nest, so a reader has at most one open at a time.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "watch/kleene.h"
@@ -65,6 +70,31 @@ inline Value apply(ValueOp op, Value a, Value b) {
 inline Truth compare_values(CompareOp op, Value a, Value b) {
   if (!a.known || !b.known) return kUnknown;
   return truth_of(holds(op, a.value, b.value));
+}
+
+// Of the modules `ids`, how many have `x OP c`, x read at values[id - first] (known[id - first]):
+// false when any is unknown. What a reader's count_where does once it has the variable's row.
+inline bool count_holding(std::span<const uint32_t> ids, uint32_t first, const int64_t* values, const uint8_t* known,
+                          CompareOp op, int64_t c, int64_t& n) {
+  uint32_t all_known = 1;
+  int64_t total = 0;
+  // One loop per operator, so that the loop body has no branch.
+  auto loop = [&](auto holds_op) {
+    for (uint32_t id : ids) {
+      all_known &= known[id - first];
+      total += holds_op(values[id - first], c);
+    }
+  };
+  switch (op) {
+    case CompareOp::Less: loop(std::less<int64_t>{}); break;
+    case CompareOp::Greater: loop(std::greater<int64_t>{}); break;
+    case CompareOp::Equal: loop(std::equal_to<int64_t>{}); break;
+    case CompareOp::NotEqual: loop(std::not_equal_to<int64_t>{}); break;
+    case CompareOp::GreaterEqual: loop(std::greater_equal<int64_t>{}); break;
+    case CompareOp::LessEqual: loop(std::less_equal<int64_t>{}); break;
+  }
+  n = total;
+  return all_known != 0;
 }
 
 // Scratch for evaluation: sized once per Program, reused for every evaluation.
@@ -178,6 +208,10 @@ class Evaluator {
   Value count_compared(const ConditionTest& t, int count) {
     const ValueInstr& read = p_.codes[t.lhs][0];
     const int64_t constant = p_.codes[t.rhs][0].constant;
+    if constexpr (requires(Value & out) { r_.count_where(read, t.op, constant, count, out); }) {
+      // A reader that can find the variable's row once for all the elements.
+      if (Value out; r_.count_where(read, t.op, constant, count, out)) return out;
+    }
     int64_t n = 0;
     for (int i = 0; i < count; ++i) {
       const Value v = r_.bound(i, read);

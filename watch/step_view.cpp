@@ -13,7 +13,8 @@ StepHistory::StepHistory(const Program& p, const Universe& u, bool spans, int64_
       scratch_(p),
       modules_(u.module_count()),
       frame_columns_(variable_columns(p, u)),
-      columns_(p.column_count()) {
+      columns_(p.column_count()),
+      balls_(p.aggregates.size()) {
   if (p.reads_id) ids_ = u.module_ids;
   for (size_t v = 0; v < columns_.size(); ++v)
     columns_[v].configure(spans ? p.extent_plus - p.variable_min_offset[v] + 1 + later : 0);
@@ -33,7 +34,13 @@ void StepHistory::record(const Frame& frame) {
       col.value[m] = known ? frame.values[at] : 0;
     }
   }
+  // Compared before the write, which may reuse the step before's entry.
+  const Graph* before = graphs_.find(frame.step - 1);
+  const bool same = before != nullptr && std::ranges::equal(before->present, frame.present) &&
+                    std::ranges::equal(before->begin, frame.nbr_begin) && std::ranges::equal(before->ids, frame.nbrs);
+  const uint64_t version = same ? before->version : ++versions_;
   Graph& g = graphs_.write(frame.step);
+  g.version = version;
   g.present.assign(frame.present.begin(), frame.present.end());
   g.begin.assign(frame.nbr_begin.begin(), frame.nbr_begin.end());
   g.ids.assign(frame.nbrs.begin(), frame.nbrs.end());
@@ -121,12 +128,17 @@ class StepView::Reader {
       return 1;
     }
     if (a.domain == Domain::Within) {
-      gather_within(
-          m, a.hops,
-          [&](uint32_t u, auto&& visit) {
-            for (uint32_t w : g->neighbors(u)) visit(w);
-          },
-          [&](uint32_t u) { return g->present[u] != 0; }, n, v_.seen_);
+      auto gather = [&](std::vector<uint32_t>& out) {
+        gather_within(
+            m, a.hops,
+            [&](uint32_t u, auto&& visit) {
+              for (uint32_t w : g->neighbors(u)) visit(w);
+            },
+            [&](uint32_t u) { return g->present[u] != 0; }, out, v_.seen_);
+      };
+      const size_t index = static_cast<size_t>(&a - v_.program_->aggregates.data());
+      const std::span<const uint32_t> ball = h_.balls(index).ball(m, g->version, gather, n);
+      if (ball.data() != n.data()) n.assign(ball.begin(), ball.end());
       return static_cast<int>(n.size());
     }
     // N(m, s) is a set of the neighbours present at s (docs/design.md §4b).
@@ -138,6 +150,17 @@ class StepView::Reader {
   }
   Value bound(int i, const ValueInstr& in) const { return read(in.variable, step_ + in.offset, bound_id(i)); }
   uint32_t bound_id(int i) const { return v_.neighbors_[static_cast<size_t>(i)]; }
+  bool count_where(const ValueInstr& in, CompareOp op, int64_t c, int count, Value& out) const {
+    if (in.variable == kIdVariable) return false;
+    const StepHistory::Column* column = h_.column(in.variable, step_ + in.offset);
+    int64_t n = 0;
+    const std::span<const uint32_t> ids(v_.neighbors_.data(), static_cast<size_t>(count));
+    out = column != nullptr && count_holding(ids, 0, column->value.data(), column->known.data(), op, c, n)
+              ? known_value(n)
+              : Value{};
+    if (column == nullptr && count == 0) out = known_value(0);
+    return true;
+  }
   Truth bound_adjacent(int i, int offset, uint32_t y) const {
     const StepHistory::Graph* g = h_.graph(step_ + offset);
     const uint32_t n = bound_id(i);

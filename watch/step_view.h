@@ -30,6 +30,7 @@ class StepHistory {
   struct Graph {
     std::vector<uint8_t> present;
     std::vector<uint32_t> begin, ids;
+    uint64_t version = 0;  // the same as the step before's while presence and links are (BallCache)
     std::span<const uint32_t> neighbors(uint32_t m) const { return {ids.data() + begin[m], ids.data() + begin[m + 1]}; }
   };
 
@@ -43,6 +44,9 @@ class StepHistory {
   size_t bytes() const;
   uint64_t held_values() const;                                         // values and graphs held, in module-steps
   ModuleId id(uint32_t m) const { return ids_.empty() ? m : ids_[m]; }  // what id(m) reads
+  // The balls of within() aggregate `aggregate` (Program::aggregates), kept from step to step
+  // while the graph stays the same; a cache, so a const history lends it (one thread reads one).
+  BallCache& balls(size_t aggregate) const { return balls_[aggregate]; }
 
  private:
   void work_out_kept_windows(int64_t newest);
@@ -56,6 +60,8 @@ class StepHistory {
   // Deques: a StepView keeps pointers to the items across later writes (see StepRing).
   std::vector<StepRing<Column, std::deque<Column>>> columns_;  // per program variable, then kept windows' columns
   StepRing<Graph, std::deque<Graph>> graphs_;
+  uint64_t versions_ = 0;                 // graph versions handed out
+  mutable std::vector<BallCache> balls_;  // [aggregate]
 };
 
 class StepView {

@@ -246,6 +246,55 @@ TEST(Domains, RandomAggregatesOverEveryDomainEqualTheirDefinitionInEveryReading)
   }
 }
 
+// A random ensemble as random_ensemble's whose graph mostly stays the same from step to step: at
+// each step one module's links change, or one module comes or goes, or nothing does.
+TestEnsemble slowly_changing_ensemble(std::mt19937& rng) {
+  auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
+  const uint32_t mc = 7;
+  TestEnsemble e(mc, {"x"});
+  std::vector<std::vector<uint32_t>> links(mc);
+  std::vector<uint8_t> here(mc, 1);
+  auto relink = [&](uint32_t m) {
+    links[m].clear();
+    for (int i = pick(4); i > 0; --i) {
+      const uint32_t u = static_cast<uint32_t>(pick(static_cast<int>(mc)));
+      if (std::find(links[m].begin(), links[m].end(), u) == links[m].end()) links[m].push_back(u);
+    }
+  };
+  for (uint32_t m = 0; m < mc; ++m) relink(m);
+  for (int64_t t = 0; t < 8; ++t) {
+    const int change = t == 0 ? 0 : pick(3);
+    if (change == 1) relink(static_cast<uint32_t>(pick(static_cast<int>(mc))));
+    if (change == 2) here[static_cast<size_t>(pick(static_cast<int>(mc)))] ^= 1;
+    for (uint32_t m = 0; m < mc; ++m) {
+      if (!here[m]) continue;
+      std::map<std::string, int64_t> vars;
+      if (pick(12) != 0) vars["x"] = pick(3);
+      e.set(t, m, vars, links[m]);
+    }
+  }
+  e.grow(7);
+  return e;
+}
+
+// within()'s balls are kept from step to step while the graph stays the same (watch::BallCache):
+// kept no longer than it does, the links copied or lent by the host (Frame::topology).
+TEST(Domains, WithinKeptFromStepToStepFollowsEveryChangeOfTheGraph) {
+  std::mt19937 rng(6161);
+  const std::vector<Optimizations> combinations = testing::all_optimization_combinations();
+  for (int trial = 0; trial < 300; ++trial) {
+    TestEnsemble e = slowly_changing_ensemble(rng);
+    e.lend_topology(trial % 2 == 1);
+    Case c = random_case(rng);
+    c.dom = Dom::Within;
+    if (trial % 3 == 0) {  // the commonest form, counted without the logic (count_where)
+      c.agg = 0;
+      c.body_reads_slot = false;
+    }
+    check_against_brute_force(c, e, false, combinations[static_cast<size_t>(trial) % combinations.size()]);
+  }
+}
+
 TEST(Domains, WithinExcludesItsModuleAndFollowsLinksOutward) {
   // 0 -> 1 -> 2 -> 3, and 0 lists itself; 3 -> 0 (directed).
   TestEnsemble e(4, {"x"});

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <tuple>
@@ -129,13 +130,28 @@ class TestEnsemble {
           }
         });
     FrameData data;
-    for (int64_t t = 0; t < steps(); ++t) detector->observe(frame(t, data));
+    std::shared_ptr<std::pair<std::vector<uint32_t>, std::vector<uint32_t>>> links;
+    for (int64_t t = 0; t < steps(); ++t) {
+      Frame f = frame(t, data);
+      if (lend_topology_) {  // one owner while the links stay the same, as the runtime lends them
+        if (!links || links->first != data.begin || links->second != data.nbrs)
+          links = std::make_shared<std::pair<std::vector<uint32_t>, std::vector<uint32_t>>>(data.begin, data.nbrs);
+        f.nbr_begin = links->first;
+        f.nbrs = links->second;
+        f.topology = links;
+      }
+      detector->observe(f);
+    }
     detector->finish();
     if (stats) *stats = detector->stats();
     return out;
   }
 
+  // Whether run's frames lend their links (Frame::topology) rather than have them copied.
+  void lend_topology(bool lend) { lend_topology_ = lend; }
+
  private:
+  bool lend_topology_ = false;
   struct Step {
     std::vector<uint8_t> present;
     std::vector<std::map<std::string, int64_t>> vars;
