@@ -25,6 +25,7 @@
 #include "app/view/readout.h"
 #include "app/view/session_worker.h"
 #include "app/view/view_model.h"
+#include "app/view/why_diagram.h"
 #include "app/view/widgets.h"
 #include "render/image.h"
 #include "render/renderer.h"
@@ -180,6 +181,17 @@ class Debugger {
   void session_files_row();
   void statistics_panel();
   void help_window();
+  // why_panel.cpp: the Why panel, the session's `why` answer drawn as a space-time diagram, and the
+  // cone's marks in the 3D view
+  void show_why(const nlohmann::ordered_json& answer, const std::string& line);  // a `why` answered
+  // Sends `why ...` (its options taken off) with the panel's depth and narrowness.
+  void ask_why(const std::string& line);
+  void why_last_changed();  // Y: the selected module's variable that changed last
+  void why_panel();
+  void why_diagram_canvas(const WhyDiagram& d);
+  // The cone's modules lit at the current step and the messages read at it as arrows, over the 3D
+  // view whose picture's top left is at `origin` (window pixels; `scale`: framebuffer per window).
+  void why_in_view(ImVec2 origin, ImVec2 scale);
 
   const scenarios::Scenario& scenario_;
   sim::Session& session_;
@@ -264,6 +276,14 @@ class Debugger {
   std::vector<DisabledWatch> disabled_;
   int set_column_ = 0;
   char record_path_[256] = "trace.jsonl", matches_path_[256] = "matches.jsonl";
+  // The Why panel: the diagram of the last `why` answered, how it is scrolled, the options the
+  // next ask sends, and where the last frame drew it (`panel why`).
+  std::optional<WhyDiagram> why_;
+  WhyView why_view_;
+  bool why_open_ = false, why_narrow_ = true, panels_why_ = false;
+  int why_depth_ = 3;
+  std::string why_asked_;  // the last `why` line without its options
+  nlohmann::ordered_json why_drawn_;
   std::vector<std::array<float, 4>> plot_rects_;              // the last frame's plots: x0, y0, x1, y1
   std::vector<PlotLabel> plot_labels_;                        // the texts its Module plot wrote
   std::map<std::string, WidgetPlace> widgets_;                // the last frame's buttons and fields, by name

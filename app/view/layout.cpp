@@ -1,6 +1,7 @@
 // Where the panels go: the tiling of the window (panel_layout, view_model.h) applied to each
 // panel, the first time from the layout file if there is one (ImGui keeps the places a person
-// gave the panels there), and again whenever the window's size or the timeline's lanes change.
+// gave the panels there), and again whenever the window's size or the timeline's lanes change, or
+// the Why panel opens or closes.
 #include <imgui.h>
 
 #include <cstdlib>
@@ -24,13 +25,17 @@ std::string layout_file() {
 void Debugger::lay_out_panels() {
   const ImGuiViewport* vp = ImGui::GetMainViewport();
   const int lanes = int(readout_.watches.size()) + 1;
-  panels_ = panel_layout(vp->WorkPos.x, vp->WorkPos.y, vp->WorkSize.x, vp->WorkSize.y, lanes);
+  panels_ = panel_layout(vp->WorkPos.x, vp->WorkPos.y, vp->WorkSize.x, vp->WorkSize.y, lanes, why_open_);
   // Laid out again when the window's size changes, or the timeline's lanes do (once a Readout was
   // read: before, there are none to count, and the layout file's places stand).
   const bool read = readout_.at.end > 0;
   const bool lanes_changed = read && panels_lanes_ > 0 && lanes != panels_lanes_;
   if (read) panels_lanes_ = lanes;
-  const bool resized = vp->WorkSize.x != panels_width_ || vp->WorkSize.y != panels_height_ || lanes_changed;
+  // The Why panel opening or closing gives the 3D view's place to it, or back.
+  const bool why_changed = why_open_ != panels_why_;
+  panels_why_ = why_open_;
+  const bool resized =
+      vp->WorkSize.x != panels_width_ || vp->WorkSize.y != panels_height_ || lanes_changed || why_changed;
   panels_cond_ = resized && panels_width_ > 0 ? ImGuiCond_Always : ImGuiCond_FirstUseEver;
   panels_width_ = vp->WorkSize.x;
   panels_height_ = vp->WorkSize.y;

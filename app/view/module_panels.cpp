@@ -156,14 +156,17 @@ void Debugger::variables_table(const Inspector& in) {
     values = std::max(values, ImGui::CalcTextSize((std::to_string(v.value) + " *").c_str()).x);
     if (v.before) befores = std::max(befores, ImGui::CalcTextSize(std::to_string(*v.before).c_str()).x);
   }
-  const bool side_by_side = names + values + befores + 3 * pad <= ImGui::GetContentRegionAvail().x;
+  // Each row ends in a "why?" that asks the session the value's causal history (the Why panel).
+  const float why = ImGui::CalcTextSize("why?").x + 2 * ImGui::GetStyle().FramePadding.x;
+  const bool side_by_side = names + values + befores + why + 4 * pad <= ImGui::GetContentRegionAvail().x;
   if (!side_by_side)
     values = std::max({values, befores + ImGui::CalcTextSize("before ").x, header_width("value (* changed), before")});
-  if (!ImGui::BeginTable("vars", side_by_side ? 3 : 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) return;
+  if (!ImGui::BeginTable("vars", side_by_side ? 4 : 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) return;
   ImGui::TableSetupColumn("variable", ImGuiTableColumnFlags_WidthStretch);
   ImGui::TableSetupColumn(side_by_side ? "value (* changed)" : "value (* changed), before",
                           ImGuiTableColumnFlags_WidthFixed, values);
   if (side_by_side) ImGui::TableSetupColumn("step before", ImGuiTableColumnFlags_WidthFixed, befores);
+  ImGui::TableSetupColumn("", ImGuiTableColumnFlags_WidthFixed, why);
   headers_row("variables");
   for (const VariableRow& v : in.variables) {
     ImGui::TableNextRow();
@@ -176,10 +179,17 @@ void Debugger::variables_table(const Inspector& in) {
     if (v.changed()) label_cell(std::to_string(v.value) + " *", kChanged);
     else label_cell(std::to_string(v.value));
     if (!side_by_side) ImGui::TextDisabled("before %s", v.before ? std::to_string(*v.before).c_str() : "-");
-    if (!side_by_side) continue;
+    if (side_by_side) {
+      ImGui::TableNextColumn();
+      if (v.before) label_cell(std::to_string(*v.before));
+      else ImGui::TextDisabled("-");
+    }
     ImGui::TableNextColumn();
-    if (v.before) label_cell(std::to_string(*v.before));
-    else ImGui::TextDisabled("-");
+    if (button("why?##" + v.name, true))
+      ask_why("why " + std::to_string(in.module) + " " + v.name + " " + std::to_string(readout_.at.current));
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("Why %s is %" PRId64 ": its causal history, as a space-time diagram (Y: the last changed)",
+                        v.name.c_str(), v.value);
   }
   ImGui::EndTable();
 }

@@ -13,6 +13,7 @@
 
 #include "app/view/debugger.h"
 #include "app/view/widgets.h"
+#include "shell/command.h"
 #include "shell/output_files.h"
 #include "sim/unknown_variables.h"
 #include "watch/explain.h"
@@ -28,6 +29,7 @@ void Debugger::draw_panels() {
   matches_panel();
   inspector_panel();
   statistics_panel();
+  why_panel();
 }
 
 void Debugger::transport_panel() {
@@ -511,22 +513,36 @@ void Debugger::matches_panel() {
   }
   ImGui::Text("%zu matches%s", readout_.match_total,
               readout_.match_total > readout_.match_rows.size() ? " (the first shown: filter to narrow)" : "");
+  std::vector<std::string> names{"watch"};
+  for (const WatchRow& row : readout_.watches) names.push_back(row.spec.name);
+  const float watch_width = names_width(names, header_width("watch", true), 200), why_width = button_width("why?");
+  // The steps as wide as their header and its sort arrow (or the latest step, if wider).
+  const float steps = std::max(header_width("detected", true),
+                               ImGui::CalcTextSize(std::to_string(std::max<int64_t>(0, readout_.at.latest)).c_str()).x);
+  // A "why?" per row (the match's causal history, in the Why panel) while the slots keep room for
+  // their header and a group; in a narrow panel, one for the chosen match beside the count.
+  const ImGuiStyle& style = ImGui::GetStyle();
+  const float fixed = watch_width + std::max(header_width("t", true), steps * 0.7f) + steps + why_width +
+                      10 * style.CellPadding.x + style.ScrollbarSize;
+  const bool why_column =
+      ImGui::GetContentRegionAvail().x - fixed >= header_width("slots") + ImGui::CalcTextSize("a=77 b=77 c=77").x;
+  if (!why_column && model_.selected_match && model_.selected_match->watch < readout_.watches.size()) {
+    flow(button_width("why? the chosen match"));
+    if (button("why? the chosen match", true))
+      ask_why("why match " + shell::command_word(readout_.watches[model_.selected_match->watch].spec.name) + " " +
+              std::to_string(model_.selected_match->index));
+  }
   const ImGuiTableFlags flags = ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollY |
                                 ImGuiTableFlags_Sortable | ImGuiTableFlags_SizingStretchProp;
-  if (ImGui::BeginTable("matches", 4, flags)) {
+  if (ImGui::BeginTable("matches", why_column ? 5 : 4, flags)) {
     ImGui::TableSetupScrollFreeze(0, 1);
-    std::vector<std::string> names{"watch"};
-    for (const WatchRow& row : readout_.watches) names.push_back(row.spec.name);
-    ImGui::TableSetupColumn("watch", ImGuiTableColumnFlags_WidthFixed,
-                            names_width(names, header_width("watch", true), 200), 1);
-    // The steps as wide as their header and its sort arrow (or the latest step, if wider).
-    const float steps =
-        std::max(header_width("detected", true),
-                 ImGui::CalcTextSize(std::to_string(std::max<int64_t>(0, readout_.at.latest)).c_str()).x);
+    ImGui::TableSetupColumn("watch", ImGuiTableColumnFlags_WidthFixed, watch_width, 1);
     ImGui::TableSetupColumn("t", ImGuiTableColumnFlags_DefaultSort | ImGuiTableColumnFlags_WidthFixed,
                             std::max(header_width("t", true), steps * 0.7f), 0);
     ImGui::TableSetupColumn("detected", ImGuiTableColumnFlags_WidthFixed, steps, 2);
     ImGui::TableSetupColumn("slots", ImGuiTableColumnFlags_NoSort | ImGuiTableColumnFlags_WidthStretch, 1, 3);
+    if (why_column)
+      ImGui::TableSetupColumn("", ImGuiTableColumnFlags_NoSort | ImGuiTableColumnFlags_WidthFixed, why_width, 4);
     headers_row("matches");
     if (ImGuiTableSortSpecs* sort = ImGui::TableGetSortSpecs(); sort && sort->SpecsDirty && sort->SpecsCount > 0) {
       const ImGuiTableColumnSortSpecs& s = sort->Specs[0];
@@ -546,7 +562,8 @@ void Debugger::matches_panel() {
         ImGui::TableNextColumn();
         const bool chosen = model_.selected_match == r.ref;
         // The row is the selectable; its watch name is drawn over it, whole or visibly cut.
-        if (ImGui::Selectable(("##match" + std::to_string(i)).c_str(), chosen, ImGuiSelectableFlags_SpanAllColumns)) {
+        if (ImGui::Selectable(("##match" + std::to_string(i)).c_str(), chosen,
+                              ImGuiSelectableFlags_SpanAllColumns | ImGuiSelectableFlags_AllowItemOverlap)) {
           std::vector<std::string> commands;
           worker_->try_read([&](sim::Session& s) { commands = model_.on_match_click(s, r.ref); });
           apply(commands);
@@ -560,6 +577,10 @@ void Debugger::matches_panel() {
         ImGui::Text("%" PRId64, r.detected);
         ImGui::TableNextColumn();
         ImGui::TextUnformatted(r.slots.c_str());
+        if (!why_column) continue;
+        ImGui::TableNextColumn();
+        if (button("why?##match " + std::to_string(i), true))
+          ask_why("why match " + shell::command_word(r.watch) + " " + std::to_string(r.ref.index));
       }
     ImGui::EndTable();
   }

@@ -76,6 +76,7 @@ void Debugger::refresh_readout() {
         if (a.json.contains("current")) paused_on_.clear();
         if (!model_.playing) status(answer_words(a.json));
       }
+      if (a.json.value("cmd", "") == "why") show_why(a.json, a.line);  // the Why panel draws it
     }
   }
   const uint64_t version = worker_->finished();

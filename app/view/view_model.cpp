@@ -95,7 +95,7 @@ void TimelineRange::pan(int64_t steps, const Position& at) {
   show(from + steps, to + steps, at);
 }
 
-PanelLayout panel_layout(float x, float y, float width, float height, int lanes) {
+PanelLayout panel_layout(float x, float y, float width, float height, int lanes, bool why) {
   PanelLayout l;
   l.too_small = width < PanelLayout::kMinWidth || height < PanelLayout::kMinHeight;
   // The column: wide enough for the editor's choices and the matches' slots on one line.
@@ -106,6 +106,11 @@ PanelLayout panel_layout(float x, float y, float width, float height, int lanes)
   const float transport = (left >= 1000 ? 178 : 225) + 14.0f * float(std::clamp(lanes, 2, 8));
   l.view = {x, y, left, std::max(0.0f, height - transport)};
   l.transport = {x, y + l.view.height, left, height - l.view.height};
+  if (why) {  // the space-time diagram takes the view's right part, the ensemble keeps the rest
+    const float diagram = std::clamp(left * 0.42f, 360.0f, 600.0f);
+    l.why = {x + left - diagram, y, diagram, l.view.height};
+    l.view.width = std::max(0.0f, left - diagram);
+  }
   // Watchpoints and the editor, Matches, Module, Statistics, top to bottom.
   // The Module panel has room for its interventions, variables and plot unscrolled at 1000 pixels;
   // in a low window the matches keep room for a few rows, and the statistics give it up.
@@ -201,9 +206,9 @@ struct KeyEntry {
   std::string_view name;
 };
 constexpr KeyEntry kKeys[] = {
-    {Key::Space, "space"}, {Key::Right, "right"}, {Key::Left, "left"}, {Key::N, "n"},
-    {Key::P, "p"},         {Key::F, "f"},         {Key::Z, "z"},       {Key::Home, "home"},
-    {Key::End, "end"},     {Key::F1, "f1"},       {Key::F12, "f12"},   {Key::Escape, "escape"},
+    {Key::Space, "space"}, {Key::Right, "right"}, {Key::Left, "left"},     {Key::N, "n"},       {Key::P, "p"},
+    {Key::F, "f"},         {Key::Z, "z"},         {Key::Y, "y"},           {Key::Home, "home"}, {Key::End, "end"},
+    {Key::F1, "f1"},       {Key::F12, "f12"},     {Key::Escape, "escape"},
 };
 
 }  // namespace
@@ -258,9 +263,10 @@ std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord
   } else if (name == "screenshot") {
     if (words.size() < 2) d = mistake(1, "screenshot FILE: the PNG to write");
   } else if (name == "panel") {
-    static const char* kPanels[] = {"position", "matches", "watchpoints", "inspector", "plots", "timeline", "widgets"};
+    static const char* kPanels[] = {"position", "matches",  "watchpoints", "inspector",
+                                    "plots",    "timeline", "widgets",     "why"};
     if (words.size() < 2 || std::find(std::begin(kPanels), std::end(kPanels), words[1].text) == std::end(kPanels))
-      d = mistake(1, "panel NAME: position, matches, watchpoints, inspector, plots, timeline or widgets");
+      d = mistake(1, "panel NAME: position, matches, watchpoints, inspector, plots, timeline, widgets or why");
   } else if (name == "press") {
     want = words.size();  // the button's label: the rest of the line
     if (words.size() < 2) d = mistake(1, "press BUTTON: the label of the button to press");
@@ -291,6 +297,7 @@ const std::vector<KeyHelp>& key_help() {
       {"N / P", "next / previous match of the chosen watchpoint"},
       {"F", "fit the ensemble into the view"},
       {"Z", "zoom onto the selection (and its group)"},
+      {"Y", "why: the causal history of the selected module's last changed variable"},
       {"F12", "screenshot of the 3D view (PNG, as dwatch render draws it)"},
       {"F1", "this help"},
       {"Escape", "cancel the work in progress; close the help"},
@@ -421,6 +428,7 @@ std::vector<std::string> ViewModel::on_key(Key key, const Position& at, std::spa
     }
     case Key::F: camera_placed = false; return {};
     case Key::Z: focus_selection = selected.has_value(); return {};
+    case Key::Y: return {};  // the window asks `why` (it knows the module's history)
     case Key::F1: show_help = !show_help; return {};
     case Key::F12: screenshot_requested = true; return {};
     case Key::Escape: show_help = false; return {};

@@ -82,7 +82,7 @@ struct MatchRows {
 MatchRows filter_matches(const sim::Session& session, const MatchFilter& filter, size_t limit);
 
 // The keys the window binds (F1 lists them).
-enum class Key { Space, Right, Left, N, P, F, Z, Home, End, F1, F12, Escape };
+enum class Key { Space, Right, Left, N, P, F, Z, Y, Home, End, F1, F12, Escape };
 std::optional<Key> key_named(std::string_view name);
 struct KeyHelp {
   std::string_view keys, what;
@@ -146,10 +146,12 @@ struct PanelRect {
 struct PanelLayout {
   static constexpr float kMinWidth = 1024, kMinHeight = 640;
   PanelRect view, transport, watchpoints, matches, module, statistics;
+  PanelRect why;  // while the Why panel is open: the right part of the 3D view's place
   bool too_small = false;
 };
-// `lanes`: the timeline's (one a watchpoint, and the interventions'), which the transport bar holds.
-PanelLayout panel_layout(float x, float y, float width, float height, int lanes = 2);
+// `lanes`: the timeline's (one a watchpoint, and the interventions'), which the transport bar holds;
+// `why`: the Why panel is open, beside the 3D view.
+PanelLayout panel_layout(float x, float y, float width, float height, int lanes = 2, bool why = false);
 
 // Lines of the session language that the widgets send.
 namespace command {

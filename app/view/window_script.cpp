@@ -66,7 +66,7 @@ void Debugger::input_command(const std::vector<std::string>& words, nlohmann::or
   } else if (words[0] == "key") {
     const auto key = words.size() == 2 ? key_named(words[1]) : std::nullopt;
     if (!key) {
-      error = "key NAME: one of space, right, left, n, p, f, z, home, end, f1, f12, escape";
+      error = "key NAME: one of space, right, left, n, p, f, z, y, home, end, f1, f12, escape";
       return;
     }
     press(*key);
@@ -207,7 +207,7 @@ void Debugger::press_command(const std::vector<std::string>& words, nlohmann::or
   answer["current"] = readout_.at.current;
 }
 
-// panel widgets | panel plots | panel timeline | panel NAME: what the window shows, as text.
+// panel widgets | panel plots | panel timeline | panel why | panel NAME: what the window shows, as text.
 void Debugger::panel_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer,
                              std::string& error) {
   if (words.size() == 2 && words[1] == "widgets") {
@@ -226,7 +226,7 @@ void Debugger::panel_command(const std::vector<std::string>& words, nlohmann::or
     return;
   }
   if (words.size() != 2) {
-    error = "panel NAME: position, matches, watchpoints, inspector, plots, timeline or widgets";
+    error = "panel NAME: position, matches, watchpoints, inspector, plots, timeline, widgets or why";
     return;
   }
   if (words[1] == "plots") {  // where the last frame drew its plots, for tests that look at them
@@ -244,6 +244,10 @@ void Debugger::panel_command(const std::vector<std::string>& words, nlohmann::or
     answer["width"] = timeline_.width;
     answer["y0"] = timeline_y_;
     answer["height"] = timeline_height_;
+    return;
+  }
+  if (words[1] == "why") {  // the Why panel's diagram: where each dot and arrow was drawn
+    for (const auto& [key, value] : why_drawn_.items()) answer[key] = value;
     return;
   }
   answer = readout_.panel(words[1], session_.model());
