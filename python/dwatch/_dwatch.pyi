@@ -117,6 +117,12 @@ class Session:
     def unwatch(self, name: str) -> dict[str, Any]: ...
     def action(self, name: str, action: str) -> dict[str, Any]: ...
     def matches(self, name: str) -> Matches: ...
+    def why(
+        self, m: int, var: str, t: Optional[int] = None, *, depth: int = 3, narrow: bool = False
+    ) -> dict[str, Any]:
+        """Why var of module m is what it is at step t: its causal history (`why`) as a dict."""
+    def why_match(self, w: str, row: int, *, depth: int = 3, narrow: bool = False) -> dict[str, Any]:
+        """Why watchpoint w matched in its row-th match: the cone of the values it read (`why match`)."""
     def state(self, module: int) -> dict[str, Any]:
         """The module at the current step: variables, neighbours, and with physics its pose after the step ('pose') and the one its neighbours were measured from, at the end of the step before ('nbrs_measured_from')."""
     def values(self, variable: str) -> np.ma.MaskedArray[Any, np.dtype[np.int64]]:

@@ -359,10 +359,8 @@ void add_properties(py::class_<Session>& session) {
           "The watchpoints' names.");
 }
 
-}  // namespace
-
-void add_session(py::module_& m) {
-  py::class_<Session> session(m, "Session", R"(A debugging session over a scenario file, as `dwatch session` runs it.
+// The class's docstring (help(dwatch.Session)).
+constexpr const char* kSessionDoc = R"(A debugging session over a scenario file, as `dwatch session` runs it.
 
 The whole history stays: seek anywhere, intervene to start a branch, add watchpoints that are
 evaluated over the past. Commands answer dicts, the JSON objects `dwatch session` prints; a wrong
@@ -370,7 +368,38 @@ or failed command raises CommandError with the command line's words. Stepping ru
 GIL; Ctrl-C stops a long command between steps (the session stays consistent) and raises
 KeyboardInterrupt. Use a Session from one thread at a time (another thread may use another): a
 call while another thread's runs raises RuntimeError. values() and series() are numpy masked
-arrays, absent (removed) modules masked; present() says which modules are there.)");
+arrays, absent (removed) modules masked; present() says which modules are there.)";
+
+// Session.why and Session.why_match: the session's `why` (docs/why.md), its answer as a dict.
+void add_why(py::class_<Session>& session) {
+  session
+      .def(
+          "why",
+          [](Session& s, int64_t m, const std::string& var, std::optional<int64_t> t, int64_t depth, bool narrow) {
+            return s.command("why " + number(m) + " " + var + (t ? " " + number(*t) : "") + " --depth " +
+                             number(depth) + (narrow ? " --narrow" : ""));
+          },
+          py::arg("m"), py::arg("var"), py::arg("t") = py::none(), py::kw_only(), py::arg("depth") = 3,
+          py::arg("narrow") = false,
+          "Why variable var of module m is what it is at step t (default: the current step): its causal history "
+          "(`why`, docs/session.md) as a dict: the value's origin, the cone's events (who wrote what, old and new, "
+          "their causes), the messages between them and the neighbour changes, depth steps deep; narrow keeps "
+          "only the changes and the new messages. The cursor stays.")
+      .def(
+          "why_match",
+          [](Session& s, const std::string& w, int64_t row, int64_t depth, bool narrow) {
+            return s.command("why match " + shell::command_word(w) + " " + number(row) + " --depth " + number(depth) +
+                             (narrow ? " --narrow" : ""));
+          },
+          py::arg("w"), py::arg("row"), py::kw_only(), py::arg("depth") = 3, py::arg("narrow") = false,
+          "Why watchpoint w matched in its row-th match (a row of matches(w), from 0): the union of the cones of "
+          "the values it read, its group's events marked, as why() answers.");
+}
+
+}  // namespace
+
+void add_session(py::module_& m) {
+  py::class_<Session> session(m, "Session", kSessionDoc);
   session.def("close", &Session::close, "Frees the session now; any later call raises Error.")
       .def("__enter__", [](py::object self) { return self; })
       .def(
@@ -442,6 +471,7 @@ arrays, absent (removed) modules masked; present() says which modules are there.
           py::arg("name"), py::arg("action"),
           "What the watchpoint does with its matches from now on: log, pause, count.")
       .def("matches", &Session::matches, py::arg("name"), "The watchpoint's matches over the history, as arrays.")
+
       .def(
           "state", [](Session& s, int64_t module) { return s.command("state " + number(module)); }, py::arg("module"),
           "The module at the current step: variables, neighbours, and with physics its pose after the step "
@@ -480,6 +510,7 @@ arrays, absent (removed) modules masked; present() says which modules are there.
           },
           py::arg("path"), "The trace of steps 0..latest (wptrace v1).");
   add_properties(session);
+  add_why(session);
 }
 
 }  // namespace dw::python

@@ -1,0 +1,42 @@
+"""Session.why and Session.why_match: the session's `why` (docs/session.md) as dicts, equal to what
+`dwatch session` answers; the leader election's 1-hop bug shown by the narrow cone."""
+
+import pytest
+
+import dwatch
+from conftest import dwatch as cli, json_lines
+
+
+@pytest.fixture
+def leaders(source):
+    return str(source / "scenarios" / "leader_election.toml")
+
+
+def session_answers(scenario, *commands):
+    return json_lines(cli("session", scenario, "--script", "-", input="\n".join(commands) + "\n").stdout)
+
+
+def test_why_is_the_sessions_answer_and_shows_the_one_hop_bug(leaders):
+    s = dwatch.Session(leaders)
+    s.run()
+    narrow = s.why(7, "isLeader", 1, narrow=True)
+    wide = s.why(7, "isLeader", depth=2)  # t: the current step (1)
+    expected = session_answers(leaders, "run", "why 7 isLeader 1 --narrow", "why 7 isLeader 1 --depth 2")
+    assert narrow == expected[1] and wide == expected[2]
+    assert narrow["values"][0]["origin"] == {"step": 1, "writer": "program", "event": len(narrow["events"]) - 1}
+    # 7 heard only its one-hop neighbours: no two-hop module sent it anything.
+    assert sorted(m["from"] for m in narrow["messages"]) == [6, 8, 18, 19]
+    assert {m["to"] for m in narrow["messages"]} == {7}
+    assert wide["depth"] == 2 and not wide["narrow"]
+    assert s.current == 1  # the cursor stays
+
+
+def test_why_match_is_the_sessions_answer(leaders):
+    s = dwatch.Session(leaders)
+    s.run()
+    answer = s.why_match("two_leaders", 0, narrow=True)
+    assert answer == session_answers(leaders, "run", "why match two_leaders 0 --narrow")[1]
+    assert answer["match"] == {"watch": "two_leaders", "t": 1, "slots": {"a": 7, "b": 6, "c": 17}}
+    assert {e["module"] for e in answer["events"] if e.get("group")} == {6, 7, 17}
+    with pytest.raises(dwatch.CommandError, match="no row 5000"):
+        s.why_match("two_leaders", 5000)
