@@ -96,6 +96,9 @@ std::optional<CausalHistory> record_window(Session& session, int64_t first, int6
     h.before = s.values;
     take_next(session, s, next);
   }
+  // Each step of the window reported as done of the window's steps (a deep cone over many modules
+  // takes seconds); the one-step seeks within it report nothing of their own.
+  const Control step_control{.stop = control.stop};
   for (int64_t t = first; t <= last; ++t) {
     StepRecord rec = std::move(next);
     next = StepRecord{};
@@ -109,10 +112,11 @@ std::optional<CausalHistory> record_window(Session& session, int64_t first, int6
                              .value = i.value,
                              .remove = i.kind == Intervention::Kind::Remove});
     }
-    if (!session.seek(t, control)) {
+    if (!session.seek(t, step_control)) {
       session.seek(back);
       return std::nullopt;
     }
+    if (control.progress) control.progress(t - first + 1, last - first + 1);
     const State& s = session.state();
     rec.values = s.values;
     const std::span<const uint8_t> present = session.seen_present();

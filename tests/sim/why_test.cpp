@@ -1,6 +1,6 @@
 // Why (docs/design.md §7b): the cone of a value checked against a happens-before walk of the test's
 // own over a straight run's messages, on random programs, at depths 1-4, on 1 and 2 threads and
-// after seeks; outside writers named; the narrow cone dropping steady chatter.
+// after seeks; outside writers named; the narrow cone dropping steady chatter; progress and cancel.
 #include "sim/why.h"
 
 #include <gtest/gtest.h>
@@ -230,6 +230,30 @@ TEST(Why, AValueSetFromOutsideAndLeftIsTheWritersOwn) {
     ASSERT_EQ(set->events.size(), 1u) << t << ": an intervention is a root";
     EXPECT_TRUE(set->events[0].causes.empty());
   }
+}
+
+// A deep cone reports its window's steps as it records them (the protocol's progress, the window's
+// bar), and a cancel stops it with the cursor where it was.
+TEST(Why, ReportsItsProgressAndStopsWhenCancelled) {
+  const auto model = line_model<Steady>(6);
+  StaticLatticeWorld world;
+  Session session(*model, world, {});
+  session.run_until(12);
+  session.seek(5);
+  const int heard = model->column("heard");  // module 3 hears 5 at step 9 (TheNarrowConeDropsSteadyChatter)
+  std::vector<std::pair<int64_t, int64_t>> reported;
+  const Control watched{.progress = [&](int64_t done, int64_t total) { reported.emplace_back(done, total); }};
+  const auto cone = why_value(session, 3, heard, 11, 4, false, watched);
+  ASSERT_TRUE(cone);
+  EXPECT_EQ(cone->values[0].asked.origin, 9);
+  ASSERT_FALSE(reported.empty());
+  EXPECT_EQ(reported.back().first, reported.back().second) << "the last window recorded whole";
+  EXPECT_GE(reported.back().second, 6) << "steps 4 to 9 at least";
+  EXPECT_EQ(session.current(), 5);
+  std::stop_source stop;
+  stop.request_stop();
+  EXPECT_FALSE(why_value(session, 3, heard, 11, 4, false, Control{.stop = stop.get_token()}));
+  EXPECT_EQ(session.current(), 5);
 }
 
 TEST(Why, WithoutHistoryThereIsNothingToLookBackInto) {
