@@ -1,28 +1,14 @@
 #include "physics/dynamics.h"
-#include "physics/pair_cache.h"
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
-#include <unordered_map>
 #include <unordered_set>
 
-#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
-#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
-#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
-#include <BulletCollision/CollisionShapes/btCompoundShape.h>
-#include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
-#include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
-#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
-#include <BulletDynamics/Dynamics/btRigidBody.h>
-#include <LinearMath/btPoolAllocator.h>
-
-#include "physics/box_plane.h"
 #include "physics/convert.h"
+#include "physics/dynamics_parts.h"
 #include "physics/islands.h"
 #include "physics/shapes.h"
-#include "physics/warm_start.h"
 
 namespace dw::physics {
 
@@ -47,86 +33,11 @@ sim::Pose turn(const sim::Mover& pivot, float f) {
   return from_bt(at);
 }
 
-// A cluster's shape: its members' shapes at their local poses, and its principal inertia.
-struct Dynamics::Compound {
-  std::vector<sim::Pose> local;  // the key, compared in full: a hash alone could collide
-  std::unique_ptr<btCompoundShape> shape;
-  std::vector<uint32_t> member_of_child;  // child i of `shape` is member member_of_child[i]
-  btVector3 inertia;
-  int64_t used = 0;
-};
-
-// Bullet's collision configuration and dispatcher, with pools of `pool` manifolds and as many
-// collision algorithms: what a world gets beyond them comes from the heap, one allocation each.
-struct Dynamics::Collision {
-  btDefaultCollisionConfiguration config;
-  btCollisionDispatcher dispatcher{&config};
-  BoxPlaneCreateFunc box_plane{false}, plane_box{true};
-  explicit Collision(int pool) : config(pool_sizes(pool)) {
-    dispatcher.registerCollisionCreateFunc(BOX_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE, &box_plane);
-    dispatcher.registerCollisionCreateFunc(STATIC_PLANE_PROXYTYPE, BOX_SHAPE_PROXYTYPE, &plane_box);
-    // A box on the ground gets all its corners in one query (physics/box_plane.h); other shapes
-    // a few points a query, tilted, and the rest from the contact cache over steps
-    // (physics/warm_start.h).
-    config.setPlaneConvexMultipointIterations();
-    config.setConvexConvexMultipointIterations();
-  }
-  static btDefaultCollisionConstructionInfo pool_sizes(int pool) {
-    btDefaultCollisionConstructionInfo info;
-    info.m_defaultMaxPersistentManifoldPoolSize = pool;
-    info.m_defaultMaxCollisionAlgorithmPoolSize = pool;
-    return info;
-  }
-  // Whether the pools hold `manifolds` manifolds and the algorithms of `pairs` pairs (a cluster's
-  // pair has one more for each child it touches: a full algorithm pool says so).
-  bool holds(int manifolds, int pairs) {
-    return manifolds < config.getPersistentManifoldPool()->getMaxCount() &&
-           pairs < config.getCollisionAlgorithmPool()->getMaxCount() &&
-           config.getCollisionAlgorithmPool()->getFreeCount() > 0;
-  }
-};
-
-// Per worker thread: what Bullet would otherwise allocate, zero and free again for each island of
-// each step, kept for the next (none of it is state: a world leaves it empty, and the results do
-// not depend on it).
-struct Dynamics::Worker {
-  static constexpr int kFirstPool = 4096;  // Bullet's default
-  std::unique_ptr<Collision> collision = std::make_unique<Collision>(kFirstPool);
-  int pool = kFirstPool;
-  int needed = 0;  // what an island needed beyond the pools, 0 if they sufficed
-  // The broadphase, emptied by each world and reset to its first state before the next
-  // (btDbvtBroadphase::resetPool: the pairs it finds, and their order, as a fresh one's).
-  btDbvtBroadphase broadphase;
-  // Reused by every island of the worker: its pools keep their memory (a fresh solver zeroed them
-  // every step). Nothing of a solve outlives it but the seed of a random order, which is unused
-  // and reset.
-  btSequentialImpulseConstraintSolver solver;
-
-  // Before an island: pools with room to spare for what one overflowed (so that a large pile's
-  // every manifold comes from one block paged in once, not from the heap anew each step).
-  Collision& fit() {
-    if (needed > 0) {
-      pool = int(std::bit_ceil(uint32_t(needed + needed / 4)));
-      collision = std::make_unique<Collision>(pool);
-      needed = 0;
-    }
-    broadphase.resetPool(&collision->dispatcher);
-    return *collision;
-  }
-};
-
-struct Dynamics::Shapes {
-  std::vector<std::unique_ptr<Worker>> workers;
-  std::unique_ptr<btCollisionShape> module;
-  btStaticPlaneShape ground;
-  std::vector<std::unique_ptr<btCollisionShape>> props;
-  std::unordered_map<uint64_t, Compound> compounds;  // by a hash of the local poses
-
-  Shapes(ModuleShape shape, float ground_z) : module(make_module_shape(shape)), ground(btVector3(0, 0, 1), ground_z) {}
-};
-
-Dynamics::Dynamics(const PhysicsSettings& settings, ModuleShape shape, float ground_z)
-    : settings_(settings), shapes_(std::make_unique<Shapes>(shape, ground_z)), module_shape_(shapes_->module.get()) {
+Dynamics::Dynamics(const PhysicsSettings& settings, ModuleShape shape, float ground_z, uint32_t batch_bodies)
+    : settings_(settings),
+      batch_bodies_(std::max(batch_bodies, 1u)),
+      shapes_(std::make_unique<Shapes>(shape, ground_z)),
+      module_shape_(shapes_->module.get()) {
   for (const PropSpec& p : settings.props) shapes_->props.push_back(make_prop_shape(p));
 }
 
@@ -220,18 +131,6 @@ const Dynamics::Compound& Dynamics::compound(const sim::Bodies& b, const sim::Cl
   return it->second;
 }
 
-// One body of a step, in tag order: ground -1, then clusters, movers, props.
-struct Dynamics::Body {
-  int tag = 0;
-  float mass = 0;
-  btCollisionShape* shape = nullptr;
-  btVector3 inertia{0, 0, 0};
-  btTransform pose, before;  // before: a kinematic body's last pose (Bullet takes its velocity from the two)
-  sim::Velocity velocity;
-  bool kinematic = false;
-  ReachBox reach;  // where it can be over the step
-};
-
 // How far a body can get over the step: its box, grown by what its speed, any pushes, gravity and
 // turning can carry it (a turn moves no point further than the box's far corner from the
 // centre). Anything that could touch it is then within the box.
@@ -267,24 +166,6 @@ struct ContactForce {
   float value;
 };
 }  // namespace
-
-// What one step works from: its bodies in tag order (ground -1, then clusters, movers, props), the
-// islands they form, each island's pushes, and which islands sleep.
-struct Dynamics::Plan {
-  int clusters = 0, movers = 0;
-  std::vector<Body> bodies;
-  std::vector<const Compound*> compound_of;  // per cluster of more than one module
-  std::vector<std::vector<uint32_t>> islands;
-  std::vector<std::vector<const Push*>> pushes;  // per island
-  std::vector<uint8_t> asleep;                   // per island
-};
-
-// What stepping one island wrote beside the bodies: contact forces on modules, and its contact
-// points for the next step's warm start.
-struct Dynamics::IslandOutput {
-  std::vector<std::pair<sim::ModuleId, float>> forces;
-  std::vector<sim::ContactPoint> contacts;
-};
 
 // Every body of the step, in tag order, and what each can reach over it.
 void Dynamics::gather_bodies(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes, int64_t to) {
@@ -395,118 +276,29 @@ void Dynamics::form_islands(Plan& plan, const sim::Bodies& b, std::span<const Pu
       plan.asleep[island_of_body[c]] = 0;
     }
   }
+  // Runs of consecutive islands holding at least batch_bodies_ bodies that move, each stepped in
+  // one world: Bullet solves the islands of a world apart, and a world of its own for each of
+  // thousands of boxes in flight cost more than stepping them. Like the islands, a function of the
+  // state alone, never of the thread or rank count.
+  plan.batches.clear();
+  bool open = false;
+  uint32_t held = 0;
+  for (uint32_t i = 0; i < count; ++i) {
+    if (!open) {
+      plan.batches.push_back(i);
+      open = true;
+      held = 0;
+    }
+    if (!plan.asleep[i])
+      held += uint32_t(std::count_if(plan.islands[i].begin(), plan.islands[i].end(),
+                                     [&](uint32_t j) { return bodies[j].mass > 0; }));
+    if (held >= batch_bodies_) open = false;
+  }
+  plan.batches.push_back(count);
 }
 
 int64_t Dynamics::sleep_after_steps() const {
   return settings_.sleep_after > 0 ? std::max<int64_t>(1, std::llround(settings_.sleep_after / settings_.dt)) : 0;
-}
-
-// The module (or -1: a prop, the ground) a side of a contact lies on.
-int64_t Dynamics::module_of(const Plan& plan, const sim::Bodies& b, const btCollisionObject* o, int child) {
-  const int tag = o->getUserIndex();
-  if (tag < 0 || tag >= plan.clusters + plan.movers) return -1;
-  if (tag >= plan.clusters) return b.movers[size_t(tag - plan.clusters)].module;
-  const sim::Cluster& c = b.clusters[size_t(tag)];
-  if (c.count == 1) return b.members[c.first];
-  // The compound holds only the surface members: its children are numbered among those.
-  const std::vector<uint32_t>& member_of_child = plan.compound_of[size_t(tag)]->member_of_child;
-  if (child < 0 || size_t(child) >= member_of_child.size()) return -1;
-  return b.members[c.first + member_of_child[size_t(child)]];
-}
-
-// One island in a Bullet world of its own, on one worker's collision configuration (Bullet's
-// pools are not shared); it writes only its own clusters and props.
-void Dynamics::step_island(const Plan& plan, uint32_t island, Worker& worker, sim::Bodies& b, IslandOutput& out) {
-  const float dt = settings_.dt;
-  const ContactSide side_of = [&](const btCollisionObject* o, int child) -> int64_t {
-    const int tag = o->getUserIndex();
-    if (tag < 0) return sim::kGroundContact;
-    if (tag >= plan.clusters + plan.movers) return sim::contact_prop(uint32_t(tag - plan.clusters - plan.movers));
-    return module_of(plan, b, o, child);
-  };
-  Collision& collision = worker.fit();
-  btCollisionDispatcher& dispatcher = collision.dispatcher;
-  btSequentialImpulseConstraintSolver& solver = worker.solver;
-  solver.reset();
-  std::vector<std::unique_ptr<btRigidBody>> rigid;  // outlive the world, which unlinks them when it goes
-  WarmStartedWorld world(&dispatcher, &worker.broadphase, &solver, &collision.config, b.contacts, side_of);
-  const PairsDroppedFirst<btDiscreteDynamicsWorld> teardown{world};
-  world.setGravity(to_bt(settings_.gravity));
-  world.getSolverInfo().m_numIterations = settings_.solver_iterations;
-  world.getDispatchInfo().m_deterministicOverlappingPairs = true;
-  const auto add = [&](float mass, btCollisionShape* shape, const btVector3& inertia, const btTransform& pose,
-                       int tag) {
-    btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
-    info.m_startWorldTransform = pose;
-    info.m_friction = settings_.friction;
-    info.m_restitution = settings_.restitution;
-    auto& body = rigid.emplace_back(std::make_unique<btRigidBody>(info));
-    // Sleeping is the state's (Cluster::still, form_islands): Bullet's own would keep it outside.
-    body->setActivationState(DISABLE_DEACTIVATION);
-    body->setUserIndex(tag);
-    world.addRigidBody(body.get());
-    return body.get();
-  };
-  btTransform identity;
-  identity.setIdentity();
-  add(0, &shapes_->ground, btVector3(0, 0, 0), identity, -1);
-  std::vector<std::pair<int, btRigidBody*>> mine;  // (tag, body) of the bodies that move
-  for (uint32_t i : plan.islands[island]) {
-    const Body& body = plan.bodies[i];
-    btRigidBody* r = add(body.mass, body.shape, body.inertia, body.pose, body.tag);
-    if (body.kinematic) {
-      r->setCollisionFlags(r->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
-      r->setInterpolationWorldTransform(body.before);
-    } else if (body.mass > 0) {
-      r->setLinearVelocity(to_bt(body.velocity.linear));
-      r->setAngularVelocity(to_bt(body.velocity.angular));
-      mine.emplace_back(body.tag, r);
-    }
-  }
-  for (const Push* p : plan.pushes[island]) {  // `mine` is in tag order, a cluster's tag its index
-    const int c = int(b.cluster_of[p->module]);
-    btRigidBody* body =
-        std::lower_bound(mine.begin(), mine.end(), c, [](const auto& x, int tag) { return x.first < tag; })->second;
-    body->applyImpulse(to_bt(p->impulse), to_bt(b.poses[p->module].position) - body->getWorldTransform().getOrigin());
-  }
-
-  // Substeps of one fixed length, each a step of its own (maxSubSteps 0: no interpolation). The
-  // contact force on a module over the step is what the solver applied over all of them, from
-  // other bodies: the ground only carries what rests on it, its contacts do not count.
-  const float substep = dt / float(settings_.substeps);
-  for (int k = 0; k < settings_.substeps; ++k) {
-    world.stepSimulation(substep, 0, substep);
-    const int manifolds = dispatcher.getNumManifolds(), pairs = world.getPairCache()->getNumOverlappingPairs();
-    if (!collision.holds(manifolds, pairs))
-      worker.needed = std::max({worker.needed, manifolds, pairs, 2 * worker.pool});
-    for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
-      const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(i);
-      if (manifold->getBody0()->getUserIndex() < 0 || manifold->getBody1()->getUserIndex() < 0) continue;
-      for (int p = 0; p < manifold->getNumContacts(); ++p) {
-        const btManifoldPoint& point = manifold->getContactPoint(p);
-        const float f = float(point.getAppliedImpulse()) / dt;
-        if (f <= 0) continue;
-        if (const int64_t m = module_of(plan, b, manifold->getBody0(), point.m_index0); m >= 0)
-          out.forces.emplace_back(sim::ModuleId(m), f);
-        if (const int64_t m = module_of(plan, b, manifold->getBody1(), point.m_index1); m >= 0)
-          out.forces.emplace_back(sim::ModuleId(m), f);
-      }
-    }
-  }
-  world.keep_contacts(out.contacts);
-
-  const int props_from = plan.clusters + plan.movers;
-  for (const auto& [tag, body] : mine) {
-    const sim::Pose pose = from_bt(body->getWorldTransform());
-    const sim::Velocity velocity{from_bt(body->getLinearVelocity()), from_bt(body->getAngularVelocity())};
-    if (tag < plan.clusters) {
-      b.clusters[size_t(tag)].pose = pose;
-      b.clusters[size_t(tag)].velocity = velocity;
-    } else {
-      b.prop_poses[size_t(tag - props_from)] = pose;
-      b.prop_velocities[size_t(tag - props_from)] = velocity;
-    }
-  }
 }
 
 // Over ranks, what this rank's islands [first, last) wrote goes to every rank; each part is laid
@@ -519,9 +311,10 @@ void Dynamics::share(const Plan& plan, uint32_t first, uint32_t last, std::vecto
   std::vector<ContactForce> pushed_by;
   std::vector<sim::ContactPoint> touching;
   for (uint32_t i = first; i < last; ++i) {
-    if (plan.asleep[i]) continue;
+    // A batch's output is its first island's, which may be one that sleeps: outputs are taken
+    // from every island.
     for (uint32_t j : plan.islands[i])
-      if (plan.bodies[j].mass > 0) {
+      if (!plan.asleep[i] && plan.bodies[j].mass > 0) {
         const int tag = plan.bodies[j].tag;
         if (tag < plan.clusters) moved.push_back({tag, b.clusters[size_t(tag)].pose, b.clusters[size_t(tag)].velocity});
         else
@@ -604,30 +397,35 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
   form_islands(plan, b, pushes);
   const uint32_t count = uint32_t(plan.islands.size());
   islands_ = count;
-  // Over ranks, this rank's run of the islands (weighed by the modules in them).
-  uint32_t first = 0, last = count;
+  // Over ranks, this rank's run of the batches (weighed by the modules in them), as the islands
+  // [first, last).
+  const uint32_t batches = uint32_t(plan.batches.size()) - 1;
+  uint32_t first_batch = 0, last_batch = batches;
   if (ranks != nullptr) {
-    std::vector<uint64_t> weight(count, 0);
-    for (uint32_t i = 0; i < count; ++i)
-      for (uint32_t j : plan.islands[i]) weight[i] += j < uint32_t(plan.clusters) ? b.clusters[j].count : 1;
+    std::vector<uint64_t> weight(batches, 0);
+    for (uint32_t k = 0; k < batches; ++k)
+      for (uint32_t i = plan.batches[k]; i < plan.batches[k + 1]; ++i)
+        for (uint32_t j : plan.islands[i]) weight[k] += j < uint32_t(plan.clusters) ? b.clusters[j].count : 1;
     const std::vector<uint32_t> runs = rank_runs(weight, uint32_t(ranks->ranks()));
-    first = runs[size_t(ranks->rank())];
-    last = runs[size_t(ranks->rank()) + 1];
+    first_batch = runs[size_t(ranks->rank())];
+    last_batch = runs[size_t(ranks->rank()) + 1];
   }
+  const uint32_t first = plan.batches[first_batch], last = plan.batches[last_batch];
   stepped_.clear();
   for (uint32_t i = first; i < last; ++i)
     for (uint32_t j : plan.islands[i])
       if (!plan.asleep[i] && plan.bodies[j].mass > 0 && j < uint32_t(plan.clusters)) stepped_.push_back(j);
   std::sort(stepped_.begin(), stepped_.end());
 
-  // Each worker steps a run of the islands; each writes only its own clusters and props, and its
-  // forces and contacts into an output of its own, added up in island order after.
+  // Each worker steps a run of the batches; each writes only its own clusters and props, and its
+  // forces and contacts into the output of its first island, added up in island order after.
   while (shapes_->workers.size() < workers.size()) shapes_->workers.push_back(std::make_unique<Worker>());
   std::vector<IslandOutput> outputs(std::max<uint32_t>(count, 1));
   const unsigned runs = workers.size();
   workers.run([&](unsigned run) {
-    for (uint32_t i = first + (last - first) * run / runs; i < first + (last - first) * (run + 1) / runs; ++i)
-      if (!plan.asleep[i]) step_island(plan, i, *shapes_->workers[run], b, outputs[i]);
+    const uint32_t span = last_batch - first_batch;
+    for (uint32_t k = first_batch + span * run / runs; k < first_batch + span * (run + 1) / runs; ++k)
+      step_batch(plan, plan.batches[k], plan.batches[k + 1], *shapes_->workers[run], b, outputs[plan.batches[k]]);
   });
   if (ranks != nullptr) share(plan, first, last, outputs, b, *ranks);
 

@@ -42,7 +42,10 @@ std::vector<uint8_t> enclosed_boxes(const std::vector<sim::Pose>& boxes);
 
 class Dynamics {
  public:
-  Dynamics(const PhysicsSettings& settings, ModuleShape shape, float ground_z);
+  // Islands are stepped in batches of at least `batch_bodies` moving bodies (1: each island in a
+  // world of its own, as the tests of island independence ask).
+  static constexpr uint32_t kBatchBodies = 256;
+  Dynamics(const PhysicsSettings& settings, ModuleShape shape, float ground_z, uint32_t batch_bodies = kBatchBodies);
   ~Dynamics();
   Dynamics(const Dynamics&) = delete;
   Dynamics& operator=(const Dynamics&) = delete;
@@ -54,10 +57,11 @@ class Dynamics {
   // Moves the clusters, props and movers from step `to - 1` to step `to`; pushes are applied
   // first. Writes each module's contact force (N) over the step from other bodies (the ground's
   // support is left out) into `force`.
-  // Islands of bodies that cannot touch within the step (physics/islands.h) are stepped apart, on
-  // `workers`; the result does not depend on their number. Over `ranks` (a collective call, made
-  // alike on every rank with the same bodies), each rank steps a run of the islands and the ranks
-  // swap what their islands wrote: each ends with what one process computes, bit for bit.
+  // Islands of bodies that cannot touch within the step (physics/islands.h) are stepped apart, in
+  // batches of consecutive islands (a world for each batch), on `workers`; the result does not
+  // depend on their number. Over `ranks` (a collective call, made alike on every rank with the
+  // same bodies), each rank steps a run of the batches and the ranks swap what their islands
+  // wrote: each ends with what one process computes, bit for bit.
   void step(sim::Bodies& bodies, std::span<const Push> pushes, int64_t to, std::vector<float>& force,
             sim::WorkerPool& workers, sim::RankExchange* ranks = nullptr);
   // Islands in the last step, and the clusters that moved in those this process stepped (over
@@ -78,7 +82,7 @@ class Dynamics {
   // The stages of a step, in order (dynamics.cpp).
   void gather_bodies(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes, int64_t to);
   void form_islands(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes) const;
-  void step_island(const Plan& plan, uint32_t island, Worker& worker, sim::Bodies& b, IslandOutput& out);
+  void step_batch(const Plan& plan, uint32_t from, uint32_t to, Worker& worker, sim::Bodies& b, IslandOutput& out);
   static void share(const Plan& plan, uint32_t first, uint32_t last, std::vector<IslandOutput>& outputs, sim::Bodies& b,
                     sim::RankExchange& ranks);
   void settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim::Bodies& b) const;
@@ -86,6 +90,7 @@ class Dynamics {
   int64_t sleep_after_steps() const;
 
   const PhysicsSettings& settings_;
+  uint32_t batch_bodies_;
   std::unique_ptr<Shapes> shapes_;
   btCollisionShape* module_shape_;
   uint32_t islands_ = 0;

@@ -1,9 +1,9 @@
 // Islands: the bodies of a step that cannot touch each other within it, apart (issue: islands in
 // parallel). Each body is given the box it can reach over the step (where it is, grown by how far
 // it can move and turn); bodies whose boxes overlap, directly or through others, are one island.
-// Each island is stepped in a Bullet world of its own with the fixed and kinematic bodies near it,
-// so islands can be stepped on any thread in any order and give the same bits: the split is a
-// function of the state, never of the thread count.
+// Each island is stepped in a Bullet world with the fixed and kinematic bodies near it (runs of
+// small islands share one: physics/dynamics.cpp), so islands can be stepped on any thread in any
+// order and give the same bits: the split is a function of the state, never of the thread count.
 #pragma once
 
 #include <array>

@@ -112,11 +112,11 @@ void run(Dynamics& dynamics, sim::Bodies& b, int steps, unsigned threads, std::v
 }
 
 // Four blocks falling far apart are four islands: stepped on one thread or two, the same bits;
-// and each block falls exactly as it falls alone.
+// and, each in a world of its own, each block falls exactly as it falls alone.
 TEST(Dynamics, IslandsSteppedApartGiveTheSameBitsOnAnyThreadAndAlone) {
   PhysicsSettings settings;
   settings.anchor = false;
-  Dynamics one(settings, ModuleShape::Box, -0.5f), two(settings, ModuleShape::Box, -0.5f);
+  Dynamics one(settings, ModuleShape::Box, -0.5f, 1), two(settings, ModuleShape::Box, -0.5f, 1);
   const std::vector<float> speed = {0.5f, -0.3f, 0.2f, 0.0f};
   sim::Bodies a = falling_blocks(speed, 6, one.module_shape()), b = a;
   std::vector<uint32_t> islands;
@@ -126,11 +126,25 @@ TEST(Dynamics, IslandsSteppedApartGiveTheSameBitsOnAnyThreadAndAlone) {
   EXPECT_EQ(islands.front(), 4u);
   EXPECT_LT(a.poses[0].position[2], 2.5f);  // they fell
   for (size_t k = 0; k < speed.size(); ++k) {
-    Dynamics alone_dynamics(settings, ModuleShape::Box, -0.5f);
+    Dynamics alone_dynamics(settings, ModuleShape::Box, -0.5f, 1);
     sim::Bodies alone = falling_blocks({speed[k]}, 6, alone_dynamics.module_shape(), 6 * float(k));
     run(alone_dynamics, alone, 60, 1);
     for (int i = 0; i < 8; ++i) EXPECT_EQ(alone.poses[size_t(i)], a.poses[8 * k + size_t(i)]) << "block " << k;
   }
+}
+
+// Islands stepped in batches (two blocks a world here): the same bits on one thread or two.
+TEST(Dynamics, BatchesOfIslandsGiveTheSameBitsOnAnyThread) {
+  PhysicsSettings settings;
+  settings.anchor = false;
+  Dynamics one(settings, ModuleShape::Box, -0.5f, 2), two(settings, ModuleShape::Box, -0.5f, 2);
+  sim::Bodies a = falling_blocks({0.5f, -0.3f, 0.2f, 0.0f, 0.1f}, 6, one.module_shape()), b = a;
+  std::vector<uint32_t> islands;
+  run(one, a, 60, 1, &islands);
+  run(two, b, 60, 2);
+  EXPECT_EQ(islands.front(), 5u);
+  EXPECT_TRUE(a == b);
+  EXPECT_LT(a.poses[0].position[2], 2.5f);  // they fell
 }
 
 // Two blocks heading for each other become one island before they can touch, and collide.
@@ -166,7 +180,7 @@ TEST(Dynamics, RanksSteppingRunsOfTheIslandsEndEveryStepWithTheBitsOfOneProcess)
   std::vector<std::vector<float>> expected_force;
   std::vector<uint32_t> islands;
   {
-    Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
+    Dynamics dynamics(settings, ModuleShape::Box, -0.5f, 1);
     sim::Bodies b = falling_blocks(speed, 4, dynamics.module_shape());
     sim::WorkerPool workers(1);
     std::vector<float> force;
@@ -187,7 +201,7 @@ TEST(Dynamics, RanksSteppingRunsOfTheIslandsEndEveryStepWithTheBitsOfOneProcess)
   for (int ranks : {2, 3}) {
     SCOPED_TRACE(std::to_string(ranks) + " ranks");
     const std::vector<Seen> seen = sim::on_ranks(ranks, [&](sim::RankExchange& rank) {
-      Dynamics dynamics(settings, ModuleShape::Box, -0.5f);
+      Dynamics dynamics(settings, ModuleShape::Box, -0.5f, 1);
       sim::Bodies b = falling_blocks(speed, 4, dynamics.module_shape());
       sim::WorkerPool workers(1);
       std::vector<float> force;

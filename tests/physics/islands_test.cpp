@@ -2,6 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include "physics/union_find.h"
+
 namespace dw::physics {
 namespace {
 
@@ -17,6 +23,41 @@ TEST(Islands, OverlapsJoinDirectlyAndThroughOthers) {
   EXPECT_EQ(islands_of(std::vector{box(0, 1), box(1, 2)}, count), (std::vector<uint32_t>{0, 0}));
   EXPECT_TRUE(islands_of({}, count).empty());
   EXPECT_EQ(count, 0u);
+}
+
+// The grid finds what testing every pair finds: boxes of a lattice touching edge to edge, of many
+// sizes, a few wide ones (a cluster, a prop) and one that is not finite.
+TEST(Islands, TheGridJoinsWhatEveryPairTestedJoins) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> where(0, 30), size(0.2f, 1.5f), wide(5, 20);
+  std::vector<ReachBox> boxes;
+  for (int x = 0; x < 6; ++x)  // a row touching edge to edge, then a gap
+    boxes.push_back(box(float(x), float(x + 1)));
+  for (int i = 0; i < 600; ++i) {
+    const float x = where(random), y = where(random), z = where(random), s = i % 50 == 0 ? wide(random) : size(random);
+    boxes.push_back({{x, y, z}, {x + s, y + s * 0.7f, z + s * 0.5f}});
+  }
+  boxes.push_back({{std::nanf(""), 0, 0}, {1, 1, 1}});
+  std::vector<uint32_t> parent(boxes.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (uint32_t a = 0; a < boxes.size(); ++a)
+    for (uint32_t b = a + 1; b < boxes.size(); ++b)
+      if (boxes[a].overlaps(boxes[b])) {
+        const uint32_t ra = find_root(parent, a), rb = find_root(parent, b);
+        parent[std::max(ra, rb)] = std::min(ra, rb);
+      }
+  std::vector<uint32_t> expected(boxes.size()), number(boxes.size(), UINT32_MAX);
+  uint32_t expected_count = 0;
+  for (uint32_t i = 0; i < boxes.size(); ++i) {
+    const uint32_t r = find_root(parent, i);
+    if (number[r] == UINT32_MAX) number[r] = expected_count++;
+    expected[i] = number[r];
+  }
+  uint32_t count = 0;
+  EXPECT_EQ(islands_of(boxes, count), expected);
+  EXPECT_EQ(count, expected_count);
+  EXPECT_GT(count, 10u);  // the scene has islands to find
+  EXPECT_LT(count, uint32_t(boxes.size()));
 }
 
 // Ranks take runs of the islands in order, each island where its middle falls along the weights.

@@ -1,0 +1,137 @@
+// Stepping one batch of islands in a Bullet world of its own (physics/dynamics.h): the world built
+// from the plan, warm-started from the contact cache (physics/warm_start.h), stepped in substeps,
+// and what it moved written back.
+#include <algorithm>
+
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include "physics/convert.h"
+#include "physics/dynamics_parts.h"
+#include "physics/pair_cache.h"
+#include "physics/warm_start.h"
+
+namespace dw::physics {
+
+// The module (or -1: a prop, the ground) a side of a contact lies on.
+int64_t Dynamics::module_of(const Plan& plan, const sim::Bodies& b, const btCollisionObject* o, int child) {
+  const int tag = o->getUserIndex();
+  if (tag < 0 || tag >= plan.clusters + plan.movers) return -1;
+  if (tag >= plan.clusters) return b.movers[size_t(tag - plan.clusters)].module;
+  const sim::Cluster& c = b.clusters[size_t(tag)];
+  if (c.count == 1) return b.members[c.first];
+  // The compound holds only the surface members: its children are numbered among those.
+  const std::vector<uint32_t>& member_of_child = plan.compound_of[size_t(tag)]->member_of_child;
+  if (child < 0 || size_t(child) >= member_of_child.size()) return -1;
+  return b.members[c.first + member_of_child[size_t(child)]];
+}
+
+// One batch of islands, [from, to), in a Bullet world of its own, on one worker's collision
+// configuration (Bullet's pools are not shared); it writes only its own clusters and props, and its
+// forces and contacts into `out`.
+void Dynamics::step_batch(const Plan& plan, uint32_t from, uint32_t to, Worker& worker, sim::Bodies& b,
+                          IslandOutput& out) {
+  // Its islands' bodies in tag order, each once (a fixed body near two islands is in both).
+  std::vector<uint32_t> bodies;
+  std::vector<const Push*> pushes;
+  for (uint32_t i = from; i < to; ++i)
+    if (!plan.asleep[i]) {
+      bodies.insert(bodies.end(), plan.islands[i].begin(), plan.islands[i].end());
+      pushes.insert(pushes.end(), plan.pushes[i].begin(), plan.pushes[i].end());
+    }
+  if (bodies.empty()) return;
+  std::sort(bodies.begin(), bodies.end());
+  bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
+  const float dt = settings_.dt;
+  const ContactSide side_of = [&](const btCollisionObject* o, int child) -> int64_t {
+    const int tag = o->getUserIndex();
+    if (tag < 0) return sim::kGroundContact;
+    if (tag >= plan.clusters + plan.movers) return sim::contact_prop(uint32_t(tag - plan.clusters - plan.movers));
+    return module_of(plan, b, o, child);
+  };
+  Collision& collision = worker.fit();
+  btCollisionDispatcher& dispatcher = collision.dispatcher;
+  btSequentialImpulseConstraintSolver& solver = worker.solver;
+  solver.reset();
+  std::vector<std::unique_ptr<btRigidBody>> rigid;  // outlive the world, which unlinks them when it goes
+  WarmStartedWorld world(&dispatcher, &worker.broadphase, &solver, &collision.config, b.contacts, side_of);
+  const PairsDroppedFirst<btDiscreteDynamicsWorld> teardown{world};
+  world.setGravity(to_bt(settings_.gravity));
+  world.getSolverInfo().m_numIterations = settings_.solver_iterations;
+  world.getDispatchInfo().m_deterministicOverlappingPairs = true;
+  const auto add = [&](float mass, btCollisionShape* shape, const btVector3& inertia, const btTransform& pose,
+                       int tag) {
+    btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
+    info.m_startWorldTransform = pose;
+    info.m_friction = settings_.friction;
+    info.m_restitution = settings_.restitution;
+    auto& body = rigid.emplace_back(std::make_unique<btRigidBody>(info));
+    // Sleeping is the state's (Cluster::still, form_islands): Bullet's own would keep it outside.
+    body->setActivationState(DISABLE_DEACTIVATION);
+    body->setUserIndex(tag);
+    world.addRigidBody(body.get());
+    return body.get();
+  };
+  btTransform identity;
+  identity.setIdentity();
+  add(0, &shapes_->ground, btVector3(0, 0, 0), identity, -1);
+  std::vector<std::pair<int, btRigidBody*>> mine;  // (tag, body) of the bodies that move
+  for (uint32_t i : bodies) {
+    const Body& body = plan.bodies[i];
+    btRigidBody* r = add(body.mass, body.shape, body.inertia, body.pose, body.tag);
+    if (body.kinematic) {
+      r->setCollisionFlags(r->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+      r->setInterpolationWorldTransform(body.before);
+    } else if (body.mass > 0) {
+      r->setLinearVelocity(to_bt(body.velocity.linear));
+      r->setAngularVelocity(to_bt(body.velocity.angular));
+      mine.emplace_back(body.tag, r);
+    }
+  }
+  for (const Push* p : pushes) {  // `mine` is in tag order, a cluster's tag its index
+    const int c = int(b.cluster_of[p->module]);
+    btRigidBody* body =
+        std::lower_bound(mine.begin(), mine.end(), c, [](const auto& x, int tag) { return x.first < tag; })->second;
+    body->applyImpulse(to_bt(p->impulse), to_bt(b.poses[p->module].position) - body->getWorldTransform().getOrigin());
+  }
+
+  // Substeps of one fixed length, each a step of its own (maxSubSteps 0: no interpolation). The
+  // contact force on a module over the step is what the solver applied over all of them, from
+  // other bodies: the ground only carries what rests on it, its contacts do not count.
+  const float substep = dt / float(settings_.substeps);
+  for (int k = 0; k < settings_.substeps; ++k) {
+    world.stepSimulation(substep, 0, substep);
+    const int manifolds = dispatcher.getNumManifolds(), pairs = world.getPairCache()->getNumOverlappingPairs();
+    if (!collision.holds(manifolds, pairs))
+      worker.needed = std::max({worker.needed, manifolds, pairs, 2 * worker.pool});
+    for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
+      const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(i);
+      if (manifold->getBody0()->getUserIndex() < 0 || manifold->getBody1()->getUserIndex() < 0) continue;
+      for (int p = 0; p < manifold->getNumContacts(); ++p) {
+        const btManifoldPoint& point = manifold->getContactPoint(p);
+        const float f = float(point.getAppliedImpulse()) / dt;
+        if (f <= 0) continue;
+        if (const int64_t m = module_of(plan, b, manifold->getBody0(), point.m_index0); m >= 0)
+          out.forces.emplace_back(sim::ModuleId(m), f);
+        if (const int64_t m = module_of(plan, b, manifold->getBody1(), point.m_index1); m >= 0)
+          out.forces.emplace_back(sim::ModuleId(m), f);
+      }
+    }
+  }
+  world.keep_contacts(out.contacts);
+
+  const int props_from = plan.clusters + plan.movers;
+  for (const auto& [tag, body] : mine) {
+    const sim::Pose pose = from_bt(body->getWorldTransform());
+    const sim::Velocity velocity{from_bt(body->getLinearVelocity()), from_bt(body->getAngularVelocity())};
+    if (tag < plan.clusters) {
+      b.clusters[size_t(tag)].pose = pose;
+      b.clusters[size_t(tag)].velocity = velocity;
+    } else {
+      b.prop_poses[size_t(tag - props_from)] = pose;
+      b.prop_velocities[size_t(tag - props_from)] = velocity;
+    }
+  }
+}
+
+}  // namespace dw::physics
