@@ -125,21 +125,23 @@ std::optional<int> refused_or_answered(CLI::App& app, int argc, char** argv) {
   return std::nullopt;
 }
 
+// `code`, or 1 when what was printed on standard output could not be written: what a command or
+// --help prints is its answer, and one that could not be written (a full disk, a closed pipe:
+// SIGPIPE is ignored, see main) is not a success.
+int with_output_written(int code) {
+  errno = 0;
+  std::cout.flush();
+  if (std::cout) return code;
+  std::cerr << "dwatch: error: writing standard output failed"
+            << (errno ? std::string(": ") + std::strerror(errno) : "") << "\n";
+  return code == 0 ? 1 : code;
+}
+
 // Runs the parsed command: its exit code, or 1 when what it printed could not be written or it
 // failed in a way no command reports itself (memory, the system's limits, an internal error).
 int carry_out(const std::function<int()>& run) {
   try {
-    const int code = run();
-    // What a command printed is its answer: one that could not be written (a full disk, a closed
-    // pipe) is not a success.
-    errno = 0;
-    std::cout.flush();
-    if (!std::cout) {
-      std::cerr << "dwatch: error: writing standard output failed"
-                << (errno ? std::string(": ") + std::strerror(errno) : "") << "\n";
-      return code == 0 ? 1 : code;
-    }
-    return code;
+    return with_output_written(run());
   } catch (const std::bad_alloc&) {
     std::cerr << "dwatch: error: out of memory\n";
     return 1;
@@ -160,6 +162,9 @@ int carry_out(const std::function<int()>& run) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A closed pipe (`dwatch run s.toml --matches - | head -1`) is a failed write, said and exit 1,
+  // not a silent end by SIGPIPE (141): every write to standard output is checked.
+  std::signal(SIGPIPE, SIG_IGN);
   // Before any thread starts (Open MPI's included): signals are taken by one thread of its own.
   // `bench` starts child processes, which would inherit the blocked signals: it keeps the
   // default, ending at once, and writes nothing a signal could leave half done.
@@ -203,6 +208,6 @@ int main(int argc, char** argv) {
   dw::app::add_session_command(app, run, watcher);
   dw::app::add_view_command(app, run);
   dw::bench::add_bench_command(app, run, dw::app::bench_view);
-  if (const std::optional<int> code = refused_or_answered(app, argc, argv)) return *code;
+  if (const std::optional<int> code = refused_or_answered(app, argc, argv)) return with_output_written(*code);
   return carry_out(run);
 }

@@ -1,6 +1,7 @@
 #include "scenarios/saved_scenario.h"
 
 #include <toml++/toml.h>
+#include <cstdint>
 #include <filesystem>
 #include <sstream>
 #include <variant>
@@ -49,6 +50,39 @@ toml::table event_table(const sim::Intervention& i, const sim::Model& model) {
   return t;
 }
 
+// The header comment: where the file came from. A comment holds no control character and only
+// UTF-8: with `plain`, every byte of the path that is not printable ASCII is shown as '?'.
+std::string header(const std::string& path, const sim::Session& session, bool plain) {
+  std::string from = path;
+  for (char& c : from)
+    if (uint8_t(c) < 0x20 || uint8_t(c) == 0x7F || (plain && uint8_t(c) >= 0x80)) c = '?';
+  const int64_t t = session.current();
+  const size_t n = session.interventions().size();
+  return "# Saved by dwatch from " + from + (t < 0 ? " before step 0" : " at step " + std::to_string(t)) +
+         ": its watchpoints and\n# the " + std::to_string(n) + (n == 1 ? " intervention" : " interventions") +
+         " of its branch.\n";
+}
+
+// `doc` as a scenario file that reads back as `doc`, checked by reading it back. toml++ writes a
+// string holding a newline as a multi-line literal even when it holds ''' (`'''x` ... `''''''`,
+// which does not parse), and drops a leading newline from one: strings are written as basic
+// strings (quotes, backslashes and control characters escaped), multi-line so that the
+// watchpoints' texts stay readable, or each on one line when that would not read back.
+std::optional<std::string> text_that_reads_back(const toml::table& doc, const std::string& path,
+                                                const sim::Session& session) {
+  const toml::format_flags basic = toml::toml_formatter::default_flags & ~toml::format_flags::allow_literal_strings;
+  for (const bool plain : {false, true})
+    for (const toml::format_flags flags : {basic, basic & ~toml::format_flags::allow_multi_line_strings}) {
+      std::ostringstream out;
+      out << header(path, session, plain) << toml::toml_formatter(doc, flags) << "\n";
+      try {
+        if (toml::parse(out.str()) == doc) return out.str();
+      } catch (const toml::parse_error&) {  // tried again the next way
+      }
+    }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::optional<std::string> saved_scenario(const Scenario& scenario, const sim::Session& session,
@@ -91,11 +125,9 @@ std::optional<std::string> saved_scenario(const Scenario& scenario, const sim::S
   for (const sim::Intervention& i : session.interventions()) events.push_back(event_table(i, model));
   if (!events.empty()) doc.insert("event", std::move(events));
 
-  std::ostringstream out;
-  out << "# Saved by dwatch from " << scenario.path << " at step " << session.current() << ": its watchpoints and\n"
-      << "# the " << session.interventions().size() << " interventions of its branch.\n"
-      << toml::toml_formatter(doc) << "\n";
-  return out.str();
+  if (std::optional<std::string> text = text_that_reads_back(doc, scenario.path, session)) return text;
+  if (error) *error = "the scenario's tables cannot be written so that they read back the same (a TOML writer's bug)";
+  return std::nullopt;
 }
 
 }  // namespace dw::scenarios

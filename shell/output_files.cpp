@@ -40,7 +40,8 @@ std::string spelled(const NamedFile& f) { return f.what + " " + (f.path == "-" ?
 
 }  // namespace
 
-std::string file_clash(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs) {
+std::string file_clash(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs,
+                       std::string_view where_stdout_goes) {
   std::vector<std::pair<const std::string*, Identity>> in;
   std::vector<std::pair<const NamedFile*, Identity>> out;
   for (const std::string& path : inputs)
@@ -51,9 +52,9 @@ std::string file_clash(const std::vector<std::string>& inputs, const std::vector
   for (size_t i = 0; i < out.size() && clash.empty(); ++i) {
     for (const auto& [path, id] : in)
       if (clash.empty() && out[i].second == id && !id.null_device)
-        clash =
-            spelled(*out[i].first) + (*path == kStandardOutput ? " would write where the answers go (standard output)"
-                                                               : " would overwrite the input " + *path);
+        clash = spelled(*out[i].first) + (*path == kStandardOutput
+                                              ? " would write " + std::string(where_stdout_goes) + " (standard output)"
+                                              : " would overwrite the input " + *path);
     for (size_t j = 0; j < i && clash.empty(); ++j)
       if (out[i].second == out[j].second && !out[i].second.null_device)
         clash = spelled(*out[j].first) + " and " + spelled(*out[i].first) + " name one file; give each output its own";
@@ -61,8 +62,9 @@ std::string file_clash(const std::vector<std::string>& inputs, const std::vector
   return clash;
 }
 
-bool check_distinct_files(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs) {
-  const std::string clash = file_clash(inputs, outputs);
+bool check_distinct_files(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs,
+                          std::string_view where_stdout_goes) {
+  const std::string clash = file_clash(inputs, outputs, where_stdout_goes);
   if (!clash.empty()) std::cerr << "dwatch: error: " << clash << "\n";
   return clash.empty();
 }
@@ -96,6 +98,9 @@ bool commit_outputs(const std::vector<sim::OutputFile*>& outputs) {
   for (sim::OutputFile* out : outputs) {
     if (out == nullptr) continue;
     if (std::string error = out->commit(); !error.empty()) {
+      // "-" said as the README says it: a closed pipe or a full disk under `--matches -`.
+      if (out->path() == "-" && error.rfind("writing - failed", 0) == 0)
+        error.replace(0, std::string_view("writing -").size(), "writing standard output");
       std::cerr << "dwatch: error: " << error << "\n";
       ok = false;
     }

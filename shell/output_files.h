@@ -25,10 +25,13 @@ struct NamedFile {
 inline constexpr std::string_view kStandardOutput = "/dev/stdout";
 
 // What is wrong, naming the two, when two outputs name one file or an output names one of the
-// inputs (files read: the scenario, a script, a trace, watchpoint files); empty when nothing is.
-std::string file_clash(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs);
+// inputs (files read: the scenario, a script, a trace, watchpoint files; kStandardOutput, said as
+// `where_stdout_goes`: "where the answers go"); empty when nothing is.
+std::string file_clash(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs,
+                       std::string_view where_stdout_goes = "where the answers go");
 // False, with file_clash's message on stderr, when there is one.
-bool check_distinct_files(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs);
+bool check_distinct_files(const std::vector<std::string>& inputs, const std::vector<NamedFile>& outputs,
+                          std::string_view where_stdout_goes = "where the answers go");
 
 // `name` (a scenario's, from its file) made fit to be part of a file name in the working
 // directory: every character but letters, digits, '-', '_' and '.' becomes '_', and it never

@@ -10,6 +10,7 @@
 #include <deque>
 #include <functional>
 #include <iostream>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <stop_token>
@@ -55,11 +56,19 @@ class AnswerWriter {
     for (auto it = body.begin(); it != body.end(); ++it) line[it.key()] = std::move(it.value());
     std::lock_guard lock(mutex_);
     out_ << answer_line(line) << "\n" << std::flush;
+    if (!out_) failed_ = true;
+  }
+  // Whether an answer could not be written (standard output a closed pipe or a full disk): no
+  // later one can reach the controller either, and the session ends.
+  bool failed() {
+    std::lock_guard lock(mutex_);
+    return failed_;
   }
 
  private:
   std::ostream& out_;
   std::mutex mutex_;
+  bool failed_ = false;
 };
 
 // nlohmann reads and writes nested arrays by recursion: an id 100,000 arrays deep, echoed back,
@@ -80,7 +89,7 @@ Request parse_request(std::string line) {
   if (!line.empty() && line.back() == '\r') line.pop_back();
   // A request is UTF-8 text, its JSON too: a byte that is not would reach the answers (an unknown
   // command is echoed), and a file name of it names nothing a user can type.
-  if (const auto at = first_invalid_utf8(line)) {
+  if (const auto at = watch::first_non_utf8(line)) {
     char byte[8];
     std::snprintf(byte, sizeof byte, "0x%02X", unsigned(uint8_t(line[*at])));
     r.unreadable = std::string("a request is UTF-8 text: the byte ") + byte + " at column " + std::to_string(*at + 1) +
@@ -179,7 +188,7 @@ void read_requests(int in_fd, Requests& requests, AnswerWriter& answers) {
   for (;;) {
     const ssize_t n = ::read(in_fd, buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
+    if (n <= 0 || answers.failed()) break;  // no answer could reach anyone: read no more
     for (ssize_t i = 0; i < n; ++i) {
       if (buffer[i] != '\n') {
         if (too_long) continue;
@@ -276,11 +285,19 @@ std::optional<int> answer_request(Shell& shell, Request& r, uint32_t number, Req
 }  // namespace
 
 int run_protocol(Shell& shell, int in_fd, std::ostream& out, Interrupts* interrupts) {
-  AnswerWriter answers(out);
-  Requests requests;
+  // Shared with the reader, which may outlive this function: when the session ends early (a
+  // signal, answers that cannot be written) it is left reading, and must not touch what is gone.
+  struct Shared {
+    explicit Shared(std::ostream& out) : answers(out) {}
+    AnswerWriter answers;
+    Requests requests;
+  };
+  const auto shared = std::make_shared<Shared>(out);
+  AnswerWriter& answers = shared->answers;
+  Requests& requests = shared->requests;
   // Taking a request from the queue and marking it under way is one step under the lock, so a
   // request is always one or the other until it is answered.
-  std::jthread reader([&] { read_requests(in_fd, requests, answers); });
+  std::jthread reader([shared, in_fd] { read_requests(in_fd, shared->requests, shared->answers); });
   uint32_t number = 0;
   for (;;) {
     Request r;
@@ -292,12 +309,14 @@ int run_protocol(Shell& shell, int in_fd, std::ostream& out, Interrupts* interru
       if (r.asks()) requests.running = r.stop;
     }
     if (r.end) break;
-    if (const auto code = answer_request(shell, r, ++number, requests, answers, interrupts)) {
+    std::optional<int> code = answer_request(shell, r, ++number, requests, answers, interrupts);
+    if (!code && answers.failed()) code = 1;  // the caller says why: standard output has failed
+    if (code) {
       reader.detach();  // blocked reading the input, which nothing else will read
       return *code;
     }
   }
-  return 0;
+  return answers.failed() ? 1 : 0;
 }
 
 }  // namespace dw::shell

@@ -1,7 +1,7 @@
 // Text that reaches an answer, always UTF-8: every answer is JSON, and a byte that is not UTF-8
 // made the JSON writer throw and ended the session (a Lua `error("\xff")`, a file name of
-// surrogates). The check is RFC 3629's, stricter than a lead byte and its continuations: no
-// surrogates (U+D800..U+DFFF), no overlong forms, nothing past U+10FFFF.
+// surrogates). The check is watch::first_non_utf8, RFC 3629's: no surrogates (U+D800..U+DFFF), no
+// overlong forms, nothing past U+10FFFF.
 #pragma once
 
 #include <cstddef>
@@ -11,10 +11,6 @@
 #include <string_view>
 
 namespace dw::shell {
-
-// Where `text` stops being UTF-8 (the first byte no whole character starts at), or nothing when
-// it all is.
-std::optional<size_t> first_invalid_utf8(std::string_view text);
 
 // `text` with each byte that is not part of a UTF-8 character replaced by U+FFFD: what an error
 // message holding another's bytes (a Lua error string) says.

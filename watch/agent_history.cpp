@@ -7,7 +7,7 @@ namespace dw::watch {
 void AgentHistory::configure(const Program& p, bool temporal_spans, uint32_t first, uint32_t modules) {
   first_ = first;
   modules_ = modules;
-  values_.assign(p.column_count(), {});  // the program's variables, then its sinces' bits
+  values_.assign(p.column_count(), {});  // the program's variables, then its kept windows' columns
   for (size_t v = 0; v < values_.size(); ++v)
     values_[v].configure(temporal_spans ? p.agent_delay() - p.variable_min_offset[v] + 1 : 0);
   // Neighbour sets (and presence) are read at the fill step, to spread, and at neighbor() offsets.
@@ -54,7 +54,7 @@ void AgentHistory::record(const Frame& frame, uint32_t begin, uint32_t end, std:
   for (uint32_t m = begin; m < end; ++m) t.present[m - first_] = frame.present[m];
   for (size_t v = 0; v < values_.size(); ++v) {
     Values& row = *values_[v].find(frame.step);
-    if (v >= columns.size() || columns[v] < 0) {  // frames never carry it (a since's bit is worked out after)
+    if (v >= columns.size() || columns[v] < 0) {  // frames never carry it (a kept window's column is worked out after)
       std::fill(row.known.begin() + (begin - first_), row.known.begin() + (end - first_), 0);
       std::fill(row.values.begin() + (begin - first_), row.values.begin() + (end - first_), 0);
       continue;

@@ -71,7 +71,7 @@ Analysis analyze(const Ast& ast) {
         mentions(n.x);
         break;
       }
-      case NodeKind::SinceBit:  // a bit its module keeps (its conditions, below, are read to work it out)
+      case NodeKind::KeptWindow:  // a bit its module keeps (its conditions, below, are read to work it out)
         offset_seen(n.x.offset);
         mentions(n.x);
         break;

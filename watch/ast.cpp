@@ -170,7 +170,7 @@ class Printer {
       case NodeKind::Id:
       case NodeKind::Step:
       case NodeKind::Truth:
-      case NodeKind::SinceBit: print_window_term(n); return;
+      case NodeKind::KeptWindow: print_window_term(n); return;
     }
   }
 
@@ -198,13 +198,19 @@ class Printer {
         print(n.lhs);
         out_ += ')';
         return;
-      case NodeKind::SinceBit:
-        out_ += "since(";
+      case NodeKind::KeptWindow: {
+        const int64_t k = ast_.nodes[static_cast<size_t>(n.value)].value;
+        out_ += window_name(n.window);
+        if (k > 0) out_ += '[' + std::to_string(k) + ']';
+        out_ += '(';
         print(n.lhs);
-        out_ += ", ";
-        print(n.rhs);
+        if (n.rhs != kNoNode) {
+          out_ += ", ";
+          print(n.rhs);
+        }
         out_ += ")@" + to_string(ast_, n.x, bound_);
         return;
+      }
       default: return;
     }
   }

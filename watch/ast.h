@@ -66,9 +66,9 @@ enum class NodeKind : uint8_t {
   // `Truth` the integer 1, 0 or unknown of the condition lhs.
   Step,
   Truth,
-  // An unbounded since kept as a bit a step (watch/since_bits.h), read at x: `value` is the since
-  // as written; lhs and rhs its φ and ψ as this copy reads them (what the analysis keeps).
-  SinceBit,
+  // A window kept by its module (watch/kept_windows.h), read at x: `value` is the window as written,
+  // `window` its kind; lhs and rhs its φ and ψ as its module reads them (what the analysis keeps).
+  KeptWindow,
 };
 
 // `once[k](φ)`, `historically[k](φ)`, `times[k](φ)`, `since[k](φ, ψ)`; k = 0 for an unbounded since.

@@ -3,19 +3,31 @@
 #include <algorithm>
 
 namespace dw::watch {
-namespace {
 
-// The bytes of the UTF-8 character at text[i], or 0 when none starts there (a stray
-// continuation byte, an overlong or out-of-range lead, a character cut short).
 size_t utf8_length(std::string_view text, size_t i) {
   const auto c = uint8_t(text[i]);
   if (c < 0x80) return 1;
-  const size_t length = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xC2 && c <= 0xDF ? 2 : 0;
+  size_t length = 0;
+  uint8_t low = 0x80, high = 0xBF;  // the second byte's range
+  if (c >= 0xC2 && c <= 0xDF) length = 2;
+  else if (c >= 0xE0 && c <= 0xEF) {
+    length = 3;
+    if (c == 0xE0) low = 0xA0;
+    else if (c == 0xED) high = 0x9F;
+  } else if (c >= 0xF0 && c <= 0xF4) {
+    length = 4;
+    if (c == 0xF0) low = 0x90;
+    else if (c == 0xF4) high = 0x8F;
+  }
   if (length == 0 || i + length > text.size()) return 0;
-  for (size_t k = 1; k < length; ++k)
+  const auto second = uint8_t(text[i + 1]);
+  if (second < low || second > high) return 0;
+  for (size_t k = 2; k < length; ++k)
     if ((uint8_t(text[i + k]) & 0xC0) != 0x80) return 0;
   return length;
 }
+
+namespace {
 
 // The line as a terminal may show it: control characters (C0, DEL and C1, whose U+009B a
 // terminal takes for the start of an escape sequence) and bytes that are not UTF-8 become '?', one

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <functional>
 
-#include "watch/since_bits.h"
+#include "watch/kept_windows.h"
 
 namespace dw::watch {
 namespace {
@@ -177,7 +177,7 @@ DistributedAgents::DistributedAgents(const Program& p, bool temporal_spans, uint
 void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end, const Program& p,
                                std::span<const int> columns) {
   history_.record(frame, begin, end, columns);
-  work_out_since_bits(p, frame.step, begin, end);
+  work_out_kept_windows(p, frame.step, begin, end);
   const int64_t f = frame.step - p.agent_delay();
   if (f >= 0) prepare(p, f, begin, end);
 }
@@ -200,22 +200,19 @@ void DistributedAgents::prepare(const Program& p, int64_t f, uint32_t begin, uin
       __builtin_prefetch(n);
 }
 
-// Modules [begin, end) work out each unbounded since's bit at the newest step its conditions can be
-// read for, from their own history (watch/since_bits.h).
-void DistributedAgents::work_out_since_bits(const Program& p, int64_t newest, uint32_t begin, uint32_t end) {
-  if (p.since_bits.empty()) return;
+// Modules [begin, end) work out each kept window's columns at the newest step its conditions can be
+// read for, from their own history (watch/kept_windows.h).
+void DistributedAgents::work_out_kept_windows(const Program& p, int64_t newest, uint32_t begin, uint32_t end) {
+  if (p.kept_windows.empty()) return;
   EvaluatorScratch scratch(p);  // per call: several threads record blocks at once
-  for (size_t i = 0; i < p.since_bits.size(); ++i) {
-    const SinceBit& bit = p.since_bits[i];
-    const int variable = static_cast<int>(p.variables.size() + i);
-    const int64_t s = newest - bit.ahead;
+  for (const KeptWindow& w : p.kept_windows) {
+    const int64_t s = newest - w.ahead;
     if (s < 0) continue;
     for (uint32_t m = begin; m < end; ++m) {
-      int64_t v = 0;
-      const Truth prior = history_.value(m, variable, s - 1, v) ? truth_of(v != 0) : kUnknown;
-      auto read = [&](int var, int64_t step, int64_t& out) { return history_.value(m, var, step, out); };
-      const Truth t = since_bit(p, bit, s, prior, read, scratch);
-      history_.set_value(m, variable, s, t == kTrue ? 1 : 0, t != kUnknown);
+      auto read = [&](int var, int64_t step, int64_t& out) { return read_value(m, var, step, out); };
+      const KeptStep k = work_out_window(p, w, s, read, scratch);
+      for (int c = 0; c < w.columns(); ++c)
+        history_.set_value(m, w.column + c, s, k.value[static_cast<size_t>(c)], k.known[static_cast<size_t>(c)]);
     }
   }
 }

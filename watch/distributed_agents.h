@@ -110,7 +110,7 @@ class DistributedAgents {
                   AgentContext& ctx) const;
   class Reader;
   void decide_own(const Leaf& leaf, int64_t f, uint32_t begin, uint32_t end, uint32_t at);
-  void work_out_since_bits(const Program& p, int64_t newest, uint32_t begin, uint32_t end);
+  void work_out_kept_windows(const Program& p, int64_t newest, uint32_t begin, uint32_t end);
   void decide_own_expression(const Program& p, const Leaf& leaf, int64_t f, uint32_t begin, uint32_t end, uint32_t at);
   bool write_table(uint32_t m, int64_t f, const AggregateCode& a, AgentContext& ctx, PatternMatcherRef& pm) const;
   Truth decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef& pm, AgentContext& ctx) const;

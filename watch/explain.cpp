@@ -35,7 +35,14 @@ void explain_windows(const watch::Watchpoint& w, std::ostream& out) {
     const int64_t reach = watch::window_reach(w.ast, static_cast<watch::NodeIndex>(i));
     out << "    " << watch::to_string(w.ast, static_cast<watch::NodeIndex>(i)) << "\n      j = 0.." << n.value
         << "; reach " << reach << (reach == 1 ? " step" : " steps") << " back (of the limit " << watch::kMaxOffset
-        << "); evaluated as " << n.value + 1 << " shifted copies of its condition each step (cost O(k))\n";
+        << "); ";
+    if (watch::kept_by_module(w.ast, static_cast<watch::NodeIndex>(i)))
+      out << "kept by each module from the step before and its condition now"
+          << (n.window == watch::WindowKind::Times ? " (its count kept " + std::to_string(n.value + 1) + " steps)" : "")
+          << " (cost per step independent of k)\n";
+    else
+      out << "evaluated as " << n.value + 1 << " shifted copies of its condition each step (cost O(k): it reads "
+          << "neighbours, an aggregate, id() or more than one module)\n";
   }
 }
 

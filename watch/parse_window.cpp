@@ -1,6 +1,8 @@
 // The watchpoint grammar's windows in time and `id()` (docs/design.md §4c); the parser's state is
 // watch/parser_impl.h, the conditions watch/parser.cpp, the integer expressions
 // watch/parse_expression.cpp.
+#include <algorithm>
+#include <climits>
 #include <string>
 #include <vector>
 
@@ -122,6 +124,7 @@ void Parser::check_reach(NodeIndex window) {
 // read one slot's own variables only.
 void Parser::check_one_module(NodeIndex since) {
   int slot = -1;
+  int earliest = INT32_MAX;  // its earliest read (nested windows count their conditions at shift 0)
   std::string why;
   visit_tree(ast_, since, [&](NodeIndex i, NodeIndex) {
     const Node& n = ast_.nodes[static_cast<size_t>(i)];
@@ -132,8 +135,11 @@ void Parser::check_one_module(NodeIndex since) {
     else if (n.kind == NodeKind::Variable || n.kind == NodeKind::Id) {
       if (slot >= 0 && n.x.slot >= 0 && n.x.slot != slot) why = "a second module";
       if (n.x.slot >= 0) slot = n.x.slot;
+      earliest = std::min(earliest, n.x.offset);
     }
   });
+  // A since whose conditions only look ahead would start before step 0, where no bit is kept.
+  if (why.empty() && earliest != INT32_MAX && earliest > 0) why = "only 'next' steps (read one at its step or before)";
   if (!why.empty())
     report(ast_.nodes[static_cast<size_t>(since)].span,
            "an unbounded since(...) reads one module's own variables, not " + why + ": give it a bound, since[k](...)");

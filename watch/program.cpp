@@ -101,10 +101,7 @@ class Compiler {
       p_.actions.push_back(std::move(code));
     }
     order_sets();
-    // A since's bit is kept from its earliest read and, to work the next one out, one step more
-    // than it looks ahead (docs/design.md §4c).
-    for (size_t i = 0; i < p_.since_bits.size(); ++i)
-      p_.variable_min_offset.push_back(std::min(since_min_offset_[i], p_.extent_plus - p_.since_bits[i].ahead - 1));
+    keep_window_columns();
   }
 
  private:
@@ -183,7 +180,7 @@ class Compiler {
     visit_tree(ast_, node, [&](NodeIndex i, NodeIndex) {
       const Node& n = ast_.nodes[i];
       if (n.kind == NodeKind::Variable || n.kind == NodeKind::Id || n.kind == NodeKind::Aggregate ||
-          n.kind == NodeKind::Neighbor || n.kind == NodeKind::SinceBit)
+          n.kind == NodeKind::Neighbor || n.kind == NodeKind::KeptWindow)
         for (const ModuleRef* m : {&n.x, &n.y})
           if (!m->bound && m->slot >= 0 && (n.kind == NodeKind::Neighbor || m == &n.x))
             last = std::max(last, static_cast<int16_t>(m->slot));
@@ -245,32 +242,62 @@ class Compiler {
     return index;
   }
 
-  // The variable that holds the bit of the unbounded since `n` stands for (watch/since_bits.h): made
+  // A condition read as an integer (Program::truths); the ones inside it are compiled first.
+  uint32_t compile_truth(NodeIndex condition) {
+    int depth = 0;
+    std::vector<ExprOp> ops = compile_condition(condition, aggregate_, depth);
+    p_.truths.push_back(std::move(ops));
+    p_.truth_depths.push_back(depth);
+    return static_cast<uint32_t>(p_.truths.size() - 1);
+  }
+
+  // The column that holds the value of the kept window `n` stands for (watch/kept_windows.h): made
   // the first time, with its conditions compiled as its slot's own (nothing carried).
-  int16_t since_column(const Node& n) {
+  int16_t kept_column(const Node& n) {
     const NodeIndex written = static_cast<NodeIndex>(n.value);
-    auto [it, fresh] = since_index_.emplace(written, p_.since_bits.size());
-    if (fresh) {
-      SinceBit bit;
-      bit.slot = static_cast<int16_t>(n.x.slot);
-      since_steps(ast_, written, bit.first_step, bit.ahead);
+    auto found = kept_index_.find(written);
+    if (found == kept_index_.end()) {
+      const Node& window = ast_.nodes[static_cast<size_t>(written)];
+      KeptWindow w;
+      w.kind = window.window;
+      w.k = static_cast<int>(window.value);
+      w.slot = static_cast<int16_t>(n.x.slot);
+      const KeptSteps steps = kept_steps(ast_, written);
+      w.first_step = steps.first_step;
+      w.ahead = steps.ahead;
       const int16_t decide = decide_;
       const bool carries = carries_;
-      decide_ = bit.slot;
-      int depth = 0;
-      bit.phi = static_cast<uint32_t>(p_.truths.size());
-      p_.truths.push_back(compile_condition(n.lhs, aggregate_, depth));
-      p_.truth_depths.push_back(depth);
-      bit.psi = static_cast<uint32_t>(p_.truths.size());
-      p_.truths.push_back(compile_condition(n.rhs, aggregate_, depth));
-      p_.truth_depths.push_back(depth);
+      decide_ = w.slot;
+      // A window inside this one gets its columns first: histories work them out in order.
+      w.phi = compile_truth(n.lhs);
+      if (n.rhs != kNoNode) w.psi = compile_truth(n.rhs);
       decide_ = decide;
       carries_ = carries;
-      p_.since_bits.push_back(bit);
-      since_min_offset_.push_back(n.x.offset);
+      w.column = static_cast<int>(p_.variables.size()) + p_.kept_columns;
+      p_.kept_columns += w.columns();
+      found = kept_index_.emplace(written, p_.kept_windows.size()).first;
+      p_.kept_windows.push_back(w);
+      kept_read_offset_.push_back(n.x.offset);
     }
-    since_min_offset_[it->second] = std::min(since_min_offset_[it->second], n.x.offset);
-    return static_cast<int16_t>(p_.variables.size() + it->second);
+    kept_read_offset_[found->second] = std::min(kept_read_offset_[found->second], n.x.offset);
+    return static_cast<int16_t>(p_.kept_windows[found->second].column);
+  }
+
+  // Of each kept window's columns, how far back it is kept (docs/design.md §4c): its value from its
+  // earliest read, and what working out step s reads from the step before (the value of an
+  // unbounded since, each state column), or, of times' count, from step s − k − 1; each known
+  // once step s + ahead is.
+  void keep_window_columns() {
+    for (size_t i = 0; i < p_.kept_windows.size(); ++i) {
+      const KeptWindow& w = p_.kept_windows[i];
+      const int at_s = p_.extent_plus - w.ahead;  // step s, as an offset of the detector's step
+      for (int c = 0; c < w.columns(); ++c) {
+        int back = 1;
+        if (c == 0 && w.k > 0) back = 0;
+        if (c == 1 && w.kind == WindowKind::Times) back = w.k + 1;
+        p_.variable_min_offset.push_back(std::min(c == 0 ? kept_read_offset_[i] : at_s, at_s - back));
+      }
+    }
   }
 
   // An integer expression as postfix value code, its terms carried as decide_ requires.
@@ -279,7 +306,7 @@ class Compiler {
     auto is_operand = [](const Node& n) {
       return n.kind == NodeKind::Integer || n.kind == NodeKind::Variable || n.kind == NodeKind::Aggregate ||
              n.kind == NodeKind::Id || n.kind == NodeKind::Step || n.kind == NodeKind::Truth ||
-             n.kind == NodeKind::SinceBit;
+             n.kind == NodeKind::KeptWindow;
     };
     auto operand = [&](NodeIndex i) {
       const Node& n = ast_.nodes[i];
@@ -288,10 +315,10 @@ class Compiler {
       if (n.kind == NodeKind::Integer) {
         in.op = ValueOp::Constant;
         in.constant = n.value;
-      } else if (n.kind == NodeKind::SinceBit) {
+      } else if (n.kind == NodeKind::KeptWindow) {
         TermRef t;
         t.slot = static_cast<int16_t>(n.x.slot);
-        t.variable = since_column(n);
+        t.variable = kept_column(n);
         t.offset = static_cast<int16_t>(n.x.offset);
         carry(t, decide_);
         in.op = ValueOp::Term;
@@ -305,11 +332,7 @@ class Compiler {
         in.offset = static_cast<int16_t>(n.x.offset);
       } else if (n.kind == NodeKind::Truth) {
         in.op = ValueOp::Truth;
-        int depth = 0;
-        std::vector<ExprOp> ops = compile_condition(n.lhs, aggregate_, depth);
-        in.index = static_cast<uint32_t>(p_.truths.size());
-        p_.truths.push_back(std::move(ops));
-        p_.truth_depths.push_back(depth);
+        in.index = compile_truth(n.lhs);
       } else if (n.kind == NodeKind::Aggregate) {
         in.op = ValueOp::Aggregate;
         in.index = compile_aggregate(i);
@@ -412,11 +435,11 @@ class Compiler {
   const Ast& ast_;
   const Analysis& analysis_;
   Program& p_;
-  int16_t decide_ = 0;                       // the decide slot of what is being compiled
-  uint32_t aggregate_ = 0;                   // the aggregate whose body is being compiled
-  std::map<NodeIndex, size_t> since_index_;  // unbounded since as written -> Program::since_bits
-  std::vector<int> since_min_offset_;        // per since bit: the earliest offset it is read at
-  bool carries_ = false;                     // the leaf being compiled reads a cell, a set or a table
+  int16_t decide_ = 0;                      // the decide slot of what is being compiled
+  uint32_t aggregate_ = 0;                  // the aggregate whose body is being compiled
+  std::map<NodeIndex, size_t> kept_index_;  // a kept window as written -> Program::kept_windows
+  std::vector<int> kept_read_offset_;       // per kept window: the earliest offset it is read at
+  bool carries_ = false;                    // the leaf being compiled reads a cell, a set or a table
 };
 
 }  // namespace

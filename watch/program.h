@@ -170,13 +170,22 @@ struct CarriedSet {
 };
 
 // `then set a.v = expr` / `then remove a`, its value decided at the last slot.
-// An unbounded `since(φ, ψ)` over one slot's own variables (watch/since_bits.h): each module keeps
-// its bit a step as one more variable, read as variable `variables.size() + i` for since_bits[i].
-struct SinceBit {
+// A window over one slot's own variables, kept incrementally by each module (watch/kept_windows.h):
+// its value a step in column `column`, and the state it is worked out from in the columns after it
+// (columns come after the program's variables).
+constexpr int kMaxKeptColumns = 5;
+struct KeptWindow {
+  WindowKind kind = WindowKind::Since;
+  int k = 0;  // its length; 0: an unbounded since
   int16_t slot = 0;
-  uint32_t phi = 0, psi = 0;  // Program::truths, offsets from the step whose bit is worked out
-  int first_step = 0;         // the first step whose reads of φ and ψ all fall at step 0 or later
-  int ahead = 0;              // the largest offset they read: S(s) is known once step s + ahead is
+  uint32_t phi = 0, psi = 0;  // Program::truths (psi: a since's), offsets from the step worked out
+  int first_step = 0;         // the first step whose reads of its conditions all fall at step 0 or later
+  int ahead = 0;              // the largest offset they read: step s is worked out once s + ahead is
+  int column = 0;             // its value's column
+  int columns() const {
+    if (k == 0) return 1;
+    return kind == WindowKind::Since ? 5 : 3;
+  }
 };
 
 struct ActionCode {
@@ -250,9 +259,10 @@ class Program {
   std::vector<std::vector<ExprOp>> truths;
   std::vector<int> truth_depths;
   bool reads_id = false;  // some term is id(m): the readers need the modules' ids
-  // Unbounded sinces, kept as variables after `variables`; variable_min_offset covers them too.
-  std::vector<SinceBit> since_bits;
-  size_t column_count() const { return variables.size() + since_bits.size(); }
+  // Windows kept by each module, their columns after `variables`; variable_min_offset covers them too.
+  std::vector<KeptWindow> kept_windows;
+  int kept_columns = 0;
+  size_t column_count() const { return variables.size() + static_cast<size_t>(kept_columns); }
   int max_value_stack = 0;
   // Truths of scratch: enough for every condition program at once, as they may nest.
   int max_condition_stack = 0;

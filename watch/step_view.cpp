@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "watch/detector.h"
-#include "watch/since_bits.h"
+#include "watch/kept_windows.h"
 
 namespace dw::watch {
 
@@ -36,30 +36,35 @@ void StepHistory::record(const Frame& frame) {
   g.present.assign(frame.present.begin(), frame.present.end());
   g.begin.assign(frame.nbr_begin.begin(), frame.nbr_begin.end());
   g.ids.assign(frame.nbrs.begin(), frame.nbrs.end());
-  work_out_since_bits(frame.step);
+  work_out_kept_windows(frame.step);
 }
 
-// Each unbounded since's bit at the newest step its conditions can be read for (watch/since_bits.h).
-void StepHistory::work_out_since_bits(int64_t newest) {
+// Each kept window's columns at the newest step its conditions can be read for (watch/kept_windows.h).
+void StepHistory::work_out_kept_windows(int64_t newest) {
   const Program& p = *program_;
-  for (size_t i = 0; i < p.since_bits.size(); ++i) {
-    const SinceBit& bit = p.since_bits[i];
-    const int64_t s = newest - bit.ahead;
-    auto& ring = columns_[p.variables.size() + i];
-    Column* now = ring.find(s);
-    if (now == nullptr) continue;
-    const Column* before = ring.find(s - 1);
+  for (const KeptWindow& w : p.kept_windows) {
+    const int64_t s = newest - w.ahead;
+    Column* now[kMaxKeptColumns] = {};
+    for (int c = 0; c < w.columns(); ++c) now[c] = columns_[static_cast<size_t>(w.column + c)].find(s);
+    if (now[0] == nullptr) continue;
     for (uint32_t m = 0; m < modules_; ++m) {
-      const Truth prior = before != nullptr && before->known[m] ? truth_of(before->value[m] != 0) : kUnknown;
       auto read = [&](int variable, int64_t step, int64_t& out) {
+        if (variable == kIdVariable) {
+          const Graph* g = graph(step);
+          if (g == nullptr || !g->present[m]) return false;
+          out = id(m);
+          return true;
+        }
         const Column* c = column(variable, step);
         if (c == nullptr || !c->known[m]) return false;
         out = c->value[m];
         return true;
       };
-      const Truth t = since_bit(p, bit, s, prior, read, scratch_);
-      now->known[m] = t != kUnknown;
-      now->value[m] = t == kTrue;
+      const KeptStep k = work_out_window(p, w, s, read, scratch_);
+      for (int c = 0; c < w.columns(); ++c) {
+        now[c]->known[m] = k.known[static_cast<size_t>(c)];
+        now[c]->value[m] = k.value[static_cast<size_t>(c)];
+      }
     }
   }
 }

@@ -44,15 +44,15 @@ class StepHistory {
   ModuleId id(uint32_t m) const { return ids_.empty() ? m : ids_[m]; }  // what id(m) reads
 
  private:
-  void work_out_since_bits(int64_t newest);
+  void work_out_kept_windows(int64_t newest);
 
   const Program* program_;
-  EvaluatorScratch scratch_;  // for the since bits
+  EvaluatorScratch scratch_;  // for the kept windows
   uint32_t modules_;
   std::vector<ModuleId> ids_;       // the universe's, when the program reads id() (empty: each id its index)
   std::vector<int> frame_columns_;  // program variable -> frame column
   // Deques: a StepView keeps pointers to the items across later writes (see StepRing).
-  std::vector<StepRing<Column, std::deque<Column>>> columns_;  // per program variable, then since bit
+  std::vector<StepRing<Column, std::deque<Column>>> columns_;  // per program variable, then kept windows' columns
   StepRing<Graph, std::deque<Graph>> graphs_;
 };
 

@@ -87,7 +87,7 @@ class Writer {
     if (too_large_) return i;
     if (s.none() && !has_window_[static_cast<size_t>(i)]) return i;  // shared as written
     Node n = ast_.nodes[static_cast<size_t>(i)];
-    if (n.kind == NodeKind::Window && n.window == WindowKind::Since && n.value == 0) return since_bit(i, n, s);
+    if (n.kind == NodeKind::Window && kept_by_module(ast_, i)) return kept(i, n, s);
     if (n.kind == NodeKind::Window) return write_out(n, s);
     lower(n.x, s);
     if (n.kind == NodeKind::Neighbor) lower(n.y, s);
@@ -166,24 +166,33 @@ class Writer {
     return m;
   }
 
-  // An unbounded since (watch/since_bits.h): the bit its module keeps, read at the slot's "now"
-  // lowered by the windows around it, and its conditions as written out once (what the bit is
-  // worked out from, and what the analysis keeps the history for).
-  NodeIndex since_bit(NodeIndex written, const Node& w, const Shift& s) {
+  // A window kept by its module (watch/kept_windows.h): its column, read at the slot's "now" lowered
+  // by the windows around it, and its conditions as written out once (what the columns are worked
+  // out from, and what the analysis keeps the history for). A condition is its column = 1.
+  NodeIndex kept(NodeIndex written, const Node& w, const Shift& s) {
     Reads r = reads_of(w.lhs);
-    for (const auto& [slot, offset] : reads_of(w.rhs).slot) r.add_slot(slot, offset);
-    auto [it, fresh] = since_conditions_.emplace(written, std::pair<NodeIndex, NodeIndex>{kNoNode, kNoNode});
-    if (fresh) it->second = {copy(w.lhs, {}), copy(w.rhs, {})};
+    if (w.rhs != kNoNode)
+      for (const auto& [slot, offset] : reads_of(w.rhs).slot) r.add_slot(slot, offset);
+    // Conditions that read only ahead are kept lifted to read from their own step on, the column
+    // read as far ahead: the same j are kept (watch/windows.h).
+    const int lift = kept_steps(ast_, written).lift;
+    auto [it, fresh] = kept_conditions_.emplace(written, std::pair<NodeIndex, NodeIndex>{kNoNode, kNoNode});
+    if (fresh) {
+      const Shift lifted{lift, 0};
+      it->second = {copy(w.lhs, lifted), w.rhs == kNoNode ? kNoNode : copy(w.rhs, lifted)};
+    }
     Node b;
-    b.kind = NodeKind::SinceBit;
+    b.kind = NodeKind::KeptWindow;
+    b.window = w.window;
     b.span = w.span;
     b.value = written;
     b.x.slot = r.slot.empty() ? 0 : r.slot.begin()->first;
-    b.x.offset = -s.slot;
+    b.x.offset = lift - s.slot;
     b.lhs = it->second.first;
     b.rhs = it->second.second;
-    const NodeIndex bit = add(std::move(b));
-    return compare(bit, CompareOp::Equal, integer(1, w.span), w.span);
+    const NodeIndex column = add(std::move(b));
+    if (w.window == WindowKind::Times) return column;
+    return compare(column, CompareOp::Equal, integer(1, w.span), w.span);
   }
 
   NodeIndex write_out(const Node& w, const Shift& s) {
@@ -240,7 +249,7 @@ class Writer {
   }
 
   Ast& ast_;
-  std::map<NodeIndex, std::pair<NodeIndex, NodeIndex>> since_conditions_;  // by unbounded since: φ, ψ
+  std::map<NodeIndex, std::pair<NodeIndex, NodeIndex>> kept_conditions_;  // by kept window: φ, ψ
   size_t written_;
   std::vector<uint8_t> has_window_;
   bool too_large_ = false;
@@ -285,14 +294,36 @@ int64_t window_reach(const Ast& ast, NodeIndex window) {
   return reach;
 }
 
-void since_steps(const Ast& ast, NodeIndex since, int& first_step, int& ahead) {
-  const Node& w = ast.nodes[static_cast<size_t>(since)];
+bool kept_by_module(const Ast& ast, NodeIndex window) {
+  const Node& w = ast.nodes[static_cast<size_t>(window)];
+  if (w.window == WindowKind::Since && w.value == 0) return true;  // the parser made sure
+  int slot = -1;
+  bool own = true;
+  visit_tree(ast, window, [&](NodeIndex i, NodeIndex) {
+    const Node& n = ast.nodes[static_cast<size_t>(i)];
+    if (n.kind == NodeKind::Neighbor || n.kind == NodeKind::Aggregate || n.kind == NodeKind::Id) own = false;
+    if (n.kind != NodeKind::Variable) return;
+    if (n.x.bound || (slot >= 0 && n.x.slot != slot)) own = false;
+    slot = n.x.slot;
+  });
+  return own && (slot >= 0 || !ast.slots.empty());
+}
+
+KeptSteps kept_steps(const Ast& ast, NodeIndex window) {
+  const Node& w = ast.nodes[static_cast<size_t>(window)];
   Reads r = reads_at_shift_zero(ast, w.lhs);
-  const Reads more = reads_at_shift_zero(ast, w.rhs);
-  for (const auto& [slot, offset] : more.slot) r.add_slot(slot, offset);
-  first_step = 0;
-  for (const auto& [slot, offset] : r.slot) first_step = std::max(first_step, -offset);
-  ahead = r.latest;
+  if (w.rhs != kNoNode) {
+    const Reads more = reads_at_shift_zero(ast, w.rhs);
+    for (const auto& [slot, offset] : more.slot) r.add_slot(slot, offset);
+    r.latest = std::max(r.latest, more.latest);
+  }
+  KeptSteps k;
+  if (r.slot.empty()) return k;                 // reads nothing: keeps j <= t
+  const int earliest = r.slot.begin()->second;  // one slot
+  k.lift = std::max(0, earliest);
+  k.first_step = std::max(0, -earliest);
+  k.ahead = r.latest - k.lift;
+  return k;
 }
 
 std::vector<Diagnostic> write_out_windows(Ast& ast) {

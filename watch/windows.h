@@ -5,10 +5,10 @@
 // too) with j. A window with no j kept is unknown. So each reading, with its own "now" per slot,
 // clips each window at step 0 exactly as §4c says, with no code of its own.
 //
-// The cost of a bounded window is the definition's: a window of length k is k + 1 copies of its
-// condition, evaluated at every step, and the history keeps the k steps they read (§4c's
-// incremental rings of bits are not built yet). An unbounded since is one bit a module keeps per
-// step (a SinceBit node, watch/since_bits.h), whatever the past.
+// A window over one slot's own variables is not written out: each module keeps it incrementally
+// (a KeptWindow node, read as a column: watch/kept_windows.h), at a cost per step independent of
+// its length, as §4c's Costs ask. The rest (windows reading neighbours, aggregates, id() or other
+// slots) cost the definition's: k + 1 copies of the condition, evaluated at every step.
 #pragma once
 
 #include <vector>
@@ -26,9 +26,19 @@ constexpr size_t kMaxEvaluatedNodes = 400'000;
 // errors that stop it from being evaluated (too large once written out).
 std::vector<Diagnostic> write_out_windows(Ast& ast);
 
-// Of an unbounded since: the first step whose reads of φ and ψ all fall at step 0 or later, and
-// the largest offset they read (at least 0).
-void since_steps(const Ast& ast, NodeIndex since, int& first_step, int& ahead);
+// Whether `window` (as written) is kept by each module incrementally (watch/kept_windows.h): its
+// conditions read one slot's own variables (no neighbor(), aggregate, id() or bound name), or
+// nothing. An unbounded since always is (the parser makes sure).
+bool kept_by_module(const Ast& ast, NodeIndex window);
+
+// Of a kept window: the first step whose reads of its conditions all fall at step 0 or later, the
+// largest offset they read (at least 0), and, for conditions that read only ahead, how far they are
+// lifted back (their earliest read) so that they start at step 0 — the column is read that much
+// further ahead.
+struct KeptSteps {
+  int first_step = 0, ahead = 0, lift = 0;
+};
+KeptSteps kept_steps(const Ast& ast, NodeIndex window);
 
 // How far back `window` looks from its step: its length, plus the deepest 'last' inside it,
 // nested windows added (docs/design.md §4c; counted toward the offset limit of §3).

@@ -101,7 +101,11 @@ int render_video(const RenderArgs& args, scenarios::Scenario& scenario, render::
     std::cerr << "dwatch: error: --from " << from << " is after the last step, " << to << " (--to)\n";
     return 2;
   }
-  if (!shell::check_distinct_files(scenario.inputs, {{"--video", args.video}})) return 2;
+  // Its summary goes to standard output: a video written there, or onto the file standard output
+  // is, would lose it.
+  std::vector<std::string> inputs = scenario.inputs;
+  inputs.emplace_back(shell::kStandardOutput);
+  if (!shell::check_distinct_files(inputs, {{"--video", args.video}}, "where the summary goes")) return 2;
   const int fps = int(args.fps.value_or(kDefaultFps));
   auto opened = render::VideoWriter::open(args.video, {args.width, args.height, fps});  // a bad path costs no run
   if (auto* error = std::get_if<std::string>(&opened)) {
@@ -230,8 +234,11 @@ int render_scenario(const RenderArgs& args, shell::Interrupts* interrupts) {
   if (!args.camera_target.empty()) settings.camera_target = vec(args.camera_target);
   if (!args.video.empty()) return render_video(args, scenario, settings, interrupts);
   const shell::NamedFile out_file{"--out", args.out};
-  std::unique_ptr<sim::OutputFile> out;  // opened now: a bad path costs no run
-  if (!shell::check_distinct_files(scenario.inputs, {out_file}) || !shell::open_output(out_file, out)) return 2;
+  std::unique_ptr<sim::OutputFile> out;               // opened now: a bad path costs no run
+  std::vector<std::string> inputs = scenario.inputs;  // and where the summary goes, as for a video
+  inputs.emplace_back(shell::kStandardOutput);
+  if (!shell::check_distinct_files(inputs, {out_file}, "where the summary goes") || !shell::open_output(out_file, out))
+    return 2;
   const int64_t step = args.step.value_or(std::max<int64_t>(0, scenario.steps - 1));
 
   // The session goes to the step (through any pause) and simulates on until every watchpoint

@@ -185,7 +185,10 @@ int replay(const ReplayArgs& args) {
   // Output files are opened before the trace is read, so that a bad path costs nothing.
   const shell::NamedFile matches_file{"--matches", args.matches_path}, stats_file{"--stats", args.stats_path};
   std::unique_ptr<sim::OutputFile> matches_out, stats_out;
-  if (!shell::check_distinct_files(inputs, {matches_file, stats_file}) ||
+  // The summary goes to standard output unless an output does: redirected onto an output's file,
+  // it would be lost under the output committed over it.
+  if (args.matches_path != "-" && args.stats_path != "-") inputs.emplace_back(shell::kStandardOutput);
+  if (!shell::check_distinct_files(inputs, {matches_file, stats_file}, "where the summary goes") ||
       !shell::open_output(matches_file, matches_out) || !shell::open_output(stats_file, stats_out))
     return 2;
   std::ostream* out = shell::stream_of(matches_out);

@@ -53,8 +53,13 @@ struct RunFiles {
                {"--matches", args.matches_path},
                {"--stats", args.stats_path},
                {"--render", args.render_path}}} {}
-  bool open(const std::vector<std::string>& inputs) {
-    if (!shell::check_distinct_files(inputs, {named.begin(), named.end()})) return false;
+  // The summary goes to standard output unless an output does ("-"): redirected onto an output's
+  // file (`--matches o.txt > o.txt`), it would be lost under the output committed over it.
+  bool open(std::vector<std::string> inputs) {
+    const bool summary_on_stdout =
+        std::none_of(named.begin(), named.end(), [](const auto& f) { return f.path == "-"; });
+    if (summary_on_stdout) inputs.emplace_back(shell::kStandardOutput);
+    if (!shell::check_distinct_files(inputs, {named.begin(), named.end()}, "where the summary goes")) return false;
     for (size_t i = 0; i < named.size(); ++i)
       if (!shell::open_output(named[i], out[i])) return false;
     return true;

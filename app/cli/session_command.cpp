@@ -20,6 +20,7 @@
 #include "shell/shell.h"
 #include "shell/utf8_text.h"
 #include "sim/read_file.h"
+#include "watch/diagnostic.h"
 
 namespace dw::app {
 namespace {
@@ -33,7 +34,7 @@ struct SessionArgs {
 // A line that is not UTF-8 text is refused before it is parsed, at its first byte that is not: it
 // would name a file nobody can type, and reach the answers.
 std::optional<watch::Diagnostic> not_utf8(const std::string& text, size_t begin, size_t end) {
-  const auto at = shell::first_invalid_utf8(std::string_view(text).substr(begin, end - begin));
+  const auto at = watch::first_non_utf8(std::string_view(text).substr(begin, end - begin));
   if (!at) return std::nullopt;
   const auto byte = static_cast<uint32_t>(begin + *at);
   return watch::Diagnostic{{byte, byte + 1},
@@ -89,6 +90,7 @@ int run_script(shell::Shell& shell, const watch::SourceText& source, shell::Inte
       return 1;
     }
     std::cout << shell::answer_line(std::get<nlohmann::ordered_json>(answer)) << "\n" << std::flush;
+    if (!std::cout) return 1;  // no answer reaches anyone any more; the caller says why
   }
   return 0;
 }
@@ -120,6 +122,7 @@ int run_prompt(shell::Shell& shell, shell::Interrupts* interrupts) {
     else if (auto* error = std::get_if<std::string>(&answer))
       std::cerr << "error: " << shell::replace_invalid_utf8(*error) << "\n";
     else std::cout << shell::answer_line(std::get<nlohmann::ordered_json>(answer)) << "\n" << std::flush;
+    if (!std::cout) return 1;
   }
   return 0;
 }

@@ -1,5 +1,6 @@
-// Every expression case of the independent reference (tests/conformance_expr/, copied from
-// shared/conformance_expr/, docs/design.md §4b: arithmetic, neighbour aggregates), every reading it has
+// Every expression and window case of the independent reference (tests/conformance_expr/ and
+// tests/conformance_window/, copied from shared/, docs/design.md §4b: arithmetic, neighbour
+// aggregates; §4c: windows in time), every reading it has
 // expected matches for, every combination of the optimizations: the same set of (t, slots).
 //   centralized (ordered)        expected.centralized.jsonl
 //   distributed, consistent      expected.distributed.jsonl
@@ -45,7 +46,9 @@ TEST_P(ExpressionConformance, MatchesTheReferenceUnderEveryOptimizationCombinati
 
 std::vector<Param> params() {
   std::vector<Param> out;
-  for (const fs::path& c : case_dirs(DWATCH_CONFORMANCE_EXPR_DIR)) {
+  std::vector<fs::path> cases = case_dirs(DWATCH_CONFORMANCE_EXPR_DIR);
+  for (const fs::path& c : case_dirs(DWATCH_CONFORMANCE_WINDOW_DIR)) cases.push_back(c);
+  for (const fs::path& c : cases) {
     out.push_back({c, "centralized"});
     out.push_back({c, "distributed"});
     if (!c.filename().string().ends_with("_static")) continue;
@@ -61,6 +64,7 @@ INSTANTIATE_TEST_SUITE_P(Reference, ExpressionConformance, ::testing::ValuesIn(p
 });
 
 TEST(ExpressionConformanceSuite, HasTheCases) { EXPECT_GE(case_dirs(DWATCH_CONFORMANCE_EXPR_DIR).size(), 3u); }
+TEST(WindowConformanceSuite, HasTheCases) { EXPECT_GE(case_dirs(DWATCH_CONFORMANCE_WINDOW_DIR).size(), 1u); }
 
 }  // namespace
 }  // namespace dw

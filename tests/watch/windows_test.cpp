@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
+#include <random>
 #include <sstream>
 
 #include "test_ensemble.h"
@@ -197,6 +199,187 @@ TEST(Windows, TheReachCountsTowardTheOffsetLimit) {
   EXPECT_NE(r.diagnostics[0].message.find("reaches 10001 steps back"), std::string::npos) << r.diagnostics[0].message;
   const SourceText nested("w", "modules(a); once[6000](historically[5000](a.x = 1))");
   EXPECT_EQ(parse(nested).diagnostics.size(), 1u);
+}
+
+}  // namespace
+}  // namespace dw::watch
+
+namespace dw::watch {
+namespace {
+
+// A brute force written from docs/design.md §4c over one slot: random conditions of windows (nested,
+// with `last` and `next` inside), evaluated by their definition with the clipping rule, against
+// every reading's matches.
+struct Term {
+  enum Kind { Compare, Not, And, Or, Once, Historically, Since, Times } kind = Compare;
+  int offset = 0, value = 0, k = 0;  // Compare: a.x at offset = value; Times: count = value
+  std::vector<Term> kids;
+};
+
+std::string text(const Term& e) {
+  auto module = [](int offset) {
+    std::string m = "a";
+    for (int i = 0; i < offset; ++i) m += ".next";
+    for (int i = 0; i > offset; --i) m += ".last";
+    return m;
+  };
+  const std::string k = "[" + std::to_string(e.k) + "]";
+  switch (e.kind) {
+    case Term::Compare: return "(" + module(e.offset) + ".x = " + std::to_string(e.value) + ")";
+    case Term::Not: return "not (" + text(e.kids[0]) + ")";
+    case Term::And: return "(" + text(e.kids[0]) + " and " + text(e.kids[1]) + ")";
+    case Term::Or: return "(" + text(e.kids[0]) + " or " + text(e.kids[1]) + ")";
+    case Term::Once: return "once" + k + "(" + text(e.kids[0]) + ")";
+    case Term::Historically: return "historically" + k + "(" + text(e.kids[0]) + ")";
+    case Term::Since: return "since" + (e.k ? k : "") + "(" + text(e.kids[0]) + ", " + text(e.kids[1]) + ")";
+    case Term::Times: return "(times" + k + "(" + text(e.kids[0]) + ") = " + std::to_string(e.value) + ")";
+  }
+  return "";
+}
+
+// The earliest offset a term reads at its shift 0 (a window counts as its condition's), if any.
+std::optional<int> earliest(const Term& e) {
+  if (e.kind == Term::Compare) return e.offset;
+  std::optional<int> m;
+  for (const Term& c : e.kids)
+    if (auto o = earliest(c)) m = m ? std::min(*m, *o) : *o;
+  return m;
+}
+
+Truth eval(const Term& e, const TestEnsemble& ens, int64_t t) {
+  if (e.kind == Term::Compare) {
+    const auto v = ens.value(t + e.offset, 0, "x");
+    return v ? truth_of(*v == e.value) : kUnknown;
+  }
+  if (e.kind == Term::Not) return kleene_not(eval(e.kids[0], ens, t));
+  if (e.kind == Term::And) return kleene_and(eval(e.kids[0], ens, t), eval(e.kids[1], ens, t));
+  if (e.kind == Term::Or) return kleene_or(eval(e.kids[0], ens, t), eval(e.kids[1], ens, t));
+  const int64_t last = t + earliest(e).value_or(0);  // the deepest j kept (unbounded for a since)
+  const int64_t top = e.kind == Term::Since && e.k == 0 ? last : std::min<int64_t>(e.k, last);
+  if (top < 0) return kUnknown;
+  Truth acc = e.kind == Term::Historically ? kTrue : kFalse;
+  int64_t count = 0;
+  bool unknown = false;
+  for (int64_t j = 0; j <= top; ++j) {
+    const Truth x = eval(e.kids[0], ens, t - j);
+    if (e.kind == Term::Once) acc = kleene_or(acc, x);
+    if (e.kind == Term::Historically) acc = kleene_and(acc, x);
+    if (e.kind == Term::Times) count += x == kTrue, unknown |= x == kUnknown;
+    if (e.kind == Term::Since) {
+      Truth held = eval(e.kids[1], ens, t - j);
+      for (int64_t i = 0; i < j; ++i) held = kleene_and(held, eval(e.kids[0], ens, t - i));
+      acc = kleene_or(acc, held);
+    }
+  }
+  if (e.kind == Term::Times) return unknown ? kUnknown : truth_of(count == e.value);
+  return acc;
+}
+
+Term random_term(std::mt19937& rng, int depth, bool own_only) {
+  auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
+  Term e;
+  if (depth == 0 || pick(3) == 0) {
+    e.offset = pick(3) - 1 - (pick(4) == 0);  // -2..1
+    e.value = pick(2);
+    return e;
+  }
+  e.kind = static_cast<Term::Kind>(1 + pick(7));
+  e.k = 1 + pick(3);
+  if (e.kind == Term::Since && own_only && pick(2) == 0) e.k = 0;
+  e.value = pick(3);
+  const int kids = e.kind == Term::And || e.kind == Term::Or || e.kind == Term::Since ? 2 : 1;
+  for (int i = 0; i < kids; ++i) e.kids.push_back(random_term(rng, depth - 1, own_only));
+  if (e.kind == Term::Since && e.k == 0 && earliest(e).value_or(0) > 0) e.k = 2;  // refused: reads only ahead
+  return e;
+}
+
+TEST(Windows, RandomWindowsEqualTheirDefinitionInEveryReading) {
+  std::mt19937 rng(6161);
+  for (int trial = 0; trial < 1500; ++trial) {
+    std::vector<int64_t> x;
+    for (int t = 0; t < 9; ++t) x.push_back(static_cast<int64_t>(rng() % 2));
+    TestEnsemble e(1, {"x"});
+    for (int t = 0; t < 9; ++t)
+      if (trial % 5 != 0 || t != 4) e.set(t, 0, {{"x", x[static_cast<size_t>(t)]}}, {});  // absent at 4 now and then
+    e.grow(8);
+    const Term term = random_term(rng, 3, true);
+    const std::string watch = "modules(a); " + text(term);
+    const Watchpoint w = compile_or_die(watch);
+    std::set<int64_t> want;
+    for (int64_t t = 0; t + w.program.extent_plus <= 8; ++t)
+      if (e.present(t, 0) && eval(term, e, t) == kTrue) want.insert(t);
+    std::string xs;
+    for (int t = 0; t < 9; ++t) xs += e.present(t, 0) ? std::to_string(x[static_cast<size_t>(t)]) : "-";
+    for (const Reading& r : readings())
+      EXPECT_EQ(steps_matched(e, watch, r), want) << watch << " " << r.name << " x " << xs;
+  }
+}
+
+}  // namespace
+}  // namespace dw::watch
+
+namespace dw::watch {
+namespace {
+
+TEST(Windows, AWindowOverOneModuleIsKeptByItNotWrittenOutOverItsShifts) {
+  // §4c Costs: a window of 6,000 steps over one module's own variables costs what one of 2 does.
+  const Watchpoint small = compile_or_die("modules(a); times[2](historically[3](a.x = 1)) > 1");
+  const Watchpoint large = compile_or_die("modules(a); times[6000](historically[4000](a.x = 1)) > 1");
+  EXPECT_EQ(large.ast.nodes.size(), small.ast.nodes.size());
+  ASSERT_EQ(large.program.kept_windows.size(), 2u);
+  EXPECT_EQ(large.program.kept_windows[0].kind, WindowKind::Historically);  // the inner one first
+  EXPECT_EQ(large.program.kept_windows[1].k, 6000);
+  // A window reading a second module is written out: its cost is its length.
+  const Watchpoint two = compile_or_die("modules(a b); once[50](a.x = b.x)");
+  EXPECT_TRUE(two.program.kept_windows.empty());
+  EXPECT_GT(two.ast.nodes.size(), 50u);
+}
+
+TEST(Windows, ALongKeptWindowEqualsItsDefinitionOverManySteps) {
+  // 400 steps of x, absent now and then: once, historically, times and since over windows of 1
+  // to 150 steps against a brute force of their definition (the clipping near step 0 included).
+  constexpr int kSteps = 400;
+  std::mt19937 rng(4242);
+  std::vector<std::optional<int64_t>> x(kSteps);
+  TestEnsemble e(1, {"x"});
+  for (int t = 0; t < kSteps; ++t) {
+    if (rng() % 17 != 0) x[static_cast<size_t>(t)] = static_cast<int64_t>(rng() % 5 != 0);
+    if (x[static_cast<size_t>(t)]) e.set(t, 0, {{"x", *x[static_cast<size_t>(t)]}}, {});
+  }
+  e.grow(kSteps - 1);
+  auto phi = [&](int64_t s) {
+    return x[static_cast<size_t>(s)] ? truth_of(*x[static_cast<size_t>(s)] == 1) : kUnknown;
+  };
+  for (int k : {1, 7, 150}) {
+    const std::string n = std::to_string(k);
+    std::set<int64_t> once, hist, times, since;
+    for (int64_t t = 0; t < kSteps; ++t) {
+      if (!e.present(t, 0)) continue;
+      Truth o = kFalse, h = kTrue, s = kFalse;
+      int64_t count = 0;
+      bool unknown = false;
+      for (int64_t j = 0; j <= std::min<int64_t>(k, t); ++j) {
+        o = kleene_or(o, phi(t - j));
+        h = kleene_and(h, phi(t - j));
+        count += phi(t - j) == kTrue;
+        unknown |= phi(t - j) == kUnknown;
+        Truth held = kleene_not(phi(t - j));  // since(x = 1, x != 1)
+        for (int64_t i = 0; i < j; ++i) held = kleene_and(held, phi(t - i));
+        s = kleene_or(s, held);
+      }
+      if (o == kTrue) once.insert(t);
+      if (h == kTrue) hist.insert(t);
+      if (!unknown && count == k / 2) times.insert(t);
+      if (s == kTrue) since.insert(t);
+    }
+    for (const Reading& r : readings()) {
+      EXPECT_EQ(steps_matched(e, "modules(a); once[" + n + "](a.x = 1)", r), once) << k << r.name;
+      EXPECT_EQ(steps_matched(e, "modules(a); historically[" + n + "](a.x = 1)", r), hist) << k << r.name;
+      EXPECT_EQ(steps_matched(e, "modules(a); times[" + n + "](a.x = 1) = " + std::to_string(k / 2), r), times)
+          << k << r.name;
+      EXPECT_EQ(steps_matched(e, "modules(a); since[" + n + "](a.x = 1, a.x != 1)", r), since) << k << r.name;
+    }
+  }
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // app/cli/): mistakes on the command line, numbers in their keys' ranges, outputs that would
 // clobber each other or an input, failed writes, inputs without end, summaries.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -183,6 +185,84 @@ TEST_F(Cli, AFailedWriteNamesThePathAndDestroysNothing) {
   EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1);
   EXPECT_EQ(slurp(old), "old picture");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 3) << "no temporary left behind";
+}
+
+// dwatch `args` with standard output a pipe nobody reads any more (its read end closed before
+// dwatch starts, as `| head -1` leaves it once head has its line): its exit code (-SIGNAL when a
+// signal ended it) and stderr.
+Result with_closed_pipe(const fs::path& dir, const std::string& args, const std::string& input = "/dev/null") {
+  int ends[2];
+  if (::pipe(ends) != 0) return {-1, "", "pipe"};
+  ::close(ends[0]);
+  const fs::path err = dir / "closed_pipe_err";
+  const std::string cmd = "exec " + std::string(DWATCH_EXE) + " " + args + " <" + input + " 2>" + err.string();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(ends[1], STDOUT_FILENO);
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(ends[1]);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status), "", slurp(err)};
+}
+
+// A closed pipe is a write that failed: exit 1, said, for every command and whatever writes to
+// standard output (a summary, --matches -, answers, --help); never a silent end by SIGPIPE (141).
+TEST_F(Cli, AClosedPipeIsAFailedWriteSaid) {
+  const std::string scenario = (kScenarios / "token_ring.toml").string();
+  const fs::path script = write("s.session", "step\nhash\n");
+  const fs::path requests = write("requests", "step\nhash\nstep\n");
+  for (const auto& [args, input] : std::vector<std::pair<std::string, std::string>>{
+           {"run " + scenario + " --no-progress", "/dev/null"},
+           {"run " + scenario + " --no-progress --matches -", "/dev/null"},
+           {"replay --help", "/dev/null"},
+           {"run --help", "/dev/null"},
+           {"check 'modules(a); a.x = 1'", "/dev/null"},
+           {"session " + scenario + " --script " + script.string(), "/dev/null"},
+           {"session " + scenario + " --protocol", requests.string()}}) {
+    const Result r = with_closed_pipe(dir_, args, input);
+    EXPECT_EQ(r.code, 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("dwatch: error: writing standard output failed"), std::string::npos) << args << ": " << r.err;
+  }
+}
+
+// Standard output redirected to an output's file (`--matches o.txt > o.txt`) would lose the
+// summary (the output is committed over it): refused as the session refuses it, before the run.
+TEST_F(Cli, AnOutputOntoStandardOutputIsRefusedWhereTheSummaryGoes) {
+  const std::string scenario = (kScenarios / "token_ring.toml").string();
+  const fs::path o = dir_ / "o.txt";
+  for (const std::string option : {"--matches", "--stats", "--record"}) {
+    const int status = std::system((std::string(DWATCH_EXE) + " run " + scenario + " --no-progress " + option + " " +
+                                    o.string() + " >" + o.string() + " 2>" + (dir_ / "err").string())
+                                       .c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2) << option;
+    EXPECT_EQ(slurp(dir_ / "err"), "dwatch: error: " + std::string(option) + " " + o.string() +
+                                       " would write where the summary goes (standard output)\n");
+    EXPECT_EQ(slurp(o), "") << "nothing ran";
+  }
+  // replay's and render's summaries alike.
+  const fs::path c = cases_ / "07_last_last_single";
+  for (const std::string& command :
+       {"replay " + (c / "trace.jsonl").string() + " -w @" + (c / "watch.txt").string() + " --matches ",
+        "render " + scenario + " --step 1 --out "}) {
+    const int status = std::system(
+        (std::string(DWATCH_EXE) + " " + command + o.string() + " >" + o.string() + " 2>" + (dir_ / "err").string())
+            .c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2) << command;
+    EXPECT_NE(slurp(dir_ / "err").find("would write where the summary goes (standard output)"), std::string::npos)
+        << command << ": " << slurp(dir_ / "err");
+  }
+  const Result through_proc = run("run " + scenario + " --no-progress --matches /proc/self/fd/1");
+  EXPECT_EQ(through_proc.code, 2) << through_proc.err;
+  EXPECT_NE(through_proc.err.find("would write where the summary goes (standard output)"), std::string::npos)
+      << through_proc.err;
+  // Standard output elsewhere, or the matches on it (the summary then goes to stderr): as before.
+  EXPECT_EQ(run("run " + scenario + " --no-progress --matches " + o.string()).code, 0);
+  const Result on_stdout = run("run " + scenario + " --no-progress --matches -");
+  EXPECT_EQ(on_stdout.code, 0) << on_stdout.err;
+  EXPECT_NE(on_stdout.err.find("token_from_nowhere"), std::string::npos) << on_stdout.err;
 }
 
 TEST_F(Cli, InputsWithoutEndAreRefusedAtTheirLimit) {
