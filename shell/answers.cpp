@@ -109,6 +109,7 @@ Shell::Answer Shell::state_hash(nlohmann::ordered_json answer) {
   answer["hash"] = sim::hash_text(hash.whole());
   answer["simulation"] = sim::hash_text(hash.simulation);
   answer["watchpoints"] = sim::hash_text(hash.watches);
+  answer["run"] = sim::hash_text(hash.run);
   return answer;
 }
 

@@ -29,6 +29,7 @@ using Json = nlohmann::ordered_json;
 // not be read.
 struct Request {
   std::optional<Json> id;  // as given (null included): a string or an integer
+  uint32_t number = 0;     // its place among the requests taken (cancels apart), from 1
   std::string line;
   std::string unreadable;    // a line too long, JSON that is not a request, bytes that are not UTF-8
   size_t unreadable_at = 0;  // the byte of the line the reason is at
@@ -84,6 +85,30 @@ size_t json_depth(std::string_view text) {
   return deepest;
 }
 
+// The id of a request that could not be read whole, when its top-level object gives a usable one
+// (a string, an integer or null) before whatever went wrong: its error then carries it, for the
+// controller to match. Nested values are skipped as they are read, never kept.
+std::optional<Json> readable_id(std::string_view text) {
+  std::optional<Json> id;
+  bool next_is_id = false;
+  const Json kept = Json::parse(  // nothing but the top-level object's scalars: the id is taken as read
+      text,
+      [&](int depth, Json::parse_event_t event, Json& parsed) {
+        if (depth != 1) return true;  // the top-level object itself, or inside a value already skipped
+        if (event == Json::parse_event_t::key) {
+          next_is_id = !id && parsed == "id";
+        } else if (next_is_id) {
+          next_is_id = false;
+          if (event == Json::parse_event_t::value &&
+              (parsed.is_string() || parsed.is_number_integer() || parsed.is_null()))
+            id = parsed;
+        }
+        return event != Json::parse_event_t::object_start && event != Json::parse_event_t::array_start;
+      },
+      /*allow_exceptions=*/false);
+  return id;
+}
+
 Request parse_request(std::string line) {
   Request r;
   if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -95,6 +120,7 @@ Request parse_request(std::string line) {
     r.unreadable = std::string("a request is UTF-8 text: the byte ") + byte + " at column " + std::to_string(*at + 1) +
                    " is not part of a UTF-8 character";
     r.unreadable_at = *at;
+    r.id = readable_id(std::string_view(line).substr(0, *at));
     return r;
   }
   const size_t first = line.find_first_not_of(" \t");
@@ -104,6 +130,7 @@ Request parse_request(std::string line) {
   }
   if (json_depth(line) > kMaxRequestDepth) {
     r.unreadable = "a request nests arrays and objects more than " + std::to_string(kMaxRequestDepth) + " deep";
+    r.id = readable_id(line);
     return r;
   }
   // nlohmann keeps the last of two equal keys: {"cmd": "step 1", "cmd": "step 3"} would run one
@@ -130,6 +157,7 @@ Request parse_request(std::string line) {
       j.is_object() && j.contains("id") && (j["id"].is_string() || j["id"].is_number_integer() || j["id"].is_null());
   if (usable_id) r.id = j["id"];
   if (j.is_discarded() || !j.is_object() || !j.contains("cmd") || !j["cmd"].is_string()) {
+    if (!r.id && j.is_discarded()) r.id = readable_id(line);
     r.unreadable = "a request is a command line, or a JSON object {\"id\": ..., \"cmd\": \"COMMAND LINE\"}";
     return r;
   }
@@ -152,11 +180,19 @@ bool is_cancel(const std::string& line) {
   return b != std::string::npos && line.substr(b, e - b + 1) == "cancel";
 }
 
+// Requests read and not yet taken by the runner are kept to these, the most a controller sending
+// one at a time ever needs many times over: past them a request is refused at once, never kept
+// (`yes hash | dwatch session X --protocol` held 7.6 GB in 40 s).
+constexpr size_t kMaxWaitingRequests = 1024;
+constexpr size_t kMaxWaitingBytes = size_t{64} << 20;
+
 // The requests read and not yet answered, shared by the reader and the runner.
 struct Requests {
   std::mutex mutex;
   std::condition_variable ready;
   std::deque<Request> queue;
+  size_t queued_bytes = 0;                  // of the queued requests' lines
+  uint32_t taken = 0;                       // requests numbered so far
   std::optional<std::stop_source> running;  // the request under way's, for `cancel`
 };
 
@@ -164,7 +200,7 @@ struct Requests {
 // stops the oldest request not yet answered nor already told to stop: the one under way, or,
 // when the runner has not taken it yet, the first queued (sent together, `run 1000000` and
 // `cancel` reach the reader before the runner starts the run; a cancel then found nothing
-// running and was lost).
+// running and was lost). A request past what may wait is answered with an error at once.
 void take(Request r, Requests& requests, AnswerWriter& answers) {
   if (r.unreadable.empty() && is_cancel(r.line)) {
     std::lock_guard lock(requests.mutex);
@@ -174,9 +210,23 @@ void take(Request r, Requests& requests, AnswerWriter& answers) {
     answers.write(r.id, {{"cmd", "cancel"}, {"cancelled", stopped}});
     return;
   }
-  std::lock_guard lock(requests.mutex);
-  requests.queue.push_back(std::move(r));
-  requests.ready.notify_one();
+  std::string refused;
+  {
+    std::lock_guard lock(requests.mutex);
+    r.number = ++requests.taken;
+    if (requests.queue.size() < kMaxWaitingRequests && requests.queued_bytes + r.line.size() <= kMaxWaitingBytes) {
+      requests.queued_bytes += r.line.size();
+      requests.queue.push_back(std::move(r));
+      requests.ready.notify_one();
+      return;
+    }
+    if (r.asks())
+      refused = "refused: " + std::to_string(requests.queue.size()) + " requests (" +
+                std::to_string(requests.queued_bytes) + " bytes) already wait to be answered, at most " +
+                std::to_string(kMaxWaitingRequests) + " (" + std::to_string(kMaxWaitingBytes >> 20) +
+                " MiB) may: send more as answers come";
+  }
+  if (!refused.empty()) answers.write(r.id, {{"error", {{"line", r.number}, {"col", 1}, {"message", refused}}}});
 }
 
 // The reader: lines as they come (the runner may be busy), each taken at once, then the end of
@@ -215,10 +265,11 @@ void read_requests(int in_fd, Requests& requests, AnswerWriter& answers) {
   requests.ready.notify_one();
 }
 
-// Parses and carries out request `number`, and answers it. The signal that ended the session
+// Parses and carries out request r, and answers it. The signal that ended the session
 // meanwhile, if one did.
-std::optional<int> answer_request(Shell& shell, Request& r, uint32_t number, Requests& requests, AnswerWriter& answers,
+std::optional<int> answer_request(Shell& shell, Request& r, Requests& requests, AnswerWriter& answers,
                                   Interrupts* interrupts) {
+  const uint32_t number = r.number;
   // Every answer but progress: the request is no longer under way once it is answered.
   const auto reply = [&](Json body) {
     {
@@ -298,7 +349,6 @@ int run_protocol(Shell& shell, int in_fd, std::ostream& out, Interrupts* interru
   // Taking a request from the queue and marking it under way is one step under the lock, so a
   // request is always one or the other until it is answered.
   std::jthread reader([shared, in_fd] { read_requests(in_fd, shared->requests, shared->answers); });
-  uint32_t number = 0;
   for (;;) {
     Request r;
     {
@@ -306,10 +356,11 @@ int run_protocol(Shell& shell, int in_fd, std::ostream& out, Interrupts* interru
       requests.ready.wait(lock, [&] { return !requests.queue.empty(); });
       r = std::move(requests.queue.front());
       requests.queue.pop_front();
+      requests.queued_bytes -= r.line.size();
       if (r.asks()) requests.running = r.stop;
     }
     if (r.end) break;
-    std::optional<int> code = answer_request(shell, r, ++number, requests, answers, interrupts);
+    std::optional<int> code = answer_request(shell, r, requests, answers, interrupts);
     if (!code && answers.failed()) code = 1;  // the caller says why: standard output has failed
     if (code) {
       reader.detach();  // blocked reading the input, which nothing else will read

@@ -243,6 +243,11 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
   const auto moving_on = std::chrono::steady_clock::now();
   world_.advance(model_, state, actuations_, pool_);
   world_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - moving_on).count();
+  // The run hash chains the simulation as it stands after the step, the same on every thread and
+  // rank count; a state restored from the history carries its own (a seek's steps chain it again).
+  const uint64_t simulation =
+      ranks_ ? simulation_hash_over_ranks(*ranks_, placement_, model_, state) : simulation_hash(state);
+  state.run_hash = next_run_hash(state.run_hash, simulation);
 }
 
 }  // namespace dw::sim

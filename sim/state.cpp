@@ -83,6 +83,7 @@ State simulation_part(const State& s, std::vector<int64_t> values) {
   c.bodies = s.bodies;
   c.inbox = s.inbox;
   c.program_messages = s.program_messages;
+  c.run_hash = s.run_hash;
   c.actions = s.actions;
   c.watches.resize(s.watches.size());
   return c;
@@ -108,16 +109,29 @@ std::string hash_text(const StateHash& hash) {
          hash_text(hash.watches) + ")";
 }
 
+namespace {
+
+// hash_state's sequences, read from one process's whole state.
+template <class Use>
+auto with_own_pieces(const State& s, Use use) {
+  const ModuleId linked = s.graph ? s.graph->module_count() : 0;
+  const auto modules = static_cast<ModuleId>(s.bodies.poses.size());
+  return use(HashPieces{s.values.size(), [&](uint64_t h) { return continue_hash(h, s.values); }, linked,
+                        [&](uint64_t h) { return continue_hash(h, *s.graph, 0, linked); }, modules,
+                        [&](uint64_t h) { return continue_hash(h, s.bodies, 0, modules); }, s.inbox.messages.size(),
+                        [&](uint64_t h) { return continue_hash(h, s.inbox.messages.all()); }});
+}
+
+}  // namespace
+
 StateHash hash_state(const State& s) {
   std::vector<InFlightDigest> digests;
   for (const WatchState& w : s.watches) digests.push_back(in_flight_digest(w));
-  const ModuleId linked = s.graph ? s.graph->module_count() : 0;
-  const auto modules = static_cast<ModuleId>(s.bodies.poses.size());
-  return hash_state(s, digests,
-                    {s.values.size(), [&](uint64_t h) { return continue_hash(h, s.values); }, linked,
-                     [&](uint64_t h) { return continue_hash(h, *s.graph, 0, linked); }, modules,
-                     [&](uint64_t h) { return continue_hash(h, s.bodies, 0, modules); }, s.inbox.messages.size(),
-                     [&](uint64_t h) { return continue_hash(h, s.inbox.messages.all()); }});
+  return with_own_pieces(s, [&](const HashPieces& pieces) { return hash_state(s, digests, pieces); });
+}
+
+uint64_t simulation_hash(const State& s) {
+  return with_own_pieces(s, [&](const HashPieces& pieces) { return simulation_hash(s, pieces); });
 }
 
 uint64_t continue_hash(uint64_t h, const NeighborGraph& graph, ModuleId first, ModuleId end) {
@@ -187,7 +201,7 @@ uint64_t continue_hash(uint64_t h, Messages messages) {
   return hasher.h;
 }
 
-StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight, const HashPieces& pieces) {
+uint64_t simulation_hash(const State& s, const HashPieces& pieces) {
   Hasher h;
   h.word(static_cast<uint64_t>(s.step));
   h.word(pieces.value_count);
@@ -227,6 +241,17 @@ StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight, 
     h.word((static_cast<uint64_t>(static_cast<uint32_t>(a.column)) << 2) | (uint64_t{a.remove} << 1) | a.known);
     h.word(static_cast<uint64_t>(a.value));
   }
+  return mix(h.h);
+}
+
+uint64_t next_run_hash(uint64_t run_before, uint64_t simulation) {
+  Hasher h{run_before};
+  h.word(simulation);
+  return mix(h.h);
+}
+
+StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight, const HashPieces& pieces) {
+  const uint64_t simulation = simulation_hash(s, pieces);
   Hasher watches;
   watches.word(s.watches.size());
   for (size_t w = 0; w < s.watches.size(); ++w) {
@@ -240,7 +265,7 @@ StateHash hash_state(const State& s, std::span<const InFlightDigest> in_flight, 
     h.word(in_flight[w].sum);
     h.word(in_flight[w].count);
   }
-  return {mix(h.h), mix(watches.h)};
+  return {simulation, mix(watches.h), s.run_hash};
 }
 
 template <class T>

@@ -60,6 +60,10 @@ struct State {
   std::vector<PendingAction> actions;          // watchpoints' actions due at the start of `step`
   std::vector<WatchState> watches;
   uint64_t program_messages = 0;  // sent since step 0
+  // The run hash (docs/design.md §7): the simulation hashes of every state this one followed on the
+  // branch that led to it, chained (next_run_hash after each step); 0 before step 0.
+  // Not part of the state hash: two runs may reach one state by different histories.
+  uint64_t run_hash = 0;
 };
 
 // The state's simulation part with `values` for its variables: everything but the watchpoints'
@@ -76,6 +80,7 @@ State simulation_part(const State& state, std::vector<int64_t> values);
 struct StateHash {
   uint64_t simulation = 0;
   uint64_t watches = 0;
+  uint64_t run = 0;  // the state's run hash (State::run_hash), covering its history, not in whole()
   uint64_t whole() const;
   bool operator==(const StateHash&) const = default;
 };
@@ -115,6 +120,11 @@ struct HashPieces {
 // the sequences hashed by `pieces` in place of the state's own: a whole hashed from the ranks'
 // parts.
 StateHash hash_state(const State& state, std::span<const InFlightDigest> in_flight, const HashPieces& pieces);
+// hash_state's simulation part alone, the sequences hashed by `pieces`: what the run hash chains.
+uint64_t simulation_hash(const State& state, const HashPieces& pieces);
+uint64_t simulation_hash(const State& state);
+// The run hash after a step: run(t) = H(run(t - 1) ‖ simulation hash of the state after step t).
+uint64_t next_run_hash(uint64_t run_before, uint64_t simulation);
 // A state hash as the outputs print it: 0x and 16 hex digits.
 std::string hash_text(uint64_t hash);
 // All three as the outputs print them: "0xWHOLE (simulation 0x..., watchpoints 0x...)".

@@ -91,18 +91,11 @@ std::shared_ptr<const NeighborGraph> gather_graph(RankExchange& ranks, const Blo
 
 // The rest every rank holds; each rank's modules' variables and messages are hashed where they
 // are, the hash passed from rank to rank in module order, never put together in one place (a
-// million modules' inbox is hundreds of MB); the in-flight multisets are added up.
-StateHash hash_over_ranks(RankExchange& ranks, const BlockPlacement& placement, const Model& model,
-                          const State& state) {
-  std::vector<InFlightDigest> digests;
-  for (const WatchState& w : state.watches) digests.push_back(in_flight_digest(w));
-  std::vector<uint64_t> sums;
-  for (const InFlightDigest& d : digests) sums.insert(sums.end(), {d.sum, d.count});
-  uint64_t messages = state.inbox.messages.size();
-  sums.push_back(messages);
-  ranks.sum(sums);
-  for (size_t w = 0; w < digests.size(); ++w) digests[w] = {sums[2 * w], sums[2 * w + 1]};
-  messages = sums.back();
+// million modules' inbox is hundreds of MB). `use` is given the pieces; `messages` is the count
+// of the whole inbox.
+template <class Use>
+auto with_rank_pieces(RankExchange& ranks, const BlockPlacement& placement, const Model& model, const State& state,
+                      uint64_t messages, Use use) {
   const size_t v = model.variable_count(), programs = model.program_count();
   const uint32_t first_module = placement.first_module();
   const auto pass = [&](uint64_t h, const std::function<uint64_t(uint64_t, uint32_t, uint32_t)>& run) {
@@ -131,9 +124,30 @@ StateHash hash_over_ranks(RankExchange& ranks, const BlockPlacement& placement, 
     });
   };
   const uint64_t n = model.module_count();
-  return hash_state(state, digests,
-                    {n * v, values, state.graph ? n : 0, by_module(state.graph.get()), state.bodies.empty() ? 0 : n,
-                     by_module(&state.bodies), messages, inbox});
+  return use(HashPieces{n * v, values, state.graph ? n : 0, by_module(state.graph.get()), state.bodies.empty() ? 0 : n,
+                        by_module(&state.bodies), messages, inbox});
+}
+
+// The in-flight multisets are added up over the ranks, with the inbox's messages.
+StateHash hash_over_ranks(RankExchange& ranks, const BlockPlacement& placement, const Model& model,
+                          const State& state) {
+  std::vector<InFlightDigest> digests;
+  for (const WatchState& w : state.watches) digests.push_back(in_flight_digest(w));
+  std::vector<uint64_t> sums;
+  for (const InFlightDigest& d : digests) sums.insert(sums.end(), {d.sum, d.count});
+  sums.push_back(state.inbox.messages.size());
+  ranks.sum(sums);
+  for (size_t w = 0; w < digests.size(); ++w) digests[w] = {sums[2 * w], sums[2 * w + 1]};
+  return with_rank_pieces(ranks, placement, model, state, sums.back(),
+                          [&](const HashPieces& pieces) { return hash_state(state, digests, pieces); });
+}
+
+uint64_t simulation_hash_over_ranks(RankExchange& ranks, const BlockPlacement& placement, const Model& model,
+                                    const State& state) {
+  uint64_t messages = state.inbox.messages.size();
+  ranks.sum({&messages, 1});
+  return with_rank_pieces(ranks, placement, model, state, messages,
+                          [&](const HashPieces& pieces) { return simulation_hash(state, pieces); });
 }
 
 }  // namespace dw::sim

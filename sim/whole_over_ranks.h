@@ -31,5 +31,8 @@ std::shared_ptr<const NeighborGraph> gather_graph(RankExchange& ranks, const Blo
 // The hash of the whole state as one process would hold it (hash_state), from this rank's part,
 // never put together in one place.
 StateHash hash_over_ranks(RankExchange& ranks, const BlockPlacement& placement, const Model& model, const State& state);
+// Its simulation part alone (simulation_hash), what the run hash chains after every step.
+uint64_t simulation_hash_over_ranks(RankExchange& ranks, const BlockPlacement& placement, const Model& model,
+                                    const State& state);
 
 }  // namespace dw::sim

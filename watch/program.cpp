@@ -140,10 +140,12 @@ class Compiler {
                                    }));
   }
 
+  // A variable, id() or a kept window's value (a column of its own) as a slot reads it.
   TermRef term(const Node& v) {
     TermRef t;
     t.slot = static_cast<int16_t>(v.x.slot);
-    t.variable = v.kind == NodeKind::Id ? kIdVariable : static_cast<int16_t>(analysis_.variable_index(v.name));
+    if (v.kind == NodeKind::KeptWindow) t.variable = kept_column(v);
+    else t.variable = v.kind == NodeKind::Id ? kIdVariable : static_cast<int16_t>(analysis_.variable_index(v.name));
     t.offset = static_cast<int16_t>(v.x.offset);
     return t;
   }
@@ -204,14 +206,16 @@ class Compiler {
       const Node* left = &ast_.nodes[n.lhs];
       const Node* right = &ast_.nodes[n.rhs];
       l.op = n.op;
-      auto plain = [](const Node* o) {
-        return o->kind == NodeKind::Integer || (o->kind == NodeKind::Variable && !o->x.bound);
+      // A slot's variable or kept window (watch/kept_windows.h): a column the readings compare whole.
+      auto column = [](const Node* o) {
+        return (o->kind == NodeKind::Variable && !o->x.bound) || o->kind == NodeKind::KeptWindow;
       };
-      if (left->kind == NodeKind::Integer && right->kind == NodeKind::Variable) {
+      auto plain = [&](const Node* o) { return o->kind == NodeKind::Integer || column(o); };
+      if (left->kind == NodeKind::Integer && column(right)) {
         std::swap(left, right);  // `1 < a.x` is `a.x > 1`
         l.op = mirrored(l.op);
       }
-      if (left->kind == NodeKind::Variable && plain(left) && plain(right)) {
+      if (column(left) && plain(right)) {
         l.kind = LeafKind::Compare;
         l.lhs = term(*left);
         l.decide_slot = l.lhs.slot;
@@ -316,10 +320,7 @@ class Compiler {
         in.op = ValueOp::Constant;
         in.constant = n.value;
       } else if (n.kind == NodeKind::KeptWindow) {
-        TermRef t;
-        t.slot = static_cast<int16_t>(n.x.slot);
-        t.variable = kept_column(n);
-        t.offset = static_cast<int16_t>(n.x.offset);
+        TermRef t = term(n);
         carry(t, decide_);
         in.op = ValueOp::Term;
         in.slot = t.slot;

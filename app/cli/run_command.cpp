@@ -202,6 +202,7 @@ void print_measures(std::ostream& summary, const RunMeasures& m, const sim::Sess
             << 1e3 * m.physics_seconds / double(ran) << " ms a step (bodies, contacts, the graph"
             << (ranks ? "; the slowest rank's)" : ")");
   summary << "\n  state hash: " << sim::hash_text(m.hash) << "\n";
+  summary << "  run hash: " << sim::hash_text(m.hash.run) << " (every step's simulation hash, chained)\n";
   if (ranks && ran > 0)
     summary << "  between ranks: " << m.between_ranks << " bytes, " << m.between_ranks / uint64_t(ran)
             << " per step (program messages and PatternMatchers)\n";
@@ -231,6 +232,7 @@ nlohmann::ordered_json run_stats_json(const RunArgs& args, const scenarios::Scen
   j["state_hash"] = sim::hash_text(m.hash.whole());
   j["simulation_hash"] = sim::hash_text(m.hash.simulation);
   j["watchpoints_hash"] = sim::hash_text(m.hash.watches);
+  j["run_hash"] = sim::hash_text(m.hash.run);
   uint64_t total = 0;
   j["watches"] = nlohmann::json::array();
   for (uint32_t w = 0; w < run.watches().size(); ++w) {

@@ -377,5 +377,69 @@ TEST_F(SessionProtocol, StateNamesThePoseTheNeighboursWereMeasuredFrom) {
   EXPECT_EQ(p.finish(), 0);
 }
 
+// An error for a request that could not be read whole carries the id when one could be read
+// before what went wrong (issue 65, 7): JSON cut short, bytes that are not UTF-8 after the id, an
+// object nested too deep. One read nowhere gets none.
+TEST_F(SessionProtocol, AnUnreadableRequestsErrorCarriesItsIdWhenOneWasRead) {
+  Protocol p(std::string(DWATCH_SCENARIOS_DIR) + "/token_ring.toml");
+  const std::string deep = std::string(100, '[') + std::string(100, ']');
+  const std::vector<std::pair<std::string, json>> requests{
+      {R"({"id": 9, "cmd": "step")", 9},
+      {"{\"id\": \"x\", \"cmd\": \"step \xFF\"}", "x"},
+      {R"({"id": null, "cmd": "step", "more": )" + deep + "}", nullptr},
+      {R"({"cmd": "step", "x": [1, {"id": 4}], "id": -3, )", -3},
+  };
+  for (const auto& [request, id] : requests) {
+    p.send(request);
+    const auto answer = p.next();
+    ASSERT_TRUE(answer) << request;
+    EXPECT_TRUE(answer->contains("error")) << *answer;
+    ASSERT_TRUE(answer->contains("id")) << request << " -> " << *answer;
+    EXPECT_EQ((*answer)["id"], id) << *answer;
+  }
+  for (const std::string request : {R"({"cmd": "step", "x": {"id": 4})", R"({"id": [1], "cmd": )"}) {
+    p.send(request);
+    const auto answer = p.next();
+    ASSERT_TRUE(answer) << request;
+    EXPECT_FALSE(answer->contains("id")) << request << " -> " << *answer;
+  }
+  EXPECT_EQ(p.finish(), 0);
+}
+
+// Requests sent faster than they are answered (`yes hash | dwatch session X --protocol` held
+// 7.6 GB in 40 s) wait up to a bound; past it each is refused at once with an error saying so,
+// and those that waited are all answered once the long one is cancelled.
+TEST_F(SessionProtocol, RequestsPastWhatMayWaitAreRefusedAtOnce) {
+  Protocol p(std::string(DWATCH_SCENARIOS_DIR) + "/token_ring_correct.toml");
+  p.send(R"({"id": "long", "cmd": "run 10000000"})");
+  std::string flood;
+  for (int i = 0; i < 1200; ++i)
+    flood += R"({"id": )" + std::to_string(i) +
+             R"(, "cmd": "hash"})"
+             "\n";
+  p.write(flood);
+  std::optional<json> refused;
+  while (!refused) {
+    auto a = p.next();
+    ASSERT_TRUE(a) << "no refusal while the run goes on";
+    if (a->contains("error")) refused = a;
+  }
+  EXPECT_NE((*refused)["error"]["message"].get<std::string>().find("already wait to be answered"), std::string::npos)
+      << *refused;
+  EXPECT_GE((*refused)["id"], 1000) << "the first requests wait";
+  p.send(R"({"id": "c", "cmd": "cancel"})");
+  size_t hashes = 1;  // the refusal read above
+  bool cancelled = false, ran = false;
+  while (hashes < 1200 || !cancelled || !ran) {
+    auto a = p.next();
+    ASSERT_TRUE(a) << hashes << " of 1200 answered";
+    if (a->contains("progress")) continue;
+    if ((*a)["id"] == "c") cancelled = true;
+    else if ((*a)["id"] == "long") ran = true;
+    else ++hashes;
+  }
+  EXPECT_EQ(p.finish(), 0);
+}
+
 }  // namespace
 }  // namespace dw::cli_test

@@ -11,6 +11,7 @@ namespace dw::sim::test {
 
 struct Trail {
   std::vector<uint64_t> hashes;               // after each step
+  std::vector<uint64_t> runs;                 // the run hash after each step
   std::vector<std::vector<int64_t>> matches;  // per watch: t and ids, flattened
 };
 

@@ -15,7 +15,7 @@ namespace {
 
 // What one rank saw of each step: the hash of the whole, and per watch its matches and counts.
 struct Seen {
-  std::vector<uint64_t> hashes;
+  std::vector<uint64_t> hashes, runs;  // the state hash and the run hash after each step
   std::vector<std::vector<ModuleId>> slots;
   std::vector<uint64_t> created, messages, program_messages;
   bool operator==(const Seen&) const = default;
@@ -59,7 +59,9 @@ Seen run(const Model& model, int steps, unsigned threads, RankExchange* ranks,
   Seen seen;
   for (int t = 0; t < steps; ++t) {
     rt.step(s, out);
-    seen.hashes.push_back(rt.hash(s).whole());
+    const StateHash hash = rt.hash(s);
+    seen.hashes.push_back(hash.whole());
+    seen.runs.push_back(hash.run);
     seen.slots.push_back(out.watches[0].slots);
     seen.created.push_back(out.watches[0].stats.created);
     seen.messages.push_back(out.watches[0].stats.messages);

@@ -29,17 +29,26 @@ const std::vector<std::pair<std::string, watch::Algorithm>> kWatches{
 Trail straight_run(Model& model, unsigned threads, int64_t steps, std::vector<Intervention> events = {}) {
   StaticLatticeWorld world;
   Session run(model, world, {.threads = threads, .events = std::move(events)});
-  std::vector<uint64_t> hashes;
-  run.run_until(steps, [&](const State& s, const StepOutput&) { hashes.push_back(hash_state(s).whole()); });
-  return Trail{std::move(hashes), test::flat_matches(run)};
+  std::vector<uint64_t> hashes, runs;
+  run.run_until(steps, [&](const State& s, const StepOutput&) {
+    const StateHash hash = hash_state(s);
+    hashes.push_back(hash.whole());
+    runs.push_back(hash.run);
+  });
+  return Trail{std::move(hashes), std::move(runs), test::flat_matches(run)};
 }
 
-// Seeks to every step of the session and compares its state hash with the straight run's.
-void expect_every_step_equal(Session& session, const std::vector<uint64_t>& hashes, const std::string& what) {
+// Seeks to every step of the session and compares its state hash (and its run hash, when `runs`
+// are given) with the straight run's.
+void expect_every_step_equal(Session& session, const std::vector<uint64_t>& hashes, const std::string& what,
+                             const std::vector<uint64_t>& runs = {}) {
   ASSERT_EQ(session.latest() + 1, static_cast<int64_t>(hashes.size())) << what;
   for (int64_t t = 0; t <= session.latest(); ++t) {
     ASSERT_TRUE(session.seek(t));
     ASSERT_EQ(session.hash().whole(), hashes[size_t(t)]) << what << ": step " << t;
+    if (!runs.empty()) {
+      ASSERT_EQ(session.hash().run, runs[size_t(t)]) << what << ": run hash at step " << t;
+    }
   }
 }
 
@@ -159,7 +168,39 @@ TEST(Session, ThreadCountNeverChangesResults) {
   for (unsigned threads : {2u, 3u, 8u}) {
     const Trail many = straight_run(*model, threads, 40);
     EXPECT_EQ(many.hashes, one.hashes) << threads << " threads";
+    EXPECT_EQ(many.runs, one.runs) << threads << " threads";
     EXPECT_EQ(many.matches, one.matches) << threads << " threads";
+  }
+}
+
+// The run hash covers the history (issue 62, 10): a variable set and set back leaves the state of
+// a run that never touched it, hash for hash, but not its run hash; a run resumed after a seek
+// back chains the same run hash as one that never went back, on any thread count.
+TEST(Session, RunHashCoversTheHistoryAndSurvivesSeeks) {
+  std::vector<std::unique_ptr<const HostProgram>> programs;
+  programs.push_back(std::make_unique<test_programs::SendsToStranger>(std::vector<ModuleId>{}));  // keeps `s`
+  const auto model = std::get<std::unique_ptr<Model>>(
+      build_model(make_lattice({LatticeKind::Line, {6, 1, 1}}), std::move(programs), {}, 1));
+  const std::vector<Intervention> set_and_back{
+      {.kind = Intervention::Kind::Set, .at = 2, .module = 3, .column = 0, .value = 5},
+      {.kind = Intervention::Kind::Set, .at = 4, .module = 3, .column = 0, .value = 0}};
+  const Trail untouched = straight_run(*model, 1, 8), touched = straight_run(*model, 1, 8, set_and_back);
+  EXPECT_EQ(touched.hashes.back(), untouched.hashes.back()) << "the same final state";
+  EXPECT_NE(touched.hashes[3], untouched.hashes[3]);
+  EXPECT_EQ(touched.runs[1], untouched.runs[1]) << "the same history up to step 1";
+  EXPECT_NE(touched.runs.back(), untouched.runs.back()) << "different histories";
+
+  const auto gossip = gossip_model({LatticeKind::Cubic, {5, 4, 3}}, kWatches);
+  const Trail straight = straight_run(*gossip, 1, 30);
+  for (unsigned threads : {1u, 3u}) {
+    StaticLatticeWorld world;
+    Session run(*gossip, world, {.threads = threads});
+    run.run_until(12);
+    ASSERT_TRUE(run.seek(4));
+    EXPECT_EQ(run.hash().run, straight.runs[4]);
+    run.run_until(30);
+    EXPECT_EQ(run.hash().run, straight.runs.back()) << threads << " threads: resumed after a seek back";
+    expect_every_step_equal(run, straight.hashes, std::to_string(threads) + " threads", straight.runs);
   }
 }
 

@@ -139,6 +139,16 @@ TEST_F(Cli, TheSimulationHashIsTheSameUnderOtherWatchpoints) {
   // A different simulation has a different simulation hash.
   const std::string seed2 = line_with(run("run " + (dir_ / "none.toml").string() + " --seed 2").out, "state hash");
   EXPECT_NE(part(none, "simulation"), part(seed2, "simulation"));
+  // The run hash covers every step's simulation hash (issue 62, 10): the same under other
+  // watchpoints and on other thread counts, printed and in --stats.
+  const auto run_hash = [&](const std::string& args) {
+    return part(line_with(run("run " + args).out, "run hash"), "hash:");
+  };
+  const std::string chained = run_hash((dir_ / "none.toml").string());
+  ASSERT_EQ(chained.size(), 18u);
+  EXPECT_EQ(run_hash((dir_ / "two.toml").string() + " -j 3 --stats " + (dir_ / "s.json").string()), chained);
+  EXPECT_NE(run_hash((dir_ / "none.toml").string() + " --seed 2"), chained);
+  EXPECT_NE(slurp(dir_ / "s.json").find("\"run_hash\": \"" + chained + "\""), std::string::npos);
 }
 
 TEST_F(Cli, RunOfABadScenarioIsBadInputWithFileLineColumn) {
