@@ -1,6 +1,7 @@
 #include "render/annotations.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <unordered_map>
 
@@ -98,6 +99,38 @@ std::optional<glm::vec2> project(const glm::mat4& view_projection, glm::vec3 poi
   return glm::vec2((ndc.x + 1) * 0.5f * float(width), (1 - ndc.y) * 0.5f * float(height));
 }
 
+std::vector<std::optional<glm::vec2>> place_labels(const std::vector<std::optional<glm::vec2>>& tops,
+                                                   const std::vector<std::optional<glm::vec2>>& wanted, float radius) {
+  std::vector<std::optional<glm::vec2>> placed(tops.size());
+  const float apart = 2 * radius + std::max(2.0f, radius * 0.25f);  // centre to centre
+  auto free = [&](glm::vec2 p) {
+    for (const auto& q : placed)
+      if (q && glm::distance(*q, p) < apart) return false;
+    return true;
+  };
+  for (size_t i = 0; i < tops.size(); ++i) {
+    if (!tops[i] || !wanted[i]) continue;
+    if (free(*wanted[i])) {
+      placed[i] = wanted[i];
+      continue;
+    }
+    // Rings around the module, from the stem's direction (up) outwards, alternately right and left.
+    const glm::vec2 up = *wanted[i] - *tops[i];
+    const float stem = std::max(glm::length(up), radius * 1.5f);
+    const float base = glm::length(up) > 1e-3f ? std::atan2(up.y, up.x) : -1.5707964f;
+    for (int ring = 0; ring < 40 && !placed[i]; ++ring) {
+      const float reach = stem + float(ring) * apart * 0.5f;
+      for (int k = 0; k < 12 && !placed[i]; ++k) {
+        const float turn = float((k + 1) / 2) * 0.5236f * (k % 2 ? 1.0f : -1.0f);  // 0, ±30°, ±60°...
+        const glm::vec2 p = *tops[i] + reach * glm::vec2(std::cos(base + turn), std::sin(base + turn));
+        if (free(p)) placed[i] = p;
+      }
+    }
+    if (!placed[i]) placed[i] = wanted[i];  // a crowd no ring clears: overlapping beats missing
+  }
+  return placed;
+}
+
 void annotate(Overlay& o, const Scene& scene, const glm::mat4& view_projection, int width, int height) {
   const FontAtlas& font = o.font();
   const float t = font.pixel_height();
@@ -115,6 +148,7 @@ void annotate(Overlay& o, const Scene& scene, const glm::mat4& view_projection, 
       top[i] = project(view_projection, {p[0], p[1], p[2] + 0.5f}, width, height);
       label[i] = project(view_projection, {p[0], p[1], p[2] + 1.4f}, width, height);
     }
+    label = place_labels(top, label, t * 0.72f);
     for (size_t i = 0; i + 1 < g.modules.size(); ++i) {
       if (!top[i] || !top[i + 1]) continue;
       o.line(*top[i], *top[i + 1], t * 0.42f, kPaper);

@@ -4,6 +4,7 @@
 
 #include <glm/glm.hpp>
 #include <optional>
+#include <vector>
 
 #include "render/camera.h"
 #include "render/overlay.h"
@@ -19,6 +20,14 @@ Region view_region(const Scene& scene, const FontAtlas& font, int width, int hei
 
 // Where a point lands in the image (pixels, y down), or nothing behind the camera.
 std::optional<glm::vec2> project(const glm::mat4& view_projection, glm::vec3 point, int width, int height);
+
+// Where a group's slot labels go (discs of `radius` pixels): each above its module (at `wanted`)
+// where that is free, else the nearest free place around its module (`tops`: the modules' tops on
+// screen), so that no two labels overlap however close the modules are on screen (at 11,000
+// modules a group is a few pixels wide and the labels piled onto one spot). Nothing where the
+// module is not on screen.
+std::vector<std::optional<glm::vec2>> place_labels(const std::vector<std::optional<glm::vec2>>& tops,
+                                                   const std::vector<std::optional<glm::vec2>>& wanted, float radius);
 
 // The title (and the first group's watch, step and slot bindings), each group's slots linked in
 // slot order with a label above each slot, and the legend.

@@ -21,8 +21,11 @@ constexpr glm::vec3 kBackground{0.965f, 0.969f, 0.976f};
 constexpr glm::vec3 kGround{0.905f, 0.914f, 0.929f};
 constexpr glm::vec3 kGridLine{0.78f, 0.80f, 0.83f};
 constexpr glm::vec4 kOutline{0.84f, 0.11f, 0.16f, 1};  // as the slot links
-// The selected module's rim: a green no colour scale uses, apart from the group's red.
+// The selected module's ring: a green no colour scale uses, apart from the group's red.
 constexpr glm::vec4 kSelectedOutline{0.10f, 0.78f, 0.22f, 1};
+// How far the selection's ring reaches past the selected module, in module sizes: wider than the
+// group's rim, so that a selected module of the group shows both (red inside, green outside).
+constexpr float kSelectionScale = 1.34f;
 constexpr Color kPropColor{0.50f, 0.46f, 0.43f};
 // Modules are drawn a little smaller than their cell, so that each one shows in a lattice.
 constexpr float kModuleScale = 0.9f;
@@ -369,6 +372,7 @@ void Renderer::draw(const Scene& scene, int width, int height, unsigned target, 
   gl_.BindFramebuffer(GL_FRAMEBUFFER, scene_fbo_);
   gl_.Viewport(0, 0, width, height);
   draw_bodies(scene, camera, view_projection, quality);
+  draw_selection(scene);
   gl_.Disable(GL_DEPTH_TEST);
   gl_.Disable(GL_CULL_FACE);
   gl_.Disable(GL_BLEND);
@@ -443,7 +447,7 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
   // Solid: every module, or with groups highlighted only theirs and the selected one;
   // translucent: the others, near to far (see below). The group's modules and the selected one
   // get a rim.
-  const bool highlighting = !scene.groups.empty();
+  const bool highlighting = !scene.groups.empty() || scene.fade_others;
   const bool moving = quality == RenderQuality::Moving;
   const std::vector<bool> hidden = moving ? enclosed_modules(scene) : std::vector<bool>();
   std::vector<Instance> solid, faded, outline, props;
@@ -453,9 +457,8 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
     if (!highlighting || m.highlighted || m.selected) {
       if (moving && !(highlighting && m.highlighted) && !m.selected && hidden[i]) continue;
       solid.push_back({transform(m.pose, glm::vec3(kModuleScale)), {m.color.r, m.color.g, m.color.b, 1}});
-      // A selected module of the group keeps the group's rim: the group reads whole.
+      // The selection's ring is drawn over everything afterwards (draw_selection).
       if (highlighting && m.highlighted) outline.push_back({transform(m.pose, glm::vec3(kOutlineScale)), kOutline});
-      else if (m.selected) outline.push_back({transform(m.pose, glm::vec3(kOutlineScale)), kSelectedOutline});
     } else if (moving) {
       if (hidden[i]) continue;
       // Opaque, as pale as it looks translucent over the background.
@@ -477,7 +480,7 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
   // Translucent modules blend over the ground, so it goes first; with nothing translucent it goes
   // last, after the solids near to far, and the depth test skips the pixels they hide before
   // shading them (the picture is the same: each pixel keeps its nearest surface).
-  const bool translucent = !outline.empty();
+  const bool translucent = highlighting;
   if (translucent) draw_ground(scene, view_projection);
   const Program& p = *mesh_program_;
   gl_.UseProgram(p.id);
@@ -527,6 +530,36 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
   gl_.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   draw_instances(module_mesh, near_to_far);
   gl_.Disable(GL_BLEND);
+  gl_.Disable(GL_STENCIL_TEST);
+}
+
+void Renderer::draw_selection(const Scene& scene) {
+  const auto selected =
+      std::find_if(scene.modules.begin(), scene.modules.end(), [](const SceneModule& m) { return m.selected; });
+  if (selected == scene.modules.end()) return;
+  // Over whatever covers it, with no depth test (a box, a cylinder and a sphere are convex: culling
+  // their back faces draws them right in any order): the module itself, marked in the stencil
+  // buffer, then a grown flat copy kept off its pixels, which leaves a ring around its silhouette.
+  const std::vector<Instance> module{{transform(selected->pose, glm::vec3(kModuleScale)),
+                                      {selected->color.r, selected->color.g, selected->color.b, 1}}};
+  const std::vector<Instance> ring{{transform(selected->pose, glm::vec3(kSelectionScale)), kSelectedOutline}};
+  const Program& p = *mesh_program_;
+  const Mesh& mesh = *meshes_.at(scene.module_shape);
+  gl_.UseProgram(p.id);
+  gl_.Disable(GL_DEPTH_TEST);
+  gl_.Disable(GL_BLEND);
+  gl_.Enable(GL_CULL_FACE);
+  gl_.Enable(GL_STENCIL_TEST);
+  gl_.Clear(GL_STENCIL_BUFFER_BIT);
+  gl_.StencilFunc(GL_ALWAYS, 2, 0xff);
+  gl_.StencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+  gl_.Uniform1i(p.at("u_unlit"), 0);
+  draw_instances(mesh, module);
+  gl_.StencilFunc(GL_NOTEQUAL, 2, 0xff);
+  gl_.StencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+  gl_.Uniform1i(p.at("u_unlit"), 1);
+  draw_instances(mesh, ring);
+  gl_.Uniform1i(p.at("u_unlit"), 0);
   gl_.Disable(GL_STENCIL_TEST);
 }
 

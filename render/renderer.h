@@ -68,6 +68,8 @@ class Renderer {
 
   void resize(int width, int height);
   void draw_bodies(const Scene& scene, const Camera& camera, const glm::mat4& view_projection, RenderQuality quality);
+  // The selected module and a ring around it, over everything drawn before.
+  void draw_selection(const Scene& scene);
   void smooth_edges(const Scene& scene, const glm::mat4& view_projection);
   FontTexture& font(int pixel_height);
   void draw_instances(const Mesh& mesh, const std::vector<Instance>& instances);

@@ -28,8 +28,9 @@ struct SceneModule {
   sim::Pose pose;
   Color color;
   bool highlighted = false;  // a slot of a highlighted group
-  bool selected = false;     // the module the user selected (the window): drawn solid, with a rim of
-                             // its own unless the group's
+  bool selected = false;     // the module the user selected (the window): drawn solid and over
+                             // whatever covers it, in a green ring (a group's module keeps its red rim
+                             // inside the ring)
 };
 
 // A body that is not a module (a projectile, an obstacle).
@@ -65,6 +66,9 @@ struct Scene {
   std::vector<SceneModule> modules;  // the present ones, by id
   std::vector<SceneProp> props;
   std::vector<SceneGroup> groups;  // highlighted; the other modules are dimmed
+  // The modules outside the groups dimmed even when no group shows: a player keeps one look while
+  // matches come and go (the ensemble flickered between faded and vivid).
+  bool fade_others = false;
   Legend legend;
   float ground_z = -0.5f;
   std::optional<sim::Vec3> camera_eye, camera_target;  // unset: the camera is fitted

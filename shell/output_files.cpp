@@ -86,10 +86,10 @@ bool open_output(const NamedFile& file, std::unique_ptr<sim::OutputFile>& out) {
 }
 
 std::string open_output_apart(const std::vector<std::string>& inputs, const NamedFile& file,
-                              std::unique_ptr<sim::OutputFile>& out) {
+                              std::unique_ptr<sim::OutputFile>& out, std::stop_token stop) {
   if (std::string clash = file_clash(inputs, {file}); !clash.empty()) return clash;
   std::string error;
-  out = sim::OutputFile::open(file.path, &error);
+  out = sim::OutputFile::open(file.path, &error, sim::kOutputWait, std::move(stop));
   return error;
 }
 

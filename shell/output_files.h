@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <ostream>
+#include <stop_token>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,8 +46,9 @@ bool open_output(const NamedFile& file, std::unique_ptr<sim::OutputFile>& out);
 inline std::ostream* stream_of(const std::unique_ptr<sim::OutputFile>& out) { return out ? &out->stream() : nullptr; }
 // Opens `file` for writing, once it names none of `inputs`: empty, or what is wrong (for a
 // session's command, which answers with it rather than printing it).
+// A stop requested on `stop` (a signal) ends its wait for a FIFO's reader, or for room to write.
 std::string open_output_apart(const std::vector<std::string>& inputs, const NamedFile& file,
-                              std::unique_ptr<sim::OutputFile>& out);
+                              std::unique_ptr<sim::OutputFile>& out, std::stop_token stop = {});
 // Commits every open output; false, with the error on stderr, when one failed.
 bool commit_outputs(const std::vector<sim::OutputFile*>& outputs);
 

@@ -24,7 +24,8 @@ Shell::Answer Shell::render_file(const Command& cmd, const sim::Control& control
   const NamedFile file{"render", cmd.name};
   std::unique_ptr<sim::OutputFile> out;
   if (cmd.name == "-") return failed("render needs a file name");
-  if (std::string error = open_output_apart(scenario_.inputs, file, out); !error.empty()) return failed(error);
+  if (std::string error = open_output_apart(scenario_.inputs, file, out, control.stop); !error.empty())
+    return failed(error);
   const render::Scene view = scene();
   if (std::string error = write_view(view, *out, cmd.width, cmd.height); !error.empty()) return failed(error);
   // A signal while it drew stops the script here: the file it would replace stays as it was.
@@ -41,7 +42,8 @@ Shell::Answer Shell::render_file(const Command& cmd, const sim::Control& control
 Shell::Answer Shell::record_file(const Command& cmd, const sim::Control& control, nlohmann::ordered_json answer) {
   const NamedFile file{"record", cmd.name};
   std::unique_ptr<sim::OutputFile> out;
-  if (std::string error = open_output_apart(scenario_.inputs, file, out); !error.empty()) return failed(error);
+  if (std::string error = open_output_apart(scenario_.inputs, file, out, control.stop); !error.empty())
+    return failed(error);
   if (std::string error = session_.record(out->stream(), control); !error.empty()) {
     if (error == "cancelled") return failed(error);  // the temporary goes with `out`
     // The file knows why its writing failed (a full disk): its reason, rather than the stream's.

@@ -1,22 +1,28 @@
 #include "sim/output_file.h"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <streambuf>
+#include <thread>
 #include <vector>
 
 namespace dw::sim {
 
 // A stream buffer over a file descriptor that remembers the first write error (errno), so that
 // the message can say why ("No space left on device"), which std::ofstream cannot.
+// A descriptor opened without blocking (a FIFO, a device) waits for room at most `wait` without
+// progress, then fails with ETIMEDOUT: a reader that stopped reading blocked write() for ever.
 class OutputFile::FdBuffer final : public std::streambuf {
  public:
-  FdBuffer(int fd, bool owns) : fd_(fd), owns_(owns), buffer_(size_t{1} << 16) {
+  FdBuffer(int fd, bool owns, std::chrono::milliseconds wait, std::stop_token stop)
+      : fd_(fd), owns_(owns), wait_(wait), stop_(std::move(stop)), buffer_(size_t{1} << 16) {
     setp(buffer_.data(), buffer_.data() + buffer_.size());
   }
   ~FdBuffer() override { close(); }
@@ -54,6 +60,7 @@ class OutputFile::FdBuffer final : public std::streambuf {
       const ssize_t n = ::write(fd_, p, left);
       if (n < 0) {
         if (errno == EINTR) continue;
+        if (errno == EAGAIN && wait_for_room()) continue;
         error_ = errno;
       } else {
         p += n;
@@ -63,17 +70,41 @@ class OutputFile::FdBuffer final : public std::streambuf {
     setp(buffer_.data(), buffer_.data() + buffer_.size());
     return error_ == 0;
   }
+  // Whether the descriptor took room to write within the wait; errno ETIMEDOUT when not, and
+  // ECANCELED when a stop was requested meanwhile (looked at every 50 ms).
+  bool wait_for_room() {
+    const auto until = std::chrono::steady_clock::now() + wait_;
+    for (;;) {
+      if (stop_.stop_requested()) {
+        errno = ECANCELED;
+        return false;
+      }
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - std::chrono::steady_clock::now());
+      if (left.count() <= 0) {
+        errno = ETIMEDOUT;
+        return false;
+      }
+      pollfd p{fd_, POLLOUT, 0};
+      const int ready = ::poll(&p, 1, static_cast<int>(std::min<int64_t>(left.count(), 50)));
+      if (ready > 0) return true;  // room, or an error the next write reports
+      if (ready < 0 && errno != EINTR) return false;
+    }
+  }
 
   int fd_;
   bool owns_;
+  std::chrono::milliseconds wait_;
+  std::stop_token stop_;
   int error_ = 0;
   std::vector<char> buffer_;
 };
 
-OutputFile::OutputFile(std::string path, std::string temporary, int fd, bool owns_fd)
+OutputFile::OutputFile(std::string path, std::string temporary, int fd, bool owns_fd, std::chrono::milliseconds wait,
+                       std::stop_token stop)
     : path_(std::move(path)),
       temporary_(std::move(temporary)),
-      buffer_(std::make_unique<FdBuffer>(fd, owns_fd)),
+      wait_(wait),
+      buffer_(std::make_unique<FdBuffer>(fd, owns_fd, wait, std::move(stop))),
       stream_(buffer_.get()) {}
 
 OutputFile::~OutputFile() {
@@ -95,12 +126,41 @@ std::string resolved_path(const std::string& path) {
   return p.lexically_normal().string();
 }
 
-std::unique_ptr<OutputFile> OutputFile::open(const std::string& path, std::string* error) {
+std::string OutputFile::reason(int code) const {
+  if (code == ETIMEDOUT)
+    return "nothing read what was written for " + std::to_string(wait_.count()) +
+           " ms (a FIFO or a pipe whose reader stopped)";
+  if (code == ECANCELED) return "cancelled while it waited for room to write";
+  return std::strerror(code);
+}
+
+namespace {
+
+// A FIFO with no reader blocked open() for ever, and no signal ended it: opened without blocking,
+// its reader is waited for at most `wait`, a look every 20 ms, or until a stop is requested
+// (errno ECANCELED).
+int open_in_place(const std::string& path, std::chrono::milliseconds wait, const std::stop_token& stop) {
+  const auto until = std::chrono::steady_clock::now() + wait;
+  for (;;) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd >= 0 || (errno != ENXIO && errno != EINTR) || std::chrono::steady_clock::now() >= until) return fd;
+    if (stop.stop_requested()) {
+      errno = ECANCELED;
+      return -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<OutputFile> OutputFile::open(const std::string& path, std::string* error,
+                                             std::chrono::milliseconds wait, std::stop_token stop) {
   const auto fail = [&](int code) {
     if (error) *error = "cannot write " + path + ": " + std::strerror(code);
     return nullptr;
   };
-  if (path == "-") return std::unique_ptr<OutputFile>(new OutputFile(path, "", STDOUT_FILENO, false));
+  if (path == "-") return std::unique_ptr<OutputFile>(new OutputFile(path, "", STDOUT_FILENO, false, wait, stop));
   if (path.empty()) return fail(ENOENT);
   struct stat st {};
   const std::string target = resolved_path(path);  // a symlink's file is replaced, not the link
@@ -109,9 +169,17 @@ std::unique_ptr<OutputFile> OutputFile::open(const std::string& path, std::strin
     if (S_ISDIR(st.st_mode)) return fail(EISDIR);
     if (!S_ISREG(st.st_mode)) {
       // A device, a FIFO or a socket: written in place, and never created, truncated or removed.
-      const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+      const int fd = open_in_place(path, wait, stop);
+      if (fd < 0 && (errno == ENXIO || errno == ECANCELED)) {
+        if (error)
+          *error = "cannot write " + path +
+                   (errno == ECANCELED
+                        ? std::string(": cancelled while it waited for a process to read this FIFO")
+                        : ": no process opened this FIFO to read it within " + std::to_string(wait.count()) + " ms");
+        return nullptr;
+      }
       if (fd < 0) return fail(errno);
-      return std::unique_ptr<OutputFile>(new OutputFile(path, "", fd, true));
+      return std::unique_ptr<OutputFile>(new OutputFile(path, "", fd, true, wait, stop));
     }
     if (::access(path.c_str(), W_OK) != 0) return fail(errno);
     mode = st.st_mode & 07777;
@@ -137,7 +205,7 @@ std::unique_ptr<OutputFile> OutputFile::open(const std::string& path, std::strin
     const int fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, mode);
     if (fd >= 0) {
       ::fchmod(fd, mode);
-      auto out = std::unique_ptr<OutputFile>(new OutputFile(path, "", fd, true));
+      auto out = std::unique_ptr<OutputFile>(new OutputFile(path, "", fd, true, wait, stop));
       out->unnamed_ = true;
       out->target_ = target;
       return out;
@@ -151,7 +219,7 @@ std::unique_ptr<OutputFile> OutputFile::open(const std::string& path, std::strin
   if (fd < 0) return fail(errno);
   ::fchmod(fd, mode);
   ::fcntl(fd, F_SETFD, FD_CLOEXEC);
-  auto out = std::unique_ptr<OutputFile>(new OutputFile(path, temporary, fd, true));
+  auto out = std::unique_ptr<OutputFile>(new OutputFile(path, temporary, fd, true, wait, stop));
   out->target_ = target;
   return out;
 }
@@ -179,14 +247,14 @@ std::string OutputFile::commit() {
   if (committed_) return {};
   stream_.flush();
   if (unnamed_) {
-    if (const int code = buffer_->flush(); code != 0) return "writing " + path_ + " failed: " + std::strerror(code);
+    if (const int code = buffer_->flush(); code != 0) return "writing " + path_ + " failed: " + reason(code);
     const std::filesystem::path at(target_);
     if (std::string error = link_unnamed(at.has_parent_path() ? at.parent_path().string() : "."); !error.empty())
       return "writing " + path_ + " failed: " + error;
     unnamed_ = false;
   }
   const int code = buffer_->close();
-  if (code != 0) return "writing " + path_ + " failed: " + std::strerror(code);
+  if (code != 0) return "writing " + path_ + " failed: " + reason(code);
   if (!temporary_.empty() && ::rename(temporary_.c_str(), target_.c_str()) != 0)
     return "writing " + path_ + " failed: " + std::strerror(errno);
   committed_ = true;

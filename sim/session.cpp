@@ -204,8 +204,8 @@ std::optional<Pose> Session::measured_pose(ModuleId m, const Control& control) {
 }
 
 std::optional<std::vector<int64_t>> Session::series(ModuleId m, int column, int64_t from, int64_t to,
-                                                    const Control& control) {
-  auto rows = module_series(m, from, to, control);
+                                                    const Control& control, std::vector<uint8_t>* present) {
+  auto rows = module_series(m, from, to, control, present);
   if (!rows) return std::nullopt;
   const size_t v = model_.variable_count();
   std::vector<int64_t> values;
@@ -213,8 +213,8 @@ std::optional<std::vector<int64_t>> Session::series(ModuleId m, int column, int6
   return values;
 }
 
-std::optional<std::vector<int64_t>> Session::module_series(ModuleId m, int64_t from, int64_t to,
-                                                           const Control& control) {
+std::optional<std::vector<int64_t>> Session::module_series(ModuleId m, int64_t from, int64_t to, const Control& control,
+                                                           std::vector<uint8_t>* present) {
   std::vector<int64_t> values;
   if (from > to || !has_history()) return values;
   // The values depend on the watchpoints with actions alone: the others are not stepped.
@@ -231,6 +231,7 @@ std::optional<std::vector<int64_t>> Session::module_series(ModuleId m, int64_t f
     if (s.step - 1 >= from) {
       const auto row = s.values.begin() + static_cast<std::ptrdiff_t>(size_t{m} * v);
       values.insert(values.end(), row, row + static_cast<std::ptrdiff_t>(v));
+      if (present) present->push_back(s.present[m]);
     }
   }
   return values;

@@ -212,11 +212,13 @@ class Session {
   const watch::DetectorStats& stats(uint32_t w) const { return watches_[w].stats; }
   // One variable of one module over steps [from, to] (to ≤ latest), re-simulated from the
   // keyframes; nothing when cancelled.
+  // `present`, when given, gets whether m was present at each of those steps (its values then stale).
   std::optional<std::vector<int64_t>> series(ModuleId m, int column, int64_t from, int64_t to,
-                                             const Control& control = {});
+                                             const Control& control = {}, std::vector<uint8_t>* present = nullptr);
   // Every variable of module m over steps [from, to] in one pass: (to - from + 1) rows of
   // model().variable_count() values.
-  std::optional<std::vector<int64_t>> module_series(ModuleId m, int64_t from, int64_t to, const Control& control = {});
+  std::optional<std::vector<int64_t>> module_series(ModuleId m, int64_t from, int64_t to, const Control& control = {},
+                                                    std::vector<uint8_t>* present = nullptr);
   // Writes steps 0..latest as a wptrace v1 trace whose header lists the interventions. An error
   // message, or empty; false-y when cancelled is reported as "cancelled".
   std::string record(std::ostream& out, const Control& control = {});

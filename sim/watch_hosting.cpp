@@ -75,6 +75,11 @@ std::string why_not_over_ranks(std::span<const HostedWatchpoint> watches) {
              ": its detector observes the whole ensemble in one place, which no rank holds; over ranks a "
              "watchpoint runs on the modules' agents (algorithm = \"distributed\", states = \"consistent\"; "
              "or --algorithm distributed --states consistent)";
+  for (const HostedWatchpoint& w : watches)
+    if (const char* form = watch::domain_beyond_neighbours(w.watchpoint.program))
+      return "watchpoint '" + w.watchpoint.name + "' reads '" + form +
+             "', which modules over ranks cannot read yet (a rank keeps its own modules and their neighbours "
+             "only): run it in one process";
   return {};
 }
 

@@ -50,6 +50,15 @@ class AgentHistory {
     row->known[m - first_] = known;
   }
 
+  // The row of a variable at `step` (recorded already) to write ([m - first()]), or false.
+  bool row(int variable, int64_t step, int64_t*& values, uint8_t*& known) {
+    Values* row = values_[static_cast<size_t>(variable)].find(step);
+    if (row == nullptr) return false;
+    values = row->values.data();
+    known = row->known.data();
+    return true;
+  }
+
   // Every kept module's value of a program variable at `step` ([m - first()], meaningful where
   // known), or false when the step is unknown (before 0, not recorded yet, or forgotten).
   bool column(int variable, int64_t step, const int64_t*& values, const uint8_t*& known) const {

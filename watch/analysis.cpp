@@ -61,7 +61,7 @@ Analysis analyze(const Ast& ast) {
     switch (n.kind) {
       case NodeKind::Aggregate:
         aggregate_of[i] = static_cast<int>(a.aggregates.size());
-        a.aggregates.push_back({i, n.x.slot, n.x.offset, {}, {}, {}});
+        a.aggregates.push_back({i, n.x.slot, n.x.offset, n.domain, static_cast<int>(n.value), {}, {}, {}});
         graph_read(n.x.offset);
         break;
       case NodeKind::Variable: {
@@ -98,7 +98,7 @@ Analysis analyze(const Ast& ast) {
     sort_unique_reads(g.neighbor_reads);
     sort_unique(g.neighbor_sets, std::less<int>{}, std::equal_to<int>{});
     sort_unique(g.slots, std::less<int>{}, std::equal_to<int>{});
-    if (g.needs_messages()) a.aggregate_hops = 1;
+    a.aggregate_hops = std::max(a.aggregate_hops, g.lag());
   }
   return a;
 }

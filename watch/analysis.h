@@ -40,12 +40,22 @@ struct NeighborConstraint {
 struct AggregateUse {
   NodeIndex node = kNoNode;
   int slot = 0, offset = 0;
+  Domain domain = Domain::Neighbors;
+  int hops = 1;                          // within's h
   std::vector<SlotRead> neighbor_reads;  // n.v at an offset, sorted, distinct
   std::vector<int> neighbor_sets;        // offsets at which neighbor(n ...) reads N(n), sorted, distinct
   std::vector<int> slots;                // the slots its body reads, besides its own, sorted
   // Whether an agent needs its neighbours' messages to know it (docs/design.md §7): it reads their
   // variables or their neighbour sets, not only its own neighbour set.
   bool needs_messages() const { return !neighbor_reads.empty() || !neighbor_sets.empty(); }
+  // Steps of messages a distributed agent waits to know it (docs/design.md §4c): within's h rounds
+  // (who lies within h hops, and what they hold); one hop for neighbours' values; none for its own
+  // neighbour set, or for `all`, a fact of the engine's snapshot.
+  int lag() const {
+    if (domain == Domain::Within) return hops;
+    if (domain == Domain::All || domain == Domain::Component) return 0;
+    return needs_messages() ? 1 : 0;
+  }
 };
 
 struct Analysis {
@@ -56,8 +66,8 @@ struct Analysis {
   int extent_plus = 0;                   // E+ = max(0, largest offset): how far the watchpoint looks ahead
   int min_offset = 0;                    // min(0, smallest offset): how far it looks back
   int min_neighbor_offset = 0;           // min(0, smallest offset at which a neighbour set is read)
-  // Steps a distributed agent waits for its neighbours' values (docs/design.md §7): 1 when an aggregate
-  // reads them, else 0. Part of the distributed readings' lag.
+  // Steps a distributed agent waits for what its aggregates read (docs/design.md §7, §4c): the largest
+  // AggregateUse::lag. Part of the distributed readings' lag.
   int aggregate_hops = 0;
 
   int variable_index(const std::string& name) const;

@@ -20,6 +20,8 @@ const char* aggregate_name(AggregateKind k) {
     case AggregateKind::Sum: return "sum";
     case AggregateKind::Min: return "min";
     case AggregateKind::Max: return "max";
+    case AggregateKind::Argmin: return "argmin";
+    case AggregateKind::Argmax: return "argmax";
   }
   return "?";
 }
@@ -157,7 +159,15 @@ class Printer {
       case NodeKind::Aggregate: {
         const std::string saved = bound_;
         bound_ = n.name;
-        out_ += std::string(aggregate_name(n.aggregate)) + '(' + n.name + " in neighbors(" + to_string(ast_, n.x) + ')';
+        out_ += std::string(aggregate_name(n.aggregate)) + '(' + n.name + " in ";
+        if (n.domain == Domain::All) out_ += "all";
+        else if (n.domain == Domain::Within)
+          out_ += "within(" + to_string(ast_, n.x) + ", " + std::to_string(n.value) + ')';
+        else if (n.domain == Domain::Component) {
+          out_ += "component(" + to_string(ast_, n.x) + ": ";
+          print(n.rhs);
+          out_ += ')';
+        } else out_ += "neighbors(" + to_string(ast_, n.x) + ')';
         if (n.lhs != kNoNode) {
           out_ += ": ";
           print(n.lhs);

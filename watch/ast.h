@@ -75,23 +75,32 @@ enum class NodeKind : uint8_t {
 enum class WindowKind : uint8_t { Once, Historically, Times, Since };
 const char* window_name(WindowKind k);
 
-enum class AggregateKind : uint8_t { Count, Sum, Min, Max };
+// Argmin, Argmax (docs/design.md §4c): the id of the element of least / greatest value, ties to the least id.
+enum class AggregateKind : uint8_t { Count, Sum, Min, Max, Argmin, Argmax };
 const char* aggregate_name(AggregateKind k);
+
+// What an aggregate ranges over (docs/design.md §4c): `neighbors(m)`, `within(m, h)` (1..h hops from
+// m, m excluded; h in Node::value), `all` (every module present at the match's step: its x is
+// slot 0 at the offset of the windows around it, the match step being slot 0's "now"),
+// `component(m: c)` (the connected cluster around m where c holds; c is the node's rhs).
+enum class Domain : uint8_t { Neighbors, Within, All, Component };
 
 struct Node {
   NodeKind kind = NodeKind::Error;
   Span span;
   // Not, Negate, Abs: the operand (lhs). And, Or, Compare, the arithmetic operators, Min, Max:
-  // left and right. Aggregate: its condition (Count, or kNoNode) or its value (Sum, Min, Max).
+  // left and right. Aggregate: its condition (Count, or kNoNode) or its value (the others), and
+  // rhs a component's condition.
   // Window: its condition (since: φ, and rhs ψ). Truth: the condition.
   NodeIndex lhs = kNoNode;
   NodeIndex rhs = kNoNode;
   ModuleRef x, y;                   // Neighbor(x y); Variable, Id, Step: x; Aggregate: x, the module it ranges over
   CompareOp op = CompareOp::Equal;  // Compare
-  int64_t value = 0;                // Integer; Window: its k (0: an unbounded since)
+  int64_t value = 0;                // Integer; Window: its k (0: an unbounded since); within's h
   WindowKind window = WindowKind::Once;
   AggregateKind aggregate = AggregateKind::Count;
-  std::string name;  // Variable: the variable; Aggregate: the bound name
+  Domain domain = Domain::Neighbors;  // Aggregate; Within's h is `value`
+  std::string name;                   // Variable: the variable; Aggregate: the bound name
 };
 
 // `then set a.v = expr` or `then remove a` (docs/design.md §4b).

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <functional>
 
+#include "watch/distributed_reader.h"
 #include "watch/kept_windows.h"
 
 namespace dw::watch {
@@ -11,11 +12,6 @@ namespace {
 
 // The scratch record is sent with chunked copies (copy_ids) that may read past its end.
 constexpr size_t kScratchSlack = 16;
-
-Truth membership(const uint32_t* ids, uint32_t count, uint32_t m) {
-  if (count == kUnknownSet) return kUnknown;
-  return truth_of(std::find(ids, ids + count, m) != ids + count);
-}
 
 // A PatternMatcher with `filled` slots is alive at this step, unless that would pass the budget:
 // what is alive and what was sent this step, as in fill_and_spread.
@@ -31,128 +27,6 @@ bool admit(AgentContext& ctx, uint32_t filled) {
 }
 
 }  // namespace
-
-// Reads what module m knows as it fills `slot` at detector step f, for value code (docs/design.md §4b):
-// its own history; its neighbours' values and neighbour sets, which their messages brought it
-// (the hop in Program::agent_delay); and what the PatternMatcher carries of the slots filled
-// before (cells, sets, tables). Without a PatternMatcher, only the module's own.
-class DistributedAgents::Reader {
- public:
-  Reader(const DistributedAgents& agents, uint32_t m, uint32_t slot, int64_t f, const PatternMatcherRef* pm,
-         std::vector<uint32_t>& neighbors, std::vector<uint32_t>& rows)
-      : agents_(agents), h_(agents.history_), m_(m), slot_(slot), f_(f), pm_(pm), neighbors_(neighbors), rows_(rows) {}
-
-  Value term(const ValueInstr& in) const {
-    int64_t v = 0;
-    if (in.cell >= 0) return pm_->cell(static_cast<uint32_t>(in.cell), v) ? known_value(v) : Value{};
-    return agents_.read_value(m_, in.variable, f_ + in.offset, v) ? known_value(v) : Value{};
-  }
-
-  // Slot i fills at t0 + i (docs/design.md §4): its "now", from the one filling now.
-  int64_t now(int slot) const { return f_ + slot - static_cast<int64_t>(slot_); }
-
-  int open(const AggregateCode& a) {
-    aggregate_ = &a;
-    table_ = a.table >= 0;
-    if (table_) {
-      at_ = pm_->record(static_cast<uint32_t>(a.table));
-      const uint32_t count = pm_->word(at_);
-      if (count == kUnknownSet) return -1;
-      rows_.clear();
-      uint32_t w = at_ + 8;
-      for (uint32_t i = 0; i < count; ++i) {
-        rows_.push_back(w);
-        w += 4 + 12 * static_cast<uint32_t>(a.neighbor_reads.size());
-        for (size_t s = 0; s < a.neighbor_sets.size(); ++s) {
-          const uint32_t n = pm_->word(w);
-          w += 4 + (n == kUnknownSet ? 0 : 4 * n);
-        }
-      }
-      return static_cast<int>(count);
-    }
-    step_ = f_ + a.offset;
-    return gather_neighbors(h_, m_, step_, neighbors_);
-  }
-
-  Value bound(int i, const ValueInstr& in) const {
-    if (!table_) {
-      int64_t v = 0;
-      return agents_.read_value(bound_id(i), in.variable, step_ + in.offset, v) ? known_value(v) : Value{};
-    }
-    const auto& reads = aggregate_->neighbor_reads;
-    uint32_t r = 0;
-    while (reads[r].variable != in.variable || reads[r].offset != in.offset) ++r;
-    const uint32_t at = rows_[static_cast<size_t>(i)] + 4 + 12 * r;
-    if (pm_->word(at + 8) == 0) return {};
-    const uint64_t bits = uint64_t{pm_->word(at)} | uint64_t{pm_->word(at + 4)} << 32;
-    return known_value(static_cast<int64_t>(bits));
-  }
-
-  uint32_t bound_id(int i) const {
-    return table_ ? pm_->word(rows_[static_cast<size_t>(i)]) : neighbors_[static_cast<size_t>(i)];
-  }
-
-  Truth bound_adjacent(int i, int offset, uint32_t y) const {
-    if (!table_) {
-      uint32_t count = 0;
-      const uint32_t* ns = h_.neighbors(bound_id(i), step_ + offset, count);
-      if (ns == nullptr) return kUnknown;
-      return truth_of(std::find(ns, ns + count, y) != ns + count);
-    }
-    uint32_t at = rows_[static_cast<size_t>(i)] + 4 + 12 * static_cast<uint32_t>(aggregate_->neighbor_reads.size());
-    for (int16_t o : aggregate_->neighbor_sets) {
-      const uint32_t n = pm_->word(at);
-      if (o == offset) {
-        if (n == kUnknownSet) return kUnknown;
-        for (uint32_t j = 0; j < n; ++j)
-          if (pm_->word(at + 4 + 4 * j) == y) return kTrue;
-        return kFalse;
-      }
-      at += 4 + (n == kUnknownSet ? 0 : 4 * n);
-    }
-    return kUnknown;
-  }
-
-  uint32_t slot_module(int slot) const { return static_cast<uint32_t>(slot) == slot_ ? m_ : pm_->id(slot); }
-
-  Truth slot_adjacent(const ConditionTest& t, uint32_t y) const {
-    if (t.set >= 0) {
-      uint32_t count;
-      const uint32_t* ids = pm_->set(static_cast<uint32_t>(t.set), count);
-      return membership(ids, count, y);
-    }
-    uint32_t count = 0;
-    const uint32_t* ns = h_.neighbors(m_, f_ + t.offset, count);
-    if (ns == nullptr) return kUnknown;
-    return truth_of(std::find(ns, ns + count, y) != ns + count);
-  }
-
-  // N(m, step) as a set of the neighbours present then (docs/design.md §4b), or -1 when m was absent.
-  static int gather_neighbors(const AgentHistory& h, uint32_t m, int64_t step, std::vector<uint32_t>& out) {
-    uint32_t count = 0;
-    const uint32_t* ns = h.neighbors(m, step, count);
-    if (ns == nullptr) return -1;
-    out.clear();
-    for (uint32_t i = 0; i < count; ++i)
-      if (h.present(ns[i], step)) out.push_back(ns[i]);
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return static_cast<int>(out.size());
-  }
-
- private:
-  const DistributedAgents& agents_;
-  const AgentHistory& h_;
-  uint32_t m_, slot_;
-  int64_t f_;
-  const PatternMatcherRef* pm_;
-  std::vector<uint32_t>& neighbors_;
-  std::vector<uint32_t>& rows_;  // table: each row's byte offset in the record
-  const AggregateCode* aggregate_ = nullptr;
-  bool table_ = false;
-  uint32_t at_ = 0;
-  int64_t step_ = 0;
-};
 
 AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t budget)
     : program(p),
@@ -205,15 +79,31 @@ void DistributedAgents::prepare(const Program& p, int64_t f, uint32_t begin, uin
 void DistributedAgents::work_out_kept_windows(const Program& p, int64_t newest, uint32_t begin, uint32_t end) {
   if (p.kept_windows.empty()) return;
   EvaluatorScratch scratch(p);  // per call: several threads record blocks at once
+  std::vector<Truth> phi, psi;
+  const size_t from = begin - first_, n = end - begin;  // the history's arrays start at first_
+  auto column_of = [&](int variable, int64_t step, const int64_t*& values, const uint8_t*& known) {
+    if (!history_.column(variable, step, values, known)) return false;
+    values += from;
+    known += from;
+    return true;
+  };
+  auto read = [&](size_t m, int variable, int64_t step, int64_t& out) {
+    return read_value(begin + static_cast<uint32_t>(m), variable, step, out);
+  };
   for (const KeptWindow& w : p.kept_windows) {
     const int64_t s = newest - w.ahead;
-    if (s < 0) continue;
-    for (uint32_t m = begin; m < end; ++m) {
-      auto read = [&](int var, int64_t step, int64_t& out) { return read_value(m, var, step, out); };
-      const KeptStep k = work_out_window(p, w, s, read, scratch);
-      for (int c = 0; c < w.columns(); ++c)
-        history_.set_value(m, w.column + c, s, k.value[static_cast<size_t>(c)], k.known[static_cast<size_t>(c)]);
+    KeptColumns c;
+    if (s < 0 || !history_.row(w.column, s, c.now[0], c.now_known[0])) continue;
+    for (int i = 0; i < w.columns(); ++i) {
+      history_.row(w.column + i, s, c.now[size_t(i)], c.now_known[size_t(i)]);
+      c.now[size_t(i)] += from;
+      c.now_known[size_t(i)] += from;
+      column_of(w.column + i, s - 1, c.before[size_t(i)], c.before_known[size_t(i)]);
     }
+    if (w.kind == WindowKind::Times) column_of(w.column + 1, s - w.k - 1, c.count_left, c.count_left_known);
+    condition_truths(p, w.phi, s, n, column_of, read, scratch, phi);
+    if (w.kind == WindowKind::Since) condition_truths(p, w.psi, s, n, column_of, read, scratch, psi);
+    advance_window(w, s, phi.data(), psi.data(), c, n);
   }
 }
 

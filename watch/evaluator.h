@@ -11,6 +11,9 @@
 //   uint32_t slot_module(int slot)           the module filling a slot
 //   Truth slot_adjacent(const ConditionTest&, uint32_t y)   y in N(slot x's module, now_x + off)
 //   int64_t now(int slot)                    the slot's "now" (docs/design.md §4c: where windows clip)
+//   int expand(int i)                        component: neighbour i's present neighbours not yet
+//                                            seen become elements too; the count of elements
+//   int keep(const std::vector<uint8_t>&)    component: only the elements marked stay; their count
 // A term or bound read of kIdVariable is id(m): the module's id when present at that step.
 // Aggregates do not nest, so a reader has at most one open at a time.
 #pragma once
@@ -117,7 +120,9 @@ class Evaluator {
 
  private:
   Value aggregate(const AggregateCode& a, size_t base) {
-    const int count = r_.open(a);
+    int count = r_.open(a);
+    if (count < 0) return {};
+    if (a.domain == Domain::Component) count = component(a, base, count);
     if (count < 0) return {};
     switch (a.kind) {
       case AggregateKind::Count: {
@@ -152,8 +157,45 @@ class Evaluator {
         }
         return best;
       }
+      case AggregateKind::Argmin:
+      case AggregateKind::Argmax: return arg_best(a, base, count);
     }
     return {};
+  }
+
+  // component(m: c) (docs/design.md §4c), breadth-first from the module (candidate 0, what open gave):
+  // a candidate where c is true joins and brings its present neighbours not yet seen as candidates,
+  // false stays out, unknown makes the whole unknown (-1). Leaves the members as the elements.
+  int component(const AggregateCode& a, size_t base, int count) {
+    std::vector<uint8_t> joined;
+    for (int i = 0; i < count; ++i) {
+      const Truth t = logic(a.member_condition, a.member_depth, base, i);
+      if (t == kUnknown) return -1;
+      joined.push_back(t == kTrue);
+      if (t == kTrue) count = r_.expand(i);
+    }
+    return r_.keep(joined);
+  }
+
+  // The id of the element of least (argmin) or greatest (argmax) value, ties to the least id
+  // (docs/design.md §4c); unknown over none, or when any value is unknown.
+  Value arg_best(const AggregateCode& a, size_t base, int count) {
+    if (count == 0) return {};
+    ValueInstr id;
+    id.op = ValueOp::Bound;
+    id.variable = kIdVariable;
+    Value best, best_id;
+    for (int i = 0; i < count; ++i) {
+      const Value v = value(a.value, base, i);
+      const Value m = r_.bound(i, id);
+      if (!v.known || !m.known) return {};
+      const bool better = a.kind == AggregateKind::Argmin ? v.value < best.value : v.value > best.value;
+      if (i == 0 || better || (v.value == best.value && m.value < best_id.value)) {
+        best = v;
+        best_id = m;
+      }
+    }
+    return best_id;
   }
 
   Truth condition(const AggregateCode& a, size_t base, int neighbor) {

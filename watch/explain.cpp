@@ -90,8 +90,18 @@ void explain_watchpoint(const watch::Watchpoint& w, std::ostream& out) {
   for (const watch::AggregateUse& g : a.aggregates) {
     const watch::Node& n = w.ast.nodes[static_cast<size_t>(g.node)];
     if (!shown.insert(n.span.begin).second) continue;
-    out << "    " << watch::to_string(w.ast, g.node) << "\n      over N(" << p.slot_names[g.slot] << ", now"
-        << (g.offset ? (g.offset > 0 ? " + " : " - ") + std::to_string(std::abs(g.offset)) : "") << ")";
+    const std::string step =
+        "now" + (g.offset ? (g.offset > 0 ? " + " : " - ") + std::to_string(std::abs(g.offset)) : std::string());
+    out << "    " << watch::to_string(w.ast, g.node) << "\n      over ";
+    if (g.domain == watch::Domain::All) out << "every module present at the match step (" << step << ")";
+    else if (g.domain == watch::Domain::Component)
+      out << "the connected cluster around " << p.slot_names[g.slot] << " of the modules where "
+          << watch::to_string(w.ast, n.rhs) << " holds (breadth-first over N(·, " << step << "), "
+          << p.slot_names[g.slot] << " first)";
+    else if (g.domain == watch::Domain::Within)
+      out << "the modules 1 to " << g.hops << " hops from " << p.slot_names[g.slot] << " (breadth-first over N(·, "
+          << step << "), " << p.slot_names[g.slot] << " excluded)";
+    else out << "N(" << p.slot_names[g.slot] << ", " << step << ")";
     if (!g.neighbor_reads.empty()) {
       out << "; reads of each neighbour " << n.name << ":";
       for (const watch::SlotRead& r : g.neighbor_reads)
@@ -103,16 +113,23 @@ void explain_watchpoint(const watch::Watchpoint& w, std::ostream& out) {
       out << "; slots read inside:";
       for (int s : g.slots) out << " " << p.slot_names[s];
     }
-    out << "\n      distributed: "
-        << (g.needs_messages() ? "the neighbours' values come by message, one hop: +1 to the distributed lags"
-                               : "decided from the module's own neighbour set, no message")
-        << "\n";
+    out << "\n      distributed: ";
+    if (g.domain == watch::Domain::All || g.domain == watch::Domain::Component)
+      out << "a fact of the engine's snapshot of the step (one record a module read), no lag";
+    else if (g.domain == watch::Domain::Within)
+      out << "learnt by " << g.hops << " rounds of messages: +" << g.hops << " to the distributed lags";
+    else
+      out << (g.needs_messages() ? "the neighbours' values come by message, one hop: +1 to the distributed lags"
+                                 : "decided from the module's own neighbour set, no message");
+    out << "\n";
   }
   // docs/design.md §4a, §7: what each reading finds and how long it takes to decide a watch step.
   const int k = p.slot_count();
   const int64_t e = a.extent_plus, h = a.aggregate_hops;
   using watch::GroupShape;
-  const std::string hop = h ? " + 1 (an aggregate's hop)" : "";
+  const std::string hop = h == 0   ? ""
+                          : h == 1 ? " + 1 (an aggregate's hop)"
+                                   : " + " + std::to_string(h) + " (an aggregate's hops)";
   out << "  readings       (a watch step t is decided at step t + lag)\n";
   out << "    centralized: chain, ordered (default) or any groups, simultaneous states; lag E+ = " << e << "\n";
   out << "    distributed, consistent states (the paper's): chain groups only; lag E+ + k - 1" << hop << " = "

@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "watch/evaluator.h"
 #include "watch/kleene.h"
@@ -30,100 +31,149 @@
 
 namespace dw::watch {
 
-// A window's value and state at one step: column i of the window is `value[i]`, known or not.
-struct KeptStep {
-  std::array<int64_t, kMaxKeptColumns> value{};
-  std::array<bool, kMaxKeptColumns> known{};
+// A kept window's columns around step s, as arrays over the modules a history holds: what working
+// out step s reads (at s − 1, and times' count at s − k − 1) and writes (at s). A null array is a
+// step the history does not hold: what would be read from it is unknown.
+struct KeptColumns {
+  std::array<const int64_t*, kMaxKeptColumns> before{};
+  std::array<const uint8_t*, kMaxKeptColumns> before_known{};
+  const int64_t* count_left = nullptr;  // times: C(s − k − 1)
+  const uint8_t* count_left_known = nullptr;
+  std::array<int64_t*, kMaxKeptColumns> now{};
+  std::array<uint8_t*, kMaxKeptColumns> now_known{};
 };
 
-// The window's columns at step s of one module, given `read(column, step, out)` over the module's
-// own history (its variables, and the window's columns at steps before s).
-template <class Read>
-KeptStep work_out_window(const Program& p, const KeptWindow& w, int64_t s, Read&& read, EvaluatorScratch& scratch) {
-  KeptStep out;
-  if (s < w.first_step) return out;  // no j kept: unknown
-  struct Reader {
-    Read& read;
-    int64_t step;
-    Value term(const ValueInstr& in) const {
-      int64_t v = 0;
-      return read(in.variable, step + in.offset, v) ? known_value(v) : Value{};
+// Of condition `truth` at step s, for modules [0, n): its truths, one per module. A comparison of
+// a variable with a constant (the commonest) is read a column at a time; any other condition is
+// evaluated module by module, `read(m, variable, step, out)` reading module m's own history.
+template <class Column, class Read>
+void condition_truths(const Program& p, uint32_t truth, int64_t s, size_t n, Column&& column, Read&& read,
+                      EvaluatorScratch& scratch, std::vector<Truth>& out) {
+  out.resize(n);
+  const std::vector<ExprOp>& ops = p.truths[truth];
+  if (ops.size() == 1 && ops[0].kind == ExprOp::PushLeaf) {
+    const ConditionTest& t = p.tests[ops[0].leaf];
+    if (t.kind == ConditionTest::Kind::Compare && p.codes[t.lhs].size() == 1 && p.codes[t.rhs].size() == 1) {
+      const ValueInstr& term = p.codes[t.lhs][0];
+      const ValueInstr& constant = p.codes[t.rhs][0];
+      if (term.op == ValueOp::Term && term.variable >= 0 && constant.op == ValueOp::Constant) {
+        const int64_t* values = nullptr;
+        const uint8_t* known = nullptr;
+        if (!column(term.variable, s + term.offset, values, known)) {
+          std::fill(out.begin(), out.end(), kUnknown);
+          return;
+        }
+        for (size_t m = 0; m < n; ++m)
+          out[m] = known[m] ? compare_values(t.op, known_value(values[m]), known_value(constant.constant)) : kUnknown;
+        return;
+      }
     }
-    // The condition reads one module's own variables: no aggregate, no neighbour, no other slot.
-    int open(const AggregateCode&) const { return -1; }
-    Value bound(int, const ValueInstr&) const { return {}; }
-    uint32_t bound_id(int) const { return 0; }
-    Truth bound_adjacent(int, int, uint32_t) const { return kUnknown; }
-    uint32_t slot_module(int) const { return 0; }
-    Truth slot_adjacent(const ConditionTest&, uint32_t) const { return kUnknown; }
-    int64_t now(int) const { return step; }
-  } reader{read, s};
-  Evaluator e(p, reader, scratch);
-  const Truth phi = e.condition_program(w.phi);
+  }
+  for (size_t m = 0; m < n; ++m) {
+    struct Reader {
+      Read& read;
+      size_t module;
+      int64_t step;
+      Value term(const ValueInstr& in) const {
+        int64_t v = 0;
+        return read(module, in.variable, step + in.offset, v) ? known_value(v) : Value{};
+      }
+      // The condition reads one module's own variables: no aggregate, no neighbour, no other slot.
+      int open(const AggregateCode&) const { return -1; }
+      Value bound(int, const ValueInstr&) const { return {}; }
+      uint32_t bound_id(int) const { return 0; }
+      Truth bound_adjacent(int, int, uint32_t) const { return kUnknown; }
+      uint32_t slot_module(int) const { return 0; }
+      Truth slot_adjacent(const ConditionTest&, uint32_t) const { return kUnknown; }
+      int64_t now(int) const { return step; }
+      int expand(int) const { return 0; }
+      int keep(const std::vector<uint8_t>&) const { return 0; }
+    } reader{read, m, s};
+    out[m] = Evaluator(p, reader, scratch).condition_program(truth);
+  }
+}
+
+// Works out the window's columns at step s for modules [0, n), from its conditions' truths at s
+// (`psi` read by a since only) and its columns before.
+inline void advance_window(const KeptWindow& w, int64_t s, const Truth* phi, const Truth* psi, const KeptColumns& c,
+                           size_t n) {
+  const int columns = w.columns();
+  auto unknown = [&](size_t m) {
+    for (int i = 0; i < columns; ++i) {
+      c.now[size_t(i)][m] = 0;
+      c.now_known[size_t(i)][m] = 0;
+    }
+  };
+  if (s < w.first_step) {  // no j kept: unknown
+    for (size_t m = 0; m < n; ++m) unknown(m);
+    return;
+  }
   const bool first = s == w.first_step;
-
+  auto verdict = [&](size_t m, Truth t) {
+    c.now[0][m] = t == kTrue;
+    c.now_known[0][m] = t != kUnknown;
+  };
   if (w.k == 0) {  // unbounded since: one bit
-    const Truth psi = e.condition_program(w.psi);
-    int64_t before = 0;
-    const Truth prior = first ? kFalse : read(w.column, s - 1, before) ? truth_of(before != 0) : kUnknown;
-    const Truth t = kleene_or(psi, kleene_and(phi, prior));
-    out.value[0] = t == kTrue;
-    out.known[0] = t != kUnknown;
-    return out;
+    for (size_t m = 0; m < n; ++m) {
+      Truth prior = kFalse;
+      if (!first) prior = c.before[0] && c.before_known[0][m] ? truth_of(c.before[0][m] != 0) : kUnknown;
+      verdict(m, kleene_or(psi[m], kleene_and(phi[m], prior)));
+    }
+    return;
   }
-
-  // State column i at s − 1 (its start, at d: no step yet, or a count of 0); false when not held.
-  constexpr int64_t kNever = -1;  // every step compared with is at least 0
-  auto prior = [&](int i, int64_t start) {
-    int64_t v = start;
-    if (!first && !read(w.column + i, s - 1, v)) return false;
-    out.value[static_cast<size_t>(i)] = v;
-    out.known[static_cast<size_t>(i)] = true;
-    return true;
-  };
-  auto latest = [&](int i, bool now) {
-    if (now) out.value[static_cast<size_t>(i)] = s;
-    return out.value[static_cast<size_t>(i)];
-  };
+  constexpr int64_t kNever = -1;  // no step yet: every step compared with is at least 0
   const int64_t lo = std::max<int64_t>(w.first_step, s - w.k);
-  auto verdict = [&](Truth t) {
-    out.value[0] = t == kTrue;
-    out.known[0] = t != kUnknown;
-  };
-  switch (w.kind) {
-    case WindowKind::Once: {
-      if (!prior(1, kNever) || !prior(2, kNever)) return KeptStep{};
-      const int64_t phi_true = latest(1, phi == kTrue), phi_unknown = latest(2, phi == kUnknown);
-      verdict(phi_true >= lo ? kTrue : phi_unknown >= lo ? kUnknown : kFalse);
-      return out;
+  for (size_t m = 0; m < n; ++m) {
+    // The state at s − 1 (at d: no step yet, and a count of 0), then at s.
+    std::array<int64_t, kMaxKeptColumns> st{};
+    bool held = true;
+    for (int i = 1; i < columns; ++i) {
+      const bool count = w.kind == WindowKind::Times && i == 1;
+      if (first) st[size_t(i)] = count ? 0 : kNever;
+      else if (c.before[size_t(i)] && c.before_known[size_t(i)][m]) st[size_t(i)] = c.before[size_t(i)][m];
+      else held = false;
     }
-    case WindowKind::Historically: {
-      if (!prior(1, kNever) || !prior(2, kNever)) return KeptStep{};
-      const int64_t phi_false = latest(1, phi == kFalse), phi_unknown = latest(2, phi == kUnknown);
-      verdict(phi_false >= lo ? kFalse : phi_unknown >= lo ? kUnknown : kTrue);
-      return out;
+    if (!held) {
+      unknown(m);
+      continue;
     }
-    case WindowKind::Times: {
-      if (!prior(1, 0) || !prior(2, kNever)) return KeptStep{};
-      out.value[1] += phi == kTrue;  // C(s): at most s + 1
-      if (latest(2, phi == kUnknown) >= lo) return out;
-      int64_t before = 0;  // C(lo − 1), 0 before d
-      if (lo > w.first_step && !read(w.column + 1, lo - 1, before)) return out;
-      out.value[0] = out.value[1] - before;
-      out.known[0] = true;
-      return out;
+    auto latest = [&](int i, bool now) {
+      if (now) st[size_t(i)] = s;
+      return st[size_t(i)];
+    };
+    switch (w.kind) {
+      case WindowKind::Once: {
+        const int64_t phi_true = latest(1, phi[m] == kTrue), phi_unknown = latest(2, phi[m] == kUnknown);
+        verdict(m, phi_true >= lo ? kTrue : phi_unknown >= lo ? kUnknown : kFalse);
+        break;
+      }
+      case WindowKind::Historically: {
+        const int64_t phi_false = latest(1, phi[m] == kFalse), phi_unknown = latest(2, phi[m] == kUnknown);
+        verdict(m, phi_false >= lo ? kFalse : phi_unknown >= lo ? kUnknown : kTrue);
+        break;
+      }
+      case WindowKind::Times: {
+        st[1] += phi[m] == kTrue;  // C(s): at most s + 1
+        const bool any_unknown = latest(2, phi[m] == kUnknown) >= lo;
+        const bool left = lo > w.first_step;  // C(lo − 1) = C(s − k − 1); 0 before d
+        const bool known = !any_unknown && (!left || (c.count_left && c.count_left_known[m]));
+        c.now[0][m] = known ? st[1] - (left ? c.count_left[m] : 0) : 0;
+        c.now_known[0][m] = known;
+        break;
+      }
+      case WindowKind::Since: {
+        const int64_t psi_true = latest(1, psi[m] == kTrue), psi_not_false = latest(2, psi[m] != kFalse);
+        const int64_t phi_not_true = latest(3, phi[m] != kTrue), phi_false = latest(4, phi[m] == kFalse);
+        if (psi_true >= lo && phi_not_true <= psi_true) verdict(m, kTrue);
+        else verdict(m, psi_not_false < std::max(lo, phi_false) ? kFalse : kUnknown);
+        break;
+      }
     }
-    case WindowKind::Since: {
-      if (!prior(1, kNever) || !prior(2, kNever) || !prior(3, kNever) || !prior(4, kNever)) return KeptStep{};
-      const Truth psi = e.condition_program(w.psi);
-      const int64_t psi_true = latest(1, psi == kTrue), psi_not_false = latest(2, psi != kFalse);
-      const int64_t phi_not_true = latest(3, phi != kTrue), phi_false = latest(4, phi == kFalse);
-      if (psi_true >= lo && phi_not_true <= psi_true) verdict(kTrue);
-      else verdict(psi_not_false < std::max(lo, phi_false) ? kFalse : kUnknown);
-      return out;
+    for (int i = 1; i < columns; ++i) {
+      c.now[size_t(i)][m] = st[size_t(i)];
+      c.now_known[size_t(i)][m] = 1;
     }
   }
-  return out;
 }
 
 }  // namespace dw::watch

@@ -32,6 +32,11 @@ TokenKind keyword_or_name(std::string_view word) {
   if (word == "since") return TokenKind::Since;
   if (word == "times") return TokenKind::Times;
   if (word == "id") return TokenKind::Id;
+  if (word == "within") return TokenKind::Within;
+  if (word == "all") return TokenKind::All;
+  if (word == "argmin") return TokenKind::Argmin;
+  if (word == "argmax") return TokenKind::Argmax;
+  if (word == "component") return TokenKind::Component;
   return TokenKind::Name;
 }
 
@@ -165,6 +170,11 @@ class Lexer {
     }
     // Consume a whole UTF-8 sequence so that the caret covers one character.
     while (pos_ < text_.size() && (static_cast<unsigned char>(text_[pos_]) & 0xC0) == 0x80) ++pos_;
+    // Comparisons typed as one mathematical sign (U+2265, U+2264, U+2260): say the ASCII spelling.
+    const std::string_view sign = text_.substr(begin, pos_ - begin);
+    if (sign == "\u2265") return invalid(begin, "'\u2265' is not an operator; use '>='");
+    if (sign == "\u2264") return invalid(begin, "'\u2264' is not an operator; use '<='");
+    if (sign == "\u2260") return invalid(begin, "'\u2260' is not an operator; use '!='");
     const unsigned char u = static_cast<unsigned char>(c);
     std::string shown = (u >= 0x20 && u < 0x7f) ? "'" + std::string(1, c) + "'"
                                                 : "byte 0x" + std::string(1, "0123456789abcdef"[u >> 4]) +
@@ -177,7 +187,7 @@ class Lexer {
   size_t base_ = 0;  // where the text starts in the file its spans count in
 };
 
-bool is_keyword(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Id; }
+bool is_keyword(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Component; }
 
 bool is_reserved(TokenKind k) { return k >= TokenKind::Modules && k <= TokenKind::Next; }
 
@@ -210,6 +220,11 @@ std::string describe(TokenKind k) {
     case TokenKind::Since: return "'since'";
     case TokenKind::Times: return "'times'";
     case TokenKind::Id: return "'id'";
+    case TokenKind::Within: return "'within'";
+    case TokenKind::All: return "'all'";
+    case TokenKind::Argmin: return "'argmin'";
+    case TokenKind::Argmax: return "'argmax'";
+    case TokenKind::Component: return "'component'";
     case TokenKind::LParen: return "'('";
     case TokenKind::RParen: return "')'";
     case TokenKind::Semicolon: return "';'";

@@ -55,7 +55,7 @@ NodeIndex Parser::integer(bool negated, Span minus) {
 }
 
 // atom := INT | statevar | '(' expr ')' | 'abs' '(' expr ')' | ('min' | 'max') '(' expr ',' expr ')'
-//       | aggregate | 'times' '[' INT ']' '(' or ')' | 'id' '(' module ')'
+//       | aggregate | 'times' '[' INT ']' '(' or ')' | 'id' '(' module ')'  (aggregates: argmin, argmax too)
 NodeIndex Parser::parse_atom(int depth) {
   const Span start = peek().span;
   switch (peek().kind) {
@@ -89,7 +89,9 @@ NodeIndex Parser::parse_atom(int depth) {
       if (at(pos_ + 3).kind == TokenKind::In) return parse_aggregate(depth);  // min ( NAME in
       return parse_min_max(depth);
     case TokenKind::Count:
-    case TokenKind::Sum: return parse_aggregate(depth);
+    case TokenKind::Sum:
+    case TokenKind::Argmin:
+    case TokenKind::Argmax: return parse_aggregate(depth);
     case TokenKind::Times: return parse_window(depth);
     case TokenKind::Id: return parse_id();
     default: error_expected("a number, a state variable or an expression"); return error_node(start);
@@ -111,16 +113,18 @@ NodeIndex Parser::parse_min_max(int depth) {
   return node(is_min ? NodeKind::Min : NodeKind::Max, Span::cover(start, previous().span), a, b);
 }
 
-// aggregate := 'count' '(' NAME 'in' 'neighbors' '(' module ')' [':' or] ')'
-//            | ('sum' | 'min' | 'max') '(' NAME 'in' 'neighbors' '(' module ')' ':' expr ')'
+// aggregate := 'count' '(' NAME 'in' domain [':' or] ')'
+//            | ('sum' | 'min' | 'max' | 'argmin' | 'argmax') '(' NAME 'in' domain ':' expr ')'
 NodeIndex Parser::parse_aggregate(int depth) {
   const Token& kw = advance();
   Node n;
   n.kind = NodeKind::Aggregate;
-  n.aggregate = kw.kind == TokenKind::Count ? AggregateKind::Count
-                : kw.kind == TokenKind::Sum ? AggregateKind::Sum
-                : kw.kind == TokenKind::Min ? AggregateKind::Min
-                                            : AggregateKind::Max;
+  n.aggregate = kw.kind == TokenKind::Count    ? AggregateKind::Count
+                : kw.kind == TokenKind::Sum    ? AggregateKind::Sum
+                : kw.kind == TokenKind::Min    ? AggregateKind::Min
+                : kw.kind == TokenKind::Max    ? AggregateKind::Max
+                : kw.kind == TokenKind::Argmin ? AggregateKind::Argmin
+                                               : AggregateKind::Argmax;
   const std::string what = aggregate_name(n.aggregate);
   const Span start = kw.span;
   if (!expect(TokenKind::LParen, "'(' after '" + what + "'")) return error_node(start);
@@ -140,21 +144,7 @@ NodeIndex Parser::parse_aggregate(int depth) {
   const bool nested = !bound_.empty();
   if (nested) report(Span::cover(start, bound.span), "aggregates do not nest: this one is inside '" + bound_ + "''s");
   if (!expect(TokenKind::In, "'in' after the bound name '" + n.name + "'")) return skip_group(start);
-  if (!expect(TokenKind::Neighbors, "'neighbors' after 'in'")) return skip_group(start);
-  if (!expect(TokenKind::LParen, "'(' after 'neighbors'")) return skip_group(start);
-  if (check(TokenKind::Name) && source_.slice(peek().span) == n.name) {
-    report(peek().span,
-           "an aggregate ranges over a module's neighbours; '" + n.name + "' is its own bound name, not a module");
-    bad_name = true;
-    quiet_ = n.name;  // said once: not "undeclared" as well
-  }
-  const bool parsed = parse_module_in_neighbor(n.x);
-  quiet_.clear();
-  if (!parsed || !expect(TokenKind::RParen, "')' after the module of neighbors()")) {
-    skip_group(start);
-    return skip_group(start);
-  }
-  if (n.x.bound) report(n.x.span, "an aggregate ranges over a module of modules(...), not over a bound name");
+  if (!parse_domain(n, bad_name, nested, depth)) return skip_group(start);
   const std::string saved = bound_;
   if (!nested) bound_ = bad_name ? std::string() : n.name;
   bound_names_.push_back(n.name);
@@ -172,6 +162,66 @@ NodeIndex Parser::parse_aggregate(int depth) {
   if (panic_ || !expect(TokenKind::RParen, "')' to close '" + what + "('")) return skip_group(start);
   n.span = Span::cover(start, previous().span);
   return add(std::move(n));
+}
+
+// domain := 'neighbors' '(' module ')' | 'within' '(' module ',' INT ')' | 'all'
+//         | 'component' '(' module ':' or ')'
+// On a mistake, said once, false: the caller skips to the aggregate's ')' (this skips to the domain's).
+bool Parser::parse_domain(Node& n, bool& bad_name, bool nested, int depth) {
+  if (match(TokenKind::All)) {
+    n.domain = Domain::All;
+    n.x.slot = 0;  // the match step is slot 0's "now" (ast.h)
+    n.x.span = previous().span;
+    return true;
+  }
+  if (!check(TokenKind::Neighbors) && !check(TokenKind::Within) && !check(TokenKind::Component)) {
+    error_expected("'neighbors(m)', 'within(m, h)', 'all' or 'component(m: c)' after 'in'");
+    return false;
+  }
+  const TokenKind kind = advance().kind;
+  const bool within = kind == TokenKind::Within;
+  const std::string word = within ? "within" : kind == TokenKind::Component ? "component" : "neighbors";
+  n.domain = within ? Domain::Within : kind == TokenKind::Component ? Domain::Component : Domain::Neighbors;
+  if (!expect(TokenKind::LParen, "'(' after '" + word + "'")) return false;
+  const Span open = previous().span;
+  auto fail = [&] {  // inside its '(': up to its ')' first
+    skip_group(open);
+    return false;
+  };
+  if (check(TokenKind::Name) && source_.slice(peek().span) == n.name) {
+    report(peek().span, "an aggregate ranges over a module's " + std::string(within ? "surroundings" : "neighbours") +
+                            "; '" + n.name + "' is its own bound name, not a module");
+    bad_name = true;
+    quiet_ = n.name;  // said once: not "undeclared" as well
+  }
+  const bool parsed = parse_module_in_neighbor(n.x, (word + "()").c_str());
+  quiet_.clear();
+  if (!parsed) return fail();
+  if (within) {
+    if (!expect(TokenKind::Comma, "',' and the number of hops after the module, as in 'within(a, 2)'")) return fail();
+    const Token h = peek();
+    if (h.kind != TokenKind::Integer) {
+      error_expected("the number of hops, 1 to " + std::to_string(kMaxWithinHops));
+      return fail();
+    }
+    advance();
+    if (h.overflow || h.value < 1 || h.value > static_cast<uint64_t>(kMaxWithinHops))
+      report(h.span, "within(m, h) reaches 1 to " + std::to_string(kMaxWithinHops) + " hops");
+    else n.value = static_cast<int64_t>(h.value);
+  }
+  if (n.domain == Domain::Component) {
+    if (!expect(TokenKind::Colon, "':' and the condition a member meets, as in 'component(a: n.c = a.c)'"))
+      return fail();
+    // The condition is over the bound name, the candidate (no aggregate inside: they do not nest).
+    const std::string saved = bound_;
+    if (!nested) bound_ = bad_name ? std::string() : n.name;
+    n.rhs = parse_or(depth + 1);
+    bound_ = saved;
+    if (bail_ || panic_) return fail();
+  }
+  if (!expect(TokenKind::RParen, "')' after the module of " + word + "()")) return fail();
+  if (n.x.bound) report(n.x.span, "an aggregate ranges over a module of modules(...), not over a bound name");
+  return true;
 }
 
 // ---- modules and state variables ----------------------------------------------------------

@@ -11,7 +11,8 @@ namespace detail {
 bool starts_expression(TokenKind k) {
   return k == TokenKind::Name || k == TokenKind::Integer || k == TokenKind::NonInteger || k == TokenKind::Minus ||
          k == TokenKind::LParen || k == TokenKind::Abs || k == TokenKind::Min || k == TokenKind::Max ||
-         k == TokenKind::Count || k == TokenKind::Sum || k == TokenKind::Times || k == TokenKind::Id;
+         k == TokenKind::Count || k == TokenKind::Sum || k == TokenKind::Times || k == TokenKind::Id ||
+         k == TokenKind::Argmin || k == TokenKind::Argmax;
 }
 
 bool starts_window_condition(TokenKind k) {

@@ -18,6 +18,8 @@ constexpr size_t kMaxNodes = 4096;
 // Largest temporal offset, either way: `a.next.next...` past it is an error at its span rather
 // than history (and memory) in proportion to the offset.
 constexpr int kMaxOffset = 10'000;
+// The most hops `within(m, h)` reaches (docs/design.md §4c).
+constexpr int kMaxWithinHops = 8;
 
 struct ParseResult {
   Ast ast;

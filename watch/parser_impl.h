@@ -221,6 +221,7 @@ class Parser {
   NodeIndex parse_atom(int depth);
   NodeIndex parse_min_max(int depth);
   NodeIndex parse_aggregate(int depth);
+  bool parse_domain(Node& n, bool& bad_name, bool nested, int depth);
   void shift(ModuleRef& m, int delta);
   bool parse_module_in_neighbor(ModuleRef& out, const char* taker = "neighbor()");
   bool parse_slot_name(ModuleRef& out);

@@ -102,6 +102,7 @@ class Compiler {
     }
     order_sets();
     keep_window_columns();
+    keep_wider_domains();
   }
 
  private:
@@ -304,6 +305,26 @@ class Compiler {
     }
   }
 
+  // within(), all and component() are read where their leaf is decided, from the history of every
+  // module: in the distributed reading up to k - 1 steps after their own slot's step. Their reads
+  // are kept that much longer (what a table carries for neighbors(), they read again).
+  void keep_wider_domains() {
+    const int later = std::max(0, p_.slot_count() - 1);
+    for (const AggregateCode& a : p_.aggregates) {
+      if (a.domain == Domain::Neighbors) continue;
+      p_.min_neighbor_offset = std::min(p_.min_neighbor_offset, a.offset - later);
+      for (const TermRef& r : a.neighbor_reads) {
+        if (r.variable == kIdVariable) {
+          p_.min_neighbor_offset = std::min(p_.min_neighbor_offset, a.offset + r.offset - later);
+          continue;
+        }
+        int& kept = p_.variable_min_offset[static_cast<size_t>(r.variable)];
+        kept = std::min(kept, a.offset + r.offset - later);
+      }
+      for (int16_t o : a.neighbor_sets) p_.min_neighbor_offset = std::min(p_.min_neighbor_offset, a.offset + o - later);
+    }
+  }
+
   // An integer expression as postfix value code, its terms carried as decide_ requires.
   uint32_t compile_value(NodeIndex root) {
     std::vector<ValueInstr> code;
@@ -374,9 +395,24 @@ class Compiler {
     a.kind = n.aggregate;
     a.slot = static_cast<int16_t>(n.x.slot);
     a.offset = static_cast<int16_t>(n.x.offset);
+    a.domain = n.domain;
+    if (n.aggregate == AggregateKind::Argmin || n.aggregate == AggregateKind::Argmax) {
+      // What it gives is each element's id: read (and carried in a table) as its variables are.
+      p_.reads_id = true;
+      TermRef id;
+      id.variable = kIdVariable;
+      a.neighbor_reads.push_back(id);
+    }
+    a.hops = static_cast<int16_t>(n.domain == Domain::Within ? n.value : 1);
     p_.aggregates.push_back(a);
     const uint32_t outer = aggregate_;
     aggregate_ = index;
+    if (n.rhs != kNoNode) {  // a component's condition
+      int depth = 0;
+      std::vector<ExprOp> ops = compile_condition(n.rhs, index, depth);
+      p_.aggregates[index].member_condition = std::move(ops);
+      p_.aggregates[index].member_depth = depth;
+    }
     if (n.lhs != kNoNode) {
       if (n.aggregate == AggregateKind::Count) {
         int depth = 0;
@@ -389,7 +425,11 @@ class Compiler {
       }
     }
     aggregate_ = outer;
-    if (a.slot != decide_) {
+    if ((a.domain == Domain::Within || a.domain == Domain::Component) && a.slot != decide_) {
+      // Read where it is decided from the engine's history of every module (what h rounds of
+      // messages bring, docs/design.md §4c), around the module the PatternMatcher carries: no table.
+      carries_ = true;
+    } else if (a.domain == Domain::Neighbors && a.slot != decide_) {
       carries_ = true;
       p_.sets.push_back({a.slot, a.offset, static_cast<int32_t>(index)});
       p_.aggregates[index].table = static_cast<int16_t>(p_.sets.size() - 1);

@@ -125,7 +125,11 @@ Truth run_logic(const std::vector<ExprOp>& ops, Truth* stack, TruthOf&& truth) {
 // `count(n in neighbors(a.last): cond)`, `sum/min/max(n in neighbors(a): expr)`.
 struct AggregateCode {
   AggregateKind kind = AggregateKind::Count;
-  int16_t slot = 0, offset = 0;   // ranges over N(slot's module, now + offset), present neighbours
+  int16_t slot = 0, offset = 0;       // ranges over N(slot's module, now + offset), present neighbours
+  Domain domain = Domain::Neighbors;  // or within `hops` of it, or all modules present then (ast.h)
+  int16_t hops = 1;
+  std::vector<ExprOp> member_condition;  // component: what a candidate (the bound name) meets to join
+  int member_depth = 0;
   uint32_t value = kNoCode;       // sum, min, max: the value of each neighbour
   std::vector<ExprOp> condition;  // count: over Program::tests, empty for none
   int condition_depth = 0;        // the truths its condition's evaluation needs
@@ -236,7 +240,7 @@ class Program {
   std::vector<std::string> variables;
   std::vector<int> variable_min_offset;  // per variable
   int extent_plus = 0;                   // E+
-  int aggregate_hops = 0;                // 0 or 1 (Analysis::aggregate_hops)
+  int aggregate_hops = 0;                // 0 to kMaxWithinHops (Analysis::aggregate_hops)
   int min_offset = 0;                    // <= 0
   int min_neighbor_offset = 0;           // <= 0; neighbour sets are read at [this, E+]
   std::vector<Leaf> leaves;
@@ -268,5 +272,18 @@ class Program {
   int max_condition_stack = 0;
   std::vector<ActionCode> actions;
 };
+
+// The first aggregate domain that reads past a module's own neighbours ("within()", "all",
+// "component()"), or
+// nullptr: over ranks an agent's history holds its rank's modules and a one-hop ghost layer only,
+// so such a watchpoint is refused there until a deeper layer and reductions are exchanged.
+inline const char* domain_beyond_neighbours(const Program& p) {
+  for (const AggregateCode& a : p.aggregates) {
+    if (a.domain == Domain::Within) return "within()";
+    if (a.domain == Domain::All) return "all";
+    if (a.domain == Domain::Component) return "component()";
+  }
+  return nullptr;
+}
 
 }  // namespace dw::watch

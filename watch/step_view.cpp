@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "watch/detector.h"
+#include "watch/domains.h"
 #include "watch/kept_windows.h"
 
 namespace dw::watch {
@@ -42,30 +43,39 @@ void StepHistory::record(const Frame& frame) {
 // Each kept window's columns at the newest step its conditions can be read for (watch/kept_windows.h).
 void StepHistory::work_out_kept_windows(int64_t newest) {
   const Program& p = *program_;
+  auto column_of = [&](int variable, int64_t step, const int64_t*& values, const uint8_t*& known) {
+    const Column* c = column(variable, step);
+    if (c == nullptr) return false;
+    values = c->value.data();
+    known = c->known.data();
+    return true;
+  };
+  auto read = [&](size_t m, int variable, int64_t step, int64_t& out) {
+    if (variable == kIdVariable) {
+      const Graph* g = graph(step);
+      if (g == nullptr || !g->present[m]) return false;
+      out = id(static_cast<uint32_t>(m));
+      return true;
+    }
+    const Column* c = column(variable, step);
+    if (c == nullptr || !c->known[m]) return false;
+    out = c->value[m];
+    return true;
+  };
   for (const KeptWindow& w : p.kept_windows) {
     const int64_t s = newest - w.ahead;
-    Column* now[kMaxKeptColumns] = {};
-    for (int c = 0; c < w.columns(); ++c) now[c] = columns_[static_cast<size_t>(w.column + c)].find(s);
-    if (now[0] == nullptr) continue;
-    for (uint32_t m = 0; m < modules_; ++m) {
-      auto read = [&](int variable, int64_t step, int64_t& out) {
-        if (variable == kIdVariable) {
-          const Graph* g = graph(step);
-          if (g == nullptr || !g->present[m]) return false;
-          out = id(m);
-          return true;
-        }
-        const Column* c = column(variable, step);
-        if (c == nullptr || !c->known[m]) return false;
-        out = c->value[m];
-        return true;
-      };
-      const KeptStep k = work_out_window(p, w, s, read, scratch_);
-      for (int c = 0; c < w.columns(); ++c) {
-        now[c]->known[m] = k.known[static_cast<size_t>(c)];
-        now[c]->value[m] = k.value[static_cast<size_t>(c)];
-      }
+    KeptColumns c;
+    if (columns_[static_cast<size_t>(w.column)].find(s) == nullptr) continue;
+    for (int i = 0; i < w.columns(); ++i) {
+      Column& now = *columns_[static_cast<size_t>(w.column + i)].find(s);
+      c.now[size_t(i)] = now.value.data();
+      c.now_known[size_t(i)] = now.known.data();
+      column_of(w.column + i, s - 1, c.before[size_t(i)], c.before_known[size_t(i)]);
     }
+    if (w.kind == WindowKind::Times) column_of(w.column + 1, s - w.k - 1, c.count_left, c.count_left_known);
+    condition_truths(p, w.phi, s, modules_, column_of, read, scratch_, phi_);
+    if (w.kind == WindowKind::Since) condition_truths(p, w.psi, s, modules_, column_of, read, scratch_, psi_);
+    advance_window(w, s, phi_.data(), psi_.data(), c, modules_);
   }
 }
 
@@ -93,11 +103,32 @@ class StepView::Reader {
   int open(const AggregateCode& a) {
     step_ = v_.t_ + a.offset;
     const StepHistory::Graph* g = h_.graph(step_);
-    const uint32_t m = binding_[a.slot];
-    if (g == nullptr || !g->present[m]) return -1;
-    // N(m, s) is a set of the neighbours present at s (docs/design.md §4b).
     std::vector<uint32_t>& n = v_.neighbors_;
     n.clear();
+    if (g == nullptr) return -1;
+    if (a.domain == Domain::All) {  // every module present at the match step (docs/design.md §4c)
+      for (uint32_t u = 0; u < g->present.size(); ++u)
+        if (g->present[u]) n.push_back(u);
+      return static_cast<int>(n.size());
+    }
+    const uint32_t m = binding_[a.slot];
+    if (!g->present[m]) return -1;
+    if (a.domain == Domain::Component) {  // candidate 0, the module; the evaluator grows it (expand)
+      graph_ = g;
+      n.assign(1, m);
+      v_.seen_.assign(1, m);
+      return 1;
+    }
+    if (a.domain == Domain::Within) {
+      gather_within(
+          m, a.hops,
+          [&](uint32_t u, auto&& visit) {
+            for (uint32_t w : g->neighbors(u)) visit(w);
+          },
+          [&](uint32_t u) { return g->present[u] != 0; }, n, v_.seen_, v_.frontier_);
+      return static_cast<int>(n.size());
+    }
+    // N(m, s) is a set of the neighbours present at s (docs/design.md §4b).
     for (uint32_t u : g->neighbors(m))
       if (g->present[u]) n.push_back(u);
     std::sort(n.begin(), n.end());
@@ -113,6 +144,16 @@ class StepView::Reader {
     const auto ns = g->neighbors(n);
     return truth_of(std::find(ns.begin(), ns.end(), y) != ns.end());
   }
+  int expand(int i) {
+    const StepHistory::Graph* g = graph_;
+    return add_candidates(
+        v_.neighbors_[static_cast<size_t>(i)],
+        [&](uint32_t u, auto&& visit) {
+          for (uint32_t w : g->neighbors(u)) visit(w);
+        },
+        [&](uint32_t u) { return g->present[u] != 0; }, v_.neighbors_, v_.seen_);
+  }
+  int keep(const std::vector<uint8_t>& joined) { return keep_members(v_.neighbors_, joined); }
   uint32_t slot_module(int slot) const { return binding_[slot]; }
   Truth slot_adjacent(const ConditionTest& t, uint32_t y) const { return v_.neighbor(binding_[t.x], t.offset, y); }
   int64_t now(int) const { return v_.t_; }  // every slot's, in a simultaneous reading
@@ -132,7 +173,8 @@ class StepView::Reader {
   const StepView& v_;
   const StepHistory& h_;
   const uint32_t* binding_;
-  int64_t step_ = 0;  // the open aggregate's
+  int64_t step_ = 0;                           // the open aggregate's
+  const StepHistory::Graph* graph_ = nullptr;  // a component's, at step_
 };
 
 StepView::StepView(const Program& p, uint32_t modules)

@@ -47,7 +47,8 @@ class StepHistory {
   void work_out_kept_windows(int64_t newest);
 
   const Program* program_;
-  EvaluatorScratch scratch_;  // for the kept windows
+  EvaluatorScratch scratch_;      // for the kept windows
+  std::vector<Truth> phi_, psi_;  // their conditions' truths at a step, per module
   uint32_t modules_;
   std::vector<ModuleId> ids_;       // the universe's, when the program reads id() (empty: each id its index)
   std::vector<int> frame_columns_;  // program variable -> frame column
@@ -101,6 +102,7 @@ class StepView {
   uint32_t modules_ = 0;
   // Scratch for value code (docs/design.md §4b): an aggregate's neighbours, the evaluator's stacks.
   mutable std::vector<uint32_t> neighbors_;
+  mutable std::vector<uint32_t> seen_, frontier_;  // within()'s breadth-first search
   mutable EvaluatorScratch scratch_;
   int64_t t_ = -1;
   const StepHistory::Graph* now_ = nullptr;

@@ -38,6 +38,11 @@ enum class TokenKind : uint8_t {
   Since,
   Times,
   Id,
+  Within,
+  All,
+  Argmin,
+  Argmax,
+  Component,
   // punctuation
   LParen,
   RParen,

@@ -1,8 +1,10 @@
-// The 3D view's camera: where it looks (OrbitCamera, view_model.h), fitted to the ensemble, centred
-// on the selection or moved back to show a match's group; turned, panned and zoomed by the mouse.
+// The 3D view's camera: where it looks (OrbitCamera, view_model.h), fitted to the ensemble, zoomed
+// onto the selection (and its group) or moved back to show a match's group; turned, panned and
+// zoomed by the mouse.
 #include <imgui.h>
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "app/view/debugger.h"
@@ -35,11 +37,22 @@ void Debugger::place_camera() {
 void Debugger::focus_on_selection() {
   model_.focus_selection = false;
   if (!model_.selected) return;
+  // The selected module, with the group it belongs to when it is one of the shown group's: Z zooms
+  // so that they fill about 40% of the view's height (it used to pan only, and among 11,000
+  // modules a group stayed 20 pixels wide).
+  bool in_group = false;
+  for (const render::SceneModule& m : readout_.scene.modules) in_group = in_group || (m.selected && m.highlighted);
+  glm::vec3 lo(1e30f), hi(-1e30f);
   for (const render::SceneModule& m : readout_.scene.modules)
-    if (m.id == *model_.selected) {
-      model_.camera.target = {m.pose.position[0], m.pose.position[1], m.pose.position[2]};
-      return;
+    if (m.selected || (in_group && m.highlighted)) {
+      const glm::vec3 p(m.pose.position[0], m.pose.position[1], m.pose.position[2]);
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
     }
+  if (lo.x > hi.x) return;
+  const float radius = glm::length(hi - lo) * 0.5f + 0.7f;  // a module's half diagonal besides
+  model_.camera.target = (lo + hi) * 0.5f;
+  model_.camera.distance = radius / (0.4f * std::tan(render::Camera{}.fov_y * 0.5f));
 }
 
 int Debugger::modules_in_view(std::span<const sim::ModuleId> modules) {

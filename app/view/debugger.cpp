@@ -11,6 +11,8 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <filesystem>
+
 #include "shell/output_files.h"
 
 namespace dw::view {
@@ -28,7 +30,10 @@ Debugger::Debugger(const scenarios::Scenario& scenario, sim::Session& session, G
   ImGui::CreateContext();
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = layout_.empty() ? nullptr : layout_.c_str();
-  io.Fonts->AddFontFromFileTTF(DWATCH_FONT_FILE, 16.0f);
+  io.Fonts->AddFontFromFileTTF(DWATCH_FONT_FILE, 16.0f);  // the first font added is the default
+  if (const auto mono = std::filesystem::path(DWATCH_FONT_FILE).replace_filename("DejaVuSansMono.ttf");
+      std::filesystem::exists(mono))
+    mono_font_ = io.Fonts->AddFontFromFileTTF(mono.c_str(), 15.0f);
   ImGui::StyleColorsDark();
   ImGui_ImplGlfw_InitForOpenGL(window_.handle(), true);
   ImGui_ImplOpenGL3_Init("#version 330 core");

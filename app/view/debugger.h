@@ -160,6 +160,8 @@ class Debugger {
   // A name in a table cell (a watchpoint's): whole, or cut with "..." (whole in a tooltip) and
   // noted, for the tests that look for cut labels.
   void label_cell(const std::string& text, std::optional<ImVec4> color = std::nullopt);
+  // ImGui::TableHeadersRow, noting each header that does not show whole among the cut labels.
+  void headers_row();
   // panels.cpp
   void draw_panels();
   void transport_panel();
@@ -169,6 +171,9 @@ class Debugger {
   void matches_panel();
   // module_panels.cpp
   void inspector_panel();
+  void variables_table(const Inspector& in);
+  void interventions_row(const Inspector& in);
+  void session_files_row();
   void statistics_panel();
   void help_window();
 
@@ -241,6 +246,9 @@ class Debugger {
   int edit_shape_ = 0, edit_states_ = 0;      // chain, consistent: the paper's distributed reading
   std::string edit_checked_;                  // the name and text last compiled
   std::string edit_diagnostics_, edit_explanation_;
+  // The editor's text and its diagnostics in a monospace font: the caret line is aligned with
+  // spaces, which in a proportional font put column 39 under another word. Null: none installed.
+  ImFont* mono_font_ = nullptr;
   bool edit_ok_ = false;
 
   // Interventions and files.

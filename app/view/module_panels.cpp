@@ -1,6 +1,7 @@
-// The debugger's Module panel (the selected module: its variables now and a step before, a plot,
-// its neighbours and matches, the interventions and the session's files), the Statistics panel
-// (per watchpoint, the paper's Fig. 7 live) and the help window.
+// The debugger's Module panel (the selected module: the interventions on it, its variables now and
+// a step before, a plot of one over the steps, its neighbours and matches) with the session's
+// files, the Statistics panel (per watchpoint, the paper's Fig. 7 live) and
+// the help window.
 #include <imgui.h>
 
 #include <algorithm>
@@ -30,36 +31,15 @@ void Debugger::inspector_panel() {
     ImGui::SameLine();
     ImGui::TextDisabled("  after the step at (%.2f, %.2f, %.2f)", p[0], p[1], p[2]);
   }
-  if (ImGui::BeginTable("vars", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
-    ImGui::TableSetupColumn("variable");
-    ImGui::TableSetupColumn("value");
-    ImGui::TableSetupColumn("step before");
-    ImGui::TableHeadersRow();
-    for (const VariableRow& v : in.variables) {
-      ImGui::TableNextRow();
-      ImGui::TableNextColumn();
-      if (ImGui::Selectable(v.name.c_str(),
-                            v.name == model_.plot_variable || (model_.plot_variable.empty() && &v == &in.variables[0])))
-        model_.plot_variable = v.name, readout_stale_ = true;
-      ImGui::TableNextColumn();
-      if (v.changed()) cell_text(std::to_string(v.value) + "  (changed)", ImVec4(1, 0.8f, 0.2f, 1));
-      else cell_text(std::to_string(v.value));
-      ImGui::TableNextColumn();
-      if (v.before) cell_text(std::to_string(*v.before));
-      else ImGui::TextDisabled("-");
-    }
-    ImGui::EndTable();
-  }
+  interventions_row(in);
+  session_files_row();
+  variables_table(in);
   if (!in.plot.empty()) {
-    const std::string label = m.universe.variables[size_t(in.plot_column)] + ", steps " + std::to_string(in.plot_from) +
-                              " to " + std::to_string(in.plot_from + int64_t(in.plot.size()) - 1);
-    // The plot's width from the item width, -FLT_MIN being "to the right edge": ImGui 1.86's
-    // plots take a frame width of 0 as "the item width" but a negative one literally, which drew
-    // them one pixel wide.
-    ImGui::SetNextItemWidth(-FLT_MIN);
-    ImGui::PlotLines("##plot", in.plot.data(), int(in.plot.size()), 0, label.c_str(), FLT_MAX, FLT_MAX, ImVec2(0, 60));
-    plot_rects_.push_back(
-        {ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y, ImGui::GetItemRectMax().x, ImGui::GetItemRectMax().y});
+    const std::string title = m.universe.variables[size_t(in.plot_column)] + " over steps " +
+                              std::to_string(in.plot_from) + " to " +
+                              std::to_string(in.plot_from + int64_t(in.plot.size()) - 1);
+    const auto area = history_plot(title, in.plot, in.plot_from, readout_.at.current, 70);
+    plot_rects_.push_back({area[0], area[1], area[2], area[3]});
   }
   ImGui::TextUnformatted(in.pose ? "neighbours (touching at the end of the step before):" : "neighbours:");
   for (sim::ModuleId n : in.neighbors) {
@@ -83,30 +63,54 @@ void Debugger::inspector_panel() {
       readout_stale_ = true;
     }
   }
-  ImGui::Separator();
-  ImGui::TextUnformatted("Interventions at this step (each starts a branch):");
+  ImGui::End();
+}
+
+// The interventions on the selected module, at the top of its panel so that Set and Remove stay in
+// sight however many variables, matches and neighbours it lists.
+void Debugger::interventions_row(const Inspector& in) {
+  const sim::Model& m = session_.model();
   set_column_ = std::clamp(set_column_, 0, int(m.variable_count()) - 1);
   std::vector<const char*> variables;
   for (const std::string& v : m.universe.variables) variables.push_back(v.c_str());
   choice("variable", set_column_, variables);
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(120);
+  ImGui::SetNextItemWidth(std::max(120.0f, ImGui::CalcTextSize("-9223372036854775808").x + 8));
   ImGui::InputScalar("##value", ImGuiDataType_S64, &set_value_);
   note_widget("value");
   ImGui::SameLine();
   if (button("Set")) apply({command::set(in.module, m.universe.variables[size_t(set_column_)], set_value_)});
+
+  flow(button_width("Remove module"));
   if (button("Remove module")) apply({command::remove(in.module)});
   if (in.pose) {  // a physical world
-    ImGui::SameLine();
+    flow(160 + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize("impulse").x);
     ImGui::SetNextItemWidth(160);
     ImGui::InputFloat3("impulse", push_);
-    ImGui::SameLine();
+    flow(button_width("Push"));
     if (button("Push")) apply({command::push(in.module, {push_[0], push_[1], push_[2]})});
   }
-  ImGui::Text("%zu interventions on this branch", readout_.interventions.size());
-  // The session's `save`: its watchpoints and this branch's interventions, through the same
-  // checks as every output; an existing file is replaced only once confirmed.
-  ImGui::SetNextItemWidth(width_beside({"save as scenario", "overwrite it"}));
+  // How many there are, beside the buttons when there is room (not a line of its own).
+  const size_t n = readout_.interventions.size();
+  const std::string count = std::to_string(n) + (n == 1 ? " intervention" : " interventions") + " on this branch";
+  if (ImGui::GetItemRectMax().x + ImGui::GetStyle().ItemSpacing.x + ImGui::CalcTextSize(count.c_str()).x <=
+      ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("%s", count.c_str());
+  } else if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip("%s", count.c_str());
+  }
+}
+
+// The session's files: `save` (its watchpoints and this branch's interventions, through the same
+// checks as every output; an existing file is replaced only once confirmed) and `record`. Under
+// the interventions, in sight whatever the Module panel lists below.
+void Debugger::session_files_row() {
+  auto field_width = [](const char* text) {
+    return std::clamp(ImGui::CalcTextSize(text).x + 2 * ImGui::GetStyle().FramePadding.x + 4, 120.0f,
+                      ImGui::GetContentRegionAvail().x * 0.45f);
+  };
+  ImGui::SetNextItemWidth(field_width(save_path_));
   if (ImGui::InputText("##save", save_path_, sizeof save_path_)) save_refused_.clear();
   note_widget("scenario-file");
   ImGui::SameLine();
@@ -116,18 +120,60 @@ void Debugger::inspector_panel() {
     apply({command::save(save_path_, false)});
   }
   if (!save_refused_.empty() && save_refused_ == save_path_) {
-    ImGui::SameLine();
+    flow(button_width("overwrite it"));
     if (button("overwrite it", true)) {
       apply({command::save(save_refused_, true)});
       save_refused_.clear();
     }
   }
-  ImGui::SetNextItemWidth(width_beside({"record trace"}));
+  const float trace = field_width(record_path_);
+  flow(trace + ImGui::GetStyle().ItemSpacing.x + button_width("record trace"));
+  ImGui::SetNextItemWidth(trace);
   ImGui::InputText("##record", record_path_, sizeof record_path_);
   note_widget("trace-file");
   ImGui::SameLine();
   if (button("record trace", true)) apply({command::record(record_path_)});
-  ImGui::End();
+}
+
+// The module's variables, their values whole (a cut `_priority` read as another number, and two
+// modules' priorities could not be compared): the value columns as wide as their widest value, and
+// where the panel has no room for both beside the names, the step before's value under each value.
+void Debugger::variables_table(const Inspector& in) {
+  const ImVec4 kChanged(1, 0.8f, 0.2f, 1);
+  const float pad = 2 * ImGui::GetStyle().CellPadding.x + 2;
+  float names = header_width("variable"), values = header_width("value (* changed)"),
+        befores = header_width("step before");
+  for (const VariableRow& v : in.variables) {
+    names = std::max(names, ImGui::CalcTextSize(v.name.c_str()).x);
+    values = std::max(values, ImGui::CalcTextSize((std::to_string(v.value) + " *").c_str()).x);
+    if (v.before) befores = std::max(befores, ImGui::CalcTextSize(std::to_string(*v.before).c_str()).x);
+  }
+  const bool side_by_side = names + values + befores + 3 * pad <= ImGui::GetContentRegionAvail().x;
+  if (!side_by_side)
+    values = std::max({values, befores + ImGui::CalcTextSize("before ").x, header_width("value (* changed), before")});
+  if (!ImGui::BeginTable("vars", side_by_side ? 3 : 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) return;
+  ImGui::TableSetupColumn("variable", ImGuiTableColumnFlags_WidthStretch);
+  ImGui::TableSetupColumn(side_by_side ? "value (* changed)" : "value (* changed), before",
+                          ImGuiTableColumnFlags_WidthFixed, values);
+  if (side_by_side) ImGui::TableSetupColumn("step before", ImGuiTableColumnFlags_WidthFixed, befores);
+  headers_row();
+  for (const VariableRow& v : in.variables) {
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    if (ImGui::Selectable(v.name.c_str(),
+                          v.name == model_.plot_variable || (model_.plot_variable.empty() && &v == &in.variables[0])))
+      model_.plot_variable = v.name, readout_stale_ = true;
+    note_widget("plot " + v.name, 0, true);
+    ImGui::TableNextColumn();
+    if (v.changed()) label_cell(std::to_string(v.value) + " *", kChanged);
+    else label_cell(std::to_string(v.value));
+    if (!side_by_side) ImGui::TextDisabled("before %s", v.before ? std::to_string(*v.before).c_str() : "-");
+    if (!side_by_side) continue;
+    ImGui::TableNextColumn();
+    if (v.before) label_cell(std::to_string(*v.before));
+    else ImGui::TextDisabled("-");
+  }
+  ImGui::EndTable();
 }
 
 void Debugger::statistics_panel() {
@@ -161,8 +207,8 @@ void Debugger::statistics_panel() {
         const std::string id = std::string("##") + what;
         ImGui::SetNextItemWidth(-FLT_MIN);  // the cell's width (see the Module panel's plot)
         if (histogram)
-          ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 40));
-        else ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 40));
+          ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 32));
+        else ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 32));
         plot_rects_.push_back({ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y, ImGui::GetItemRectMax().x,
                                ImGui::GetItemRectMax().y});
       };

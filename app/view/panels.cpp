@@ -34,9 +34,10 @@ void Debugger::transport_panel() {
   ImGui::Begin("Transport and timeline", nullptr, ImGuiWindowFlags_NoCollapse);
   if (panels_.too_small) {
     const ImGuiViewport* vp = ImGui::GetMainViewport();
-    ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f),
-                       "The window is %.0fx%.0f: the panels need %.0fx%.0f or more to show whole. Enlarge it.",
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.35f, 0.3f, 1.0f));  // wrapped: it was cut
+    ImGui::TextWrapped("The window is %.0fx%.0f: the panels need %.0fx%.0f or more to show whole. Enlarge it.",
                        vp->WorkSize.x, vp->WorkSize.y, PanelLayout::kMinWidth, PanelLayout::kMinHeight);
+    ImGui::PopStyleColor();
   }
   const Position& at = readout_.at;
   if (button(model_.playing ? "Pause (Space)" : "Play (Space)")) press(Key::Space);
@@ -324,7 +325,9 @@ void Debugger::editor() {
   }
   flow(combo_width_of(kActions));
   choice("action", edit_action_, kActions);
+  if (mono_font_) ImGui::PushFont(mono_font_);
   ImGui::InputTextMultiline("##text", &edit_text_, ImVec2(-1, ImGui::GetTextLineHeight() * 4));
+  if (mono_font_) ImGui::PopFont();
   note_widget("text");
 
   // Compiled whenever the text changes, with the diagnostics the command line prints.
@@ -370,7 +373,9 @@ void Debugger::editor() {
   }
   if (!edit_diagnostics_.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(255, 120, 110, 255));
+    if (mono_font_) ImGui::PushFont(mono_font_);
     ImGui::TextUnformatted(edit_diagnostics_.c_str());
+    if (mono_font_) ImGui::PopFont();
     ImGui::PopStyleColor();
   } else if (!edit_explanation_.empty() && ImGui::CollapsingHeader("what it means (dwatch check)")) {
     ImGui::TextUnformatted(edit_explanation_.c_str());
@@ -441,10 +446,15 @@ void Debugger::matches_panel() {
     std::vector<std::string> names{"watch"};
     for (const WatchRow& row : readout_.watches) names.push_back(row.spec.name);
     ImGui::TableSetupColumn("watch", ImGuiTableColumnFlags_WidthFixed, names_width(names, 40, 200), 1);
-    ImGui::TableSetupColumn("t", ImGuiTableColumnFlags_DefaultSort, 1, 0);
-    ImGui::TableSetupColumn("detected", 0, 1, 2);
-    ImGui::TableSetupColumn("slots", ImGuiTableColumnFlags_NoSort, 4, 3);
-    ImGui::TableHeadersRow();
+    // The steps as wide as their header and its sort arrow (or the latest step, if wider).
+    const float steps =
+        std::max(header_width("detected", true),
+                 ImGui::CalcTextSize(std::to_string(std::max<int64_t>(0, readout_.at.latest)).c_str()).x);
+    ImGui::TableSetupColumn("t", ImGuiTableColumnFlags_DefaultSort | ImGuiTableColumnFlags_WidthFixed,
+                            std::max(header_width("t", true), steps * 0.7f), 0);
+    ImGui::TableSetupColumn("detected", ImGuiTableColumnFlags_WidthFixed, steps, 2);
+    ImGui::TableSetupColumn("slots", ImGuiTableColumnFlags_NoSort | ImGuiTableColumnFlags_WidthStretch, 1, 3);
+    headers_row();
     if (ImGuiTableSortSpecs* sort = ImGui::TableGetSortSpecs(); sort && sort->SpecsDirty && sort->SpecsCount > 0) {
       const ImGuiTableColumnSortSpecs& s = sort->Specs[0];
       filter.order = s.ColumnUserID == 1   ? MatchFilter::Order::Watch

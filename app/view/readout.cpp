@@ -140,6 +140,10 @@ Readout read_readout(sim::Session& session, const scenarios::Scenario& scenario,
   settings.selected = view.selected;
   settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(t);
   readout.scene = render::build_scene(model, session.state(), groups, settings);
+  // Once a watchpoint has matched, the ensemble stays faded at every step, group or none: stepping
+  // and playing, it no longer flickers between faded and vivid as matches come and go.
+  for (uint32_t w = 0; w < session.watches().size(); ++w)
+    readout.scene.fade_others = readout.scene.fade_others || session.matches(w).size() > 0;
   if (const int c = settings.color_by.empty() ? -1 : model.column(settings.color_by); c >= 0) {
     const sim::State& s = session.state();
     const size_t v = model.variable_count();

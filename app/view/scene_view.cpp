@@ -63,11 +63,14 @@ void Debugger::draw_view() {
                ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse | ImGuiWindowFlags_NoBackground);
   ImGui::PopStyleVar(2);
 
-  // The tool row: colour-by, fit, centre, screenshot.
+  // The tool row: colour-by, fit, zoom to the selection, screenshot, record.
   ImGui::SetCursorPos(ImVec2(ImGui::GetCursorPosX() + 6, ImGui::GetCursorPosY() + 4));
+  ImGui::AlignTextToFramePadding();
+  ImGui::TextUnformatted("colour by");  // the label before its menu, as it reads
+  ImGui::SameLine();
   ImGui::SetNextItemWidth(160);
   const auto& variables = session_.model().universe.variables;  // fixed for the run
-  if (ImGui::BeginCombo("colour by", model_.color_by.empty() ? "(one colour)" : model_.color_by.c_str())) {
+  if (ImGui::BeginCombo("##colour_by", model_.color_by.empty() ? "(one colour)" : model_.color_by.c_str())) {
     if (ImGui::Selectable("(one colour)", model_.color_by.empty())) model_.color_by.clear(), readout_stale_ = true;
     for (const std::string& v : variables)
       if (ImGui::Selectable(v.c_str(), v == model_.color_by)) model_.color_by = v, readout_stale_ = true;
@@ -76,15 +79,18 @@ void Debugger::draw_view() {
   ImGui::SameLine();
   if (button("Fit (F)")) press(Key::F);
   ImGui::SameLine();
-  if (button("Centre (Z)")) press(Key::Z);
+  if (button("Zoom to selection (Z)")) press(Key::Z);
   ImGui::SameLine();
   if (button("Screenshot (F12)")) press(Key::F12);
   // Record: a video of the steps as they show (.mp4 or .webm).
   if (!video_) {
     if (!video_path_[0])
       std::snprintf(video_path_, sizeof video_path_, "dwatch-%s.mp4", shell::file_name_part(scenario_.name).c_str());
-    flow(160 + ImGui::GetStyle().ItemSpacing.x + button_width("Record"));
-    ImGui::SetNextItemWidth(160);
+    // The file's name whole (it was cut at 160 pixels), up to 320.
+    const float field =
+        std::clamp(ImGui::CalcTextSize(video_path_).x + 2 * ImGui::GetStyle().FramePadding.x + 4, 160.0f, 320.0f);
+    flow(field + ImGui::GetStyle().ItemSpacing.x + button_width("Record"));
+    ImGui::SetNextItemWidth(field);
     ImGui::InputText("##video", video_path_, sizeof video_path_);
     note_widget("video-file");
     ImGui::SameLine();
@@ -96,7 +102,7 @@ void Debugger::draw_view() {
     flow(button_width("Stop recording"));
     if (button("Stop recording")) stop_recording();
     ImGui::SameLine();
-    ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "REC %" PRId64 " frames", frames);
+    ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "REC %" PRId64 " frame%s", frames, frames == 1 ? "" : "s");
   }
 
   const ImVec2 avail = ImGui::GetContentRegionAvail();

@@ -107,8 +107,9 @@ PanelLayout panel_layout(float x, float y, float width, float height, int lanes)
   l.view = {x, y, left, std::max(0.0f, height - transport)};
   l.transport = {x, y + l.view.height, left, height - l.view.height};
   // Watchpoints and the editor, Matches, Module, Statistics, top to bottom.
-  // In a low window the matches keep room for a few rows; the statistics give it up.
-  const float tall[] = {0.31f, 0.24f, 0.25f, 0.20f}, low[] = {0.30f, 0.30f, 0.25f, 0.15f};
+  // The Module panel has room for its interventions, variables and plot unscrolled at 1000 pixels;
+  // in a low window the matches keep room for a few rows, and the statistics give it up.
+  const float tall[] = {0.31f, 0.22f, 0.31f, 0.16f}, low[] = {0.30f, 0.28f, 0.27f, 0.15f};
   const float* shares = height >= 800 ? tall : low;
   PanelRect* column_panels[] = {&l.watchpoints, &l.matches, &l.module, &l.statistics};
   float top = y;
@@ -289,7 +290,7 @@ const std::vector<KeyHelp>& key_help() {
       {"Home / End", "step 0 / the latest step"},
       {"N / P", "next / previous match of the chosen watchpoint"},
       {"F", "fit the ensemble into the view"},
-      {"Z", "centre the view on the selection"},
+      {"Z", "zoom onto the selection (and its group)"},
       {"F12", "screenshot of the 3D view (PNG, as dwatch render draws it)"},
       {"F1", "this help"},
       {"Escape", "cancel the work in progress; close the help"},

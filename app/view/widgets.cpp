@@ -5,6 +5,8 @@
 #include <imgui_internal.h>  // the last item's flags: a disabled button cannot be pressed
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 
 #include "app/view/debugger.h"
 
@@ -60,6 +62,55 @@ float button_width(const std::string& label) {
   return ImGui::CalcTextSize(label.c_str(), nullptr, true).x + 2 * ImGui::GetStyle().FramePadding.x;
 }
 
+std::array<float, 4> history_plot(const std::string& title, std::span<const float> values, int64_t from,
+                                  int64_t current, float height) {
+  ImGui::TextUnformatted(title.c_str());
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  const float width = ImGui::GetContentRegionAvail().x, line = ImGui::GetTextLineHeight();
+  ImGui::Dummy(ImVec2(width, height + line));  // the plot, then the steps under it
+  if (values.empty()) return {origin.x, origin.y, origin.x + width, origin.y + height};
+  const float lo = *std::min_element(values.begin(), values.end()),
+              hi = *std::max_element(values.begin(), values.end());
+  // In double: a 19-digit constant minus 1 is itself in float, and its range would be empty.
+  const bool constant = lo == hi;
+  const double pad = constant ? std::max(1.0, std::abs(double(lo)) * 0.5) : 0;
+  const double bottom = double(lo) - pad, top = double(hi) + pad;
+  auto number = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", v);
+    return std::string(text);
+  };
+  const std::string hi_text = number(hi), lo_text = number(lo);
+  const float axis = std::max(ImGui::CalcTextSize(hi_text.c_str()).x, ImGui::CalcTextSize(lo_text.c_str()).x) + 6;
+  const ImVec2 p0(origin.x + axis, origin.y + line * 0.5f), p1(origin.x + width - 4, origin.y + height - line * 0.5f);
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  const ImU32 text = ImGui::GetColorU32(ImGuiCol_Text), faint = ImGui::GetColorU32(ImGuiCol_TextDisabled);
+  draw->AddRectFilled(p0, p1, ImGui::GetColorU32(ImGuiCol_FrameBg));
+  draw->AddLine(ImVec2(p0.x, p0.y), ImVec2(p0.x, p1.y), faint);
+  draw->AddLine(ImVec2(p0.x, p1.y), ImVec2(p1.x, p1.y), faint);
+  // 3 pixels in from the frame, so that a line at either extreme shows whole over the axis.
+  auto y_of = [&](float v) { return float(p1.y - 3 - (double(v) - bottom) / (top - bottom) * (p1.y - p0.y - 6)); };
+  const size_t n = values.size();
+  auto x_of = [&](double i) { return p0.x + float(i / double(n)) * (p1.x - p0.x); };  // step i: [x_of(i), x_of(i+1)]
+  draw->AddText(ImVec2(origin.x, y_of(hi) - line * 0.5f), text, hi_text.c_str());
+  if (!constant) draw->AddText(ImVec2(origin.x, y_of(lo) - line * 0.5f), text, lo_text.c_str());
+  if (current >= from && current < from + int64_t(n)) {
+    const float x = x_of(double(current - from) + 0.5);
+    draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), IM_COL32(240, 200, 60, 200));
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const float y = y_of(values[i]);
+    draw->AddLine(ImVec2(x_of(double(i)), y), ImVec2(x_of(double(i + 1)), y), kPlotLineColor, 2);
+    if (i + 1 < n && values[i + 1] != values[i])
+      draw->AddLine(ImVec2(x_of(double(i + 1)), y), ImVec2(x_of(double(i + 1)), y_of(values[i + 1])), kPlotLineColor,
+                    2);
+  }
+  const std::string first = "step " + std::to_string(from), last = std::to_string(from + int64_t(n) - 1);
+  draw->AddText(ImVec2(p0.x, p1.y + 2), faint, first.c_str());
+  if (n > 1) draw->AddText(ImVec2(p1.x - ImGui::CalcTextSize(last.c_str()).x, p1.y + 2), faint, last.c_str());
+  return {p0.x, p0.y, p1.x, p1.y};
+}
+
 void flow(float width) {
   const float right = ImGui::GetItemRectMax().x + ImGui::GetStyle().ItemSpacing.x + width;
   if (right <= ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x) ImGui::SameLine();
@@ -101,6 +152,29 @@ void Debugger::note_widget(const std::string& name, float text_width, bool selec
   }
   place.disabled = (GImGui->LastItemData.InFlags & ImGuiItemFlags_Disabled) != 0;
   drawing_widgets_.try_emplace(name, place);
+}
+
+void Debugger::headers_row() {
+  ImGui::TableNextRow(ImGuiTableRowFlags_Headers);
+  const bool sortable = (ImGui::GetCurrentTable()->Flags & ImGuiTableFlags_Sortable) != 0;
+  for (int c = 0; c < ImGui::TableGetColumnCount(); ++c) {
+    if (!ImGui::TableSetColumnIndex(c)) continue;
+    const char* name = ImGui::TableGetColumnName(c);
+    // A sortable column keeps room for its arrow (ImGui clips a header silently: "matc", "detec").
+    const float room = ImGui::GetContentRegionAvail().x;
+    const bool arrow = sortable && !(ImGui::TableGetColumnFlags(c) & ImGuiTableColumnFlags_NoSort);
+    if (ImGui::CalcTextSize(name).x + (arrow ? header_arrow_width() : 0) > room + 0.5f)
+      drawing_cut_labels_.push_back(name);
+    ImGui::PushID(c);
+    ImGui::TableHeader(name);
+    ImGui::PopID();
+  }
+}
+
+float header_arrow_width() { return ImGui::GetFontSize() * 0.65f + ImGui::GetStyle().ItemInnerSpacing.x; }
+
+float header_width(const char* name, bool sortable) {
+  return ImGui::CalcTextSize(name).x + (sortable ? header_arrow_width() : 0) + 2;
 }
 
 bool Debugger::button(const std::string& label, bool small) {

@@ -4,6 +4,8 @@
 
 #include <imgui.h>
 
+#include <array>
+#include <cstdint>
 #include <initializer_list>
 #include <optional>
 #include <span>
@@ -23,6 +25,10 @@ std::string fitted_text(const std::string& text, float room);
 bool cell_text(const std::string& text, std::optional<ImVec4> color = std::nullopt);
 // The width of a table column that shows each of `names` whole (within `most` pixels).
 float names_width(const std::vector<std::string>& names, float least, float most);
+// The width a sorted table's header arrow takes beside its name.
+float header_arrow_width();
+// A table column's least width to show its header `name` whole (with its sort arrow if sortable).
+float header_width(const char* name, bool sortable = false);
 // A button's width for its label.
 float button_width(const std::string& label);
 // Puts the next widget, `width` wide, on the line of the last one when it fits there, else on the
@@ -32,6 +38,15 @@ void flow(float width);
 float width_beside(std::initializer_list<const char*> buttons);
 // The width a combo needs to show `text` whole: its arrow and padding besides.
 float combo_width(const char* text);
+// The colour of a history plot's line (history_plot).
+constexpr ImU32 kPlotLineColor = IM_COL32(130, 200, 250, 255);
+// A variable's history that tells the truth: its title above it, never over the line; axes with
+// the largest and smallest values written at their heights and the first and last steps under
+// them; a step per value (a 0/1 variable reads as steps, not a ramp); a constant drawn across the
+// middle with its value beside it (not along the bottom, where it read as the smallest); the
+// current step marked. `from` is the step of values[0]. Returns the plot area's corners.
+std::array<float, 4> history_plot(const std::string& title, std::span<const float> values, int64_t from,
+                                  int64_t current, float height);
 // A combo as wide as its widest item.
 float combo_width_of(std::span<const char* const> items);
 

@@ -11,6 +11,8 @@ checks, the same matches, the same state hashes, and the command line's words in
 """
 
 from ._dwatch import (
+    ArgumentError,
+    BudgetError,
     CommandError,
     Error,
     Matches,
@@ -24,6 +26,8 @@ from ._dwatch import (
 )
 
 __all__ = [
+    "ArgumentError",
+    "BudgetError",
     "CommandError",
     "Error",
     "Matches",

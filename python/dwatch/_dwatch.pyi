@@ -11,11 +11,17 @@ __version__: str
 class Error(Exception):
     """What dwatch refuses or fails to do; its message is the command line's."""
 
+    file: Optional[str]
+    """Where the (first) mistake is, when the error says: a file's path, "<watch NAME>", "<command>"."""
+    line: Optional[int]
+    column: Optional[int]
+
+class ArgumentError(Error, ValueError):
+    """An argument out of its range or not one of its words."""
+
 class WatchError(Error, ValueError):
     """A watchpoint with mistakes: the first one's place and message, and the caret text of all."""
 
-    line: int
-    column: int
     message: str
     text: str
 
@@ -24,6 +30,14 @@ class ScenarioError(Error, ValueError):
 
 class TraceError(Error, ValueError):
     """A trace file or trace columns with mistakes."""
+
+class BudgetError(Error):
+    """A watchpoint exceeded max_live and stopped; the others went on."""
+
+    matches: dict[str, "Matches"]
+    """Every watchpoint's matches, the stopped ones' up to their stop."""
+    stopped: dict[str, str]
+    """The stopped watchpoints and why."""
 
 class CommandError(Error):
     """A session command that is wrong or failed, in `dwatch session`'s words."""
@@ -41,13 +55,17 @@ class Matches:
     """Module filling each slot, shape (n, len(slot_names))."""
     count: int
     """Every match, also when only counted (count_only=True, a `count` watchpoint): the arrays are then empty."""
+    def records(self) -> np.recarray:
+        """Fields t, detected and one per slot (slot_NAME for a slot named t or detected)."""
+    def to_pandas(self) -> Any:
+        """A pandas DataFrame of records(); needs pandas."""
     def __len__(self) -> int: ...
 
 Columns = Mapping[str, Any]
 """Trace columns: "t", "m" (one entry per line), "nbr_begin" + "nbrs" (offsets and flat ids) or
 "nbrs" (a sequence per line), and "vars" (variable name -> one value per line)."""
 
-def check(text: str, name: str = "w") -> str:
+def check(text: str, name: str = "w1") -> str:
     """What `dwatch check` prints for the watchpoint; raises WatchError."""
 
 def replay(
@@ -68,11 +86,15 @@ class Session:
 
     def __init__(
         self,
-        scenario: str,
+        scenario: Union[str, os.PathLike[str]],
         threads: Optional[int] = None,
         seed: Optional[int] = None,
         history_mb: Optional[int] = None,
     ) -> None: ...
+    def close(self) -> None:
+        """Frees the session now; any later call raises Error."""
+    def __enter__(self) -> "Session": ...
+    def __exit__(self, *args: object) -> None: ...
     def command(self, line: str) -> Optional[dict[str, Any]]:
         """Any command of the session language; its answer."""
     def step(self, n: int = 1) -> dict[str, Any]: ...
@@ -97,17 +119,21 @@ class Session:
     def matches(self, name: str) -> Matches: ...
     def state(self, module: int) -> dict[str, Any]:
         """The module at the current step: variables, neighbours, and with physics its pose after the step ('pose') and the one its neighbours were measured from, at the end of the step before ('nbrs_measured_from')."""
-    def values(self, variable: str) -> npt.NDArray[np.int64]:
-        """One variable of every module at the current step, shape (modules,)."""
-    def series(self, module: int, variable: str, first: int, last: int) -> npt.NDArray[np.int64]:
-        """One variable of one module over steps first..last, shape (last - first + 1,)."""
+    def values(self, variable: str) -> np.ma.MaskedArray[Any, np.dtype[np.int64]]:
+        """One variable of every module at the current step, shape (modules,), absent modules masked."""
+    def neighbours(self) -> Tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+        """N(m, t) at the current step as compressed rows (indptr, indices)."""
+    def present(self) -> npt.NDArray[np.bool_]:
+        """Which modules are present at the current step, shape (modules,)."""
+    def series(self, module: int, variable: str, first: int, last: int) -> np.ma.MaskedArray[Any, np.dtype[np.int64]]:
+        """One variable of one module over steps first..last, shape (last - first + 1,), masked where absent."""
     def hash(self) -> str: ...
     def render(
         self, width: int = 1280, height: int = 720, camera: Optional[Tuple[Point, Point]] = None
     ) -> npt.NDArray[np.uint8]:
         """The 3D view of the current step, shape (height, width, 3)."""
-    def save(self, path: str, overwrite: bool = False) -> dict[str, Any]: ...
-    def record(self, path: str) -> dict[str, Any]: ...
+    def save(self, path: Union[str, os.PathLike[str]], overwrite: bool = False) -> dict[str, Any]: ...
+    def record(self, path: Union[str, os.PathLike[str]]) -> dict[str, Any]: ...
     @property
     def current(self) -> int: ...
     @property

@@ -38,6 +38,28 @@ void add_matches(py::module_& m) {
       .def_readonly("detected", &Matches::detected, "Step during which each match was found: int64, shape (n,).")
       .def_readonly("slots", &Matches::slots, "Module id filling each slot: int64, shape (n, len(slot_names)).")
       .def_readonly("count", &Matches::count, "How many matches there are, kept or only counted.")
+      .def(
+          "records",
+          [](const Matches& self) {
+            // Fields t, detected and one per slot (named as the slot; slot_NAME if it is t or detected).
+            py::list columns, names;
+            columns.append(self.t), names.append("t");
+            columns.append(self.detected), names.append("detected");
+            for (size_t k = 0; k < self.slot_names.size(); ++k) {
+              const std::string& slot = self.slot_names[k];
+              columns.append(self.slots.attr("__getitem__")(
+                  py::make_tuple(py::slice(py::none(), py::none(), py::none()), static_cast<py::ssize_t>(k))));
+              names.append(slot == "t" || slot == "detected" ? "slot_" + slot : slot);
+            }
+            return py::module_::import("numpy").attr("rec").attr("fromarrays")(columns, py::arg("names") = names);
+          },
+          "The matches as a numpy structured array (a record array): fields t, detected and one per slot.")
+      .def(
+          "to_pandas",
+          [](const Matches& self) {
+            return py::module_::import("pandas").attr("DataFrame")(py::cast(self).attr("records")());
+          },
+          "The matches as a pandas DataFrame (columns t, detected and the slots); needs pandas (python3-pandas).")
       .def("__len__", [](const Matches& self) { return self.t.size(); })
       .def("__repr__", [](const Matches& self) {
         return "<dwatch.Matches of '" + self.watch + "': " + std::to_string(self.count) + " matches" +

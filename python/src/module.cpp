@@ -19,7 +19,7 @@ void add_check(py::module_& m) {
         watch::explain_watchpoint(compile_or_raise(spec).watchpoint, out);
         return out.str();
       },
-      py::arg("text"), py::arg("name") = "w",
+      py::arg("text"), py::arg("name") = "w1",
       "Parses, checks and compiles a watchpoint; returns what `dwatch check` prints for it (normal form, slots, "
       "E+, offsets, spans, the PatternMatcher's size), or raises WatchError.");
 }

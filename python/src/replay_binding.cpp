@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <chrono>
 #include <optional>
 
 #include "python/src/bindings.h"
@@ -15,53 +16,8 @@
 namespace dw::python {
 namespace {
 
-using Column = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
-
-// The trace's lines from a mapping of columns: "t", "m", the neighbours as "nbr_begin" + "nbrs"
-// (offsets and ids, flat) or as "nbrs" alone (one sequence per line), and "vars" (name -> values).
-sim::Trace trace_from_columns(const py::dict& columns) {
-  for (const char* key : {"t", "m", "nbrs"})
-    if (!columns.contains(key)) raise_error("TraceError", std::string("the columns lack \"") + key + "\"");
-  const Column t = Column::ensure(columns["t"]), m = Column::ensure(columns["m"]);
-  if (!t || !m || t.ndim() != 1 || m.ndim() != 1)
-    raise_error("TraceError", "\"t\" and \"m\" must be one-dimensional arrays of integers");
-  Column nbr_begin, nbrs;
-  if (columns.contains("nbr_begin")) {
-    nbr_begin = Column::ensure(columns["nbr_begin"]);
-    nbrs = Column::ensure(columns["nbrs"]);
-    if (!nbr_begin || !nbrs || nbr_begin.ndim() != 1 || nbrs.ndim() != 1)
-      raise_error("TraceError", "\"nbr_begin\" and \"nbrs\" must be one-dimensional arrays of integers");
-  } else {  // a sequence per line: flattened here (per-line Python work: the flat form is faster)
-    std::vector<int64_t> begin{0}, flat;
-    for (const py::handle line : columns["nbrs"]) {
-      for (const py::handle n : line) flat.push_back(n.cast<int64_t>());
-      begin.push_back(static_cast<int64_t>(flat.size()));
-    }
-    nbr_begin = Column(static_cast<py::ssize_t>(begin.size()), begin.data());
-    nbrs = Column(static_cast<py::ssize_t>(flat.size()), flat.data());
-  }
-  sim::Trace::Columns c;
-  std::vector<Column> held;  // the value arrays, alive while their spans are read
-  if (columns.contains("vars"))
-    for (const auto& [name, values] : columns["vars"].cast<py::dict>()) {
-      held.push_back(Column::ensure(values));
-      if (!held.back() || held.back().ndim() != 1)
-        raise_error("TraceError", "variable '" + name.cast<std::string>() + "' must be a one-dimensional array");
-      c.variables.push_back(name.cast<std::string>());
-    }
-  const auto span = [](const Column& a) { return std::span<const int64_t>(a.data(), static_cast<size_t>(a.size())); };
-  c.t = span(t), c.m = span(m), c.nbr_begin = span(nbr_begin), c.nbrs = span(nbrs);
-  for (const Column& v : held) c.values.push_back(span(v));
-  std::variant<sim::Trace, std::string> built;
-  {
-    py::gil_scoped_release released;
-    built = sim::Trace::from_columns(c);
-  }
-  if (auto* error = std::get_if<std::string>(&built)) raise_error("TraceError", "the columns: " + *error);
-  return std::get<sim::Trace>(std::move(built));
-}
-
 sim::Trace trace_from_file(const std::string& path) {
+  raise_if_missing(path);
   std::variant<sim::Trace, std::vector<sim::TraceError>> read;
   {
     py::gil_scoped_release released;
@@ -70,7 +26,8 @@ sim::Trace trace_from_file(const std::string& path) {
   if (auto* errors = std::get_if<std::vector<sim::TraceError>>(&read)) {
     std::string message;
     for (const sim::TraceError& e : *errors) message += (message.empty() ? "" : "\n") + e.format();
-    raise_error("TraceError", message);
+    const sim::TraceError& first = errors->front();
+    raise_error_at("TraceError", message, first.file, first.line, first.column);
   }
   return std::get<sim::Trace>(std::move(read));
 }
@@ -109,7 +66,8 @@ py::dict replay(const py::object& trace_arg, const py::object& watches, const st
                 bool count_only) {
   const sim::WatchSpec r = reading(algorithm, shape, states, max_live);
   const bool columns = py::isinstance<py::dict>(trace_arg);
-  const std::string trace_name = columns ? "<columns>" : py::str(trace_arg).cast<std::string>();
+  const std::string trace_name =
+      columns ? "<columns>" : py::module_::import("os").attr("fspath")(trace_arg).cast<std::string>();
   const sim::Trace trace = columns ? trace_from_columns(trace_arg.cast<py::dict>()) : trace_from_file(trace_name);
   const std::vector<sim::HostedWatchpoint> watched = hosted(watches, r, trace, trace_name);
   if (std::string why = sim::replay_work_problem(trace); !why.empty())
@@ -129,7 +87,18 @@ py::dict replay(const py::object& trace_arg, const py::object& watches, const st
   std::vector<Matches::Builder> found(watched.size());
   for (Matches::Builder& b : found) b.keep = !count_only;
   std::vector<watch::DetectorStats> stats;
-  {
+  // Ctrl-C: Python's handlers run in the main thread holding the GIL, so the loop looks for a
+  // pending signal now and then (a few times a second) and unwinds out of the replay.
+  struct Interrupted {};
+  auto next_look = std::chrono::steady_clock::now();
+  const auto look_for_signals = [&](int64_t) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now < next_look) return;
+    next_look = now + std::chrono::milliseconds(50);
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) throw Interrupted{};
+  };
+  try {
     py::gil_scoped_release released;
     stats = sim::replay(
         std::get<sim::FrameReader>(made), trace.step_count(), watched,
@@ -137,16 +106,32 @@ py::dict replay(const py::object& trace_arg, const py::object& watches, const st
             std::span<const watch::Value>) {
           found[w].add(detected, t, ids, watched[w].watchpoint.program.slot_names.size());
         },
-        {}, sim::RunOutputs::replay_drains(trace, watches.is_none()));
+        look_for_signals, sim::RunOutputs::replay_drains(trace, watches.is_none()));
+  } catch (const Interrupted&) {
+    throw py::error_already_set();  // the signal handler's exception (KeyboardInterrupt), still set
   }
-  for (size_t i = 0; i < watched.size(); ++i)
-    if (stats[i].stopped)
-      raise_error("Error",
-                  watched[i].watchpoint.name + ": stopped: " + stats[i].stop_reason + " (max_live= sets the budget)");
   py::dict out;
   for (size_t i = 0; i < watched.size(); ++i) {
     const watch::Watchpoint& w = watched[i].watchpoint;
     out[py::str(w.name)] = Matches::make(w.name, w.program.slot_names, std::move(found[i]));
+  }
+  // A watchpoint past its budget stops; the others go on, and what every one found is kept, as
+  // the command line prints it: the exception carries them.
+  py::dict stopped;
+  std::string message;
+  for (size_t i = 0; i < watched.size(); ++i)
+    if (stats[i].stopped) {
+      const std::string& name = watched[i].watchpoint.name;
+      stopped[py::str(name)] = stats[i].stop_reason;
+      message += (message.empty() ? "" : "\n") + name + ": stopped: " + stats[i].stop_reason;
+    }
+  if (!stopped.empty()) {
+    const py::object type = py::module_::import("dwatch._dwatch").attr("BudgetError");
+    py::object e = type(message + " (max_live= sets the budget)");
+    e.attr("matches") = out;
+    e.attr("stopped") = stopped;
+    PyErr_SetObject(type.ptr(), e.ptr());
+    throw py::error_already_set();
   }
   return out;
 }
@@ -157,13 +142,14 @@ sim::WatchSpec reading(const std::string& algorithm, const std::optional<std::st
                        const std::optional<std::string>& states, uint64_t max_live) {
   sim::WatchSpec r;
   if (!sim::read_word(r, algorithm, sim::WatchWord::Algorithm))
-    raise_error("Error", "algorithm must be 'centralized' or 'distributed', not '" + algorithm + "'");
+    raise_error("ArgumentError", "algorithm must be 'centralized' or 'distributed', not '" + algorithm + "'");
   r.options.live_budget = max_live;
   if (shape && !sim::read_word(r, *shape, sim::WatchWord::Shape))
-    raise_error("Error", "shape must be 'chain', 'ordered' or 'any', not '" + *shape + "'");
+    raise_error("ArgumentError", "shape must be 'chain', 'ordered' or 'any', not '" + *shape + "'");
   if (states && !sim::read_word(r, *states, sim::WatchWord::States))
-    raise_error("Error", "states must be 'consistent' or 'simultaneous', not '" + *states + "'");
-  if (const std::string why = watch::unsupported(r.algorithm, r.options); !why.empty()) raise_error("Error", why);
+    raise_error("ArgumentError", "states must be 'consistent' or 'simultaneous', not '" + *states + "'");
+  if (const std::string why = watch::unsupported(r.algorithm, r.options); !why.empty())
+    raise_error("ArgumentError", why);
   return r;
 }
 
@@ -177,13 +163,18 @@ void add_replay(py::module_& m) {
 trace: a wptrace v1 file's path, or columns: a dict with "t" and "m" (one entry per line: the
   step and the module), the neighbours as "nbr_begin" (lines + 1 offsets) and "nbrs" (the ids,
   flat), or as "nbrs" alone (a sequence per line, slower), and "vars" (name -> one value per line).
-  Every column is converted to int64.
+  Every column holds integers (numpy integer arrays, or sequences of ints), checked as a file's
+  numbers are: a float, a bool, a string or a value beyond int64 is a TraceError naming the column
+  and the line (counted from 0), as is a key other than these.
 watches: a watchpoint's text, a sequence of texts (named w1, w2, ...), or {name: text}; None: the
   watchpoints the trace's header lists.
 algorithm, shape, states, max_live: as --algorithm, --shape, --states and --max-live.
 count_only: count the matches (Matches.count) and keep none, as `dwatch replay` without
   --matches does: for traces with millions of matches.
-Raises WatchError, TraceError, or Error (a reading that cannot run, the budget exceeded).)");
+Raises WatchError, TraceError, Error (a reading that cannot run), or BudgetError when a
+watchpoint exceeds max_live: it stops, the others go on, and the exception's matches holds every
+watchpoint's {name: Matches} (the stopped one's up to its stop) and stopped {name: reason}.
+Ctrl-C stops a replay between steps and raises KeyboardInterrupt.)");
 }
 
 }  // namespace dw::python

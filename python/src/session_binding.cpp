@@ -4,6 +4,9 @@
 // values, series, pictures) are read from the session directly.
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
 
 #include <sstream>
 #include <stop_token>
@@ -21,18 +24,51 @@ namespace {
 
 std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
+// A Session is used by one thread at a time: each call marks it busy (under the GIL, which every
+// call holds when it starts and ends), and a call from another thread while the first runs
+// without the GIL raises RuntimeError instead of racing on the session.
+[[noreturn]] void in_use_elsewhere() {
+  throw std::runtime_error(
+      "this dwatch.Session is in use by another call (another thread): use a Session from one thread at a time, "
+      "or one Session per thread");
+}
+
+class InUse {
+ public:
+  explicit InUse(bool& busy) : busy_(busy) {
+    if (busy_) in_use_elsewhere();
+    busy_ = true;
+  }
+  InUse(const InUse&) = delete;
+  InUse& operator=(const InUse&) = delete;
+  ~InUse() { busy_ = false; }
+
+ private:
+  bool& busy_;
+};
+
+// `values` with numpy's mask where a module is absent (present[i] == 0): a numpy.ma.MaskedArray.
+template <class Present>
+py::object masked(py::array_t<int64_t> values, const Present& present) {
+  py::array_t<bool> absent(static_cast<py::ssize_t>(present.size()));
+  for (size_t i = 0; i < present.size(); ++i) absent.mutable_data()[i] = !present[i];
+  return py::module_::import("numpy.ma").attr("masked_array")(values, absent);
+}
+
 class Session {
  public:
-  Session(const std::string& path, std::optional<int64_t> threads, std::optional<int64_t> seed,
+  Session(const std::filesystem::path& file, std::optional<int64_t> threads, std::optional<int64_t> seed,
           std::optional<int64_t> history_mb) {
     const auto check = [](std::optional<int64_t> v, const scenarios::IntegerRange& range) {
       if (v && (*v < range.min || *v > range.max))
-        raise_error("Error", std::string(range.key) + " must be an integer from " + std::to_string(range.min) + " to " +
-                                 std::to_string(range.max));
+        raise_error("ArgumentError", std::string(range.key) + " must be an integer from " + std::to_string(range.min) +
+                                         " to " + std::to_string(range.max));
     };
     check(threads, scenarios::kThreadsRange);
     check(seed, scenarios::kSeedRange);
     check(history_mb, scenarios::kHistoryRange);
+    const std::string path = file.string();
+    raise_if_missing(path);
     const shell::SessionSource source{.scenario = path, .seed = seed, .threads = threads, .history_mb = history_mb};
     scenarios::ScenarioOverrides overrides;
     if (seed) overrides.seed = static_cast<uint64_t>(*seed);
@@ -45,7 +81,7 @@ class Session {
     if (auto* errors = std::get_if<std::string>(&loaded)) {
       std::string message = *errors;
       while (!message.empty() && message.back() == '\n') message.pop_back();
-      raise_error("ScenarioError", message);
+      raise_scenario_error(message);
     }
     scenario_ = std::make_unique<scenarios::Scenario>(std::get<scenarios::Scenario>(std::move(loaded)));
     session_ = std::make_unique<sim::Session>(*scenario_->model, *scenario_->world,
@@ -55,13 +91,15 @@ class Session {
 
   // One line of the session language: its answer as a dict (None for a blank or comment line).
   py::object command(const std::string& line) {
+    const InUse in_use = use();
     if (line.find('\n') != std::string::npos) raise_error("CommandError", "one command, on one line");
     const watch::SourceText source("<command>", line);
     auto parsed = shell_->parse(source, 0, 1);
     if (auto* mistakes = std::get_if<std::vector<watch::Diagnostic>>(&parsed)) {
       std::string message = watch::format_diagnostics(source, *mistakes);
       while (!message.empty() && message.back() == '\n') message.pop_back();
-      raise_error("CommandError", message);
+      const watch::Location at = source.locate(mistakes->front().span.begin);
+      raise_error_at("CommandError", message, source.name(), at.line, at.column);
     }
     const auto& command = std::get<std::optional<shell::Command>>(parsed);
     if (!command) return py::none();
@@ -71,6 +109,7 @@ class Session {
   py::object watch(const std::string& name, const std::string& text, const std::string& algorithm,
                    const std::optional<std::string>& shape, const std::optional<std::string>& states,
                    const std::string& action, uint64_t max_live) {
+    const InUse in_use = use();
     // Its name is said in the session language as a word, quoted when it holds a space or '#'
     // (unwatch, action, run's to_match): a quoted word cannot hold '"'.
     if (shell::command_word(name) != name && name.find('"') != std::string::npos)
@@ -78,7 +117,7 @@ class Session {
     if (const std::string why = watch::name_problem(name); !why.empty()) raise_error("CommandError", why);
     sim::WatchSpec spec = reading(algorithm, shape, states, max_live);
     if (!sim::read_word(spec, action, sim::WatchWord::Action))
-      raise_error("Error", "action must be 'log', 'pause' or 'count', not " + quoted(action));
+      raise_error("ArgumentError", "action must be 'log', 'pause' or 'count', not " + quoted(action));
     spec.name = name;
     spec.text = text;
     sim::HostedWatchpoint hosted = compile_or_raise(spec);
@@ -89,7 +128,8 @@ class Session {
     return execute(command);
   }
 
-  Matches matches(const std::string& name) const {
+  Matches matches(const std::string& name) {
+    const InUse in_use = use();
     const int w = session_->watch_index(name);
     if (w < 0) raise_error("CommandError", "no watchpoint is named " + quoted(name));
     const sim::MatchList& list = session_->matches(static_cast<uint32_t>(w));
@@ -102,22 +142,59 @@ class Session {
     return Matches::make(name, slot_names, std::move(built));
   }
 
-  // One variable of every module at the current step.
-  py::array_t<int64_t> values(const std::string& variable) {
+  // One variable of every module at the current step, absent modules masked.
+  py::object values(const std::string& variable) {
+    const InUse in_use = use();
     const int column = this->column(variable);
     const sim::Model& model = session_->model();
     std::vector<int64_t> all;
+    std::vector<uint8_t> present;
     {
       py::gil_scoped_release released;
-      all = session_->whole_values(session_->state());
+      const sim::State& state = session_->state();
+      all = session_->whole_values(state);
+      present = state.present;
     }
     py::array_t<int64_t> out(model.module_count());
     for (uint32_t m = 0; m < model.module_count(); ++m)
       out.mutable_at(m) = all[size_t{m} * model.variable_count() + static_cast<size_t>(column)];
+    return masked(out, present);
+  }
+
+  // Which modules are present at the current step.
+  py::array_t<bool> present() {
+    const InUse in_use = use();
+    std::vector<uint8_t> present;
+    {
+      py::gil_scoped_release released;
+      present = session_->state().present;
+    }
+    py::array_t<bool> out(static_cast<py::ssize_t>(present.size()));
+    for (size_t m = 0; m < present.size(); ++m) out.mutable_data()[m] = present[m] != 0;
     return out;
   }
 
-  py::array_t<int64_t> series(int64_t module, const std::string& variable, int64_t first, int64_t last) {
+  // N(m, t) of every module at the current step, as the watchpoints saw it: compressed rows, the
+  // neighbours of m being indices[indptr[m]:indptr[m + 1]] (scipy.sparse.csr_matrix's layout).
+  py::tuple neighbours() {
+    const InUse in_use = use();
+    std::vector<int64_t> indptr, indices;
+    {
+      py::gil_scoped_release released;
+      const sim::NeighborGraph& graph = session_->seen_graph();
+      indptr.assign(graph.begin.begin(), graph.begin.end());
+      indices.assign(graph.ids.begin(), graph.ids.end());
+    }
+    const auto read_only = [](const std::vector<int64_t>& v) {
+      py::array_t<int64_t> out(static_cast<py::ssize_t>(v.size()), v.data());
+      out.attr("flags").attr("writeable") = false;
+      return out;
+    };
+    return py::make_tuple(read_only(indptr), read_only(indices));
+  }
+
+  py::object series(int64_t module, const std::string& variable, int64_t first, int64_t last) {
+    const InUse in_use = use();
     const int column = this->column(variable);
     if (module < 0 || module >= session_->model().module_count())
       raise_error("CommandError",
@@ -126,16 +203,18 @@ class Session {
       raise_error("CommandError",
                   "the steps must satisfy 0 <= first <= last <= latest (" + std::to_string(session_->latest()) + ")");
     std::optional<std::vector<int64_t>> values;
+    std::vector<uint8_t> present;
     run_cancellable([&](const sim::Control& control) {
-      values = session_->series(static_cast<sim::ModuleId>(module), column, first, last, control);
+      values = session_->series(static_cast<sim::ModuleId>(module), column, first, last, control, &present);
     });
-    return py::array_t<int64_t>(static_cast<py::ssize_t>(values->size()), values->data());
+    return masked(py::array_t<int64_t>(static_cast<py::ssize_t>(values->size()), values->data()), present);
   }
 
   py::array_t<uint8_t> render(int width, int height, const std::optional<py::tuple>& camera) {
+    const InUse in_use = use();
     // As the session's `render W H` takes them.
     if (width < 16 || height < 16 || width > 8192 || height > 8192)
-      raise_error("Error", "width and height must be from 16 to 8192 pixels");
+      raise_error("ArgumentError", "width and height must be from 16 to 8192 pixels");
     render::Scene scene = shell_->scene();
     if (camera) {
       std::array<double, 3> eye{}, target{};
@@ -144,11 +223,11 @@ class Session {
         eye = (*camera)[0].cast<std::array<double, 3>>();
         target = (*camera)[1].cast<std::array<double, 3>>();
       } catch (const py::cast_error&) {
-        raise_error("Error", "camera is (eye, target): two points (x, y, z)");
+        raise_error("ArgumentError", "camera is (eye, target): two points (x, y, z)");
       }
       // As the command line's and a scenario's camera: refused where it can draw nothing.
       if (const std::string problem = scenarios::camera_problem(eye, target); !problem.empty())
-        raise_error("Error", problem);
+        raise_error("ArgumentError", problem);
       scene.camera_eye = sim::Vec3{float(eye[0]), float(eye[1]), float(eye[2])};
       scene.camera_target = sim::Vec3{float(target[0]), float(target[1]), float(target[2])};
     }
@@ -166,9 +245,31 @@ class Session {
     return out;
   }
 
-  const sim::Session& session() const { return *session_; }
+  const sim::Session& session() const {
+    if (busy_) in_use_elsewhere();  // another thread's call is changing it
+    if (!session_) closed();
+    return *session_;
+  }
+
+  // Frees the session (its history, the scenario's world) now rather than when Python collects
+  // it; any later call raises dwatch.Error. Closing twice does nothing.
+  void close() {
+    const InUse in_use(busy_);
+    shell_.reset();  // it refers to the session and the scenario
+    session_.reset();
+    scenario_.reset();
+  }
 
  private:
+  [[noreturn]] static void closed() { raise_error("Error", "this Session is closed"); }
+
+  // Marks the session in use for one call: another thread's call meanwhile is refused, as is any
+  // call once it is closed.
+  InUse use() {
+    if (!session_) closed();
+    return InUse(busy_);
+  }
+
   int column(const std::string& variable) const {
     const int c = session_->model().column(variable);
     if (c < 0) raise_error("CommandError", quoted(variable) + " is no program's variable");
@@ -211,21 +312,56 @@ class Session {
   std::unique_ptr<scenarios::Scenario> scenario_;
   std::unique_ptr<sim::Session> session_;
   std::unique_ptr<shell::Shell> shell_;
+  bool busy_ = false;  // a call is running (InUse)
 };
 
 std::string number(int64_t v) { return std::to_string(v); }
 
+// What a Session is: its steps, size, variables and watchpoints.
+void add_properties(py::class_<Session>& session) {
+  session
+      .def_property_readonly(
+          "current", [](const Session& s) { return s.session().current(); }, "The step shown (-1 before the first).")
+      .def_property_readonly(
+          "latest", [](const Session& s) { return s.session().latest(); }, "The last step simulated on this branch.")
+      .def_property_readonly(
+          "end", [](const Session& s) { return s.session().end(); }, "The scenario's steps.")
+      .def_property_readonly(
+          "modules", [](const Session& s) { return s.session().model().module_count(); },
+          "How many modules the ensemble has (ids 0 .. modules - 1).")
+      .def_property_readonly(
+          "variables", [](const Session& s) { return s.session().model().universe.variables; },
+          "The programs' variables.")
+      .def_property_readonly(
+          "watches",
+          [](const Session& s) {
+            std::vector<std::string> names;
+            for (const sim::HostedWatchpoint& h : s.session().watches().hosted()) names.push_back(h.watchpoint.name);
+            return names;
+          },
+          "The watchpoints' names.");
+}
+
 }  // namespace
 
 void add_session(py::module_& m) {
-  py::class_<Session>(m, "Session", R"(A debugging session over a scenario file, as `dwatch session` runs it.
+  py::class_<Session> session(m, "Session", R"(A debugging session over a scenario file, as `dwatch session` runs it.
 
 The whole history stays: seek anywhere, intervene to start a branch, add watchpoints that are
 evaluated over the past. Commands answer dicts, the JSON objects `dwatch session` prints; a wrong
 or failed command raises CommandError with the command line's words. Stepping runs without the
 GIL; Ctrl-C stops a long command between steps (the session stays consistent) and raises
-KeyboardInterrupt. Use a Session from one thread at a time (another thread may use another).)")
-      .def(py::init<const std::string&, std::optional<int64_t>, std::optional<int64_t>, std::optional<int64_t>>(),
+KeyboardInterrupt. Use a Session from one thread at a time (another thread may use another): a
+call while another thread's runs raises RuntimeError. values() and series() are numpy masked
+arrays, absent (removed) modules masked; present() says which modules are there.)");
+  session.def("close", &Session::close, "Frees the session now; any later call raises Error.")
+      .def("__enter__", [](py::object self) { return self; })
+      .def(
+          "__exit__", [](Session& s, const py::args&) { s.close(); },
+          "Closes the session at the end of a `with` block.");
+  session
+      .def(py::init<const std::filesystem::path&, std::optional<int64_t>, std::optional<int64_t>,
+                    std::optional<int64_t>>(),
            py::arg("scenario"), py::arg("threads") = py::none(), py::arg("seed") = py::none(),
            py::arg("history_mb") = py::none(),
            "Loads a scenario file (TOML); threads, seed and history_mb override the scenario's. Raises "
@@ -295,9 +431,16 @@ KeyboardInterrupt. Use a Session from one thread at a time (another thread may u
           "('pose') and the one its neighbours were measured from, at the end of the step before "
           "('nbrs_measured_from').")
       .def("values", &Session::values, py::arg("variable"),
-           "One variable of every module at the current step: int64, shape (modules,).")
+           "One variable of every module at the current step: an int64 numpy.ma.MaskedArray, shape (modules,), "
+           "absent modules masked.")
+      .def("neighbours", &Session::neighbours,
+           "N(m, t) of every module at the current step, as the watchpoints saw it, as compressed rows: (indptr, "
+           "indices), int64, read-only; module m's neighbours are indices[indptr[m]:indptr[m + 1]], sorted "
+           "(scipy.sparse.csr_matrix((np.ones(len(indices)), indices, indptr)) is the adjacency matrix).")
+      .def("present", &Session::present, "Which modules are present at the current step: bool, shape (modules,).")
       .def("series", &Session::series, py::arg("module"), py::arg("variable"), py::arg("first"), py::arg("last"),
-           "One variable of one module over steps first..last: int64, shape (last - first + 1,).")
+           "One variable of one module over steps first..last: an int64 numpy.ma.MaskedArray, shape (last - first "
+           "+ 1,), masked at the steps the module was absent.")
       .def(
           "hash", [](Session& s) { return s.command("hash").attr("__getitem__")("hash"); },
           "The state hash at the current step, as `dwatch session`'s `hash` answers it.")
@@ -306,34 +449,17 @@ KeyboardInterrupt. Use a Session from one thread at a time (another thread may u
            "width, 3). camera: (eye, target), two points; default: fitted.")
       .def(
           "save",
-          [](Session& s, const std::string& path, bool overwrite) {
-            return s.command("save " + shell::command_word(path) + (overwrite ? " overwrite" : ""));
+          [](Session& s, const std::filesystem::path& path, bool overwrite) {
+            return s.command("save " + shell::command_word(path.string()) + (overwrite ? " overwrite" : ""));
           },
           py::arg("path"), py::arg("overwrite") = false, "This session as a scenario file.")
       .def(
           "record",
-          [](Session& s, const std::string& path) { return s.command("record " + shell::command_word(path)); },
-          py::arg("path"), "The trace of steps 0..latest (wptrace v1).")
-      .def_property_readonly(
-          "current", [](const Session& s) { return s.session().current(); }, "The step shown (-1 before the first).")
-      .def_property_readonly(
-          "latest", [](const Session& s) { return s.session().latest(); }, "The last step simulated on this branch.")
-      .def_property_readonly(
-          "end", [](const Session& s) { return s.session().end(); }, "The scenario's steps.")
-      .def_property_readonly(
-          "modules", [](const Session& s) { return s.session().model().module_count(); },
-          "How many modules the ensemble has (ids 0 .. modules - 1).")
-      .def_property_readonly(
-          "variables", [](const Session& s) { return s.session().model().universe.variables; },
-          "The programs' variables.")
-      .def_property_readonly(
-          "watches",
-          [](const Session& s) {
-            std::vector<std::string> names;
-            for (const sim::HostedWatchpoint& h : s.session().watches().hosted()) names.push_back(h.watchpoint.name);
-            return names;
+          [](Session& s, const std::filesystem::path& path) {
+            return s.command("record " + shell::command_word(path.string()));
           },
-          "The watchpoints' names.");
+          py::arg("path"), "The trace of steps 0..latest (wptrace v1).");
+  add_properties(session);
 }
 
 }  // namespace dw::python

@@ -1,5 +1,9 @@
 """dwatch.replay: python/src/replay_binding.cpp over sim/replay.h."""
 
+import signal
+import threading
+import time
+
 import numpy as np
 import pytest
 
@@ -123,7 +127,7 @@ def test_bad_traces_raise_trace_error_in_the_readers_words(source, tmp_path):
         dwatch.replay({"t": [0], "m": [2], "nbrs": [[2]]}, LEADERS)
     with pytest.raises(dwatch.TraceError, match='lack "m"'):
         dwatch.replay({"t": [0], "nbrs": [[]]}, LEADERS)
-    with pytest.raises(dwatch.TraceError, match="cannot read"):
+    with pytest.raises(FileNotFoundError):
         dwatch.replay(tmp_path / "missing.jsonl", LEADERS)
 
 
@@ -144,3 +148,35 @@ def test_the_budget_stops_a_replay_with_an_error(source):
     trace, text = case(source, "01_fig6_2222_grid")
     with pytest.raises(dwatch.Error, match="stopped: .*max_live= sets the budget"):
         dwatch.replay(trace, text, max_live=1)
+
+
+def test_the_budget_keeps_what_every_watchpoint_found_as_the_command_line_does(source):
+    trace, text = case(source, "01_fig6_2222_grid")
+    single = "modules(a); a.x1 = 1"
+    with pytest.raises(dwatch.BudgetError) as raised:
+        dwatch.replay(trace, {"heavy": text, "single": single}, max_live=100)
+    e = raised.value
+    assert isinstance(e, dwatch.Error)
+    assert list(e.matches) == ["heavy", "single"] and list(e.stopped) == ["heavy"]
+    out = cli("replay", str(trace), "-w", "heavy=" + text, "-w", "single=" + single, "--max-live", "100",
+              "--matches", "-", check=False)
+    assert out.returncode == 1
+    rows = json_lines(out.stdout)
+    for name in ("heavy", "single"):
+        expected = [(r["t"], tuple(r["slots"].values())) for r in rows if r.get("watch") == name]
+        assert as_rows(e.matches[name]) == expected
+    assert len(e.matches["single"]) > 0
+
+
+def test_ctrl_c_stops_a_long_replay():
+    # Two lines 10^7 steps apart, modules 0 and 99: 10^9 module-steps, mostly empty, seconds of work.
+    columns = {"t": [0, 9_999_999], "m": [0, 99], "nbrs": [[], []], "vars": {"x": [1, 1]}}
+    timer = threading.Timer(0.3, signal.raise_signal, args=(signal.SIGINT,))
+    started = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            dwatch.replay(columns, "modules(a); a.x = 2")
+    finally:
+        timer.cancel()
+    assert time.monotonic() - started < 2

@@ -116,7 +116,7 @@ def test_errors_are_exceptions_in_the_command_lines_words(leaders, tmp_path):
     with pytest.raises(dwatch.CommandError, match="one command, on one line"):
         s.command("step\nstep")
     assert s.command("# a comment") is None
-    with pytest.raises(dwatch.ScenarioError, match="cannot read"):
+    with pytest.raises(FileNotFoundError):
         dwatch.Session(str(tmp_path / "missing.toml"))
     bad = tmp_path / "bad.toml"
     bad.write_text("steps = -3\n")
@@ -292,3 +292,46 @@ def test_a_watchpoint_named_with_a_space_is_said_quoted(leaders):
     s.unwatch(name)
     assert name not in s.watches
 
+
+
+def test_a_second_thread_on_a_busy_session_gets_runtime_error_never_a_crash(leaders):
+    # In a child process: before the fix this crashed the interpreter.
+    program = f"""
+import signal, threading, dwatch
+s = dwatch.Session({leaders!r})
+s.action("two_leaders", "log")
+refused = []
+def meanwhile():
+    for call in (lambda: s.step(), lambda: s.values("isLeader"), lambda: s.current, lambda: s.run(3)):
+        try:
+            call()
+        except RuntimeError as e:
+            refused.append("in use" in str(e))
+    signal.raise_signal(signal.SIGINT)
+threading.Timer(0.3, meanwhile).start()
+try:
+    s.run(10_000_000)
+except KeyboardInterrupt:
+    pass
+s.step()
+print(refused, s.current > 0)
+"""
+    done = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, timeout=60)
+    assert done.stdout == "[True, True, True, True] True\n", done.stderr
+
+
+def test_absent_modules_are_masked_in_values_and_series(leaders):
+    s = dwatch.Session(leaders)
+    s.action("two_leaders", "log")
+    s.run(5)
+    assert s.present().all() and not s.values("isLeader").mask.any()
+    s.remove(5)
+    s.step()
+    values, present = s.values("isLeader"), s.present()
+    assert isinstance(values, np.ma.MaskedArray) and present.dtype == bool
+    assert not present[5] and present.sum() == s.modules - 1
+    assert values.mask[5] and not values.mask[np.arange(s.modules) != 5].any()
+    assert values.sum() == values.data[present].sum()
+    series = s.series(5, "isLeader", 0, s.current)
+    assert isinstance(series, np.ma.MaskedArray) and len(series) == s.current + 1
+    assert not series.mask[:5].any() and series.mask[-1]

@@ -79,5 +79,27 @@ TEST(Annotate, LinksAndLabelsEachSlotOfEachGroup) {
   EXPECT_GT(link_coloured(missing), per_group);
 }
 
+// Labels never pile up: three modules a pixel apart on screen (a group among 11,000 modules) get
+// three labels that do not overlap, each near its module; labels with room stay above theirs.
+TEST(PlaceLabels, SpreadsTheLabelsOfModulesThatShowOnOneSpot) {
+  const float r = 14;
+  const std::vector<std::optional<glm::vec2>> tops{glm::vec2(400, 300), glm::vec2(401, 300), glm::vec2(401, 301)};
+  std::vector<std::optional<glm::vec2>> wanted;
+  for (const auto& t : tops) wanted.push_back(*t + glm::vec2(0, -20));
+  const auto placed = place_labels(tops, wanted, r);
+  ASSERT_EQ(placed.size(), 3u);
+  EXPECT_EQ(placed[0], wanted[0]);
+  for (size_t i = 0; i < 3; ++i) {
+    ASSERT_TRUE(placed[i]);
+    EXPECT_LT(glm::distance(*placed[i], *tops[i]), 8 * r) << "label " << i << " strays from its module";
+    for (size_t j = i + 1; j < 3; ++j) EXPECT_GE(glm::distance(*placed[i], *placed[j]), 2 * r) << i << " " << j;
+  }
+  const std::vector<std::optional<glm::vec2>> apart{glm::vec2(100, 300), glm::vec2(300, 300)};
+  const std::vector<std::optional<glm::vec2>> above{glm::vec2(100, 280), glm::vec2(300, 280)};
+  EXPECT_EQ(place_labels(apart, above, r), above);
+  // A module off screen has no label.
+  EXPECT_FALSE(place_labels({std::nullopt}, {glm::vec2(1, 1)}, r)[0]);
+}
+
 }  // namespace
 }  // namespace dw::render

@@ -56,6 +56,38 @@ TEST(WatchActions, TheLdpGradientEndsAtTheBreadthFirstDistances) {
   }
 }
 
+// scenarios/bfs_tree_ldp.toml: the gradient's distances, and `argmin` over the neighbours' (ties to
+// the least id) as each module's parent, give a breadth-first spanning tree: every parent one hop
+// nearer the root, the least such id, the root its own; in both readings.
+TEST(WatchActions, ArgminBuildsTheBreadthFirstTreeTiesToTheLeastId) {
+  for (auto algorithm : {watch::Algorithm::Centralized, watch::Algorithm::Distributed}) {
+    ScenarioOverrides o;
+    o.algorithm = algorithm;
+    Scenario s = load(DWATCH_SCENARIOS_DIR "/bfs_tree_ldp.toml", o);
+    sim::Session session(*s.model, *s.world, {.threads = 2, .end = s.steps});
+    session.run_until(s.steps);
+    const sim::NeighborGraph& g = *s.model->lattice.graph;
+    const std::vector<int64_t> dist = bfs(g, 65);
+    const int column = s.model->column("parent");
+    const size_t v = s.model->variable_count();
+    const sim::State& state = session.state();
+    int ties = 0;  // modules with two neighbours one hop nearer: the tie rule is what picks
+    for (uint32_t m = 0; m < s.model->module_count(); ++m) {
+      int64_t want = m;
+      int nearer = 0;
+      for (uint32_t n : g.neighbors(m))
+        if (dist[n] == dist[m] - 1) {
+          want = nearer++ == 0 ? n : std::min<int64_t>(want, n);
+        }
+      ties += nearer > 1;
+      ASSERT_EQ(state.values[m * v + static_cast<size_t>(column)], want)
+          << "module " << m << ", " << watch::algorithm_name(algorithm);
+    }
+    EXPECT_GT(ties, 10);
+    EXPECT_GT(state.watches[1].actions_done, 0u);
+  }
+}
+
 TEST(WatchActions, SameStatesOnOneAndTwoThreadsAndAfterASeekBackAndForth) {
   std::vector<uint64_t> hashes[2];
   for (unsigned threads : {1u, 2u}) {

@@ -5,14 +5,17 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <poll.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <csignal>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "tests/app/cli.h"
@@ -438,6 +441,33 @@ TEST_F(SessionProtocol, RequestsPastWhatMayWaitAreRefusedAtOnce) {
     else if ((*a)["id"] == "long") ran = true;
     else ++hashes;
   }
+  EXPECT_EQ(p.finish(), 0);
+}
+
+// `record f`, f a FIFO no process reads, blocked for ever, and after `cancel` nothing more was
+// answered (issue 62, 4): the cancel ends the wait for a reader at once, and later requests are
+// answered.
+TEST_F(SessionProtocol, ACancelEndsARecordWaitingForAFifosReader) {
+  const fs::path fifo = dir_ / "f";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  Protocol p(std::string(DWATCH_SCENARIOS_DIR) + "/token_ring.toml");
+  p.send(R"({"id": "r", "cmd": "record )" + fifo.string() + R"("})");
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the record is under way, waiting
+  const auto cancelled = std::chrono::steady_clock::now();
+  p.send(R"({"id": "c", "cmd": "cancel"})");
+  std::map<std::string, json> answers;
+  while (answers.size() < 2) {
+    auto a = p.next();
+    ASSERT_TRUE(a) << "no answer to the record or the cancel";
+    answers[(*a)["id"].get<std::string>()] = *a;
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - cancelled, std::chrono::seconds(3)) << "the wait went on";
+  EXPECT_EQ(answers["c"]["cancelled"], true);
+  EXPECT_TRUE(answers["r"].contains("error")) << answers["r"];
+  p.send(R"({"id": "h", "cmd": "hash"})");
+  const auto hash = p.next();
+  ASSERT_TRUE(hash) << "nothing answered after the cancel";
+  EXPECT_EQ((*hash)["id"], "h");
   EXPECT_EQ(p.finish(), 0);
 }
 

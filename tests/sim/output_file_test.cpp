@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -179,6 +180,30 @@ TEST_F(OutputFileTest, APathThroughAMissingDirectoryIsRefusedNotNormalizedAway) 
   out->stream() << "new";
   EXPECT_EQ(out->commit(), "");
   EXPECT_EQ(slurp(dir_ / "new.txt"), "new");
+}
+
+// A FIFO no process reads (`record f`, f a FIFO) blocked open() for ever, and a signal did not end
+// it: its reader is waited for a bounded time, then the write is refused saying why. A reader that
+// stops reading stalls a write no longer than that either.
+TEST_F(OutputFileTest, AFifoWithoutAReaderIsRefusedWithinTheWait) {
+  const fs::path fifo = dir_ / "f";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string error;
+  const auto started = std::chrono::steady_clock::now();
+  EXPECT_EQ(OutputFile::open(fifo.string(), &error, std::chrono::milliseconds(200)), nullptr);
+  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(5));
+  EXPECT_NE(error.find("no process opened this FIFO to read it within 200 ms"), std::string::npos) << error;
+
+  const int reader = ::open(fifo.c_str(), O_RDONLY | O_NONBLOCK);  // opens it, never reads
+  ASSERT_GE(reader, 0);
+  auto out = OutputFile::open(fifo.string(), &error, std::chrono::milliseconds(200));
+  ASSERT_NE(out, nullptr) << error;
+  out->stream() << std::string(size_t{4} << 20, 'x');  // far more than a pipe holds
+  const std::string failed = out->commit();
+  EXPECT_NE(failed.find("nothing read what was written for 200 ms"), std::string::npos) << failed;
+  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(10));
+  ::close(reader);
+  EXPECT_TRUE(fs::exists(fifo)) << "a FIFO is never removed";
 }
 
 }  // namespace

@@ -96,5 +96,17 @@ TEST(Lexer, InvalidCharactersExplainThemselves) {
   EXPECT_NE(t[2].message.find("malformed number"), std::string::npos);
 }
 
+// A comparison typed as one mathematical sign is named with its ASCII spelling, its span the
+// whole character (three bytes of UTF-8).
+TEST(Lexer, MathematicalComparisonSignsSuggestTheirSpelling) {
+  const auto t = tokens("a \u2265 b \u2264 c \u2260 d");
+  ASSERT_EQ(t.size(), 8u);
+  for (const auto& [i, spelling] : {std::pair{1, "'>='"}, std::pair{3, "'<='"}, std::pair{5, "'!='"}}) {
+    EXPECT_EQ(t[i].kind, TokenKind::Invalid);
+    EXPECT_NE(t[i].message.find("use " + std::string(spelling)), std::string::npos) << t[i].message;
+    EXPECT_EQ(t[i].span.length(), 3u);
+  }
+}
+
 }  // namespace
 }  // namespace dw::watch

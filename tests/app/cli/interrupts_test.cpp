@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -137,6 +138,24 @@ TEST_F(Interrupted, ASessionScriptStopsAtTheCommandUnderWay) {
   EXPECT_NE(err.find(script.string() + ":3: interrupted (SIGINT)"), std::string::npos) << err;
   EXPECT_TRUE(fs::exists(dir_ / "early.jsonl")) << "what was done before stays done";
   EXPECT_FALSE(fs::exists(dir_ / "late.jsonl")) << "the script went on after the signal";
+}
+
+// `record f`, f a FIFO no process reads, blocked in open() for ever and the first SIGTERM was
+// swallowed (issue 62, 4): the wait for a reader ends at the first signal, which stops the
+// script there as it stops any command.
+TEST_F(Interrupted, ASignalEndsTheWaitForAFifosReaderAtOnce) {
+  const fs::path fifo = dir_ / "f";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const fs::path script = write("fifo.session", "step 1\nrecord " + fifo.string() + "\nstep 1\n");
+  const pid_t pid = start({"session", (kScenarios / "token_ring.toml").string(), "--script", script.string()});
+  wait_for_output(std::string("{\"cmd\":\"step 1\"").size());
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const auto signalled = std::chrono::steady_clock::now();
+  ::kill(pid, SIGTERM);
+  EXPECT_EQ(exit_code(pid), 143);
+  EXPECT_LT(std::chrono::steady_clock::now() - signalled, std::chrono::seconds(3)) << "the wait went on";
+  const std::string err = slurp(dir_ / "stderr");
+  EXPECT_NE(err.find(script.string() + ":2: interrupted (SIGTERM)"), std::string::npos) << err;
 }
 
 }  // namespace
