@@ -168,14 +168,15 @@ void Loader::check_watched_variables(const sim::Model& model, const toml::table&
     for (const sim::UnknownVariable& v : sim::unknown_variables(model, wp)) {
       std::string known;
       for (const std::string& k : model.universe.variables) known += (known.empty() ? "" : ", ") + k;
-      const std::string message =
-          "watchpoint \"" + wp.name + "\" reads '" + v.name + "', which no program has (variables: " + known + ")";
+      const std::string message = "watchpoint \"" + wp.name + (v.only_set ? "\" sets '" : "\" reads '") + v.name +
+                                  "', which no program has (variables: " + known + ")";
       if (wp.source->name() == path) {
         diagnostics.add({v.first_use, message});  // compiled in place: the span is the scenario file's
       } else {
         TableReader r(*(*doc.get("watch")->as_array())[w].as_table(), diagnostics, "[[watch]]");
         r.error(r.has("text") ? "text" : "file", message + ":");
-        extra += watch::format_diagnostic(*wp.source, {v.first_use, "'" + v.name + "' is read here"});
+        extra += watch::format_diagnostic(
+            *wp.source, {v.first_use, "'" + v.name + (v.only_set ? "' is set here" : "' is read here")});
       }
     }
   }

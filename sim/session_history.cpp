@@ -70,6 +70,12 @@ void Session::take_keyframe() {
       any_rank(options_.ranks, copy_seconds > options_.keyframe_time_share * double(interval_) * step_seconds_ &&
                                    2 * double(interval_) * step_seconds_ <= kSeekStepSeconds))
     thin_keyframes();
+  // Spares are storage lent ahead, never worth going past the budget: a keyframe copied into one
+  // may have outgrown what it held when it was kept.
+  while (!spare_.empty() && history_bytes_ + spare_bytes_ > options_.history_bytes) {
+    spare_bytes_ -= state_bytes(spare_.back());
+    spare_.pop_back();
+  }
 }
 
 // A copy of keyframe `index` gets its bodies back (over ranks from the ranks' slices: a collective

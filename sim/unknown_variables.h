@@ -14,10 +14,12 @@ namespace dw::sim {
 
 struct UnknownVariable {
   std::string name;
-  watch::Span first_use;  // where the watchpoint first reads it
+  watch::Span first_use;  // where the watchpoint first reads it (or, if it only sets it, sets it)
+  bool only_set = false;  // named only by a 'then set'
 };
 
-// The variables `watchpoint` reads that no program of `model` has, in the order it reads them.
+// The variables `watchpoint` reads that no program of `model` has, in the order it reads them,
+// then those its actions set that no program has (a set no module could take).
 std::vector<UnknownVariable> unknown_variables(const Model& model, const watch::Watchpoint& watchpoint);
 
 // A mistake for each, at its first use: "'v' is no program's variable" (the session language's

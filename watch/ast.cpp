@@ -273,4 +273,10 @@ Span first_use(const Ast& ast, std::string_view variable) {
   return first;
 }
 
+Span first_set(const Ast& ast, std::string_view variable) {
+  for (const Action& a : ast.actions)
+    if (a.kind == Action::Kind::Set && a.variable == variable) return a.variable_span;
+  return {};
+}
+
 }  // namespace dw::watch

@@ -109,6 +109,7 @@ struct Action {
   Kind kind = Kind::Set;
   int32_t slot = -1;
   std::string variable;           // Set
+  Span variable_span;             // Set: where `variable` is named
   NodeIndex value = kNoNode;      // Set: an integer expression
   NodeIndex evaluated = kNoNode;  // Set: `value` with its windows written out (watch/windows.h)
   Span span;
@@ -157,5 +158,8 @@ void visit_tree(const Ast& ast, NodeIndex root, Visit&& visit) {
 
 // Where `variable` is first read (`a.last.x`), in source order; an empty span when it is not.
 Span first_use(const Ast& ast, std::string_view variable);
+
+// Where the first action that sets `variable` names it; empty if none does.
+Span first_set(const Ast& ast, std::string_view variable);
 
 }  // namespace dw::watch

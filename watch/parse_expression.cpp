@@ -148,6 +148,7 @@ NodeIndex Parser::parse_aggregate(int depth) {
   const std::string saved = bound_;
   if (!nested) bound_ = bad_name ? std::string() : n.name;
   bound_names_.push_back(n.name);
+  const size_t body_begin = ast_.nodes.size();
   if (match(TokenKind::Colon)) {
     if (n.aggregate == AggregateKind::Count) {
       n.lhs = parse_or(depth + 1);
@@ -158,6 +159,18 @@ NodeIndex Parser::parse_aggregate(int depth) {
     error_expected("':' and the value to take of each neighbour, as in '" + what + "(n in neighbors(a): n.x)'");
   }
   bound_ = saved;
+  // A neighbour is read at the domain's offset plus its own: the limit holds for the sum (a read
+  // of 'n.next' 10,000 times over 'neighbors(a.next...)' 10,000 times looks 20,000 steps ahead).
+  for (size_t i = body_begin; i < ast_.nodes.size() && !offset_reported_; ++i) {
+    const Node& read = ast_.nodes[i];
+    if (read.kind != NodeKind::Variable || !read.x.bound) continue;
+    const int64_t offset = int64_t{n.x.offset} + read.x.offset;
+    if (std::abs(offset) <= kMaxOffset) continue;
+    offset_reported_ = true;
+    report(read.span, "this read of a neighbour is " + std::to_string(std::abs(offset)) + " steps " +
+                          (offset < 0 ? "back" : "ahead") + " (its domain's offset plus its own): a watchpoint looks " +
+                          "at most " + std::to_string(kMaxOffset) + " steps back or ahead");
+  }
   if (bail_) return error_node(start);
   if (panic_ || !expect(TokenKind::RParen, "')' to close '" + what + "('")) return skip_group(start);
   n.span = Span::cover(start, previous().span);
@@ -188,7 +201,8 @@ bool Parser::parse_domain(Node& n, bool& bad_name, bool nested, int depth) {
     skip_group(open);
     return false;
   };
-  if (check(TokenKind::Name) && source_.slice(peek().span) == n.name) {
+  // A bound name that shadows a module was said already: it names that module here.
+  if (!bad_name && check(TokenKind::Name) && source_.slice(peek().span) == n.name) {
     report(peek().span, "an aggregate ranges over a module's " + std::string(within ? "surroundings" : "neighbours") +
                             "; '" + n.name + "' is its own bound name, not a module");
     bad_name = true;
@@ -305,6 +319,15 @@ NodeIndex Parser::parse_statevar() {
   Node n;
   n.kind = NodeKind::Variable;
   const Span start = peek().span;
+  if (check(TokenKind::Name) && at(pos_ + 1).kind == TokenKind::LParen) {
+    // A call of no function the language has (a misspelt 'min'): one mistake, said once.
+    error_at(start, "'" + std::string(source_.slice(start)) +
+                        "' is no function; the language's are count, sum, min, max, abs, argmin, argmax, id, "
+                        "once, historically, since and times");
+    advance();  // the name
+    advance();  // '('
+    return skip_group(start);
+  }
   if (!parse_slot_name(n.x)) return error_node(start);
   for (;;) {
     if (!match(TokenKind::Dot)) {

@@ -60,6 +60,7 @@ void Parser::parse_module_decl() {
   advance();
   if (!expect(TokenKind::LParen, "'(' after 'modules'")) return;
   const Span open = previous().span;
+  bool keyword_named = false;  // a keyword in the list is the mistake; the list is not also empty
   while (!check(TokenKind::RParen)) {
     if (!ast_.slots.empty()) match(TokenKind::Comma);
     if (check(TokenKind::Name)) {
@@ -77,6 +78,7 @@ void Parser::parse_module_decl() {
       error_at(peek().span, "keyword " + describe(peek().kind) + " cannot be a module name");
       advance();
       panic_ = false;
+      keyword_named = true;
     } else {
       error_expected(ast_.slots.empty() ? "a module name" : "a module name or ')'");
       while (!check(TokenKind::End) && !check(TokenKind::RParen) && !check(TokenKind::Semicolon)) advance();
@@ -86,7 +88,8 @@ void Parser::parse_module_decl() {
     }
   }
   advance();  // ')'
-  if (ast_.slots.empty()) report(Span::cover(open, previous().span), "'modules()' must name at least one module");
+  if (ast_.slots.empty() && !keyword_named)
+    report(Span::cover(open, previous().span), "'modules()' must name at least one module");
 }
 
 // actions := 'then' action (',' action)*
@@ -113,6 +116,7 @@ void Parser::parse_actions() {
         return;
       }
       if (!parse_variable_name(a.variable)) return;
+      a.variable_span = previous().span;
       if (!expect(TokenKind::Equal,
                   "'=' after 'set " + std::string(source_.slice(Span::cover(m.span, previous().span))) + "'"))
         return;

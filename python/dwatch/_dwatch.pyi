@@ -123,6 +123,8 @@ class Session:
         """One variable of every module at the current step, shape (modules,), absent modules masked."""
     def neighbours(self) -> Tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
         """N(m, t) at the current step as compressed rows (indptr, indices)."""
+    def _repr_png_(self) -> bytes:
+        """The current view as PNG bytes, for Jupyter."""
     def present(self) -> npt.NDArray[np.bool_]:
         """Which modules are present at the current step, shape (modules,)."""
     def series(self, module: int, variable: str, first: int, last: int) -> np.ma.MaskedArray[Any, np.dtype[np.int64]]:

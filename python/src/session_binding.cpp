@@ -13,6 +13,7 @@
 
 #include "python/src/bindings.h"
 #include "python/src/matches.h"
+#include "render/image.h"
 #include "scenarios/limits.h"
 #include "shell/options.h"
 #include "shell/shell.h"
@@ -245,6 +246,22 @@ class Session {
     return out;
   }
 
+  // The current view as a PNG file's bytes, fitted camera: what Jupyter shows for a Session.
+  py::bytes png(int width, int height) {
+    const InUse in_use = use();
+    const render::Scene scene = shell_->scene();
+    std::optional<std::vector<uint8_t>> bytes;
+    std::string error;
+    {
+      py::gil_scoped_release released;
+      std::variant<render::Image, std::string> drawn = shell::render_view(scene, width, height);
+      if (auto* image = std::get_if<render::Image>(&drawn)) bytes = render::encode_png(*image, &error);
+      else error = std::get<std::string>(drawn);
+    }
+    if (!bytes) raise_error("Error", error);
+    return py::bytes(reinterpret_cast<const char*>(bytes->data()), bytes->size());
+  }
+
   const sim::Session& session() const {
     if (busy_) in_use_elsewhere();  // another thread's call is changing it
     if (!session_) closed();
@@ -437,6 +454,9 @@ arrays, absent (removed) modules masked; present() says which modules are there.
            "N(m, t) of every module at the current step, as the watchpoints saw it, as compressed rows: (indptr, "
            "indices), int64, read-only; module m's neighbours are indices[indptr[m]:indptr[m + 1]], sorted "
            "(scipy.sparse.csr_matrix((np.ones(len(indices)), indices, indptr)) is the adjacency matrix).")
+      .def(
+          "_repr_png_", [](Session& s) { return s.png(640, 360); },
+          "The current view (640 x 360, fitted camera) as PNG bytes: what a Jupyter notebook shows for a Session.")
       .def("present", &Session::present, "Which modules are present at the current step: bool, shape (modules,).")
       .def("series", &Session::series, py::arg("module"), py::arg("variable"), py::arg("first"), py::arg("last"),
            "One variable of one module over steps first..last: an int64 numpy.ma.MaskedArray, shape (last - first "

@@ -140,6 +140,33 @@ TEST(Parser, OffsetsUpToTheLimitParseAndPastItAreOneErrorAtTheirSpan) {
   EXPECT_GT(r.diagnostics[0].span.length(), 5u * kMaxOffset);
 }
 
+// A neighbour is read at its domain's offset plus its own: the limit holds for the sum, one error
+// at the read; reads within it, either way, parse.
+TEST(Parser, OffsetsThroughAnAggregateAddUpToTheLimit) {
+  auto shifted = [](const char* name, const char* step, int n) {  // "a.next.next", no '.' after
+    std::string m = std::string(name) + "." + chain(step, n);
+    m.pop_back();
+    return m;
+  };
+  const int half = kMaxOffset / 2;
+  EXPECT_TRUE(p("modules(a); sum(n in neighbors(" + shifted("a", "next.", half) + "): " + shifted("n", "next.", half) +
+                ".dist) > 1")
+                  .ok());
+  EXPECT_TRUE(p("modules(a); sum(n in within(" + shifted("a", "last.", half) + ", 2): " + shifted("n", "last.", half) +
+                ".dist) > 1")
+                  .ok());
+  const std::string text = "modules(a); sum(n in neighbors(" + shifted("a", "next.", kMaxOffset) +
+                           "): " + shifted("n", "next.", kMaxOffset) + ".dist) > 1";
+  auto r = p(text);
+  ASSERT_EQ(r.diagnostics.size(), 1u);
+  EXPECT_NE(r.diagnostics[0].message.find("is 20000 steps ahead"), std::string::npos) << r.diagnostics[0].message;
+  EXPECT_EQ(r.diagnostics[0].span.begin, text.find("n.next")) << "at the read";
+  r = p("modules(a); count(n in neighbors(" + shifted("a", "last.", 6000) + "): " + shifted("n", "last.", 6000) +
+        ".x = 1) > 1");
+  ASSERT_EQ(r.diagnostics.size(), 1u);
+  EXPECT_NE(r.diagnostics[0].message.find("is 12000 steps back"), std::string::npos) << r.diagnostics[0].message;
+}
+
 TEST(Parser, HugeExpressionSaysWhatItCounts) {
   std::string text = "modules(a); (a.x = 1)";
   for (int i = 0; i < 5000; ++i) text += " or (a.x = 1)";
