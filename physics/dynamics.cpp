@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
 #include <unordered_set>
 
 #include "physics/convert.h"
@@ -373,24 +374,41 @@ void Dynamics::settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim:
                         to_bt(c.velocity.angular).length2() < settings_.sleep_angular * settings_.sleep_angular;
       c.still = slow ? c.still + 1 : 0;
     }
-  std::vector<sim::ContactPoint> cache;
-  size_t stepped = 0;
-  for (const IslandOutput& out : outputs) stepped += out.contacts.size();
-  cache.reserve(stepped);
+  // The cache: the sleeping islands' points as they were, then each stepped island's. Each pair's
+  // points come in runs (a manifold's, in the solver's order) and lie in one island: sorting the
+  // runs by pair, stably, is the stable sort of the points by pair, at a run's cost, not a point's.
+  struct Run {
+    uint32_t a, b;
+    const sim::ContactPoint* first;
+    uint32_t count;
+  };
   const auto asleep = [&](uint32_t side) {
     if (side >= b.cluster_of.size()) return false;  // the ground or a prop: never asleep
     const uint32_t c = b.cluster_of[side];
     return c != sim::kNoCluster && c < sleeping.size() && sleeping[c];
   };
-  for (const sim::ContactPoint& p : b.contacts)
-    if (asleep(p.a) || asleep(p.b)) cache.push_back(p);
-  for (const IslandOutput& out : outputs) cache.insert(cache.end(), out.contacts.begin(), out.contacts.end());
-  // Each pair's points lie in one island, in the solver's order: sorting by pair keeps that order.
-  std::stable_sort(cache.begin(), cache.end(), sim::contact_pair_less);
+  std::vector<Run> runs;
+  size_t points = 0;
+  const auto add_runs = [&](std::span<const sim::ContactPoint> from, bool kept_only_asleep) {
+    for (const sim::ContactPoint& p : from) {
+      if (kept_only_asleep && !asleep(p.a) && !asleep(p.b)) continue;
+      if (!runs.empty() && runs.back().first + runs.back().count == &p && runs.back().a == p.a && runs.back().b == p.b)
+        ++runs.back().count;
+      else runs.push_back({p.a, p.b, &p, 1});
+      ++points;
+    }
+  };
+  add_runs(b.contacts, true);
+  for (const IslandOutput& out : outputs) add_runs(out.contacts, false);
+  std::stable_sort(runs.begin(), runs.end(),
+                   [](const Run& x, const Run& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
+  std::vector<sim::ContactPoint> cache;
+  cache.reserve(points);
+  for (const Run& r : runs) cache.insert(cache.end(), r.first, r.first + r.count);
   b.contacts = std::move(cache);
 }
 
-void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, std::vector<float>& force,
+void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, std::vector<float>* force,
                     sim::WorkerPool& workers, sim::RankExchange* ranks) {
   Plan plan{.clusters = int(b.clusters.size()), .movers = int(b.movers.size())};
   gather_bodies(plan, b, pushes, to);
@@ -425,13 +443,16 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
   workers.run([&](unsigned run) {
     const uint32_t span = last_batch - first_batch;
     for (uint32_t k = first_batch + span * run / runs; k < first_batch + span * (run + 1) / runs; ++k)
-      step_batch(plan, plan.batches[k], plan.batches[k + 1], *shapes_->workers[run], b, outputs[plan.batches[k]]);
+      step_batch(plan, plan.batches[k], plan.batches[k + 1], *shapes_->workers[run], b, force != nullptr,
+                 outputs[plan.batches[k]]);
   });
   if (ranks != nullptr) share(plan, first, last, outputs, b, *ranks);
 
-  force.assign(b.poses.size(), 0.0f);
-  for (const IslandOutput& out : outputs)
-    for (const auto& [m, f] : out.forces) force[m] += f;
+  if (force != nullptr) {
+    force->assign(b.poses.size(), 0.0f);
+    for (const IslandOutput& out : outputs)
+      for (const auto& [m, f] : out.forces) (*force)[m] += f;
+  }
   settle(plan, outputs, b);
 
   std::erase_if(shapes_->compounds, [&](const auto& entry) { return entry.second.used < to - 1; });

@@ -56,13 +56,13 @@ class Dynamics {
   bool idle(const sim::Bodies& bodies) const;
   // Moves the clusters, props and movers from step `to - 1` to step `to`; pushes are applied
   // first. Writes each module's contact force (N) over the step from other bodies (the ground's
-  // support is left out) into `force`.
+  // support is left out) into `force`, unless it is null (nothing asks: no bond could break).
   // Islands of bodies that cannot touch within the step (physics/islands.h) are stepped apart, in
   // batches of consecutive islands (a world for each batch), on `workers`; the result does not
   // depend on their number. Over `ranks` (a collective call, made alike on every rank with the
   // same bodies), each rank steps a run of the batches and the ranks swap what their islands
   // wrote: each ends with what one process computes, bit for bit.
-  void step(sim::Bodies& bodies, std::span<const Push> pushes, int64_t to, std::vector<float>& force,
+  void step(sim::Bodies& bodies, std::span<const Push> pushes, int64_t to, std::vector<float>* force,
             sim::WorkerPool& workers, sim::RankExchange* ranks = nullptr);
   // Islands in the last step, and the clusters that moved in those this process stepped (over
   // ranks, its run of them), ascending.
@@ -82,7 +82,8 @@ class Dynamics {
   // The stages of a step, in order (dynamics.cpp).
   void gather_bodies(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes, int64_t to);
   void form_islands(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes) const;
-  void step_batch(const Plan& plan, uint32_t from, uint32_t to, Worker& worker, sim::Bodies& b, IslandOutput& out);
+  void step_batch(const Plan& plan, uint32_t from, uint32_t to, Worker& worker, sim::Bodies& b, bool forces,
+                  IslandOutput& out);
   static void share(const Plan& plan, uint32_t first, uint32_t last, std::vector<IslandOutput>& outputs, sim::Bodies& b,
                     sim::RankExchange& ranks);
   void settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim::Bodies& b) const;

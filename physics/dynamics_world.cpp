@@ -29,7 +29,7 @@ int64_t Dynamics::module_of(const Plan& plan, const sim::Bodies& b, const btColl
 // One batch of islands, [from, to), in a Bullet world of its own, on one worker's collision
 // configuration (Bullet's pools are not shared); it writes only its own clusters and props, and its
 // forces and contacts into `out`.
-void Dynamics::step_batch(const Plan& plan, uint32_t from, uint32_t to, Worker& worker, sim::Bodies& b,
+void Dynamics::step_batch(const Plan& plan, uint32_t from, uint32_t to, Worker& worker, sim::Bodies& b, bool forces,
                           IslandOutput& out) {
   // Its islands' bodies in tag order, each once (a fixed body near two islands is in both).
   std::vector<uint32_t> bodies;
@@ -96,15 +96,16 @@ void Dynamics::step_batch(const Plan& plan, uint32_t from, uint32_t to, Worker& 
   }
 
   // Substeps of one fixed length, each a step of its own (maxSubSteps 0: no interpolation). The
-  // contact force on a module over the step is what the solver applied over all of them, from
-  // other bodies: the ground only carries what rests on it, its contacts do not count.
+  // contact force on a module over the step (when `forces` asks for it) is what the solver applied
+  // over all of them, from other bodies: the ground only carries what rests on it, its contacts do
+  // not count.
   const float substep = dt / float(settings_.substeps);
   for (int k = 0; k < settings_.substeps; ++k) {
     world.stepSimulation(substep, 0, substep);
     const int manifolds = dispatcher.getNumManifolds(), pairs = world.getPairCache()->getNumOverlappingPairs();
     if (!collision.holds(manifolds, pairs))
       worker.needed = std::max({worker.needed, manifolds, pairs, 2 * worker.pool});
-    for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
+    for (int i = 0; forces && i < dispatcher.getNumManifolds(); ++i) {
       const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(i);
       if (manifold->getBody0()->getUserIndex() < 0 || manifold->getBody1()->getUserIndex() < 0) continue;
       for (int p = 0; p < manifold->getNumContacts(); ++p) {

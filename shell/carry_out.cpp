@@ -6,11 +6,73 @@
 #include <algorithm>
 
 #include "scenarios/scenario.h"
+#include "sim/why.h"
 #include "watch/watchpoint.h"
 
 namespace dw::shell {
 
 using Kind = Command::Kind;
+
+namespace {
+
+using Answer = std::variant<nlohmann::ordered_json, std::string>;
+Answer failed(std::string why) { return Answer(std::in_place_index<1>, std::move(why)); }
+
+// why M VAR [T], why match W ROW | W T SLOTS: the cone of docs/design.md §7b. A step past the
+// latest is simulated first (as a view of it would be); the cursor stays where it is.
+Answer why(sim::Session& session, const Command& cmd, const sim::Control& control, nlohmann::ordered_json answer) {
+  const Command::Why& asked = *cmd.why;
+  std::vector<sim::ModuleId> group;
+  int64_t t = asked.t.value_or(session.current());
+  int w = -1;
+  if (asked.match) {
+    if ((w = session.watch_index(cmd.name)) < 0) return failed("no watchpoint is named '" + cmd.name + "'");
+    const sim::HostedWatchpoint& h = session.watches()[static_cast<uint32_t>(w)].hosted;
+    const size_t k = h.watchpoint.program.slot_count();
+    if (asked.row) {
+      const sim::MatchList& list = session.matches(static_cast<uint32_t>(w));
+      if (*asked.row >= static_cast<int64_t>(list.size()))
+        return failed("'" + cmd.name + "' lists " + std::to_string(list.size()) + " matches (`matches " + cmd.name +
+                      "`): there is no row " + std::to_string(*asked.row));
+      const auto row = static_cast<size_t>(*asked.row);
+      t = list.t[row];
+      group.assign(list.slots.begin() + static_cast<ptrdiff_t>(row * k),
+                   list.slots.begin() + static_cast<ptrdiff_t>((row + 1) * k));
+    } else {
+      if (asked.slots.size() != k)
+        return failed("'" + cmd.name + "' has " + std::to_string(k) + " slots: give " + std::to_string(k) +
+                      " modules, not " + std::to_string(asked.slots.size()));
+      for (int64_t m : asked.slots) group.push_back(static_cast<sim::ModuleId>(m));
+    }
+  }
+  if (t < 0) return failed("no step has run yet: step first, or give T");
+  if (t > session.latest()) {
+    session.decide(t, {}, control);
+    if (t > session.latest()) return failed("cancelled");
+  }
+  if (!session.has_history() && t < session.latest()) return failed("the session keeps no history to look back into");
+  const auto cone =
+      asked.match ? sim::why_match(session, static_cast<uint32_t>(w), t, group, asked.depth, asked.narrow, control)
+                  : sim::why_value(session, static_cast<sim::ModuleId>(*cmd.number), asked.column, t, asked.depth,
+                                   asked.narrow, control);
+  if (!cone) return failed(control.stopped() ? "cancelled" : "the session keeps no history to look back into");
+  std::vector<std::string> names;
+  for (uint32_t i = 0; i < session.watches().size(); ++i) names.push_back(session.watches()[i].hosted.watchpoint.name);
+  if (asked.match) {
+    nlohmann::ordered_json slots = nlohmann::ordered_json::object();
+    const sim::HostedWatchpoint& h = session.watches()[static_cast<uint32_t>(w)].hosted;
+    for (size_t s = 0; s < group.size(); ++s)
+      slots[h.watchpoint.program.slot_names[s]] = session.model().universe.id(group[s]);
+    answer["match"] = {{"watch", cmd.name}, {"t", t}, {"slots", std::move(slots)}};
+  }
+  nlohmann::ordered_json found = nlohmann::ordered_json::parse(sim::cone_json(*cone, session.model().universe, names));
+  for (auto& [key, value] : found.items()) answer[key] = std::move(value);
+  answer["current"] = session.current();
+  answer["latest"] = session.latest();
+  return answer;
+}
+
+}  // namespace
 
 Shell::Shell(const scenarios::Scenario& scenario, sim::Session& session) : scenario_(scenario), session_(session) {}
 
@@ -41,6 +103,7 @@ std::variant<nlohmann::ordered_json, std::string> Shell::execute(const Command& 
       case Kind::Save: return save_file(cmd, std::move(answer));
       case Kind::Interventions: return interventions(std::move(answer));
       case Kind::Status: return status(std::move(answer));
+      case Kind::Why: return why(session_, cmd, control, std::move(answer));
       case Kind::Help: answer["commands"] = command_help(); break;
     }
   } catch (const sim::ProgramError& e) {

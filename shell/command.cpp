@@ -38,6 +38,9 @@ const CommandSpec kCommands[] = {
     {"reload", Kind::Reload, "reload",
      "load the scenario's Lua scripts again: the changed program runs from the next step, a new branch"},
     {"status", Kind::Status, "status", "where the session stands: steps, watchpoints, history"},
+    {"why", Kind::Why, "why M VAR [T] [--depth D] [--narrow] | why match W ROW|T SLOTS... [--depth D] [--narrow]",
+     "the causal history of a value, or of a match: the events, messages and neighbour changes that could have led "
+     "to it, D steps deep (docs/design.md section 7b)"},
     {"help", Kind::Help, "help", "these commands"},
 };
 

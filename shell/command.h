@@ -34,6 +34,7 @@ struct Command {
     Interventions,
     Reload,
     Status,
+    Why,
     Help,
   };
   Kind kind = Kind::Help;
@@ -45,6 +46,17 @@ struct Command {
   int width = 1280, height = 720;                   // render
   std::optional<sim::Intervention> intervention;
   std::optional<sim::HostedWatchpoint> watch;
+  // why M VAR [T] (M in `number`), why match W ROW | W T SLOTS (W in `name`): docs/design.md §7b.
+  struct Why {
+    bool match = false;
+    int column = -1;             // VAR
+    std::optional<int64_t> t;    // T (the current step when not given)
+    std::optional<int64_t> row;  // ROW of `matches W`
+    std::vector<int64_t> slots;  // SLOTS: the group's modules, in slot order
+    int depth = 3;
+    bool narrow = false;
+  };
+  std::optional<Why> why;
 };
 
 // A command's line in the table of commands: its name, its arguments as `help` shows them, and

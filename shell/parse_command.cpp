@@ -99,6 +99,7 @@ struct ArgumentReader {
   const int64_t last_module = static_cast<int64_t>(model.module_count()) - 1;
   const watch::Span after_last{tokens.back().span.end, tokens.back().span.end + 1};
   static constexpr int64_t kMaxStep = scenarios::kStepsRange.max;
+  static constexpr int64_t kMaxWhyDepth = 64;
 
   bool fail(watch::Span at, std::string message) {
     mistakes.push_back({at, std::move(message)});
@@ -139,6 +140,7 @@ struct ArgumentReader {
   bool matches();
   bool render();
   bool save();
+  bool why();
 };
 
 bool ArgumentReader::arguments() {
@@ -167,6 +169,7 @@ bool ArgumentReader::arguments() {
     case Kind::Record:  // record := 'record' FILE
       return want(1, 1) && file(1);
     case Kind::Save: return save();
+    case Kind::Why: return why();
     case Kind::Continue:
     case Kind::Hash:
     case Kind::Interventions:
@@ -343,6 +346,56 @@ bool ArgumentReader::save() {
     if (tokens[2].text != "overwrite") return usage(tokens[2].span);
     cmd.overwrite = true;
   }
+  return true;
+}
+
+// why      := 'why' M VAR T? option* | 'why' 'match' W (ROW | T SLOTS+) option*
+// option   := '--depth' D | '--narrow'      after the other words; D in 0..64
+bool ArgumentReader::why() {
+  Command::Why why;
+  std::vector<size_t> words;  // the positional ones
+  for (size_t i = 1; i < tokens.size(); ++i) {
+    if (tokens[i].text == "--narrow") {
+      why.narrow = true;
+    } else if (tokens[i].text == "--depth") {
+      if (i + 1 == tokens.size()) return fail(after_last, "--depth needs a number of steps");
+      const auto d = number(++i, 0, kMaxWhyDepth, "D");
+      if (!d) return false;
+      why.depth = static_cast<int>(*d);
+    } else if (tokens[i].text.rfind("--", 0) == 0) {
+      return fail(tokens[i].span, "why takes --depth D and --narrow, not '" + std::string(tokens[i].text) + "'");
+    } else {
+      words.push_back(i);
+    }
+  }
+  if (words.empty()) return usage(after_last);
+  if (tokens[words[0]].text == "match") {
+    why.match = true;
+    if (words.size() < 3) return usage(after_last);
+    cmd.name = tokens[words[1]].text;
+    if (words.size() == 3) {
+      why.row = number(words[2], 0, INT64_MAX, "ROW");
+      if (!why.row) return false;
+    } else {
+      why.t = number(words[2], 0, kMaxStep, "T");
+      for (size_t k = 3; k < words.size(); ++k)
+        if (const auto m = number(words[k], 0, last_module, "a slot's module")) why.slots.push_back(*m);
+      if (!why.t || why.slots.size() != words.size() - 3) return false;
+    }
+  } else {
+    if (words.size() < 2 || words.size() > 3) return usage(words.size() < 2 ? after_last : tokens[words[3]].span);
+    cmd.number = number(words[0], 0, last_module, "M");
+    why.column = model.column(tokens[words[1]].text);
+    if (why.column < 0) {
+      std::string names;
+      for (const std::string& v : model.universe.variables) names += (names.empty() ? "" : ", ") + v;
+      fail(tokens[words[1]].span,
+           "no program has a variable named '" + std::string(tokens[words[1]].text) + "' (there are: " + names + ")");
+    }
+    if (words.size() == 3 && !(why.t = number(words[2], 0, kMaxStep, "T"))) return false;
+    if (!cmd.number || why.column < 0) return false;
+  }
+  cmd.why = std::move(why);
   return true;
 }
 

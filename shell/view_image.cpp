@@ -44,6 +44,7 @@ std::vector<render::SceneGroup> groups_at(const sim::Session& session, int64_t t
   for (uint32_t w = 0; w < session.watches().size(); ++w) {
     const watch::Watchpoint& wp = session.watches()[w].hosted.watchpoint;
     const size_t k = size_t(wp.program.slot_count());
+    if (k == 0) continue;  // a zero-slot match (docs/design.md §4c) has no module to light
     const sim::MatchList& list = session.matches(w);
     for (auto [i, last] = list.at(t); i < last; ++i) {
       groups.push_back(

@@ -22,6 +22,7 @@ MatchLog::MatchLog(std::vector<WatchInfo> watches, std::ostream* out, size_t kee
 // The groups of k ids in `ids`, sorted lexicographically. When a whole group fits in 64 bits it is
 // packed into one integer, so that sorting compares integers (ten times faster on 100,000 groups).
 std::vector<watch::ModuleId> MatchLog::sorted_groups(std::span<const watch::ModuleId> ids, size_t k) {
+  if (k == 0) return {};  // a zero-slot watchpoint's rows hold no id
   const size_t n = ids.size() / k;
   std::vector<watch::ModuleId> out;
   out.reserve(ids.size());
@@ -43,7 +44,7 @@ std::vector<watch::ModuleId> MatchLog::sorted_groups(std::span<const watch::Modu
 
 // The groups of k ids in `ids` in sorted order, as their indices.
 std::vector<size_t> MatchLog::group_order(std::span<const watch::ModuleId> ids, size_t k) {
-  std::vector<size_t> order(ids.size() / k);
+  std::vector<size_t> order(k == 0 ? 0 : ids.size() / k);
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
     return std::lexicographical_compare(ids.begin() + a * k, ids.begin() + (a + 1) * k, ids.begin() + b * k,
@@ -82,10 +83,10 @@ watch::MatchSink MatchLog::sink(size_t index) {
   return [this, index](int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value> actions) {
     Watch& w = watches_[index];
     const size_t k = w.info.slots.size();
-    const size_t n = ids.size() / k;
+    const size_t n = watch::match_rows(ids.size(), k);
     w.count += n;
     if (out_ == nullptr && w.kept.size() >= keep_) return;
-    Batch batch{t, index, {}, {}};
+    Batch batch{t, index, n, {}, {}};
     if (const size_t a = w.info.actions.size(); a > 0 && actions.size() == n * a) {
       for (size_t i : group_order(ids, k)) {
         batch.ids.insert(batch.ids.end(), ids.begin() + i * k, ids.begin() + (i + 1) * k);
@@ -119,7 +120,7 @@ void MatchLog::write(const Batch& b) {
   const std::string step(number, std::to_chars(number, number + sizeof number, b.t).ptr);
   std::string block;
   block.reserve(1 << 20);
-  for (size_t i = 0; i < b.ids.size(); i += k) {
+  for (size_t row = 0, i = 0; row < b.rows; ++row, i += k) {
     block += w.prefix;
     block += step;
     block += ",\"slots\":{";
@@ -132,7 +133,7 @@ void MatchLog::write(const Batch& b) {
     if (!b.actions.empty()) {
       const size_t a = w.info.actions.size();
       block += ",\"then\":";
-      block += then_json(w.info, {b.ids.data() + i, k}, {b.actions.data() + i / k * a, a}).dump();
+      block += then_json(w.info, {b.ids.data() + i, k}, {b.actions.data() + row * a, a}).dump();
     }
     block += "}\n";
     if (block.size() >= (1 << 20) - 256) {

@@ -3,6 +3,7 @@
 //   {"watch":"leaders","t":12,"slots":{"a":4,"b":5,"c":9}}
 // A watchpoint with actions (docs/design.md §4b) adds what each asks, its value null when unknown:
 //   {"watch":"gradient","t":3,"slots":{"a":4,"b":5},"then":[{"set":"a.dist","module":4,"value":2}]}
+// A zero-slot watchpoint's match (docs/design.md §4c) has no slot: {"watch":"w","t":12,"slots":{}}.
 // Detectors finish watch steps at different lags; a step is written once every watch is past it.
 #pragma once
 
@@ -62,6 +63,7 @@ class MatchLog {
   struct Batch {
     int64_t t;
     size_t watch;
+    size_t rows;                        // matches (watch::match_rows: a zero-slot one's holds no id)
     std::vector<watch::ModuleId> ids;   // sorted matches, slot_count each
     std::vector<watch::Value> actions;  // in step with ids, action_count each
   };

@@ -29,7 +29,7 @@ void RunOutputs::record(std::ostream& out, const watch::Universe& universe,
 void RunOutputs::found(uint32_t w, int64_t t, uint64_t matches, std::span<const ModuleId> slots,
                        std::span<const watch::Value> actions) {
   if (!lists_matches(watches_[w].action)) counted_[w] += matches;
-  else if (!slots.empty()) sinks_[w](t, slots, actions);
+  else if (matches > 0) sinks_[w](t, slots, actions);
 }
 
 void RunOutputs::step(const StepOutput& out, const watch::Frame* frame) {
@@ -48,7 +48,7 @@ void RunOutputs::end_run(Session& session, const std::optional<Pause>& pause, in
   }
   if (session.latest() + 1 < steps) return;
   session.drain([&](uint32_t w, int64_t t, std::span<const ModuleId> ids, std::span<const watch::Value> actions) {
-    found(w, t, ids.size() / watches_[w].watchpoint.program.slot_count(), ids, actions);
+    found(w, t, watch::match_rows(ids.size(), watches_[w].watchpoint.program.slot_count()), ids, actions);
   });
 }
 

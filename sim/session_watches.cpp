@@ -19,8 +19,8 @@ void Session::record_output(const State& state, const StepOutput& out, uint32_t 
 }
 
 // What a watchpoint keeps of the `matches` it found of watch step t during step `detected`: a
-// `count` one their number, the others each group (`slots`, slot_count ids a match) and its
-// actions' values.
+// `count` one their number, the others each group (`slots`, slot_count ids a match, none for a
+// zero-slot watchpoint) and its actions' values.
 void Session::keep_matches(uint32_t w, int64_t t, int64_t detected, uint64_t matches, std::span<const ModuleId> slots,
                            std::span<const watch::Value> actions) {
   MatchList& list = watches_[w].matches;
@@ -28,11 +28,10 @@ void Session::keep_matches(uint32_t w, int64_t t, int64_t detected, uint64_t mat
     list.count(t, detected, matches);
     return;
   }
-  const uint32_t k = watches_[w].hosted.watchpoint.program.slot_count();
   list.slots.insert(list.slots.end(), slots.begin(), slots.end());
   list.actions.insert(list.actions.end(), actions.begin(), actions.end());
-  list.t.insert(list.t.end(), slots.size() / k, t);
-  list.detected.insert(list.detected.end(), slots.size() / k, detected);
+  list.t.insert(list.t.end(), matches, t);
+  list.detected.insert(list.detected.end(), matches, detected);
 }
 
 void Session::drain(const DrainSink& sink) {
@@ -42,8 +41,9 @@ void Session::drain(const DrainSink& sink) {
     if (!ws.detector || ws.stopped) continue;
     const uint32_t k = watches_[w].hosted.watchpoint.program.slot_count();
     ws.detector->set_sink([&](int64_t t, std::span<const ModuleId> ids, std::span<const watch::Value> actions) {
-      ws.matches += ids.size() / k;
-      keep_matches(w, t, latest_, ids.size() / k, ids, actions);
+      const size_t rows = watch::match_rows(ids.size(), k);
+      ws.matches += rows;
+      keep_matches(w, t, latest_, rows, ids, actions);
       if (sink) sink(w, t, ids, actions);
     });
     const watch::DetectorStats before = ws.detector->stats();

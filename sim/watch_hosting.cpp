@@ -69,6 +69,11 @@ watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_
 
 std::string why_not_over_ranks(std::span<const HostedWatchpoint> watches) {
   for (const HostedWatchpoint& w : watches)
+    if (w.watchpoint.program.slot_count() == 0)
+      return "watchpoint '" + w.watchpoint.name +
+             "' has no modules ('modules()'): it is decided on the whole ensemble at once, which modules over "
+             "ranks cannot read yet: run it in one process";
+  for (const HostedWatchpoint& w : watches)
     if (!w.runs_on_agents())
       return "watchpoint '" + w.watchpoint.name + "' is " +
              (w.algorithm == watch::Algorithm::Centralized ? "centralized" : "read over simultaneous states") +
@@ -293,7 +298,7 @@ void WatchHosting::observe_detector(uint32_t w, State& state, WatchStepOutput& o
   ws.detector->set_sink(
       [&out, keep, k](int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value> actions) {
         out.t = t;
-        out.matches += ids.size() / k;
+        out.matches += watch::match_rows(ids.size(), k);
         if (!keep) return;
         out.slots.assign(ids.begin(), ids.end());
         out.actions.assign(actions.begin(), actions.end());

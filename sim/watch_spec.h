@@ -49,9 +49,11 @@ struct HostedWatchpoint {
   // Steps between a state and the watch step it completes (watch::lag).
   int64_t lag() const { return watch::lag(watchpoint.program, algorithm, options); }
   // The paper's distributed algorithm runs on the modules, as agents the runtime steps with
-  // them; every other reading is a detector observing the run's frames.
+  // them; every other reading is a detector observing the run's frames, and so is a zero-slot
+  // watchpoint in every reading (no module to run on: docs/design.md §4c, watch/ensemble_detector.h).
   bool runs_on_agents() const {
-    return algorithm == watch::Algorithm::Distributed && !watch::simultaneous(algorithm, options);
+    return algorithm == watch::Algorithm::Distributed && !watch::simultaneous(algorithm, options) &&
+           watchpoint.program.slot_count() > 0;
   }
 };
 

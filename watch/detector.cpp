@@ -7,7 +7,8 @@
 namespace dw::watch {
 
 int64_t lag(const Program& program, Algorithm algorithm, const DetectorOptions& options) {
-  if (algorithm == Algorithm::Centralized) return program.extent_plus;
+  // A zero-slot watchpoint is decided whole in every reading (watch/ensemble_detector.h).
+  if (algorithm == Algorithm::Centralized || program.slot_count() == 0) return program.extent_plus;
   if (simultaneous(algorithm, options))
     return program.agent_delay() + hop_latency(group_shape(algorithm, options), program.slot_count());
   return program.agent_delay() + program.slot_count() - 1;

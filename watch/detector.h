@@ -120,8 +120,14 @@ struct DetectorStats {
 // Receives the matches of one watch step `t`: `slots` holds count * slot_count module ids,
 // each match's ids in slot order; `actions`, of a watchpoint with actions (docs/design.md §4b), count *
 // action_count values, each match's in action order (a `remove`'s is 0), and is empty otherwise.
-// Called at most once per t, in increasing t.
+// Called at most once per t, in increasing t, and only for a step with a match: a zero-slot
+// watchpoint's (docs/design.md §4c) call, with no ids, is its step's one match. How many matches a
+// call holds is match_rows, never ids / slot_count.
 using MatchSink = std::function<void(int64_t t, std::span<const ModuleId> slots, std::span<const Value> actions)>;
+
+// The matches (rows) in `ids` module ids of a watchpoint of `slot_count` slots, as a sink or a
+// step's match list holds them: a zero-slot watchpoint's match is a row with no ids, one a step.
+inline size_t match_rows(size_t ids, size_t slot_count) { return slot_count == 0 ? 1 : ids / slot_count; }
 
 // For each program variable, the frame column that carries it, or -1 when frames never do.
 class Program;
@@ -153,6 +159,8 @@ class Detector {
   // Hands the matches of watch step t, in dense module indices, to the sink as module ids, with
   // their actions' values.
   void emit(int64_t t, std::span<const uint32_t> dense, std::span<const Value> actions = {});
+  // Hands a zero-slot watchpoint's match of watch step t (a row with no module) to the sink.
+  void emit_row(int64_t t) { sink_(t, {}, {}); }
 
   const Universe& universe_;
   DetectorStats stats_;

@@ -46,6 +46,33 @@ void explain_windows(const watch::Watchpoint& w, std::ostream& out) {
   }
 }
 
+// docs/design.md §4a, §7: what each reading finds and how long it takes to decide a watch step.
+void explain_readings(const watch::Watchpoint& w, std::ostream& out) {
+  const watch::Analysis& a = w.analysis;
+  const watch::Program& p = w.program;
+  if (p.slot_count() == 0) {  // docs/design.md §4c
+    out << "  readings       (a watch step t is decided at step t + lag)\n"
+        << "    every reading alike: the whole ensemble once a step, a fact of the engine's snapshot (no module, "
+           "no PatternMatcher); --shape and --states change nothing; lag E+ = "
+        << a.extent_plus << "\n";
+    return;
+  }
+  const int k = p.slot_count();
+  const int64_t e = a.extent_plus, h = a.aggregate_hops;
+  using watch::GroupShape;
+  const std::string hop = h == 0   ? ""
+                          : h == 1 ? " + 1 (an aggregate's hop)"
+                                   : " + " + std::to_string(h) + " (an aggregate's hops)";
+  out << "  readings       (a watch step t is decided at step t + lag)\n";
+  out << "    centralized: chain, ordered (default) or any groups, simultaneous states; lag E+ = " << e << "\n";
+  out << "    distributed, consistent states (the paper's): chain groups only; lag E+ + k - 1" << hop << " = "
+      << e + k - 1 + h << "\n";
+  out << "    distributed, simultaneous states: latency L = k - 1 = " << watch::hop_latency(GroupShape::Chain, k)
+      << " hops for chain, k(k - 1)/2 = " << watch::hop_latency(GroupShape::Any, k)
+      << " for ordered and any; lag E+ + L" << hop << " = " << e + h + watch::hop_latency(GroupShape::Chain, k) << " / "
+      << e + h + watch::hop_latency(GroupShape::Any, k) << "\n";
+}
+
 }  // namespace
 
 void explain_watchpoint(const watch::Watchpoint& w, std::ostream& out) {
@@ -55,6 +82,9 @@ void explain_watchpoint(const watch::Watchpoint& w, std::ostream& out) {
   out << "  normal form    " << watch::to_string(w.ast) << "\n";
   out << "  slots          " << p.slot_count() << ":";
   for (const auto& s : p.slot_names) out << " " << s;
+  if (p.slot_count() == 0)
+    out << " none, a zero-slot watchpoint on the whole ensemble (docs/design.md §4c): decided once a step, a match "
+           "is the step itself with no module (\"slots\":{}); nothing to act on (no 'then'); not over MPI ranks yet";
   out << "\n";
   out << "  E+             " << a.extent_plus
       << (a.extent_plus > 0 ? "  (looks ahead: detectors run " + std::to_string(a.extent_plus) +
@@ -123,21 +153,7 @@ void explain_watchpoint(const watch::Watchpoint& w, std::ostream& out) {
                                  : "decided from the module's own neighbour set, no message");
     out << "\n";
   }
-  // docs/design.md §4a, §7: what each reading finds and how long it takes to decide a watch step.
-  const int k = p.slot_count();
-  const int64_t e = a.extent_plus, h = a.aggregate_hops;
-  using watch::GroupShape;
-  const std::string hop = h == 0   ? ""
-                          : h == 1 ? " + 1 (an aggregate's hop)"
-                                   : " + " + std::to_string(h) + " (an aggregate's hops)";
-  out << "  readings       (a watch step t is decided at step t + lag)\n";
-  out << "    centralized: chain, ordered (default) or any groups, simultaneous states; lag E+ = " << e << "\n";
-  out << "    distributed, consistent states (the paper's): chain groups only; lag E+ + k - 1" << hop << " = "
-      << e + k - 1 + h << "\n";
-  out << "    distributed, simultaneous states: latency L = k - 1 = " << watch::hop_latency(GroupShape::Chain, k)
-      << " hops for chain, k(k - 1)/2 = " << watch::hop_latency(GroupShape::Any, k)
-      << " for ordered and any; lag E+ + L" << hop << " = " << e + h + watch::hop_latency(GroupShape::Chain, k) << " / "
-      << e + h + watch::hop_latency(GroupShape::Any, k) << "\n";
+  explain_readings(w, out);
   if (!w.ast.actions.empty()) {
     out << "  actions        (a match at t acts at the start of step t + lag + 1, with the match's reading)\n";
     for (const watch::Action& act : w.ast.actions) {

@@ -21,11 +21,11 @@ bool starts_window_condition(TokenKind k) {
 
 // ---- grammar: the watchpoint --------------------------------------------------------------
 
-// watchpoint := 'modules' '(' NAME (','? NAME)* ')' ';' or ['then' action (',' action)*] END
+// watchpoint := 'modules' '(' (NAME (','? NAME)*)? ')' ';' or ['then' action (',' action)*] END
+// (no module: a zero-slot watchpoint on the whole ensemble, docs/design.md §4c)
 void Parser::parse_watchpoint() {
-  parse_module_decl();
-  // Without module names every name below would be "undeclared": one mistake, one message.
-  if (ast_.slots.empty()) return;
+  // After a broken module list every name below would be "undeclared": one mistake, one message.
+  if (!parse_module_decl()) return;
   if (!match(TokenKind::Semicolon)) {
     error_expected("';' after the module list");
     // Going on is only useful when the condition clearly starts here.
@@ -49,17 +49,17 @@ void Parser::parse_watchpoint() {
   }
 }
 
-// module-decl := 'modules' '(' NAME (','? NAME)* ')'
-void Parser::parse_module_decl() {
+// module-decl := 'modules' '(' (NAME (','? NAME)*)? ')'
+// Whether the list was read whole (possibly empty) with no keyword in it.
+bool Parser::parse_module_decl() {
   if (!check(TokenKind::Modules)) {
     error_expected("'modules(...)' at the start of a watchpoint");
     // Recover only if the declaration is just misspelled: NAME '(' ...
-    if (!(check(TokenKind::Name) && at(pos_ + 1).kind == TokenKind::LParen)) return;
+    if (!(check(TokenKind::Name) && at(pos_ + 1).kind == TokenKind::LParen)) return false;
     panic_ = false;
   }
   advance();
-  if (!expect(TokenKind::LParen, "'(' after 'modules'")) return;
-  const Span open = previous().span;
+  if (!expect(TokenKind::LParen, "'(' after 'modules'")) return false;
   bool keyword_named = false;  // a keyword in the list is the mistake; the list is not also empty
   while (!check(TokenKind::RParen)) {
     if (!ast_.slots.empty()) match(TokenKind::Comma);
@@ -84,18 +84,21 @@ void Parser::parse_module_decl() {
       while (!check(TokenKind::End) && !check(TokenKind::RParen) && !check(TokenKind::Semicolon)) advance();
       match(TokenKind::RParen);
       panic_ = false;
-      return;
+      return false;
     }
   }
   advance();  // ')'
-  if (ast_.slots.empty() && !keyword_named)
-    report(Span::cover(open, previous().span), "'modules()' must name at least one module");
+  return !(keyword_named && ast_.slots.empty());
 }
 
 // actions := 'then' action (',' action)*
 // action  := 'set' NAME '.' NAME '=' expr | 'remove' NAME
 void Parser::parse_actions() {
-  advance();  // 'then'
+  advance();                 // 'then'
+  if (ast_.slots.empty()) {  // docs/design.md §4c: a zero-slot watchpoint has no module to act on
+    error_at(previous().span, "a watchpoint with no modules ('modules()') has no module to act on: 'then' is refused");
+    return;
+  }
   do {
     if (bail_) return;
     const Span start = peek().span;

@@ -157,7 +157,7 @@ class Parser {
   // The grammar: parser.cpp has the watchpoint, its actions and conditions; parse_expression.cpp
   // the integer expressions (docs/design.md §4b), modules and variables.
   void parse_watchpoint();
-  void parse_module_decl();
+  bool parse_module_decl();
   void parse_actions();
   bool parse_action_slot(ModuleRef& out, const char* verb);
   NodeIndex parse_or(int depth);

@@ -238,12 +238,15 @@ class Compiler {
       }
     }
     const uint32_t index = static_cast<uint32_t>(p_.leaves.size());
+    p_.leaves.push_back(l);
+    // A zero-slot watchpoint (docs/design.md §4c) has no slot to decide its leaves at: it is
+    // decided whole, once a step (watch/ensemble_detector.h).
+    if (p_.slots.empty()) return index;
     SlotProgram& decider = p_.slots[l.decide_slot];
     decider.leaves.push_back(static_cast<uint16_t>(index));
     const bool own = l.kind != LeafKind::Neighbor && !carries_;
     (own ? decider.own_leaves : decider.carried_leaves).push_back(static_cast<uint16_t>(index));
     if (l.kind == LeafKind::Neighbor && l.x < l.y) p_.slots[l.y].cull_leaves.push_back(static_cast<uint16_t>(index));
-    p_.leaves.push_back(l);
     return index;
   }
 

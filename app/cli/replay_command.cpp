@@ -227,7 +227,8 @@ int replay(const ReplayArgs& args) {
   r.stats = sim::replay(
       std::get<sim::FrameReader>(made), trace.step_count(), r.watches,
       [&](size_t i, int64_t, int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value> actions) {
-        outputs.found(uint32_t(i), t, ids.size() / r.watches[i].watchpoint.program.slot_count(), ids, actions);
+        outputs.found(uint32_t(i), t, watch::match_rows(ids.size(), r.watches[i].watchpoint.program.slot_count()), ids,
+                      actions);
       },
       [&](int64_t t) { outputs.release(t); }, r.drained);
   outputs.finish();  // as run: each count watchpoint's number last

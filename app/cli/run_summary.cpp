@@ -85,6 +85,7 @@ std::string reading_text(watch::Algorithm algorithm, const watch::DetectorOption
 }
 
 std::string group_text(std::span<const std::string> slot_names, std::span<const watch::ModuleId> ids) {
+  if (slot_names.empty()) return "(no module)";  // a zero-slot watchpoint's match (docs/design.md §4c)
   std::string s;
   for (size_t i = 0; i < ids.size(); ++i) s += (i ? " " : "") + slot_names[i] + "=" + std::to_string(ids[i]);
   return s;

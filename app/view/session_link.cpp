@@ -88,8 +88,10 @@ void Debugger::refresh_readout() {
         if (first < last) {
           model_.selected_match = MatchRef{uint32_t(w), first};
           const size_t k = size_t(s.watches()[uint32_t(w)].hosted.watchpoint.program.slot_count());
-          model_.selected = s.matches(uint32_t(w)).slots[first * k];
-          model_.reveal_group = true;
+          if (k > 0) {  // a zero-slot match (docs/design.md §4c) has no module to select
+            model_.selected = s.matches(uint32_t(w)).slots[first * k];
+            model_.reveal_group = true;
+          }
         }
       }
     }

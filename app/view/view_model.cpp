@@ -435,8 +435,10 @@ std::vector<std::string> ViewModel::on_match_click(const sim::Session& session, 
   selected_match = match;
   const sim::MatchList& list = session.matches(match.watch);
   const size_t k = size_t(session.watches()[match.watch].hosted.watchpoint.program.slot_count());
-  selected = list.slots[match.index * k];
-  reveal_group = true;
+  if (k > 0) {  // a zero-slot match (docs/design.md §4c) has no module to select
+    selected = list.slots[match.index * k];
+    reveal_group = true;
+  }
   return {command::seek(list.t[match.index])};
 }
 

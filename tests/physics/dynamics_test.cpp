@@ -67,7 +67,7 @@ TEST(Dynamics, ContactForceGoesToTheMemberTouchedNotToTheChildsIndex) {
   std::vector<float> force, total(n, 0.0f);
   sim::WorkerPool workers(1);
   for (int64_t step = 1; step <= 30; ++step) {
-    dynamics.step(b, {}, step, force, workers);
+    dynamics.step(b, {}, step, &force, workers);
     for (sim::ModuleId m = 0; m < n; ++m) total[m] += force[m];
   }
   EXPECT_GT(total[26], 0.0f);
@@ -105,7 +105,7 @@ void run(Dynamics& dynamics, sim::Bodies& b, int steps, unsigned threads, std::v
   sim::WorkerPool workers(threads);
   std::vector<float> force;
   for (int64_t step = 1; step <= steps; ++step) {
-    dynamics.step(b, {}, step, force, workers);
+    dynamics.step(b, {}, step, &force, workers);
     place_members(b);
     if (islands) islands->push_back(dynamics.islands());
   }
@@ -185,7 +185,7 @@ TEST(Dynamics, RanksSteppingRunsOfTheIslandsEndEveryStepWithTheBitsOfOneProcess)
     sim::WorkerPool workers(1);
     std::vector<float> force;
     for (int64_t step = 1; step <= kSteps; ++step) {
-      dynamics.step(b, {}, step, force, workers);
+      dynamics.step(b, {}, step, &force, workers);
       place_members(b);
       expected.push_back(b);
       expected_force.push_back(force);
@@ -207,7 +207,7 @@ TEST(Dynamics, RanksSteppingRunsOfTheIslandsEndEveryStepWithTheBitsOfOneProcess)
       std::vector<float> force;
       Seen out;
       for (int64_t step = 1; step <= kSteps; ++step) {
-        dynamics.step(b, {}, step, force, workers, &rank);
+        dynamics.step(b, {}, step, &force, workers, &rank);
         place_members(b);
         if (out.mismatch < 0 && (!(b == expected[size_t(step - 1)]) || force != expected_force[size_t(step - 1)]))
           out.mismatch = int(step);

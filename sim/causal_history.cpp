@@ -1,0 +1,128 @@
+// Recording a window of the session's history for `why` (docs/design.md §7b): the cursor walks the
+// window a step at a time (each step re-simulated once, from the keyframe before the window) and
+// goes back where it was; what each state holds for the next step (its inbox, the actions due,
+// the modules moving) becomes that step's record.
+#include "sim/causal_history.h"
+
+#include <algorithm>
+
+#include "sim/session.h"
+
+namespace dw::sim {
+
+const MovingModule* StepRecord::mover(ModuleId m) const {
+  const auto at = std::lower_bound(moving.begin(), moving.end(), m,
+                                   [](const MovingModule& x, ModuleId id) { return x.module < id; });
+  return at != moving.end() && at->module == m ? &*at : nullptr;
+}
+
+void StepRecord::index_reads(uint32_t modules) {
+  read_begin.assign(size_t{modules} + 1, 0);
+  for (const ReadMessage& m : read) ++read_begin[size_t{m.to} + 1];
+  for (uint32_t i = 0; i < modules; ++i) read_begin[i + 1] += read_begin[i];
+}
+
+int64_t CausalHistory::value_read(int64_t s, ModuleId m, int column) const {
+  int64_t v = value(s - 1, m, column);
+  if (holds(s))
+    for (const OutsideWrite& w : at(s).outside)
+      if (w.module == m && w.column == column && !w.remove) v = w.value;
+  return v;
+}
+
+std::optional<int64_t> origin_step(Session& session, ModuleId m, int column, int64_t t, const Control& control) {
+  // Most values changed lately: a short window first, four times longer each time it holds no change.
+  for (int64_t span = 16;; span *= 4) {
+    const int64_t from = std::max<int64_t>(0, t - span);
+    std::vector<uint8_t> present;
+    const auto values = session.series(m, column, from, t, control, &present);
+    if (!values) return std::nullopt;
+    for (int64_t w = t; w > from; --w) {
+      const auto i = static_cast<size_t>(w - from);
+      if (present[i] && (!present[i - 1] || (*values)[i] != (*values)[i - 1])) return w;
+    }
+    if (from == 0) return 0;
+  }
+}
+
+namespace {
+
+// What a state after step t - 1 holds for step t: the messages read at t, the actions due at its
+// start and the modules moving as N(·, t) was measured.
+void take_next(Session& session, const State& state, StepRecord& rec) {
+  const int64_t t = state.step;
+  for (const Message m : state.inbox.messages) {
+    rec.read.push_back({m.from, m.to, t - 1, static_cast<uint32_t>(rec.words.size()), m.size});
+    rec.words.insert(rec.words.end(), m.words, m.words + m.size);
+  }
+  for (const PendingAction& a : state.actions) {
+    if (!a.remove && !(a.known && a.column >= 0)) continue;  // skipped: it writes nothing
+    OutsideWrite w{.by = OutsideWrite::By::Action,
+                   .module = a.module,
+                   .column = a.remove ? -1 : a.column,
+                   .value = a.value,
+                   .remove = a.remove,
+                   .watch = a.watch};
+    // Its match: one found during step t - 1 whose group holds the module.
+    const MatchList& list = session.matches(a.watch);
+    const size_t k = session.watches()[a.watch].hosted.watchpoint.program.slot_count();
+    for (size_t i = 0; i < list.size() && w.match_t < 0; ++i) {
+      if (list.detected[i] != t - 1) continue;
+      const auto group = std::span(list.slots).subspan(i * k, k);
+      if (std::find(group.begin(), group.end(), a.module) == group.end()) continue;
+      w.match_t = list.t[i];
+      w.match_group.assign(group.begin(), group.end());
+    }
+    rec.outside.push_back(std::move(w));
+  }
+  for (const Mover& m : state.bodies.movers) rec.moving.push_back({m.module, m.start, m.axis != Vec3{}});
+}
+
+}  // namespace
+
+std::optional<CausalHistory> record_window(Session& session, int64_t first, int64_t last, const Control& control) {
+  if (first < 0 || first > last || last > session.latest() || !session.has_history()) return std::nullopt;
+  const int64_t back = session.current();
+  const Model& model = session.model();
+  CausalHistory h;
+  h.modules = model.module_count();
+  h.variables = model.variable_count();
+  h.first = first;
+  if (!session.seek(first - 1, control)) return std::nullopt;
+  StepRecord next;
+  {
+    const State& s = session.state();
+    h.before = s.values;
+    take_next(session, s, next);
+  }
+  for (int64_t t = first; t <= last; ++t) {
+    StepRecord rec = std::move(next);
+    next = StepRecord{};
+    rec.step = t;
+    // The interventions come after the actions, as the runtime carries them out.
+    for (const Intervention& i : session.interventions()) {
+      if (i.at != t) continue;
+      rec.outside.push_back({.by = i.scheduled ? OutsideWrite::By::Event : OutsideWrite::By::Intervention,
+                             .module = i.module,
+                             .column = i.kind == Intervention::Kind::Set ? i.column : -1,
+                             .value = i.value,
+                             .remove = i.kind == Intervention::Kind::Remove});
+    }
+    if (!session.seek(t, control)) {
+      session.seek(back);
+      return std::nullopt;
+    }
+    const State& s = session.state();
+    rec.values = s.values;
+    const std::span<const uint8_t> present = session.seen_present();
+    rec.present.assign(present.begin(), present.end());
+    rec.graph = std::make_shared<const NeighborGraph>(session.seen_graph());
+    if (t < last) take_next(session, s, next);
+    rec.index_reads(h.modules);
+    h.steps.push_back(std::move(rec));
+  }
+  session.seek(back);
+  return h;
+}
+
+}  // namespace dw::sim
