@@ -208,6 +208,7 @@ int main(int argc, char** argv) {
   dw::app::add_session_command(app, run, watcher);
   dw::app::add_view_command(app, run);
   dw::bench::add_bench_command(app, run, dw::app::bench_view);
+  dw::app::add_why_command(app, run);
   if (const std::optional<int> code = refused_or_answered(app, argc, argv)) return with_output_written(*code);
   return carry_out(run);
 }

@@ -226,10 +226,10 @@ std::string settings_text(const physics::PhysicsSettings& p) {
   std::ostringstream text;
   text << "    plain Bullet: one persistent btDiscreteDynamicsWorld (btDbvtBroadphase, sequential impulses), boxes of "
           "1 (Bullet's margin), a static plane under the lowest module;\n    both: dt "
-       << p.dt << " s in " << p.substeps << (p.substeps == 1 ? " substep" : " substeps") << ", gravity "
-       << -p.gravity[2] << ", " << p.module_mass << " kg a module, friction " << p.friction << ", restitution "
-       << p.restitution << ", " << p.solver_iterations
-       << " solver iterations warm-started with two friction directions a point, ";
+       << p.dt << " s in " << p.substeps << (p.substeps == 1 ? " substep" : " substeps") << " (up to " << p.max_substeps
+       << " while a body could move more than " << p.substep_travel << " in one), gravity " << -p.gravity[2] << ", "
+       << p.module_mass << " kg a module, friction " << p.friction << ", restitution " << p.restitution << ", "
+       << p.solver_iterations << " solver iterations warm-started with two friction directions a point, ";
   if (physics::sleeping_of(p) == Sleeping::Never) text << "no body ever sleeps\n";
   else
     text << "bodies sleep as Bullet's deactivation has them (" << p.sleep_after << " s slower than " << p.sleep_linear

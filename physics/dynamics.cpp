@@ -135,7 +135,7 @@ const Dynamics::Compound& Dynamics::compound(const sim::Bodies& b, const sim::Cl
 // How far a body can get over the step: its box, grown by what its speed, any pushes, gravity and
 // turning can carry it (a turn moves no point further than the box's far corner from the
 // centre). Anything that could touch it is then within the box.
-ReachBox Dynamics::reach(const Body& body, float pushed, float turned) const {
+ReachBox Dynamics::reach(const Body& body, float pushed, float turned, float* travel) const {
   btVector3 lo, hi;
   body.shape->getAabb(body.pose, lo, hi);
   const btVector3 o = body.pose.getOrigin();
@@ -144,8 +144,9 @@ ReachBox Dynamics::reach(const Body& body, float pushed, float turned) const {
   const float speed = to_bt(body.velocity.linear).length() + pushed;
   const float spin = to_bt(body.velocity.angular).length() + turned;
   // The slack covers Bullet's contact breaking threshold (0.02) and the contact threshold.
-  const float grow = speed * dt + to_bt(settings_.gravity).length() * dt * dt + spin * dt * radius + 0.1f +
-                     settings_.contact_threshold;
+  const float moved = speed * dt + to_bt(settings_.gravity).length() * dt * dt + spin * dt * radius;
+  if (travel != nullptr) *travel = moved;
+  const float grow = moved + 0.1f + settings_.contact_threshold;
   ReachBox box;
   for (int i = 0; i < 3; ++i) {
     box.lo[size_t(i)] = lo[i] - grow;
@@ -219,11 +220,12 @@ void Dynamics::gather_bodies(Plan& plan, const sim::Bodies& b, std::span<const P
     turned[c] += arm * impulse / least;
   }
   for (size_t i = 0; i < bodies.size(); ++i) {
-    bodies[i].reach = reach(bodies[i], pushed[i], turned[i]);
+    bodies[i].reach = reach(bodies[i], pushed[i], turned[i], &bodies[i].travel);
     if (bodies[i].kinematic) {  // from where it was to where it goes
       Body was = bodies[i];
       was.pose = was.before;
       bodies[i].reach.cover(reach(was, 0, 0));
+      bodies[i].travel = (bodies[i].pose.getOrigin() - was.pose.getOrigin()).length();
     }
   }
 }

@@ -77,7 +77,8 @@ class Dynamics {
   struct Shapes;
   struct Collision;
   struct Worker;
-  ReachBox reach(const Body& body, float pushed, float turned) const;
+  // Where `body` can be over the step; `travel`, if given, how far a point of it can move.
+  ReachBox reach(const Body& body, float pushed, float turned, float* travel = nullptr) const;
   const Compound& compound(const sim::Bodies& bodies, const sim::Cluster& cluster, int64_t step);
   // The stages of a step, in order (dynamics.cpp).
   void gather_bodies(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes, int64_t to);

@@ -109,7 +109,8 @@ struct Dynamics::Body {
   btTransform pose, before;  // before: a kinematic body's last pose (Bullet takes its velocity from the two)
   sim::Velocity velocity;
   bool kinematic = false;
-  ReachBox reach;  // where it can be over the step
+  ReachBox reach;    // where it can be over the step
+  float travel = 0;  // how far a point of it can move over the step (speed, pushes and turning)
 };
 
 // What one step works from: its bodies in tag order (ground -1, then clusters, movers, props), the

@@ -79,12 +79,23 @@ PlainRun run_plain_bullet(const PlainScene& scene, const PhysicsSettings& settin
   const auto since = [](std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
-  // Each step as `substeps` fixed steps of dt / substeps, as dwatch makes them (one call of
-  // stepSimulation(dt, substeps, dt / substeps) rounds its leftover time into the next step).
-  const int substeps = std::max(1, settings.substeps);
-  const btScalar substep = settings.dt / btScalar(substeps);
+  // Each step as fixed substeps, as dwatch makes them (one call of stepSimulation(dt, substeps,
+  // dt / substeps) rounds its leftover time into the next step): as many as the fastest body
+  // awake needs (substeps_for), for the whole world — dwatch gives them to its islands apart.
+  const btScalar dt = settings.dt, fall = to_bt(settings.gravity).length() * dt * dt;
   for (int64_t s = 0; s < steps; ++s) {
     const auto start = std::chrono::steady_clock::now();
+    btScalar fastest = 0;
+    for (const auto& body : rigid)
+      if (body->isActive() && !body->isStaticObject()) {
+        btVector3 centre;
+        btScalar radius;
+        body->getCollisionShape()->getBoundingSphere(centre, radius);
+        fastest = std::max(fastest, body->getLinearVelocity().length() * dt + fall +
+                                        body->getAngularVelocity().length() * dt * (centre.length() + radius));
+      }
+    const int substeps = substeps_for(settings, float(fastest));
+    const btScalar substep = dt / btScalar(substeps);
     for (int k = 0; k < substeps; ++k) world.stepSimulation(substep, 0, substep);
     (s == 0 ? run.first_step_seconds : run.later_steps_seconds) += since(start);
   }

@@ -56,6 +56,9 @@ std::optional<physics::PhysicsSettings> Loader::physics_settings(TableReader& ro
   p.restitution = float(r.number("restitution", 0, 1).value_or(p.restitution));
   p.solver_iterations = int(r.integer("solver_iterations", 1, 1000).value_or(p.solver_iterations));
   p.substeps = int(r.integer("substeps", 1, 100).value_or(p.substeps));
+  p.substep_travel = float(r.number("substep_travel", 1e-4, 100).value_or(p.substep_travel));
+  p.max_substeps = int(r.integer("max_substeps", 1, 100).value_or(std::max(p.max_substeps, p.substeps)));
+  if (p.max_substeps < p.substeps) r.error("max_substeps", "is below substeps (" + std::to_string(p.substeps) + ")");
   p.sleep_after = float(r.number("sleep_after", 0, 1e6).value_or(p.sleep_after));
   p.move_steps = r.integer("move_steps", 1, 100'000).value_or(p.move_steps);
   for (const toml::table* prop : r.tables("prop")) {

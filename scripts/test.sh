@@ -16,7 +16,7 @@ if [ "${1:-}" = "--asan" ]; then
   # through the same seeks and rollbacks. The plausibility scenes' long runs (a 10^3 pile for 600
   # steps, every scene over ranks: a minute each under them) measure physics, not memory: their
   # code runs under the sanitizers in the physics tests' smaller scenes.
-  skip=(-E 'MpiRun\.(ManyBodiesMovingAtOnce|EveryOtherPhysicsScenario|AWallStruckAndTorn|ThePlausibilityScenesEqualOneProcess)|TimeTravelSoak\.Table1WithABudgetStop|PlausibilityStacks\.ATenCubedPileOfFreeBoxesRests')
+  skip=(-E 'MpiRun\.(ManyBodiesMovingAtOnce|EveryOtherPhysicsScenario|AWallStruckAndTorn|ThePlausibilityScenesEqualOneProcess)|TimeTravelSoak\.Table1WithABudgetStop|PlausibilityStacks\.ATenCubedPileOfFreeBoxesRests|PlausibilityImpacts\.DemolitionNothingPassesThroughTheGroundOrAnotherBody')
 fi
 scripts/install-deps.sh
 scripts/build.sh "$kind"

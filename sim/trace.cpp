@@ -46,6 +46,38 @@ class DenseIds {
 
 }  // namespace
 
+std::pair<uint64_t, uint64_t> Trace::lines_at(int64_t t) const {
+  const auto at = std::lower_bound(busy_steps_.begin(), busy_steps_.end(), t);
+  if (at == busy_steps_.end() || *at != t) return {0, 0};
+  const auto i = static_cast<size_t>(at - busy_steps_.begin());
+  return {busy_begin_[i], busy_begin_[i + 1]};
+}
+
+std::optional<uint64_t> Trace::line_of(int64_t t, uint32_t m) const {
+  const auto [first, last] = lines_at(t);
+  const auto begin = line_module_.begin() + static_cast<ptrdiff_t>(first),
+             end = line_module_.begin() + static_cast<ptrdiff_t>(last);
+  const auto at = std::lower_bound(begin, end, m);
+  if (at == end || *at != m) return std::nullopt;
+  return static_cast<uint64_t>(at - line_module_.begin());
+}
+
+std::optional<int64_t> Trace::value(uint64_t line, uint32_t var) const {
+  for (uint64_t k = value_begin_[line]; k < value_begin_[line + 1]; ++k)
+    if (value_var_[k] == var) return value_[k];
+  return std::nullopt;
+}
+
+std::vector<Trace::Read> Trace::received(uint64_t line) const {
+  std::vector<Read> read;
+  if (recv_begin_.empty()) return read;
+  for (uint64_t k = recv_begin_[line]; k < recv_begin_[line + 1]; ++k)
+    read.push_back({recv_from_[k],
+                    recv_sent_[k],
+                    {recv_words_.data() + recv_words_begin_[k], recv_words_begin_[k + 1] - recv_words_begin_[k]}});
+  return read;
+}
+
 Trace Trace::build(std::vector<Entry> entries, std::vector<std::string> variable_names) {
   Trace trace;
   trace.universe_.variables = std::move(variable_names);
@@ -63,6 +95,7 @@ Trace Trace::build(std::vector<Entry> entries, std::vector<std::string> variable
         for (const Entry& e : entries) {
           fn(e.m);
           for (watch::ModuleId n : e.nbrs) fn(n);
+          for (const Received& r : e.recv) fn(r.from);
         }
       },
       trace.universe_.module_ids);
@@ -88,7 +121,18 @@ Trace Trace::build(std::vector<Entry> entries, std::vector<std::string> variable
   trace.value_var_.reserve(values);
   trace.value_.reserve(values);
   trace.nbrs_.reserve(nbrs);
+  const bool with_messages = std::any_of(entries.begin(), entries.end(), [](const Entry& e) { return e.has_recv; });
+  if (with_messages) trace.recv_words_begin_.push_back(0);
   for (Entry& e : entries) {
+    if (with_messages) {
+      trace.recv_begin_.push_back(trace.recv_from_.size());
+      for (const Received& r : e.recv) {
+        trace.recv_from_.push_back(dense(r.from));
+        trace.recv_sent_.push_back(r.sent);
+        trace.recv_words_.insert(trace.recv_words_.end(), r.words.begin(), r.words.end());
+        trace.recv_words_begin_.push_back(trace.recv_words_.size());
+      }
+    }
     const uint32_t m = dense(e.m);
     has_line[m] = 1;
     trace.line_module_.push_back(m);
@@ -103,6 +147,7 @@ Trace Trace::build(std::vector<Entry> entries, std::vector<std::string> variable
   }
   trace.value_begin_.push_back(trace.value_.size());
   trace.nbr_begin_.push_back(trace.nbrs_.size());
+  if (with_messages) trace.recv_begin_.push_back(trace.recv_from_.size());
   trace.modules_with_lines_ = static_cast<uint32_t>(std::count(has_line.begin(), has_line.end(), 1));
   return trace;
 }

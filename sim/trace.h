@@ -5,6 +5,8 @@
 //   {"wptrace":1,"watches":[{"name":"w","text":"modules(a); ...","algorithm":"distributed",
 //                            "shape":"chain","states":"consistent","action":"log"}]}
 // and, when a `pause` watchpoint stopped the run, a last line {"paused":{"watch":"w","t":41}}.
+// A run recorded with its messages (`run --record-messages`) gives each line what the module read
+// at that step: "recv":[{"from":3,"sent":11,"words":[5,1]}] (docs/files.md).
 #pragma once
 
 #include <cstdint>
@@ -16,6 +18,7 @@
 #include <vector>
 
 #include "sim/intervention.h"
+#include "sim/message.h"
 #include "sim/model.h"
 #include "sim/watch_spec.h"
 #include "watch/frame.h"
@@ -43,6 +46,12 @@ class Trace {
   // Modules that have at least one line (the universe also holds ids named only as neighbours).
   uint32_t modules_with_lines() const { return modules_with_lines_; }
 
+  // A message a module read at a step: its sender's id, the step it was sent, its words.
+  struct Received {
+    watch::ModuleId from = 0;
+    int64_t sent = 0;
+    std::vector<int64_t> words;
+  };
   // One module's line at one step, as the reader or a recorder adds it.
   struct Entry {
     int64_t t = 0;
@@ -50,6 +59,8 @@ class Trace {
     std::vector<std::pair<uint32_t, int64_t>> vars;  // (index into the variable names, value)
     std::vector<watch::ModuleId> nbrs;
     uint64_t line = 0;  // in the file it was read from, for messages
+    bool has_recv = false;
+    std::vector<Received> recv;
   };
   static Trace build(std::vector<Entry> entries, std::vector<std::string> variable_names);
 
@@ -72,6 +83,22 @@ class Trace {
   // --watch replays, with the same reading (the budget and optimizations are the default ones).
   const std::vector<WatchSpec>& watches() const { return watches_; }
   void set_watches(std::vector<WatchSpec> watches) { watches_ = std::move(watches); }
+  // Whether its lines say what each module read ("recv"); then, the lines of step t ([first,
+  // last), in module order), the dense module of a line, and the messages it read: the sender as a
+  // dense index, the step sent, the words.
+  bool has_messages() const { return !recv_begin_.empty(); }
+  std::pair<uint64_t, uint64_t> lines_at(int64_t t) const;
+  uint32_t line_module(uint64_t line) const { return line_module_[line]; }
+  // Dense module m's line at step t, and the value of variable `var` on a line (none: not there).
+  std::optional<uint64_t> line_of(int64_t t, uint32_t m) const;
+  std::optional<int64_t> value(uint64_t line, uint32_t var) const;
+  struct Read {
+    uint32_t from = 0;
+    int64_t sent = 0;
+    std::span<const int64_t> words;
+  };
+  std::vector<Read> received(uint64_t line) const;
+
   // The pause that stopped the run that recorded it, if one did.
   const std::optional<TracePause>& paused() const { return paused_; }
   void set_paused(std::optional<TracePause> paused) { paused_ = std::move(paused); }
@@ -91,6 +118,12 @@ class Trace {
   std::vector<uint32_t> nbrs_;       // dense module indices
   std::vector<WatchSpec> watches_;
   std::optional<TracePause> paused_;
+  // With messages: [lines + 1] into the messages read, each a dense sender, a step and its words.
+  std::vector<uint64_t> recv_begin_;
+  std::vector<uint32_t> recv_from_;
+  std::vector<int64_t> recv_sent_;
+  std::vector<uint64_t> recv_words_begin_;  // [messages + 1]
+  std::vector<int64_t> recv_words_;
 };
 
 // The storage of one dense frame.
@@ -146,7 +179,9 @@ class TraceWriter {
  public:
   TraceWriter(std::ostream& out, const watch::Universe& universe, std::span<const Intervention> interventions = {},
               std::span<const WatchSpec> watches = {});
-  void write(const watch::Frame& frame);
+  // `read`, when given, is what the frame's modules read at its step (a runtime's inbox, grouped
+  // by receiver in module order): each line then says it under "recv".
+  void write(const watch::Frame& frame, const Mailbox* read = nullptr);
   // The last line, when a pause stopped the run.
   void write_paused(const TracePause& pause);
 

@@ -277,6 +277,36 @@ class TraceReader {
     return true;
   }
 
+  // "recv":[{"from":ID,"sent":STEP,"words":[W...]}...]: what the module read at the line's step.
+  bool read_recv(simdjson::dom::element v, const Where& at, std::vector<Trace::Received>& recv) {
+    const char* form = "\"recv\" must be an array of {\"from\":ID,\"sent\":STEP,\"words\":[...]}";
+    simdjson::dom::array list;
+    if (v.get_array().get(list)) return error(at, form), false;
+    for (simdjson::dom::element item : list) {
+      simdjson::dom::object message;
+      if (item.get_object().get(message) || message.size() != 3) return error(at, form), false;
+      Trace::Received r;
+      int64_t from = 0;
+      simdjson::dom::array words;
+      if (message["from"].error() || message["sent"].error() || message["words"].get_array().get(words))
+        return error(at, form), false;
+      if (!integer(message["from"].value_unsafe(), from, at, "a message's \"from\"") ||
+          !integer(message["sent"].value_unsafe(), r.sent, at, "a message's \"sent\""))
+        return false;
+      if (from < 0 || from > UINT32_MAX) return error(at, "a message's \"from\" must be in 0..4294967295"), false;
+      if (r.sent < 0 || r.sent > kMaxStep)
+        return error(at, "a message's \"sent\" must be a step in 0.." + std::to_string(kMaxStep)), false;
+      r.from = static_cast<uint32_t>(from);
+      for (simdjson::dom::element w : words) {
+        int64_t x = 0;
+        if (!integer(w, x, at, "a message's word")) return false;
+        r.words.push_back(x);
+      }
+      recv.push_back(std::move(r));
+    }
+    return true;
+  }
+
   // Parses one line in place; the text after it in the padded buffer is simdjson's padding.
   void parse_line(std::string_view text, bool first) {
     simdjson::dom::element doc;
@@ -349,6 +379,10 @@ class TraceReader {
           e.nbrs.push_back(static_cast<uint32_t>(n));
         }
         has_nbrs = true;
+      } else if (key == "recv") {
+        if (e.has_recv) return error(at, "duplicate field \"recv\"");
+        if (!read_recv(v, at, e.recv)) return;
+        e.has_recv = true;
       } else if (first &&
                  (obj["wptrace"].error() == simdjson::SUCCESS || obj["interventions"].error() == simdjson::SUCCESS ||
                   obj["watches"].error() == simdjson::SUCCESS)) {
@@ -360,7 +394,7 @@ class TraceReader {
       }
     }
     if (header) {
-      if (has_t || has_m || has_vars || has_nbrs)
+      if (has_t || has_m || has_vars || has_nbrs || e.has_recv)
         return error(Where{text, {}, 0}, "the header line holds only \"wptrace\", \"interventions\" and \"watches\"");
       return;
     }

@@ -36,7 +36,10 @@ TraceWriter::TraceWriter(std::ostream& out, const watch::Universe& universe,
   out_ << "}\n";
 }
 
-void TraceWriter::write(const watch::Frame& f) {
+void TraceWriter::write(const watch::Frame& f, const Mailbox* read) {
+  // The inbox's groups: (receiver, program), so a receiver's messages are one run of them.
+  const size_t programs =
+      read && !read->begin.empty() ? (read->begin.size() - 1) / std::max<size_t>(1, universe_.module_count()) : 0;
   const std::string t = std::to_string(f.step);
   for (uint32_t m = 0; m < universe_.module_count(); ++m) {
     if (!f.present[m]) continue;
@@ -54,7 +57,22 @@ void TraceWriter::write(const watch::Frame& f) {
       line_ += (first ? "" : ",") + std::to_string(universe_.id(n));
       first = false;
     }
-    line_ += "]}\n";
+    line_ += "]";
+    if (read) {
+      line_ += ",\"recv\":[";
+      const Messages all = read->messages.all();
+      const uint32_t from = programs ? read->begin[m * programs] : 0,
+                     to = programs ? read->begin[(m + 1) * programs] : 0;
+      for (uint32_t k = from; k < to; ++k) {
+        const Message msg = all[k];
+        line_ += (k == from ? "{\"from\":" : ",{\"from\":") + std::to_string(universe_.id(msg.from)) +
+                 ",\"sent\":" + std::to_string(f.step - 1) + ",\"words\":[";
+        for (uint16_t w = 0; w < msg.size; ++w) line_ += (w ? "," : "") + std::to_string(msg.words[w]);
+        line_ += "]}";
+      }
+      line_ += "]";
+    }
+    line_ += "}\n";
     out_ << line_;
   }
 }

@@ -147,8 +147,9 @@ void DistributedAgents::decide_own_expression(const Program& p, const Leaf& leaf
                                               uint32_t end, uint32_t at) {
   EvaluatorScratch scratch(p);  // per call, not per agents: several threads record blocks at once
   std::vector<uint32_t> neighbors, rows;
+  VisitMarks seen;
   for (uint32_t m = begin; m < end; ++m) {
-    Reader r(*this, m, static_cast<uint32_t>(leaf.decide_slot), f, nullptr, neighbors, rows);
+    Reader r(*this, m, static_cast<uint32_t>(leaf.decide_slot), f, nullptr, neighbors, rows, seen);
     Truth& own = own_[size_t{m - first_} * stride_ + at];
     own = kleene_and(own, Evaluator(p, r, scratch).leaf(leaf));
   }
@@ -199,7 +200,7 @@ bool DistributedAgents::write_table(uint32_t m, int64_t f, const AggregateCode& 
 // The values of a match's actions (docs/design.md §4b), read as the match's reading reads them.
 void DistributedAgents::act(uint32_t m, int64_t f, const PatternMatcherRef& pm, AgentContext& ctx) const {
   const Program& p = ctx.program;
-  Reader r(*this, m, pm.filled(), f, &pm, ctx.neighbors, ctx.rows);
+  Reader r(*this, m, pm.filled(), f, &pm, ctx.neighbors, ctx.rows, ctx.seen);
   Evaluator e(p, r, ctx.evaluation);
   for (const ActionCode& a : p.actions)
     ctx.action_values.push_back(a.value == kNoCode ? known_value(0) : e.value(a.value, 0, -1));
@@ -414,7 +415,7 @@ void DistributedAgents::finish_all(std::span<const uint32_t> to, int64_t f, cons
 Truth DistributedAgents::decide(const Leaf& leaf, uint32_t m, int64_t f, const PatternMatcherRef& pm,
                                 AgentContext& ctx) const {
   if (leaf.kind == LeafKind::Expression) {
-    Reader r(*this, m, pm.filled(), f, &pm, ctx.neighbors, ctx.rows);
+    Reader r(*this, m, pm.filled(), f, &pm, ctx.neighbors, ctx.rows, ctx.seen);
     return Evaluator(ctx.program, r, ctx.evaluation).leaf(leaf);
   }
   if (leaf.kind == LeafKind::Neighbor) {

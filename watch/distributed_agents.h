@@ -18,6 +18,7 @@
 #include "watch/agent_history.h"
 #include "watch/chunked_copy.h"
 #include "watch/detector.h"
+#include "watch/domains.h"
 #include "watch/evaluator.h"
 #include "watch/frame.h"
 #include "watch/pattern_matcher.h"
@@ -57,6 +58,7 @@ struct AgentContext {
   std::vector<std::byte> scratch;         // the PatternMatcher being filled
   EvaluatorScratch evaluation;            // value code's stacks
   std::vector<uint32_t> neighbors, rows;  // an aggregate's neighbours, or its table's rows
+  VisitMarks seen;                        // within()'s and component()'s search
   std::vector<Truth> stack;
   std::vector<Truth> trial;
   std::vector<uint32_t> targets;

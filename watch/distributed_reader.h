@@ -26,8 +26,16 @@ inline Truth membership(const uint32_t* ids, uint32_t count, uint32_t m) {
 class DistributedAgents::Reader {
  public:
   Reader(const DistributedAgents& agents, uint32_t m, uint32_t slot, int64_t f, const PatternMatcherRef* pm,
-         std::vector<uint32_t>& neighbors, std::vector<uint32_t>& rows)
-      : agents_(agents), h_(agents.history_), m_(m), slot_(slot), f_(f), pm_(pm), neighbors_(neighbors), rows_(rows) {}
+         std::vector<uint32_t>& neighbors, std::vector<uint32_t>& rows, VisitMarks& seen)
+      : agents_(agents),
+        h_(agents.history_),
+        m_(m),
+        slot_(slot),
+        f_(f),
+        pm_(pm),
+        neighbors_(neighbors),
+        rows_(rows),
+        seen_(seen) {}
 
   Value term(const ValueInstr& in) const {
     int64_t v = 0;
@@ -77,7 +85,8 @@ class DistributedAgents::Reader {
     if (!h_.present(root, step_)) return -1;
     if (a.domain == Domain::Component) {  // candidate 0, the module; the evaluator grows it (expand)
       neighbors_.assign(1, root);
-      seen_.assign(1, root);
+      seen_.start();
+      seen_.mark(root);
       return 1;
     }
     gather_within(
@@ -87,7 +96,7 @@ class DistributedAgents::Reader {
           const uint32_t* ns = h_.neighbors(u, step_, count);
           for (uint32_t i = 0; ns != nullptr && i < count; ++i) visit(ns[i]);
         },
-        [&](uint32_t u) { return h_.present(u, step_); }, neighbors_, seen_, frontier_);
+        [&](uint32_t u) { return h_.present(u, step_); }, neighbors_, seen_);
     return static_cast<int>(neighbors_.size());
   }
 
@@ -176,8 +185,8 @@ class DistributedAgents::Reader {
   int64_t f_;
   const PatternMatcherRef* pm_;
   std::vector<uint32_t>& neighbors_;
-  std::vector<uint32_t>& rows_;            // table: each row's byte offset in the record
-  std::vector<uint32_t> seen_, frontier_;  // within()'s breadth-first search
+  std::vector<uint32_t>& rows_;  // table: each row's byte offset in the record
+  VisitMarks& seen_;             // within()'s and component()'s search
   const AggregateCode* aggregate_ = nullptr;
   bool table_ = false;
   uint32_t at_ = 0;

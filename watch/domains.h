@@ -10,43 +10,60 @@
 
 namespace dw::watch {
 
-// The modules present at 1..hops hops from `root` (itself excluded, even when it lists itself),
-// following N(·) outward: each_neighbor(m, visit) calls visit(u) for every u in N(m), present(u)
-// says whether u is present. Sorted by index into `out`; `seen` and `frontier` are scratch.
-template <class EachNeighbor, class Present>
-void gather_within(uint32_t root, int hops, EachNeighbor&& each_neighbor, Present&& present, std::vector<uint32_t>& out,
-                   std::vector<uint32_t>& seen, std::vector<uint32_t>& frontier) {
-  out.clear();
-  seen.assign(1, root);  // sorted: a member's membership is one binary search
-  frontier.assign(1, root);
-  std::vector<uint32_t> next;
-  for (int h = 0; h < hops && !frontier.empty(); ++h) {
-    next.clear();
-    for (uint32_t m : frontier)
-      each_neighbor(m, [&](uint32_t u) {
-        const auto at = std::lower_bound(seen.begin(), seen.end(), u);
-        if ((at != seen.end() && *at == u) || !present(u)) return;
-        seen.insert(at, u);
-        next.push_back(u);
-        out.push_back(u);
-      });
-    frontier.swap(next);
+// The modules reached in one search, each marked with the search's generation: a new search
+// clears every mark in O(1), and a membership is one load (not a binary search, nor an insert in
+// the middle of a sorted list). Grows to the largest module index seen and is kept from call to
+// call, so a search allocates nothing once warm.
+class VisitMarks {
+ public:
+  void start() {
+    if (++generation_ == 0) {  // wrapped: marks of 2^32 searches ago would read as this one's
+      std::fill(marks_.begin(), marks_.end(), 0);
+      generation_ = 1;
+    }
   }
-  std::sort(out.begin(), out.end());
-}
+  // Marks u; whether it was not marked in this search yet.
+  bool mark(uint32_t u) {
+    if (u >= marks_.size()) marks_.resize(size_t{u} + 1 + u / 2, 0);
+    if (marks_[u] == generation_) return false;
+    marks_[u] = generation_;
+    return true;
+  }
 
-// component(m: c) as it grows (docs/design.md §4c): the present neighbours of `m`, a member, not yet
-// in `seen` (sorted) become candidates at the end of `list`. Returns the list's size.
+ private:
+  std::vector<uint32_t> marks_;
+  uint32_t generation_ = 0;
+};
+
+// The present neighbours of `m` not reached yet in this search (`seen`) are reached: appended to
+// `list`. each_neighbor(m, visit) calls visit(u) for every u in N(m), present(u) says whether u is
+// present. Returns the list's size. component(m: c) grows this way (docs/design.md §4c), and so
+// does within's breadth-first search.
 template <class EachNeighbor, class Present>
 int add_candidates(uint32_t m, EachNeighbor&& each_neighbor, Present&& present, std::vector<uint32_t>& list,
-                   std::vector<uint32_t>& seen) {
+                   VisitMarks& seen) {
   each_neighbor(m, [&](uint32_t u) {
-    const auto at = std::lower_bound(seen.begin(), seen.end(), u);
-    if ((at != seen.end() && *at == u) || !present(u)) return;
-    seen.insert(at, u);
-    list.push_back(u);
+    if (present(u) && seen.mark(u)) list.push_back(u);
   });
   return static_cast<int>(list.size());
+}
+
+// The modules present at 1..hops hops from `root` (itself excluded, even when it lists itself),
+// following N(·) outward, sorted by index into `out`. Breadth-first with `out` as its queue: each
+// hop's modules follow the one before's.
+template <class EachNeighbor, class Present>
+void gather_within(uint32_t root, int hops, EachNeighbor&& each_neighbor, Present&& present, std::vector<uint32_t>& out,
+                   VisitMarks& seen) {
+  out.clear();
+  seen.start();
+  seen.mark(root);
+  add_candidates(root, each_neighbor, present, out, seen);
+  for (size_t begin = 0, end = out.size(), h = 1; h < static_cast<size_t>(hops) && begin < end; ++h) {
+    for (size_t i = begin; i < end; ++i) add_candidates(out[i], each_neighbor, present, out, seen);
+    begin = end;
+    end = out.size();
+  }
+  std::sort(out.begin(), out.end());
 }
 
 // Keeps the candidates marked as members, sorted. Returns their count.

@@ -127,6 +127,7 @@ class Evaluator {
     switch (a.kind) {
       case AggregateKind::Count: {
         if (a.condition.empty()) return known_value(count);
+        if (const ConditionTest* c = read_against_constant(a)) return count_compared(*c, count);
         int64_t n = 0;
         for (int i = 0; i < count; ++i) {
           const Truth t = condition(a, base, i);
@@ -161,6 +162,29 @@ class Evaluator {
       case AggregateKind::Argmax: return arg_best(a, base, count);
     }
     return {};
+  }
+
+  // The condition's one test when it compares an element's variable with a constant
+  // (`count(n in D: n.x = 0)`, the commonest): counted without the logic and value programs.
+  const ConditionTest* read_against_constant(const AggregateCode& a) const {
+    if (a.condition.size() != 1) return nullptr;
+    const ConditionTest& t = p_.tests[a.condition[0].leaf];
+    if (t.kind != ConditionTest::Kind::Compare) return nullptr;
+    const std::vector<ValueInstr>& l = p_.codes[t.lhs];
+    const std::vector<ValueInstr>& r = p_.codes[t.rhs];
+    const bool plain = l.size() == 1 && l[0].op == ValueOp::Bound && r.size() == 1 && r[0].op == ValueOp::Constant;
+    return plain ? &t : nullptr;
+  }
+  Value count_compared(const ConditionTest& t, int count) {
+    const ValueInstr& read = p_.codes[t.lhs][0];
+    const int64_t constant = p_.codes[t.rhs][0].constant;
+    int64_t n = 0;
+    for (int i = 0; i < count; ++i) {
+      const Value v = r_.bound(i, read);
+      if (!v.known) return {};
+      n += holds(t.op, v.value, constant);
+    }
+    return known_value(n);
   }
 
   // component(m: c) (docs/design.md §4c), breadth-first from the module (candidate 0, what open gave):

@@ -116,7 +116,8 @@ class StepView::Reader {
     if (a.domain == Domain::Component) {  // candidate 0, the module; the evaluator grows it (expand)
       graph_ = g;
       n.assign(1, m);
-      v_.seen_.assign(1, m);
+      v_.seen_.start();
+      v_.seen_.mark(m);
       return 1;
     }
     if (a.domain == Domain::Within) {
@@ -125,7 +126,7 @@ class StepView::Reader {
           [&](uint32_t u, auto&& visit) {
             for (uint32_t w : g->neighbors(u)) visit(w);
           },
-          [&](uint32_t u) { return g->present[u] != 0; }, n, v_.seen_, v_.frontier_);
+          [&](uint32_t u) { return g->present[u] != 0; }, n, v_.seen_);
       return static_cast<int>(n.size());
     }
     // N(m, s) is a set of the neighbours present at s (docs/design.md §4b).

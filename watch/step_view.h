@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "watch/domains.h"
 #include "watch/evaluator.h"
 #include "watch/frame.h"
 #include "watch/kleene.h"
@@ -102,7 +103,7 @@ class StepView {
   uint32_t modules_ = 0;
   // Scratch for value code (docs/design.md §4b): an aggregate's neighbours, the evaluator's stacks.
   mutable std::vector<uint32_t> neighbors_;
-  mutable std::vector<uint32_t> seen_, frontier_;  // within()'s breadth-first search
+  mutable VisitMarks seen_;  // within()'s and component()'s search
   mutable EvaluatorScratch scratch_;
   int64_t t_ = -1;
   const StepHistory::Graph* now_ = nullptr;

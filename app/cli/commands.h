@@ -17,6 +17,7 @@ namespace dw::app {
 // Registers a subcommand on `app`; `run` is set to the function that carries it out once parsed.
 void add_check_command(CLI::App& app, std::function<int()>& run);
 void add_replay_command(CLI::App& app, std::function<int()>& run);
+void add_why_command(CLI::App& app, std::function<int()>& run);  // `why TRACE M VAR T`, docs/files.md
 // `ranks`: this process is one rank of a run over several (mpirun, docs/design.md §12), or null.
 // `interrupts`: the process's signal watcher, which a long command lets stop it cleanly, or null.
 void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange* ranks = nullptr,

@@ -32,6 +32,7 @@ struct RunArgs {
   size_t print = 5;
   bool no_progress = false;
   bool no_memory_check = false;
+  bool record_messages = false;  // each trace line says what its module read
 };
 
 // The scenario with the command line's overrides, or its diagnostics.
@@ -285,11 +286,15 @@ std::optional<int> render_run(std::ostream& summary, const RunArgs& args, const 
 
 // Runs the steps with the outputs written as they come (sim/run_outputs.h), then the run's end (a
 // drain or the pause line): the pause that stopped it, or the exit code of what stopped the run.
+// `with_messages`: the trace, written here rather than by `outputs`, each line with what its module
+// read at its step (the inbox the step before left).
 std::variant<std::optional<sim::Pause>, int> step_run(sim::Session& run, sim::RunOutputs& outputs, RunStop& stop,
                                                       const RunArgs& args, const RunFiles& files, int64_t steps,
-                                                      ProgressBar& progress, std::ostream& errors) {
+                                                      ProgressBar& progress, std::ostream& errors,
+                                                      sim::TraceWriter* with_messages) {
   const sim::Model& model = run.model();
   const bool recording = !args.record_path.empty();  // on every rank: each gives its part of each frame
+  sim::Mailbox read = run.head().inbox;              // what step 0 reads
   std::optional<sim::Pause> pause;
   try {
     pause = run.run_until(
@@ -301,9 +306,14 @@ std::variant<std::optional<sim::Pause>, int> step_run(sim::Session& run, sim::Ru
           if (recording) {
             values = run.whole_values(state);
             graph = run.whole_graph(out.graph);
-            if (outputs.recording()) frame = sim::make_frame(model, out.step, values, out.present, graph);
+            if (outputs.recording() || with_messages)
+              frame = sim::make_frame(model, out.step, values, out.present, graph);
           }
-          outputs.step(out, frame ? &*frame : nullptr);
+          if (with_messages && frame) {
+            with_messages->write(*frame, &read);
+            read = state.inbox;
+          }
+          outputs.step(out, frame && !with_messages ? &*frame : nullptr);
           progress.update(out.step + 1);
         },
         stop.control());
@@ -316,6 +326,8 @@ std::variant<std::optional<sim::Pause>, int> step_run(sim::Session& run, sim::Ru
     }
     stop.arm();
     outputs.end_run(run, pause, steps);
+    if (with_messages && pause)
+      with_messages->write_paused({run.watches()[pause->watch].hosted.watchpoint.name, pause->t});
   } catch (const sim::ProgramError& e) {
     progress.finish();
     errors << "dwatch: " << args.scenario << ": error: " << e.what() << "\n";
@@ -346,6 +358,10 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, shell::Interrupt
     errors << "dwatch: error: --render needs a file name\n";
     return 2;
   }
+  if (ranks && args.record_messages) {
+    errors << "dwatch: error: --record-messages records one process's run: run it without mpirun\n";
+    return 2;
+  }
   if (ranks) {
     if (const std::string why = sim::why_not_over_ranks(model); !why.empty()) {
       errors << "dwatch: error: " << args.scenario << " cannot run over " << ranks->ranks() << " ranks: " << why
@@ -361,11 +377,17 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, shell::Interrupt
   sim::Session run(*scenario.model, *scenario.world,
                    {threads, steps, history_mb << 20, scenario.events, ranks, sim::partition_named(args.partition)});
   sim::RunOutputs outputs(run.watches().hosted(), files.stream(RunFiles::kMatches), 1);
-  if (std::ostream* record = files.stream(RunFiles::kRecord)) outputs.record(*record, model.universe, scenario.events);
+  std::optional<sim::TraceWriter> with_messages;
+  if (std::ostream* record = files.stream(RunFiles::kRecord)) {
+    if (args.record_messages)
+      with_messages.emplace(*record, model.universe, scenario.events, sim::specs_of(run.watches().hosted()));
+    else outputs.record(*record, model.universe, scenario.events);
+  }
   ProgressBar progress("run " + scenario.name, steps, lead && !args.no_progress);
   const auto stepping = std::chrono::steady_clock::now();
   RunStop stop(interrupts, ranks != nullptr);
-  auto stepped = step_run(run, outputs, stop, args, files, steps, progress, errors);
+  auto stepped =
+      step_run(run, outputs, stop, args, files, steps, progress, errors, with_messages ? &*with_messages : nullptr);
   if (const int* code = std::get_if<int>(&stepped)) return *code;
   const std::optional<sim::Pause>& pause = std::get<std::optional<sim::Pause>>(stepped);
   std::vector<uint64_t> counts;
@@ -430,6 +452,10 @@ void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange
                   "when bodies move")
       ->check(CLI::IsMember(std::vector<std::string>(sim::kPartitionNames.begin(), sim::kPartitionNames.end())));
   cmd->add_option("--record", args->record_path, "Write what the watchpoints saw as a wptrace v1 TRACE");
+  cmd->add_flag("--record-messages", args->record_messages,
+                "With --record, each line also says what its module read (\"recv\": sender, step sent, words), "
+                "for `dwatch why TRACE` (one process only)")
+      ->needs("--record");
   cmd->add_option("--matches", args->matches_path,
                   "Write every match of log/pause watchpoints as JSON Lines (- for stdout)");
   cmd->add_option("--stats", args->stats_path, "Write run statistics as JSON");

@@ -25,6 +25,7 @@
 #include "app/view/readout.h"
 #include "app/view/session_worker.h"
 #include "app/view/view_model.h"
+#include "app/view/widgets.h"
 #include "render/image.h"
 #include "render/renderer.h"
 #include "render/video_writer.h"
@@ -44,6 +45,7 @@ struct WidgetPlace {
   bool cut = false;           // wider than its panel or cell shows, or its text wider than it
   bool out_of_sight = false;  // above or below its panel's visible area: scrolled away
   bool disabled = false;      // drawn greyed out: a press does nothing
+  float text_width = 0;       // its text's, when it has one to show whole (a table's header)
 };
 
 class Debugger {
@@ -160,8 +162,9 @@ class Debugger {
   // A name in a table cell (a watchpoint's): whole, or cut with "..." (whole in a tooltip) and
   // noted, for the tests that look for cut labels.
   void label_cell(const std::string& text, std::optional<ImVec4> color = std::nullopt);
-  // ImGui::TableHeadersRow, noting each header that does not show whole among the cut labels.
-  void headers_row();
+  // ImGui::TableHeadersRow, noting each header as a widget "TABLE: NAME" (where its text shows)
+  // and each that does not show whole among the cut labels.
+  void headers_row(const std::string& table);
   // panels.cpp
   void draw_panels();
   void transport_panel();
@@ -261,6 +264,7 @@ class Debugger {
   int set_column_ = 0;
   char record_path_[256] = "trace.jsonl", matches_path_[256] = "matches.jsonl";
   std::vector<std::array<float, 4>> plot_rects_;              // the last frame's plots: x0, y0, x1, y1
+  std::vector<PlotLabel> plot_labels_;                        // the texts its Module plot wrote
   std::map<std::string, WidgetPlace> widgets_;                // the last frame's buttons and fields, by name
   std::map<std::string, WidgetPlace> drawing_widgets_;        // this frame's, as they are drawn
   std::vector<std::string> cut_labels_, drawing_cut_labels_;  // the last frame's / this frame's

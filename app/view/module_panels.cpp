@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cinttypes>
+#include <cstdio>
 
 #include "app/view/debugger.h"
 #include "app/view/widgets.h"
@@ -38,8 +39,14 @@ void Debugger::inspector_panel() {
     const std::string title = m.universe.variables[size_t(in.plot_column)] + " over steps " +
                               std::to_string(in.plot_from) + " to " +
                               std::to_string(in.plot_from + int64_t(in.plot.size()) - 1);
-    const auto area = history_plot(title, in.plot, in.plot_from, readout_.at.current, 70);
-    plot_rects_.push_back({area[0], area[1], area[2], area[3]});
+    // As tall as the panel has room for, its steps' line included (at 1600x1000 "step 0" was cut
+    // in half by the panel's edge), between 40 and 70 pixels.
+    const float room = ImGui::GetContentRegionAvail().y - ImGui::GetTextLineHeightWithSpacing() -
+                       ImGui::GetTextLineHeight() - ImGui::GetStyle().ItemSpacing.y;
+    const PlotDrawn drawn =
+        history_plot(title, in.plot, in.plot_from, readout_.at.current, std::clamp(room, 40.0f, 70.0f));
+    plot_rects_.push_back(drawn.area);
+    plot_labels_.insert(plot_labels_.end(), drawn.labels.begin(), drawn.labels.end());
   }
   ImGui::TextUnformatted(in.pose ? "neighbours (touching at the end of the step before):" : "neighbours:");
   for (sim::ModuleId n : in.neighbors) {
@@ -106,14 +113,20 @@ void Debugger::interventions_row(const Inspector& in) {
 // checks as every output; an existing file is replaced only once confirmed) and `record`. Under
 // the interventions, in sight whatever the Module panel lists below.
 void Debugger::session_files_row() {
-  auto field_width = [](const char* text) {
-    return std::clamp(ImGui::CalcTextSize(text).x + 2 * ImGui::GetStyle().FramePadding.x + 4, 120.0f,
-                      ImGui::GetContentRegionAvail().x * 0.45f);
+  // A file's field as wide as its name (whole: "leader_election-branch." was cut at 1024 pixels),
+  // its button beside it when both fit, else on the next line.
+  auto file_field = [this](const char* id, char* path, size_t size, const std::string& name, const char* action) {
+    const ImGuiStyle& style = ImGui::GetStyle();
+    const float text = ImGui::CalcTextSize(path).x + 2 * style.FramePadding.x;
+    const float avail = ImGui::GetContentRegionAvail().x;
+    const float beside = avail - style.ItemSpacing.x - button_width(action);
+    ImGui::SetNextItemWidth(std::min(std::max(120.0f, text + 4), text + 4 <= beside ? beside : avail));
+    const bool edited = ImGui::InputText(id, path, size);
+    note_widget(name, text);
+    flow(button_width(action));
+    return edited;
   };
-  ImGui::SetNextItemWidth(field_width(save_path_));
-  if (ImGui::InputText("##save", save_path_, sizeof save_path_)) save_refused_.clear();
-  note_widget("scenario-file");
-  ImGui::SameLine();
+  if (file_field("##save", save_path_, sizeof save_path_, "scenario-file", "save as scenario")) save_refused_.clear();
   if (button("save as scenario", true)) {
     save_refused_.clear();
     save_sent_ = save_path_;
@@ -126,12 +139,7 @@ void Debugger::session_files_row() {
       save_refused_.clear();
     }
   }
-  const float trace = field_width(record_path_);
-  flow(trace + ImGui::GetStyle().ItemSpacing.x + button_width("record trace"));
-  ImGui::SetNextItemWidth(trace);
-  ImGui::InputText("##record", record_path_, sizeof record_path_);
-  note_widget("trace-file");
-  ImGui::SameLine();
+  file_field("##record", record_path_, sizeof record_path_, "trace-file", "record trace");
   if (button("record trace", true)) apply({command::record(record_path_)});
 }
 
@@ -156,7 +164,7 @@ void Debugger::variables_table(const Inspector& in) {
   ImGui::TableSetupColumn(side_by_side ? "value (* changed)" : "value (* changed), before",
                           ImGuiTableColumnFlags_WidthFixed, values);
   if (side_by_side) ImGui::TableSetupColumn("step before", ImGuiTableColumnFlags_WidthFixed, befores);
-  headers_row();
+  headers_row("variables");
   for (const VariableRow& v : in.variables) {
     ImGui::TableNextRow();
     ImGui::TableNextColumn();
@@ -188,34 +196,45 @@ void Debugger::statistics_panel() {
       continue;
     }
     const StatsRow& last = rows.back();
+    // A step's time in the unit that shows it ("0.000 ms" was most steps).
+    auto duration = [](double seconds) {
+      char text[32];
+      if (seconds < 1e-3) std::snprintf(text, sizeof text, "%.0f \u00b5s", seconds * 1e6);
+      else std::snprintf(text, sizeof text, "%.2f ms", seconds * 1e3);
+      return std::string(text);
+    };
     ImGui::TextWrapped("step %" PRId64 ": %" PRIu64 " PatternMatchers live, %" PRIu64 " created, %" PRIu64
-                       " messages, %.3f ms",
-                       last.step, last.live, last.created, last.messages, last.seconds * 1000);
-    std::vector<float> live, created, messages, ms;
+                       " messages, %s",
+                       last.step, last.live, last.created, last.messages, duration(last.seconds).c_str());
+    std::vector<float> live, created, messages, us;
     for (const StatsRow& r : rows) {
       live.push_back(float(r.live));
       created.push_back(float(r.created));
       messages.push_back(float(r.messages));
-      ms.push_back(float(r.seconds * 1000));
+      us.push_back(float(r.seconds * 1e6));
     }
     ImGui::PushID(int(w));
-    // Five small plots over the steps up to the current one, side by side.
+    // Five small plots over the steps up to the current one, side by side: each from 0 (its bottom)
+    // to its largest value, written in it (they had no values at all).
     if (ImGui::BeginTable("plots", 5, ImGuiTableFlags_SizingStretchSame)) {
       auto plot = [this](const char* what, const std::vector<float>& values, bool histogram = false) {
         ImGui::TableNextColumn();
         ImGui::TextUnformatted(what);
         const std::string id = std::string("##") + what;
+        const float top = values.empty() ? 0 : std::max(1.0f, *std::max_element(values.begin(), values.end()));
+        char most[32];
+        std::snprintf(most, sizeof most, "max %.0f", double(top));
         ImGui::SetNextItemWidth(-FLT_MIN);  // the cell's width (see the Module panel's plot)
         if (histogram)
-          ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 32));
-        else ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, nullptr, 0, FLT_MAX, ImVec2(0, 32));
+          ImGui::PlotHistogram(id.c_str(), values.data(), int(values.size()), 0, most, 0, top, ImVec2(0, 32));
+        else ImGui::PlotLines(id.c_str(), values.data(), int(values.size()), 0, most, 0, top, ImVec2(0, 32));
         plot_rects_.push_back({ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y, ImGui::GetItemRectMax().x,
                                ImGui::GetItemRectMax().y});
       };
       plot("live", live);
       plot("created", created);
       plot("messages", messages);
-      plot("step ms", ms);
+      plot("step \u00b5s", us);
       // The paper's Fig. 7: PatternMatchers by slots filled (0..k), at this step.
       plot("by filled", std::vector<float>(last.live_by_filled.begin(), last.live_by_filled.end()), true);
       ImGui::EndTable();

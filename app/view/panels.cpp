@@ -22,6 +22,7 @@ namespace dw::view {
 
 void Debugger::draw_panels() {
   plot_rects_.clear();
+  plot_labels_.clear();
   transport_panel();
   watchpoints_panel();
   matches_panel();
@@ -86,11 +87,17 @@ void Debugger::transport_panel() {
 
   if (at.latest < 0)  // nothing simulated yet: no step to speak of
     ImGui::Text("no step simulated yet (the scenario runs %" PRId64 ")", at.end);
-  else
-    ImGui::TextWrapped("step %" PRId64 " of %" PRId64 " simulated (decided through %" PRId64
-                       "; the scenario runs %" PRId64 ")   history: %zu keyframes every %" PRId64 " steps, %.1f MiB",
-                       at.current, at.latest, readout_.decided, at.end, readout_.keyframes, readout_.keyframe_interval,
+  else {
+    // Said as the status line says it; a step not yet decided by every watchpoint (after an
+    // intervention, while the session simulates ahead) says so rather than "decided through -1".
+    const std::string decided = readout_.decided >= at.current
+                                    ? "decided through " + std::to_string(readout_.decided)
+                                    : std::string("this step not yet decided by every watchpoint");
+    ImGui::TextWrapped("%s, %s; the scenario runs %" PRId64 "   history: %s every %" PRId64 " steps, %.1f MiB",
+                       position_words(at.current, at.latest).c_str(), decided.c_str(), at.end,
+                       counted(int64_t(readout_.keyframes), "keyframe").c_str(), readout_.keyframe_interval,
                        double(readout_.history_bytes) / (1 << 20));
+  }
   if (!worker_->idle()) {
     const auto [done, total] = worker_->progress();
     ImGui::ProgressBar(total > 0 ? float(done) / float(total) : 0.0f, ImVec2(300, 0),
@@ -225,25 +232,52 @@ void Debugger::timeline(float width) {
   }
 }
 
+namespace {
+
+// How a watchpoint reads the run: "distributed chain", "distributed ordered simultaneous".
+std::string reading_of(const WatchRow& row) {
+  const bool simultaneous = row.spec.distributed() && row.spec.options.states == watch::States::Simultaneous;
+  return std::string(row.spec.algorithm_name()) + " " + std::string(row.spec.shape_name()) +
+         (simultaneous ? " simultaneous" : "");
+}
+
+}  // namespace
+
 void Debugger::watchpoints_panel() {
   place(panels_.watchpoints);
   ImGui::Begin("Watchpoints");
-  if (ImGui::BeginTable("watches", 6,
-                        ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
-    // The names and the buttons whole; the reading and the count take what is left, cut visibly.
-    std::vector<std::string> names{"name"};
-    for (const WatchRow& row : readout_.watches) names.push_back(row.spec.name);
-    for (const DisabledWatch& d : disabled_) names.push_back(d.name);
-    const float buttons = ImGui::CalcTextSize("edit").x + ImGui::CalcTextSize("remove").x +
-                          4 * ImGui::GetStyle().FramePadding.x + ImGui::GetStyle().ItemSpacing.x;
+  // The names, the action, the count and the buttons whole, each header too ("matc..." was cut);
+  // the reading takes what is left, cut visibly. In a narrow panel the reading, then the action,
+  // go into the name's tooltip rather than cut the rest.
+  std::vector<std::string> names{"name"}, actions{"action"}, counts{"matches"}, readings;
+  for (const WatchRow& row : readout_.watches) {
+    names.push_back(row.spec.name);
+    actions.push_back(std::string(sim::action_name(row.spec.action)));
+    counts.push_back(std::to_string(row.matches));
+    readings.push_back(reading_of(row));
+  }
+  for (const DisabledWatch& d : disabled_) names.push_back(d.name);
+  const ImGuiStyle& style = ImGui::GetStyle();
+  const float avail = ImGui::GetContentRegionAvail().x;
+  const float buttons =
+      ImGui::CalcTextSize("edit").x + ImGui::CalcTextSize("remove").x + 4 * style.FramePadding.x + style.ItemSpacing.x;
+  const float name_width = names_width(names, 40, avail * 0.45f), action_width = names_width(actions, 0, 1e9f),
+              count_width = names_width(counts, 0, 1e9f);
+  // The columns that always show (their widths hold their padding; the table's borders besides),
+  // then the action and the reading while there is room for them.
+  const float pad = 2 * style.CellPadding.x,
+              kept = ImGui::GetFrameHeight() + pad + name_width + count_width + buttons + pad + 6 * style.CellPadding.x;
+  const bool action_shown = avail - kept >= action_width;
+  const bool reading_shown = action_shown && avail - kept - action_width >= header_width("reading") + pad;
+  if (ImGui::BeginTable("watches", 4 + int(action_shown) + int(reading_shown),
+                        ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) {
     ImGui::TableSetupColumn("on", ImGuiTableColumnFlags_WidthFixed, ImGui::GetFrameHeight());
-    ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthFixed,
-                            names_width(names, 40, ImGui::GetContentRegionAvail().x * 0.45f));
-    ImGui::TableSetupColumn("reading", 0, 3);
-    ImGui::TableSetupColumn("action", 0, 1);
-    ImGui::TableSetupColumn("matches", 0, 1);
+    ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthFixed, name_width - pad);
+    if (reading_shown) ImGui::TableSetupColumn("reading", ImGuiTableColumnFlags_WidthStretch);
+    if (action_shown) ImGui::TableSetupColumn("action", ImGuiTableColumnFlags_WidthFixed, action_width - pad);
+    ImGui::TableSetupColumn("matches", ImGuiTableColumnFlags_WidthFixed, count_width - 2 * style.CellPadding.x);
     ImGui::TableSetupColumn("", ImGuiTableColumnFlags_WidthFixed, buttons);
-    ImGui::TableHeadersRow();
+    headers_row("watchpoints");
     for (size_t w = 0; w < readout_.watches.size(); ++w) {
       const WatchRow& row = readout_.watches[w];
       ImGui::PushID(int(w));
@@ -256,13 +290,18 @@ void Debugger::watchpoints_panel() {
       }
       ImGui::TableNextColumn();
       label_cell(row.spec.name, ImColor(lane_color(w)));
-      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\nlag %" PRId64 " steps", row.spec.text.c_str(), row.lag);
-      ImGui::TableNextColumn();
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("%s\n%s, %s, lag %" PRId64 " steps", row.spec.text.c_str(), readings[w].c_str(),
+                          actions[w + 1].c_str(), row.lag);
       const bool simultaneous = row.spec.distributed() && row.spec.options.states == watch::States::Simultaneous;
-      cell_text(std::string(row.spec.algorithm_name()) + " " + row.spec.shape_name() +
-                (simultaneous ? " simultaneous" : ""));
-      ImGui::TableNextColumn();
-      cell_text(std::string(sim::action_name(row.spec.action)));
+      if (reading_shown) {
+        ImGui::TableNextColumn();
+        cell_text(readings[w]);
+      }
+      if (action_shown) {
+        ImGui::TableNextColumn();
+        cell_text(std::string(sim::action_name(row.spec.action)));
+      }
       ImGui::TableNextColumn();
       cell_text(std::to_string(row.matches));
       ImGui::TableNextColumn();
@@ -445,7 +484,8 @@ void Debugger::matches_panel() {
     ImGui::TableSetupScrollFreeze(0, 1);
     std::vector<std::string> names{"watch"};
     for (const WatchRow& row : readout_.watches) names.push_back(row.spec.name);
-    ImGui::TableSetupColumn("watch", ImGuiTableColumnFlags_WidthFixed, names_width(names, 40, 200), 1);
+    ImGui::TableSetupColumn("watch", ImGuiTableColumnFlags_WidthFixed,
+                            names_width(names, header_width("watch", true), 200), 1);
     // The steps as wide as their header and its sort arrow (or the latest step, if wider).
     const float steps =
         std::max(header_width("detected", true),
@@ -454,7 +494,7 @@ void Debugger::matches_panel() {
                             std::max(header_width("t", true), steps * 0.7f), 0);
     ImGui::TableSetupColumn("detected", ImGuiTableColumnFlags_WidthFixed, steps, 2);
     ImGui::TableSetupColumn("slots", ImGuiTableColumnFlags_NoSort | ImGuiTableColumnFlags_WidthStretch, 1, 3);
-    headers_row();
+    headers_row("matches");
     if (ImGuiTableSortSpecs* sort = ImGui::TableGetSortSpecs(); sort && sort->SpecsDirty && sort->SpecsCount > 0) {
       const ImGuiTableColumnSortSpecs& s = sort->Specs[0];
       filter.order = s.ColumnUserID == 1   ? MatchFilter::Order::Watch

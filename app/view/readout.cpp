@@ -11,6 +11,7 @@ namespace dw::view {
 std::string slots_text(const sim::Session& session, uint32_t watch, std::span<const sim::ModuleId> group) {
   const sim::Model& model = session.model();
   const auto& names = session.watches()[watch].hosted.watchpoint.program.slot_names;
+  if (names.empty()) return "(no module)";  // a zero-slot watchpoint's match (docs/design.md §4c)
   std::string s;
   for (size_t i = 0; i < group.size() && i < names.size(); ++i)
     s += (s.empty() ? "" : " ") + names[i] + "=" + std::to_string(model.universe.id(group[i]));
@@ -21,13 +22,20 @@ std::optional<ModuleWindow> read_module_window(sim::Session& session, sim::Modul
                                                const sim::Control& control) {
   ModuleWindow w;
   w.module = m;
-  w.to = session.current();
+  w.to = session.latest();
+  w.interventions = session.interventions().size();
   w.from = std::max<int64_t>(0, w.to - steps + 1);
   if (w.to < 0) return w;
   auto rows = session.module_series(m, w.from, w.to, control);
   if (!rows) return std::nullopt;
   w.rows = std::move(*rows);
   return w;
+}
+
+bool window_holds(const ModuleWindow& window, const sim::Session& session, sim::ModuleId m) {
+  return window.module == m && window.to == session.latest() &&
+         window.interventions == session.interventions().size() && session.current() >= window.from &&
+         session.current() <= window.to && !window.rows.empty();
 }
 
 namespace {
@@ -55,7 +63,7 @@ Inspector inspect(sim::Session& session, const ViewModel& view, const ModuleWind
   const size_t v = model.variable_count();
   const int64_t t = session.current();
   in.present = t >= 0 && session.seen_present()[m] != 0;
-  const bool have_window = window && window->module == m && window->to == t && !window->rows.empty();
+  const bool have_window = window && window_holds(*window, session, m);
   for (uint32_t c = 0; c < v; ++c) {
     VariableRow row{model.universe.variables[c], s.values[size_t{m} * v + c], std::nullopt};
     if (have_window && t - 1 >= window->from) row.before = window->rows[size_t(t - 1 - window->from) * v + c];
@@ -72,7 +80,7 @@ Inspector inspect(sim::Session& session, const ViewModel& view, const ModuleWind
   in.plot_column = view.plot_variable.empty() ? 0 : std::max(0, model.column(view.plot_variable));
   if (have_window) {
     in.plot_from = window->from;
-    for (size_t i = size_t(in.plot_column); i < window->rows.size(); i += v) in.plot.push_back(float(window->rows[i]));
+    for (size_t i = size_t(in.plot_column); i < window->rows.size(); i += v) in.plot.push_back(window->rows[i]);
   }
   return in;
 }

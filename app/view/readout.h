@@ -53,10 +53,11 @@ struct Inspector {
   // its slots -- so that two matches of one step read apart.
   std::vector<MatchRowText> matches;
   size_t matches_total = 0;
-  // The plotted variable (ViewModel::plot_variable) over steps [plot_from, plot_from + plot.size()).
+  // The plotted variable (ViewModel::plot_variable) over steps [plot_from, plot_from + plot.size()):
+  // the whole history read, in int64 (as floats, 19-digit values collapsed into one).
   int plot_column = 0;
   int64_t plot_from = 0;
-  std::vector<float> plot;
+  std::vector<int64_t> plot;
 };
 
 struct StatsRow {  // one watchpoint's detector at one step
@@ -94,20 +95,23 @@ struct Readout {
 struct ReadoutLimits {
   size_t match_rows = 10'000;
   size_t module_matches = 100;
-  int64_t plot_steps = 100;  // the inspector's plot: this many steps ending at the current one
+  int64_t plot_steps = 1'000'000;  // the inspector's plot: this many steps ending at the latest
   int64_t stats_steps = 200;
 };
 
-// Every variable of one module over the steps up to the current one: the inspector's marks of
-// what changed and its plot. Re-simulated from the keyframes (a job of its own, off the frame
-// loop), never moving the session's cursor.
+// Every variable of one module over the steps up to the latest: the inspector's marks of what
+// changed and its plot (the whole history, so that a seek need not read it again). Re-simulated
+// from the keyframes (a job of its own, off the frame loop), never moving the session's cursor.
 struct ModuleWindow {
   sim::ModuleId module = 0;
   int64_t from = 0, to = -1;
+  size_t interventions = 0;   // the branch it was read on (a new intervention makes it stale)
   std::vector<int64_t> rows;  // (to - from + 1) rows of every variable
 };
 std::optional<ModuleWindow> read_module_window(sim::Session& session, sim::ModuleId m, int64_t steps,
                                                const sim::Control& control = {});
+// True when `window` is module m's on the session's branch and holds its current step.
+bool window_holds(const ModuleWindow& window, const sim::Session& session, sim::ModuleId m);
 
 // What a Readout is read for besides the view model.
 struct ReadoutRequest {

@@ -86,13 +86,15 @@ void Debugger::draw_view() {
   if (!video_) {
     if (!video_path_[0])
       std::snprintf(video_path_, sizeof video_path_, "dwatch-%s.mp4", shell::file_name_part(scenario_.name).c_str());
-    // The file's name whole (it was cut at 160 pixels), up to 320.
-    const float field =
-        std::clamp(ImGui::CalcTextSize(video_path_).x + 2 * ImGui::GetStyle().FramePadding.x + 4, 160.0f, 320.0f);
+    // The file's name whole (it was cut at 160 pixels), up to 320; on a line of its own in a
+    // narrow window, in from the edge as the tool row is (it stood against the window's edge).
+    const float text = ImGui::CalcTextSize(video_path_).x + 2 * ImGui::GetStyle().FramePadding.x;
+    const float field = std::clamp(text + 4, 160.0f, 320.0f);
     flow(field + ImGui::GetStyle().ItemSpacing.x + button_width("Record"));
+    if (ImGui::GetCursorPosX() < 6) ImGui::SetCursorPosX(6);
     ImGui::SetNextItemWidth(field);
     ImGui::InputText("##video", video_path_, sizeof video_path_);
-    note_widget("video-file");
+    note_widget("video-file", text);
     ImGui::SameLine();
     if (button("Record")) start_recording(video_path_);
     if (ImGui::IsItemHovered())

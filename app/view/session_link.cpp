@@ -125,9 +125,10 @@ void Debugger::refresh_readout() {
   readout_stale_ = false;
   drawn_key_.clear();
 
-  // The inspector's history of the selected module, when it is not the current step's.
+  // The inspector's history of the selected module, when it is not this branch's up to the latest.
   if (model_.selected && !model_.playing && !module_window_asked_ && readout_.at.current >= 0 &&
-      !(module_window_ && module_window_->module == *model_.selected && module_window_->to == readout_.at.current)) {
+      !(module_window_ && module_window_->module == *model_.selected && module_window_->to == readout_.at.latest &&
+        module_window_->interventions == readout_.interventions.size())) {
     module_window_asked_ = true;
     const sim::ModuleId m = *model_.selected;
     worker_->submit(

@@ -336,8 +336,9 @@ std::string answer_words(const nlohmann::ordered_json& a) {
     words = "watchpoint " + a.value("watch", "") + " (" + a.value("algorithm", "") + ", " + a.value("action", "") +
             "): " + number("matches") + " matches so far";
   else if (a.contains("save"))
-    words = "saved the session as " + a.value("save", "") + " (" + number("watches") + " watchpoints, " +
-            number("interventions") + " interventions)";
+    words = "saved the session as " + a.value("save", "") + " (" +
+            counted(a.value("watches", int64_t{0}), "watchpoint") + ", " +
+            counted(a.value("interventions", int64_t{0}), "intervention") + ")";
   else if (a.contains("record"))
     words = "recorded steps 0 to " + std::to_string(a.value("steps", int64_t{0}) - 1) + " to " + a.value("record", "");
   else if (a.contains("render")) words = "drew step " + number("t") + " to " + a.value("render", "");
@@ -347,12 +348,18 @@ std::string answer_words(const nlohmann::ordered_json& a) {
   else if (a.contains("reloaded")) words = "scripts reloaded";
   else words = verb.empty() ? "done" : verb + ": done";
   if (a.contains("current"))
-    words += (words.empty() ? "" : "; ") + std::string("at step ") + number("current") + " of " +
-             std::to_string(a.value("latest", int64_t{0}) + 1) + " simulated";
+    words += (words.empty() ? "" : "; ") + std::string("at ") +
+             position_words(a.value("current", int64_t{0}), a.value("latest", int64_t{0}));
   if (a.value("cancelled", false)) words += " (cancelled)";
   if (a.contains("warning")) words += "; but " + a.value("warning", "");
   return words;
 }
+
+std::string position_words(int64_t current, int64_t latest) {
+  return "step " + std::to_string(current) + " (0 to " + std::to_string(latest) + " simulated)";
+}
+
+std::string counted(int64_t n, const std::string& one) { return std::to_string(n) + " " + one + (n == 1 ? "" : "s"); }
 
 namespace command {
 std::string step(int64_t n) { return "step " + std::to_string(n); }

@@ -104,6 +104,12 @@ std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord
 // A session command's answer said in words for the status line ("paused at step 1 on
 // two_leaders: a=7 b=6 c=17, 91 matches at that step"), rather than its JSON.
 std::string answer_words(const nlohmann::ordered_json& answer);
+// Where the cursor stands among the simulated steps, said one way everywhere (the status line and
+// the position line said "step 0 of 3 simulated" beside "at step 0 of 4 simulated"): "step 1 (0 to
+// 3 simulated)".
+std::string position_words(int64_t current, int64_t latest);
+// "1 intervention", "2 interventions".
+std::string counted(int64_t n, const std::string& one);
 
 // Where the session is, as the window last read it.
 struct Position {

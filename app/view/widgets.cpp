@@ -62,53 +62,88 @@ float button_width(const std::string& label) {
   return ImGui::CalcTextSize(label.c_str(), nullptr, true).x + 2 * ImGui::GetStyle().FramePadding.x;
 }
 
-std::array<float, 4> history_plot(const std::string& title, std::span<const float> values, int64_t from,
-                                  int64_t current, float height) {
+namespace {
+
+// Where v lies between lo and hi, 0 to 1, in exact integer differences (no int64 overflow).
+double share_of(int64_t v, int64_t lo, int64_t hi) {
+  return double(uint64_t(v) - uint64_t(lo)) / double(uint64_t(hi) - uint64_t(lo));
+}
+
+// Per pixel column of `columns`, the smallest and largest of its steps' values, and of the last
+// value of the column before (the line joins them, as a step does).
+std::vector<std::pair<int64_t, int64_t>> column_ranges(std::span<const int64_t> values, size_t columns) {
+  std::vector<std::pair<int64_t, int64_t>> ranges(columns);
+  const size_t n = values.size();
+  for (size_t c = 0; c < columns; ++c) {
+    const size_t first = c * n / columns, last = std::max(first + 1, (c + 1) * n / columns);
+    auto [lo, hi] = std::minmax_element(values.begin() + std::ptrdiff_t(first), values.begin() + std::ptrdiff_t(last));
+    ranges[c] = {*lo, *hi};
+    if (first > 0) ranges[c] = {std::min(*lo, values[first - 1]), std::max(*hi, values[first - 1])};
+  }
+  return ranges;
+}
+
+}  // namespace
+
+PlotDrawn history_plot(const std::string& title, std::span<const int64_t> values, int64_t from, int64_t current,
+                       float height) {
   ImGui::TextUnformatted(title.c_str());
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   const float width = ImGui::GetContentRegionAvail().x, line = ImGui::GetTextLineHeight();
   ImGui::Dummy(ImVec2(width, height + line));  // the plot, then the steps under it
-  if (values.empty()) return {origin.x, origin.y, origin.x + width, origin.y + height};
-  const float lo = *std::min_element(values.begin(), values.end()),
-              hi = *std::max_element(values.begin(), values.end());
-  // In double: a 19-digit constant minus 1 is itself in float, and its range would be empty.
+  PlotDrawn drawn{{origin.x, origin.y, origin.x + width, origin.y + height}, {}};
+  if (values.empty()) return drawn;
+  const auto [lo_at, hi_at] = std::minmax_element(values.begin(), values.end());
+  const int64_t lo = *lo_at, hi = *hi_at;
   const bool constant = lo == hi;
-  const double pad = constant ? std::max(1.0, std::abs(double(lo)) * 0.5) : 0;
-  const double bottom = double(lo) - pad, top = double(hi) + pad;
-  auto number = [](double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.6g", v);
-    return std::string(text);
-  };
-  const std::string hi_text = number(hi), lo_text = number(lo);
+  const std::string hi_text = std::to_string(hi), lo_text = std::to_string(lo);
   const float axis = std::max(ImGui::CalcTextSize(hi_text.c_str()).x, ImGui::CalcTextSize(lo_text.c_str()).x) + 6;
   const ImVec2 p0(origin.x + axis, origin.y + line * 0.5f), p1(origin.x + width - 4, origin.y + height - line * 0.5f);
+  drawn.area = {p0.x, p0.y, p1.x, p1.y};
   ImDrawList* draw = ImGui::GetWindowDrawList();
   const ImU32 text = ImGui::GetColorU32(ImGuiCol_Text), faint = ImGui::GetColorU32(ImGuiCol_TextDisabled);
   draw->AddRectFilled(p0, p1, ImGui::GetColorU32(ImGuiCol_FrameBg));
   draw->AddLine(ImVec2(p0.x, p0.y), ImVec2(p0.x, p1.y), faint);
   draw->AddLine(ImVec2(p0.x, p1.y), ImVec2(p1.x, p1.y), faint);
-  // 3 pixels in from the frame, so that a line at either extreme shows whole over the axis.
-  auto y_of = [&](float v) { return float(p1.y - 3 - (double(v) - bottom) / (top - bottom) * (p1.y - p0.y - 6)); };
-  const size_t n = values.size();
+  // 3 pixels in from the frame, so that a line at either extreme shows whole over the axis; a
+  // constant across the middle (along the bottom it read as the smallest value).
+  auto y_of = [&](int64_t v) {
+    const double share = constant ? 0.5 : share_of(v, lo, hi);
+    return float(p1.y - 3 - share * double(p1.y - p0.y - 6));
+  };
+  auto label = [&](const std::string& words, ImVec2 at, ImU32 color) {
+    draw->AddText(at, color, words.c_str());
+    const ImVec2 size = ImGui::CalcTextSize(words.c_str());
+    drawn.labels.push_back({words, {at.x, at.y, at.x + size.x, at.y + size.y}});
+  };
+  label(hi_text, ImVec2(origin.x, y_of(hi) - line * 0.5f), text);
+  if (!constant) label(lo_text, ImVec2(origin.x, y_of(lo) - line * 0.5f), text);
+  const size_t n = values.size(), columns = size_t(std::max(1.0f, p1.x - p0.x));
   auto x_of = [&](double i) { return p0.x + float(i / double(n)) * (p1.x - p0.x); };  // step i: [x_of(i), x_of(i+1)]
-  draw->AddText(ImVec2(origin.x, y_of(hi) - line * 0.5f), text, hi_text.c_str());
-  if (!constant) draw->AddText(ImVec2(origin.x, y_of(lo) - line * 0.5f), text, lo_text.c_str());
   if (current >= from && current < from + int64_t(n)) {
     const float x = x_of(double(current - from) + 0.5);
     draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), IM_COL32(240, 200, 60, 200));
   }
-  for (size_t i = 0; i < n; ++i) {
-    const float y = y_of(values[i]);
-    draw->AddLine(ImVec2(x_of(double(i)), y), ImVec2(x_of(double(i + 1)), y), kPlotLineColor, 2);
-    if (i + 1 < n && values[i + 1] != values[i])
-      draw->AddLine(ImVec2(x_of(double(i + 1)), y), ImVec2(x_of(double(i + 1)), y_of(values[i + 1])), kPlotLineColor,
-                    2);
+  if (n <= columns) {
+    for (size_t i = 0; i < n; ++i) {
+      const float y = y_of(values[i]);
+      draw->AddLine(ImVec2(x_of(double(i)), y), ImVec2(x_of(double(i + 1)), y), kPlotLineColor, 2);
+      if (i + 1 < n && values[i + 1] != values[i])
+        draw->AddLine(ImVec2(x_of(double(i + 1)), y), ImVec2(x_of(double(i + 1)), y_of(values[i + 1])), kPlotLineColor,
+                      2);
+    }
+  } else {
+    const auto ranges = column_ranges(values, columns);
+    for (size_t c = 0; c < columns; ++c) {
+      const float x = p0.x + float(c);
+      draw->AddRectFilled(ImVec2(x, y_of(ranges[c].second) - 1), ImVec2(x + 1, y_of(ranges[c].first) + 1),
+                          kPlotLineColor);
+    }
   }
-  const std::string first = "step " + std::to_string(from), last = std::to_string(from + int64_t(n) - 1);
-  draw->AddText(ImVec2(p0.x, p1.y + 2), faint, first.c_str());
-  if (n > 1) draw->AddText(ImVec2(p1.x - ImGui::CalcTextSize(last.c_str()).x, p1.y + 2), faint, last.c_str());
-  return {p0.x, p0.y, p1.x, p1.y};
+  label("step " + std::to_string(from), ImVec2(p0.x, p1.y + 2), faint);
+  const std::string last = std::to_string(from + int64_t(n) - 1);
+  if (n > 1) label(last, ImVec2(p1.x - ImGui::CalcTextSize(last.c_str()).x, p1.y + 2), faint);
+  return drawn;
 }
 
 void flow(float width) {
@@ -154,20 +189,26 @@ void Debugger::note_widget(const std::string& name, float text_width, bool selec
   drawing_widgets_.try_emplace(name, place);
 }
 
-void Debugger::headers_row() {
+void Debugger::headers_row(const std::string& table) {
   ImGui::TableNextRow(ImGuiTableRowFlags_Headers);
   const bool sortable = (ImGui::GetCurrentTable()->Flags & ImGuiTableFlags_Sortable) != 0;
   for (int c = 0; c < ImGui::TableGetColumnCount(); ++c) {
     if (!ImGui::TableSetColumnIndex(c)) continue;
     const char* name = ImGui::TableGetColumnName(c);
     // A sortable column keeps room for its arrow (ImGui clips a header silently: "matc", "detec").
-    const float room = ImGui::GetContentRegionAvail().x;
+    const float room = ImGui::GetContentRegionAvail().x, text_width = ImGui::CalcTextSize(name).x;
     const bool arrow = sortable && !(ImGui::TableGetColumnFlags(c) & ImGuiTableColumnFlags_NoSort);
-    if (ImGui::CalcTextSize(name).x + (arrow ? header_arrow_width() : 0) > room + 0.5f)
-      drawing_cut_labels_.push_back(name);
+    const bool cut = text_width + (arrow ? header_arrow_width() : 0) > room + 0.5f;
+    if (cut) drawing_cut_labels_.push_back(name);
+    const ImVec2 at = ImGui::GetCursorScreenPos();  // where its text starts
     ImGui::PushID(c);
     ImGui::TableHeader(name);
     ImGui::PopID();
+    // Noted as the room its text has, for the tests that look at its pixels.
+    if (*name != 0)
+      drawing_widgets_.try_emplace(
+          table + ": " + name,
+          WidgetPlace{at.x, at.y, at.x + room, at.y + ImGui::GetTextLineHeight(), cut, false, false, text_width});
   }
 }
 

@@ -40,13 +40,24 @@ float width_beside(std::initializer_list<const char*> buttons);
 float combo_width(const char* text);
 // The colour of a history plot's line (history_plot).
 constexpr ImU32 kPlotLineColor = IM_COL32(130, 200, 250, 255);
+// A text a plot wrote and where (for scripts and tests that look at it).
+struct PlotLabel {
+  std::string text;
+  std::array<float, 4> rect;  // x0, y0, x1, y1
+};
+struct PlotDrawn {
+  std::array<float, 4> area;  // the plot's frame: x0, y0, x1, y1
+  std::vector<PlotLabel> labels;
+};
 // A variable's history that tells the truth: its title above it, never over the line; axes with
-// the largest and smallest values written at their heights and the first and last steps under
-// them; a step per value (a 0/1 variable reads as steps, not a ramp); a constant drawn across the
-// middle with its value beside it (not along the bottom, where it read as the smallest); the
-// current step marked. `from` is the step of values[0]. Returns the plot area's corners.
-std::array<float, 4> history_plot(const std::string& title, std::span<const float> values, int64_t from,
-                                  int64_t current, float height);
+// the largest and smallest values written whole at their heights (int64 to the pixel: as floats,
+// 19-digit values collapsed into one) and the first and last steps under them; a step per value
+// (a 0/1 variable reads as steps, not a ramp); a constant drawn across the middle with its value
+// beside it; the current step marked. More steps than pixel columns are drawn honestly: each
+// column spans its steps' smallest to largest value, so that a one-step spike still shows.
+// `from` is the step of values[0]; `height` the plot's, the steps' line under it besides.
+PlotDrawn history_plot(const std::string& title, std::span<const int64_t> values, int64_t from, int64_t current,
+                       float height);
 // A combo as wide as its widest item.
 float combo_width_of(std::span<const char* const> items);
 

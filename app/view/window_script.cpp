@@ -218,7 +218,8 @@ void Debugger::panel_command(const std::vector<std::string>& words, nlohmann::or
                                    {"rect", {place.x0, place.y0, place.x1, place.y1}},
                                    {"cut", place.cut},
                                    {"out_of_sight", place.out_of_sight},
-                                   {"disabled", place.disabled}});
+                                   {"disabled", place.disabled},
+                                   {"text_width", place.text_width}});
     answer["cut_labels"] = cut_labels_;
     const ImGuiViewport* vp = ImGui::GetMainViewport();
     answer["window"] = {{"width", vp->WorkSize.x}, {"height", vp->WorkSize.y}, {"too_small", panels_.too_small}};
@@ -231,6 +232,8 @@ void Debugger::panel_command(const std::vector<std::string>& words, nlohmann::or
   if (words[1] == "plots") {  // where the last frame drew its plots, for tests that look at them
     answer["plot_rects"] = nlohmann::ordered_json::array();
     for (const auto& r : plot_rects_) answer["plot_rects"].push_back(r);
+    answer["plot_labels"] = nlohmann::ordered_json::array();
+    for (const PlotLabel& l : plot_labels_) answer["plot_labels"].push_back({{"text", l.text}, {"rect", l.rect}});
     return;
   }
   if (words[1] == "timeline") {  // the steps it shows, and where

@@ -30,6 +30,22 @@ std::vector<sim::Pose> block(float turn) {
   return out;
 }
 
+// An island whose fastest point could move more than substep_travel in a substep gets as many
+// as keep it within (a 14 m/s ball: 0.233 over a 60th of a second), between substeps and
+// max_substeps; a NaN speed gets the most rather than none.
+TEST(Dynamics, AFastIslandIsSolvedInMoreSubsteps) {
+  const PhysicsSettings s;  // 4 substeps, 0.0125 a substep, at most 16
+  EXPECT_EQ(substeps_for(s, 0), 4);
+  EXPECT_EQ(substeps_for(s, 0.05f), 4) << "4 substeps of 0.0125";
+  EXPECT_EQ(substeps_for(s, 0.0501f), 5);
+  EXPECT_EQ(substeps_for(s, 14.0f / 60), 16) << "19 wanted, 16 at most";
+  EXPECT_EQ(substeps_for(s, 1e30f), 16);
+  EXPECT_EQ(substeps_for(s, std::nanf("")), 16);
+  PhysicsSettings fixed = s;
+  fixed.max_substeps = fixed.substeps;
+  EXPECT_EQ(substeps_for(fixed, 1), 4) << "max_substeps = substeps: every step alike";
+}
+
 TEST(Dynamics, OnlyBoxesWithBoxesOnAllSixFacesAreEnclosed) {
   for (float turn : {0.f, 0.4f, 1.2f}) {
     const std::vector<uint8_t> inside = enclosed_boxes(block(turn));

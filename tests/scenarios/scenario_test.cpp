@@ -151,6 +151,22 @@ TEST(Scenario, ABoundItselfIsWithinTheBound) {
       << std::get<std::string>(over);
 }
 
+// More substeps for a fast island (physics/settings.h) are at least the substeps of every step:
+// a ceiling below the floor is refused at its key.
+TEST(Scenario, MaxSubstepsBelowSubstepsIsRefusedAtItsKey) {
+  const std::string head =
+      "[lattice]\nkind = \"cubic\"\nsize = [2, 2, 2]\n[[program]]\nname = \"token_ring\"\n[physics]\n";
+  const auto below = load_scenario_text("below.toml", head + "substeps = 8\nmax_substeps = 4\n");
+  ASSERT_TRUE(std::holds_alternative<std::string>(below));
+  EXPECT_NE(std::get<std::string>(below).find("below.toml:8:16: error:"), std::string::npos)
+      << std::get<std::string>(below);
+  EXPECT_NE(std::get<std::string>(below).find("is below substeps (8)"), std::string::npos)
+      << std::get<std::string>(below);
+  // Unset, the ceiling rises to the substeps asked for.
+  const auto raised = load_scenario_text("raised.toml", head + "substeps = 32\n");
+  ASSERT_TRUE(std::holds_alternative<Scenario>(raised)) << std::get<std::string>(raised);
+}
+
 TEST(Scenario, OverridesWinOverTheFile) {
   auto loaded = load_scenario_text("x.toml", R"toml(seed = 3
 [lattice]

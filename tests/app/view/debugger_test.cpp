@@ -469,7 +469,7 @@ TEST_F(Window, TheReadmeWalkthroughRunsAsWritten) {
   // 4. Set: a branch from the next step; saved as a scenario that replays it headless.
   EXPECT_EQ(view.answers[16]["status"].get<std::string>().rfind("intervention at step 2", 0), 0u);
   EXPECT_EQ(view.answers[18]["status"],
-            "saved the session as leader_election-branch.toml (2 watchpoints, 1 interventions)");
+            "saved the session as leader_election-branch.toml (2 watchpoints, 1 intervention)");
   const std::string saved = slurp(dir_ / "leader_election-branch.toml");
   EXPECT_NE(saved.find("[[event]]\nat = 2\nmodule = 7\nset = { isLeader = 0 }"), std::string::npos) << saved;
   const std::string run = "cd " + dir_.string() + " && " + DWATCH_EXE + " run leader_election-branch.toml >/dev/null";

@@ -292,7 +292,7 @@ TEST_F(Leader, AMatchClickSeeksToItsStepAndSelectsItsGroup) {
   EXPECT_EQ(panel["module"], pause->group[0]);
   const int leader = scenario->model->column("isLeader");
   EXPECT_EQ(readout.inspector->variables[size_t(leader)].value, 1) << "slot a of two_leaders is a leader";
-  EXPECT_EQ(readout.inspector->plot.size(), size_t(pause->t + 1));
+  EXPECT_EQ(readout.inspector->plot.size(), size_t(session->latest() + 1)) << "the whole history";
   EXPECT_EQ(readout.panel("nosuch", *scenario->model).count("error"), 1u);
 }
 
@@ -341,10 +341,10 @@ TEST(AnswerWords, APauseASeekAndASaveReadAsSentences) {
   EXPECT_EQ(answer_words(paused),
             "paused at step 1 on two_leaders: a=7 b=6 c=17 (found at step 3), 91 matches at that step");
   const auto seek = nlohmann::ordered_json::parse(R"({"cmd":"seek 2","current":2,"latest":3,"decided":3})");
-  EXPECT_EQ(answer_words(seek), "seek: done; at step 2 of 4 simulated");
+  EXPECT_EQ(answer_words(seek), "seek: done; at step 2 (0 to 3 simulated)");
   const auto save =
       nlohmann::ordered_json::parse(R"({"cmd":"save x.toml","save":"x.toml","watches":2,"interventions":1})");
-  EXPECT_EQ(answer_words(save), "saved the session as x.toml (2 watchpoints, 1 interventions)");
+  EXPECT_EQ(answer_words(save), "saved the session as x.toml (2 watchpoints, 1 intervention)");
   const auto matched = nlohmann::ordered_json::parse(
       R"({"cmd":"run","current":12,"latest":99,"decided":99,"paused":null,"matched":{"watch":"one","t":12,"detected":12,"group":{"a":12},"matches":1}})");
   EXPECT_EQ(answer_words(matched), "stopped at step 12 on a match of one: a=12");
@@ -355,7 +355,7 @@ TEST(AnswerWords, APauseASeekAndASaveReadAsSentences) {
   const auto pushed = nlohmann::ordered_json::parse(
       R"({"cmd":"push","intervention":{"at":2,"module":0,"push":[0.0,0.0,5.0]},"dropped_steps":0,"current":1,"latest":1,"decided":1,"warning":"module 0 is latched to the ground at step 1"})");
   EXPECT_EQ(answer_words(pushed),
-            "intervention at step 2; at step 1 of 2 simulated; but module 0 is latched to the ground at step 1");
+            "intervention at step 2; at step 1 (0 to 1 simulated); but module 0 is latched to the ground at step 1");
   for (const auto* a : {&paused, &seek, &save, &matched, &action, &pushed})
     EXPECT_EQ(answer_words(*a).find('{'), std::string::npos);
 }

@@ -81,10 +81,15 @@ TEST_F(Window, TheModulePlotDrawsAConstantAsConstantAndAStepAsAStep) {
   const auto constant = dw::render::read_png((dir_ / "constant.png").string(), &error);
   ASSERT_TRUE(step && constant) << error;
   const json& step_rect = view.answers[3]["plot_rects"][0];
-  const int x0 = int(step_rect[0].get<double>()), x1 = int(step_rect[2].get<double>()), middle = (x0 + x1) / 2;
-  // Step 0 (the left half) at the bottom, step 1 (the right half) at the top.
+  // The whole history: steps 0 to the last written under the plot's right end.
+  const json& labels = view.answers[3]["plot_labels"];
+  ASSERT_GE(labels.size(), 2u);
+  const int steps = std::stoi(labels.back()["text"].get<std::string>()) + 1;
+  const int x0 = int(step_rect[0].get<double>()), x1 = int(step_rect[2].get<double>());
+  const int middle = x0 + (x1 - x0) / steps;
+  // Step 0 (its column) at the bottom, step 1 at the top.
   EXPECT_GT(plot_line_height(*step, step_rect, x0 + 4, middle - 4), 0.85);
-  const double right = plot_line_height(*step, step_rect, middle + 4, x1 - 4);
+  const double right = plot_line_height(*step, step_rect, middle + 4, middle + (x1 - x0) / steps - 4);
   EXPECT_GE(right, 0);
   EXPECT_LT(right, 0.15);
   const json& constant_rect = view.answers[7]["plot_rects"][0];

@@ -1,0 +1,58 @@
+// A window of history read from a trace's lines (sim/trace_history.h): dense frames for the
+// values, presence and neighbours, and each line's "recv" for the messages read.
+#include "sim/trace_history.h"
+
+namespace dw::sim {
+
+int64_t trace_origin(const Trace& trace, uint32_t m, uint32_t var, int64_t t) {
+  const auto value_at = [&](int64_t s) -> std::optional<int64_t> {
+    const auto line = trace.line_of(s, m);
+    if (!line) return std::nullopt;
+    return trace.value(*line, var).value_or(0);
+  };
+  for (int64_t w = t; w > 0; --w) {
+    const auto now = value_at(w), before = value_at(w - 1);
+    if (now && (!before || *now != *before)) return w;
+  }
+  return 0;
+}
+
+std::variant<CausalHistory, std::string> trace_window(const Trace& trace, int64_t first, int64_t last) {
+  auto made = FrameReader::make(trace, std::nullopt, default_frame_budget());
+  if (auto* why = std::get_if<std::string>(&made)) return *why;
+  FrameReader& frames = std::get<FrameReader>(made);
+  CausalHistory h;
+  h.modules = trace.universe().module_count();
+  h.variables = static_cast<uint32_t>(frames.universe().variables.size());
+  h.first = first;
+  const auto values_of = [&](const watch::Frame& f) {
+    std::vector<int64_t> values(f.values.begin(), f.values.end());
+    for (size_t i = 0; i < values.size(); ++i)
+      if (!f.has(i)) values[i] = 0;
+    return values;
+  };
+  h.before = first > 0 ? values_of(frames.frame(first - 1)) : std::vector<int64_t>(size_t{h.modules} * h.variables, 0);
+  for (int64_t s = first; s <= last; ++s) {
+    const watch::Frame f = frames.frame(s);
+    StepRecord rec;
+    rec.step = s;
+    rec.values = values_of(f);
+    rec.present.assign(f.present.begin(), f.present.end());
+    auto graph = std::make_shared<NeighborGraph>();
+    graph->begin.assign(f.nbr_begin.begin(), f.nbr_begin.end());
+    graph->ids.assign(f.nbrs.begin(), f.nbrs.end());
+    rec.graph = std::move(graph);
+    const auto [begin, end] = trace.lines_at(s);
+    for (uint64_t line = begin; line < end; ++line)
+      for (const Trace::Read& r : trace.received(line)) {
+        rec.read.push_back({r.from, trace.line_module(line), r.sent, static_cast<uint32_t>(rec.words.size()),
+                            static_cast<uint32_t>(r.words.size())});
+        rec.words.insert(rec.words.end(), r.words.begin(), r.words.end());
+      }
+    rec.index_reads(h.modules);
+    h.steps.push_back(std::move(rec));
+  }
+  return h;
+}
+
+}  // namespace dw::sim
