@@ -61,7 +61,7 @@ EngineRow engine_row(const sim::Trace& trace, const watch::Watchpoint& w, watch:
     auto detector =
         watch::make_detector(a, w, reader.universe(), o,
                              [&](int64_t step, std::span<const watch::ModuleId> ids, std::span<const watch::Value>) {
-                               matches += ids.size() / slots;
+                               matches += watch::match_rows(ids.size(), slots);
                                if (on_match) (*on_match)(step, ids);
                              });
     const auto start = std::chrono::steady_clock::now();

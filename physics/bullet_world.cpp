@@ -332,7 +332,7 @@ void BulletWorld::step_bodies(sim::State& state, std::span<const Push> pushes, s
     return;
   }
   // Only a module with a bond can be pushed off it: without one, no contact force is gathered and
-  // nothing is kept to redo the step with (a 20^3 pile's contact cache is 16 MB).
+  // nothing is kept to redo the step with (a 20^3 pile's contact cache is 8 MB).
   if (settings_.break_force <= 0 || b.bonds.empty()) {
     dynamics_.step(b, pushes, state.step, nullptr, workers, ranks_);
     place_members(b);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <tuple>
 #include <unordered_set>
 
 #include "physics/convert.h"
@@ -358,7 +357,7 @@ void Dynamics::share(const Plan& plan, uint32_t first, uint32_t last, std::vecto
 // After the step: how long each cluster has been still (Bullet's deactivation rule: slower than
 // the sleeping thresholds), a sleeping one kept still with no velocity; the contact cache from
 // the islands stepped, and the sleeping islands' own kept as they were.
-void Dynamics::settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim::Bodies& b) const {
+void Dynamics::settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim::Bodies& b) {
   const int64_t sleep_steps = sleep_after_steps();
   std::vector<uint8_t> sleeping(b.clusters.size(), 0);
   for (size_t i = 0; i < plan.islands.size(); ++i)
@@ -380,8 +379,7 @@ void Dynamics::settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim:
   // points come in runs (a manifold's, in the solver's order) and lie in one island: sorting the
   // runs by pair, stably, is the stable sort of the points by pair, at a run's cost, not a point's.
   struct Run {
-    uint32_t a, b;
-    const sim::ContactPoint* first;
+    const sim::ContactPoint* first;  // its pair is first->a, first->b
     uint32_t count;
   };
   const auto asleep = [&](uint32_t side) {
@@ -394,20 +392,22 @@ void Dynamics::settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim:
   const auto add_runs = [&](std::span<const sim::ContactPoint> from, bool kept_only_asleep) {
     for (const sim::ContactPoint& p : from) {
       if (kept_only_asleep && !asleep(p.a) && !asleep(p.b)) continue;
-      if (!runs.empty() && runs.back().first + runs.back().count == &p && runs.back().a == p.a && runs.back().b == p.b)
+      if (!runs.empty() && runs.back().first + runs.back().count == &p && runs.back().first->a == p.a &&
+          runs.back().first->b == p.b)
         ++runs.back().count;
-      else runs.push_back({p.a, p.b, &p, 1});
+      else runs.push_back({&p, 1});
       ++points;
     }
   };
   add_runs(b.contacts, true);
   for (const IslandOutput& out : outputs) add_runs(out.contacts, false);
   std::stable_sort(runs.begin(), runs.end(),
-                   [](const Run& x, const Run& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
-  std::vector<sim::ContactPoint> cache;
+                   [](const Run& x, const Run& y) { return sim::contact_pair_less(*x.first, *y.first); });
+  std::vector<sim::ContactPoint>& cache = spare_contacts_;
+  cache.clear();
   cache.reserve(points);
   for (const Run& r : runs) cache.insert(cache.end(), r.first, r.first + r.count);
-  b.contacts = std::move(cache);
+  b.contacts.swap(cache);
 }
 
 void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, std::vector<float>* force,
@@ -440,7 +440,18 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
   // Each worker steps a run of the batches; each writes only its own clusters and props, and its
   // forces and contacts into the output of its first island, added up in island order after.
   while (shapes_->workers.size() < workers.size()) shapes_->workers.push_back(std::make_unique<Worker>());
-  std::vector<IslandOutput> outputs(std::max<uint32_t>(count, 1));
+  // The outputs a batch writes (its first island's) keep their memory from the last step; the
+  // others give it back, so that what is kept is about one contact cache, however the batches
+  // move between steps.
+  std::vector<IslandOutput>& outputs = outputs_;
+  outputs.resize(std::max<uint32_t>(count, 1));
+  std::vector<uint8_t> written(outputs.size(), 0);
+  for (uint32_t k = 0; k < batches; ++k) written[plan.batches[k]] = 1;
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    outputs[i].forces.clear();
+    if (written[i]) outputs[i].contacts.clear();
+    else std::vector<sim::ContactPoint>().swap(outputs[i].contacts);
+  }
   const unsigned runs = workers.size();
   workers.run([&](unsigned run) {
     const uint32_t span = last_batch - first_batch;

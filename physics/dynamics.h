@@ -87,7 +87,7 @@ class Dynamics {
                   IslandOutput& out);
   static void share(const Plan& plan, uint32_t first, uint32_t last, std::vector<IslandOutput>& outputs, sim::Bodies& b,
                     sim::RankExchange& ranks);
-  void settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim::Bodies& b) const;
+  void settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim::Bodies& b);
   static int64_t module_of(const Plan& plan, const sim::Bodies& b, const btCollisionObject* o, int child);
   int64_t sleep_after_steps() const;
 
@@ -97,6 +97,10 @@ class Dynamics {
   btCollisionShape* module_shape_;
   uint32_t islands_ = 0;
   std::vector<uint32_t> stepped_;
+  // The contact cache before the last step, its memory kept for the next one's (a 20^3 pile's is
+  // 8 MB, faulted in afresh each step when allocated anew). Not state: emptied before each use.
+  std::vector<sim::ContactPoint> spare_contacts_;
+  std::vector<IslandOutput> outputs_;  // per island, emptied before each step: likewise
 };
 
 }  // namespace dw::physics

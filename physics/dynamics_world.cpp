@@ -95,14 +95,13 @@ void Dynamics::step_batch(const Plan& plan, uint32_t from, uint32_t to, Worker& 
     body->applyImpulse(to_bt(p->impulse), to_bt(b.poses[p->module].position) - body->getWorldTransform().getOrigin());
   }
 
-  // Substeps of one fixed length, as many as the batch's fastest body needs (substeps_for), each a
-  // step of its own (maxSubSteps 0: no interpolation). The
-  // contact force on a module over the step (when `forces` asks for it) is what the solver applied
-  // over all of them, from other bodies: the ground only carries what rests on it, its contacts do
-  // not count.
+  // Substeps of one fixed length, as many as the batch's fastest body needs (substeps_for: a
+  // function of the state, its speeds at the step's start and its pushes, as the batches are),
+  // each a step of its own (maxSubSteps 0: no interpolation). The contact force on a module over
+  // the step (when `forces` asks for it) is what the solver applied over all of them, from other
+  // bodies: the ground only carries what rests on it, its contacts do not count.
   float fastest = 0;
   for (uint32_t i : bodies) fastest = std::max(fastest, plan.bodies[i].travel);
-  // A function of the state (a body's speed at the step's start and its pushes), as the batches are.
   const int substeps = substeps_for(settings_, fastest);
   const float substep = dt / float(substeps);
   for (int k = 0; k < substeps; ++k) {

@@ -79,7 +79,7 @@ void draw_legend(Overlay& o, const Scene& scene, int height) {
 
 }  // namespace
 
-int text_size(int height) { return std::clamp(height / 30, 12, 40); }
+int text_size(int height, int least) { return std::clamp(height / 30, least, std::max(least, 40)); }
 
 Region view_region(const Scene& scene, const FontAtlas& font, int width, int height) {
   Region r;

@@ -12,8 +12,10 @@
 
 namespace dw::render {
 
-// The text size for an image of this height, in pixels.
-int text_size(int height);
+// The text size for an image of this height, in pixels: a thirtieth of it, at least `least`
+// (12 by default; the window asks for its panels' size, so that the 3D view's title and labels do
+// not shrink to ~9 pixel letters in a small window) and at most 40.
+int text_size(int height, int least = 12);
 
 // Where the ensemble goes: below the title lines, right of the legend.
 Region view_region(const Scene& scene, const FontAtlas& font, int width, int height);

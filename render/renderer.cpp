@@ -347,7 +347,7 @@ void Renderer::draw_overlay(const std::vector<OverlayVertex>& vertices, const Fo
 }
 
 glm::mat4 Renderer::view_projection(const Scene& scene, int width, int height) {
-  const Region region = view_region(scene, font(text_size(height)).atlas, width, height);
+  const Region region = view_region(scene, font(text_size(height, least_text_)).atlas, width, height);
   return render::view_projection(make_camera(scene, width, height, region), width, height, region);
 }
 
@@ -355,16 +355,18 @@ Camera Renderer::fitted_camera(const Scene& scene, int width, int height) {
   Scene unset = scene;
   unset.camera_eye.reset();
   unset.camera_target.reset();
-  return make_camera(unset, width, height, view_region(unset, font(text_size(height)).atlas, width, height));
+  return make_camera(unset, width, height,
+                     view_region(unset, font(text_size(height, least_text_)).atlas, width, height));
 }
 
 Camera Renderer::camera(const Scene& scene, int width, int height) {
-  return make_camera(scene, width, height, view_region(scene, font(text_size(height)).atlas, width, height));
+  return make_camera(scene, width, height,
+                     view_region(scene, font(text_size(height, least_text_)).atlas, width, height));
 }
 
 void Renderer::draw(const Scene& scene, int width, int height, unsigned target, RenderQuality quality) {
   resize(width, height);
-  FontTexture& text = font(text_size(height));
+  FontTexture& text = font(text_size(height, least_text_));
   const Region region = view_region(scene, text.atlas, width, height);
   const Camera camera = make_camera(scene, width, height, region);
   const glm::mat4 view_projection = render::view_projection(camera, width, height, region);

@@ -59,6 +59,8 @@ class Renderer {
 
   // The largest image side the context takes.
   int max_size() const { return max_size_; }
+  // The least text size (pixels) of the title, legend and labels drawn from now on (text_size).
+  void set_least_text_size(int pixels) { least_text_ = pixels; }
 
  private:
   struct Program;
@@ -86,6 +88,7 @@ class Renderer {
   // finished picture into the output framebuffer and reads it back.
   unsigned scene_fbo_ = 0, scene_color_ = 0, scene_depth_ = 0, output_fbo_ = 0, output_color_ = 0;
   int width_ = 0, height_ = 0, max_size_ = 0;
+  int least_text_ = 12;  // text_size's least
 };
 
 }  // namespace dw::render

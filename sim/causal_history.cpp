@@ -36,7 +36,8 @@ std::optional<int64_t> origin_step(Session& session, ModuleId m, int column, int
     const int64_t from = std::max<int64_t>(0, t - span);
     std::vector<uint8_t> present;
     const auto values = session.series(m, column, from, t, control, &present);
-    if (!values) return std::nullopt;
+    // Without history the past cannot be simulated again: nothing comes back.
+    if (!values || values->size() != static_cast<size_t>(t - from + 1)) return std::nullopt;
     for (int64_t w = t; w > from; --w) {
       const auto i = static_cast<size_t>(w - from);
       if (present[i] && (!present[i - 1] || (*values)[i] != (*values)[i - 1])) return w;

@@ -2,6 +2,8 @@
 // values, presence and neighbours, and each line's "recv" for the messages read.
 #include "sim/trace_history.h"
 
+#include <algorithm>
+
 namespace dw::sim {
 
 int64_t trace_origin(const Trace& trace, uint32_t m, uint32_t var, int64_t t) {
@@ -53,6 +55,27 @@ std::variant<CausalHistory, std::string> trace_window(const Trace& trace, int64_
     h.steps.push_back(std::move(rec));
   }
   return h;
+}
+
+std::variant<Cone, std::string> why_in_trace(const Trace& trace, uint64_t module, const std::string& variable,
+                                             int64_t t, int depth, bool narrow) {
+  if (!trace.has_messages())
+    return "the trace says nothing of messages (no line has \"recv\": record it with `dwatch run --record "
+           "--record-messages`)";
+  const watch::Universe& universe = trace.universe();
+  uint32_t m = 0;
+  while (m < universe.module_count() && universe.id(m) != module) ++m;
+  if (m == universe.module_count()) return "no module " + std::to_string(module) + " in the trace";
+  const auto var = std::find(universe.variables.begin(), universe.variables.end(), variable);
+  if (var == universe.variables.end()) return "no variable '" + variable + "' in the trace";
+  if (t >= trace.step_count())
+    return "step " + std::to_string(t) + " is past the trace's last, " + std::to_string(trace.step_count() - 1);
+  if (!trace.line_of(t, m)) return "module " + std::to_string(module) + " has no line at step " + std::to_string(t);
+  const auto column = static_cast<uint32_t>(var - universe.variables.begin());
+  const ValueAsked value{m, static_cast<int>(column), t, trace_origin(trace, m, column, t)};
+  auto window = trace_window(trace, window_start({&value, 1}, depth), value.origin);
+  if (auto* why = std::get_if<std::string>(&window)) return std::move(*why);
+  return cone_of(std::get<CausalHistory>(window), {&value, 1}, depth, narrow);
 }
 
 }  // namespace dw::sim

@@ -9,6 +9,7 @@
 
 #include "sim/causal_history.h"
 #include "sim/trace.h"
+#include "sim/why.h"
 
 namespace dw::sim {
 
@@ -20,5 +21,11 @@ int64_t trace_origin(const Trace& trace, uint32_t m, uint32_t var, int64_t t);
 // line lacks one, and before step 0), presence, neighbours and the messages read. Nothing is
 // written from outside in a trace. Why not, when a frame would not fit.
 std::variant<CausalHistory, std::string> trace_window(const Trace& trace, int64_t first, int64_t last);
+
+// The cone of §7b of variable `variable` of the module with id `module` at step t, to `depth`
+// (narrow or not), from a trace recorded with its messages; or why not (no messages, no such
+// module, variable or step, or no line of the module then).
+std::variant<Cone, std::string> why_in_trace(const Trace& trace, uint64_t module, const std::string& variable,
+                                             int64_t t, int depth, bool narrow);
 
 }  // namespace dw::sim

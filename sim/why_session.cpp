@@ -9,16 +9,42 @@
 namespace dw::sim {
 namespace {
 
+// The origins of the values when each lies late enough in `h` for its cone (at or after
+// h.first + depth + 1, or at step 0 with the window from step 0), filled in; false otherwise.
+bool origins_within(const CausalHistory& h, std::vector<ValueAsked>& values, int depth) {
+  for (ValueAsked& v : values) {
+    const auto changed = [&](int64_t w) {
+      return h.present(w, v.module) &&
+             (!h.present(w - 1, v.module) || h.value(w, v.module, v.column) != h.value(w - 1, v.module, v.column));
+    };
+    int64_t w = v.t;
+    while (w > h.first && w > 0 && !changed(w)) --w;
+    if (w > 0 && w < h.first + depth + 1) return false;
+    v.origin = w;
+  }
+  return true;
+}
+
 std::optional<Cone> cone_in_session(Session& session, std::vector<ValueAsked> values, int depth, bool narrow,
                                     const Control& control) {
-  int64_t last = 0;
+  if (values.empty()) return Cone{.depth = depth, .narrow = narrow};
+  // Most values changed lately: one window, twice the cone deep, often holds their origins and
+  // cones, and a single pass over it answers.
+  int64_t first = INT64_MAX, last = 0;
+  for (const ValueAsked& v : values) first = std::min(first, v.t), last = std::max(last, v.t);
+  first = std::max<int64_t>(0, first - 2 * depth - 2);
+  {
+    const auto history = record_window(session, first, last, control);
+    if (!history) return std::nullopt;
+    if (origins_within(*history, values, depth)) return cone_of(*history, values, depth, narrow);
+  }
+  last = 0;
   for (ValueAsked& v : values) {
     const auto origin = origin_step(session, v.module, v.column, v.t, control);
     if (!origin) return std::nullopt;
     v.origin = *origin;
     last = std::max(last, v.origin);
   }
-  if (values.empty()) return Cone{.depth = depth, .narrow = narrow};
   // One step more than the cone holds: what the first event read, and its neighbours before.
   const auto history = record_window(session, window_start(values, depth), last, control);
   if (!history) return std::nullopt;

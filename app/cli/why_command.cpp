@@ -1,7 +1,6 @@
 // `dwatch why TRACE M VAR T [--depth D] [--narrow]` (docs/files.md, docs/design.md §7b): the causal
 // history of a value from a trace recorded with its messages ("recv"), a run's or real robots'
 // log, answered as the session's `why` answers it (one JSON line).
-#include <algorithm>
 #include <iostream>
 
 #include "app/cli/commands.h"
@@ -25,31 +24,13 @@ int why_from_trace(const WhyArgs& args) {
     return 2;
   }
   const sim::Trace& trace = std::get<sim::Trace>(read);
-  const auto fail = [&](const std::string& why) {
-    std::cerr << "dwatch why: " << args.trace << ": error: " << why << "\n";
+  const auto cone =
+      sim::why_in_trace(trace, static_cast<uint64_t>(args.module), args.variable, args.t, args.depth, args.narrow);
+  if (auto* why = std::get_if<std::string>(&cone)) {
+    std::cerr << "dwatch why: " << args.trace << ": error: " << *why << "\n";
     return 2;
-  };
-  if (!trace.has_messages())
-    return fail(
-        "the trace says nothing of messages (no line has \"recv\": record it with `dwatch run --record "
-        "--record-messages`)");
-  const watch::Universe& universe = trace.universe();
-  uint32_t m = 0;
-  while (m < universe.module_count() && universe.id(m) != static_cast<uint64_t>(args.module)) ++m;
-  if (m == universe.module_count()) return fail("no module " + std::to_string(args.module) + " in the trace");
-  const auto var = std::find(universe.variables.begin(), universe.variables.end(), args.variable);
-  if (var == universe.variables.end()) return fail("no variable '" + args.variable + "' in the trace");
-  if (args.t >= trace.step_count())
-    return fail("step " + std::to_string(args.t) + " is past the trace's last, " +
-                std::to_string(trace.step_count() - 1));
-  if (!trace.line_of(args.t, m))
-    return fail("module " + std::to_string(args.module) + " has no line at step " + std::to_string(args.t));
-  const auto column = static_cast<uint32_t>(var - universe.variables.begin());
-  const sim::ValueAsked value{m, static_cast<int>(column), args.t, sim::trace_origin(trace, m, column, args.t)};
-  auto window = sim::trace_window(trace, sim::window_start({&value, 1}, args.depth), value.origin);
-  if (auto* why = std::get_if<std::string>(&window)) return fail(*why);
-  const sim::Cone cone = sim::cone_of(std::get<sim::CausalHistory>(window), {&value, 1}, args.depth, args.narrow);
-  std::cout << sim::cone_json(cone, universe, {}) << "\n";
+  }
+  std::cout << sim::cone_json(std::get<sim::Cone>(cone), trace.universe(), {}) << "\n";
   return std::cout ? 0 : 1;
 }
 

@@ -169,6 +169,7 @@ class Debugger {
   void draw_panels();
   void transport_panel();
   void timeline(float width);
+  void timeline_scale(float y);  // the steps written under the timeline's lanes
   void watchpoints_panel();
   void editor();
   void matches_panel();

@@ -159,12 +159,8 @@ void Debugger::timeline(float width) {
   if (readout_.at.latest >= timeline_.first)
     draw->AddRectFilled(ImVec2(timeline_.x0, origin.y), ImVec2(simulated, origin.y + lanes_height),
                         IM_COL32(60, 62, 70, 255));
-  // The range's first and last steps under it, and "fit" when zoomed.
   const float scale_y = origin.y + lanes_height;
-  const std::string first_label = std::to_string(timeline_.first), last_label = std::to_string(timeline_.last);
-  draw->AddText(ImVec2(timeline_.x0, scale_y), IM_COL32(200, 200, 200, 255), first_label.c_str());
-  draw->AddText(ImVec2(timeline_.x0 + timeline_.width - ImGui::CalcTextSize(last_label.c_str()).x, scale_y),
-                IM_COL32(200, 200, 200, 255), last_label.c_str());
+  timeline_scale(scale_y);
   // The lanes were counted with the session for the timeline as drawn last; a new width or length
   // asks for a fresh Readout.
   timeline_columns_ = columns;
@@ -242,6 +238,43 @@ std::string reading_of(const WatchRow& row) {
 }
 
 }  // namespace
+
+// The steps under the timeline: the cursor's in white under its line (or at the edge it lies
+// beyond, with an arrow, when zoomed away from it), the range's first and last, and round steps
+// between them about every 100 pixels, each written where it does not run into another.
+void Debugger::timeline_scale(float y) {
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  const float left = timeline_.x0, right = timeline_.x0 + timeline_.width, gap = ImGui::CalcTextSize("  ").x;
+  std::vector<std::pair<float, float>> taken;  // the spans written so far
+  auto write = [&](const std::string& text, float centre, ImU32 color) {
+    const float w = ImGui::CalcTextSize(text.c_str()).x;
+    const float x = std::clamp(centre - w / 2, left, right - w);
+    for (const auto& [a, b] : taken)
+      if (x < b + gap && x + w > a - gap) return;
+    taken.emplace_back(x, x + w);
+    draw->AddText(ImVec2(x, y), color, text.c_str());
+  };
+  const int64_t current = std::max<int64_t>(0, readout_.at.current);
+  const ImU32 white = IM_COL32(255, 255, 255, 255), grey = IM_COL32(170, 170, 170, 255);
+  if (current < timeline_.first) write("< " + std::to_string(current), left, white);
+  else if (current > timeline_.last) write(std::to_string(current) + " >", right, white);
+  else write(std::to_string(current), timeline_.x_of(current), white);
+  write(std::to_string(timeline_.first), left, grey);
+  write(std::to_string(timeline_.last), right, grey);
+  // A round step interval (1, 2 or 5 times a power of ten) about 100 pixels apart.
+  const double per_pixel = double(timeline_.last - timeline_.first + 1) / std::max(1.0f, timeline_.width);
+  const int64_t round[3] = {1, 2, 5};
+  int64_t power = 1;
+  size_t k = 0;
+  while (double(round[k] * power) < per_pixel * 100)
+    if (++k == 3) k = 0, power *= 10;
+  const int64_t every = round[k] * power;
+  for (int64_t t = (timeline_.first / every + 1) * every; t < timeline_.last; t += every) {
+    const float x = timeline_.x_of(t);
+    draw->AddLine(ImVec2(x, y - 3), ImVec2(x, y), grey);
+    write(std::to_string(t), x, grey);
+  }
+}
 
 void Debugger::watchpoints_panel() {
   place(panels_.watchpoints);

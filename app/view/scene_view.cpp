@@ -38,8 +38,14 @@ void Debugger::render_view_texture(bool moving) {
                           vec_text(model_.camera.target) + "|" + std::to_string(width) + "x" + std::to_string(height);
   if (key == drawn_key_) return;
   // While it moves, the renderer's interactive path (no edge smoothing, opaque); still, in full.
+  // Its title and labels at least as large as the panels' text (a small window's 3D view wrote
+  // them ~9 pixels high), scaled with the picture while it moves; picking and screenshots use the
+  // full size's.
+  const int least_text = int(ImGui::GetFontSize() * ImGui::GetIO().DisplayFramebufferScale.y);
+  renderer_->set_least_text_size(std::max(1, int(float(least_text) * scale)));
   renderer_->draw(camera_scene(), width, height, view_fbo_,
                   moving ? render::RenderQuality::Moving : render::RenderQuality::Full);
+  renderer_->set_least_text_size(least_text);
   // Blending leaves alpha below 1 where translucent things were drawn, and ImGui blends the image
   // over the window: the picture is opaque, as `dwatch render` writes it.
   gl.BindFramebuffer(GL_FRAMEBUFFER, view_fbo_);

@@ -1,11 +1,12 @@
 #include "python/src/matches.h"
 
 #include "sim/match_log.h"
+#include "watch/detector.h"
 
 namespace dw::python {
 
 void Matches::Builder::add(int64_t detected_at, int64_t step, std::span<const watch::ModuleId> ids, size_t slot_count) {
-  const size_t groups = slot_count ? ids.size() / slot_count : 0;
+  const size_t groups = watch::match_rows(ids.size(), slot_count);  // a zero-slot row holds no id
   count += groups;
   if (!keep) return;
   t.append(groups, step);

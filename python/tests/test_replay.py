@@ -180,3 +180,16 @@ def test_ctrl_c_stops_a_long_replay():
     finally:
         timer.cancel()
     assert time.monotonic() - started < 2
+
+
+@pytest.mark.parametrize("algorithm", ["distributed", "centralized"])
+def test_a_zero_slot_watchpoint_has_a_row_a_step_with_no_module(source, algorithm):
+    # 'modules(); φ' decides the whole ensemble once a step (docs/language.md): each match is a row
+    # with no module, as dwatch replay prints it; python counted ids / slots and found none.
+    trace, _ = case(source, "03_token_ring_last")
+    text = "modules(); count(n in all: n.token = 1) >= 1"
+    found = dwatch.replay(str(trace), text, algorithm=algorithm)["w1"]
+    rows = as_rows(found)
+    assert rows == cli_rows(trace, text, algorithm)
+    assert len(rows) > 0 and found.count == len(rows)
+    assert found.slots.shape == (len(rows), 0)

@@ -76,7 +76,7 @@ inline std::set<CaseMatch> replay_case(const LoadedCase& c, watch::Algorithm alg
   auto d = watch::make_detector(algorithm, w, reader.universe(), o,
                                 [&](int64_t t, std::span<const watch::ModuleId> ids, std::span<const watch::Value>) {
                                   const size_t k = w.program.slot_names.size();
-                                  for (size_t i = 0; i < ids.size(); i += k) {
+                                  for (size_t row = 0, i = 0; row < watch::match_rows(ids.size(), k); ++row, i += k) {
                                     CaseMatch m{t, {}};
                                     for (size_t s = 0; s < k; ++s)
                                       m.second.emplace_back(w.program.slot_names[s], ids[i + s]);

@@ -215,15 +215,30 @@ TEST(Why, AValueSetFromOutsideAndLeftIsTheWritersOwn) {
   Session session(*model, world, {});
   session.run_until(4);
   ASSERT_EQ(session.intervene(Intervention{.module = 0, .column = 0, .value = 7}), "");
-  session.run_until(8);
-  // 7 is no token to pass (the program passes 1 only): the intervention's value stays.
-  const auto set = why_value(session, 0, 0, 7, 2, false, {});
-  ASSERT_TRUE(set);
-  EXPECT_EQ(set->values[0].asked.origin, 4);
-  EXPECT_EQ(set->values[0].value, 7);
-  EXPECT_EQ(set->values[0].writer, ConeEvent::Writer::Intervention);
-  EXPECT_EQ(set->events[set->values[0].event].writer, ConeEvent::Writer::Intervention);
-  EXPECT_TRUE(set->events[set->values[0].event].origin);
+  session.run_until(40);
+  // 7 is no token to pass (the program passes 1 only): the intervention's value stays. Asked
+  // soon after (its origin in the first window looked at) and long after (found further back),
+  // the answer is the same.
+  for (int64_t t : {7, 39}) {
+    const auto set = why_value(session, 0, 0, t, 2, false, {});
+    ASSERT_TRUE(set);
+    EXPECT_EQ(set->values[0].asked.origin, 4);
+    EXPECT_EQ(set->values[0].value, 7);
+    EXPECT_EQ(set->values[0].writer, ConeEvent::Writer::Intervention);
+    EXPECT_EQ(set->events[set->values[0].event].writer, ConeEvent::Writer::Intervention);
+    EXPECT_TRUE(set->events[set->values[0].event].origin);
+    ASSERT_EQ(set->events.size(), 1u) << t << ": an intervention is a root";
+    EXPECT_TRUE(set->events[0].causes.empty());
+  }
+}
+
+TEST(Why, WithoutHistoryThereIsNothingToLookBackInto) {
+  const auto model = line_model<Relay>(4);
+  StaticLatticeWorld world;
+  Session session(*model, world, {.history_bytes = 0});
+  session.run_until(5);
+  EXPECT_FALSE(why_value(session, 1, 0, session.latest(), 3, false, {}));
+  EXPECT_EQ(session.current(), 4);
 }
 
 }  // namespace

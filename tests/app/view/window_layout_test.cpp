@@ -72,3 +72,73 @@ TEST_F(Window, TheStatisticsPlotsWriteTheirValues) {
 }
 
 }  // namespace
+
+namespace {
+
+// At 1280x720 the 3D view's title is as large as the panels' text (it shrank with the view, to
+// ~9 pixel high letters): "leader_election · step 0" spans at least 150 pixels (it spanned 123).
+TEST_F(Window, TheViewsTitleKeepsItsSizeInASmallWindow) {
+  const Outcome view = dwatch("view " + kLeader + " --width 1280 --height 720", "step\nscreenshot t.png\n", true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 2u) << view.err;
+  std::string error;
+  const auto image = dw::render::read_png((dir_ / "t.png").string(), &error);
+  ASSERT_TRUE(image) << error;
+  const json& v = view.answers[1]["view"];
+  const int x0 = int(v["x"].get<double>()), y0 = int(v["y"].get<double>());
+  // The title's line: the first rows with dark ink at the view's top left, and their extent.
+  int first = -1, left = 1 << 30, right = -1;
+  for (int y = y0; y < y0 + 80 && y < image->height; ++y) {
+    if (first >= 0 && y > first + 14) break;
+    for (int x = x0 + 4; x < x0 + 400 && x < image->width; ++x)
+      if (std::max({image->pixel(x, y)[0], image->pixel(x, y)[1], image->pixel(x, y)[2]}) < 90) {
+        if (first < 0) first = y;
+        left = std::min(left, x), right = std::max(right, x);
+      }
+  }
+  ASSERT_GE(first, 0) << "no title";
+  EXPECT_GE(right - left, 150) << "the title spans " << right - left << " pixels";
+}
+
+}  // namespace
+
+namespace {
+
+// White text pixels in a box.
+int white_pixels(const dw::render::Image& image, int x0, int y0, int x1, int y1) {
+  int count = 0;
+  for (int y = std::max(0, y0); y < std::min(image.height, y1); ++y)
+    for (int x = std::max(0, x0); x < std::min(image.width, x1); ++x)
+      count += std::min({image.pixel(x, y)[0], image.pixel(x, y)[1], image.pixel(x, y)[2]}) > 235;
+  return count;
+}
+
+// The timeline says where the cursor is (only its ends were labelled): the current step's number
+// in white under the cursor's line, and zoomed away from it, at the edge it lies beyond.
+TEST_F(Window, TheTimelineWritesTheCursorsStep) {
+  std::ofstream(dir_ / "x.lua") << "program = { vars = { \"v\" } }\nfunction step(m) m:set(\"v\", 1) end\n";
+  std::ofstream(dir_ / "s.toml") << "steps = 60\n[lattice]\nkind = \"line\"\nsize = [3]\n[[program]]\n"
+                                    "script = \"x.lua\"\n";
+  const Outcome view = dwatch("view s.toml",
+                              "run\nseek 20\npanel timeline\nscreenshot a.png\ntimeline 30 39\npanel timeline\n"
+                              "screenshot b.png\n",
+                              true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 7u) << view.err;
+  std::string error;
+  const auto a = dw::render::read_png((dir_ / "a.png").string(), &error);
+  const auto b = dw::render::read_png((dir_ / "b.png").string(), &error);
+  ASSERT_TRUE(a && b) << error;
+  for (const auto& [image, t] : {std::pair{&*a, view.answers[2]}, std::pair{&*b, view.answers[5]}}) {
+    const double x0 = t["x0"], width = t["width"];
+    const int64_t first = t["first"], last = t["last"];
+    const int below = int(t["y0"].get<double>() + t["height"].get<double>());
+    // Under the cursor when it is in the range; at the left edge when the range starts after it.
+    const double cx = 20 >= first ? x0 + (20.5 - double(first)) / double(last - first + 1) * width : x0;
+    EXPECT_GT(white_pixels(*image, int(cx) - 25, below, int(cx) + 25, below + 18), 8)
+        << "no step written at the cursor, range " << first << " to " << last;
+  }
+  EXPECT_EQ(view.answers[5]["first"], 30) << "the zoomed range";
+}
+
+}  // namespace
