@@ -112,7 +112,8 @@ void BulletWorld::initialize(const sim::Model& model, sim::State& state, sim::Wo
 }
 
 void BulletWorld::restore(const sim::Model&, const sim::State&) {
-  // Nothing of Bullet's outlives a step (physics/dynamics.h), and the contact graph measures
+  // What Bullet keeps from a step computes the next as if made afresh (physics/dynamics.h), and
+  // the contact graph measures
   // again whatever differs from what it measured last, whichever state that was. The bonds are
   // indexed again when next needed.
   bond_index_.invalidate();

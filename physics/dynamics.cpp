@@ -279,8 +279,8 @@ void Dynamics::form_islands(Plan& plan, const sim::Bodies& b, std::span<const Pu
     }
   }
   // Runs of consecutive islands holding at least batch_bodies_ bodies that move, each stepped in
-  // one world: Bullet solves the islands of a world apart, and a world of its own for each of
-  // thousands of boxes in flight cost more than stepping them. Like the islands, a function of the
+  // one world: a world of its own for each of thousands of boxes in flight cost more than
+  // stepping them. Like the islands, a function of the
   // state alone, never of the thread or rank count.
   plan.batches.clear();
   bool open = false;
@@ -439,7 +439,14 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
 
   // Each worker steps a run of the batches; each writes only its own clusters and props, and its
   // forces and contacts into the output of its first island, added up in island order after.
-  while (shapes_->workers.size() < workers.size()) shapes_->workers.push_back(std::make_unique<Worker>());
+  // The batches' bodies and the places of their worlds are found first, in order (the worlds'
+  // map is not touched by the workers).
+  std::vector<std::vector<uint32_t>> bodies(batches);
+  std::vector<std::unique_ptr<BatchWorld>*> worlds(batches, nullptr);
+  for (uint32_t k = first_batch; k < last_batch; ++k) {
+    bodies[k] = awake_bodies(plan, plan.batches[k], plan.batches[k + 1]);
+    if (!bodies[k].empty()) worlds[k] = &world_of(plan, bodies[k], k);
+  }
   // The outputs a batch writes (its first island's) keep their memory from the last step; the
   // others give it back, so that what is kept is about one contact cache, however the batches
   // move between steps.
@@ -453,12 +460,17 @@ void Dynamics::step(sim::Bodies& b, std::span<const Push> pushes, int64_t to, st
     else std::vector<sim::ContactPoint>().swap(outputs[i].contacts);
   }
   const unsigned runs = workers.size();
+  while (shapes_->solvers.size() < runs)
+    shapes_->solvers.push_back(std::make_unique<btSequentialImpulseConstraintSolver>());
   workers.run([&](unsigned run) {
     const uint32_t span = last_batch - first_batch;
     for (uint32_t k = first_batch + span * run / runs; k < first_batch + span * (run + 1) / runs; ++k)
-      step_batch(plan, plan.batches[k], plan.batches[k + 1], *shapes_->workers[run], b, force != nullptr,
-                 outputs[plan.batches[k]]);
+      if (worlds[k] != nullptr)
+        step_batch(plan, plan.batches[k], plan.batches[k + 1], bodies[k], *worlds[k], *shapes_->solvers[run], to, b,
+                   force != nullptr, outputs[plan.batches[k]]);
   });
+  // A world no batch stepped goes (its bodies may have gone to sleep, or into other batches).
+  std::erase_if(shapes_->worlds, [&](const auto& entry) { return !entry.second || entry.second->used < to; });
   if (ranks != nullptr) share(plan, first, last, outputs, b, *ranks);
 
   if (force != nullptr) {

@@ -1,13 +1,13 @@
 // One physics step of what can move (docs/design.md §7, §8): clusters that are not anchored, modules
 // making a lattice move (kinematic), and props.
 //
-// The Bullet world is built from the state for each step and dropped after it: what Bullet would
-// carry from one step to the next in a long-lived world — the contact points and the impulses
-// that warm-start its solver — is kept in the state instead (sim::Bodies::contacts,
-// physics/warm_start.h, docs/design.md §8a). A step is therefore a pure function of the state: the
-// live run and a run re-simulated after a rollback compute the same thing, on any thread or rank
-// count. What is kept between steps (the compound shapes of clusters) is itself a function of the
-// state.
+// What Bullet would carry from one step to the next in a long-lived world — the contact points
+// and the impulses that warm-start its solver — is kept in the state instead
+// (sim::Bodies::contacts, physics/warm_start.h, docs/design.md §8a). A step is therefore a pure
+// function of the state: the live run and a run re-simulated after a rollback compute the same
+// thing, on any thread or rank count. What is kept between steps (the compound shapes of
+// clusters, each batch's Bullet world with its pairs and manifolds) computes what it would compute
+// made afresh from the state.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +23,7 @@
 
 class btCollisionObject;
 class btCollisionShape;
+class btSequentialImpulseConstraintSolver;
 
 namespace dw::physics {
 
@@ -75,16 +76,22 @@ class Dynamics {
   struct Plan;
   struct IslandOutput;
   struct Shapes;
-  struct Collision;
-  struct Worker;
+  struct BatchWorld;
   // Where `body` can be over the step; `travel`, if given, how far a point of it can move.
   ReachBox reach(const Body& body, float pushed, float turned, float* travel = nullptr) const;
   const Compound& compound(const sim::Bodies& bodies, const sim::Cluster& cluster, int64_t step);
   // The stages of a step, in order (dynamics.cpp).
   void gather_bodies(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes, int64_t to);
   void form_islands(Plan& plan, const sim::Bodies& b, std::span<const Push> pushes) const;
-  void step_batch(const Plan& plan, uint32_t from, uint32_t to, Worker& worker, sim::Bodies& b, bool forces,
-                  IslandOutput& out);
+  // The bodies of the batch of islands [from, to) that are awake, in tag order, each once (a fixed
+  // body near two islands is in both).
+  static std::vector<uint32_t> awake_bodies(const Plan& plan, uint32_t from, uint32_t to);
+  // The place of the world of a batch of `bodies` (made when first stepped; a key of its own for
+  // each batch of the step).
+  std::unique_ptr<BatchWorld>& world_of(const Plan& plan, std::span<const uint32_t> bodies, uint32_t batch);
+  void step_batch(const Plan& plan, uint32_t from, uint32_t to, std::span<const uint32_t> bodies,
+                  std::unique_ptr<BatchWorld>& world, btSequentialImpulseConstraintSolver& solver, int64_t step,
+                  sim::Bodies& b, bool forces, IslandOutput& out);
   static void share(const Plan& plan, uint32_t first, uint32_t last, std::vector<IslandOutput>& outputs, sim::Bodies& b,
                     sim::RankExchange& ranks);
   void settle(const Plan& plan, std::vector<IslandOutput>& outputs, sim::Bodies& b);

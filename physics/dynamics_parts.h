@@ -18,7 +18,9 @@
 
 #include "physics/box_plane.h"
 #include "physics/dynamics.h"
+#include "physics/pair_cache.h"
 #include "physics/shapes.h"
+#include "physics/warm_start.h"
 
 namespace dw::physics {
 
@@ -31,13 +33,43 @@ struct Dynamics::Compound {
   int64_t used = 0;
 };
 
-// Bullet's collision configuration and dispatcher, with pools of `pool` manifolds and as many
-// collision algorithms: what a world gets beyond them comes from the heap, one allocation each.
-struct Dynamics::Collision {
-  btDefaultCollisionConfiguration config;
+// One batch's Bullet world (docs/design.md §8a), kept from step to step while the batch is made
+// of the same bodies: a 20^3 pile's hundred thousand pairs, collision algorithms and manifolds
+// are not made and dropped again every step. None of it is state. Each step every body is made
+// anew in place (as if just added) and every manifold emptied (WarmStartedWorld::begin_step), and
+// the solver takes the manifolds in an order of their own: the step computes what a world built
+// afresh from the state computes, whatever this one did before (a seek, a thread or a rank count
+// sees the same).
+struct Dynamics::BatchWorld {
+  // What a body of the world is: a world is kept only while its bodies are the batch's.
+  struct Member {
+    int tag = 0;
+    float mass = 0;
+    const btCollisionShape* shape = nullptr;
+    bool kinematic = false;
+    bool operator==(const Member&) const = default;
+  };
+  // Bullet's small pools: a kept world makes its manifolds once, the rest come from the heap.
+  static constexpr int kPool = 64;
+  static btDefaultCollisionConstructionInfo pool_sizes() {
+    btDefaultCollisionConstructionInfo info;
+    info.m_defaultMaxPersistentManifoldPoolSize = kPool;
+    info.m_defaultMaxCollisionAlgorithmPoolSize = kPool;
+    return info;
+  }
+
+  btDefaultCollisionConfiguration config{pool_sizes()};
   btCollisionDispatcher dispatcher{&config};
   BoxPlaneCreateFunc box_plane{false}, plane_box{true};
-  explicit Collision(int pool) : config(pool_sizes(pool)) {
+  btDbvtBroadphase broadphase;
+  std::vector<Member> members;
+  std::vector<std::unique_ptr<btRigidBody>> rigid;  // outlive the world, which unlinks them when it goes
+  // Its solver is the stepping worker's (step_batch): nothing of a solve outlives it but the
+  // memory of its pools, which one worker's batches share.
+  WarmStartedWorld world{&dispatcher, &broadphase, nullptr, &config};
+  int64_t used = 0;  // the last step that stepped it
+
+  BatchWorld() {
     dispatcher.registerCollisionCreateFunc(BOX_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE, &box_plane);
     dispatcher.registerCollisionCreateFunc(STATIC_PLANE_PROXYTYPE, BOX_SHAPE_PROXYTYPE, &plane_box);
     // A box on the ground gets all its corners in one query (physics/box_plane.h); other shapes
@@ -45,53 +77,18 @@ struct Dynamics::Collision {
     // (physics/warm_start.h).
     config.setPlaneConvexMultipointIterations();
     config.setConvexConvexMultipointIterations();
+    world.getDispatchInfo().m_deterministicOverlappingPairs = true;
   }
-  static btDefaultCollisionConstructionInfo pool_sizes(int pool) {
-    btDefaultCollisionConstructionInfo info;
-    info.m_defaultMaxPersistentManifoldPoolSize = pool;
-    info.m_defaultMaxCollisionAlgorithmPoolSize = pool;
-    return info;
-  }
-  // Whether the pools hold `manifolds` manifolds and the algorithms of `pairs` pairs (a cluster's
-  // pair has one more for each child it touches: a full algorithm pool says so).
-  bool holds(int manifolds, int pairs) {
-    return manifolds < config.getPersistentManifoldPool()->getMaxCount() &&
-           pairs < config.getCollisionAlgorithmPool()->getMaxCount() &&
-           config.getCollisionAlgorithmPool()->getFreeCount() > 0;
-  }
-};
-
-// Per worker thread: what Bullet would otherwise allocate, zero and free again for each island of
-// each step, kept for the next (none of it is state: a world leaves it empty, and the results do
-// not depend on it).
-struct Dynamics::Worker {
-  static constexpr int kFirstPool = 4096;  // Bullet's default
-  std::unique_ptr<Collision> collision = std::make_unique<Collision>(kFirstPool);
-  int pool = kFirstPool;
-  int needed = 0;  // what an island needed beyond the pools, 0 if they sufficed
-  // The broadphase, emptied by each world and reset to its first state before the next
-  // (btDbvtBroadphase::resetPool: the pairs it finds, and their order, as a fresh one's).
-  btDbvtBroadphase broadphase;
-  // Reused by every island of the worker: its pools keep their memory (a fresh solver zeroed them
-  // every step). Nothing of a solve outlives it but the seed of a random order, which is unused
-  // and reset.
-  btSequentialImpulseConstraintSolver solver;
-
-  // Before an island: pools with room to spare for what one overflowed (so that a large pile's
-  // every manifold comes from one block paged in once, not from the heap anew each step).
-  Collision& fit() {
-    if (needed > 0) {
-      pool = int(std::bit_ceil(uint32_t(needed + needed / 4)));
-      collision = std::make_unique<Collision>(pool);
-      needed = 0;
-    }
-    broadphase.resetPool(&collision->dispatcher);
-    return *collision;
-  }
+  ~BatchWorld() { drop_all_pairs(*world.getPairCache(), dispatcher); }  // before the world goes
+  BatchWorld(const BatchWorld&) = delete;
+  BatchWorld& operator=(const BatchWorld&) = delete;
 };
 
 struct Dynamics::Shapes {
-  std::vector<std::unique_ptr<Worker>> workers;
+  // The batches' worlds, by the tag of a batch's first body that moves, and a solver for each
+  // worker stepping them.
+  std::unordered_map<int, std::unique_ptr<BatchWorld>> worlds;
+  std::vector<std::unique_ptr<btSequentialImpulseConstraintSolver>> solvers;
   std::unique_ptr<btCollisionShape> module;
   btStaticPlaneShape ground;
   std::vector<std::unique_ptr<btCollisionShape>> props;

@@ -1,6 +1,6 @@
-// Stepping one batch of islands in a Bullet world of its own (physics/dynamics.h): the world built
-// from the plan, warm-started from the contact cache (physics/warm_start.h), stepped in substeps,
-// and what it moved written back.
+// Stepping one batch of islands in its Bullet world (physics/dynamics.h): the world kept from the
+// last step or made, its bodies made from the plan, warm-started from the contact cache
+// (physics/warm_start.h), stepped in substeps, and what it moved written back.
 #include <algorithm>
 
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
@@ -26,22 +26,50 @@ int64_t Dynamics::module_of(const Plan& plan, const sim::Bodies& b, const btColl
   return b.members[c.first + member_of_child[size_t(child)]];
 }
 
-// One batch of islands, [from, to), in a Bullet world of its own, on one worker's collision
-// configuration (Bullet's pools are not shared); it writes only its own clusters and props, and its
-// forces and contacts into `out`.
-void Dynamics::step_batch(const Plan& plan, uint32_t from, uint32_t to, Worker& worker, sim::Bodies& b, bool forces,
-                          IslandOutput& out) {
-  // Its islands' bodies in tag order, each once (a fixed body near two islands is in both).
+std::vector<uint32_t> Dynamics::awake_bodies(const Plan& plan, uint32_t from, uint32_t to) {
   std::vector<uint32_t> bodies;
-  std::vector<const Push*> pushes;
   for (uint32_t i = from; i < to; ++i)
-    if (!plan.asleep[i]) {
-      bodies.insert(bodies.end(), plan.islands[i].begin(), plan.islands[i].end());
-      pushes.insert(pushes.end(), plan.pushes[i].begin(), plan.pushes[i].end());
-    }
-  if (bodies.empty()) return;
+    if (!plan.asleep[i]) bodies.insert(bodies.end(), plan.islands[i].begin(), plan.islands[i].end());
   std::sort(bodies.begin(), bodies.end());
   bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
+  return bodies;
+}
+
+// Keyed by the batch's first body that moves (one island holds it: no other batch of the step
+// has it); a batch with none (never made by form_islands) has a key no body has.
+std::unique_ptr<Dynamics::BatchWorld>& Dynamics::world_of(const Plan& plan, std::span<const uint32_t> bodies,
+                                                          uint32_t batch) {
+  const auto moving = std::find_if(bodies.begin(), bodies.end(),
+                                   [&](uint32_t i) { return plan.bodies[i].mass > 0 || plan.bodies[i].kinematic; });
+  const int key = moving != bodies.end() ? plan.bodies[*moving].tag : -2 - int(batch);
+  return shapes_->worlds[key];
+}
+
+namespace {
+
+// A body made anew where it stands in a world (as if just constructed from `info` and added): its
+// place in the world and in the broadphase are kept, nothing else of its past.
+void make_anew(btRigidBody& body, const btRigidBody::btRigidBodyConstructionInfo& info, const btVector3& gravity) {
+  btBroadphaseProxy* proxy = body.getBroadphaseHandle();
+  const int index = body.getWorldArrayIndex();
+  body.~btRigidBody();
+  new (&body) btRigidBody(info);
+  body.setBroadphaseHandle(proxy);
+  body.setWorldArrayIndex(index);
+  if (!body.isStaticOrKinematicObject()) body.setGravity(gravity);  // as addRigidBody does
+}
+
+}  // namespace
+
+// One batch of islands, [from, to), in its own Bullet world (kept from the last step when it holds
+// the same bodies); it writes only its own clusters and props, and its forces and contacts into
+// `out`.
+void Dynamics::step_batch(const Plan& plan, uint32_t from, uint32_t to, std::span<const uint32_t> bodies,
+                          std::unique_ptr<BatchWorld>& kept, btSequentialImpulseConstraintSolver& solver, int64_t step,
+                          sim::Bodies& b, bool forces, IslandOutput& out) {
+  std::vector<const Push*> pushes;
+  for (uint32_t i = from; i < to; ++i)
+    if (!plan.asleep[i]) pushes.insert(pushes.end(), plan.pushes[i].begin(), plan.pushes[i].end());
   const float dt = settings_.dt;
   const ContactSide side_of = [&](const btCollisionObject* o, int child) -> int64_t {
     const int tag = o->getUserIndex();
@@ -49,36 +77,47 @@ void Dynamics::step_batch(const Plan& plan, uint32_t from, uint32_t to, Worker& 
     if (tag >= plan.clusters + plan.movers) return sim::contact_prop(uint32_t(tag - plan.clusters - plan.movers));
     return module_of(plan, b, o, child);
   };
-  Collision& collision = worker.fit();
-  btCollisionDispatcher& dispatcher = collision.dispatcher;
-  btSequentialImpulseConstraintSolver& solver = worker.solver;
-  solver.reset();
-  std::vector<std::unique_ptr<btRigidBody>> rigid;  // outlive the world, which unlinks them when it goes
-  WarmStartedWorld world(&dispatcher, &worker.broadphase, &solver, &collision.config, b.contacts, side_of);
-  const PairsDroppedFirst<btDiscreteDynamicsWorld> teardown{world};
+  std::vector<BatchWorld::Member> members{{-1, 0, &shapes_->ground, false}};
+  for (uint32_t i : bodies) {
+    const Body& body = plan.bodies[i];
+    members.push_back({body.tag, body.mass, body.shape, body.kinematic});
+  }
+  if (!kept || kept->members != members) {
+    kept.reset();  // its pairs go before the new world's are made
+    kept = std::make_unique<BatchWorld>();
+    kept->members = std::move(members);
+  }
+  BatchWorld& batch = *kept;
+  batch.used = step;
+  WarmStartedWorld& world = batch.world;
   world.setGravity(to_bt(settings_.gravity));
   world.getSolverInfo().m_numIterations = settings_.solver_iterations;
-  world.getDispatchInfo().m_deterministicOverlappingPairs = true;
-  const auto add = [&](float mass, btCollisionShape* shape, const btVector3& inertia, const btTransform& pose,
-                       int tag) {
+  solver.reset();
+  world.setConstraintSolver(&solver);
+  world.begin_step(b.contacts, side_of);
+  const bool made = batch.rigid.empty();
+  const auto place = [&](size_t k, float mass, btCollisionShape* shape, const btVector3& inertia,
+                         const btTransform& pose, int tag) {
     btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
     info.m_startWorldTransform = pose;
     info.m_friction = settings_.friction;
     info.m_restitution = settings_.restitution;
-    auto& body = rigid.emplace_back(std::make_unique<btRigidBody>(info));
+    if (made) batch.rigid.push_back(std::make_unique<btRigidBody>(info));
+    else make_anew(*batch.rigid[k], info, world.getGravity());
+    btRigidBody* body = batch.rigid[k].get();
     // Sleeping is the state's (Cluster::still, form_islands): Bullet's own would keep it outside.
     body->setActivationState(DISABLE_DEACTIVATION);
     body->setUserIndex(tag);
-    world.addRigidBody(body.get());
-    return body.get();
+    if (made) world.addRigidBody(body);
+    return body;
   };
   btTransform identity;
   identity.setIdentity();
-  add(0, &shapes_->ground, btVector3(0, 0, 0), identity, -1);
+  place(0, 0, &shapes_->ground, btVector3(0, 0, 0), identity, -1);
   std::vector<std::pair<int, btRigidBody*>> mine;  // (tag, body) of the bodies that move
-  for (uint32_t i : bodies) {
-    const Body& body = plan.bodies[i];
-    btRigidBody* r = add(body.mass, body.shape, body.inertia, body.pose, body.tag);
+  for (size_t k = 0; k < bodies.size(); ++k) {
+    const Body& body = plan.bodies[bodies[k]];
+    btRigidBody* r = place(k + 1, body.mass, body.shape, body.inertia, body.pose, body.tag);
     if (body.kinematic) {
       r->setCollisionFlags(r->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
       r->setInterpolationWorldTransform(body.before);
@@ -106,11 +145,8 @@ void Dynamics::step_batch(const Plan& plan, uint32_t from, uint32_t to, Worker& 
   const float substep = dt / float(substeps);
   for (int k = 0; k < substeps; ++k) {
     world.stepSimulation(substep, 0, substep);
-    const int manifolds = dispatcher.getNumManifolds(), pairs = world.getPairCache()->getNumOverlappingPairs();
-    if (!collision.holds(manifolds, pairs))
-      worker.needed = std::max({worker.needed, manifolds, pairs, 2 * worker.pool});
-    for (int i = 0; forces && i < dispatcher.getNumManifolds(); ++i) {
-      const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(i);
+    // In the solver's order: a module's forces add up in the same order in every world.
+    for (const btPersistentManifold* manifold : forces ? world.solved() : std::span<btPersistentManifold* const>{}) {
       if (manifold->getBody0()->getUserIndex() < 0 || manifold->getBody1()->getUserIndex() < 0) continue;
       for (int p = 0; p < manifold->getNumContacts(); ++p) {
         const btManifoldPoint& point = manifold->getContactPoint(p);

@@ -5,16 +5,25 @@
 #include <BulletCollision/BroadphaseCollision/btDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+#include <BulletDynamics/ConstraintSolver/btConstraintSolver.h>
 
 #include "physics/convert.h"
 
 namespace dw::physics {
 
 WarmStartedWorld::WarmStartedWorld(btDispatcher* dispatcher, btBroadphaseInterface* broadphase,
-                                   btConstraintSolver* solver, btCollisionConfiguration* config,
-                                   std::span<const sim::ContactPoint> cache, ContactSide side)
-    : btDiscreteDynamicsWorld(dispatcher, broadphase, solver, config), cache_(cache), side_(std::move(side)) {
+                                   btConstraintSolver* solver, btCollisionConfiguration* config)
+    : btDiscreteDynamicsWorld(dispatcher, broadphase, solver, config) {
   getSolverInfo().m_solverMode = kSolverMode;
+}
+
+void WarmStartedWorld::begin_step(std::span<const sim::ContactPoint> cache, ContactSide side) {
+  cache_ = cache;
+  side_ = std::move(side);
+  started_ = false;
+  btDispatcher& dispatcher = *getDispatcher();
+  for (int i = 0; i < dispatcher.getNumManifolds(); ++i)
+    dispatcher.clearManifold(dispatcher.getManifoldByIndexInternal(i));
 }
 
 namespace {
@@ -55,9 +64,9 @@ void carry_over(const sim::ContactPoint& c, btManifoldPoint& point) {
 // if Bullet's refresh would keep them — so a contact builds up its points over steps, as in one
 // long-lived Bullet world. A manifold's two modules are those of its first point, or of its two
 // bodies when it has none and neither is a compound (a compound's child is known only by a point).
-void WarmStartedWorld::solveConstraints(btContactSolverInfo& info) {
+void WarmStartedWorld::warm_start() {
   btDispatcher& dispatcher = *getDispatcher();
-  for (int i = 0; i < (started_ ? 0 : dispatcher.getNumManifolds()); ++i) {
+  for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
     btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(i);
     const btCollisionObject& a = *manifold.getBody0();
     const btCollisionObject& b = *manifold.getBody1();
@@ -94,8 +103,46 @@ void WarmStartedWorld::solveConstraints(btContactSolverInfo& info) {
       manifold.addManifoldPoint(kept);
     }
   }
+}
+
+namespace {
+
+// A manifold's place in the solver's order: its bodies' broadphase ids (given in the order the
+// bodies were added, the same in every world made from the same bodies), then the children its
+// points lie on (a cluster's pair has a manifold for each pair of children that touch).
+struct ManifoldKey {
+  int body0, body1, child0, child1;
+  explicit ManifoldKey(const btPersistentManifold* m)
+      : body0(m->getBody0()->getBroadphaseHandle()->m_uniqueId),
+        body1(m->getBody1()->getBroadphaseHandle()->m_uniqueId),
+        child0(m->getContactPoint(0).m_index0),
+        child1(m->getContactPoint(0).m_index1) {}
+  auto operator<=>(const ManifoldKey&) const = default;
+};
+
+}  // namespace
+
+// Bullet's own solveConstraints without its islands (docs: the class comment): one group of every
+// body, and the manifolds with points in their canonical order.
+void WarmStartedWorld::solveConstraints(btContactSolverInfo& info) {
+  if (!started_) warm_start();
   started_ = true;
-  btDiscreteDynamicsWorld::solveConstraints(info);
+  btDispatcher& dispatcher = *getDispatcher();
+  solved_.clear();
+  for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
+    btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(i);
+    if (manifold->getNumContacts() > 0 && dispatcher.needsResponse(manifold->getBody0(), manifold->getBody1()))
+      solved_.push_back(manifold);
+  }
+  std::sort(solved_.begin(), solved_.end(), [](const btPersistentManifold* x, const btPersistentManifold* y) {
+    return ManifoldKey(x) < ManifoldKey(y);
+  });
+  btCollisionObjectArray& objects = getCollisionObjectArray();
+  m_constraintSolver->prepareSolve(objects.size(), int(solved_.size()));
+  m_constraintSolver->solveGroup(objects.size() > 0 ? &objects[0] : nullptr, objects.size(),
+                                 solved_.empty() ? nullptr : solved_.data(), int(solved_.size()), nullptr, 0, info,
+                                 m_debugDrawer, &dispatcher);
+  m_constraintSolver->allSolved(info, m_debugDrawer);
 }
 
 void WarmStartedWorld::keep_contacts(std::vector<sim::ContactPoint>& out) {
