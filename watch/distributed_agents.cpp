@@ -34,8 +34,7 @@ AgentContext::AgentContext(const Program& p, const Optimizations& o, uint64_t bu
       optimizations(o),
       slot_count(static_cast<uint32_t>(p.slot_count())),
       live_limit(budget ? budget : UINT64_MAX),
-      evaluation(p),
-      balls(p.aggregates.size()) {
+      evaluation(p) {
   stack.resize(static_cast<size_t>(p.max_stack));
   trial.resize(p.leaves.size());
   scratch.resize(layout.sets + kScratchSlack);
@@ -206,7 +205,6 @@ bool DistributedAgents::write_table(uint32_t m, int64_t f, const AggregateCode& 
 void DistributedAgents::act(uint32_t m, int64_t f, const PatternMatcherRef& pm, AgentContext& ctx) const {
   const Program& p = ctx.program;
   Reader r(*this, m, pm.filled(), f, &pm, ctx.neighbors, ctx.rows, ctx.seen);
-  r.use_balls(p, ctx.balls, 0);
   Evaluator e(p, r, ctx.evaluation);
   for (const ActionCode& a : p.actions)
     ctx.action_values.push_back(a.value == kNoCode ? known_value(0) : e.value(a.value, 0, -1));
@@ -422,7 +420,6 @@ Truth DistributedAgents::decide(const Leaf& leaf, uint32_t m, int64_t f, const P
                                 AgentContext& ctx) const {
   if (leaf.kind == LeafKind::Expression) {
     Reader r(*this, m, pm.filled(), f, &pm, ctx.neighbors, ctx.rows, ctx.seen);
-    r.use_balls(ctx.program, ctx.balls, 0);
     return Evaluator(ctx.program, r, ctx.evaluation).leaf(leaf);
   }
   if (leaf.kind == LeafKind::Neighbor) {

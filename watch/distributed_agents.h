@@ -59,7 +59,6 @@ struct AgentContext {
   EvaluatorScratch evaluation;            // value code's stacks
   std::vector<uint32_t> neighbors, rows;  // an aggregate's neighbours, or its table's rows
   VisitMarks seen;                        // within()'s and component()'s search
-  std::vector<BallCache> balls;           // within()'s around modules a PatternMatcher carries [aggregate]
   std::vector<Truth> stack;
   std::vector<Truth> trial;
   std::vector<uint32_t> targets;
@@ -138,7 +137,9 @@ class DistributedAgents {
   AgentHistory history_;
   std::vector<ModuleId> ids_;  // see set_module_ids
   // within()'s balls around each module deciding its own leaves [aggregate], roots from first_:
-  // each written only by the thread that records the module's block.
+  // each written only by the thread that records the module's block. Kept here, beside the history
+  // whose graph versions they are keyed by, so that a copy of the agents (a session's keyframe)
+  // copies both; a ball around a module a PatternMatcher carries is searched each time.
   std::vector<BallCache> own_balls_;
 };
 
