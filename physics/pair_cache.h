@@ -18,11 +18,4 @@ inline void drop_all_pairs(btOverlappingPairCache& cache, btDispatcher& dispatch
   }
 }
 
-// Empties `world`'s pair cache when it goes out of scope: declared after the world, it runs first.
-template <typename World>
-struct PairsDroppedFirst {
-  World& world;
-  ~PairsDroppedFirst() { drop_all_pairs(*world.getPairCache(), *world.getDispatcher()); }
-};
-
 }  // namespace dw::physics
