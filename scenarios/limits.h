@@ -19,6 +19,7 @@ inline constexpr IntegerRange kHistoryRange{"history_mb", 1, 1'000'000};  // MiB
 inline constexpr IntegerRange kThreadsRange{"threads", 1, 256};
 inline constexpr IntegerRange kSizeRange{"size", 1, 1'000'000};
 inline constexpr IntegerRange kMaxLiveRange{"max_live", 0, INT64_MAX};
+inline constexpr IntegerRange kLuaSecondsRange{"lua_seconds", 0, 1'000'000'000};
 
 // "'KEY' must be between MIN and MAX, not VALUE": VALUE as the user spelled it, so that a number
 // too large for any integer type is shown as written rather than wrapped.

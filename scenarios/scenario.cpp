@@ -53,6 +53,12 @@ std::string Loader::beside(const std::string& name) const {
 
 std::optional<std::string> Loader::read_beside(TableReader& r, const char* key, const std::string& at,
                                                const char* what) {
+  // A TOML string may hold "\u0000", which no file name can: the system would read the path as
+  // cut short at it, another file than the one named.
+  if (at.find('\0') != std::string::npos) {
+    r.error(key, std::string("the path holds a NUL byte (\\u0000), which no file name can (") + what + ")");
+    return std::nullopt;
+  }
   inputs.push_back(at);
   std::string error;
   const auto left =

@@ -14,7 +14,7 @@ namespace dw::shell {
 
 struct SessionSource {
   std::string scenario;
-  std::optional<int64_t> seed, threads, history_mb;
+  std::optional<int64_t> seed, threads, history_mb, max_live_all, lua_seconds;
   bool no_memory_check = false;
 };
 // Registers --no-memory-check, which loads a scenario whose memory estimate is above what the
@@ -22,7 +22,8 @@ struct SessionSource {
 void add_memory_check_flag(CLI::App& cmd, bool& off);
 // The limit a scenario's estimate is checked against: the machine's, or none when `off`.
 uint64_t memory_limit_unless(bool off);
-// Registers the scenario argument and --seed, --threads, --history-mb on a subcommand.
+// Registers the scenario argument and --seed, --threads, --history-mb, --max-live-all, --lua-seconds
+// on a subcommand.
 void add_session_source(CLI::App& cmd, SessionSource& source);
 // The scenario with the overrides, or nothing (its diagnostics printed on stderr).
 std::optional<scenarios::Scenario> load_session_scenario(const SessionSource& source);

@@ -12,8 +12,11 @@ MatchLog::MatchLog(std::vector<WatchInfo> watches, std::ostream* out, size_t kee
   for (WatchInfo& w : watches) {
     Watch entry;
     // nlohmann escapes the names once; numbers are formatted per match.
-    entry.prefix = "{\"watch\":" + nlohmann::json(w.name).dump() + ",\"t\":";
-    for (const std::string& s : w.slots) entry.slot_keys.push_back(nlohmann::json(s).dump() + ":");
+    entry.prefix =
+        "{\"watch\":" + nlohmann::json(w.name).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) +
+        ",\"t\":";
+    for (const std::string& s : w.slots)
+      entry.slot_keys.push_back(nlohmann::json(s).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + ":");
     entry.info = std::move(w);
     watches_.push_back(std::move(entry));
   }
@@ -133,7 +136,8 @@ void MatchLog::write(const Batch& b) {
     if (!b.actions.empty()) {
       const size_t a = w.info.actions.size();
       block += ",\"then\":";
-      block += then_json(w.info, {b.ids.data() + i, k}, {b.actions.data() + row * a, a}).dump();
+      block += then_json(w.info, {b.ids.data() + i, k}, {b.actions.data() + row * a, a})
+                   .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
     }
     block += "}\n";
     if (block.size() >= (1 << 20) - 256) {
@@ -145,7 +149,10 @@ void MatchLog::write(const Batch& b) {
 }
 
 void MatchLog::write_counted(std::string_view watch, uint64_t matches) {
-  if (out_) *out_ << nlohmann::ordered_json{{"watch", watch}, {"counted", matches}}.dump() << "\n";
+  if (out_)
+    *out_ << nlohmann::ordered_json{{"watch", watch}, {"counted", matches}}.dump(
+                 -1, ' ', false, nlohmann::json::error_handler_t::replace)
+          << "\n";
 }
 
 }  // namespace dw::sim

@@ -48,17 +48,45 @@ std::vector<watch::DetectorStats> replay(FrameReader& frames, int64_t step_count
                                              watches[i].options, std::move(each)));
     max_lag = std::max(max_lag, detectors.back()->lag());
   }
+  // Each detector's per-step series keeps the steps where something happened, at most
+  // kSeriesEntries over all of them: a trace of three lines, one at step 9,999,999, named 10^7
+  // steps, and 12 watchpoints held a million entries each (3 GB).
+  std::vector<std::vector<watch::StepStats>> series(detectors.size());
+  size_t entries = 0;
+  bool truncated = false;
+  for (auto& d : detectors) d->stats().max_steps = 0;
   for (; observing < step_count; ++observing) {
     const watch::Frame frame = frames.frame(observing);
-    for (auto& d : detectors) d->observe(frame);
+    for (size_t i = 0; i < detectors.size(); ++i) {
+      watch::DetectorStats& st = detectors[i]->stats();
+      const uint64_t before = st.observed_steps;
+      detectors[i]->observe(frame);
+      const watch::StepStats& s = st.last;
+      if (st.observed_steps == before || !(s.live || s.created || s.messages || s.matches || s.lost)) continue;
+      if (entries < kSeriesEntries) {
+        series[i].push_back(s);
+        ++entries;
+      } else {
+        truncated = true;
+      }
+    }
     if (release) release(observing - max_lag);
   }
   observing = std::max<int64_t>(step_count - 1, 0);
   if (drain)
-    for (auto& d : detectors) d->finish();  // a simultaneous-state detector drains
+    for (auto& d : detectors) {
+      d->stats().max_steps = watch::DetectorStats::kMaxSteps;  // the drain's few steps, kept whole
+      d->finish();                                             // a simultaneous-state detector drains
+    }
   if (release) release(INT64_MAX);
   std::vector<watch::DetectorStats> stats;
-  for (auto& d : detectors) stats.push_back(d->stats());
+  for (size_t i = 0; i < detectors.size(); ++i) {
+    stats.push_back(detectors[i]->stats());
+    // The detector's own series holds the drain's steps alone.
+    series[i].insert(series[i].end(), stats.back().steps.begin(), stats.back().steps.end());
+    stats.back().steps = std::move(series[i]);
+    stats.back().steps_truncated = truncated;
+  }
   return stats;
 }
 

@@ -30,6 +30,10 @@ using ReplaySink = std::function<void(size_t watch, int64_t detected, int64_t t,
 inline constexpr uint64_t kModuleStepsPerLine = 1000, kMinModuleSteps = 1'000'000'000;
 std::string replay_work_problem(const Trace& trace, uint64_t max_module_steps = 0);
 
+// Entries of the watchpoints' per-step series a replay keeps, over all of them together: only the
+// steps where something happened (a PatternMatcher, a message, a match) are kept.
+inline constexpr size_t kSeriesEntries = 2'000'000;
+
 // Runs every watchpoint's detector over steps 0 .. step_count - 1 of `frames`; after each step,
 // `release(t)` says every watch step up to t is final for every watchpoint (INT64_MAX at the
 // end). At the end the detectors decide the last steps (drain), unless `drain` is false: a run

@@ -79,6 +79,11 @@ class Runtime {
   // it keeps p's variables), each thread with a fresh scratch for it.
   void use_program(uint32_t p, const HostProgram& program);
 
+  // The whole run's PatternMatcher budget over the next step, and what the last step charged
+  // (WatchHosting::charge_before, charged).
+  void charge_before(std::optional<uint64_t> others) { hosting_.charge_before(others); }
+  uint64_t charged() const { return hosting_.charged(); }
+
   const Model& model() const { return model_; }
   World& world() { return world_; }
   unsigned threads() const { return pool_.size(); }

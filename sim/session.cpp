@@ -31,7 +31,9 @@ Session::Session(const Model& model, World& world, SessionOptions options)
 Session::~Session() = default;
 
 void Session::rebuild_runtime() {
-  runtime_ = std::make_unique<Runtime>(model_, watches_.hosted(), world_, options_.threads, options_.ranks,
+  HostedWatches hosted = watches_.hosted();
+  hosted.run_budget = options_.run_live_budget;
+  runtime_ = std::make_unique<Runtime>(model_, std::move(hosted), world_, options_.threads, options_.ranks,
                                        options_.partition);
   world_on_ = nullptr;
 }
@@ -90,6 +92,8 @@ void Session::step_head(const StepObserver& observer) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   step_seconds_ = step_seconds_ == 0 ? seconds : 0.9 * step_seconds_ + 0.1 * seconds;
   latest_ = head_.step - 1;
+  if (const uint64_t charged = runtime_->charged(); charged != (run_charges_.empty() ? 0 : run_charges_.back().second))
+    run_charges_.push_back({latest_, charged});
   record_output(head_, head_out_, 0, watches_.size());
   if (observer) observer(head_, head_out_);
 }

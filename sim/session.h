@@ -55,6 +55,8 @@ struct SessionOptions {
   // copy of the state they are further apart. (Infinite: only the budget spaces them, for tests
   // that count them.)
   double keyframe_time_share = 0.08;
+  // Most PatternMatchers all its watchpoints together keep alive in a step (watch::RunBudget); 0: none.
+  uint64_t run_live_budget = kDefaultRunBudget;
 };
 
 // Lets a long operation be cancelled between steps and report how far it got. A cancelled
@@ -241,6 +243,7 @@ class Session {
   void thin_keyframes();
   void recount_history();
   void record_output(const State& state, const StepOutput& out, uint32_t first_watch, uint32_t watch_count);
+  void keep_stats(WatchSlot& slot, const watch::StepStats& step, int64_t t);
   void truncate_history(int64_t through);
   std::optional<Pause> pause_at(int64_t t, std::optional<uint32_t> to_match) const;
   bool materialize(int64_t t, const Control& control);
@@ -294,6 +297,15 @@ class Session {
   double step_seconds_ = 0;                          // a live step's time, smoothed
   int64_t interval_ = 1;
   size_t history_bytes_ = 0;
+  // What the steps charged the whole run's PatternMatcher budget, as runs: (the first step, the
+  // total each step from it on charged), in step order, nothing before the first (a few entries
+  // where every step charges alike). A watchpoint evaluated alone over the history is charged
+  // after them.
+  std::vector<std::pair<int64_t, uint64_t>> run_charges_;
+  // Entries of the watchpoints' per-step series, all together (keep_stats), at most kSeriesEntries
+  // (about 130 bytes each).
+  static constexpr size_t kSeriesEntries = 2'000'000;
+  size_t series_entries_ = 0;
 };
 
 }  // namespace dw::sim

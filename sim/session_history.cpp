@@ -114,6 +114,8 @@ void Session::recount_history() {
 
 // Forgets what was found after step `through` (matches detected later, statistics of later steps).
 void Session::truncate_history(int64_t through) {
+  while (!run_charges_.empty() && run_charges_.back().first > through) run_charges_.pop_back();
+  series_entries_ = 0;
   for (uint32_t w = 0; w < watches_.size(); ++w) {
     WatchSlot& slot = watches_[w];
     const watch::Program& program = slot.hosted.watchpoint.program;
@@ -124,8 +126,11 @@ void Session::truncate_history(int64_t through) {
         slot.stats.steps.begin(),
         slot.stats.steps.begin() + static_cast<ptrdiff_t>(std::min(entries, slot.stats.steps.size())));
     slot.at.resize(entries);
+    const bool truncated = slot.stats.steps_truncated;
     slot.stats = watch::DetectorStats{};
     for (const watch::StepStats& s : series) slot.stats.add(s);
+    slot.stats.steps_truncated = truncated;
+    series_entries_ += series.size();
     slot.stats.stopped = head_.watches[w].stopped;
     slot.stats.stop_reason = head_.watches[w].stop_reason;
   }
@@ -160,6 +165,8 @@ void Session::resimulate() {
   body_slices_.clear();
   interval_ = 1;
   history_bytes_ = 0;
+  run_charges_.clear();
+  series_entries_ = 0;
   for (uint32_t w = 0; w < watches_.size(); ++w) {
     watches_[w].matches = {};
     watches_[w].stats = {};

@@ -13,9 +13,29 @@ void Session::record_output(const State& state, const StepOutput& out, uint32_t 
     WatchSlot& slot = watches_[w];
     slot.stats.stopped = state.watches[w].stopped;
     slot.stats.stop_reason = state.watches[w].stop_reason;
-    if (o.observed) slot.add_stats(o.stats, out.step);
+    if (o.observed) keep_stats(slot, o.stats, out.step);
     keep_matches(w, o.t, out.step, o.matches, o.slots, o.actions);
   }
+}
+
+// The totals count every step; the per-step series keeps only the steps where something
+// happened (a PatternMatcher, a message, a match), and at most kSeriesEntries entries over all the
+// watchpoints together: a run of 10^7 steps and 30 watchpoints held 30 series of a million steps
+// each, where memory must follow what happens, not steps times watchpoints.
+void Session::keep_stats(WatchSlot& slot, const watch::StepStats& step, int64_t t) {
+  const bool happened = step.live || step.created || step.messages || step.matches || step.lost || step.value_messages;
+  const bool truncated = slot.stats.steps_truncated;
+  slot.stats.max_steps = 0;  // the series is kept here
+  slot.stats.add(step);
+  slot.stats.steps_truncated = truncated;
+  if (!happened) return;
+  if (series_entries_ >= kSeriesEntries) {
+    slot.stats.steps_truncated = true;
+    return;
+  }
+  slot.stats.steps.push_back(step);
+  slot.at.push_back(t);
+  ++series_entries_;
 }
 
 // What a watchpoint keeps of the `matches` it found of watch step t during step `detected`: a
@@ -169,6 +189,8 @@ bool Session::evaluate_over_history(uint32_t w, const Control& control) {
   std::vector<uint8_t> watching(w + 1, 0);
   watching[w] = 1;
   StepOutput out;
+  size_t charged_at = 0;                              // run_charges_[charged_at - 1] holds this step's total
+  std::vector<std::pair<int64_t, uint64_t>> charges;  // run_charges_ with its own
   while (s.step <= latest_ || (s.step % interval_ == 0 && s.step / interval_ < int64_t(keyframes_.size()))) {
     if (s.step % interval_ == 0 && s.step > 0) {
       at_keyframe.push_back(s.watches[w]);
@@ -186,13 +208,19 @@ bool Session::evaluate_over_history(uint32_t w, const Control& control) {
     }
     if (s.step > latest_) break;
     if (control.stopped()) return false;
+    // Charged after every other watchpoint, as a run that had it last from step 0 charges it.
+    while (charged_at < run_charges_.size() && run_charges_[charged_at].first <= s.step) ++charged_at;
+    runtime_->charge_before(charged_at == 0 ? 0 : run_charges_[charged_at - 1].second);
     step(s, out, watching);
+    if (const uint64_t total = runtime_->charged(); total != (charges.empty() ? 0 : charges.back().second))
+      charges.push_back({s.step, total});
     world_on_ = nullptr;  // `s` is a local
     record_output(s, out, w, 1);
     if (control.progress) control.progress(s.step, latest_ + 1);
   }
   for (size_t i = 0; i < keyframes_.size(); ++i) keyframes_[i].watches.push_back(std::move(at_keyframe[i]));
   head_.watches.push_back(std::move(s.watches[w]));
+  run_charges_ = std::move(charges);
   view_valid_ = false;
   measured_for_ = kNotMeasured;
   return true;

@@ -20,7 +20,8 @@ TraceWriter::TraceWriter(std::ostream& out, const watch::Universe& universe,
                          std::span<const Intervention> interventions, std::span<const WatchSpec> watches)
     : out_(out), universe_(universe) {
   // Variable names are escaped once by nlohmann; the numbers are written per line.
-  for (const std::string& v : universe.variables) keys_.push_back(nlohmann::json(v).dump() + ":");
+  for (const std::string& v : universe.variables)
+    keys_.push_back(nlohmann::json(v).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + ":");
   out_ << "{\"wptrace\":1";
   if (!interventions.empty()) {
     out_ << ",\"interventions\":[";
@@ -31,7 +32,7 @@ TraceWriter::TraceWriter(std::ostream& out, const watch::Universe& universe,
   if (!watches.empty()) {
     nlohmann::ordered_json list = nlohmann::ordered_json::array();
     for (const WatchSpec& w : watches) list.push_back(to_json(w));
-    out_ << ",\"watches\":" << list.dump();
+    out_ << ",\"watches\":" << list.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   }
   out_ << "}\n";
 }
@@ -78,7 +79,9 @@ void TraceWriter::write(const watch::Frame& f, const Mailbox* read) {
 }
 
 void TraceWriter::write_paused(const TracePause& pause) {
-  out_ << nlohmann::ordered_json{{"paused", {{"watch", pause.watch}, {"t", pause.t}}}}.dump() << "\n";
+  out_ << nlohmann::ordered_json{{"paused", {{"watch", pause.watch}, {"t", pause.t}}}}.dump(
+              -1, ' ', false, nlohmann::json::error_handler_t::replace)
+       << "\n";
 }
 
 std::string write_trace(const Trace& trace, const std::string& path) {

@@ -18,14 +18,15 @@ void add_up_over_ranks(RankExchange* ranks, watch::AgentStepOutcome& outcome) {
   if (ranks == nullptr) return;
   watch::StepStats& st = outcome.stats;
   std::vector<uint64_t> sums = st.live_by_filled;
-  sums.insert(sums.end(),
-              {st.live, st.created, st.messages, st.bytes, st.matches, outcome.over_budget, st.value_messages});
+  sums.insert(sums.end(), {st.live, st.created, st.messages, st.bytes, st.matches, outcome.over_budget,
+                           st.value_messages, outcome.wanted});
   ranks->sum(sums);
   const size_t n = st.live_by_filled.size();
   std::copy(sums.begin(), sums.begin() + static_cast<ptrdiff_t>(n), st.live_by_filled.begin());
   st.live = sums[n], st.created = sums[n + 1], st.messages = sums[n + 2], st.bytes = sums[n + 3];
   st.matches = sums[n + 4];
   st.value_messages = sums[n + 6];
+  outcome.wanted = sums[n + 7];
   if (sums[n + 5] == 0) return;
   outcome.over_budget = true;
   for (const std::span<const std::byte> why : ranks->all_gather(std::as_bytes(std::span(outcome.stop_reason))))
@@ -33,6 +34,23 @@ void add_up_over_ranks(RankExchange* ranks, watch::AgentStepOutcome& outcome) {
       outcome.stop_reason.assign(reinterpret_cast<const char*>(why.data()), why.size());
       break;
     }
+}
+
+// The order the run's budget charges the watchpoints in: those with actions first, whose stops
+// change the simulation (a re-simulation steps them alone, and they must stop alike), then the
+// others, each in position order.
+std::vector<uint32_t> charging_order(const HostedWatches& watches) {
+  std::vector<uint32_t> order;
+  for (int acting = 1; acting >= 0; --acting)
+    for (uint32_t w = 0; w < watches.size(); ++w)
+      if (!watches[w].watchpoint.program.actions.empty() == bool(acting)) order.push_back(w);
+  return order;
+}
+
+std::vector<uint64_t> own_budgets(const HostedWatches& watches, std::span<const uint32_t> order) {
+  std::vector<uint64_t> own;
+  for (uint32_t w : order) own.push_back(watches[w].options.live_budget);
+  return own;
 }
 
 }  // namespace
@@ -96,7 +114,15 @@ WatchHosting::WatchHosting(const Model& model, HostedWatches watches, const Bloc
       threads_(threads),
       ranks_(ranks),
       contexts_(threads),
-      arriving_(threads) {
+      arriving_(threads),
+      charging_order_(charging_order(watches_)),
+      charged_at_(watches_.size()),
+      run_budget_(watches_.run_budget, own_budgets(watches_, charging_order_)),
+      published_(threads, std::vector<uint64_t>(watches_.size())) {
+  for (uint32_t i = 0; i < charging_order_.size(); ++i) {
+    charged_at_[charging_order_[i]] = i;
+    acting_count_ += watches_[charging_order_[i]].watchpoint.program.actions.empty() ? 0 : 1;
+  }
   for (std::vector<watch::AgentContext>& contexts : contexts_)
     for (const HostedWatchpoint& w : watches_) {
       // Each thread may use the whole budget; whether the step went over it is decided on the
@@ -135,6 +161,8 @@ bool WatchHosting::observes(uint32_t w, std::span<const uint8_t> watching) const
 
 void WatchHosting::begin_step(State& state, std::span<const uint8_t> watching, std::span<const int64_t> next_values) {
   agent_watches_.clear();
+  run_budget_.begin_step(others_, acting_count_);
+  for (std::vector<uint64_t>& thread : published_) std::fill(thread.begin(), thread.end(), 0);
   for (uint32_t w = 0; w < size(); ++w) {
     if (!watches_[w].runs_on_agents() || state.watches[w].stopped) continue;
     if (!observes(w, watching)) continue;
@@ -186,27 +214,62 @@ void WatchHosting::step_block_agents(unsigned thread, uint32_t block, uint32_t w
   arriving_[thread].clear();
   for (unsigned from = 0; from < threads_; ++from)
     arriving_[thread].push_back(&ws.in_flight[size_t{from} * blocks + block]);
+  const watch::RunCharge run{&run_budget_, charged_at_[w], &published_[thread][w]};
   watch::step_agents(*ws.agents, placement_.block_begin(block), placement_.block_begin(block + 1), f, arriving_[thread],
-                     contexts_[thread][w], out);
+                     contexts_[thread][w], out, draining_ ? watch::RunCharge{} : run);
 }
 
+// The watchpoints decide in the run budget's charging order (each one's outcome is its own, in
+// out[w], whatever the order).
 void WatchHosting::finish_step(State& state, std::span<WatchStepOutput> out, std::span<const uint8_t> watching,
                                std::span<const std::vector<ArrivedLane>> arrived) {
-  for (uint32_t w = 0; w < size(); ++w) {
+  charged_ = 0;
+  passed_ = false;
+  step_ = state.step;
+  for (uint32_t i = 0; i < charging_order_.size(); ++i) {
+    const uint32_t w = charging_order_[i];
+    if (i == acting_count_ && others_) {
+      charged_ = *others_;
+      passed_ = run_budget_.limit() != 0 && charged_ > run_budget_.limit();
+    }
     if (state.watches[w].stopped || !observes(w, watching)) continue;
     if (watches_[w].runs_on_agents())
       finish_distributed(w, state, out[w], state.step - watches_[w].watchpoint.program.agent_delay(),
-                         w < arrived.size() ? std::span(arrived[w]) : std::span<const ArrivedLane>{});
+                         w < arrived.size() ? std::span(arrived[w]) : std::span<const ArrivedLane>{}, true);
     else observe_detector(w, state, out[w]);
     WatchStepOutput& o = out[w];
     state.watches[w].matches += o.matches;
     sort_matches(w, o);
   }
+  others_.reset();
+}
+
+std::string WatchHosting::run_budget_verdict(uint32_t w, uint64_t wanted) {
+  const uint64_t limit = run_budget_.limit();
+  const bool before = passed_;
+  charged_ += watch::RunBudget::charge(wanted, watches_[w].options.live_budget);
+  passed_ = limit != 0 && (passed_ || charged_ > limit);
+  if (!passed_) return {};
+  return std::string(before ? "with the watchpoints charged before it, which passed"
+                            : "with the watchpoints charged "
+                              "before it, more than") +
+         " the whole run's budget of " + std::to_string(limit) + " live PatternMatchers at step " +
+         std::to_string(step_) + " (--max-live-all raises it)";
+}
+
+void WatchHosting::stop(WatchState& ws, uint32_t w, std::string why) {
+  ws.stopped = true;
+  ws.stop_reason = std::move(why);
+  // A stopped watch lets go of its agents and PatternMatchers.
+  ws.agents.reset();
+  ws.in_flight = {};
+  for (watch::RecordBuffer& lane : sending_[w]) lane = {};
 }
 
 void WatchHosting::drain_begin(uint32_t w) {
   for (watch::RecordBuffer& lane : sending_[w]) lane.clear();
   agent_watches_ = {w};  // what a batch between ranks carries: this watch's PatternMatchers alone
+  draining_ = true;
 }
 
 // The thread's share of this rank's blocks (the t-th of equal runs), each block's agents made
@@ -215,6 +278,8 @@ void WatchHosting::drain_blocks(unsigned thread, uint32_t w, int64_t f, State& s
   const watch::Program& program = watches_[w].watchpoint.program;
   WatchState& ws = state.watches[w];
   watch::start_agent_step(contexts_[thread][w], f);
+  const uint64_t budget = run_budget_.own(charged_at_[w]);  // as the run's budget may have left it lower
+  contexts_[thread][w].live_limit = budget == 0 ? UINT64_MAX : budget;
   const std::span<const uint32_t> own = placement_.own_blocks();
   const size_t n = own.size();
   for (size_t i = thread * n / threads_; i < (thread + 1) * n / threads_; ++i) {
@@ -233,7 +298,7 @@ void WatchHosting::drain_finish(State& state, uint32_t w, int64_t f, WatchStepOu
 }
 
 void WatchHosting::finish_distributed(uint32_t w, State& state, WatchStepOutput& out, int64_t f,
-                                      std::span<const ArrivedLane> arrived) {
+                                      std::span<const ArrivedLane> arrived, bool whole_run) {
   const HostedWatchpoint& hosted = watches_[w];
   const watch::Program& program = hosted.watchpoint.program;
   WatchState& ws = state.watches[w];
@@ -248,15 +313,14 @@ void WatchHosting::finish_distributed(uint32_t w, State& state, WatchStepOutput&
   for (std::vector<watch::AgentContext>& thread : contexts_) contexts.push_back(&thread[w]);
   watch::AgentStepOutcome outcome = watch::sum_agent_step(contexts, f);
   add_up_over_ranks(ranks_, outcome);
+  // The run's budget first: a context it held back proves the step passes it (watch::RunBudget);
+  // one held back by its own budget wanted more than that, which is what it is charged.
+  std::string over_run = whole_run ? run_budget_verdict(w, outcome.wanted) : std::string();
   watch::decide_agent_budget(outcome, f, hosted.options.live_budget);
-  if (outcome.over_budget) {
-    // The step that went over the budget was cut short wherever each thread was: none of it is
-    // reported, and the stopped watch lets go of its agents and PatternMatchers.
-    ws.stopped = true;
-    ws.stop_reason = std::move(outcome.stop_reason);
-    ws.agents.reset();
-    ws.in_flight = {};
-    for (watch::RecordBuffer& lane : sending_[w]) lane = {};
+  if (!over_run.empty() || outcome.over_budget) {
+    // The step that went over a budget was cut short wherever each thread was: none of it is
+    // reported.
+    stop(ws, w, over_run.empty() ? std::move(outcome.stop_reason) : std::move(over_run));
     return;
   }
   out.observed = true;
@@ -303,6 +367,10 @@ void WatchHosting::observe_detector(uint32_t w, State& state, WatchStepOutput& o
         out.slots.assign(ids.begin(), ids.end());
         out.actions.assign(actions.begin(), actions.end());
       });
+  if (passed_) {  // a watchpoint charged before it passed the run's budget at this step
+    stop(ws, w, run_budget_verdict(w, 0));
+    return;
+  }
   const watch::Frame frame = make_frame(model_, state.step, state.values, state.present, state.graph);
   const uint64_t before = ws.detector->stats().observed_steps;
   ws.detector->observe(frame);
@@ -310,7 +378,14 @@ void WatchHosting::observe_detector(uint32_t w, State& state, WatchStepOutput& o
     out.observed = true;
     out.stats = ws.detector->stats().last;
   }
-  if (ws.detector->stopped()) {
+  // Stopped by its own budget, it wanted one more than it; else what its step held.
+  const uint64_t own = watches_[w].options.live_budget;
+  const uint64_t wanted = ws.detector->stopped() ? own + 1 : out.stats.live + out.stats.messages;
+  if (std::string over_run = run_budget_verdict(w, wanted); !over_run.empty()) {
+    out = WatchStepOutput{};  // the step that passed the budget reports nothing
+    ws.stopped = true;
+    ws.stop_reason = std::move(over_run);
+  } else if (ws.detector->stopped()) {
     ws.stopped = true;
     ws.stop_reason = ws.detector->stats().stop_reason;
   }

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "sim/rank_exchange.h"
 #include "sim/state.h"
 #include "sim/world.h"
+#include "watch/agent_step.h"
 
 namespace dw::sim {
 
@@ -88,6 +90,13 @@ class WatchHosting {
                    std::span<const std::vector<ArrivedLane>> arrived);
   // The actions of the matches decided this step, due at the start of the next (State::actions).
   void queue_actions(State& state, std::span<const WatchStepOutput> out) const;
+  // The whole run's PatternMatcher budget (watch::RunBudget): the next step charges `others` ahead
+  // of the watchpoints without actions it runs, in place of those not run, when a session steps one
+  // alone over its history (the total the run was charged at that step, which holds theirs); each
+  // step charges from nothing otherwise. Then what the step was charged in all (its watchpoints
+  // with actions first, then the others, each in position order), for the session to keep.
+  void charge_before(std::optional<uint64_t> others) { others_ = others; }
+  uint64_t charged() const { return charged_; }
   // The actions due at the start of this step, carried out on the state (and the world, for a
   // removal), in the order queued.
   void act(State& state, World& world) const;
@@ -110,8 +119,12 @@ class WatchHosting {
 
   void step_block_agents(unsigned thread, uint32_t block, uint32_t w, WatchState& ws, int64_t f);
   void finish_distributed(uint32_t w, State& state, WatchStepOutput& out, int64_t f,
-                          std::span<const ArrivedLane> arrived);
+                          std::span<const ArrivedLane> arrived, bool whole_run = false);
   void observe_detector(uint32_t w, State& state, WatchStepOutput& out);
+  // Charges watchpoint w's step, which wanted `wanted` live PatternMatchers and messages (at least
+  // that many when a context was held back): why the run's budget stops it, or "".
+  std::string run_budget_verdict(uint32_t w, uint64_t wanted);
+  void stop(WatchState& ws, uint32_t w, std::string why);
   void sort_matches(uint32_t w, WatchStepOutput& out) const;
   void take_arrived_lanes(WatchState& ws, std::span<const ArrivedLane> arrived) const;
 
@@ -125,6 +138,18 @@ class WatchHosting {
   std::vector<std::vector<watch::RecordBuffer>> sending_;    // per watch: lanes being filled
   std::vector<uint32_t> agent_watches_;                      // this step: watchpoints whose agents run
   std::vector<std::vector<watch::RecordBuffer*>> arriving_;  // per thread: a block's lanes
+  // The whole run's budget: the watchpoints in charging order (those with actions first, whose
+  // stops are part of the simulation and a re-simulation steps alone), each one's place in it, and
+  // per thread and watch what its context charged this step.
+  std::vector<uint32_t> charging_order_, charged_at_;
+  watch::RunBudget run_budget_;
+  std::vector<std::vector<uint64_t>> published_;
+  uint32_t acting_count_ = 0;  // the watchpoints with actions, charged first
+  std::optional<uint64_t> others_;
+  int64_t step_ = 0;
+  bool draining_ = false;  // the run is over: its drain charges no budget of the run
+  uint64_t charged_ = 0;   // this step's running total, in charging order
+  bool passed_ = false;    // this step passed the run's budget: the watchpoints charged after stop
 };
 
 }  // namespace dw::sim

@@ -24,6 +24,10 @@ namespace dw::sim {
 // Most PatternMatchers a watchpoint may keep alive in one step unless it says otherwise: past it
 // the watchpoint stops (watch::DetectorOptions::live_budget).
 inline constexpr uint64_t kDefaultMatchBudget = 20'000'000;
+// Most PatternMatchers all of a run's watchpoints together may keep alive in one step unless the
+// run says otherwise (watch::RunBudget, --max-live-all): 24 watchpoints each under its own budget
+// would otherwise hold 24 times one's memory.
+inline constexpr uint64_t kDefaultRunBudget = 50'000'000;
 
 // What happens when a watchpoint matches.
 enum class MatchAction {
@@ -84,6 +88,9 @@ class HostedWatches {
   };
   Iterator begin() const { return {each_.data()}; }
   Iterator end() const { return {each_.data() + each_.size()}; }
+
+  // Most PatternMatchers all of them together keep alive in a step (watch::RunBudget); 0: no limit.
+  uint64_t run_budget = kDefaultRunBudget;
 
  private:
   std::vector<const HostedWatchpoint*> each_;

@@ -2,12 +2,52 @@
 
 namespace dw::watch {
 
+RunBudget::RunBudget(uint64_t limit, std::vector<uint64_t> own)
+    : limit_(limit), own_(std::move(own)), counted_(std::make_unique<std::atomic<uint64_t>[]>(own_.size())) {}
+
+void RunBudget::begin_step(std::optional<uint64_t> before, uint32_t from) {
+  before_ = before;
+  from_ = from;
+  for (size_t i = 0; i < own_.size(); ++i) counted_[i].store(0, std::memory_order_relaxed);
+}
+
+void RunBudget::charge_context(uint32_t order, AgentContext& ctx, uint64_t& published) {
+  if (limit_ == 0) return;
+  const uint64_t used = ctx.step.live + ctx.step.messages;
+  if (used > published) {
+    counted_[order].fetch_add(used - published, std::memory_order_relaxed);
+    published = used;
+  }
+  // What the watchpoints up to this one have charged so far, this context's count included: a
+  // lower bound of what they will be charged, so that a context held back at the room left
+  // proves the step passes the budget (it wanted one more).
+  const bool after_before = before_ && order >= from_;
+  uint64_t total = after_before ? *before_ : 0;
+  for (uint32_t i = after_before ? from_ : 0; i <= order; ++i)
+    total += charge(counted_[i].load(std::memory_order_relaxed), own_[i]);
+  const uint64_t room = limit_ > total ? limit_ - total : 0;
+  ctx.live_limit = std::min(own_[order] == 0 ? UINT64_MAX : own_[order], used + room);
+}
+
 void step_agents(DistributedAgents& agents, uint32_t begin, uint32_t end, int64_t f,
-                 std::span<RecordBuffer* const> arriving, AgentContext& ctx, PatternMatcherOutbox& out) {
+                 std::span<RecordBuffer* const> arriving, AgentContext& ctx, PatternMatcherOutbox& out, RunCharge run) {
+  // The run's budget is charged every kChargeEvery PatternMatchers and messages (and once a call):
+  // a context held back between two charges only uses less than the room it was given.
+  constexpr uint64_t kChargeEvery = 4096;
+  uint64_t next_charge = 0;
+  const auto charge = [&] {
+    if (run.budget == nullptr) return;
+    const uint64_t used = ctx.step.live + ctx.step.messages;
+    if (used < next_charge) return;
+    run.budget->charge_context(run.order, ctx, *run.published);
+    next_charge = used + kChargeEvery;
+  };
   for (RecordBuffer* lane : arriving)
     lane->for_each(
         [&](std::span<const uint32_t> to, const std::byte* pm) {
-          if (!ctx.over_budget) agents.receive(to, f, pm, ctx, out);
+          if (ctx.over_budget) return;
+          charge();
+          agents.receive(to, f, pm, ctx, out);
         },
         [&](uint32_t next) { agents.prefetch(next); });
   const uint8_t* present = agents.history().presence(f);  // from the history's first module on
@@ -18,7 +58,11 @@ void step_agents(DistributedAgents& agents, uint32_t begin, uint32_t end, int64_
       if (present[m - first] && agents.history().neighbors(m, f, degree) != nullptr) ctx.step.value_messages += degree;
     }
   for (uint32_t m = begin; m < end && !ctx.over_budget; ++m)
-    if (present[m - first]) agents.start(m, f, ctx, out);
+    if (present[m - first]) {
+      charge();
+      agents.start(m, f, ctx, out);
+    }
+  if (run.budget != nullptr) run.budget->charge_context(run.order, ctx, *run.published);
 }
 
 void start_agent_step(AgentContext& ctx, int64_t f) {
@@ -54,6 +98,8 @@ AgentStepOutcome sum_agent_step(std::span<AgentContext* const> contexts, int64_t
     o.stats.bytes += st.bytes;
     o.stats.matches += st.matches;
     o.stats.value_messages += st.value_messages;
+    o.wanted += st.live + st.messages + (ctx->over_budget ? 1 : 0);
+    o.held_back = o.held_back || ctx->over_budget;
     if (ctx->over_budget && !o.over_budget) {
       o.over_budget = true;
       o.stop_reason = ctx->stop_reason;

@@ -26,7 +26,7 @@ namespace {
 
 struct RunArgs {
   std::string scenario;
-  std::optional<int64_t> steps, seed, threads, history_mb, max_live;
+  std::optional<int64_t> steps, seed, threads, history_mb, max_live, max_live_all, lua_seconds;
   std::string algorithm, shape, states, partition = "auto";
   std::string record_path, matches_path, stats_path, render_path;
   size_t print = 5;
@@ -349,6 +349,7 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, shell::Interrupt
     return 2;
   }
   scenarios::Scenario& scenario = std::get<scenarios::Scenario>(loaded);
+  if (args.lua_seconds) scenario.lua_memory->set_seconds(*args.lua_seconds);
   const sim::Model& model = *scenario.model;
   const int64_t steps = args.steps.value_or(scenario.steps);
   const unsigned threads = args.threads ? static_cast<unsigned>(*args.threads) : scenario.threads;
@@ -374,8 +375,10 @@ int run_scenario(const RunArgs& args, sim::RankExchange* ranks, shell::Interrupt
   if (sim::any_rank(ranks, lead && !files.open(scenario.inputs))) return 2;
   const bool to_stdout = args.record_path == "-" || args.matches_path == "-" || args.stats_path == "-";
 
-  sim::Session run(*scenario.model, *scenario.world,
-                   {threads, steps, history_mb << 20, scenario.events, ranks, sim::partition_named(args.partition)});
+  sim::SessionOptions options{threads,         steps, history_mb << 20,
+                              scenario.events, ranks, sim::partition_named(args.partition)};
+  if (args.max_live_all) options.run_live_budget = static_cast<uint64_t>(*args.max_live_all);
+  sim::Session run(*scenario.model, *scenario.world, options);
   sim::RunOutputs outputs(run.watches().hosted(), files.stream(RunFiles::kMatches), 1);
   std::optional<sim::TraceWriter> with_messages;
   if (std::ostream* record = files.stream(RunFiles::kRecord)) {
@@ -446,6 +449,15 @@ void add_run_command(CLI::App& app, std::function<int()>& run, sim::RankExchange
   shell::add_integer_option(*cmd, "--max-live", args->max_live, scenarios::kMaxLiveRange,
                             "Budget of every watchpoint: most PatternMatchers alive in one step; past it the run stops "
                             "(exit 1). 0: none (default: each watchpoint's max_live)");
+  shell::add_integer_option(*cmd, "--max-live-all", args->max_live_all, scenarios::kMaxLiveRange,
+                            "Budget of all watchpoints together: most PatternMatchers alive in one step, charged in "
+                            "watchpoint order (those with actions first); the watchpoint that passes it and those "
+                            "after it stop (exit 1). 0: none")
+      ->default_val(sim::kDefaultRunBudget);
+  shell::add_integer_option(*cmd, "--lua-seconds", args->lua_seconds, scenarios::kLuaSecondsRange,
+                            "Wall-clock seconds all the run's Lua calls may take together, besides 10 s a call "
+                            "(exit 1 past it). 0: none")
+      ->default_val(scenarios::LuaMemoryPool::kDefaultSeconds);
   cmd->add_option("--partition", args->partition,
                   "Over several ranks (mpirun), share the modules in runs of blocks (slabs of a lattice), by a "
                   "METIS partition of their neighbour graph, or (auto) by blocks for a static lattice and by METIS "

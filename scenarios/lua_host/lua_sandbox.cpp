@@ -4,6 +4,7 @@
 #include "sim/read_file.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -480,11 +481,21 @@ LuaSandbox::Outcome LuaSandbox::call(int args, int results, bool counted) {
   lua_pushcfunction(L_, &LuaSandbox::describe_error);
   lua_insert(L_, handler);
   in_call_ = true;
+  const auto started = std::chrono::steady_clock::now();
   const int status = lua_pcall(L_, args, results, handler);
+  const auto took = std::chrono::steady_clock::now() - started;
   in_call_ = false;
   lua_remove(L_, handler);
   watchdog.end();
   lua_sethook(L_, nullptr, 0, 0);
+  if (limits_.pool && !limits_.pool->spend(std::chrono::duration_cast<std::chrono::nanoseconds>(took).count())) {
+    lua_settop(L_, handler - 1);  // the call's results, or its error
+    const std::string message = display_ + ": the run's Lua calls took more than " +
+                                std::to_string(limits_.pool->seconds()) +
+                                " s of wall-clock time together (--lua-seconds raises it)";
+    lua_pushstring(L_, message.c_str());
+    return Outcome::kFailed;
+  }
   if (status == LUA_OK) return Outcome::kOk;
   // Lua's own "not enough memory" (a request refused while it collects, when it does not ask
   // again, caught and raised again by a guard) is the same stop as the memory found full: which

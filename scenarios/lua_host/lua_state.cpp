@@ -20,7 +20,15 @@ LuaState::LuaState(const std::string& display, const std::string& text, const Lu
     return;
   }
   *static_cast<LuaState**>(lua_getextraspace(L_)) = this;
-  if (luaL_loadbufferx(L_, text.data(), text.size(), ("@" + display).c_str(), "t") != LUA_OK || !call(0, 0)) {
+  const int loaded = luaL_loadbufferx(L_, text.data(), text.size(), ("@" + display).c_str(), "t");
+  if (loaded == LUA_ERRSYNTAX && !display.ends_with(".lua")) {
+    // A path may name any file (a key, a password file): its syntax error would quote it ("near
+    // '"hunter2-secret...'"). A file that is no .lua script is said to be no Lua, quoting nothing.
+    lua_pop(L_, 1);
+    error_ = display + ": not Lua source (a script is a .lua file; nothing of this one is shown)";
+    return;
+  }
+  if (loaded != LUA_OK || !call(0, 0)) {
     error_ = pop_message();
     return;
   }

@@ -51,6 +51,19 @@ TEST(MatchLog, EscapesNamesAsJson) {
   EXPECT_EQ(out.str(), "{\"watch\":\"a \\\"quoted\\\" name\",\"t\":3,\"slots\":{\"s\":1}}\n");
 }
 
+// A name that is not UTF-8 (a trace's header may hold any bytes) is written with U+FFFD for its
+// bad bytes: the log never throws in the middle of a run's outputs (issue 62).
+TEST(MatchLog, WritesBytesThatAreNotUtf8AsReplacementCharacters) {
+  std::ostringstream out;
+  MatchLog log({{"w\xff", {"s\xff"}}}, &out);
+  log.sink(0)(3, std::vector<watch::ModuleId>{1}, {});
+  log.finish();
+  log.write_counted("c\xff", 2);
+  EXPECT_EQ(out.str(),
+            "{\"watch\":\"w\xef\xbf\xbd\",\"t\":3,\"slots\":{\"s\xef\xbf\xbd\":1}}\n"
+            "{\"watch\":\"c\xef\xbf\xbd\",\"counted\":2}\n");
+}
+
 TEST(MatchLog, KeepsTheFirstMatchesForSummariesWithoutWriting) {
   MatchLog log({{"w", {"a"}}}, nullptr, 2);
   log.sink(0)(4, std::vector<watch::ModuleId>{9, 3, 5}, {});

@@ -48,6 +48,32 @@ TEST(Replay, MostlyEmptyStepsOverTheBudgetAreRefused) {
   EXPECT_EQ(replay_work_problem(std::get<Trace>(read_trace_text("t", dense)), 2000), "");
 }
 
+// A trace of three lines, the last at step 100,000, names 100,001 steps: each watchpoint's per-step
+// series keeps the three where something happened, not every step (12 watchpoints over a line at
+// step 9,999,999 held 3 GB), while the totals count every step.
+TEST(Replay, TheSeriesKeepOnlyTheStepsWhereSomethingHappened) {
+  const std::string text =
+      "{\"t\":0,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[]}\n"
+      "{\"t\":1,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[]}\n"
+      "{\"t\":100000,\"m\":0,\"vars\":{\"x\":1},\"nbrs\":[]}\n";
+  const Trace trace = std::get<Trace>(read_trace_text("t", text));
+  std::vector<HostedWatchpoint> watches;
+  for (int i = 0; i < 3; ++i)
+    watches.push_back(hosted("w" + std::to_string(i), "modules(a); (a.x = 1)", watch::Algorithm::Centralized));
+  auto made = FrameReader::make(trace, read_variables(watches), default_frame_budget());
+  ASSERT_TRUE(std::holds_alternative<FrameReader>(made));
+  const std::vector<watch::DetectorStats> stats =
+      replay(std::get<FrameReader>(made), trace.step_count(), watches,
+             [](size_t, int64_t, int64_t, std::span<const watch::ModuleId>, std::span<const watch::Value>) {});
+  for (const watch::DetectorStats& st : stats) {
+    EXPECT_EQ(st.observed_steps, 100001u);
+    EXPECT_EQ(st.matches, 3u);
+    ASSERT_EQ(st.steps.size(), 3u);
+    EXPECT_EQ(st.steps.back().step, 100000);
+    EXPECT_FALSE(st.steps_truncated);
+  }
+}
+
 TEST(Replay, EachWatchpointFindsTheReferencesMatchesAtItsLag) {
   const std::string dir = std::string(DWATCH_CONFORMANCE_DIR) + "/02_leader_two_hop_hex";
   auto read = read_trace(dir + "/trace.jsonl");

@@ -60,6 +60,18 @@ TEST_F(LuaScript, ASyntaxErrorIsALoadErrorNamingTheScriptLine) {
   EXPECT_NE(e.find(script_path() + ":3: unexpected symbol near ')'"), std::string::npos) << e;
 }
 
+// A script path may name any file: one that is no .lua script is said to be no Lua, and nothing of
+// it is quoted (a syntax error quoted "near '"hunter2-secret...'", issue 62).
+TEST_F(LuaScript, AFileThatIsNoLuaScriptIsNotQuoted) {
+  std::ofstream(dir_ / "secret.txt") << "password = \"hunter2-secret\n";
+  const auto loaded = load_scenario_text(
+      (dir_ / "s.toml").string(), "[lattice]\nkind = \"line\"\nsize = [4]\n[[program]]\nscript = \"secret.txt\"\n");
+  ASSERT_TRUE(std::holds_alternative<std::string>(loaded));
+  const std::string& e = std::get<std::string>(loaded);
+  EXPECT_NE(e.find("secret.txt: not Lua source"), std::string::npos) << e;
+  EXPECT_EQ(e.find("hunter2"), std::string::npos) << e;
+}
+
 TEST_F(LuaScript, AScriptThatDoesNotDeclareItselfIsALoadError) {
   for (const auto& [script, why] :
        {std::pair{"function step(m) end", "the script must set `program = { vars = {...} }`"},
@@ -88,6 +100,10 @@ TEST_F(LuaScript, MisusingTheApiIsAnErrorAtTheCallersLine) {
             std::string::npos);
   EXPECT_NE(run_error(kHeader + "function step(m)\n  m:set(\"v\", 1.5)\nend\n")
                 .find(p + ":3: a variable's value must be an integer, not 1.5"),
+            std::string::npos);
+  // Lua writes 0/0 as "-nan": a NaN is said "nan" (issue 62).
+  EXPECT_NE(run_error(kHeader + "function step(m)\n  m:set(\"v\", 0/0)\nend\n")
+                .find(p + ":3: a variable's value must be an integer, not nan"),
             std::string::npos);
   EXPECT_NE(run_error(kHeader + "function step(m)\n  if m.id == 0 then m:send(3, { 1 }) end\nend\n")
                 .find(p + ":3: module 0 sent to 3, which is not its neighbour"),
