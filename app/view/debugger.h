@@ -174,6 +174,7 @@ class Debugger {
   void watchpoints_panel();
   void editor();
   void matches_panel();
+  void save_matches();  // the Matches panel's "save the matches"
   // module_panels.cpp
   void inspector_panel();
   void variables_table(const Inspector& in);

@@ -492,25 +492,7 @@ void Debugger::matches_panel() {
   ImGui::InputText("##matches_path", matches_path_, sizeof matches_path_);
   note_widget("matches-file");
   ImGui::SameLine();
-  if (button("save the matches", true)) {
-    // Every match of every watchpoint, as the match log writes them (docs/design.md §5).
-    std::string lines;
-    size_t written = 0;
-    const bool read = worker_->try_read([&](sim::Session& s) {
-      for (uint32_t w = 0; w < s.watches().size(); ++w)
-        for (size_t i = 0; i < s.matches(w).size(); ++i, ++written) lines += shell_.match_json(w, i).dump() + "\n";
-    });
-    // As every output of dwatch: never over an input, and whole or not at all.
-    std::unique_ptr<sim::OutputFile> out;
-    std::string error = read ? shell::open_output_apart(scenario_.inputs, {"the matches' file", matches_path_}, out)
-                             : "the session is busy: save again when it is done";
-    if (error.empty()) {
-      out->stream() << lines;
-      error = out->commit();
-    }
-    if (error.empty()) status("saved " + std::to_string(written) + " matches -> " + matches_path_);
-    else status(error, true);
-  }
+  if (button("save the matches", true)) save_matches();
   ImGui::Text("%zu matches%s", readout_.match_total,
               readout_.match_total > readout_.match_rows.size() ? " (the first shown: filter to narrow)" : "");
   std::vector<std::string> names{"watch"};
@@ -585,6 +567,27 @@ void Debugger::matches_panel() {
     ImGui::EndTable();
   }
   ImGui::End();
+}
+
+// Every match of every watchpoint to the matches' file, as the match log writes them
+// (docs/design.md §5).
+void Debugger::save_matches() {
+  std::string lines;
+  size_t written = 0;
+  const bool read = worker_->try_read([&](sim::Session& s) {
+    for (uint32_t w = 0; w < s.watches().size(); ++w)
+      for (size_t i = 0; i < s.matches(w).size(); ++i, ++written) lines += shell_.match_json(w, i).dump() + "\n";
+  });
+  // As every output of dwatch: never over an input, and whole or not at all.
+  std::unique_ptr<sim::OutputFile> out;
+  std::string error = read ? shell::open_output_apart(scenario_.inputs, {"the matches' file", matches_path_}, out)
+                           : "the session is busy: save again when it is done";
+  if (error.empty()) {
+    out->stream() << lines;
+    error = out->commit();
+  }
+  if (error.empty()) status("saved " + std::to_string(written) + " matches -> " + matches_path_);
+  else status(error, true);
 }
 
 }  // namespace dw::view
