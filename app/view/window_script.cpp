@@ -14,6 +14,7 @@
 
 #include "render/annotations.h"
 #include "shell/output_files.h"
+#include "shell/utf8_text.h"
 
 namespace dw::view {
 namespace {
@@ -349,7 +350,7 @@ int Debugger::run_script(const watch::SourceText& script) {
       if (error.empty()) {
         std::cout.flush();
         std::cerr << script.name() << ":" << line.number
-                  << ": error: expected to fail, but it went through: " << answer.dump()
+                  << ": error: expected to fail, but it went through: " << shell::answer_line(answer)
                   << " (the script stops here)\n";
         return 1;
       }
@@ -365,7 +366,7 @@ int Debugger::run_script(const watch::SourceText& script) {
       std::cerr << script.name() << ":" << line.number << ": error: " << error << " (the script stops here)\n";
       return 1;
     }
-    std::cout << answer.dump() << "\n" << std::flush;
+    std::cout << shell::answer_line(answer) << "\n" << std::flush;
   }
   return 0;
 }

@@ -17,6 +17,7 @@
 #include "scenarios/limits.h"
 #include "shell/options.h"
 #include "shell/shell.h"
+#include "shell/utf8_text.h"
 #include "shell/view_image.h"
 #include "sim/unknown_variables.h"
 
@@ -323,7 +324,7 @@ class Session {
       }
     });
     if (auto* error = std::get_if<std::string>(&answer)) raise_error("CommandError", *error);
-    return py::module_::import("json").attr("loads")(std::get<nlohmann::ordered_json>(answer).dump());
+    return py::module_::import("json").attr("loads")(shell::answer_line(std::get<nlohmann::ordered_json>(answer)));
   }
 
   std::unique_ptr<scenarios::Scenario> scenario_;
