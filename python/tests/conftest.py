@@ -32,6 +32,17 @@ def json_lines(text: str) -> list[dict]:
     return [json.loads(line) for line in text.splitlines() if line.strip()]
 
 
+@pytest.fixture
+def leaders(source) -> str:
+    """The leader election scenario, the walkthrough's."""
+    return str(source / "scenarios" / "leader_election.toml")
+
+
+def session_answers(scenario: str, *commands: str) -> list[dict]:
+    """What `dwatch session --script -` answers to the commands, one dict each."""
+    return json_lines(dwatch("session", scenario, "--script", "-", input="\n".join(commands) + "\n").stdout)
+
+
 def read_columns(path: pathlib.Path) -> dict:
     """A wptrace v1 file as the columns dwatch.replay takes (the flat neighbour form)."""
     import numpy as np

@@ -10,17 +10,7 @@ import numpy as np
 import pytest
 
 import dwatch
-from conftest import dwatch as cli, json_lines
-
-
-@pytest.fixture
-def leaders(source):
-    return str(source / "scenarios" / "leader_election.toml")
-
-
-def session_answers(scenario, *commands):
-    """What `dwatch session --script -` answers to the commands, one dict each."""
-    return json_lines(cli("session", scenario, "--script", "-", input="\n".join(commands) + "\n").stdout)
+from conftest import dwatch as cli, session_answers
 
 
 def test_answers_and_hashes_equal_dwatch_session(leaders):

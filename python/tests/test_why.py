@@ -4,16 +4,7 @@
 import pytest
 
 import dwatch
-from conftest import dwatch as cli, json_lines
-
-
-@pytest.fixture
-def leaders(source):
-    return str(source / "scenarios" / "leader_election.toml")
-
-
-def session_answers(scenario, *commands):
-    return json_lines(cli("session", scenario, "--script", "-", input="\n".join(commands) + "\n").stdout)
+from conftest import session_answers
 
 
 def test_why_is_the_sessions_answer_and_shows_the_one_hop_bug(leaders):
