@@ -22,11 +22,17 @@
 // asking for more stops there), a watchpoint has at most kMaxSlots slots and a lag of at most
 // kMaxLag (others are skipped), and at most kMaxCommands commands (kMaxWatches of them `watch`)
 // run per input.
+// A line `# max-live-all: N` (N from 1 to 10^6) gives the whole run's PatternMatcher budget, so
+// that watchpoints that explode meet it within the step budget.
 // `render` is skipped (the view's own tests draw); `record` and `save` write into a temporary
-// folder whatever FILE the script names, so that no input writes into the source tree. Findings'
-// reproducers stay in tests/fuzz/session_corpus/finding_*.
+// folder whatever FILE the script names, so that no input writes into the source tree, but for
+// /dev/full, written as named (every write fails: the command must answer so). The file's own
+// name is kept at the end of the temporary's, its bytes as given, so that a name the session
+// should have refused would still reach the answers. Findings' reproducers stay in
+// tests/fuzz/session_corpus/finding_*.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -200,6 +206,26 @@ size_t scenario_named_by(std::string_view script) {
   return 0;
 }
 
+// The run budget a line `# max-live-all: N` gives, else the session's own.
+uint64_t run_budget_named_by(std::string_view script) {
+  constexpr std::string_view kHeader = "# max-live-all:";
+  for (size_t at = 0; at < script.size();) {
+    if (script.substr(at, kHeader.size()) == kHeader) {
+      uint64_t n = 0;
+      for (size_t i = at + kHeader.size(); i < script.size() && n <= 1'000'000; ++i) {
+        if (script[i] == ' ') continue;
+        if (script[i] < '0' || script[i] > '9') break;
+        n = n * 10 + uint64_t(script[i] - '0');
+      }
+      if (n >= 1 && n <= 1'000'000) return n;
+    }
+    const size_t newline = script.find('\n', at);
+    if (newline == std::string_view::npos) break;
+    at = newline + 1;
+  }
+  return dw::sim::kDefaultRunBudget;
+}
+
 // The folder `record` and `save` write into, made once and removed at exit.
 class OutputFolder {
  public:
@@ -297,6 +323,9 @@ Before before(const Command& c, const dw::sim::Session& session) {
   return b;
 }
 
+// The one output written as the script names it: no write to it succeeds.
+constexpr std::string_view kFull = "/dev/full";
+
 // Whether the command may fail, as the session stood before it: only with a program's failure, a
 // name it does not know, a step not simulated yet, or what an intervention or a file may meet.
 bool may_fail(const Command& c, const dw::sim::Session& session, const Before& before) {
@@ -317,7 +346,7 @@ bool may_fail(const Command& c, const dw::sim::Session& session, const Before& b
     case Kind::Watch:
     case Kind::State:
     case Kind::Hash:
-    case Kind::Record:
+    case Kind::Record: return c.name == kFull;
     case Kind::Interventions:
     case Kind::Status:
     case Kind::Help: return false;
@@ -394,6 +423,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   sim::SessionOptions options = dw::shell::session_options(scenario, {});
   options.threads = 1;
   options.history_bytes = kHistoryBytes;
+  options.run_live_budget = run_budget_named_by(text);
   {
     sim::Session session(*scenario.model, *scenario.world, options);
     dw::shell::Shell shell(scenario, session);
@@ -417,10 +447,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (c.line != line) fail("a command names another line");
       if (!fit_budget(c, session, watches_run)) continue;
       // record FILE, save FILE: FILE goes to the output folder ("-" is refused by save itself).
-      const bool writes = (c.kind == Kind::Record || c.kind == Kind::Save) && (c.kind == Kind::Record || c.name != "-");
+      const bool writes = (c.kind == Kind::Record || c.kind == Kind::Save) &&
+                          (c.kind == Kind::Record || c.name != "-") && c.name != kFull;
       if (writes) {
         auto [it, added] = files.try_emplace(c.name, "");
-        if (added) it->second = (outputs.path() / ("output" + std::to_string(files.size()))).string();
+        if (added) {
+          // At most 64 bytes of it (a long name would be too long for the folder), cut between
+          // two characters: a cut inside one would make the answer's bytes not UTF-8.
+          std::string name = fs::path(c.name).filename().string();
+          size_t cut = std::min<size_t>(name.size(), 64);
+          while (cut > 0 && cut < name.size() && (uint8_t(name[cut]) & 0xC0) == 0x80) --cut;
+          name.resize(cut);
+          it->second = (outputs.path() / ("output" + std::to_string(files.size()) + "_" + name)).string();
+        }
         c.name = it->second;
       }
 
