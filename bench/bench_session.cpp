@@ -6,6 +6,10 @@
 //   - a 1,000-module physics scenario (leader election on a 40x25 hex sheet, latched), the same;
 //   - a Fig. 6 watchpoint added after 1,000 steps of the Table I ensemble, evaluated over them;
 //   - `session --protocol`'s round trip: `hash` written, its answer read, over pipes to a child;
+//   - `why` at depth 3 (docs/design.md §7b) on 10,000 modules run to step 1,000, beside the seek
+//     to that step: random_vars beside aggregation_routing (a value changed lately, its module
+//     hearing its neighbours every step) and leader election (one unchanged
+//     since early on, whose origin is searched far back);
 //   - 100,000 steps of the Table I ensemble ([8:4:2:1]): the history's memory.
 #include <malloc.h>
 #include <sys/wait.h>
@@ -14,6 +18,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <random>
@@ -24,6 +29,7 @@
 #include "scenarios/scenario.h"
 #include "shell/output_files.h"
 #include "sim/session.h"
+#include "sim/why.h"
 
 namespace dw::bench {
 namespace {
@@ -57,6 +63,67 @@ const std::string kPhysicsElection =
     "seed = 1\n[lattice]\nkind = \"hex2d\"\nsize = [40, 25]\n[[program]]\nname = \"leader_election\"\n"
     "[[watch]]\nname = \"two_leaders\"\naction = \"count\"\n"
     "text = \"modules(a b c); (a.isLeader = 1) and (c.isLeader = 1)\"\n[physics]\nenabled = true\n";
+
+struct WhyRow {
+  double seek_ms = 0, why_ms = 0, why_median_ms = 0;  // best of the repeats (and the median)
+  int64_t origin = 0, interval = 0;
+  uint32_t module = 0;
+  uint64_t events = 0, messages = 0;
+  bool failed = false;
+};
+
+// `why module VAR step --depth 3` after a run to `step`, the cursor at step 0 before each timing,
+// beside `seek step` from there; the module is the first whose VAR changed within 4 steps of
+// `step` (or module 0 when `lately` is false: its origin may lie far back).
+WhyRow why_row(const std::string& text, const std::string& variable, bool lately, int64_t step, int repeat,
+               unsigned threads) {
+  WhyRow row;
+  auto s = load_bench_scenario(text);
+  if (!s) return row.failed = true, row;
+  sim::Session session(*s->model, *s->world, {.threads = threads, .end = step + 1});
+  session.run_until(step + 1);  // to step `step`
+  row.interval = session.keyframe_interval();
+  const int column = session.model().column(variable);
+  if (column < 0) return std::cerr << "bench session: no variable " << variable << "\n", row.failed = true, row;
+  for (uint32_t m = 0; lately && m < session.model().module_count(); ++m) {
+    const auto values = session.series(m, column, step - 4, step);
+    if (!values) return std::cerr << "bench session: no series of module " << m << "\n", row.failed = true, row;
+    if (std::adjacent_find(values->begin(), values->end(), std::not_equal_to<>()) == values->end()) continue;
+    row.module = m;
+    break;
+  }
+  std::vector<double> seeks, whys;
+  for (int r = 0; r < std::max(1, repeat); ++r) {
+    session.seek(0);
+    auto start = Clock::now();
+    session.seek(step);
+    session.state();
+    seeks.push_back(1000 * since(start));
+    session.seek(0);
+    start = Clock::now();
+    const auto cone = sim::why_value(session, row.module, column, step, 3, false, {});
+    whys.push_back(1000 * since(start));
+    if (!cone || cone->values.empty()) return std::cerr << "bench session: no cone\n", row.failed = true, row;
+    row.origin = cone->values[0].asked.origin;
+    row.events = cone->events.size();
+    row.messages = cone->messages.size();
+  }
+  std::sort(seeks.begin(), seeks.end());
+  std::sort(whys.begin(), whys.end());
+  row.seek_ms = seeks.front();
+  row.why_ms = whys.front();
+  row.why_median_ms = whys[whys.size() / 2];
+  return row;
+}
+
+void print_why(const std::string& label, const std::string& variable, int64_t step, const WhyRow& r, long peak_kib) {
+  std::cout << std::fixed << std::setprecision(1) << "why at depth 3, " << label << ", step " << step << ":\n"
+            << "  why " << r.module << " " << variable << " " << step << " (origin " << r.origin << ", " << r.events
+            << " events, " << r.messages << " messages): " << r.why_ms << " ms (median " << r.why_median_ms
+            << ")\n  beside: seek to step " << step << " from step 0: " << r.seek_ms << " ms (keyframes every "
+            << r.interval << " steps); why beyond the seek: " << r.why_ms - r.seek_ms
+            << " ms (target: <= 100 ms)\n  peak memory: " << double(peak_kib) / 1024 << " MiB\n";
+}
 
 // A run of `steps` with the history on and off (best of `repeat` each), then seeks to 40 random
 // steps of the history.
@@ -216,6 +283,29 @@ int bench_session(const BenchArgs& args) {
   std::cout << "bench session: " << threads << (threads == 1 ? " thread" : " threads") << ", best of " << repeat
             << " live runs\n";
   long peak = 0;
+
+  // `why` on 10,000 modules (issue target: 100 ms beyond the seek to its step).
+  const std::string why_cube = "seed = 1\n" + cubic_toml(25, 20, 20);
+  WhyRow w;
+  if (!in_child(
+          [&] {
+            return why_row(why_cube + random_vars_toml(parse_tuple("2:2:2:2")) + kAggregationToml, "x1", true, 1000,
+                           repeat, threads);
+          },
+          w, peak) ||
+      w.failed)
+    return 1;
+  print_why("random_vars [2:2:2:2] and aggregation_routing on 10,000 modules (25x20x20), a value changed lately", "x1",
+            1000, w, peak);
+  if (!in_child(
+          [&] {
+            return why_row(why_cube + "[[program]]\nname = \"leader_election\"\nbug = true\n", "isLeader", false, 1000,
+                           repeat, threads);
+          },
+          w, peak) ||
+      w.failed)
+    return 1;
+  print_why("leader election on 10,000 modules (25x20x20), module 0's isLeader", "isLeader", 1000, w, peak);
 
   HistoryRow h;
   if (!in_child([&] { return history_row(table1_text("2:2:2:2", &args.detector), 2000, repeat, threads); }, h, peak) ||

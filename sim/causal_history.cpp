@@ -31,18 +31,21 @@ int64_t CausalHistory::value_read(int64_t s, ModuleId m, int column) const {
 }
 
 std::optional<int64_t> origin_step(Session& session, ModuleId m, int column, int64_t t, const Control& control) {
-  // Most values changed lately: a short window first, four times longer each time it holds no change.
+  // Most values changed lately: a short window first, then each window before the last, four times
+  // longer, ending at its first step (so no step is simulated twice but for the keyframe's lead-in).
+  int64_t to = t;
   for (int64_t span = 16;; span *= 4) {
-    const int64_t from = std::max<int64_t>(0, t - span);
+    const int64_t from = std::max<int64_t>(0, to - span);
     std::vector<uint8_t> present;
-    const auto values = session.series(m, column, from, t, control, &present);
+    const auto values = session.series(m, column, from, to, control, &present);
     // Without history the past cannot be simulated again: nothing comes back.
-    if (!values || values->size() != static_cast<size_t>(t - from + 1)) return std::nullopt;
-    for (int64_t w = t; w > from; --w) {
+    if (!values || values->size() != static_cast<size_t>(to - from + 1)) return std::nullopt;
+    for (int64_t w = to; w > from; --w) {
       const auto i = static_cast<size_t>(w - from);
       if (present[i] && (!present[i - 1] || (*values)[i] != (*values)[i - 1])) return w;
     }
     if (from == 0) return 0;
+    to = from;
   }
 }
 

@@ -30,9 +30,16 @@ std::optional<Cone> cone_in_session(Session& session, std::vector<ValueAsked> va
   if (values.empty()) return Cone{.depth = depth, .narrow = narrow};
   // Most values changed lately: one window, twice the cone deep, often holds their origins and
   // cones, and a single pass over it answers.
-  int64_t first = INT64_MAX, last = 0;
-  for (const ValueAsked& v : values) first = std::min(first, v.t), last = std::max(last, v.t);
-  first = std::max<int64_t>(0, first - 2 * depth - 2);
+  int64_t earliest = INT64_MAX, last = 0;
+  for (const ValueAsked& v : values) earliest = std::min(earliest, v.t), last = std::max(last, v.t);
+  int64_t first = std::max<int64_t>(0, earliest - 2 * depth - 2);
+  // A keyframe at step first - 1 or later that still leaves an origin at the earliest step asked
+  // its depth: the window starts just after it, so that no step before it is simulated again.
+  const int64_t room = earliest - depth - 2, interval = session.keyframe_interval();
+  if (room >= 0 && interval > 0 && session.keyframes() > 0) {
+    const int64_t keyframe = std::min(room / interval, static_cast<int64_t>(session.keyframes()) - 1) * interval;
+    if (keyframe >= first - 1) first = keyframe + 1;
+  }
   {
     const auto history = record_window(session, first, last, control);
     if (!history) return std::nullopt;
