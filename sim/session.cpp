@@ -44,7 +44,7 @@ int64_t Session::max_lag() const {
   return lag;
 }
 
-int64_t Session::decided() const { return latest_ - max_lag(); }
+int64_t Session::decided() const { return end_drained_ ? latest_ : latest_ - max_lag(); }
 
 // Every step of every state goes through here: the interventions of the step are applied, and
 // the world is told when the state it steps is not the one it stepped last.
@@ -80,6 +80,7 @@ void Session::step(State& state, StepOutput& out, std::span<const uint8_t> watch
 
 void Session::step_head(const StepObserver& observer) {
   if (drained_) throw std::logic_error("a drained session simulates no further step");
+  forget_end_drain();  // past the end, the watchpoints decide those steps themselves
   take_keyframe();
   const auto started = std::chrono::steady_clock::now();
   try {
@@ -96,6 +97,7 @@ void Session::step_head(const StepObserver& observer) {
     run_charges_.push_back({latest_, charged});
   record_output(head_, head_out_, 0, watches_.size());
   if (observer) observer(head_, head_out_);
+  drain_at_end();
 }
 
 std::optional<Pause> Session::pause_at(int64_t t, std::optional<uint32_t> to_match) const {
@@ -105,6 +107,8 @@ std::optional<Pause> Session::pause_at(int64_t t, std::optional<uint32_t> to_mat
     const MatchList& list = watches_[w].matches;
     const auto [first, last] = list.at(t);
     if (first == last) continue;
+    if (!asked && end_drained_ && w < before_end_drain_.size() && first >= before_end_drain_[w].first)
+      continue;  // the end's drain pauses no run
     const size_t k = watches_[w].hosted.watchpoint.program.slot_count();
     return Pause{w,
                  asked,

@@ -120,9 +120,10 @@ class Session {
   bool seek(int64_t t, const Control& control = {});
   // Simulates ahead until every watchpoint has decided step t, past the session's end if need be.
   void decide(int64_t t, const StepObserver& observer = {}, const Control& control = {});
-  // Through which step every watchpoint (or watchpoint w) has decided; latest() without any.
+  // Through which step every watchpoint (or watchpoint w) has decided; latest() without any, and
+  // at the scenario's end, where the session has drained (docs/design.md §4c, "Run's end").
   int64_t decided() const;
-  int64_t decided(uint32_t w) const { return latest_ - watches_[w].hosted.lag(); }
+  int64_t decided(uint32_t w) const { return end_drained_ ? latest_ : latest_ - watches_[w].hosted.lag(); }
 
   // An intervention at the current step t, applied at the start of step t + 1 (`at` is set so):
   // the future after t is dropped and the next steps simulate the change. An error message when
@@ -207,7 +208,9 @@ class Session {
   // Matches of `log` and `pause` watchpoints over the history (a `count` one's keeps only their
   // number per step, MatchList::counted).
   const MatchList& matches(uint32_t w) const { return watches_[w].matches; }
-  uint64_t match_count(uint32_t w) const { return head_.watches[w].matches; }
+  uint64_t match_count(uint32_t w) const {
+    return head_.watches[w].matches + (end_drained_ && w < end_drain_matches_.size() ? end_drain_matches_[w] : 0);
+  }
   // Matches per step of steps [from, to], for a timeline.
   std::vector<uint64_t> match_counts(uint32_t w, int64_t from, int64_t to) const;
   // Statistics over the history (the per-step series is the session's own).
@@ -250,7 +253,15 @@ class Session {
   void rebuild_runtime();
   void branch_here();  // the current step becomes the head: the future is dropped
   void resimulate();
-  void drain_agents(const DrainSink& sink);
+  // What the detectors and agents still hold decided over the last step (`drain`); `with_stats`:
+  // their work joins the statistics too.
+  void drain_findings(const DrainSink& sink, bool with_stats);
+  void drain_agents(const DrainSink& sink, bool with_stats);
+  // At the scenario's last step the session drains a copy of the watchpoints' state, so that it
+  // reports what `run` and `replay` report, and can still simulate on: the drain's matches are
+  // forgotten when the head moves past the end, the history is cut or the watchpoints change.
+  void drain_at_end();
+  void forget_end_drain();
   void keep_matches(uint32_t w, int64_t t, int64_t detected, uint64_t matches, std::span<const ModuleId> slots,
                     std::span<const watch::Value> actions);
   bool evaluate_over_history(uint32_t w, const Control& control);
@@ -274,6 +285,11 @@ class Session {
 
   State head_;  // after step latest_
   bool drained_ = false;
+  // The end's drain is in the matches (drain_at_end): each watchpoint's matches and counted
+  // entries before it.
+  bool end_drained_ = false;
+  std::vector<std::pair<size_t, size_t>> before_end_drain_;
+  std::vector<uint64_t> end_drain_matches_;  // how many each found
   StepOutput head_out_;
   int64_t latest_ = -1, current_ = -1;
   State view_;  // after some step <= latest_, when view_valid_; the current step's when current_ < latest_

@@ -114,6 +114,7 @@ void Session::recount_history() {
 
 // Forgets what was found after step `through` (matches detected later, statistics of later steps).
 void Session::truncate_history(int64_t through) {
+  forget_end_drain();
   while (!run_charges_.empty() && run_charges_.back().first > through) run_charges_.pop_back();
   series_entries_ = 0;
   for (uint32_t w = 0; w < watches_.size(); ++w) {
@@ -167,6 +168,7 @@ void Session::resimulate() {
   history_bytes_ = 0;
   run_charges_.clear();
   series_entries_ = 0;
+  end_drained_ = false;
   for (uint32_t w = 0; w < watches_.size(); ++w) {
     watches_[w].matches = {};
     watches_[w].stats = {};

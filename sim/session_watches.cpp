@@ -55,7 +55,13 @@ void Session::keep_matches(uint32_t w, int64_t t, int64_t detected, uint64_t mat
 }
 
 void Session::drain(const DrainSink& sink) {
-  drain_agents(sink);
+  forget_end_drain();  // found again, with their statistics, for `sink`
+  drain_findings(sink, true);
+  drained_ = true;
+}
+
+void Session::drain_findings(const DrainSink& sink, bool with_stats) {
+  drain_agents(sink, with_stats);
   for (uint32_t w = 0; w < watches_.size(); ++w) {
     WatchState& ws = head_.watches[w];
     if (!ws.detector || ws.stopped) continue;
@@ -68,9 +74,40 @@ void Session::drain(const DrainSink& sink) {
     });
     const watch::DetectorStats before = ws.detector->stats();
     ws.detector->finish();
-    add_drained_stats(w, before, ws.detector->stats());
+    if (with_stats) add_drained_stats(w, before, ws.detector->stats());
   }
-  drained_ = true;
+}
+
+// The drain's matches join the history (a `pause` one pauses nowhere: pause_at) while the
+// watchpoints' own states stay as they were: the session may still simulate past the end, or
+// `run` drain for its outputs.
+void Session::drain_at_end() {
+  if (end_drained_ || drained_ || latest_ != options_.end - 1) return;
+  before_end_drain_.clear();
+  for (uint32_t w = 0; w < watches_.size(); ++w)
+    before_end_drain_.emplace_back(watches_[w].matches.size(), watches_[w].matches.counted.size());
+  std::vector<WatchState> watching = head_.watches;
+  drain_findings({}, false);
+  end_drain_matches_.clear();
+  for (uint32_t w = 0; w < watches_.size(); ++w)
+    end_drain_matches_.push_back(head_.watches[w].matches - watching[w].matches);
+  head_.watches = std::move(watching);
+  end_drained_ = true;
+}
+
+void Session::forget_end_drain() {
+  if (!end_drained_) return;
+  for (uint32_t w = 0; w < watches_.size() && w < before_end_drain_.size(); ++w) {
+    MatchList& list = watches_[w].matches;
+    const watch::Program& program = watches_[w].hosted.watchpoint.program;
+    const size_t keep = before_end_drain_[w].first;
+    list.t.resize(keep);
+    list.detected.resize(keep);
+    list.slots.resize(keep * program.slot_count());
+    list.actions.resize(keep * program.actions.size());
+    list.counted.resize(before_end_drain_[w].second);
+  }
+  end_drained_ = false;
 }
 
 // The drain's work, as one more entry of the session's series.
@@ -92,7 +129,7 @@ void Session::add_drained_stats(uint32_t w, const watch::DetectorStats& before, 
 
 // Agents that wait a hop for their neighbours' values decide the run's last steps too, as replay
 // of the run's trace does (watch::DistributedDetector::finish).
-void Session::drain_agents(const DrainSink& sink) {
+void Session::drain_agents(const DrainSink& sink, bool with_stats) {
   for (uint32_t w = 0; w < watches_.size(); ++w) {
     WatchSlot& slot = watches_[w];
     const watch::Program& p = slot.hosted.watchpoint.program;
@@ -101,9 +138,11 @@ void Session::drain_agents(const DrainSink& sink) {
       if (f < 0 || head_.watches[w].stopped) continue;
       WatchStepOutput out;
       runtime_->drain_agents(head_, w, f, out);
-      if (out.observed) slot.add_stats(out.stats, latest_);
-      slot.stats.stopped = head_.watches[w].stopped;
-      slot.stats.stop_reason = head_.watches[w].stop_reason;
+      if (with_stats) {
+        if (out.observed) slot.add_stats(out.stats, latest_);
+        slot.stats.stopped = head_.watches[w].stopped;
+        slot.stats.stop_reason = head_.watches[w].stop_reason;
+      }
       keep_matches(w, out.t, latest_, out.matches, out.slots, out.actions);
       if (!out.slots.empty() && sink) sink(w, out.t, out.slots, out.actions);
     }
@@ -136,6 +175,7 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
                   " watchpoints: unwatch one first");
   if (!has_history())
     return refuse(control.stopped() ? "cancelled" : "the session keeps no history to evaluate a watchpoint over");
+  forget_end_drain();  // drained again with the new watchpoint
   const bool acts = !watch.watchpoint.program.actions.empty() ||
                     (replaces && !watches_[*replaces].hosted.watchpoint.program.actions.empty());
   // The new watchpoint goes in last; then, replacing one, into its place (the others keep theirs).
@@ -160,6 +200,7 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
   if (!evaluated) {  // cancelled: as it was
     watches_.pop_back();
     rebuild_runtime();
+    drain_at_end();
     return refuse("cancelled");
   }
   if (replaces) {
@@ -174,6 +215,7 @@ std::optional<uint32_t> Session::set_watch(HostedWatchpoint watch, const Control
   }
   recount_history();
   look_ahead({});
+  drain_at_end();
   return replaces.value_or(w);
 }
 
@@ -237,6 +279,7 @@ bool Session::remove_watch(std::string_view name) {
   if (!found) return false;
   const uint32_t w = *found;
   const bool acted = !watches_[w].hosted.watchpoint.program.actions.empty();
+  forget_end_drain();
   watches_.erase(w);
   head_.watches.erase(head_.watches.begin() + std::ptrdiff_t{w});
   for (State& k : keyframes_) k.watches.erase(k.watches.begin() + std::ptrdiff_t{w});
@@ -245,6 +288,7 @@ bool Session::remove_watch(std::string_view name) {
   rebuild_runtime();
   recount_history();
   if (acted) resimulate();
+  drain_at_end();
   return true;
 }
 
