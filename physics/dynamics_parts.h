@@ -14,7 +14,6 @@
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
-#include <LinearMath/btPoolAllocator.h>
 
 #include "physics/box_plane.h"
 #include "physics/dynamics.h"
