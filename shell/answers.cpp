@@ -5,6 +5,7 @@
 
 #include "sim/match_log.h"
 #include "sim/state.h"
+#include "sim/watch_hosting.h"
 #include "watch/watchpoint.h"
 
 namespace dw::shell {
@@ -38,6 +39,8 @@ nlohmann::ordered_json Shell::match_json(uint32_t w, size_t i) const {
   j["detected"] = list.detected[i];
   return j;
 }
+
+std::string Shell::stop_reason(uint32_t w) const { return sim::stop_text(session_.stats(w).stop_reason, "max_live"); }
 
 Shell::Answer Shell::matches(const Command& cmd, nlohmann::ordered_json answer) {
   const sim::WatchSlots& watches = session_.watches();
@@ -135,6 +138,7 @@ Shell::Answer Shell::status(nlohmann::ordered_json answer) {
                        {"decided", session_.decided(w)},
                        {"matches", session_.match_count(w)},
                        {"stopped", session_.stats(w).stopped}});
+    if (session_.stats(w).stopped) watches.back()["stop_reason"] = stop_reason(w);
   }
   answer["watches"] = std::move(watches);
   answer["interventions"] = session_.interventions().size();

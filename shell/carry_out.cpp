@@ -132,6 +132,8 @@ Shell::Answer Shell::run_to(const Command& cmd, const sim::Control& control, nlo
   const int64_t target = cmd.kind == Kind::Step ? session_.current() + *cmd.number
                          : cmd.number           ? *cmd.number
                                                 : std::max(session_.end() - 1, session_.current());
+  std::vector<bool> stopped_before;
+  for (uint32_t w = 0; w < session_.watches().size(); ++w) stopped_before.push_back(session_.stats(w).stopped);
   const auto pause = session_.run_until(target + 1, {}, control, to_match);
   add_position(answer);
   nlohmann::ordered_json stop = nullptr;
@@ -151,6 +153,12 @@ Shell::Answer Shell::run_to(const Command& cmd, const sim::Control& control, nlo
   answer["paused"] = asked ? nullptr : stop;
   if (to_match) answer["matched"] = asked ? stop : nullptr;
   if (control.stopped()) answer["cancelled"] = true;
+  // The watchpoints a budget stopped on the way, and why, as `dwatch run` says it.
+  nlohmann::ordered_json stopped = nlohmann::ordered_json::array();
+  for (uint32_t w = 0; w < session_.watches().size(); ++w)
+    if (session_.stats(w).stopped && (w >= stopped_before.size() || !stopped_before[w]))
+      stopped.push_back({{"watch", session_.watches()[w].hosted.watchpoint.name}, {"stop_reason", stop_reason(w)}});
+  if (!stopped.empty()) answer["stopped"] = std::move(stopped);
   return answer;
 }
 
@@ -217,6 +225,10 @@ Shell::Answer Shell::set_watch(const Command& cmd, const sim::Control& control, 
   answer["lag"] = h.lag();
   answer["matches"] = session_.match_count(*w);
   answer["decided"] = session_.decided(*w);
+  if (session_.stats(*w).stopped) {  // a budget stopped it on the history
+    answer["stopped"] = true;
+    answer["stop_reason"] = stop_reason(*w);
+  }
   return answer;
 }
 

@@ -67,6 +67,9 @@ class Shell {
   // Where the cursor stands: current, latest and decided steps, added to an answer.
   void add_position(nlohmann::ordered_json& answer);
   nlohmann::ordered_json intervention_answer(const sim::Intervention& intervention) const;
+  // Why watchpoint w stopped (it has), as `dwatch run` says it: the reason, its figure, the matches
+  // kept and the option that raises the budget.
+  std::string stop_reason(uint32_t w) const;
 
   const scenarios::Scenario& scenario_;
   sim::Session& session_;

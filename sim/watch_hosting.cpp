@@ -244,17 +244,30 @@ void WatchHosting::finish_step(State& state, std::span<WatchStepOutput> out, std
   others_.reset();
 }
 
+namespace {
+constexpr std::string_view kRaisesRunBudget = "(--max-live-all raises it)";
+}  // namespace
+
+std::string over_run_budget(bool already, uint64_t limit, std::string_view when) {
+  return std::string(already ? "with the watchpoints charged before it, which passed"
+                             : "with the watchpoints charged before it, more than") +
+         " the whole run's budget of " + std::to_string(limit) + " live PatternMatchers " + std::string(when) + " " +
+         std::string(kRaisesRunBudget);
+}
+
+std::string stop_text(const std::string& reason, std::string_view own_budget) {
+  std::string text = reason + "; the matches found before are kept";
+  if (reason.find(kRaisesRunBudget) == std::string::npos) text += " (" + std::string(own_budget) + " sets the budget)";
+  return text;
+}
+
 std::string WatchHosting::run_budget_verdict(uint32_t w, uint64_t wanted) {
   const uint64_t limit = run_budget_.limit();
   const bool before = passed_;
   charged_ += watch::RunBudget::charge(wanted, watches_[w].options.live_budget);
   passed_ = limit != 0 && (passed_ || charged_ > limit);
   if (!passed_) return {};
-  return std::string(before ? "with the watchpoints charged before it, which passed"
-                            : "with the watchpoints charged "
-                              "before it, more than") +
-         " the whole run's budget of " + std::to_string(limit) + " live PatternMatchers at step " +
-         std::to_string(step_) + " (--max-live-all raises it)";
+  return over_run_budget(before, limit, "at step " + std::to_string(step_));
 }
 
 void WatchHosting::stop(WatchState& ws, uint32_t w, std::string why) {

@@ -13,6 +13,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sim/block_placement.h"
@@ -46,6 +47,14 @@ watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_
 // which no rank holds.
 std::string why_not_over_ranks(std::span<const HostedWatchpoint> watches);
 inline std::string why_not_over_ranks(const Model& model) { return why_not_over_ranks(model.watches); }
+
+// Why the whole run's PatternMatcher budget (`limit`, watch::RunBudget) stops a watchpoint `when`
+// ("at step 5"): it passed it with those charged before it, or (`already`) they had passed it.
+std::string over_run_budget(bool already, uint64_t limit, std::string_view when);
+// What a watchpoint's stop says wherever it is told (`run`, `replay`, the session's answers): its
+// `reason` with the figure, that the matches found before are kept, and what raises the budget
+// that stopped it: the run's names --max-live-all in its reason, its own is `own_budget`.
+std::string stop_text(const std::string& reason, std::string_view own_budget);
 
 // PatternMatchers another rank sent to one of this rank's blocks: records for its first lane.
 struct ArrivedLane {

@@ -1,5 +1,7 @@
 #include "app/cli/run_summary.h"
 
+#include "sim/watch_hosting.h"
+
 namespace dw::app {
 
 void print_detector_stats(std::ostream& out, const watch::DetectorStats& st) {
@@ -64,9 +66,7 @@ void print_first_matches(std::ostream& out, std::span<const std::string> slot_na
 }
 
 bool say_stopped(std::ostream& errors, const std::string& name, const watch::DetectorStats& st, const char* budget) {
-  if (st.stopped)
-    errors << "dwatch: " << name << ": stopped: " << st.stop_reason << "; the matches found before are kept (" << budget
-           << " sets the budget)\n";
+  if (st.stopped) errors << "dwatch: " << name << ": stopped: " << sim::stop_text(st.stop_reason, budget) << "\n";
   return st.stopped;
 }
 

@@ -14,6 +14,7 @@
 #include <csignal>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -442,6 +443,64 @@ TEST_F(SessionProtocol, RequestsPastWhatMayWaitAreRefusedAtOnce) {
     else ++hashes;
   }
   EXPECT_EQ(p.finish(), 0);
+}
+
+// Two watchpoints that explode, one past its own max_live, the other past the whole run's budget
+// (issue 62): the session's answers said only "stopped": true. The answer of the step that stopped
+// them and `status` say why, with the figure and what raises the budget, as `dwatch run` says it.
+TEST_F(SessionProtocol, AWatchpointABudgetStoppedSaysWhyAsRunDoes) {
+  const fs::path scenario = write("budget.toml", R"(steps = 4
+[lattice]
+kind = "hex2d"
+size = [12, 10]
+[[program]]
+name = "leader_election"
+bug = true
+[[watch]]
+name = "own"
+text = "modules(a b c); a.isLeader = 0 and b.isLeader = 0 and c.isLeader = 0"
+algorithm = "centralized"
+shape = "any"
+max_live = 30
+[[watch]]
+name = "many"
+text = "modules(a b c); a.isLeader = 0 and b.isLeader = 0 and c.isLeader = 0"
+algorithm = "distributed"
+shape = "any"
+states = "simultaneous"
+)");
+  const Result ran = run("run " + scenario.string() + " --max-live-all 40");
+  ASSERT_EQ(ran.code, 1) << ran.err;
+  std::map<std::string, std::string> said;  // what `run` says of each: "dwatch: NAME: stopped: WHY"
+  std::istringstream lines(ran.err);
+  for (std::string line; std::getline(lines, line);)
+    if (const size_t at = line.find(": stopped: "); line.rfind("dwatch: ", 0) == 0 && at != std::string::npos)
+      said[line.substr(8, at - 8)] = line.substr(at + 11);
+  ASSERT_EQ(said.size(), 2u) << ran.err;
+  EXPECT_NE(said["own"].find("more than 30"), std::string::npos) << said["own"];
+  EXPECT_NE(said["own"].find("max_live sets the budget"), std::string::npos) << said["own"];
+  EXPECT_NE(said["many"].find("budget of 40"), std::string::npos) << said["many"];
+  EXPECT_NE(said["many"].find("--max-live-all raises it"), std::string::npos) << said["many"];
+  EXPECT_EQ(said["many"].find("max_live sets"), std::string::npos) << "its own budget did not stop it";
+  const Result session = run("session " + scenario.string() + " --max-live-all 40 --script " +
+                             write("s.session", "step 2\nstatus\nstep 1\n").string());
+  ASSERT_EQ(session.code, 0) << session.err;
+  std::istringstream answers(session.out);
+  std::string line;
+  ASSERT_TRUE(std::getline(answers, line));
+  const json stepped = json::parse(line);
+  ASSERT_TRUE(stepped.contains("stopped")) << stepped;
+  ASSERT_EQ(stepped["stopped"].size(), 2u) << stepped;
+  for (const json& stop : stepped["stopped"])
+    EXPECT_EQ(stop["stop_reason"], said[stop["watch"].get<std::string>()]) << stop;
+  ASSERT_TRUE(std::getline(answers, line));
+  const json status = json::parse(line);
+  for (const json& w : status["watches"]) {
+    EXPECT_EQ(w["stopped"], true) << w;
+    EXPECT_EQ(w["stop_reason"], said[w["name"].get<std::string>()]) << w;
+  }
+  ASSERT_TRUE(std::getline(answers, line));
+  EXPECT_FALSE(json::parse(line).contains("stopped")) << "a step stopping none says none: " << line;
 }
 
 // `record f`, f a FIFO no process reads, blocked for ever, and after `cancel` nothing more was
