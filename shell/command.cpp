@@ -30,7 +30,9 @@ const CommandSpec kCommands[] = {
     {"hash", Kind::Hash, "hash",
      "the state hash at the current step, its simulation and watchpoints parts, and the run hash of the steps to it"},
     {"render", Kind::Render, "render FILE [W H]", "the 3D view of the current step (PNG)"},
-    {"record", Kind::Record, "record FILE", "the trace of steps 0..latest, its header listing the interventions"},
+    {"record", Kind::Record, "record FILE [--messages]",
+     "the trace of steps 0..latest, its header listing the interventions; --messages: each line with what its "
+     "module read (why)"},
     {"save", Kind::Save, "save FILE [overwrite]",
      "this session as a scenario file: its watchpoints, the branch's interventions, paths that work from FILE's "
      "folder; an existing FILE only with 'overwrite'"},

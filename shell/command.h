@@ -43,6 +43,7 @@ struct Command {
   std::string name;               // watch/unwatch/action/matches NAME, run --to-match NAME, render/record/save FILE
   sim::MatchAction action = sim::MatchAction::Log;  // action NAME ACTION
   bool overwrite = false;                           // save FILE overwrite
+  bool messages = false;                            // record FILE --messages
   int width = 1280, height = 720;                   // render
   std::optional<sim::Intervention> intervention;
   std::optional<sim::HostedWatchpoint> watch;

@@ -166,8 +166,11 @@ bool ArgumentReader::arguments() {
       cmd.number = number(1, 0, last_module, "M");
       return true;
     case Kind::Render: return render();
-    case Kind::Record:  // record := 'record' FILE
-      return want(1, 1) && file(1);
+    case Kind::Record:  // record := 'record' FILE '--messages'?
+      if (!want(1, 2) || !file(1)) return false;
+      if (tokens.size() == 3 && tokens[2].text != "--messages") return usage(tokens[2].span);
+      cmd.messages = tokens.size() == 3;
+      return true;
     case Kind::Save: return save();
     case Kind::Why: return why();
     case Kind::Continue:

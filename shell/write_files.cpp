@@ -10,6 +10,7 @@
 #include "shell/output_files.h"
 #include "shell/shell.h"
 #include "shell/view_image.h"
+#include "sim/why.h"
 
 namespace dw::shell {
 
@@ -44,7 +45,9 @@ Shell::Answer Shell::record_file(const Command& cmd, const sim::Control& control
   std::unique_ptr<sim::OutputFile> out;
   if (std::string error = open_output_apart(scenario_.inputs, file, out, control.stop); !error.empty())
     return failed(error);
-  if (std::string error = session_.record(out->stream(), control); !error.empty()) {
+  const std::string recorded = cmd.messages ? sim::record_with_messages(session_, out->stream(), control)
+                                            : session_.record(out->stream(), control);
+  if (const std::string& error = recorded; !error.empty()) {
     if (error == "cancelled") return failed(error);  // the temporary goes with `out`
     // The file knows why its writing failed (a full disk): its reason, rather than the stream's.
     const std::string reason = out->commit();
@@ -53,6 +56,7 @@ Shell::Answer Shell::record_file(const Command& cmd, const sim::Control& control
   if (std::string error = out->commit(); !error.empty()) return failed(error);
   answer["record"] = cmd.name;
   answer["steps"] = session_.latest() + 1;
+  if (cmd.messages) answer["messages"] = true;
   answer["interventions"] = session_.interventions().size();
   return answer;
 }

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <ostream>
 #include <span>
 #include <string>
 #include <vector>
@@ -100,9 +101,16 @@ std::optional<Cone> why_value(Session& session, ModuleId m, int column, int64_t 
                               const Control& control);
 // The cone of a match of watchpoint w at step t with this group (its slots' modules): the union
 // of the cones of the values its watchpoint reads (each slot's variables at the match's step plus
-// the read's offset), its group's events marked.
+// the read's offset, and each variable its aggregates read of their elements: N(m), within(m, h),
+// all, component(m: c) as they stood then), its group's events marked.
 std::optional<Cone> why_match(Session& session, uint32_t w, int64_t t, std::span<const ModuleId> group, int depth,
                               bool narrow, const Control& control);
+
+// The session's `record FILE --messages`: steps 0..latest as a wptrace v1 trace whose header lists
+// the interventions and watchpoints (Session::record's), each line with what its module read at its
+// step ("recv", as `run --record-messages` writes it); the cursor stays. An error message, or
+// empty ("cancelled" when cancelled).
+std::string record_with_messages(Session& session, std::ostream& out, const Control& control);
 
 // The cone as JSON (docs/session.md, `why`): modules by their ids, variables and watchpoints by
 // their names; `group` marks a match's group.

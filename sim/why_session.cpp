@@ -1,9 +1,13 @@
 // `why` asked of a session (docs/design.md §7b): the origins found in its history, the window
 // they need recorded (sim/causal_history.h), and the cone over it.
 #include <algorithm>
+#include <set>
+#include <tuple>
 
 #include "sim/session.h"
 #include "sim/why.h"
+#include "watch/domains.h"
+#include "watch/evaluator.h"
 #include "watch/program.h"
 
 namespace dw::sim {
@@ -22,6 +26,56 @@ bool origins_within(const CausalHistory& h, std::vector<ValueAsked>& values, int
     if (w > 0 && w < h.first + depth + 1) return false;
     v.origin = w;
   }
+  return true;
+}
+
+// The origins of several values, found in one walk back through the history: each window, four
+// times longer than the one after it, re-simulated once with the cursor for all of them (the
+// cursor going back where it was); false when cancelled.
+bool origin_steps(Session& session, std::span<ValueAsked> values, const Control& control) {
+  if (values.size() == 1) {
+    const auto origin = origin_step(session, values[0].module, values[0].column, values[0].t, control);
+    if (origin) values[0].origin = *origin;
+    return origin.has_value();
+  }
+  const int64_t back = session.current();
+  std::vector<size_t> pending(values.size());
+  int64_t to = 0;
+  for (size_t i = 0; i < values.size(); ++i) pending[i] = i, to = std::max(to, values[i].t);
+  const Control step_control{.stop = control.stop};
+  for (int64_t span = 16; !pending.empty(); span *= 4) {
+    const int64_t from = std::max<int64_t>(0, to - span);
+    const size_t n = pending.size();
+    std::vector<int64_t> value;  // [(s - from) * n + k]
+    std::vector<uint8_t> present;
+    for (int64_t s = from; s <= to; ++s) {
+      if (!session.seek(s, step_control)) {
+        session.seek(back);
+        return false;
+      }
+      const std::vector<int64_t>& now = session.state().values;
+      const std::span<const uint8_t> seen = session.seen_present();
+      for (size_t i : pending) {
+        const ValueAsked& v = values[i];
+        value.push_back(now[size_t{v.module} * session.model().variable_count() + size_t(v.column)]);
+        present.push_back(seen[v.module]);
+      }
+    }
+    std::vector<size_t> left;
+    for (size_t k = 0; k < n; ++k) {
+      ValueAsked& v = values[pending[k]];
+      int64_t w = std::min(v.t, to);
+      for (; w > from; --w) {
+        const auto i = static_cast<size_t>(w - from) * n + k, before = i - n;
+        if (present[i] && (!present[before] || value[i] != value[before])) break;
+      }
+      if (w > from || from == 0) v.origin = w;
+      else left.push_back(pending[k]);
+    }
+    pending = std::move(left);
+    to = from;
+  }
+  session.seek(back);
   return true;
 }
 
@@ -45,17 +99,132 @@ std::optional<Cone> cone_in_session(Session& session, std::vector<ValueAsked> va
     if (!history) return std::nullopt;
     if (origins_within(*history, values, depth)) return cone_of(*history, values, depth, narrow);
   }
+  if (!origin_steps(session, values, control)) return std::nullopt;
   last = 0;
-  for (ValueAsked& v : values) {
-    const auto origin = origin_step(session, v.module, v.column, v.t, control);
-    if (!origin) return std::nullopt;
-    v.origin = *origin;
-    last = std::max(last, v.origin);
-  }
+  for (const ValueAsked& v : values) last = std::max(last, v.origin);
   // One step more than the cone holds: what the first event read, and its neighbours before.
   const auto history = record_window(session, window_start(values, depth), last, control);
   if (!history) return std::nullopt;
   return cone_of(*history, values, depth, narrow);
+}
+
+// Reads a match's binding over a recorded window as the watchpoint's evaluator reads it (every
+// slot's "now" at t, as StepView's reader), and notes every variable it reads of every module: a
+// term of a slot, and each element's variable an aggregate reads (its domain: N(m), within(m, h),
+// all, component(m: c) at the aggregate's step). Outside the window a read is unknown.
+class ReadNoter {
+ public:
+  // `columns`: the model's column of each of the program's variables; `universe`: what id(m) reads.
+  ReadNoter(const CausalHistory& h, std::vector<int> columns, const watch::Universe& universe,
+            std::span<const ModuleId> group, int64_t t)
+      : h_(h), columns_(std::move(columns)), universe_(universe), group_(group), t_(t) {}
+
+  // What the evaluation read: (module, the model's column, step), id(m) left out.
+  std::vector<std::tuple<ModuleId, int, int64_t>> read;
+
+  watch::Value term(const watch::ValueInstr& in) { return value(group_[size_t(in.slot)], in.variable, t_ + in.offset); }
+  int open(const watch::AggregateCode& a) {
+    step_ = t_ + a.offset;
+    elements_.clear();
+    if (!h_.holds(step_)) return -1;
+    const StepRecord& rec = h_.at(step_);
+    const auto each = [&](uint32_t u, auto&& visit) {
+      for (ModuleId w : rec.graph->neighbors(u)) visit(w);
+    };
+    const auto present = [&](uint32_t u) { return rec.present[u] != 0; };
+    if (a.domain == watch::Domain::All) {
+      for (uint32_t u = 0; u < h_.modules; ++u)
+        if (present(u)) elements_.push_back(u);
+      return static_cast<int>(elements_.size());
+    }
+    const ModuleId m = group_[size_t(a.slot)];
+    if (!present(m)) return -1;
+    if (a.domain == watch::Domain::Component) {  // candidate 0, the module; the evaluator grows it
+      elements_.assign(1, m);
+      seen_.start();
+      seen_.mark(m);
+      return 1;
+    }
+    if (a.domain == watch::Domain::Within) {
+      watch::gather_within(m, a.hops, each, present, elements_, seen_);
+      return static_cast<int>(elements_.size());
+    }
+    for (ModuleId u : rec.graph->neighbors(m))
+      if (present(u)) elements_.push_back(u);
+    std::sort(elements_.begin(), elements_.end());
+    elements_.erase(std::unique(elements_.begin(), elements_.end()), elements_.end());
+    return static_cast<int>(elements_.size());
+  }
+  watch::Value bound(int i, const watch::ValueInstr& in) { return value(bound_id(i), in.variable, step_ + in.offset); }
+  uint32_t bound_id(int i) const { return elements_[size_t(i)]; }
+  watch::Truth bound_adjacent(int i, int offset, uint32_t y) const { return adjacent(bound_id(i), step_ + offset, y); }
+  int expand(int i) {
+    const StepRecord& rec = h_.at(step_);
+    return watch::add_candidates(
+        elements_[size_t(i)],
+        [&](uint32_t u, auto&& visit) {
+          for (ModuleId w : rec.graph->neighbors(u)) visit(w);
+        },
+        [&](uint32_t u) { return rec.present[u] != 0; }, elements_, seen_);
+  }
+  int keep(const std::vector<uint8_t>& joined) { return watch::keep_members(elements_, joined); }
+  uint32_t slot_module(int slot) const { return group_[size_t(slot)]; }
+  watch::Truth slot_adjacent(const watch::ConditionTest& c, uint32_t y) const {
+    return adjacent(group_[size_t(c.x)], t_ + c.offset, y);
+  }
+  int64_t now(int) const { return t_; }
+
+ private:
+  watch::Value value(ModuleId m, int variable, int64_t step) {
+    if (!h_.holds(step) || !h_.present(step, m)) return {};
+    if (variable == watch::kIdVariable) return watch::known_value(universe_.id(m));  // no value with a history
+    const int column = columns_[size_t(variable)];
+    if (column < 0) return {};
+    read.emplace_back(m, column, step);
+    return watch::known_value(h_.value(step, m, column));
+  }
+  watch::Truth adjacent(ModuleId x, int64_t step, uint32_t y) const {
+    if (!h_.holds(step) || !h_.present(step, x)) return watch::kUnknown;
+    const auto ns = h_.at(step).graph->neighbors(x);
+    return watch::truth_of(std::find(ns.begin(), ns.end(), y) != ns.end());
+  }
+
+  const CausalHistory& h_;
+  std::vector<int> columns_;
+  const watch::Universe& universe_;
+  std::span<const ModuleId> group_;
+  int64_t t_;
+  int64_t step_ = 0;  // the open aggregate's
+  std::vector<uint32_t> elements_;
+  watch::VisitMarks seen_;
+};
+
+// The variables a match's watchpoint read of any module through its value code (aggregates'
+// elements included, §7b "a match's cone"), evaluated over a window recorded around step t: each
+// (module, column, step) once; nothing when cancelled.
+std::optional<std::vector<ValueAsked>> value_code_reads(Session& session, const watch::Program& program, int64_t t,
+                                                        std::span<const ModuleId> group, const Control& control) {
+  std::vector<ValueAsked> values;
+  bool expressions = false;
+  for (const watch::Leaf& leaf : program.leaves) expressions |= leaf.kind == watch::LeafKind::Expression;
+  if (program.aggregates.empty() || (!expressions && program.actions.empty())) return values;
+  const int64_t first = std::clamp<int64_t>(t + program.min_offset, 0, session.latest());
+  const int64_t last = std::clamp<int64_t>(t + program.extent_plus, first, session.latest());
+  const auto history = record_window(session, first, last, control);
+  if (!history) return std::nullopt;
+  std::vector<int> columns;
+  for (const std::string& v : program.variables) columns.push_back(session.model().column(v));
+  ReadNoter noter(*history, std::move(columns), session.model().universe, group, t);
+  watch::EvaluatorScratch scratch(program);
+  watch::Evaluator<ReadNoter> evaluator(program, noter, scratch);
+  for (const watch::Leaf& leaf : program.leaves)
+    if (leaf.kind == watch::LeafKind::Expression) evaluator.leaf(leaf);
+  for (const watch::ActionCode& a : program.actions)
+    if (a.value != watch::kNoCode) evaluator.value(a.value, 0, -1);
+  std::sort(noter.read.begin(), noter.read.end());
+  noter.read.erase(std::unique(noter.read.begin(), noter.read.end()), noter.read.end());
+  for (const auto& [m, column, step] : noter.read) values.push_back({.module = m, .column = column, .t = step});
+  return values;
 }
 
 }  // namespace
@@ -89,6 +258,13 @@ std::optional<Cone> why_match(Session& session, uint32_t w, int64_t t, std::span
   for (const std::vector<watch::ValueInstr>& code : program.codes)
     for (const watch::ValueInstr& i : code)
       if (i.op == watch::ValueOp::Term) read(i.slot, i.variable, i.offset);
+  // What its aggregates read of their elements at the match's step.
+  const auto reads = value_code_reads(session, program, t, group, control);
+  if (!reads) return std::nullopt;
+  std::set<std::tuple<ModuleId, int, int64_t>> asked;
+  for (const ValueAsked& v : values) asked.emplace(v.module, v.column, v.t);
+  for (const ValueAsked& v : *reads)
+    if (asked.emplace(v.module, v.column, v.t).second) values.push_back(v);
   auto cone = cone_in_session(session, std::move(values), depth, narrow, control);
   if (cone)
     for (ConeEvent& e : cone->events) e.group = std::find(group.begin(), group.end(), e.module) != group.end();

@@ -506,10 +506,12 @@ void add_session(py::module_& m) {
           py::arg("path"), py::arg("overwrite") = false, "This session as a scenario file.")
       .def(
           "record",
-          [](Session& s, const std::filesystem::path& path) {
-            return s.command("record " + shell::command_word(path.string()));
+          [](Session& s, const std::filesystem::path& path, bool messages) {
+            return s.command("record " + shell::command_word(path.string()) + (messages ? " --messages" : ""));
           },
-          py::arg("path"), "The trace of steps 0..latest (wptrace v1).");
+          py::arg("path"), py::arg("messages") = false,
+          "The trace of steps 0..latest (wptrace v1); messages: each line also says what its module read, so that "
+          "`dwatch why TRACE ...` answers as `why` does.");
   add_properties(session);
   add_why(session);
 }

@@ -1,9 +1,12 @@
 """Session.why and Session.why_match: the session's `why` (docs/session.md) as dicts, equal to what
 `dwatch session` answers; the leader election's 1-hop bug shown by the narrow cone."""
 
+import json
+
 import pytest
 
 import dwatch
+from conftest import dwatch as run_dwatch
 from conftest import session_answers
 
 
@@ -31,3 +34,17 @@ def test_why_match_is_the_sessions_answer(leaders):
     assert {e["module"] for e in answer["events"] if e.get("group")} == {6, 7, 17}
     with pytest.raises(dwatch.CommandError, match="no row 5000"):
         s.why_match("two_leaders", 5000)
+
+
+def test_a_trace_recorded_with_messages_answers_as_why(leaders, tmp_path):
+    s = dwatch.Session(leaders)
+    s.run()
+    path = tmp_path / "leaders.jsonl"
+    assert s.record(path, messages=True)["messages"] is True
+    assert s.current == 1  # the cursor stays
+    lines = path.read_text().splitlines()
+    assert '"recv":[{"from":' in lines[1 + 120 + 7]  # module 7 at step 1 read its neighbours
+    from_trace = json.loads(run_dwatch("why", str(path), "7", "isLeader", "1", "--narrow").stdout)
+    assert from_trace == {k: v for k, v in s.why(7, "isLeader", 1, narrow=True).items() if k not in ("cmd", "current", "latest")}
+    s.record(path)
+    assert '"recv"' not in path.read_text()

@@ -7,6 +7,7 @@
 
 #include <map>
 #include <set>
+#include <tuple>
 
 #include "sim/session.h"
 #include "tests/sim/test_programs.h"
@@ -229,6 +230,69 @@ TEST(Why, AValueSetFromOutsideAndLeftIsTheWritersOwn) {
     EXPECT_TRUE(set->events[set->values[0].event].origin);
     ASSERT_EQ(set->events.size(), 1u) << t << ": an intervention is a root";
     EXPECT_TRUE(set->events[0].causes.empty());
+  }
+}
+
+// A match's cone holds the cones of what its aggregate read (docs/design.md §7b, "a match's cone"),
+// worked by hand on Steady's line 0-1-2-3-4-5: every heard is 1 from step 1 on, until the 5 that
+// module 0 says from step 6 reaches 1 at step 7, 2 at 8, 3 at 9. At step 8, module 3 (heard 1) has
+// a neighbour that heard 5: module 2. The aggregate read heard of N(3, 8) = {2, 4} at step 8 (and
+// within(3, 2) also of 1 and 5); 2's value came from 0's change at step 6 through 1. At step 30,
+// module 2 (v 1 since the start) has two neighbours that heard 5 (1 since step 7, 3 since step 9):
+// origins far back, found in one walk for the three values.
+TEST(Why, AMatchsConeHoldsWhatItsAggregateRead) {
+  const auto model = line_model<Steady>(6);
+  StaticLatticeWorld world;
+  Session session(*model, world, {});
+  session.run_until(32);
+  const int heard = model->column("heard"), v = model->column("v");
+  using Read = std::tuple<ModuleId, int, int64_t, int64_t>;  // module, column, t, origin
+  const auto reads = [](const Cone& cone) {
+    std::set<Read> got;
+    for (const ConeValue& v : cone.values) got.emplace(v.asked.module, v.asked.column, v.asked.t, v.asked.origin);
+    return got;
+  };
+  struct Case {
+    std::string text;
+    int64_t t;
+    ModuleId a;
+    std::set<Read> expected;
+  };
+  const Case cases[] = {
+      {"modules(a); a.heard = 1 and count(n in neighbors(a): n.heard = 5) >= 1",
+       8,
+       3,
+       {{3, heard, 8, 1}, {2, heard, 8, 8}, {4, heard, 8, 1}}},
+      {"modules(a); a.heard = 1 and sum(n in within(a, 2): n.heard) > 4",
+       8,
+       3,
+       {{3, heard, 8, 1}, {1, heard, 8, 7}, {2, heard, 8, 8}, {4, heard, 8, 1}, {5, heard, 8, 1}}},
+      {"modules(a); a.v = 1 and count(n in neighbors(a): n.heard = 5) >= 2",
+       30,
+       2,
+       {{2, v, 30, 0}, {1, heard, 30, 7}, {3, heard, 30, 9}}},
+  };
+  session.seek(20);
+  for (const auto& [text, t, a, expected] : cases) {
+    std::string why;
+    const auto w = session.set_watch(
+        HostedWatchpoint{test_programs::compile(text), watch::Algorithm::Centralized, MatchAction::Log, {}}, {}, &why);
+    ASSERT_TRUE(w) << why;
+    const MatchList& list = session.matches(*w);
+    bool listed = false;
+    for (size_t i = 0; i < list.size(); ++i) listed |= list.t[i] == t && list.slots[i] == a;
+    ASSERT_TRUE(listed) << text << ": module " << a << " matches at step " << t;
+    const std::vector<ModuleId> group{a};
+    const auto cone = why_match(session, *w, t, group, 3, false, {});
+    ASSERT_TRUE(cone);
+    EXPECT_EQ(reads(*cone), expected) << text;
+    EXPECT_EQ(session.current(), 20) << "the cursor stays";
+    // 0's change at step 6, carried by 1 at 7, made 2's 5 at 8.
+    const auto events = events_of(*cone);
+    for (const auto& e : {std::pair<int64_t, ModuleId>{6, 0}, {7, 1}, {8, 2}})
+      EXPECT_TRUE(events.count(e)) << text << ": " << e.second << "@" << e.first;
+    for (const ConeEvent& e : cone->events) EXPECT_EQ(e.group, e.module == a);
+    ASSERT_TRUE(session.remove_watch("w"));
   }
 }
 

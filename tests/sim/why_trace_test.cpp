@@ -88,6 +88,47 @@ TEST(WhyTrace, ATraceWithMessagesAnswersAsTheSessionDid) {
   EXPECT_EQ(compared, 96);
 }
 
+// The lines of a trace after its header.
+std::string body(const std::string& text) { return text.substr(text.find('\n') + 1); }
+
+// The session's `record FILE --messages` writes the lines `run --record-messages` writes, the
+// cursor staying where it was, and the trace's cones equal the session's `why`; over a branch, the
+// header lists the intervention.
+TEST(WhyTrace, TheSessionsRecordWithMessagesAnswersAsTheSessionsWhy) {
+  const auto model = test_programs::gossip_model({LatticeKind::Cubic, {3, 3, 3}}, {}, 5);
+  StaticLatticeWorld world;
+  Session session(*model, world, {.threads = 2});
+  const std::string ran = recorded_with_messages(session, 24);
+  ASSERT_TRUE(session.seek(6));
+  std::ostringstream recorded;
+  ASSERT_EQ(record_with_messages(session, recorded, {}), "");
+  EXPECT_EQ(session.current(), 6);
+  EXPECT_EQ(body(recorded.str()), body(ran));
+  auto read = read_trace_text("session.jsonl", recorded.str());
+  ASSERT_TRUE(std::holds_alternative<Trace>(read));
+  const Trace& trace = std::get<Trace>(read);
+  ASSERT_TRUE(trace.has_messages());
+  for (uint32_t m : {13u, 4u})
+    for (int64_t t : {11, 23})
+      for (bool narrow : {false, true}) {
+        const auto asked = why_value(session, m, 1, t, 3, narrow, {});
+        ASSERT_TRUE(asked);
+        const auto answered = why_in_trace(trace, model->universe.id(m), model->universe.variables[1], t, 3, narrow);
+        ASSERT_TRUE(std::holds_alternative<Cone>(answered));
+        EXPECT_EQ(cone_json(std::get<Cone>(answered), trace.universe(), {}), cone_json(*asked, model->universe, {}))
+            << "module " << m << " t " << t << " narrow " << narrow;
+      }
+
+  // A branch: module 13's variable 1 set at the start of step 11.
+  ASSERT_TRUE(session.seek(10));
+  ASSERT_EQ(session.intervene(Intervention{.module = 13, .column = 1, .value = 99}), "");
+  session.run_until(24);
+  std::ostringstream branch;
+  ASSERT_EQ(record_with_messages(session, branch, {}), "");
+  EXPECT_NE(branch.str().find("\"interventions\":[{"), std::string::npos);
+  EXPECT_NE(branch.str().find("\"recv\":[{\"from\":"), std::string::npos);
+}
+
 TEST(WhyTrace, ALineReadsBackWhatItRead) {
   const std::string text =
       "{\"t\":0,\"m\":1,\"vars\":{\"x\":0},\"nbrs\":[2],\"recv\":[]}\n"
