@@ -94,6 +94,17 @@ void Runtime::run_blocks(unsigned thread, std::span<const uint32_t> blocks, Stat
   }
 }
 
+// The agents of watchpoints that read the step's snapshot (`all`, `component()`), once every block
+// has recorded the step: the thread's share of the own blocks, as run_blocks shares them.
+void Runtime::run_late_agents(State& state) {
+  const std::span<const uint32_t> blocks = placement_.own_blocks();
+  pool_.run([&](unsigned thread) {
+    const size_t n = blocks.size();
+    for (size_t i = thread * n / pool_.size(); i < (thread + 1) * n / pool_.size(); ++i)
+      hosting_.run_late_block(thread, blocks[i], state);
+  });
+}
+
 // Over ranks, the blocks that may send to another rank run first; their batches then travel while
 // the interior blocks run, and what the other ranks sent is taken in at the end (docs/design.md §12).
 void Runtime::run_over_ranks(State& state) {
@@ -228,6 +239,7 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
       run_blocks(thread, placement_.own_blocks(), state);
     });
   }
+  if (hosting_.late_agents()) run_late_agents(state);
   agree_on_failure_and_gather_actuations(state.step);
 
   std::swap(state.values, next_values_);  // assign: the variables now hold step t's values

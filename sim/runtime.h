@@ -120,6 +120,7 @@ class Runtime {
   void intervene(State& state, std::span<const Intervention> interventions);
   void start_thread(unsigned thread, const State& state);
   void run_blocks(unsigned thread, std::span<const uint32_t> blocks, State& state);
+  void run_late_agents(State& state);
   void run_over_ranks(State& state);
   void run_programs(unsigned thread, uint32_t begin, uint32_t end, const State& state);
   void agree_on_failure_and_gather_actuations(int64_t step);

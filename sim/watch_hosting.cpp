@@ -131,6 +131,7 @@ WatchHosting::WatchHosting(const Model& model, HostedWatches watches, const Bloc
     }
   const size_t lanes = size_t{threads} * placement.blocks();
   for (const HostedWatchpoint& w : watches_) {
+    snapshot_.push_back(w.runs_on_agents() && watch::reads_step_snapshot(w.watchpoint.program));
     columns_.push_back(watch::variable_columns(w.watchpoint.program, model.universe));
     sending_.emplace_back(w.runs_on_agents() ? lanes : 0);
   }
@@ -198,7 +199,26 @@ void WatchHosting::run_block(unsigned thread, uint32_t block, State& state, std:
     const uint32_t begin = placement_.block_begin(block), end = placement_.block_begin(block + 1);
     const watch::Frame frame =
         make_frame(model_, state.step, next_values, state.present, state.graph, placement_.first_module());
+    if (snapshot_[w]) {  // decided in run_late_block, once every block has recorded the step
+      ws.agents->record_history(frame, begin, end, columns_[w]);
+      continue;
+    }
     ws.agents->record(frame, begin, end, program, columns_[w]);
+    const int64_t f = state.step - program.agent_delay();
+    if (f >= 0) step_block_agents(thread, block, w, ws, f);
+  }
+}
+
+bool WatchHosting::late_agents() const {
+  return std::any_of(agent_watches_.begin(), agent_watches_.end(), [&](uint32_t w) { return snapshot_[w] != 0; });
+}
+
+void WatchHosting::run_late_block(unsigned thread, uint32_t block, State& state) {
+  for (uint32_t w : agent_watches_) {
+    if (!snapshot_[w]) continue;
+    const watch::Program& program = watches_[w].watchpoint.program;
+    WatchState& ws = state.watches[w];
+    ws.agents->work_out(program, state.step, placement_.block_begin(block), placement_.block_begin(block + 1));
     const int64_t f = state.step - program.agent_delay();
     if (f >= 0) step_block_agents(thread, block, w, ws, f);
   }

@@ -92,6 +92,11 @@ class WatchHosting {
   // block's programs) each agent watch's agents record the block's modules and take their step.
   void start_thread(unsigned thread, int64_t step);
   void run_block(unsigned thread, uint32_t block, State& state, std::span<const int64_t> next_values);
+  // Whether an agent watch of this step reads the step's snapshot (watch::reads_step_snapshot): its
+  // agents only record in run_block, and take their step in run_late_block, block by block, once
+  // every block has recorded (and, over ranks, every rank's values are in).
+  bool late_agents() const;
+  void run_late_block(unsigned thread, uint32_t block, State& state);
   // The step assigned (state.values hold its variables): each watchpoint that observes it decides
   // its matches into out[w], in a fixed order whatever the threads and ranks; `arrived` are the
   // PatternMatchers other ranks sent, per watch (none in one process).
@@ -144,6 +149,7 @@ class WatchHosting {
   RankExchange* ranks_;                                      // null: one process
   std::vector<std::vector<watch::AgentContext>> contexts_;   // per thread, per watch (distributed ones used)
   std::vector<std::vector<int>> columns_;                    // per watch: program variable -> model column
+  std::vector<uint8_t> snapshot_;                            // per watch: its agents step late (late_agents)
   std::vector<std::vector<watch::RecordBuffer>> sending_;    // per watch: lanes being filled
   std::vector<uint32_t> agent_watches_;                      // this step: watchpoints whose agents run
   std::vector<std::vector<watch::RecordBuffer*>> arriving_;  // per thread: a block's lanes

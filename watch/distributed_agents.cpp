@@ -53,9 +53,13 @@ DistributedAgents::DistributedAgents(const Program& p, bool temporal_spans, uint
 
 void DistributedAgents::record(const Frame& frame, uint32_t begin, uint32_t end, const Program& p,
                                std::span<const int> columns) {
-  history_.record(frame, begin, end, columns);
-  work_out_kept_windows(p, frame.step, begin, end);
-  const int64_t f = frame.step - p.agent_delay();
+  record_history(frame, begin, end, columns);
+  work_out(p, frame.step, begin, end);
+}
+
+void DistributedAgents::work_out(const Program& p, int64_t step, uint32_t begin, uint32_t end) {
+  work_out_kept_windows(p, step, begin, end);
+  const int64_t f = step - p.agent_delay();
   if (f >= 0) prepare(p, f, begin, end);
 }
 

@@ -85,6 +85,13 @@ class DistributedAgents {
   // f = frame.step - E+ (the agents run E+ behind, to read `next`), each present one decides its
   // own leaves while its history is in cache.
   void record(const Frame& frame, uint32_t begin, uint32_t end, const Program& program, std::span<const int> columns);
+  // record in two halves, for a host that lets every module record a step before any decides it
+  // (a program reading the step's snapshot, reads_step_snapshot): the history first, then, once
+  // every module's is, what the agents work out from it at frame step `step`.
+  void record_history(const Frame& frame, uint32_t begin, uint32_t end, std::span<const int> columns) {
+    history_.record(frame, begin, end, columns);
+  }
+  void work_out(const Program& program, int64_t step, uint32_t begin, uint32_t end);
 
   // What record does once the history holds detector step f: decides the own leaves of modules
   // [begin, end) at f. For a host that runs a step without a new frame (a drain at the end).

@@ -14,6 +14,7 @@
 // aggregate over a slot filled before is carried as a *table* of that module's neighbours.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -272,6 +273,14 @@ class Program {
   int max_condition_stack = 0;
   std::vector<ActionCode> actions;
 };
+
+// Whether an aggregate ranges over `all` or `component()`: facts of the snapshot of a step
+// (docs/design.md §4c), read with no lag, so a host decides them only once every module has
+// recorded that step.
+inline bool reads_step_snapshot(const Program& p) {
+  return std::any_of(p.aggregates.begin(), p.aggregates.end(),
+                     [](const AggregateCode& a) { return a.domain == Domain::All || a.domain == Domain::Component; });
+}
 
 // The first aggregate domain that reads past a module's own neighbours ("within()", "all",
 // "component()"), or
