@@ -267,6 +267,7 @@ class Session {
   bool evaluate_over_history(uint32_t w, const Control& control);
   void add_drained_stats(uint32_t w, const watch::DetectorStats& before, const watch::DetectorStats& after);
   void drop_changes_after(int64_t at);
+  void decide_again(int64_t simulated_before);  // session_interventions.cpp: after a branch starts
   int64_t max_lag() const;
 
   const Model& model_;

@@ -42,12 +42,26 @@ std::string Session::intervene(Intervention i) {
              ": there is nothing to " + intervention_name(i.kind);
   }
   if (current_ < latest_ && !has_history()) return "the session keeps no history to branch from";
+  const int64_t simulated_before = latest_;
   if (current_ < latest_) branch_here();
   drop_changes_after(i.at);
   const auto after = std::upper_bound(interventions_.begin(), interventions_.end(), i,
                                       [](const Intervention& a, const Intervention& b) { return a.at < b.at; });
   interventions_.insert(after, i);
+  decide_again(simulated_before);
   return {};
+}
+
+// A branch starts at the current step, which had been decided: it is decided again on the branch
+// before the cursor stands on it (design §7, views show a step only once every watchpoint has
+// decided it). Without this a match the cursor paused on, found by a watchpoint with lag λ at
+// t + λ, is gone from the branch until it is run on, although step t itself is unchanged. As far
+// as the run had gone before, and never past the scenario's end (as `run` looks ahead).
+void Session::decide_again(int64_t simulated_before) {
+  if (drained_) return;  // `dwatch run`'s last call: no further step
+  int64_t need = current_ + max_lag();
+  need = std::min(need, options_.end > 0 ? std::max(options_.end - 1, simulated_before) : simulated_before);
+  while (latest_ < need) step_head({});
 }
 
 // What was made in a dropped future goes with it; the scenario's schedule stays.
@@ -66,10 +80,12 @@ std::string Session::replace_programs(std::vector<Replacement> replacements) {
              "scenario again instead)";
   }
   if (current_ < latest_ && !has_history()) return "the session keeps no history to branch from";
+  const int64_t simulated_before = latest_;
   if (current_ < latest_) branch_here();
   const int64_t from = current_ + 1;
   drop_changes_after(from);
   for (Replacement& r : replacements) program_versions_.push_back({from, r.program, std::move(r.with)});
+  decide_again(simulated_before);
   return {};
 }
 
