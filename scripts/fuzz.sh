@@ -2,7 +2,8 @@
 # Builds the libFuzzer targets with clang, every library they reach instrumented, and fuzzes each
 # for SECONDS (default 30), or for N executions with --runs N, starting from its seed corpus and
 # what earlier runs kept; new inputs go to build-fuzz/corpus/NAME.
-#   scripts/fuzz.sh [SECONDS | --runs N] [TARGET...]   targets: parser scenario trace session lua (default: all)
+#   scripts/fuzz.sh [SECONDS | --runs N] [TARGET...]   targets: parser scenario trace session protocol lua
+#                                                       (default: all)
 # FUZZ_BUILD=asan uses the sanitizer test build's tree (build-asan, -O1, which builds the fuzz
 # targets too) instead of build-fuzz (-O2, for long campaigns): CI then builds the libraries once.
 # Prints, per target, the runs, the edges (cov) and features (ft) reached. Any crash, leak,
@@ -23,7 +24,7 @@ export ASAN_OPTIONS="${ASAN_OPTIONS:-quarantine_size_mb=64}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(parser scenario trace session lua)
+[ ${#targets[@]} -eq 0 ] && targets=(parser scenario trace session protocol lua)
 kind="${FUZZ_BUILD:-fuzz}"
 case "$kind" in fuzz | asan) ;; *) echo "fuzz: FUZZ_BUILD must be fuzz or asan" >&2; exit 2 ;; esac
 build=build-$kind
@@ -32,7 +33,8 @@ scripts/build.sh "$kind" "${targets[@]/%/_fuzz}"
 
 # Seeds, copied into build-fuzz/seeds/NAME: the parser's corpus and language cases; every
 # scenario and scenario case file; every conformance trace; the session cases and the session
-# corpus; every shipped Lua script and the Lua corpus (hostile snippets, findings).
+# corpus; the protocol corpus (requests, valid and hostile); every shipped Lua script and the Lua
+# corpus (hostile snippets, findings).
 seed_dir() {
   local dir=$build/seeds/$1
   rm -rf "$dir" && mkdir -p "$dir"
@@ -41,6 +43,7 @@ seed_dir() {
     scenario) cp scenarios/*.toml tests/scenarios/cases/*.toml "$dir" ;;
     trace) for c in tests/conformance/*/; do cp "$c/trace.jsonl" "$dir/$(basename "$c").jsonl"; done ;;
     session) cp tests/shell/session_cases/*.session tests/fuzz/session_corpus/* "$dir" ;;
+    protocol) cp tests/fuzz/protocol_corpus/* "$dir" ;;
     lua) cp scenarios/lua/*.lua tests/fuzz/lua_corpus/* "$dir" ;;
   esac
   echo "$dir"
