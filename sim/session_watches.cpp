@@ -2,6 +2,8 @@
 // step, what the detectors find when the run is over (drain), and watchpoints added, replaced and
 // removed at any time, a new one evaluated over the whole history.
 #include <algorithm>
+#include <string>
+#include <vector>
 
 #include "sim/session.h"
 
@@ -60,21 +62,124 @@ void Session::drain(const DrainSink& sink) {
   drained_ = true;
 }
 
+namespace {
+
+// The drain charged against the whole run's PatternMatcher budget as a step is (watch::RunBudget):
+// each watchpoint, in the run's charging order, is charged the most any of its drain's detector
+// steps wanted (at most its own budget + 1); the one whose running total passes the budget stops,
+// its drain reporting nothing, and so does every one after it.
+class DrainCharge {
+ public:
+  DrainCharge(uint64_t limit, int64_t last_step)
+      : limit_(limit), when_("in the drain after step " + std::to_string(last_step)) {}
+  // The next watchpoint: why it stops before draining (one charged before it passed), or empty.
+  std::string next() {
+    most_ = 0;
+    return passed_ ? over_run_budget(true, limit_, when_) : std::string();
+  }
+  // One of its drain's steps wanted `wanted` (its own budget: `own`, 0 none): why it stops, or empty.
+  std::string charge(uint64_t wanted, uint64_t own) {
+    const uint64_t charged = watch::RunBudget::charge(wanted, own);
+    if (charged <= most_) return {};
+    total_ += charged - most_;
+    most_ = charged;
+    passed_ = limit_ != 0 && total_ > limit_;
+    return passed_ ? over_run_budget(false, limit_, when_) : std::string();
+  }
+
+ private:
+  uint64_t limit_, total_ = 0, most_ = 0;
+  bool passed_ = false;
+  std::string when_;
+};
+
+// A match the drain found, kept until the watchpoint's charge is known.
+struct DrainedMatch {
+  uint32_t w = 0;
+  bool by_detector = false;
+  int64_t t = 0;
+  uint64_t rows = 0;
+  std::vector<ModuleId> ids;
+  std::vector<watch::Value> actions;
+};
+
+}  // namespace
+
+// Agents that wait a hop for their neighbours' values decide the run's last steps too, as replay
+// of the run's trace does (watch::DistributedDetector::finish), and so do detectors that decide
+// late. Charged in the run's charging order (those with actions first); what they found is then
+// reported in the order it always was, the agents' before the detectors', each in position order.
 void Session::drain_findings(const DrainSink& sink, bool with_stats) {
-  drain_agents(sink, with_stats);
-  for (uint32_t w = 0; w < watches_.size(); ++w) {
+  DrainCharge budget(options_.run_live_budget, latest_);
+  std::vector<DrainedMatch> found;
+  const auto stop = [&](uint32_t w, std::string why) {
     WatchState& ws = head_.watches[w];
-    if (!ws.detector || ws.stopped) continue;
-    const uint32_t k = watches_[w].hosted.watchpoint.program.slot_count();
-    ws.detector->set_sink([&](int64_t t, std::span<const ModuleId> ids, std::span<const watch::Value> actions) {
-      const size_t rows = watch::match_rows(ids.size(), k);
-      ws.matches += rows;
-      keep_matches(w, t, latest_, rows, ids, actions);
-      if (sink) sink(w, t, ids, actions);
+    ws.stopped = true;
+    ws.stop_reason = std::move(why);
+    std::erase_if(found, [&](const DrainedMatch& m) {        // its drain reports nothing
+      if (m.w == w && !m.by_detector) ws.matches -= m.rows;  // the agents' hosting counted them
+      return m.w == w;
     });
-    const watch::DetectorStats before = ws.detector->stats();
-    ws.detector->finish();
-    if (with_stats) add_drained_stats(w, before, ws.detector->stats());
+  };
+  std::vector<uint32_t> order;  // the run's charging order (WatchHosting)
+  for (const bool acting : {true, false})
+    for (uint32_t w = 0; w < watches_.size(); ++w)
+      if (watches_[w].hosted.watchpoint.program.actions.empty() != acting) order.push_back(w);
+  for (const uint32_t w : order) {
+    WatchSlot& slot = watches_[w];
+    WatchState& ws = head_.watches[w];
+    const watch::Program& p = slot.hosted.watchpoint.program;
+    const uint64_t own = slot.hosted.options.live_budget;
+    const bool agents = slot.hosted.runs_on_agents() && p.aggregate_hops > 0;
+    if (ws.stopped || (!agents && !ws.detector)) continue;
+    if (std::string why = budget.next(); !why.empty()) {
+      stop(w, std::move(why));
+    } else if (agents) {
+      for (int64_t f = std::max<int64_t>(0, head_.step - p.agent_delay()); f <= head_.step - 1 - p.extent_plus; ++f) {
+        WatchStepOutput out;
+        runtime_->drain_agents(head_, w, f, out);
+        const uint64_t wanted = ws.stopped ? own + 1 : out.stats.live + out.stats.messages;
+        if (!ws.stopped) found.push_back({w, false, out.t, out.matches, out.slots, out.actions});
+        if (std::string why = budget.charge(wanted, own); !why.empty()) {
+          stop(w, std::move(why));
+          break;
+        }
+        if (with_stats && out.observed) slot.add_stats(out.stats, latest_);
+        if (ws.stopped) break;
+      }
+    } else {
+      const uint32_t k = p.slot_count();
+      uint64_t wanted = 0;  // the most a step of the drain is seen to want
+      ws.detector->set_sink([&](int64_t t, std::span<const ModuleId> ids, std::span<const watch::Value> actions) {
+        const watch::StepStats& last = ws.detector->stats().last;  // the step that decided t
+        wanted = std::max(wanted, last.live + last.messages);
+        found.push_back(
+            {w, true, t, watch::match_rows(ids.size(), k), {ids.begin(), ids.end()}, {actions.begin(), actions.end()}});
+      });
+      const watch::DetectorStats before = ws.detector->stats();
+      ws.detector->finish();
+      const watch::DetectorStats& after = ws.detector->stats();
+      if (after.observed_steps > before.observed_steps)
+        wanted = std::max(wanted, after.last.live + after.last.messages);
+      if (after.peak_live > before.peak_live) wanted = std::max(wanted, after.peak_live);
+      if (after.stopped && !before.stopped) {  // past its own budget
+        wanted = own + 1;
+        ws.stopped = true;
+        ws.stop_reason = after.stop_reason;
+      }
+      if (std::string why = budget.charge(wanted, own); !why.empty()) stop(w, std::move(why));
+      else if (with_stats) add_drained_stats(w, before, after);
+    }
+    slot.stats.stopped = ws.stopped;  // whether or not the statistics are kept: the session says why
+    slot.stats.stop_reason = ws.stop_reason;
+  }
+  std::stable_sort(found.begin(), found.end(), [](const DrainedMatch& a, const DrainedMatch& b) {
+    return std::pair(a.by_detector, a.w) < std::pair(b.by_detector, b.w);
+  });
+  for (DrainedMatch& m : found) {
+    if (m.by_detector) head_.watches[m.w].matches += m.rows;
+    keep_matches(m.w, m.t, latest_, m.rows, m.ids, m.actions);
+    if (sink && (m.by_detector || !m.ids.empty())) sink(m.w, m.t, m.ids, m.actions);
   }
 }
 
@@ -97,6 +202,10 @@ void Session::drain_at_end() {
 
 void Session::forget_end_drain() {
   if (!end_drained_) return;
+  for (uint32_t w = 0; w < watches_.size() && w < head_.watches.size(); ++w) {  // a stop in the drain too
+    watches_[w].stats.stopped = head_.watches[w].stopped;
+    watches_[w].stats.stop_reason = head_.watches[w].stop_reason;
+  }
   for (uint32_t w = 0; w < watches_.size() && w < before_end_drain_.size(); ++w) {
     MatchList& list = watches_[w].matches;
     const watch::Program& program = watches_[w].hosted.watchpoint.program;
@@ -125,28 +234,6 @@ void Session::add_drained_stats(uint32_t w, const watch::DetectorStats& before, 
   drained.matches = after.matches - before.matches;
   drained.seconds = after.seconds - before.seconds;
   if (drained.created || drained.messages || drained.matches || drained.lost) watches_[w].add_stats(drained, latest_);
-}
-
-// Agents that wait a hop for their neighbours' values decide the run's last steps too, as replay
-// of the run's trace does (watch::DistributedDetector::finish).
-void Session::drain_agents(const DrainSink& sink, bool with_stats) {
-  for (uint32_t w = 0; w < watches_.size(); ++w) {
-    WatchSlot& slot = watches_[w];
-    const watch::Program& p = slot.hosted.watchpoint.program;
-    if (!slot.hosted.runs_on_agents() || p.aggregate_hops == 0) continue;
-    for (int64_t f = head_.step - p.agent_delay(); f <= head_.step - 1 - p.extent_plus; ++f) {
-      if (f < 0 || head_.watches[w].stopped) continue;
-      WatchStepOutput out;
-      runtime_->drain_agents(head_, w, f, out);
-      if (with_stats) {
-        if (out.observed) slot.add_stats(out.stats, latest_);
-        slot.stats.stopped = head_.watches[w].stopped;
-        slot.stats.stop_reason = head_.watches[w].stop_reason;
-      }
-      keep_matches(w, out.t, latest_, out.matches, out.slots, out.actions);
-      if (!out.slots.empty() && sink) sink(w, out.t, out.slots, out.actions);
-    }
-  }
 }
 
 std::vector<uint64_t> Session::match_counts(uint32_t w, int64_t from, int64_t to) const {
