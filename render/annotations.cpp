@@ -99,6 +99,26 @@ std::optional<glm::vec2> project(const glm::mat4& view_projection, glm::vec3 poi
   return glm::vec2((ndc.x + 1) * 0.5f * float(width), (1 - ndc.y) * 0.5f * float(height));
 }
 
+std::optional<EdgePointer> edge_pointer(const glm::mat4& view_projection, glm::vec3 point, int width, int height,
+                                        float inset) {
+  const glm::vec4 clip = view_projection * glm::vec4(point, 1);
+  if (clip.w > 1e-6f) {
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    const glm::vec2 pixel((ndc.x + 1) * 0.5f * float(width), (1 - ndc.y) * 0.5f * float(height));
+    if (pixel.x >= 0 && pixel.y >= 0 && pixel.x < float(width) && pixel.y < float(height)) return std::nullopt;
+  }
+  // From the centre, in pixels' directions (y down): clip x and y keep the side a point lies on,
+  // also behind the camera, where dividing by w (< 0) mirrors the projection.
+  glm::vec2 dir(clip.x * float(width), -clip.y * float(height));
+  if (glm::length(dir) < 1e-9f) dir = glm::vec2(0, 1);  // straight behind: below
+  dir = glm::normalize(dir);
+  const glm::vec2 centre(float(width) * 0.5f, float(height) * 0.5f);
+  const float hx = std::max(1.0f, centre.x - inset), hy = std::max(1.0f, centre.y - inset);
+  const float reach = std::min(std::abs(dir.x) > 1e-9f ? hx / std::abs(dir.x) : 1e30f,
+                               std::abs(dir.y) > 1e-9f ? hy / std::abs(dir.y) : 1e30f);
+  return EdgePointer{centre + dir * reach, dir};
+}
+
 std::vector<std::optional<glm::vec2>> place_labels(const std::vector<std::optional<glm::vec2>>& tops,
                                                    const std::vector<std::optional<glm::vec2>>& wanted, float radius) {
   std::vector<std::optional<glm::vec2>> placed(tops.size());

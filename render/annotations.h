@@ -23,6 +23,17 @@ Region view_region(const Scene& scene, const FontAtlas& font, int width, int hei
 // Where a point lands in the image (pixels, y down), or nothing behind the camera.
 std::optional<glm::vec2> project(const glm::mat4& view_projection, glm::vec3 point, int width, int height);
 
+// A point outside the image, pointed at from the image's edge (issue 64: a module that left the
+// view had nothing saying where it went): the pointer's tip, `inset` pixels in from the edge on
+// the line from the image's centre towards the point, and that direction (unit, y down). A point
+// behind the camera is pointed at the way it lies from the view's axis. Nothing when it shows.
+struct EdgePointer {
+  glm::vec2 at;
+  glm::vec2 toward;
+};
+std::optional<EdgePointer> edge_pointer(const glm::mat4& view_projection, glm::vec3 point, int width, int height,
+                                        float inset);
+
 // Where a group's slot labels go (discs of `radius` pixels): each above its module (at `wanted`)
 // where that is free, else the nearest free place around its module (`tops`: the modules' tops on
 // screen), so that no two labels overlap however close the modules are on screen (at 11,000

@@ -111,6 +111,13 @@ class Debugger {
   // camera; true when the left button was let go without a drag: a click.
   bool steer_camera(bool hovered);
 
+  // edge_pointers.cpp
+  void follow_module();  // the camera's target on the followed module
+  // Pointers at the 3D view's edge towards the modules out of it that matter (window pixels from
+  // the view's top left; `scale`: framebuffer per window pixel), found again when what shows changed.
+  void find_edge_pointers(ImVec2 scale);
+  void draw_edge_pointers(ImVec2 origin, ImVec2 scale);
+
   // picking.cpp
   // The mouse at framebuffer pixel (x, y) of the 3D view: the camera's drags, a click selects, a
   // hover names the module.
@@ -239,6 +246,14 @@ class Debugger {
   std::chrono::steady_clock::time_point rows_read_at_;
   std::string rows_key_;  // what the matches table's rows were read for
   std::optional<sim::ModuleId> hovered_;
+  struct EdgePointerMark {
+    glm::vec2 at, toward;  // the tip, from the 3D view's top left (window pixels); outwards
+    ImU32 color;
+    int64_t module;  // its id
+    int more;        // modules out of the view on nearly the same line, drawn as one
+  };
+  std::vector<EdgePointerMark> pointers_;
+  std::string pointers_key_;  // what they were found for
   bool dragging_ = false;
   std::string window_shot_, window_shot_error_;  // a script's `screenshot`, taken after the next frame
   // Where the panels go (view_model.h): the first time from the layout file if there is one, and

@@ -86,7 +86,12 @@ void Debugger::draw_view() {
   if (button("Fit (F)")) press(Key::F);
   ImGui::SameLine();
   if (button("Zoom to selection (Z)")) press(Key::Z);
-  ImGui::SameLine();
+  const std::string follow = model_.followed ? "Stop following (T)" : "Follow (T)";
+  flow(button_width(follow));
+  if (button(follow)) press(Key::T);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("The camera keeps the selected module at the view's centre as it moves; turn and zoom as ever");
+  flow(button_width("Screenshot (F12)"));  // on a line of its own in a narrow window
   if (button("Screenshot (F12)")) press(Key::F12);
   // Record: a video of the steps as they show (.mp4 or .webm).
   if (!video_) {
@@ -121,6 +126,7 @@ void Debugger::draw_view() {
   if (!model_.camera_placed) place_camera();
   if (model_.focus_selection) focus_on_selection();
   if (model_.reveal_group && worker_->idle() && !readout_stale_) reveal_group();
+  follow_module();
   const glm::vec3 eye = model_.camera.eye();
   // Moving: playing, the camera turning, or the step just changed (a click on the timeline or a
   // match shows the step at once, drawn smaller, and in full at the next frame).
@@ -137,6 +143,7 @@ void Debugger::draw_view() {
   const ImVec2 mouse = ImGui::GetIO().MousePos;
   view_input((mouse.x - origin.x) * scale.x, (mouse.y - origin.y) * scale.y, ImGui::IsItemHovered());
   why_in_view(origin, scale);
+  draw_edge_pointers(origin, scale);
   ImGui::End();
 }
 

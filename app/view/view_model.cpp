@@ -3,6 +3,7 @@
 #include "shell/command.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <iterator>
 #include <numeric>
@@ -206,22 +207,25 @@ struct KeyEntry {
   std::string_view name;
 };
 constexpr KeyEntry kKeys[] = {
-    {Key::Space, "space"}, {Key::Right, "right"}, {Key::Left, "left"},     {Key::N, "n"},       {Key::P, "p"},
-    {Key::F, "f"},         {Key::Z, "z"},         {Key::Y, "y"},           {Key::Home, "home"}, {Key::End, "end"},
-    {Key::F1, "f1"},       {Key::F12, "f12"},     {Key::Escape, "escape"},
+    {Key::Space, "space"}, {Key::Right, "right"}, {Key::Left, "left"}, {Key::N, "n"},           {Key::P, "p"},
+    {Key::F, "f"},         {Key::Z, "z"},         {Key::Y, "y"},       {Key::T, "t"},           {Key::Home, "home"},
+    {Key::End, "end"},     {Key::F1, "f1"},       {Key::F12, "f12"},   {Key::Escape, "escape"},
 };
 
 }  // namespace
 
+// In any case: the README writes F1, a script may write f1.
 std::optional<Key> key_named(std::string_view name) {
   for (const KeyEntry& e : kKeys)
-    if (e.name == name) return e.key;
+    if (std::equal(e.name.begin(), e.name.end(), name.begin(), name.end(),
+                   [](char a, char b) { return a == std::tolower(static_cast<unsigned char>(b)); }))
+      return e.key;
   return std::nullopt;
 }
 
 bool is_window_command(std::string_view word) {
   return word == "click" || word == "key" || word == "wait" || word == "screenshot" || word == "panel" ||
-         word == "timeline" || word == "press" || word == "type";
+         word == "timeline" || word == "press" || word == "type" || word == "follow";
 }
 
 std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord> words, uint32_t module_count,
@@ -260,13 +264,16 @@ std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord
     }
   } else if (name == "wait") {
     d = integer(1, 0, 100'000, "N");
+  } else if (name == "follow") {
+    if (words.size() < 2 || words[1].text != "off") d = integer(1, 0, int64_t{module_count} - 1, "M (or off)");
   } else if (name == "screenshot") {
     if (words.size() < 2) d = mistake(1, "screenshot FILE: the PNG to write");
   } else if (name == "panel") {
-    static const char* kPanels[] = {"position", "matches",  "watchpoints", "inspector",
-                                    "plots",    "timeline", "widgets",     "why"};
+    static const char* kPanels[] = {"position", "matches", "watchpoints", "inspector", "plots",
+                                    "timeline", "widgets", "pointers",    "why"};
     if (words.size() < 2 || std::find(std::begin(kPanels), std::end(kPanels), words[1].text) == std::end(kPanels))
-      d = mistake(1, "panel NAME: position, matches, watchpoints, inspector, plots, timeline, widgets or why");
+      d = mistake(1,
+                  "panel NAME: position, matches, watchpoints, inspector, plots, timeline, widgets, pointers or why");
   } else if (name == "press") {
     want = words.size();  // the button's label: the rest of the line
     if (words.size() < 2) d = mistake(1, "press BUTTON: the label of the button to press");
@@ -297,6 +304,7 @@ const std::vector<KeyHelp>& key_help() {
       {"N / P", "next / previous match of the chosen watchpoint"},
       {"F", "fit the ensemble into the view"},
       {"Z", "zoom onto the selection (and its group)"},
+      {"T", "the camera follows the selected module (again: it stays)"},
       {"Y", "why: the causal history of the selected module's last changed variable"},
       {"F12", "screenshot of the 3D view (PNG, as dwatch render draws it)"},
       {"F1", "this help"},
@@ -426,8 +434,11 @@ std::vector<std::string> ViewModel::on_key(Key key, const Position& at, std::spa
       // A match ahead of the latest step cannot be known yet; one behind is a seek.
       return {*t <= at.latest ? command::seek(*t) : command::run_to(*t)};
     }
-    case Key::F: camera_placed = false; return {};
+    case Key::F: camera_placed = false, followed.reset(); return {};
     case Key::Z: focus_selection = selected.has_value(); return {};
+    case Key::T:  // follow the selection, or stop following
+      followed = followed || !selected ? std::nullopt : selected;
+      return {};
     case Key::Y: return {};  // the window asks `why` (it knows the module's history)
     case Key::F1: show_help = !show_help; return {};
     case Key::F12: screenshot_requested = true; return {};

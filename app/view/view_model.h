@@ -82,7 +82,7 @@ struct MatchRows {
 MatchRows filter_matches(const sim::Session& session, const MatchFilter& filter, size_t limit);
 
 // The keys the window binds (F1 lists them).
-enum class Key { Space, Right, Left, N, P, F, Z, Y, Home, End, F1, F12, Escape };
+enum class Key { Space, Right, Left, N, P, F, Z, Y, T, Home, End, F1, F12, Escape };
 std::optional<Key> key_named(std::string_view name);
 struct KeyHelp {
   std::string_view keys, what;
@@ -188,6 +188,9 @@ class ViewModel {
   std::string color_by;
   std::string plot_variable;  // the inspector's plot; empty: the first variable
   bool show_help = false;
+  // The module the camera follows (`T`, the script's `follow M`): each frame its target is the
+  // module's centre, the camera's turn and distance kept. Nothing: the camera stays where it is.
+  std::optional<sim::ModuleId> followed;
 
   // What a key does: the commands to send (in order) and what changes here. `chosen_steps` are
   // the chosen watchpoint's match steps (for N and P); with no match known after the current step,

@@ -54,8 +54,8 @@ nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& 
   return answer;
 }
 
-// wait N | key NAME | click timeline T | timeline fit | timeline FIRST LAST | click match ROW |
-// click M: what a person's keys, clicks and patience do.
+// wait N | key NAME | follow M | follow off | click timeline T | timeline fit | timeline FIRST LAST |
+// click match ROW | click M: what a person's keys, clicks and patience do.
 void Debugger::input_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer,
                              std::string& error) {
   const sim::Model& m = session_.model();
@@ -67,13 +67,26 @@ void Debugger::input_command(const std::vector<std::string>& words, nlohmann::or
   } else if (words[0] == "key") {
     const auto key = words.size() == 2 ? key_named(words[1]) : std::nullopt;
     if (!key) {
-      error = "key NAME: one of space, right, left, n, p, f, z, y, home, end, f1, f12, escape";
+      error = "key NAME: one of space, right, left, n, p, f, z, y, t, home, end, f1, f12, escape";
       return;
     }
     press(*key);
     settle();
+    frame();  // what the key shows (the help window, a fit) is drawn before the next screenshot
     answer["key"] = words[1];
     answer["current"] = readout_.at.current;
+  } else if (words[0] == "follow") {
+    // follow M | follow off: what T does, for any module.
+    if (words.size() == 2 && words[1] == "off") {
+      model_.followed.reset();
+    } else {
+      const auto module = word_number(words, 1, 0, int64_t(m.module_count()) - 1, "M", error);
+      if (!module) return;
+      model_.followed = sim::ModuleId(*module);
+    }
+    frame();
+    answer["following"] = model_.followed ? nlohmann::ordered_json(m.universe.id(*model_.followed)) : nullptr;
+    answer["camera_target"] = vec_text(model_.camera.target);
   } else if (words[0] == "click" && words.size() >= 2 && words[1] == "timeline") {
     const auto t = word_number(words, 2, 0, std::max<int64_t>(timeline_.last, 0), "T", error);
     if (!t) return;
@@ -227,7 +240,7 @@ void Debugger::panel_command(const std::vector<std::string>& words, nlohmann::or
     return;
   }
   if (words.size() != 2) {
-    error = "panel NAME: position, matches, watchpoints, inspector, plots, timeline, widgets or why";
+    error = "panel NAME: position, matches, watchpoints, inspector, plots, timeline, widgets, pointers or why";
     return;
   }
   if (words[1] == "plots") {  // where the last frame drew its plots, for tests that look at them
@@ -245,6 +258,17 @@ void Debugger::panel_command(const std::vector<std::string>& words, nlohmann::or
     answer["width"] = timeline_.width;
     answer["y0"] = timeline_y_;
     answer["height"] = timeline_height_;
+    return;
+  }
+  if (words[1] == "pointers") {  // the pointers at the 3D view's edge, in window pixels
+    answer["pointers"] = nlohmann::ordered_json::array();
+    const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
+    for (const EdgePointerMark& p : pointers_)
+      answer["pointers"].push_back({{"module", p.module},
+                                    {"more", p.more},
+                                    {"x", view_.x / scale.x + p.at.x},
+                                    {"y", view_.y / scale.y + p.at.y},
+                                    {"toward", {p.toward.x, p.toward.y}}});
     return;
   }
   if (words[1] == "why") {  // the Why panel's diagram: where each dot and arrow was drawn

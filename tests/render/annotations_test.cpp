@@ -32,6 +32,29 @@ TEST(Project, MapsClipSpaceToPixelsWithYDown) {
   EXPECT_FALSE(project(behind, {0, 0, 0}, 200, 100).has_value());
 }
 
+// A module out of the picture is pointed at from the edge on its side, in from the edge; one in
+// it is not; one behind the camera is pointed at on the side it lies.
+TEST(EdgePointer, PointsFromTheEdgeTowardsWhatLeftThePicture) {
+  const glm::mat4 identity(1.0f);  // x, y in [-1, 1] show; w = 1
+  EXPECT_FALSE(edge_pointer(identity, {0.5f, 0.5f, 0}, 200, 100, 10));
+  const auto right = edge_pointer(identity, {3, 0, 0}, 200, 100, 10);
+  ASSERT_TRUE(right);
+  EXPECT_FLOAT_EQ(right->at.x, 190);
+  EXPECT_FLOAT_EQ(right->at.y, 50);
+  EXPECT_FLOAT_EQ(right->toward.x, 1);
+  const auto above_left = edge_pointer(identity, {-2, 4, 0}, 200, 100, 10);
+  ASSERT_TRUE(above_left);
+  EXPECT_FLOAT_EQ(above_left->at.y, 10) << "the top edge is met first";
+  EXPECT_LT(above_left->at.x, 100);
+  EXPECT_GT(above_left->at.x, 10);
+  EXPECT_LT(above_left->toward.y, 0) << "y down: up is negative";
+  glm::mat4 behind(1.0f);
+  behind[3][3] = -1;  // w = -1: behind the camera, projected mirrored
+  const auto back = edge_pointer(behind, {0.5f, 0, 0}, 200, 100, 10);
+  ASSERT_TRUE(back) << "behind the camera never shows";
+  EXPECT_FLOAT_EQ(back->at.x, 190) << "it lies to the right";
+}
+
 TEST(ViewRegion, LeavesRoomForTheTitleTheGroupLineAndTheLegend) {
   Scene s = three_in_a_row();
   const Region plain = view_region(s, font(), 1000, 600);

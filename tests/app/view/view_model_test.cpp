@@ -164,6 +164,28 @@ TEST(ViewModel, KeysSendTheSessionCommands) {
   EXPECT_TRUE(m.focus_selection);
 }
 
+// T follows the selection and T again stops; F (the whole ensemble) stops it too. Key names are
+// read in any case (the README writes F1).
+TEST(ViewModel, TFollowsTheSelectionAndKeysAreNamedInAnyCase) {
+  ViewModel m;
+  const Position at{10, 40, 200};
+  m.on_key(Key::T, at, {});
+  EXPECT_FALSE(m.followed) << "nothing selected to follow";
+  m.selected = 4;
+  m.on_key(Key::T, at, {});
+  EXPECT_EQ(m.followed, sim::ModuleId(4));
+  m.on_key(Key::T, at, {});
+  EXPECT_FALSE(m.followed);
+  m.on_key(Key::T, at, {});
+  m.on_key(Key::F, at, {});
+  EXPECT_FALSE(m.followed) << "F fits the whole ensemble";
+  EXPECT_EQ(key_named("F1"), Key::F1);
+  EXPECT_EQ(key_named("f1"), Key::F1);
+  EXPECT_EQ(key_named("T"), Key::T);
+  EXPECT_FALSE(key_named("f13"));
+  EXPECT_FALSE(key_named("f1x"));
+}
+
 TEST(ViewModel, TimelineClicksSeekOrRun) {
   ViewModel m;
   const Timeline t{0, 199, 0, 200};
@@ -208,12 +230,16 @@ TEST(WindowCommands, AreCheckedWithTheirColumn) {
   EXPECT_EQ(check("click match 3"), "ok");
   EXPECT_EQ(check("click timeline"), "14: T is missing");
   EXPECT_EQ(check("key f12"), "ok");
-  EXPECT_EQ(check("key F12").substr(0, 16), "4: key NAME: one");
+  EXPECT_EQ(check("key F12"), "ok") << "as the README writes it";
+  EXPECT_EQ(check("key F13").substr(0, 16), "4: key NAME: one");
+  EXPECT_EQ(check("follow 9"), "ok");
+  EXPECT_EQ(check("follow off"), "ok");
+  EXPECT_EQ(check("follow"), "6: M (or off) is missing");
   EXPECT_EQ(check("wait -1"), "5: N must be an integer from 0 to 100000");
   EXPECT_EQ(check("screenshot"), "10: screenshot FILE: the PNG to write");
   EXPECT_EQ(check("panel inspector"), "ok");
   EXPECT_EQ(check("panel stats"),
-            "6: panel NAME: position, matches, watchpoints, inspector, plots, timeline, widgets or why");
+            "6: panel NAME: position, matches, watchpoints, inspector, plots, timeline, widgets, pointers or why");
   EXPECT_EQ(check("panel matches x"), "14: 'panel' takes 1 more word");
   EXPECT_EQ(check("timeline fit"), "ok");
   EXPECT_EQ(check("timeline 10 20"), "ok");

@@ -1,0 +1,63 @@
+// The 3D view at the scale users debug (issue 64, defect 12): a module that left the view has a
+// pointer at the view's edge, and the camera follows a module (`T`, the script's `follow M`).
+#include "tests/app/view/window_fixture.h"
+
+namespace {
+
+using namespace dw_window_test;
+
+const std::string kPushWall = std::string(DWATCH_SCENARIOS_DIR) + "/push_wall.toml";
+
+// The pointer's dark id plate: pixels near (x, y) darker than the light ground and modules.
+int dark_pixels(const dw::render::Image& image, int cx, int cy, int reach) {
+  int count = 0;
+  for (int y = std::max(0, cy - reach); y < std::min(image.height, cy + reach); ++y)
+    for (int x = std::max(0, cx - reach); x < std::min(image.width, cx + reach); ++x) {
+      const uint8_t* p = image.pixel(x, y);
+      if (p[0] < 50 && p[1] < 50 && p[2] < 60) ++count;
+    }
+  return count;
+}
+
+// push_wall at step 200: the ball tore modules off the wall and two lie outside the fitted view.
+// Each has a pointer at the view's edge, on the screenshot (its dark id plate by the tip); followed,
+// module 19 stands at the view's centre and needs no pointer.
+TEST_F(Window, ModulesOutOfTheViewArePointedAtAndOneIsFollowed) {
+  const Outcome view = dwatch("view " + kPushWall,
+                              "run 200\nscreenshot wall.png\npanel pointers\nfollow 19\nscreenshot followed.png\n"
+                              "panel pointers\nclick 19\n",
+                              true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 7u) << view.err;
+  const json& in_view = view.answers[1]["in_view"];
+  const int out = in_view["of"].get<int>() - in_view["modules"].get<int>();
+  ASSERT_GT(out, 0) << "the scene has no module out of the view to point at";
+  const json& pointers = view.answers[2]["pointers"];
+  int pointed = 0;
+  bool nineteen = false;
+  for (const json& p : pointers) pointed += 1 + p["more"].get<int>(), nineteen |= p["module"] == 19;
+  EXPECT_EQ(pointed, out) << "every module out of the view is pointed at";
+  ASSERT_TRUE(nineteen) << pointers.dump();
+  const json& view_rect = view.answers[1]["view"];
+  std::string error;
+  const auto wall = dw::render::read_png((dir_ / "wall.png").string(), &error);
+  ASSERT_TRUE(wall) << error;
+  for (const json& p : pointers) {
+    const float x = p["x"].get<float>(), y = p["y"].get<float>();
+    EXPECT_TRUE(x >= view_rect["x"].get<float>() &&
+                x <= view_rect["x"].get<float>() + view_rect["width"].get<float>() &&
+                y >= view_rect["y"].get<float>() && y <= view_rect["y"].get<float>() + view_rect["height"].get<float>())
+        << "the pointer lies in the view: " << p.dump();
+    EXPECT_GT(dark_pixels(*wall, int(x), int(y), 45), 60) << "no pointer drawn at " << p.dump();
+  }
+
+  EXPECT_EQ(view.answers[3]["following"], 19);
+  for (const json& p : view.answers[5]["pointers"]) EXPECT_NE(p["module"], 19) << "followed, it shows";
+  const json& click = view.answers[6]["pixel"];
+  // Near the centre of the ensemble's part of the view (below the title, right of the legend).
+  EXPECT_NEAR(click[0].get<double>(), view_rect["width"].get<double>() / 2, view_rect["width"].get<double>() * 0.1);
+  EXPECT_NEAR(click[1].get<double>(), view_rect["height"].get<double>() / 2, view_rect["height"].get<double>() * 0.1);
+  EXPECT_EQ(view.answers[6]["selected"], 19);
+}
+
+}  // namespace
