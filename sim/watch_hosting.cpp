@@ -161,6 +161,7 @@ bool WatchHosting::observes(uint32_t w, std::span<const uint8_t> watching) const
 }
 
 void WatchHosting::begin_step(State& state, std::span<const uint8_t> watching, std::span<const int64_t> next_values) {
+  draining_ = false;  // a session steps on past the drain at its end: steps charge the run's budget again
   agent_watches_.clear();
   run_budget_.begin_step(others_, acting_count_);
   for (std::vector<uint64_t>& thread : published_) std::fill(thread.begin(), thread.end(), 0);

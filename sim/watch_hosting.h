@@ -162,7 +162,7 @@ class WatchHosting {
   uint32_t acting_count_ = 0;  // the watchpoints with actions, charged first
   std::optional<uint64_t> others_;
   int64_t step_ = 0;
-  bool draining_ = false;  // the run is over: its drain charges no budget of the run
+  bool draining_ = false;  // a drain since the last step: the session charges it the run's budget whole
   uint64_t charged_ = 0;   // this step's running total, in charging order
   bool passed_ = false;    // this step passed the run's budget: the watchpoints charged after stop
 };
