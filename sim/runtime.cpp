@@ -114,8 +114,16 @@ void Runtime::run_over_ranks(State& state) {
     run_blocks(thread, over_ranks_->border_blocks(), state);
     over_ranks_->set_border_messages(thread, scratch_[thread].outbox.messages.size());
   });
-  over_ranks_->start_exchange(sent_messages(), hosting_);
+  // Agents that read the step's snapshot send only once every rank has run the step: then the
+  // batches leave after them, the interior blocks not overlapping the exchange.
+  const bool late = hosting_.late_agents();
+  if (!late) over_ranks_->start_exchange(sent_messages(), hosting_);
   pool_.run([&](unsigned thread) { run_blocks(thread, over_ranks_->interior_blocks(), state); });
+  if (late) {
+    hosting_.share_step_values(state, next_values_);
+    run_late_agents(state);
+    over_ranks_->start_exchange(sent_messages(), hosting_);
+  }
   over_ranks_->finish_exchange(hosting_);
 }
 
@@ -238,8 +246,8 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
       start_thread(thread, state);
       run_blocks(thread, placement_.own_blocks(), state);
     });
+    if (hosting_.late_agents()) run_late_agents(state);
   }
-  if (hosting_.late_agents()) run_late_agents(state);
   agree_on_failure_and_gather_actuations(state.step);
 
   std::swap(state.values, next_values_);  // assign: the variables now hold step t's values

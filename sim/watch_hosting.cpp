@@ -87,22 +87,12 @@ watch::Frame make_frame(const Model& model, int64_t step, std::span<const int64_
 
 std::string why_not_over_ranks(std::span<const HostedWatchpoint> watches) {
   for (const HostedWatchpoint& w : watches)
-    if (w.watchpoint.program.slot_count() == 0)
-      return "watchpoint '" + w.watchpoint.name +
-             "' has no modules ('modules()'): it is decided on the whole ensemble at once, which modules over "
-             "ranks cannot read yet: run it in one process";
-  for (const HostedWatchpoint& w : watches)
-    if (!w.runs_on_agents())
+    if (!w.runs_on_agents() && w.watchpoint.program.slot_count() > 0)
       return "watchpoint '" + w.watchpoint.name + "' is " +
              (w.algorithm == watch::Algorithm::Centralized ? "centralized" : "read over simultaneous states") +
              ": its detector observes the whole ensemble in one place, which no rank holds; over ranks a "
              "watchpoint runs on the modules' agents (algorithm = \"distributed\", states = \"consistent\"; "
              "or --algorithm distributed --states consistent)";
-  for (const HostedWatchpoint& w : watches)
-    if (const char* form = watch::domain_beyond_neighbours(w.watchpoint.program))
-      return "watchpoint '" + w.watchpoint.name + "' reads '" + form +
-             "', which modules over ranks cannot read yet (a rank keeps its own modules and their neighbours "
-             "only): run it in one process";
   return {};
 }
 
@@ -132,6 +122,7 @@ WatchHosting::WatchHosting(const Model& model, HostedWatches watches, const Bloc
   const size_t lanes = size_t{threads} * placement.blocks();
   for (const HostedWatchpoint& w : watches_) {
     snapshot_.push_back(w.runs_on_agents() && watch::reads_step_snapshot(w.watchpoint.program));
+    far_lists_.push_back(ranks_ && w.runs_on_agents() && watch::reads_far_lists(w.watchpoint.program));
     columns_.push_back(watch::variable_columns(w.watchpoint.program, model.universe));
     sending_.emplace_back(w.runs_on_agents() ? lanes : 0);
   }
@@ -169,10 +160,28 @@ void WatchHosting::begin_step(State& state, std::span<const uint8_t> watching, s
     if (!watches_[w].runs_on_agents() || state.watches[w].stopped) continue;
     if (!observes(w, watching)) continue;
     agent_watches_.push_back(w);
+  }
+  gather_whole_graph(state);
+  for (uint32_t w : agent_watches_) {
     for (watch::RecordBuffer& lane : sending_[w]) lane.clear();  // a step that failed may have filled some
     state.watches[w].agents->begin_record(
-        make_frame(model_, state.step, next_values, state.present, state.graph, placement_.first_module()));
+        make_frame(model_, state.step, next_values, state.present, agent_graph(w, state), placement_.first_module()));
   }
+}
+
+// Over ranks, a rank holds the neighbour lists of its window only (docs/design.md §12); within() and
+// component() read lists further out, so their agents are lent every module's, gathered from the
+// owners whenever any rank's window changed (a static lattice's once).
+void WatchHosting::gather_whole_graph(const State& state) {
+  const bool wanted =
+      std::any_of(agent_watches_.begin(), agent_watches_.end(), [&](uint32_t w) { return far_lists_[w] != 0; });
+  if (!wanted || !any_rank(ranks_, whole_of_ != state.graph)) return;
+  whole_graph_ = gather_graph(*ranks_, placement_, *state.graph);
+  whole_of_ = state.graph;
+}
+
+const std::shared_ptr<const NeighborGraph>& WatchHosting::agent_graph(uint32_t w, const State& state) const {
+  return far_lists_[w] ? whole_graph_ : state.graph;
 }
 
 std::vector<WatchHosting::SendingGraph> WatchHosting::sending_graphs(const State& state) const {
@@ -199,7 +208,7 @@ void WatchHosting::run_block(unsigned thread, uint32_t block, State& state, std:
     WatchState& ws = state.watches[w];
     const uint32_t begin = placement_.block_begin(block), end = placement_.block_begin(block + 1);
     const watch::Frame frame =
-        make_frame(model_, state.step, next_values, state.present, state.graph, placement_.first_module());
+        make_frame(model_, state.step, next_values, state.present, agent_graph(w, state), placement_.first_module());
     if (snapshot_[w]) {  // decided in run_late_block, once every block has recorded the step
       ws.agents->record_history(frame, begin, end, columns_[w]);
       continue;
@@ -405,7 +414,11 @@ void WatchHosting::observe_detector(uint32_t w, State& state, WatchStepOutput& o
     stop(ws, w, run_budget_verdict(w, 0));
     return;
   }
-  const watch::Frame frame = make_frame(model_, state.step, state.values, state.present, state.graph);
+  // Over ranks only a zero-slot watchpoint has a detector (why_not_over_ranks): each rank observes
+  // every module's values, gathered, and decides alike.
+  const std::vector<int64_t> whole =
+      ranks_ ? gather_values(*ranks_, placement_, model_.variable_count(), state.values) : std::vector<int64_t>{};
+  const watch::Frame frame = make_frame(model_, state.step, ranks_ ? whole : state.values, state.present, state.graph);
   const uint64_t before = ws.detector->stats().observed_steps;
   ws.detector->observe(frame);
   if (ws.detector->stats().observed_steps > before) {  // a step cut short by the budget counts not
@@ -495,16 +508,23 @@ void WatchHosting::act(State& state, World& world) const {
 // Over ranks, the agents of a watchpoint with an aggregate read their neighbours' values, which
 // may be another rank's modules': every rank's values of the step are gathered and written into
 // those agents' history, where the hop (watch::Program::agent_delay) reads them from the next step
-// on. A whole gather, not only the border's: simple, and right whatever moves.
-void WatchHosting::share_neighbor_values(State& state) {
+// on. A whole gather, not only the border's: simple, and right whatever moves (and what `all` and
+// `component()` read). Those that read the step's snapshot get them before they decide it.
+void WatchHosting::share_neighbor_values(State& state) { share_values(state, state.values, false); }
+void WatchHosting::share_step_values(State& state, std::span<const int64_t> values) {
+  share_values(state, values, true);
+}
+
+void WatchHosting::share_values(State& state, std::span<const int64_t> values, bool late) {
   if (ranks_ == nullptr) return;
   std::vector<uint32_t> acting;
   for (uint32_t w : agent_watches_)
-    if (!watches_[w].watchpoint.program.aggregates.empty() && state.watches[w].agents) acting.push_back(w);
+    if (!watches_[w].watchpoint.program.aggregates.empty() && state.watches[w].agents && snapshot_[w] == late)
+      acting.push_back(w);
   if (!any_rank(ranks_, !acting.empty())) return;
   Gathered parts;
   const uint32_t v = model_.variable_count();
-  const std::vector<std::span<const int64_t>> rows = gather_block_values(*ranks_, placement_, v, state.values, parts);
+  const std::vector<std::span<const int64_t>> rows = gather_block_values(*ranks_, placement_, v, values, parts);
   for (uint32_t w : acting) {
     watch::AgentHistory& history = state.watches[w].agents->history();
     for (uint32_t b = 0; b < placement_.blocks(); ++b) {

@@ -117,6 +117,9 @@ class WatchHosting {
   // Over ranks, the step's variables of every rank written into the history of the agents that read
   // their neighbours' (an aggregate's): a collective call.
   void share_neighbor_values(State& state);
+  // Over ranks, before run_late_block: the step's variables of every rank (`values`, this rank's
+  // window of them) written into the history of the agents that read the step's snapshot.
+  void share_step_values(State& state, std::span<const int64_t> values);
 
   // The run is over: detector step f of watchpoint w's agents, from the history they hold
   // (Runtime::drain_agents). drain_begin, then drain_blocks on each thread, then drain_finish.
@@ -141,18 +144,25 @@ class WatchHosting {
   void stop(WatchState& ws, uint32_t w, std::string why);
   void sort_matches(uint32_t w, WatchStepOutput& out) const;
   void take_arrived_lanes(WatchState& ws, std::span<const ArrivedLane> arrived) const;
+  void share_values(State& state, std::span<const int64_t> values, bool late);
+  void gather_whole_graph(const State& state);
+  // The neighbour graph watch w's agents record: the rank's window of it, or every module's.
+  const std::shared_ptr<const NeighborGraph>& agent_graph(uint32_t w, const State& state) const;
 
   const Model& model_;
   HostedWatches watches_;
   const BlockPlacement& placement_;
   const unsigned threads_;
-  RankExchange* ranks_;                                      // null: one process
-  std::vector<std::vector<watch::AgentContext>> contexts_;   // per thread, per watch (distributed ones used)
-  std::vector<std::vector<int>> columns_;                    // per watch: program variable -> model column
-  std::vector<uint8_t> snapshot_;                            // per watch: its agents step late (late_agents)
-  std::vector<std::vector<watch::RecordBuffer>> sending_;    // per watch: lanes being filled
-  std::vector<uint32_t> agent_watches_;                      // this step: watchpoints whose agents run
-  std::vector<std::vector<watch::RecordBuffer*>> arriving_;  // per thread: a block's lanes
+  RankExchange* ranks_;                                     // null: one process
+  std::vector<std::vector<watch::AgentContext>> contexts_;  // per thread, per watch (distributed ones used)
+  std::vector<std::vector<int>> columns_;                   // per watch: program variable -> model column
+  std::vector<uint8_t> snapshot_;                           // per watch: its agents step late (late_agents)
+  std::vector<uint8_t> far_lists_;  // per watch: over ranks, its agents read every module's list (agent_graph)
+  std::shared_ptr<const NeighborGraph> whole_graph_, whole_of_;  // every module's lists, and the window they
+                                                                 // were gathered from
+  std::vector<std::vector<watch::RecordBuffer>> sending_;        // per watch: lanes being filled
+  std::vector<uint32_t> agent_watches_;                          // this step: watchpoints whose agents run
+  std::vector<std::vector<watch::RecordBuffer*>> arriving_;      // per thread: a block's lanes
   // The whole run's budget: the watchpoints in charging order (those with actions first, whose
   // stops are part of the simulation and a re-simulation steps alone), each one's place in it, and
   // per thread and watch what its context charged this step.

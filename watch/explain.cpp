@@ -84,7 +84,7 @@ void explain_watchpoint(const watch::Watchpoint& w, std::ostream& out) {
   for (const auto& s : p.slot_names) out << " " << s;
   if (p.slot_count() == 0)
     out << " none, a zero-slot watchpoint on the whole ensemble (docs/design.md §4c): decided once a step, a match "
-           "is the step itself with no module (\"slots\":{}); nothing to act on (no 'then'); not over MPI ranks yet";
+           "is the step itself with no module (\"slots\":{}); nothing to act on (no 'then')";
   out << "\n";
   out << "  E+             " << a.extent_plus
       << (a.extent_plus > 0 ? "  (looks ahead: detectors run " + std::to_string(a.extent_plus) +

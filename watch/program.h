@@ -282,17 +282,12 @@ inline bool reads_step_snapshot(const Program& p) {
                      [](const AggregateCode& a) { return a.domain == Domain::All || a.domain == Domain::Component; });
 }
 
-// The first aggregate domain that reads past a module's own neighbours ("within()", "all",
-// "component()"), or
-// nullptr: over ranks an agent's history holds its rank's modules and a one-hop ghost layer only,
-// so such a watchpoint is refused there until a deeper layer and reductions are exchanged.
-inline const char* domain_beyond_neighbours(const Program& p) {
-  for (const AggregateCode& a : p.aggregates) {
-    if (a.domain == Domain::Within) return "within()";
-    if (a.domain == Domain::All) return "all";
-    if (a.domain == Domain::Component) return "component()";
-  }
-  return nullptr;
+// Whether an aggregate ranges over `within()` or `component()`: it reads the neighbour lists of
+// modules past a module's own neighbours (over ranks, past the window a rank holds).
+inline bool reads_far_lists(const Program& p) {
+  return std::any_of(p.aggregates.begin(), p.aggregates.end(), [](const AggregateCode& a) {
+    return a.domain == Domain::Within || a.domain == Domain::Component;
+  });
 }
 
 }  // namespace dw::watch

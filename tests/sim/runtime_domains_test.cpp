@@ -80,5 +80,19 @@ TEST(RuntimeDomains, AgentsOnSeveralBlocksMatchWhatAgentsOnOneMatch) {
   expect_same(reference, run(*model_of(watch::Algorithm::Distributed), kSteps, 2), "2 threads");
 }
 
+TEST(RuntimeDomains, AgentsOverRanksMatchWhatAgentsInOneProcessMatch) {
+  // Each rank holds its own modules' variables: `all` and `component()` read every rank's at the
+  // step itself, `within()` those of modules up to three hops away.
+  const Decided reference = one_block();
+  const auto model = model_of(watch::Algorithm::Distributed);
+  for (int n : {2, 3})
+    for (unsigned threads : {1u, 2u}) {
+      const std::vector<Decided> ranks = on_ranks(n, [&](RankExchange& r) { return run(*model, kSteps, threads, &r); });
+      for (int r = 0; r < n; ++r)
+        expect_same(reference, ranks[size_t(r)],
+                    std::to_string(n) + " ranks x " + std::to_string(threads) + " threads, rank " + std::to_string(r));
+    }
+}
+
 }  // namespace
 }  // namespace dw::sim
