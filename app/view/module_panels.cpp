@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 
 #include "app/view/debugger.h"
@@ -32,6 +33,20 @@ void Debugger::inspector_panel() {
     ImGui::SameLine();
     ImGui::TextDisabled("  after the step at (%.2f, %.2f, %.2f)", p[0], p[1], p[2]);
   }
+  // The neighbours beside the module's name when they fit (click one to select it): at the panel's
+  // top, never the line the fold cuts in half (at 1600x1000 they were, under the Statistics header).
+  const char* neighbours = in.pose ? "neighbours (touching at the end of the step before):" : "neighbours:";
+  flow(ImGui::CalcTextSize(neighbours).x);
+  ImGui::TextDisabled("%s", neighbours);
+  for (sim::ModuleId n : in.neighbors) {
+    const std::string id = std::to_string(m.universe.id(n));
+    flow(ImGui::CalcTextSize(id.c_str()).x + 2 * ImGui::GetStyle().FramePadding.x);
+    if (ImGui::SmallButton(id.c_str())) {
+      model_.on_module_click(n);
+      readout_stale_ = true;
+    }
+    note_widget("neighbour " + id);
+  }
   interventions_row(in);
   session_files_row();
   variables_table(in);
@@ -40,21 +55,17 @@ void Debugger::inspector_panel() {
                               std::to_string(in.plot_from) + " to " +
                               std::to_string(in.plot_from + int64_t(in.plot.size()) - 1);
     // As tall as the panel has room for, its steps' line included (at 1600x1000 "step 0" was cut
-    // in half by the panel's edge), between 40 and 70 pixels.
-    const float room = ImGui::GetContentRegionAvail().y - ImGui::GetTextLineHeightWithSpacing() -
-                       ImGui::GetTextLineHeight() - ImGui::GetStyle().ItemSpacing.y;
-    const PlotDrawn drawn =
-        history_plot(title, in.plot, in.plot_from, readout_.at.current, std::clamp(room, 40.0f, 70.0f));
+    // in half by the panel's edge), between 40 and 70 pixels, and so that the fold falls between
+    // two lines after it: the window's bottom padding shows what reaches into it, and the line
+    // after the plot showed its top half there.
+    const float line = ImGui::GetTextLineHeightWithSpacing();
+    const float room = ImGui::GetContentRegionAvail().y - line - ImGui::GetTextLineHeight() -
+                       ImGui::GetStyle().ItemSpacing.y + ImGui::GetStyle().WindowPadding.y;
+    const float whole_lines_after = room > 70 ? std::ceil((room - 70) / line) : 0;
+    const PlotDrawn drawn = history_plot(title, in.plot, in.plot_from, readout_.at.current,
+                                         std::clamp(room - whole_lines_after * line, 40.0f, 70.0f));
     plot_rects_.push_back(drawn.area);
     plot_labels_.insert(plot_labels_.end(), drawn.labels.begin(), drawn.labels.end());
-  }
-  ImGui::TextUnformatted(in.pose ? "neighbours (touching at the end of the step before):" : "neighbours:");
-  for (sim::ModuleId n : in.neighbors) {
-    ImGui::SameLine();
-    if (ImGui::SmallButton(std::to_string(m.universe.id(n)).c_str())) {
-      model_.on_module_click(n);
-      readout_stale_ = true;
-    }
   }
   // The module's matches, one row each (which, its step, its slots), so that two of one step read
   // apart; a click goes to the match as a row of the matches table does.

@@ -237,6 +237,12 @@ void Debugger::panel_command(const std::vector<std::string>& words, nlohmann::or
     answer["cut_labels"] = cut_labels_;
     const ImGuiViewport* vp = ImGui::GetMainViewport();
     answer["window"] = {{"width", vp->WorkSize.x}, {"height", vp->WorkSize.y}, {"too_small", panels_.too_small}};
+    // Where the column's panels are (x, y, width, height): for tests that look at their folds.
+    auto rect = [](const PanelRect& r) { return nlohmann::ordered_json{r.x, r.y, r.width, r.height}; };
+    answer["panels"] = {{"watchpoints", rect(panels_.watchpoints)},
+                        {"matches", rect(panels_.matches)},
+                        {"module", rect(panels_.module)},
+                        {"statistics", rect(panels_.statistics)}};
     return;
   }
   if (words.size() != 2) {
