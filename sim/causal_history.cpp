@@ -55,22 +55,25 @@ namespace {
 // start and the modules moving as N(·, t) was measured.
 void take_next(Session& session, const State& state, StepRecord& rec) {
   const int64_t t = state.step;
-  // Each message's words, stored once per sender while it sends the same (a broadcast's copies
-  // share them): a step's messages are megabytes at 10,000 modules, and copied whole they were
-  // most of a `why` (fresh pages to fault in).
+  // Each message's words, stored once per sender and program while it sends the same (a
+  // broadcast's copies share them): a step's messages are megabytes at 10,000 modules, and
+  // copied whole they were most of a `why` (fresh pages to fault in).
   const Messages inbox = state.inbox.messages.all();
   size_t words = 0;
   for (const Message m : inbox) words += m.size;
   rec.read.reserve(inbox.size());
-  rec.words.reserve(words);                                                // pages never written are never faulted in
-  std::vector<uint32_t> last(session.model().module_count(), UINT32_MAX);  // per sender: its last read
+  rec.words.reserve(words);  // pages never written are never faulted in
+  // Per sender and program: its last message read (the inbox is grouped by receiver, then program).
+  const uint32_t programs = session.model().program_count();
+  std::vector<uint32_t> last(size_t{session.model().module_count()} * programs, UINT32_MAX);
   for (const Message m : inbox) {
     uint32_t first = static_cast<uint32_t>(rec.words.size());
-    if (const uint32_t l = last[m.from]; l != UINT32_MAX && rec.read[l].size == m.size &&
-                                         std::equal(m.words, m.words + m.size, rec.words.data() + rec.read[l].first))
+    uint32_t& l = last[size_t{m.from} * programs + m.program];
+    if (l != UINT32_MAX && rec.read[l].size == m.size &&
+        std::equal(m.words, m.words + m.size, rec.words.data() + rec.read[l].first))
       first = rec.read[l].first;
     else rec.words.insert(rec.words.end(), m.words, m.words + m.size);
-    last[m.from] = static_cast<uint32_t>(rec.read.size());
+    l = static_cast<uint32_t>(rec.read.size());
     rec.read.push_back({m.from, m.to, t - 1, first, m.size});
   }
   for (const PendingAction& a : state.actions) {
