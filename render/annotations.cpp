@@ -120,12 +120,15 @@ std::optional<EdgePointer> edge_pointer(const glm::mat4& view_projection, glm::v
 }
 
 std::vector<std::optional<glm::vec2>> place_labels(const std::vector<std::optional<glm::vec2>>& tops,
-                                                   const std::vector<std::optional<glm::vec2>>& wanted, float radius) {
+                                                   const std::vector<std::optional<glm::vec2>>& wanted, float radius,
+                                                   const std::vector<Box>& keep_clear) {
   std::vector<std::optional<glm::vec2>> placed(tops.size());
   const float apart = 2 * radius + std::max(2.0f, radius * 0.25f);  // centre to centre
   auto free = [&](glm::vec2 p) {
     for (const auto& q : placed)
       if (q && glm::distance(*q, p) < apart) return false;
+    for (const Box& b : keep_clear)
+      if (glm::distance(glm::clamp(p, b.min, b.max), p) < radius + 1) return false;
     return true;
   };
   for (size_t i = 0; i < tops.size(); ++i) {
@@ -159,6 +162,15 @@ void annotate(Overlay& o, const Scene& scene, const glm::mat4& view_projection, 
   // neither the module nor the links.
   std::unordered_map<sim::ModuleId, const SceneModule*> by_id;
   for (const SceneModule& m : scene.modules) by_id[m.id] = &m;
+  // What the labels keep off: the title, the group's caption (written after them, over the
+  // labels, it still read under their discs) and the legend.
+  const std::string caption = group_caption(scene);
+  std::vector<Box> keep_clear{{{t * 0.8f, t * 0.3f}, {t * 0.8f + font.text_width(scene.title), t * 1.75f}}};
+  if (!caption.empty()) keep_clear.push_back({{t * 0.8f, t * 1.75f}, {t * 0.8f + font.text_width(caption), t * 3.15f}});
+  if (!scene.legend.title.empty()) {
+    const LegendBox legend = legend_box(scene, font, height);
+    keep_clear.push_back({legend.min, legend.max});
+  }
   for (const SceneGroup& g : scene.groups) {
     std::vector<std::optional<glm::vec2>> top(g.modules.size()), label(g.modules.size());
     for (size_t i = 0; i < g.modules.size(); ++i) {
@@ -168,7 +180,7 @@ void annotate(Overlay& o, const Scene& scene, const glm::mat4& view_projection, 
       top[i] = project(view_projection, {p[0], p[1], p[2] + 0.5f}, width, height);
       label[i] = project(view_projection, {p[0], p[1], p[2] + 1.4f}, width, height);
     }
-    label = place_labels(top, label, t * 0.72f);
+    label = place_labels(top, label, t * 0.72f, keep_clear);
     for (size_t i = 0; i + 1 < g.modules.size(); ++i) {
       if (!top[i] || !top[i + 1]) continue;
       o.line(*top[i], *top[i + 1], t * 0.42f, kPaper);
@@ -190,7 +202,6 @@ void annotate(Overlay& o, const Scene& scene, const glm::mat4& view_projection, 
 
   // Title, and the first group under it.
   o.text({t * 0.8f, t * 1.45f}, scene.title, kInk);
-  const std::string caption = group_caption(scene);
   if (!caption.empty()) o.text({t * 0.8f, t * 2.85f}, caption, kLink);
 
   if (!scene.legend.title.empty()) draw_legend(o, scene, height);

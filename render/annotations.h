@@ -34,13 +34,20 @@ struct EdgePointer {
 std::optional<EdgePointer> edge_pointer(const glm::mat4& view_projection, glm::vec3 point, int width, int height,
                                         float inset);
 
+// A rectangle of the image a label keeps off (the title, the group's caption, the legend).
+struct Box {
+  glm::vec2 min, max;
+};
+
 // Where a group's slot labels go (discs of `radius` pixels): each above its module (at `wanted`)
 // where that is free, else the nearest free place around its module (`tops`: the modules' tops on
 // screen), so that no two labels overlap however close the modules are on screen (at 11,000
-// modules a group is a few pixels wide and the labels piled onto one spot). Nothing where the
-// module is not on screen.
+// modules a group is a few pixels wide and the labels piled onto one spot), nor cover what is in
+// `keep_clear` (a label's disc covered the caption's "(+23 more)"). Nothing where the module is
+// not on screen.
 std::vector<std::optional<glm::vec2>> place_labels(const std::vector<std::optional<glm::vec2>>& tops,
-                                                   const std::vector<std::optional<glm::vec2>>& wanted, float radius);
+                                                   const std::vector<std::optional<glm::vec2>>& wanted, float radius,
+                                                   const std::vector<Box>& keep_clear = {});
 
 // The title (and the first group's watch, step and slot bindings), each group's slots linked in
 // slot order with a label above each slot, and the legend.

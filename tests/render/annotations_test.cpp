@@ -120,6 +120,12 @@ TEST(PlaceLabels, SpreadsTheLabelsOfModulesThatShowOnOneSpot) {
   const std::vector<std::optional<glm::vec2>> apart{glm::vec2(100, 300), glm::vec2(300, 300)};
   const std::vector<std::optional<glm::vec2>> above{glm::vec2(100, 280), glm::vec2(300, 280)};
   EXPECT_EQ(place_labels(apart, above, r), above);
+  // A label keeps off the caption: wanted on it, it moves around its module, clear of the box.
+  const std::vector<Box> caption{{glm::vec2(10, 20), glm::vec2(300, 40)}};
+  const auto kept = place_labels({glm::vec2(200, 70)}, {glm::vec2(200, 35)}, r, caption);
+  ASSERT_TRUE(kept[0]);
+  EXPECT_GE(glm::distance(glm::clamp(*kept[0], caption[0].min, caption[0].max), *kept[0]), r) << "over the caption";
+  EXPECT_LT(glm::distance(*kept[0], glm::vec2(200, 70)), 8 * r);
   // A module off screen has no label.
   EXPECT_FALSE(place_labels({std::nullopt}, {glm::vec2(1, 1)}, r)[0]);
 }
