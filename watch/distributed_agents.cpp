@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <functional>
 
 #include "watch/distributed_reader.h"
 #include "watch/kept_windows.h"
@@ -128,7 +127,7 @@ void DistributedAgents::decide_own(const Leaf& leaf, int64_t f, uint32_t begin, 
     return;
   }
   // One loop per operator and right-hand side, so that the loop body has no branches.
-  auto columns = [&](auto holds_op) {
+  with_compare(leaf.op, [&](auto holds_op) {
     if (b == nullptr) {
       const int64_t c = leaf.constant;
       for (uint32_t m = begin; m < end; ++m)
@@ -138,15 +137,7 @@ void DistributedAgents::decide_own(const Leaf& leaf, int64_t f, uint32_t begin, 
         own[m * stride] =
             kleene_and(own[m * stride], a_known[m] & b_known[m] ? truth_of(holds_op(a[m], b[m])) : kUnknown);
     }
-  };
-  switch (leaf.op) {
-    case CompareOp::Less: columns(std::less<int64_t>{}); break;
-    case CompareOp::Greater: columns(std::greater<int64_t>{}); break;
-    case CompareOp::Equal: columns(std::equal_to<int64_t>{}); break;
-    case CompareOp::NotEqual: columns(std::not_equal_to<int64_t>{}); break;
-    case CompareOp::GreaterEqual: columns(std::greater_equal<int64_t>{}); break;
-    case CompareOp::LessEqual: columns(std::less_equal<int64_t>{}); break;
-  }
+  });
 }
 
 // decide_own for a leaf of value code (docs/design.md §4b), one module at a time.

@@ -22,7 +22,6 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <limits>
 #include <span>
 #include <vector>
@@ -78,21 +77,12 @@ inline bool count_holding(std::span<const uint32_t> ids, uint32_t first, const i
                           CompareOp op, int64_t c, int64_t& n) {
   uint32_t all_known = 1;
   int64_t total = 0;
-  // One loop per operator, so that the loop body has no branch.
-  auto loop = [&](auto holds_op) {
+  with_compare(op, [&](auto holds_op) {
     for (uint32_t id : ids) {
       all_known &= known[id - first];
       total += holds_op(values[id - first], c);
     }
-  };
-  switch (op) {
-    case CompareOp::Less: loop(std::less<int64_t>{}); break;
-    case CompareOp::Greater: loop(std::greater<int64_t>{}); break;
-    case CompareOp::Equal: loop(std::equal_to<int64_t>{}); break;
-    case CompareOp::NotEqual: loop(std::not_equal_to<int64_t>{}); break;
-    case CompareOp::GreaterEqual: loop(std::greater_equal<int64_t>{}); break;
-    case CompareOp::LessEqual: loop(std::less_equal<int64_t>{}); break;
-  }
+  });
   n = total;
   return all_known != 0;
 }

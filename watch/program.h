@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,20 @@ struct TermRef {
   int16_t offset = 0;
   int16_t cell = -1;  // >= 0: carried in this cell (distributed), the slot fills before decide_slot
 };
+
+// Calls fn with the comparison functor of `op` (std::less<int64_t>, ...): a loop written once
+// inside fn is compiled once per operator, its body without a branch on the operator.
+template <class Fn>
+inline void with_compare(CompareOp op, Fn&& fn) {
+  switch (op) {
+    case CompareOp::Less: fn(std::less<int64_t>{}); break;
+    case CompareOp::Greater: fn(std::greater<int64_t>{}); break;
+    case CompareOp::Equal: fn(std::equal_to<int64_t>{}); break;
+    case CompareOp::NotEqual: fn(std::not_equal_to<int64_t>{}); break;
+    case CompareOp::GreaterEqual: fn(std::greater_equal<int64_t>{}); break;
+    case CompareOp::LessEqual: fn(std::less_equal<int64_t>{}); break;
+  }
+}
 
 // Whether `a op b` holds.
 inline bool holds(CompareOp op, int64_t a, int64_t b) {
