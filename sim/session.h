@@ -256,7 +256,6 @@ class Session {
   // What the detectors and agents still hold decided over the last step (`drain`); `with_stats`:
   // their work joins the statistics too.
   void drain_findings(const DrainSink& sink, bool with_stats);
-  void drain_agents(const DrainSink& sink, bool with_stats);
   // At the scenario's last step the session drains a copy of the watchpoints' state, so that it
   // reports what `run` and `replay` report, and can still simulate on: the drain's matches are
   // forgotten when the head moves past the end, the history is cut or the watchpoints change.
