@@ -207,7 +207,9 @@ std::optional<std::vector<ValueAsked>> value_code_reads(Session& session, const 
   std::vector<ValueAsked> values;
   bool expressions = false;
   for (const watch::Leaf& leaf : program.leaves) expressions |= leaf.kind == watch::LeafKind::Expression;
-  if (program.aggregates.empty() || (!expressions && program.actions.empty())) return values;
+  if (program.aggregates.empty() || (!expressions && program.actions.empty()) ||
+      group.size() < static_cast<size_t>(program.slot_count()))
+    return values;
   const int64_t first = std::clamp<int64_t>(t + program.min_offset, 0, session.latest());
   const int64_t last = std::clamp<int64_t>(t + program.extent_plus, first, session.latest());
   const auto history = record_window(session, first, last, control);
