@@ -270,7 +270,8 @@ class Debugger {
   int64_t fast_steps_ = 1;  // steps per request when playing as fast as possible
   int64_t fast_asked_ = 0;  // steps of the last such request
   std::atomic<double> last_job_seconds_ = 0;
-  bool suspend_play_ = false;  // while a script waits for the session to settle
+  bool suspend_play_ = false;        // while a script waits for the session to settle
+  bool play_clock_started_ = false;  // last_request_ counts from when play started, not before
 
   // The editor.
   std::string edit_name_ = "w1", edit_text_;

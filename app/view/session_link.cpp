@@ -143,9 +143,15 @@ void Debugger::refresh_readout() {
 }
 
 void Debugger::play() {
+  if (!model_.playing) play_clock_started_ = false;
   if (!model_.playing || suspend_play_ || !worker_->idle() || readout_stale_ || readout_.version != worker_->finished())
     return;
   const auto now = std::chrono::steady_clock::now();
+  if (!play_clock_started_) {  // play's clock starts with play: a `run 60` before it is not its time
+    play_clock_started_ = true;
+    last_request_ = now;
+    return;
+  }
   const double since = std::chrono::duration<double>(now - last_request_).count();
   const int64_t last = readout_.at.end > 0 ? readout_.at.end - 1 : INT64_MAX;
   if (readout_.at.current >= last) {

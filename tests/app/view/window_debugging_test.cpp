@@ -178,6 +178,18 @@ int saturated_pixels(const dw::render::Image& image, const json& view) {
 
 // No flicker: a watchpoint matching at odd steps only, the ensemble looks the same at a step with
 // a match and at one without (it switched from faded to vivid and back at every step).
+// Play after a scripted `run 60` and a while goes on from step 60 at its speed (10 steps a
+// second): its clock counted the run's time and the wait, and the first frame jumped 60 -> 79.
+TEST_F(Window, PlayAfterARunStartsItsClockThen) {
+  const Outcome view =
+      dwatch("view " + kLeader,
+             "action two_leaders log\nrun 60\nwait 40\nkey space\nwait 1\nkey space\npanel position\n", true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 7u) << view.err;
+  ASSERT_EQ(view.answers[1]["current"], 60);
+  EXPECT_LE(view.answers[6]["current"].get<int64_t>(), 63) << "play jumped";
+}
+
 TEST_F(Window, TheEnsembleDoesNotFlickerAsMatchesComeAndGo) {
   std::ofstream(dir_ / "x.lua") << "program = { vars = { \"v\", \"k\" } }\n"
                                    "function step(m) m:set(\"v\", m.step % 2) end\n";
