@@ -32,6 +32,7 @@
 #include "shell/options.h"
 #include "shell/protocol.h"
 #include "shell/shell.h"
+#include "tests/fuzz/small_scenarios.h"
 #include "watch/diagnostic.h"
 
 namespace {
@@ -42,21 +43,8 @@ using Json = nlohmann::json;
 
 constexpr int64_t kMaxSteps = 64;
 
-constexpr const char* kScenario = R"toml(name = "token_ring"
-steps = 24
-[lattice]
-kind = "ring"
-size = [8]
-[[program]]
-name = "token_ring"
-duplicate_at = 12
-[[watch]]
-name = "token_from_nowhere"
-text = '''modules(a x b); neighbor(x b) and (x.token = 1) and (((a.last.token = 1) and (b.last.token = 1)) or
-  ((a.last.token = 0) and (b.last.token = 0)))'''
-algorithm = "centralized"
-action = "pause"
-)toml";
+// The token ring of the session's fuzz scenarios.
+constexpr const char* kScenario = dw::fuzz::kScenarios[0].toml;
 
 [[noreturn]] void fail(const char* what, const std::string& detail = "") {
   std::fprintf(stderr, "protocol_fuzz: %s%s%s\n", what, detail.empty() ? "" : ": ", detail.c_str());
