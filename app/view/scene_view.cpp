@@ -76,10 +76,16 @@ void Debugger::draw_view() {
   ImGui::SameLine();
   ImGui::SetNextItemWidth(160);
   const auto& variables = session_.model().universe.variables;  // fixed for the run
-  if (ImGui::BeginCombo("##colour_by", model_.color_by.empty() ? "(one colour)" : model_.color_by.c_str())) {
+  const char* shown = model_.color_by.empty() ? "(one colour)" : model_.color_by.c_str();
+  const bool open = ImGui::BeginCombo("##colour_by", shown);
+  note_widget("colour by", combo_width(shown));  // a script's `press colour by`, then `press colour by: V`
+  if (open) {
     if (ImGui::Selectable("(one colour)", model_.color_by.empty())) model_.color_by.clear(), readout_stale_ = true;
-    for (const std::string& v : variables)
+    note_widget("colour by: (one colour)", 0, true);
+    for (const std::string& v : variables) {
       if (ImGui::Selectable(v.c_str(), v == model_.color_by)) model_.color_by = v, readout_stale_ = true;
+      note_widget("colour by: " + v, 0, true);
+    }
     ImGui::EndCombo();
   }
   ImGui::SameLine();

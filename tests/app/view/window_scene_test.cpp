@@ -60,4 +60,13 @@ TEST_F(Window, ModulesOutOfTheViewArePointedAtAndOneIsFollowed) {
   EXPECT_EQ(view.answers[6]["selected"], 19);
 }
 
+// The colour-by menu is reached from a script as a person reaches it (issue 64's bug: it could
+// not be): `press colour by` opens it, `press colour by: V` chooses, and the view is coloured so.
+TEST_F(Window, AScriptChoosesWhatColoursTheModules) {
+  const Outcome view = dwatch("view " + kLeader, "press colour by\npress colour by: _status\nscreenshot c.png\n", true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 3u) << view.err;
+  EXPECT_EQ(view.answers[2]["color_by"], "_status");
+}
+
 }  // namespace
