@@ -33,6 +33,18 @@ struct TracePause {
   bool operator==(const TracePause&) const = default;
 };
 
+// An intervention the header lists (sim::intervention_json): at step `at`, module `module` (its id)
+// had `variable` set to `value`, or was removed, or pushed; `scheduled` when the scenario's own.
+struct TraceIntervention {
+  int64_t at = 0;
+  watch::ModuleId module = 0;
+  std::string variable;  // empty but for a set
+  int64_t value = 0;
+  bool remove = false;
+  bool scheduled = false;
+  bool operator==(const TraceIntervention&) const = default;
+};
+
 // The whole trace in memory, as its lines were: sorted by (step, module), each with its variables
 // and neighbours, in flat arrays. Memory is in proportion to what the lines hold, however many
 // modules, variables and steps they name; dense frames are made one step at a time (FrameReader).
@@ -99,6 +111,10 @@ class Trace {
   };
   std::vector<Read> received(uint64_t line) const;
 
+  // The interventions its header lists (the frames carry their effects; `why` names their writer).
+  const std::vector<TraceIntervention>& interventions() const { return interventions_; }
+  void set_interventions(std::vector<TraceIntervention> list) { interventions_ = std::move(list); }
+
   // The pause that stopped the run that recorded it, if one did.
   const std::optional<TracePause>& paused() const { return paused_; }
   void set_paused(std::optional<TracePause> paused) { paused_ = std::move(paused); }
@@ -117,6 +133,7 @@ class Trace {
   std::vector<uint64_t> nbr_begin_;  // [lines + 1] into nbrs_
   std::vector<uint32_t> nbrs_;       // dense module indices
   std::vector<WatchSpec> watches_;
+  std::vector<TraceIntervention> interventions_;
   std::optional<TracePause> paused_;
   // With messages: [lines + 1] into the messages read, each a dense sender, a step and its words.
   std::vector<uint64_t> recv_begin_;

@@ -38,6 +38,25 @@ std::variant<CausalHistory, std::string> trace_window(const Trace& trace, int64_
     const watch::Frame f = frames.frame(s);
     StepRecord rec;
     rec.step = s;
+    // The writes the header's interventions made at the start of s (the frames hold their effect).
+    for (const TraceIntervention& i : trace.interventions()) {
+      if (i.at != s) continue;
+      const watch::Universe& u = frames.universe();
+      uint32_t dense = i.module;  // ids ascending, or each id its index
+      if (!u.module_ids.empty()) {
+        const auto at = std::lower_bound(u.module_ids.begin(), u.module_ids.end(), i.module);
+        dense = at != u.module_ids.end() && *at == i.module ? static_cast<uint32_t>(at - u.module_ids.begin())
+                                                            : u.module_count();
+      }
+      if (dense >= u.module_count()) continue;  // no line names it
+      const auto variable = std::find(u.variables.begin(), u.variables.end(), i.variable);
+      rec.outside.push_back(
+          {.by = i.scheduled ? OutsideWrite::By::Event : OutsideWrite::By::Intervention,
+           .module = dense,
+           .column = variable == u.variables.end() ? -1 : static_cast<int>(variable - u.variables.begin()),
+           .value = i.value,
+           .remove = i.remove});
+    }
     rec.values = values_of(f);
     rec.present.assign(f.present.begin(), f.present.end());
     auto graph = std::make_shared<NeighborGraph>();

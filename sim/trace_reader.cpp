@@ -53,6 +53,7 @@ class TraceReader {
     if (!errors_.empty()) return errors_;
     Trace trace = Trace::build(std::move(entries_), std::move(names_));
     trace.set_watches(std::move(watches_));
+    trace.set_interventions(std::move(interventions_));
     trace.set_paused(std::move(paused_));
     return trace;
   }
@@ -174,6 +175,7 @@ class TraceReader {
       }
       std::vector<std::string_view> seen;
       int changes = 0;
+      TraceIntervention& kept = interventions_.emplace_back();
       for (auto [key, value] : o) {
         const Where field{at.line, key, from};
         if (!first_time(seen, field, "an intervention")) return false;
@@ -186,12 +188,14 @@ class TraceReader {
             error(field, "\"at\" must be a step in 0.." + std::to_string(kMaxStep));
             return false;
           }
+          kept.at = n;
         } else if (key == "module") {
           if (!integer(value, n, field, "\"module\"")) return false;
           if (n < 0 || n > UINT32_MAX) {
             error(field, "\"module\" must be in 0..4294967295");
             return false;
           }
+          kept.module = static_cast<watch::ModuleId>(n);
         } else if (key == "set" || key == "remove" || key == "push") {
           ++changes;
           const bool ok = key == "set" ? !value.get_object().get(set) && set.size() == 1 &&
@@ -204,11 +208,17 @@ class TraceReader {
             error(field, form);
             return false;
           }
+          kept.remove = key == "remove";
+          if (key == "set") {
+            kept.variable = std::string((*set.begin()).key);
+            kept.value = (*set.begin()).value.get_int64().value_unsafe();
+          }
         } else if (key == "scheduled") {
           if (!value.is_bool()) {
             error(field, "\"scheduled\" must be true or false");
             return false;
           }
+          kept.scheduled = value.get_bool().value_unsafe();
         } else {
           error(field,
                 "unknown field \"" + std::string(key) +
@@ -453,6 +463,7 @@ class TraceReader {
   simdjson::dom::parser parser_;
   std::vector<Trace::Entry> entries_;
   std::vector<WatchSpec> watches_;
+  std::vector<TraceIntervention> interventions_;
   std::optional<TracePause> paused_;
   uint64_t paused_line_ = 0;
   Where paused_at_;

@@ -127,6 +127,22 @@ TEST(WhyTrace, TheSessionsRecordWithMessagesAnswersAsTheSessionsWhy) {
   ASSERT_EQ(record_with_messages(session, branch, {}), "");
   EXPECT_NE(branch.str().find("\"interventions\":[{"), std::string::npos);
   EXPECT_NE(branch.str().find("\"recv\":[{\"from\":"), std::string::npos);
+  // The trace names the intervention as the writer of the value it set, as the session does.
+  auto branched = read_trace_text("branch.jsonl", branch.str());
+  ASSERT_TRUE(std::holds_alternative<Trace>(branched));
+  for (int64_t t : {11, 14})
+    for (bool narrow : {false, true}) {
+      const auto asked = why_value(session, 13, 1, t, 3, narrow, {});
+      ASSERT_TRUE(asked);
+      const auto answered =
+          why_in_trace(std::get<Trace>(branched), model->universe.id(13), model->universe.variables[1], t, 3, narrow);
+      ASSERT_TRUE(std::holds_alternative<Cone>(answered));
+      const std::string json = cone_json(std::get<Cone>(answered), std::get<Trace>(branched).universe(), {});
+      EXPECT_EQ(json, cone_json(*asked, model->universe, {})) << "t " << t << " narrow " << narrow;
+      if (t == 11) {
+        EXPECT_NE(json.find("intervention"), std::string::npos) << json;
+      }
+    }
 }
 
 TEST(WhyTrace, ALineReadsBackWhatItRead) {
