@@ -163,8 +163,7 @@ void Debugger::timeline(float width) {
                         IM_COL32(60, 62, 70, 255));
   const float scale_y = origin.y + lanes_height;
   timeline_scale(scale_y);
-  // The lanes were counted with the session for the timeline as drawn last; a new width or length
-  // asks for a fresh Readout.
+  // The lanes were counted for the timeline as drawn last; a new width or length asks for a fresh Readout.
   timeline_columns_ = columns;
   if (readout_.columns != columns || readout_.timeline.last != timeline_.last ||
       readout_.timeline.width != timeline_.width)
@@ -281,9 +280,8 @@ void Debugger::timeline_scale(float y) {
 void Debugger::watchpoints_panel() {
   place(panels_.watchpoints);
   ImGui::Begin("Watchpoints");
-  // The names, the action, the count and the buttons whole, each header too ("matc..." was cut);
-  // the reading takes what is left, cut visibly. In a narrow panel the reading, then the action,
-  // go into the name's tooltip rather than cut the rest.
+  // Names, action, count, buttons and headers whole ("matc..." was cut); the reading takes what is
+  // left, cut visibly. In a narrow panel the reading, then the action, go into the name's tooltip.
   std::vector<std::string> names{"name"}, actions{"action"}, counts{"matches"}, readings;
   for (const WatchRow& row : readout_.watches) {
     names.push_back(row.spec.name);
@@ -451,8 +449,10 @@ void Debugger::editor() {
     ImGui::TextUnformatted(edit_diagnostics_.c_str());
     if (mono_font_) ImGui::PopFont();
     ImGui::PopStyleColor();
-  } else if (!edit_explanation_.empty() && ImGui::CollapsingHeader("what it means (dwatch check)")) {
-    ImGui::TextUnformatted(edit_explanation_.c_str());
+  } else if (!edit_explanation_.empty()) {
+    const bool open = ImGui::CollapsingHeader("what it means (dwatch check)");
+    note_widget("what it means");  // a script's `press what it means`
+    if (open) ImGui::TextUnformatted(edit_explanation_.c_str());
   }
 }
 
@@ -464,16 +464,22 @@ void Debugger::matches_panel() {
   const char* watch_label = filter.watch >= 0 && size_t(filter.watch) < readout_.watches.size()
                                 ? readout_.watches[size_t(filter.watch)].spec.name.c_str()
                                 : "every watch";
-  if (ImGui::BeginCombo("##filter_watch", watch_label)) {
+  const bool open = ImGui::BeginCombo("##filter_watch", watch_label);
+  note_widget("match filter", combo_width(watch_label));  // `press match filter: W` once open
+  if (open) {
     if (ImGui::Selectable("every watch", filter.watch < 0)) filter.watch = -1, readout_stale_ = true;
-    for (size_t w = 0; w < readout_.watches.size(); ++w)
+    note_widget("match filter: every watch", 0, true);
+    for (size_t w = 0; w < readout_.watches.size(); ++w) {
       if (ImGui::Selectable(readout_.watches[w].spec.name.c_str(), int(w) == filter.watch))
         filter.watch = int(w), readout_stale_ = true;
+      note_widget("match filter: " + readout_.watches[w].spec.name, 0, true);
+    }
     ImGui::EndCombo();
   }
   flow(100 + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize("module (-1: any)").x);
   ImGui::SetNextItemWidth(100);
-  if (ImGui::InputInt("module (-1: any)", &filter_module_)) {
+  const bool filtered = ImGui::InputInt("module (-1: any)", &filter_module_);
+  if (filtered) {
     filter_module_ = std::max(-1, filter_module_);
     filter.module = filter_module_ >= 0 ? std::optional<sim::ModuleId>(sim::ModuleId(filter_module_)) : std::nullopt;
     readout_stale_ = true;

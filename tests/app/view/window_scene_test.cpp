@@ -69,4 +69,19 @@ TEST_F(Window, AScriptChoosesWhatColoursTheModules) {
   EXPECT_EQ(view.answers[2]["color_by"], "_status");
 }
 
+// The Matches panel's watchpoint filter and the editor's "what it means" are reached from a script
+// (they could not be): push_wall's torn_off chosen from the menu, the explanation opened.
+TEST_F(Window, AScriptFiltersTheMatchesAndOpensWhatItMeans) {
+  const Outcome view = dwatch("view " + kPushWall,
+                              "run 100\npanel matches\npress match filter\npress match filter: torn_off\n"
+                              "press edit torn_off\npress what it means\npanel matches\n",
+                              true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 7u) << view.err;
+  const int64_t total = view.answers[6]["total"].get<int64_t>();
+  EXPECT_GT(total, 0);
+  EXPECT_LT(total, view.answers[1]["total"].get<int64_t>()) << "not filtered";
+  for (const json& row : view.answers[6]["rows"]) EXPECT_EQ(row["watch"], "torn_off") << row.dump();
+}
+
 }  // namespace
