@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
 
 #include "sim/body_slices.h"
 #include "sim/run_outputs.h"
@@ -26,6 +27,41 @@ Session::Session(const Model& model, World& world, SessionOptions options)
   head_ = runtime_->initial_state();
   world_on_ = &head_;
   take_keyframe();
+}
+
+// Every member but the runtime, which is made afresh over `world` (the world is told the state it
+// steps before its first step: world_on_), and the spare keyframes' storage (nothing of the history).
+Session::Session(const Session& other, World& world, unsigned threads)
+    : model_(other.model_),
+      world_(world),
+      options_(other.options_),
+      watches_(other.watches_),
+      interventions_(other.interventions_),
+      program_versions_(other.program_versions_),
+      failure_(other.failure_),
+      head_(other.head_),
+      drained_(other.drained_),
+      end_drained_(other.end_drained_),
+      before_end_drain_(other.before_end_drain_),
+      end_drain_matches_(other.end_drain_matches_),
+      head_out_(other.head_out_),
+      latest_(other.latest_),
+      current_(other.current_),
+      view_(other.view_),
+      view_out_(other.view_out_),
+      view_valid_(other.view_valid_),
+      measured_poses_(other.measured_poses_),
+      measured_for_(other.measured_for_),
+      keyframes_(other.keyframes_),
+      body_slices_(other.body_slices_),
+      step_seconds_(other.step_seconds_),
+      interval_(other.interval_),
+      history_bytes_(other.history_bytes_),
+      run_charges_(other.run_charges_),
+      series_entries_(other.series_entries_) {
+  if (options_.ranks) throw std::logic_error("a session over ranks is not copied");
+  options_.threads = threads;
+  rebuild_runtime();
 }
 
 Session::~Session() = default;

@@ -91,6 +91,13 @@ class Session {
   // `model` and `world` must outlive the session, which never changes the model (docs/design.md
   // §2): it hosts the model's watchpoints, the scenario's, as its first, in slots of its own.
   Session(const Model& model, World& world, SessionOptions options);
+  // A copy of `other` of its own (Python's Session.fork, snapshot and restore): at the same step
+  // of the same history and branch, with the same watchpoints and everything they found, stepping
+  // `world` (its own, of the same model, or other's when the copy is only kept to be copied back)
+  // on `threads` threads (the results are the same on any). What either does next leaves the other
+  // as it was, and both go on as other would have: the same states, hashes and matches. In one
+  // process only (not over ranks: std::logic_error).
+  Session(const Session& other, World& world, unsigned threads);
   ~Session();
 
   const Model& model() const { return model_; }
