@@ -26,6 +26,9 @@ packages=(
   python3-matplotlib                           # bench paper's plots (scripts/plot_paper.py, /usr/bin/python3)
   pybind11-dev python3-dev python3-numpy       # the Python package (python/), for /usr/bin/python3
   python3-pytest                               # its tests (python/tests/, run by ctest)
+  python3-build python3-venv python3-setuptools python3-wheel  # its wheel, built offline (python/pyproject.toml)
+  python3-pandas python3-mypy                  # Matches.to_pandas(); the stubs' check (mypy.stubtest)
+  jupyter-nbconvert python3-ipykernel          # the example notebook, executed by ctest (docs/examples/)
   libopenmpi-dev openmpi-bin                   # runs over several processes (mpirun -np N dwatch run, docs/design.md §12)
   libmetis-dev                                 # their --partition metis
 )

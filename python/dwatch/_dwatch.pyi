@@ -45,23 +45,29 @@ class CommandError(Error):
 class Matches:
     """One watchpoint's matches, in the match log's order (by t, then by slot ids)."""
 
-    watch: str
-    slot_names: list[str]
-    t: npt.NDArray[np.int64]
-    """Watch step of each match, shape (n,)."""
-    detected: npt.NDArray[np.int64]
-    """Step during which each match was found (t + lag), shape (n,)."""
-    slots: npt.NDArray[np.int64]
-    """Module filling each slot, shape (n, len(slot_names))."""
-    count: int
-    """Every match, also when only counted (count_only=True, a `count` watchpoint): the arrays are then empty."""
+    @property
+    def watch(self) -> str: ...
+    @property
+    def slot_names(self) -> list[str]: ...
+    @property
+    def t(self) -> npt.NDArray[np.int64]:
+        """Watch step of each match, shape (n,)."""
+    @property
+    def detected(self) -> npt.NDArray[np.int64]:
+        """Step during which each match was found (t + lag), shape (n,)."""
+    @property
+    def slots(self) -> npt.NDArray[np.int64]:
+        """Module filling each slot, shape (n, len(slot_names))."""
+    @property
+    def count(self) -> int:
+        """Every match, also when only counted (count_only=True, a `count` watchpoint): the arrays are then empty."""
     def records(self) -> np.recarray:
         """Fields t, detected and one per slot (slot_NAME for a slot named t or detected)."""
     def to_pandas(self) -> Any:
         """A pandas DataFrame of records(); needs pandas."""
     def __len__(self) -> int: ...
 
-Columns = Mapping[str, Any]
+_Columns = Mapping[str, Any]
 """Trace columns: "t", "m" (one entry per line), "nbr_begin" + "nbrs" (offsets and flat ids) or
 "nbrs" (a sequence per line), and "vars" (variable name -> one value per line)."""
 
@@ -69,7 +75,7 @@ def check(text: str, name: str = "w1") -> str:
     """What `dwatch check` prints for the watchpoint; raises WatchError."""
 
 def replay(
-    trace: Union[str, os.PathLike[str], Columns],
+    trace: Union[str, os.PathLike[str], _Columns],
     watches: Union[None, str, Sequence[str], Mapping[str, str]] = None,
     algorithm: str = "distributed",
     shape: Optional[str] = None,
@@ -79,7 +85,17 @@ def replay(
 ) -> dict[str, Matches]:
     """Watchpoints over a trace file or columns, as `dwatch replay` runs them."""
 
-Point = Tuple[float, float, float]
+_Point = Tuple[float, float, float]
+
+class Snapshot:
+    """A Session as it was (Session.snapshot()), to restore() it."""
+
+    @property
+    def current(self) -> int:
+        """The step that was current."""
+    @property
+    def latest(self) -> int:
+        """The last step that was simulated."""
 
 class Session:
     """A debugging session over a scenario file, as `dwatch session` runs it."""
@@ -93,6 +109,12 @@ class Session:
     ) -> None: ...
     def close(self) -> None:
         """Frees the session now; any later call raises Error."""
+    def fork(self) -> "Session":
+        """An independent copy of the session, to try another branch beside this one."""
+    def snapshot(self) -> Snapshot:
+        """The session as it is now, everything that changes, for restore() (MuJoCo's mj_getState)."""
+    def restore(self, snapshot: Snapshot) -> None:
+        """Makes the session what it was at snapshot() (MuJoCo's mj_setState)."""
     def __enter__(self) -> "Session": ...
     def __exit__(self, *args: object) -> None: ...
     def command(self, line: str) -> Optional[dict[str, Any]]:
@@ -137,7 +159,7 @@ class Session:
         """One variable of one module over steps first..last, shape (last - first + 1,), masked where absent."""
     def hash(self) -> str: ...
     def render(
-        self, width: int = 1280, height: int = 720, camera: Optional[Tuple[Point, Point]] = None
+        self, width: int = 1280, height: int = 720, camera: Optional[Tuple[_Point, _Point]] = None
     ) -> npt.NDArray[np.uint8]:
         """The 3D view of the current step, shape (height, width, 3)."""
     def save(self, path: Union[str, os.PathLike[str]], overwrite: bool = False) -> dict[str, Any]: ...

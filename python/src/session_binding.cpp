@@ -15,6 +15,7 @@
 #include "python/src/matches.h"
 #include "render/image.h"
 #include "scenarios/limits.h"
+#include "shell/fresh_world.h"
 #include "shell/options.h"
 #include "shell/shell.h"
 #include "shell/utf8_text.h"
@@ -57,6 +58,15 @@ py::object masked(py::array_t<int64_t> values, const Present& present) {
   return py::module_::import("numpy.ma").attr("masked_array")(values, absent);
 }
 
+// A session as it was (Session.snapshot): a copy of it kept aside, never stepped, which restore()
+// copies back into that session or one of its forks (the same model as loaded). It keeps alive
+// the scenario and the world it was copied over.
+struct Snapshot {
+  std::shared_ptr<const scenarios::Scenario> scenario;
+  std::shared_ptr<sim::World> world;
+  std::shared_ptr<const sim::Session> session;
+};
+
 class Session {
  public:
   Session(const std::filesystem::path& file, std::optional<int64_t> threads, std::optional<int64_t> seed,
@@ -85,10 +95,43 @@ class Session {
       while (!message.empty() && message.back() == '\n') message.pop_back();
       raise_scenario_error(message);
     }
-    scenario_ = std::make_unique<scenarios::Scenario>(std::get<scenarios::Scenario>(std::move(loaded)));
-    session_ = std::make_unique<sim::Session>(*scenario_->model, *scenario_->world,
-                                              shell::session_options(*scenario_, source));
+    scenario_ = std::make_shared<scenarios::Scenario>(std::get<scenarios::Scenario>(std::move(loaded)));
+    world_ = std::shared_ptr<sim::World>(scenario_, scenario_->world.get());
+    session_ = std::make_unique<sim::Session>(*scenario_->model, *world_, shell::session_options(*scenario_, source));
     shell_ = std::make_unique<shell::Shell>(*scenario_, *session_);
+  }
+
+  // An independent copy over a world of its own (sim::Session's copy): the same model, shared.
+  Session fork() {
+    const InUse in_use = use();
+    std::shared_ptr<sim::World> world = shell::fresh_world(*scenario_);
+    std::unique_ptr<sim::Session> copy;
+    {
+      py::gil_scoped_release released;
+      copy = std::make_unique<sim::Session>(*session_, *world, session_->threads());
+    }
+    return Session(scenario_, std::move(world), std::move(copy));
+  }
+
+  Snapshot snapshot() {
+    const InUse in_use = use();
+    py::gil_scoped_release released;  // one thread: a copy kept aside never steps
+    return Snapshot{scenario_, world_, std::make_shared<const sim::Session>(*session_, *world_, 1u)};
+  }
+
+  void restore(const Snapshot& snapshot) {
+    const InUse in_use = use();
+    if (snapshot.scenario != scenario_)
+      raise_error("ArgumentError",
+                  "a snapshot is restored into the session it was taken of, or a fork of it (the same scenario as "
+                  "loaded)");
+    std::unique_ptr<sim::Session> copy;
+    {
+      py::gil_scoped_release released;
+      copy = std::make_unique<sim::Session>(*snapshot.session, *world_, session_->threads());
+    }
+    shell_ = std::make_unique<shell::Shell>(*scenario_, *copy);
+    session_ = std::move(copy);
   }
 
   // One line of the session language: its answer as a dict (None for a blank or comment line).
@@ -275,10 +318,17 @@ class Session {
     const InUse in_use(busy_);
     shell_.reset();  // it refers to the session and the scenario
     session_.reset();
+    world_.reset();
     scenario_.reset();
   }
 
  private:
+  Session(std::shared_ptr<scenarios::Scenario> scenario, std::shared_ptr<sim::World> world,
+          std::unique_ptr<sim::Session> session)
+      : scenario_(std::move(scenario)), world_(std::move(world)), session_(std::move(session)) {
+    shell_ = std::make_unique<shell::Shell>(*scenario_, *session_);
+  }
+
   [[noreturn]] static void closed() { raise_error("Error", "this Session is closed"); }
 
   // Marks the session in use for one call: another thread's call meanwhile is refused, as is any
@@ -327,7 +377,10 @@ class Session {
     return py::module_::import("json").attr("loads")(shell::answer_line(std::get<nlohmann::ordered_json>(answer)));
   }
 
-  std::unique_ptr<scenarios::Scenario> scenario_;
+  // Shared with its forks and snapshots (the model is never changed); the world is the scenario's,
+  // or a fork's own.
+  std::shared_ptr<scenarios::Scenario> scenario_;
+  std::shared_ptr<sim::World> world_;
   std::unique_ptr<sim::Session> session_;
   std::unique_ptr<shell::Shell> shell_;
   bool busy_ = false;  // a call is running (InUse)
@@ -395,6 +448,29 @@ void add_why(py::class_<Session>& session) {
           py::arg("w"), py::arg("row"), py::kw_only(), py::arg("depth") = 3, py::arg("narrow") = false,
           "Why watchpoint w matched in its row-th match (a row of matches(w), from 0): the union of the cones of "
           "the values it read, its group's events marked, as why() answers.");
+}
+
+// Session.fork, snapshot and restore (sim::Session's copy), and what a Snapshot shows.
+void add_copies(py::module_& m, py::class_<Session>& session) {
+  py::class_<Snapshot>(m, "Snapshot", "A Session as it was (Session.snapshot()), to restore() it.")
+      .def_property_readonly(
+          "current", [](const Snapshot& s) { return s.session->current(); }, "The step that was current.")
+      .def_property_readonly(
+          "latest", [](const Snapshot& s) { return s.session->latest(); }, "The last step that was simulated.")
+      .def("__repr__", [](const Snapshot& s) {
+        return "<dwatch.Snapshot at step " + number(s.session->current()) + " of " + number(s.session->latest()) + ">";
+      });
+  session
+      .def("fork", &Session::fork,
+           "An independent copy of the session, to try another branch beside this one: the same step, history, "
+           "branch, watchpoints and matches; what either does next leaves the other as it was.")
+      .def("snapshot", &Session::snapshot,
+           "The session as it is now, everything that changes (the step, the history and branch, the watchpoints "
+           "and what they found), for restore(): MuJoCo's mj_getState. It holds a copy of the history.")
+      .def("restore", &Session::restore, py::arg("snapshot"),
+           "Makes the session what it was at snapshot() (MuJoCo's mj_setState): running on then gives the states, "
+           "hashes and matches of the run that never went back. A snapshot restores into the session it was taken "
+           "of or a fork of it, as often as wanted.");
 }
 
 }  // namespace
@@ -512,6 +588,7 @@ void add_session(py::module_& m) {
           py::arg("path"), py::arg("messages") = false,
           "The trace of steps 0..latest (wptrace v1); messages: each line also says what its module read, so that "
           "`dwatch why TRACE ...` answers as `why` does.");
+  add_copies(m, session);
   add_properties(session);
   add_why(session);
 }
