@@ -210,6 +210,14 @@ bool BulletWorld::carry_out(const sim::Actuation& a, sim::State& state, std::vec
       sim::Vec3 cell = b.poses[a.module].position;
       for (int i = 0; i < 3; ++i) cell[i] += a.vector[i];
       if (const auto m = taken_by(a.module, cell, state)) refuse("the cell is taken by module " + std::to_string(*m));
+      if (b.poses.defaults().lattice.kind == sim::LatticeKind::Hex2dVertical) {
+        // Against gravity: it must arrive supported by the still modules around the cell.
+        std::vector<Holder> touching;
+        for (sim::ModuleId o : contacts_.near(cell, 1.05f))
+          if (o != a.module && !b.moving(o) && distance(b.poses[o].position, cell) < 1.05f)
+            touching.push_back({o, b.poses[o].position});
+        if (const auto why = unsupported_in_vertical_plane(cell, ground_z_, touching)) refuse(*why);
+      }
       // The sweep: the body at 16 points of its turn must not pass into another module (touching
       // is fine: a rolling cube keeps the edge it turns about). The first clear arc is taken.
       constexpr int kSamples = 16;

@@ -36,15 +36,27 @@ std::variant<std::vector<PivotArc>, std::string> pivot_arcs(ModuleShape shape, c
     arc.spin = 1;
     return std::vector<PivotArc>{arc};
   }
-  // Round modules roll over the neighbour: both cells touch it and each other.
+  // Round modules roll over the neighbour, a Hexanode turns about a corner of it: both cells touch
+  // it and each other.
   const btVector3 m = d - p;
   if (!unit(n) || !unit(m) || !unit(o))
-    return std::string(
-        "a round module pivots about a touching neighbour into a cell next to its own that also touches "
-        "the neighbour");
+    return std::string(shape == ModuleShape::HexPrism ? "a Hexanode" : "a round module") +
+           " pivots about a touching neighbour into a cell next to its own that also touches the neighbour";
   const btVector3 axis = n.cross(m);
   if (axis.length() < kSlack) return std::string("the cell is on the far side of the neighbour");
   std::vector<PivotArc> arcs;
+  if (shape == ModuleShape::HexPrism) {
+    // The three cells touch pairwise: their shared corner is the middle of their triangle, and a
+    // turn of 120 degrees about it takes the module's cell onto the one it goes to (turning n
+    // towards m, as the round modules do about the neighbour).
+    PivotArc corner;
+    corner.pivot = from_bt((c + d + p) / 3);
+    corner.axis = from_bt(axis.normalized());
+    corner.angle = 2 * SIMD_PI / 3;
+    corner.spin = 1;
+    arcs.push_back(corner);
+    return arcs;
+  }
   PivotArc over;
   over.pivot = about;
   over.axis = from_bt(axis.normalized());
@@ -68,6 +80,19 @@ std::variant<std::vector<PivotArc>, std::string> pivot_arcs(ModuleShape shape, c
     }
   }
   return arcs;
+}
+
+std::optional<std::string> unsupported_in_vertical_plane(const sim::Vec3& cell, float ground_z,
+                                                         std::span<const Holder> touching) {
+  constexpr float kOnGround = 0.01f;  // the contact threshold's default: within it, it rests there
+  constexpr float kBelow = 0.25f;     // a module under it sits sqrt(3)/2 lower, one beside it level
+  if (cell[2] - 0.5f - ground_z <= kOnGround) return std::nullopt;
+  for (const Holder& h : touching)
+    if (h.centre[2] < cell[2] - kBelow) return std::nullopt;
+  if (touching.size() >= 2) return std::nullopt;
+  if (touching.empty()) return std::string("nothing would hold it there (it would float)");
+  return "it would hang from module " + std::to_string(touching[0].id) +
+         " alone (in a vertical plane a module rests on the ground or on a module below it, or is held by two)";
 }
 
 }  // namespace dw::physics

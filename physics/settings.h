@@ -14,8 +14,11 @@
 
 namespace dw::physics {
 
-enum class ModuleShape { Box, Cylinder, Sphere };
-// Boxes for cubic and square2d, upright cylinders for hex2d, spheres for ring and line.
+// Disc: a cylinder lying across the x-z plane (axis y), a 2-D catom of a vertical plane.
+// HexPrism: an upright hexagonal prism (a Hexanode), its six faces towards hex2d's six neighbours.
+enum class ModuleShape { Box, Cylinder, Sphere, Disc, HexPrism };
+// Boxes for cubic and square2d, upright cylinders for hex2d, discs for hex2d_vertical, spheres for
+// ring, line and fcc.
 ModuleShape default_shape(sim::LatticeKind kind);
 
 // A body that is not a module: a projectile, a ram, an obstacle. Touching it never makes a

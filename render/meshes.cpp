@@ -62,6 +62,45 @@ std::vector<MeshVertex> cylinder() {
   return v;
 }
 
+// A 2-D catom of a vertical plane: the cylinder turned a quarter about x, its axis along y (a
+// proper turn, (x, y, z) -> (x, -z, y): the triangles keep their winding).
+std::vector<MeshVertex> disc() {
+  std::vector<MeshVertex> v = cylinder();
+  for (MeshVertex& m : v) {
+    for (float* a : {m.position, m.normal}) {
+      const float y = a[1];
+      a[1] = -a[2];
+      a[2] = y;
+    }
+  }
+  return v;
+}
+
+// A Hexanode: an upright hexagonal prism one size across its faces (apothem 0.5), its corners at
+// 30, 90, ... 330 degrees about z, its faces square to the ways to hex2d's six neighbours.
+std::vector<MeshVertex> hex_prism() {
+  std::vector<MeshVertex> v;
+  const float corner = 0.5f / std::cos(kPi / 6);
+  for (int k = 0; k < 6; ++k) {
+    const float a0 = kPi / 6 + float(k) * kPi / 3, a1 = a0 + kPi / 3, face = a0 + kPi / 6;
+    const float x0 = corner * std::cos(a0), y0 = corner * std::sin(a0), x1 = corner * std::cos(a1),
+                y1 = corner * std::sin(a1), nx = std::cos(face), ny = std::sin(face);
+    add(v, x0, y0, -0.5f, nx, ny, 0);
+    add(v, x1, y1, -0.5f, nx, ny, 0);
+    add(v, x1, y1, 0.5f, nx, ny, 0);
+    add(v, x0, y0, -0.5f, nx, ny, 0);
+    add(v, x1, y1, 0.5f, nx, ny, 0);
+    add(v, x0, y0, 0.5f, nx, ny, 0);
+    add(v, 0, 0, 0.5f, 0, 0, 1);
+    add(v, x0, y0, 0.5f, 0, 0, 1);
+    add(v, x1, y1, 0.5f, 0, 0, 1);
+    add(v, 0, 0, -0.5f, 0, 0, -1);
+    add(v, x1, y1, -0.5f, 0, 0, -1);
+    add(v, x0, y0, -0.5f, 0, 0, -1);
+  }
+  return v;
+}
+
 std::vector<MeshVertex> sphere() {
   constexpr int kRings = 16, kSegments = 32;
   std::vector<MeshVertex> v;
@@ -91,6 +130,8 @@ std::vector<MeshVertex> make_mesh(Shape shape) {
     case Shape::Box: return box();
     case Shape::Cylinder: return cylinder();
     case Shape::Sphere: return sphere();
+    case Shape::Disc: return disc();
+    case Shape::HexPrism: return hex_prism();
   }
   return {};
 }

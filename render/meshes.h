@@ -15,7 +15,8 @@ struct MeshVertex {
 };
 
 // A box from -0.5 to 0.5; an upright cylinder (axis z) of diameter 1 and height 1 with caps; a
-// sphere of diameter 1.
+// sphere of diameter 1; a disc, that cylinder lying along y; an upright hexagonal prism one across
+// its faces and one high.
 std::vector<MeshVertex> make_mesh(Shape shape);
 
 // The same triangles, in the same order, with each distinct vertex stored once and the triangles

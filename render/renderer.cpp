@@ -170,7 +170,7 @@ Renderer::Renderer(const Gl& gl, std::string font_path) : gl_(gl), font_path_(st
   max_size_ = std::min(renderbuffer, texture);
 
   gl_.GenBuffers(1, &instance_buffer_);
-  for (Shape shape : {Shape::Box, Shape::Cylinder, Shape::Sphere}) {
+  for (Shape shape : {Shape::Box, Shape::Cylinder, Shape::Sphere, Shape::Disc, Shape::HexPrism}) {
     const IndexedMesh shape_mesh = make_indexed_mesh(shape);
     const std::vector<MeshVertex>& vertices = shape_mesh.vertices;
     auto mesh = std::make_unique<Mesh>();

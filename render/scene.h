@@ -15,8 +15,9 @@
 
 namespace dw::render {
 
-// As in the physics (physics::ModuleShape): one module size (1) across; a cylinder stands upright.
-enum class Shape { Box, Cylinder, Sphere };
+// As in the physics (physics::ModuleShape): one module size (1) across; a cylinder stands upright,
+// a disc lies across the x-z plane (axis y), a hexagonal prism stands upright.
+enum class Shape { Box, Cylinder, Sphere, Disc, HexPrism };
 
 struct Color {
   float r = 0, g = 0, b = 0;

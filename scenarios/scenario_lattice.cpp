@@ -25,7 +25,9 @@ std::optional<sim::Lattice> Loader::lattice(TableReader& root, const ScenarioOve
   std::optional<sim::LatticeKind> kind;
   if (kind_name) {
     kind = sim::lattice_from_name(*kind_name);
-    if (!kind) r.error("kind", "unknown lattice kind \"" + *kind_name + "\" (cubic, square2d, hex2d, ring, line, fcc)");
+    if (!kind)
+      r.error("kind",
+              "unknown lattice kind \"" + *kind_name + "\" (cubic, square2d, hex2d, ring, line, fcc, hex2d_vertical)");
   } else if (!r.has("kind")) {
     r.missing("kind");
   }

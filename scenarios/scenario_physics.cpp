@@ -15,7 +15,10 @@ std::optional<physics::ModuleShape> module_shape(TableReader& r, std::string_vie
   if (*name == "box") return physics::ModuleShape::Box;
   if (*name == "cylinder") return physics::ModuleShape::Cylinder;
   if (*name == "sphere") return physics::ModuleShape::Sphere;
-  r.error(key, "'" + std::string(key) + "' must be \"box\", \"cylinder\" or \"sphere\", not \"" + *name + "\"");
+  if (*name == "disc") return physics::ModuleShape::Disc;
+  if (*name == "hex_prism") return physics::ModuleShape::HexPrism;
+  r.error(key, "'" + std::string(key) +
+                   "' must be \"box\", \"cylinder\", \"sphere\", \"disc\" or \"hex_prism\", not \"" + *name + "\"");
   return std::nullopt;
 }
 
@@ -65,7 +68,8 @@ std::optional<physics::PhysicsSettings> Loader::physics_settings(TableReader& ro
     TableReader q(*prop, diagnostics, "[[physics.prop]]");
     physics::PropSpec b;
     b.shape = module_shape(q, "shape").value_or(b.shape);
-    if (b.shape == physics::ModuleShape::Cylinder) q.error("shape", "a prop is a \"box\" or a \"sphere\"");
+    if (b.shape != physics::ModuleShape::Box && b.shape != physics::ModuleShape::Sphere)
+      q.error("shape", "a prop is a \"box\" or a \"sphere\"");
     b.size = vec3(q.numbers("size", 3, 1e-3, 1e3), b.size);
     if (q.has("diameter")) b.size[0] = float(q.number("diameter", 1e-3, 1e3).value_or(1));
     b.mass = float(q.number("mass", 0, 1e9).value_or(b.mass));

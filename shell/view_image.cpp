@@ -16,6 +16,8 @@ render::Shape shape_of(physics::ModuleShape s) {
     case physics::ModuleShape::Box: return render::Shape::Box;
     case physics::ModuleShape::Cylinder: return render::Shape::Cylinder;
     case physics::ModuleShape::Sphere: return render::Shape::Sphere;
+    case physics::ModuleShape::Disc: return render::Shape::Disc;
+    case physics::ModuleShape::HexPrism: return render::Shape::HexPrism;
   }
   return render::Shape::Box;
 }

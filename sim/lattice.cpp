@@ -9,8 +9,13 @@ namespace dw::sim {
 namespace {
 
 constexpr std::pair<LatticeKind, std::string_view> kNames[] = {
-    {LatticeKind::Cubic, "cubic"}, {LatticeKind::Square2d, "square2d"}, {LatticeKind::Hex2d, "hex2d"},
-    {LatticeKind::Ring, "ring"},   {LatticeKind::Line, "line"},         {LatticeKind::Fcc, "fcc"},
+    {LatticeKind::Cubic, "cubic"},
+    {LatticeKind::Square2d, "square2d"},
+    {LatticeKind::Hex2d, "hex2d"},
+    {LatticeKind::Ring, "ring"},
+    {LatticeKind::Line, "line"},
+    {LatticeKind::Fcc, "fcc"},
+    {LatticeKind::Hex2dVertical, "hex2d_vertical"},
 };
 
 }  // namespace
@@ -32,7 +37,8 @@ int lattice_dimensions(LatticeKind kind) {
     case LatticeKind::Cubic:
     case LatticeKind::Fcc: return 3;
     case LatticeKind::Square2d:
-    case LatticeKind::Hex2d: return 2;
+    case LatticeKind::Hex2d:
+    case LatticeKind::Hex2dVertical: return 2;
     case LatticeKind::Ring:
     case LatticeKind::Line: return 1;
   }
@@ -51,17 +57,21 @@ CellRange cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, 
   // Per axis: the distance between cells, and how far right a shifted row or layer sits (hex2d's
   // odd rows in x, fcc's odd layers in x and y).
   std::array<double, 3> spacing{1, 1, 1}, shift{0, 0, 0};
-  if (spec.kind == LatticeKind::Hex2d) {
+  // Per lattice axis, the axis of space its cells run along (hex2d_vertical's rows climb z).
+  std::array<size_t, 3> along{0, 1, 2};
+  if (hexagonal(spec.kind)) {
     spacing[1] = kHexRowSpacing;
     shift[0] = kShiftedRowOffset;
+    if (spec.kind == LatticeKind::Hex2dVertical) along = {0, 2, 1};
   } else if (spec.kind == LatticeKind::Fcc) {
     spacing[2] = kFccLayerSpacing;
     shift[0] = shift[1] = kShiftedRowOffset;
   }
   CellRange range;
   for (int i = 0; i < 3; ++i) {
-    const double from = std::ceil((double(lo[i]) - shift[i]) / spacing[i] - kCellRounding),
-                 to = std::floor(double(hi[i]) / spacing[i] + kCellRounding);
+    const size_t a = along[size_t(i)];
+    const double from = std::ceil((double(lo[a]) - shift[i]) / spacing[i] - kCellRounding),
+                 to = std::floor(double(hi[a]) / spacing[i] + kCellRounding);
     const double last = double(spec.size[size_t(i)]) - 1;
     // Not finite, or outside the lattice: no cell (a NaN fails every comparison).
     if (!(from <= to) || !(to >= 0) || !(from <= last)) return {};

@@ -18,9 +18,11 @@
 
 namespace dw::sim {
 
-enum class LatticeKind { Cubic, Square2d, Hex2d, Ring, Line, Fcc };
+// Hex2dVertical is hex2d stood up in the x-z plane (2-D catoms rolling against gravity): the same
+// cells, ids and links as hex2d, its rows climbing along z instead of running along y.
+enum class LatticeKind { Cubic, Square2d, Hex2d, Ring, Line, Fcc, Hex2dVertical };
 
-// "cubic", "square2d", "hex2d", "ring", "line", "fcc".
+// "cubic", "square2d", "hex2d", "ring", "line", "fcc", "hex2d_vertical".
 std::string_view lattice_name(LatticeKind kind);
 std::optional<LatticeKind> lattice_from_name(std::string_view name);
 // How many sizes a kind takes: 3 for cubic and fcc, 2 for the planar ones, 1 for ring and line.
@@ -34,11 +36,16 @@ struct LatticeSpec {
 };
 
 // The shapes of the offset lattices. hex2d: odd rows sit half a module right, rows sqrt(3)/2
-// apart, so every module touches six others (fewer at the border). fcc: odd layers sit half a
+// apart, so every module touches six others (fewer at the border); hex2d_vertical likewise, its
+// rows one above another (row y at height y * sqrt(3)/2, y = 0 on the ground). fcc: odd layers sit half a
 // module right in x and in y, layers sqrt(2)/2 apart, so every module touches twelve.
 inline constexpr double kShiftedRowOffset = 0.5;
 inline constexpr double kHexRowSpacing = std::numbers::sqrt3 / 2;
 inline constexpr double kFccLayerSpacing = std::numbers::sqrt2 / 2;
+
+// Whether a kind is hexagonal in the plane: hex2d and hex2d_vertical, whose lattice coordinates
+// are (column, row, 0) alike.
+inline bool hexagonal(LatticeKind kind) { return kind == LatticeKind::Hex2d || kind == LatticeKind::Hex2dVertical; }
 
 // The centre of the cell at lattice coordinates (x, y, z), one module size apart from the next;
 // z is up. For every kind but the ring (whose cells are numbered around a circle).
@@ -46,6 +53,7 @@ inline std::array<float, 3> cell_centre(const LatticeSpec& spec, uint32_t x, uin
   constexpr float shift = float(kShiftedRowOffset);
   switch (spec.kind) {
     case LatticeKind::Hex2d: return {float(x) + ((y & 1) ? shift : 0.0f), float(y) * float(kHexRowSpacing), 0};
+    case LatticeKind::Hex2dVertical: return {float(x) + ((y & 1) ? shift : 0.0f), 0, float(y) * float(kHexRowSpacing)};
     case LatticeKind::Fcc: {
       const float offset = (z & 1) ? shift : 0.0f;
       return {float(x) + offset, float(y) + offset, float(z) * float(kFccLayerSpacing)};
@@ -95,7 +103,7 @@ void for_cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, c
   const uint32_t nx = spec.size[0], ny = spec.size[1];
   // The range takes in both a shifted row's cells and an unshifted one's; each row (hex2d) or
   // layer (fcc) narrows it to its own: a column fewer, in x and y for fcc.
-  const bool hex = spec.kind == LatticeKind::Hex2d, fcc = spec.kind == LatticeKind::Fcc;
+  const bool hex = hexagonal(spec.kind), fcc = spec.kind == LatticeKind::Fcc;
   // Narrows [from, to] to the cells of a row shifted by `shift`; false when none is left.
   const auto narrow = [](uint32_t& from, uint32_t& to, float low, float high, double shift) {
     const double a = std::max(double(from), std::ceil(double(low) - shift - kCellRounding)),
@@ -123,8 +131,8 @@ void for_cells_in_box(const LatticeSpec& spec, const std::array<float, 3>& lo, c
 }
 
 // The links of a cell to its lattice neighbours with larger ids, numbered by *slot*: +x, +y, +z
-// for cubic, square2d and line (those a size leaves out are outside the lattice); for hex2d +x
-// and the two cells of the row above; for fcc +x, +y and the four cells of the layer above (from
+// for cubic, square2d and line (those a size leaves out are outside the lattice); for hex2d and
+// hex2d_vertical +x and the two cells of the row above; for fcc +x, +y and the four cells of the layer above (from
 // an even layer at (x, y), x - 1 .. x and y - 1 .. y; from an odd one, x .. x + 1 and y .. y + 1).
 // A ring has none (its last cell's neighbour is its first). A module's bonds to its lattice
 // neighbours are kept as a bit per slot (sim/bond_set.h): a latched million take a byte each.
@@ -132,7 +140,7 @@ inline constexpr int kMaxLinkSlots = 6;
 // The step from a cell in an odd row (hex2d) or layer (fcc), or not, to its link in `slot`.
 inline std::array<int32_t, 3> link_step(LatticeKind kind, int slot, bool odd) {
   if (slot == 0) return {1, 0, 0};
-  if (kind == LatticeKind::Hex2d) return {slot == 1 ? (odd ? 0 : -1) : (odd ? 1 : 0), 1, 0};
+  if (hexagonal(kind)) return {slot == 1 ? (odd ? 0 : -1) : (odd ? 1 : 0), 1, 0};
   if (kind == LatticeKind::Fcc) {
     if (slot == 1) return {0, 1, 0};
     const int32_t from = odd ? 0 : -1, k = slot - 2;
@@ -153,7 +161,7 @@ template <typename Visit>
 void for_links_above(const LatticeSpec& spec, ModuleId m, Visit&& visit) {
   if (m >= spec.module_count()) return;
   const auto [x, y, z] = cell_coordinates(spec, m);
-  const bool odd = ((spec.kind == LatticeKind::Hex2d ? y : z) & 1) != 0;
+  const bool odd = ((hexagonal(spec.kind) ? y : z) & 1) != 0;
   for (int slot = 0; slot < link_slots(spec.kind); ++slot) {
     const auto step = link_step(spec.kind, slot, odd);
     if (const auto o = cell_at(spec, int64_t{x} + step[0], int64_t{y} + step[1], int64_t{z} + step[2])) visit(slot, *o);
@@ -165,7 +173,7 @@ template <typename Visit>
 void for_links_below(const LatticeSpec& spec, ModuleId m, Visit&& visit) {
   if (m >= spec.module_count()) return;
   const auto [x, y, z] = cell_coordinates(spec, m);
-  const bool hex = spec.kind == LatticeKind::Hex2d;
+  const bool hex = hexagonal(spec.kind);
   for (int slot = 0; slot < link_slots(spec.kind); ++slot) {
     // The row or layer a slot climbs does not hang on parity; the source's parity fixes the rest.
     const auto climb = link_step(spec.kind, slot, false);

@@ -33,7 +33,7 @@ struct Golden {
 // ring at the duplicated token), a 1,000-module cube coloured by hop distance, and the wall hit
 // by a ball mid-motion with every moving pair highlighted; the new bodies: Catoms 3D (spheres on
 // the fcc lattice) at the election's violation, Smart Blocks sliding on a plane at a same_cell
-// match.
+// match, 2-D catoms (discs in a vertical plane) climbing a pyramid of them mid-roll.
 const Golden kGoldens[] = {
     {"leader_election", "leader_election.toml", "--step 1"},
     {"token_ring", "token_ring.toml", "--step 41"},
@@ -41,6 +41,7 @@ const Golden kGoldens[] = {
     {"push_wall", "push_wall.toml", "--step 80 --highlight all"},
     {"catoms3d", "catoms3d_leader_election.toml", "--step 99"},
     {"smart_blocks", "smart_blocks_flow.toml", "--step 30"},
+    {"catoms2d", "catoms2d_climb.toml", "--step 40"},
 };
 
 // Names the case in gtest's messages.

@@ -574,9 +574,10 @@ TEST(PhysicsScenarios, SameHashesOnOneAndTwoThreadsThroughSeeksAndContactsReadBy
     EXPECT_NO_THROW(run.run_until(reached)) << name;
     EXPECT_EQ(run.hash().whole(), one.back()) << name;
   };
-  for (const char* name : {"push_wall.toml", "slide.toml", "smart_blocks_flow.toml", "catoms3d_roll.toml",
-                           "token_ring_physics.toml", "demolition.toml", "physics/column.toml",
-                           "physics/resting_boxes.toml", "physics/launched_box.toml", "physics/heavy_on_light.toml"})
+  for (const char* name :
+       {"push_wall.toml", "slide.toml", "smart_blocks_flow.toml", "catoms3d_roll.toml", "token_ring_physics.toml",
+        "demolition.toml", "physics/column.toml", "physics/resting_boxes.toml", "physics/launched_box.toml",
+        "physics/heavy_on_light.toml", "catoms2d_climb.toml", "hexanodes_walk.toml", "physics/disc_pile.toml"})
     check([&] { return load_file(name); }, 150, name);
   check([] { return load_file("physics/pile.toml"); }, 30, "physics/pile.toml");  // 1,000 free boxes: dear
   check([] { return surface_flow(20); }, 80, "surface_flow 20");

@@ -90,9 +90,27 @@ TEST(Lattice, RingLineAndSquare) {
 
 TEST(Lattice, NamesRoundTrip) {
   for (LatticeKind k : {LatticeKind::Cubic, LatticeKind::Square2d, LatticeKind::Hex2d, LatticeKind::Ring,
-                        LatticeKind::Line, LatticeKind::Fcc})
+                        LatticeKind::Line, LatticeKind::Fcc, LatticeKind::Hex2dVertical})
     EXPECT_EQ(lattice_from_name(lattice_name(k)), k);
+  EXPECT_EQ(lattice_name(LatticeKind::Hex2dVertical), "hex2d_vertical");
+  EXPECT_EQ(lattice_dimensions(LatticeKind::Hex2dVertical), 2);
   EXPECT_FALSE(lattice_from_name("hexagonal"));
+}
+
+// 2-D catoms in a vertical plane: hex2d stood up, its rows climbing z from the ground row (z = 0)
+// sqrt(3)/2 apart, odd rows half a module right, every cell at y = 0; the same ids and the same
+// graph as hex2d's.
+TEST(Lattice, Hex2dVerticalIsHex2dStoodUpInTheXzPlane) {
+  const Lattice flat = make_lattice({LatticeKind::Hex2d, {6, 5, 1}});
+  const Lattice up = make_lattice({LatticeKind::Hex2dVertical, {6, 5, 1}});
+  for (ModuleId m = 0; m < 30; ++m) {
+    const auto a = flat.position(m), b = up.position(m);
+    EXPECT_EQ(b, (std::array<float, 3>{a[0], 0, a[1]})) << m;
+  }
+  EXPECT_EQ(up.position(6 + 1), (std::array<float, 3>{1.5f, 0, float(kHexRowSpacing)}));  // row 1, column 1
+  EXPECT_EQ(up.graph->ids, flat.graph->ids);
+  EXPECT_EQ(up.graph->begin, flat.graph->begin);
+  EXPECT_EQ(degree(up, 6 * 2 + 2), 6u);
 }
 
 // Boxes left empty, overlapping, reaching past the lattice's edge, one cell or many: the cells any
@@ -260,7 +278,8 @@ TEST(CellPosition, NeighboursInTheLatticeGraphAreOneModuleApart) {
   for (const LatticeSpec spec :
        {LatticeSpec{LatticeKind::Cubic, {4, 3, 5}}, LatticeSpec{LatticeKind::Square2d, {6, 4, 1}},
         LatticeSpec{LatticeKind::Hex2d, {5, 6, 1}}, LatticeSpec{LatticeKind::Fcc, {4, 4, 4}},
-        LatticeSpec{LatticeKind::Ring, {12, 1, 1}}, LatticeSpec{LatticeKind::Line, {9, 1, 1}}}) {
+        LatticeSpec{LatticeKind::Ring, {12, 1, 1}}, LatticeSpec{LatticeKind::Line, {9, 1, 1}},
+        LatticeSpec{LatticeKind::Hex2dVertical, {5, 6, 1}}}) {
     const Lattice lattice = make_lattice(spec);
     for (ModuleId m = 0; m < spec.module_count(); ++m)
       for (ModuleId o : lattice.graph->neighbors(m)) {
@@ -279,13 +298,15 @@ TEST(CellsInBox, VisitsTheModulesWhoseCellsLieInTheBox) {
   for (const LatticeSpec spec :
        {LatticeSpec{LatticeKind::Cubic, {4, 3, 5}}, LatticeSpec{LatticeKind::Square2d, {6, 4, 1}},
         LatticeSpec{LatticeKind::Hex2d, {5, 6, 1}}, LatticeSpec{LatticeKind::Fcc, {4, 4, 6}},
-        LatticeSpec{LatticeKind::Ring, {12, 1, 1}}, LatticeSpec{LatticeKind::Line, {9, 1, 1}}}) {
+        LatticeSpec{LatticeKind::Ring, {12, 1, 1}}, LatticeSpec{LatticeKind::Line, {9, 1, 1}},
+        LatticeSpec{LatticeKind::Hex2dVertical, {5, 6, 1}}}) {
     size_t found = 0;
     for (int box = 0; box < 300; ++box) {
       std::array<float, 3> lo{}, hi{};
       for (size_t i = 0; i < 3; ++i) hi[i] = (lo[i] = corner(random)) + width(random);
       if (box % 3 == 0) lo[2] = hi[2] = 0;  // a flat box, where planar lattices lie
-      if (box % 5 == 0) {                   // a centre on the box's side
+      if (box % 3 == 1 && spec.kind == LatticeKind::Hex2dVertical) lo[1] = hi[1] = 0;  // where it stands
+      if (box % 5 == 0) {                                                              // a centre on the box's side
         lo = cell_position(spec, ModuleId(box) % uint32_t(spec.module_count()));
         for (size_t i = 0; i < 3; ++i) hi[i] = lo[i] + width(random);
       }

@@ -1,0 +1,126 @@
+// The paper's own modules as a user runs them (docs/physics.md, 2-D catoms and Hexanodes): the
+// shipped scenarios of climbing catoms and walking Hexanodes, and a pile of free discs, measured
+// as the plausibility suite measures its scenes: nothing sinks into anything, what rests stays,
+// and the runs are the same on any thread count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "physics/contact_graph.h"
+#include "tests/physics/scene.h"
+
+namespace dw::physics::test {
+namespace {
+
+constexpr float kRow = 0.8660254f;  // sqrt(3)/2
+
+float gap(const sim::Vec3& a, const sim::Vec3& b) { return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
+
+// Runs a scenario for `steps` on `threads`, measuring at every step the deepest overlap of two
+// modules (GJK on the scenario's shapes, margins included) and of a module with the ground (a
+// disc's or a prism's lowest point is half a size under its centre, for any turn they take);
+// returns the hashes of every step.
+std::vector<uint64_t> run_measured(const scenarios::Scenario& s, int64_t steps, unsigned threads, Worst& pairs,
+                                   Worst& ground, const std::function<void(const sim::State&, int64_t)>& look = {}) {
+  const BulletWorld& world = bullet_world(s);
+  const ContactGraph shapes(world.shape(), world.settings().contact_threshold);
+  std::vector<uint64_t> hashes;
+  run_scene(
+      s, steps,
+      [&](const sim::State& st, int64_t step) {
+        hashes.push_back(sim::hash_state(st).whole());
+        const sim::Bodies& b = st.bodies;
+        for (sim::ModuleId m = 0; m < b.poses.size(); ++m) {
+          if (!st.present[m]) continue;
+          ground.see(world.ground_z() - (b.poses[m].position[2] - 0.5f), step, [&] { return module_name(m); });
+          for (sim::ModuleId o = m + 1; o < b.poses.size(); ++o)
+            if (st.present[o] && gap(b.poses[m].position, b.poses[o].position) < 1.2f)
+              pairs.see(-shapes.distance(b.poses[m], b.poses[o]), step,
+                        [&] { return module_name(m) + " and " + module_name(o); });
+        }
+        if (look) look(st, step);
+      },
+      threads);
+  return hashes;
+}
+
+// Two catoms climb the sides of a pyramid of catoms latched to the ground, against gravity, to
+// its top row (row 4) in four pivots each; the pyramid stands exactly still; no catom passes
+// into another or into the ground on the way; 1 and 2 threads give the same hashes.
+TEST(PlausibilityHex, CatomsClimbAPyramidAgainstGravityWithoutPassingIntoIt) {
+  const scenarios::Scenario s = load_scene("catoms2d_climb.toml");
+  EXPECT_EQ(bullet_world(s).shape(), ModuleShape::Disc);
+  std::vector<uint64_t> hashes[2];
+  for (unsigned threads : {1u, 2u}) {
+    Worst pairs("pair penetration", 0.02f), ground("depth into the ground", 0.02f);
+    sim::State last;
+    hashes[threads - 1] = run_measured(s, 80, threads, pairs, ground, [&](const sim::State& st, int64_t step) {
+      if (step == 79) last = st;
+    });
+    EXPECT_TRUE(pairs.within()) << pairs.report();
+    EXPECT_TRUE(ground.within()) << ground.report();
+    for (sim::ModuleId m = 1; m < 8; ++m)  // the pyramid's bottom row, and every module above it
+      EXPECT_EQ(last.bodies.poses[m].position, s.model->lattice.position(m)) << m;
+    for (sim::ModuleId m = 9; m < s.model->module_count(); ++m) {
+      if (last.present[m]) {
+        EXPECT_EQ(last.bodies.poses[m].position, s.model->lattice.position(m)) << m;
+      }
+    }
+    // The climbers stand on the top row, at its two ends (columns 2 and 6: x = 2 and 6).
+    EXPECT_LT(gap(last.bodies.poses[0].position, {2, 0, 4 * kRow}), 1e-3f);
+    EXPECT_LT(gap(last.bodies.poses[8].position, {6, 0, 4 * kRow}), 1e-3f);
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
+}
+
+// Three free discs piled as pipes are (two on the ground, one on both) stand for 600 steps (10 s):
+// each stays within 0.05 of its cell (the two below creep apart by 0.04 until the pile sleeps:
+// 0.02 is passed), none sinks into another or the ground by more than 0.01, and the one on top
+// is still on top.
+TEST(PlausibilityHex, APileOfFreeDiscsStands) {
+  const scenarios::Scenario s = load_scene("physics/disc_pile.toml");
+  Worst pairs("pair penetration", 0.01f), ground("depth into the ground", 0.01f), drift("drift from its cell", 0.05f);
+  run_measured(s, 600, 1, pairs, ground, [&](const sim::State& st, int64_t step) {
+    for (sim::ModuleId m = 0; m < s.model->module_count(); ++m) {
+      if (st.present[m])
+        drift.see(gap(st.bodies.poses[m].position, s.model->lattice.position(m)), step, [&] { return module_name(m); });
+    }
+  });
+  EXPECT_TRUE(pairs.within()) << pairs.report();
+  EXPECT_TRUE(ground.within()) << ground.report();
+  EXPECT_TRUE(drift.within()) << drift.report();
+}
+
+// Two Hexanodes walk round a patch of twelve on the ground, turning about shared edges: no prism
+// passes into another, the patch stays put, the walkers never touch (the watchpoint logs nothing)
+// and each makes its turns; 1 and 2 threads give the same hashes.
+TEST(PlausibilityHex, HexanodesWalkRoundAPatchWithoutPassingIntoIt) {
+  const scenarios::Scenario s = load_scene("hexanodes_walk.toml");
+  EXPECT_EQ(bullet_world(s).shape(), ModuleShape::HexPrism);
+  std::vector<uint64_t> hashes[2];
+  for (unsigned threads : {1u, 2u}) {
+    Worst pairs("pair penetration", 0.02f), ground("depth into the ground", 0.02f);
+    sim::State last;
+    hashes[threads - 1] = run_measured(s, 200, threads, pairs, ground, [&](const sim::State& st, int64_t step) {
+      if (step == 199) last = st;
+    });
+    EXPECT_TRUE(pairs.within()) << pairs.report();
+    EXPECT_TRUE(ground.within()) << ground.report();
+    const int rolls = s.model->column("rolls");
+    ASSERT_GE(rolls, 0);
+    for (sim::ModuleId m = 0; m < s.model->module_count(); ++m) {
+      if (!last.present[m]) continue;
+      if (m == 25 || m == 30) {
+        EXPECT_GE(last.values[m * s.model->universe.variables.size() + size_t(rolls)], 12)
+            << m;  // round most of the patch
+      } else {
+        EXPECT_EQ(last.bodies.poses[m].position, s.model->lattice.position(m)) << m;
+      }
+    }
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
+}
+
+}  // namespace
+}  // namespace dw::physics::test
