@@ -86,7 +86,8 @@ std::optional<std::string> text_that_reads_back(const toml::table& doc, const st
 }  // namespace
 
 std::optional<std::string> saved_scenario(const Scenario& scenario, const sim::Session& session,
-                                          const std::string& destination, std::string* error) {
+                                          const sim::Bookmarks& bookmarks, const std::string& destination,
+                                          std::string* error) {
   // A scenario file runs one version of each script from step 0.
   if (const std::optional<int64_t> from = session.first_replacement()) {
     if (error)
@@ -124,6 +125,10 @@ std::optional<std::string> saved_scenario(const Scenario& scenario, const sim::S
   toml::array events;
   for (const sim::Intervention& i : session.interventions()) events.push_back(event_table(i, model));
   if (!events.empty()) doc.insert("event", std::move(events));
+  doc.erase("bookmark");
+  toml::array marks;
+  for (const sim::Bookmark& b : bookmarks.all()) marks.push_back(toml::table{{"at", b.at}, {"note", b.note}});
+  if (!marks.empty()) doc.insert("bookmark", std::move(marks));
 
   if (std::optional<std::string> text = text_that_reads_back(doc, scenario.path, session)) return text;
   if (error) *error = "the scenario's tables cannot be written so that they read back the same (a TOML writer's bug)";

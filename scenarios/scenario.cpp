@@ -112,6 +112,7 @@ std::variant<Scenario, std::string> Loader::load(const ScenarioOverrides& overri
 
   auto physics = physics_settings(root);
   const std::vector<const toml::table*> event_tables = root.tables("event");  // read once the model is built
+  s.bookmarks = bookmarks(root.tables("bookmark"));
   view(root, s.view);
   root.finish();
   if (!diagnostics.empty() || !extra.empty() || !built_lattice || !progs || !hosted)

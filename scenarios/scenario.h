@@ -54,6 +54,9 @@
 //   at = 40
 //   module = 7
 //   set = { token = 1 }                # or remove = true, or push = [x, y, z] (physics: N s)
+//   [[bookmark]]                       # a note on a step, on the window's timeline (docs/view.md)
+//   at = 40
+//   note = "the second leader appears"
 //   [view]
 //   color_by = "isLeader"
 //   camera_eye = [x, y, z]             # default: fitted to the ensemble
@@ -69,6 +72,7 @@
 #include <variant>
 
 #include "scenarios/lua_host/lua_memory_pool.h"
+#include "sim/bookmarks.h"
 #include "sim/intervention.h"
 #include "sim/model.h"
 #include "sim/session.h"
@@ -99,6 +103,7 @@ struct Scenario {
   int64_t steps = 100;
   size_t history_mb = 256;
   std::vector<sim::Intervention> events;  // [[event]], in file order
+  std::vector<sim::Bookmark> bookmarks;   // [[bookmark]], in file order
   unsigned threads = 1;
   ViewSettings view;
   std::vector<ScriptSource> scripts;

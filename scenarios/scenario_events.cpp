@@ -1,5 +1,6 @@
 // A scenario's [[event]] tables: interventions scheduled at the start of a step (docs/design.md
-// §7), read once the model is built, since they name its modules and variables.
+// §7), read once the model is built, since they name its modules and variables; and its
+// [[bookmark]] tables, notes on steps.
 #include "scenarios/scenario_loader.h"
 
 namespace dw::scenarios {
@@ -70,6 +71,21 @@ std::vector<sim::Intervention> Loader::events(const std::vector<const toml::tabl
         out.push_back(i);
       }
     }
+    r.finish();
+  }
+  return out;
+}
+
+// [[bookmark]]: at, note (a line of text).
+std::vector<sim::Bookmark> Loader::bookmarks(const std::vector<const toml::table*>& tables) {
+  std::vector<sim::Bookmark> out;
+  for (const toml::table* t : tables) {
+    TableReader r(*t, diagnostics, "[[bookmark]]");
+    const auto at = r.integer("at", 0, kStepsRange.max);
+    const auto note = r.string("note");
+    if (!r.has("at")) r.missing("at");
+    if (note && note->find('\n') != std::string::npos) r.error("note", "a bookmark's note is one line");
+    else if (at) out.push_back({*at, note.value_or("")});
     r.finish();
   }
   return out;

@@ -65,6 +65,8 @@ struct Loader {
   // [[event]] (scenario_events.cpp).
   std::vector<sim::Intervention> events(const std::vector<const toml::table*>& tables, const sim::Model& model,
                                         bool physics);
+  // [[bookmark]] (scenario_events.cpp).
+  std::vector<sim::Bookmark> bookmarks(const std::vector<const toml::table*>& tables);
   // [view] (scenario_view.cpp).
   void view(TableReader& root, ViewSettings& out);
   bool check_color_by(const ViewSettings& view, const sim::Model& model, const toml::table& doc);

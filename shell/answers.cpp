@@ -1,10 +1,12 @@
-// The commands that only read the session (matches, state, hash, interventions, status), and the
+// The commands that only read the session (matches, state, hash, interventions, status, eval, diff), and the
 // pieces of JSON the answers share: the cursor's position, a match as the match log writes it,
 // an intervention.
 #include "shell/shell.h"
 
+#include "sim/group_query.h"
 #include "sim/match_log.h"
 #include "sim/state.h"
+#include "sim/step_diff.h"
 #include "sim/watch_hosting.h"
 #include "watch/watchpoint.h"
 
@@ -103,6 +105,57 @@ Shell::Answer Shell::module_state(const Command& cmd, nlohmann::ordered_json ans
                                                                      {"orientation", measured->orientation}}
                                             : nlohmann::ordered_json(nullptr);
   }
+  return answer;
+}
+
+// eval M... TEXT: the condition on the group at the current step, true, false or null (unknown: it
+// reads a step not simulated yet or a module absent then).
+Shell::Answer Shell::eval(const Command& cmd, const sim::Control& control, nlohmann::ordered_json answer) {
+  const int64_t t = session_.current();
+  if (t < 0) return failed("no step has run yet: step first");
+  const auto truths = sim::truth_over(session_, cmd.query->condition->program, cmd.query->group, t, t, control);
+  if (!truths) return failed("cancelled");
+  const watch::Truth truth = truths->front();
+  answer["t"] = t;
+  answer["value"] =
+      truth == watch::kUnknown ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(truth == watch::kTrue);
+  return answer;
+}
+
+// diff T1 T2: each module that differs, its variables as [at T1, at T2], its presence when that
+// differs, the neighbours it gained and lost; the first kDiffRows modules, and how many in all.
+Shell::Answer Shell::diff(const Command& cmd, const sim::Control& control, nlohmann::ordered_json answer) {
+  constexpr size_t kDiffRows = 1000;
+  for (const int64_t t : {*cmd.number, *cmd.other})
+    if (t > session_.latest())
+      return failed("step " + std::to_string(t) + " has not been simulated (the latest is " +
+                    std::to_string(session_.latest()) + ")");
+  const auto d = sim::diff_steps(session_, *cmd.number, *cmd.other, kDiffRows, control);
+  if (!d) return failed(control.stopped() ? "cancelled" : "the session keeps no history to compare");
+  const sim::Model& model = session_.model();
+  auto ids = [&](const std::vector<sim::ModuleId>& ms) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::array();
+    for (sim::ModuleId m : ms) j.push_back(model.universe.id(m));
+    return j;
+  };
+  answer["a"] = d->a;
+  answer["b"] = d->b;
+  answer["count"] = d->total;
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const sim::ModuleDiff& m : d->modules) {
+    nlohmann::ordered_json row = {{"module", model.universe.id(m.module)}};
+    if (m.present_a != m.present_b) row["present"] = {m.present_a, m.present_b};
+    if (!m.values.empty()) {
+      nlohmann::ordered_json vars = nlohmann::ordered_json::object();
+      for (const sim::ModuleDiff::Value& v : m.values) vars[model.universe.variables[size_t(v.column)]] = {v.a, v.b};
+      row["vars"] = std::move(vars);
+    }
+    if (!m.gained.empty()) row["gained"] = ids(m.gained);
+    if (!m.lost.empty()) row["lost"] = ids(m.lost);
+    rows.push_back(std::move(row));
+  }
+  answer["modules"] = std::move(rows);
+  if (d->total > d->modules.size()) answer["more"] = d->total - d->modules.size();
   return answer;
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "scenarios/scenario.h"
+#include "sim/group_query.h"
 #include "sim/why.h"
 #include "watch/watchpoint.h"
 
@@ -74,7 +75,8 @@ Answer why(sim::Session& session, const Command& cmd, const sim::Control& contro
 
 }  // namespace
 
-Shell::Shell(const scenarios::Scenario& scenario, sim::Session& session) : scenario_(scenario), session_(session) {}
+Shell::Shell(const scenarios::Scenario& scenario, sim::Session& session)
+    : scenario_(scenario), session_(session), bookmarks_(scenario.bookmarks) {}
 
 std::variant<nlohmann::ordered_json, std::string> Shell::execute(const Command& cmd, const sim::Control& control) {
   nlohmann::ordered_json answer;
@@ -104,6 +106,12 @@ std::variant<nlohmann::ordered_json, std::string> Shell::execute(const Command& 
       case Kind::Interventions: return interventions(std::move(answer));
       case Kind::Status: return status(std::move(answer));
       case Kind::Why: return why(session_, cmd, control, std::move(answer));
+      case Kind::Find: return find(cmd, control, std::move(answer));
+      case Kind::Eval: return eval(cmd, control, std::move(answer));
+      case Kind::Mark:
+      case Kind::Unmark:
+      case Kind::Marks: return bookmark(cmd, std::move(answer));
+      case Kind::Diff: return diff(cmd, control, std::move(answer));
       case Kind::Help: answer["commands"] = command_help(); break;
     }
   } catch (const sim::ProgramError& e) {
@@ -181,6 +189,32 @@ Shell::Answer Shell::seek(const Command& cmd, const sim::Control& control, nlohm
     return failed("the session keeps no history to seek back to");
   }
   add_position(answer);
+  return answer;
+}
+
+// find prev|next M VAR | M... when TEXT: the cursor goes to the nearest step found; it stays when
+// none is, and the answer says how far the search went (step 0, or the latest).
+Shell::Answer Shell::find(const Command& cmd, const sim::Control& control, nlohmann::ordered_json answer) {
+  const Command::Query& q = *cmd.query;
+  const auto direction = q.back ? sim::SearchDirection::Back : sim::SearchDirection::On;
+  const sim::Found found = q.condition ? sim::find_holding(session_, q.condition->program, q.group, direction, control)
+                                       : sim::find_change(session_, q.group[0], q.column, direction, control);
+  if (found.cancelled) return failed("cancelled");
+  if (found.step && !session_.seek(*found.step, control)) return failed("cancelled");
+  answer["found"] = found.step ? nlohmann::ordered_json(*found.step) : nlohmann::ordered_json(nullptr);
+  if (!found.step) answer["searched_to"] = q.back ? int64_t{0} : session_.latest();
+  add_position(answer);
+  return answer;
+}
+
+// mark T [NOTE], unmark T, marks: the bookmarks, each answered with the list as it stands.
+Shell::Answer Shell::bookmark(const Command& cmd, nlohmann::ordered_json answer) {
+  if (cmd.kind == Kind::Mark) bookmarks_.mark(*cmd.number, cmd.name);
+  if (cmd.kind == Kind::Unmark && !bookmarks_.unmark(*cmd.number))
+    return failed("step " + std::to_string(*cmd.number) + " has no bookmark ('marks' lists them)");
+  nlohmann::ordered_json marks = nlohmann::ordered_json::array();
+  for (const sim::Bookmark& b : bookmarks_.all()) marks.push_back({{"at", b.at}, {"note", b.note}});
+  answer["marks"] = std::move(marks);
   return answer;
 }
 

@@ -43,6 +43,18 @@ const CommandSpec kCommands[] = {
     {"why", Kind::Why, "why M VAR [T] [--depth D] [--narrow] | why match W ROW|T SLOTS... [--depth D] [--narrow]",
      "the causal history of a value, or of a match: the events, messages and neighbour changes that could have led "
      "to it, D steps deep (docs/design.md section 7b)"},
+    {"find", Kind::Find, "find prev|next M VAR | find prev|next M... when TEXT",
+     "go to the nearest step before or after this one where M's VAR changed, or where the condition TEXT "
+     "(modules(a ...); ..., its slots filled by M... in order) holds"},
+    {"eval", Kind::Eval, "eval M... TEXT",
+     "the condition TEXT (modules(a ...); ...) on the modules M... (its slots, in order) at the current step: "
+     "true, false or unknown"},
+    {"mark", Kind::Mark, "mark T [NOTE]",
+     "bookmark step T with a note (the rest of the line): on the window's timeline, saved with the scenario"},
+    {"unmark", Kind::Unmark, "unmark T", "remove step T's bookmark"},
+    {"marks", Kind::Marks, "marks", "the bookmarks, by step"},
+    {"diff", Kind::Diff, "diff T1 T2",
+     "what differs between steps T1 and T2: each module whose variables, presence or neighbours differ"},
     {"help", Kind::Help, "help", "these commands"},
 };
 

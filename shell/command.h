@@ -10,6 +10,7 @@
 
 #include "sim/intervention.h"
 #include "sim/model.h"
+#include "watch/watchpoint.h"
 
 namespace dw::shell {
 
@@ -35,12 +36,19 @@ struct Command {
     Reload,
     Status,
     Why,
+    Find,
+    Eval,
+    Mark,
+    Unmark,
+    Marks,
+    Diff,
     Help,
   };
   Kind kind = Kind::Help;
   uint32_t line = 0;              // in the script
-  std::optional<int64_t> number;  // step N, run T, seek T, matches T
-  std::string name;               // watch/unwatch/action/matches NAME, run --to-match NAME, render/record/save FILE
+  std::optional<int64_t> number;  // step N, run T, seek T, matches T, mark T, diff T1
+  std::optional<int64_t> other;   // diff T1 T2: T2
+  std::string name;  // watch/unwatch/action/matches NAME, run --to-match NAME, render/record/save FILE, mark's NOTE
   sim::MatchAction action = sim::MatchAction::Log;  // action NAME ACTION
   bool overwrite = false;                           // save FILE overwrite
   bool messages = false;                            // record FILE --messages
@@ -58,6 +66,14 @@ struct Command {
     bool narrow = false;
   };
   std::optional<Why> why;
+  // find prev|next M VAR | find prev|next M... when TEXT; eval M... TEXT (sim/group_query.h).
+  struct Query {
+    bool back = false;                           // prev
+    std::vector<sim::ModuleId> group;            // M...: the condition's slots, in order
+    int column = -1;                             // find M VAR
+    std::optional<watch::Watchpoint> condition;  // TEXT, its windows written out
+  };
+  std::optional<Query> query;
 };
 
 // A command's line in the table of commands: its name, its arguments as `help` shows them, and

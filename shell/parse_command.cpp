@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "scenarios/limits.h"
+#include "sim/group_query.h"
 #include "sim/unknown_variables.h"
 #include "watch/watchpoint.h"
 
@@ -122,11 +123,39 @@ struct ArgumentReader {
     }
     return v;
   }
+  // The column of the variable token i names, or -1 (a mistake said).
+  int variable(size_t i) {
+    const int column = model.column(tokens[i].text);
+    if (column < 0) {
+      std::string names;
+      for (const std::string& v : model.universe.variables) names += (names.empty() ? "" : ", ") + v;
+      fail(tokens[i].span,
+           "no program has a variable named '" + std::string(tokens[i].text) + "' (there are: " + names + ")");
+    }
+    return column;
+  }
   // A file's name: `""` names none.
   bool file(size_t i) {
     if (tokens[i].text.empty()) return fail(tokens[i].span, "the file's name is empty");
     cmd.name = tokens[i].text;
     return true;
+  }
+
+  // The line from token i on, before a comment: a watchpoint's or a condition's text.
+  std::string rest_of_line(size_t i) const {
+    return source.text().substr(tokens[i].span.begin, stop - tokens[i].span.begin);
+  }
+  // The script's own text blanked but for the rest of the line from token i: what a text is
+  // compiled against, so that its diagnostics point into the script.
+  watch::SourceText blanked_but_rest(size_t i) const {
+    const std::string& text = source.text();
+    std::string blanked(text.size(), ' ');
+    for (size_t c = 0; c < text.size(); ++c)
+      if (text[c] == '\n') blanked[c] = '\n';
+    const std::string rest = rest_of_line(i);
+    std::copy(rest.begin(), rest.end(), blanked.begin() + tokens[i].span.begin);
+    blanked.resize(stop);  // its end is the text's: "before end of input" points there, on its line
+    return watch::SourceText(source.name(), std::move(blanked));
   }
 
   bool arguments();
@@ -141,6 +170,10 @@ struct ArgumentReader {
   bool render();
   bool save();
   bool why();
+  bool find();
+  bool eval();
+  bool group(size_t from, size_t to);
+  bool condition(size_t i);
 };
 
 bool ArgumentReader::arguments() {
@@ -173,6 +206,23 @@ bool ArgumentReader::arguments() {
       return true;
     case Kind::Save: return save();
     case Kind::Why: return why();
+    case Kind::Find: return find();
+    case Kind::Eval: return eval();
+    case Kind::Mark:  // mark := 'mark' T NOTE?      NOTE is the rest of the line
+      if (!want(1, SIZE_MAX)) return false;
+      cmd.number = number(1, 0, kMaxStep, "T");
+      if (tokens.size() > 2) cmd.name = rest_of_line(2);
+      return true;
+    case Kind::Unmark:  // unmark := 'unmark' T
+      if (!want(1, 1)) return false;
+      cmd.number = number(1, 0, kMaxStep, "T");
+      return true;
+    case Kind::Diff:  // diff := 'diff' T1 T2
+      if (!want(2, 2)) return false;
+      cmd.number = number(1, 0, kMaxStep, "T1");
+      cmd.other = number(2, 0, kMaxStep, "T2");
+      return true;
+    case Kind::Marks:
     case Kind::Continue:
     case Kind::Hash:
     case Kind::Interventions:
@@ -221,13 +271,7 @@ bool ArgumentReader::action() {
 bool ArgumentReader::set() {
   if (!want(3, 3)) return false;
   const auto m = number(1, 0, last_module, "M");
-  const int column = model.column(tokens[2].text);
-  if (column < 0) {
-    std::string names;
-    for (const std::string& v : model.universe.variables) names += (names.empty() ? "" : ", ") + v;
-    fail(tokens[2].span,
-         "no program has a variable named '" + std::string(tokens[2].text) + "' (there are: " + names + ")");
-  }
+  const int column = variable(2);
   const auto value = number(3, INT64_MIN, INT64_MAX, "VALUE");
   if (m && column >= 0 && value)
     cmd.intervention = sim::Intervention{.kind = sim::Intervention::Kind::Set,
@@ -298,15 +342,8 @@ bool ArgumentReader::watch() {
   if (const std::string why = watch::unsupported(spec.algorithm, spec.options); !why.empty())
     return fail(tokens[1].span, why);
   if (i == tokens.size()) return fail(after_last, "the watchpoint's text is missing: modules(...); ...");
-  // Compiled against the script's own text, blanked but for the watchpoint, so that its
-  // diagnostics point into the script.
-  const std::string& text = source.text();
-  spec.text = text.substr(tokens[i].span.begin, stop - tokens[i].span.begin);
-  std::string blanked(text.size(), ' ');
-  for (size_t c = 0; c < text.size(); ++c)
-    if (text[c] == '\n') blanked[c] = '\n';
-  std::copy(spec.text.begin(), spec.text.end(), blanked.begin() + tokens[i].span.begin);
-  auto compiled = sim::compile(spec, watch::SourceText(source.name(), std::move(blanked)));
+  spec.text = rest_of_line(i);
+  auto compiled = sim::compile(spec, blanked_but_rest(i));
   if (auto* error = std::get_if<watch::CompileError>(&compiled)) {
     mistakes = std::move(error->diagnostics);
     return false;
@@ -388,18 +425,66 @@ bool ArgumentReader::why() {
   } else {
     if (words.size() < 2 || words.size() > 3) return usage(words.size() < 2 ? after_last : tokens[words[3]].span);
     cmd.number = number(words[0], 0, last_module, "M");
-    why.column = model.column(tokens[words[1]].text);
-    if (why.column < 0) {
-      std::string names;
-      for (const std::string& v : model.universe.variables) names += (names.empty() ? "" : ", ") + v;
-      fail(tokens[words[1]].span,
-           "no program has a variable named '" + std::string(tokens[words[1]].text) + "' (there are: " + names + ")");
-    }
+    why.column = variable(words[1]);
     if (words.size() == 3 && !(why.t = number(words[2], 0, kMaxStep, "T"))) return false;
     if (!cmd.number || why.column < 0) return false;
   }
   cmd.why = std::move(why);
   return true;
+}
+
+// The modules of tokens [from, to): a condition's group, its slots in order.
+bool ArgumentReader::group(size_t from, size_t to) {
+  for (size_t k = from; k < to; ++k) {
+    const auto m = number(k, 0, last_module, "M");
+    if (!m) return false;
+    cmd.query->group.push_back(static_cast<sim::ModuleId>(*m));
+  }
+  return true;
+}
+
+// A condition from token i to the line's end: a watchpoint's text with every window written out
+// (no module keeps one for it), whose slots the group fills.
+bool ArgumentReader::condition(size_t i) {
+  const watch::Span at{tokens[i].span.begin, stop};
+  auto compiled = watch::compile_watchpoint("condition", blanked_but_rest(i), watch::WindowKeeping::WrittenOut);
+  if (auto* error = std::get_if<watch::CompileError>(&compiled)) {
+    mistakes = std::move(error->diagnostics);
+    return false;
+  }
+  watch::Watchpoint& w = std::get<watch::Watchpoint>(compiled);
+  for (watch::Diagnostic& d : sim::unknown_variable_mistakes(model, w)) mistakes.push_back(std::move(d));
+  if (const std::string why = sim::why_undecidable(w.program, cmd.query->group.size()); !why.empty())
+    return fail(at, why);
+  cmd.query->condition = std::move(w);
+  return true;
+}
+
+// find := 'find' ('prev' | 'next') M VAR | 'find' ('prev' | 'next') M+ 'when' TEXT
+bool ArgumentReader::find() {
+  if (tokens.size() < 4) return usage(after_last);
+  if (tokens[1].text != "prev" && tokens[1].text != "next")
+    return fail(tokens[1].span, "find prev or find next, not '" + std::string(tokens[1].text) + "'");
+  cmd.query.emplace().back = tokens[1].text == "prev";
+  size_t when = 2;
+  while (when < tokens.size() && tokens[when].text != "when") ++when;
+  if (when == tokens.size()) {  // find prev|next M VAR
+    if (!want(3, 3) || !group(2, 3)) return false;
+    cmd.query->column = variable(3);
+    return cmd.query->column >= 0;
+  }
+  if (when == 2) return fail(tokens[2].span, "find prev|next M... when TEXT: the modules come before 'when'");
+  if (when + 1 == tokens.size()) return fail(after_last, "the condition is missing after 'when': modules(...); ...");
+  return group(2, when) && condition(when + 1);
+}
+
+// eval := 'eval' M+ TEXT      TEXT (modules(...); ...) is the rest of the line
+bool ArgumentReader::eval() {
+  cmd.query.emplace();
+  size_t text = 1;
+  while (text < tokens.size() && integer_word(tokens[text].text)) ++text;
+  if (text == 1 || text == tokens.size()) return usage(text == 1 && tokens.size() > 1 ? tokens[1].span : after_last);
+  return group(1, text) && condition(text);
 }
 
 }  // namespace

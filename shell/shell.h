@@ -15,6 +15,7 @@
 #include "render/scene.h"
 #include "scenarios/scenario.h"
 #include "shell/command.h"
+#include "sim/bookmarks.h"
 #include "sim/session.h"
 #include "watch/diagnostic.h"
 
@@ -38,6 +39,9 @@ class Shell {
   // highlighted: what `render` draws.
   render::Scene scene();
 
+  // The bookmarks (`mark`), the scenario's [[bookmark]]s first.
+  const sim::Bookmarks& bookmarks() const { return bookmarks_; }
+
   // Match i of watchpoint w as a line of the match log (docs/design.md §5).
   nlohmann::ordered_json match_json(uint32_t w, size_t i) const;
 
@@ -49,6 +53,10 @@ class Shell {
   // write_files.cpp: those that write a file.
   Answer run_to(const Command& command, const sim::Control& control, nlohmann::ordered_json answer);
   Answer seek(const Command& command, const sim::Control& control, nlohmann::ordered_json answer);
+  Answer find(const Command& command, const sim::Control& control, nlohmann::ordered_json answer);
+  Answer eval(const Command& command, const sim::Control& control, nlohmann::ordered_json answer);
+  Answer bookmark(const Command& command, nlohmann::ordered_json answer);
+  Answer diff(const Command& command, const sim::Control& control, nlohmann::ordered_json answer);
   Answer intervene(const Command& command, nlohmann::ordered_json answer);
   Answer reload(nlohmann::ordered_json answer);
   Answer set_watch(const Command& command, const sim::Control& control, nlohmann::ordered_json answer);
@@ -73,6 +81,7 @@ class Shell {
 
   const scenarios::Scenario& scenario_;
   sim::Session& session_;
+  sim::Bookmarks bookmarks_;
 };
 
 }  // namespace dw::shell

@@ -68,7 +68,7 @@ Shell::Answer Shell::save_file(const Command& cmd, nlohmann::ordered_json answer
   if (!cmd.overwrite && ::lstat(cmd.name.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
     return failed(cmd.name + " exists; 'save " + command_word(cmd.name) + " overwrite' replaces it");
   std::string why;
-  const std::optional<std::string> text = scenarios::saved_scenario(scenario_, session_, cmd.name, &why);
+  const std::optional<std::string> text = scenarios::saved_scenario(scenario_, session_, bookmarks_, cmd.name, &why);
   if (!text) return failed(why);
   std::unique_ptr<sim::OutputFile> out;
   if (std::string error = open_output_apart(scenario_.inputs, {"save", cmd.name}, out); !error.empty())
@@ -78,6 +78,7 @@ Shell::Answer Shell::save_file(const Command& cmd, nlohmann::ordered_json answer
   answer["save"] = cmd.name;
   answer["watches"] = session_.watches().size();
   answer["interventions"] = session_.interventions().size();
+  if (!bookmarks_.all().empty()) answer["bookmarks"] = bookmarks_.all().size();
   return answer;
 }
 

@@ -4,6 +4,7 @@
 #include <set>
 #include <tuple>
 
+#include "sim/history_reader.h"
 #include "sim/session.h"
 #include "sim/why.h"
 #include "watch/domains.h"
@@ -108,97 +109,6 @@ std::optional<Cone> cone_in_session(Session& session, std::vector<ValueAsked> va
   return cone_of(*history, values, depth, narrow);
 }
 
-// Reads a match's binding over a recorded window as the watchpoint's evaluator reads it (every
-// slot's "now" at t, as StepView's reader), and notes every variable it reads of every module: a
-// term of a slot, and each element's variable an aggregate reads (its domain: N(m), within(m, h),
-// all, component(m: c) at the aggregate's step). Outside the window a read is unknown.
-class ReadNoter {
- public:
-  // `columns`: the model's column of each of the program's variables; `universe`: what id(m) reads.
-  ReadNoter(const CausalHistory& h, std::vector<int> columns, const watch::Universe& universe,
-            std::span<const ModuleId> group, int64_t t)
-      : h_(h), columns_(std::move(columns)), universe_(universe), group_(group), t_(t) {}
-
-  // What the evaluation read: (module, the model's column, step), id(m) left out.
-  std::vector<std::tuple<ModuleId, int, int64_t>> read;
-
-  watch::Value term(const watch::ValueInstr& in) { return value(group_[size_t(in.slot)], in.variable, t_ + in.offset); }
-  int open(const watch::AggregateCode& a) {
-    step_ = t_ + a.offset;
-    elements_.clear();
-    if (!h_.holds(step_)) return -1;
-    const StepRecord& rec = h_.at(step_);
-    const auto each = [&](uint32_t u, auto&& visit) {
-      for (ModuleId w : rec.graph->neighbors(u)) visit(w);
-    };
-    const auto present = [&](uint32_t u) { return rec.present[u] != 0; };
-    if (a.domain == watch::Domain::All) {
-      for (uint32_t u = 0; u < h_.modules; ++u)
-        if (present(u)) elements_.push_back(u);
-      return static_cast<int>(elements_.size());
-    }
-    const ModuleId m = group_[size_t(a.slot)];
-    if (!present(m)) return -1;
-    if (a.domain == watch::Domain::Component) {  // candidate 0, the module; the evaluator grows it
-      elements_.assign(1, m);
-      seen_.start();
-      seen_.mark(m);
-      return 1;
-    }
-    if (a.domain == watch::Domain::Within) {
-      watch::gather_within(m, a.hops, each, present, elements_, seen_);
-      return static_cast<int>(elements_.size());
-    }
-    for (ModuleId u : rec.graph->neighbors(m))
-      if (present(u)) elements_.push_back(u);
-    std::sort(elements_.begin(), elements_.end());
-    elements_.erase(std::unique(elements_.begin(), elements_.end()), elements_.end());
-    return static_cast<int>(elements_.size());
-  }
-  watch::Value bound(int i, const watch::ValueInstr& in) { return value(bound_id(i), in.variable, step_ + in.offset); }
-  uint32_t bound_id(int i) const { return elements_[size_t(i)]; }
-  watch::Truth bound_adjacent(int i, int offset, uint32_t y) const { return adjacent(bound_id(i), step_ + offset, y); }
-  int expand(int i) {
-    const StepRecord& rec = h_.at(step_);
-    return watch::add_candidates(
-        elements_[size_t(i)],
-        [&](uint32_t u, auto&& visit) {
-          for (ModuleId w : rec.graph->neighbors(u)) visit(w);
-        },
-        [&](uint32_t u) { return rec.present[u] != 0; }, elements_, seen_);
-  }
-  int keep(const std::vector<uint8_t>& joined) { return watch::keep_members(elements_, joined); }
-  uint32_t slot_module(int slot) const { return group_[size_t(slot)]; }
-  watch::Truth slot_adjacent(const watch::ConditionTest& c, uint32_t y) const {
-    return adjacent(group_[size_t(c.x)], t_ + c.offset, y);
-  }
-  int64_t now(int) const { return t_; }
-
- private:
-  watch::Value value(ModuleId m, int variable, int64_t step) {
-    if (!h_.holds(step) || !h_.present(step, m)) return {};
-    if (variable == watch::kIdVariable) return watch::known_value(universe_.id(m));  // no value with a history
-    const int column = columns_[size_t(variable)];
-    if (column < 0) return {};
-    read.emplace_back(m, column, step);
-    return watch::known_value(h_.value(step, m, column));
-  }
-  watch::Truth adjacent(ModuleId x, int64_t step, uint32_t y) const {
-    if (!h_.holds(step) || !h_.present(step, x)) return watch::kUnknown;
-    const auto ns = h_.at(step).graph->neighbors(x);
-    return watch::truth_of(std::find(ns.begin(), ns.end(), y) != ns.end());
-  }
-
-  const CausalHistory& h_;
-  std::vector<int> columns_;
-  const watch::Universe& universe_;
-  std::span<const ModuleId> group_;
-  int64_t t_;
-  int64_t step_ = 0;  // the open aggregate's
-  std::vector<uint32_t> elements_;
-  watch::VisitMarks seen_;
-};
-
 // The variables a match's watchpoint read of any module through its value code (aggregates'
 // elements included, §7b "a match's cone"), evaluated over a window recorded around step t: each
 // (module, column, step) once; nothing when cancelled.
@@ -216,9 +126,10 @@ std::optional<std::vector<ValueAsked>> value_code_reads(Session& session, const 
   if (!history) return std::nullopt;
   std::vector<int> columns;
   for (const std::string& v : program.variables) columns.push_back(session.model().column(v));
-  ReadNoter noter(*history, std::move(columns), session.model().universe, group, t);
+  HistoryReader noter(*history, std::move(columns), session.model().universe, group, t);
+  noter.note_reads = true;
   watch::EvaluatorScratch scratch(program);
-  watch::Evaluator<ReadNoter> evaluator(program, noter, scratch);
+  watch::Evaluator<HistoryReader> evaluator(program, noter, scratch);
   for (const watch::Leaf& leaf : program.leaves)
     if (leaf.kind == watch::LeafKind::Expression) evaluator.leaf(leaf);
   for (const watch::ActionCode& a : program.actions)

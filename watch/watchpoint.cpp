@@ -18,11 +18,11 @@ std::string name_problem(std::string_view name) {
   return {};
 }
 
-std::variant<Watchpoint, CompileError> compile_watchpoint(std::string name, SourceText source) {
+std::variant<Watchpoint, CompileError> compile_watchpoint(std::string name, SourceText source, WindowKeeping keeping) {
   auto shared = std::make_shared<const SourceText>(std::move(source));
   ParseResult parsed = parse(*shared);
   if (!parsed.ok()) return CompileError{shared, std::move(parsed.diagnostics)};
-  if (std::vector<Diagnostic> too_large = write_out_windows(parsed.ast); !too_large.empty())
+  if (std::vector<Diagnostic> too_large = write_out_windows(parsed.ast, keeping); !too_large.empty())
     return CompileError{shared, std::move(too_large)};
   Analysis analysis = analyze(parsed.ast);
   Program program(parsed.ast, analysis);

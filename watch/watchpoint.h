@@ -12,6 +12,7 @@
 #include "watch/diagnostic.h"
 #include "watch/program.h"
 #include "watch/source.h"
+#include "watch/windows.h"
 
 namespace dw::watch {
 
@@ -40,6 +41,7 @@ struct CompileError {
 std::string name_problem(std::string_view name);
 
 // Parses, checks and compiles. Never throws on bad input: errors come back as diagnostics.
-std::variant<Watchpoint, CompileError> compile_watchpoint(std::string name, SourceText source);
+std::variant<Watchpoint, CompileError> compile_watchpoint(std::string name, SourceText source,
+                                                          WindowKeeping keeping = WindowKeeping::ByModule);
 
 }  // namespace dw::watch

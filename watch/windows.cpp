@@ -72,7 +72,8 @@ Reads reads_at_shift_zero(const Ast& ast, NodeIndex root) {
 
 class Writer {
  public:
-  explicit Writer(Ast& ast) : ast_(ast), written_(ast.nodes.size()), has_window_(ast.nodes.size(), 0) {
+  Writer(Ast& ast, WindowKeeping keeping)
+      : ast_(ast), keeping_(keeping), written_(ast.nodes.size()), has_window_(ast.nodes.size(), 0) {
     // Children come before parents: one pass marks every node with a window under it.
     for (size_t i = 0; i < written_; ++i) {
       const Node& n = ast.nodes[i];
@@ -87,7 +88,8 @@ class Writer {
     if (too_large_) return i;
     if (s.none() && !has_window_[static_cast<size_t>(i)]) return i;  // shared as written
     Node n = ast_.nodes[static_cast<size_t>(i)];
-    if (n.kind == NodeKind::Window && kept_by_module(ast_, i)) return kept(i, n, s);
+    if (n.kind == NodeKind::Window && keeping_ == WindowKeeping::ByModule && kept_by_module(ast_, i))
+      return kept(i, n, s);
     if (n.kind == NodeKind::Window) return write_out(n, s);
     lower(n.x, s);
     if (n.kind == NodeKind::Neighbor) lower(n.y, s);
@@ -249,6 +251,7 @@ class Writer {
   }
 
   Ast& ast_;
+  WindowKeeping keeping_;
   std::map<NodeIndex, std::pair<NodeIndex, NodeIndex>> kept_conditions_;  // by kept window: φ, ψ
   size_t written_;
   std::vector<uint8_t> has_window_;
@@ -326,8 +329,8 @@ KeptSteps kept_steps(const Ast& ast, NodeIndex window) {
   return k;
 }
 
-std::vector<Diagnostic> write_out_windows(Ast& ast) {
-  Writer writer(ast);
+std::vector<Diagnostic> write_out_windows(Ast& ast, WindowKeeping keeping) {
+  Writer writer(ast, keeping);
   if (!writer.any()) return {};
   if (ast.root != kNoNode) ast.evaluated = writer.copy(ast.root, {});
   for (Action& a : ast.actions)

@@ -21,10 +21,15 @@ namespace dw::watch {
 // Most nodes the written-out windows may add (nested windows multiply): past it, an error.
 constexpr size_t kMaxEvaluatedNodes = 400'000;
 
+// Which windows over one slot's own variables stay kept by each module: all that can (a watch over
+// a run), or none (a condition asked of a group at a few steps of the history, sim/group_query.h,
+// where no module has kept anything: every window is written out).
+enum class WindowKeeping : uint8_t { ByModule, WrittenOut };
+
 // Sets ast.evaluated (and each set action's `evaluated`) when the watchpoint has a window; leaves
 // them unset when it has none. Requires an Ast that parsed without diagnostics. Returns the
 // errors that stop it from being evaluated (too large once written out).
-std::vector<Diagnostic> write_out_windows(Ast& ast);
+std::vector<Diagnostic> write_out_windows(Ast& ast, WindowKeeping keeping = WindowKeeping::ByModule);
 
 // Whether `window` (as written) is kept by each module incrementally (watch/kept_windows.h): its
 // conditions read one slot's own variables (no neighbor(), aggregate, id() or bound name), or

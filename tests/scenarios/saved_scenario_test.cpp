@@ -1,6 +1,6 @@
 // A session saved as a scenario (scenarios/saved_scenario.cpp) is the session's branch: loaded
 // again from another folder, it has the session's watchpoints with their readings and options,
-// every intervention of the branch, the seed, a script that still resolves, and it runs to the
+// every intervention of the branch, its bookmarks, the seed, a script that still resolves, and it runs to the
 // same states and matches.
 #include "scenarios/saved_scenario.h"
 
@@ -65,14 +65,20 @@ TEST_F(SavedScenario, LoadedFromAnotherFolderItRunsTheSessionsBranch) {
   const int token = scenario.model->column("token");
   ASSERT_EQ(session.intervene({.kind = sim::Intervention::Kind::Set, .module = 3, .column = token, .value = 1}), "");
 
+  // Bookmarks, one with the characters a TOML string escapes.
+  sim::Bookmarks marks;
+  marks.mark(12, "the token \"doubles\" here");
+  marks.mark(3, "start");
+
   const fs::path destination = dir_ / "elsewhere" / "deeper" / "saved.toml";
   std::string error;
-  const auto text = saved_scenario(scenario, session, destination.string(), &error);
+  const auto text = saved_scenario(scenario, session, marks, destination.string(), &error);
   ASSERT_TRUE(text) << error;
   write(destination, *text);
   Scenario saved = load(destination);
 
   EXPECT_EQ(saved.model->seed, 7u);
+  EXPECT_EQ(saved.bookmarks, marks.all());
   EXPECT_EQ(saved.events.size(), session.interventions().size());
   for (size_t i = 0; i < saved.events.size() && i < session.interventions().size(); ++i) {
     sim::Intervention expected = session.interventions()[i];
@@ -110,7 +116,7 @@ TEST_F(SavedScenario, AWatchpointRemovedInTheSessionIsNotSaved) {
   ASSERT_TRUE(session.remove_watch(scenario.model->watches.at(0).watchpoint.name));
   const fs::path destination = dir_ / "saved.toml";
   std::string error;
-  const auto text = saved_scenario(scenario, session, destination.string(), &error);
+  const auto text = saved_scenario(scenario, session, {}, destination.string(), &error);
   ASSERT_TRUE(text) << error;
   write(destination, *text);
   EXPECT_TRUE(load(destination).model->watches.empty()) << *text;
@@ -175,7 +181,7 @@ TEST_F(SavedScenario, EveryStringFormReadsBackAsItWas) {
     sim::Session session(*scenario.model, *scenario.world, {.end = 5});
     const fs::path destination = dir_ / "saved.toml";
     std::string error;
-    const auto saved = saved_scenario(scenario, session, destination.string(), &error);
+    const auto saved = saved_scenario(scenario, session, {}, destination.string(), &error);
     ASSERT_TRUE(saved) << error;
     EXPECT_EQ(saved->find("step -1"), std::string::npos) << *saved;
     EXPECT_EQ(saved->rfind("# Saved by dwatch from " + original.string() +
