@@ -105,7 +105,8 @@ void Debugger::frame() {
 }
 
 bool Debugger::settled() {
-  return worker_->idle() && readout_.version == worker_->finished() && !readout_stale_ && !module_window_asked_;
+  return worker_->idle() && readout_.version == worker_->finished() && !readout_stale_ && !module_window_asked_ &&
+         !group_window_asked_;
 }
 
 void Debugger::settle() {

@@ -37,6 +37,9 @@ namespace dw::view {
 // repository; empty when neither is set.
 std::string layout_file();
 
+// The module whose id (as answers give it) is `id`: itself, unless the model has a trace's ids.
+std::optional<sim::ModuleId> module_of_id(const watch::Universe& universe, uint32_t id);
+
 // A vector as X,Y,Z text, as --camera-eye takes it.
 std::string vec_text(glm::vec3 v);
 
@@ -123,6 +126,9 @@ class Debugger {
   // hover names the module.
   void view_input(float x, float y, bool hovered);
   std::optional<sim::ModuleId> module_at(float x, float y);
+  // Where the module with this id (as answers give it) shows over the 3D view, whose picture's top
+  // left is at `origin` (window pixels; `scale`: framebuffer per window pixel); nothing off screen.
+  std::optional<ImVec2> module_on_screen(uint32_t id, const glm::mat4& vp, ImVec2 origin, ImVec2 scale) const;
 
   // layout.cpp
   // Tiles the window for this frame (panels_), and decides whether the panels go there (panels_cond_).
@@ -176,18 +182,29 @@ class Debugger {
   // panels.cpp
   void draw_panels();
   void transport_panel();
-  void timeline(float width);
-  void timeline_scale(float y);  // the steps written under the timeline's lanes
   void watchpoints_panel();
   void editor();
   void matches_panel();
   void save_matches();  // the Matches panel's "save the matches"
+  // timeline.cpp
+  void timeline(float width);
+  void timeline_scale(float y);  // the steps written under the timeline's lanes
   // module_panels.cpp
   void inspector_panel();
   void variables_table(const Inspector& in);
   void interventions_row(const Inspector& in);
   void session_files_row();
   void statistics_panel();
+  void statistics_tab();
+  // group_panel.cpp: the Group tab beside the statistics (the selected match's group side by side,
+  // pinned conditions, and searching back and on for where they hold)
+  void group_tab();
+  void pins_rows(const GroupTable& g);
+  // marks_panel.cpp: the marks and diff tabs, and the diff's modules ringed over the 3D view
+  void marks_tab();
+  const sim::Bookmark* timeline_bookmarks(float top, float height);
+  void diff_tab();
+  void diff_in_view(ImVec2 origin, ImVec2 scale);
   void help_window();
   // why_panel.cpp: the Why panel, the session's `why` answer drawn as a space-time diagram, and the
   // cone's marks in the 3D view
@@ -217,6 +234,17 @@ class Debugger {
   // lock, as is every read of it).
   std::optional<ModuleWindow> module_window_;
   std::atomic<bool> module_window_asked_ = false;
+  // The Group tab's step before and pins, written by a worker job as module_window_ is.
+  std::optional<GroupWindow> group_window_;
+  std::atomic<bool> group_window_asked_ = false;
+  char pin_text_[256] = "";  // the Group tab's field for a new pin
+  std::string pin_error_;    // why the last pin was not taken
+  // The Statistics panel shows its group, marks or diff tab (set as it draws), and did so when the
+  // panels were last laid out.
+  bool tall_tabs_ = false, panels_tall_tabs_ = false;
+  char mark_note_[256] = "";                    // the marks tab's note for the next bookmark
+  int diff_step_ = 0;                           // the diff tab's other step
+  std::optional<nlohmann::ordered_json> diff_;  // the last `diff` answered
 
   std::mutex answers_mutex_;
   std::vector<Answer> answers_;  // from the worker, in order

@@ -62,6 +62,16 @@ void Debugger::inspector_panel() {
     const float room = ImGui::GetContentRegionAvail().y - line - ImGui::GetTextLineHeight() -
                        ImGui::GetStyle().ItemSpacing.y + ImGui::GetStyle().WindowPadding.y;
     const float whole_lines_after = room > 70 ? std::ceil((room - 70) / line) : 0;
+    // Before the title, on its line: the plotted variable's nearest change before and after this
+    // step (the session's `find prev|next M VAR`), a reverse search through the history.
+    const std::string& plotted = m.universe.variables[size_t(in.plot_column)];
+    for (const bool back : {true, false}) {
+      if (button(std::string(back ? "<" : ">") + "##change", true))
+        apply({command::find_change(in.module, plotted, back)});
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("the nearest step %s this one where %s changed", back ? "before" : "after", plotted.c_str());
+      ImGui::SameLine();
+    }
     const PlotDrawn drawn = history_plot(title, in.plot, in.plot_from, readout_.at.current,
                                          std::clamp(room - whole_lines_after * line, 40.0f, 70.0f));
     plot_rects_.push_back(drawn.area);
@@ -205,10 +215,53 @@ void Debugger::variables_table(const Inspector& in) {
   ImGui::EndTable();
 }
 
+// The panel under the Module panel, in tabs: the watchpoints' statistics, the selected match's
+// group (group_panel.cpp), the bookmarks and a diff of two steps (marks_panel.cpp).
 void Debugger::statistics_panel() {
   place(panels_.statistics);
   ImGui::Begin("Statistics");
-  ImGui::Text("frame %.1f ms", shown_frame_ms_);
+  if (ImGui::BeginTabBar("below")) {
+    // The frame's time in the tab's name: a line of its own pushed the plots out of a low panel.
+    char statistics_label[64];
+    std::snprintf(statistics_label, sizeof statistics_label, "statistics, frame %.1f ms###statistics",
+                  double(shown_frame_ms_));
+    const bool statistics = ImGui::BeginTabItem(statistics_label);
+    note_widget("tab statistics");
+    tall_tabs_ = !statistics;
+    if (statistics) {
+      statistics_tab();
+      ImGui::EndTabItem();
+    }
+    // Named by the group it shows, so that it is seen without opening it.
+    std::string label = "group";
+    if (readout_.group)
+      for (size_t i = 0; i < readout_.group->slots.size(); ++i)
+        label += " " + readout_.group->slots[i] + "=" +
+                 std::to_string(session_.model().universe.id(readout_.group->modules[i]));
+    const bool group = ImGui::BeginTabItem((label + "###group").c_str());
+    note_widget("tab group");
+    if (group) {
+      group_tab();
+      ImGui::EndTabItem();
+    }
+    const bool marks = ImGui::BeginTabItem("marks");
+    note_widget("tab marks");
+    if (marks) {
+      marks_tab();
+      ImGui::EndTabItem();
+    }
+    const bool diff = ImGui::BeginTabItem("diff");
+    note_widget("tab diff");
+    if (diff) {
+      diff_tab();
+      ImGui::EndTabItem();
+    }
+    ImGui::EndTabBar();
+  }
+  ImGui::End();
+}
+
+void Debugger::statistics_tab() {
   for (size_t w = 0; w < readout_.stats.size(); ++w) {
     const std::vector<StatsRow>& rows = readout_.stats[w];
     if (!ImGui::CollapsingHeader(readout_.watches[w].spec.name.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) continue;
@@ -262,7 +315,6 @@ void Debugger::statistics_panel() {
     }
     ImGui::PopID();
   }
-  ImGui::End();
 }
 
 void Debugger::help_window() {

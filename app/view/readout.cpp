@@ -160,6 +160,7 @@ Readout read_readout(sim::Session& session, const scenarios::Scenario& scenario,
 
   if (view.selected && *view.selected < model.module_count())
     readout.inspector = inspect(session, view, request.window, limits);
+  readout.group = read_group_table(session, view, request.group_window);
 
   if (request.keep_rows) {
     readout.match_rows = request.keep_rows->match_rows;
@@ -221,8 +222,41 @@ nlohmann::ordered_json Readout::panel(const std::string& name, const sim::Model&
     j["plot"] = {{"variable", model.universe.variables[size_t(in.plot_column)]},
                  {"from", in.plot_from},
                  {"points", in.plot.size()}};
+  } else if (name == "group") {
+    if (!group) {
+      j["group"] = nullptr;
+      return j;
+    }
+    const GroupTable& g = *group;
+    j["t"] = at.current;
+    j["match_t"] = g.t;
+    nlohmann::ordered_json slots = nlohmann::ordered_json::object();
+    for (size_t i = 0; i < g.slots.size(); ++i) slots[g.slots[i]] = model.universe.id(g.modules[i]);
+    j["group"] = std::move(slots);
+    nlohmann::ordered_json vars = nlohmann::ordered_json::object();
+    for (size_t c = 0; c < g.variables.size(); ++c) {
+      nlohmann::ordered_json row = nlohmann::ordered_json::array();
+      for (size_t i = 0; i < g.slots.size(); ++i) {
+        const size_t at_slot = c * g.slots.size() + i;
+        row.push_back({{"value", g.now[at_slot] ? nlohmann::ordered_json(*g.now[at_slot]) : nullptr},
+                       {"changed", g.changed(at_slot)}});
+      }
+      vars[g.variables[c]] = std::move(row);
+    }
+    j["vars"] = std::move(vars);
+    nlohmann::ordered_json pins = nlohmann::ordered_json::array();
+    for (const PinRow& p : g.pins) {
+      nlohmann::ordered_json row = {{"text", p.text}};
+      if (!p.error.empty()) row["error"] = p.error;
+      else if (!p.truth) row["value"] = "not read yet";
+      else
+        row["value"] = *p.truth == watch::kUnknown ? nlohmann::ordered_json(nullptr)
+                                                   : nlohmann::ordered_json(*p.truth == watch::kTrue);
+      pins.push_back(std::move(row));
+    }
+    j["pins"] = std::move(pins);
   } else {
-    j["error"] = "no panel named " + name + " (there are: position, matches, watchpoints, inspector)";
+    j["error"] = std::string("no panel named ") + name + ": " + kPanelUsage;
   }
   return j;
 }

@@ -14,7 +14,9 @@
 #include "app/view/view_model.h"
 #include "render/scene.h"
 #include "scenarios/scenario.h"
+#include "sim/bookmarks.h"
 #include "sim/session.h"
+#include "watch/kleene.h"
 
 namespace dw::view {
 
@@ -60,6 +62,29 @@ struct Inspector {
   std::vector<int64_t> plot;
 };
 
+// A condition pinned in the Group tab (ViewModel::pins) and its truth on the group at the current
+// step: true, false, unknown, or not read yet; or why it cannot be asked of this group.
+struct PinRow {
+  std::string text;
+  std::string error;
+  std::optional<watch::Truth> truth;
+};
+
+// The selected match's group side by side (the Group tab): a column per slot, a row per variable,
+// whole values at the current step, marked where they changed since the step before.
+struct GroupTable {
+  MatchRef match;
+  int64_t t = 0;                       // the match's step
+  std::vector<std::string> slots;      // the slot names
+  std::vector<sim::ModuleId> modules;  // filling them
+  std::vector<std::string> variables;
+  // [variable * slots + slot]: the current step's values and the step before's; nothing while a
+  // module is absent, or the step before is not read yet (GroupWindow).
+  std::vector<std::optional<int64_t>> now, before;
+  std::vector<PinRow> pins;
+  bool changed(size_t i) const { return now[i] && before[i] && *now[i] != *before[i]; }
+};
+
 struct StatsRow {  // one watchpoint's detector at one step
   int64_t step = 0;
   uint64_t live = 0, created = 0, messages = 0, matches = 0;
@@ -73,12 +98,14 @@ struct Readout {
   int64_t decided = -1;
   std::vector<WatchRow> watches;
   std::vector<int64_t> intervention_steps;
-  Timeline timeline;  // the geometry the lanes were counted for
+  std::vector<sim::Bookmark> bookmarks;  // the shell's (`mark`), drawn on the timeline
+  Timeline timeline;                     // the geometry the lanes were counted for
   int columns = 0;
   std::vector<std::string> interventions;  // one line each, as `interventions` answers
   render::Scene scene;
   std::vector<int64_t> color_values;  // per module, the colour-by variable's value (the tooltip)
   std::optional<Inspector> inspector;
+  std::optional<GroupTable> group;
   std::vector<std::vector<StatsRow>> stats;  // per watchpoint, the steps around the current one
   std::vector<MatchRowText> match_rows;
   size_t match_total = 0;
@@ -113,6 +140,26 @@ std::optional<ModuleWindow> read_module_window(sim::Session& session, sim::Modul
 // True when `window` is module m's on the session's branch and holds its current step.
 bool window_holds(const ModuleWindow& window, const sim::Session& session, sim::ModuleId m);
 
+// What the Group tab reads off the frame loop, a job of its own (re-simulated from the keyframes):
+// the group's values at the step before the current one and the pins' truths at the current one.
+struct GroupWindow {
+  std::vector<sim::ModuleId> modules;
+  std::vector<std::string> slots, pins;
+  int64_t t = -1, latest = -1;
+  size_t interventions = 0;                    // the branch it was read on
+  std::vector<std::optional<int64_t>> before;  // as GroupTable::before
+  std::vector<PinRow> pin_rows;
+};
+std::optional<GroupWindow> read_group_window(sim::Session& session, std::vector<sim::ModuleId> modules,
+                                             std::vector<std::string> slots, std::vector<std::string> pins,
+                                             const sim::Control& control = {});
+// True when `window` is the group's, with these pins, at the session's current step and branch.
+bool window_holds(const GroupWindow& window, const sim::Session& session, const GroupTable& group,
+                  const std::vector<std::string>& pins);
+// The selected match's group table (nothing without a selected match with slots), the step
+// before's values and the pins' truths taken from `window` when it holds.
+std::optional<GroupTable> read_group_table(sim::Session& session, const ViewModel& view, const GroupWindow* window);
+
 // What a Readout is read for besides the view model.
 struct ReadoutRequest {
   uint64_t version = 0;  // the worker's finished jobs
@@ -121,6 +168,7 @@ struct ReadoutRequest {
   Timeline timeline;  // the timeline as drawn, and its width in pixels: the lanes
   int columns = 0;
   const Readout* keep_rows = nullptr;  // while playing: the matches table of this Readout stays (rows cost O(matches))
+  const GroupWindow* group_window = nullptr;  // the Group tab's step before and pins
 };
 
 // Reads the session (which the caller must not share with a running job).

@@ -149,6 +149,7 @@ void Debugger::draw_view() {
   const ImVec2 mouse = ImGui::GetIO().MousePos;
   view_input((mouse.x - origin.x) * scale.x, (mouse.y - origin.y) * scale.y, ImGui::IsItemHovered());
   why_in_view(origin, scale);
+  diff_in_view(origin, scale);
   draw_edge_pointers(origin, scale);
   ImGui::End();
 }

@@ -77,6 +77,7 @@ void Debugger::refresh_readout() {
         if (!model_.playing) status(answer_words(a.json));
       }
       if (a.json.value("cmd", "") == "why") show_why(a.json, a.line);  // the Why panel draws it
+      if (a.json.value("cmd", "") == "diff") diff_ = a.json;           // the diff tab lists it
     }
   }
   const uint64_t version = worker_->finished();
@@ -97,6 +98,7 @@ void Debugger::refresh_readout() {
       }
     }
     ReadoutRequest request{version, module_window_ ? &*module_window_ : nullptr, timeline_, timeline_columns_};
+    request.group_window = group_window_ ? &*group_window_ : nullptr;
     // While playing, the matches table is read again twice a second, not at every step.
     const auto now = std::chrono::steady_clock::now();
     // The rows depend only on the filter and the match lists, which a seek leaves as they are.
@@ -113,6 +115,7 @@ void Debugger::refresh_readout() {
       rows_key_ = std::move(rows_key);
     }
     Readout next = read_readout(s, scenario_, model_, request);
+    next.bookmarks = shell_.bookmarks().all();  // changed only by jobs, which hold the session too
     readout_ = std::move(next);
   });
   if (!read) return;  // a job runs: the last Readout stays on screen
@@ -137,6 +140,22 @@ void Debugger::refresh_readout() {
           auto w = read_module_window(s, m, ReadoutLimits{}.plot_steps, control);
           if (w) module_window_ = std::move(*w);
           module_window_asked_ = false;
+        },
+        /*background=*/true);
+  }
+  // The Group tab's step before and pins, when they are not this group's at this step.
+  if (readout_.group && !model_.playing && !group_window_asked_ && readout_.at.current >= 0 &&
+      !(group_window_ && group_window_->t == readout_.at.current && group_window_->latest == readout_.at.latest &&
+        group_window_->interventions == readout_.interventions.size() &&
+        group_window_->modules == readout_.group->modules && group_window_->slots == readout_.group->slots &&
+        group_window_->pins == model_.pins)) {
+    group_window_asked_ = true;
+    worker_->submit(
+        [this, modules = readout_.group->modules, slots = readout_.group->slots, pins = model_.pins](
+            sim::Session& s, const sim::Control& control) {
+          auto w = read_group_window(s, modules, slots, pins, control);
+          if (w) group_window_ = std::move(*w);
+          group_window_asked_ = false;
         },
         /*background=*/true);
   }

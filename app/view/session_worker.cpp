@@ -15,7 +15,9 @@ void SessionWorker::submit(Job job, bool background) {
   {
     std::lock_guard lock(queue_mutex_);
     if (!background) {
-      std::erase_if(queue_, [](const Queued& q) { return q.background; });
+      // Queued background jobs give way: each still runs, at once cancelled, so that it can say it
+      // did not finish (its asker would otherwise wait for it for ever).
+      for (Queued& q : queue_) q.given_way = q.given_way || q.background;
       if (running_ && running_background_) job_stop_.request_stop();
     }
     queue_.push_back({std::move(job), background});
@@ -59,9 +61,10 @@ void SessionWorker::loop(std::stop_token stop) {
       if (!queue_changed_.wait(lock, stop, [&] { return !queue_.empty(); })) return;
       job = std::move(queue_.front().job);
       running_background_ = queue_.front().background;
+      job_stop_ = std::stop_source();
+      if (queue_.front().given_way) job_stop_.request_stop();
       queue_.pop_front();
       running_ = true;
-      job_stop_ = std::stop_source();
       done_ = total_ = 0;
       control.stop = job_stop_.get_token();
     }

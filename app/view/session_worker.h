@@ -26,7 +26,7 @@ class SessionWorker {
   SessionWorker& operator=(const SessionWorker&) = delete;
 
   // Queues a job; it runs after those queued before it. A background job (the inspector's history)
-  // gives way: a job submitted after it stops it (and drops it if it has not started).
+  // gives way: a job submitted after it stops it (and runs it cancelled if it has not started).
   void submit(Job job, bool background = false);
   // Nothing queued and nothing running.
   bool idle() const;
@@ -65,6 +65,7 @@ class SessionWorker {
   struct Queued {
     Job job;
     bool background = false;
+    bool given_way = false;  // a background job a later job stopped before it started
   };
   std::deque<Queued> queue_;
   bool running_ = false, running_background_ = false;

@@ -96,7 +96,7 @@ void TimelineRange::pan(int64_t steps, const Position& at) {
   show(from + steps, to + steps, at);
 }
 
-PanelLayout panel_layout(float x, float y, float width, float height, int lanes, bool why) {
+PanelLayout panel_layout(float x, float y, float width, float height, int lanes, bool why, bool tall_tabs) {
   PanelLayout l;
   l.too_small = width < PanelLayout::kMinWidth || height < PanelLayout::kMinHeight;
   // The column: wide enough for the editor's choices and the matches' slots on one line.
@@ -116,7 +116,9 @@ PanelLayout panel_layout(float x, float y, float width, float height, int lanes,
   // The Module panel has room for its interventions, variables and plot unscrolled at 1000 pixels;
   // in a low window the matches keep room for a few rows, and the statistics give it up.
   const float tall[] = {0.31f, 0.22f, 0.31f, 0.16f}, low[] = {0.30f, 0.28f, 0.27f, 0.15f};
-  const float* shares = height >= 800 ? tall : low;
+  // The group, marks and diff tabs list rows: the matches and the watchpoints give them room.
+  const float tabs[] = {0.26f, 0.14f, 0.28f, 0.32f};
+  const float* shares = tall_tabs ? tabs : height >= 800 ? tall : low;
   PanelRect* column_panels[] = {&l.watchpoints, &l.matches, &l.module, &l.statistics};
   float top = y;
   for (size_t i = 0; i < std::size(column_panels); ++i) {
@@ -269,11 +271,10 @@ std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord
   } else if (name == "screenshot") {
     if (words.size() < 2) d = mistake(1, "screenshot FILE: the PNG to write");
   } else if (name == "panel") {
-    static const char* kPanels[] = {"position", "matches", "watchpoints", "inspector", "plots",
-                                    "timeline", "widgets", "pointers",    "why"};
+    static const char* kPanels[] = {"position", "matches",  "watchpoints", "inspector", "group",
+                                    "plots",    "timeline", "widgets",     "pointers",  "why"};
     if (words.size() < 2 || std::find(std::begin(kPanels), std::end(kPanels), words[1].text) == std::end(kPanels))
-      d = mistake(1,
-                  "panel NAME: position, matches, watchpoints, inspector, plots, timeline, widgets, pointers or why");
+      d = mistake(1, kPanelUsage);
   } else if (name == "press") {
     want = words.size();  // the button's label: the rest of the line
     if (words.size() < 2) d = mistake(1, "press BUTTON: the label of the button to press");
@@ -361,6 +362,12 @@ std::string answer_words(const nlohmann::ordered_json& a) {
     words = "intervention at step " + std::to_string(a["intervention"].value("at", int64_t{0})) +
             (a.value("dropped_steps", int64_t{0}) > 0 ? ", " + number("dropped_steps") + " later steps dropped" : "");
   else if (a.contains("reloaded")) words = "scripts reloaded";
+  else if (verb == "diff")
+    words = number("count") + " modules differ between steps " + number("a") + " and " + number("b");
+  else if (a.contains("marks")) words = counted(int64_t(a["marks"].size()), "bookmark");
+  else if (a.contains("found"))  // find: where it went, or how far it looked in vain
+    words = a["found"].is_null() ? "found none: searched to step " + number("searched_to") + ", the cursor stays"
+                                 : "found at step " + number("found");
   else words = verb.empty() ? "done" : verb + ": done";
   if (a.contains("current"))
     words += (words.empty() ? "" : "; ") + std::string("at ") +
@@ -412,6 +419,27 @@ std::string save(const std::string& file, bool overwrite) {
   return "save " + shell::command_word(file) + (overwrite ? " overwrite" : "");
 }
 std::string record(const std::string& file) { return "record " + shell::command_word(file); }
+std::string find_change(sim::ModuleId m, std::string_view variable, bool back) {
+  return std::string("find ") + (back ? "prev " : "next ") + std::to_string(m) + " " + std::string(variable);
+}
+std::string find_holding(std::span<const sim::ModuleId> group, std::span<const std::string> slots,
+                         std::string_view expression, bool back) {
+  std::string line = std::string("find ") + (back ? "prev" : "next");
+  for (sim::ModuleId m : group) line += " " + std::to_string(m);
+  line += " when modules(";
+  for (size_t i = 0; i < slots.size(); ++i) line += (i ? " " : "") + slots[i];
+  return line + "); " + std::string(expression);
+}
+std::string mark(int64_t t, std::string_view note) {
+  // One line: the note is the rest of it, before any '#' (a comment), so those are left out.
+  std::string line = "mark " + std::to_string(t);
+  std::string kept;
+  for (char c : note)
+    if (c != '\n' && c != '\r' && c != '#') kept += c;
+  return kept.empty() ? line : line + " " + kept;
+}
+std::string unmark(int64_t t) { return "unmark " + std::to_string(t); }
+std::string diff(int64_t a, int64_t b) { return "diff " + std::to_string(a) + " " + std::to_string(b); }
 }  // namespace command
 
 std::vector<std::string> ViewModel::on_key(Key key, const Position& at, std::span<const int64_t> chosen_steps,

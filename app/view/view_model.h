@@ -97,6 +97,9 @@ struct ScriptWord {
 // The commands only the window has (docs/design.md §7a): click M | click match ROW | click timeline T,
 // key NAME, wait N, screenshot FILE, panel NAME.
 bool is_window_command(std::string_view word);
+// What `panel` reads, said when it names none of them.
+inline constexpr const char* kPanelUsage =
+    "panel NAME: position, matches, watchpoints, inspector, group, plots, timeline, widgets, pointers or why";
 // A mistake in one (its words, the span just past the line's end), or nothing.
 std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord> words, uint32_t module_count,
                                                       watch::Span end_of_line);
@@ -150,8 +153,10 @@ struct PanelLayout {
   bool too_small = false;
 };
 // `lanes`: the timeline's (one a watchpoint, and the interventions'), which the transport bar holds;
-// `why`: the Why panel is open, beside the 3D view.
-PanelLayout panel_layout(float x, float y, float width, float height, int lanes = 2, bool why = false);
+// `why`: the Why panel is open, beside the 3D view; `tall_tabs`: the Statistics panel shows its
+// group, marks or diff tab, which take more of the column.
+PanelLayout panel_layout(float x, float y, float width, float height, int lanes = 2, bool why = false,
+                         bool tall_tabs = false);
 
 // Lines of the session language that the widgets send.
 namespace command {
@@ -171,6 +176,14 @@ std::string unwatch(std::string_view name);
 std::string reload();
 std::string save(const std::string& file, bool overwrite);
 std::string record(const std::string& file);
+// find prev|next M VAR: the nearest step where it changed.
+std::string find_change(sim::ModuleId m, std::string_view variable, bool back);
+// find prev|next M... when modules(SLOTS); EXPRESSION: the nearest step where a pin holds.
+std::string find_holding(std::span<const sim::ModuleId> group, std::span<const std::string> slots,
+                         std::string_view expression, bool back);
+std::string mark(int64_t t, std::string_view note);
+std::string unmark(int64_t t);
+std::string diff(int64_t a, int64_t b);
 }  // namespace command
 
 class ViewModel {
@@ -187,6 +200,9 @@ class ViewModel {
   MatchFilter filter;
   std::string color_by;
   std::string plot_variable;  // the inspector's plot; empty: the first variable
+  // Conditions pinned in the Group tab, over the selected match's slot names (a._priority >
+  // c._priority), each decided on its group at every step shown.
+  std::vector<std::string> pins;
   bool show_help = false;
   // The module the camera follows (`T`, the script's `follow M`): each frame its target is the
   // module's centre, the camera's turn and distance kept. Nothing: the camera stays where it is.

@@ -74,15 +74,6 @@ std::string without_options(const std::string& line, bool& narrow, int& depth) {
   return kept;
 }
 
-// The module whose id (as answers give it) is `id`: itself, unless the model has a trace's ids.
-std::optional<sim::ModuleId> module_of_id(const watch::Universe& universe, uint32_t id) {
-  const auto& ids = universe.module_ids;
-  if (ids.empty()) return id;
-  const auto it = std::find(ids.begin(), ids.end(), id);
-  if (it == ids.end()) return std::nullopt;
-  return sim::ModuleId(it - ids.begin());
-}
-
 // Where the diagram is drawn: its frame [p0, p1) under the column names (from origin's row) and
 // right of the step numbers, scrolled and zoomed by the view.
 struct Frame {
@@ -356,18 +347,7 @@ void Debugger::why_in_view(ImVec2 origin, ImVec2 scale) {
   if (!why_open_ || !why_ || readout_.scene.modules.empty()) return;
   const WhyDiagram& d = *why_;
   const glm::mat4 vp = renderer_->view_projection(camera_scene(), view_.width, view_.height);
-  const auto& modules = readout_.scene.modules;  // by id
-  auto where = [&](uint32_t id) -> std::optional<ImVec2> {
-    const std::optional<sim::ModuleId> m = module_of_id(session_.model().universe, id);
-    if (!m) return std::nullopt;
-    const auto s = std::lower_bound(modules.begin(), modules.end(), *m,
-                                    [](const render::SceneModule& a, sim::ModuleId b) { return a.id < b; });
-    if (s == modules.end() || s->id != *m) return std::nullopt;
-    const auto p =
-        render::project(vp, {s->pose.position[0], s->pose.position[1], s->pose.position[2]}, view_.width, view_.height);
-    if (!p) return std::nullopt;
-    return ImVec2(origin.x + p->x / scale.x, origin.y + p->y / scale.y);
-  };
+  auto where = [&](uint32_t id) { return module_on_screen(id, vp, origin, scale); };
   ImDrawList* draw = ImGui::GetWindowDrawList();
   const int64_t now = readout_.at.current;
   // The cone's modules: a faint ring each, lit where the cone has an event at this step.

@@ -40,6 +40,10 @@ float width_beside(std::initializer_list<const char*> buttons);
 float combo_width(const char* text);
 // The colour of a history plot's line (history_plot).
 constexpr ImU32 kPlotLineColor = IM_COL32(130, 200, 250, 255);
+// A bookmark's flag on the timeline.
+constexpr ImU32 kBookmark = IM_COL32(250, 220, 70, 255);
+// The rings of the modules a diff of two steps lists, in the 3D view.
+constexpr ImU32 kDiffRing = IM_COL32(80, 220, 240, 255);
 // A text a plot wrote and where (for scripts and tests that look at it).
 struct PlotLabel {
   std::string text;

@@ -246,7 +246,7 @@ void Debugger::panel_command(const std::vector<std::string>& words, nlohmann::or
     return;
   }
   if (words.size() != 2) {
-    error = "panel NAME: position, matches, watchpoints, inspector, plots, timeline, widgets, pointers or why";
+    error = kPanelUsage;
     return;
   }
   if (words[1] == "plots") {  // where the last frame drew its plots, for tests that look at them

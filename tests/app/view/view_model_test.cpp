@@ -238,8 +238,9 @@ TEST(WindowCommands, AreCheckedWithTheirColumn) {
   EXPECT_EQ(check("wait -1"), "5: N must be an integer from 0 to 100000");
   EXPECT_EQ(check("screenshot"), "10: screenshot FILE: the PNG to write");
   EXPECT_EQ(check("panel inspector"), "ok");
-  EXPECT_EQ(check("panel stats"),
-            "6: panel NAME: position, matches, watchpoints, inspector, plots, timeline, widgets, pointers or why");
+  EXPECT_EQ(
+      check("panel stats"),
+      "6: panel NAME: position, matches, watchpoints, inspector, group, plots, timeline, widgets, pointers or why");
   EXPECT_EQ(check("panel matches x"), "14: 'panel' takes 1 more word");
   EXPECT_EQ(check("timeline fit"), "ok");
   EXPECT_EQ(check("timeline 10 20"), "ok");
