@@ -20,13 +20,11 @@ import matplotlib.ticker  # noqa: E402
 
 import dwatch  # noqa: E402
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=pathlib.Path, default=pathlib.Path("example"), help="folder for the pictures")
-    parser.add_argument("--scenario", default=str(ROOT / "scenarios" / "leader_election.toml"))
+    # The scenario the package ships: the example runs outside a checkout too (a wheel installed).
+    parser.add_argument("--scenario", default=str(dwatch.scenario_path("leader_election.toml")))
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
 
