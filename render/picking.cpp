@@ -43,6 +43,7 @@ std::optional<sim::ModuleId> pick(const Scene& scene, const glm::mat4& view_proj
   std::optional<sim::ModuleId> nearest;
   float best = std::numeric_limits<float>::infinity();
   for (const SceneModule& m : scene.modules) {
+    if (!shown(scene, m)) continue;  // left out by isolate or the cut: what shows behind it is hit
     const auto& p = m.pose.position;
     const auto& q = m.pose.orientation;  // x, y, z, w
     const glm::quat to_local = glm::conjugate(glm::quat(q[3], q[0], q[1], q[2]));

@@ -66,7 +66,8 @@ std::vector<bool> enclosed_modules(const Scene& scene) {
   cells.reserve(scene.modules.size());
   for (const SceneModule& m : scene.modules) {
     cells.push_back(cell_of(m.pose));
-    if (cells.back()) occupied.insert(key(*cells.back()));
+    // Only what is drawn encloses: a cut opens the modules behind its face.
+    if (cells.back() && shown(scene, m)) occupied.insert(key(*cells.back()));
   }
   for (size_t i = 0; i < cells.size(); ++i) {
     if (!cells[i]) continue;
@@ -456,6 +457,7 @@ void Renderer::draw_bodies(const Scene& scene, const Camera& camera, const glm::
   std::vector<std::pair<float, size_t>> depth;
   for (size_t i = 0; i < scene.modules.size(); ++i) {
     const SceneModule& m = scene.modules[i];
+    if (!shown(scene, m)) continue;
     if (!highlighting || m.highlighted || m.selected) {
       if (moving && !(highlighting && m.highlighted) && !m.selected && hidden[i]) continue;
       solid.push_back({transform(m.pose, glm::vec3(kModuleScale)), {m.color.r, m.color.g, m.color.b, 1}});

@@ -70,10 +70,25 @@ struct Scene {
   // The modules outside the groups dimmed even when no group shows: a player keeps one look while
   // matches come and go (the ensemble flickered between faded and vivid).
   bool fade_others = false;
+  // Seeing inside a large ensemble (the window's Isolate and Cut): the modules outside the groups
+  // left out, and those beyond a plane across one axis; the groups' and the selected module stay.
+  bool isolate = false;
+  struct Cut {
+    int axis = 0;  // 0 x, 1 y, 2 z
+    float at = 0;  // modules whose centre lies beyond this coordinate are left out
+  };
+  std::optional<Cut> cut;
   Legend legend;
   float ground_z = -0.5f;
   std::optional<sim::Vec3> camera_eye, camera_target;  // unset: the camera is fitted
 };
+
+// Whether module m is drawn (and can be picked): isolate and the cut leave the others out.
+inline bool shown(const Scene& scene, const SceneModule& m) {
+  if (m.highlighted || m.selected) return true;
+  if (scene.isolate) return false;
+  return !scene.cut || m.pose.position[size_t(scene.cut->axis)] <= scene.cut->at;
+}
 
 // What a scene needs beyond the model and the state: how the world draws its bodies, and the
 // view settings of the scenario (or the command line).

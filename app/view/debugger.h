@@ -138,6 +138,7 @@ class Debugger {
 
   // scene_view.cpp
   void draw_view();
+  void cut_tools();  // the 3D view's tool row: the cut plane's axis and place
   void render_view_texture(bool moving);
   std::string screenshot_view(const std::string& path);
 

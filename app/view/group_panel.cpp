@@ -47,13 +47,13 @@ void Debugger::group_tab() {
     widths.push_back(w);
   }
   // Every row and the horizontal scroll bar, when the panel has room (its values cut the last row).
-  const float table_height = ImGui::GetTextLineHeightWithSpacing() * float(g.variables.size() + 1) + 8 +
-                             ImGui::GetStyle().ScrollbarSize;
+  const float table_height =
+      ImGui::GetTextLineHeightWithSpacing() * float(g.variables.size() + 1) + 8 + ImGui::GetStyle().ScrollbarSize;
   const float room = ImGui::GetContentRegionAvail().y - 3 * ImGui::GetFrameHeightWithSpacing();
-  if (ImGui::BeginTable("group", int(k) + 1,
-                        ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollX |
-                            ImGuiTableFlags_ScrollY,
-                        ImVec2(0, std::clamp(table_height, ImGui::GetTextLineHeightWithSpacing() * 2, std::max(room, 40.0f))))) {
+  if (ImGui::BeginTable(
+          "group", int(k) + 1,
+          ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollX | ImGuiTableFlags_ScrollY,
+          ImVec2(0, std::clamp(table_height, ImGui::GetTextLineHeightWithSpacing() * 2, std::max(room, 40.0f))))) {
     ImGui::TableSetupScrollFreeze(1, 1);
     ImGui::TableSetupColumn("variable", ImGuiTableColumnFlags_WidthFixed, names_width(g.variables, 40, 200));
     for (size_t i = 0; i < k; ++i)
@@ -69,8 +69,7 @@ void Debugger::group_tab() {
         if (!g.now[at]) ImGui::TextDisabled("absent");
         else if (g.changed(at)) label_cell(std::to_string(*g.now[at]) + " *", kChanged);
         else label_cell(std::to_string(*g.now[at]));
-        if (g.changed(at) && ImGui::IsItemHovered())
-          ImGui::SetTooltip("%" PRId64 " at the step before", *g.before[at]);
+        if (g.changed(at) && ImGui::IsItemHovered()) ImGui::SetTooltip("%" PRId64 " at the step before", *g.before[at]);
       }
     }
     ImGui::EndTable();
@@ -82,8 +81,8 @@ void Debugger::group_tab() {
 // buttons to the nearest step back or on where it holds, and to unpin it.
 void Debugger::pins_rows(const GroupTable& g) {
   const sim::Model& m = session_.model();
-  ImGui::SetNextItemWidth(std::max(120.0f, ImGui::GetContentRegionAvail().x - button_width("pin") -
-                                               ImGui::GetStyle().ItemSpacing.x));
+  ImGui::SetNextItemWidth(
+      std::max(120.0f, ImGui::GetContentRegionAvail().x - button_width("pin") - ImGui::GetStyle().ItemSpacing.x));
   const bool entered = ImGui::InputTextWithHint("##pin", "pin a condition: a.x > b.x", pin_text_, sizeof pin_text_,
                                                 ImGuiInputTextFlags_EnterReturnsTrue);
   note_widget("condition");

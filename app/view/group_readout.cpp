@@ -21,7 +21,8 @@ std::vector<PinRow> pin_rows(sim::Session& session, std::span<const sim::ModuleI
     if (auto* error = std::get_if<std::string>(&condition)) {
       row.error = *error;
     } else if (t >= 0) {
-      const auto truths = sim::truth_over(session, std::get<watch::Watchpoint>(condition).program, modules, t, t, control);
+      const auto truths =
+          sim::truth_over(session, std::get<watch::Watchpoint>(condition).program, modules, t, t, control);
       if (!truths) {
         cancelled = true;
         return rows;

@@ -18,8 +18,8 @@ void Debugger::marks_tab() {
     ImGui::TextDisabled("no step yet to mark");
     return;
   }
-  ImGui::SetNextItemWidth(std::max(120.0f, ImGui::GetContentRegionAvail().x - button_width("mark this step") -
-                                               ImGui::GetStyle().ItemSpacing.x));
+  ImGui::SetNextItemWidth(std::max(
+      120.0f, ImGui::GetContentRegionAvail().x - button_width("mark this step") - ImGui::GetStyle().ItemSpacing.x));
   ImGui::InputTextWithHint("##note", "a note on this step", mark_note_, sizeof mark_note_);
   note_widget("note");
   ImGui::SameLine();
@@ -79,16 +79,16 @@ void Debugger::diff_tab() {
   }
   for (const auto& row : d["modules"]) {
     std::string what;
-    if (row.contains("present"))
-      what += row["present"][1].get<bool>() ? "arrives; " : "leaves; ";
+    if (row.contains("present")) what += row["present"][1].get<bool>() ? "arrives; " : "leaves; ";
     if (row.contains("vars"))
-      for (const auto& [name, v] : row["vars"].items())
-        what += name + " " + v[0].dump() + " -> " + v[1].dump() + "; ";
+      for (const auto& [name, v] : row["vars"].items()) what += name + " " + v[0].dump() + " -> " + v[1].dump() + "; ";
     for (const char* key : {"gained", "lost"})
-      if (row.contains(key)) what += std::string(key == std::string_view("gained") ? "+" : "-") + "nbrs " + row[key].dump() + "; ";
+      if (row.contains(key))
+        what += std::string(key == std::string_view("gained") ? "+" : "-") + "nbrs " + row[key].dump() + "; ";
     const std::string id = row["module"].dump();
-    if (ImGui::Selectable(("module " + id + ": " + what + "##diff " + id).c_str(),
-                          model_.selected && session_.model().universe.id(*model_.selected) == row["module"].get<uint32_t>())) {
+    if (ImGui::Selectable(
+            ("module " + id + ": " + what + "##diff " + id).c_str(),
+            model_.selected && session_.model().universe.id(*model_.selected) == row["module"].get<uint32_t>())) {
       if (const auto m = module_of_id(session_.model().universe, row["module"].get<uint32_t>())) {
         model_.on_module_click(*m);
         readout_stale_ = true;

@@ -152,6 +152,8 @@ Readout read_readout(sim::Session& session, const scenarios::Scenario& scenario,
   // and playing, it no longer flickers between faded and vivid as matches come and go.
   for (uint32_t w = 0; w < session.watches().size(); ++w)
     readout.scene.fade_others = readout.scene.fade_others || session.matches(w).size() > 0;
+  readout.scene.isolate = view.isolate;
+  if (view.cut_axis >= 0) readout.scene.cut = render::Scene::Cut{view.cut_axis, view.cut_at};
   if (const int c = settings.color_by.empty() ? -1 : model.column(settings.color_by); c >= 0) {
     const sim::State& s = session.state();
     const size_t v = model.variable_count();

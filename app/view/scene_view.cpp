@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 
 #include "app/view/debugger.h"
@@ -59,6 +60,33 @@ void Debugger::render_view_texture(bool moving) {
   drawn_height_ = height;
 }
 
+// A plane across one axis that leaves out the modules beyond it, to see inside a large ensemble:
+// the axis (off, x, y, z), and where it stands, from the middle of the ensemble's extent.
+void Debugger::cut_tools() {
+  static const char* const kAxes[] = {"no cut", "cut x", "cut y", "cut z"};
+  int chosen = model_.cut_axis + 1;
+  flow(combo_width_of(kAxes));
+  choice("cut", chosen, kAxes);
+  if (chosen - 1 != model_.cut_axis) {
+    model_.cut_axis = chosen - 1;
+    if (model_.cut_axis >= 0 && !readout_.scene.modules.empty()) {
+      float lo = INFINITY, hi = -INFINITY;
+      for (const render::SceneModule& m : readout_.scene.modules) {
+        lo = std::min(lo, m.pose.position[size_t(model_.cut_axis)]);
+        hi = std::max(hi, m.pose.position[size_t(model_.cut_axis)]);
+      }
+      model_.cut_at = (lo + hi) / 2;
+    }
+    readout_stale_ = true;
+  }
+  if (model_.cut_axis < 0) return;
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(90);
+  if (ImGui::InputFloat("##cut at", &model_.cut_at, 0.5f, 2.0f, "%.1f")) readout_stale_ = true;
+  note_widget("cut-at");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("The modules whose centre lies beyond this are left out");
+}
+
 void Debugger::draw_view() {
   place(panels_.view);
   ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
@@ -92,6 +120,11 @@ void Debugger::draw_view() {
   if (button("Fit (F)")) press(Key::F);
   ImGui::SameLine();
   if (button("Zoom to selection (Z)")) press(Key::Z);
+  const std::string isolate = model_.isolate ? "Show all (I)" : "Isolate (I)";
+  flow(button_width(isolate));
+  if (button(isolate)) press(Key::I);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Only the groups and the selected module: the rest left out");
+  cut_tools();
   const std::string follow = model_.followed ? "Stop following (T)" : "Follow (T)";
   flow(button_width(follow));
   if (button(follow)) press(Key::T);

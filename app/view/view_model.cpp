@@ -209,9 +209,9 @@ struct KeyEntry {
   std::string_view name;
 };
 constexpr KeyEntry kKeys[] = {
-    {Key::Space, "space"}, {Key::Right, "right"}, {Key::Left, "left"}, {Key::N, "n"},           {Key::P, "p"},
-    {Key::F, "f"},         {Key::Z, "z"},         {Key::Y, "y"},       {Key::T, "t"},           {Key::Home, "home"},
-    {Key::End, "end"},     {Key::F1, "f1"},       {Key::F12, "f12"},   {Key::Escape, "escape"},
+    {Key::Space, "space"}, {Key::Right, "right"}, {Key::Left, "left"}, {Key::N, "n"},     {Key::P, "p"},
+    {Key::F, "f"},         {Key::Z, "z"},         {Key::Y, "y"},       {Key::T, "t"},     {Key::I, "i"},
+    {Key::Home, "home"},   {Key::End, "end"},     {Key::F1, "f1"},     {Key::F12, "f12"}, {Key::Escape, "escape"},
 };
 
 }  // namespace
@@ -306,6 +306,7 @@ const std::vector<KeyHelp>& key_help() {
       {"F", "fit the ensemble into the view"},
       {"Z", "zoom onto the selection (and its group)"},
       {"T", "the camera follows the selected module (again: it stays)"},
+      {"I", "isolate: only the groups and the selection (again: everything)"},
       {"Y", "why: the causal history of the selected module's last changed variable"},
       {"F12", "screenshot of the 3D view (PNG, as dwatch render draws it)"},
       {"F1", "this help"},
@@ -467,6 +468,7 @@ std::vector<std::string> ViewModel::on_key(Key key, const Position& at, std::spa
     case Key::T:  // follow the selection, or stop following
       followed = followed || !selected ? std::nullopt : selected;
       return {};
+    case Key::I: isolate = !isolate; return {};
     case Key::Y: return {};  // the window asks `why` (it knows the module's history)
     case Key::F1: show_help = !show_help; return {};
     case Key::F12: screenshot_requested = true; return {};

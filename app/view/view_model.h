@@ -82,7 +82,7 @@ struct MatchRows {
 MatchRows filter_matches(const sim::Session& session, const MatchFilter& filter, size_t limit);
 
 // The keys the window binds (F1 lists them).
-enum class Key { Space, Right, Left, N, P, F, Z, Y, T, Home, End, F1, F12, Escape };
+enum class Key { Space, Right, Left, N, P, F, Z, Y, T, I, Home, End, F1, F12, Escape };
 std::optional<Key> key_named(std::string_view name);
 struct KeyHelp {
   std::string_view keys, what;
@@ -207,6 +207,11 @@ class ViewModel {
   // The module the camera follows (`T`, the script's `follow M`): each frame its target is the
   // module's centre, the camera's turn and distance kept. Nothing: the camera stays where it is.
   std::optional<sim::ModuleId> followed;
+  // Seeing inside (render::Scene::isolate, cut): only the groups and the selection (`I`), and the
+  // modules on this side of a plane across axis cut_axis (-1: none) at cut_at.
+  bool isolate = false;
+  int cut_axis = -1;
+  float cut_at = 0;
 
   // What a key does: the commands to send (in order) and what changes here. `chosen_steps` are
   // the chosen watchpoint's match steps (for N and P); with no match known after the current step,

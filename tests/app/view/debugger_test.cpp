@@ -82,11 +82,12 @@ TEST_F(Window, PausedOnTwoLeadersSeekBackSelectTheGroupAndScreenshot) {
   ASSERT_LE(y + h, window->height);
   dw::render::Image crop(w, h);
   for (int row = 0; row < h; ++row) std::copy_n(window->pixel(x, y + row), size_t(w) * 4, crop.pixel(0, row));
-  // Around module 17, the selection's ring, which `dwatch render` (no selection) does not draw.
+  // Around module 17, the selection's ring, which `dwatch render` (no selection) does not draw; it
+  // is drawn over whatever covers it, the rims of the group's modules beside it included.
   const int sx = int(view.answers[7]["pixel"][0].get<double>()) - x;
   const int sy = int(view.answers[7]["pixel"][1].get<double>()) - y;
-  for (int row = std::max(0, sy - 90); row < std::min(h, sy + 90); ++row)
-    for (int col = std::max(0, sx - 90); col < std::min(w, sx + 90); ++col)
+  for (int row = std::max(0, sy - 120); row < std::min(h, sy + 120); ++row)
+    for (int col = std::max(0, sx - 120); col < std::min(w, sx + 120); ++col)
       std::copy_n(expected->pixel(col, row), 4, crop.pixel(col, row));
   const auto d = dw::render::compare_images(*expected, crop, kTolerance);
   EXPECT_LE(d.share, 0.001) << d.differing << " pixels differ, the largest by " << d.largest << " (see "

@@ -13,20 +13,24 @@ const std::string kGroup = "7 6 17";
 
 TEST_F(Window, TheGroupTabShowsTheMatchSideBySideAndItsPinsAsTheSessionDecidesThem) {
   const Outcome view = dwatch("view " + kLeader,
-                              "run\n"                                          // 0: pauses at step 1, a=7 b=6 c=17
-                              "press tab group\n"                              // 1
-                              "type condition " + kPin + "\n"                  // 2
-                              "press pin\n"                                    // 3
-                              "wait 3\n"                                       // 4
-                              "panel group\n"                                  // 5
-                              "screenshot group.png\n"                         // 6
-                              "panel widgets\n"                                // 7
-                              "state 7\n"                                      // 8
-                              "state 17\n"                                     // 9
-                              "eval " + kGroup + " modules(a b c); " + kPin + "\n"  // 10
-                              "type condition b.nothere = 1\n"                 // 11
-                              "press pin\n"                                    // 12
-                              "panel group\n",                                 // 13
+                              "run\n"              // 0: pauses at step 1, a=7 b=6 c=17
+                              "press tab group\n"  // 1
+                              "type condition " +
+                                  kPin +
+                                  "\n"                      // 2
+                                  "press pin\n"             // 3
+                                  "wait 3\n"                // 4
+                                  "panel group\n"           // 5
+                                  "screenshot group.png\n"  // 6
+                                  "panel widgets\n"         // 7
+                                  "state 7\n"               // 8
+                                  "state 17\n"              // 9
+                                  "eval " +
+                                  kGroup + " modules(a b c); " + kPin +
+                                  "\n"                              // 10
+                                  "type condition b.nothere = 1\n"  // 11
+                                  "press pin\n"                     // 12
+                                  "panel group\n",                  // 13
                               true);
   ASSERT_EQ(view.exit_code, 0) << view.err;
   ASSERT_EQ(view.answers.size(), 14u) << view.err;
@@ -60,7 +64,8 @@ TEST_F(Window, TheGroupTabShowsTheMatchSideBySideAndItsPinsAsTheSessionDecidesTh
     const int y0 = int(h["rect"][3].get<double>()), y1 = y0 + 70;
     int light = 0;
     for (int y = y0; y < y1 && y < shot->height; ++y)
-      for (int x = x0; x < x1 && x < shot->width; ++x) light += shot->pixel(x, y)[0] > 200 && shot->pixel(x, y)[1] > 200;
+      for (int x = x0; x < x1 && x < shot->width; ++x)
+        light += shot->pixel(x, y)[0] > 200 && shot->pixel(x, y)[1] > 200;
     EXPECT_GT(light, 30) << h["name"] << ": no values drawn under it";
   }
 }
@@ -70,20 +75,24 @@ TEST_F(Window, TheGroupTabShowsTheMatchSideBySideAndItsPinsAsTheSessionDecidesTh
 TEST_F(Window, ThePinsAndVariablesSearchBackAndOnAsFindDoes) {
   const std::string cond = "times[30](a.isLeader = 1) >= 25";  // first at step 25
   const Outcome view = dwatch("view " + kLeader,
-                              "action two_leaders log\n"                               // 0
-                              "run 40\n"                                               // 1
-                              "seek 1\n"                                               // 2
-                              "find next " + kGroup + " when modules(a b c); " + cond + "\n"  // 3
-                              "click match 0\n"                                        // 4: step 1, a=7 b=6 c=17
-                              "press tab group\n"                                      // 5
-                              "type condition " + cond + "\n"                          // 6
-                              "press pin\n"                                            // 7
-                              "press > holds 0\n"                                      // 8
-                              "seek 3\n"                                               // 9
-                              "find prev 7 isLeader\n"                                 // 10
-                              "seek 3\n"                                               // 11
-                              "click 7\n"                                              // 12
-                              "press < change\n",                                      // 13
+                              "action two_leaders log\n"  // 0
+                              "run 40\n"                  // 1
+                              "seek 1\n"                  // 2
+                              "find next " +
+                                  kGroup + " when modules(a b c); " + cond +
+                                  "\n"                 // 3
+                                  "click match 0\n"    // 4: step 1, a=7 b=6 c=17
+                                  "press tab group\n"  // 5
+                                  "type condition " +
+                                  cond +
+                                  "\n"                      // 6
+                                  "press pin\n"             // 7
+                                  "press > holds 0\n"       // 8
+                                  "seek 3\n"                // 9
+                                  "find prev 7 isLeader\n"  // 10
+                                  "seek 3\n"                // 11
+                                  "click 7\n"               // 12
+                                  "press < change\n",       // 13
                               true);
   ASSERT_EQ(view.exit_code, 0) << view.err;
   ASSERT_EQ(view.answers.size(), 14u) << view.err;
@@ -98,20 +107,20 @@ TEST_F(Window, ThePinsAndVariablesSearchBackAndOnAsFindDoes) {
 // answers, and rings those modules in the 3D view.
 TEST_F(Window, BookmarksFlagTheTimelineAndADiffRingsItsModules) {
   const Outcome view = dwatch("view " + kLeader,
-                              "run\n"                              // 0: step 1
-                              "press tab marks\n"                  // 1
-                              "type note two leaders\n"            // 2
-                              "press mark this step\n"             // 3
-                              "marks\n"                            // 4
-                              "panel timeline\n"                   // 5
-                              "screenshot marks.png\n"             // 6
-                              "save saved.toml\n"                  // 7
-                              "diff 0 1\n"                         // 8
-                              "press tab diff\n"                   // 9
-                              "type diff-step 0\n"                 // 10
-                              "press diff\n"                       // 11
-                              "click 7\n"                          // 12
-                              "screenshot diff.png\n",             // 13
+                              "run\n"                    // 0: step 1
+                              "press tab marks\n"        // 1
+                              "type note two leaders\n"  // 2
+                              "press mark this step\n"   // 3
+                              "marks\n"                  // 4
+                              "panel timeline\n"         // 5
+                              "screenshot marks.png\n"   // 6
+                              "save saved.toml\n"        // 7
+                              "diff 0 1\n"               // 8
+                              "press tab diff\n"         // 9
+                              "type diff-step 0\n"       // 10
+                              "press diff\n"             // 11
+                              "click 7\n"                // 12
+                              "screenshot diff.png\n",   // 13
                               true);
   ASSERT_EQ(view.exit_code, 0) << view.err;
   ASSERT_EQ(view.answers.size(), 14u) << view.err;
@@ -121,7 +130,7 @@ TEST_F(Window, BookmarksFlagTheTimelineAndADiffRingsItsModules) {
   // The flag: yellow pixels at step 1's x, at the top of the lanes.
   const json& tl = view.answers[5];
   const double x = tl["x0"].get<double>() + (1.5 - tl["first"].get<double>()) * tl["width"].get<double>() /
-                                                 (tl["last"].get<double>() - tl["first"].get<double>() + 1);
+                                                (tl["last"].get<double>() - tl["first"].get<double>() + 1);
   std::string error;
   const auto marks = dw::render::read_png((dir_ / "marks.png").string(), &error);
   ASSERT_TRUE(marks) << error;

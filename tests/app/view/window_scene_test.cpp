@@ -84,4 +84,56 @@ TEST_F(Window, AScriptFiltersTheMatchesAndOpensWhatItMeans) {
   for (const json& row : view.answers[6]["rows"]) EXPECT_EQ(row["watch"], "torn_off") << row.dump();
 }
 
+// How much of the screenshot around (x, y) changed between two shots: pixels whose colour moved
+// by more than the golden images' tolerance, within `reach`.
+int changed_around(const dw::render::Image& a, const dw::render::Image& b, const json& pixel, int reach) {
+  const int cx = int(pixel[0].get<double>()), cy = int(pixel[1].get<double>());
+  int changed = 0;
+  for (int y = std::max(0, cy - reach); y < std::min(a.height, cy + reach); ++y)
+    for (int x = std::max(0, cx - reach); x < std::min(a.width, cx + reach); ++x)
+      for (int c = 0; c < 3; ++c)
+        if (std::abs(int(a.pixel(x, y)[c]) - int(b.pixel(x, y)[c])) > kTolerance) {
+          ++changed;
+          break;
+        }
+  return changed;
+}
+
+// Seeing inside: a cut across x leaves out the modules beyond the ensemble's middle (module 11, at
+// the first row's far end, is gone; module 0, at its near end, stays), and Isolate (I) leaves out
+// every module but the group's and the selection (module 12 is gone, the group's a stays).
+TEST_F(Window, ACutPlaneAndIsolateLeaveModulesOut) {
+  const Outcome view = dwatch("view " + kLeader,
+                              "run\n"                    // 0: paused, a=7 b=6 c=17
+                              "click 11\n"               // 1: where 11 shows
+                              "click 12\n"               // 2
+                              "click 0\n"                // 3: the selection, far from both
+                              "screenshot all.png\n"     // 4
+                              "press cut\n"              // 5
+                              "press cut: cut x\n"       // 6
+                              "screenshot cut.png\n"     // 7
+                              "press cut\n"              // 8
+                              "press cut: no cut\n"      // 9
+                              "key i\n"                  // 10
+                              "screenshot alone.png\n"   // 11
+                              "key i\n"                  // 12
+                              "screenshot again.png\n",  // 13
+                              true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 14u) << view.err;
+  std::string error;
+  const auto all = dw::render::read_png((dir_ / "all.png").string(), &error);
+  const auto cut = dw::render::read_png((dir_ / "cut.png").string(), &error);
+  const auto alone = dw::render::read_png((dir_ / "alone.png").string(), &error);
+  const auto again = dw::render::read_png((dir_ / "again.png").string(), &error);
+  ASSERT_TRUE(all && cut && alone && again) << error;
+  const json &p11 = view.answers[1]["pixel"], &p12 = view.answers[2]["pixel"], &p0 = view.answers[3]["pixel"];
+  const json& a = view.answers[0]["paused"]["group"]["a"];
+  ASSERT_EQ(a, 7);
+  EXPECT_GT(changed_around(*all, *cut, p11, 8), 100) << "module 11 lies beyond the cut and still shows";
+  EXPECT_LT(changed_around(*all, *cut, p0, 8), 30) << "module 0 lies on this side of the cut and changed";
+  EXPECT_GT(changed_around(*all, *alone, p12, 8), 100) << "isolated, module 12 still shows";
+  EXPECT_LT(changed_around(*all, *again, p12, 8), 30) << "I again did not bring module 12 back";
+}
+
 }  // namespace
