@@ -26,7 +26,8 @@ class Bookmarks {
   }
   // Marks step `at`, replacing its note if it had one.
   void mark(int64_t at, std::string note) {
-    const auto it = std::lower_bound(marks_.begin(), marks_.end(), at, [](const Bookmark& b, int64_t t) { return b.at < t; });
+    const auto it =
+        std::lower_bound(marks_.begin(), marks_.end(), at, [](const Bookmark& b, int64_t t) { return b.at < t; });
     if (it != marks_.end() && it->at == at) it->note = std::move(note);
     else marks_.insert(it, Bookmark{at, std::move(note)});
   }

@@ -83,8 +83,8 @@ std::string why_undecidable(const watch::Program& program, size_t group_size) {
 }
 
 std::variant<watch::Watchpoint, std::string> condition_on_slots(const Model& model,
-                                                               std::span<const std::string> slot_names,
-                                                               std::string_view expression) {
+                                                                std::span<const std::string> slot_names,
+                                                                std::string_view expression) {
   std::string text = "modules(";
   for (size_t i = 0; i < slot_names.size(); ++i) text += (i ? " " : "") + slot_names[i];
   text += "); ";
@@ -151,7 +151,8 @@ Found find_holding(Session& session, const watch::Program& program, std::span<co
   return search(session, direction, [&](int64_t lo, int64_t hi) -> std::optional<std::optional<int64_t>> {
     const auto truths = truth_over(session, program, group, lo, hi, control);
     if (!truths) return std::nullopt;
-    return nearest(direction, lo, hi, [&](int64_t s) { return (*truths)[static_cast<size_t>(s - lo)] == watch::kTrue; });
+    return nearest(direction, lo, hi,
+                   [&](int64_t s) { return (*truths)[static_cast<size_t>(s - lo)] == watch::kTrue; });
   });
 }
 

@@ -50,8 +50,8 @@ std::string why_undecidable(const watch::Program& program, size_t group_size);
 // compiled with its windows written out. Or the mistake, one line, its column counted in
 // `expression`.
 std::variant<watch::Watchpoint, std::string> condition_on_slots(const Model& model,
-                                                               std::span<const std::string> slot_names,
-                                                               std::string_view expression);
+                                                                std::span<const std::string> slot_names,
+                                                                std::string_view expression);
 
 // The condition's truth on `group` at each step of [from, to] (0 <= from <= to <= latest): true,
 // false, or unknown where it reads a step outside the history or an absent module. Nothing when

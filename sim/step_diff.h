@@ -22,14 +22,14 @@ struct ModuleDiff {
     int column = 0;
     int64_t a = 0, b = 0;
   };
-  std::vector<Value> values;  // the variables that differ, by column (present at both steps)
-  std::vector<ModuleId> gained, lost;     // neighbours at b and not at a, at a and not at b
+  std::vector<Value> values;           // the variables that differ, by column (present at both steps)
+  std::vector<ModuleId> gained, lost;  // neighbours at b and not at a, at a and not at b
 };
 
 struct StepDiff {
   int64_t a = 0, b = 0;
-  size_t total = 0;                  // modules that differ
-  std::vector<ModuleDiff> modules;   // the first `most` of them, by module
+  size_t total = 0;                 // modules that differ
+  std::vector<ModuleDiff> modules;  // the first `most` of them, by module
 };
 
 // Steps a and b (0 <= a, b <= latest) compared, the cursor going there and back; nothing when

@@ -49,14 +49,14 @@ TEST(GroupQuery, AChangeFoundBackAndOnIsTheNearestChangeOfAStraightRun) {
       for (int column : {0, 2}) {
         std::set<int64_t> changes{0};
         for (int64_t s = 1; s < kSteps; ++s)
-          if (values[size_t(s)][m * variables + size_t(column)] != values[size_t(s - 1)][m * variables + size_t(column)])
+          if (values[size_t(s)][m * variables + size_t(column)] !=
+              values[size_t(s - 1)][m * variables + size_t(column)])
             changes.insert(s);
         ASSERT_GT(changes.size(), 3u);
         for (int64_t t : {int64_t{0}, int64_t{5}, int64_t{47}, kSteps - 1}) {
           ASSERT_TRUE(session.seek(t));
           for (bool back : {true, false}) {
-            const Found found =
-                find_change(session, m, column, back ? SearchDirection::Back : SearchDirection::On, {});
+            const Found found = find_change(session, m, column, back ? SearchDirection::Back : SearchDirection::On, {});
             EXPECT_FALSE(found.cancelled);
             EXPECT_EQ(found.step, nearest(changes, t, back))
                 << "module " << m << " column " << column << " from " << t << (back ? " back" : " on");
@@ -102,7 +102,8 @@ TEST(GroupQuery, AConditionHoldsOnAPairWhereAWatchpointWithItsTextMatchesThatPai
     for (int64_t t : {int64_t{0}, int64_t{30}, int64_t{70}}) {
       session.seek(t);
       for (bool back : {true, false}) {
-        const Found found = find_holding(session, program, group, back ? SearchDirection::Back : SearchDirection::On, {});
+        const Found found =
+            find_holding(session, program, group, back ? SearchDirection::Back : SearchDirection::On, {});
         EXPECT_EQ(found.step, nearest(held, t, back)) << "pair " << a << " " << b << " from " << t;
         EXPECT_EQ(session.current(), t);
       }
