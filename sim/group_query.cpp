@@ -77,8 +77,8 @@ std::string why_undecidable(const watch::Program& program, size_t group_size) {
     return "the condition has " + counted(size_t(program.slot_count()), "slot") + " and the group " +
            counted(group_size, "module") + ": one module a slot, in order";
   if (program.kept_columns > 0)
-    return "windows kept in time (since, count(... in last k)) are worked out by each module over the run "
-           "and are not kept in the history; write the condition with offsets (a.x@-1)";
+    return "windows kept by each module (since, times[k], once[k] over one slot) are worked out over the run "
+           "and not kept in the history: compile the condition with its windows written out";
   return {};
 }
 

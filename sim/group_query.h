@@ -40,9 +40,9 @@ struct Found {
 // the step before (step 0 counts as a change, as a value's origin does, §7b).
 Found find_change(Session& session, ModuleId m, int column, SearchDirection direction, const Control& control);
 
-// Why `program` cannot be decided on a group of `group_size` modules; empty when it can. Windows
-// kept in time (`since`, `count(... in last k)`) are worked out by each module over the whole run
-// and the history does not keep them.
+// Why `program` cannot be decided on a group of `group_size` modules; empty when it can: one module
+// a slot, and no window kept by each module (those are worked out over the whole run and the
+// history does not keep them; compile with watch::WindowKeeping::WrittenOut).
 std::string why_undecidable(const watch::Program& program, size_t group_size);
 
 // A condition written over a watchpoint's slot names (the window's pinned expressions:
