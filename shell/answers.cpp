@@ -113,6 +113,7 @@ Shell::Answer Shell::module_state(const Command& cmd, nlohmann::ordered_json ans
 Shell::Answer Shell::eval(const Command& cmd, const sim::Control& control, nlohmann::ordered_json answer) {
   const int64_t t = session_.current();
   if (t < 0) return failed("no step has run yet: step first");
+  if (!session_.has_history()) return failed("the session keeps no history to read the condition from");
   const auto truths = sim::truth_over(session_, cmd.query->condition->program, cmd.query->group, t, t, control);
   if (!truths) return failed("cancelled");
   const watch::Truth truth = truths->front();
@@ -126,6 +127,7 @@ Shell::Answer Shell::eval(const Command& cmd, const sim::Control& control, nlohm
 // differs, the neighbours it gained and lost; the first kDiffRows modules, and how many in all.
 Shell::Answer Shell::diff(const Command& cmd, const sim::Control& control, nlohmann::ordered_json answer) {
   constexpr size_t kDiffRows = 1000;
+  if (!session_.has_history()) return failed("the session keeps no history to compare");
   for (const int64_t t : {*cmd.number, *cmd.other})
     if (t > session_.latest())
       return failed("step " + std::to_string(t) + " has not been simulated (the latest is " +

@@ -196,6 +196,7 @@ Shell::Answer Shell::seek(const Command& cmd, const sim::Control& control, nlohm
 // none is, and the answer says how far the search went (step 0, or the latest).
 Shell::Answer Shell::find(const Command& cmd, const sim::Control& control, nlohmann::ordered_json answer) {
   const Command::Query& q = *cmd.query;
+  if (!session_.has_history()) return failed("the session keeps no history to search");
   const auto direction = q.back ? sim::SearchDirection::Back : sim::SearchDirection::On;
   const sim::Found found = q.condition ? sim::find_holding(session_, q.condition->program, q.group, direction, control)
                                        : sim::find_change(session_, q.group[0], q.column, direction, control);

@@ -57,6 +57,7 @@ std::optional<int64_t> nearest(SearchDirection direction, int64_t lo, int64_t hi
 }  // namespace
 
 Found find_change(Session& session, ModuleId m, int column, SearchDirection direction, const Control& control) {
+  if (!session.has_history()) return {};  // nothing to re-simulate: no step is known but the latest
   return search(session, direction, [&](int64_t lo, int64_t hi) -> std::optional<std::optional<int64_t>> {
     // From the step before the window, which a change at its first step is against.
     const int64_t from = std::max<int64_t>(0, lo - 1);

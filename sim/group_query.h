@@ -37,7 +37,8 @@ struct Found {
 
 // The step nearest the current one, before it (Back) or after it up to the latest (On), at which
 // variable `column` of module m changed: its value differs from the step before's, or m was absent
-// the step before (step 0 counts as a change, as a value's origin does, §7b).
+// the step before (step 0 counts as a change, as a value's origin does, §7b). Nothing found in a
+// session that keeps no history.
 Found find_change(Session& session, ModuleId m, int column, SearchDirection direction, const Control& control);
 
 // Why `program` cannot be decided on a group of `group_size` modules; empty when it can: one module

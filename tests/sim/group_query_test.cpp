@@ -126,5 +126,18 @@ TEST(GroupQuery, ASearchCancelledSaysSoAndLeavesTheCursor) {
   EXPECT_EQ(session.current(), 20);
 }
 
+// A session that keeps no history has nothing to search: none found, nothing read out of range.
+TEST(GroupQuery, WithoutHistoryNothingIsFound) {
+  const auto model = gossip_model({LatticeKind::Cubic, {3, 3, 1}}, {}, 2);
+  StaticLatticeWorld world;
+  Session session(*model, world, {.history_bytes = 0});
+  session.run_until(30);
+  for (const auto direction : {SearchDirection::Back, SearchDirection::On}) {
+    const Found found = find_change(session, 4, 0, direction, {});
+    EXPECT_FALSE(found.step);
+    EXPECT_FALSE(found.cancelled);
+  }
+}
+
 }  // namespace
 }  // namespace dw::sim
