@@ -14,6 +14,16 @@
 
 namespace dw::shell {
 
+// find prev|next M VAR | find prev|next M... when TEXT; eval M... TEXT (sim/group_query.h). Outside
+// Command: clang cannot default-construct a nested class with member initializers in an
+// optional member of the class around it (std::optional::emplace() is then refused).
+struct CommandQuery {
+  bool back = false;                           // prev
+  std::vector<sim::ModuleId> group;            // M...: the condition's slots, in order
+  int column = -1;                             // find M VAR
+  std::optional<watch::Watchpoint> condition;  // TEXT, its windows written out
+};
+
 struct Command {
   enum class Kind {
     Step,
@@ -66,13 +76,7 @@ struct Command {
     bool narrow = false;
   };
   std::optional<Why> why;
-  // find prev|next M VAR | find prev|next M... when TEXT; eval M... TEXT (sim/group_query.h).
-  struct Query {
-    bool back = false;                           // prev
-    std::vector<sim::ModuleId> group;            // M...: the condition's slots, in order
-    int column = -1;                             // find M VAR
-    std::optional<watch::Watchpoint> condition;  // TEXT, its windows written out
-  };
+  using Query = CommandQuery;
   std::optional<Query> query;
 };
 
