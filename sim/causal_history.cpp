@@ -101,7 +101,9 @@ void take_next(Session& session, const State& state, StepRecord& rec) {
 
 }  // namespace
 
-std::optional<CausalHistory> record_window(Session& session, int64_t first, int64_t last, const Control& control) {
+std::optional<CausalHistory> record_window(Session& session, int64_t first, int64_t last, const Control& control,
+                                           Recording recording) {
+  const bool causes = recording == Recording::Causes;
   if (first < 0 || first > last || last > session.latest() || !session.has_history()) return std::nullopt;
   const int64_t back = session.current();
   const Model& model = session.model();
@@ -114,7 +116,7 @@ std::optional<CausalHistory> record_window(Session& session, int64_t first, int6
   {
     const State& s = session.state();
     h.before = s.values;
-    take_next(session, s, next);
+    if (causes) take_next(session, s, next);
   }
   // Each step of the window reported as done of the window's steps (a deep cone over many modules
   // takes seconds); the one-step seeks within it report nothing of their own.
@@ -125,7 +127,7 @@ std::optional<CausalHistory> record_window(Session& session, int64_t first, int6
     rec.step = t;
     // The interventions come after the actions, as the runtime carries them out.
     for (const Intervention& i : session.interventions()) {
-      if (i.at != t) continue;
+      if (i.at != t || !causes) continue;
       rec.outside.push_back({.by = i.scheduled ? OutsideWrite::By::Event : OutsideWrite::By::Intervention,
                              .module = i.module,
                              .column = i.kind == Intervention::Kind::Set ? i.column : -1,
@@ -142,8 +144,8 @@ std::optional<CausalHistory> record_window(Session& session, int64_t first, int6
     const std::span<const uint8_t> present = session.seen_present();
     rec.present.assign(present.begin(), present.end());
     rec.graph = std::make_shared<const NeighborGraph>(session.seen_graph());
-    if (t < last) take_next(session, s, next);
-    rec.index_reads(h.modules);
+    if (t < last && causes) take_next(session, s, next);
+    if (causes) rec.index_reads(h.modules);
     h.steps.push_back(std::move(rec));
   }
   session.seek(back);

@@ -102,8 +102,13 @@ struct CausalHistory {
 // nothing when cancelled.
 std::optional<int64_t> origin_step(Session& session, ModuleId m, int column, int64_t t, const Control& control);
 
+// What a window records: everything `why` follows, or only the states a watchpoint's condition
+// reads (values, presence, neighbours) -- the messages are most of a step's record.
+enum class Recording : uint8_t { Causes, States };
+
 // Records steps [first, last] of the session's history (0 <= first <= last <= latest), moving
 // its cursor there and back: nothing when cancelled, or when the session keeps no history.
-std::optional<CausalHistory> record_window(Session& session, int64_t first, int64_t last, const Control& control);
+std::optional<CausalHistory> record_window(Session& session, int64_t first, int64_t last, const Control& control,
+                                           Recording recording = Recording::Causes);
 
 }  // namespace dw::sim

@@ -118,7 +118,7 @@ std::optional<std::vector<watch::Truth>> truth_over(Session& session, const watc
     const int64_t hi = std::min(to, lo + part - 1);
     const int64_t first = std::clamp<int64_t>(lo + program.min_offset, 0, session.latest());
     const int64_t last = std::clamp<int64_t>(hi + program.extent_plus, first, session.latest());
-    const auto history = record_window(session, first, last, control);
+    const auto history = record_window(session, first, last, control, Recording::States);
     if (!history) return std::nullopt;
     HistoryReader reader(*history, columns, model.universe, group, lo);
     watch::Evaluator<HistoryReader> evaluator(program, reader, scratch);

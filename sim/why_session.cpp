@@ -122,7 +122,7 @@ std::optional<std::vector<ValueAsked>> value_code_reads(Session& session, const 
     return values;
   const int64_t first = std::clamp<int64_t>(t + program.min_offset, 0, session.latest());
   const int64_t last = std::clamp<int64_t>(t + program.extent_plus, first, session.latest());
-  const auto history = record_window(session, first, last, control);
+  const auto history = record_window(session, first, last, control, Recording::States);
   if (!history) return std::nullopt;
   std::vector<int> columns;
   for (const std::string& v : program.variables) columns.push_back(session.model().column(v));

@@ -62,13 +62,6 @@ std::optional<GroupWindow> read_group_window(sim::Session& session, std::vector<
   return w;
 }
 
-bool window_holds(const GroupWindow& window, const sim::Session& session, const GroupTable& group,
-                  const std::vector<std::string>& pins) {
-  return window.t == session.current() && window.latest == session.latest() &&
-         window.interventions == session.interventions().size() && window.modules == group.modules &&
-         window.slots == group.slots && window.pins == pins;
-}
-
 std::optional<GroupTable> read_group_table(sim::Session& session, const ViewModel& view, const GroupWindow* window) {
   const auto& chosen = view.selected_match;
   if (!chosen || chosen->watch >= session.watches().size() || chosen->index >= session.matches(chosen->watch).size())
@@ -95,7 +88,7 @@ std::optional<GroupTable> read_group_table(sim::Session& session, const ViewMode
       if (present[g.modules[slot]])
         for (size_t c = 0; c < v; ++c) g.now[c * k + slot] = s.values[size_t{g.modules[slot]} * v + c];
   }
-  if (window && window_holds(*window, session, g, view.pins)) {
+  if (window && window->holds(session.current(), session.latest(), session.interventions().size(), g, view.pins)) {
     g.before = window->before;
     g.pins = window->pin_rows;
   } else {

@@ -149,13 +149,17 @@ struct GroupWindow {
   size_t interventions = 0;                    // the branch it was read on
   std::vector<std::optional<int64_t>> before;  // as GroupTable::before
   std::vector<PinRow> pin_rows;
+  // True when it is `group`'s, with these pins, read at step t of the branch with `interventions`
+  // whose latest step is `latest`.
+  bool holds(int64_t at, int64_t latest_step, size_t branch_interventions, const GroupTable& group,
+             const std::vector<std::string>& with_pins) const {
+    return t == at && latest == latest_step && interventions == branch_interventions && modules == group.modules &&
+           slots == group.slots && pins == with_pins;
+  }
 };
 std::optional<GroupWindow> read_group_window(sim::Session& session, std::vector<sim::ModuleId> modules,
                                              std::vector<std::string> slots, std::vector<std::string> pins,
                                              const sim::Control& control = {});
-// True when `window` is the group's, with these pins, at the session's current step and branch.
-bool window_holds(const GroupWindow& window, const sim::Session& session, const GroupTable& group,
-                  const std::vector<std::string>& pins);
 // The selected match's group table (nothing without a selected match with slots), the step
 // before's values and the pins' truths taken from `window` when it holds.
 std::optional<GroupTable> read_group_table(sim::Session& session, const ViewModel& view, const GroupWindow* window);

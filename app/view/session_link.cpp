@@ -145,10 +145,8 @@ void Debugger::refresh_readout() {
   }
   // The Group tab's step before and pins, when they are not this group's at this step.
   if (readout_.group && !model_.playing && !group_window_asked_ && readout_.at.current >= 0 &&
-      !(group_window_ && group_window_->t == readout_.at.current && group_window_->latest == readout_.at.latest &&
-        group_window_->interventions == readout_.interventions.size() &&
-        group_window_->modules == readout_.group->modules && group_window_->slots == readout_.group->slots &&
-        group_window_->pins == model_.pins)) {
+      !(group_window_ && group_window_->holds(readout_.at.current, readout_.at.latest, readout_.interventions.size(),
+                                              *readout_.group, model_.pins))) {
     group_window_asked_ = true;
     worker_->submit(
         [this, modules = readout_.group->modules, slots = readout_.group->slots, pins = model_.pins](

@@ -14,6 +14,7 @@
 #include "physics/pivot.h"
 #include "sim/session.h"
 #include "sim/state.h"
+#include "tests/physics/scripted_program.h"
 
 namespace dw::physics {
 namespace {
@@ -23,24 +24,6 @@ constexpr float kRow = 0.8660254f;  // sqrt(3)/2
 float distance(const sim::Vec3& a, const sim::Vec3& b) { return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
 
 sim::Pose at(sim::Vec3 p) { return sim::Pose{.position = p}; }
-
-class Scripted final : public sim::HostProgram {
- public:
-  explicit Scripted(std::function<void(sim::ModuleContext&)> f) : f_(std::move(f)) {}
-  std::string_view name() const override { return "scripted"; }
-  std::vector<sim::VariableSpec> variables() const override { return {{"side", 0}}; }
-  void step(sim::ModuleContext& m) const override { f_(m); }
-
- private:
-  std::function<void(sim::ModuleContext&)> f_;
-};
-
-std::unique_ptr<sim::Model> model_of(sim::Lattice lattice, std::function<void(sim::ModuleContext&)> f) {
-  std::vector<std::unique_ptr<const sim::HostProgram>> programs;
-  programs.push_back(std::make_unique<Scripted>(std::move(f)));
-  auto built = sim::build_model(std::move(lattice), std::move(programs), {}, 1);
-  return std::move(std::get<std::unique_ptr<sim::Model>>(built));
-}
 
 // The shapes touch where the lattice's cells do: two discs one apart along x or up a row are at
 // distance 0 (a disc's axis is y: two side by side along y overlap, two a size apart along z
@@ -122,7 +105,7 @@ struct Outcome {
   sim::Vec3 place{};
 };
 Outcome pivot_in(const sim::Lattice& lattice, sim::ModuleId mover, sim::ModuleId about, sim::Vec3 offset) {
-  const auto model = model_of(lattice, [=](sim::ModuleContext& m) {
+  const auto model = test::scripted_model(lattice, [=](sim::ModuleContext& m) {
     if (m.id() == mover && m.step() == 1) m.pivot(about, offset);
   });
   PhysicsSettings s;
@@ -187,7 +170,7 @@ TEST(HexModules, VerticalCatomsAreDeterministicAndTheirStackStands) {
   sim::leave_empty(lattice, {4, 0, 0}, {4, 0, 0});
   sim::leave_empty(lattice, {3, 1, 0}, {4, 1, 0});
   sim::leave_empty(lattice, {0, 2, 0}, {4, 2, 0});
-  const auto model = model_of(lattice, [](sim::ModuleContext& m) {
+  const auto model = test::scripted_model(lattice, [](sim::ModuleContext& m) {
     if (m.id() == 7 && m.step() == 1) m.pivot(3, {1, 0, 0});   // onto module 3
     if (m.id() == 6 && m.step() == 13) m.pivot(2, {1, 0, 0});  // into the cell module 7 left
   });
@@ -221,7 +204,7 @@ TEST(HexModules, AHexanodeTurnsAboutASharedEdgeIntoTheNextCell) {
   s.shape = ModuleShape::HexPrism;
   s.move_steps = 10;
   const auto run_pivot = [&](const sim::Lattice& lattice) -> std::pair<std::string, sim::Pose> {
-    const auto model = model_of(lattice, [](sim::ModuleContext& m) {
+    const auto model = test::scripted_model(lattice, [](sim::ModuleContext& m) {
       if (m.id() == 3 && m.step() == 1) m.pivot(1, {1, 0, 0});
     });
     BulletWorld world(s, model->lattice);

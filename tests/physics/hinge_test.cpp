@@ -14,6 +14,7 @@
 #include "physics/pivot.h"
 #include "sim/session.h"
 #include "sim/state.h"
+#include "tests/physics/scripted_program.h"
 
 namespace dw::physics {
 namespace {
@@ -55,30 +56,15 @@ TEST(Hinge, AContactGraphListsTheHingePartnerAtEveryStepOfTheTurn) {
   }
 }
 
-// A program that runs a test's lambda on every module.
-class Scripted final : public sim::HostProgram {
- public:
-  explicit Scripted(std::function<void(sim::ModuleContext&)> f) : f_(std::move(f)) {}
-  std::string_view name() const override { return "scripted"; }
-  std::vector<sim::VariableSpec> variables() const override { return {{"side", 0}}; }
-  void step(sim::ModuleContext& m) const override { f_(m); }
-
- private:
-  std::function<void(sim::ModuleContext&)> f_;
-};
-
 // The world's own pivot: module 3, on top of module 0, asks at step 2 to roll over the edge it
 // shares with 0 into the cell on top of module 1. The graph measured from each pose strictly
 // inside the turn lists 0 as 3's neighbour and 3 as 0's.
 TEST(Hinge, APivotingCubeListsItsHingePartnerAtEveryStepStrictlyInsideItsTurn) {
   sim::Lattice lattice = sim::make_lattice({sim::LatticeKind::Cubic, {3, 1, 2}});
   sim::leave_empty(lattice, {1, 0, 1}, {2, 0, 1});
-  std::vector<std::unique_ptr<const sim::HostProgram>> programs;
-  programs.push_back(std::make_unique<Scripted>([](sim::ModuleContext& m) {
+  const auto model = test::scripted_model(std::move(lattice), [](sim::ModuleContext& m) {
     if (m.id() == 3 && m.step() == 2) m.pivot(0, {1, 0, 0});
-  }));
-  auto built = sim::build_model(std::move(lattice), std::move(programs), {}, 1);
-  const auto model = std::move(std::get<std::unique_ptr<sim::Model>>(built));
+  });
   PhysicsSettings settings;
   settings.move_steps = kTurnSteps;
   BulletWorld world(settings, model->lattice);

@@ -4,6 +4,7 @@
 // and the runs are the same on any thread count.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -45,21 +46,30 @@ std::vector<uint64_t> run_measured(const scenarios::Scenario& s, int64_t steps, 
   return hashes;
 }
 
+// The last state of `steps` steps run on 1 and on 2 threads, checking on the way that no module
+// passes more than 0.02 into another or into the ground, and that both runs' hashes are equal.
+std::array<sim::State, 2> last_states_on_1_and_2_threads(const scenarios::Scenario& s, int64_t steps) {
+  std::array<sim::State, 2> last;
+  std::vector<uint64_t> hashes[2];
+  for (unsigned threads : {1u, 2u}) {
+    Worst pairs("pair penetration", 0.02f), ground("depth into the ground", 0.02f);
+    hashes[threads - 1] = run_measured(s, steps, threads, pairs, ground, [&](const sim::State& st, int64_t step) {
+      if (step == steps - 1) last[threads - 1] = st;
+    });
+    EXPECT_TRUE(pairs.within()) << pairs.report();
+    EXPECT_TRUE(ground.within()) << ground.report();
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
+  return last;
+}
+
 // Two catoms climb the sides of a pyramid of catoms latched to the ground, against gravity, to
 // its top row (row 4) in four pivots each; the pyramid stands exactly still; no catom passes
 // into another or into the ground on the way; 1 and 2 threads give the same hashes.
 TEST(PlausibilityHex, CatomsClimbAPyramidAgainstGravityWithoutPassingIntoIt) {
   const scenarios::Scenario s = load_scene("catoms2d_climb.toml");
   EXPECT_EQ(bullet_world(s).shape(), ModuleShape::Disc);
-  std::vector<uint64_t> hashes[2];
-  for (unsigned threads : {1u, 2u}) {
-    Worst pairs("pair penetration", 0.02f), ground("depth into the ground", 0.02f);
-    sim::State last;
-    hashes[threads - 1] = run_measured(s, 80, threads, pairs, ground, [&](const sim::State& st, int64_t step) {
-      if (step == 79) last = st;
-    });
-    EXPECT_TRUE(pairs.within()) << pairs.report();
-    EXPECT_TRUE(ground.within()) << ground.report();
+  for (const sim::State& last : last_states_on_1_and_2_threads(s, 80)) {
     for (sim::ModuleId m = 1; m < 8; ++m)  // the pyramid's bottom row, and every module above it
       EXPECT_EQ(last.bodies.poses[m].position, s.model->lattice.position(m)) << m;
     for (sim::ModuleId m = 9; m < s.model->module_count(); ++m) {
@@ -71,7 +81,6 @@ TEST(PlausibilityHex, CatomsClimbAPyramidAgainstGravityWithoutPassingIntoIt) {
     EXPECT_LT(gap(last.bodies.poses[0].position, {2, 0, 4 * kRow}), 1e-3f);
     EXPECT_LT(gap(last.bodies.poses[8].position, {6, 0, 4 * kRow}), 1e-3f);
   }
-  EXPECT_EQ(hashes[0], hashes[1]);
 }
 
 // Three free discs piled as pipes are (two on the ground, one on both) stand for 600 steps (10 s):
@@ -98,15 +107,7 @@ TEST(PlausibilityHex, APileOfFreeDiscsStands) {
 TEST(PlausibilityHex, HexanodesWalkRoundAPatchWithoutPassingIntoIt) {
   const scenarios::Scenario s = load_scene("hexanodes_walk.toml");
   EXPECT_EQ(bullet_world(s).shape(), ModuleShape::HexPrism);
-  std::vector<uint64_t> hashes[2];
-  for (unsigned threads : {1u, 2u}) {
-    Worst pairs("pair penetration", 0.02f), ground("depth into the ground", 0.02f);
-    sim::State last;
-    hashes[threads - 1] = run_measured(s, 200, threads, pairs, ground, [&](const sim::State& st, int64_t step) {
-      if (step == 199) last = st;
-    });
-    EXPECT_TRUE(pairs.within()) << pairs.report();
-    EXPECT_TRUE(ground.within()) << ground.report();
+  for (const sim::State& last : last_states_on_1_and_2_threads(s, 200)) {
     const int rolls = s.model->column("rolls");
     ASSERT_GE(rolls, 0);
     for (sim::ModuleId m = 0; m < s.model->module_count(); ++m) {
@@ -119,7 +120,6 @@ TEST(PlausibilityHex, HexanodesWalkRoundAPatchWithoutPassingIntoIt) {
       }
     }
   }
-  EXPECT_EQ(hashes[0], hashes[1]);
 }
 
 }  // namespace
