@@ -104,7 +104,7 @@ std::variant<Scenario, std::string> Loader::load(const ScenarioOverrides& overri
   if (built_lattice) {
     const ProgramSetup setup{built_lattice->spec, static_cast<uint32_t>(built_lattice->spec.module_count()),
                              built_lattice->occupied};
-    progs = programs(root, setup);
+    progs = programs(root, setup, overrides.python_programs);
   } else {
     root.node("program");  // its errors wait for a lattice
   }

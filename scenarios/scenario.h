@@ -64,6 +64,8 @@
 #pragma once
 
 #include <array>
+#include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <span>
@@ -117,6 +119,14 @@ struct Scenario {
 // mistake in it, a parameter it no longer declares, other variables): then nothing changed.
 std::variant<std::vector<std::string>, std::string> reload_scripts(const Scenario& scenario, sim::Session& session);
 
+class TableReader;
+// A host program written in Python that the caller of the loader gives by name (Python's
+// `dwatch.Session(scenario, programs={"mine": Mine})`), which a [[program]] names with
+// `python = "mine"`: built with that table's parameters (mistakes reported there); nullptr when
+// one was wrong.
+using ProvidedProgram = std::function<std::unique_ptr<const sim::HostProgram>(TableReader& params)>;
+using ProvidedPrograms = std::map<std::string, ProvidedProgram, std::less<>>;
+
 // Command-line settings that win over the file's.
 struct ScenarioOverrides {
   std::optional<uint64_t> seed;
@@ -128,6 +138,9 @@ struct ScenarioOverrides {
   // Refuse a scenario whose memory estimate (scenarios/memory_estimate.h) is above this many
   // bytes, before allocating it; 0: no check. The command line gives the machine's memory_limit().
   uint64_t memory_limit = 0;
+  // The Python programs given, by name: a scenario naming one not given is refused (Python code
+  // runs only when its user passes it in).
+  ProvidedPrograms python_programs;
 };
 
 // The scenario, or the rendered diagnostics.

@@ -56,8 +56,10 @@ struct Loader {
   std::optional<physics::PhysicsSettings> physics_settings(TableReader& root);
   // [[program]] (scenario_programs.cpp).
   std::optional<std::vector<std::unique_ptr<const sim::HostProgram>>> programs(TableReader& root,
-                                                                               const ProgramSetup& setup);
+                                                                               const ProgramSetup& setup,
+                                                                               const ProvidedPrograms& python);
   std::unique_ptr<const sim::HostProgram> script_program(TableReader& r, uint32_t index);
+  std::unique_ptr<const sim::HostProgram> python_program(const toml::table& t, const ProvidedPrograms& python);
   // [[watch]] (scenario_watches.cpp).
   std::optional<std::vector<sim::HostedWatchpoint>> watches(TableReader& root, const ScenarioOverrides& overrides);
   std::optional<watch::Watchpoint> compile(TableReader& r, const std::string& name);

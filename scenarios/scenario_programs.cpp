@@ -6,10 +6,12 @@
 
 namespace dw::scenarios {
 
-// [[program]]: one or more, run side by side; each a built-in program (`name` and its parameters)
-// or a script (`script` and its parameters).
+// [[program]]: one or more, run side by side; each a built-in program (`name` and its parameters),
+// a script (`script` and its parameters) or a Python program given by the caller (`python` and its
+// parameters).
 std::optional<std::vector<std::unique_ptr<const sim::HostProgram>>> Loader::programs(TableReader& root,
-                                                                                     const ProgramSetup& setup) {
+                                                                                     const ProgramSetup& setup,
+                                                                                     const ProvidedPrograms& python) {
   const toml::node* n = root.node("program");
   if (!n) {
     root.missing("program");
@@ -25,6 +27,11 @@ std::optional<std::vector<std::unique_ptr<const sim::HostProgram>>> Loader::prog
   for (const toml::node& e : *a) {
     const toml::table& t = *e.as_table();
     TableReader r(t, diagnostics, "[[program]]");
+    if (r.has("python")) {
+      if (auto program = python_program(t, python)) out.push_back(std::move(program));
+      else ok = false;
+      continue;
+    }
     if (r.has("script")) {
       if (auto program = script_program(r, uint32_t(out.size()))) out.push_back(std::move(program));
       else ok = false;
@@ -77,6 +84,35 @@ std::unique_ptr<const sim::HostProgram> Loader::script_program(TableReader& r, u
     r.error("script", "the script does not load:");
     extra += why + "\n";
   }
+  return program;
+}
+
+// A [[program]] with `python = "NAME"`: the program the caller gave by that name, with the table's
+// parameters. Only the caller's own code runs: a name it did not give is refused.
+std::unique_ptr<const sim::HostProgram> Loader::python_program(const toml::table& t, const ProvidedPrograms& python) {
+  TableReader r(t, diagnostics, "[[program]]");
+  const auto name = r.string("python");
+  if (!name) return nullptr;
+  if (r.has("name") || r.has("script")) {
+    r.error(r.has("name") ? "name" : "script",
+            "a [[program]] is a built-in program (name), a script (script) or a Python program (python), not two");
+    return nullptr;
+  }
+  const auto it = python.find(*name);
+  if (it == python.end()) {
+    std::string given;
+    for (const auto& [known, make] : python) given += (given.empty() ? "" : ", ") + known;
+    r.error("python", given.empty() ? "the Python program \"" + *name +
+                                          "\" is not given: a scenario naming a Python program runs from Python, "
+                                          "with dwatch.Session(scenario, programs={\"" +
+                                          *name + "\": ...})"
+                                    : "no Python program \"" + *name + "\" is given (given: " + given + ")");
+    return nullptr;
+  }
+  TableReader params(t, diagnostics, "[[program]] " + *name);
+  params.node("python");
+  auto program = it->second(params);
+  params.finish();
   return program;
 }
 

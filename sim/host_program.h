@@ -56,6 +56,11 @@ class HostProgram {
   // A stepping thread's scratch, made when the runtime starts (ModuleContext::scratch hands it
   // back); nullptr, the default, when the program needs none.
   virtual std::unique_ptr<ProgramScratch> make_scratch() const { return nullptr; }
+  // Whether its calls must come one at a time, in module id order, from one thread (a program in
+  // an interpreter with one lock, whose user code may keep state outside the variables: Python).
+  // Then the runtime runs every thread's share of a step in turn on the caller's thread, thread 0's
+  // first, which is module order: the same calls in the same order on every thread count.
+  virtual bool in_module_order() const { return false; }
 };
 
 // Whether two programs keep the same variables (names, in order): one may replace the other in a run.

@@ -27,6 +27,7 @@ Runtime::Runtime(const Model& model, HostedWatches watches, World& world, unsign
     s.outbox.byte_limit = model.message_bytes_per_step;
     for (const auto& program : model.programs) s.programs.push_back(program->make_scratch());
   }
+  note_module_order();
   next_values_.resize(size_t{placement_.module_window()} * model.variable_count());
 }
 
@@ -34,6 +35,19 @@ void Runtime::use_program(uint32_t p, const HostProgram& program) {
   if (programs_[p] == &program) return;
   programs_[p] = &program;
   for (ThreadScratch& s : scratch_) s.programs[p] = program.make_scratch();
+  note_module_order();
+}
+
+void Runtime::note_module_order() {
+  in_module_order_ =
+      std::any_of(programs_.begin(), programs_.end(), [](const HostProgram* p) { return p->in_module_order(); });
+}
+
+// Each thread's share keeps its own scratch, outbox and lanes either way: run in turn, the shares
+// give what they give in parallel, and their programs' calls come in module order.
+void Runtime::run_threads(const std::function<void(unsigned)>& fn) {
+  if (!in_module_order_) return pool_.run(fn);
+  for (unsigned thread = 0; thread < pool_.size(); ++thread) fn(thread);
 }
 
 State Runtime::initial_state() {
@@ -109,7 +123,7 @@ void Runtime::run_late_agents(State& state) {
 // the interior blocks run, and what the other ranks sent is taken in at the end (docs/design.md §12).
 void Runtime::run_over_ranks(State& state) {
   over_ranks_->split_blocks(state, hosting_);
-  pool_.run([&](unsigned thread) {
+  run_threads([&](unsigned thread) {
     start_thread(thread, state);
     run_blocks(thread, over_ranks_->border_blocks(), state);
     over_ranks_->set_border_messages(thread, scratch_[thread].outbox.messages.size());
@@ -118,7 +132,7 @@ void Runtime::run_over_ranks(State& state) {
   // batches leave after them, the interior blocks not overlapping the exchange.
   const bool late = hosting_.late_agents();
   if (!late) over_ranks_->start_exchange(sent_messages(), hosting_);
-  pool_.run([&](unsigned thread) { run_blocks(thread, over_ranks_->interior_blocks(), state); });
+  run_threads([&](unsigned thread) { run_blocks(thread, over_ranks_->interior_blocks(), state); });
   if (late) {
     hosting_.share_step_values(state, next_values_);
     run_late_agents(state);
@@ -242,7 +256,7 @@ void Runtime::step(State& state, StepOutput& out, std::span<const Intervention> 
   if (over_ranks_) {
     run_over_ranks(state);
   } else {
-    pool_.run([&](unsigned thread) {
+    run_threads([&](unsigned thread) {
       start_thread(thread, state);
       run_blocks(thread, placement_.own_blocks(), state);
     });

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -123,6 +124,10 @@ class Runtime {
   void run_late_agents(State& state);
   void run_over_ranks(State& state);
   void run_programs(unsigned thread, uint32_t begin, uint32_t end, const State& state);
+  // fn(0) .. fn(threads - 1): on the pool, or one after another on the caller's thread when a
+  // program runs in module order (HostProgram::in_module_order).
+  void run_threads(const std::function<void(unsigned)>& fn);
+  void note_module_order();
   void agree_on_failure_and_gather_actuations(int64_t step);
   void deliver_program_messages(State& state);
   std::vector<Messages> sent_messages() const;                      // per thread, this step's
@@ -139,6 +144,7 @@ class Runtime {
   double world_seconds_ = 0;
   std::vector<ThreadScratch> scratch_;
   std::vector<const HostProgram*> programs_;  // in use, by index: the model's unless replaced
+  bool in_module_order_ = false;              // one of them runs in module order
   std::vector<int64_t> next_values_;
   std::vector<Actuation> actuations_;  // the step's, for the world
 };

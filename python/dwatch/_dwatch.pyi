@@ -87,6 +87,43 @@ def replay(
 
 _Point = Tuple[float, float, float]
 
+class Module:
+    """A module's side of the host-program API during one call of a Python program's step(m)
+    (the Lua hosts' m); unusable once that call has returned. Only dwatch makes them."""
+
+    @property
+    def id(self) -> int:
+        """This module's id."""
+    @property
+    def step(self) -> int:
+        """The step being run."""
+    def get(self, name: str) -> int:
+        """A variable's value at the step before (its initial value at 0)."""
+    def set(self, name: str, value: int) -> None:
+        """Assigns the variable's value at this step."""
+    def param(self, name: str) -> int:
+        """A parameter's value (the scenario's, or the default)."""
+    def neighbors(self) -> list[int]:
+        """The neighbours' ids, ascending."""
+    def inbox(self) -> list[Tuple[int, list[int]]]:
+        """This program's messages of the step before: [(sender, [words]), ...]."""
+    def send(self, to: int, words: Sequence[int]) -> None:
+        """Sends up to 8 integers to a neighbour."""
+    def broadcast(self, words: Sequence[int]) -> None:
+        """Sends the same message to every neighbour."""
+    def random(self, n: int) -> int:
+        """0 .. n - 1 (n = 0: 64 bits), a pure function of the run."""
+    def position(self) -> Tuple[float, float, float]:
+        """The body's centre (x, y, z) as the step began; physics only."""
+    def moving(self) -> bool:
+        """Whether a lattice move is under way; physics only."""
+    def move(self, x: float, y: float, z: float) -> None:
+        """A lattice move; physics only."""
+    def push(self, x: float, y: float, z: float) -> None:
+        """An impulse; physics only."""
+    def pivot(self, about: int, x: float, y: float, z: float) -> None:
+        """A pivot about a neighbour into the cell at (x, y, z) from this one; physics only."""
+
 class Snapshot:
     """A Session as it was (Session.snapshot()), to restore() it."""
 
@@ -106,6 +143,7 @@ class Session:
         threads: Optional[int] = None,
         seed: Optional[int] = None,
         history_mb: Optional[int] = None,
+        programs: Optional[dict[str, Any]] = None,
     ) -> None: ...
     def close(self) -> None:
         """Frees the session now; any later call raises Error."""

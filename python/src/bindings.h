@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "scenarios/scenario.h"
 #include "sim/trace.h"
 #include "sim/watch_spec.h"
 #include "watch/detector.h"
@@ -48,5 +49,10 @@ sim::Trace trace_from_columns(const py::dict& columns);
 void add_check(py::module_& m);    // dwatch.check (module.cpp)
 void add_replay(py::module_& m);   // dwatch.replay and dwatch.Matches
 void add_session(py::module_& m);  // dwatch.Session
+
+// The host programs written in Python that Session(programs=) gives, by name: each a class (made
+// once per session) or an instance with `vars`, `params` and step(m) (python_program.cpp).
+scenarios::ProvidedPrograms python_programs(const std::optional<py::dict>& programs);
+void add_python_programs(py::module_& m);  // dwatch.Module, step(m)'s m
 
 }  // namespace dw::python

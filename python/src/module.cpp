@@ -33,6 +33,7 @@ PYBIND11_MODULE(_dwatch, m) {
   dw::python::add_check(m);
   dw::python::add_replay(m);
   dw::python::add_session(m);
+  dw::python::add_python_programs(m);
   // pybind11 (2.10, Debian's) looks numpy's C API up into a function-local static the first time
   // an array is made. Two threads making their first arrays at once deadlocked: one waited on
   // that static holding the GIL, the other needed the GIL to finish it. Made here, at import,

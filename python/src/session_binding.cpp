@@ -70,7 +70,7 @@ struct Snapshot {
 class Session {
  public:
   Session(const std::filesystem::path& file, std::optional<int64_t> threads, std::optional<int64_t> seed,
-          std::optional<int64_t> history_mb) {
+          std::optional<int64_t> history_mb, const std::optional<py::dict>& programs) {
     const auto check = [](std::optional<int64_t> v, const scenarios::IntegerRange& range) {
       if (v && (*v < range.min || *v > range.max))
         raise_error("ArgumentError", std::string(range.key) + " must be an integer from " + std::to_string(range.min) +
@@ -85,6 +85,7 @@ class Session {
     scenarios::ScenarioOverrides overrides;
     if (seed) overrides.seed = static_cast<uint64_t>(*seed);
     overrides.memory_limit = shell::memory_limit_unless(false);
+    overrides.python_programs = python_programs(programs);
     std::variant<scenarios::Scenario, std::string> loaded;
     {
       py::gil_scoped_release released;
@@ -484,11 +485,11 @@ void add_session(py::module_& m) {
           "Closes the session at the end of a `with` block.");
   session
       .def(py::init<const std::filesystem::path&, std::optional<int64_t>, std::optional<int64_t>,
-                    std::optional<int64_t>>(),
+                    std::optional<int64_t>, const std::optional<py::dict>&>(),
            py::arg("scenario"), py::arg("threads") = py::none(), py::arg("seed") = py::none(),
-           py::arg("history_mb") = py::none(),
-           "Loads a scenario file (TOML); threads, seed and history_mb override the scenario's. Raises "
-           "ScenarioError.")
+           py::arg("history_mb") = py::none(), py::arg("programs") = py::none(),
+           "Loads a scenario file (TOML); threads, seed and history_mb override the scenario's; programs gives the "
+           "Python programs its [[program]] python = NAME tables name. Raises ScenarioError.")
       .def("command", &Session::command, py::arg("line"),
            "Any command of the session language (`help` lists them); its answer as a dict.")
       .def(

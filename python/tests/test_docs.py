@@ -10,10 +10,12 @@ def test_the_python_pages_example_runs(source, monkeypatch, capsys):
     blocks = re.findall(r"```python\n(.*?)```", page, re.S)
     assert blocks
     monkeypatch.chdir(source)  # its paths are the repository's
+    spaces: list[dict] = []
     for block in blocks:
-        space: dict = {}
-        exec(compile(block, "docs/python.md", "exec"), space)
-    assert len(space["found"]["two_leaders"]) > 0
+        spaces.append({})
+        exec(compile(block, "docs/python.md", "exec"), spaces[-1])
+    assert len(spaces[0]["found"]["two_leaders"]) > 0
+    assert spaces[1]["s"].current == 41  # Robot logic in Python: the duplicated token found
     assert "watchpoint w1 " in capsys.readouterr().out
 
 
