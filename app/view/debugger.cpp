@@ -106,7 +106,7 @@ void Debugger::frame() {
 
 bool Debugger::settled() {
   return worker_->idle() && readout_.version == worker_->finished() && !readout_stale_ && !module_window_asked_ &&
-         !group_window_asked_;
+         !group_window_asked_ && !group_series_asked_;
 }
 
 void Debugger::settle() {

@@ -154,6 +154,11 @@ class Debugger {
   void screenshot_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer, std::string& error);
   void press_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer, std::string& error);
   void panel_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer, std::string& error);
+  // screencast.cpp: `screencast FILE | stop`; film_window adds the window as it stands now as the
+  // next `frames` frames (an error ends the screencast); finish_screencast puts the video in place.
+  void screencast_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer, std::string& error);
+  std::string film_window(int64_t frames);
+  std::string finish_screencast();
   // A press of the left button at window pixel (x, y), and its release, through GLFW's callbacks as
   // the platform delivers them: what ImGui draws there reacts as to a person's click. False when
   // the pointer cannot get there (off the screen).
@@ -238,6 +243,9 @@ class Debugger {
   // The Group tab's step before and pins, written by a worker job as module_window_ is.
   std::optional<GroupWindow> group_window_;
   std::atomic<bool> group_window_asked_ = false;
+  // The Module plot's other lines (the selected match's group), written by a worker job too.
+  std::optional<GroupSeries> group_series_;
+  std::atomic<bool> group_series_asked_ = false;
   char pin_text_[256] = "";  // the Group tab's field for a new pin
   std::string pin_error_;    // why the last pin was not taken
   // The Statistics panel shows its group, marks or diff tab (set as it draws), and did so when the
@@ -347,6 +355,9 @@ class Debugger {
   // The Record button's video, while it records.
   std::unique_ptr<render::VideoWriter> video_;
   render::VideoSettings video_settings_;
+  // A window script's screencast of the whole window (screencast.cpp).
+  std::unique_ptr<render::VideoWriter> screencast_;
+  render::VideoSettings screencast_settings_;
   int64_t video_step_ = -1;  // the step last recorded
   char video_path_[256] = "";
 

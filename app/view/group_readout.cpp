@@ -1,6 +1,7 @@
 // The Group tab's reading of the session: the selected match's group side by side at the current
 // step (read with the Readout), and what needs the history (the step before's values, the pinned
-// conditions' truths: sim/group_query.h), read by a job of its own off the frame loop.
+// conditions' truths: sim/group_query.h; the group's lines in the Module plot), read by jobs of
+// their own off the frame loop.
 #include <algorithm>
 
 #include "app/view/readout.h"
@@ -60,6 +61,23 @@ std::optional<GroupWindow> read_group_window(sim::Session& session, std::vector<
   w.slots = std::move(slots);
   w.pins = std::move(pins);
   return w;
+}
+
+std::optional<GroupSeries> read_group_series(sim::Session& session, std::vector<sim::ModuleId> modules, int column,
+                                             int64_t steps, const sim::Control& control) {
+  GroupSeries g;
+  g.column = column;
+  g.to = session.latest();
+  g.interventions = session.interventions().size();
+  g.from = std::max<int64_t>(0, g.to - steps + 1);
+  if (g.to >= 0)
+    for (sim::ModuleId m : modules) {
+      auto values = session.series(m, column, g.from, g.to, control);
+      if (!values) return std::nullopt;
+      g.values.push_back(std::move(*values));
+    }
+  g.modules = std::move(modules);
+  return g;
 }
 
 std::optional<GroupTable> read_group_table(sim::Session& session, const ViewModel& view, const GroupWindow* window) {

@@ -72,7 +72,11 @@ void Debugger::inspector_panel() {
         ImGui::SetTooltip("the nearest step %s this one where %s changed", back ? "before" : "after", plotted.c_str());
       ImGui::SameLine();
     }
-    const PlotDrawn drawn = history_plot(title, in.plot, in.plot_from, readout_.at.current,
+    std::vector<PlotSeries> lines{{in.plot_label, in.plot}};
+    for (size_t i = 0; i < in.plot_group.size(); ++i)
+      lines.push_back(
+          {in.plot_group[i].label, in.plot_group[i].values, kPlotOverlayColors[i % kPlotOverlayColors.size()]});
+    const PlotDrawn drawn = history_plot(title, lines, in.plot_from, readout_.at.current,
                                          std::clamp(room - whole_lines_after * line, 40.0f, 70.0f));
     plot_rects_.push_back(drawn.area);
     plot_labels_.insert(plot_labels_.end(), drawn.labels.begin(), drawn.labels.end());

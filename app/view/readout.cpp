@@ -85,6 +85,22 @@ Inspector inspect(sim::Session& session, const ViewModel& view, const ModuleWind
   return in;
 }
 
+// The group's lines in the Module plot, when the inspected module fills one of its slots and the
+// series are this group's, of the plotted variable, over the plot's steps.
+void overlay_group(Inspector& in, const GroupTable& group, const sim::Session& session, const GroupSeries& series) {
+  const auto at = std::ranges::find(group.modules, in.module);
+  if (at == group.modules.end() || in.plot.empty() ||
+      !series.holds(group.modules, in.plot_column, session.latest(), session.interventions().size()) ||
+      series.from != in.plot_from)
+    return;
+  const watch::Universe& universe = session.model().universe;
+  auto label = [&](size_t slot) { return group.slots[slot] + "=" + std::to_string(universe.id(group.modules[slot])); };
+  in.plot_label = label(size_t(at - group.modules.begin()));
+  for (size_t slot = 0; slot < group.modules.size(); ++slot)
+    if (group.modules[slot] != in.module && series.values[slot].size() == in.plot.size())
+      in.plot_group.push_back({label(slot), series.values[slot]});
+}
+
 }  // namespace
 
 Readout read_readout(sim::Session& session, const scenarios::Scenario& scenario, const ViewModel& view,
@@ -163,6 +179,8 @@ Readout read_readout(sim::Session& session, const scenarios::Scenario& scenario,
   if (view.selected && *view.selected < model.module_count())
     readout.inspector = inspect(session, view, request.window, limits);
   readout.group = read_group_table(session, view, request.group_window);
+  if (readout.inspector && readout.group && request.group_series)
+    overlay_group(*readout.inspector, *readout.group, session, *request.group_series);
 
   if (request.keep_rows) {
     readout.match_rows = request.keep_rows->match_rows;
@@ -224,6 +242,10 @@ nlohmann::ordered_json Readout::panel(const std::string& name, const sim::Model&
     j["plot"] = {{"variable", model.universe.variables[size_t(in.plot_column)]},
                  {"from", in.plot_from},
                  {"points", in.plot.size()}};
+    if (!in.plot_group.empty()) {
+      j["plot"]["lines"] = {in.plot_label};
+      for (const PlotOverlay& o : in.plot_group) j["plot"]["lines"].push_back(o.label);
+    }
   } else if (name == "group") {
     if (!group) {
       j["group"] = nullptr;

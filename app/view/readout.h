@@ -5,6 +5,7 @@
 // from here too, which is what a script's `panel` command reads back.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -45,6 +46,12 @@ struct MatchRowText {
   std::string slots;  // "a=3 b=7 c=8"
 };
 
+// Another module's line in the Module plot: whose ("b=6") and its values.
+struct PlotOverlay {
+  std::string label;
+  std::vector<int64_t> values;
+};
+
 struct Inspector {
   sim::ModuleId module = 0;
   bool present = false;
@@ -60,6 +67,10 @@ struct Inspector {
   int plot_column = 0;
   int64_t plot_from = 0;
   std::vector<int64_t> plot;
+  // When the module fills a slot of the selected match: its slot ("a=7") and the group's other
+  // modules' lines over the same steps, plotted with it (GroupSeries).
+  std::string plot_label;
+  std::vector<PlotOverlay> plot_group;
 };
 
 // A condition pinned in the Group tab (ViewModel::pins) and its truth on the group at the current
@@ -164,6 +175,22 @@ std::optional<GroupWindow> read_group_window(sim::Session& session, std::vector<
 // before's values and the pins' truths taken from `window` when it holds.
 std::optional<GroupTable> read_group_table(sim::Session& session, const ViewModel& view, const GroupWindow* window);
 
+// The plotted variable of the selected match's group over the inspector's steps (the Module plot's
+// other lines), read by a job of its own as a ModuleWindow is, and kept across seeks.
+struct GroupSeries {
+  std::vector<sim::ModuleId> modules;
+  int column = 0;
+  int64_t from = 0, to = -1;
+  size_t interventions = 0;                  // the branch it was read on
+  std::vector<std::vector<int64_t>> values;  // per module, (to - from + 1) values
+  bool holds(std::span<const sim::ModuleId> group, int at_column, int64_t latest, size_t branch_interventions) const {
+    return std::ranges::equal(modules, group) && column == at_column && to == latest &&
+           interventions == branch_interventions;
+  }
+};
+std::optional<GroupSeries> read_group_series(sim::Session& session, std::vector<sim::ModuleId> modules, int column,
+                                             int64_t steps, const sim::Control& control = {});
+
 // What a Readout is read for besides the view model.
 struct ReadoutRequest {
   uint64_t version = 0;  // the worker's finished jobs
@@ -173,6 +200,7 @@ struct ReadoutRequest {
   int columns = 0;
   const Readout* keep_rows = nullptr;  // while playing: the matches table of this Readout stays (rows cost O(matches))
   const GroupWindow* group_window = nullptr;  // the Group tab's step before and pins
+  const GroupSeries* group_series = nullptr;  // the Module plot's other lines
 };
 
 // Reads the session (which the caller must not share with a running job).

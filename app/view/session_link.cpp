@@ -99,6 +99,7 @@ void Debugger::refresh_readout() {
     }
     ReadoutRequest request{version, module_window_ ? &*module_window_ : nullptr, timeline_, timeline_columns_};
     request.group_window = group_window_ ? &*group_window_ : nullptr;
+    request.group_series = group_series_ ? &*group_series_ : nullptr;
     // While playing, the matches table is read again twice a second, not at every step.
     const auto now = std::chrono::steady_clock::now();
     // The rows depend only on the filter and the match lists, which a seek leaves as they are.
@@ -154,6 +155,21 @@ void Debugger::refresh_readout() {
           auto w = read_group_window(s, modules, slots, pins, control);
           if (w) group_window_ = std::move(*w);
           group_window_asked_ = false;
+        },
+        /*background=*/true);
+  }
+  // The group's lines in the Module plot, when the selected module is in the selected match's group.
+  if (readout_.group && readout_.inspector && !model_.playing && !group_series_asked_ && readout_.at.latest >= 0 &&
+      std::ranges::count(readout_.group->modules, readout_.inspector->module) > 0 &&
+      !(group_series_ && group_series_->holds(readout_.group->modules, readout_.inspector->plot_column,
+                                              readout_.at.latest, readout_.interventions.size()))) {
+    group_series_asked_ = true;
+    worker_->submit(
+        [this, modules = readout_.group->modules, column = readout_.inspector->plot_column](
+            sim::Session& s, const sim::Control& control) {
+          auto series = read_group_series(s, modules, column, ReadoutLimits{}.plot_steps, control);
+          if (series) group_series_ = std::move(*series);
+          group_series_asked_ = false;
         },
         /*background=*/true);
   }

@@ -226,8 +226,8 @@ std::optional<Key> key_named(std::string_view name) {
 }
 
 bool is_window_command(std::string_view word) {
-  return word == "click" || word == "key" || word == "wait" || word == "screenshot" || word == "panel" ||
-         word == "timeline" || word == "press" || word == "type" || word == "follow";
+  return word == "click" || word == "key" || word == "wait" || word == "screenshot" || word == "screencast" ||
+         word == "panel" || word == "timeline" || word == "press" || word == "type" || word == "follow";
 }
 
 std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord> words, uint32_t module_count,
@@ -270,6 +270,9 @@ std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord
     if (words.size() < 2 || words[1].text != "off") d = integer(1, 0, int64_t{module_count} - 1, "M (or off)");
   } else if (name == "screenshot") {
     if (words.size() < 2) d = mistake(1, "screenshot FILE: the PNG to write");
+  } else if (name == "screencast") {
+    if (words.size() < 2)
+      d = mistake(1, "screencast FILE | screencast stop: the video of the window (.mp4, .webm), or its end");
   } else if (name == "panel") {
     static const char* kPanels[] = {"position", "matches",  "watchpoints", "inspector", "group",
                                     "plots",    "timeline", "widgets",     "pointers",  "why"};

@@ -85,59 +85,83 @@ std::vector<std::pair<int64_t, int64_t>> column_ranges(std::span<const int64_t> 
 
 }  // namespace
 
-PlotDrawn history_plot(const std::string& title, std::span<const int64_t> values, int64_t from, int64_t current,
+PlotDrawn history_plot(const std::string& title, std::span<const PlotSeries> lines, int64_t from, int64_t current,
                        float height) {
   ImGui::TextUnformatted(title.c_str());
+  std::vector<PlotLabel> legend;
+  if (lines.size() > 1)  // whose each line is, in its colour, after the title
+    for (const PlotSeries& line : lines) {
+      ImGui::SameLine();
+      ImGui::PushStyleColor(ImGuiCol_Text, line.color);
+      ImGui::TextUnformatted(line.label.c_str());
+      ImGui::PopStyleColor();
+      const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+      legend.push_back({line.label, {lo.x, lo.y, hi.x, hi.y}});
+    }
   const ImVec2 origin = ImGui::GetCursorScreenPos();
-  const float width = ImGui::GetContentRegionAvail().x, line = ImGui::GetTextLineHeight();
-  ImGui::Dummy(ImVec2(width, height + line));  // the plot, then the steps under it
-  PlotDrawn drawn{{origin.x, origin.y, origin.x + width, origin.y + height}, {}};
-  if (values.empty()) return drawn;
-  const auto [lo_at, hi_at] = std::minmax_element(values.begin(), values.end());
-  const int64_t lo = *lo_at, hi = *hi_at;
+  const float width = ImGui::GetContentRegionAvail().x, line_height = ImGui::GetTextLineHeight();
+  ImGui::Dummy(ImVec2(width, height + line_height));  // the plot, then the steps under it
+  PlotDrawn drawn{{origin.x, origin.y, origin.x + width, origin.y + height}, std::move(legend)};
+  const size_t n = lines.empty() ? 0 : lines[0].values.size();
+  if (n == 0) return drawn;
+  int64_t lo = lines[0].values[0], hi = lo;
+  for (const PlotSeries& line : lines) {
+    if (line.values.size() != n) continue;  // not drawn (plot_lines gives only equal ones)
+    const auto [lo_at, hi_at] = std::minmax_element(line.values.begin(), line.values.end());
+    lo = std::min(lo, *lo_at), hi = std::max(hi, *hi_at);
+  }
   const bool constant = lo == hi;
   const std::string hi_text = std::to_string(hi), lo_text = std::to_string(lo);
   const float axis = std::max(ImGui::CalcTextSize(hi_text.c_str()).x, ImGui::CalcTextSize(lo_text.c_str()).x) + 6;
-  const ImVec2 p0(origin.x + axis, origin.y + line * 0.5f), p1(origin.x + width - 4, origin.y + height - line * 0.5f);
+  const ImVec2 p0(origin.x + axis, origin.y + line_height * 0.5f),
+      p1(origin.x + width - 4, origin.y + height - line_height * 0.5f);
   drawn.area = {p0.x, p0.y, p1.x, p1.y};
   ImDrawList* draw = ImGui::GetWindowDrawList();
   const ImU32 text = ImGui::GetColorU32(ImGuiCol_Text), faint = ImGui::GetColorU32(ImGuiCol_TextDisabled);
   draw->AddRectFilled(p0, p1, ImGui::GetColorU32(ImGuiCol_FrameBg));
   draw->AddLine(ImVec2(p0.x, p0.y), ImVec2(p0.x, p1.y), faint);
   draw->AddLine(ImVec2(p0.x, p1.y), ImVec2(p1.x, p1.y), faint);
-  // 3 pixels in from the frame, so that a line at either extreme shows whole over the axis; a
-  // constant across the middle (along the bottom it read as the smallest value).
+  // Line i's offset from lines[0]: 0, -2, +2, -4, ... pixels; the margin inside the frame (3 pixels
+  // for one line) keeps a line at either extreme whole over the axis. A constant across the middle
+  // (along the bottom it read as the smallest value).
+  auto offset_of = [](size_t i) { return float((i % 2 ? -2 : 2) * int((i + 1) / 2)); };
+  const float margin = 3 + 2 * float(lines.size() / 2);
   auto y_of = [&](int64_t v) {
     const double share = constant ? 0.5 : share_of(v, lo, hi);
-    return float(p1.y - 3 - share * double(p1.y - p0.y - 6));
+    return float(p1.y - margin - share * double(p1.y - p0.y - 2 * margin));
   };
   auto label = [&](const std::string& words, ImVec2 at, ImU32 color) {
     draw->AddText(at, color, words.c_str());
     const ImVec2 size = ImGui::CalcTextSize(words.c_str());
     drawn.labels.push_back({words, {at.x, at.y, at.x + size.x, at.y + size.y}});
   };
-  label(hi_text, ImVec2(origin.x, y_of(hi) - line * 0.5f), text);
-  if (!constant) label(lo_text, ImVec2(origin.x, y_of(lo) - line * 0.5f), text);
-  const size_t n = values.size(), columns = size_t(std::max(1.0f, p1.x - p0.x));
+  label(hi_text, ImVec2(origin.x, y_of(hi) - line_height * 0.5f), text);
+  if (!constant) label(lo_text, ImVec2(origin.x, y_of(lo) - line_height * 0.5f), text);
+  const size_t columns = size_t(std::max(1.0f, p1.x - p0.x));
   auto x_of = [&](double i) { return p0.x + float(i / double(n)) * (p1.x - p0.x); };  // step i: [x_of(i), x_of(i+1)]
   if (current >= from && current < from + int64_t(n)) {
     const float x = x_of(double(current - from) + 0.5);
     draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), IM_COL32(240, 200, 60, 200));
   }
-  if (n <= columns) {
-    for (size_t i = 0; i < n; ++i) {
-      const float y = y_of(values[i]);
-      draw->AddLine(ImVec2(x_of(double(i)), y), ImVec2(x_of(double(i + 1)), y), kPlotLineColor, 2);
-      if (i + 1 < n && values[i + 1] != values[i])
-        draw->AddLine(ImVec2(x_of(double(i + 1)), y), ImVec2(x_of(double(i + 1)), y_of(values[i + 1])), kPlotLineColor,
-                      2);
-    }
-  } else {
-    const auto ranges = column_ranges(values, columns);
-    for (size_t c = 0; c < columns; ++c) {
-      const float x = p0.x + float(c);
-      draw->AddRectFilled(ImVec2(x, y_of(ranges[c].second) - 1), ImVec2(x + 1, y_of(ranges[c].first) + 1),
-                          kPlotLineColor);
+  for (size_t i = lines.size(); i-- > 0;) {
+    const PlotSeries& line = lines[i];
+    if (line.values.size() != n) continue;
+    const float dy = offset_of(i);
+    auto y = [&](int64_t v) { return y_of(v) + dy; };
+    if (n <= columns) {
+      for (size_t s = 0; s < n; ++s) {
+        const float at = y(line.values[s]);
+        draw->AddLine(ImVec2(x_of(double(s)), at), ImVec2(x_of(double(s + 1)), at), line.color, 2);
+        if (s + 1 < n && line.values[s + 1] != line.values[s])
+          draw->AddLine(ImVec2(x_of(double(s + 1)), at), ImVec2(x_of(double(s + 1)), y(line.values[s + 1])), line.color,
+                        2);
+      }
+    } else {
+      const auto ranges = column_ranges(line.values, columns);
+      for (size_t c = 0; c < columns; ++c) {
+        const float x = p0.x + float(c);
+        draw->AddRectFilled(ImVec2(x, y(ranges[c].second) - 1), ImVec2(x + 1, y(ranges[c].first) + 1), line.color);
+      }
     }
   }
   label("step " + std::to_string(from), ImVec2(p0.x, p1.y + 2), faint);

@@ -53,14 +53,27 @@ struct PlotDrawn {
   std::array<float, 4> area;  // the plot's frame: x0, y0, x1, y1
   std::vector<PlotLabel> labels;
 };
+// One line of a history plot: whose it is (empty for a lone line; "a=7" for a group's slot) and
+// its values, one per step from the plot's first.
+struct PlotSeries {
+  std::string label;
+  std::span<const int64_t> values;
+  ImU32 color = kPlotLineColor;
+};
+// The colours of a group's lines after the selected module's (kPlotLineColor), in slot order.
+constexpr std::array<ImU32, 4> kPlotOverlayColors = {IM_COL32(250, 150, 60, 255), IM_COL32(120, 220, 110, 255),
+                                                     IM_COL32(235, 110, 210, 255), IM_COL32(200, 190, 255, 255)};
 // A variable's history that tells the truth: its title above it, never over the line; axes with
 // the largest and smallest values written whole at their heights (int64 to the pixel: as floats,
 // 19-digit values collapsed into one) and the first and last steps under them; a step per value
 // (a 0/1 variable reads as steps, not a ramp); a constant drawn across the middle with its value
 // beside it; the current step marked. More steps than pixel columns are drawn honestly: each
 // column spans its steps' smallest to largest value, so that a one-step spike still shows.
-// `from` is the step of values[0]; `height` the plot's, the steps' line under it besides.
-PlotDrawn history_plot(const std::string& title, std::span<const int64_t> values, int64_t from, int64_t current,
+// Several lines (a group's modules) share the axes, each in its colour and named after the title;
+// lines[0] is drawn last, on top, and the others 2 pixels apart from it and from each other, so
+// that equal values still show every line. `from` is the step of each line's first value; `height`
+// the plot's, the steps' line under it besides.
+PlotDrawn history_plot(const std::string& title, std::span<const PlotSeries> lines, int64_t from, int64_t current,
                        float height);
 // A combo as wide as its widest item.
 float combo_width_of(std::span<const char* const> items);

@@ -1,5 +1,6 @@
 // The window's script (`dwatch view --script FILE`, docs/design.md §7a): the session's commands plus
-// what only a window has — `click`, `key`, `wait`, `timeline`, `screenshot`, `panel`, and `press`
+// what only a window has — `click`, `key`, `wait`, `timeline`, `screenshot`, `screencast` (a video
+// of the window: screencast.cpp), `panel`, and `press`
 // and `type`, which reach a button or a text field through the platform layer as a person's mouse
 // and keyboard do (a button that is hidden or cut off cannot be pressed) — and `expect-failure`,
 // which lets a script go on past a command that must fail, to look at how the failure shows.
@@ -48,6 +49,7 @@ nlohmann::ordered_json Debugger::window_command(const std::vector<std::string>& 
   settle();
   const std::string& command = words[0];
   if (command == "screenshot") screenshot_command(words, answer, error);
+  else if (command == "screencast") screencast_command(words, answer, error);
   else if (command == "press" || command == "type") press_command(words, answer, error);
   else if (command == "panel") panel_command(words, answer, error);
   else input_command(words, answer, error);  // wait, key, click, timeline
@@ -391,12 +393,21 @@ int Debugger::run_script(const watch::SourceText& script) {
                 {"status", status_}};
       error.clear();
     }
+    // The screencast holds the window as the line left it: a frame, or N for `wait N`.
+    const bool waits = !line.window_words.empty() && line.window_words[0] == "wait";
+    if (error.empty() && !(!line.window_words.empty() && line.window_words[0] == "screencast"))
+      error = film_window(waits ? answer.value("frames", int64_t{0}) : 1);
     if (!error.empty()) {
       std::cout.flush();
       std::cerr << script.name() << ":" << line.number << ": error: " << error << " (the script stops here)\n";
       return 1;
     }
     std::cout << shell::answer_line(answer) << "\n" << std::flush;
+  }
+  // A screencast the script did not stop ends with it.
+  if (std::string error = finish_screencast(); !error.empty()) {
+    std::cerr << script.name() << ": error: " << error << "\n";
+    return 1;
   }
   return 0;
 }

@@ -507,3 +507,35 @@ TEST_F(Window, RecordWritesAFramePerStepShown) {
 }
 
 }  // namespace
+
+// A screencast films the whole window, panels and all, a frame per script line and N for `wait N`:
+// the last frame is the window's screenshot of that moment (within the codec's loss), at the
+// window's size; one the script did not stop ends with it, and `stop` without one is refused.
+TEST_F(Window, AScreencastFilmsTheWholeWindowAFramePerLine) {
+  const Outcome view = dwatch("view " + kLeader,
+                              "screencast s.mp4\nrun\nwait 4\nscreenshot paused.png\nscreencast stop\n"
+                              "expect-failure screencast stop\nscreencast t.webm\nstep 1\n",
+                              true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 8u) << view.err;
+  EXPECT_EQ(view.answers[4]["frames"], 6) << "run, 4 for wait 4, screenshot";
+  EXPECT_EQ(view.answers[5]["failed"], "no screencast is being filmed ('screencast FILE' starts one)");
+  std::string error;
+  const auto shot = dw::render::read_png((dir_ / "paused.png").string(), &error);
+  ASSERT_TRUE(shot) << error;
+  const auto video = dw::render::test::decode_video((dir_ / "s.mp4").string());
+  ASSERT_EQ(video.error, "");
+  ASSERT_EQ(video.frames.size(), 6u);
+  EXPECT_EQ(video.width, shot->width & ~1);
+  EXPECT_EQ(video.height, shot->height & ~1);
+  const dw::render::Image& last = video.frames.back();
+  double difference = 0;
+  for (int y = 0; y < video.height; ++y)
+    for (int x = 0; x < video.width; ++x)
+      for (int c = 0; c < 3; ++c) difference += std::abs(int(last.pixel(x, y)[c]) - int(shot->pixel(x, y)[c]));
+  EXPECT_LT(difference / (double(video.width) * video.height * 3), 4.0) << "the last frame is not the window";
+  // The unstopped screencast: a frame for `step 1`, in place when the script ended.
+  const auto unstopped = dw::render::test::decode_video((dir_ / "t.webm").string());
+  ASSERT_EQ(unstopped.error, "");
+  EXPECT_EQ(unstopped.frames.size(), 1u);
+}

@@ -65,12 +65,13 @@ double plot_line_height(const dw::render::Image& image, const json& rect, int x_
   return count == 0 ? -1 : (sum / count - y0) / double(y1 - y0);
 }
 
-// The Module panel's plot tells the truth: a constant (module 7's _priority) is drawn across the
+// The Module panel's plot tells the truth: a constant (module 20's _priority) is drawn across the
 // middle, not along the bottom where it read as the smallest value; a 0/1 variable (its isLeader,
-// 0 at step 0 and 1 at step 1) as a step from the bottom to the top, not a diagonal ramp.
+// 0 at step 0 and 1 at step 1) as a step from the bottom to the top, not a diagonal ramp. Module 20
+// is a new leader outside the paused group: a group's modules share the plot's axes.
 TEST_F(Window, TheModulePlotDrawsAConstantAsConstantAndAStepAsAStep) {
   const Outcome view = dwatch("view " + kLeader,
-                              "run\nclick 7\nwait 3\npanel plots\nscreenshot step.png\npress plot _priority\nwait 3\n"
+                              "run\nclick 20\nwait 3\npanel plots\nscreenshot step.png\npress plot _priority\nwait 3\n"
                               "panel plots\nscreenshot constant.png\n",
                               true);
   ASSERT_EQ(view.exit_code, 0) << view.err;

@@ -1,6 +1,6 @@
 // The Module panel's history plot on the pixels (issue 64): 19-digit values apart to the pixel
 // and written whole on its axis, the whole history drawn (a one-step spike among 1000 steps still
-// shows), and its steps' line in sight under it at the default size.
+// shows), its steps' line in sight under it at the default size, and a match's group drawn together.
 #include "tests/app/view/window_fixture.h"
 
 namespace {
@@ -126,6 +126,55 @@ TEST_F(Window, ThePlotsStepsAreInSightUnderIt) {
       if (p[0] > 70 && p[0] < 180 && std::abs(p[0] - p[1]) < 12 && std::abs(p[1] - p[2]) < 12) ++grey;
     }
   EXPECT_GT(grey, 10) << "the lower half of 'step 0' is hidden";
+}
+
+// With a match selected, the Module plot draws the group's modules over the same axes, each in its
+// colour and named after the title: at step 1 of leader_election a=7 and c=17 became leaders and
+// b=6 did not, so b's orange line lies along the bottom after step 1 while a's blue and c's green
+// ones are at the top; each name is written in its line's colour.
+TEST_F(Window, TheModulePlotDrawsTheSelectedMatchsGroupTogether) {
+  const Outcome view = dwatch("view " + kLeader,
+                              "run\nrun 40\nseek 1\npress plot isLeader\nwait 3\npanel inspector\npanel plots\n"
+                              "screenshot p.png\n",
+                              true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 8u) << view.err;
+  EXPECT_EQ(view.answers[5]["plot"]["lines"], json({"a=7", "b=6", "c=17"})) << view.answers[5];
+  const json& plots = view.answers[6];
+  std::string error;
+  const auto image = dw::render::read_png((dir_ / "p.png").string(), &error);
+  ASSERT_TRUE(image) << error;
+  const json& rect = plots["plot_rects"][0];
+  const int x0 = int(rect[0].get<double>()), x1 = int(rect[2].get<double>());
+  const int y0 = int(rect[1].get<double>()), y1 = int(rect[3].get<double>());
+  // Pixels of a colour in the plot's top and bottom fifths, right of step 1's start (of 41 steps).
+  auto count = [&](std::array<int, 3> rgb, bool top) {
+    int n = 0;
+    const int from = x0 + (x1 - x0) * 3 / 41;
+    for (int y = top ? y0 : y1 - (y1 - y0) / 5; y < (top ? y0 + (y1 - y0) / 5 : y1); ++y)
+      for (int x = from; x < x1; ++x) {
+        const uint8_t* p = image->pixel(x, y);
+        n += std::abs(p[0] - rgb[0]) < 25 && std::abs(p[1] - rgb[1]) < 25 && std::abs(p[2] - rgb[2]) < 25;
+      }
+    return n;
+  };
+  const std::array<int, 3> blue{130, 200, 250}, orange{250, 150, 60}, green{120, 220, 110};
+  EXPECT_GT(count(blue, true), 50) << "a's line is not at the top";
+  EXPECT_GT(count(green, true), 50) << "c's line is not at the top, beside a's";
+  EXPECT_GT(count(orange, false), 50) << "b's line is not along the bottom";
+  EXPECT_EQ(count(orange, true), 0) << "b never led";
+  // Each name in its line's colour.
+  for (const auto& [name, rgb] : {std::pair{"b=6", orange}, std::pair{"c=17", green}}) {
+    const json* l = label_of(plots, name);
+    ASSERT_TRUE(l) << plots.dump();
+    int coloured = 0;
+    for (int y = int((*l)["rect"][1].get<double>()); y < int((*l)["rect"][3].get<double>()); ++y)
+      for (int x = int((*l)["rect"][0].get<double>()); x < int((*l)["rect"][2].get<double>()); ++x) {
+        const uint8_t* p = image->pixel(x, y);
+        coloured += std::abs(p[0] - rgb[0]) < 40 && std::abs(p[1] - rgb[1]) < 40 && std::abs(p[2] - rgb[2]) < 40;
+      }
+    EXPECT_GT(coloured, 5) << name;
+  }
 }
 
 }  // namespace
