@@ -202,7 +202,17 @@ class PythonProgram final : public sim::HostProgram {
       }
       view.cast<ModuleView&>().end();
     } catch (py::error_already_set& e) {
-      m.fail("at step " + std::to_string(m.step()) + ": " + described(e));
+      std::string what;
+      try {
+        what = described(e);
+      } catch (py::error_already_set&) {
+        what = "an exception that could not be described";
+      }
+      m.fail("at step " + std::to_string(m.step()) + ": " + what);
+      // Ctrl-C while the user's code ran: the step fails (the session stays at the last whole
+      // one), and the interrupt is raised again for the command to raise as KeyboardInterrupt
+      // (after `described`, whose Python code would take it).
+      if (e.matches(PyExc_KeyboardInterrupt)) PyErr_SetInterrupt();
     }
   }
 

@@ -374,7 +374,10 @@ class Session {
         answer = std::string(e.what());
       }
     });
-    if (auto* error = std::get_if<std::string>(&answer)) raise_error("CommandError", *error);
+    if (auto* error = std::get_if<std::string>(&answer)) {
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C in a Python program's step
+      raise_error("CommandError", *error);
+    }
     return py::module_::import("json").attr("loads")(shell::answer_line(std::get<nlohmann::ordered_json>(answer)));
   }
 

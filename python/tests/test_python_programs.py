@@ -153,6 +153,29 @@ def test_an_exception_in_step_names_the_program_module_and_step(source, tmp_path
         assert s.values("token").count() == 16
 
 
+def test_ctrl_c_inside_step_raises_keyboard_interrupt_and_keeps_the_last_whole_step(source, tmp_path):
+    class Interrupted(TokenRing):
+        def __init__(self):
+            self.once = True
+
+        def step(self, m):
+            if m.id == 3 and m.step == 50 and self.once:
+                self.once = False
+                raise KeyboardInterrupt  # what Python's SIGINT handler raises in the code running
+            super().step(m)
+
+    scenario = python_twin(source, tmp_path, "token_ring", "mine")
+    expected = dwatch.Session(scenario, programs={"mine": TokenRing})
+    played(expected)
+    for threads in (1, 2):
+        s = dwatch.Session(scenario, threads=threads, programs={"mine": Interrupted})
+        assert s.run()["paused"]["t"] == 41
+        with pytest.raises(KeyboardInterrupt):
+            s.run()
+        assert s.current == 49
+        assert played(s)[-1][1] == expected.hash()  # it goes on from there as if never stopped
+
+
 def test_mistakes_in_the_api_are_program_errors(source, tmp_path):
     class SendsFar(TokenRing):
         def step(self, m):
