@@ -37,7 +37,8 @@ Dynamics::Dynamics(const PhysicsSettings& settings, ModuleShape shape, float gro
     : settings_(settings),
       batch_bodies_(std::max(batch_bodies, 1u)),
       shapes_(std::make_unique<Shapes>(shape, ground_z)),
-      module_shape_(shapes_->module.get()) {
+      module_shape_(shapes_->module.get()),
+      round_modules_(rolls(shape)) {
   for (const PropSpec& p : settings.props) shapes_->props.push_back(make_prop_shape(p));
 }
 

@@ -102,6 +102,7 @@ class Dynamics {
   uint32_t batch_bodies_;
   std::unique_ptr<Shapes> shapes_;
   btCollisionShape* module_shape_;
+  bool round_modules_;  // modules roll, and resist it (PhysicsSettings::rolling_friction)
   uint32_t islands_ = 0;
   std::vector<uint32_t> stepped_;
   // The contact cache before the last step, its memory kept for the next one's (a 20^3 pile's is

@@ -95,6 +95,7 @@ void Dynamics::step_batch(const Plan& plan, uint32_t from, uint32_t to, std::spa
   solver.reset();
   world.setConstraintSolver(&solver);
   world.begin_step(b.contacts, side_of);
+  const int props_from = plan.clusters + plan.movers;
   const bool made = batch.rigid.empty();
   const auto place = [&](size_t k, float mass, btCollisionShape* shape, const btVector3& inertia,
                          const btTransform& pose, int tag) {
@@ -102,6 +103,10 @@ void Dynamics::step_batch(const Plan& plan, uint32_t from, uint32_t to, std::spa
     info.m_startWorldTransform = pose;
     info.m_friction = settings_.friction;
     info.m_restitution = settings_.restitution;
+    if (round_modules_ && tag >= 0 && tag < props_from) {  // a module's body: a cluster or a mover
+      info.m_rollingFriction = settings_.rolling_friction;
+      info.m_spinningFriction = settings_.spinning_friction;
+    }
     if (made) batch.rigid.push_back(std::make_unique<btRigidBody>(info));
     else make_anew(*batch.rigid[k], info, world.getGravity());
     btRigidBody* body = batch.rigid[k].get();
@@ -161,7 +166,6 @@ void Dynamics::step_batch(const Plan& plan, uint32_t from, uint32_t to, std::spa
   }
   world.keep_contacts(out.contacts);
 
-  const int props_from = plan.clusters + plan.movers;
   for (const auto& [tag, body] : mine) {
     const sim::Pose pose = from_bt(body->getWorldTransform());
     const sim::Velocity velocity{from_bt(body->getLinearVelocity()), from_bt(body->getAngularVelocity())};

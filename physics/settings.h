@@ -48,6 +48,14 @@ struct PhysicsSettings {
   float break_force = 1000;
   float friction = 0.6f;
   float restitution = 0.1f;
+  // Rolling resistance of round modules (spheres, cylinders, discs), which Bullet's round bodies
+  // lack: a free disc set rolling rolls for ever, and a pile of six rolls apart. As Bullet's
+  // rolling friction (btCollisionObject::setRollingFriction): at each contact of a round module,
+  // the torque against its rolling is at most this lever (m) times the contact's normal force,
+  // and against spinning about the contact's normal at most `spinning_friction` times it (only
+  // where rolling_friction > 0). Boxes and prisms tip rather than roll, and props keep none.
+  float rolling_friction = 0.02f;   // m
+  float spinning_friction = 0.02f;  // m
   int solver_iterations = 10;
   // Each step is solved as this many substeps of dt / substeps: a 200 kg box on a 1 kg cube stays
   // within 0.01 of rest and a column of ten boxes within 0.003 with 4 (1: 0.09 and 0.03 with 20

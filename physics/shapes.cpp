@@ -56,6 +56,10 @@ std::unique_ptr<btCollisionShape> make_module_shape(ModuleShape shape) {
   return nullptr;
 }
 
+bool rolls(ModuleShape shape) {
+  return shape == ModuleShape::Sphere || shape == ModuleShape::Cylinder || shape == ModuleShape::Disc;
+}
+
 std::unique_ptr<btCollisionShape> make_prop_shape(const PropSpec& prop) {
   if (prop.shape == ModuleShape::Box)
     return std::make_unique<btBoxShape>(btVector3(prop.size[0], prop.size[1], prop.size[2]) * 0.5f);

@@ -11,6 +11,9 @@
 namespace dw::physics {
 
 std::unique_ptr<btCollisionShape> make_module_shape(ModuleShape shape);
+// Whether a module of this shape rolls on its round side (and so has rolling resistance:
+// PhysicsSettings::rolling_friction).
+bool rolls(ModuleShape shape);
 std::unique_ptr<btCollisionShape> make_prop_shape(const PropSpec& prop);
 
 }  // namespace dw::physics

@@ -120,6 +120,23 @@ struct ManifoldKey {
   auto operator<=>(const ManifoldKey&) const = default;
 };
 
+// A contact resists rolling and spinning as much as the more resistant of its two bodies does (a
+// round module's rolling_friction, physics/settings.h; the ground, boxes, prisms and props have
+// none), not as Bullet combines them (each body's rolling friction times the other's sliding
+// friction, summed: a disc would meet on the ground half the resistance it meets on another disc).
+// Set on every point before each solve, the points Bullet adds in a substep included.
+void resist_rolling(btPersistentManifold& manifold) {
+  const btCollisionObject& a = *manifold.getBody0();
+  const btCollisionObject& b = *manifold.getBody1();
+  const btScalar rolling = std::max(a.getRollingFriction(), b.getRollingFriction());
+  const btScalar spinning = std::max(a.getSpinningFriction(), b.getSpinningFriction());
+  for (int p = 0; p < manifold.getNumContacts(); ++p) {
+    btManifoldPoint& point = manifold.getContactPoint(p);
+    point.m_combinedRollingFriction = rolling;
+    point.m_combinedSpinningFriction = spinning;
+  }
+}
+
 }  // namespace
 
 // Bullet's own solveConstraints without its islands (docs: the class comment): one group of every
@@ -131,8 +148,10 @@ void WarmStartedWorld::solveConstraints(btContactSolverInfo& info) {
   solved_.clear();
   for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
     btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(i);
-    if (manifold->getNumContacts() > 0 && dispatcher.needsResponse(manifold->getBody0(), manifold->getBody1()))
+    if (manifold->getNumContacts() > 0 && dispatcher.needsResponse(manifold->getBody0(), manifold->getBody1())) {
       solved_.push_back(manifold);
+      resist_rolling(*manifold);
+    }
   }
   std::sort(solved_.begin(), solved_.end(), [](const btPersistentManifold* x, const btPersistentManifold* y) {
     return ManifoldKey(x) < ManifoldKey(y);

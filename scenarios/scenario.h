@@ -40,6 +40,8 @@
 //   break_force = 1000                 # newtons; a module pushed harder loses its bonds (0: never)
 //   friction = 0.6
 //   restitution = 0.1
+//   rolling_friction = 0.02            # m: a round module's rolling resistance (a lever)
+//   spinning_friction = 0.02           # m: and against spinning about a contact's normal
 //   solver_iterations = 10
 //   substeps = 4                       # each step solved as this many substeps
 //   sleep_after = 2                    # seconds still before a free body sleeps (0: never)

@@ -57,6 +57,9 @@ std::optional<physics::PhysicsSettings> Loader::physics_settings(TableReader& ro
   p.break_force = float(r.number("break_force", 0, 1e12).value_or(p.break_force));
   p.friction = float(r.number("friction", 0, 10).value_or(p.friction));
   p.restitution = float(r.number("restitution", 0, 1).value_or(p.restitution));
+  // A lever in metres, at most a module's radius (0.5): beyond it no rolling body would roll.
+  p.rolling_friction = float(r.number("rolling_friction", 0, 0.5).value_or(p.rolling_friction));
+  p.spinning_friction = float(r.number("spinning_friction", 0, 0.5).value_or(p.spinning_friction));
   p.solver_iterations = int(r.integer("solver_iterations", 1, 1000).value_or(p.solver_iterations));
   p.substeps = int(r.integer("substeps", 1, 100).value_or(p.substeps));
   p.substep_travel = float(r.number("substep_travel", 1e-4, 100).value_or(p.substep_travel));

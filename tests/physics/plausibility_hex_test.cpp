@@ -6,6 +6,10 @@
 
 #include <array>
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "physics/contact_graph.h"
@@ -99,6 +103,52 @@ TEST(PlausibilityHex, APileOfFreeDiscsStands) {
   EXPECT_TRUE(pairs.within()) << pairs.report();
   EXPECT_TRUE(ground.within()) << ground.report();
   EXPECT_TRUE(drift.within()) << drift.report();
+}
+
+// The pyramid of six free discs (scenarios/physics/disc_pyramid.toml) as Box2D's and Bullet's
+// rolling-friction demos check theirs: it slumps (the solver does not hold it as friction would),
+// then rolling resistance brings every disc to rest by step 400, and each stays within 0.01 of
+// where it lay then up to step 600; no disc passes more than 0.02 into another or the ground, and
+// 1 and 2 threads give the same hashes. The same pile without rolling resistance
+// (rolling_friction = 0) still rolls apart at step 600: what holds it is the setting.
+TEST(PlausibilityHex, APyramidOfFreeDiscsComesToRestAndStays) {
+  constexpr int64_t kSettled = 400, kSteps = 600;
+  const scenarios::Scenario s = load_scene("physics/disc_pyramid.toml");
+  ASSERT_EQ(bullet_world(s).settings().rolling_friction, 0.02f);  // the default
+  const auto travel_after_settling = [&](const scenarios::Scenario& scene, unsigned threads) {
+    Worst pairs("pair penetration", 0.02f), ground("depth into the ground", 0.02f);
+    Worst travel("travel after step " + std::to_string(kSettled), 0.01f);
+    std::vector<sim::Vec3> settled;
+    const std::vector<uint64_t> hashes =
+        run_measured(scene, kSteps, threads, pairs, ground, [&](const sim::State& st, int64_t step) {
+          if (step == kSettled)
+            for (sim::ModuleId m = 0; m < st.bodies.poses.size(); ++m) settled.push_back(st.bodies.poses[m].position);
+          if (step <= kSettled) return;
+          for (sim::ModuleId m = 0; m < settled.size(); ++m) {
+            if (st.present[m])
+              travel.see(gap(st.bodies.poses[m].position, settled[m]), step, [&] { return module_name(m); });
+          }
+        });
+    EXPECT_TRUE(pairs.within()) << pairs.report();
+    EXPECT_TRUE(ground.within()) << ground.report();
+    return std::pair(travel, hashes);
+  };
+  const auto [one, one_hashes] = travel_after_settling(s, 1);
+  const auto [two, two_hashes] = travel_after_settling(s, 2);
+  EXPECT_TRUE(one.within()) << one.report();
+  EXPECT_TRUE(two.within()) << two.report();
+  EXPECT_EQ(one_hashes, two_hashes);
+  EXPECT_EQ(one_hashes.size(), size_t(kSteps));
+
+  std::ifstream file(s.path);
+  std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::string physics = "[physics]\n";
+  ASSERT_NE(text.find(physics), std::string::npos);
+  text.insert(text.find(physics) + physics.size(), "rolling_friction = 0\n");
+  auto loaded = scenarios::load_scenario_text(s.path, text);
+  ASSERT_TRUE(std::holds_alternative<scenarios::Scenario>(loaded)) << std::get<std::string>(loaded);
+  const auto [free_rolling, hashes] = travel_after_settling(std::get<scenarios::Scenario>(loaded), 1);
+  EXPECT_GT(free_rolling.value(), 1.0f) << free_rolling.report();
 }
 
 // Two Hexanodes walk round a patch of twelve on the ground, turning about shared edges: no prism
