@@ -12,11 +12,15 @@
 -- see the cell it goes to supported by a module below it (docs/physics.md: the world refuses a
 -- pivot that would leave a catom hanging, and a refused pivot ends the run).
 --
--- Only the walkers move, and they never meet: every other module is still in its own cell, so
--- module c + nx * r is the one in column c of row r.
+-- A walker pivots every `every` steps from step `a_delay` (or `b_delay`) + `every` on. Only the
+-- walkers move: every other module is still in its own cell, so module c + nx * r is the one in
+-- column c of row r. The other walker is the one module whose id does not say where it is; a
+-- walker touching it stops (docs/physics.md: two walkers meeting head on block each other).
 program = {
   vars = { "rolls", "row" },
-  params = { nx = 9, ny = 5, vertical = 1, every = 12, a = 0, b = 8, a_turn = 1, b_turn = -1 },
+  params = {
+    nx = 9, ny = 5, vertical = 1, every = 12, a = 0, b = 8, a_turn = 1, b_turn = -1, a_delay = 0, b_delay = 0,
+  },
 }
 
 local h = math.sqrt(3) / 2
@@ -41,11 +45,20 @@ function step(m)
   local r = math.floor(across / h + 0.5)
   m:set("row", r)
   local turn = (m.id == m:param("a")) and m:param("a_turn") or ((m.id == m:param("b")) and m:param("b_turn") or 0)
-  if turn == 0 or m.step == 0 or m.step % m:param("every") ~= 0 or m:moving() then return end
+  if turn == 0 or m:moving() then return end
+  local delay = (m.id == m:param("a")) and m:param("a_delay") or m:param("b_delay")
+  local since = m.step - delay
+  if since <= 0 or since % m:param("every") ~= 0 then return end
   local nx, ny = m:param("nx"), m:param("ny")
   local c = math.floor(x - ((r % 2 == 1) and 0.5 or 0) + 0.5)
+  -- The other walker is not in the cell its id names: one that touches it stops where it is,
+  -- since it cannot tell which cell the other holds (two walkers meeting head on both stop).
+  local other = (m.id == m:param("a")) and m:param("b") or m:param("a")
   local taken = {}
-  for _, n in ipairs(m:neighbors()) do taken[n] = true end
+  for _, n in ipairs(m:neighbors()) do
+    if n == other then return end
+    taken[n] = true
+  end
   local function held(cc, rr) return cc >= 0 and rr >= 0 and cc < nx and rr < ny and taken[cc + nx * rr] end
   local function inside(cc, rr) return cc >= 0 and rr >= 0 and cc < nx and rr < ny end
   for k = 1, 6 do

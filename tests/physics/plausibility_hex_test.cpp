@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "physics/contact_graph.h"
+#include "sim/session.h"
 #include "tests/physics/scene.h"
 
 namespace dw::physics::test {
@@ -151,24 +152,44 @@ TEST(PlausibilityHex, APyramidOfFreeDiscsComesToRestAndStays) {
   EXPECT_GT(free_rolling.value(), 1.0f) << free_rolling.report();
 }
 
-// Two Hexanodes walk round a patch of twelve on the ground, turning about shared edges: no prism
-// passes into another, the patch stays put, the walkers never touch (the watchpoint logs nothing)
-// and each makes its turns; 1 and 2 threads give the same hashes.
+// Two Hexanodes walk round a patch of twelve on the ground the opposite ways, turning about shared
+// edges, and meet head on under it: no prism passes into another, the patch stays put, each walker
+// makes its turns until they touch (the first four, the second three, 11 steps behind), and then
+// both stand still beside each other; 1 and 2 threads give the same hashes.
 TEST(PlausibilityHex, HexanodesWalkRoundAPatchWithoutPassingIntoIt) {
   const scenarios::Scenario s = load_scene("hexanodes_walk.toml");
   EXPECT_EQ(bullet_world(s).shape(), ModuleShape::HexPrism);
+  const int rolls = s.model->column("rolls");
+  ASSERT_GE(rolls, 0);
+  const size_t vars = s.model->universe.variables.size();
   for (const sim::State& last : last_states_on_1_and_2_threads(s, 200)) {
-    const int rolls = s.model->column("rolls");
-    ASSERT_GE(rolls, 0);
     for (sim::ModuleId m = 0; m < s.model->module_count(); ++m) {
-      if (!last.present[m]) continue;
-      if (m == 25 || m == 30) {
-        EXPECT_GE(last.values[m * s.model->universe.variables.size() + size_t(rolls)], 12)
-            << m;  // round most of the patch
-      } else {
+      if (last.present[m] && m != 25 && m != 30) {
         EXPECT_EQ(last.bodies.poses[m].position, s.model->lattice.position(m)) << m;
       }
     }
+    EXPECT_EQ(last.values[25 * vars + size_t(rolls)], 4);
+    EXPECT_EQ(last.values[30 * vars + size_t(rolls)], 3);
+    // Side by side under the patch (row 1, columns 3 and 4): one module apart along x.
+    EXPECT_LT(gap(last.bodies.poses[25].position, {3.5f, kRow, 0}), 1e-3f);
+    EXPECT_LT(gap(last.bodies.poses[30].position, {4.5f, kRow, 0}), 1e-3f);
+  }
+}
+
+// The scenario's watchpoint, walkers_meet (`modules(a b)`: two neighbours that have both turned),
+// logs the walkers touching: none before step 58, where the second arrives beside the first, and
+// from there on at every step both orders of the two walkers, and nothing else.
+TEST(PlausibilityHex, TheHexanodesWatchpointLogsTheWalkersMeetingFromStep58) {
+  const scenarios::Scenario s = load_scene("hexanodes_walk.toml");
+  ASSERT_EQ(s.model->watches.size(), 1u);
+  sim::Session run(*s.model, *s.world, {.threads = 1});
+  run.run_until(200);
+  const sim::MatchList& found = run.matches(0);
+  ASSERT_EQ(found.size(), size_t(2 * (200 - 58)));
+  for (size_t i = 0; i < found.size(); ++i) {
+    EXPECT_EQ(found.t[i], 58 + int64_t(i / 2)) << i;
+    const sim::ModuleId a = found.slots[2 * i], b = found.slots[2 * i + 1];
+    EXPECT_EQ(i % 2 == 0 ? std::pair(a, b) : std::pair(b, a), std::pair(sim::ModuleId(25), sim::ModuleId(30))) << i;
   }
 }
 
