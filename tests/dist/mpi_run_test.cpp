@@ -224,6 +224,25 @@ TEST_F(MpiRun, ThePlausibilityScenesEqualOneProcess) {
   }
 }
 
+// The paper's own modules (docs/physics.md): 2-D catoms climbing a pyramid in a vertical plane and
+// Hexanodes walking round a patch (pivots glided by every rank alike, a Lua program), read as ranks
+// can read them, and the pile of free discs that rolling resistance brings to rest (islands that
+// roll apart, stepped by different ranks). The same matches, trace and hashes as one process; the
+// watchpoints find what they find in one process: the climbers on the top row from step 53, the
+// walkers meeting at step 58.
+TEST_F(MpiRun, ThePapersOwnModulesEqualOneProcess) {
+  const std::string reading = " --algorithm distributed --states consistent";
+  expect_same_over_ranks(scenarios_ + "/catoms2d_climb.toml" + reading, 1, true);
+  std::string matches = slurp(dir_ / "one.jsonl");
+  EXPECT_EQ(matches.substr(0, matches.find('\n')), R"({"watch":"climber_on_top","t":53,"slots":{"a":0}})");
+  EXPECT_EQ(results(dir_ / "one.json")["matches"].get<int>(), 54);
+  expect_same_over_ranks(scenarios_ + "/hexanodes_walk.toml" + reading, 1, true);
+  matches = slurp(dir_ / "one.jsonl");
+  EXPECT_EQ(matches.substr(0, matches.find('\n')), R"({"watch":"walkers_meet","t":58,"slots":{"a":25,"b":30}})");
+  EXPECT_EQ(results(dir_ / "one.json")["matches"].get<int>(), 282);  // both orders, steps 58 to 198
+  expect_same_over_ranks(scenarios_ + "/physics/disc_pyramid.toml --steps 450", 1, true);
+}
+
 TEST_F(MpiRun, WatchpointActionsEqualOneProcess) {
   // LDP's gradient read by the agents (docs/design.md §4b): the actions' values are gathered with the
   // matches, and each rank sets its own modules' variables, at the same step as one process.
