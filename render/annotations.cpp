@@ -14,6 +14,36 @@ constexpr glm::vec4 kInk{0.13f, 0.14f, 0.16f, 1};
 constexpr glm::vec4 kLink{0.84f, 0.11f, 0.16f, 1};  // slot links and label rings
 constexpr glm::vec4 kPaper{1, 1, 1, 1};
 constexpr glm::vec4 kPanel{1, 1, 1, 0.88f};
+constexpr glm::vec4 kContact{0.95f, 0.1f, 0.85f, 1};  // contact points and normals
+
+// The contact points (Scene::contacts) as discs, each with its normal: a stem from the point, as
+// long as half a module for the largest impulse of the step and a quarter for none, so that which
+// contacts bear the weight reads at a glance. Over the modules, as the selection is: a contact is
+// mostly where two bodies hide it. Only those touching a module that is drawn (Isolate, the cut).
+void draw_contacts(Overlay& o, const Scene& scene, const glm::mat4& view_projection, int width, int height,
+                   const std::unordered_map<sim::ModuleId, const SceneModule*>& by_id) {
+  float largest = 0;
+  for (const SceneContact& c : scene.contacts) largest = std::max(largest, c.impulse);
+  const float t = o.font().pixel_height();
+  auto drawn = [&](uint32_t who) {
+    auto it = by_id.find(who);
+    return it != by_id.end() && shown(scene, *it->second);
+  };
+  for (const SceneContact& c : scene.contacts) {
+    if (!drawn(c.a) && !drawn(c.b)) continue;
+    const glm::vec3 p(c.point[0], c.point[1], c.point[2]), n(c.normal[0], c.normal[1], c.normal[2]);
+    const float length = 0.25f + (largest > 0 ? 0.25f * c.impulse / largest : 0);
+    const auto at = project(view_projection, p, width, height);
+    const auto tip = project(view_projection, p + n * length, width, height);
+    if (!at) continue;
+    if (tip) {
+      o.line(*at, *tip, t * 0.2f, kPaper);
+      o.line(*at, *tip, t * 0.1f, kContact);
+    }
+    o.disc(*at, t * 0.2f, kPaper);
+    o.disc(*at, t * 0.14f, kContact);
+  }
+}
 
 glm::vec4 rgba(Color c) { return {c.r, c.g, c.b, 1}; }
 
@@ -171,6 +201,7 @@ void annotate(Overlay& o, const Scene& scene, const glm::mat4& view_projection, 
     const LegendBox legend = legend_box(scene, font, height);
     keep_clear.push_back({legend.min, legend.max});
   }
+  draw_contacts(o, scene, view_projection, width, height, by_id);
   for (const SceneGroup& g : scene.groups) {
     std::vector<std::optional<glm::vec2>> top(g.modules.size()), label(g.modules.size());
     for (size_t i = 0; i < g.modules.size(); ++i) {

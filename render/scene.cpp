@@ -1,6 +1,7 @@
 #include "render/scene.h"
 
 #include <algorithm>
+#include <glm/gtc/quaternion.hpp>
 #include <limits>
 
 #include "render/palette.h"
@@ -63,7 +64,25 @@ Scene build_scene(const sim::Model& model, const sim::State& state, std::span<co
     scene.props[i].pose = state.bodies.prop_poses[i];
 
   scene.groups.assign(groups.begin(), groups.end());
+  if (settings.contacts)
+    for (const sim::ContactPoint& c : state.bodies.contacts)
+      scene.contacts.push_back({c.a, c.b, contact_point_in_world(state.bodies, c), c.normal, c.impulse});
   return scene;
+}
+
+sim::Vec3 contact_point_in_world(const sim::Bodies& bodies, const sim::ContactPoint& c) {
+  sim::Pose frame;  // the world's: the ground's
+  if (c.a < bodies.poses.size()) {
+    const uint32_t cluster = bodies.cluster_of.empty() ? sim::kNoCluster : bodies.cluster_of[c.a];
+    if (cluster == sim::kNoCluster) frame = bodies.poses[c.a];
+    else if (!bodies.clusters[cluster].anchored) frame = bodies.clusters[cluster].pose;
+  } else if (c.a != sim::kGroundContact && sim::contact_prop(0) - c.a < bodies.prop_poses.size()) {
+    frame = bodies.prop_poses[sim::contact_prop(0) - c.a];
+  }
+  const auto& q = frame.orientation;
+  const glm::vec3 local(c.local_a[0], c.local_a[1], c.local_a[2]);
+  const glm::vec3 turned = glm::quat(q[3], q[0], q[1], q[2]) * local;  // glm's quat is (w, x, y, z)
+  return {frame.position[0] + turned.x, frame.position[1] + turned.y, frame.position[2] + turned.z};
 }
 
 }  // namespace dw::render

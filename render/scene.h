@@ -50,6 +50,15 @@ struct SceneGroup {
   std::vector<sim::ModuleId> modules;
 };
 
+// A contact point the physics solver worked on in the step (sim::ContactPoint), in the world: where
+// it lies on the first body, the normal pointing from the second body to the first, and the
+// normal impulse the solver applied (N s). Who touches: as ContactPoint::a and b.
+struct SceneContact {
+  uint32_t a = 0, b = 0;
+  sim::Vec3 point{}, normal{};
+  float impulse = 0;
+};
+
 struct LegendEntry {
   Color color;
   std::string label;
@@ -78,6 +87,7 @@ struct Scene {
     float at = 0;  // modules whose centre lies beyond this coordinate are left out
   };
   std::optional<Cut> cut;
+  std::vector<SceneContact> contacts;  // drawn over the view when the scene settings ask for them
   Legend legend;
   float ground_z = -0.5f;
   std::optional<sim::Vec3> camera_eye, camera_target;  // unset: the camera is fitted
@@ -100,7 +110,12 @@ struct SceneSettings {
   std::string color_by;           // a variable; empty: one colour for every module
   std::optional<sim::Vec3> camera_eye, camera_target;
   std::optional<sim::ModuleId> selected;  // the window's selected module
+  bool contacts = false;                  // the physics' contact points and normals (Scene::contacts)
 };
+
+// Contact c's point in the world: on body a, whose frame is its cluster's (the world's for one
+// latched to the ground), its own pose for a module in no cluster, a prop's pose, or the world's.
+sim::Vec3 contact_point_in_world(const sim::Bodies& bodies, const sim::ContactPoint& c);
 
 // Poses come from State::bodies in a physical world and from the lattice otherwise; colours from
 // the `color_by` variable's values in the state (those of step state.step - 1). Groups naming a

@@ -95,6 +95,7 @@ class Debugger {
   // session_link.cpp: what the window sends the session and reads back
   // Answers first (to the status line), then a fresh Readout when the session changed.
   void refresh_readout();
+  void ask_for_history();
   void apply(const std::vector<std::string>& commands);
   void status(std::string message, bool failed = false);  // `failed`: shown in red
   void play();
@@ -149,6 +150,8 @@ class Debugger {
 
   // window_script.cpp
   nlohmann::ordered_json window_command(const std::vector<std::string>& words, std::string& error);
+  // A line of the session language, sent as the panels send theirs, and its answer once settled.
+  nlohmann::ordered_json session_command(const std::string& line, std::string& error);
   // Each adds to `answer`, or says in `error` why the command could not be carried out.
   void input_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer, std::string& error);
   void screenshot_command(const std::vector<std::string>& words, nlohmann::ordered_json& answer, std::string& error);

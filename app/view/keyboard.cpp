@@ -19,11 +19,12 @@ void Debugger::handle_keys() {
     Key key;
   };
   static constexpr Binding kBindings[] = {
-      {GLFW_KEY_SPACE, Key::Space}, {GLFW_KEY_RIGHT, Key::Right}, {GLFW_KEY_LEFT, Key::Left},
-      {GLFW_KEY_N, Key::N},         {GLFW_KEY_P, Key::P},         {GLFW_KEY_F, Key::F},
-      {GLFW_KEY_Z, Key::Z},         {GLFW_KEY_Y, Key::Y},         {GLFW_KEY_I, Key::I},
-      {GLFW_KEY_T, Key::T},         {GLFW_KEY_HOME, Key::Home},   {GLFW_KEY_END, Key::End},
-      {GLFW_KEY_F1, Key::F1},       {GLFW_KEY_F12, Key::F12},     {GLFW_KEY_ESCAPE, Key::Escape},
+      {GLFW_KEY_SPACE, Key::Space},   {GLFW_KEY_RIGHT, Key::Right}, {GLFW_KEY_LEFT, Key::Left},
+      {GLFW_KEY_N, Key::N},           {GLFW_KEY_P, Key::P},         {GLFW_KEY_F, Key::F},
+      {GLFW_KEY_Z, Key::Z},           {GLFW_KEY_Y, Key::Y},         {GLFW_KEY_I, Key::I},
+      {GLFW_KEY_C, Key::C},           {GLFW_KEY_T, Key::T},         {GLFW_KEY_HOME, Key::Home},
+      {GLFW_KEY_END, Key::End},       {GLFW_KEY_F1, Key::F1},       {GLFW_KEY_F12, Key::F12},
+      {GLFW_KEY_ESCAPE, Key::Escape},
   };
   for (const Binding& b : kBindings) {
     if (!ImGui::IsKeyPressed(b.glfw_key, b.key == Key::Right || b.key == Key::Left)) continue;
@@ -47,7 +48,8 @@ void Debugger::press(Key key) {
     status(error.empty() ? "screenshot of the 3D view -> " + path : error, !error.empty());
   }
   if (key == Key::F) drawn_key_.clear();
-  if (key == Key::I) readout_stale_ = true;  // the scene leaves the others out, or brings them back
+  // The scene leaves the others out or brings them back; its contacts are read or dropped.
+  if (key == Key::I || key == Key::C) readout_stale_ = true;
   if (key == Key::Y) why_last_changed();
 }
 

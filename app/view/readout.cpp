@@ -162,6 +162,8 @@ Readout read_readout(sim::Session& session, const scenarios::Scenario& scenario,
   }
   render::SceneSettings settings = shell::scene_settings(scenario, view.color_by);
   settings.selected = view.selected;
+  settings.contacts = view.contacts;
+  readout.physics = !session.state().bodies.empty();
   settings.title = scenario.name + "  \xC2\xB7  step " + std::to_string(t);
   readout.scene = render::build_scene(model, session.state(), groups, settings);
   // Once a watchpoint has matched, the ensemble stays faded at every step, group or none: stepping

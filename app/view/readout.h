@@ -114,6 +114,7 @@ struct Readout {
   int columns = 0;
   std::vector<std::string> interventions;  // one line each, as `interventions` answers
   render::Scene scene;
+  bool physics = false;               // a Bullet world: its contacts can be drawn
   std::vector<int64_t> color_values;  // per module, the colour-by variable's value (the tooltip)
   std::optional<Inspector> inspector;
   std::optional<GroupTable> group;

@@ -125,6 +125,13 @@ void Debugger::draw_view() {
   if (button(isolate)) press(Key::I);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Only the groups and the selected module: the rest left out");
   cut_tools();
+  if (readout_.physics) {
+    const std::string contacts = model_.contacts ? "No contacts (C)" : "Contacts (C)";
+    flow(button_width(contacts));
+    if (button(contacts)) press(Key::C);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("The contact points the solver worked on in this step, each normal as long as its impulse");
+  }
   const std::string follow = model_.followed ? "Stop following (T)" : "Follow (T)";
   flow(button_width(follow));
   if (button(follow)) press(Key::T);

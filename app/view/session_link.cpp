@@ -130,6 +130,12 @@ void Debugger::refresh_readout() {
   readout_stale_ = false;
   drawn_key_.clear();
 
+  ask_for_history();
+}
+
+// The jobs that read what needs the history, off the frame loop, when what they last read is not
+// what the Readout shows.
+void Debugger::ask_for_history() {
   // The inspector's history of the selected module, when it is not this branch's up to the latest.
   if (model_.selected && !model_.playing && !module_window_asked_ && readout_.at.current >= 0 &&
       !(module_window_ && module_window_->module == *model_.selected && module_window_->to == readout_.at.latest &&

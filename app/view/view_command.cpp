@@ -54,9 +54,10 @@ void add_view_command(CLI::App& app, std::function<int()>& run) {
   auto* cmd = app.add_subcommand("view", "The debugger window: 3D view, timeline, watchpoints, matches, inspector");
   auto args = std::make_shared<ViewArgs>();
   shell::add_session_source(*cmd, args->source);
-  cmd->add_option("--script", args->script,
-                  "Drive the window with commands: the session's, plus click M | click match ROW | click timeline T, "
-                  "key NAME, wait N, press BUTTON, type FIELD TEXT, screenshot FILE, screencast FILE | stop, panel NAME");
+  cmd->add_option(
+      "--script", args->script,
+      "Drive the window with commands: the session's, plus click M | click match ROW | click timeline T, "
+      "key NAME, wait N, press BUTTON, type FIELD TEXT, screenshot FILE, screencast FILE | stop, panel NAME");
   shell::add_integer_option(*cmd, "--width", args->width, {"width", 640, 8192}, "Window width")->default_val(1600);
   shell::add_integer_option(*cmd, "--height", args->height, {"height", 480, 8192}, "Window height")->default_val(1000);
   cmd->add_flag("!--forget-layout", args->keep_layout,

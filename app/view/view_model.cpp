@@ -209,9 +209,10 @@ struct KeyEntry {
   std::string_view name;
 };
 constexpr KeyEntry kKeys[] = {
-    {Key::Space, "space"}, {Key::Right, "right"}, {Key::Left, "left"}, {Key::N, "n"},     {Key::P, "p"},
-    {Key::F, "f"},         {Key::Z, "z"},         {Key::Y, "y"},       {Key::T, "t"},     {Key::I, "i"},
-    {Key::Home, "home"},   {Key::End, "end"},     {Key::F1, "f1"},     {Key::F12, "f12"}, {Key::Escape, "escape"},
+    {Key::Space, "space"}, {Key::Right, "right"}, {Key::Left, "left"}, {Key::N, "n"},
+    {Key::P, "p"},         {Key::F, "f"},         {Key::Z, "z"},       {Key::Y, "y"},
+    {Key::T, "t"},         {Key::I, "i"},         {Key::C, "c"},       {Key::Home, "home"},
+    {Key::End, "end"},     {Key::F1, "f1"},       {Key::F12, "f12"},   {Key::Escape, "escape"},
 };
 
 }  // namespace
@@ -310,6 +311,7 @@ const std::vector<KeyHelp>& key_help() {
       {"Z", "zoom onto the selection (and its group)"},
       {"T", "the camera follows the selected module (again: it stays)"},
       {"I", "isolate: only the groups and the selection (again: everything)"},
+      {"C", "contacts: the physics' contact points, and their normals as long as their impulse (again: off)"},
       {"Y", "why: the causal history of the selected module's last changed variable"},
       {"F12", "screenshot of the 3D view (PNG, as dwatch render draws it)"},
       {"F1", "this help"},
@@ -472,6 +474,7 @@ std::vector<std::string> ViewModel::on_key(Key key, const Position& at, std::spa
       followed = followed || !selected ? std::nullopt : selected;
       return {};
     case Key::I: isolate = !isolate; return {};
+    case Key::C: contacts = !contacts; return {};
     case Key::Y: return {};  // the window asks `why` (it knows the module's history)
     case Key::F1: show_help = !show_help; return {};
     case Key::F12: screenshot_requested = true; return {};

@@ -82,7 +82,7 @@ struct MatchRows {
 MatchRows filter_matches(const sim::Session& session, const MatchFilter& filter, size_t limit);
 
 // The keys the window binds (F1 lists them).
-enum class Key { Space, Right, Left, N, P, F, Z, Y, T, I, Home, End, F1, F12, Escape };
+enum class Key { Space, Right, Left, N, P, F, Z, Y, T, I, C, Home, End, F1, F12, Escape };
 std::optional<Key> key_named(std::string_view name);
 struct KeyHelp {
   std::string_view keys, what;
@@ -212,6 +212,8 @@ class ViewModel {
   bool isolate = false;
   int cut_axis = -1;
   float cut_at = 0;
+  // The physics' contact points and normals over the view (render::Scene::contacts; `C`).
+  bool contacts = false;
 
   // What a key does: the commands to send (in order) and what changes here. `chosen_steps` are
   // the chosen watchpoint's match steps (for N and P); with no match known after the current step,

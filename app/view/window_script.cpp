@@ -69,7 +69,7 @@ void Debugger::input_command(const std::vector<std::string>& words, nlohmann::or
   } else if (words[0] == "key") {
     const auto key = words.size() == 2 ? key_named(words[1]) : std::nullopt;
     if (!key) {
-      error = "key NAME: one of space, right, left, n, p, f, z, y, t, home, end, f1, f12, escape";
+      error = "key NAME: one of space, right, left, n, p, f, z, y, t, i, c, home, end, f1, f12, escape";
       return;
     }
     press(*key);
@@ -287,6 +287,20 @@ void Debugger::panel_command(const std::vector<std::string>& words, nlohmann::or
   if (answer.contains("error")) error = answer["error"];
 }
 
+nlohmann::ordered_json Debugger::session_command(const std::string& line, std::string& error) {
+  size_t first;
+  {
+    std::lock_guard lock(answers_mutex_);
+    first = answers_.size();
+  }
+  send(line);
+  settle();
+  std::lock_guard lock(answers_mutex_);
+  if (answers_.size() <= first) return {};
+  error = answers_[first].error;
+  return answers_[first].json;
+}
+
 int Debugger::run_script(const watch::SourceText& script) {
   // Checked whole first, as `dwatch session` checks a script.
   struct Line {
@@ -365,18 +379,7 @@ int Debugger::run_script(const watch::SourceText& script) {
     if (!line.window_words.empty()) {
       answer = window_command(line.window_words, error);
     } else {
-      size_t first;
-      {
-        std::lock_guard lock(answers_mutex_);
-        first = answers_.size();
-      }
-      send(line.session_line);
-      settle();
-      std::lock_guard lock(answers_mutex_);
-      if (error.empty() && answers_.size() > first) {
-        error = answers_[first].error;
-        answer = answers_[first].json;
-      }
+      answer = session_command(line.session_line, error);
     }
     if (line.expect_failure) {
       if (error.empty()) {

@@ -98,5 +98,38 @@ TEST(BuildScene, PhysicalPosesAndPropsComeFromTheState) {
   EXPECT_FLOAT_EQ(scene.ground_z, -4);
 }
 
+// A contact's point goes into the world through the frame of its first body: a module's own pose
+// (turned a quarter about z here), a moving cluster's frame, the world's for a cluster latched to
+// the ground, a prop's pose; and only when the settings ask for contacts.
+TEST(BuildScene, ContactPointsAreInTheWorldThroughTheirFirstBodysFrame) {
+  Fixture f({0, 0, 0, 0, 0, 0});
+  f.state.bodies.poses.resize(6);
+  f.state.bodies.poses.set(2, {.position = {4, 1, 3}, .orientation = {0, 0, 0.7071068f, 0.7071068f}});
+  f.state.bodies.prop_poses = {sim::Pose{{5, 6, 7}, {0, 0, 0, 1}}};
+  f.state.bodies.cluster_of.resize(6);
+  for (uint32_t m = 0; m < 6; ++m) f.state.bodies.cluster_of.set(m, sim::kNoCluster);
+  f.state.bodies.clusters = {sim::Cluster{.pose = {{10, 0, 0}, {0, 0, 0, 1}}},
+                             sim::Cluster{.pose = {{20, 0, 0}, {0, 0, 0, 1}}, .anchored = true}};
+  f.state.bodies.cluster_of.set(3, 0);
+  f.state.bodies.cluster_of.set(4, 1);
+  auto contact = [](uint32_t a) {
+    return sim::ContactPoint{.a = a, .b = sim::kGroundContact, .local_a = {0.5f, 0, 0}, .normal = {0, 0, 1}};
+  };
+  f.state.bodies.contacts = {contact(2), contact(3), contact(4), contact(sim::contact_prop(0))};
+  EXPECT_TRUE(build_scene(*f.model, f.state, {}, SceneSettings{}).contacts.empty());
+  SceneSettings settings;
+  settings.contacts = true;
+  const Scene scene = build_scene(*f.model, f.state, {}, settings);
+  ASSERT_EQ(scene.contacts.size(), 4u);
+  auto near = [](sim::Vec3 x, sim::Vec3 y) {
+    return std::abs(x[0] - y[0]) < 1e-5f && std::abs(x[1] - y[1]) < 1e-5f && std::abs(x[2] - y[2]) < 1e-5f;
+  };
+  EXPECT_TRUE(near(scene.contacts[0].point, {4, 1.5f, 3})) << "turned a quarter about z: +x goes to +y";
+  EXPECT_TRUE(near(scene.contacts[1].point, {10.5f, 0, 0})) << "the cluster's frame";
+  EXPECT_TRUE(near(scene.contacts[2].point, {0.5f, 0, 0})) << "latched: the world's frame";
+  EXPECT_TRUE(near(scene.contacts[3].point, {5.5f, 6, 7})) << "the prop's pose";
+  EXPECT_EQ(scene.contacts[0].normal, (sim::Vec3{0, 0, 1}));
+}
+
 }  // namespace
 }  // namespace dw::render

@@ -136,4 +136,37 @@ TEST_F(Window, ACutPlaneAndIsolateLeaveModulesOut) {
   EXPECT_LT(changed_around(*all, *again, p12, 8), 30) << "I again did not bring module 12 back";
 }
 
+// Contacts (C) over the 3D view of a physical world: a 10^3 pile of free boxes at rest draws its
+// contact points in magenta, none before C and none after C again; isolating the selected module
+// (I) leaves only the contacts it takes part in, a few of the pile's.
+TEST_F(Window, ContactsShowAndIsolateKeepsTheSelectionsOwn) {
+  const std::string pile = std::string(DWATCH_SCENARIOS_DIR) + "/physics/pile.toml";
+  const Outcome view = dwatch("view " + pile,
+                              "run 30\nscreenshot off.png\nkey c\nscreenshot on.png\nclick 0\nkey i\n"
+                              "screenshot isolated.png\nkey i\nkey c\nscreenshot off_again.png\n",
+                              true);
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  ASSERT_EQ(view.answers.size(), 10u) << view.err;
+  const json& v = view.answers[1]["view"];
+  auto magenta = [&](const std::string& name) {
+    std::string error;
+    const auto image = dw::render::read_png((dir_ / name).string(), &error);
+    EXPECT_TRUE(image) << error;
+    if (!image) return 0;
+    int n = 0;
+    for (int y = int(v["y"]); y < int(v["y"]) + int(v["height"]); ++y)
+      for (int x = int(v["x"]); x < int(v["x"]) + int(v["width"]); ++x) {
+        const uint8_t* p = image->pixel(x, y);
+        n += p[0] > 200 && p[1] < 80 && p[2] > 180;
+      }
+    return n;
+  };
+  const int on = magenta("on.png"), isolated = magenta("isolated.png");
+  EXPECT_EQ(magenta("off.png"), 0);
+  EXPECT_GT(on, 20000) << "thousands of contacts in a resting pile";
+  EXPECT_GT(isolated, 50) << "module 0's contacts: the ground and its three neighbours";
+  EXPECT_LT(isolated, on / 20);
+  EXPECT_EQ(magenta("off_again.png"), 0);
+}
+
 }  // namespace
