@@ -116,8 +116,9 @@ PanelLayout panel_layout(float x, float y, float width, float height, int lanes,
   // The Module panel has room for its interventions, variables and plot unscrolled at 1000 pixels;
   // in a low window the matches keep room for a few rows, and the statistics give it up.
   const float tall[] = {0.31f, 0.22f, 0.31f, 0.16f}, low[] = {0.30f, 0.28f, 0.27f, 0.15f};
-  // The group, marks and diff tabs list rows: the matches and the watchpoints give them room.
-  const float tabs[] = {0.26f, 0.14f, 0.28f, 0.32f};
+  // The group, marks and diff tabs list rows: the matches give them room (the Module panel keeps
+  // its plot whole: at 0.28 it was squeezed to 40 pixels, its steps cut, with rows to spare here).
+  const float tabs[] = {0.26f, 0.15f, 0.31f, 0.28f};
   const float* shares = tall_tabs ? tabs : height >= 800 ? tall : low;
   PanelRect* column_panels[] = {&l.watchpoints, &l.matches, &l.module, &l.statistics};
   float top = y;

@@ -106,26 +106,34 @@ TEST_F(Plot, TheWholeHistoryIsDrawnAndAOneStepSpikeShows) {
 }
 
 // At the default size the plot's steps' line is whole under it ("step 0" was cut in half by the
-// Module panel's edge): its lower half has the text's grey pixels.
+// Module panel's edge): its lower half has the text's grey pixels. So it is with the group tab
+// open, which takes more of the column (the Module panel gave it room, and its plot was squeezed
+// to 40 pixels with its steps cut).
 TEST_F(Window, ThePlotsStepsAreInSightUnderIt) {
-  const Outcome view = dwatch("view " + kLeader, "run\nclick 7\nwait 3\npanel plots\nscreenshot p.png\n", true);
-  ASSERT_EQ(view.exit_code, 0) << view.err;
-  ASSERT_EQ(view.answers.size(), 5u) << view.err;
-  const json* first = label_of(view.answers[3], "step 0");
-  ASSERT_TRUE(first) << view.answers[3].dump();
-  std::string error;
-  const auto image = dw::render::read_png((dir_ / "p.png").string(), &error);
-  ASSERT_TRUE(image) << error;
-  const json& r = (*first)["rect"];
-  const int x0 = int(r[0].get<double>()), x1 = int(r[2].get<double>());
-  const int y0 = int(r[1].get<double>()), y1 = int(r[3].get<double>());
-  int grey = 0;
-  for (int y = (y0 + y1) / 2; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) {
-      const uint8_t* p = image->pixel(x, y);
-      if (p[0] > 70 && p[0] < 180 && std::abs(p[0] - p[1]) < 12 && std::abs(p[1] - p[2]) < 12) ++grey;
-    }
-  EXPECT_GT(grey, 10) << "the lower half of 'step 0' is hidden";
+  for (const std::string tab : {"", "press tab group\n"}) {
+    const Outcome view =
+        dwatch("view " + kLeader, "run\n" + tab + "click 7\nwait 3\npanel plots\nscreenshot p.png\n", true);
+    ASSERT_EQ(view.exit_code, 0) << view.err;
+    const size_t plots = tab.empty() ? 3 : 4;
+    ASSERT_EQ(view.answers.size(), plots + 2) << view.err;
+    const json& area = view.answers[plots]["plot_rects"][0];
+    EXPECT_GE(area[3].get<double>() - area[1].get<double>(), 35) << "the plot squeezed, after: " << tab;
+    const json* first = label_of(view.answers[plots], "step 0");
+    ASSERT_TRUE(first) << view.answers[plots].dump();
+    std::string error;
+    const auto image = dw::render::read_png((dir_ / "p.png").string(), &error);
+    ASSERT_TRUE(image) << error;
+    const json& r = (*first)["rect"];
+    const int x0 = int(r[0].get<double>()), x1 = int(r[2].get<double>());
+    const int y0 = int(r[1].get<double>()), y1 = int(r[3].get<double>());
+    int grey = 0;
+    for (int y = (y0 + y1) / 2; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const uint8_t* p = image->pixel(x, y);
+        if (p[0] > 70 && p[0] < 180 && std::abs(p[0] - p[1]) < 12 && std::abs(p[1] - p[2]) < 12) ++grey;
+      }
+    EXPECT_GT(grey, 10) << "the lower half of 'step 0' is hidden" << (tab.empty() ? "" : ", the group tab open");
+  }
 }
 
 // With a match selected, the Module plot draws the group's modules over the same axes, each in its
