@@ -54,35 +54,18 @@ class HistoryReader {
   watch::Value term(const watch::ValueInstr& in) { return value(group_[size_t(in.slot)], in.variable, t_ + in.offset); }
   int open(const watch::AggregateCode& a) {
     step_ = t_ + a.offset;
-    elements_.clear();
-    if (!h_.holds(step_)) return -1;
+    if (!h_.holds(step_)) {
+      elements_.clear();
+      return -1;
+    }
     const StepRecord& rec = h_.at(step_);
-    const auto each = [&](uint32_t u, auto&& visit) {
-      for (ModuleId w : rec.graph->neighbors(u)) visit(w);
-    };
-    const auto present = [&](uint32_t u) { return rec.present[u] != 0; };
-    if (a.domain == watch::Domain::All) {
-      for (uint32_t u = 0; u < h_.modules; ++u)
-        if (present(u)) elements_.push_back(u);
-      return static_cast<int>(elements_.size());
-    }
-    const ModuleId m = group_[size_t(a.slot)];
-    if (!present(m)) return -1;
-    if (a.domain == watch::Domain::Component) {  // candidate 0, the module; the evaluator grows it
-      elements_.assign(1, m);
-      seen_.start();
-      seen_.mark(m);
-      return 1;
-    }
-    if (a.domain == watch::Domain::Within) {
-      watch::gather_within(m, a.hops, each, present, elements_, seen_);
-      return static_cast<int>(elements_.size());
-    }
-    for (ModuleId u : rec.graph->neighbors(m))
-      if (present(u)) elements_.push_back(u);
-    std::sort(elements_.begin(), elements_.end());
-    elements_.erase(std::unique(elements_.begin(), elements_.end()), elements_.end());
-    return static_cast<int>(elements_.size());
+    return watch::open_domain(
+        a.domain, a.hops, [&] { return group_[size_t(a.slot)]; }, 0, h_.modules,
+        [&](uint32_t u, auto&& visit) {
+          for (ModuleId w : rec.graph->neighbors(u)) visit(w);
+        },
+        [&](uint32_t u) { return rec.present[u] != 0; }, [&](uint32_t, auto&& gather) { gather(elements_); }, elements_,
+        seen_);
   }
   watch::Value bound(int i, const watch::ValueInstr& in) { return value(bound_id(i), in.variable, step_ + in.offset); }
   uint32_t bound_id(int i) const { return elements_[size_t(i)]; }

@@ -74,39 +74,29 @@ class DistributedAgents::Reader {
   // engine keeps of every module, at the aggregate's own slot's step (all: the match step, slot 0's).
   int open_wider(const AggregateCode& a) {
     step_ = now(a.slot) + a.offset;
-    neighbors_.clear();
-    if (a.domain == Domain::All) {
-      if (h_.presence(step_) == nullptr) return -1;
-      for (uint32_t u = h_.first(); u < h_.first() + h_.modules(); ++u)
-        if (h_.present(u, step_)) neighbors_.push_back(u);
-      return static_cast<int>(neighbors_.size());
+    if (h_.presence(step_) == nullptr) {
+      neighbors_.clear();
+      return -1;
     }
-    const uint32_t root = slot_module(a.slot);
-    if (!h_.present(root, step_)) return -1;
-    if (a.domain == Domain::Component) {  // candidate 0, the module; the evaluator grows it (expand)
-      neighbors_.assign(1, root);
-      seen_.start();
-      seen_.mark(root);
-      return 1;
-    }
-    auto gather = [&](std::vector<uint32_t>& out) {
-      gather_within(
-          root, a.hops,
-          [&](uint32_t u, auto&& visit) {
-            uint32_t count = 0;
-            const uint32_t* ns = h_.neighbors(u, step_, count);
-            for (uint32_t i = 0; ns != nullptr && i < count; ++i) visit(ns[i]);
-          },
-          [&](uint32_t u) { return h_.present(u, step_); }, out, seen_);
+    // within(): kept from step to step when use_balls gave it a cache for this root.
+    const auto ball = [&](uint32_t root, auto&& gather) {
+      if (balls_ == nullptr || root < ball_first_) {
+        gather(neighbors_);
+        return;
+      }
+      BallCache& cache = (*balls_)[static_cast<size_t>(&a - aggregates_)];
+      const std::span<const uint32_t> kept =
+          cache.ball(root - ball_first_, h_.graph_version(step_), gather, neighbors_);
+      if (kept.data() != neighbors_.data()) neighbors_.assign(kept.begin(), kept.end());
     };
-    if (balls_ == nullptr || root < ball_first_) {
-      gather(neighbors_);
-      return static_cast<int>(neighbors_.size());
-    }
-    BallCache& cache = (*balls_)[static_cast<size_t>(&a - aggregates_)];
-    const std::span<const uint32_t> ball = cache.ball(root - ball_first_, h_.graph_version(step_), gather, neighbors_);
-    if (ball.data() != neighbors_.data()) neighbors_.assign(ball.begin(), ball.end());
-    return static_cast<int>(neighbors_.size());
+    return open_domain(
+        a.domain, a.hops, [&] { return slot_module(a.slot); }, h_.first(), h_.first() + h_.modules(),
+        [&](uint32_t u, auto&& visit) {
+          uint32_t count = 0;
+          const uint32_t* ns = h_.neighbors(u, step_, count);
+          for (uint32_t i = 0; ns != nullptr && i < count; ++i) visit(ns[i]);
+        },
+        [&](uint32_t u) { return h_.present(u, step_); }, ball, neighbors_, seen_);
   }
 
   // within() keeps its balls in `balls` ([aggregate of `p`], roots from `first`) from step to step.

@@ -1,13 +1,16 @@
 // Who an aggregate ranges over beyond a module's own neighbours (docs/design.md §4c): the modules
 // within h hops of it, found breadth-first over the neighbour lists of one step, as every reading
 // reads them (from the whole ensemble's history, or from the history the engine keeps for agents),
-// and the connected cluster of component(m: c) as it grows.
+// and the connected cluster of component(m: c) as it grows; and the opening of every aggregate's
+// domain (open_domain), shared by the three readings.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
+
+#include "watch/ast.h"
 
 namespace dw::watch {
 
@@ -65,6 +68,48 @@ void gather_within(uint32_t root, int hops, EachNeighbor&& each_neighbor, Presen
     end = out.size();
   }
   std::sort(out.begin(), out.end());
+}
+
+// The domain an aggregate ranges over at one step. Written once, not once per reading (the whole
+// ensemble's history for a step, the engine's history for agents, a recorded window for `why` and
+// `find`), so that the three cannot drift apart: they must agree element for element and in
+// order (docs/design.md §4b-§4c). Into `out`:
+// - All: every present module of [first, end), by index;
+// - Component: candidate 0, the root, alone in a fresh search of `seen`; the evaluator grows it;
+// - Within: the ball of `hops` hops, as ball(root, gather) leaves it in `out` (gather(list) finds
+//   it into `list`; a reading with a BallCache keeps it from step to step, another calls gather(out));
+// - Neighbors: N(root) as a set of the present neighbours, by index.
+// Returns the count, or -1 when the root (root_module(), asked for every domain but All) is absent.
+// each_neighbor and present are as for add_candidates, at the step opened; the caller has checked
+// that the step is held.
+template <class RootModule, class EachNeighbor, class Present, class Ball>
+int open_domain(Domain domain, int hops, RootModule&& root_module, uint32_t first, uint32_t end,
+                EachNeighbor&& each_neighbor, Present&& present, Ball&& ball, std::vector<uint32_t>& out,
+                VisitMarks& seen) {
+  out.clear();
+  if (domain == Domain::All) {
+    for (uint32_t u = first; u < end; ++u)
+      if (present(u)) out.push_back(u);
+    return static_cast<int>(out.size());
+  }
+  const uint32_t root = root_module();
+  if (!present(root)) return -1;
+  if (domain == Domain::Component) {
+    out.assign(1, root);
+    seen.start();
+    seen.mark(root);
+    return 1;
+  }
+  if (domain == Domain::Within) {
+    ball(root, [&](std::vector<uint32_t>& list) { gather_within(root, hops, each_neighbor, present, list, seen); });
+    return static_cast<int>(out.size());
+  }
+  each_neighbor(root, [&](uint32_t u) {
+    if (present(u)) out.push_back(u);
+  });
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return static_cast<int>(out.size());
 }
 
 // Balls kept from step to step: within(m, h) is a function of the graph's links and presence

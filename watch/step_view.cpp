@@ -111,42 +111,23 @@ class StepView::Reader {
     step_ = v_.t_ + a.offset;
     const StepHistory::Graph* g = h_.graph(step_);
     std::vector<uint32_t>& n = v_.neighbors_;
-    n.clear();
-    if (g == nullptr) return -1;
-    if (a.domain == Domain::All) {  // every module present at the match step (docs/design.md §4c)
-      for (uint32_t u = 0; u < g->present.size(); ++u)
-        if (g->present[u]) n.push_back(u);
-      return static_cast<int>(n.size());
+    if (g == nullptr) {
+      n.clear();
+      return -1;
     }
-    const uint32_t m = binding_[a.slot];
-    if (!g->present[m]) return -1;
-    if (a.domain == Domain::Component) {  // candidate 0, the module; the evaluator grows it (expand)
-      graph_ = g;
-      n.assign(1, m);
-      v_.seen_.start();
-      v_.seen_.mark(m);
-      return 1;
-    }
-    if (a.domain == Domain::Within) {
-      auto gather = [&](std::vector<uint32_t>& out) {
-        gather_within(
-            m, a.hops,
-            [&](uint32_t u, auto&& visit) {
-              for (uint32_t w : g->neighbors(u)) visit(w);
-            },
-            [&](uint32_t u) { return g->present[u] != 0; }, out, v_.seen_);
-      };
+    if (a.domain == Domain::Component) graph_ = g;  // expand grows it over this graph
+    // The domain over step_'s graph (docs/design.md §4b-§4c); within() through this aggregate's kept balls.
+    const auto ball = [&](uint32_t m, auto&& gather) {
       const size_t index = static_cast<size_t>(&a - v_.program_->aggregates.data());
-      const std::span<const uint32_t> ball = h_.balls(index).ball(m, g->version, gather, n);
-      if (ball.data() != n.data()) n.assign(ball.begin(), ball.end());
-      return static_cast<int>(n.size());
-    }
-    // N(m, s) is a set of the neighbours present at s (docs/design.md §4b).
-    for (uint32_t u : g->neighbors(m))
-      if (g->present[u]) n.push_back(u);
-    std::sort(n.begin(), n.end());
-    n.erase(std::unique(n.begin(), n.end()), n.end());
-    return static_cast<int>(n.size());
+      const std::span<const uint32_t> kept = h_.balls(index).ball(m, g->version, gather, n);
+      if (kept.data() != n.data()) n.assign(kept.begin(), kept.end());
+    };
+    return open_domain(
+        a.domain, a.hops, [&] { return binding_[a.slot]; }, 0, static_cast<uint32_t>(g->present.size()),
+        [&](uint32_t u, auto&& visit) {
+          for (uint32_t w : g->neighbors(u)) visit(w);
+        },
+        [&](uint32_t u) { return g->present[u] != 0; }, ball, n, v_.seen_);
   }
   Value bound(int i, const ValueInstr& in) const { return read(in.variable, step_ + in.offset, bound_id(i)); }
   uint32_t bound_id(int i) const { return v_.neighbors_[static_cast<size_t>(i)]; }
