@@ -219,6 +219,12 @@ constexpr KeyEntry kKeys[] = {
 }  // namespace
 
 // In any case: the README writes F1, a script may write f1.
+std::string key_usage() {
+  std::string names;
+  for (const KeyEntry& e : kKeys) names += (names.empty() ? "" : ", ") + std::string(e.name);
+  return "key NAME: one of " + names;
+}
+
 std::optional<Key> key_named(std::string_view name) {
   for (const KeyEntry& e : kKeys)
     if (std::equal(e.name.begin(), e.name.end(), name.begin(), name.end(),
@@ -261,11 +267,7 @@ std::optional<watch::Diagnostic> check_window_command(std::span<const ScriptWord
       d = integer(1, 0, int64_t{module_count} - 1, "M");
     }
   } else if (name == "key") {
-    if (words.size() < 2 || !key_named(words[1].text)) {
-      std::string names;
-      for (const KeyEntry& e : kKeys) names += (names.empty() ? "" : ", ") + std::string(e.name);
-      d = mistake(1, "key NAME: one of " + names);
-    }
+    if (words.size() < 2 || !key_named(words[1].text)) d = mistake(1, key_usage());
   } else if (name == "wait") {
     d = integer(1, 0, 100'000, "N");
   } else if (name == "follow") {

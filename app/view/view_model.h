@@ -84,6 +84,8 @@ MatchRows filter_matches(const sim::Session& session, const MatchFilter& filter,
 // The keys the window binds (F1 lists them).
 enum class Key { Space, Right, Left, N, P, F, Z, Y, T, I, C, Home, End, F1, F12, Escape };
 std::optional<Key> key_named(std::string_view name);
+// "key NAME: one of space, right, ...": every name key_named knows, for the mistake.
+std::string key_usage();
 struct KeyHelp {
   std::string_view keys, what;
 };

@@ -106,7 +106,7 @@ PlotDrawn history_plot(const std::string& title, std::span<const PlotSeries> lin
   if (n == 0) return drawn;
   int64_t lo = lines[0].values[0], hi = lo;
   for (const PlotSeries& line : lines) {
-    if (line.values.size() != n) continue;  // not drawn (plot_lines gives only equal ones)
+    if (line.values.size() != n) continue;  // not drawn: a line must span the plot's steps
     const auto [lo_at, hi_at] = std::minmax_element(line.values.begin(), line.values.end());
     lo = std::min(lo, *lo_at), hi = std::max(hi, *hi_at);
   }

@@ -69,7 +69,7 @@ void Debugger::input_command(const std::vector<std::string>& words, nlohmann::or
   } else if (words[0] == "key") {
     const auto key = words.size() == 2 ? key_named(words[1]) : std::nullopt;
     if (!key) {
-      error = "key NAME: one of space, right, left, n, p, f, z, y, t, i, c, home, end, f1, f12, escape";
+      error = key_usage();
       return;
     }
     press(*key);
